@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages armstudy needs, only those missing. Runs apt-get as root, or via
+# sudo when not root. Safe to run repeatedly.
+set -euo pipefail
+PKGS=(build-essential cmake ninja-build ccache git pkg-config
+      libeigen3-dev libnlopt-cxx-dev libcgal-dev libgmp-dev libmpfr-dev libvtk9-dev
+      libtomlplusplus-dev libcli11-dev nlohmann-json3-dev catch2
+      liborocos-kdl-dev libfcl-dev)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
+echo "armstudy: installing missing Debian packages: ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

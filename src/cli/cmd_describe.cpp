@@ -1,0 +1,65 @@
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "io/design_io.hpp"
+#include "study/run.hpp"
+
+namespace armstudy::cli {
+
+static std::string fmtQ(const Joint& j, double v) {
+  char buf[64];
+  if (j.type == JointType::Revolute)
+    std::snprintf(buf, sizeof buf, "%8.1f deg", v * 180.0 / M_PI);
+  else
+    std::snprintf(buf, sizeof buf, "%8.3f m  ", v);
+  return buf;
+}
+
+void addDescribeCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "describe",
+      "Print a design's kinematic table (thesis Table 3.1 layout), DoF, joint limits and the\n"
+      "assumptions its author recorded. Validates the file on the way.");
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("design", *path, "Design file (TOML), e.g. designs/final_prototype_9dof.toml")
+      ->required();
+  cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
+  cmd->callback([&action, path, json] {
+    action = [path, json] {
+      const Model m = loadDesign(*path);
+      if (*json) {
+        std::cout << modelToJson(m) << "\n";
+        return 0;
+      }
+      std::printf("design   %s  (%d DoF)\n", m.name.c_str(), m.dof());
+      if (!m.description.empty()) std::printf("about    %s\n", m.description.c_str());
+      if (!m.source.empty()) std::printf("source   %s\n", m.source.c_str());
+      std::printf("file     %s  [%s]\n\n", m.file.c_str(), m.file_hash.c_str());
+      std::printf("%-3s %-12s %-9s %8s %8s %8s %9s %9s %9s   %-12s %-12s\n", "#", "joint", "type",
+                  "x [m]", "y [m]", "z [m]", "alpha[deg]", "beta[deg]", "gamma[deg]", "min", "max");
+      int i = 1;
+      for (const Joint& j : m.joints) {
+        const double d = 180.0 / M_PI;
+        std::printf("%-3d %-12s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++,
+                    j.name.c_str(), toString(j.type), j.offset.x, j.offset.y, j.offset.z,
+                    j.offset.alpha * d, j.offset.beta * d, j.offset.gamma * d,
+                    fmtQ(j, j.limits.q_min).c_str(), fmtQ(j, j.limits.q_max).c_str());
+      }
+      const double d = 180.0 / M_PI;
+      std::printf("tcp %-22s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", "(from last frame)", m.tcp.x,
+                  m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
+      if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
+      if (!m.inertias.empty()) std::printf("link inertias: given\n");
+      if (!m.assumptions.empty()) {
+        std::printf("\nassumptions (values the thesis does not give):\n");
+        for (const auto& a : m.assumptions) std::printf("  - %s\n", a.c_str());
+      }
+      return 0;
+    };
+  });
+}
+
+}  // namespace armstudy::cli

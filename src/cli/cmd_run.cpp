@@ -1,0 +1,40 @@
+#include <cstdio>
+
+#include "cli/commands.hpp"
+#include "common/errors.hpp"
+#include "io/study_io.hpp"
+#include "study/run.hpp"
+
+namespace armstudy::cli {
+
+void addRunCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "run",
+      "Load, validate and run a study. Results go to <output>/<study name>/ with a manifest\n"
+      "(version, git revision, input hashes, settings, timings). Nothing is written when the\n"
+      "study or any design it names is invalid.\n"
+      "Example: armstudy run studies/spraying_row.toml --threads 2");
+  struct Args {
+    std::string path;
+    RunOptions opt;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")->required();
+  cmd->add_option("--output", a->opt.output_root, "Folder that receives <study name>/")
+      ->capture_default_str();
+  cmd->add_option("--threads", a->opt.threads, "OpenMP threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--overwrite", a->opt.overwrite, "Replace results already in the output folder");
+  cmd->callback([&action, a] {
+    action = [a] {
+      const Study s = loadStudy(a->path);
+      const RunSummary sum = runStudy(s, a->opt);
+      std::printf("study %s: %d design(s), %d thread(s) -> %s\n", s.name.c_str(), sum.designs,
+                  sum.threads, sum.output_dir.c_str());
+      for (const auto& f : sum.files_written) std::printf("  wrote %s\n", f.c_str());
+      return 0;
+    };
+  });
+}
+
+}  // namespace armstudy::cli

@@ -1,0 +1,15 @@
+#pragma once
+// Each CLI command registers itself on the app; its action runs after parsing succeeded.
+// Commands only parse arguments and call the library.
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace armstudy::cli {
+
+using Action = std::function<int()>;  // returns the process exit code
+
+void addDescribeCommand(CLI::App& app, Action& action);
+void addFkCommand(CLI::App& app, Action& action);
+void addRunCommand(CLI::App& app, Action& action);
+
+}  // namespace armstudy::cli

@@ -1,0 +1,39 @@
+// armstudy: batch evaluation of robot-arm designs. This file only parses arguments and dispatches;
+// the engine is the armstudy library (src/).
+#include <cstdio>
+#include <iostream>
+
+#include "armstudy/version.hpp"
+#include "cli/commands.hpp"
+#include "common/errors.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "armstudy — evaluate candidate robot-arm designs in batch.\n\n"
+      "Designs are TOML kinematic parameter tables (designs/*.toml, see docs/design-format.md);\n"
+      "studies name designs, variants and evaluations (studies/*.toml, docs/study-format.md).\n\n"
+      "Examples:\n"
+      "  armstudy describe designs/final_prototype_9dof.toml\n"
+      "  armstudy fk designs/final_prototype_7dof.toml --q 0.2,0,0,0,0,0,0 --deg\n"
+      "  armstudy run studies/spraying_row.toml\n"};
+  app.set_version_flag("--version", std::string(armstudy::kVersion) + " (" + armstudy::kGitRevision + ")");
+  app.require_subcommand(1);
+  armstudy::cli::Action action;
+  armstudy::cli::addDescribeCommand(app, action);
+  armstudy::cli::addFkCommand(app, action);
+  armstudy::cli::addRunCommand(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return action ? action() : 0;
+  } catch (const armstudy::InputError& e) {
+    std::fprintf(stderr, "armstudy: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "armstudy: error: %s\n", e.what());
+    return 1;
+  }
+}

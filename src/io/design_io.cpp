@@ -1,0 +1,288 @@
+#include "io/design_io.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "io/files.hpp"
+#include "io/toml_reader.hpp"
+
+namespace armstudy {
+namespace {
+
+using io::TableReader;
+
+PoseXYZABG readPose(TableReader& r, bool all_required) {
+  PoseXYZABG p;
+  auto len = [&](const char* k) {
+    return all_required ? r.quantity(k, Dimension::Length) : r.quantity(k, Dimension::Length, 0.0);
+  };
+  auto ang = [&](const char* k) {
+    return all_required ? r.quantity(k, Dimension::Angle) : r.quantity(k, Dimension::Angle, 0.0);
+  };
+  p.x = len("x");
+  p.y = len("y");
+  p.z = len("z");
+  p.alpha = ang("alpha");
+  p.beta = ang("beta");
+  p.gamma = ang("gamma");
+  return p;
+}
+
+Eigen::Vector3d readVec3(TableReader& r, const std::string& key, Eigen::Vector3d fallback) {
+  if (!r.has(key)) return fallback;
+  const auto v = r.numberArray(key);
+  if (v.size() != 3) r.fail(key, "expected three numbers [x, y, z] in metres");
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+template <class Fn>
+void forEachTable(TableReader& parent, const std::string& key, Fn fn) {
+  const toml::array* arr = parent.array(key);
+  if (!arr) return;
+  int idx = 0;
+  for (const auto& e : *arr) {
+    if (!e.is_table())
+      throw InputError(parent.file(), static_cast<int>(e.source().begin.line), key,
+                       "expected [[" + key + "]] tables");
+    TableReader r(*e.as_table(), parent.file(), key + "[" + std::to_string(idx++) + "]");
+    fn(r);
+    r.finish();
+  }
+}
+
+Model buildModel(const toml::table& root, const std::string& file) {
+  Model m;
+  m.file = file;
+  TableReader top(root, file, "");
+
+  {
+    const toml::table* d = top.table("design");
+    if (!d) throw InputError(file, 1, "design", "missing required table [design]");
+    TableReader r(*d, file, "design");
+    m.name = r.string("name");
+    if (m.name.empty()) r.fail("name", "design name is empty");
+    for (char c : m.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+        r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+    m.description = r.string("description", "");
+    m.source = r.string("source", "");
+    m.assumptions = r.stringArray("assumptions");
+    r.finish();
+  }
+
+  std::set<std::string> names;
+  forEachTable(top, "joint", [&](TableReader& r) {
+    Joint j;
+    j.source_line = r.line();
+    j.name = r.string("name");
+    if (j.name.empty()) r.fail("name", "joint name is empty");
+    if (!names.insert(j.name).second) r.fail("name", "duplicate joint name '" + j.name + "'");
+    const std::string type = r.string("type");
+    if (type == "revolute")
+      j.type = JointType::Revolute;
+    else if (type == "prismatic")
+      j.type = JointType::Prismatic;
+    else
+      r.fail("type", "unknown joint type '" + type + "' (expected revolute or prismatic)");
+    j.offset = readPose(r, true);
+    const Dimension qd = j.type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
+    const Dimension vd =
+        j.type == JointType::Revolute ? Dimension::AngularVelocity : Dimension::LinearVelocity;
+    j.limits.q_min = r.quantity("min", qd);
+    j.limits.q_max = r.quantity("max", qd);
+    j.limits.qd_max = r.quantity("max_velocity", vd, 0.0);
+    if (!(j.limits.q_min < j.limits.q_max))
+      r.fail("max", "joint limits are inverted or empty (min must be below max)");
+    if (j.limits.qd_max < 0) r.fail("max_velocity", "velocity limit must not be negative");
+    m.joints.push_back(j);
+  });
+  if (m.joints.empty())
+    throw InputError(file, top.line(), "joint", "the kinematic table is empty: add [[joint]] rows");
+  if (m.dof() > defaults::kMaxDof)
+    throw InputError(file, m.joints.back().source_line, "joint",
+                     "more than " + std::to_string(defaults::kMaxDof) + " joints are not supported");
+
+  {
+    const toml::table* t = top.table("tcp");
+    if (!t) throw InputError(file, 1, "tcp", "missing required table [tcp] (TCP offset from the last frame)");
+    TableReader r(*t, file, "tcp");
+    m.tcp = readPose(r, false);
+    r.finish();
+  }
+  if (const toml::table* t = top.table("base")) {
+    TableReader r(*t, file, "base");
+    m.base = readPose(r, false);
+    r.finish();
+  }
+
+  forEachTable(top, "inertia", [&](TableReader& r) {
+    const std::string link = r.string("link");
+    const int idx = m.jointIndex(link);
+    if (idx < 0) r.fail("link", "no joint named '" + link + "' in this design");
+    if (m.inertias.empty()) m.inertias.resize(m.joints.size());
+    LinkInertia& li = m.inertias[idx];
+    if (li.given) r.fail("link", "inertia for link '" + link + "' given twice");
+    li.given = true;
+    li.mass_kg = r.number("mass");
+    if (li.mass_kg < 0) r.fail("mass", "mass must not be negative");
+    li.p_com_m = readVec3(r, "com", Eigen::Vector3d::Zero());
+    const auto I = r.numberArray("inertia");
+    if (I.size() != 6) r.fail("inertia", "expected [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2");
+    li.I_com_kgm2 << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(li.I_com_kgm2);
+    const Eigen::Vector3d ev = es.eigenvalues();
+    if (li.mass_kg > 0 && ev.minCoeff() <= 0)
+      r.fail("inertia", "inertia tensor is not positive definite");
+    const double tol = 1e-12 * ev.cwiseAbs().maxCoeff();
+    if (ev[0] + ev[1] < ev[2] - tol || ev[0] + ev[2] < ev[1] - tol || ev[1] + ev[2] < ev[0] - tol)
+      r.fail("inertia", "principal moments break the triangle inequality (not a physical body)");
+  });
+
+  if (const toml::table* t = top.table("payload")) {
+    TableReader r(*t, file, "payload");
+    m.payload_kg = r.number("mass");
+    if (m.payload_kg < 0) r.fail("mass", "mass must not be negative");
+    m.p_payload_com_T = readVec3(r, "com", Eigen::Vector3d::Zero());
+    r.finish();
+  }
+
+  forEachTable(top, "drive", [&](TableReader& r) {
+    Drive d;
+    d.source_line = r.line();
+    d.joint = r.string("joint");
+    if (m.jointIndex(d.joint) < 0) r.fail("joint", "no joint named '" + d.joint + "' in this design");
+    for (const auto& other : m.drives)
+      if (other.joint == d.joint) r.fail("joint", "two drives for joint '" + d.joint + "'");
+    d.module = r.string("module", "");
+    d.gear_ratio = r.number("gear_ratio");
+    if (!(d.gear_ratio > 0)) r.fail("gear_ratio", "gear ratio must be positive");
+    d.torque_constant_NmpA = r.number("torque_constant");
+    if (!(d.torque_constant_NmpA > 0)) r.fail("torque_constant", "torque constant must be positive");
+    d.rotor_inertia_kgm2 = r.number("rotor_inertia", 0.0);
+    d.peak_current_A = r.number("peak_current", 0.0);
+    d.continuous_current_A = r.number("continuous_current", 0.0);
+    d.max_motor_speed_radps = r.quantity("max_motor_speed", Dimension::AngularVelocity, 0.0);
+    d.max_voltage_V = r.number("max_voltage", 0.0);
+    d.resistance_ohm = r.number("resistance", 0.0);
+    d.inductance_H = r.number("inductance", 0.0);
+    for (const char* k : {"rotor_inertia", "peak_current", "continuous_current", "max_motor_speed",
+                          "max_voltage", "resistance", "inductance"})
+      if (r.has(k) && r.number(k, 0.0) < 0) r.fail(k, "must not be negative");
+    if (const toml::table* f = r.table("friction")) {
+      TableReader fr(*f, file, r.path() + ".friction");
+      d.friction_law = fr.string("law");
+      for (auto&& [k, v] : *f) {
+        const std::string key(k.str());
+        if (key == "law") continue;
+        d.friction[key] = fr.number(key);
+      }
+      fr.finish();
+    }
+    m.drives.push_back(d);
+  });
+
+  if (const toml::table* t = top.table("model")) {
+    TableReader r(*t, file, "model");
+    m.effects = r.stringArray("effects");
+    r.finish();
+  }
+
+  top.finish();
+  m.finalize();
+  validateModel(m, file);
+  return m;
+}
+
+}  // namespace
+
+
+Model parseDesign(const std::string& text, const std::string& file_label) {
+  toml::table root;
+  try {
+    root = toml::parse(text, file_label);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file_label, static_cast<int>(e.source().begin.line), "",
+                     "TOML syntax error: " + std::string(e.description()));
+  }
+  Model m = buildModel(root, file_label);
+  m.file_hash = contentHash(text);
+  return m;
+}
+
+Model loadDesign(const std::string& path) { return parseDesign(readFileOrThrow(path), path); }
+
+void validateModel(const Model& m, const std::string& file) {
+  for (const Joint& j : m.joints) {
+    const std::string k = "joint." + j.name;
+    if (!(std::isfinite(j.limits.q_min) && std::isfinite(j.limits.q_max)))
+      throw InputError(file, j.source_line, k + ".min", "joint limits must be finite");
+    if (!(j.limits.q_min < j.limits.q_max))
+      throw InputError(file, j.source_line, k + ".max",
+                       "joint limits are inverted or empty (min must be below max)");
+    const PoseXYZABG& o = j.offset;
+    for (double v : {o.x, o.y, o.z, o.alpha, o.beta, o.gamma})
+      if (!std::isfinite(v)) throw InputError(file, j.source_line, k, "table entry is not finite");
+  }
+}
+
+namespace {
+double* poseField(PoseXYZABG& p, const std::string& f, Dimension& dim) {
+  dim = Dimension::Length;
+  if (f == "x") return &p.x;
+  if (f == "y") return &p.y;
+  if (f == "z") return &p.z;
+  dim = Dimension::Angle;
+  if (f == "alpha") return &p.alpha;
+  if (f == "beta") return &p.beta;
+  if (f == "gamma") return &p.gamma;
+  return nullptr;
+}
+
+double* entryPointer(Model& m, const std::string& key, Dimension& dim, std::string& error) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string s; std::getline(ss, s, '.');) parts.push_back(s);
+  if (parts.size() == 3 && parts[0] == "joint") {
+    const int idx = m.jointIndex(parts[1]);
+    if (idx < 0) {
+      error = "no joint named '" + parts[1] + "' in design '" + m.name + "'";
+      return nullptr;
+    }
+    Joint& j = m.joints[idx];
+    if (double* p = poseField(j.offset, parts[2], dim)) return p;
+    const bool rev = j.type == JointType::Revolute;
+    dim = rev ? Dimension::Angle : Dimension::Length;
+    if (parts[2] == "min") return &j.limits.q_min;
+    if (parts[2] == "max") return &j.limits.q_max;
+    dim = rev ? Dimension::AngularVelocity : Dimension::LinearVelocity;
+    if (parts[2] == "max_velocity") return &j.limits.qd_max;
+  } else if (parts.size() == 2 && (parts[0] == "tcp" || parts[0] == "base")) {
+    if (double* p = poseField(parts[0] == "tcp" ? m.tcp : m.base, parts[1], dim)) return p;
+  } else if (parts.size() == 2 && parts[0] == "payload" && parts[1] == "mass") {
+    dim = Dimension::Dimensionless;
+    return &m.payload_kg;
+  }
+  error = "unknown table entry '" + key +
+          "' (expected joint.<name>.<x|y|z|alpha|beta|gamma|min|max|max_velocity>, "
+          "tcp.<x..gamma>, base.<x..gamma> or payload.mass)";
+  return nullptr;
+}
+}  // namespace
+
+bool setModelEntry(Model& m, const std::string& key, double value_si, std::string& error) {
+  Dimension dim;
+  double* p = entryPointer(m, key, dim, error);
+  if (!p) return false;
+  *p = value_si;
+  m.finalize();
+  return true;
+}
+
+bool modelEntryDimension(const Model& m, const std::string& key, Dimension& dim, std::string& error) {
+  Model copy = m;
+  return entryPointer(copy, key, dim, error) != nullptr;
+}
+
+}  // namespace armstudy

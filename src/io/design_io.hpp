@@ -1,0 +1,29 @@
+#pragma once
+// Design files (docs/design-format.md): one TOML file per candidate design holding the kinematic
+// parameter table of thesis section 3.2 plus limits, TCP offset and optional sections.
+#include <string>
+
+#include "io/units.hpp"
+#include "model/model.hpp"
+
+namespace armstudy {
+
+// Parses, validates and finalizes a design. Throws InputError (file, line, key) on bad input.
+Model loadDesign(const std::string& path);
+
+// Same from text (for tests and generated designs); `file_label` names it in messages.
+Model parseDesign(const std::string& text, const std::string& file_label);
+
+// Validates an assembled model (limits ordered and finite, unique names, ...). Used after a
+// variant overrides entries. Throws InputError naming `file` and the offending key.
+void validateModel(const Model& model, const std::string& file);
+
+// Sets one table entry addressed by a dotted key, as study variants do:
+//   joint.<name>.<x|y|z|alpha|beta|gamma|min|max|max_velocity>, tcp.<x..gamma>, base.<x..gamma>,
+//   payload.mass. `value_si` is already in SI. Returns false with a message for an unknown key.
+bool setModelEntry(Model& model, const std::string& key, double value_si, std::string& error);
+// The physical dimension of an entry key (for unit checking of override values).
+bool modelEntryDimension(const Model& model, const std::string& key, Dimension& dimension_out,
+                         std::string& error);
+
+}  // namespace armstudy

@@ -1,0 +1,167 @@
+#include "io/study_io.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "io/design_io.hpp"
+#include "io/files.hpp"
+#include "io/toml_reader.hpp"
+
+namespace armstudy {
+
+using io::TableReader;
+
+std::string variantName(const std::string& base,
+                        const std::vector<std::pair<std::string, double>>& overrides) {
+  std::string s = base;
+  for (const auto& [key, value] : overrides) {
+    std::string k = key.rfind("joint.", 0) == 0 ? key.substr(6) : key;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", value);
+    s += "+" + k + "=" + buf;
+  }
+  return s;
+}
+
+namespace {
+
+struct Override {
+  std::string key;
+  std::vector<double> values;  // one value for `set`, several for `sweep`
+  int line;
+};
+
+std::vector<Override> readOverrides(TableReader& r, const std::string& section, const Model& base,
+                                    bool sweep) {
+  std::vector<Override> out;
+  const toml::table* t = r.table(section);
+  if (!t) return out;
+  for (auto&& [k, v] : *t) {
+    Override o;
+    o.key = std::string(k.str());
+    o.line = static_cast<int>(v.source().begin.line);
+    const std::string key_path = r.keyPath(section) + "." + o.key;
+    Dimension dim;
+    std::string err;
+    if (!modelEntryDimension(base, o.key, dim, err))
+      throw InputError(r.file(), o.line, key_path, err);
+    if (sweep) {
+      if (!v.is_array() || v.as_array()->empty())
+        throw InputError(r.file(), o.line, key_path, "a sweep needs a non-empty array of values");
+      for (const auto& e : *v.as_array())
+        o.values.push_back(io::nodeQuantity(e, dim, r.file(), key_path));
+    } else {
+      o.values.push_back(io::nodeQuantity(v, dim, r.file(), key_path));
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+}  // namespace
+
+Study loadStudy(const std::string& path) {
+  namespace fs = std::filesystem;
+  Study s;
+  s.file = path;
+  const std::string text = readFileOrThrow(path);
+  s.file_hash = contentHash(text);
+  s.inputs.push_back({path, s.file_hash});
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path, static_cast<int>(e.source().begin.line), "",
+                     "TOML syntax error: " + std::string(e.description()));
+  }
+  TableReader top(root, path, "");
+  {
+    const toml::table* t = top.table("study");
+    if (!t) throw InputError(path, 1, "study", "missing required table [study]");
+    TableReader r(*t, path, "study");
+    s.name = r.string("name");
+    if (s.name.empty()) r.fail("name", "study name is empty");
+    for (char c : s.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
+        r.fail("name", "study names use letters, digits, '_' and '-' only (they name the output folder)");
+    s.description = r.string("description", "");
+    r.finish();
+  }
+
+  const fs::path dir = fs::path(path).parent_path();
+  std::map<std::string, const Model*> by_name;
+  std::vector<Model> bases;
+  bases.reserve(64);
+  const toml::array* designs = top.array("design");
+  if (!designs || designs->empty())
+    throw InputError(path, 1, "design", "a study needs at least one [[design]] entry");
+  int idx = 0;
+  for (const auto& e : *designs) {
+    if (!e.is_table())
+      throw InputError(path, static_cast<int>(e.source().begin.line), "design", "expected [[design]] tables");
+    TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
+    const std::string file = r.string("file");
+    const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
+    if (!fs::exists(resolved))
+      r.fail("file", "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
+    Model m = loadDesign(resolved.lexically_normal().string());
+    r.finish();
+    if (by_name.count(m.name))
+      r.fail("file", "design name '" + m.name + "' appears twice in this study");
+    s.inputs.push_back({m.file, m.file_hash});
+    bases.push_back(std::move(m));
+    by_name[bases.back().name] = &bases.back();
+    s.designs.push_back({bases.back(), bases.back().name, {}});
+  }
+
+  idx = 0;
+  if (const toml::array* variants = top.array("variant")) {
+    for (const auto& e : *variants) {
+      if (!e.is_table())
+        throw InputError(path, static_cast<int>(e.source().begin.line), "variant", "expected [[variant]] tables");
+      TableReader r(*e.as_table(), path, "variant[" + std::to_string(idx++) + "]");
+      const std::string of = r.string("of");
+      auto it = by_name.find(of);
+      if (it == by_name.end())
+        r.fail("of", "variant of unknown design '" + of + "' (list it in a [[design]] entry first)");
+      const Model& base = *it->second;
+      std::vector<Override> sets = readOverrides(r, "set", base, false);
+      std::vector<Override> sweeps = readOverrides(r, "sweep", base, true);
+      r.finish();
+      if (sets.empty() && sweeps.empty())
+        throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
+      // Cartesian product of the sweeps, in the order written; the first key varies slowest.
+      std::vector<std::size_t> counter(sweeps.size(), 0);
+      for (bool done = false; !done;) {
+        std::vector<std::pair<std::string, double>> ov;
+        for (const auto& o : sets) ov.emplace_back(o.key, o.values[0]);
+        for (std::size_t k = 0; k < sweeps.size(); ++k)
+          ov.emplace_back(sweeps[k].key, sweeps[k].values[counter[k]]);
+        Model m = base;
+        for (const auto& [key, value] : ov) {
+          std::string err;
+          if (!setModelEntry(m, key, value, err)) throw InputError(path, r.line(), key, err);
+        }
+        m.name = variantName(base.name, ov);
+        validateModel(m, path + " (variant '" + m.name + "')");
+        for (const auto& d : s.designs)
+          if (d.model.name == m.name)
+            throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");
+        s.designs.push_back({m, base.name, ov});
+        // Advance the odometer; the last sweep key varies fastest.
+        int k = static_cast<int>(sweeps.size()) - 1;
+        for (; k >= 0; --k) {
+          if (++counter[k] < sweeps[k].values.size()) break;
+          counter[k] = 0;
+        }
+        done = k < 0;
+      }
+    }
+  }
+  top.finish();
+  return s;
+}
+
+}  // namespace armstudy

@@ -1,0 +1,42 @@
+#pragma once
+// Study files (docs/study-format.md): which designs (and variants derived from them) to evaluate,
+// and the settings of each evaluation stage.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace armstudy {
+
+// One design as a study evaluates it: a design file as written, or a variant derived from one.
+struct StudyDesign {
+  Model model;                 // model.name is the stable name used in every output
+  std::string base_name;       // the design it derives from (== model.name for plain designs)
+  std::vector<std::pair<std::string, double>> overrides;  // (entry key, SI value) applied
+};
+
+struct InputFile {
+  std::string path;
+  std::string hash;
+};
+
+struct Study {
+  std::string name;
+  std::string description;
+  std::string file;
+  std::string file_hash;
+  std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
+  std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
+};
+
+// Parses and validates a study; loads every design it names and derives the variants.
+// Throws InputError (file, line, key) on bad input; nothing is written.
+Study loadStudy(const std::string& path);
+
+// Stable variant name from a base name and its overrides, e.g.
+// "first_prototype_9dof+j4.x=0.35" (joint entries drop the "joint." prefix).
+std::string variantName(const std::string& base,
+                        const std::vector<std::pair<std::string, double>>& overrides);
+
+}  // namespace armstudy

@@ -1,0 +1,156 @@
+#include "io/toml_reader.hpp"
+
+#include <cmath>
+
+namespace armstudy::io {
+
+toml::table parseTomlFile(const std::string& path) {
+  try {
+    return toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const int line = static_cast<int>(e.source().begin.line);
+    std::string msg(e.description());
+    if (msg.find("No such file") != std::string::npos || msg.find("could not be opened") != std::string::npos ||
+        msg.find("File could not") != std::string::npos)
+      throw InputError(path, 0, "", "cannot open file");
+    throw InputError(path, line, "", "TOML syntax error: " + msg);
+  }
+}
+
+TableReader::TableReader(const toml::table& table, std::string file, std::string path)
+    : table_(table), file_(std::move(file)), path_(std::move(path)) {}
+
+int TableReader::line() const { return static_cast<int>(table_.source().begin.line); }
+
+int TableReader::line(const std::string& key) const {
+  if (const toml::node* n = table_.get(key)) return static_cast<int>(n->source().begin.line);
+  return line();
+}
+
+std::string TableReader::keyPath(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+void TableReader::fail(const std::string& key, const std::string& message) const {
+  throw InputError(file_, line(key), keyPath(key), message);
+}
+
+const toml::node& TableReader::require(const std::string& key) {
+  const toml::node* n = table_.get(key);
+  if (!n) throw InputError(file_, line(), keyPath(key), "missing required key");
+  read_.insert(key);
+  return *n;
+}
+
+double nodeQuantity(const toml::node& n, Dimension dim, const std::string& file,
+                    const std::string& key) {
+  const int line = static_cast<int>(n.source().begin.line);
+  if (n.is_number()) {
+    const double v = n.value<double>().value();
+    if (!std::isfinite(v)) throw InputError(file, line, key, "value is not finite (NaN or Inf)");
+    return v;
+  }
+  if (n.is_string()) {
+    double v = 0;
+    std::string err;
+    if (!parseQuantity(n.as_string()->get(), dim, v, err)) throw InputError(file, line, key, err);
+    return v;
+  }
+  throw InputError(file, line, key,
+                   std::string("expected a number or a string with unit (a ") + toString(dim) + ")");
+}
+
+double TableReader::quantity(const std::string& key, Dimension dim) {
+  return nodeQuantity(require(key), dim, file_, keyPath(key));
+}
+double TableReader::quantity(const std::string& key, Dimension dim, double fallback) {
+  return has(key) ? quantity(key, dim) : fallback;
+}
+
+double TableReader::number(const std::string& key) {
+  const toml::node& n = require(key);
+  if (!n.is_number()) fail(key, "expected a number");
+  const double v = n.value<double>().value();
+  if (!std::isfinite(v)) fail(key, "value is not finite (NaN or Inf)");
+  return v;
+}
+double TableReader::number(const std::string& key, double fallback) {
+  return has(key) ? number(key) : fallback;
+}
+
+long long TableReader::integer(const std::string& key, long long fallback) {
+  if (!has(key)) return fallback;
+  const toml::node& n = require(key);
+  if (!n.is_integer()) fail(key, "expected an integer");
+  return n.value<long long>().value();
+}
+
+std::string TableReader::string(const std::string& key) {
+  const toml::node& n = require(key);
+  if (!n.is_string()) fail(key, "expected a string");
+  return n.as_string()->get();
+}
+std::string TableReader::string(const std::string& key, const std::string& fallback) {
+  return has(key) ? string(key) : fallback;
+}
+
+bool TableReader::boolean(const std::string& key, bool fallback) {
+  if (!has(key)) return fallback;
+  const toml::node& n = require(key);
+  if (!n.is_boolean()) fail(key, "expected true or false");
+  return n.as_boolean()->get();
+}
+
+std::vector<std::string> TableReader::stringArray(const std::string& key) {
+  std::vector<std::string> out;
+  if (!has(key)) return out;
+  const toml::node& n = require(key);
+  if (!n.is_array()) fail(key, "expected an array of strings");
+  for (const auto& e : *n.as_array()) {
+    if (!e.is_string()) fail(key, "expected an array of strings");
+    out.push_back(e.as_string()->get());
+  }
+  return out;
+}
+
+std::vector<double> TableReader::numberArray(const std::string& key) {
+  std::vector<double> out;
+  const toml::node& n = require(key);
+  if (!n.is_array()) fail(key, "expected an array of numbers");
+  for (const auto& e : *n.as_array()) {
+    if (!e.is_number()) fail(key, "expected an array of numbers");
+    const double v = e.value<double>().value();
+    if (!std::isfinite(v)) fail(key, "value is not finite (NaN or Inf)");
+    out.push_back(v);
+  }
+  return out;
+}
+
+const toml::table* TableReader::table(const std::string& key) {
+  if (!has(key)) return nullptr;
+  const toml::node& n = require(key);
+  if (!n.is_table()) fail(key, "expected a table");
+  return n.as_table();
+}
+
+const toml::array* TableReader::array(const std::string& key) {
+  if (!has(key)) return nullptr;
+  const toml::node& n = require(key);
+  if (!n.is_array()) fail(key, "expected an array");
+  return n.as_array();
+}
+
+const toml::node* TableReader::node(const std::string& key) {
+  if (!has(key)) return nullptr;
+  return &require(key);
+}
+
+void TableReader::finish() const {
+  for (auto&& [k, v] : table_) {
+    const std::string key(k.str());
+    if (!read_.count(key))
+      throw InputError(file_, static_cast<int>(v.source().begin.line), keyPath(key), "unknown key");
+  }
+}
+
+}  // namespace armstudy::io

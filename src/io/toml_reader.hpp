@@ -1,0 +1,64 @@
+#pragma once
+// Internal to src/io: strict reading of one TOML table. Every key read is marked; finish() turns
+// any key that was not read into an error ("unknown key"), so typos never pass silently.
+// Errors are InputError with file, line and the dotted key path.
+#include <toml++/toml.h>
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/errors.hpp"
+#include "io/units.hpp"
+
+namespace armstudy::io {
+
+// Parses a TOML file; syntax errors become InputError with the line.
+toml::table parseTomlFile(const std::string& path);
+
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string file, std::string path);
+
+  bool has(const std::string& key) const { return table_.contains(key); }
+  int line() const;                          // line where this table starts
+  int line(const std::string& key) const;    // line of a key (or of the table when absent)
+  std::string keyPath(const std::string& key) const;
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+
+  // A number (SI) or a string expression with unit, checked against `dim`.
+  double quantity(const std::string& key, Dimension dim);
+  double quantity(const std::string& key, Dimension dim, double fallback);
+  // A plain finite number (no unit allowed).
+  double number(const std::string& key);
+  double number(const std::string& key, double fallback);
+  long long integer(const std::string& key, long long fallback);
+  std::string string(const std::string& key);
+  std::string string(const std::string& key, const std::string& fallback);
+  bool boolean(const std::string& key, bool fallback);
+  std::vector<std::string> stringArray(const std::string& key);
+  std::vector<double> numberArray(const std::string& key);
+  const toml::table* table(const std::string& key);       // nullptr when absent
+  const toml::array* array(const std::string& key);       // nullptr when absent
+  const toml::node* node(const std::string& key);         // raw, marks the key as read
+  void markRead(const std::string& key) { read_.insert(key); }
+
+  // Throws for every key present but never read.
+  void finish() const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+
+ private:
+  const toml::node& require(const std::string& key);
+  const toml::table& table_;
+  std::string file_;
+  std::string path_;
+  std::set<std::string> read_;
+};
+
+// A quantity from an arbitrary node (number or string with unit).
+double nodeQuantity(const toml::node& n, Dimension dim, const std::string& file,
+                    const std::string& key);
+
+}  // namespace armstudy::io

@@ -1,0 +1,109 @@
+#include "study/run.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "armstudy/version.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+
+namespace armstudy {
+
+using nlohmann::ordered_json;
+
+std::string RunOptions::validate() const {
+  if (output_root.empty()) return "output root is empty";
+  if (threads < 0) return "thread count must not be negative";
+  return "";
+}
+
+static ordered_json poseJson(const PoseXYZABG& p) {
+  return ordered_json{{"x_m", p.x},         {"y_m", p.y},        {"z_m", p.z},
+                      {"alpha_rad", p.alpha}, {"beta_rad", p.beta}, {"gamma_rad", p.gamma}};
+}
+
+static ordered_json modelJson(const Model& m) {
+  ordered_json j;
+  j["name"] = m.name;
+  j["file"] = m.file;
+  j["file_hash"] = m.file_hash;
+  j["dof"] = m.dof();
+  j["source"] = m.source;
+  j["assumptions"] = m.assumptions;
+  ordered_json joints = ordered_json::array();
+  for (const Joint& jt : m.joints) {
+    ordered_json r = {{"name", jt.name}, {"type", toString(jt.type)}};
+    r.update(poseJson(jt.offset));
+    r["min"] = jt.limits.q_min;
+    r["max"] = jt.limits.q_max;
+    r["max_velocity"] = jt.limits.qd_max;
+    joints.push_back(r);
+  }
+  j["joints"] = joints;
+  j["tcp"] = poseJson(m.tcp);
+  j["base"] = poseJson(m.base);
+  return j;
+}
+
+std::string modelToJson(const Model& model, int indent) { return modelJson(model).dump(indent); }
+
+RunSummary runStudy(const Study& study, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  const std::string why = options.validate();
+  ARMSTUDY_CHECK(why.empty(), why);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunSummary sum;
+  sum.output_dir = (fs::path(options.output_root) / study.name).string();
+  sum.designs = static_cast<int>(study.designs.size());
+  sum.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+
+  const fs::path manifest_path = fs::path(sum.output_dir) / "manifest.json";
+  if (fs::exists(manifest_path) && !options.overwrite)
+    throw InputError(sum.output_dir, 0, "",
+                     "output folder already holds results; pass --overwrite to replace them");
+
+  ordered_json designs = ordered_json::array();
+  for (const auto& d : study.designs) {
+    ordered_json j = modelJson(d.model);
+    j["variant_of"] = d.base_name;
+    ordered_json ov = ordered_json::object();
+    for (const auto& [k, v] : d.overrides) ov[k] = v;
+    j["overrides"] = ov;
+    designs.push_back(j);
+  }
+  writeFileAtomic((fs::path(sum.output_dir) / "designs.json").string(), designs.dump(2) + "\n");
+  sum.files_written.push_back("designs.json");
+
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sum.timings.push_back({"load_and_resolve", secs});
+
+  // The manifest is written last: its presence marks a complete run.
+  ordered_json man;
+  man["armstudy_version"] = kVersion;
+  man["git_revision"] = kGitRevision;
+  man["study"] = study.name;
+  man["study_file"] = study.file;
+  ordered_json inputs = ordered_json::array();
+  for (const auto& in : study.inputs) inputs.push_back({{"path", in.path}, {"hash", in.hash}});
+  man["inputs"] = inputs;
+  man["threads"] = sum.threads;
+  man["designs"] = ordered_json::array();
+  for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
+  ordered_json tim = ordered_json::object();
+  for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
+  man["timings"] = tim;
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  man["date"] = date;
+  man["files"] = sum.files_written;
+  writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
+  return sum;
+}
+
+}  // namespace armstudy

@@ -1,0 +1,52 @@
+#pragma once
+// Shared helpers for tests: named tolerances, paths to shipped files, random configurations.
+#include <sys/wait.h>
+
+#include <Eigen/Core>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace armstudy::test {
+
+// Named tolerances (never bare literals in assertions).
+inline constexpr double kFdStep = 1e-6;            // central-difference step [m or rad]
+inline constexpr double kFdTolerance = 1e-7;       // agreement of analytic vs central differences
+inline constexpr double kOracleTolerance = 1e-12;  // agreement with an independent library
+inline constexpr double kHandCheckTolerance = 1e-12;
+
+inline std::string sourcePath(const std::string& rel) { return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel; }
+inline std::string binaryPath() { return ARMSTUDY_BINARY; }
+
+inline const std::vector<std::string>& shippedDesigns() {
+  static const std::vector<std::string> d = {
+      "designs/first_prototype_6dof.toml", "designs/first_prototype_9dof.toml",
+      "designs/final_prototype_9dof.toml", "designs/final_prototype_7dof.toml"};
+  return d;
+}
+
+// Uniform random configuration within the joint limits (deterministic for a given engine).
+inline Eigen::VectorXd randomConfiguration(const Model& m, std::mt19937_64& rng) {
+  Eigen::VectorXd q(m.dof());
+  for (int i = 0; i < m.dof(); ++i) {
+    std::uniform_real_distribution<double> u(m.joints[i].limits.q_min, m.joints[i].limits.q_max);
+    q[i] = u(rng);
+  }
+  return q;
+}
+
+// Runs a shell command, returns exit status; stdout+stderr captured into `out`.
+inline int runCommand(const std::string& cmd, std::string& out) {
+  out.clear();
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return -1;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace armstudy::test
