@@ -28,7 +28,7 @@ double sgn(double v) { return (v > 0) - (v < 0); }
 std::string effectList(const EffectSet& on) {
   std::string s;
   for (Effect e : drive::kAllEffects)
-    if (on[idx(e)]) s += (s.empty() ? "" : "+") + std::string(drive::toString(e));
+    if (on[idx(e)]) { s += s.empty() ? "" : "+"; s += std::string(drive::toString(e)); }
   return s.empty() ? "(none)" : s;
 }
 
@@ -299,7 +299,7 @@ void confidenceIntervals(const Context& c, const EffectSet& on, const RawFit& f,
   Eigen::VectorXd scale(p);
   for (int j = 0; j < p; ++j) scale[j] = J.col(j).norm() > 0 ? J.col(j).norm() : 1.0;
   const Eigen::MatrixXd Js = J * scale.cwiseInverse().asDiagonal();
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
   const Eigen::VectorXd sv = svd.singularValues();
   const bool singular = sv.size() == 0 || sv[sv.size() - 1] < 1e-10 * sv[0];
   Eigen::VectorXd sd = Eigen::VectorXd::Constant(p, kInf);
@@ -498,7 +498,7 @@ const Drive& requireDrive(const Model& model, const std::string& joint) {
   std::string names;
   for (const Drive& d : model.drives) {
     if (d.joint == joint) return d;
-    names += (names.empty() ? "" : ", ") + d.joint;
+    names += names.empty() ? "" : ", "; names += d.joint;
   }
   throw InputError(model.file, 0, "drive",
                    "design '" + model.name + "' has no [[drive]] for joint '" + joint + "'" +

@@ -73,12 +73,12 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
   wanted.insert(schema.optional.begin(), schema.optional.end());
   std::string missing;
   for (const std::string& r : schema.required)
-    if (!seen.count(r)) missing += (missing.empty() ? "'" : ", '") + r + "'";
+    if (!seen.count(r)) { missing += missing.empty() ? "'" : ", '"; missing += r + "'"; }
   if (!missing.empty())
     throw InputError(file, header_line, "", "missing required column(s) " + missing + " (header has: " +
                                                 [&] {
                                                   std::string s;
-                                                  for (const auto& h : header) s += (s.empty() ? "" : ",") + h;
+                                                  for (const auto& h : header) { s += s.empty() ? "" : ","; s += h; }
                                                   return s;
                                                 }() + ")");
   std::vector<int> header_to_column(header.size(), -1);
@@ -124,7 +124,7 @@ CsvTable readCsv(const std::string& path, const CsvSchema& schema) {
 std::string formatCsv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns) {
   ARMSTUDY_CHECK(header.size() == columns.size(), "one header name per column");
   std::string out;
-  for (std::size_t i = 0; i < header.size(); ++i) out += (i ? "," : "") + header[i];
+  for (std::size_t i = 0; i < header.size(); ++i) { out += i ? "," : ""; out += header[i]; }
   out += "\n";
   const std::size_t n = columns.empty() ? 0 : columns[0].size();
   char buf[64];
@@ -132,7 +132,7 @@ std::string formatCsv(const std::vector<std::string>& header, const std::vector<
     for (std::size_t i = 0; i < columns.size(); ++i) {
       ARMSTUDY_CHECK(columns[i].size() == n, "columns of equal length");
       std::snprintf(buf, sizeof buf, "%.17g", columns[i][r]);
-      out += (i ? "," : "") + std::string(buf);
+      out += i ? "," : ""; out += std::string(buf);
     }
     out += "\n";
   }
