@@ -591,7 +591,7 @@ DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const 
 namespace {
 
 std::vector<Candidate> rankCandidates(const Context& c, const Fitter& fitter, const EffectSet& base_on,
-                                      const ModelFit& base, const DriveFitOptions& o) {
+                                      const ModelFit& base, double noise_rho, const DriveFitOptions& o) {
   std::vector<Candidate> out;
   const std::vector<int> rows = allRows(c.n);
   const double vS_mid = std::sqrt(c.v_lo * c.v_hi);
@@ -672,7 +672,9 @@ std::vector<Candidate> rankCandidates(const Context& c, const Fitter& fitter, co
     double var = 0;
     for (double v : dd) var += (v - md) * (v - md);
     var /= std::max(1, c.n - 1);
-    const double neff = effectiveSampleSize(c.n, lag1Autocorrelation(dd));
+    // Correlated samples: n_eff from the lag-1 autocorrelation of the noise (the residuals of the
+    // most flexible model), not of dd itself, whose correlation is the systematic error under test.
+    const double neff = effectiveSampleSize(c.n, noise_rho);
     cand.t_statistic = var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
     cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
     out.push_back(cand);
@@ -719,7 +721,7 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
   ARMSTUDY_CHECK(ok, "row count was checked above");
   r.base_cmp = compareFit(data, r.base, c.km, r.noise_estimate, r.noise_rho, o);
   r.ladder.push_back(r.base);
-  r.ranking = rankCandidates(c, fitter, on, r.base, o);
+  r.ranking = rankCandidates(c, fitter, on, r.base, r.noise_rho, o);
   r.missing_effect_found = !r.ranking.empty() && r.ranking.front().significant;
   ModelFit current = r.base;
   std::vector<Candidate> ranking = r.ranking;
@@ -743,7 +745,7 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
     current = m;
     r.added.push_back(e);
     r.ladder.push_back(m);
-    ranking = rankCandidates(c, fitter, on, current, o);
+    ranking = rankCandidates(c, fitter, on, current, r.noise_rho, o);
     r.rankings_after.push_back(ranking);
   };
   for (Effect e : o.add) addEffect(e);
