@@ -132,7 +132,8 @@ Study loadStudy(const std::string& path) {
       r.finish();
       if (sets.empty() && sweeps.empty())
         throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
-      // Cartesian product of the sweeps, in the order written; the first key varies slowest.
+      // Cartesian product of the sweeps; keys in sorted order (TOML tables are unordered), the
+      // first key varies slowest, so variant names and order are stable.
       std::vector<std::size_t> counter(sweeps.size(), 0);
       for (bool done = false; !done;) {
         std::vector<std::pair<std::string, double>> ov;
