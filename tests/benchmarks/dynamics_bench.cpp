@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "dynamics/dynamics.hpp"
 #include "dynamics/kdl_chain.hpp"
 #include "io/design_io.hpp"
@@ -40,17 +41,10 @@ KDL::Chain minimalKdlChain(const Model& m) {
   return c;
 }
 
+// Median of 7 batches (bench_util.hpp), in ns per call; fn(i) runs call i of the batch.
 template <class Fn>
 double nsPerCall(int calls, Fn fn) {
-  // Best of 7 repetitions (the machine is shared; the minimum is the least disturbed run).
-  double best = 1e300;
-  for (int rep = 0; rep < 7; ++rep) {
-    const auto t0 = std::chrono::steady_clock::now();
-    fn();
-    const auto t1 = std::chrono::steady_clock::now();
-    best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count() / calls);
-  }
-  return best;
+  return 1e9 * bench::timePerCall(fn, calls, 7);
 }
 
 }  // namespace
@@ -100,59 +94,44 @@ int main() {
     for (int i = 0; i < n; ++i) max_rel_min = std::max(max_rel_min, std::abs(kt(i) - tau[i]) / scale);
   }
 
-  double sink = 0;
   const int R = 20;  // passes over the N states per repetition
-  const double t_id = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        inverseDynamics(rbm, ws, q[k], qd[k], qdd[k], tau);
-        sink += tau[0];
-      }
+  const double t_id = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    inverseDynamics(rbm, ws, q[k], qd[k], qdd[k], tau);
+    bench::doNotOptimize(tau[0]);
   });
-  const double t_kdl_min = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        rne_min.CartToJnt(kq[k], kqd[k], kqdd[k], f_min, kt);
-        sink += kt(0);
-      }
+  const double t_kdl_min = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    rne_min.CartToJnt(kq[k], kqd[k], kqdd[k], f_min, kt);
+    bench::doNotOptimize(kt(0));
   });
-  const double t_kdl_full = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        rne_full.CartToJnt(kq[k], kqd[k], kqdd[k], f_full, kt);
-        sink += kt(0);
-      }
+  const double t_kdl_full = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    rne_full.CartToJnt(kq[k], kqd[k], kqdd[k], f_full, kt);
+    bench::doNotOptimize(kt(0));
   });
-  const double t_grav = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        gravityForces(rbm, ws, q[k], out);
-        sink += out[0];
-      }
+  const double t_grav = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    gravityForces(rbm, ws, q[k], out);
+    bench::doNotOptimize(out[0]);
   });
-  const double t_M = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        massMatrix(rbm, ws, q[k]);
-        sink += ws.M(0, 0);
-      }
+  const double t_M = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    massMatrix(rbm, ws, q[k]);
+    bench::doNotOptimize(ws.M(0, 0));
   });
-  const double t_kdl_M = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        dyn_min.JntToMass(kq[k], kM);
-        sink += kM(0, 0);
-      }
+  const double t_kdl_M = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    dyn_min.JntToMass(kq[k], kM);
+    bench::doNotOptimize(kM(0, 0));
   });
-  const double t_fd = nsPerCall(N * R, [&] {
-    for (int r = 0; r < R; ++r)
-      for (int k = 0; k < N; ++k) {
-        forwardDynamics(rbm, ws, q[k], qd[k], qdd[k], out);
-        sink += out[0];
-      }
+  const double t_fd = nsPerCall(N * R, [&](int i) {
+    const int k = i % N;
+    forwardDynamics(rbm, ws, q[k], qd[k], qdd[k], out);
+    bench::doNotOptimize(out[0]);
   });
 
-  std::printf("Dynamics of final_prototype_9dof (n = %d), %d random states, best of 7 x %d passes\n", n, N, R);
+  std::printf("Dynamics of final_prototype_9dof (n = %d), %d random states, median of 7 batches of %d calls\n", n, N, N * R);
   std::printf("KDL agreement (max relative torque difference): full chain %.1e, minimal chain %.1e\n",
               max_rel_full, max_rel_min);
   std::printf("| operation | armstudy [ns/call] | peer | peer [ns/call] | speed-up |\n");
@@ -165,7 +144,6 @@ int main() {
               t_kdl_M, t_kdl_M / t_M);
   std::printf("| gravity vector g(q) | %.0f | - | - | - |\n", t_grav);
   std::printf("| forward dynamics (h + CRBA + LLT) | %.0f | - | - | - |\n", t_fd);
-  std::printf("(checksum %.3g)\n", sink);
   const bool ok = t_id < 1000.0 && t_kdl_min / t_id >= 3.0 && max_rel_min < 1e-9 && max_rel_full < 1e-9;
   std::printf("targets (RNEA < 1 us, >= 3x KDL minimal chain, agreement 1e-9): %s\n", ok ? "met" : "NOT met");
   return 0;
