@@ -27,15 +27,18 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
   cmd->add_option("--q", a->q, "Joint positions, one per joint (m / rad, deg with --deg)")
       ->delimiter(',')
       ->required();
-  cmd->add_option("--qd", a->qd, "Joint velocities (m/s / rad/s, deg/s with --deg); default 0")->delimiter(',');
-  cmd->add_option("--qdd", a->qdd, "Joint accelerations (m/s^2 / rad/s^2, deg/s^2 with --deg); default 0")
+  cmd->add_option("--qd", a->qd, "Joint velocities (m/s / rad/s, deg/s with --deg); default 0")
+      ->delimiter(',');
+  cmd->add_option("--qdd", a->qdd,
+                  "Joint accelerations (m/s^2 / rad/s^2, deg/s^2 with --deg); default 0")
       ->delimiter(',');
   cmd->add_option("--gravity", a->gravity, "Gravity vector in W [m/s^2], default 0,0,-9.81")
       ->delimiter(',')
       ->expected(3);
   cmd->add_flag("--deg", a->deg, "Revolute joint values in degrees");
   cmd->add_flag("--no-payload", a->no_payload, "Ignore the [payload] at the TCP");
-  cmd->add_flag("--rotor-inertia", a->rotor, "Add the reflected rotor inertias N^2 J_rotor of [[drive]]");
+  cmd->add_flag("--rotor-inertia", a->rotor,
+                "Add the reflected rotor inertias N^2 J_rotor of [[drive]]");
   cmd->add_flag("--mass-matrix", a->mass_matrix, "Also print M(q)");
   cmd->add_flag("--json", a->json, "Machine-readable output");
   cmd->callback([&action, a] {
@@ -47,12 +50,13 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
         if (v.empty() && std::string(key) != "q") return out;
         if (static_cast<int>(v.size()) != n)
           throw InputError(std::string("--") + key, 0, key,
-                           "got " + std::to_string(v.size()) + " values, design '" + m.name + "' has " +
-                               std::to_string(n) + " joints");
+                           "got " + std::to_string(v.size()) + " values, design '" + m.name +
+                               "' has " + std::to_string(n) + " joints");
         for (int i = 0; i < n; ++i) {
           out[i] = v[i];
           if (a->deg && m.joints[i].type == JointType::Revolute) out[i] *= M_PI / 180.0;
-          if (!std::isfinite(out[i])) throw InputError(std::string("--") + key, 0, key, "value is not finite");
+          if (!std::isfinite(out[i]))
+            throw InputError(std::string("--") + key, 0, key, "value is not finite");
         }
         return out;
       };
@@ -60,7 +64,8 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
       DynamicsOptions opt;
       opt.include_payload = !a->no_payload;
       opt.include_rotor_inertia = a->rotor;
-      if (!a->gravity.empty()) opt.g_W = Eigen::Vector3d(a->gravity[0], a->gravity[1], a->gravity[2]);
+      if (!a->gravity.empty())
+        opt.g_W = Eigen::Vector3d(a->gravity[0], a->gravity[1], a->gravity[2]);
       std::string err;
       if (!opt.validate(err)) throw InputError("--gravity", 0, "gravity", err);
       const RigidBodyModel rbm = makeRigidBodyModel(m, opt);

@@ -41,10 +41,12 @@ inline void jointTransforms(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
 // Recursive Newton-Euler. kVel/kAcc drop the velocity/acceleration terms at compile time (bias and
 // gravity vectors); kGravity drops gravity (mass-matrix columns by unit accelerations).
 template <bool kVel, bool kAcc, bool kGravity>
-void rnea(const RigidBodyModel& rbm, DynamicsWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q,
-          const double* qd, const double* qdd, Eigen::Ref<Eigen::VectorXd> tau) {
+void rnea(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
+          const Eigen::Ref<const Eigen::VectorXd>& q, const double* qd, const double* qdd,
+          Eigen::Ref<Eigen::VectorXd> tau) {
   const int n = rbm.n;
-  ARMSTUDY_CHECK(q.size() == n && tau.size() == n, "inverse dynamics: vector size does not match the model");
+  ARMSTUDY_CHECK(q.size() == n && tau.size() == n,
+                 "inverse dynamics: vector size does not match the model");
   jointTransforms(rbm, ws, q);
   // Forward recursion (Appendix B, eq. B.4-B.6, B.10-B.13, B.17-B.19), all in link coordinates.
   // Gravity enters as an upward acceleration of the base: a_0 = -g.
@@ -83,7 +85,8 @@ void rnea(const RigidBodyModel& rbm, DynamicsWorkspace& ws, const Eigen::Ref<con
     ws.w[i] = wi;
     ws.wd[i] = wdi;
     ws.a[i] = ai;
-    // Momentum rates about the link origin, eq. (3.22)-(3.25): f = m a_C, n = I_O wd + w x I_O w + h x a.
+    // Momentum rates about the link origin, eq. (3.22)-(3.25): f = m a_C, n = I_O wd + w x I_O w +
+    // h x a.
     const Eigen::Vector3d& h = rbm.h[i];
     const Eigen::Matrix3d& I = rbm.I_O[i];
     ws.f[i] = rbm.mass[i] * ai;
@@ -100,7 +103,8 @@ void rnea(const RigidBodyModel& rbm, DynamicsWorkspace& ws, const Eigen::Ref<con
     wd = wdi;
     a = ai;
   }
-  // Backward recursion, eq. (3.22), (3.23a): F_i = f_i + F_{i+1}, T_i = n_i + T_{i+1} + r_rel x F_{i+1}.
+  // Backward recursion, eq. (3.22), (3.23a): F_i = f_i + F_{i+1}, T_i = n_i + T_{i+1} + r_rel x
+  // F_{i+1}.
   Eigen::Vector3d F = Eigen::Vector3d::Zero(), T = Eigen::Vector3d::Zero();
   for (int i = n - 1; i >= 0; --i) {
     if (i + 1 < n) {
@@ -132,9 +136,11 @@ RigidBodyModel makeRigidBodyModel(const Model& model, const DynamicsOptions& opt
   const int n = model.dof();
   ARMSTUDY_CHECK(n > 0 && n <= kMaxDof, "model DoF outside 1.." + std::to_string(kMaxDof));
   if (model.inertias.empty())
-    throw InputError(model.file, 1, "inertia",
-                     "design '" + model.name + "' has no [[inertia]] data; dynamics needs link masses");
-  ARMSTUDY_CHECK(static_cast<int>(model.inertias.size()) == n, "one LinkInertia per joint expected");
+    throw InputError(
+        model.file, 1, "inertia",
+        "design '" + model.name + "' has no [[inertia]] data; dynamics needs link masses");
+  ARMSTUDY_CHECK(static_cast<int>(model.inertias.size()) == n,
+                 "one LinkInertia per joint expected");
   RigidBodyModel rbm;
   rbm.n = n;
   rbm.options = options;
@@ -162,7 +168,8 @@ RigidBodyModel makeRigidBodyModel(const Model& model, const DynamicsOptions& opt
       const int i = model.jointIndex(d.joint);
       ARMSTUDY_CHECK(i >= 0, "drive for an unknown joint survived validation");
       if (!(d.gear_ratio > 0))
-        throw InputError(model.file, d.source_line, "drive.gear_ratio", "gear ratio must be positive");
+        throw InputError(model.file, d.source_line, "drive.gear_ratio",
+                         "gear ratio must be positive");
       // Rotor inertia reflected through the transmission (eq. 3.27): N^2 J_rotor.
       rbm.armature[i] = d.gear_ratio * d.gear_ratio * d.rotor_inertia_kgm2;
     }
@@ -174,7 +181,8 @@ RigidBodyModel makeRigidBodyModel(const Model& model, const DynamicsOptions& opt
 }
 
 DynamicsWorkspace::DynamicsWorkspace(const RigidBodyModel& rbm) : n(rbm.n) {
-  ARMSTUDY_CHECK(n > 0 && n <= kMaxDof, "dynamics workspace: DoF outside 1.." + std::to_string(kMaxDof));
+  ARMSTUDY_CHECK(n > 0 && n <= kMaxDof,
+                 "dynamics workspace: DoF outside 1.." + std::to_string(kMaxDof));
   for (int i = 0; i < kMaxDof; ++i) {
     R[i].setIdentity();
     p[i].setZero();
@@ -192,15 +200,18 @@ DynamicsWorkspace::DynamicsWorkspace(const RigidBodyModel& rbm) : n(rbm.n) {
 }
 
 void inverseDynamics(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
-                     const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd,
-                     const Eigen::Ref<const Eigen::VectorXd>& qdd, Eigen::Ref<Eigen::VectorXd> tau_out) {
-  ARMSTUDY_CHECK(qd.size() == rbm.n && qdd.size() == rbm.n, "inverse dynamics: vector size mismatch");
+                     const Eigen::Ref<const Eigen::VectorXd>& q,
+                     const Eigen::Ref<const Eigen::VectorXd>& qd,
+                     const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                     Eigen::Ref<Eigen::VectorXd> tau_out) {
+  ARMSTUDY_CHECK(qd.size() == rbm.n && qdd.size() == rbm.n,
+                 "inverse dynamics: vector size mismatch");
   rnea<true, true, true>(rbm, ws, q, qd.data(), qdd.data(), tau_out);
 }
 
 void biasForces(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
-                const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd,
-                Eigen::Ref<Eigen::VectorXd> h_out) {
+                const Eigen::Ref<const Eigen::VectorXd>& q,
+                const Eigen::Ref<const Eigen::VectorXd>& qd, Eigen::Ref<Eigen::VectorXd> h_out) {
   ARMSTUDY_CHECK(qd.size() == rbm.n, "bias forces: vector size mismatch");
   rnea<true, false, true>(rbm, ws, q, qd.data(), nullptr, h_out);
 }
@@ -210,7 +221,8 @@ void gravityForces(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
   rnea<false, false, true>(rbm, ws, q, nullptr, nullptr, g_out);
 }
 
-void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q) {
+void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
+                const Eigen::Ref<const Eigen::VectorXd>& q) {
   const int n = rbm.n;
   ARMSTUDY_CHECK(q.size() == n, "mass matrix: vector size does not match the model");
   jointTransforms(rbm, ws, q);
@@ -255,8 +267,10 @@ void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws, const Eigen::R
 
 const char* toString(ForwardDynamicsStatus s) {
   switch (s) {
-    case ForwardDynamicsStatus::Ok: return "ok";
-    case ForwardDynamicsStatus::SingularMassMatrix: return "singular_mass_matrix";
+    case ForwardDynamicsStatus::Ok:
+      return "ok";
+    case ForwardDynamicsStatus::SingularMassMatrix:
+      return "singular_mass_matrix";
   }
   return "?";
 }

@@ -3,9 +3,10 @@
 //
 //   M(q) qdd + h(q, qd) = Q                                   (eq. 3.28)
 //
-// Q is the generalised joint force (torque for revolute joints in N m, force for prismatic joints in
-// N) that the drives must deliver at the joint side; friction and the drive chain (eq. 3.27, 3.29)
-// are added on top by src/drive. h contains Coriolis, centrifugal and gravity terms.
+// Q is the generalised joint force (torque for revolute joints in N m, force for prismatic joints
+// in N) that the drives must deliver at the joint side; friction and the drive chain
+// (eq. 3.27, 3.29) are added on top by src/drive. h contains Coriolis, centrifugal and gravity
+// terms.
 //
 // Usage: build one immutable RigidBodyModel per (design, options) and one DynamicsWorkspace per
 // thread. All functions below run without heap allocation.
@@ -41,10 +42,10 @@ struct RigidBodyModel {
   std::array<JointType, kMaxDof> type{};
   std::array<Eigen::Matrix3d, kMaxDof> R_PJ0;  // fixed part of each joint transform
   std::array<Eigen::Vector3d, kMaxDof> p_PJ0;
-  std::array<double, kMaxDof> mass{};          // link mass [kg]
-  std::array<Eigen::Vector3d, kMaxDof> h;      // first moment m * p_com in the link frame [kg m]
-  std::array<Eigen::Matrix3d, kMaxDof> I_O;    // inertia about the link frame origin [kg m^2]
-  std::array<double, kMaxDof> armature{};      // reflected rotor inertia N^2 J_rotor [kg m^2 or kg]
+  std::array<double, kMaxDof> mass{};        // link mass [kg]
+  std::array<Eigen::Vector3d, kMaxDof> h;    // first moment m * p_com in the link frame [kg m]
+  std::array<Eigen::Matrix3d, kMaxDof> I_O;  // inertia about the link frame origin [kg m^2]
+  std::array<double, kMaxDof> armature{};    // reflected rotor inertia N^2 J_rotor [kg m^2 or kg]
   Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();
   Eigen::Vector3d g_B = Eigen::Vector3d::Zero();  // gravity in the base frame
@@ -60,32 +61,34 @@ RigidBodyModel makeRigidBodyModel(const Model& model, const DynamicsOptions& opt
 struct DynamicsWorkspace {
   explicit DynamicsWorkspace(const RigidBodyModel& rbm);
   int n = 0;
-  std::array<Eigen::Matrix3d, kMaxDof> R;    // orientation of frame i in its parent frame
-  std::array<Eigen::Vector3d, kMaxDof> p;    // origin of frame i in its parent frame
-  std::array<Eigen::Vector3d, kMaxDof> w;    // angular velocity of link i (frame i)
-  std::array<Eigen::Vector3d, kMaxDof> wd;   // angular acceleration (frame i)
-  std::array<Eigen::Vector3d, kMaxDof> a;    // origin acceleration minus gravity (frame i)
-  std::array<Eigen::Vector3d, kMaxDof> f;    // net force on link i (frame i)
-  std::array<Eigen::Vector3d, kMaxDof> nm;   // net moment on link i about its origin (frame i)
-  std::array<double, kMaxDof> mc{};          // composite (subtree) mass
-  std::array<Eigen::Vector3d, kMaxDof> hc;   // composite first moment
-  std::array<Eigen::Matrix3d, kMaxDof> Ic;   // composite inertia about the frame origin
+  std::array<Eigen::Matrix3d, kMaxDof> R;   // orientation of frame i in its parent frame
+  std::array<Eigen::Vector3d, kMaxDof> p;   // origin of frame i in its parent frame
+  std::array<Eigen::Vector3d, kMaxDof> w;   // angular velocity of link i (frame i)
+  std::array<Eigen::Vector3d, kMaxDof> wd;  // angular acceleration (frame i)
+  std::array<Eigen::Vector3d, kMaxDof> a;   // origin acceleration minus gravity (frame i)
+  std::array<Eigen::Vector3d, kMaxDof> f;   // net force on link i (frame i)
+  std::array<Eigen::Vector3d, kMaxDof> nm;  // net moment on link i about its origin (frame i)
+  std::array<double, kMaxDof> mc{};         // composite (subtree) mass
+  std::array<Eigen::Vector3d, kMaxDof> hc;  // composite first moment
+  std::array<Eigen::Matrix3d, kMaxDof> Ic;  // composite inertia about the frame origin
   MassMatrix M;
   Eigen::LLT<MassMatrix> llt;
   JointVector rhs;
 };
 
 // Recursive Newton-Euler (eq. 3.22-3.26 with the forward recursion of Appendix B): the generalised
-// joint forces Q that produce the accelerations qdd at (q, qd) under gravity. tau_out has n entries.
+// joint forces Q that produce the accelerations qdd at (q, qd) under gravity. tau_out has n
+// entries.
 void inverseDynamics(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
                      const Eigen::Ref<const Eigen::VectorXd>& q,
                      const Eigen::Ref<const Eigen::VectorXd>& qd,
-                     const Eigen::Ref<const Eigen::VectorXd>& qdd, Eigen::Ref<Eigen::VectorXd> tau_out);
+                     const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                     Eigen::Ref<Eigen::VectorXd> tau_out);
 
 // Bias vector h(q, qd) of eq. (3.28): Coriolis, centrifugal and gravity forces (RNEA with qdd = 0).
 void biasForces(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
-                const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd,
-                Eigen::Ref<Eigen::VectorXd> h_out);
+                const Eigen::Ref<const Eigen::VectorXd>& q,
+                const Eigen::Ref<const Eigen::VectorXd>& qd, Eigen::Ref<Eigen::VectorXd> h_out);
 
 // Static holding forces g(q) = h(q, 0): gravity and payload only.
 void gravityForces(const RigidBodyModel& rbm, DynamicsWorkspace& ws,

@@ -20,7 +20,8 @@ ApproachPlannerOptions readApproachOptions(io::TableReader& r) {
   o.beta_goal_rad = r.quantity("beta_goal", Dimension::Angle, o.beta_goal_rad);
   o.gamma_offset_rad = r.quantity("gamma_offset", Dimension::Angle, o.gamma_offset_rad);
   std::string err;
-  ARMSTUDY_CHECK(o.validate(err), "approach reader and ApproachPlannerOptions::validate disagree: " + err);
+  ARMSTUDY_CHECK(o.validate(err),
+                 "approach reader and ApproachPlannerOptions::validate disagree: " + err);
   return o;
 }
 

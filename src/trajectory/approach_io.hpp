@@ -25,6 +25,7 @@ class TableReader;
 ApproachPlannerOptions readApproachOptions(io::TableReader& r);
 
 // Parses a TOML document and reads its [approach] table (strict: unknown keys are errors).
-ApproachPlannerOptions parseApproachOptions(const std::string& toml_text, const std::string& file_label);
+ApproachPlannerOptions parseApproachOptions(const std::string& toml_text,
+                                            const std::string& file_label);
 
 }  // namespace armstudy

@@ -39,26 +39,34 @@ bool ApproachPlannerOptions::validate(std::string& error) const {
     return false;
   };
   if (!(std::isfinite(duration_s) && duration_s > 0)) return fail("duration must be positive");
-  if (!(std::isfinite(entry_radius_m) && entry_radius_m > 0)) return fail("entry radius r_e must be positive");
-  if (!(std::isfinite(exp_scale_m) && exp_scale_m > 0)) return fail("exponential scale must be positive");
+  if (!(std::isfinite(entry_radius_m) && entry_radius_m > 0))
+    return fail("entry radius r_e must be positive");
+  if (!(std::isfinite(exp_scale_m) && exp_scale_m > 0))
+    return fail("exponential scale must be positive");
   if (!(s_e > 0 && s_e < 1)) return fail("s_e must lie in (0, 1) (eq. 5.16b)");
   if (!(s_a >= 0 && s_a < s_e)) return fail("s_a must lie in [0, s_e) (eq. 5.18)");
-  if (!(std::isfinite(alpha_goal_rad) && std::isfinite(beta_goal_rad) && std::isfinite(gamma_offset_rad)))
+  if (!(std::isfinite(alpha_goal_rad) && std::isfinite(beta_goal_rad) &&
+        std::isfinite(gamma_offset_rad)))
     return fail("goal angles must be finite");
   return true;
 }
 
 const char* toString(ApproachStatus s) {
   switch (s) {
-    case ApproachStatus::Ok: return "ok";
-    case ApproachStatus::StartInsidePlantCircle: return "start_inside_plant_circle";
-    case ApproachStatus::FruitOutsidePlantCircle: return "fruit_outside_plant_circle";
-    case ApproachStatus::StartTooFar: return "start_too_far";
+    case ApproachStatus::Ok:
+      return "ok";
+    case ApproachStatus::StartInsidePlantCircle:
+      return "start_inside_plant_circle";
+    case ApproachStatus::FruitOutsidePlantCircle:
+      return "fruit_outside_plant_circle";
+    case ApproachStatus::StartTooFar:
+      return "start_too_far";
   }
   return "?";
 }
 
-std::array<double, 6> quinticHermite(double p0, double v0, double a0, double p1, double v1, double a1) {
+std::array<double, 6> quinticHermite(double p0, double v0, double a0, double p1, double v1,
+                                     double a1) {
   const double d = p1 - p0;
   return {p0,
           v0,
@@ -120,7 +128,8 @@ ApproachTrajectory planApproach(const ApproachProblem& pb, const ApproachPlanner
   tr.start_.ddr = tr.a_ * tr.a_ * L;
   // eq. (5.20a-c): r_bar matches r, r', r'' of the exponential at s_e and comes to rest at r_g.
   const double du_r = 1.0 - opt.s_e;
-  tr.r_coef_ = quinticHermite(r_e, -tr.a_ * ea * du_r, tr.a_ * tr.a_ * ea * du_r * du_r, tr.r_g_, 0, 0);
+  tr.r_coef_ =
+      quinticHermite(r_e, -tr.a_ * ea * du_r, tr.a_ * tr.a_ * ea * du_r * du_r, tr.r_g_, 0, 0);
   // eq. (5.20d, e): phi_bar from phi_s at s_a to phi_g at s_e with zero slope and curvature.
   tr.phi_coef_ = quinticHermite(tr.start_.phi, 0, 0, tr.phi_g_, 0, 0);
   // Entry time t_e: s(t_e) = s_e on the monotone quintic (Newton, safeguarded by bisection).
@@ -165,7 +174,8 @@ PolarSample ApproachTrajectory::polynomialBranches(double s) const {
 }
 
 PolarSample ApproachTrajectory::polar(double s) const {
-  ARMSTUDY_CHECK(status_ == ApproachStatus::Ok, "approach trajectory evaluated after a failed plan");
+  ARMSTUDY_CHECK(status_ == ApproachStatus::Ok,
+                 "approach trajectory evaluated after a failed plan");
   s = std::clamp(s, 0.0, 1.0);
   const PolarSample poly = polynomialBranches(s);
   PolarSample p;

@@ -24,7 +24,7 @@ struct ApproachPlannerOptions {
   double s_e = 0.8;             // path parameter of the entry point (Fig. 5.8)
   double duration_s = 0;        // T, duration of the whole approach; must be positive
   double exp_scale_m = defaults::kApproachExpScale_m;  // L of r(s) = L e^{-a s} + b (thesis: 1 m)
-  double alpha_goal_rad = 0;    // goal Cardan alpha, beta (fruit hanging straight down: 0, 0)
+  double alpha_goal_rad = 0;  // goal Cardan alpha, beta (fruit hanging straight down: 0, 0)
   double beta_goal_rad = 0;
   double gamma_offset_rad = 0;  // goal gamma = heading of the radial approach + this offset
   // False with a message for unusable values (duration <= 0, s_a >= s_e, ...).
@@ -32,10 +32,10 @@ struct ApproachPlannerOptions {
 };
 
 struct ApproachProblem {
-  Eigen::Vector3d p_start_W = Eigen::Vector3d::Zero();   // r_s and z_s
-  Eigen::Vector3d cardan_start = Eigen::Vector3d::Zero(); // (alpha, beta, gamma) at the start
-  Eigen::Vector2d stem_xy_W = Eigen::Vector2d::Zero();   // r_st
-  Eigen::Vector3d fruit_W = Eigen::Vector3d::Zero();     // r_g and z_g
+  Eigen::Vector3d p_start_W = Eigen::Vector3d::Zero();       // r_s and z_s
+  Eigen::Vector3d cardan_start = Eigen::Vector3d::Zero();    // (alpha, beta, gamma) at the start
+  Eigen::Vector2d stem_xy_W = Eigen::Vector2d::Zero();       // r_st
+  Eigen::Vector3d fruit_W = Eigen::Vector3d::Zero();         // r_g and z_g
   Eigen::Vector2d reference_xy_W = Eigen::Vector2d::Zero();  // robot base, origin of delta
 };
 
@@ -71,14 +71,14 @@ class ApproachTrajectory {
   ApproachStatus status() const { return status_; }
   const ApproachPlannerOptions& options() const { return opt_; }
   double duration() const { return opt_.duration_s; }
-  double entryTime() const { return t_e_; }       // t_e with s(t_e) = s_e
-  double a() const { return a_; }                 // eq. (5.19a)
-  double b() const { return b_; }                 // eq. (5.19b)
-  const PolarSample& start() const { return start_; }   // phi_s = (r_s, phi_s)
+  double entryTime() const { return t_e_; }            // t_e with s(t_e) = s_e
+  double a() const { return a_; }                      // eq. (5.19a)
+  double b() const { return b_; }                      // eq. (5.19b)
+  const PolarSample& start() const { return start_; }  // phi_s = (r_s, phi_s)
   double phiGoal() const { return phi_g_; }
   double rGoal() const { return r_g_; }
-  double delta() const { return delta_; }         // angle of the stem frame, eq. (5.15)
-  Eigen::Vector2d entryPointXY() const;           // phi_e = (r_e, phi_g) in W
+  double delta() const { return delta_; }  // angle of the stem frame, eq. (5.15)
+  Eigen::Vector2d entryPointXY() const;    // phi_e = (r_e, phi_g) in W
   Eigen::Vector3d goalCardan() const { return cardan_g_; }
 
   // Polar path r(s), phi(s) of eq. (5.17), (5.18), piecewise.
@@ -98,8 +98,8 @@ class ApproachTrajectory {
   Eigen::Vector2d stem_;
   double delta_ = 0, a_ = 0, b_ = 0, r_g_ = 0, phi_g_ = 0, t_e_ = 0;
   PolarSample start_;
-  std::array<double, 6> r_coef_{};    // r_bar in u = (s - s_e) / (1 - s_e)
-  std::array<double, 6> phi_coef_{};  // phi_bar in u = (s - s_a) / (s_e - s_a)
+  std::array<double, 6> r_coef_{};          // r_bar in u = (s - s_e) / (1 - s_e)
+  std::array<double, 6> phi_coef_{};        // phi_bar in u = (s - s_a) / (s_e - s_a)
   Eigen::Vector3d z_ab_start_, z_ab_goal_;  // (z, alpha, beta) at start and goal
   double gamma_s_ = 0;
   Eigen::Vector3d cardan_g_;
@@ -108,10 +108,12 @@ class ApproachTrajectory {
 // Plans the approach. Options must validate (programmer precondition: readers turn bad files into
 // InputError first). Geometric impossibilities are reported in status(); the trajectory is then
 // not evaluable.
-ApproachTrajectory planApproach(const ApproachProblem& problem, const ApproachPlannerOptions& options);
+ApproachTrajectory planApproach(const ApproachProblem& problem,
+                                const ApproachPlannerOptions& options);
 
 // Quintic Hermite polynomial on u in [0, 1] from (p0, v0, a0) to (p1, v1, a1) (derivatives in u).
-std::array<double, 6> quinticHermite(double p0, double v0, double a0, double p1, double v1, double a1);
+std::array<double, 6> quinticHermite(double p0, double v0, double a0, double p1, double v1,
+                                     double a1);
 // Value and first two derivatives (in u) of a polynomial with coefficients c[0] + c[1] u + ...
 void evalPolynomial(const std::array<double, 6>& c, double u, double& p, double& dp, double& ddp);
 

@@ -31,12 +31,13 @@ KDL::Chain minimalKdlChain(const Model& m) {
     const KDL::Frame tip = toKdl(last ? m.T_NT : m.joints[i + 1].T_PJ0);
     KDL::RigidBodyInertia I = toKdl(m.inertias[i]);
     if (last)
-      I = I + toKdl(m.T_NT) * KDL::RigidBodyInertia(m.payload_kg,
-                                                    KDL::Vector(m.p_payload_com_T.x(), m.p_payload_com_T.y(),
-                                                                m.p_payload_com_T.z()));
+      I = I + toKdl(m.T_NT) *
+                  KDL::RigidBodyInertia(m.payload_kg,
+                                        KDL::Vector(m.p_payload_com_T.x(), m.p_payload_com_T.y(),
+                                                    m.p_payload_com_T.z()));
     c.addSegment(KDL::Segment(
-        KDL::Joint(m.joints[i].type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ), tip,
-        tip.Inverse() * I));
+        KDL::Joint(m.joints[i].type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ),
+        tip, tip.Inverse() * I));
   }
   return c;
 }
@@ -64,7 +65,8 @@ int main() {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Eigen::VectorXd> q(N), qd(N), qdd(N);
-  std::vector<KDL::JntArray> kq(N, KDL::JntArray(n)), kqd(N, KDL::JntArray(n)), kqdd(N, KDL::JntArray(n));
+  std::vector<KDL::JntArray> kq(N, KDL::JntArray(n)), kqd(N, KDL::JntArray(n)),
+      kqdd(N, KDL::JntArray(n));
   for (int k = 0; k < N; ++k) {
     q[k] = randomConfiguration(m, rng);
     qd[k].resize(n);
@@ -89,9 +91,11 @@ int main() {
     inverseDynamics(rbm, ws, q[k], qd[k], qdd[k], tau);
     const double scale = std::max(1.0, tau.cwiseAbs().maxCoeff());
     rne_full.CartToJnt(kq[k], kqd[k], kqdd[k], f_full, kt);
-    for (int i = 0; i < n; ++i) max_rel_full = std::max(max_rel_full, std::abs(kt(i) - tau[i]) / scale);
+    for (int i = 0; i < n; ++i)
+      max_rel_full = std::max(max_rel_full, std::abs(kt(i) - tau[i]) / scale);
     rne_min.CartToJnt(kq[k], kqd[k], kqdd[k], f_min, kt);
-    for (int i = 0; i < n; ++i) max_rel_min = std::max(max_rel_min, std::abs(kt(i) - tau[i]) / scale);
+    for (int i = 0; i < n; ++i)
+      max_rel_min = std::max(max_rel_min, std::abs(kt(i) - tau[i]) / scale);
   }
 
   const int R = 20;  // passes over the N states per repetition
@@ -131,20 +135,32 @@ int main() {
     bench::doNotOptimize(out[0]);
   });
 
-  std::printf("Dynamics of final_prototype_9dof (n = %d), %d random states, median of 7 batches of %d calls\n", n, N, N * R);
-  std::printf("KDL agreement (max relative torque difference): full chain %.1e, minimal chain %.1e\n",
-              max_rel_full, max_rel_min);
+  std::printf(
+      "Dynamics of final_prototype_9dof (n = %d), %d random states, median of 7 batches of %d "
+      "calls\n",
+      n, N, N * R);
+  std::printf(
+      "KDL agreement (max relative torque difference): full chain %.1e, minimal chain %.1e\n",
+      max_rel_full, max_rel_min);
   std::printf("| operation | armstudy [ns/call] | peer | peer [ns/call] | speed-up |\n");
   std::printf("|---|---:|---|---:|---:|\n");
-  std::printf("| inverse dynamics (RNEA) | %.0f | KDL ChainIdSolver_RNE, minimal chain (%u segments) | %.0f | %.1fx |\n",
-              t_id, kdl_min.getNrOfSegments(), t_kdl_min, t_kdl_min / t_id);
-  std::printf("| inverse dynamics (RNEA) | %.0f | KDL ChainIdSolver_RNE, test chain (%u segments) | %.0f | %.1fx |\n",
-              t_id, kdl_full.getNrOfSegments(), t_kdl_full, t_kdl_full / t_id);
-  std::printf("| mass matrix (CRBA) | %.0f | KDL ChainDynParam::JntToMass, minimal chain | %.0f | %.1fx |\n", t_M,
-              t_kdl_M, t_kdl_M / t_M);
+  std::printf(
+      "| inverse dynamics (RNEA) | %.0f | KDL ChainIdSolver_RNE, minimal chain (%u segments) | "
+      "%.0f | %.1fx |\n",
+      t_id, kdl_min.getNrOfSegments(), t_kdl_min, t_kdl_min / t_id);
+  std::printf(
+      "| inverse dynamics (RNEA) | %.0f | KDL ChainIdSolver_RNE, test chain (%u segments) | %.0f | "
+      "%.1fx |\n",
+      t_id, kdl_full.getNrOfSegments(), t_kdl_full, t_kdl_full / t_id);
+  std::printf(
+      "| mass matrix (CRBA) | %.0f | KDL ChainDynParam::JntToMass, minimal chain | %.0f | %.1fx "
+      "|\n",
+      t_M, t_kdl_M, t_kdl_M / t_M);
   std::printf("| gravity vector g(q) | %.0f | - | - | - |\n", t_grav);
   std::printf("| forward dynamics (h + CRBA + LLT) | %.0f | - | - | - |\n", t_fd);
-  const bool ok = t_id < 1000.0 && t_kdl_min / t_id >= 3.0 && max_rel_min < 1e-9 && max_rel_full < 1e-9;
-  std::printf("targets (RNEA < 1 us, >= 3x KDL minimal chain, agreement 1e-9): %s\n", ok ? "met" : "NOT met");
+  const bool ok =
+      t_id < 1000.0 && t_kdl_min / t_id >= 3.0 && max_rel_min < 1e-9 && max_rel_full < 1e-9;
+  std::printf("targets (RNEA < 1 us, >= 3x KDL minimal chain, agreement 1e-9): %s\n",
+              ok ? "met" : "NOT met");
   return 0;
 }

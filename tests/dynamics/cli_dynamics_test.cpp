@@ -1,9 +1,9 @@
 // End-to-end: the `dynamics` and `approach` commands against the library they wrap, and their
 // handling of bad arguments (exit code 2, message naming the argument).
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "dynamics/dynamics.hpp"
@@ -21,10 +21,11 @@ constexpr double kPrintedTolerance = 1e-9;  // JSON doubles round-trip; relative
 TEST_CASE("armstudy dynamics prints Q and g(q) equal to the library's", "[dynamics][cli]") {
   const std::string design = sourcePath("designs/final_prototype_9dof.toml");
   std::string out;
-  const int rc = runCommand(binaryPath() + " dynamics " + design +
-                                " --q 0.1,0.2,0.3,-0.4,0.5,0.6,-0.7,0.8,0.9 --qd 0.1,0.1,0.1,0.1,0.1,0.1,0.1,0.1,0.1"
-                                " --qdd 1,1,1,1,1,1,1,1,1 --gravity 0.5,0,-9.8 --json 2>/dev/null",
-                            out);
+  const int rc = runCommand(
+      binaryPath() + " dynamics " + design +
+          " --q 0.1,0.2,0.3,-0.4,0.5,0.6,-0.7,0.8,0.9 --qd 0.1,0.1,0.1,0.1,0.1,0.1,0.1,0.1,0.1"
+          " --qdd 1,1,1,1,1,1,1,1,1 --gravity 0.5,0,-9.8 --json 2>/dev/null",
+      out);
   REQUIRE(rc == 0);
   const auto j = nlohmann::json::parse(out);
   const Model m = loadDesign(design);
@@ -32,7 +33,8 @@ TEST_CASE("armstudy dynamics prints Q and g(q) equal to the library's", "[dynami
   opt.g_W = Eigen::Vector3d(0.5, 0, -9.8);
   const RigidBodyModel rbm = makeRigidBodyModel(m, opt);
   DynamicsWorkspace ws(rbm);
-  Eigen::VectorXd q(9), qd = Eigen::VectorXd::Constant(9, 0.1), qdd = Eigen::VectorXd::Ones(9), Q(9), g(9);
+  Eigen::VectorXd q(9), qd = Eigen::VectorXd::Constant(9, 0.1), qdd = Eigen::VectorXd::Ones(9),
+                        Q(9), g(9);
   q << 0.1, 0.2, 0.3, -0.4, 0.5, 0.6, -0.7, 0.8, 0.9;
   inverseDynamics(rbm, ws, q, qd, qdd, Q);
   gravityForces(rbm, ws, q, g);
@@ -45,19 +47,23 @@ TEST_CASE("armstudy dynamics prints Q and g(q) equal to the library's", "[dynami
   CHECK(j["joints"][1]["unit"] == "N m");
 }
 
-TEST_CASE("armstudy dynamics and approach reject bad arguments with exit code 2", "[dynamics][cli][input]") {
+TEST_CASE("armstudy dynamics and approach reject bad arguments with exit code 2",
+          "[dynamics][cli][input]") {
   std::string out;
-  CHECK(runCommand(binaryPath() + " dynamics " + sourcePath("designs/final_prototype_9dof.toml") + " --q 0,0,0",
+  CHECK(runCommand(binaryPath() + " dynamics " + sourcePath("designs/final_prototype_9dof.toml") +
+                       " --q 0,0,0",
                    out) == 2);
   CHECK(out.find("9 joints") != std::string::npos);
-  const std::string approach = binaryPath() + " approach --start 0.55,0.79,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9";
+  const std::string approach =
+      binaryPath() + " approach --start 0.55,0.79,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9";
   CHECK(runCommand(approach + " --duration 0", out) == 2);
   CHECK(out.find("duration") != std::string::npos);
   CHECK(runCommand(approach + " --duration 2 --s-a 0.9", out) == 2);
   CHECK(out.find("s_a") != std::string::npos);
   // Plannable input but impossible geometry is an outcome (exit 3), not an input error.
-  CHECK(runCommand(binaryPath() + " approach --start 0.45,0.81,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9 "
-                                  "--duration 2",
+  CHECK(runCommand(binaryPath() +
+                       " approach --start 0.45,0.81,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9 "
+                       "--duration 2",
                    out) == 3);
   CHECK(out.find("start_inside_plant_circle") != std::string::npos);
 }
@@ -67,10 +73,12 @@ TEST_CASE("armstudy approach writes the planned trajectory as CSV (thesis Fig. 5
   std::string out;
   const std::string csv = "approach_fig58_test.csv";  // in the ctest working directory (build/)
   std::remove(csv.c_str());
-  const int rc = runCommand(binaryPath() +
-                                " approach --start 0.55,0.79,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9"
-                                " --duration 2 --rate 50 --out " + csv,
-                            out);
+  const int rc =
+      runCommand(binaryPath() +
+                     " approach --start 0.55,0.79,1.0 --stem 0.43,0.8 --fruit 0.43,0.762,0.9"
+                     " --duration 2 --rate 50 --out " +
+                     csv,
+                 out);
   REQUIRE(rc == 0);
   CHECK(out.find("entry time") != std::string::npos);
   std::ifstream is(csv);

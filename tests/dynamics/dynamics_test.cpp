@@ -2,17 +2,17 @@
 // ChainDynParam, a second algorithm for M (composite bodies vs. Newton-Euler with unit
 // accelerations), a closed-form pendulum, finite differences of the potential energy, the kinetic
 // energy from link velocities, and energy conservation of a simulated frictionless swing.
+#include "dynamics/dynamics.hpp"
+
+#include <Eigen/Eigenvalues>
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cstdlib>
-#include <new>
 #include <kdl/chaindynparam.hpp>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
-
-#include <Eigen/Eigenvalues>
+#include <new>
 
 #include "common/errors.hpp"
-#include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
 #include "kdl_chain.hpp"
 #include "test_support.hpp"
@@ -32,11 +32,11 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
-constexpr double kKdlRelTolerance = 1e-9;     // relative agreement with orocos-kdl (issue 6)
-constexpr double kAlgebraTolerance = 1e-10;   // two exact algorithms on the same data (relative)
-constexpr double kRoundTripTolerance = 1e-8;  // inverse then forward dynamics (relative)
+constexpr double kKdlRelTolerance = 1e-9;       // relative agreement with orocos-kdl (issue 6)
+constexpr double kAlgebraTolerance = 1e-10;     // two exact algorithms on the same data (relative)
+constexpr double kRoundTripTolerance = 1e-8;    // inverse then forward dynamics (relative)
 constexpr double kEnergyDriftTolerance = 1e-6;  // relative drift of RK4 over the swing
-constexpr double kFdGravityTolerance = 1e-6;  // dV/dq by central differences [N m] (relative)
+constexpr double kFdGravityTolerance = 1e-6;    // dV/dq by central differences [N m] (relative)
 constexpr double kClosedFormTolerance = 1e-12;  // closed-form pendulum [N m]
 
 Eigen::VectorXd randomVector(int n, double scale, std::mt19937_64& rng) {
@@ -82,7 +82,8 @@ min = "-180 deg"
 max = "180 deg"
 [tcp]
 x = 0.5
-)" + inertia + extra;
+)" + inertia +
+         extra;
 }
 
 }  // namespace
@@ -247,7 +248,8 @@ TEST_CASE("energy is conserved in a frictionless simulated swing (RK4)", "[dynam
     // Start away from rest, no joint torques: the arm swings under gravity.
     Eigen::VectorXd q(n), qd(n);
     for (int i = 0; i < n; ++i) {
-      q[i] = 0.3 * (m.joints[i].limits.q_min + m.joints[i].limits.q_max) / 2 + 0.2 * std::sin(1.0 + i);
+      q[i] =
+          0.3 * (m.joints[i].limits.q_min + m.joints[i].limits.q_max) / 2 + 0.2 * std::sin(1.0 + i);
       qd[i] = 0.5 * std::cos(2.0 + i);
     }
     const Eigen::VectorXd Q = Eigen::VectorXd::Zero(n);
@@ -277,12 +279,14 @@ TEST_CASE("energy is conserved in a frictionless simulated swing (RK4)", "[dynam
   }
 }
 
-TEST_CASE("closed-form pendulum: tau = (I_zz + m l^2) qdd + m g l cos(q)", "[dynamics][closed-form]") {
+TEST_CASE("closed-form pendulum: tau = (I_zz + m l^2) qdd + m g l cos(q)",
+          "[dynamics][closed-form]") {
   // Joint axis horizontal (alpha = pi/2: z1 along -y of W), link along x1 with a point-like mass.
   const double m = 2.0, l = 0.4, Izz = 0.01;
-  const Model model = parseDesign(designText("[[inertia]]\nlink = \"j1\"\nmass = 2.0\ncom = [0.4, 0, 0]\n"
-                                             "inertia = [0.005, 0.005, 0.01, 0, 0, 0]\n"),
-                                  "pendulum.toml");
+  const Model model =
+      parseDesign(designText("[[inertia]]\nlink = \"j1\"\nmass = 2.0\ncom = [0.4, 0, 0]\n"
+                             "inertia = [0.005, 0.005, 0.01, 0, 0, 0]\n"),
+                  "pendulum.toml");
   const RigidBodyModel rbm = makeRigidBodyModel(model);
   DynamicsWorkspace ws(rbm);
   Eigen::VectorXd q(1), qd(1), qdd(1), tau(1);
@@ -324,17 +328,21 @@ TEST_CASE("bad inertial and drive data are input errors naming file, line and ke
   expectError(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
                          "inertia = [0.001, 0.002, 0.01, 0, 0, 0]\n"),
               "inertia");
-  expectError(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com + "inertia = [0.01, 0.01]\n"),
-              "inertia");
+  expectError(
+      designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com + "inertia = [0.01, 0.01]\n"),
+      "inertia");
   expectError(designText("", "[payload]\nmass = -0.5\n"), "mass");
-  const std::string inertia =
-      "[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com + "inertia = [0.005, 0.005, 0.01, 0, 0, 0]\n";
-  expectError(designText(inertia, "[[drive]]\njoint = \"j1\"\ngear_ratio = 0\ntorque_constant = 0.1\n"),
-              "gear_ratio");
-  expectError(designText(inertia, "[[drive]]\njoint = \"j1\"\ngear_ratio = 100\ntorque_constant = 0\n"),
-              "torque_constant");
-  expectError(designText(inertia, "[[drive]]\njoint = \"j1\"\ngear_ratio = 100\ntorque_constant = 0.1\n"
-                                  "rotor_inertia = -1e-5\n"),
+  const std::string inertia = "[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
+                              "inertia = [0.005, 0.005, 0.01, 0, 0, 0]\n";
+  expectError(
+      designText(inertia, "[[drive]]\njoint = \"j1\"\ngear_ratio = 0\ntorque_constant = 0.1\n"),
+      "gear_ratio");
+  expectError(
+      designText(inertia, "[[drive]]\njoint = \"j1\"\ngear_ratio = 100\ntorque_constant = 0\n"),
+      "torque_constant");
+  expectError(designText(inertia,
+                         "[[drive]]\njoint = \"j1\"\ngear_ratio = 100\ntorque_constant = 0.1\n"
+                         "rotor_inertia = -1e-5\n"),
               "rotor_inertia");
   // The same body without the triangle violation is accepted.
   CHECK_NOTHROW(parseDesign(designText(inertia), "good.toml"));
@@ -351,7 +359,8 @@ TEST_CASE("dynamics of a design without inertial data is an input error", "[dyna
   }
 }
 
-TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads", "[dynamics][determinism]") {
+TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads",
+          "[dynamics][determinism]") {
   const Model m = loadDesign(sourcePath("designs/final_prototype_9dof.toml"));
   const RigidBodyModel rbm = makeRigidBodyModel(m);
   std::mt19937_64 rng(3);
@@ -384,7 +393,8 @@ TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads", "[dyn
   CHECK((serial - parallel).cwiseAbs().maxCoeff() == 0.0);
 }
 
-TEST_CASE("inverse dynamics, mass matrix and forward dynamics do not allocate", "[dynamics][memory]") {
+TEST_CASE("inverse dynamics, mass matrix and forward dynamics do not allocate",
+          "[dynamics][memory]") {
   const Model m = loadDesign(sourcePath("designs/final_prototype_9dof.toml"));
   const RigidBodyModel rbm = makeRigidBodyModel(m);
   DynamicsWorkspace ws(rbm);

@@ -45,8 +45,9 @@ inline KDL::Chain toKdlDynamicChain(const Model& m, bool with_payload, bool with
   c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_NT)));
   if (with_payload && m.payload_kg > 0) {
     const Eigen::Vector3d& p = m.p_payload_com_T;
-    c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), KDL::Frame::Identity(),
-                              KDL::RigidBodyInertia(m.payload_kg, KDL::Vector(p.x(), p.y(), p.z()))));
+    c.addSegment(
+        KDL::Segment(KDL::Joint(KDL::Joint::None), KDL::Frame::Identity(),
+                     KDL::RigidBodyInertia(m.payload_kg, KDL::Vector(p.x(), p.y(), p.z()))));
   }
   return c;
 }

@@ -2,33 +2,36 @@
 // constraints of eq. (5.16) and boundary conditions of eq. (5.20) evaluated on the result, geometry
 // (outside the plant circle before the entry point, a straight segment after it), central finite
 // differences for every derivative, C2 continuity at the switching points, rest at both ends.
+#include "trajectory/approach_planner.hpp"
+
 #include <catch2/catch.hpp>
 #include <numbers>
 
 #include "common/errors.hpp"
 #include "test_support.hpp"
 #include "trajectory/approach_io.hpp"
-#include "trajectory/approach_planner.hpp"
 
 using namespace armstudy;
 using namespace armstudy::test;
 
 namespace {
 
-constexpr double kBoundaryTolerance = 1e-12;      // exact constraints evaluated numerically
-constexpr double kLineTolerance = 1e-12;          // distance from the entry-fruit line [m]
-constexpr double kTrajFdStep = 1e-5;              // central-difference step [s] or [-]
-constexpr double kTrajFdTolerance = 1e-6;         // derivative vs central differences (relative)
-constexpr double kContinuityStep = 1e-9;          // one-sided offset around switching points [s]
-constexpr double kContinuityTolerance = 1e-6;     // jump of w, wd, wdd across a switching point
+constexpr double kBoundaryTolerance = 1e-12;   // exact constraints evaluated numerically
+constexpr double kLineTolerance = 1e-12;       // distance from the entry-fruit line [m]
+constexpr double kTrajFdStep = 1e-5;           // central-difference step [s] or [-]
+constexpr double kTrajFdTolerance = 1e-6;      // derivative vs central differences (relative)
+constexpr double kContinuityStep = 1e-9;       // one-sided offset around switching points [s]
+constexpr double kContinuityTolerance = 1e-6;  // jump of w, wd, wdd across a switching point
 
-// Fig. 5.8 scene: stem at (0.43, 0.8), start at (0.55, 0.79); fruits 38 mm from the stem (Table 2.2).
+// Fig. 5.8 scene: stem at (0.43, 0.8), start at (0.55, 0.79); fruits 38 mm from the stem
+// (Table 2.2).
 ApproachProblem fig58Problem(double fruit_angle, double fruit_z = 0.9) {
   ApproachProblem pb;
   pb.p_start_W = Eigen::Vector3d(0.55, 0.79, 1.1);
   pb.cardan_start = Eigen::Vector3d(0.2, -0.1, 0.5);
   pb.stem_xy_W = Eigen::Vector2d(0.43, 0.8);
-  pb.fruit_W = Eigen::Vector3d(0.43 + 0.038 * std::cos(fruit_angle), 0.8 + 0.038 * std::sin(fruit_angle), fruit_z);
+  pb.fruit_W = Eigen::Vector3d(0.43 + 0.038 * std::cos(fruit_angle),
+                               0.8 + 0.038 * std::sin(fruit_angle), fruit_z);
   return pb;
 }
 
@@ -40,7 +43,8 @@ ApproachPlannerOptions fig58Options() {
 
 std::vector<ApproachProblem> scenes() {
   std::vector<ApproachProblem> v;
-  for (int k = 0; k < 12; ++k) v.push_back(fig58Problem(k * std::numbers::pi / 6 + 0.05, 0.7 + 0.05 * k));
+  for (int k = 0; k < 12; ++k)
+    v.push_back(fig58Problem(k * std::numbers::pi / 6 + 0.05, 0.7 + 0.05 * k));
   // A start far from the plant, on the other side of the stem, and a different reference point.
   ApproachProblem far = fig58Problem(2.0);
   far.p_start_W = Eigen::Vector3d(0.1, 0.3, 0.6);
@@ -97,7 +101,8 @@ TEST_CASE("approach path meets the constraints of eq. 5.16 and the boundary cond
     }
     // The polar angle of the start, seen from the stem, in the stem frame of eq. (5.15).
     const Eigen::Vector2d d = pb.p_start_W.head<2>() - pb.stem_xy_W;
-    CHECK(std::abs(angleDiff(std::atan2(d.y(), d.x()) - tr.delta(), tr.start().phi)) < kBoundaryTolerance);
+    CHECK(std::abs(angleDiff(std::atan2(d.y(), d.x()) - tr.delta(), tr.start().phi)) <
+          kBoundaryTolerance);
   }
 }
 
@@ -155,15 +160,19 @@ TEST_CASE("path and trajectory derivatives match central finite differences", "[
     for (int k = 1; k < 400; ++k) {
       const double t = opt.duration_s * k / 400.0;
       const TaskSample w = tr.sample(t), wp = tr.sample(t + h), wm = tr.sample(t - h);
-      const Eigen::Matrix<double, 6, 1> fd1 = (wp.w - wm.w) / (2 * h), fd2 = (wp.wd - wm.wd) / (2 * h);
+      const Eigen::Matrix<double, 6, 1> fd1 = (wp.w - wm.w) / (2 * h),
+                                        fd2 = (wp.wd - wm.wd) / (2 * h);
       INFO("t = " << t);
-      CHECK((fd1 - w.wd).cwiseAbs().maxCoeff() < kTrajFdTolerance * std::max(1.0, w.wd.cwiseAbs().maxCoeff()));
-      CHECK((fd2 - w.wdd).cwiseAbs().maxCoeff() < kTrajFdTolerance * std::max(1.0, w.wdd.cwiseAbs().maxCoeff()));
+      CHECK((fd1 - w.wd).cwiseAbs().maxCoeff() <
+            kTrajFdTolerance * std::max(1.0, w.wd.cwiseAbs().maxCoeff()));
+      CHECK((fd2 - w.wdd).cwiseAbs().maxCoeff() <
+            kTrajFdTolerance * std::max(1.0, w.wdd.cwiseAbs().maxCoeff()));
     }
   }
 }
 
-TEST_CASE("trajectory is C2 at its switching points and at rest at both ends", "[trajectory][planner]") {
+TEST_CASE("trajectory is C2 at its switching points and at rest at both ends",
+          "[trajectory][planner]") {
   const ApproachPlannerOptions opt = fig58Options();
   for (const ApproachProblem& pb : scenes()) {
     const ApproachTrajectory tr = planApproach(pb, opt);
@@ -193,7 +202,8 @@ TEST_CASE("trajectory is C2 at its switching points and at rest at both ends", "
       CHECK(w.wdd.cwiseAbs().maxCoeff() < kBoundaryTolerance);
     }
     // Start pose, and the goal height and orientation reached at the entry time (eq. 5.23, 5.24).
-    const TaskSample w0 = tr.sample(0), we = tr.sample(tr.entryTime()), wT = tr.sample(opt.duration_s);
+    const TaskSample w0 = tr.sample(0), we = tr.sample(tr.entryTime()),
+                     wT = tr.sample(opt.duration_s);
     CHECK((w0.w.head<3>() - pb.p_start_W).norm() < kBoundaryTolerance);
     CHECK((w0.w.tail<3>() - pb.cardan_start).norm() < kBoundaryTolerance);
     CHECK(std::abs(we.w[2] - pb.fruit_W.z()) < kBoundaryTolerance);
@@ -229,7 +239,8 @@ TEST_CASE("approach planner reports impossible geometry as a status", "[trajecto
   CHECK(planApproach(far, opt).status() == ApproachStatus::Ok);
 }
 
-TEST_CASE("bad approach settings are input errors naming file, line and key", "[trajectory][input]") {
+TEST_CASE("bad approach settings are input errors naming file, line and key",
+          "[trajectory][input]") {
   auto expectError = [](const std::string& body, const std::string& key) {
     try {
       (void)parseApproachOptions("# study\n[approach]\n" + body, "study.toml");
@@ -249,10 +260,10 @@ TEST_CASE("bad approach settings are input errors naming file, line and key", "[
   expectError("duration = 2\nentry_radius = \"10 deg\"\n", "approach.entry_radius");
   expectError("duration = 2\nexp_scale = 0\n", "approach.exp_scale");
   expectError("duration = 2\nspeed = 3\n", "approach.speed");  // unknown key
-  const ApproachPlannerOptions o =
-      parseApproachOptions("[approach]\nentry_radius = \"100 mm\"\ns_a = 0.1\ns_e = 0.8\nduration = 2.5\n"
-                           "gamma_offset = \"90 deg\"\n",
-                           "ok.toml");
+  const ApproachPlannerOptions o = parseApproachOptions(
+      "[approach]\nentry_radius = \"100 mm\"\ns_a = 0.1\ns_e = 0.8\nduration = 2.5\n"
+      "gamma_offset = \"90 deg\"\n",
+      "ok.toml");
   CHECK(o.entry_radius_m == Approx(0.1).epsilon(1e-15));
   CHECK(o.duration_s == 2.5);
   CHECK(o.gamma_offset_rad == Approx(std::numbers::pi / 2).epsilon(1e-15));
