@@ -1,5 +1,6 @@
 #include "trajectory/approach_planner.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -255,6 +256,27 @@ TaskSample ApproachTrajectory::sample(double t) const {
   out.wd.tail<4>() = dd * dsig;
   out.wdd.tail<4>() = dd * ddsig;
   return out;
+}
+
+PoseReference poseReference(const TaskSample& w, const Eigen::Matrix3d& R_tool) {
+  PoseReference r;
+  r.p_WT = w.w.head<3>();
+  r.v_W = w.wd.head<3>();
+  r.a_W = w.wdd.head<3>();
+  const double al = w.w[3], be = w.w[4], ga = w.w[5];
+  const Eigen::Matrix3d Rx = Eigen::AngleAxisd(al, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d Ry = Eigen::AngleAxisd(be, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(ga, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  r.R_WT = Rx * Ry * Rz * R_tool;
+  // eq. (5.7): omega = e_x alpha_d + Rx e_y beta_d + Rx Ry e_z gamma_d (Cardan x-y-z).
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Rx.col(1), ez = (Rx * Ry).col(2);
+  const double ad = w.wd[3], bd = w.wd[4], gd = w.wd[5];
+  r.omega_W = ex * ad + ey * bd + ez * gd;
+  // d/dt of the axes: ey rotates with alpha_d about ex; ez with the angular velocity of Rx Ry.
+  const Eigen::Vector3d w_xy = ex * ad + ey * bd;
+  r.omegad_W = ex * w.wdd[3] + ey * w.wdd[4] + ez * w.wdd[5] + (ex * ad).cross(ey) * bd +
+               w_xy.cross(ez) * gd;
+  return r;
 }
 
 }  // namespace armstudy

@@ -105,6 +105,18 @@ class ApproachTrajectory {
   Eigen::Vector3d cardan_g_;
 };
 
+// The task-space sample as a pose reference for tracking: TCP position, velocity and acceleration,
+// orientation R_WT = R(alpha, beta, gamma) * R_tool, angular velocity omega = T_A(alpha, beta) wd_o
+// (eq. 5.7) and its derivative, all in W. R_tool maps the planner's tool frame (thesis convention:
+// x along the approach, z up for alpha = beta = 0) to the design's TCP frame; e.g. Ry(pi/2) when
+// the design's TCP z axis is the approach axis. A constant R_tool does not change omega.
+struct PoseReference {
+  Eigen::Vector3d p_WT, v_W, a_W;
+  Eigen::Matrix3d R_WT;
+  Eigen::Vector3d omega_W, omegad_W;
+};
+PoseReference poseReference(const TaskSample& w, const Eigen::Matrix3d& R_tool);
+
 // Plans the approach. Options must validate (programmer precondition: readers turn bad files into
 // InputError first). Geometric impossibilities are reported in status(); the trajectory is then
 // not evaluable.

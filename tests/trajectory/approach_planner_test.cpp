@@ -4,6 +4,7 @@
 // differences for every derivative, C2 continuity at the switching points, rest at both ends.
 #include "trajectory/approach_planner.hpp"
 
+#include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <numbers>
 
@@ -211,8 +212,10 @@ TEST_CASE("trajectory is C2 at its switching points and at rest at both ends",
     CHECK((wT.w.head<3>() - pb.fruit_W).norm() < kBoundaryTolerance);
     // The goal gamma points along the radial approach: entry point towards the fruit and stem.
     const Eigen::Vector2d approach = (pb.fruit_W.head<2>() - tr.entryPointXY()).normalized();
-    CHECK(std::abs(angleDiff(tr.goalCardan().z(), std::atan2(approach.y(), approach.x()))) < 1e-12);
-    CHECK(std::abs(tr.goalCardan().z() - pb.cardan_start.z()) <= std::numbers::pi + 1e-12);
+    CHECK(std::abs(angleDiff(tr.goalCardan().z(), std::atan2(approach.y(), approach.x()))) <
+          kBoundaryTolerance);
+    CHECK(std::abs(tr.goalCardan().z() - pb.cardan_start.z()) <=
+          std::numbers::pi + kBoundaryTolerance);
     // Height and angles move monotonically (no overshoot, cf. eq. 5.25).
     double prev = w0.w[2];
     const double dir = pb.fruit_W.z() - pb.p_start_W.z();
@@ -267,4 +270,36 @@ TEST_CASE("bad approach settings are input errors naming file, line and key",
   CHECK(o.entry_radius_m == Approx(0.1).epsilon(1e-15));
   CHECK(o.duration_s == 2.5);
   CHECK(o.gamma_offset_rad == Approx(std::numbers::pi / 2).epsilon(1e-15));
+}
+
+TEST_CASE("pose reference: angular velocity and acceleration match finite differences of R_WT",
+          "[trajectory][fd]") {
+  const ApproachPlannerOptions opt = fig58Options();
+  const Eigen::Matrix3d R_tool =
+      Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (const ApproachProblem& pb : scenes()) {
+    const ApproachTrajectory tr = planApproach(pb, opt);
+    REQUIRE(tr.status() == ApproachStatus::Ok);
+    const double h = kTrajFdStep;
+    for (int k = 0; k < 100; ++k) {
+      const double t = opt.duration_s * (k + 0.5) / 100;
+      const PoseReference r = poseReference(tr.sample(t), R_tool);
+      const PoseReference rp = poseReference(tr.sample(t + h), R_tool);
+      const PoseReference rm = poseReference(tr.sample(t - h), R_tool);
+      const Eigen::AngleAxisd aa(rp.R_WT * rm.R_WT.transpose());
+      const Eigen::Vector3d omega_fd = aa.angle() * aa.axis() / (2 * h);
+      CHECK((omega_fd - r.omega_W).norm() < kTrajFdTolerance * std::max(1.0, r.omega_W.norm()));
+      const Eigen::Vector3d omegad_fd = (rp.omega_W - rm.omega_W) / (2 * h);
+      CHECK((omegad_fd - r.omegad_W).norm() < kTrajFdTolerance * std::max(1.0, r.omegad_W.norm()));
+      CHECK(((rp.p_WT - rm.p_WT) / (2 * h) - r.v_W).norm() < kTrajFdTolerance);
+      CHECK((r.R_WT.transpose() * r.R_WT - Eigen::Matrix3d::Identity()).norm() <
+            kBoundaryTolerance);
+    }
+    // With the tool z axis as approach axis (R_tool = Ry(pi/2)) the tool points horizontally from
+    // the entry point towards the fruit at the end.
+    const PoseReference end = poseReference(tr.sample(opt.duration_s), R_tool);
+    const Eigen::Vector2d approach = (pb.fruit_W.head<2>() - tr.entryPointXY()).normalized();
+    CHECK((end.R_WT.col(2) - Eigen::Vector3d(approach.x(), approach.y(), 0)).norm() <
+          kBoundaryTolerance);
+  }
 }
