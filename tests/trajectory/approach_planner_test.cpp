@@ -190,7 +190,7 @@ TEST_CASE("trajectory is C2 at its switching points and at rest at both ends",
       return 0.5 * (lo + hi);
     };
     const double t_a = timeOf(opt.s_a), t_e = timeOf(opt.s_e);
-    CHECK(std::abs(t_e - tr.entryTime()) < 1e-12 * opt.duration_s);
+    CHECK(std::abs(t_e - tr.entryTime()) < kBoundaryTolerance * opt.duration_s);
     for (double tb : {t_a, t_e}) {
       const TaskSample lo = tr.sample(tb - kContinuityStep), hi = tr.sample(tb + kContinuityStep);
       CHECK((lo.w - hi.w).cwiseAbs().maxCoeff() < kContinuityTolerance);
