@@ -7,13 +7,6 @@
 namespace armstudy {
 namespace {
 
-// Skew-symmetric (tilde) matrix of eq. (B.1).
-Eigen::Matrix3d tilde(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
-}
-
 // Inertia of a point mass m at c about the origin: m (|c|^2 1 - c c^T) (parallel-axis term).
 Eigen::Matrix3d pointInertia(double m, const Eigen::Vector3d& c) {
   return m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
@@ -195,7 +188,7 @@ DynamicsWorkspace::DynamicsWorkspace(const RigidBodyModel& rbm) : n(rbm.n) {
     Ic[i].setZero();
   }
   M.setZero(n, n);
-  llt.compute(MassMatrix::Identity(n, n));
+  L.setZero(n, n);
   rhs.setZero(n);
 }
 
@@ -236,11 +229,15 @@ void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
     const Eigen::Matrix3d& R = ws.R[i];
     const Eigen::Vector3d& p = ws.p[i];
     const Eigen::Vector3d hR = R * ws.hc[i];
-    const Eigen::Matrix3d P = tilde(p), H = tilde(hR);
-    ws.mc[i - 1] += ws.mc[i];
-    ws.hc[i - 1] += hR + ws.mc[i] * p;
-    // Shift to the parent origin: sum m (r~)^T r~ with r = p + r', split into its four terms.
-    ws.Ic[i - 1].noalias() += R * ws.Ic[i] * R.transpose() - ws.mc[i] * P * P - P * H - H * P;
+    const double m = ws.mc[i];
+    ws.mc[i - 1] += m;
+    ws.hc[i - 1] += hR + m * p;
+    // Shift to the parent origin: sum m (r~)^T r~ with r = p + r' gives
+    // R Ic R^T - m p~ p~ - p~ hR~ - hR~ p~, expanded with a~ b~ = b a^T - (a . b) 1.
+    Eigen::Matrix3d& Ip = ws.Ic[i - 1];
+    Ip.noalias() += R * ws.Ic[i] * R.transpose();
+    Ip.noalias() -= m * p * p.transpose() + hR * p.transpose() + p * hR.transpose();
+    Ip.diagonal().array() += m * p.squaredNorm() + 2.0 * p.dot(hR);
   }
   ws.M.resize(n, n);
   for (int i = 0; i < n; ++i) {
@@ -286,9 +283,33 @@ ForwardDynamicsStatus forwardDynamics(const RigidBodyModel& rbm, DynamicsWorkspa
   biasForces(rbm, ws, q, qd, ws.rhs);
   ws.rhs = Q - ws.rhs;
   massMatrix(rbm, ws, q);
-  ws.llt.compute(ws.M);
-  if (ws.llt.info() != Eigen::Success) return ForwardDynamicsStatus::SingularMassMatrix;
-  qdd_out = ws.llt.solve(ws.rhs);
+  // Unblocked Cholesky M = L L^T; for n <= kMaxDof it beats a general blocked factorisation.
+  MassMatrix& L = ws.L;
+  L.resize(n, n);
+  for (int j = 0; j < n; ++j) {
+    double d = ws.M(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > 0.0) || !std::isfinite(d)) return ForwardDynamicsStatus::SingularMassMatrix;
+    d = std::sqrt(d);
+    L(j, j) = d;
+    for (int i = j + 1; i < n; ++i) {
+      double v = ws.M(i, j);
+      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
+      L(i, j) = v / d;
+    }
+  }
+  // Forward substitution L y = rhs, then back substitution L^T qdd = y (in place in rhs).
+  for (int i = 0; i < n; ++i) {
+    double v = ws.rhs[i];
+    for (int k = 0; k < i; ++k) v -= L(i, k) * ws.rhs[k];
+    ws.rhs[i] = v / L(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = ws.rhs[i];
+    for (int k = i + 1; k < n; ++k) v -= L(k, i) * ws.rhs[k];
+    ws.rhs[i] = v / L(i, i);
+  }
+  qdd_out = ws.rhs;
   return ForwardDynamicsStatus::Ok;
 }
 

@@ -14,7 +14,6 @@
 // Frames (docs/conventions.md): link i is the body after joint i, its inertial data are given in
 // frame i. The base frame B sits at model.T_WB in W; gravity is given in W (default (0, 0, -g)), so
 // a tilted platform is modelled either by a tilted base or by a tilted gravity vector.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -72,7 +71,7 @@ struct DynamicsWorkspace {
   std::array<Eigen::Vector3d, kMaxDof> hc;  // composite first moment
   std::array<Eigen::Matrix3d, kMaxDof> Ic;  // composite inertia about the frame origin
   MassMatrix M;
-  Eigen::LLT<MassMatrix> llt;
+  MassMatrix L;  // Cholesky factor of M (lower triangle), valid after forwardDynamics
   JointVector rhs;
 };
 
@@ -102,7 +101,8 @@ void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
 enum class ForwardDynamicsStatus { Ok, SingularMassMatrix };
 const char* toString(ForwardDynamicsStatus s);
 
-// Forward dynamics: solves M(q) qdd = Q - h(q, qd) with a Cholesky (LLT) factorisation.
+// Forward dynamics: solves M(q) qdd = Q - h(q, qd) with a Cholesky (L L^T) factorisation
+// (unblocked, in the workspace; M stays in ws.M, the factor in ws.L).
 // A mass matrix that is not positive definite (massless distal links) is a status, not an error.
 ForwardDynamicsStatus forwardDynamics(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
                                       const Eigen::Ref<const Eigen::VectorXd>& q,

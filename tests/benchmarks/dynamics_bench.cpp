@@ -157,7 +157,7 @@ int main() {
       "|\n",
       t_M, t_kdl_M, t_kdl_M / t_M);
   std::printf("| gravity vector g(q) | %.0f | - | - | - |\n", t_grav);
-  std::printf("| forward dynamics (h + CRBA + LLT) | %.0f | - | - | - |\n", t_fd);
+  std::printf("| forward dynamics (h + CRBA + Cholesky) | %.0f | - | - | - |\n", t_fd);
   const bool ok =
       t_id < 1000.0 && t_kdl_min / t_id >= 3.0 && max_rel_min < 1e-9 && max_rel_full < 1e-9;
   std::printf("targets (RNEA < 1 us, >= 3x KDL minimal chain, agreement 1e-9): %s\n",

@@ -414,3 +414,15 @@ TEST_CASE("inverse dynamics, mass matrix and forward dynamics do not allocate",
   CHECK(status == ForwardDynamicsStatus::Ok);
   CHECK(after - before == 0);
 }
+
+TEST_CASE("forward dynamics reports a singular mass matrix as a status", "[dynamics][status]") {
+  // A massless pendulum without payload: M(q) = 0.
+  const Model m = parseDesign(
+      designText("[[inertia]]\nlink = \"j1\"\nmass = 0.0\ninertia = [0, 0, 0, 0, 0, 0]\n"),
+      "massless.toml");
+  const RigidBodyModel rbm = makeRigidBodyModel(m);
+  DynamicsWorkspace ws(rbm);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1), qdd(1);
+  CHECK(forwardDynamics(rbm, ws, q, q, q, qdd) == ForwardDynamicsStatus::SingularMassMatrix);
+  CHECK(std::string(toString(ForwardDynamicsStatus::SingularMassMatrix)) == "singular_mass_matrix");
+}
