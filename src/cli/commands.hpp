@@ -16,5 +16,7 @@ void addCheckCommand(CLI::App& app, Action& action);
 void addCompareCommand(CLI::App& app, Action& action);  // cmd_calibrate.cpp
 void addFitCommand(CLI::App& app, Action& action);
 void addSynthCommand(CLI::App& app, Action& action);
+void addDynamicsCommand(CLI::App& app, Action& action);
+void addApproachCommand(CLI::App& app, Action& action);
 
 }  // namespace armstudy::cli

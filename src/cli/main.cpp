@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   armstudy::cli::addCompareCommand(app, action);
   armstudy::cli::addFitCommand(app, action);
   armstudy::cli::addSynthCommand(app, action);
+  armstudy::cli::addDynamicsCommand(app, action);
+  armstudy::cli::addApproachCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -29,5 +29,12 @@ inline constexpr double kUnidentifiableR2 = 1.0 - 1e-9;       // R^2 above: not 
 inline constexpr double kMinTemperatureSpan_K = 5.0;          // temperature range below: warning
 inline constexpr double kConfidenceZ = 1.959963984540054;     // two-sided 95 % intervals
 inline constexpr int kMinResidualDof = 2;                     // rows beyond the parameter count
+// Dynamics
+inline constexpr double kStandardGravity_mps2 = 9.81;    // |g|, default gravity (0, 0, -g) in W (study)
+
+// Trajectories (thesis section 5.3.2)
+inline constexpr double kApproachExpScale_m = 1.0;       // length scale of r(s) = L e^{-as} + b, eq. (5.17)
+inline constexpr double kTimeScalingNewtonTol = 1e-14;   // |s(t_e) - s_e| when solving for t_e
+inline constexpr int kTimeScalingMaxIterations = 100;
 
 }  // namespace armstudy::defaults
