@@ -323,6 +323,18 @@ PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const Pos
   return res;
 }
 
+std::string NullspaceOptions::validate() const {
+  if (max_iterations < 0) return "max_iterations must be >= 0";
+  if (!std::isfinite(relative_improvement) || relative_improvement < 0)
+    return "relative_improvement must be finite and >= 0";
+  if (!std::isfinite(max_step) || max_step <= 0) return "max_step must be finite and > 0";
+  if (correction_iterations < 0) return "correction_iterations must be >= 0";
+  if (!std::isfinite(pose_tolerance) || pose_tolerance <= 0) return "pose tolerance must be > 0";
+  if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0) return "damping lambda0 must be finite and >= 0";
+  if (!std::isfinite(damping_m0) || damping_m0 < 0) return "damping m0 must be finite and >= 0";
+  return "";
+}
+
 NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
                                const PoseTarget& target, const Eigen::VectorXd& q_start,
                                const WeightedObjective& objective, const Eigen::VectorXd& w_inv,
@@ -353,7 +365,9 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   for (int it = 0; it < options.max_iterations; ++it) {
     // Descent direction in the null space: Algorithm 5.3 with wdot = 0 and alpha = 1,
     // d = -N W^-1 grad^T (eq. 5.46).
-    if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), grad, 1.0, 0.0, d)) {
+    const double lambda =
+        adaptiveDamping(taskManipulability(J), options.damping_lambda0, options.damping_m0);
+    if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), grad, 1.0, lambda, d)) {
       res.status = NullspaceStatus::Converged;
       break;
     }

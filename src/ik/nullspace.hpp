@@ -145,6 +145,9 @@ struct NullspaceOptions {
   double max_step = defaults::kNullspaceMaxStep;
   int correction_iterations = defaults::kNullspaceCorrectionIterations;
   double pose_tolerance = defaults::kNullspacePoseTolerance;  // [m and rad]
+  // Adaptive damping of the descent direction near singularities (eq. 5.65, 5.67); 0 = off.
+  double damping_lambda0 = 0, damping_m0 = 0;
+  std::string validate() const;  // empty when valid
 };
 
 enum class NullspaceStatus {

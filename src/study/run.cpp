@@ -9,6 +9,7 @@
 
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
+#include "dexterity/dexterity_output.hpp"
 #include "io/files.hpp"
 
 namespace armstudy {
@@ -81,6 +82,14 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   sum.timings.push_back({"load_and_resolve", secs});
+
+  if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
+    std::vector<Model> models;
+    for (const auto& d : study.designs) models.push_back(d.model);
+    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
+    sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
+    sum.timings.push_back({"dexterity", ds.seconds});
+  }
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
