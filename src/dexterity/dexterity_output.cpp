@@ -140,6 +140,7 @@ std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::
 
 std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir) {
   vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
   vtkNew<vtkCellArray> verts;
   vtkNew<vtkDoubleArray> tensor, semi, a1, a2, a3, u, manip, beta, gam, zz;
   tensor->SetName("ellipsoid_tensor");  // U diag(sigma) U^T: Tensor Glyph draws semi-axes sigma_k along u_k
