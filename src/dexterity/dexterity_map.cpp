@@ -131,8 +131,13 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveC
           s.error.orientation_rad <= options.nullspace.pose_tolerance)
         start = s.q;
     }
-    const ik::NullspaceResult o =
+    ik::NullspaceResult o =
         ik::optimiseAtPose(model, ws, ctx, cell.target, start, objective, w_inv, options.nullspace);
+    if (start != r.q_plain && !(o.H_final <= r.H_plain)) {
+      // The chained start led to a worse local optimum: optimise from the plain solution instead,
+      // so the optimised configuration is never worse than the plain one.
+      o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv, options.nullspace);
+    }
     r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
     r.nullspace_status = o.status;
     r.nullspace_iterations = o.iterations;
