@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "dexterity/dexterity_io.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
@@ -188,6 +189,12 @@ Study loadStudy(const std::string& path) {
       }
     }
     r.finish();
+  }
+  if (const toml::table* t = top.table("dexterity")) {
+    TableReader r(*t, path, "dexterity");
+    std::vector<const Model*> models;
+    for (const auto& d : s.designs) models.push_back(&d.model);
+    s.dexterity = dexterity::readDexterityOptions(r, models);
   }
   top.finish();
   return s;

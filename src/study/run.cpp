@@ -10,6 +10,7 @@
 
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
+#include "dexterity/dexterity_output.hpp"
 #include "io/files.hpp"
 
 namespace armstudy {
@@ -121,6 +122,14 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
 
   // Evaluation stages, in order. Each is skipped when its study section is absent.
   (void)ctx;
+
+  if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
+    std::vector<Model> models;
+    for (const auto& d : study.designs) models.push_back(d.model);
+    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
+    sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
+    sum.timings.push_back({"dexterity", ds.seconds});
+  }
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
