@@ -160,6 +160,11 @@ Study loadStudy(const std::string& path) {
       }
     }
   }
+  {
+    std::vector<std::pair<std::string, std::string>> files;
+    readReachSection(top, dir.string(), s.reach, files);
+    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
+  }
   top.finish();
   return s;
 }

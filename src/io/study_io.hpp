@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "reach/reach_config.hpp"
 
 namespace armstudy {
 
@@ -28,6 +29,7 @@ struct Study {
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
   std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
+  ReachConfig reach;                 // [reach] section (reach.enabled = present)
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.
