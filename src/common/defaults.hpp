@@ -17,9 +17,10 @@ inline constexpr int kMaxGridAxisValues = 100000;       // values per grid axis
 inline constexpr double kMaxGridPoses = 5e8;            // poses per grid (all orientations)
 
 // Per-pose inverse kinematics (src/ik, thesis eq. 3.2). Study files may override the (study) ones.
-inline constexpr int kIkMaxStarts = 12;                 // (study) starts per pose incl. the warm start
+inline constexpr int kIkMaxStarts = 40;                 // starts per cold pose incl. the middle start
+inline constexpr int kReachStudyStarts = 8;             // (study) starts per grid/list pose incl. the warm start
 inline constexpr int kIkMaxIterations = 40;             // Levenberg-Marquardt iterations per start
-inline constexpr int kIkClassifyStarts = 3;             // (study) starts of the limit-free re-solve
+inline constexpr int kIkClassifyStarts = 1;             // (study) starts of the limit-free re-solve
 inline constexpr unsigned long long kIkSeed = 1;        // (study) seed of the deterministic restarts
 inline constexpr double kIkOrientationWeight_m = 0.3;   // m/rad: orientation rows' weight in the LM cost
 inline constexpr double kIkConvergenceFraction = 0.05;  // stop a start once errors < this x tolerance

@@ -469,11 +469,12 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
 
   const bool bound_out = o.use_reach_bound && beyondReachBound(ws, target, true);
   if (bound_out) {
+    // Certainly unreachable; one local solve from the middle of the limits gives the closest
+    // configuration found for the reported errors.
     r.bound_rejected = true;
     midStart(model, best_q);
-    forwardKinematics(model, ws.kin, best_q);
-    VecM e;
-    residual(c, ws.kin, e, best.err);
+    best = runLm(c, ws, o, best_q, true, r.iterations);
+    best.success = false;
     have_best = true;
   } else {
     for (int k = 0; k < o.max_starts && !solved; ++k) {

@@ -75,7 +75,7 @@ struct IkResult {
   int starts = 0;                    // starts used (within limits)
   int iterations = 0;                // LM iterations over all starts (incl. classification)
   bool polished = false;             // the SLSQP polish produced the solution
-  bool bound_rejected = false;       // rejected by the reach bound without iterating
+  bool bound_rejected = false;       // certainly unreachable by the reach bound (one local solve only)
   double manipulability = 0;         // sqrt(det(J_w J_w^T)) of the task Jacobian (eq. 5.59)
   double joint_limit_margin = 0;     // min over joints of distance to a limit / limit range
 };

@@ -22,7 +22,12 @@ struct ReachOutputs {
 
 struct ReachConfig {
   bool enabled = false;              // the study has a [reach] section
-  IkOptions ik;                      // tolerances, starts, seed, classification
+  IkOptions ik = studyDefaults();    // tolerances, starts, seed, classification
+  static IkOptions studyDefaults() {
+    IkOptions o;
+    o.max_starts = defaults::kReachStudyStarts;  // grid poses get warm starts from their neighbours
+    return o;
+  }
   std::vector<TaskGrid> grids;
   std::vector<PoseList> pose_lists;
   ReachOutputs outputs;

@@ -84,7 +84,8 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
   retry.max_starts = 1;
   retry.classify_failures = false;
   const auto t0 = std::chrono::steady_clock::now();
-#pragma omp parallel num_threads(nt)
+  double t_reach = 0, t_unreach = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : t_reach, t_unreach)
   {
     IkWorkspace ws(model);
 #pragma omp for schedule(dynamic, 1)
@@ -93,8 +94,11 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       JointVector warm(model.dof());
       bool have_warm = false;
       for (long i = begin; i < end; ++i) {
+        const auto p0 = std::chrono::steady_clock::now();
         const IkResult r = solvePose(model, ws, target(i), options, static_cast<std::uint64_t>(i),
                                      have_warm ? &warm : nullptr);
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        (r.reachable() ? t_reach : t_unreach) += dt;
         store(s, i, r, 0);
         if (r.reachable()) {
           warm = r.q;
@@ -106,13 +110,18 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       for (long i = end - 2; i >= begin; --i) {
         if (s.reachable(i) || !s.reachable(i + 1)) continue;
         const JointVector w = solutionOf(s, i + 1);
+        const auto p0 = std::chrono::steady_clock::now();
         const IkResult r = solvePose(model, ws, target(i), retry, static_cast<std::uint64_t>(i), &w);
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        (r.reachable() ? t_reach : t_unreach) += dt;
         if (r.reachable()) store(s, i, r, s.starts[i]);
       }
       if (progress) progress->advance(end - begin);
     }
   }
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.solve_seconds_reachable = t_reach;
+  s.solve_seconds_unreachable = t_unreach;
   return s;
 }
 

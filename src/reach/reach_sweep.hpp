@@ -28,6 +28,8 @@ struct PoseSweep {
   std::vector<double> q;                     // size * dof, pose-major
   double wall_seconds = 0;
   int threads = 1;
+  double solve_seconds_reachable = 0;    // summed per-pose solve time of reachable poses (all threads)
+  double solve_seconds_unreachable = 0;  // ... of unreachable poses (timings only, not results)
   bool reachable(long i) const { return status[i] == static_cast<std::uint8_t>(ReachStatus::Reachable); }
   long countReachable() const;
 };

@@ -10,6 +10,7 @@
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "reach/reach_stage.hpp"
 
 namespace armstudy {
 
@@ -81,6 +82,13 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   const double secs =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   sum.timings.push_back({"load_and_resolve", secs});
+
+  if (study.reach.enabled) {
+    const ReachStageSummary rs =
+        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress});
+    sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
+    sum.timings.push_back({"reachability", rs.seconds});
+  }
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
