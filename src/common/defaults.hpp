@@ -17,7 +17,7 @@ inline constexpr int kMaxGridAxisValues = 100000;       // values per grid axis
 inline constexpr double kMaxGridPoses = 5e8;            // poses per grid (all orientations)
 
 // Per-pose inverse kinematics (src/ik, thesis eq. 3.2). Study files may override the (study) ones.
-inline constexpr int kIkMaxStarts = 40;                 // starts per cold pose incl. the middle start
+inline constexpr int kIkMaxStarts = 64;                 // starts per cold pose incl. the middle start
 inline constexpr int kReachStudyStarts = 8;             // (study) starts per grid/list pose incl. the warm start
 inline constexpr int kIkMaxIterations = 40;             // Levenberg-Marquardt iterations per start
 inline constexpr int kIkClassifyStarts = 1;             // (study) starts of the limit-free re-solve
