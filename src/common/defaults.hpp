@@ -36,4 +36,23 @@ inline constexpr int kIkPolishMaxEvaluations = 200;     // NLopt SLSQP evaluatio
 inline constexpr double kIkReachBoundSlack_m = 1e-6;    // slack of the conservative reach bound
 inline constexpr long kPoseListChunk = 32;              // poses per warm-start chain in pose lists
 
+// Model versus measurement (calibration, docs/calibration.md).
+inline constexpr double kLeastSquaresRankTolerance = 1e-10;  // relative pivot threshold of QR
+inline constexpr int kLeastSquaresMaxEval = 2000;             // SLSQP evaluations per bounded solve
+inline constexpr int kCvFolds = 5;                            // k of k-fold cross-validation (study)
+inline constexpr unsigned long long kCvSeed = 1;              // fold permutation seed (study)
+inline constexpr int kStribeckGridPoints = 48;                // log grid when profiling v_S
+inline constexpr int kStribeckRefineIterations = 40;          // golden-section steps after the grid
+inline constexpr double kSignificanceZ = 3.0;                 // held-out improvement t-statistic
+inline constexpr double kMinRelativeImprovement = 0.02;       // and at least 2 % lower held-out RMSE
+inline constexpr double kBinFalseAlarm = 0.05;                // family-wise, Bonferroni over bins
+inline constexpr int kMinBinSamples = 3;                      // bins with fewer samples are not tested
+inline constexpr int kSpeedBins = 8;                          // residual map, signed speed
+inline constexpr int kLoadBins = 4;                           // residual map, |load|
+inline constexpr double kCollinearR2 = 0.98;                  // R^2 above: "cannot be told apart"
+inline constexpr double kUnidentifiableR2 = 1.0 - 1e-9;       // R^2 above: not fitted at all
+inline constexpr double kMinTemperatureSpan_K = 5.0;          // temperature range below: warning
+inline constexpr double kConfidenceZ = 1.959963984540054;     // two-sided 95 % intervals
+inline constexpr int kMinResidualDof = 2;                     // rows beyond the parameter count
+
 }  // namespace armstudy::defaults

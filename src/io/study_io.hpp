@@ -7,6 +7,7 @@
 
 #include "model/model.hpp"
 #include "reach/reach_config.hpp"
+#include "study/regression.hpp"
 
 namespace armstudy {
 
@@ -30,6 +31,7 @@ struct Study {
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
   std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
   ReachConfig reach;                 // [reach] section (reach.enabled = present)
+  RegressionSpec regression;         // [regression]: baseline path and tolerances
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.
