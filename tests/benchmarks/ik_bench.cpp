@@ -9,7 +9,7 @@
 // same number of starts); its solution counts only when it is within the joint limits (revolute
 // angles wrapped to (-pi, pi]) and meets the same tolerances, checked with armstudy's FK.
 //
-//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses]
+//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses] [design filter]
 #include <kdl/chain.hpp>
 #include <kdl/chainiksolverpos_lma.hpp>
 
@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   std::printf("%-22s %-22s %9s %10s %12s %12s %9s %10s\n", "design", "solver", "solved%",
               "unreach_ok", "us/reachable", "us/unreach", "starts", "speedup");
   for (const auto& rel : test::shippedDesigns()) {
+    if (argc > 2 && rel.find(argv[2]) == std::string::npos) continue;
     const Model m = loadDesign(test::sourcePath(rel));
     const int n = m.dof();
     std::mt19937_64 rng(2024);
