@@ -11,6 +11,31 @@ inline constexpr double kCardanSingularCosBeta = 1e-6;  // |cos(beta)| below: re
 inline constexpr double kPositionTolerance_m = 1e-3;
 inline constexpr double kOrientationTolerance_rad = 0.5 * 3.14159265358979323846 / 180.0;
 
+// Task grids (src/tasks)
+inline constexpr double kGridRangeSlack = 1e-9;        // relative slack so `to` is kept despite rounding
+inline constexpr int kMaxGridAxisValues = 100000;       // values per grid axis
+inline constexpr double kMaxGridPoses = 5e8;            // poses per grid (all orientations)
+
+// Per-pose inverse kinematics (src/ik, thesis eq. 3.2). Study files may override the (study) ones.
+inline constexpr int kIkMaxStarts = 64;                 // starts per cold pose incl. the middle start
+inline constexpr int kReachStudyStarts = 8;             // (study) starts per grid/list pose incl. the warm start
+inline constexpr int kIkMaxIterations = 40;             // Levenberg-Marquardt iterations per start
+inline constexpr int kIkClassifyStarts = 1;             // (study) starts of the limit-free re-solve
+inline constexpr unsigned long long kIkSeed = 1;        // (study) seed of the deterministic restarts
+inline constexpr double kIkOrientationWeight_m = 0.3;   // m/rad: orientation rows' weight in the LM cost
+inline constexpr double kIkConvergenceFraction = 0.05;  // stop a start once errors < this x tolerance
+inline constexpr double kIkLambdaInitial_m2 = 1e-4;     // LM damping (m^2, on J J^T)
+inline constexpr double kIkLambdaMin_m2 = 1e-12;
+inline constexpr double kIkLambdaMax_m2 = 1e3;          // above: the start has stagnated
+inline constexpr double kIkLambdaDown = 0.2;            // damping factor after an accepted step
+inline constexpr double kIkLambdaUp = 10.0;             // ... after a rejected step
+inline constexpr double kIkStagnationRatio = 0.05;      // accepted steps reducing the cost less ...
+inline constexpr int kIkStagnationSteps = 2;            // ... this many times in a row end a start
+inline constexpr double kIkPolishBand = 50.0;           // SLSQP polish when the best LM miss is < band x tol
+inline constexpr int kIkPolishMaxEvaluations = 200;     // NLopt SLSQP evaluations per polish
+inline constexpr double kIkReachBoundSlack_m = 1e-6;    // slack of the conservative reach bound
+inline constexpr long kPoseListChunk = 32;              // poses per warm-start chain in pose lists
+
 // Model versus measurement (calibration, docs/calibration.md).
 inline constexpr double kLeastSquaresRankTolerance = 1e-10;  // relative pivot threshold of QR
 inline constexpr int kLeastSquaresMaxEval = 2000;             // SLSQP evaluations per bounded solve

@@ -162,6 +162,11 @@ Study loadStudy(const std::string& path) {
       }
     }
   }
+  {
+    std::vector<std::pair<std::string, std::string>> files;
+    readReachSection(top, dir.string(), s.reach, files);
+    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
+  }
   // [regression]: where the baseline lives and how far each metric may move.
   s.regression.baseline_path = (dir / (fs::path(path).stem().string() + ".baseline.json")).string();
   if (const toml::table* t = top.table("regression")) {

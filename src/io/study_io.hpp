@@ -8,6 +8,7 @@
 
 #include "dexterity/dexterity_map.hpp"
 #include "model/model.hpp"
+#include "reach/reach_config.hpp"
 #include "study/regression.hpp"
 
 namespace armstudy {
@@ -31,6 +32,7 @@ struct Study {
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
   std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
+  ReachConfig reach;                 // [reach] section (reach.enabled = present)
   RegressionSpec regression;         // [regression]: baseline path and tolerances
   std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)
 };

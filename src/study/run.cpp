@@ -12,6 +12,7 @@
 #include "common/errors.hpp"
 #include "dexterity/dexterity_output.hpp"
 #include "io/files.hpp"
+#include "reach/reach_stage.hpp"
 
 namespace armstudy {
 
@@ -123,6 +124,12 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   // Evaluation stages, in order. Each is skipped when its study section is absent.
   (void)ctx;
 
+  if (study.reach.enabled) {
+    const ReachStageSummary rs =
+        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress});
+    sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
+    sum.timings.push_back({"reachability", rs.seconds});
+  }
   if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
     std::vector<Model> models;
     for (const auto& d : study.designs) models.push_back(d.model);
