@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -215,15 +216,93 @@ struct Writer {
   }
 };
 
-ordered_json timingJson(const PoseSweep& s, long reachable) {
-  ordered_json t;
-  t["wall_s"] = s.wall_seconds;
-  t["threads"] = s.threads;
-  t["us_per_pose_per_core"] = s.size ? 1e6 * s.wall_seconds * s.threads / s.size : 0.0;
-  t["us_per_reachable_pose"] = reachable ? 1e6 * s.solve_seconds_reachable / reachable : 0.0;
-  t["us_per_unreachable_pose"] =
-      s.size - reachable ? 1e6 * s.solve_seconds_unreachable / (s.size - reachable) : 0.0;
-  return t;
+// A unit's result as bytes for the checkpoint store: every per-pose column, no timings.
+template <class T>
+void putVector(std::string& b, const std::vector<T>& v) {
+  const std::uint64_t n = v.size();
+  b.append(reinterpret_cast<const char*>(&n), sizeof n);
+  b.append(reinterpret_cast<const char*>(v.data()), n * sizeof(T));
+}
+template <class T>
+bool getVector(const std::string& b, std::size_t& pos, std::vector<T>& v) {
+  std::uint64_t n = 0;
+  if (pos + sizeof n > b.size()) return false;
+  std::memcpy(&n, b.data() + pos, sizeof n);
+  pos += sizeof n;
+  if (pos + n * sizeof(T) > b.size()) return false;
+  v.resize(n);
+  std::memcpy(v.data(), b.data() + pos, n * sizeof(T));
+  pos += n * sizeof(T);
+  return true;
+}
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v1";
+
+std::string serializeSweep(const PoseSweep& s) {
+  std::string b(kUnitMagic);
+  const std::int64_t head[2] = {s.dof, s.size};
+  b.append(reinterpret_cast<const char*>(head), sizeof head);
+  putVector(b, s.status);
+  putVector(b, s.starts);
+  putVector(b, s.position_error_m);
+  putVector(b, s.orientation_error_rad);
+  putVector(b, s.manipulability);
+  putVector(b, s.joint_limit_margin);
+  putVector(b, s.q);
+  return b;
+}
+
+bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep& s) {
+  const std::size_t m = sizeof(kUnitMagic) - 1;
+  if (b.compare(0, m, kUnitMagic) != 0 || b.size() < m + 16) return false;
+  std::int64_t head[2];
+  std::memcpy(head, b.data() + m, sizeof head);
+  std::size_t pos = m + sizeof head;
+  s = PoseSweep{};
+  s.design = design;
+  s.dof = static_cast<int>(head[0]);
+  s.size = head[1];
+  const bool ok = getVector(b, pos, s.status) && getVector(b, pos, s.starts) &&
+                  getVector(b, pos, s.position_error_m) && getVector(b, pos, s.orientation_error_rad) &&
+                  getVector(b, pos, s.manipulability) && getVector(b, pos, s.joint_limit_margin) &&
+                  getVector(b, pos, s.q);
+  return ok && pos == b.size() && static_cast<long>(s.status.size()) == s.size &&
+         s.q.size() == static_cast<std::size_t>(s.size) * s.dof;
+}
+
+// Solves one unit (design x grid or pose list), or loads it from an earlier interrupted run.
+template <class Solve>
+PoseSweep solveUnit(const ReachStageOptions& options, ReachStageSummary& sum, const std::string& unit_id,
+                    const std::string& design, long poses, Progress& progress, Solve&& solve) {
+  std::string bytes;
+  PoseSweep s;
+  if (options.checkpoints && options.checkpoints->load(unit_id, bytes) && deserializeSweep(bytes, design, s) &&
+      s.size == poses) {
+    ++sum.units_resumed;
+    progress.advance(poses);
+    return s;
+  }
+  s = solve();
+  if (options.checkpoints) options.checkpoints->save(unit_id, serializeSweep(s));
+  sum.timings.emplace_back(unit_id + "/wall", s.wall_seconds);
+  const long nr = s.countReachable();
+  sum.timings.emplace_back(unit_id + "/per_reachable_pose", nr ? s.solve_seconds_reachable / nr : 0.0);
+  sum.timings.emplace_back(unit_id + "/per_unreachable_pose",
+                           s.size > nr ? s.solve_seconds_unreachable / (s.size - nr) : 0.0);
+  return s;
+}
+
+// Summary metrics of one unit for baselines and checks.
+void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep& s) {
+  const long nr = s.countReachable();
+  m.scalars[prefix + "/reachable_fraction"] = s.size ? double(nr) / s.size : 0.0;
+  double sum_m = 0;
+  std::vector<std::uint8_t> flags(s.size);
+  for (long i = 0; i < s.size; ++i) {
+    flags[i] = s.reachable(i);
+    if (flags[i]) sum_m += s.manipulability[i];
+  }
+  m.scalars[prefix + "/manipulability_mean"] = nr ? sum_m / nr : 0.0;
+  m.flags[prefix + "/reachable"] = flags;
 }
 
 }  // namespace
@@ -289,8 +368,12 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
           std::to_string(g.size()) + " poses per design.\n\n";
 
     std::vector<PoseSweep> sweeps;
-    for (const StudyDesign& sd : study.designs)
-      sweeps.push_back(sweepGrid(sd.model, g, cfg.ik, options.threads, &progress));
+    for (const StudyDesign& sd : study.designs) {
+      const std::string unit = "reach/" + g.name + "/" + sd.model.name;
+      sweeps.push_back(solveUnit(options, sum, unit, sd.model.name, g.size(), progress,
+                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress); }));
+      addUnitMetrics(sum.metrics, unit, sweeps.back());
+    }
     sum.poses += g.size() * static_cast<long>(sweeps.size());
 
     std::vector<std::vector<std::string>> rows;
@@ -326,7 +409,6 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                         per[k].extent.text()});
       }
       jd["per_orientation"] = jper;
-      jd["timing"] = timingJson(s, all.reachable);
 
       // VTK image data: one array per quantity and orientation.
       if (cfg.outputs.vtk) {
@@ -420,20 +502,6 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                                  ">repr. singular", "extent of the reachable poses"},
                                 rows);
     md += "\n";
-    // Timing table.
-    {
-      std::vector<std::vector<std::string>> trows;
-      for (const PoseSweep& s : sweeps) {
-        const long nr = s.countReachable();
-        trows.push_back({s.design, report::fixed(s.wall_seconds, 3), std::to_string(s.threads),
-                         report::fixed(1e6 * s.wall_seconds * s.threads / std::max(1L, s.size), 1),
-                         report::fixed(nr ? 1e6 * s.solve_seconds_reachable / nr : 0.0, 1),
-                         report::fixed(s.size - nr ? 1e6 * s.solve_seconds_unreachable / (s.size - nr) : 0.0, 1)});
-      }
-      md += "Timing:\n\n" + report::markdownTable({"design", ">wall [s]", ">threads", ">us/pose/core",
-                                                   ">us/reachable pose", ">us/unreachable pose"},
-                                                  trows) + "\n";
-    }
     if (g.spatialDimension() == 3 && cfg.outputs.surface) {
       std::vector<std::vector<std::string>> srows;
       for (const auto& jd : jdesigns)
@@ -585,14 +653,17 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     std::vector<std::vector<std::string>> rows;
     ordered_json jdesigns = ordered_json::array();
     for (const StudyDesign& sd : study.designs) {
-      const PoseSweep s = sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress);
+      const std::string unit = "reach/" + l.name + "/" + sd.model.name;
+      const PoseSweep s =
+          solveUnit(options, sum, unit, sd.model.name, static_cast<long>(l.poses.size()), progress,
+                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress); });
+      addUnitMetrics(sum.metrics, unit, s);
       sum.poses += s.size;
       Stats st;
       for (long i = 0; i < s.size; ++i) st.add(s, i, l.poses[i].head<3>());
       ordered_json jd;
       jd["design"] = s.design;
       jd.update(st.json());
-      jd["timing"] = timingJson(s, st.reachable);
       if (cfg.outputs.vtk) {
         io::PolyDataSet poly;
         poly.vertices = true;
@@ -616,7 +687,6 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
   }
   jr["pose_lists"] = jlists;
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  jr["seconds"] = sum.seconds;
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
   out.text("report.md", md);

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "io/study_io.hpp"
+#include "study/checkpoint.hpp"
+#include "study/metrics.hpp"
 
 namespace armstudy {
 
@@ -15,12 +17,19 @@ struct ReachStageOptions {
   std::string output_dir;  // output/<study>/
   int threads = 0;         // 0 = OpenMP default
   bool progress = true;    // progress bar on stderr when it is a terminal
+  // Completed units (one design x one grid or pose list) are saved here and, on a resumed run,
+  // loaded instead of solved again. Null: no checkpointing.
+  const CheckpointStore* checkpoints = nullptr;
 };
 
 struct ReachStageSummary {
   std::vector<std::string> files_written;  // relative to output_dir
   double seconds = 0;
   long poses = 0;                          // poses solved (all designs, grids and lists)
+  long units_resumed = 0;                  // units loaded from checkpoints instead of solved
+  StudyMetrics metrics;                    // reach/<grid>/<design>/... (regression checks)
+  // Timings live only in the run manifest (result files stay byte-identical across runs).
+  std::vector<std::pair<std::string, double>> timings;
 };
 
 ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& options);

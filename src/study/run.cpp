@@ -126,9 +126,11 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
 
   if (study.reach.enabled) {
     const ReachStageSummary rs =
-        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress});
+        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress, &store});
     sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
     sum.timings.push_back({"reachability", rs.seconds});
+    for (const auto& [name, value] : rs.timings) sum.timings.push_back({name, value});
+    sum.metrics.merge(rs.metrics);
   }
   if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
     std::vector<Model> models;
