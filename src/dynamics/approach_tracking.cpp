@@ -9,9 +9,12 @@ namespace armstudy {
 
 const char* toString(ApproachTrackingStatus s) {
   switch (s) {
-    case ApproachTrackingStatus::Ok: return "ok";
-    case ApproachTrackingStatus::StartUnreachable: return "start_unreachable";
-    case ApproachTrackingStatus::TrackingFailed: return "tracking_failed";
+    case ApproachTrackingStatus::Ok:
+      return "ok";
+    case ApproachTrackingStatus::StartUnreachable:
+      return "start_unreachable";
+    case ApproachTrackingStatus::TrackingFailed:
+      return "tracking_failed";
   }
   return "?";
 }
@@ -20,7 +23,8 @@ std::string ApproachTrackingOptions::validate(int dof) const {
   if (std::string why = tracking.validate(dof); !why.empty()) return why;
   if (std::string why = start_optimisation.validate(); !why.empty()) return why;
   if (std::string why = start_ik.validate(); !why.empty()) return why;
-  if (!R_tool.allFinite() || (R_tool.transpose() * R_tool - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
+  if (!R_tool.allFinite() ||
+      (R_tool.transpose() * R_tool - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
       R_tool.determinant() < 0)
     return "tool rotation is not a rotation matrix";
   return "";
@@ -104,7 +108,8 @@ TrackedApproach trackApproach(const Model& model, IkWorkspace& ws, ik::Objective
   out.min_manipulability = tr.samples.empty() ? 0.0 : tr.samples.front().manipulability;
   for (const auto& s : tr.samples) {
     out.max_position_error_m = std::max(out.max_position_error_m, s.position_error_m);
-    out.max_orientation_error_rad = std::max(out.max_orientation_error_rad, s.orientation_error_rad);
+    out.max_orientation_error_rad =
+        std::max(out.max_orientation_error_rad, s.orientation_error_rad);
     out.min_manipulability = std::min(out.min_manipulability, s.manipulability);
   }
   if (tr.status != ik::TrackingStatus::Completed || tr.samples.size() < 2) {

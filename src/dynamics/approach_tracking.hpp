@@ -22,17 +22,17 @@
 namespace armstudy {
 
 struct ApproachTrackingOptions {
-  ik::TrackingOptions tracking;                      // dt = 1 ms by default (1 kHz)
-  ik::NullspaceOptions start_optimisation;           // step 1
-  IkOptions start_ik;                                // reach solver at the start pose
+  ik::TrackingOptions tracking;                          // dt = 1 ms by default (1 kHz)
+  ik::NullspaceOptions start_optimisation;               // step 1
+  IkOptions start_ik;                                    // reach solver at the start pose
   Eigen::Matrix3d R_tool = Eigen::Matrix3d::Identity();  // planner tool frame -> design TCP frame
-  std::string validate(int dof) const;               // empty when valid
+  std::string validate(int dof) const;                   // empty when valid
 };
 
 enum class ApproachTrackingStatus {
   Ok,
-  StartUnreachable,    // the reach solver found no configuration for the start pose
-  TrackingFailed,      // trackReference stopped (joint limit or singular Jacobian)
+  StartUnreachable,  // the reach solver found no configuration for the start pose
+  TrackingFailed,    // trackReference stopped (joint limit or singular Jacobian)
 };
 const char* toString(ApproachTrackingStatus s);
 

@@ -9,10 +9,14 @@ namespace armstudy {
 
 const char* toString(DriveQuantity q) {
   switch (q) {
-    case DriveQuantity::PeakCurrent: return "peak_current";
-    case DriveQuantity::RmsCurrent: return "rms_current";
-    case DriveQuantity::MotorSpeed: return "motor_speed";
-    case DriveQuantity::Voltage: return "voltage";
+    case DriveQuantity::PeakCurrent:
+      return "peak_current";
+    case DriveQuantity::RmsCurrent:
+      return "rms_current";
+    case DriveQuantity::MotorSpeed:
+      return "motor_speed";
+    case DriveQuantity::Voltage:
+      return "voltage";
   }
   return "?";
 }
@@ -95,15 +99,19 @@ DriveFeasibility evaluateDriveFeasibility(const Model& model, const RigidBodyMod
     dco.include_rotor_inertia = options.drive_rotor_inertia;
     // Pass 1: currents (independent of dI/dt).
     for (int k = 0; k < ns; ++k)
-      I[k] = drive::motorState(*d, fp, traj.qd[k][i], traj.qdd[k][i], Q[k][i], options.temperature_C,
-                               0.0, dco)
+      I[k] = drive::motorState(*d, fp, traj.qd[k][i], traj.qdd[k][i], Q[k][i],
+                               options.temperature_C, 0.0, dco)
                  .current_A;
     // dI/dt for the inductive voltage term: central differences, one-sided at the ends.
     for (int k = 0; k < ns; ++k) {
-      if (ns == 1) rate[k] = 0;
-      else if (k == 0) rate[k] = (I[1] - I[0]) / traj.dt;
-      else if (k == ns - 1) rate[k] = (I[k] - I[k - 1]) / traj.dt;
-      else rate[k] = (I[k + 1] - I[k - 1]) / (2 * traj.dt);
+      if (ns == 1)
+        rate[k] = 0;
+      else if (k == 0)
+        rate[k] = (I[1] - I[0]) / traj.dt;
+      else if (k == ns - 1)
+        rate[k] = (I[k] - I[k - 1]) / traj.dt;
+      else
+        rate[k] = (I[k + 1] - I[k - 1]) / (2 * traj.dt);
     }
     auto& pc = js.checks[static_cast<int>(DriveQuantity::PeakCurrent)];
     auto& rc = js.checks[static_cast<int>(DriveQuantity::RmsCurrent)];
@@ -166,7 +174,8 @@ HoldingLoad holdingLoad(const Model& model, const RigidBodyModel& rbm, DynamicsW
   for (int i = 0; i < n; ++i) {
     const Drive* d = driveOf(model, model.joints[i].name);
     if (!d) continue;
-    h.current_A[i] = g[i] / (d->gear_ratio * d->torque_constant_NmpA);  // eq. (3.27a), (4.5), standstill
+    h.current_A[i] =
+        g[i] / (d->gear_ratio * d->torque_constant_NmpA);  // eq. (3.27a), (4.5), standstill
     if (d->continuous_current_A <= 0) continue;
     h.current_ratio[i] = std::abs(h.current_A[i]) / d->continuous_current_A;
     if (h.limiting_joint < 0 || h.current_ratio[i] > h.max_ratio) {

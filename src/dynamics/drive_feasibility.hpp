@@ -38,9 +38,9 @@ inline constexpr int kDriveQuantityCount = 4;
 const char* toString(DriveQuantity q);  // "peak_current", "rms_current", "motor_speed", "voltage"
 
 struct QuantityCheck {
-  double value = 0;          // the peak or RMS value (A, rad/s, V)
-  double limit = 0;          // 0 = not given / not checked
-  double margin = 0;         // (limit - value) / limit; NaN when not checked
+  double value = 0;   // the peak or RMS value (A, rad/s, V)
+  double limit = 0;   // 0 = not given / not checked
+  double margin = 0;  // (limit - value) / limit; NaN when not checked
   bool checked = false;
   bool exceeded = false;
   double first_exceeded_s = 0;  // time of the first violation (see the header comment)
@@ -50,16 +50,16 @@ struct QuantityCheck {
 struct JointDriveSummary {
   std::string joint;
   bool has_drive = false;
-  double peak_effort = 0;        // max |Q| at the joint [N m or N]
+  double peak_effort = 0;  // max |Q| at the joint [N m or N]
   double peak_motor_torque_Nm = 0;
   std::array<QuantityCheck, kDriveQuantityCount> checks;  // indexed by DriveQuantity
   const QuantityCheck& check(DriveQuantity q) const { return checks[static_cast<int>(q)]; }
 };
 
 struct DriveFeasibilityOptions {
-  bool friction = true;                 // friction laws of the design's [[drive]] sections
-  double temperature_C = 20.0;          // for temperature-dependent friction terms
-  bool keep_profiles = true;            // fill the per-sample profiles below
+  bool friction = true;         // friction laws of the design's [[drive]] sections
+  double temperature_C = 20.0;  // for temperature-dependent friction terms
+  bool keep_profiles = true;    // fill the per-sample profiles below
   // The drive chain adds J_rotor N qdd (drive::DriveChainOptions). Must be false when the
   // RigidBodyModel already includes the rotor inertia (DynamicsOptions::include_rotor_inertia).
   bool drive_rotor_inertia = true;
@@ -67,7 +67,7 @@ struct DriveFeasibilityOptions {
 
 struct DriveFeasibility {
   bool feasible = true;
-  int failing_joint = -1;                          // joint that fails first (earliest time)
+  int failing_joint = -1;  // joint that fails first (earliest time)
   DriveQuantity failing_quantity = DriveQuantity::PeakCurrent;
   double failure_time_s = 0;
   std::vector<JointDriveSummary> joints;

@@ -25,8 +25,8 @@
 namespace armstudy::harvest {
 
 namespace fs = std::filesystem;
-using nlohmann::ordered_json;
 using io::TableReader;
+using nlohmann::ordered_json;
 
 // ---------------------------------------------------------------------------------------------
 // Reading
@@ -86,7 +86,8 @@ HarvestOptions readHarvestOptions(TableReader& r, const std::vector<std::string>
     const toml::array* a = r.array("start_offset");
     if (!a || a->size() != 3) r.fail("start_offset", "expected three lengths [dx, dy, dz]");
     for (int i = 0; i < 3; ++i)
-      o.start_offset[i] = io::nodeQuantity(*a->get(i), Dimension::Length, r.file(), r.keyPath("start_offset"));
+      o.start_offset[i] =
+          io::nodeQuantity(*a->get(i), Dimension::Length, r.file(), r.keyPath("start_offset"));
   }
   o.plot_fruits = static_cast<int>(r.integer("plot_fruits", o.plot_fruits));
   if (o.plot_fruits < 0) r.fail("plot_fruits", "must be >= 0");
@@ -106,8 +107,10 @@ HarvestOptions readHarvestOptions(TableReader& r, const std::vector<std::string>
     o.row.fruit_z.sd = rr.quantity("fruit_z_sd", Dimension::Length, o.row.fruit_z.sd);
     o.row.fruit_z.min = rr.quantity("fruit_z_min", Dimension::Length, o.row.fruit_z.min);
     o.row.fruit_z.max = rr.quantity("fruit_z_max", Dimension::Length, o.row.fruit_z.max);
-    o.row.fruit_angle_min_rad = rr.quantity("fruit_angle_min", Dimension::Angle, o.row.fruit_angle_min_rad);
-    o.row.fruit_angle_max_rad = rr.quantity("fruit_angle_max", Dimension::Angle, o.row.fruit_angle_max_rad);
+    o.row.fruit_angle_min_rad =
+        rr.quantity("fruit_angle_min", Dimension::Angle, o.row.fruit_angle_min_rad);
+    o.row.fruit_angle_max_rad =
+        rr.quantity("fruit_angle_max", Dimension::Angle, o.row.fruit_angle_max_rad);
     std::string err;
     if (!o.row.validate(err)) throw InputError(r.file(), rr.line(), r.keyPath("row"), err);
     rr.finish();
@@ -197,9 +200,9 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
       out.p_fruit_W = fr.p_W;
       const Eigen::Vector2d stem = row.stems_xy[fr.stem];
       ApproachProblem pb;
-      pb.p_start_W = Eigen::Vector3d(stem.x() + options.start_offset.x(),
-                                     stem.y() + options.start_offset.y(),
-                                     fr.p_W.z() + options.start_offset.z());
+      pb.p_start_W =
+          Eigen::Vector3d(stem.x() + options.start_offset.x(), stem.y() + options.start_offset.y(),
+                          fr.p_W.z() + options.start_offset.z());
       const Eigen::Vector2d to_stem = stem - pb.p_start_W.head<2>();
       pb.cardan_start = Eigen::Vector3d(0, 0, std::atan2(to_stem.y(), to_stem.x()));
       pb.stem_xy_W = stem;
@@ -236,8 +239,9 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
     const long nx = g.axes[0].count(), ny = g.axes[1].count(), nz = g.axes[2].count();
     const long np = nx * ny * nz;
     res.grid.resize(np);
-    const Eigen::Matrix3d R_WT = Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-                                 toolRotation(options.tool_beta_rad);
+    const Eigen::Matrix3d R_WT =
+        Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+        toolRotation(options.tool_beta_rad);
     const CardanAngles c = cardanFromRotation(R_WT);
     IkOptions iko;
     iko.classify_failures = false;
@@ -320,7 +324,8 @@ std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d)
       if (!f.with_friction.current.empty() && !f.without_friction.current.empty()) {
         double dmax = 0, imax = 0;
         for (size_t k = 0; k < f.with_friction.current.size(); ++k) {
-          dmax = std::max(dmax, std::abs(f.with_friction.current[k][i] - f.without_friction.current[k][i]));
+          dmax = std::max(
+              dmax, std::abs(f.with_friction.current[k][i] - f.without_friction.current[k][i]));
           imax = std::max(imax, std::abs(f.with_friction.current[k][i]));
         }
         if (imax > 0) a.friction_share = std::max(a.friction_share, dmax / imax);
@@ -350,12 +355,14 @@ void writeFruitCsv(const Model& model, const DesignResult& d, const std::string&
       << num(f.p_fruit_W.z()) << "," << f.status << ",";
     if (f.evaluated()) {
       const auto& r = f.with_friction;
-      s << (r.feasible ? 1 : 0) << "," << (r.feasible ? "" : model.joints[r.failing_joint].name) << ","
-        << (r.feasible ? "" : toString(r.failing_quantity)) << ","
+      s << (r.feasible ? 1 : 0) << "," << (r.feasible ? "" : model.joints[r.failing_joint].name)
+        << "," << (r.feasible ? "" : toString(r.failing_quantity)) << ","
         << (r.feasible ? "" : num(r.failure_time_s)) << "," << (f.without_friction.feasible ? 1 : 0)
         << "," << num(f.max_position_error_m) << "," << num(f.max_orientation_error_rad);
-      for (int i = 0; i < n; ++i) s << "," << num(r.joints[i].check(DriveQuantity::PeakCurrent).value);
-      for (int i = 0; i < n; ++i) s << "," << num(r.joints[i].check(DriveQuantity::RmsCurrent).value);
+      for (int i = 0; i < n; ++i)
+        s << "," << num(r.joints[i].check(DriveQuantity::PeakCurrent).value);
+      for (int i = 0; i < n; ++i)
+        s << "," << num(r.joints[i].check(DriveQuantity::RmsCurrent).value);
       for (int i = 0; i < n; ++i)
         s << "," << num(f.without_friction.joints[i].check(DriveQuantity::PeakCurrent).value);
     } else {
@@ -373,7 +380,8 @@ void writeProfileCsv(const Model& model, const FruitResult& f, double dt, const 
   const auto& b = f.without_friction;
   std::ostringstream s;
   s << "t_s";
-  const char* cols[] = {"effort", "current_A", "current_no_friction_A", "motor_speed_radps", "voltage_V"};
+  const char* cols[] = {"effort", "current_A", "current_no_friction_A", "motor_speed_radps",
+                        "voltage_V"};
   for (const char* c : cols)
     for (int i = 0; i < n; ++i) s << "," << c << "_" << model.joints[i].name;
   s << "\n";
@@ -432,21 +440,26 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
 
   ordered_json js;
   js["study"] = ctx.study.name;
-  js["row"] = {{"seed", options.row.seed}, {"stems", row.stems_xy.size()}, {"fruits", row.fruits.size()},
+  js["row"] = {{"seed", options.row.seed},
+               {"stems", row.stems_xy.size()},
+               {"fruits", row.fruits.size()},
                {"row_to_row_m", row.row_to_row_m}};
-  js["approach"] = {{"entry_radius_m", options.approach.entry_radius_m}, {"s_a", options.approach.s_a},
-                    {"s_e", options.approach.s_e}, {"duration_s", options.approach.duration_s}};
+  js["approach"] = {{"entry_radius_m", options.approach.entry_radius_m},
+                    {"s_a", options.approach.s_a},
+                    {"s_e", options.approach.s_e},
+                    {"duration_s", options.approach.duration_s}};
   js["rate_Hz"] = options.rate_Hz;
   js["designs"] = ordered_json::array();
 
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& model = sd.model;
-    if (!options.designs.empty() &&
-        std::find(options.designs.begin(), options.designs.end(), model.name) == options.designs.end())
+    if (!options.designs.empty() && std::find(options.designs.begin(), options.designs.end(),
+                                              model.name) == options.designs.end())
       continue;
     if (model.inertias.empty())
-      throw InputError(model.file, 0, "inertia",
-                       "design '" + model.name + "' has no [[inertia]] data; the harvest stage needs it");
+      throw InputError(
+          model.file, 0, "inertia",
+          "design '" + model.name + "' has no [[inertia]] data; the harvest stage needs it");
     DesignResult d = evaluateHarvestDesign(model, options, row, ctx.options.threads);
     const int n = model.dof();
     const std::string base = model.name;
@@ -483,21 +496,24 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
     // Plots and profiles of the first fruits.
     std::vector<int> plotted;  // the first plot_fruits evaluated fruits
     for (const FruitResult& f : d.fruits)
-      if (f.evaluated() && static_cast<int>(plotted.size()) < options.plot_fruits) plotted.push_back(f.fruit);
+      if (f.evaluated() && static_cast<int>(plotted.size()) < options.plot_fruits)
+        plotted.push_back(f.fruit);
     for (const FruitResult& f : d.fruits) {
       if (std::find(plotted.begin(), plotted.end(), f.fruit) == plotted.end()) continue;
       const std::string fb = base + "_fruit" + std::to_string(f.fruit);
       writeProfileCsv(model, f, dt, (dir / (fb + "_profile.csv")).string());
       sum.files.push_back(rel(fb + "_profile.csv"));
-      writeFileAtomic((dir / (fb + "_effort.svg")).string(),
-                      report::svgLinePlot(profileSeries(model, f.with_friction.effort, dt, "", stride),
-                                          "t [s]", "joint torque [N m] / lift force [N]",
-                                          model.name + " fruit " + std::to_string(f.fruit) + ": Q"));
-      writeFileAtomic((dir / (fb + "_current.svg")).string(),
-                      report::svgLinePlot(profileSeries(model, f.with_friction.current, dt, "", stride),
-                                          "t [s]", "motor current [A]",
-                                          model.name + " fruit " + std::to_string(f.fruit) +
-                                              ": current with friction"));
+      writeFileAtomic(
+          (dir / (fb + "_effort.svg")).string(),
+          report::svgLinePlot(profileSeries(model, f.with_friction.effort, dt, "", stride), "t [s]",
+                              "joint torque [N m] / lift force [N]",
+                              model.name + " fruit " + std::to_string(f.fruit) + ": Q"));
+      writeFileAtomic(
+          (dir / (fb + "_current.svg")).string(),
+          report::svgLinePlot(
+              profileSeries(model, f.with_friction.current, dt, "", stride), "t [s]",
+              "motor current [A]",
+              model.name + " fruit " + std::to_string(f.fruit) + ": current with friction"));
       // Fig. 4.1: one joint with and without friction (joint 3 as in the thesis).
       const int jf = std::min(2, n - 1);
       auto a = profileSeries(model, f.with_friction.current, dt, " with friction", stride);
@@ -506,18 +522,20 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
                       report::svgLinePlot({a[jf], b[jf]}, "t [s]", "motor current [A]",
                                           model.name + " fruit " + std::to_string(f.fruit) + ": " +
                                               model.joints[jf].name + " with/without friction"));
-      for (const char* s : {"_effort.svg", "_current.svg", "_friction.svg"}) sum.files.push_back(rel(fb + s));
+      for (const char* s : {"_effort.svg", "_current.svg", "_friction.svg"})
+        sum.files.push_back(rel(fb + s));
     }
 
     // Report: per-fruit and per-joint tables.
     md << "## " << model.name << "\n\n"
-       << "Fruits evaluated: " << evaluated << " of " << d.fruits.size() << "; feasible with friction: "
-       << feasible << ", without friction: " << feasible_nf << ".\n\n";
+       << "Fruits evaluated: " << evaluated << " of " << d.fruits.size()
+       << "; feasible with friction: " << feasible << ", without friction: " << feasible_nf
+       << ".\n\n";
     std::vector<std::vector<std::string>> rows;
     for (const FruitResult& f : d.fruits) {
       rows.push_back({std::to_string(f.fruit),
-                      report::fixed(f.p_fruit_W.x(), 3) + ", " + report::fixed(f.p_fruit_W.y(), 3) + ", " +
-                          report::fixed(f.p_fruit_W.z(), 3),
+                      report::fixed(f.p_fruit_W.x(), 3) + ", " + report::fixed(f.p_fruit_W.y(), 3) +
+                          ", " + report::fixed(f.p_fruit_W.z(), 3),
                       f.status, f.evaluated() ? failureText(model, f.with_friction) : "-",
                       f.evaluated() ? failureText(model, f.without_friction) : "-",
                       f.evaluated() ? report::scientific(f.max_position_error_m, 2) : "-"});
@@ -530,7 +548,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
     for (int i = 0; i < n; ++i) {
       const JointAggregate& a = agg[i];
       if (!a.has_drive) {
-        rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2), "no drive", "", "", "", "", "", "", ""});
+        rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2), "no drive", "", "",
+                        "", "", "", "", ""});
         continue;
       }
       const auto& pc = a.worst[0];
@@ -542,20 +561,20 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
                       report::fixed(rc.value, 2) + " / " + limitText(rc, 1), marginText(rc),
                       report::fixed(sc.value, 0) + " / " + limitText(sc, 0), marginText(sc),
                       report::fixed(vc.value, 1) + " / " + limitText(vc, 0), marginText(vc),
-                      report::fixed(a.peak_current_no_friction, 2), report::percent(a.friction_share, 0),
-                      std::to_string(a.exceeded_fruits)});
+                      report::fixed(a.peak_current_no_friction, 2),
+                      report::percent(a.friction_share, 0), std::to_string(a.exceeded_fruits)});
     }
     md << "Per joint, worst over the evaluated fruits (with friction):\n\n"
-       << report::markdownTable({"joint", ">peak Q [N m, N]", ">peak I [A] / limit", ">margin",
-                                 ">RMS I [A] / limit", ">margin", ">motor speed [rad/s] / limit",
-                                 ">margin", ">voltage [V] / limit", ">margin", ">peak I no friction [A]",
-                                 ">friction share", ">fruits over a limit"},
-                                rows)
+       << report::markdownTable(
+              {"joint", ">peak Q [N m, N]", ">peak I [A] / limit", ">margin", ">RMS I [A] / limit",
+               ">margin", ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit",
+               ">margin", ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
+              rows)
        << "\nfriction share = max_t |I_friction - I_frictionless| / max_t |I_friction| over the "
           "evaluated fruits (thesis Fig. 4.1 reports up to 50 % for joint 3).\n\n";
     for (int f : plotted)
-        md << "![" << model.name << " fruit " << f << " current](" << base << "_fruit" << f
-           << "_current.svg) ![friction](" << base << "_fruit" << f << "_friction.svg)\n\n";
+      md << "![" << model.name << " fruit " << f << " current](" << base << "_fruit" << f
+         << "_current.svg) ![friction](" << base << "_fruit" << f << "_friction.svg)\n\n";
 
     ordered_json dj;
     dj["design"] = model.name;
@@ -581,7 +600,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
     }
     dj["joints"] = ordered_json::array();
     for (int i = 0; i < n; ++i) {
-      ordered_json jj = {{"joint", model.joints[i].name}, {"has_drive", agg[i].has_drive},
+      ordered_json jj = {{"joint", model.joints[i].name},
+                         {"has_drive", agg[i].has_drive},
                          {"peak_effort", agg[i].peak_effort}};
       for (int q = 0; q < kDriveQuantityCount; ++q) {
         const QuantityCheck& c = agg[i].worst[q];
@@ -609,7 +629,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       io::NamedArray limj{"limiting_joint", io::ArrayType::Int32, 1, std::vector<double>(np)};
       std::vector<io::NamedArray> hold;
       for (int i = 0; i < n; ++i)
-        hold.push_back({"holding_" + model.joints[i].name, io::ArrayType::Float64, 1, std::vector<double>(np)});
+        hold.push_back({"holding_" + model.joints[i].name, io::ArrayType::Float64, 1,
+                        std::vector<double>(np)});
       int reachable = 0, limited = 0;
       double max_ratio = 0;
       int max_ratio_joint = -1;
@@ -649,7 +670,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       M.scalars[mprefix + "holding_max_current_ratio"] = max_ratio;
       md << "Largest static holding current over the reachable grid points: "
          << report::percent(max_ratio, 1) << " of the continuous limit"
-         << (max_ratio_joint >= 0 ? " (" + model.joints[max_ratio_joint].name + ")" : std::string()) << ".\n\n";
+         << (max_ratio_joint >= 0 ? " (" + model.joints[max_ratio_joint].name + ")" : std::string())
+         << ".\n\n";
 
       // Maps over the first two axes with more than one value (the first slice of a 3-D grid).
       std::vector<int> axes;
@@ -665,7 +687,9 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
         };
         const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
           const int s = static_cast<int>(status.values[index(u, v)]);
-          return s == 0 ? report::Rgb{200, 200, 200} : s == 1 ? report::Rgb{60, 170, 90} : report::Rgb{215, 50, 40};
+          return s == 0   ? report::Rgb{200, 200, 200}
+                 : s == 1 ? report::Rgb{60, 170, 90}
+                          : report::Rgb{215, 50, 40};
         });
         report::writePng((dir / (base + "_holding_map.png")).string(), statusImg);
         const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
@@ -678,21 +702,26 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
         const char* an[3] = {"x", "y", "z"};
         md << "Static holding (gravity + payload) over the grid, tool heading "
            << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << reachable << " of " << np
-           << " points reachable, " << limited << " of them drive-limited (|I| > continuous current). "
+           << " points reachable, " << limited
+           << " of them drive-limited (|I| > continuous current). "
            << "Map axes: " << an[a0] << " to the right, " << an[a1]
            << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
               "max |I| / I_continuous (viridis, yellow = 1.5).\n\n"
-           << "![holding map](" << base << "_holding_map.png) ![ratio](" << base << "_holding_ratio.png)\n\n";
+           << "![holding map](" << base << "_holding_map.png) ![ratio](" << base
+           << "_holding_ratio.png)\n\n";
       } else {
         md << "Static holding over the grid: " << reachable << " of " << np << " points reachable, "
            << limited << " drive-limited.\n\n";
       }
       std::vector<std::vector<std::string>> lrows;
       for (int i = 0; i < n; ++i)
-        if (limiting_count[i] > 0) lrows.push_back({model.joints[i].name, std::to_string(limiting_count[i])});
+        if (limiting_count[i] > 0)
+          lrows.push_back({model.joints[i].name, std::to_string(limiting_count[i])});
       if (!lrows.empty())
         md << report::markdownTable({"limiting joint", ">grid points"}, lrows) << "\n";
-      dj["grid"] = {{"points", np}, {"reachable", reachable}, {"drive_limited", limited},
+      dj["grid"] = {{"points", np},
+                    {"reachable", reachable},
+                    {"drive_limited", limited},
                     {"max_current_ratio", max_ratio}};
     }
     js["designs"].push_back(dj);

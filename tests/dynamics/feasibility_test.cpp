@@ -25,11 +25,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kTrackingErrorTolerance_m = 1e-4;     // TCP position error along a tracked approach
+constexpr double kTrackingErrorTolerance_m = 1e-4;  // TCP position error along a tracked approach
 constexpr double kTrackingErrorTolerance_rad = 1e-3;
-constexpr double kEulerConsistency = 1e-9;             // (q_{k+1} - q_k) / dt vs qd_k (rounding only)
-constexpr double kSecondDifferenceRelTolerance = 0.05;  // qdd vs second differences of q, rel. to max |qdd|
-constexpr double kPotentialFdTolerance = 1e-6;          // [N m or N], central differences of V(q)
+constexpr double kEulerConsistency = 1e-9;  // (q_{k+1} - q_k) / dt vs qd_k (rounding only)
+constexpr double kSecondDifferenceRelTolerance =
+    0.05;                                       // qdd vs second differences of q, rel. to max |qdd|
+constexpr double kPotentialFdTolerance = 1e-6;  // [N m or N], central differences of V(q)
 
 // A single revolute joint about the vertical axis: no gravity torque, Q = Izz qdd exactly.
 const char* kOneJointDesign = R"(
@@ -105,8 +106,9 @@ TEST_CASE("drive feasibility: values, margins and first failures match hand comp
   opt.friction = false;
   const DriveFeasibility r = evaluateDriveFeasibility(m, rbm, ws, jt, opt);
   // Hand computation (eq. 3.27a, 4.5, 3.29 with dI/dt = 0).
-  const double I = (Izz * a / N + Jm * N * a) / km;  // 0.05*0.5/50 + 1e-4*50*0.5 = 0.0030 N m -> 0.030 A
-  const double w_end = N * a * T;                     // 50 rad/s
+  const double I =
+      (Izz * a / N + Jm * N * a) / km;  // 0.05*0.5/50 + 1e-4*50*0.5 = 0.0030 N m -> 0.030 A
+  const double w_end = N * a * T;       // 50 rad/s
   const double U_end = R * I + km * w_end;
   const auto& js = r.joints[0];
   REQUIRE(js.has_drive);
@@ -115,7 +117,8 @@ TEST_CASE("drive feasibility: values, margins and first failures match hand comp
   CHECK(js.check(DriveQuantity::MotorSpeed).value == Approx(w_end).epsilon(1e-12));
   CHECK(js.check(DriveQuantity::Voltage).value == Approx(U_end).epsilon(1e-9));
   CHECK(js.check(DriveQuantity::PeakCurrent).margin == Approx((2.0 - I) / 2.0).epsilon(1e-12));
-  CHECK(js.check(DriveQuantity::MotorSpeed).margin == Approx((100.0 - w_end) / 100.0).epsilon(1e-12));
+  CHECK(js.check(DriveQuantity::MotorSpeed).margin ==
+        Approx((100.0 - w_end) / 100.0).epsilon(1e-12));
   CHECK(js.check(DriveQuantity::Voltage).margin == Approx((48.0 - U_end) / 48.0).epsilon(1e-9));
   CHECK(r.feasible);
 
@@ -127,7 +130,8 @@ TEST_CASE("drive feasibility: values, margins and first failures match hand comp
   CHECK(r2.failing_joint == 0);
   CHECK(r2.failing_quantity == DriveQuantity::MotorSpeed);
   const double t_star = 100.0 / (N * a2);
-  const int k_star = static_cast<int>(std::floor(t_star / dt + 1e-9)) + 1;  // first sample strictly over
+  const int k_star =
+      static_cast<int>(std::floor(t_star / dt + 1e-9)) + 1;  // first sample strictly over
   CHECK(r2.failure_time_s == Approx(k_star * dt).margin(1e-12));
   const QuantityCheck& sp = r2.joints[0].check(DriveQuantity::MotorSpeed);
   CHECK(sp.margin == Approx((100.0 - N * a2 * T) / 100.0).epsilon(1e-12));
@@ -142,7 +146,8 @@ TEST_CASE("drive feasibility: values, margins and first failures match hand comp
     REQUIRE_FALSE(rv.feasible);
     CHECK(rv.failing_quantity == DriveQuantity::Voltage);
     CHECK(rv.failure_time_s == Approx((std::floor(t_volt / dt + 1e-9) + 1) * dt).margin(1e-9));
-    CHECK(rv.joints[0].check(DriveQuantity::Voltage).value == Approx(R * I2 + km * N * a2 * T).epsilon(1e-9));
+    CHECK(rv.joints[0].check(DriveQuantity::Voltage).value ==
+          Approx(R * I2 + km * N * a2 * T).epsilon(1e-9));
   }
 
   // RMS budget: current I during the first half, 0 afterwards; the continuous limit sits between
@@ -203,15 +208,18 @@ TEST_CASE("drive feasibility: friction on minus off equals the friction law eval
     inverseDynamics(rbm, ws, jt.q[k], jt.qd[k], jt.qdd[k], Q);
     for (const Drive& d : m.drives) {
       const int i = m.jointIndex(d.joint);
-      const double loss = drive::frictionTorque(drive::frictionParams(m, d), d.gear_ratio * jt.qd[k][i], Q[i], 35.0);
-      CHECK(a.current[k][i] - b.current[k][i] == Approx(loss / d.torque_constant_NmpA).margin(1e-12));
+      const double loss = drive::frictionTorque(drive::frictionParams(m, d),
+                                                d.gear_ratio * jt.qd[k][i], Q[i], 35.0);
+      CHECK(a.current[k][i] - b.current[k][i] ==
+            Approx(loss / d.torque_constant_NmpA).margin(1e-12));
       CHECK(a.effort[k][i] == Approx(Q[i]).margin(1e-12));
     }
   }
 }
 
 TEST_CASE("static holding load equals RNEA at rest and the gradient of the potential energy") {
-  for (const char* name : {"designs/final_prototype_9dof.toml", "designs/final_prototype_7dof.toml"}) {
+  for (const char* name :
+       {"designs/final_prototype_9dof.toml", "designs/final_prototype_7dof.toml"}) {
     const Model m = loadDesign(sourcePath(name));
     const RigidBodyModel rbm = makeRigidBodyModel(m);
     DynamicsWorkspace ws(rbm);
@@ -229,7 +237,8 @@ TEST_CASE("static holding load equals RNEA at rest and the gradient of the poten
         qp[i] += kFdStep;
         qm[i] -= kFdStep;
         const double dV = (mechanicalEnergy(rbm, ws, qp, zero).potential_J -
-                           mechanicalEnergy(rbm, ws, qm, zero).potential_J) / (2 * kFdStep);
+                           mechanicalEnergy(rbm, ws, qm, zero).potential_J) /
+                          (2 * kFdStep);
         CHECK(h.effort[i] == Approx(dV).margin(kPotentialFdTolerance));
       }
       double max_ratio = 0;
@@ -237,7 +246,8 @@ TEST_CASE("static holding load equals RNEA at rest and the gradient of the poten
         const int i = m.jointIndex(d.joint);
         const double I = tau[i] / (d.gear_ratio * d.torque_constant_NmpA);
         CHECK(h.current_A[i] == Approx(I).margin(1e-12));
-        if (d.continuous_current_A > 0) max_ratio = std::max(max_ratio, std::abs(I) / d.continuous_current_A);
+        if (d.continuous_current_A > 0)
+          max_ratio = std::max(max_ratio, std::abs(I) / d.continuous_current_A);
       }
       CHECK(h.max_ratio == Approx(max_ratio).margin(1e-12));
       CHECK(h.feasible == (max_ratio <= 1.0));
@@ -334,13 +344,15 @@ TEST_CASE("harvest stage: identical results with 1 and 2 threads") {
     CHECK(a.fruits[f].with_friction.feasible == b.fruits[f].with_friction.feasible);
     REQUIRE(a.fruits[f].with_friction.current.size() == b.fruits[f].with_friction.current.size());
     for (size_t k = 0; k < a.fruits[f].with_friction.current.size(); ++k)
-      CHECK((a.fruits[f].with_friction.current[k] - b.fruits[f].with_friction.current[k]).norm() == 0.0);
+      CHECK((a.fruits[f].with_friction.current[k] - b.fruits[f].with_friction.current[k]).norm() ==
+            0.0);
   }
   CHECK(evaluated > 0);
   REQUIRE(a.grid.size() == b.grid.size());
   for (size_t p = 0; p < a.grid.size(); ++p) {
     CHECK(a.grid[p].reachable == b.grid[p].reachable);
-    if (a.grid[p].reachable) CHECK((a.grid[p].holding.effort - b.grid[p].holding.effort).norm() == 0.0);
+    if (a.grid[p].reachable)
+      CHECK((a.grid[p].holding.effort - b.grid[p].holding.effort).norm() == 0.0);
   }
   fs::remove_all(dir);
 }
@@ -359,9 +371,11 @@ TEST_CASE("harvest stage: run writes outputs and summary metrics") {
   REQUIRE(sum.metrics.scalars.count(d + "j3/peak_current_A"));
   CHECK(sum.metrics.scalars.at(d + "evaluated_fraction") > 0);
   CHECK(sum.metrics.scalars.at(d + "j3/peak_current_A") > 0);
-  for (const char* f : {"harvest/report.md", "harvest/summary.json", "harvest/final_prototype_9dof_fruits.csv",
-                        "harvest/final_prototype_9dof_holding.vti"}) {
-    CHECK(std::find(sum.files_written.begin(), sum.files_written.end(), f) != sum.files_written.end());
+  for (const char* f :
+       {"harvest/report.md", "harvest/summary.json", "harvest/final_prototype_9dof_fruits.csv",
+        "harvest/final_prototype_9dof_holding.vti"}) {
+    CHECK(std::find(sum.files_written.begin(), sum.files_written.end(), f) !=
+          sum.files_written.end());
     CHECK(fs::exists(fs::path(sum.output_dir) / f));
   }
   fs::remove_all(dir);
@@ -382,13 +396,18 @@ TEST_CASE("harvest stage: bad input is an InputError with file, line and key") {
   };
   expectError("[harvest]\n[harvest.approach]\nduration = 0\n", "harvest.approach.duration");
   expectError("[harvest]\nrate = 0\n[harvest.approach]\nduration = 1\n", "harvest.rate");
-  expectError("[harvest]\ndesigns = [\"nope\"]\n[harvest.approach]\nduration = 1\n", "harvest.designs");
+  expectError("[harvest]\ndesigns = [\"nope\"]\n[harvest.approach]\nduration = 1\n",
+              "harvest.designs");
   expectError("[harvest]\nrate = 100\n", "harvest.approach");
-  expectError("[harvest]\n[harvest.approach]\nduration = 1\n[harvest.row]\nstems = 0\n", "harvest.row.stems");
-  expectError("[harvest]\nstart_offset = [\"1 m\", \"2 deg\", 0]\n[harvest.approach]\nduration = 1\n",
-              "harvest.start_offset");
-  expectError("[harvest]\n[harvest.approach]\nduration = 1\n[harvest.grid]\nx = { from = 1, to = 0, step = 0.1 }\ny = 0\nz = 0\n",
-              "harvest.grid.x");
+  expectError("[harvest]\n[harvest.approach]\nduration = 1\n[harvest.row]\nstems = 0\n",
+              "harvest.row.stems");
+  expectError(
+      "[harvest]\nstart_offset = [\"1 m\", \"2 deg\", 0]\n[harvest.approach]\nduration = 1\n",
+      "harvest.start_offset");
+  expectError(
+      "[harvest]\n[harvest.approach]\nduration = 1\n[harvest.grid]\nx = { from = 1, to = 0, step = "
+      "0.1 }\ny = 0\nz = 0\n",
+      "harvest.grid.x");
   expectError("[harvest]\nbogus = 1\n[harvest.approach]\nduration = 1\n", "harvest.bogus");
   fs::remove_all(dir);
 }
