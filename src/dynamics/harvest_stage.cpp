@@ -280,6 +280,8 @@ std::string num(double v) {
   return s.str();
 }
 
+bool isRevolute(const Model& model, int i) { return model.joints[i].type == JointType::Revolute; }
+
 std::string marginText(const QuantityCheck& c) {
   return c.checked ? report::percent(c.margin, 1) : "n/a";
 }
@@ -626,6 +628,10 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       const long np = img.points();
       io::NamedArray status{"status", io::ArrayType::Int32, 1, std::vector<double>(np)};
       io::NamedArray ratio{"max_current_ratio", io::ArrayType::Float64, 1, std::vector<double>(np)};
+      // The lift carries the whole arm: its holding current hardly depends on the pose, so the map
+      // also shows the largest ratio over the revolute joints.
+      io::NamedArray ratio_rev{"max_current_ratio_revolute", io::ArrayType::Float64, 1,
+                               std::vector<double>(np)};
       io::NamedArray limj{"limiting_joint", io::ArrayType::Int32, 1, std::vector<double>(np)};
       std::vector<io::NamedArray> hold;
       for (int i = 0; i < n; ++i)
@@ -641,6 +647,7 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
         if (!gp.reachable) {
           status.values[p] = 0;
           ratio.values[p] = nan;
+          ratio_rev.values[p] = nan;
           limj.values[p] = -1;
           for (auto& h : hold) h.values[p] = nan;
           continue;
@@ -657,10 +664,14 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
         }
         status.values[p] = ok ? 1 : 2;
         ratio.values[p] = gp.holding.max_ratio;
+        ratio_rev.values[p] = 0;
+        for (int i = 0; i < n; ++i)
+          if (isRevolute(model, i))
+            ratio_rev.values[p] = std::max(ratio_rev.values[p], gp.holding.current_ratio[i]);
         limj.values[p] = gp.holding.limiting_joint;
         for (int i = 0; i < n; ++i) hold[i].values[p] = gp.holding.effort[i];
       }
-      img.point_arrays = {status, ratio, limj};
+      img.point_arrays = {status, ratio, ratio_rev, limj};
       for (auto& h : hold) img.point_arrays.push_back(std::move(h));
       io::writeVti((dir / (base + "_holding.vti")).string(), img);
       sum.files.push_back(rel(base + "_holding.vti"));
@@ -693,7 +704,7 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
         });
         report::writePng((dir / (base + "_holding_map.png")).string(), statusImg);
         const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
-          const double r = ratio.values[index(u, v)];
+          const double r = ratio_rev.values[index(u, v)];
           return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
         });
         report::writePng((dir / (base + "_holding_ratio.png")).string(), ratioImg);
@@ -706,7 +717,9 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
            << " of them drive-limited (|I| > continuous current). "
            << "Map axes: " << an[a0] << " to the right, " << an[a1]
            << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
-              "max |I| / I_continuous (viridis, yellow = 1.5).\n\n"
+              "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
+              "ratio is "
+              "nearly constant, it carries the whole arm).\n\n"
            << "![holding map](" << base << "_holding_map.png) ![ratio](" << base
            << "_holding_ratio.png)\n\n";
       } else {
