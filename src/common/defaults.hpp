@@ -78,5 +78,9 @@ inline constexpr double kNullspaceRelativeImprovement = 1e-6;  // (study) stop w
 inline constexpr double kNullspaceMaxStep = 0.2;          // largest joint change per null-space step [rad or m]
 inline constexpr int kNullspaceCorrectionIterations = 6;  // Newton steps that bring the tool back onto the pose
 inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool must stay this close to the pose
+// Harvest torque stage (docs/dynamics.md). (study) = [harvest] may override.
+inline constexpr double kHarvestRate_Hz = 1000.0;          // (study) tracking and inverse-dynamics rate [Hz]
+inline constexpr double kHarvestTemperature_C = 20.0;      // (study) drive temperature for friction terms [deg C]
+inline constexpr double kHarvestToolBeta_rad = 1.5707963267948966;  // (study) R_tool = Ry(pi/2): TCP z = approach axis
 
 }  // namespace armstudy::defaults

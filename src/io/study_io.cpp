@@ -201,6 +201,13 @@ Study loadStudy(const std::string& path) {
     for (const auto& d : s.designs) models.push_back(&d.model);
     s.dexterity = dexterity::readDexterityOptions(r, models);
   }
+  if (const toml::table* t = top.table("harvest")) {  // docs/dynamics.md
+    TableReader r(*t, path, "harvest");
+    std::vector<std::string> names;
+    for (const auto& d : s.designs) names.push_back(d.model.name);
+    s.harvest = harvest::readHarvestOptions(r, names);
+    r.finish();
+  }
   top.finish();
   return s;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dexterity/dexterity_map.hpp"
+#include "dynamics/harvest_stage.hpp"
 #include "model/model.hpp"
 #include "reach/reach_config.hpp"
 #include "study/regression.hpp"
@@ -35,6 +36,7 @@ struct Study {
   ReachConfig reach;                 // [reach] section (reach.enabled = present)
   RegressionSpec regression;         // [regression]: baseline path and tolerances
   std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)
+  std::optional<harvest::HarvestOptions> harvest;        // [harvest] section (docs/dynamics.md)
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.

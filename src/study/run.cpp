@@ -11,6 +11,7 @@
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
 #include "dexterity/dexterity_output.hpp"
+#include "dynamics/harvest_stage.hpp"
 #include "io/files.hpp"
 #include "reach/reach_stage.hpp"
 
@@ -138,6 +139,11 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
     const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
     sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
     sum.timings.push_back({"dexterity", ds.seconds});
+  }
+  if (study.harvest) {  // harvest torque stage (docs/dynamics.md)
+    const auto hs = harvest::runHarvestStage(ctx, *study.harvest);
+    sum.files_written.insert(sum.files_written.end(), hs.files.begin(), hs.files.end());
+    sum.timings.push_back({"harvest", hs.seconds});
   }
 
   // The manifest is written last: its presence marks a complete run.

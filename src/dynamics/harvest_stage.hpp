@@ -1,0 +1,98 @@
+#pragma once
+// The [harvest] study stage (docs/dynamics.md, "Harvest torque study"): approaches to the fruits of
+// a sampled greenhouse row are planned (thesis 5.3.2), tracked with the null-space IK, sent through
+// inverse dynamics and the drive chain at 1 kHz, and checked against the drive limits with and
+// without friction; a task grid gives the static holding load and the drive-limited region.
+//
+//   [harvest]
+//   designs = ["final_prototype_9dof"]   # optional, default: every design of the study
+//   rate = 1000                          # samples per second (tracking and dynamics) [Hz]
+//   temperature = 40                     # drive temperature for friction [deg C], optional
+//   tool_beta = "90 deg"                 # R_tool = Ry(tool_beta): planner tool x -> design TCP z
+//   start_offset = ["-150 mm", "0 mm", "0 mm"]  # start TCP relative to (stem x, stem y, fruit z)
+//   plot_fruits = 2                      # fruits per design with profile plots (SVG)
+//   [harvest.row]       seed, stems, fruits_per_stem, first_stem_y, fruit_z_mean, fruit_z_sd
+//   [harvest.approach]  the [approach] keys (entry_radius, s_a, s_e, duration, ...)
+//   [harvest.objective] joint_limits = 0.1, manipulability = 1.0 (weights of eq. 5.51)
+//   [harvest.grid]      x, y, z: value or {from, to, step}; gamma (tool heading, default 0)
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dynamics/drive_feasibility.hpp"
+#include "model/model.hpp"
+#include "tasks/task_grid.hpp"
+#include "trajectory/approach_planner.hpp"
+#include "trajectory/greenhouse_row.hpp"
+
+namespace armstudy {
+namespace io {
+class TableReader;
+}
+struct StageContext;
+
+namespace harvest {
+
+struct HarvestGrid {
+  std::array<AxisRange, 3> axes;  // x, y, z [m]
+  double gamma_rad = 0;           // tool heading about z (0: tool along +x, towards the row)
+};
+
+struct HarvestOptions {
+  std::vector<std::string> designs;  // empty = all designs of the study
+  double rate_Hz = defaults::kHarvestRate_Hz;
+  double temperature_C = defaults::kHarvestTemperature_C;
+  double tool_beta_rad = defaults::kHarvestToolBeta_rad;
+  Eigen::Vector3d start_offset = Eigen::Vector3d(-0.15, 0.0, 0.0);
+  int plot_fruits = 2;
+  GreenhouseRowOptions row;
+  ApproachPlannerOptions approach;
+  double w_joint_limits = 0.1, w_manipulability = 1.0;
+  std::optional<HarvestGrid> grid;
+  std::string validate() const;  // empty when valid
+};
+
+// Reads the [harvest] table. Throws InputError (file, line, key) on bad input; `designs` are the
+// study's design names (every listed name must exist).
+HarvestOptions readHarvestOptions(io::TableReader& r, const std::vector<std::string>& designs);
+
+// One fruit's result for one design.
+struct FruitResult {
+  int fruit = 0;
+  Eigen::Vector3d p_fruit_W = Eigen::Vector3d::Zero();
+  std::string status;  // "ok", or the planning / tracking status
+  double max_position_error_m = 0, max_orientation_error_rad = 0;
+  DriveFeasibility with_friction, without_friction;  // profiles kept only for plotted fruits
+  bool evaluated() const { return status == "ok"; }
+};
+
+struct GridPointResult {
+  bool reachable = false;
+  HoldingLoad holding;
+};
+
+struct DesignResult {
+  std::string design;
+  std::vector<FruitResult> fruits;
+  std::vector<GridPointResult> grid;
+};
+
+struct HarvestStageSummary {
+  std::vector<std::string> files;
+  double seconds = 0;
+  std::vector<DesignResult> designs;
+};
+
+// Evaluates one design (threads: OpenMP over fruits and grid points; results are independent of
+// the thread count).
+DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& options,
+                                   const GreenhouseRow& row, int threads);
+
+// Runs the stage for the selected designs and writes under <output_dir>/harvest/: per design
+// <design>_fruits.csv, <design>_fruit<k>_profile.csv (plotted fruits), SVG plots,
+// <design>_holding.vti and PNG maps; report.md and summary.json. Adds metrics
+// "dynamics/<design>/..." to ctx.summary.metrics.
+HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOptions& options);
+
+}  // namespace harvest
+}  // namespace armstudy
