@@ -47,9 +47,7 @@ std::string IkOptions::validate() const {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-using VecM = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using MatM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-using JacW = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
 
@@ -80,11 +78,12 @@ Context makeContext(const Model* model, const IkTarget& t, double w_o) {
   return c;
 }
 
-// Weighted residual e = W (w_d - f(q)) of the pose in kin, and the unweighted errors.
-void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseError& err) {
+// Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
+// zero), and the unweighted errors.
+void residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e, PoseError& err) {
   const auto& sel = c.target.task_space.selected;
   const TaskVector6& w_d = c.target.w_d;
-  e.resize(c.m);
+  e.setZero();
   int r = 0;
   double pp = 0;
   for (int k = 0; k < 3; ++k)
@@ -115,11 +114,18 @@ void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseErr
   }
 }
 
-// Weighted task Jacobian rows matching residual(). False at the representation singularity.
-bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, JacW& J) {
+// Weighted task Jacobian rows matching residual() (unselected rows zero). False at the
+// representation singularity.
+bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J) {
   const auto& sel = c.target.task_space.selected;
   const int n = kin.n;
-  J.resize(c.m, n);
+  if (c.m == 6 && c.full_orientation) {
+    J.resize(6, n);
+    J.topRows<3>() = kin.J_W_tcp.topRows<3>();
+    J.bottomRows<3>() = c.w_o * kin.J_W_tcp.bottomRows<3>();
+    return true;
+  }
+  J.setZero(6, n);
   int r = 0;
   for (int k = 0; k < 3; ++k)
     if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
@@ -140,49 +146,44 @@ bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction) {
          e.orientation_rad <= fraction * o.orientation_tolerance_rad;
 }
 
-// Damped least-squares step dq = Jf^T (Jf Jf^T + lambda I)^-1 e over the free joints (Jf: J with
-// held columns removed). Hand-rolled Cholesky: m <= 6, and Eigen's dynamic-size LLT dominated the
-// profile.
-inline void dampedStep(const JacW& J, const VecM& e, const std::array<bool, kMaxDof>& free,
-                       double lambda, int n, int m, JointVector& dq) {
+// Damped least-squares step dq = Jf^T (Jf Jf^T + lambda I)^-1 e (Jf: J with the held columns
+// zeroed). The system is 6 x 6 whatever the number of joints (rows of unselected task components
+// are zero and only add lambda on the diagonal), so the loops have compile-time bounds: the
+// symmetric product, an in-place Cholesky factorisation and the two triangular solves.
+inline void dampedStep(const Jacobian6& Jf, const Vec6& e, double lambda, JointVector& dq) {
+  const int n = static_cast<int>(Jf.cols());
+  Eigen::Matrix<double, 6, 6> A = lambda * Eigen::Matrix<double, 6, 6>::Identity();
+  for (int i = 0; i < n; ++i) {
+    const Vec6 col = Jf.col(i);
+    A.noalias() += col * col.transpose();  // rank-1 updates: contiguous fixed-size columns
+  }
   double a[6][6];
-  for (int r = 0; r < m; ++r)
-    for (int s = 0; s <= r; ++s) {
-      double sum = 0;
-      for (int i = 0; i < n; ++i)
-        if (free[i]) sum += J(r, i) * J(s, i);
-      a[r][s] = sum;
-    }
-  for (int r = 0; r < m; ++r) a[r][r] += lambda;
-  // In-place Cholesky a = L L^T (lower triangle); lambda > 0 keeps it positive definite.
-  for (int j = 0; j < m; ++j) {
+  for (int r = 0; r < 6; ++r)
+    for (int s = 0; s <= r; ++s) a[r][s] = A(r, s);
+  for (int j = 0; j < 6; ++j) {  // a = L L^T (lower triangle); lambda > 0 keeps it definite
     double d = a[j][j];
     for (int k = 0; k < j; ++k) d -= a[j][k] * a[j][k];
     d = std::sqrt(std::max(d, 1e-300));
     a[j][j] = d;
-    for (int i = j + 1; i < m; ++i) {
+    const double inv = 1.0 / d;
+    for (int i = j + 1; i < 6; ++i) {
       double v = a[i][j];
       for (int k = 0; k < j; ++k) v -= a[i][k] * a[j][k];
-      a[i][j] = v / d;
+      a[i][j] = v * inv;
     }
   }
-  double y[6];
-  for (int i = 0; i < m; ++i) {
+  Vec6 y;
+  for (int i = 0; i < 6; ++i) {
     double v = e[i];
     for (int k = 0; k < i; ++k) v -= a[i][k] * y[k];
     y[i] = v / a[i][i];
   }
-  for (int i = m - 1; i >= 0; --i) {
+  for (int i = 5; i >= 0; --i) {
     double v = y[i];
-    for (int k = i + 1; k < m; ++k) v -= a[k][i] * y[k];
+    for (int k = i + 1; k < 6; ++k) v -= a[k][i] * y[k];
     y[i] = v / a[i][i];
   }
-  for (int i = 0; i < n; ++i) {
-    double v = 0;
-    if (free[i])
-      for (int r = 0; r < m; ++r) v += J(r, i) * y[r];
-    dq[i] = v;
-  }
+  for (int i = 0; i < n; ++i) dq[i] = Jf.col(i).dot(y);
 }
 
 // Outcome of one local solve.
@@ -201,11 +202,10 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
   KinematicsWorkspace& kin = ws.kin;
   const int n = kin.n;
   LocalResult res;
-  VecM e, e_new;
+  Vec6 e, e_new;
   PoseError err_new;
-  JacW J;
+  Jacobian6 J(6, n), Jf(6, n);
   JointVector q_new(n), dq(n);
-  std::array<bool, kMaxDof> free{};
 
   forwardKinematics(model, kin, q);
   residual(c, kin, e, res.err);
@@ -224,21 +224,22 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
     }
     ++iterations;
     bool accepted = false;
+    int rejected = 0;
     while (!accepted) {
-      // Damped least squares step dq = J^T (J J^T + lambda I)^-1 e over the free joints.
-      for (int i = 0; i < n; ++i) free[i] = true;
-      for (int pass = 0; pass < 2; ++pass) {
-        dampedStep(J, e, free, lambda, n, c.m, dq);
-        if (!limits) break;
+      // Damped least squares step over the free joints; a joint at a bound that the step pushes
+      // outward is held (its column removed) and the step recomputed once.
+      Jf = J;
+      dampedStep(Jf, e, lambda, dq);
+      if (limits) {
         bool changed = false;
         for (int i = 0; i < n; ++i) {
           const JointLimits& L = model.joints[i].limits;
-          if (free[i] && ((q[i] <= L.q_min && dq[i] < 0) || (q[i] >= L.q_max && dq[i] > 0))) {
-            free[i] = false;
+          if ((q[i] <= L.q_min && dq[i] < 0) || (q[i] >= L.q_max && dq[i] > 0)) {
+            Jf.col(i).setZero();
             changed = true;
           }
         }
-        if (!changed) break;
+        if (changed) dampedStep(Jf, e, lambda, dq);
       }
       q_new = q + dq;
       if (limits)
@@ -260,7 +261,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
         accepted = true;
       } else {
         lambda *= defaults::kIkLambdaUp;
-        if (lambda > defaults::kIkLambdaMax_m2) break;
+        if (lambda > defaults::kIkLambdaMax_m2 || ++rejected >= defaults::kIkMaxRejectedSteps) break;
       }
     }
     if (!accepted || slow >= defaults::kIkStagnationSteps) break;
@@ -321,7 +322,7 @@ LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, Join
   for (int i = 0; i < n; ++i) q[i] = std::clamp(x[i], lo[i], hi[i]);
   LocalResult res;
   forwardKinematics(model, ws.kin, q);
-  VecM e;
+  Vec6 e;
   residual(c, ws.kin, e, res.err);
   res.cost = e.squaredNorm();
   res.success = withinTolerance(res.err, o, 1.0);
@@ -342,6 +343,31 @@ void randomStart(const Model& model, std::uint64_t seed, std::uint64_t pose_id, 
 void midStart(const Model& model, JointVector& q) {
   for (int i = 0; i < model.dof(); ++i)
     q[i] = 0.5 * (model.joints[i].limits.q_min + model.joints[i].limits.q_max);
+}
+
+// Random start: the best (lowest weighted cost) of K seeded random configurations.
+void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uint64_t pose_id,
+                 int k, JointVector& q) {
+  const Model& model = *c.model;
+  const int K = defaults::kIkSeedCandidates;
+  if (K <= 1) {
+    randomStart(model, o.seed, pose_id, k, q);
+    return;
+  }
+  JointVector cand(model.dof());
+  double best = std::numeric_limits<double>::infinity();
+  Vec6 e;
+  PoseError err;
+  for (int j = 0; j < K; ++j) {
+    randomStart(model, o.seed, pose_id, k * K + j, cand);
+    forwardKinematics(model, ws.kin, cand);
+    residual(c, ws.kin, e, err);
+    const double cost = e.squaredNorm();
+    if (cost < best) {
+      best = cost;
+      q = cand;
+    }
+  }
 }
 
 // Distance of the target position to the set the first revolute joint's origin can reach.
@@ -385,7 +411,7 @@ IkWorkspace::IkWorkspace(const Model& model) : kin(model) {
 PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
   // The weight only scales e, not the reported errors.
   const Context c = makeContext(nullptr, target, 1.0);
-  VecM e;
+  Vec6 e;
   PoseError err;
   residual(c, kin, e, err);
   return err;
@@ -436,9 +462,11 @@ double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_
   IkTarget t;
   t.task_space = task_space;
   const Context c = makeContext(nullptr, t, 1.0);
-  JacW J;
+  Jacobian6 J(6, kin.n);
   if (!taskJacobian(c, kin, J)) return 0.0;
-  const MatM JJt = J * J.transpose();
+  const int m = c.m;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
+      J.topRows(m) * J.topRows(m).transpose();
   const double det = JJt.determinant();
   return det > 0 ? std::sqrt(det) : 0.0;  // eq. (5.59)
 }
@@ -483,7 +511,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
       } else if (k == (warm_start ? 1 : 0)) {
         midStart(model, q);
       } else {
-        randomStart(model, o.seed, pose_id, k, q);
+        seededStart(c, ws, o, pose_id, k, q);
       }
       ++r.starts;
       const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
@@ -514,7 +542,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
   r.q = best_q;
   forwardKinematicsAndJacobian(model, ws.kin, best_q);
   {
-    VecM e;
+    Vec6 e;
     PoseError err;
     residual(c, ws.kin, e, err);
     r.position_error_m = err.position_m;
