@@ -24,17 +24,13 @@ inline constexpr int kIkClassifyStarts = 1;             // (study) starts of the
 inline constexpr unsigned long long kIkSeed = 1;        // (study) seed of the deterministic restarts
 inline constexpr double kIkOrientationWeight_m = 0.3;   // m/rad: orientation rows' weight in the LM cost
 inline constexpr double kIkConvergenceFraction = 0.05;  // stop a start once errors < this x tolerance
-inline constexpr double kIkLambdaInitial_m2 = 0.3;      // LM damping (m^2, on J J^T) at a start:
-                                                       // short first steps keep LM in the start's basin
+inline constexpr double kIkLambdaInitial_m2 = 1e-4;     // LM damping (m^2, on J J^T)
 inline constexpr double kIkLambdaMin_m2 = 1e-12;
 inline constexpr double kIkLambdaMax_m2 = 1e3;          // above: the start has stagnated
 inline constexpr double kIkLambdaDown = 0.2;            // damping factor after an accepted step
 inline constexpr double kIkLambdaUp = 10.0;             // ... after a rejected step
-inline constexpr double kIkStagnationRatio = 0.1;       // accepted steps reducing the cost less ...
+inline constexpr double kIkStagnationRatio = 0.05;      // accepted steps reducing the cost less ...
 inline constexpr int kIkStagnationSteps = 2;            // ... this many times in a row end a start
-inline constexpr int kIkMaxRejectedSteps = 5;           // rejected LM steps in a row end a start
-inline constexpr int kIkSeedCandidates = 8;             // a random start is the best of this many
-                                                       // seeded configurations (lowest task error)
 inline constexpr double kIkPolishBand = 50.0;           // SLSQP polish when the best LM miss is < band x tol
 inline constexpr int kIkPolishMaxEvaluations = 200;     // NLopt SLSQP evaluations per polish
 inline constexpr double kIkReachBoundSlack_m = 1e-6;    // slack of the conservative reach bound

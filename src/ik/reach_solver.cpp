@@ -41,6 +41,10 @@ std::string IkOptions::validate() const {
   if (max_iterations < 1) return "at least one iteration is needed";
   if (classify_starts < 0) return "classification starts must not be negative";
   if (!(orientation_weight_m > 0)) return "orientation weight must be positive";
+  if (!(lambda_initial_m2 > 0) || !std::isfinite(lambda_initial_m2)) return "initial damping must be positive";
+  if (!(stagnation_ratio >= 0 && stagnation_ratio < 1)) return "stagnation ratio must lie in [0, 1)";
+  if (max_rejected_steps < 1) return "at least one rejected step must be allowed";
+  if (seed_candidates < 1) return "at least one seed candidate is needed";
   return "";
 }
 
@@ -65,17 +69,31 @@ struct Context {
   const IkTarget& target;
   double w_o;
   bool full_orientation;
-  bool any_orientation;
+  bool any_orientation;  // some Cardan angles selected (not the tool-axis task)
+  bool tool_axis;
   Eigen::Matrix3d R_d;
-  int m;
+  int m;  // residual rows (3 for the tool axis, whose rows have rank 2)
 };
 
 Context makeContext(const Model* model, const IkTarget& t, double w_o) {
   const auto& s = t.task_space.selected;
-  Context c{model, t, w_o, s[3] && s[4] && s[5], s[3] || s[4] || s[5], Eigen::Matrix3d::Identity(),
-            t.task_space.dim()};
+  const bool axis = t.tool_axis;
+  Context c{model, t, w_o, !axis && s[3] && s[4] && s[5], !axis && (s[3] || s[4] || s[5]), axis,
+            Eigen::Matrix3d::Identity(), 0};
+  c.m = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
+  if (axis) c.m += 3;
+  else c.m = t.task_space.dim();
   if (c.full_orientation) c.R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
   return c;
+}
+
+// Tool-axis error: rotation vector (angle * unit axis) turning the current tool axis z onto z_d.
+inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen::Vector3d& z_d,
+                                          double& angle) {
+  const Eigen::Vector3d c = z.cross(z_d);
+  const double s = c.norm();
+  angle = std::atan2(s, z.dot(z_d));
+  return s > 0 ? Eigen::Vector3d((angle / s) * c) : Eigen::Vector3d::Zero();
 }
 
 // Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
@@ -99,6 +117,10 @@ void residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e, PoseErr
     const Eigen::AngleAxisd aa(Eigen::Matrix3d(c.R_d * kin.R_WT.transpose()));
     e.segment<3>(r) = (c.w_o * aa.angle()) * aa.axis();
     err.orientation_rad = std::abs(aa.angle());
+  } else if (c.tool_axis) {
+    double angle = 0;
+    e.segment<3>(r) = c.w_o * axisRotationVector(kin.R_WT.col(2), c.target.z_d_W, angle);
+    err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     err.singular = a.singular;
@@ -131,6 +153,11 @@ bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J
     if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
   if (c.full_orientation) {
     J.middleRows(r, 3) = c.w_o * kin.J_W_tcp.bottomRows<3>();
+  } else if (c.tool_axis) {
+    // Rotations about the tool axis do not change it: omega projected perpendicular to z.
+    const Eigen::Vector3d z = kin.R_WT.col(2);
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - z * z.transpose();
+    J.middleRows(r, 3) = c.w_o * (P * kin.J_W_tcp.bottomRows<3>());
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     Eigen::Matrix3d T_A_inv;
@@ -139,6 +166,25 @@ bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J
       if (sel[3 + k]) J.row(r++) = c.w_o * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>());  // eq. (5.9)
   }
   return true;
+}
+
+// Manipulability (eq. 5.59) of the tool-axis task: the position rows and the two angular rows
+// perpendicular to the tool axis (5 x n for the full position).
+double toolAxisManipulability(const Context& c, const KinematicsWorkspace& kin) {
+  const auto& sel = c.target.task_space.selected;
+  const int n = kin.n;
+  Jacobian6 J(6, n);
+  int r = 0;
+  for (int k = 0; k < 3; ++k)
+    if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
+  const Eigen::Vector3d z = kin.R_WT.col(2);
+  const Eigen::Vector3d b1 = z.unitOrthogonal(), b2 = z.cross(b1);
+  J.row(r++) = b1.transpose() * kin.J_W_tcp.bottomRows<3>();
+  J.row(r++) = b2.transpose() * kin.J_W_tcp.bottomRows<3>();
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
+      J.topRows(r) * J.topRows(r).transpose();
+  const double det = JJt.determinant();
+  return det > 0 ? std::sqrt(det) : 0.0;
 }
 
 bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction) {
@@ -210,7 +256,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
   forwardKinematics(model, kin, q);
   residual(c, kin, e, res.err);
   res.cost = e.squaredNorm();
-  double lambda = defaults::kIkLambdaInitial_m2;
+  double lambda = o.lambda_initial_m2;
   int slow = 0;
   bool kin_current = true;  // kin holds the FK of q
   for (int it = 0; it < o.max_iterations; ++it) {
@@ -251,7 +297,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
       const double cost_new = e_new.squaredNorm();
       if (cost_new < res.cost) {
         const double ratio = (res.cost - cost_new) / res.cost;
-        slow = ratio < defaults::kIkStagnationRatio ? slow + 1 : 0;
+        slow = ratio < o.stagnation_ratio ? slow + 1 : 0;
         q = q_new;
         e = e_new;
         res.err = err_new;
@@ -261,7 +307,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
         accepted = true;
       } else {
         lambda *= defaults::kIkLambdaUp;
-        if (lambda > defaults::kIkLambdaMax_m2 || ++rejected >= defaults::kIkMaxRejectedSteps) break;
+        if (lambda > defaults::kIkLambdaMax_m2 || ++rejected >= o.max_rejected_steps) break;
       }
     }
     if (!accepted || slow >= defaults::kIkStagnationSteps) break;
@@ -349,7 +395,7 @@ void midStart(const Model& model, JointVector& q) {
 void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uint64_t pose_id,
                  int k, JointVector& q) {
   const Model& model = *c.model;
-  const int K = defaults::kIkSeedCandidates;
+  const int K = o.seed_candidates;
   if (K <= 1) {
     randomStart(model, o.seed, pose_id, k, q);
     return;
@@ -442,6 +488,11 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
       const Eigen::Vector3d v(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
       *grad += 0.5 * w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * v);
     }
+  } else if (c.tool_axis) {
+    // w^2 (1 - z . z_d); d(z . z_d)/dq_i = omega_i . (z x z_d).
+    const Eigen::Vector3d z = kin.R_WT.col(2);
+    f += w_o * w_o * (1.0 - z.dot(target.z_d_W));
+    if (grad) *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * z.cross(target.z_d_W));
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     const double cur[3] = {a.alpha, a.beta, a.gamma};
@@ -548,7 +599,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     r.position_error_m = err.position_m;
     r.orientation_error_rad = err.orientation_rad;
   }
-  r.manipulability = taskManipulability(ws.kin, target.task_space);
+  r.manipulability = target.tool_axis ? toolAxisManipulability(c, ws.kin)
+                                      : taskManipulability(ws.kin, target.task_space);
   r.joint_limit_margin = jointLimitMargin(model, best_q);
   if (solved) {
     r.status = ReachStatus::Reachable;
