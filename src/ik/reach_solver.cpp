@@ -41,7 +41,9 @@ std::string IkOptions::validate() const {
   if (max_iterations < 1) return "at least one iteration is needed";
   if (classify_starts < 0) return "classification starts must not be negative";
   if (!(orientation_weight_m > 0)) return "orientation weight must be positive";
-  if (!(lambda_initial_m2 > 0) || !std::isfinite(lambda_initial_m2)) return "initial damping must be positive";
+  if (!(lambda_initial_m2 > 0) || !std::isfinite(lambda_initial_m2) || !(lambda_warm_m2 > 0) ||
+      !std::isfinite(lambda_warm_m2))
+    return "initial damping must be positive";
   if (!(stagnation_ratio >= 0 && stagnation_ratio < 1)) return "stagnation ratio must lie in [0, 1)";
   if (max_rejected_steps < 1) return "at least one rejected step must be allowed";
   if (seed_candidates < 1) return "at least one seed candidate is needed";
@@ -243,7 +245,7 @@ struct LocalResult {
 // Levenberg-Marquardt on |W e|^2 projected onto the joint-limit box (active set). q is updated
 // in place to the best configuration of this start; ws.kin holds its forward kinematics on return.
 LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q,
-                  bool limits, int& iterations) {
+                  bool limits, double lambda_initial, int& iterations) {
   const Model& model = *c.model;
   KinematicsWorkspace& kin = ws.kin;
   const int n = kin.n;
@@ -256,7 +258,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
   forwardKinematics(model, kin, q);
   residual(c, kin, e, res.err);
   res.cost = e.squaredNorm();
-  double lambda = o.lambda_initial_m2;
+  double lambda = lambda_initial;
   int slow = 0;
   bool kin_current = true;  // kin holds the FK of q
   for (int it = 0; it < o.max_iterations; ++it) {
@@ -552,7 +554,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     // configuration found for the reported errors.
     r.bound_rejected = true;
     midStart(model, best_q);
-    best = runLm(c, ws, o, best_q, true, r.iterations);
+    best = runLm(c, ws, o, best_q, true, o.lambda_initial_m2, r.iterations);
     best.success = false;
     have_best = true;
   } else {
@@ -567,7 +569,9 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
       ++r.starts;
       const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
                                  ? runSlsqp(c, ws, o, q)
-                                 : runLm(c, ws, o, q, true, r.iterations);
+                                 : runLm(c, ws, o, q, true,
+                                         k == 0 && warm_start ? o.lambda_warm_m2 : o.lambda_initial_m2,
+                                         r.iterations);
       if (lr.success || lr.cost < best.cost) {
         best = lr;
         best_q = q;
@@ -613,7 +617,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
       if (k == 0) q = best_q;
       else randomStart(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
-      free_success = runLm(c, ws, o, q, false, r.iterations).success;
+      free_success =
+          runLm(c, ws, o, q, false, k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2, r.iterations).success;
     }
   }
   if (free_success) r.status = ReachStatus::JointLimits;
