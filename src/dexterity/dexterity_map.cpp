@@ -79,7 +79,8 @@ IkTarget reachTarget(const ik::PoseTarget& t) {
 CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
-                     std::uint64_t cell_id, const JointVector* warm_plain, const JointVector* warm_opt) {
+                     std::uint64_t cell_id, const JointVector* warm_plain,
+                     const JointVector* warm_opt) {
   CellResult r;
   const int n = model.dof();
   ik::RedundancyOptions ro;

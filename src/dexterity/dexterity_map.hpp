@@ -73,13 +73,14 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
 // along a row the plain configuration follows the TCP), else the reachability solver (src/ik/
 // reach_solver: multi-start Levenberg-Marquardt within the limits, deterministic by `cell_id`,
 // options.cold_starts starts including the warm start), polished by the local solve to the tight
-// tolerance the null-space stage needs. The null-space descent starts from the pose solution nearest
-// `warm_opt` (the previous cell's optimised configuration, may be null) when that solve lands on the
-// pose, else from the plain configuration. Uses the per-thread ws, ik_ws and ctx.
+// tolerance the null-space stage needs. The null-space descent starts from the pose solution
+// nearest `warm_opt` (the previous cell's optimised configuration, may be null) when that solve
+// lands on the pose, else from the plain configuration. Uses the per-thread ws, ik_ws and ctx.
 CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
-                     std::uint64_t cell_id, const JointVector* warm_plain, const JointVector* warm_opt);
+                     std::uint64_t cell_id, const JointVector* warm_plain,
+                     const JointVector* warm_opt);
 
 // The cell's pose target in the reachability solver's terms (tool-axis task for PositionAxis).
 IkTarget reachTarget(const ik::PoseTarget& target);

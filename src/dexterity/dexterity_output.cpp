@@ -121,11 +121,10 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
   // U diag(sigma) U^T: ParaView's Tensor Glyph draws semi-axes sigma_k along u_k.
   io::NamedArray tensor{"ellipsoid_tensor", io::ArrayType::Float64, 9, {}};
   io::NamedArray semi{"semi_axes", io::ArrayType::Float64, 3, {}};
-  io::NamedArray a1{"axis_1", io::ArrayType::Float64, 3, {}}, a2{"axis_2", io::ArrayType::Float64, 3, {}},
-      a3{"axis_3", io::ArrayType::Float64, 3, {}}, u{"u", io::ArrayType::Float64, 3, {}};
-  io::NamedArray manip{"manipulability", io::ArrayType::Float64, 1, {}},
-      beta{"transmission", io::ArrayType::Float64, 1, {}}, gam{"gamma", io::ArrayType::Float64, 1, {}},
-      zz{"z", io::ArrayType::Float64, 1, {}};
+  constexpr io::ArrayType kF64 = io::ArrayType::Float64;
+  io::NamedArray a1{"axis_1", kF64, 3, {}}, a2{"axis_2", kF64, 3, {}}, a3{"axis_3", kF64, 3, {}};
+  io::NamedArray u{"u", kF64, 3, {}}, manip{"manipulability", kF64, 1, {}};
+  io::NamedArray beta{"transmission", kF64, 1, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
   auto push3 = [](io::NamedArray& a, const Eigen::Vector3d& v) {
     a.values.insert(a.values.end(), {v.x(), v.y(), v.z()});
   };
@@ -224,8 +223,9 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
      << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + " << options.w_manipulability
      << " H_m1 + " << options.w_transmission << " H_m2 (thesis eq. 5.51).\n\n"
      << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0) << " deg), y = z (bottom = "
-     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar below each "
-     << "map (left = 0, right = 1; the transmission map is scaled to its maximum); grey = not reachable.\n\n";
+     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar below "
+     << "each map (left = 0, right = 1; the transmission map is scaled to its maximum); "
+     << "grey = not reachable.\n\n";
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) | time [s] |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const Model& m : designs) {

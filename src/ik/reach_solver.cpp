@@ -44,7 +44,8 @@ std::string IkOptions::validate() const {
   if (!(lambda_initial_m2 > 0) || !std::isfinite(lambda_initial_m2) || !(lambda_warm_m2 > 0) ||
       !std::isfinite(lambda_warm_m2))
     return "initial damping must be positive";
-  if (!(stagnation_ratio >= 0 && stagnation_ratio < 1)) return "stagnation ratio must lie in [0, 1)";
+  if (!(stagnation_ratio >= 0 && stagnation_ratio < 1))
+    return "stagnation ratio must lie in [0, 1)";
   if (max_rejected_steps < 1) return "at least one rejected step must be allowed";
   if (seed_candidates < 1) return "at least one seed candidate is needed";
   return "";
@@ -494,7 +495,8 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
     // w^2 (1 - z . z_d); d(z . z_d)/dq_i = omega_i . (z x z_d).
     const Eigen::Vector3d z = kin.R_WT.col(2);
     f += w_o * w_o * (1.0 - z.dot(target.z_d_W));
-    if (grad) *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * z.cross(target.z_d_W));
+    if (grad)
+      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * z.cross(target.z_d_W));
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     const double cur[3] = {a.alpha, a.beta, a.gamma};
@@ -569,8 +571,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
       ++r.starts;
       const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
                                  ? runSlsqp(c, ws, o, q)
-                                 : runLm(c, ws, o, q, true,
-                                         k == 0 && warm_start ? o.lambda_warm_m2 : o.lambda_initial_m2,
+                                 : runLm(c, ws, o, q, true, k == 0 && warm_start ? o.lambda_warm_m2
+                                                                        : o.lambda_initial_m2,
                                          r.iterations);
       if (lr.success || lr.cost < best.cost) {
         best = lr;
@@ -617,8 +619,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
       if (k == 0) q = best_q;
       else randomStart(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
-      free_success =
-          runLm(c, ws, o, q, false, k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2, r.iterations).success;
+      const double lambda0 = k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2;
+      free_success = runLm(c, ws, o, q, false, lambda0, r.iterations).success;
     }
   }
   if (free_success) r.status = ReachStatus::JointLimits;

@@ -78,15 +78,17 @@ int main() {
   KDL::ChainIkSolverPos_LMA lma(chain, 1e-10, 500, 1e-15);
   IkWorkspace ik_ws(m);
   IkOptions ro1, ro;  // the reach solver with the warm start only, and with the map's starts
-  ro1.position_tolerance_m = ro.position_tolerance_m = kSolvedTolerance / defaults::kIkConvergenceFraction;
-  ro1.orientation_tolerance_rad = ro.orientation_tolerance_rad = kSolvedTolerance / defaults::kIkConvergenceFraction;
+  const double tol = kSolvedTolerance / defaults::kIkConvergenceFraction;  // converges below kSolved
+  ro1.position_tolerance_m = ro.position_tolerance_m = tol;
+  ro1.orientation_tolerance_rad = ro.orientation_tolerance_rad = tol;
   ro1.max_starts = 1;
   ro.max_starts = opt.cold_starts;
   ro1.classify_failures = ro.classify_failures = false;
   int ok_a = 0, ok_k = 0, ok_r1 = 0, ok_r = 0;
   double ta = 0, tk = 0, tr1 = 0, tr = 0;
   JointVector q_mid(m.dof());
-  for (int i = 0; i < m.dof(); ++i) q_mid[i] = 0.5 * (m.joints[i].limits.q_min + m.joints[i].limits.q_max);
+  for (int i = 0; i < m.dof(); ++i)
+    q_mid[i] = 0.5 * (m.joints[i].limits.q_min + m.joints[i].limits.q_max);
   for (int iz = 0; iz < g.z_m.count; iz += 10) {
     JointVector qa = q_mid, qr1 = q_mid, qr = q_mid;
     KDL::JntArray qk(m.dof()), qout(m.dof());
@@ -98,13 +100,15 @@ int main() {
       double t0 = now();
       const IkResult r1 = solvePose(m, ik_ws, rt, ro1, id, &qr1);
       tr1 += now() - t0;
-      if (r1.reachable() && r1.position_error_m < kSolvedTolerance && r1.orientation_error_rad < kSolvedTolerance)
-        ++ok_r1, qr1 = r1.q;
+      auto solved = [](const IkResult& x) {
+        return x.reachable() && x.position_error_m < kSolvedTolerance &&
+               x.orientation_error_rad < kSolvedTolerance;
+      };
+      if (solved(r1)) ++ok_r1, qr1 = r1.q;
       t0 = now();
       const IkResult rr = solvePose(m, ik_ws, rt, ro, id, &qr);
       tr += now() - t0;
-      if (rr.reachable() && rr.position_error_m < kSolvedTolerance && rr.orientation_error_rad < kSolvedTolerance)
-        ++ok_r, qr = rr.q;
+      if (solved(rr)) ++ok_r, qr = rr.q;
       t0 = now();
       const auto r = ik::solvePose(m, ws, cell.target, qa, w_inv, {});
       ta += now() - t0;
@@ -134,7 +138,8 @@ int main() {
   std::printf("| solver | solved within limits | per pose [us] | ratio |\n|---|---|---|---|\n");
   std::printf("| armstudy damped Newton (solvePose) | %d | %.1f | 1.00 |\n", ok_a, 1e6 * ta / n);
   std::printf("| orocos-kdl ChainIkSolverPos_LMA | %d | %.1f | %.2f |\n", ok_k, 1e6 * tk / n, tk / ta);
-  std::printf("| armstudy reach solver, warm start only | %d | %.1f | %.2f |\n", ok_r1, 1e6 * tr1 / n, tr1 / ta);
+  std::printf("| armstudy reach solver, warm start only | %d | %.1f | %.2f |\n", ok_r1,
+              1e6 * tr1 / n, tr1 / ta);
   std::printf("| armstudy reach solver, %d starts (as in the map) | %d | %.1f | %.2f |\n", ro.max_starts, ok_r,
               1e6 * tr / n, tr / ta);
   return 0;
