@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "common/errors.hpp"
 #include "dexterity/dexterity_output.hpp"
@@ -31,6 +32,7 @@ using namespace armstudy::test;
 namespace {
 constexpr double kGeometryTolerance = 1e-12;
 constexpr double kOnPoseTolerance = 1e-6;  // [m and rad] the tool stays on the pose
+constexpr double kAngleTolerance = 1e-7;   // [rad] two formulas of the same angle (acos vs atan2)
 constexpr int kMinMapPixels = 480;         // report::renderCellMap defaults
 constexpr int kMapBorderPixels = 2;
 
@@ -118,6 +120,41 @@ TEST_CASE("every reachable cell: plain and optimised on the pose, optimisation n
     INFO(rel << " reachable " << reachable);
     CHECK(reachable > 0);
   }
+}
+
+TEST_CASE("the reach solver's target means the same pose as the stem cell's target",
+          "[dexterity][oracle]") {
+  // Oracle: the dexterity stage's own pose error (ik::poseError, angle between tool axes for the
+  // harvesting task, between frames for the full pose) at random configurations equals the reach
+  // solver's error for the converted target; a cell solved from no warm start lands on the pose.
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  DexterityOptions o = smallOptions();
+  std::mt19937_64 rng(5);
+  KinematicsWorkspace ws(m);
+  for (const ik::PoseTaskKind kind :
+       {ik::PoseTaskKind::Position, ik::PoseTaskKind::PositionAxis, ik::PoseTaskKind::FullPose}) {
+    o.grid.task = kind;
+    for (int k = 0; k < 20; ++k) {
+      const StemGrid::Cell cell = o.grid.cell(k % o.grid.gamma_rad.count, k % o.grid.z_m.count);
+      const IkTarget t = reachTarget(cell.target);
+      forwardKinematics(m, ws, randomConfiguration(m, rng));
+      const ik::PoseError a = ik::poseError(ws, cell.target);
+      const PoseError b = poseError(ws, t);
+      CHECK(b.position_m == Approx(a.position_m).margin(kGeometryTolerance));
+      CHECK(b.orientation_rad == Approx(a.orientation_rad).margin(kAngleTolerance));
+    }
+  }
+  o.grid.task = ik::PoseTaskKind::PositionAxis;
+  IkWorkspace ik_ws(m);
+  ik::ObjectiveContext ctx(m, ws);
+  const ik::WeightedObjective objective = o.buildObjective(m);
+  const StemGrid::Cell cell = o.grid.cell(3, 2);
+  const CellResult r = solveCell(m, ws, ik_ws, ctx, objective, o, cell, 0, nullptr, nullptr);
+  REQUIRE(r.reachable);
+  forwardKinematics(m, ws, r.q_plain);
+  const ik::PoseError e = ik::poseError(ws, cell.target);
+  CHECK(e.position_m < kOnPoseTolerance);
+  CHECK(e.orientation_rad < kOnPoseTolerance);
 }
 
 TEST_CASE("dexterity maps are identical with 1 and 2 threads", "[dexterity][determinism]") {
