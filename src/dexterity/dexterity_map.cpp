@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "common/errors.hpp"
 
@@ -55,32 +56,30 @@ int DexterityMap::reachable() const {
   return r;
 }
 
-JointVector coldStart(const Model& model, int k) {
-  const int n = model.dof();
-  JointVector q(n);
-  // splitmix64 on (k, i): portable and independent of the standard library's engines.
-  auto mix = [](std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  };
-  for (int i = 0; i < n; ++i) {
-    const auto& l = model.joints[i].limits;
-    const double mid = 0.5 * (l.q_min + l.q_max);
-    if (k == 0) {
-      q[i] = mid;
-    } else {
-      const double r = (mix(static_cast<std::uint64_t>(k) * 131 + i) >> 11) * 0x1.0p-53;
-      q[i] = mid + (r - 0.5) * 0.8 * (l.q_max - l.q_min);  // inner 80 % of the range
+IkTarget reachTarget(const ik::PoseTarget& t) {
+  IkTarget r;
+  r.task_space = TaskSpace::position();
+  r.w_d.head<3>() = t.p_WT;
+  switch (t.kind) {
+    case ik::PoseTaskKind::Position: break;
+    case ik::PoseTaskKind::PositionAxis:
+      r.tool_axis = true;
+      r.z_d_W = t.R_WT.col(2);
+      break;
+    case ik::PoseTaskKind::FullPose: {
+      r.task_space = TaskSpace::fullPose();
+      const CardanAngles c = cardanFromRotation(t.R_WT);
+      r.w_d.tail<3>() << c.alpha, c.beta, c.gamma;
+      break;
     }
   }
-  return q;
+  return r;
 }
 
-CellResult solveCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
-                     const ik::WeightedObjective& objective, const DexterityOptions& options,
-                     const StemGrid::Cell& cell, const JointVector* warm_plain,
+CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
+                     ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
+                     const DexterityOptions& options, const StemGrid::Cell& cell,
+                     std::uint64_t cell_id, const JointVector* warm_plain,
                      const JointVector* warm_opt) {
   CellResult r;
   const int n = model.dof();
@@ -92,18 +91,28 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveC
     return s.error.position_m <= options.position_tolerance_m &&
            s.error.orientation_rad <= options.orientation_tolerance_rad;
   };
+  auto cost = [](const ik::PoseSolveResult& s) {
+    return s.error.position_m + defaults::kOrientationLength_m * s.error.orientation_rad;
+  };
   ik::PoseSolveResult best;
+  best.q = warm_plain ? *warm_plain : JointVector::Zero(n);
   best.error.position_m = best.error.orientation_rad = std::numeric_limits<double>::infinity();
   if (warm_plain) {
     ++r.starts;
     best = ik::solvePose(model, ws, cell.target, *warm_plain, w_inv, options.solve);
   }
-  for (int k = 0; !accept(best) && k < options.cold_starts; ++k) {
-    ++r.starts;
-    ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, coldStart(model, k), w_inv, options.solve);
-    if (s.error.position_m + defaults::kOrientationLength_m * s.error.orientation_rad <
-        best.error.position_m + defaults::kOrientationLength_m * best.error.orientation_rad)
-      best = s;
+  if (!accept(best)) {
+    // The reachability solver (thesis eq. 3.2), then the local solve polishes its solution to the
+    // tight tolerance of options.solve.
+    IkOptions io;
+    io.position_tolerance_m = options.position_tolerance_m;
+    io.orientation_tolerance_rad = options.orientation_tolerance_rad;
+    io.max_starts = options.cold_starts;
+    io.classify_failures = false;
+    const IkResult ir = solvePose(model, ik_ws, reachTarget(cell.target), io, cell_id, warm_plain);
+    r.starts += ir.starts;
+    const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, ir.q, w_inv, options.solve);
+    if (cost(s) < cost(best)) best = s;
   }
   r.q_plain = best.q;
   r.position_error_m = best.error.position_m;
@@ -165,6 +174,7 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
 #pragma omp parallel num_threads(map.threads)
   {
     KinematicsWorkspace ws(model);
+    IkWorkspace ik_ws(model);
     ik::ObjectiveContext ctx(model, ws);
 #pragma omp for schedule(dynamic, 1)
     for (int iz = 0; iz < rows; ++iz) {
@@ -173,7 +183,8 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
       bool have_prev = false;
       for (int ig = 0; ig < cols; ++ig) {
         const StemGrid::Cell cell = options.grid.cell(ig, iz);
-        CellResult r = solveCell(model, ws, ctx, objective, options, cell,
+        CellResult r = solveCell(model, ws, ik_ws, ctx, objective, options, cell,
+                                 static_cast<std::uint64_t>(options.grid.index(ig, iz)),
                                  have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr);
         have_prev = r.reachable;
         if (r.reachable) {

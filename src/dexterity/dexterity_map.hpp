@@ -7,11 +7,13 @@
 // Work split: one z row (a circle around the stem) is one independent unit, solved in gamma order
 // with warm starts from the previous cell; rows run in parallel (OpenMP) and their results do not
 // depend on the thread count or schedule.
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "dexterity/stem_grid.hpp"
 #include "ik/nullspace.hpp"
+#include "ik/reach_solver.hpp"
 #include "ik/objectives.hpp"
 #include "metrics/dexterity_measures.hpp"
 
@@ -48,7 +50,7 @@ struct CellResult {
   metrics::Ellipsoid ellipsoid_plain, ellipsoid_opt;
   double H_plain = 0, H_opt = 0;
   double position_error_m = 0, orientation_error_rad = 0;  // of the plain solution
-  int starts = 0;                // pose solves tried (1 = the warm start sufficed)
+  int starts = 0;                // starts tried (1 = the warm start sufficed)
   int nullspace_iterations = 0;
   ik::NullspaceStatus nullspace_status = ik::NullspaceStatus::Converged;
 };
@@ -66,18 +68,21 @@ struct DexterityMap {
 // Computes the map. threads = 0: OpenMP default. Preconditions: options.validateFor(model) empty.
 DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& options, int threads);
 
-// Solves and optimises one cell. `warm_plain` (may be null) seeds the pose solve (else cold starts);
-// the plain configuration is that solve's result. The null-space descent starts from the pose
-// solution nearest `warm_opt` (the previous cell's optimised configuration, may be null) when that
-// solve lands on the pose, else from the plain configuration; so along a row the optimisation
-// follows the TCP like the thesis' velocity-level IK does. Uses the per-thread ws and ctx.
-CellResult solveCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
-                     const ik::WeightedObjective& objective, const DexterityOptions& options,
-                     const StemGrid::Cell& cell, const JointVector* warm_plain,
+// Solves and optimises one cell. The plain configuration: a local damped Newton solve from
+// `warm_plain` (the previous cell's plain solution, may be null) when that lands on the pose (so
+// along a row the plain configuration follows the TCP), else the reachability solver (src/ik/
+// reach_solver: multi-start Levenberg-Marquardt within the limits, deterministic by `cell_id`,
+// options.cold_starts starts including the warm start), polished by the local solve to the tight
+// tolerance the null-space stage needs. The null-space descent starts from the pose solution
+// nearest `warm_opt` (the previous cell's optimised configuration, may be null) when that solve
+// lands on the pose, else from the plain configuration. Uses the per-thread ws, ik_ws and ctx.
+CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
+                     ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
+                     const DexterityOptions& options, const StemGrid::Cell& cell,
+                     std::uint64_t cell_id, const JointVector* warm_plain,
                      const JointVector* warm_opt);
 
-// Deterministic cold-start configuration k (k = 0: mid-range; k > 0: a fixed pseudo-random
-// sequence within the limits), the same on every thread and run.
-JointVector coldStart(const Model& model, int k);
+// The cell's pose target in the reachability solver's terms (tool-axis task for PositionAxis).
+IkTarget reachTarget(const ik::PoseTarget& target);
 
 }  // namespace armstudy::dexterity

@@ -1,16 +1,5 @@
 #include "dexterity/dexterity_output.hpp"
 
-#include <vtkCellArray.h>
-#include <vtkDoubleArray.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkUnsignedCharArray.h>
-#include <vtkXMLImageDataWriter.h>
-#include <vtkXMLPolyDataWriter.h>
-
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -20,8 +9,9 @@
 #include <sstream>
 
 #include "common/errors.hpp"
-#include "dexterity/png_image.hpp"
 #include "io/files.hpp"
+#include "io/vtk_io.hpp"
+#include "report/image.hpp"
 
 namespace armstudy::dexterity {
 
@@ -29,14 +19,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-vtkNew<vtkDoubleArray> doubleArray(const char* name, const std::vector<double>& v) {
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfComponents(1);
-  a->SetNumberOfTuples(static_cast<vtkIdType>(v.size()));
-  for (std::size_t i = 0; i < v.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), v[i]);
-  return a;
-}
+// Unreachable cells in the heatmap images.
+constexpr report::Rgb kUnreachableGrey{160, 160, 160};
 
 std::string fmt(double v, int prec = 3) {
   if (std::isnan(v)) return "-";
@@ -102,103 +86,89 @@ FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field)
 
 std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir) {
   const StemGrid& g = map.grid;
-  vtkNew<vtkImageData> img;
-  img->SetDimensions(g.gamma_rad.count, g.z_m.count, 1);
+  io::ImageGrid grid;
   // Axes: x = gamma [rad], y = z [m]; point index = i_gamma + i_z * n_gamma (VTK order).
-  img->SetOrigin(g.gamma_rad.min, g.z_m.min, 0.0);
-  img->SetSpacing(g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
-                  g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0);
-  vtkPointData* pd = img->GetPointData();
-  vtkNew<vtkUnsignedCharArray> reach;
-  reach->SetName("reachable");
-  reach->SetNumberOfTuples(static_cast<vtkIdType>(map.cells.size()));
-  for (std::size_t i = 0; i < map.cells.size(); ++i)
-    reach->SetValue(static_cast<vtkIdType>(i), map.cells[i].reachable ? 1 : 0);
-  pd->AddArray(reach);
-  pd->AddArray(doubleArray("manipulability_plain", f.manip_plain));
-  pd->AddArray(doubleArray("manipulability_optimised", f.manip_opt));
-  pd->AddArray(doubleArray("manipulability_plain_normalised", f.manip_plain_norm));
-  pd->AddArray(doubleArray("manipulability_optimised_normalised", f.manip_opt_norm));
-  pd->AddArray(doubleArray("transmission_plain", f.beta_plain));
-  pd->AddArray(doubleArray("transmission_optimised", f.beta_opt));
-  pd->AddArray(doubleArray("inverse_condition_plain", f.invcond_plain));
-  pd->AddArray(doubleArray("inverse_condition_optimised", f.invcond_opt));
-  pd->AddArray(doubleArray("sigma_min_plain", f.smin_plain));
-  pd->AddArray(doubleArray("sigma_min_optimised", f.smin_opt));
-  pd->AddArray(doubleArray("objective_plain", f.H_plain));
-  pd->AddArray(doubleArray("objective_optimised", f.H_opt));
-  pd->AddArray(doubleArray("nullspace_iterations", f.nullspace_iterations));
-  vtkNew<vtkXMLImageDataWriter> w;
-  w->SetInputData(img);
-  w->SetWriteToOutputString(true);
-  w->SetDataModeToBinary();
-  ARMSTUDY_CHECK(w->Write() == 1, "VTK image writer failed");
+  grid.dims = {g.gamma_rad.count, g.z_m.count, 1};
+  grid.origin = {g.gamma_rad.min, g.z_m.min, 0.0};
+  grid.spacing = {g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
+                  g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0};
+  auto add = [&](const char* name, const std::vector<double>& v,
+                 io::ArrayType type = io::ArrayType::Float64) {
+    grid.point_arrays.push_back({name, type, 1, v});
+  };
+  add("reachable", f.reachable, io::ArrayType::UInt8);
+  add("manipulability_plain", f.manip_plain);
+  add("manipulability_optimised", f.manip_opt);
+  add("manipulability_plain_normalised", f.manip_plain_norm);
+  add("manipulability_optimised_normalised", f.manip_opt_norm);
+  add("transmission_plain", f.beta_plain);
+  add("transmission_optimised", f.beta_opt);
+  add("inverse_condition_plain", f.invcond_plain);
+  add("inverse_condition_optimised", f.invcond_opt);
+  add("sigma_min_plain", f.smin_plain);
+  add("sigma_min_optimised", f.smin_opt);
+  add("objective_plain", f.H_plain);
+  add("objective_optimised", f.H_opt);
+  add("nullspace_iterations", f.nullspace_iterations);
   const std::string name = map.design + ".vti";
-  writeFileAtomic((std::filesystem::path(dir) / name).string(), w->GetOutputString());
+  io::writeVti((std::filesystem::path(dir) / name).string(), grid);
   return name;
 }
 
 std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir) {
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  vtkNew<vtkCellArray> verts;
-  vtkNew<vtkDoubleArray> tensor, semi, a1, a2, a3, u, manip, beta, gam, zz;
-  tensor->SetName("ellipsoid_tensor");  // U diag(sigma) U^T: Tensor Glyph draws semi-axes sigma_k along u_k
-  tensor->SetNumberOfComponents(9);
-  semi->SetName("semi_axes");
-  semi->SetNumberOfComponents(3);
-  const std::pair<vtkDoubleArray*, const char*> vec3[] = {
-      {a1.GetPointer(), "axis_1"}, {a2.GetPointer(), "axis_2"}, {a3.GetPointer(), "axis_3"}, {u.GetPointer(), "u"}};
-  for (const auto& [a, nm] : vec3) {
-    a->SetName(nm);
-    a->SetNumberOfComponents(3);
-  }
-  manip->SetName("manipulability");
-  beta->SetName("transmission");
-  gam->SetName("gamma");
-  zz->SetName("z");
+  io::PolyDataSet poly;
+  poly.vertices = true;
+  // U diag(sigma) U^T: ParaView's Tensor Glyph draws semi-axes sigma_k along u_k.
+  io::NamedArray tensor{"ellipsoid_tensor", io::ArrayType::Float64, 9, {}};
+  io::NamedArray semi{"semi_axes", io::ArrayType::Float64, 3, {}};
+  constexpr io::ArrayType kF64 = io::ArrayType::Float64;
+  io::NamedArray a1{"axis_1", kF64, 3, {}}, a2{"axis_2", kF64, 3, {}}, a3{"axis_3", kF64, 3, {}};
+  io::NamedArray u{"u", kF64, 3, {}}, manip{"manipulability", kF64, 1, {}};
+  io::NamedArray beta{"transmission", kF64, 1, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
+  auto push3 = [](io::NamedArray& a, const Eigen::Vector3d& v) {
+    a.values.insert(a.values.end(), {v.x(), v.y(), v.z()});
+  };
   const int G = map.grid.gamma_rad.count;
   for (std::size_t i = 0; i < map.cells.size(); ++i) {
     const CellResult& c = map.cells[i];
     if (!c.reachable) continue;
     const StemGrid::Cell cell = map.grid.cell(static_cast<int>(i) % G, static_cast<int>(i) / G);
     const metrics::Ellipsoid& e = optimised ? c.ellipsoid_opt : c.ellipsoid_plain;
-    const vtkIdType id = pts->InsertNextPoint(cell.target.p_WT.data());
-    verts->InsertNextCell(1, &id);
+    poly.points.push_back(cell.target.p_WT);
     const Eigen::Matrix3d T = e.axes_W * e.lengths.asDiagonal() * e.axes_W.transpose();
-    double t9[9];
     for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) t9[3 * r + k] = T(r, k);
-    tensor->InsertNextTuple(t9);
-    semi->InsertNextTuple(e.lengths.data());
-    const Eigen::Vector3d v1 = e.lengths[0] * e.axes_W.col(0), v2 = e.lengths[1] * e.axes_W.col(1),
-                          v3 = e.lengths[2] * e.axes_W.col(2);
-    a1->InsertNextTuple(v1.data());
-    a2->InsertNextTuple(v2.data());
-    a3->InsertNextTuple(v3.data());
-    u->InsertNextTuple(cell.u_W.data());
-    manip->InsertNextValue((optimised ? c.opt : c.plain).manipulability);
-    beta->InsertNextValue((optimised ? c.opt : c.plain).transmission);
-    gam->InsertNextValue(cell.gamma);
-    zz->InsertNextValue(cell.z);
+      for (int k = 0; k < 3; ++k) tensor.values.push_back(T(r, k));
+    push3(semi, e.lengths);
+    push3(a1, e.lengths[0] * e.axes_W.col(0));
+    push3(a2, e.lengths[1] * e.axes_W.col(1));
+    push3(a3, e.lengths[2] * e.axes_W.col(2));
+    push3(u, cell.u_W);
+    manip.values.push_back((optimised ? c.opt : c.plain).manipulability);
+    beta.values.push_back((optimised ? c.opt : c.plain).transmission);
+    gam.values.push_back(cell.gamma);
+    zz.values.push_back(cell.z);
   }
-  vtkNew<vtkPolyData> poly;
-  poly->SetPoints(pts);
-  poly->SetVerts(verts);
-  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{tensor, semi, a1, a2, a3, u, manip, beta, gam, zz})
-    poly->GetPointData()->AddArray(a);
-  poly->GetPointData()->SetActiveTensors("ellipsoid_tensor");
-  vtkNew<vtkXMLPolyDataWriter> w;
-  w->SetInputData(poly);
-  w->SetWriteToOutputString(true);
-  w->SetDataModeToBinary();
-  ARMSTUDY_CHECK(w->Write() == 1, "VTK polydata writer failed");
+  for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u, &manip, &beta, &gam, &zz})
+    poly.point_arrays.push_back(std::move(*a));
+  poly.active_tensors = "ellipsoid_tensor";
   const std::string name = map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
-  writeFileAtomic((std::filesystem::path(dir) / name).string(), w->GetOutputString());
+  io::writeVtp((std::filesystem::path(dir) / name).string(), poly);
   return name;
 }
 
 namespace {
+
+// Heatmap image of a (gamma, z) field: gamma to the right, z upwards, viridis over [0, hi], grey
+// where the cell is unreachable (NaN), with the colour bar below.
+report::RasterImage heatmapImage(const DexterityMap& map, const std::vector<double>& v, double hi) {
+  const int G = map.grid.gamma_rad.count, Z = map.grid.z_m.count;
+  const double span = hi > 0 ? hi : 1.0;
+  const report::RasterImage cells = report::renderCellMap(G, Z, [&](int i, int j) {
+    const double x = v[static_cast<std::size_t>(map.grid.index(i, j))];
+    return std::isnan(x) ? kUnreachableGrey : report::viridis(x / span);
+  });
+  return report::withColorBar(cells, report::viridis);
+}
 
 nlohmann::ordered_json statsJson(const FieldStats& s) {
   if (!s.any) return nullptr;
@@ -253,7 +223,9 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
      << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + " << options.w_manipulability
      << " H_m1 + " << options.w_transmission << " H_m2 (thesis eq. 5.51).\n\n"
      << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0) << " deg), y = z (bottom = "
-     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow); grey = not reachable.\n\n";
+     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar below "
+     << "each map (left = 0, right = 1; the transmission map is scaled to its maximum); "
+     << "grey = not reachable.\n\n";
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) | time [s] |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const Model& m : designs) {
@@ -264,7 +236,7 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
       sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, false, dir));
       sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, true, dir));
     }
-    const int G = g.gamma_rad.count, Z = g.z_m.count;
+    const int G = g.gamma_rad.count;
     // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
     // max), reachable.
     const FieldStats beta_s = fieldStats(map, f.beta_opt);
@@ -273,11 +245,10 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
                         {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0},
                         {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0},
                         {"reachable", &f.reachable, 1.0}};
-    const int scale = std::max(2, std::min(8, 400 / std::max(G, Z)));
     std::map<std::string, std::string> png;
     for (const Img& im : imgs) {
       const std::string name = map.design + "_" + im.key + ".png";
-      writeFileAtomic((fs::path(dir) / name).string(), encodePng(heatmapImage(*im.v, G, Z, 0.0, im.hi, scale)));
+      report::writePng((fs::path(dir) / name).string(), heatmapImage(map, *im.v, im.hi));
       sum.files.push_back(sub + "/" + name);
       png[im.key] = name;
     }

@@ -41,15 +41,20 @@ std::string IkOptions::validate() const {
   if (max_iterations < 1) return "at least one iteration is needed";
   if (classify_starts < 0) return "classification starts must not be negative";
   if (!(orientation_weight_m > 0)) return "orientation weight must be positive";
+  if (!(lambda_initial_m2 > 0) || !std::isfinite(lambda_initial_m2) || !(lambda_warm_m2 > 0) ||
+      !std::isfinite(lambda_warm_m2))
+    return "initial damping must be positive";
+  if (!(stagnation_ratio >= 0 && stagnation_ratio < 1))
+    return "stagnation ratio must lie in [0, 1)";
+  if (max_rejected_steps < 1) return "at least one rejected step must be allowed";
+  if (seed_candidates < 1) return "at least one seed candidate is needed";
   return "";
 }
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-using VecM = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using MatM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-using JacW = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
 
@@ -67,24 +72,39 @@ struct Context {
   const IkTarget& target;
   double w_o;
   bool full_orientation;
-  bool any_orientation;
+  bool any_orientation;  // some Cardan angles selected (not the tool-axis task)
+  bool tool_axis;
   Eigen::Matrix3d R_d;
-  int m;
+  int m;  // residual rows (3 for the tool axis, whose rows have rank 2)
 };
 
 Context makeContext(const Model* model, const IkTarget& t, double w_o) {
   const auto& s = t.task_space.selected;
-  Context c{model, t, w_o, s[3] && s[4] && s[5], s[3] || s[4] || s[5], Eigen::Matrix3d::Identity(),
-            t.task_space.dim()};
+  const bool axis = t.tool_axis;
+  Context c{model, t, w_o, !axis && s[3] && s[4] && s[5], !axis && (s[3] || s[4] || s[5]), axis,
+            Eigen::Matrix3d::Identity(), 0};
+  c.m = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
+  if (axis) c.m += 3;
+  else c.m = t.task_space.dim();
   if (c.full_orientation) c.R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
   return c;
 }
 
-// Weighted residual e = W (w_d - f(q)) of the pose in kin, and the unweighted errors.
-void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseError& err) {
+// Tool-axis error: rotation vector (angle * unit axis) turning the current tool axis z onto z_d.
+inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen::Vector3d& z_d,
+                                          double& angle) {
+  const Eigen::Vector3d c = z.cross(z_d);
+  const double s = c.norm();
+  angle = std::atan2(s, z.dot(z_d));
+  return s > 0 ? Eigen::Vector3d((angle / s) * c) : Eigen::Vector3d::Zero();
+}
+
+// Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
+// zero), and the unweighted errors.
+void residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e, PoseError& err) {
   const auto& sel = c.target.task_space.selected;
   const TaskVector6& w_d = c.target.w_d;
-  e.resize(c.m);
+  e.setZero();
   int r = 0;
   double pp = 0;
   for (int k = 0; k < 3; ++k)
@@ -100,6 +120,10 @@ void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseErr
     const Eigen::AngleAxisd aa(Eigen::Matrix3d(c.R_d * kin.R_WT.transpose()));
     e.segment<3>(r) = (c.w_o * aa.angle()) * aa.axis();
     err.orientation_rad = std::abs(aa.angle());
+  } else if (c.tool_axis) {
+    double angle = 0;
+    e.segment<3>(r) = c.w_o * axisRotationVector(kin.R_WT.col(2), c.target.z_d_W, angle);
+    err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     err.singular = a.singular;
@@ -115,16 +139,28 @@ void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseErr
   }
 }
 
-// Weighted task Jacobian rows matching residual(). False at the representation singularity.
-bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, JacW& J) {
+// Weighted task Jacobian rows matching residual() (unselected rows zero). False at the
+// representation singularity.
+bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J) {
   const auto& sel = c.target.task_space.selected;
   const int n = kin.n;
-  J.resize(c.m, n);
+  if (c.m == 6 && c.full_orientation) {
+    J.resize(6, n);
+    J.topRows<3>() = kin.J_W_tcp.topRows<3>();
+    J.bottomRows<3>() = c.w_o * kin.J_W_tcp.bottomRows<3>();
+    return true;
+  }
+  J.setZero(6, n);
   int r = 0;
   for (int k = 0; k < 3; ++k)
     if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
   if (c.full_orientation) {
     J.middleRows(r, 3) = c.w_o * kin.J_W_tcp.bottomRows<3>();
+  } else if (c.tool_axis) {
+    // Rotations about the tool axis do not change it: omega projected perpendicular to z.
+    const Eigen::Vector3d z = kin.R_WT.col(2);
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - z * z.transpose();
+    J.middleRows(r, 3) = c.w_o * (P * kin.J_W_tcp.bottomRows<3>());
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     Eigen::Matrix3d T_A_inv;
@@ -135,54 +171,68 @@ bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, JacW& J) {
   return true;
 }
 
+// Manipulability (eq. 5.59) of the tool-axis task: the position rows and the two angular rows
+// perpendicular to the tool axis (5 x n for the full position).
+double toolAxisManipulability(const Context& c, const KinematicsWorkspace& kin) {
+  const auto& sel = c.target.task_space.selected;
+  const int n = kin.n;
+  Jacobian6 J(6, n);
+  int r = 0;
+  for (int k = 0; k < 3; ++k)
+    if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
+  const Eigen::Vector3d z = kin.R_WT.col(2);
+  const Eigen::Vector3d b1 = z.unitOrthogonal(), b2 = z.cross(b1);
+  J.row(r++) = b1.transpose() * kin.J_W_tcp.bottomRows<3>();
+  J.row(r++) = b2.transpose() * kin.J_W_tcp.bottomRows<3>();
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
+      J.topRows(r) * J.topRows(r).transpose();
+  const double det = JJt.determinant();
+  return det > 0 ? std::sqrt(det) : 0.0;
+}
+
 bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction) {
   return e.position_m <= fraction * o.position_tolerance_m &&
          e.orientation_rad <= fraction * o.orientation_tolerance_rad;
 }
 
-// Damped least-squares step dq = Jf^T (Jf Jf^T + lambda I)^-1 e over the free joints (Jf: J with
-// held columns removed). Hand-rolled Cholesky: m <= 6, and Eigen's dynamic-size LLT dominated the
-// profile.
-inline void dampedStep(const JacW& J, const VecM& e, const std::array<bool, kMaxDof>& free,
-                       double lambda, int n, int m, JointVector& dq) {
+// Damped least-squares step dq = Jf^T (Jf Jf^T + lambda I)^-1 e (Jf: J with the held columns
+// zeroed). The system is 6 x 6 whatever the number of joints (rows of unselected task components
+// are zero and only add lambda on the diagonal), so the loops have compile-time bounds: the
+// symmetric product, an in-place Cholesky factorisation and the two triangular solves.
+inline void dampedStep(const Jacobian6& Jf, const Vec6& e, double lambda, JointVector& dq) {
+  const int n = static_cast<int>(Jf.cols());
+  Eigen::Matrix<double, 6, 6> A = lambda * Eigen::Matrix<double, 6, 6>::Identity();
+  for (int i = 0; i < n; ++i) {
+    const Vec6 col = Jf.col(i);
+    A.noalias() += col * col.transpose();  // rank-1 updates: contiguous fixed-size columns
+  }
   double a[6][6];
-  for (int r = 0; r < m; ++r)
-    for (int s = 0; s <= r; ++s) {
-      double sum = 0;
-      for (int i = 0; i < n; ++i)
-        if (free[i]) sum += J(r, i) * J(s, i);
-      a[r][s] = sum;
-    }
-  for (int r = 0; r < m; ++r) a[r][r] += lambda;
-  // In-place Cholesky a = L L^T (lower triangle); lambda > 0 keeps it positive definite.
-  for (int j = 0; j < m; ++j) {
+  for (int r = 0; r < 6; ++r)
+    for (int s = 0; s <= r; ++s) a[r][s] = A(r, s);
+  for (int j = 0; j < 6; ++j) {  // a = L L^T (lower triangle); lambda > 0 keeps it definite
     double d = a[j][j];
     for (int k = 0; k < j; ++k) d -= a[j][k] * a[j][k];
     d = std::sqrt(std::max(d, 1e-300));
     a[j][j] = d;
-    for (int i = j + 1; i < m; ++i) {
+    const double inv = 1.0 / d;
+    for (int i = j + 1; i < 6; ++i) {
       double v = a[i][j];
       for (int k = 0; k < j; ++k) v -= a[i][k] * a[j][k];
-      a[i][j] = v / d;
+      a[i][j] = v * inv;
     }
   }
-  double y[6];
-  for (int i = 0; i < m; ++i) {
+  Vec6 y;
+  for (int i = 0; i < 6; ++i) {
     double v = e[i];
     for (int k = 0; k < i; ++k) v -= a[i][k] * y[k];
     y[i] = v / a[i][i];
   }
-  for (int i = m - 1; i >= 0; --i) {
+  for (int i = 5; i >= 0; --i) {
     double v = y[i];
-    for (int k = i + 1; k < m; ++k) v -= a[k][i] * y[k];
+    for (int k = i + 1; k < 6; ++k) v -= a[k][i] * y[k];
     y[i] = v / a[i][i];
   }
-  for (int i = 0; i < n; ++i) {
-    double v = 0;
-    if (free[i])
-      for (int r = 0; r < m; ++r) v += J(r, i) * y[r];
-    dq[i] = v;
-  }
+  for (int i = 0; i < n; ++i) dq[i] = Jf.col(i).dot(y);
 }
 
 // Outcome of one local solve.
@@ -196,21 +246,20 @@ struct LocalResult {
 // Levenberg-Marquardt on |W e|^2 projected onto the joint-limit box (active set). q is updated
 // in place to the best configuration of this start; ws.kin holds its forward kinematics on return.
 LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q,
-                  bool limits, int& iterations) {
+                  bool limits, double lambda_initial, int& iterations) {
   const Model& model = *c.model;
   KinematicsWorkspace& kin = ws.kin;
   const int n = kin.n;
   LocalResult res;
-  VecM e, e_new;
+  Vec6 e, e_new;
   PoseError err_new;
-  JacW J;
+  Jacobian6 J(6, n), Jf(6, n);
   JointVector q_new(n), dq(n);
-  std::array<bool, kMaxDof> free{};
 
   forwardKinematics(model, kin, q);
   residual(c, kin, e, res.err);
   res.cost = e.squaredNorm();
-  double lambda = defaults::kIkLambdaInitial_m2;
+  double lambda = lambda_initial;
   int slow = 0;
   bool kin_current = true;  // kin holds the FK of q
   for (int it = 0; it < o.max_iterations; ++it) {
@@ -224,21 +273,22 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
     }
     ++iterations;
     bool accepted = false;
+    int rejected = 0;
     while (!accepted) {
-      // Damped least squares step dq = J^T (J J^T + lambda I)^-1 e over the free joints.
-      for (int i = 0; i < n; ++i) free[i] = true;
-      for (int pass = 0; pass < 2; ++pass) {
-        dampedStep(J, e, free, lambda, n, c.m, dq);
-        if (!limits) break;
+      // Damped least squares step over the free joints; a joint at a bound that the step pushes
+      // outward is held (its column removed) and the step recomputed once.
+      Jf = J;
+      dampedStep(Jf, e, lambda, dq);
+      if (limits) {
         bool changed = false;
         for (int i = 0; i < n; ++i) {
           const JointLimits& L = model.joints[i].limits;
-          if (free[i] && ((q[i] <= L.q_min && dq[i] < 0) || (q[i] >= L.q_max && dq[i] > 0))) {
-            free[i] = false;
+          if ((q[i] <= L.q_min && dq[i] < 0) || (q[i] >= L.q_max && dq[i] > 0)) {
+            Jf.col(i).setZero();
             changed = true;
           }
         }
-        if (!changed) break;
+        if (changed) dampedStep(Jf, e, lambda, dq);
       }
       q_new = q + dq;
       if (limits)
@@ -250,7 +300,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
       const double cost_new = e_new.squaredNorm();
       if (cost_new < res.cost) {
         const double ratio = (res.cost - cost_new) / res.cost;
-        slow = ratio < defaults::kIkStagnationRatio ? slow + 1 : 0;
+        slow = ratio < o.stagnation_ratio ? slow + 1 : 0;
         q = q_new;
         e = e_new;
         res.err = err_new;
@@ -260,7 +310,7 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
         accepted = true;
       } else {
         lambda *= defaults::kIkLambdaUp;
-        if (lambda > defaults::kIkLambdaMax_m2) break;
+        if (lambda > defaults::kIkLambdaMax_m2 || ++rejected >= o.max_rejected_steps) break;
       }
     }
     if (!accepted || slow >= defaults::kIkStagnationSteps) break;
@@ -321,7 +371,7 @@ LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, Join
   for (int i = 0; i < n; ++i) q[i] = std::clamp(x[i], lo[i], hi[i]);
   LocalResult res;
   forwardKinematics(model, ws.kin, q);
-  VecM e;
+  Vec6 e;
   residual(c, ws.kin, e, res.err);
   res.cost = e.squaredNorm();
   res.success = withinTolerance(res.err, o, 1.0);
@@ -342,6 +392,31 @@ void randomStart(const Model& model, std::uint64_t seed, std::uint64_t pose_id, 
 void midStart(const Model& model, JointVector& q) {
   for (int i = 0; i < model.dof(); ++i)
     q[i] = 0.5 * (model.joints[i].limits.q_min + model.joints[i].limits.q_max);
+}
+
+// Random start: the best (lowest weighted cost) of K seeded random configurations.
+void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uint64_t pose_id,
+                 int k, JointVector& q) {
+  const Model& model = *c.model;
+  const int K = o.seed_candidates;
+  if (K <= 1) {
+    randomStart(model, o.seed, pose_id, k, q);
+    return;
+  }
+  JointVector cand(model.dof());
+  double best = std::numeric_limits<double>::infinity();
+  Vec6 e;
+  PoseError err;
+  for (int j = 0; j < K; ++j) {
+    randomStart(model, o.seed, pose_id, k * K + j, cand);
+    forwardKinematics(model, ws.kin, cand);
+    residual(c, ws.kin, e, err);
+    const double cost = e.squaredNorm();
+    if (cost < best) {
+      best = cost;
+      q = cand;
+    }
+  }
 }
 
 // Distance of the target position to the set the first revolute joint's origin can reach.
@@ -385,7 +460,7 @@ IkWorkspace::IkWorkspace(const Model& model) : kin(model) {
 PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
   // The weight only scales e, not the reported errors.
   const Context c = makeContext(nullptr, target, 1.0);
-  VecM e;
+  Vec6 e;
   PoseError err;
   residual(c, kin, e, err);
   return err;
@@ -416,6 +491,12 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
       const Eigen::Vector3d v(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
       *grad += 0.5 * w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * v);
     }
+  } else if (c.tool_axis) {
+    // w^2 (1 - z . z_d); d(z . z_d)/dq_i = omega_i . (z x z_d).
+    const Eigen::Vector3d z = kin.R_WT.col(2);
+    f += w_o * w_o * (1.0 - z.dot(target.z_d_W));
+    if (grad)
+      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * z.cross(target.z_d_W));
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     const double cur[3] = {a.alpha, a.beta, a.gamma};
@@ -436,9 +517,11 @@ double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_
   IkTarget t;
   t.task_space = task_space;
   const Context c = makeContext(nullptr, t, 1.0);
-  JacW J;
+  Jacobian6 J(6, kin.n);
   if (!taskJacobian(c, kin, J)) return 0.0;
-  const MatM JJt = J * J.transpose();
+  const int m = c.m;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
+      J.topRows(m) * J.topRows(m).transpose();
   const double det = JJt.determinant();
   return det > 0 ? std::sqrt(det) : 0.0;  // eq. (5.59)
 }
@@ -473,7 +556,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     // configuration found for the reported errors.
     r.bound_rejected = true;
     midStart(model, best_q);
-    best = runLm(c, ws, o, best_q, true, r.iterations);
+    best = runLm(c, ws, o, best_q, true, o.lambda_initial_m2, r.iterations);
     best.success = false;
     have_best = true;
   } else {
@@ -483,12 +566,14 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
       } else if (k == (warm_start ? 1 : 0)) {
         midStart(model, q);
       } else {
-        randomStart(model, o.seed, pose_id, k, q);
+        seededStart(c, ws, o, pose_id, k, q);
       }
       ++r.starts;
       const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
                                  ? runSlsqp(c, ws, o, q)
-                                 : runLm(c, ws, o, q, true, r.iterations);
+                                 : runLm(c, ws, o, q, true, k == 0 && warm_start ? o.lambda_warm_m2
+                                                                        : o.lambda_initial_m2,
+                                         r.iterations);
       if (lr.success || lr.cost < best.cost) {
         best = lr;
         best_q = q;
@@ -514,13 +599,14 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
   r.q = best_q;
   forwardKinematicsAndJacobian(model, ws.kin, best_q);
   {
-    VecM e;
+    Vec6 e;
     PoseError err;
     residual(c, ws.kin, e, err);
     r.position_error_m = err.position_m;
     r.orientation_error_rad = err.orientation_rad;
   }
-  r.manipulability = taskManipulability(ws.kin, target.task_space);
+  r.manipulability = target.tool_axis ? toolAxisManipulability(c, ws.kin)
+                                      : taskManipulability(ws.kin, target.task_space);
   r.joint_limit_margin = jointLimitMargin(model, best_q);
   if (solved) {
     r.status = ReachStatus::Reachable;
@@ -533,7 +619,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
       if (k == 0) q = best_q;
       else randomStart(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
-      free_success = runLm(c, ws, o, q, false, r.iterations).success;
+      const double lambda0 = k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2;
+      free_success = runLm(c, ws, o, q, false, lambda0, r.iterations).success;
     }
   }
   if (free_success) r.status = ReachStatus::JointLimits;

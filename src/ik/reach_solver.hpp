@@ -19,7 +19,9 @@
 // Orientation error: for the full pose (eq. 5.3) the geodesic angle between R_d and R (the
 // solver uses the rotation vector of R_d R^T with the geometric Jacobian); for task spaces that
 // select only some Cardan angles (spraying, eq. 3.1) the Euclidean norm of the wrapped Cardan
-// angle differences of the selected components, with the analytic Jacobian (eq. 5.9-5.11).
+// angle differences of the selected components, with the analytic Jacobian (eq. 5.9-5.11); for
+// the tool-axis task the angle between the tool axis and its target (rotation vector z x z_d
+// scaled to the angle, with the angular Jacobian rows projected perpendicular to the tool axis).
 #include <cstdint>
 #include <string>
 
@@ -58,12 +60,28 @@ struct IkOptions {
   bool use_reach_bound = true;
   IkAlgorithm algorithm = IkAlgorithm::LmThenSlsqp;
   double orientation_weight_m = defaults::kIkOrientationWeight_m;
+  // Levenberg-Marquardt tuning, chosen with tests/benchmarks/ik_bench (docs/performance.md); the
+  // cold-start values supersede defaults::kIkStagnationRatio.
+  double lambda_initial_m2 = 0.3;  // damping (m^2, on J J^T) at a cold start: short first steps
+                                   // keep LM in the basin of its start
+  double lambda_warm_m2 = defaults::kIkLambdaInitial_m2;  // ... at a warm start (already close)
+  double stagnation_ratio = 0.1;   // accepted steps reducing the cost by less (relative), ...
+                                   // defaults::kIkStagnationSteps times in a row, end a start
+  int max_rejected_steps = 5;      // rejected LM steps in a row end a start
+  int seed_candidates = 8;         // a random start is the best (lowest task error) of this many
+                                   // seeded configurations
   std::string validate() const;                     // empty when valid
 };
 
 struct IkTarget {
   TaskSpace task_space = TaskSpace::fullPose();
   TaskVector6 w_d = TaskVector6::Zero();  // (x, y, z, alpha, beta, gamma) in W
+  // Tool-axis task (harvesting, thesis Fig. 3.4; the dexterity stage's "position_axis"): when set,
+  // the selected position rows of task_space are kept, its orientation rows are ignored, and the
+  // TCP z axis must point along z_d_W (unit) with the roll about it free: 5 task components. The
+  // orientation error is the angle between the axes; no representation singularity.
+  bool tool_axis = false;
+  Eigen::Vector3d z_d_W = Eigen::Vector3d::UnitZ();
 };
 
 struct IkResult {

@@ -99,6 +99,11 @@ void writeVtp(const std::string& path, const PolyDataSet& p) {
     poly->SetPolys(polys);
   }
   for (const NamedArray& a : p.point_arrays) poly->GetPointData()->AddArray(makeArray(a, n));
+  if (!p.active_tensors.empty()) {
+    ARMSTUDY_CHECK(poly->GetPointData()->GetArray(p.active_tensors.c_str()),
+                   "active tensors '" + p.active_tensors + "' is not a point array");
+    poly->GetPointData()->SetActiveTensors(p.active_tensors.c_str());
+  }
   vtkNew<vtkXMLPolyDataWriter> w;
   w->SetInputData(poly);
   writeAtomic(w.GetPointer(), path);

@@ -35,6 +35,8 @@ struct PolyDataSet {
   bool vertices = false;                          // one vertex cell per point (point clouds)
   std::vector<std::vector<int>> lines;            // polylines as point indices
   std::vector<std::array<int, 3>> triangles;      // surface triangles
+  std::string active_tensors;                     // name of a 9-component array made the active
+                                                  // tensors (ParaView's Tensor Glyph), or empty
 };
 
 // Writes .vti / .vtp (XML, binary appended data, zlib-compressed). Checks array sizes.

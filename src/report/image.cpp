@@ -67,6 +67,18 @@ RasterImage renderColorBar(int width, int height, const std::function<Rgb(double
   return img;
 }
 
+RasterImage withColorBar(const RasterImage& map, const std::function<Rgb(double)>& cmap,
+                         int bar_height_px, int gap_px) {
+  ARMSTUDY_CHECK(bar_height_px > 0 && gap_px >= 0, "colour bar needs a positive height");
+  RasterImage img(map.width(), map.height() + gap_px + bar_height_px);
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) img.set(x, y, map.at(x, y));
+  const RasterImage bar = renderColorBar(map.width(), bar_height_px, cmap);
+  for (int y = 0; y < bar_height_px; ++y)
+    for (int x = 0; x < map.width(); ++x) img.set(x, map.height() + gap_px + y, bar.at(x, y));
+  return img;
+}
+
 Rgb viridis(double t) {
   // Viridis sampled at 9 points, linearly interpolated.
   static const double k[9][3] = {{68, 1, 84},    {71, 44, 122},  {59, 81, 139},

@@ -37,6 +37,11 @@ RasterImage renderCellMap(int nx, int ny, const std::function<Rgb(int i, int j)>
 // Horizontal colour bar (for heatmap legends): `width` x `height`, left = 0, right = 1.
 RasterImage renderColorBar(int width, int height, const std::function<Rgb(double t)>& colormap);
 
+// Heatmap legend: `map` with a horizontal colour bar (left = 0, right = 1 of the colour map) of
+// `bar_height_px` below it, separated by `gap_px` of white; the bar spans the map's width.
+RasterImage withColorBar(const RasterImage& map, const std::function<Rgb(double t)>& colormap,
+                         int bar_height_px = 16, int gap_px = 6);
+
 // Perceptually ordered colour map (viridis), t in [0, 1] (clamped).
 Rgb viridis(double t);
 // Distinct colours for categories 0..7 (wraps).

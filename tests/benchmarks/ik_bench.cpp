@@ -9,7 +9,7 @@
 // same number of starts); its solution counts only when it is within the joint limits (revolute
 // angles wrapped to (-pi, pi]) and meets the same tolerances, checked with armstudy's FK.
 //
-//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses] [design filter]
+//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses] [design filter] [quick]
 #include <kdl/chain.hpp>
 #include <kdl/chainiksolverpos_lma.hpp>
 
@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "io/design_io.hpp"
@@ -63,6 +64,7 @@ struct Row {
   int solved = 0, total = 0, false_reach = 0, unreach_total = 0;
   double us_reach = 0, us_unreach = 0;
   double starts = 0;
+  double iterations = 0;
 };
 
 double seconds(double a, double b) { return b - a; }
@@ -72,6 +74,9 @@ double seconds(double a, double b) { return b - a; }
 int main(int argc, char** argv) {
   const int n_reach = argc > 1 ? std::atoi(argv[1]) : 10000;
   const int n_unreach = std::max(1, n_reach / 10);
+  // "quick" as third argument: only the default armstudy solver, with LM iterations per pose
+  // instead of the KDL ratio (for profiling).
+  const bool quick = argc > 3 && std::string(argv[3]) == "quick";
   const double kPi = 3.14159265358979323846;
   std::printf("# ik_bench: %d reachable (FK of random q) + %d beyond-reach full poses per design, 1 thread\n",
               n_reach, n_unreach);
@@ -119,12 +124,13 @@ int main(int argc, char** argv) {
       row.solver = label;
       row.total = n_reach;
       row.unreach_total = n_unreach;
-      long starts = 0;
+      long starts = 0, iterations = 0;
       auto t0 = Clock::now();
       for (int k = 0; k < n_reach; ++k) {
         const IkResult r = solvePose(m, ws, reach[k], o, static_cast<std::uint64_t>(k));
         row.solved += r.reachable();
         starts += r.starts;
+        iterations += r.iterations;
       }
       auto t1 = Clock::now();
       for (int k = 0; k < n_unreach; ++k) {
@@ -135,12 +141,20 @@ int main(int argc, char** argv) {
       row.us_reach = 1e6 * seconds(t0, t1) / n_reach;
       row.us_unreach = 1e6 * seconds(t1, t2) / n_unreach;
       row.starts = static_cast<double>(starts) / n_reach;
+      row.iterations = static_cast<double>(iterations) / n_reach;
       return row;
     };
 
     std::vector<Row> rows;
     IkOptions def;
     rows.push_back(runArmstudy("armstudy lm+slsqp", def));
+    if (quick) {
+      const Row& r = rows.back();
+      std::printf("%-22s %-22s %8.2f%% %5d/%-4d %12.2f %12.2f %9.2f %10.1f\n", m.name.c_str(),
+                  r.solver.c_str(), 100.0 * r.solved / r.total, r.unreach_total - r.false_reach,
+                  r.unreach_total, r.us_reach, r.us_unreach, r.starts, r.iterations);
+      continue;
+    }
     IkOptions nobound = def;
     nobound.use_reach_bound = false;
     {

@@ -1,22 +1,25 @@
 // The dexterity stage: stem-grid geometry (Fig. 3.4), per-cell invariants (tool on the pose, plain
 // and optimised both valid, optimisation never worse), determinism across thread counts, VTK
-// read-back with VTK's own readers, PNG structure, and bad [dexterity] input.
+// read-back with VTK's own readers (VTI, VTP and the PNG map images), and bad [dexterity] input.
 #include <catch2/catch.hpp>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkPNGReader.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "common/errors.hpp"
 #include "dexterity/dexterity_output.hpp"
-#include "dexterity/png_image.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/study_io.hpp"
@@ -29,6 +32,9 @@ using namespace armstudy::test;
 namespace {
 constexpr double kGeometryTolerance = 1e-12;
 constexpr double kOnPoseTolerance = 1e-6;  // [m and rad] the tool stays on the pose
+constexpr double kAngleTolerance = 1e-7;   // [rad] two formulas of the same angle (acos vs atan2)
+constexpr int kMinMapPixels = 480;         // report::renderCellMap defaults
+constexpr int kMapBorderPixels = 2;
 
 DexterityOptions smallOptions() {
   DexterityOptions o;
@@ -114,6 +120,41 @@ TEST_CASE("every reachable cell: plain and optimised on the pose, optimisation n
     INFO(rel << " reachable " << reachable);
     CHECK(reachable > 0);
   }
+}
+
+TEST_CASE("the reach solver's target means the same pose as the stem cell's target",
+          "[dexterity][oracle]") {
+  // Oracle: the dexterity stage's own pose error (ik::poseError, angle between tool axes for the
+  // harvesting task, between frames for the full pose) at random configurations equals the reach
+  // solver's error for the converted target; a cell solved from no warm start lands on the pose.
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  DexterityOptions o = smallOptions();
+  std::mt19937_64 rng(5);
+  KinematicsWorkspace ws(m);
+  for (const ik::PoseTaskKind kind :
+       {ik::PoseTaskKind::Position, ik::PoseTaskKind::PositionAxis, ik::PoseTaskKind::FullPose}) {
+    o.grid.task = kind;
+    for (int k = 0; k < 20; ++k) {
+      const StemGrid::Cell cell = o.grid.cell(k % o.grid.gamma_rad.count, k % o.grid.z_m.count);
+      const IkTarget t = reachTarget(cell.target);
+      forwardKinematics(m, ws, randomConfiguration(m, rng));
+      const ik::PoseError a = ik::poseError(ws, cell.target);
+      const PoseError b = poseError(ws, t);
+      CHECK(b.position_m == Approx(a.position_m).margin(kGeometryTolerance));
+      CHECK(b.orientation_rad == Approx(a.orientation_rad).margin(kAngleTolerance));
+    }
+  }
+  o.grid.task = ik::PoseTaskKind::PositionAxis;
+  IkWorkspace ik_ws(m);
+  ik::ObjectiveContext ctx(m, ws);
+  const ik::WeightedObjective objective = o.buildObjective(m);
+  const StemGrid::Cell cell = o.grid.cell(3, 2);
+  const CellResult r = solveCell(m, ws, ik_ws, ctx, objective, o, cell, 0, nullptr, nullptr);
+  REQUIRE(r.reachable);
+  forwardKinematics(m, ws, r.q_plain);
+  const ik::PoseError e = ik::poseError(ws, cell.target);
+  CHECK(e.position_m < kOnPoseTolerance);
+  CHECK(e.orientation_rad < kOnPoseTolerance);
 }
 
 TEST_CASE("dexterity maps are identical with 1 and 2 threads", "[dexterity][determinism]") {
@@ -220,10 +261,33 @@ transmission = 0.05
     CHECK((Eigen::Vector3d(p[0], p[1], p[2]) - cell.target.p_WT).norm() < kGeometryTolerance);
     ++k;
   }
-  // PNG: signature and IHDR size.
-  const std::string png = readFileOrThrow(base + "first_prototype_9dof_reachable.png");
-  REQUIRE(png.size() > 33);
-  CHECK(png.substr(0, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
+  // PNG of the reachable flag, read back with vtkPNGReader: cell (i_gamma, i_z) is a square block
+  // (gamma to the right, z upwards, 2 px frame) in viridis(1) when reachable, viridis(0) when not
+  // (the flag is 0 there, not NaN); a colour bar below (viridis(0) at its left end).
+  vtkNew<vtkPNGReader> png;
+  png->SetFileName((base + "first_prototype_9dof_reachable.png").c_str());
+  png->Update();
+  vtkImageData* pi = png->GetOutput();
+  int pd[3];
+  pi->GetDimensions(pd);
+  const int G = map.grid.gamma_rad.count, Z = map.grid.z_m.count;
+  const int block = (kMinMapPixels + std::max(G, Z) - 1) / std::max(G, Z);
+  REQUIRE(pd[0] == G * block + 2 * kMapBorderPixels);
+  REQUIRE(pd[1] > Z * block + 2 * kMapBorderPixels);
+  auto pixel = [&](int x, int y_top) {  // VTK image rows start at the bottom
+    std::array<int, 3> c{};
+    for (int k = 0; k < 3; ++k)
+      c[k] = static_cast<int>(pi->GetScalarComponentAsDouble(x, pd[1] - 1 - y_top, 0, k));
+    return c;
+  };
+  for (int j = 0; j < Z; ++j)
+    for (int i = 0; i < G; ++i) {
+      const auto c = pixel(kMapBorderPixels + i * block + block / 2,
+                           kMapBorderPixels + (Z - 1 - j) * block + block / 2);
+      const bool reach = f.reachable[static_cast<std::size_t>(map.grid.index(i, j))] != 0;
+      CHECK(c == (reach ? std::array<int, 3>{253, 231, 37} : std::array<int, 3>{68, 1, 84}));
+    }
+  CHECK(pixel(0, pd[1] - 1) == std::array<int, 3>{68, 1, 84});
   CHECK(std::filesystem::exists(base + "report.md"));
   CHECK(std::filesystem::exists(base + "summary.json"));
 }
@@ -277,31 +341,4 @@ z = { min = 0.5, max = 1.1, count = 4 }
   std::string out;
   CHECK(runCommand(binaryPath() + " run " + path + " --output " + dir + "/out", out) == 2);
   CHECK(!std::filesystem::exists(dir + "/out/t"));
-}
-
-TEST_CASE("PNG encoder: stored-block zlib stream decodes to the pixels (Adler-32 and CRC-32 checked)",
-          "[dexterity][png]") {
-  RgbImage img(3, 2);
-  img.set(0, 0, {255, 0, 0});
-  img.set(2, 1, {1, 2, 3});
-  const std::string png = encodePng(img);
-  // IHDR: width 3, height 2, 8-bit RGB.
-  CHECK(static_cast<unsigned char>(png[19]) == 3);
-  CHECK(static_cast<unsigned char>(png[23]) == 2);
-  CHECK(png[24] == 8);
-  CHECK(png[25] == 2);
-  // IDAT payload: zlib header, one stored block holding filter byte + pixels per row.
-  const std::size_t idat = png.find("IDAT");
-  REQUIRE(idat != std::string::npos);
-  const std::string z = png.substr(idat + 4);
-  CHECK(static_cast<unsigned char>(z[0]) == 0x78);
-  CHECK(z[2] == 1);  // final stored block
-  const std::string raw = z.substr(7, 2 * (1 + 9));
-  CHECK(static_cast<unsigned char>(raw[1]) == 255);
-  CHECK(raw[0] == 0);
-  CHECK(static_cast<unsigned char>(raw[10 + 1 + 6]) == 1);
-  CHECK(static_cast<unsigned char>(raw[10 + 1 + 8]) == 3);
-  // Colour map end points (viridis).
-  CHECK(colourMap(0.0) == std::array<std::uint8_t, 3>{68, 1, 84});
-  CHECK(colourMap(1.0) == std::array<std::uint8_t, 3>{253, 231, 37});
 }

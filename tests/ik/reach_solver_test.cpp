@@ -3,6 +3,8 @@
 // arms for out_of_reach vs joint_limits, central finite differences for the SLSQP gradient, and a
 // finite-difference Jacobian for the manipulability (eq. 5.59).
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "io/design_io.hpp"
@@ -210,4 +212,46 @@ TEST_CASE("the same pose id gives the same result; options are validated", "[ik]
   o = IkOptions{};
   o.orientation_tolerance_rad = -1;
   CHECK_FALSE(o.validate().empty());
+}
+
+TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target and the roll free",
+          "[ik][oracle]") {
+  // Oracle: targets from FK of random configurations (known reachable); the solution is checked
+  // with an independent FK (position distance, angle between tool axes); the SLSQP objective's
+  // gradient against central differences.
+  std::mt19937_64 rng(21);
+  IkOptions o;
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  KinematicsWorkspace kin(m), k2(m);
+  IkWorkspace ws(m);
+  const int n = 100;
+  int solved = 0;
+  for (int k = 0; k < n; ++k) {
+    forwardKinematics(m, kin, randomConfiguration(m, rng));
+    IkTarget t;
+    t.task_space = TaskSpace::position();
+    t.w_d.head<3>() = kin.p_WT;
+    t.tool_axis = true;
+    t.z_d_W = kin.R_WT.col(2);
+    const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(k));
+    if (!r.reachable()) continue;
+    ++solved;
+    forwardKinematics(m, k2, r.q);
+    CHECK((k2.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
+    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.z_d_W), -1.0, 1.0)) <= o.orientation_tolerance_rad);
+    CHECK(r.manipulability > 0);
+    if (k < 5) {
+      const Eigen::VectorXd q = randomConfiguration(m, rng);
+      Eigen::VectorXd g;
+      ikObjective(m, k2, t, 0.3, q, &g);
+      for (int i = 0; i < m.dof(); ++i) {
+        Eigen::VectorXd qp = q, qm = q;
+        qp[i] += kFdStep;
+        qm[i] -= kFdStep;
+        const double fd = (ikObjective(m, k2, t, 0.3, qp, nullptr) - ikObjective(m, k2, t, 0.3, qm, nullptr)) / (2 * kFdStep);
+        CHECK(g[i] == Approx(fd).margin(kGradientTolerance));
+      }
+    }
+  }
+  CHECK(solved >= kSolveRateRequired * n);
 }
