@@ -1,0 +1,233 @@
+#include "collision/distance.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/defaults.hpp"
+#include "common/errors.hpp"
+
+namespace armstudy::collision {
+namespace {
+
+using Eigen::Vector3d;
+
+inline double clamp01(double x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
+
+// Keeps the best (smallest) of a set of feasible candidate pairs.
+struct Best {
+  double sq = std::numeric_limits<double>::infinity();
+  Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
+  void offer(const Vector3d& ca, const Vector3d& cb) {
+    const double s = (ca - cb).squaredNorm();
+    if (s < sq) {
+      sq = s;
+      a = ca;
+      b = cb;
+    }
+  }
+  void offer(double s, const Vector3d& ca, const Vector3d& cb) {
+    if (s < sq) {
+      sq = s;
+      a = ca;
+      b = cb;
+    }
+  }
+};
+
+// Point of triangle (a, e0 = b - a, e1 = c - a) closest to p when that point is interior to the
+// triangle's plane projection; false when the projection falls outside or the triangle is
+// degenerate. The returned point is a convex combination of the corners, so it is feasible even
+// when rounding perturbs the barycentric coordinates.
+inline bool projectIntoTriangle(const Vector3d& p, const Vector3d& a, const Vector3d& e0,
+                                const Vector3d& e1, Vector3d& q) {
+  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+  const double det = d00 * d11 - d01 * d01;
+  if (!(det > defaults::kCollisionDegenerateRelative * d00 * d11)) return false;
+  const Vector3d w = p - a;
+  const double w0 = e0.dot(w), w1 = e1.dot(w);
+  const double u = (d11 * w0 - d01 * w1) / det;
+  const double v = (d00 * w1 - d01 * w0) / det;
+  if (u < 0 || v < 0 || u + v > 1) return false;
+  q = a + u * e0 + v * e1;
+  return true;
+}
+
+// Point where segment [p0, p1] crosses the plane of triangle (a, b, c) inside the triangle.
+inline bool pierce(const Vector3d& p0, const Vector3d& p1, const Vector3d& a, const Vector3d& e0,
+                   const Vector3d& e1, Vector3d& x_seg, Vector3d& x_tri) {
+  const Vector3d n = e0.cross(e1);
+  const double s0 = n.dot(p0 - a), s1 = n.dot(p1 - a);
+  if (!((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0))) return false;
+  const double t = s0 / (s0 - s1);
+  x_seg = p0 + t * (p1 - p0);
+  return projectIntoTriangle(x_seg, a, e0, e1, x_tri);
+}
+
+}  // namespace
+
+double squaredDistancePointSegment(const Vector3d& p, const Vector3d& a, const Vector3d& b,
+                                   Vector3d& c_seg) {
+  const Vector3d d = b - a;
+  const double dd = d.squaredNorm();
+  const double t = dd > 0 ? clamp01(d.dot(p - a) / dd) : 0.0;
+  c_seg = a + t * d;
+  return (p - c_seg).squaredNorm();
+}
+
+double squaredDistanceSegmentSegment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0,
+                                     const Vector3d& q1, Vector3d& c_p, Vector3d& c_q) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm();
+  const double b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
+  const double denom = a * e - b * b;
+  Best best;
+  if (a > 0 && e > 0) {
+    // Closest points of the two lines, clamped to the segments (Ericson, Real-Time Collision
+    // Detection, 5.1.9). Exact for well-conditioned (non-parallel) pairs.
+    double s = denom > 0 ? clamp01((b * f - c * e) / denom) : 0.0;
+    double t = (b * s + f) / e;
+    if (t < 0) {
+      t = 0;
+      s = clamp01(-c / a);
+    } else if (t > 1) {
+      t = 1;
+      s = clamp01((b - c) / a);
+    }
+    best.offer(p0 + s * d1, q0 + t * d2);
+    if (denom > defaults::kCollisionParallelSin2 * a * e) {
+      c_p = best.a;
+      c_q = best.b;
+      return best.sq;
+    }
+  }
+  // Near-parallel or degenerate: a minimiser always has an endpoint of one segment.
+  Vector3d x;
+  best.offer(squaredDistancePointSegment(p0, q0, q1, x), p0, x);
+  best.offer(squaredDistancePointSegment(p1, q0, q1, x), p1, x);
+  best.offer(squaredDistancePointSegment(q0, p0, p1, x), x, q0);
+  best.offer(squaredDistancePointSegment(q1, p0, p1, x), x, q1);
+  c_p = best.a;
+  c_q = best.b;
+  return best.sq;
+}
+
+double squaredDistancePointTriangle(const Vector3d& p, const Vector3d& a, const Vector3d& b,
+                                    const Vector3d& c, Vector3d& c_tri) {
+  Vector3d q;
+  if (projectIntoTriangle(p, a, b - a, c - a, q)) {
+    c_tri = q;
+    return (p - q).squaredNorm();
+  }
+  // Outside the prism over the triangle (or degenerate): the closest point is on an edge.
+  Best best;
+  best.offer(squaredDistancePointSegment(p, a, b, q), p, q);
+  best.offer(squaredDistancePointSegment(p, b, c, q), p, q);
+  best.offer(squaredDistancePointSegment(p, c, a, q), p, q);
+  c_tri = best.b;
+  return best.sq;
+}
+
+double squaredDistanceSegmentTriangle(const Vector3d& p0, const Vector3d& p1, const Vector3d& a,
+                                      const Vector3d& b, const Vector3d& c, Vector3d& c_seg,
+                                      Vector3d& c_tri) {
+  Best best;
+  Vector3d x, y;
+  const Vector3d e0 = b - a, e1 = c - a;
+  if (pierce(p0, p1, a, e0, e1, x, y)) {
+    c_seg = x;
+    c_tri = y;
+    return (x - y).squaredNorm();
+  }
+  // Not crossing: a minimiser has a segment endpoint or lies on a triangle edge.
+  best.offer(squaredDistancePointTriangle(p0, a, b, c, y), p0, y);
+  best.offer(squaredDistancePointTriangle(p1, a, b, c, y), p1, y);
+  best.offer(squaredDistanceSegmentSegment(p0, p1, a, b, x, y), x, y);
+  best.offer(squaredDistanceSegmentSegment(p0, p1, b, c, x, y), x, y);
+  best.offer(squaredDistanceSegmentSegment(p0, p1, c, a, x, y), x, y);
+  c_seg = best.a;
+  c_tri = best.b;
+  return best.sq;
+}
+
+double squaredDistanceTriangleTriangle(const Vector3d& a0, const Vector3d& a1, const Vector3d& a2,
+                                       const Vector3d& b0, const Vector3d& b1, const Vector3d& b2,
+                                       Vector3d& c_a, Vector3d& c_b) {
+  const Vector3d* A[3] = {&a0, &a1, &a2};
+  const Vector3d* B[3] = {&b0, &b1, &b2};
+  const Vector3d ea0 = a1 - a0, ea1 = a2 - a0, eb0 = b1 - b0, eb1 = b2 - b0;
+  Vector3d x, y;
+  // Intersecting triangles: an edge of one pierces the other (transversal case); coplanar
+  // overlaps are found below as edge crossings (distance 0) or a corner inside the other.
+  for (int i = 0; i < 3; ++i) {
+    if (pierce(*A[i], *A[(i + 1) % 3], b0, eb0, eb1, x, y)) {
+      c_a = x;
+      c_b = y;
+      return (x - y).squaredNorm();
+    }
+    if (pierce(*B[i], *B[(i + 1) % 3], a0, ea0, ea1, y, x)) {
+      c_a = x;
+      c_b = y;
+      return (x - y).squaredNorm();
+    }
+  }
+  // Disjoint: a minimiser is an edge-edge pair or a corner against the other triangle.
+  Best best;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      best.offer(squaredDistanceSegmentSegment(*A[i], *A[(i + 1) % 3], *B[j], *B[(j + 1) % 3], x, y),
+                 x, y);
+  for (int i = 0; i < 3; ++i) {
+    best.offer(squaredDistancePointTriangle(*A[i], b0, b1, b2, y), *A[i], y);
+    best.offer(squaredDistancePointTriangle(*B[i], a0, a1, a2, x), x, *B[i]);
+  }
+  c_a = best.a;
+  c_b = best.b;
+  return best.sq;
+}
+
+double squaredDistanceCores(const Core& a, const Core& b, Vector3d& c_a, Vector3d& c_b) {
+  // Order so that the first argument has fewer points; swap the witnesses back.
+  if (a.n > b.n) return squaredDistanceCores(b, a, c_b, c_a);
+  switch (a.n * 3 + b.n) {
+    case 4:  // point-point
+      c_a = a.p[0];
+      c_b = b.p[0];
+      return (c_a - c_b).squaredNorm();
+    case 5:  // point-segment
+      c_a = a.p[0];
+      return squaredDistancePointSegment(a.p[0], b.p[0], b.p[1], c_b);
+    case 6:  // point-triangle
+      c_a = a.p[0];
+      return squaredDistancePointTriangle(a.p[0], b.p[0], b.p[1], b.p[2], c_b);
+    case 8:  // segment-segment
+      return squaredDistanceSegmentSegment(a.p[0], a.p[1], b.p[0], b.p[1], c_a, c_b);
+    case 9:  // segment-triangle
+      return squaredDistanceSegmentTriangle(a.p[0], a.p[1], b.p[0], b.p[1], b.p[2], c_a, c_b);
+    case 12:  // triangle-triangle
+      return squaredDistanceTriangleTriangle(a.p[0], a.p[1], a.p[2], b.p[0], b.p[1], b.p[2], c_a, c_b);
+    default:
+      break;
+  }
+  ARMSTUDY_CHECK(false, "squaredDistanceCores: a core has 1, 2 or 3 points");
+  return 0;
+}
+
+void ssvDistance(const Core& a, double r_a, const Core& b, double r_b, SsvDistance& out) {
+  const double sq = squaredDistanceCores(a, b, out.c_a, out.c_b);
+  const double dc = std::sqrt(sq);
+  out.distance_m = dc - r_a - r_b;
+  if (dc > 0) {
+    out.n = (out.c_b - out.c_a) / dc;
+    out.p_a = out.c_a + r_a * out.n;
+    out.p_b = out.c_b - r_b * out.n;
+  } else {
+    // Cores touch: the direction is undefined; report the contact point on both.
+    out.n.setZero();
+    out.p_a = out.c_a;
+    out.p_b = out.c_b;
+  }
+}
+
+}  // namespace armstudy::collision
