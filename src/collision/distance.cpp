@@ -218,12 +218,13 @@ void ssvDistance(const Core& a, double r_a, const Core& b, double r_b, SsvDistan
   const double sq = squaredDistanceCores(a, b, out.c_a, out.c_b);
   const double dc = std::sqrt(sq);
   out.distance_m = dc - r_a - r_b;
-  if (dc > 0) {
+  if (dc > defaults::kCollisionTouching_m) {
     out.n = (out.c_b - out.c_a) / dc;
     out.p_a = out.c_a + r_a * out.n;
     out.p_b = out.c_b - r_b * out.n;
   } else {
-    // Cores touch: the direction is undefined; report the contact point on both.
+    // Cores touch or intersect (a distance at rounding level has no meaningful direction):
+    // report the contact point on both and a zero normal.
     out.n.setZero();
     out.p_a = out.c_a;
     out.p_b = out.c_b;
