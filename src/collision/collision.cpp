@@ -129,39 +129,67 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
     }
   }
 
-  // Exact minimum over the volume pairs of two groups, skipping pairs whose bounding spheres
-  // prove they cannot beat the best so far (or the cutoff).
-  SsvDistance w;
-  auto groupPair = [&](int k0, int k1, const Core* other, const Vector3d& other_centre,
-                       double other_bound, double other_radius, int b_begin, int b_end,
-                       PairDistance& out) {
+  // Exact minimum over the volume pairs of two groups (volume slots [a0, a1) against [b0, b1), or
+  // against one obstacle core). Bounding spheres give lower bounds; the pair with the smallest
+  // bound is evaluated first, then every pair whose bound cannot beat the best so far (or lies
+  // beyond the cutoff) is skipped. Witness points are built once, for the winning pair.
+  const Core* ob_core = nullptr;
+  Vector3d ob_centre = Vector3d::Zero();
+  double ob_bound = 0, ob_radius = 0;
+  auto groupPair = [&](int a0, int a1, int b0, int b1, PairDistance& out) {
+    const bool env = ob_core != nullptr;
+    auto coreB = [&](int kb) -> const Core& { return env ? *ob_core : ws.core_W[kb]; };
+    auto lowerBound = [&](int ka, int kb) {
+      const Vector3d& cb = env ? ob_centre : ws.centre_W[kb];
+      return (ws.centre_W[ka] - cb).norm() - ws.bound_r[ka] - (env ? ob_bound : ws.bound_r[kb]);
+    };
+    int first_a = a0, first_b = b0;
+    double first_lb = std::numeric_limits<double>::infinity();
+    for (int ka = a0; ka < a1; ++ka)
+      for (int kb = b0; kb < b1; ++kb) {
+        const double lb = lowerBound(ka, kb);
+        if (lb < first_lb) {
+          first_lb = lb;
+          first_a = ka;
+          first_b = kb;
+        }
+      }
     double best = std::numeric_limits<double>::infinity();
-    double lower = std::numeric_limits<double>::infinity();
-    for (int ka = k0; ka < k1; ++ka)
-      for (int kb = b_begin; kb < b_end; ++kb) {
-        const Core& cb = other ? *other : ws.core_W[kb];
-        const Vector3d& centre_b = other ? other_centre : ws.centre_W[kb];
-        const double bound_b = other ? other_bound : ws.bound_r[kb];
-        const double radius_b = other ? other_radius : ws.radius[kb];
-        const double lb = (ws.centre_W[ka] - centre_b).norm() - ws.bound_r[ka] - bound_b;
+    double lower = std::numeric_limits<double>::infinity();  // smallest bound skipped by the cutoff
+    int win_a = -1, win_b = -1;
+    Vector3d ca, cb;
+    auto evaluate = [&](int ka, int kb) {
+      const double d = std::sqrt(squaredDistanceCores(ws.core_W[ka], coreB(kb), ca, cb)) - ws.radius[ka] -
+                       (env ? ob_radius : ws.radius[kb]);
+      if (d < best) {
+        best = d;
+        win_a = ka;
+        win_b = kb;
+      }
+    };
+    if (first_lb < cutoff)
+      evaluate(first_a, first_b);
+    else
+      lower = first_lb;
+    for (int ka = a0; ka < a1; ++ka)
+      for (int kb = b0; kb < b1; ++kb) {
+        if (ka == first_a && kb == first_b) continue;
+        const double lb = lowerBound(ka, kb);
         if (lb >= best) continue;
         if (lb >= cutoff) {
           lower = std::min(lower, lb);
           continue;
         }
-        ssvDistance(ws.core_W[ka], ws.radius[ka], cb, radius_b, w);
-        if (w.distance_m < best) {
-          best = w.distance_m;
-          out.w = w;
-          out.volume_a = ws.model_index[ka];
-          out.volume_b = other ? -1 : ws.model_index[kb];
-        }
+        evaluate(ka, kb);
       }
-    if (best < std::numeric_limits<double>::infinity() && best <= lower) {
-      out.distance_m = best;
+    if (win_a >= 0 && best <= lower) {
+      ssvDistance(ws.core_W[win_a], ws.radius[win_a], coreB(win_b), env ? ob_radius : ws.radius[win_b], out.w);
+      out.distance_m = out.w.distance_m;
       out.exact = true;
+      out.volume_a = ws.model_index[win_a];
+      out.volume_b = env ? -1 : ws.model_index[win_b];
     } else {
-      // Everything beyond the cutoff (or the best found is beyond a skipped lower bound).
+      // Everything beyond the cutoff (or the best found lies beyond a skipped lower bound).
       out.distance_m = std::min(best, lower);
       out.exact = false;
     }
@@ -180,8 +208,7 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
         pr.distance_m = lb;
         pr.exact = false;
       } else {
-        groupPair(ws.body_begin[a], ws.body_begin[a + 1], nullptr, Vector3d::Zero(), 0, 0,
-                  ws.body_begin[b], ws.body_begin[b + 1], pr);
+        groupPair(ws.body_begin[a], ws.body_begin[a + 1], ws.body_begin[b], ws.body_begin[b + 1], pr);
       }
       if (pr.distance_m < min_d) {
         min_d = pr.distance_m;
@@ -193,6 +220,7 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
   ws.num_env = 0;
   ws.closest_env = -1;
   if (options.environment) {
+    ob_core = nullptr;
     double min_d = std::numeric_limits<double>::infinity();
     for (int o = 0; o < static_cast<int>(obstacles.size()); ++o) {
       const Obstacle& ob = obstacles[o];
@@ -213,8 +241,11 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
           pr.distance_m = lb;
           pr.exact = false;
         } else {
-          groupPair(ws.body_begin[b], ws.body_begin[b + 1], &oc, oc_centre, oc_bound, ob.radius_m,
-                    0, 1, pr);
+          ob_core = &oc;
+          ob_centre = oc_centre;
+          ob_bound = oc_bound;
+          ob_radius = ob.radius_m;
+          groupPair(ws.body_begin[b], ws.body_begin[b + 1], 0, 1, pr);
           pr.volume_b = o;
         }
         if (pr.distance_m < min_d) {

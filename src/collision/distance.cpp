@@ -13,7 +13,7 @@ namespace {
 
 using Eigen::Vector3d;
 
-inline double clamp01(double x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
+inline double clamp01(double x) { return std::min(1.0, std::max(0.0, x)); }
 
 // Keeps the best (smallest) of a set of feasible candidate pairs.
 struct Best {
@@ -82,28 +82,29 @@ double squaredDistanceSegmentSegment(const Vector3d& p0, const Vector3d& p1, con
   const double a = d1.squaredNorm(), e = d2.squaredNorm();
   const double b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
   const double denom = a * e - b * b;
-  Best best;
-  if (a > 0 && e > 0) {
-    // Closest points of the two lines, clamped to the segments (Ericson, Real-Time Collision
-    // Detection, 5.1.9). Exact for well-conditioned (non-parallel) pairs.
-    double s = denom > 0 ? clamp01((b * f - c * e) / denom) : 0.0;
-    double t = (b * s + f) / e;
-    if (t < 0) {
-      t = 0;
-      s = clamp01(-c / a);
-    } else if (t > 1) {
-      t = 1;
-      s = clamp01((b - c) / a);
-    }
-    best.offer(p0 + s * d1, q0 + t * d2);
-    if (denom > defaults::kCollisionParallelSin2 * a * e) {
-      c_p = best.a;
-      c_q = best.b;
-      return best.sq;
-    }
+  if (a > 0 && e > 0 && denom > defaults::kCollisionParallelSin2 * a * e) {
+    // Well-conditioned (non-parallel): closest points of the two lines, then alternate
+    // clamping (Ericson, Real-Time Collision Detection, 5.1.9). At the box-constrained optimum
+    // each parameter minimises for the other, so s can always be recomputed from the clamped t;
+    // written with min/max so it compiles without unpredictable branches.
+    const double s0 = clamp01((b * f - c * e) / denom);
+    const double t = clamp01((b * s0 + f) / e);
+    const double s = clamp01((b * t - c) / a);
+    c_p = p0 + s * d1;
+    c_q = q0 + t * d2;
+    return (c_p - c_q).squaredNorm();
   }
-  // Near-parallel or degenerate: a minimiser always has an endpoint of one segment.
+  // Near-parallel or degenerate: the clamped line solution (accurate enough when the angle is
+  // not tiny) plus the endpoint candidates (a minimiser of exactly parallel segments has an
+  // endpoint of one segment; for tiny angles they are within rounding of the minimum).
+  Best best;
   Vector3d x;
+  if (a > 0 && e > 0 && denom > 0) {
+    const double s0 = clamp01((b * f - c * e) / denom);
+    const double t = clamp01((b * s0 + f) / e);
+    const double s = clamp01((b * t - c) / a);
+    best.offer(p0 + s * d1, q0 + t * d2);
+  }
   best.offer(squaredDistancePointSegment(p0, q0, q1, x), p0, x);
   best.offer(squaredDistancePointSegment(p1, q0, q1, x), p1, x);
   best.offer(squaredDistancePointSegment(q0, p0, p1, x), x, q0);
@@ -132,15 +133,31 @@ double squaredDistancePointTriangle(const Vector3d& p, const Vector3d& a, const 
 double squaredDistanceSegmentTriangle(const Vector3d& p0, const Vector3d& p1, const Vector3d& a,
                                       const Vector3d& b, const Vector3d& c, Vector3d& c_seg,
                                       Vector3d& c_tri) {
-  Best best;
   Vector3d x, y;
   const Vector3d e0 = b - a, e1 = c - a;
-  if (pierce(p0, p1, a, e0, e1, x, y)) {
-    c_seg = x;
-    c_tri = y;
-    return (x - y).squaredNorm();
+  const Vector3d n = e0.cross(e1);
+  const double s0 = n.dot(p0 - a), s1 = n.dot(p1 - a);
+  if ((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0)) {
+    // Crossing the plane: inside the triangle the distance is 0.
+    x = p0 + (s0 / (s0 - s1)) * (p1 - p0);
+    if (projectIntoTriangle(x, a, e0, e1, y)) {
+      c_seg = x;
+      c_tri = y;
+      return (x - y).squaredNorm();
+    }
+  } else {
+    // One side: when both endpoints project into the triangle, so does the whole segment, and
+    // its distance to the plane is linear along it: the nearer endpoint is the minimiser.
+    Vector3d y1;
+    if (projectIntoTriangle(p0, a, e0, e1, y) && projectIntoTriangle(p1, a, e0, e1, y1)) {
+      const double q0 = (p0 - y).squaredNorm(), q1 = (p1 - y1).squaredNorm();
+      c_seg = q0 <= q1 ? p0 : p1;
+      c_tri = q0 <= q1 ? y : y1;
+      return std::min(q0, q1);
+    }
   }
-  // Not crossing: a minimiser has a segment endpoint or lies on a triangle edge.
+  // Otherwise a minimiser has a segment endpoint or lies on a triangle edge.
+  Best best;
   best.offer(squaredDistancePointTriangle(p0, a, b, c, y), p0, y);
   best.offer(squaredDistancePointTriangle(p1, a, b, c, y), p1, y);
   best.offer(squaredDistanceSegmentSegment(p0, p1, a, b, x, y), x, y);

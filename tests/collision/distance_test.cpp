@@ -121,7 +121,7 @@ struct Generator {
   std::mt19937_64 rng{20260611};
   std::uniform_real_distribution<double> u{-0.5, 0.5};
   Vector3d rnd() { return Vector3d(u(rng), u(rng), u(rng)); }
-  int mode() { return std::uniform_int_distribution<int>(0, 5)(rng); }
+  int mode() { return std::uniform_int_distribution<int>(0, 6)(rng); }
   Core make(int n, const Core* relative_to, int m) {
     Core c;
     c.n = n;
@@ -144,6 +144,17 @@ struct Generator {
       case 3:  // almost touching copies
         for (int i = 0; i < n; ++i) c.p[i] = r.p[i % r.n] + shift;
         break;
+      case 5: {  // small angle (1e-5 .. 3e-2 rad) through the interior, crossing or just missing
+        const Vector3d dir = r.p[1] - r.p[0];
+        const Vector3d perp = dir.cross(rnd()).normalized();
+        const double angle = std::pow(10.0, -5 + 3.5 * (u(rng) + 0.5));
+        const Vector3d mid = r.p[0] + (0.5 + 0.8 * u(rng)) * dir + perp * (1e-3 * u(rng));
+        const Vector3d d = (dir + angle * dir.norm() * perp.cross(dir).normalized()) * (0.5 + u(rng));
+        c.p[0] = mid - 0.5 * d;
+        if (n >= 2) c.p[1] = mid + 0.5 * d;
+        if (n == 3) c.p[2] = mid + rnd() * 0.2;
+        break;
+      }
       case 4:  // degenerate: repeated points
         for (int i = 1; i < n; ++i) c.p[i] = c.p[0];
         break;
