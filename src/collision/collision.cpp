@@ -72,6 +72,10 @@ CollisionWorkspace::CollisionWorkspace(const Model& model) {
       core_L[slot].n = static_cast<int>(vols[i].type);
       for (int k = 0; k < 3; ++k) core_L[slot].p[k] = vols[i].p_L[k];
       radius[slot] = vols[i].radius_m;
+      if (core_L[slot].n == 2) {
+        seg_len2[slot] = (core_L[slot].p[1] - core_L[slot].p[0]).squaredNorm();  // > 0: validated
+        seg_inv_len2[slot] = 1.0 / seg_len2[slot];
+      }
       boundCore(core_L[slot], radius[slot], centre_L[slot], bound_r[slot]);
       ++slot;
     }
@@ -126,72 +130,82 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
       c.n = ws.core_L[k].n;
       for (int i = 0; i < c.n; ++i) c.p[i] = p + R * ws.core_L[k].p[i];
       ws.centre_W[k] = p + R * ws.centre_L[k];
+      if (c.n == 2) ws.seg_d_W[k] = c.p[1] - c.p[0];  // length fixed: seg_len2 set at construction
     }
   }
 
   // Exact minimum over the volume pairs of two groups (volume slots [a0, a1) against [b0, b1), or
-  // against one obstacle core). Bounding spheres give lower bounds; the pair with the smallest
-  // bound is evaluated first, then every pair whose bound cannot beat the best so far (or lies
-  // beyond the cutoff) is skipped. Witness points are built once, for the winning pair.
+  // against one obstacle core). Pairs whose bounding spheres lie beyond the cutoff are skipped
+  // (their bound is kept as a lower bound). The others are evaluated in a branch-free first pass
+  // (independent kernels overlap in the pipeline), then the minimum is picked; witness points are
+  // built once, for the winner. Culling against the best-so-far does not pay for these small
+  // groups: it adds a data-dependent branch per pair and saves few evaluations.
   const Core* ob_core = nullptr;
   Vector3d ob_centre = Vector3d::Zero();
   double ob_bound = 0, ob_radius = 0;
+  constexpr int kGroup = 64;
+  std::array<double, kGroup> g_sq, g_s, g_t;
+  std::array<int, kGroup> g_ka, g_kb;
   auto groupPair = [&](int a0, int a1, int b0, int b1, PairDistance& out) {
     const bool env = ob_core != nullptr;
-    auto coreB = [&](int kb) -> const Core& { return env ? *ob_core : ws.core_W[kb]; };
-    auto lowerBound = [&](int ka, int kb) {
-      const Vector3d& cb = env ? ob_centre : ws.centre_W[kb];
-      return (ws.centre_W[ka] - cb).norm() - ws.bound_r[ka] - (env ? ob_bound : ws.bound_r[kb]);
-    };
-    int first_a = a0, first_b = b0;
-    double first_lb = std::numeric_limits<double>::infinity();
+    const bool cull = cutoff < std::numeric_limits<double>::infinity();
+    double lower = std::numeric_limits<double>::infinity();  // smallest bound skipped by the cutoff
+    int m = 0;
     for (int ka = a0; ka < a1; ++ka)
       for (int kb = b0; kb < b1; ++kb) {
-        const double lb = lowerBound(ka, kb);
-        if (lb < first_lb) {
-          first_lb = lb;
-          first_a = ka;
-          first_b = kb;
+        if (cull) {
+          const double lb = (ws.centre_W[ka] - (env ? ob_centre : ws.centre_W[kb])).norm() - ws.bound_r[ka] -
+                            (env ? ob_bound : ws.bound_r[kb]);
+          if (lb >= cutoff) {
+            lower = std::min(lower, lb);
+            continue;
+          }
         }
+        ARMSTUDY_CHECK(m < kGroup, "collision: more than 64 volume pairs between two bodies");
+        const Core& ca = ws.core_W[ka];
+        const Core& cb = env ? *ob_core : ws.core_W[kb];
+        double sq;
+        if (!env && ca.n == 2 && cb.n == 2) {
+          sq = squaredDistanceSegmentSegmentFast(ca.p[0], ws.seg_d_W[ka], ws.seg_len2[ka], ws.seg_inv_len2[ka],
+                                                 cb.p[0], ws.seg_d_W[kb], ws.seg_len2[kb], ws.seg_inv_len2[kb],
+                                                 g_s[m], g_t[m]);
+        } else {
+          Vector3d pa, pb;
+          sq = squaredDistanceCores(ca, cb, pa, pb);
+          g_s[m] = -1;  // marks the general path: the witnesses are recomputed for the winner
+        }
+        g_sq[m] = sq;
+        g_ka[m] = ka;
+        g_kb[m] = kb;
+        ++m;
       }
     double best = std::numeric_limits<double>::infinity();
-    double lower = std::numeric_limits<double>::infinity();  // smallest bound skipped by the cutoff
-    int win_a = -1, win_b = -1;
-    Vector3d ca, cb;
-    auto evaluate = [&](int ka, int kb) {
-      const double d = std::sqrt(squaredDistanceCores(ws.core_W[ka], coreB(kb), ca, cb)) - ws.radius[ka] -
-                       (env ? ob_radius : ws.radius[kb]);
-      if (d < best) {
-        best = d;
-        win_a = ka;
-        win_b = kb;
+    int win = -1;
+    for (int i = 0; i < m; ++i) {
+      const double d = std::sqrt(g_sq[i]) - ws.radius[g_ka[i]] - (env ? ob_radius : ws.radius[g_kb[i]]);
+      win = d < best ? i : win;
+      best = std::min(best, d);
+    }
+    if (win >= 0 && best <= lower) {
+      const int ka = g_ka[win], kb = g_kb[win];
+      const Core& cb = env ? *ob_core : ws.core_W[kb];
+      Vector3d pa, pb;
+      if (g_s[win] >= 0) {
+        pa = ws.core_W[ka].p[0] + g_s[win] * ws.seg_d_W[ka];
+        pb = cb.p[0] + g_t[win] * ws.seg_d_W[kb];
+      } else {
+        squaredDistanceCores(ws.core_W[ka], cb, pa, pb);
       }
-    };
-    if (first_lb < cutoff)
-      evaluate(first_a, first_b);
-    else
-      lower = first_lb;
-    for (int ka = a0; ka < a1; ++ka)
-      for (int kb = b0; kb < b1; ++kb) {
-        if (ka == first_a && kb == first_b) continue;
-        const double lb = lowerBound(ka, kb);
-        if (lb >= best) continue;
-        if (lb >= cutoff) {
-          lower = std::min(lower, lb);
-          continue;
-        }
-        evaluate(ka, kb);
-      }
-    if (win_a >= 0 && best <= lower) {
-      ssvDistance(ws.core_W[win_a], ws.radius[win_a], coreB(win_b), env ? ob_radius : ws.radius[win_b], out.w);
+      ssvDistanceFromWitnesses(pa, ws.radius[ka], pb, env ? ob_radius : ws.radius[kb], out.w);
       out.distance_m = out.w.distance_m;
       out.exact = true;
-      out.volume_a = ws.model_index[win_a];
-      out.volume_b = env ? -1 : ws.model_index[win_b];
+      out.volume_a = ws.model_index[ka];
+      out.volume_b = env ? -1 : ws.model_index[kb];
     } else {
       // Everything beyond the cutoff (or the best found lies beyond a skipped lower bound).
       out.distance_m = std::min(best, lower);
       out.exact = false;
+      out.volume_a = out.volume_b = -1;
     }
   };
 

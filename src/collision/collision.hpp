@@ -80,6 +80,9 @@ struct CollisionWorkspace {
   // --- per query ---
   std::array<Core, kMaxVolumes> core_W;         // core points in W
   std::array<Eigen::Vector3d, kMaxVolumes> centre_W;
+  std::array<Eigen::Vector3d, kMaxVolumes> seg_d_W;   // line volumes: p1 - p0 in W
+  std::array<double, kMaxVolumes> seg_len2{};         //   |p1 - p0|^2 and its inverse (fixed:
+  std::array<double, kMaxVolumes> seg_inv_len2{};     //   set at construction)
   std::array<Eigen::Vector3d, kMaxBodies> body_centre_W;
   int num_env = 0;                              // body-obstacle pairs evaluated
   std::array<PairDistance, kMaxBodies * kMaxObstacles> env;

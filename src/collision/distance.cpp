@@ -78,40 +78,22 @@ double squaredDistancePointSegment(const Vector3d& p, const Vector3d& a, const V
 
 double squaredDistanceSegmentSegment(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0,
                                      const Vector3d& q1, Vector3d& c_p, Vector3d& c_q) {
-  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm();
-  const double b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
-  const double denom = a * e - b * b;
-  if (a > 0 && e > 0 && denom > defaults::kCollisionParallelSin2 * a * e) {
-    // Well-conditioned (non-parallel): closest points of the two lines, then alternate
-    // clamping (Ericson, Real-Time Collision Detection, 5.1.9). At the box-constrained optimum
-    // each parameter minimises for the other, so s can always be recomputed from the clamped t;
-    // written with min/max so it compiles without unpredictable branches.
-    const double s0 = clamp01((b * f - c * e) / denom);
-    const double t = clamp01((b * s0 + f) / e);
-    const double s = clamp01((b * t - c) / a);
+  if (a > 0 && e > 0) {
+    double s = 0, t = 0;
+    const double sq = squaredDistanceSegmentSegmentFast(p0, d1, a, 1.0 / a, q0, d2, e, 1.0 / e, s, t);
     c_p = p0 + s * d1;
     c_q = q0 + t * d2;
-    return (c_p - c_q).squaredNorm();
+    return sq;
   }
-  // Near-parallel or degenerate: the clamped line solution (accurate enough when the angle is
-  // not tiny) plus the endpoint candidates (a minimiser of exactly parallel segments has an
-  // endpoint of one segment; for tiny angles they are within rounding of the minimum).
-  Best best;
-  Vector3d x;
-  if (a > 0 && e > 0 && denom > 0) {
-    const double s0 = clamp01((b * f - c * e) / denom);
-    const double t = clamp01((b * s0 + f) / e);
-    const double s = clamp01((b * t - c) / a);
-    best.offer(p0 + s * d1, q0 + t * d2);
+  // A zero-length segment is a point.
+  if (a > 0) {
+    c_q = q0;
+    return squaredDistancePointSegment(q0, p0, p1, c_p);
   }
-  best.offer(squaredDistancePointSegment(p0, q0, q1, x), p0, x);
-  best.offer(squaredDistancePointSegment(p1, q0, q1, x), p1, x);
-  best.offer(squaredDistancePointSegment(q0, p0, p1, x), x, q0);
-  best.offer(squaredDistancePointSegment(q1, p0, p1, x), x, q1);
-  c_p = best.a;
-  c_q = best.b;
-  return best.sq;
+  c_p = p0;
+  return squaredDistancePointSegment(p0, q0, q1, c_q);
 }
 
 double squaredDistancePointTriangle(const Vector3d& p, const Vector3d& a, const Vector3d& b,
@@ -232,20 +214,9 @@ double squaredDistanceCores(const Core& a, const Core& b, Vector3d& c_a, Vector3
 }
 
 void ssvDistance(const Core& a, double r_a, const Core& b, double r_b, SsvDistance& out) {
-  const double sq = squaredDistanceCores(a, b, out.c_a, out.c_b);
-  const double dc = std::sqrt(sq);
-  out.distance_m = dc - r_a - r_b;
-  if (dc > defaults::kCollisionTouching_m) {
-    out.n = (out.c_b - out.c_a) / dc;
-    out.p_a = out.c_a + r_a * out.n;
-    out.p_b = out.c_b - r_b * out.n;
-  } else {
-    // Cores touch or intersect (a distance at rounding level has no meaningful direction):
-    // report the contact point on both and a zero normal.
-    out.n.setZero();
-    out.p_a = out.c_a;
-    out.p_b = out.c_b;
-  }
+  Vector3d c_a, c_b;
+  squaredDistanceCores(a, b, c_a, c_b);
+  ssvDistanceFromWitnesses(c_a, r_a, c_b, r_b, out);
 }
 
 }  // namespace armstudy::collision

@@ -9,7 +9,10 @@
 // cores, and the set of candidates always contains a true minimiser, so the result is the exact
 // minimum up to floating-point rounding. No heap allocation; all are pure functions.
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+
+#include "common/defaults.hpp"
 
 namespace armstudy::collision {
 
@@ -57,5 +60,62 @@ struct SsvDistance {
   Eigen::Vector3d n;           // unit vector from c_a to c_b; zero when the cores touch
 };
 void ssvDistance(const Core& a, double r_a, const Core& b, double r_b, SsvDistance& out);
+// The same from known core witness points (c_a on a, c_b on b closest to each other).
+inline void ssvDistanceFromWitnesses(const Eigen::Vector3d& c_a, double r_a, const Eigen::Vector3d& c_b,
+                                     double r_b, SsvDistance& out) {
+  out.c_a = c_a;
+  out.c_b = c_b;
+  const Eigen::Vector3d diff = c_b - c_a;
+  const double dc = diff.norm();
+  out.distance_m = dc - r_a - r_b;
+  if (dc > defaults::kCollisionTouching_m) {
+    out.n = diff * (1.0 / dc);
+    out.p_a = c_a + r_a * out.n;
+    out.p_b = c_b - r_b * out.n;
+  } else {
+    // Cores touch or intersect (a distance at rounding level has no meaningful direction):
+    // report the contact point on both and a zero normal.
+    out.n.setZero();
+    out.p_a = c_a;
+    out.p_b = c_b;
+  }
+}
+
+// Hot-path kernel for two segments p0 + s d1 and q0 + t d2 (s, t in [0, 1]) with non-zero squared
+// lengths a = |d1|^2, e = |d2|^2 and their inverses precomputed (per configuration, per volume).
+// Returns the squared distance and the parameters of the witness points. Same algorithm as
+// squaredDistanceSegmentSegment: the clamped line solution (Ericson, Real-Time Collision
+// Detection, 5.1.9; at the box-constrained optimum each parameter minimises for the other, so s
+// is recomputed from the clamped t), and for near-parallel pairs (sin^2 of the angle <=
+// kCollisionParallelSin2, e.g. housings on parallel joint axes) also the four endpoint-to-segment
+// candidates, one of which is a minimiser of parallel segments. One division, no heap.
+inline double squaredDistanceSegmentSegmentFast(const Eigen::Vector3d& p0, const Eigen::Vector3d& d1,
+                                                double a, double inv_a, const Eigen::Vector3d& q0,
+                                                const Eigen::Vector3d& d2, double e, double inv_e,
+                                                double& s, double& t) {
+  auto clamp01 = [](double x) { return std::min(1.0, std::max(0.0, x)); };  // minsd/maxsd, no branches
+  const Eigen::Vector3d r = p0 - q0;
+  const double b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
+  const double denom = a * e - b * b;
+  // Clamped line solution; feasible (and NaN-free) even when denom is 0.
+  const double s0 = denom > 0 ? clamp01((b * f - c * e) / denom) : 0.0;
+  t = clamp01((b * s0 + f) * inv_e);
+  s = clamp01((b * t - c) * inv_a);
+  double best = (r + s * d1 - t * d2).squaredNorm();
+  if (denom > defaults::kCollisionParallelSin2 * a * e) return best;
+  auto offer = [&](double si, double ti) {
+    const double q = (r + si * d1 - ti * d2).squaredNorm();
+    if (q < best) {
+      best = q;
+      s = si;
+      t = ti;
+    }
+  };
+  offer(0.0, clamp01(f * inv_e));         // p0 against segment q
+  offer(1.0, clamp01((f + b) * inv_e));   // p1
+  offer(clamp01(-c * inv_a), 0.0);        // q0 against segment p
+  offer(clamp01((b - c) * inv_a), 1.0);   // q1
+  return best;
+}
 
 }  // namespace armstudy::collision
