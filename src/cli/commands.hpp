@@ -11,5 +11,6 @@ using Action = std::function<int()>;  // returns the process exit code
 void addDescribeCommand(CLI::App& app, Action& action);
 void addFkCommand(CLI::App& app, Action& action);
 void addRunCommand(CLI::App& app, Action& action);
+void addFitSsvCommand(CLI::App& app, Action& action);
 
 }  // namespace armstudy::cli

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   armstudy::cli::addDescribeCommand(app, action);
   armstudy::cli::addFkCommand(app, action);
   armstudy::cli::addRunCommand(app, action);
+  armstudy::cli::addFitSsvCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
