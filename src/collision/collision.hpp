@@ -15,6 +15,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "collision/distance.hpp"
 #include "common/defaults.hpp"
@@ -76,13 +77,22 @@ struct CollisionWorkspace {
   std::array<double, kMaxBodies> body_bound_r{};
   int num_self = 0;                              // collision pairs with volumes on both bodies
   std::array<PairDistance, kMaxBodyPairs> self;  // link_a/link_b fixed; results per query
+  // Flat list of the volume pairs of the self pairs: those of self[i] are
+  // [pair_begin[i], pair_begin[i + 1]). Sized once here (no allocation per query).
+  std::array<int, kMaxBodyPairs + 1> pair_begin{};
+  std::vector<int> pair_a, pair_b;               // volume slots
+  std::vector<unsigned char> pair_general;       // 1: a triangle is involved (general routine)
+  std::vector<double> pair_d, pair_s, pair_t;    // per query: SSV distance, segment parameters
+  std::vector<int> active;                       // per query: pairs to evaluate (capacity: all)
 
   // --- per query ---
   std::array<Core, kMaxVolumes> core_W;         // core points in W
   std::array<Eigen::Vector3d, kMaxVolumes> centre_W;
-  std::array<Eigen::Vector3d, kMaxVolumes> seg_d_W;   // line volumes: p1 - p0 in W
+  std::array<Eigen::Vector3d, kMaxVolumes> seg_d_W;   // line volumes: p1 - p0 in W (0 for points)
   std::array<double, kMaxVolumes> seg_len2{};         //   |p1 - p0|^2 and its inverse (fixed:
-  std::array<double, kMaxVolumes> seg_inv_len2{};     //   set at construction)
+  std::array<double, kMaxVolumes> seg_inv_len2{};     //   set at construction; 0 for points)
+  // Structure-of-arrays copy of p0 and p1 - p0 in W for the segment kernel.
+  std::array<double, kMaxVolumes> sx{}, sy{}, sz{}, ux{}, uy{}, uz{};
   std::array<Eigen::Vector3d, kMaxBodies> body_centre_W;
   int num_env = 0;                              // body-obstacle pairs evaluated
   std::array<PairDistance, kMaxBodies * kMaxObstacles> env;

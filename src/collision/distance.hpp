@@ -10,7 +10,11 @@
 // minimum up to floating-point rounding. No heap allocation; all are pure functions.
 #include <Eigen/Core>
 #include <algorithm>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <array>
+#include <cmath>
 
 #include "common/defaults.hpp"
 
@@ -81,6 +85,34 @@ inline void ssvDistanceFromWitnesses(const Eigen::Vector3d& c_a, double r_a, con
   }
 }
 
+// Clamp to [0, 1] without a branch (minsd/maxsd on x86-64; a data-dependent branch here
+// mispredicts often and serialises the otherwise independent pair evaluations).
+inline double clampUnit(double x) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_min_sd(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()), _mm_set_sd(1.0)));
+#else
+  return std::min(1.0, std::max(0.0, x));
+#endif
+}
+
+// Square root of a non-negative value without libm's error-handling branch.
+inline double sqrtNonNegative(double x) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(x)));
+#else
+  return std::sqrt(x);
+#endif
+}
+
+// Maximum without a branch.
+inline double maxNoBranch(double x, double y) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_set_sd(y)));
+#else
+  return std::max(x, y);
+#endif
+}
+
 // Hot-path kernel for two segments p0 + s d1 and q0 + t d2 (s, t in [0, 1]) with non-zero squared
 // lengths a = |d1|^2, e = |d2|^2 and their inverses precomputed (per configuration, per volume).
 // Returns the squared distance and the parameters of the witness points. Same algorithm as
@@ -93,7 +125,7 @@ inline double squaredDistanceSegmentSegmentFast(const Eigen::Vector3d& p0, const
                                                 double a, double inv_a, const Eigen::Vector3d& q0,
                                                 const Eigen::Vector3d& d2, double e, double inv_e,
                                                 double& s, double& t) {
-  auto clamp01 = [](double x) { return std::min(1.0, std::max(0.0, x)); };  // minsd/maxsd, no branches
+  auto clamp01 = clampUnit;
   const Eigen::Vector3d r = p0 - q0;
   const double b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
   const double denom = a * e - b * b;
