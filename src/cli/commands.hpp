@@ -11,6 +11,13 @@ using Action = std::function<int()>;  // returns the process exit code
 void addDescribeCommand(CLI::App& app, Action& action);
 void addFkCommand(CLI::App& app, Action& action);
 void addRunCommand(CLI::App& app, Action& action);
+void addBaselineCommand(CLI::App& app, Action& action);
+void addCheckCommand(CLI::App& app, Action& action);
+void addCompareCommand(CLI::App& app, Action& action);  // cmd_calibrate.cpp
+void addFitCommand(CLI::App& app, Action& action);
+void addSynthCommand(CLI::App& app, Action& action);
+void addDynamicsCommand(CLI::App& app, Action& action);
+void addApproachCommand(CLI::App& app, Action& action);
 void addFitSsvCommand(CLI::App& app, Action& action);
 
 }  // namespace armstudy::cli

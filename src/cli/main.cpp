@@ -22,6 +22,13 @@ int main(int argc, char** argv) {
   armstudy::cli::addDescribeCommand(app, action);
   armstudy::cli::addFkCommand(app, action);
   armstudy::cli::addRunCommand(app, action);
+  armstudy::cli::addBaselineCommand(app, action);
+  armstudy::cli::addCheckCommand(app, action);
+  armstudy::cli::addCompareCommand(app, action);
+  armstudy::cli::addFitCommand(app, action);
+  armstudy::cli::addSynthCommand(app, action);
+  armstudy::cli::addDynamicsCommand(app, action);
+  armstudy::cli::addApproachCommand(app, action);
   armstudy::cli::addFitSsvCommand(app, action);
   try {
     app.parse(argc, argv);

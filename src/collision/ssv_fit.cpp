@@ -5,6 +5,7 @@
 #include <CGAL/Min_sphere_of_spheres_d_traits_3.h>
 #include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Random.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/convex_hull_2.h>
@@ -217,7 +218,13 @@ std::vector<Vector3d> hullVertices(const std::vector<Vector3d>& pts) {
   CGAL::convex_hull_3(cp.begin(), cp.end(), hull);
   std::vector<Vector3d> out;
   for (auto v : hull.vertices()) out.push_back(toEigen(hull.point(v)));
-  return out.empty() ? pts : out;
+  if (out.empty()) out = pts;
+  // A fixed (lexicographic) order: the hull's internal vertex order may vary from run to run,
+  // and the least-squares sums would then differ in the last bits.
+  std::sort(out.begin(), out.end(), [](const Vector3d& a, const Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  });
+  return out;
 }
 
 }  // namespace
@@ -285,6 +292,9 @@ TriangleMesh loadTriangleMesh(const std::string& path, double scale) {
 SsvFitSummary fitSsvs(const TriangleMesh& mesh, const SsvFitOptions& o) {
   ARMSTUDY_CHECK(o.validate().empty(), "fitSsvs: invalid options: " + o.validate());
   ARMSTUDY_CHECK(!mesh.vertices.empty(), "fitSsvs: empty mesh");
+  // CGAL's randomised steps (hull insertion order, sphere pivoting) draw from its default
+  // generator, seeded from the clock: reseed it so a refit gives identical bits.
+  CGAL::get_default_random() = CGAL::Random(defaults::kSsvFitSeed);
   // Principal axis of the whole mesh (least-squares line through the vertices).
   std::vector<K::Point_3> cp;
   for (const auto& p : mesh.vertices) cp.push_back(toCgal(p));

@@ -11,6 +11,73 @@ inline constexpr double kCardanSingularCosBeta = 1e-6;  // |cos(beta)| below: re
 inline constexpr double kPositionTolerance_m = 1e-3;
 inline constexpr double kOrientationTolerance_rad = 0.5 * 3.14159265358979323846 / 180.0;
 
+// Task grids (src/tasks)
+inline constexpr double kGridRangeSlack = 1e-9;        // relative slack so `to` is kept despite rounding
+inline constexpr int kMaxGridAxisValues = 100000;       // values per grid axis
+inline constexpr double kMaxGridPoses = 5e8;            // poses per grid (all orientations)
+
+// Per-pose inverse kinematics (src/ik, thesis eq. 3.2). Study files may override the (study) ones.
+inline constexpr int kIkMaxStarts = 64;                 // starts per cold pose incl. the middle start
+inline constexpr int kReachStudyStarts = 8;             // (study) starts per grid/list pose incl. the warm start
+inline constexpr int kIkMaxIterations = 40;             // Levenberg-Marquardt iterations per start
+inline constexpr int kIkClassifyStarts = 1;             // (study) starts of the limit-free re-solve
+inline constexpr unsigned long long kIkSeed = 1;        // (study) seed of the deterministic restarts
+inline constexpr double kIkOrientationWeight_m = 0.3;   // m/rad: orientation rows' weight in the LM cost
+inline constexpr double kIkConvergenceFraction = 0.05;  // stop a start once errors < this x tolerance
+inline constexpr double kIkLambdaInitial_m2 = 1e-4;     // LM damping (m^2, on J J^T)
+inline constexpr double kIkLambdaMin_m2 = 1e-12;
+inline constexpr double kIkLambdaMax_m2 = 1e3;          // above: the start has stagnated
+inline constexpr double kIkLambdaDown = 0.2;            // damping factor after an accepted step
+inline constexpr double kIkLambdaUp = 10.0;             // ... after a rejected step
+inline constexpr double kIkStagnationRatio = 0.05;      // accepted steps reducing the cost less ...
+inline constexpr int kIkStagnationSteps = 2;            // ... this many times in a row end a start
+inline constexpr double kIkPolishBand = 50.0;           // SLSQP polish when the best LM miss is < band x tol
+inline constexpr int kIkPolishMaxEvaluations = 200;     // NLopt SLSQP evaluations per polish
+inline constexpr double kIkReachBoundSlack_m = 1e-6;    // slack of the conservative reach bound
+inline constexpr long kPoseListChunk = 32;              // poses per warm-start chain in pose lists
+
+// Model versus measurement (calibration, docs/calibration.md).
+inline constexpr double kLeastSquaresRankTolerance = 1e-10;  // relative pivot threshold of QR
+inline constexpr int kLeastSquaresMaxEval = 2000;             // SLSQP evaluations per bounded solve
+inline constexpr int kCvFolds = 5;                            // k of k-fold cross-validation (study)
+inline constexpr unsigned long long kCvSeed = 1;              // fold permutation seed (study)
+inline constexpr int kStribeckGridPoints = 48;                // log grid when profiling v_S
+inline constexpr int kStribeckRefineIterations = 40;          // golden-section steps after the grid
+inline constexpr double kSignificanceZ = 3.0;                 // held-out improvement t-statistic
+inline constexpr double kMinRelativeImprovement = 0.02;       // and at least 2 % lower held-out RMSE
+inline constexpr double kBinFalseAlarm = 0.05;                // family-wise, Bonferroni over bins
+inline constexpr int kMinBinSamples = 3;                      // bins with fewer samples are not tested
+inline constexpr int kSpeedBins = 8;                          // residual map, signed speed
+inline constexpr int kLoadBins = 4;                           // residual map, |load|
+inline constexpr double kCollinearR2 = 0.98;                  // R^2 above: "cannot be told apart"
+inline constexpr double kUnidentifiableR2 = 1.0 - 1e-9;       // R^2 above: not fitted at all
+inline constexpr double kMinTemperatureSpan_K = 5.0;          // temperature range below: warning
+inline constexpr double kConfidenceZ = 1.959963984540054;     // two-sided 95 % intervals
+inline constexpr int kMinResidualDof = 2;                     // rows beyond the parameter count
+// Dynamics
+inline constexpr double kStandardGravity_mps2 = 9.81;    // |g|, default gravity (0, 0, -g) in W (study)
+
+// Trajectories (thesis section 5.3.2)
+inline constexpr double kApproachExpScale_m = 1.0;       // length scale of r(s) = L e^{-as} + b, eq. (5.17)
+inline constexpr double kTimeScalingNewtonTol = 1e-14;   // |s(t_e) - s_e| when solving for t_e
+inline constexpr int kTimeScalingMaxIterations = 100;
+// Dexterity measures and redundancy resolution (thesis section 5.4). (study) = [dexterity] may override.
+inline constexpr double kSingularValueFloor = 1e-12;      // relative to sigma_max: below counts as 0
+inline constexpr double kJointLimitActivation = 0.1;      // (study) H_j threshold, fraction of range inside each limit (eq. 5.52)
+inline constexpr double kDriftGain_per_s = 200.0;         // K in eq. (5.50a) [1/s]; K * dt = 0.2 with the default step
+inline constexpr double kNullspaceGain_per_s = 1.0;       // alpha in eq. (5.46) for trajectory tracking [1/s]
+inline constexpr double kTrackingStep_s = 1e-3;           // Euler step of eq. (5.49) [s]
+inline constexpr double kOrientationLength_m = 0.2;       // characteristic length weighting rad against m in pose solves
+inline constexpr double kPoseSolveTolerance_m = 1e-10;    // position-level solve target (then judged against the study tolerance)
+inline constexpr double kPoseSolveTolerance_rad = 1e-10;
+inline constexpr int kPoseSolveMaxIterations = 60;        // (study) damped Newton iterations per start
+inline constexpr double kPoseSolveMaxStep = 0.5;          // largest joint change per Newton step [rad or m]
+inline constexpr int kColdStarts = 6;                     // (study) deterministic starts when no warm start succeeds
+inline constexpr int kNullspaceMaxIterations = 200;       // (study) null-space descent iterations per pose
+inline constexpr double kNullspaceRelativeImprovement = 1e-6;  // (study) stop when H improves less than this (relative)
+inline constexpr double kNullspaceMaxStep = 0.2;          // largest joint change per null-space step [rad or m]
+inline constexpr int kNullspaceCorrectionIterations = 6;  // Newton steps that bring the tool back onto the pose
+inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool must stay this close to the pose
 // Self-collision (src/collision, thesis sections 3.4.4 and 5.4.3)
 inline constexpr int kMaxCollisionVolumes = 160;          // SSVs per design the workspace holds
 inline constexpr int kMaxObstacles = 64;                  // environment obstacles per query
@@ -18,6 +85,7 @@ inline constexpr double kCollisionParallelSin2 = 1e-4;    // sin^2 of segment an
 inline constexpr double kCollisionDegenerateRelative = 1e-14;  // sin^2 of triangle corner: degenerate
 inline constexpr double kCollisionTouching_m = 1e-12;     // core distance below: cores touch, no normal
 inline constexpr double kCollisionCoincident_m = 1e-9;    // SSV points closer than this coincide (input error)
+inline constexpr unsigned kSsvFitSeed = 1;                 // CGAL's random generator in fitSsvs (reproducible fits)
 inline constexpr double kSsvFitInflation_m = 1e-9;        // fitted radii: added to the max vertex distance
 inline constexpr double kCollisionSafetyDistance_m = 0.05;  // (study) d_a of eq. (5.57)
 inline constexpr double kCollisionBlendT = 0.5;           // (study) t of eq. (5.57): cubic for d >= t d_a

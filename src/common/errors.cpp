@@ -8,9 +8,16 @@ namespace armstudy {
 static std::string formatInputError(const std::string& file, int line, const std::string& key,
                                     const std::string& message) {
   std::string s = file.empty() ? std::string("<input>") : file;
-  if (line > 0) s += ":" + std::to_string(line);
+  if (line > 0) {
+    s += ':';
+    s += std::to_string(line);
+  }
   s += ": ";
-  if (!key.empty()) s += "key '" + key + "': ";
+  if (!key.empty()) {
+    s += "key '";
+    s += key;
+    s += "': ";
+  }
   s += message;
   return s;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "collision/collision_model.hpp"
+#include "drive/friction.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
 
@@ -108,6 +109,33 @@ void readCollisionModel(TableReader& top, Model& m) {
     r.string("reason", "");
     m.collision.allowed_pairs.push_back(pair);
   });
+}
+
+// Drive friction laws and the "<joint>.<effect>" entries of [model].effects (src/drive/friction.hpp).
+void validateDriveEffects(const Model& m, const std::string& file, int effects_line) {
+  for (const std::string& entry : m.effects) {
+    const auto dot = entry.find('.');
+    if (dot == std::string::npos) continue;
+    const std::string joint = entry.substr(0, dot);
+    drive::Effect e;
+    const bool is_drive_effect = drive::parseEffect(entry.substr(dot + 1), e);
+    bool has_drive = false;
+    for (const Drive& d : m.drives) has_drive = has_drive || d.joint == joint;
+    if (is_drive_effect && !has_drive)
+      throw InputError(file, effects_line, "model.effects",
+                       "effect '" + entry + "': the design has no [[drive]] for joint '" + joint + "'");
+    if (has_drive && !is_drive_effect)
+      throw InputError(file, effects_line, "model.effects",
+                       "effect '" + entry + "': unknown drive effect (expected coulomb, viscous, "
+                       "load_coulomb, load_viscous, stribeck, asymmetry or temperature)");
+  }
+  for (const Drive& d : m.drives) {
+    std::string key;
+    const std::string msg = drive::validateFriction(d, drive::extraEffects(m, d.joint), key);
+    if (!msg.empty())
+      throw InputError(file, d.source_line, key == "effects" ? "model.effects" : "drive." + d.joint + "." + key,
+                       msg);
+  }
 }
 
 Model buildModel(const toml::table& root, const std::string& file) {
@@ -225,9 +253,13 @@ Model buildModel(const toml::table& root, const std::string& file) {
     d.max_voltage_V = r.number("max_voltage", 0.0);
     d.resistance_ohm = r.number("resistance", 0.0);
     d.inductance_H = r.number("inductance", 0.0);
-    for (const char* k : {"rotor_inertia", "peak_current", "continuous_current", "max_motor_speed",
-                          "max_voltage", "resistance", "inductance"})
-      if (r.has(k) && r.number(k, 0.0) < 0) r.fail(k, "must not be negative");
+    const std::pair<const char*, double> non_negative[] = {
+        {"rotor_inertia", d.rotor_inertia_kgm2},     {"peak_current", d.peak_current_A},
+        {"continuous_current", d.continuous_current_A}, {"max_motor_speed", d.max_motor_speed_radps},
+        {"max_voltage", d.max_voltage_V},            {"resistance", d.resistance_ohm},
+        {"inductance", d.inductance_H}};
+    for (const auto& [k, v] : non_negative)
+      if (v < 0) r.fail(k, "must not be negative");
     if (const toml::table* f = r.table("friction")) {
       TableReader fr(*f, file, r.path() + ".friction");
       d.friction_law = fr.string("law");
@@ -241,11 +273,14 @@ Model buildModel(const toml::table& root, const std::string& file) {
     m.drives.push_back(d);
   });
 
+  int effects_line = top.line();
   if (const toml::table* t = top.table("model")) {
     TableReader r(*t, file, "model");
     m.effects = r.stringArray("effects");
+    effects_line = r.line("effects");
     r.finish();
   }
+  validateDriveEffects(m, file, effects_line);
 
   readCollisionModel(top, m);
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "dexterity/dexterity_io.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
@@ -132,7 +133,8 @@ Study loadStudy(const std::string& path) {
       r.finish();
       if (sets.empty() && sweeps.empty())
         throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
-      // Cartesian product of the sweeps, in the order written; the first key varies slowest.
+      // Cartesian product of the sweeps; keys in sorted order (TOML tables are unordered), the
+      // first key varies slowest, so variant names and order are stable.
       std::vector<std::size_t> counter(sweeps.size(), 0);
       for (bool done = false; !done;) {
         std::vector<std::pair<std::string, double>> ov;
@@ -159,6 +161,45 @@ Study loadStudy(const std::string& path) {
         done = k < 0;
       }
     }
+  }
+  {
+    std::vector<std::pair<std::string, std::string>> files;
+    readReachSection(top, dir.string(), s.reach, files);
+    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
+  }
+  // [regression]: where the baseline lives and how far each metric may move.
+  s.regression.baseline_path = (dir / (fs::path(path).stem().string() + ".baseline.json")).string();
+  if (const toml::table* t = top.table("regression")) {
+    TableReader r(*t, path, "regression");
+    if (r.has("baseline")) s.regression.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
+    if (const toml::array* rules = r.array("tolerance")) {
+      int k = 0;
+      for (const auto& e : *rules) {
+        if (!e.is_table())
+          throw InputError(path, static_cast<int>(e.source().begin.line), "regression.tolerance",
+                           "expected [[regression.tolerance]] tables");
+        TableReader tr(*e.as_table(), path, "regression.tolerance[" + std::to_string(k++) + "]");
+        ToleranceRule rule;
+        rule.line = tr.line();
+        rule.metric = tr.string("metric");
+        if (rule.metric.empty()) tr.fail("metric", "empty metric pattern");
+        rule.abs = tr.number("abs", 0.0);
+        rule.rel = tr.number("rel", 0.0);
+        rule.flips = static_cast<int>(tr.integer("flips", 0));
+        if (rule.abs < 0) tr.fail("abs", "tolerance must not be negative");
+        if (rule.rel < 0) tr.fail("rel", "tolerance must not be negative");
+        if (rule.flips < 0) tr.fail("flips", "allowed flips must not be negative");
+        tr.finish();
+        s.regression.rules.push_back(rule);
+      }
+    }
+    r.finish();
+  }
+  if (const toml::table* t = top.table("dexterity")) {
+    TableReader r(*t, path, "dexterity");
+    std::vector<const Model*> models;
+    for (const auto& d : s.designs) models.push_back(&d.model);
+    s.dexterity = dexterity::readDexterityOptions(r, models);
   }
   top.finish();
   return s;

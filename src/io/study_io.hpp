@@ -1,11 +1,15 @@
 #pragma once
 // Study files (docs/study-format.md): which designs (and variants derived from them) to evaluate,
 // and the settings of each evaluation stage.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "dexterity/dexterity_map.hpp"
 #include "model/model.hpp"
+#include "reach/reach_config.hpp"
+#include "study/regression.hpp"
 
 namespace armstudy {
 
@@ -28,6 +32,9 @@ struct Study {
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
   std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
+  ReachConfig reach;                 // [reach] section (reach.enabled = present)
+  RegressionSpec regression;         // [regression]: baseline path and tolerances
+  std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.

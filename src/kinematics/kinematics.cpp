@@ -32,7 +32,8 @@ void forwardKinematics(const Model& model, KinematicsWorkspace& ws,
     Eigen::Matrix3d R = R_Wp * R0;
     if (jt.type == JointType::Revolute) {
       // Revolute: q adds to gamma, R = R0 * Rz(q), only the first two columns change.
-      const double c = std::cos(q[i]), s = std::sin(q[i]);
+      double s, c;
+      ::sincos(q[i], &s, &c);  // one call for both (glibc)
       const Eigen::Vector3d c0 = R.col(0), c1 = R.col(1);
       R.col(0) = c * c0 + s * c1;
       R.col(1) = c * c1 - s * c0;

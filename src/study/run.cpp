@@ -3,13 +3,16 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
+#include "dexterity/dexterity_output.hpp"
 #include "io/files.hpp"
+#include "reach/reach_stage.hpp"
 
 namespace armstudy {
 
@@ -51,6 +54,30 @@ static ordered_json modelJson(const Model& m) {
 
 std::string modelToJson(const Model& model, int indent) { return modelJson(model).dump(indent); }
 
+std::string studyFingerprint(const Study& study) {
+  std::string f = std::string("armstudy=") + kVersion + " " + kGitRevision + "\n";
+  for (const auto& in : study.inputs) f += "input:" + in.path + "=" + in.hash + "\n";
+  return f;
+}
+
+// Removes the files an earlier complete run listed in its manifest (for --overwrite), so results
+// of designs no longer in the study do not linger.
+static void removePreviousResults(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  const fs::path man = dir / "manifest.json";
+  if (!fs::exists(man)) return;
+  try {
+    const auto j = nlohmann::json::parse(readFileOrThrow(man.string()));
+    for (const auto& f : j.value("files", std::vector<std::string>{})) {
+      const fs::path p = dir / f;
+      if (p.lexically_normal().string().rfind(dir.lexically_normal().string(), 0) == 0) fs::remove(p);
+    }
+  } catch (const nlohmann::json::exception&) {
+    // An unreadable manifest lists nothing to remove; new files replace old ones by name.
+  }
+  fs::remove(man);
+}
+
 RunSummary runStudy(const Study& study, const RunOptions& options) {
   namespace fs = std::filesystem;
   const std::string why = options.validate();
@@ -60,11 +87,21 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   sum.output_dir = (fs::path(options.output_root) / study.name).string();
   sum.designs = static_cast<int>(study.designs.size());
   sum.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  if (options.threads > 0) omp_set_num_threads(options.threads);
 
-  const fs::path manifest_path = fs::path(sum.output_dir) / "manifest.json";
-  if (fs::exists(manifest_path) && !options.overwrite)
+  const fs::path out(sum.output_dir);
+  const fs::path manifest_path = out / "manifest.json";
+  if (options.overwrite) {
+    removePreviousResults(out);
+    fs::remove_all(out / ".partial");
+  } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
     throw InputError(sum.output_dir, 0, "",
-                     "output folder already holds results; pass --overwrite to replace them");
+                     "output folder already holds the results of a complete run; pass --overwrite to "
+                     "replace them");
+  }
+  CheckpointStore store(sum.output_dir, studyFingerprint(study), sum.resume_message);
+  if (!sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
+  StageContext ctx{study, options, sum.output_dir, store, sum};
 
   ordered_json designs = ordered_json::array();
   for (const auto& d : study.designs) {
@@ -75,12 +112,31 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
     j["overrides"] = ov;
     designs.push_back(j);
   }
-  writeFileAtomic((fs::path(sum.output_dir) / "designs.json").string(), designs.dump(2) + "\n");
+  writeFileAtomic((out / "designs.json").string(), designs.dump(2) + "\n");
   sum.files_written.push_back("designs.json");
+  auto lap = [&, t = t0](const std::string& stage) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    sum.timings.push_back({stage, std::chrono::duration<double>(now - t).count()});
+    t = now;
+  };
+  lap("load_and_resolve");
 
-  const double secs =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  sum.timings.push_back({"load_and_resolve", secs});
+  // Evaluation stages, in order. Each is skipped when its study section is absent.
+  (void)ctx;
+
+  if (study.reach.enabled) {
+    const ReachStageSummary rs =
+        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress});
+    sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
+    sum.timings.push_back({"reachability", rs.seconds});
+  }
+  if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
+    std::vector<Model> models;
+    for (const auto& d : study.designs) models.push_back(d.model);
+    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
+    sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
+    sum.timings.push_back({"dexterity", ds.seconds});
+  }
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
@@ -94,6 +150,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   man["threads"] = sum.threads;
   man["designs"] = ordered_json::array();
   for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
+  if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
   ordered_json tim = ordered_json::object();
   for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
   man["timings"] = tim;
@@ -103,6 +160,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   man["date"] = date;
   man["files"] = sum.files_written;
   writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
+  store.finish();
   return sum;
 }
 

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "io/study_io.hpp"
+#include "study/checkpoint.hpp"
+#include "study/metrics.hpp"
 
 namespace armstudy {
 
@@ -27,7 +29,24 @@ struct RunSummary {
   int threads = 1;
   std::vector<StageTiming> timings;
   std::vector<std::string> files_written;  // relative to output_dir
+  StudyMetrics metrics;                    // summary metrics (baselines, checks)
+  std::string resume_message;              // "resuming: ..." / "starting fresh because ..."
 };
+
+// What an evaluation stage gets: the study, the options, where to write, the checkpoint store
+// for its units, and the summary to add files, timings and metrics to. Stages write result files
+// with writeFileAtomic and list them in summary.files_written (relative to output_dir).
+struct StageContext {
+  const Study& study;
+  const RunOptions& options;
+  const std::string& output_dir;
+  const CheckpointStore& checkpoints;
+  RunSummary& summary;
+};
+
+// Fingerprint of everything a study's results depend on (engine version and revision, study and
+// design file hashes); one "key=value" per line. Thread count and dates are not part of it.
+std::string studyFingerprint(const Study& study);
 
 RunSummary runStudy(const Study& study, const RunOptions& options);
 

@@ -185,13 +185,15 @@ TEST_CASE("hand-checked poses of the first prototype (Table 3.1)", "[kinematics]
   Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
   forwardKinematics(m, ws, q);
   // q = 0: frame 2 at (0, 0.1, 0.65) rotated Rz(pi/2); links 4, 5, 6 point along +y; the TCP
-  // (0.2 m along x6, an assumption of the design file) at (0, 1.03, 1.0) with R = Rz(pi/2).
+  // (0.2 m along x6, an assumption of the design file) at (0, 1.03, 1.0); frame 6 has R = Rz(pi/2)
+  // and the TCP axes are turned by gamma = -pi/2 (spray axis = TCP y), so R_WT = I.
   CHECK((ws.p_WF[1] - Eigen::Vector3d(0, 0.1, 0.65)).norm() < kHandCheckTolerance);
   CHECK((ws.p_WF[3] - Eigen::Vector3d(0, 0.33, 0.80)).norm() < kHandCheckTolerance);
   CHECK((ws.p_WF[4] - Eigen::Vector3d(0, 0.73, 1.0)).norm() < kHandCheckTolerance);
   CHECK((ws.p_WT - Eigen::Vector3d(0, 1.03, 1.0)).norm() < kHandCheckTolerance);
   const Eigen::Matrix3d Rz90 = rotationFromCardan(0, 0, M_PI / 2);
-  CHECK((ws.R_WT - Rz90).norm() < kHandCheckTolerance);
+  CHECK((ws.R_WF[5] - Rz90).norm() < kHandCheckTolerance);
+  CHECK((ws.R_WT - Eigen::Matrix3d::Identity()).norm() < kHandCheckTolerance);
   // Lift up 0.2 m and turn joint 2 by +90 deg: everything after frame 2 turns about the world z.
   q[0] = 0.2;
   q[1] = M_PI / 2;

@@ -1,0 +1,116 @@
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "common/errors.hpp"
+#include "dynamics/dynamics.hpp"
+#include "io/design_io.hpp"
+
+namespace armstudy::cli {
+
+void addDynamicsCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "dynamics",
+      "Inverse dynamics (thesis eq. 3.22-3.28): joint torques/forces Q for a state (q, qd, qdd),\n"
+      "the static holding part g(q) and optionally the mass matrix M(q). Q in N m (revolute) or N\n"
+      "(prismatic). Needs [[inertia]] data in the design (docs/dynamics.md).\n"
+      "Example: armstudy dynamics designs/final_prototype_9dof.toml --q 0,0,30,0,0,0,0,0,0 --deg");
+  struct Args {
+    std::string path;
+    std::vector<double> q, qd, qdd, gravity;
+    bool deg = false, json = false, no_payload = false, rotor = false, mass_matrix = false;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("design", a->path, "Design file (TOML)")->required();
+  cmd->add_option("--q", a->q, "Joint positions, one per joint (m / rad, deg with --deg)")
+      ->delimiter(',')
+      ->required();
+  cmd->add_option("--qd", a->qd, "Joint velocities (m/s / rad/s, deg/s with --deg); default 0")
+      ->delimiter(',');
+  cmd->add_option("--qdd", a->qdd,
+                  "Joint accelerations (m/s^2 / rad/s^2, deg/s^2 with --deg); default 0")
+      ->delimiter(',');
+  cmd->add_option("--gravity", a->gravity, "Gravity vector in W [m/s^2], default 0,0,-9.81")
+      ->delimiter(',')
+      ->expected(3);
+  cmd->add_flag("--deg", a->deg, "Revolute joint values in degrees");
+  cmd->add_flag("--no-payload", a->no_payload, "Ignore the [payload] at the TCP");
+  cmd->add_flag("--rotor-inertia", a->rotor,
+                "Add the reflected rotor inertias N^2 J_rotor of [[drive]]");
+  cmd->add_flag("--mass-matrix", a->mass_matrix, "Also print M(q)");
+  cmd->add_flag("--json", a->json, "Machine-readable output");
+  cmd->callback([&action, a] {
+    action = [a] {
+      const Model m = loadDesign(a->path);
+      const int n = m.dof();
+      auto vec = [&](const std::vector<double>& v, const char* key) {
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+        if (v.empty() && std::string(key) != "q") return out;
+        if (static_cast<int>(v.size()) != n)
+          throw InputError(std::string("--") + key, 0, key,
+                           "got " + std::to_string(v.size()) + " values, design '" + m.name +
+                               "' has " + std::to_string(n) + " joints");
+        for (int i = 0; i < n; ++i) {
+          out[i] = v[i];
+          if (a->deg && m.joints[i].type == JointType::Revolute) out[i] *= M_PI / 180.0;
+          if (!std::isfinite(out[i]))
+            throw InputError(std::string("--") + key, 0, key, "value is not finite");
+        }
+        return out;
+      };
+      const Eigen::VectorXd q = vec(a->q, "q"), qd = vec(a->qd, "qd"), qdd = vec(a->qdd, "qdd");
+      DynamicsOptions opt;
+      opt.include_payload = !a->no_payload;
+      opt.include_rotor_inertia = a->rotor;
+      if (!a->gravity.empty())
+        opt.g_W = Eigen::Vector3d(a->gravity[0], a->gravity[1], a->gravity[2]);
+      std::string err;
+      if (!opt.validate(err)) throw InputError("--gravity", 0, "gravity", err);
+      const RigidBodyModel rbm = makeRigidBodyModel(m, opt);
+      DynamicsWorkspace ws(rbm);
+      Eigen::VectorXd Q(n), g(n);
+      inverseDynamics(rbm, ws, q, qd, qdd, Q);
+      gravityForces(rbm, ws, q, g);
+      massMatrix(rbm, ws, q);
+      if (a->json) {
+        nlohmann::ordered_json j;
+        j["design"] = m.name;
+        j["gravity_W"] = {opt.g_W.x(), opt.g_W.y(), opt.g_W.z()};
+        j["payload"] = opt.include_payload;
+        j["rotor_inertia"] = opt.include_rotor_inertia;
+        j["joints"] = nlohmann::ordered_json::array();
+        for (int i = 0; i < n; ++i)
+          j["joints"].push_back({{"joint", m.joints[i].name},
+                                 {"unit", m.joints[i].type == JointType::Revolute ? "N m" : "N"},
+                                 {"Q", Q[i]},
+                                 {"gravity", g[i]}});
+        if (a->mass_matrix) {
+          j["mass_matrix"] = nlohmann::ordered_json::array();
+          for (int r = 0; r < n; ++r) {
+            std::vector<double> row(n);
+            for (int c = 0; c < n; ++c) row[c] = ws.M(r, c);
+            j["mass_matrix"].push_back(row);
+          }
+        }
+        std::cout << j.dump(2) << "\n";
+        return 0;
+      }
+      std::printf("%-8s %-4s %14s %14s\n", "joint", "unit", "Q", "g(q)");
+      for (int i = 0; i < n; ++i)
+        std::printf("%-8s %-4s %14.6f %14.6f\n", m.joints[i].name.c_str(),
+                    m.joints[i].type == JointType::Revolute ? "N m" : "N", Q[i], g[i]);
+      if (a->mass_matrix) {
+        std::printf("M(q):\n");
+        for (int r = 0; r < n; ++r) {
+          for (int c = 0; c < n; ++c) std::printf(" %12.6f", ws.M(r, c));
+          std::printf("\n");
+        }
+      }
+      return 0;
+    };
+  });
+}
+
+}  // namespace armstudy::cli

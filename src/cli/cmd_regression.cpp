@@ -1,0 +1,90 @@
+// `armstudy baseline STUDY` and `armstudy check STUDY`: record a study's summary metrics and
+// compare a fresh run against them with the study's tolerances (docs/regression.md).
+#include <cstdio>
+#include <filesystem>
+
+#include "armstudy/version.hpp"
+#include "cli/commands.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+#include "io/study_io.hpp"
+#include "study/regression.hpp"
+#include "study/run.hpp"
+
+namespace armstudy::cli {
+
+namespace {
+struct Args {
+  std::string path;
+  RunOptions opt;
+  std::string json_out;
+  bool all = false;
+};
+
+void addRunOptions(CLI::App* cmd, Args& a) {
+  cmd->add_option("study", a.path, "Study file (TOML)")->required();
+  cmd->add_option("--output", a.opt.output_root, "Folder that receives <study name>/")->capture_default_str();
+  cmd->add_option("--threads", a.opt.threads, "OpenMP threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+}
+}  // namespace
+
+void addBaselineCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "baseline",
+      "Run a study and record its summary metrics as the study's baseline (a small JSON file\n"
+      "beside the study, default <study>.baseline.json, or [regression].baseline). Commit it.\n"
+      "Example: armstudy baseline studies/regression.toml");
+  auto a = std::make_shared<Args>();
+  addRunOptions(cmd, *a);
+  cmd->callback([&action, a] {
+    action = [a] {
+      const Study s = loadStudy(a->path);
+      a->opt.overwrite = true;
+      const RunSummary sum = runStudy(s, a->opt);
+      Baseline b;
+      b.study = s.name;
+      b.armstudy_version = kVersion;
+      b.git_revision = kGitRevision;
+      b.metrics = sum.metrics;
+      writeFileAtomic(s.regression.baseline_path, baselineToJson(b));
+      std::printf("baseline of study %s: %zu scalar metric(s), %zu per-pose flag set(s) -> %s\n",
+                  s.name.c_str(), b.metrics.scalars.size(), b.metrics.flags.size(),
+                  s.regression.baseline_path.c_str());
+      return 0;
+    };
+  });
+}
+
+void addCheckCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "check",
+      "Re-run a study and compare its summary metrics with the recorded baseline, using the\n"
+      "tolerances of the study's [[regression.tolerance]] rules. Prints what moved (metric,\n"
+      "baseline, now, tolerance, verdict). Exit status 0 when everything is within tolerance,\n"
+      "3 when something moved beyond it, 2 for bad input (e.g. a baseline of another study).\n"
+      "Example: armstudy check studies/regression.toml --json output/regression/check.json");
+  auto a = std::make_shared<Args>();
+  addRunOptions(cmd, *a);
+  cmd->add_option("--json", a->json_out, "Also write the comparison as JSON to this file");
+  cmd->add_flag("--all", a->all, "List every metric, not only those that moved");
+  cmd->callback([&action, a] {
+    action = [a] {
+      const Study s = loadStudy(a->path);
+      if (!std::filesystem::exists(s.regression.baseline_path))
+        throw InputError(s.regression.baseline_path, 0, "",
+                         "no baseline recorded for study '" + s.name + "'; run `armstudy baseline " + a->path +
+                             "` first");
+      // Read and validate the baseline before spending time on the run.
+      const Baseline b = parseBaseline(readFileOrThrow(s.regression.baseline_path), s.regression.baseline_path, s.name);
+      a->opt.overwrite = true;
+      const RunSummary sum = runStudy(s, a->opt);
+      const CheckResult r = compareToBaseline(b, sum.metrics, s.regression);
+      std::fputs(checkTable(r, !a->all).c_str(), stdout);
+      if (!a->json_out.empty()) writeFileAtomic(a->json_out, checkJson(r));
+      std::printf("%s\n", r.passed() ? "check passed" : "check FAILED: results moved beyond tolerance");
+      return r.passed() ? 0 : 3;
+    };
+  });
+}
+
+}  // namespace armstudy::cli

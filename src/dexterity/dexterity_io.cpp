@@ -1,0 +1,137 @@
+#include "dexterity/dexterity_io.hpp"
+
+#include <cmath>
+
+#include "io/toml_reader.hpp"
+
+namespace armstudy::dexterity {
+
+namespace {
+
+// { min = ..., max = ..., step = ... } or { min, max, count } or a single value { value = ... }.
+AxisRange readRange(io::TableReader& parent, const std::string& key, Dimension dim) {
+  const toml::table* t = parent.table(key);
+  if (!t) parent.fail(key, "expected a table such as { min = ..., max = ..., step = ... }");
+  io::TableReader r(*t, parent.file(), parent.keyPath(key));
+  AxisRange a;
+  if (r.has("value")) {
+    a.min = a.max = r.quantity("value", dim);
+    a.count = 1;
+    r.finish();
+    return a;
+  }
+  a.min = r.quantity("min", dim);
+  a.max = r.quantity("max", dim);
+  if (r.has("step") == r.has("count")) r.fail("step", "give exactly one of `step` and `count`");
+  if (!(a.max > a.min)) r.fail("max", "max must be greater than min (or use `value` for a single sample)");
+  if (r.has("step")) {
+    const double step = r.quantity("step", dim);
+    if (!(step > 0)) r.fail("step", "step must be > 0");
+    const double n = (a.max - a.min) / step;
+    const double rounded = std::round(n);
+    if (std::abs(n - rounded) > 1e-6 * std::max(1.0, n))
+      r.fail("step", "the range max - min is not a whole multiple of step");
+    if (rounded + 1 > 1e7) r.fail("step", "too many samples");
+    a.count = static_cast<int>(rounded) + 1;
+  } else {
+    const long long c = r.integer("count", 0);
+    if (c < 2 || c > 10000000) r.fail("count", "count must be between 2 and 1e7 when min < max");
+    a.count = static_cast<int>(c);
+  }
+  r.finish();
+  return a;
+}
+
+double nonNegative(io::TableReader& r, const std::string& key, double fallback, Dimension dim) {
+  if (!r.has(key)) return fallback;
+  const double v = r.quantity(key, dim);  // rejects NaN/Inf
+  if (v < 0) r.fail(key, "must be >= 0");
+  return v;
+}
+
+double positive(io::TableReader& r, const std::string& key, double fallback, Dimension dim) {
+  if (!r.has(key)) return fallback;
+  const double v = r.quantity(key, dim);
+  if (!(v > 0)) r.fail(key, "must be > 0");
+  return v;
+}
+
+}  // namespace
+
+DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<const Model*>& designs) {
+  DexterityOptions o;
+  StemGrid& g = o.grid;
+  g.stem_x_m = r.quantity("stem_x", Dimension::Length);
+  g.stem_y_m = r.quantity("stem_y", Dimension::Length);
+  g.radius_m = r.quantity("radius", Dimension::Length);
+  if (!(g.radius_m > 0)) r.fail("radius", "stem radius must be > 0");
+  g.gamma_rad = readRange(r, "gamma", Dimension::Angle);
+  if (g.gamma_rad.max - g.gamma_rad.min > 2 * M_PI + 1e-9) r.fail("gamma", "gamma range exceeds a full turn");
+  g.z_m = readRange(r, "z", Dimension::Length);
+  const std::string task = r.string("task", "position_axis");
+  if (task == "position_axis") g.task = ik::PoseTaskKind::PositionAxis;
+  else if (task == "full") g.task = ik::PoseTaskKind::FullPose;
+  else r.fail("task", "expected \"position_axis\" (tool axis towards the stem, roll free) or \"full\"");
+  g.roll_rad = r.quantity("roll", Dimension::Angle, 0.0);
+  if (r.has("roll") && g.task != ik::PoseTaskKind::FullPose) r.fail("roll", "roll is only used with task = \"full\"");
+  const std::string space = r.string("measure_space", "translational");
+  if (!metrics::parseMeasureSpace(space, o.measure_space))
+    r.fail("measure_space", "expected \"translational\" or \"full\"");
+  o.ellipsoids = r.boolean("ellipsoids", true);
+  if (r.has("direction")) {
+    const std::vector<double> d = r.numberArray("direction");
+    if (d.size() != 3) r.fail("direction", "direction u needs three components [x, y, z]");
+    o.fixed_direction = true;
+    o.direction_W = Eigen::Vector3d(d[0], d[1], d[2]);
+    const double nrm = o.direction_W.norm();
+    if (!std::isfinite(nrm) || nrm == 0) r.fail("direction", "direction u has zero length");
+    if (std::abs(nrm - 1.0) > 1e-6) r.fail("direction", "direction u must be a unit vector (length " + std::to_string(nrm) + ")");
+  }
+  if (const toml::table* t = r.table("objective")) {
+    io::TableReader ob(*t, r.file(), r.keyPath("objective"));
+    o.w_joint_limits = nonNegative(ob, "joint_limits", o.w_joint_limits, Dimension::Dimensionless);
+    o.w_manipulability = nonNegative(ob, "manipulability", o.w_manipulability, Dimension::Dimensionless);
+    o.w_transmission = nonNegative(ob, "transmission", o.w_transmission, Dimension::Dimensionless);
+    if (ob.has("joint_limit_activation")) {
+      o.joint_limit_activation = ob.quantity("joint_limit_activation", Dimension::Dimensionless);
+      if (!(o.joint_limit_activation > 0 && o.joint_limit_activation < 0.5))
+        ob.fail("joint_limit_activation", "must lie in (0, 0.5) (fraction of the joint range)");
+    }
+    ob.finish();
+  }
+  if (const toml::table* t = r.table("solver")) {
+    io::TableReader sv(*t, r.file(), r.keyPath("solver"));
+    if (sv.has("joint_weights")) {
+      o.joint_weights = sv.numberArray("joint_weights");
+      for (double w : o.joint_weights)
+        if (!(w > 0)) sv.fail("joint_weights", "joint weights must be > 0");
+    }
+    o.position_tolerance_m = positive(sv, "position_tolerance", o.position_tolerance_m, Dimension::Length);
+    o.orientation_tolerance_rad = positive(sv, "orientation_tolerance", o.orientation_tolerance_rad, Dimension::Angle);
+    const long long cs = sv.integer("cold_starts", o.cold_starts);
+    if (cs < 1 || cs > 1000) sv.fail("cold_starts", "must be between 1 and 1000");
+    o.cold_starts = static_cast<int>(cs);
+    const long long mi = sv.integer("max_iterations", o.solve.max_iterations);
+    if (mi < 1 || mi > 100000) sv.fail("max_iterations", "must be between 1 and 100000");
+    o.solve.max_iterations = static_cast<int>(mi);
+    const long long ni = sv.integer("nullspace_max_iterations", o.nullspace.max_iterations);
+    if (ni < 0 || ni > 100000) sv.fail("nullspace_max_iterations", "must be between 0 and 100000");
+    o.nullspace.max_iterations = static_cast<int>(ni);
+    o.nullspace.relative_improvement =
+        nonNegative(sv, "relative_improvement", o.nullspace.relative_improvement, Dimension::Dimensionless);
+    o.nullspace.damping_lambda0 = nonNegative(sv, "damping", o.nullspace.damping_lambda0, Dimension::Dimensionless);
+    o.nullspace.damping_m0 = nonNegative(sv, "damping_threshold", o.nullspace.damping_m0, Dimension::Dimensionless);
+    sv.finish();
+  }
+  r.finish();
+  const std::string v = o.validate();
+  if (!v.empty()) throw InputError(r.file(), r.line(), r.path(), v);
+  for (const Model* m : designs) {
+    const std::string w = o.validateFor(*m);
+    if (!w.empty())
+      throw InputError(r.file(), r.line(o.joint_weights.empty() ? "task" : "solver"), r.path(), w);
+  }
+  return o;
+}
+
+}  // namespace armstudy::dexterity

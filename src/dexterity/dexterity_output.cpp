@@ -1,0 +1,348 @@
+#include "dexterity/dexterity_output.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLImageDataWriter.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "dexterity/png_image.hpp"
+#include "io/files.hpp"
+
+namespace armstudy::dexterity {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+vtkNew<vtkDoubleArray> doubleArray(const char* name, const std::vector<double>& v) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(1);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), v[i]);
+  return a;
+}
+
+std::string fmt(double v, int prec = 3) {
+  if (std::isnan(v)) return "-";
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(prec);
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+MapFields mapFields(const DexterityMap& map) {
+  MapFields f;
+  const std::size_t N = map.cells.size();
+  for (auto* v : {&f.reachable, &f.manip_plain, &f.manip_opt, &f.manip_plain_norm, &f.manip_opt_norm,
+                  &f.beta_plain, &f.beta_opt, &f.invcond_plain, &f.invcond_opt, &f.smin_plain,
+                  &f.smin_opt, &f.H_plain, &f.H_opt, &f.nullspace_iterations})
+    v->assign(N, kNaN);
+  std::vector<unsigned char> valid(N, 0);
+  for (std::size_t i = 0; i < N; ++i) {
+    const CellResult& c = map.cells[i];
+    f.reachable[i] = c.reachable ? 1.0 : 0.0;
+    if (!c.reachable) continue;
+    valid[i] = 1;
+    f.manip_plain[i] = c.plain.manipulability;
+    f.manip_opt[i] = c.opt.manipulability;
+    f.beta_plain[i] = c.plain.transmission;
+    f.beta_opt[i] = c.opt.transmission;
+    f.invcond_plain[i] = c.plain.inverse_condition;
+    f.invcond_opt[i] = c.opt.inverse_condition;
+    f.smin_plain[i] = c.plain.sigma_min;
+    f.smin_opt[i] = c.opt.sigma_min;
+    f.H_plain[i] = c.H_plain;
+    f.H_opt[i] = c.H_opt;
+    f.nullspace_iterations[i] = c.nullspace_iterations;
+  }
+  // Normalisation as thesis Fig. 3.6: 1 = the best manipulability found in this map (either
+  // configuration), so plain and optimised maps share one scale.
+  std::vector<double> both(f.manip_plain);
+  both.insert(both.end(), f.manip_opt.begin(), f.manip_opt.end());
+  std::vector<unsigned char> vboth(valid);
+  vboth.insert(vboth.end(), valid.begin(), valid.end());
+  f.best_manipulability = metrics::normaliseToBest(both, vboth, kNaN);
+  f.manip_plain_norm.assign(both.begin(), both.begin() + N);
+  f.manip_opt_norm.assign(both.begin() + N, both.end());
+  return f;
+}
+
+FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field) {
+  FieldStats s;
+  const int G = map.grid.gamma_rad.count;
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    const double v = field[i];
+    if (std::isnan(v)) continue;
+    const double g = map.grid.gamma_rad.value(static_cast<int>(i) % G);
+    const double z = map.grid.z_m.value(static_cast<int>(i) / G);
+    if (!s.any || v < s.min) s.min = v, s.gamma_at_min = g, s.z_at_min = z;
+    if (!s.any || v > s.max) s.max = v, s.gamma_at_max = g, s.z_at_max = z;
+    s.any = true;
+  }
+  return s;
+}
+
+std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir) {
+  const StemGrid& g = map.grid;
+  vtkNew<vtkImageData> img;
+  img->SetDimensions(g.gamma_rad.count, g.z_m.count, 1);
+  // Axes: x = gamma [rad], y = z [m]; point index = i_gamma + i_z * n_gamma (VTK order).
+  img->SetOrigin(g.gamma_rad.min, g.z_m.min, 0.0);
+  img->SetSpacing(g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
+                  g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0);
+  vtkPointData* pd = img->GetPointData();
+  vtkNew<vtkUnsignedCharArray> reach;
+  reach->SetName("reachable");
+  reach->SetNumberOfTuples(static_cast<vtkIdType>(map.cells.size()));
+  for (std::size_t i = 0; i < map.cells.size(); ++i)
+    reach->SetValue(static_cast<vtkIdType>(i), map.cells[i].reachable ? 1 : 0);
+  pd->AddArray(reach);
+  pd->AddArray(doubleArray("manipulability_plain", f.manip_plain));
+  pd->AddArray(doubleArray("manipulability_optimised", f.manip_opt));
+  pd->AddArray(doubleArray("manipulability_plain_normalised", f.manip_plain_norm));
+  pd->AddArray(doubleArray("manipulability_optimised_normalised", f.manip_opt_norm));
+  pd->AddArray(doubleArray("transmission_plain", f.beta_plain));
+  pd->AddArray(doubleArray("transmission_optimised", f.beta_opt));
+  pd->AddArray(doubleArray("inverse_condition_plain", f.invcond_plain));
+  pd->AddArray(doubleArray("inverse_condition_optimised", f.invcond_opt));
+  pd->AddArray(doubleArray("sigma_min_plain", f.smin_plain));
+  pd->AddArray(doubleArray("sigma_min_optimised", f.smin_opt));
+  pd->AddArray(doubleArray("objective_plain", f.H_plain));
+  pd->AddArray(doubleArray("objective_optimised", f.H_opt));
+  pd->AddArray(doubleArray("nullspace_iterations", f.nullspace_iterations));
+  vtkNew<vtkXMLImageDataWriter> w;
+  w->SetInputData(img);
+  w->SetWriteToOutputString(true);
+  w->SetDataModeToBinary();
+  ARMSTUDY_CHECK(w->Write() == 1, "VTK image writer failed");
+  const std::string name = map.design + ".vti";
+  writeFileAtomic((std::filesystem::path(dir) / name).string(), w->GetOutputString());
+  return name;
+}
+
+std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir) {
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> verts;
+  vtkNew<vtkDoubleArray> tensor, semi, a1, a2, a3, u, manip, beta, gam, zz;
+  tensor->SetName("ellipsoid_tensor");  // U diag(sigma) U^T: Tensor Glyph draws semi-axes sigma_k along u_k
+  tensor->SetNumberOfComponents(9);
+  semi->SetName("semi_axes");
+  semi->SetNumberOfComponents(3);
+  const std::pair<vtkDoubleArray*, const char*> vec3[] = {
+      {a1.GetPointer(), "axis_1"}, {a2.GetPointer(), "axis_2"}, {a3.GetPointer(), "axis_3"}, {u.GetPointer(), "u"}};
+  for (const auto& [a, nm] : vec3) {
+    a->SetName(nm);
+    a->SetNumberOfComponents(3);
+  }
+  manip->SetName("manipulability");
+  beta->SetName("transmission");
+  gam->SetName("gamma");
+  zz->SetName("z");
+  const int G = map.grid.gamma_rad.count;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) {
+    const CellResult& c = map.cells[i];
+    if (!c.reachable) continue;
+    const StemGrid::Cell cell = map.grid.cell(static_cast<int>(i) % G, static_cast<int>(i) / G);
+    const metrics::Ellipsoid& e = optimised ? c.ellipsoid_opt : c.ellipsoid_plain;
+    const vtkIdType id = pts->InsertNextPoint(cell.target.p_WT.data());
+    verts->InsertNextCell(1, &id);
+    const Eigen::Matrix3d T = e.axes_W * e.lengths.asDiagonal() * e.axes_W.transpose();
+    double t9[9];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) t9[3 * r + k] = T(r, k);
+    tensor->InsertNextTuple(t9);
+    semi->InsertNextTuple(e.lengths.data());
+    const Eigen::Vector3d v1 = e.lengths[0] * e.axes_W.col(0), v2 = e.lengths[1] * e.axes_W.col(1),
+                          v3 = e.lengths[2] * e.axes_W.col(2);
+    a1->InsertNextTuple(v1.data());
+    a2->InsertNextTuple(v2.data());
+    a3->InsertNextTuple(v3.data());
+    u->InsertNextTuple(cell.u_W.data());
+    manip->InsertNextValue((optimised ? c.opt : c.plain).manipulability);
+    beta->InsertNextValue((optimised ? c.opt : c.plain).transmission);
+    gam->InsertNextValue(cell.gamma);
+    zz->InsertNextValue(cell.z);
+  }
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(pts);
+  poly->SetVerts(verts);
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{tensor, semi, a1, a2, a3, u, manip, beta, gam, zz})
+    poly->GetPointData()->AddArray(a);
+  poly->GetPointData()->SetActiveTensors("ellipsoid_tensor");
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetInputData(poly);
+  w->SetWriteToOutputString(true);
+  w->SetDataModeToBinary();
+  ARMSTUDY_CHECK(w->Write() == 1, "VTK polydata writer failed");
+  const std::string name = map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
+  writeFileAtomic((std::filesystem::path(dir) / name).string(), w->GetOutputString());
+  return name;
+}
+
+namespace {
+
+nlohmann::ordered_json statsJson(const FieldStats& s) {
+  if (!s.any) return nullptr;
+  return {{"min", s.min}, {"min_at_gamma_rad", s.gamma_at_min}, {"min_at_z_m", s.z_at_min},
+          {"max", s.max}, {"max_at_gamma_rad", s.gamma_at_max}, {"max_at_z_m", s.z_at_max}};
+}
+
+std::string statsRow(const std::string& what, const FieldStats& s) {
+  if (!s.any) return "| " + what + " | - | - | - | - |\n";
+  return "| " + what + " | " + fmt(s.min) + " | gamma " + fmt(s.gamma_at_min * kRadToDeg, 0) +
+         " deg, z " + fmt(s.z_at_min, 2) + " m | " + fmt(s.max) + " | gamma " +
+         fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m |\n";
+}
+
+}  // namespace
+
+DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
+                                        const DexterityOptions& options,
+                                        const std::string& output_dir, int threads) {
+  namespace fs = std::filesystem;
+  const auto t0 = std::chrono::steady_clock::now();
+  DexterityStageSummary sum;
+  const std::string sub = "dexterity";
+  const std::string dir = (fs::path(output_dir) / sub).string();
+  nlohmann::ordered_json js;
+  const StemGrid& g = options.grid;
+  js["grid"] = {{"stem_x_m", g.stem_x_m},
+                {"stem_y_m", g.stem_y_m},
+                {"radius_m", g.radius_m},
+                {"gamma_rad", {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
+                {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
+                {"task", ik::toString(g.task)},
+                {"roll_rad", g.roll_rad}};
+  js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
+                    {"w_joint_limits", options.w_joint_limits},
+                    {"w_manipulability", options.w_manipulability},
+                    {"w_transmission", options.w_transmission},
+                    {"joint_limit_activation", options.joint_limit_activation},
+                    {"position_tolerance_m", options.position_tolerance_m},
+                    {"orientation_tolerance_rad", options.orientation_tolerance_rad},
+                    {"cold_starts", options.cold_starts},
+                    {"nullspace_max_iterations", options.nullspace.max_iterations},
+                    {"nullspace_relative_improvement", options.nullspace.relative_improvement}};
+  js["designs"] = nlohmann::ordered_json::array();
+  std::ostringstream md, cmp;
+  md << "# Dexterity maps\n\n"
+     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m) << ") m, TCP on a circle of radius "
+     << fmt(g.radius_m) << " m, gamma " << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".."
+     << fmt(g.gamma_rad.max * kRadToDeg, 1) << " deg (" << g.gamma_rad.count << " values), z "
+     << fmt(g.z_m.min, 2) << ".." << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task "
+     << ik::toString(g.task) << ", measures on the " << metrics::toString(options.measure_space)
+     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + " << options.w_manipulability
+     << " H_m1 + " << options.w_transmission << " H_m2 (thesis eq. 5.51).\n\n"
+     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0) << " deg), y = z (bottom = "
+     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow); grey = not reachable.\n\n";
+  cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
+         "mean normalised (plain) | mean normalised (optimised) | time [s] |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const Model& m : designs) {
+    DexterityMap map = computeDexterityMap(m, options, threads);
+    const MapFields f = mapFields(map);
+    sum.files.push_back(sub + "/" + writeMapVti(map, f, dir));
+    if (options.ellipsoids) {
+      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, false, dir));
+      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, true, dir));
+    }
+    const int G = g.gamma_rad.count, Z = g.z_m.count;
+    // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
+    // max), reachable.
+    const FieldStats beta_s = fieldStats(map, f.beta_opt);
+    struct Img { const char* key; const std::vector<double>* v; double hi; };
+    const Img imgs[] = {{"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0},
+                        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0},
+                        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0},
+                        {"reachable", &f.reachable, 1.0}};
+    const int scale = std::max(2, std::min(8, 400 / std::max(G, Z)));
+    std::map<std::string, std::string> png;
+    for (const Img& im : imgs) {
+      const std::string name = map.design + "_" + im.key + ".png";
+      writeFileAtomic((fs::path(dir) / name).string(), encodePng(heatmapImage(*im.v, G, Z, 0.0, im.hi, scale)));
+      sum.files.push_back(sub + "/" + name);
+      png[im.key] = name;
+    }
+    const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);
+    const FieldStats bp = fieldStats(map, f.beta_plain);
+    int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
+    double mean_p = 0, mean_o = 0;
+    for (int i = 0; i < static_cast<int>(map.cells.size()); ++i) {
+      const bool neg = g.gamma_rad.value(i % G) < 0;
+      (neg ? n_neg : n_pos)++;
+      if (map.cells[i].reachable) {
+        (neg ? reach_neg : reach_pos)++;
+        mean_p += f.manip_plain_norm[i];
+        mean_o += f.manip_opt_norm[i];
+        iters += map.cells[i].nullspace_iterations;
+      }
+    }
+    const int R = map.reachable();
+    if (R > 0) mean_p /= R, mean_o /= R;
+    auto frac = [](int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); };
+    cmp << "| " << m.name << " | " << m.dof() << " | " << frac(R, static_cast<int>(map.cells.size())) << " | "
+        << frac(reach_neg, n_neg) << " | " << frac(reach_pos, n_pos) << " | " << fmt(f.best_manipulability, 4)
+        << " | " << fmt(mean_p) << " | " << fmt(mean_o) << " | " << fmt(map.seconds, 2) << " |\n";
+    md << "## " << m.name << "\n\n"
+       << "Reachable: " << R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(reach_neg, n_neg)
+       << ", gamma >= 0: " << frac(reach_pos, n_pos) << "). Best manipulability (normalisation value): "
+       << fmt(f.best_manipulability, 5) << ". Mean null-space iterations: "
+       << fmt(R ? double(iters) / R : 0.0, 1) << ". Time: " << fmt(map.seconds, 2) << " s on "
+       << map.threads << " threads.\n\n"
+       << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
+       << statsRow("manipulability, optimised (normalised)", mo)
+       << statsRow("manipulability, plain (normalised)", mp)
+       << statsRow("transmission beta along u, optimised", beta_s)
+       << statsRow("transmission beta along u, plain", bp) << "\n"
+       << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable |\n"
+       << "|---|---|---|---|\n"
+       << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![](" << png["manipulability_plain_normalised"]
+       << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["reachable"] << ") |\n\n";
+    nlohmann::ordered_json d;
+    d["design"] = m.name;
+    d["dof"] = m.dof();
+    d["cells"] = map.cells.size();
+    d["reachable"] = R;
+    d["reachable_gamma_negative"] = reach_neg;
+    d["reachable_gamma_non_negative"] = reach_pos;
+    d["best_manipulability"] = f.best_manipulability;
+    d["manipulability_optimised_normalised"] = statsJson(mo);
+    d["manipulability_plain_normalised"] = statsJson(mp);
+    d["transmission_optimised"] = statsJson(beta_s);
+    d["transmission_plain"] = statsJson(bp);
+    d["mean_normalised_plain"] = mean_p;
+    d["mean_normalised_optimised"] = mean_o;
+    d["seconds"] = map.seconds;
+    d["threads"] = map.threads;
+    js["designs"].push_back(d);
+    sum.maps.push_back(std::move(map));
+  }
+  if (designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
+  else md << "## Summary\n\n" << cmp.str() << "\n";
+  writeFileAtomic((fs::path(dir) / "summary.json").string(), js.dump(2) + "\n");
+  writeFileAtomic((fs::path(dir) / "report.md").string(), md.str());
+  sum.files.push_back(sub + "/summary.json");
+  sum.files.push_back(sub + "/report.md");
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return sum;
+}
+
+}  // namespace armstudy::dexterity

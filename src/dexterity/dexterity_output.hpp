@@ -1,0 +1,46 @@
+#pragma once
+// Outputs of the dexterity stage (docs/dexterity.md): per design a VTK ImageData heat map over
+// (gamma, z), VTK PolyData ellipsoid glyph data (plain and optimised), PNG images; per study a
+// summary JSON and a Markdown report. Every file is written atomically.
+#include <string>
+#include <vector>
+
+#include "dexterity/dexterity_map.hpp"
+
+namespace armstudy::dexterity {
+
+// Statistics of one field over the reachable cells.
+struct FieldStats {
+  bool any = false;
+  double min = 0, max = 0;
+  double gamma_at_min = 0, z_at_min = 0, gamma_at_max = 0, z_at_max = 0;
+};
+
+// The per-cell fields the outputs carry; NaN where the cell is unreachable.
+// `best_manipulability` normalises both plain and optimised maps (1 = best found in this map).
+struct MapFields {
+  std::vector<double> reachable;
+  std::vector<double> manip_plain, manip_opt, manip_plain_norm, manip_opt_norm;
+  std::vector<double> beta_plain, beta_opt, invcond_plain, invcond_opt, smin_plain, smin_opt;
+  std::vector<double> H_plain, H_opt, nullspace_iterations;
+  double best_manipulability = 0;
+};
+MapFields mapFields(const DexterityMap& map);
+FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field);
+
+// Writes <dir>/<design>.vti; returns the file name relative to dir.
+std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir);
+// Writes <dir>/<design>_ellipsoids_{plain|optimised}.vtp (reachable cells only).
+std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir);
+
+// Runs the stage for every design and writes everything under <output_dir>/dexterity/. Appends the
+// files written (relative to output_dir) to `files`. threads = 0: OpenMP default.
+struct DexterityStageSummary {
+  std::vector<std::string> files;
+  double seconds = 0;
+  std::vector<DexterityMap> maps;  // kept for callers (tests, benchmark)
+};
+DexterityStageSummary runDexterityStage(const std::vector<Model>& designs, const DexterityOptions& options,
+                                        const std::string& output_dir, int threads);
+
+}  // namespace armstudy::dexterity

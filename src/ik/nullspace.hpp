@@ -1,0 +1,181 @@
+#pragma once
+// Inverse kinematics with local optimisation of the kinematic redundancy (thesis section 5.4):
+//  - the weighted generalised inverse (eq. 5.47) applied without an explicit inverse (Algorithm
+//    5.3), optionally damped (eq. 5.65) with the adaptive damping factor of eq. (5.67);
+//  - velocity-level tracking of a reference with Liegeois' null-space term (eq. 5.46), drift
+//    compensation (eq. 5.50) and Euler integration (eq. 5.49);
+//  - a position-level damped Newton solve of one pose (used as the start for optimisation);
+//  - "optimised at a pose": descent of the weighted objective H (eq. 5.51) in the null space while
+//    the tool stays on the pose.
+// Task rows are rows of the geometric TCP Jacobian (translational velocity, angular velocity), so
+// the null space is exact and free of the Cardan representation singularity.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ik/objectives.hpp"
+#include "kinematics/kinematics.hpp"
+
+namespace armstudy::ik {
+
+// What the tool must hold.
+enum class PoseTaskKind {
+  Position,      // p_WT only (m = 3), e.g. thesis Fig. 5.12
+  PositionAxis,  // p_WT and the tool axis z_T (m = 5); roll about the tool axis is free (Fig. 3.4)
+  FullPose,      // p_WT and R_WT (m = 6)
+};
+const char* toString(PoseTaskKind k);
+int taskDim(PoseTaskKind k);
+
+struct PoseTarget {
+  PoseTaskKind kind = PoseTaskKind::FullPose;
+  Eigen::Vector3d p_WT = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();  // PositionAxis uses only its z column
+};
+
+using TaskJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
+using TaskVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+
+// Task Jacobian rows (m x n) and error e = w_d - f(q) in the same rows (eq. 5.50b): position error,
+// and the rotation vector that takes the current tool axis/frame onto the desired one, expressed in
+// an orthonormal basis S of the constrained angular directions. Requires tcpJacobian. S (3 x m_rot)
+// is returned so desired angular velocities can be mapped the same way.
+void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
+                          TaskVec& e, Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr);
+
+struct PoseError {
+  double position_m = 0;
+  double orientation_rad = 0;  // angle between tool axes (PositionAxis) or frames (FullPose)
+};
+PoseError poseError(const KinematicsWorkspace& ws, const PoseTarget& target);
+
+// Thesis eq. (5.67): lambda = lambda0 (1 - m/m0)^2 for m < m0, else 0. lambda0 = 0 disables.
+double adaptiveDamping(double manipulability, double lambda0, double m0);
+
+// Algorithm 5.3 (with eq. 5.65b when lambda > 0):
+//   p = wdot + alpha J W^-1 grad^T;  B = J W^-1 J^T + lambda^2 I;  solve B gamma = p (Cholesky);
+//   qdot = W^-1 (J^T gamma - alpha grad^T).
+// This is the exact minimiser of eq. (5.45) (for lambda = 0); for W != I it equals eq. (5.46)
+// with the null-space term N W^-1 grad^T. `w_inv` is the diagonal of W^-1; `grad` may be empty.
+// Returns false (qdot untouched) when B is not positive definite (singular J and lambda = 0).
+bool redundancyResolution(const Eigen::Ref<const Eigen::MatrixXd>& J,
+                          const Eigen::Ref<const Eigen::VectorXd>& w_inv,
+                          const Eigen::Ref<const Eigen::VectorXd>& wdot,
+                          const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha, double lambda,
+                          Eigen::Ref<Eigen::VectorXd> qdot);
+
+struct RedundancyOptions {
+  std::vector<double> joint_weights;  // diagonal of W (eq. 5.45a); empty = identity
+  double alpha = defaults::kNullspaceGain_per_s;       // null-space gain of eq. (5.46) [1/s]
+  double drift_gain = defaults::kDriftGain_per_s;      // K of eq. (5.50a) [1/s]
+  double damping_lambda0 = 0;  // eq. (5.67); 0 = undamped generalised inverse (eq. 5.47)
+  double damping_m0 = 0;       // manipulability of the task Jacobian below which damping starts
+  std::string validate(int dof) const;  // empty when valid
+  JointVector weightInverse(int dof) const;
+};
+
+// ---- Velocity-level tracking (Fig. 5.10) ----
+struct ReferencePoint {
+  PoseTarget pose;
+  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();      // desired TCP velocity [m/s]
+  Eigen::Vector3d omega_W = Eigen::Vector3d::Zero();  // desired angular velocity [rad/s]
+};
+using Reference = std::function<ReferencePoint(double t)>;
+
+struct TrackingOptions {
+  RedundancyOptions redundancy;
+  double dt = defaults::kTrackingStep_s;  // Euler step of eq. (5.49) [s]
+  bool stop_at_joint_limit = true;        // abort the motion when a joint leaves its limits (Fig. 5.12b)
+  std::string validate(int dof) const;
+};
+
+struct TrackingSample {
+  double t = 0;
+  JointVector q, qdot;
+  double position_error_m = 0, orientation_error_rad = 0;
+  double lambda = 0, manipulability = 0;  // damping used and sqrt(det(J_w J_w^T)) of the task rows
+};
+
+enum class TrackingStatus { Completed, JointLimitReached, SingularJacobian };
+const char* toString(TrackingStatus s);
+
+struct TrackingSummary {
+  TrackingStatus status = TrackingStatus::Completed;
+  int steps = 0;
+  int limit_joint = -1;        // first joint that left its limits
+  double max_joint_speed = 0;  // max |qdot_i| over the run
+  std::vector<TrackingSample> samples;  // one per step
+  TrackingOptions options_used;
+};
+
+// Integrates qdot (Algorithm 5.3 with drift compensation eq. 5.50 and adaptive damping eq. 5.67)
+// with explicit Euler (eq. 5.49) from q0 over [0, duration]. With `objective` non-null, its
+// gradient drives the null-space term (eq. 5.46); ctx must belong to the same ws.
+TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
+                               const Reference& reference, const Eigen::VectorXd& q0,
+                               double duration, const WeightedObjective* objective,
+                               ObjectiveContext* ctx, const TrackingOptions& options);
+
+// ---- Position level: one pose ----
+struct PoseSolveOptions {
+  int max_iterations = defaults::kPoseSolveMaxIterations;
+  double position_tolerance_m = defaults::kPoseSolveTolerance_m;      // stop early below both
+  double orientation_tolerance_rad = defaults::kPoseSolveTolerance_rad;
+  double max_step = defaults::kPoseSolveMaxStep;
+};
+
+struct PoseSolveResult {
+  JointVector q;
+  PoseError error;
+  int iterations = 0;
+};
+
+// Damped Newton (Levenberg-Marquardt on eq. 3.2 with the geometric error) from q_start, iterates
+// projected onto the joint limits. Returns the best iterate; the caller judges it against its
+// tolerances. Weighted by W^-1 (`w_inv`).
+PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTarget& target,
+                          const Eigen::VectorXd& q_start, const Eigen::VectorXd& w_inv,
+                          const PoseSolveOptions& options);
+
+// ---- Null-space optimisation at a pose ----
+struct NullspaceOptions {
+  int max_iterations = defaults::kNullspaceMaxIterations;
+  double relative_improvement = defaults::kNullspaceRelativeImprovement;
+  double max_step = defaults::kNullspaceMaxStep;
+  int correction_iterations = defaults::kNullspaceCorrectionIterations;
+  double pose_tolerance = defaults::kNullspacePoseTolerance;  // [m and rad]
+  // Adaptive damping of the descent direction near singularities (eq. 5.65, 5.67); 0 = off.
+  double damping_lambda0 = 0, damping_m0 = 0;
+  std::string validate() const;  // empty when valid
+};
+
+enum class NullspaceStatus {
+  Converged,       // H stopped improving (relative change below the threshold, or stationary)
+  IterationLimit,  // still improving when the iteration cap was hit
+  NotOnPose,       // the start was not on the pose within tolerance; returned unchanged
+};
+const char* toString(NullspaceStatus s);
+
+struct NullspaceResult {
+  NullspaceStatus status = NullspaceStatus::Converged;
+  JointVector q;
+  double H_start = 0, H_final = 0;
+  int iterations = 0;       // accepted descent steps
+  int evaluations = 0;      // objective evaluations (incl. rejected trials)
+  PoseError error;          // at q
+};
+
+// Moves q_start (on the pose) along the projected descent direction -N W^-1 grad H (Algorithm 5.3
+// with wdot = 0), with a backtracking line search; after each trial step, Newton corrections with
+// the generalised inverse (drift compensation, eq. 5.50) bring the tool back onto the pose. Steps
+// that leave the joint limits or the pose are rejected. Stops when H stops improving.
+NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
+                               const PoseTarget& target, const Eigen::VectorXd& q_start,
+                               const WeightedObjective& objective, const Eigen::VectorXd& w_inv,
+                               const NullspaceOptions& options);
+
+// True when every q_i lies within its limits.
+bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);
+
+}  // namespace armstudy::ik

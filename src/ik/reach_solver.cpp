@@ -1,0 +1,545 @@
+#include "ik/reach_solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlopt.hpp>
+#include <vector>
+
+#include "common/errors.hpp"
+
+namespace armstudy {
+
+const char* toString(ReachStatus s) {
+  switch (s) {
+    case ReachStatus::Reachable: return "reachable";
+    case ReachStatus::OutOfReach: return "out_of_reach";
+    case ReachStatus::JointLimits: return "joint_limits";
+    case ReachStatus::RepresentationSingularity: return "representation_singularity";
+    case ReachStatus::SelfCollision: return "self_collision";
+    case ReachStatus::TorqueLimit: return "torque";
+  }
+  return "?";
+}
+
+const char* toString(IkAlgorithm a) {
+  switch (a) {
+    case IkAlgorithm::LmThenSlsqp: return "lm+slsqp";
+    case IkAlgorithm::LmOnly: return "lm";
+    case IkAlgorithm::SlsqpOnly: return "slsqp";
+  }
+  return "?";
+}
+
+std::string IkOptions::validate() const {
+  if (!(position_tolerance_m > 0) || !std::isfinite(position_tolerance_m))
+    return "position tolerance must be positive";
+  if (!(orientation_tolerance_rad > 0) || !std::isfinite(orientation_tolerance_rad))
+    return "orientation tolerance must be positive";
+  if (max_starts < 1) return "at least one start is needed";
+  if (max_iterations < 1) return "at least one iteration is needed";
+  if (classify_starts < 0) return "classification starts must not be negative";
+  if (!(orientation_weight_m > 0)) return "orientation weight must be positive";
+  return "";
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+using VecM = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+using MatM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using JacW = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
+
+inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
+
+// Counter-based generator (splitmix64): the k-th start of pose `id` is the same on any thread.
+inline std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// What the solver needs about a target, prepared once per pose.
+struct Context {
+  const Model* model;  // null when only residuals/Jacobians are needed
+  const IkTarget& target;
+  double w_o;
+  bool full_orientation;
+  bool any_orientation;
+  Eigen::Matrix3d R_d;
+  int m;
+};
+
+Context makeContext(const Model* model, const IkTarget& t, double w_o) {
+  const auto& s = t.task_space.selected;
+  Context c{model, t, w_o, s[3] && s[4] && s[5], s[3] || s[4] || s[5], Eigen::Matrix3d::Identity(),
+            t.task_space.dim()};
+  if (c.full_orientation) c.R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
+  return c;
+}
+
+// Weighted residual e = W (w_d - f(q)) of the pose in kin, and the unweighted errors.
+void residual(const Context& c, const KinematicsWorkspace& kin, VecM& e, PoseError& err) {
+  const auto& sel = c.target.task_space.selected;
+  const TaskVector6& w_d = c.target.w_d;
+  e.resize(c.m);
+  int r = 0;
+  double pp = 0;
+  for (int k = 0; k < 3; ++k)
+    if (sel[k]) {
+      const double d = w_d[k] - kin.p_WT[k];
+      e[r++] = d;
+      pp += d * d;
+    }
+  err.position_m = std::sqrt(pp);
+  err.singular = false;
+  err.orientation_rad = 0;
+  if (c.full_orientation) {
+    const Eigen::AngleAxisd aa(Eigen::Matrix3d(c.R_d * kin.R_WT.transpose()));
+    e.segment<3>(r) = (c.w_o * aa.angle()) * aa.axis();
+    err.orientation_rad = std::abs(aa.angle());
+  } else if (c.any_orientation) {
+    const CardanAngles a = cardanFromRotation(kin.R_WT);
+    err.singular = a.singular;
+    const double cur[3] = {a.alpha, a.beta, a.gamma};
+    double oo = 0;
+    for (int k = 0; k < 3; ++k)
+      if (sel[3 + k]) {
+        const double d = wrapAngle(w_d[3 + k] - cur[k]);
+        e[r++] = c.w_o * d;
+        oo += d * d;
+      }
+    err.orientation_rad = std::sqrt(oo);
+  }
+}
+
+// Weighted task Jacobian rows matching residual(). False at the representation singularity.
+bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, JacW& J) {
+  const auto& sel = c.target.task_space.selected;
+  const int n = kin.n;
+  J.resize(c.m, n);
+  int r = 0;
+  for (int k = 0; k < 3; ++k)
+    if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
+  if (c.full_orientation) {
+    J.middleRows(r, 3) = c.w_o * kin.J_W_tcp.bottomRows<3>();
+  } else if (c.any_orientation) {
+    const CardanAngles a = cardanFromRotation(kin.R_WT);
+    Eigen::Matrix3d T_A_inv;
+    if (a.singular || !cardanRateMatrix(a.alpha, a.beta, T_A_inv)) return false;
+    for (int k = 0; k < 3; ++k)
+      if (sel[3 + k]) J.row(r++) = c.w_o * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>());  // eq. (5.9)
+  }
+  return true;
+}
+
+bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction) {
+  return e.position_m <= fraction * o.position_tolerance_m &&
+         e.orientation_rad <= fraction * o.orientation_tolerance_rad;
+}
+
+// Damped least-squares step dq = Jf^T (Jf Jf^T + lambda I)^-1 e over the free joints (Jf: J with
+// held columns removed). Hand-rolled Cholesky: m <= 6, and Eigen's dynamic-size LLT dominated the
+// profile.
+inline void dampedStep(const JacW& J, const VecM& e, const std::array<bool, kMaxDof>& free,
+                       double lambda, int n, int m, JointVector& dq) {
+  double a[6][6];
+  for (int r = 0; r < m; ++r)
+    for (int s = 0; s <= r; ++s) {
+      double sum = 0;
+      for (int i = 0; i < n; ++i)
+        if (free[i]) sum += J(r, i) * J(s, i);
+      a[r][s] = sum;
+    }
+  for (int r = 0; r < m; ++r) a[r][r] += lambda;
+  // In-place Cholesky a = L L^T (lower triangle); lambda > 0 keeps it positive definite.
+  for (int j = 0; j < m; ++j) {
+    double d = a[j][j];
+    for (int k = 0; k < j; ++k) d -= a[j][k] * a[j][k];
+    d = std::sqrt(std::max(d, 1e-300));
+    a[j][j] = d;
+    for (int i = j + 1; i < m; ++i) {
+      double v = a[i][j];
+      for (int k = 0; k < j; ++k) v -= a[i][k] * a[j][k];
+      a[i][j] = v / d;
+    }
+  }
+  double y[6];
+  for (int i = 0; i < m; ++i) {
+    double v = e[i];
+    for (int k = 0; k < i; ++k) v -= a[i][k] * y[k];
+    y[i] = v / a[i][i];
+  }
+  for (int i = m - 1; i >= 0; --i) {
+    double v = y[i];
+    for (int k = i + 1; k < m; ++k) v -= a[k][i] * y[k];
+    y[i] = v / a[i][i];
+  }
+  for (int i = 0; i < n; ++i) {
+    double v = 0;
+    if (free[i])
+      for (int r = 0; r < m; ++r) v += J(r, i) * y[r];
+    dq[i] = v;
+  }
+}
+
+// Outcome of one local solve.
+struct LocalResult {
+  bool success = false;
+  bool singular = false;  // ended because the Cardan representation became singular
+  PoseError err;
+  double cost = 0;
+};
+
+// Levenberg-Marquardt on |W e|^2 projected onto the joint-limit box (active set). q is updated
+// in place to the best configuration of this start; ws.kin holds its forward kinematics on return.
+LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q,
+                  bool limits, int& iterations) {
+  const Model& model = *c.model;
+  KinematicsWorkspace& kin = ws.kin;
+  const int n = kin.n;
+  LocalResult res;
+  VecM e, e_new;
+  PoseError err_new;
+  JacW J;
+  JointVector q_new(n), dq(n);
+  std::array<bool, kMaxDof> free{};
+
+  forwardKinematics(model, kin, q);
+  residual(c, kin, e, res.err);
+  res.cost = e.squaredNorm();
+  double lambda = defaults::kIkLambdaInitial_m2;
+  int slow = 0;
+  bool kin_current = true;  // kin holds the FK of q
+  for (int it = 0; it < o.max_iterations; ++it) {
+    if (withinTolerance(res.err, o, defaults::kIkConvergenceFraction)) break;
+    if (!kin_current) forwardKinematics(model, kin, q);
+    tcpJacobian(model, kin);
+    kin_current = true;
+    if (!taskJacobian(c, kin, J)) {
+      res.singular = true;
+      break;
+    }
+    ++iterations;
+    bool accepted = false;
+    while (!accepted) {
+      // Damped least squares step dq = J^T (J J^T + lambda I)^-1 e over the free joints.
+      for (int i = 0; i < n; ++i) free[i] = true;
+      for (int pass = 0; pass < 2; ++pass) {
+        dampedStep(J, e, free, lambda, n, c.m, dq);
+        if (!limits) break;
+        bool changed = false;
+        for (int i = 0; i < n; ++i) {
+          const JointLimits& L = model.joints[i].limits;
+          if (free[i] && ((q[i] <= L.q_min && dq[i] < 0) || (q[i] >= L.q_max && dq[i] > 0))) {
+            free[i] = false;
+            changed = true;
+          }
+        }
+        if (!changed) break;
+      }
+      q_new = q + dq;
+      if (limits)
+        for (int i = 0; i < n; ++i)
+          q_new[i] = std::clamp(q_new[i], model.joints[i].limits.q_min, model.joints[i].limits.q_max);
+      forwardKinematics(model, kin, q_new);
+      kin_current = false;
+      residual(c, kin, e_new, err_new);
+      const double cost_new = e_new.squaredNorm();
+      if (cost_new < res.cost) {
+        const double ratio = (res.cost - cost_new) / res.cost;
+        slow = ratio < defaults::kIkStagnationRatio ? slow + 1 : 0;
+        q = q_new;
+        e = e_new;
+        res.err = err_new;
+        res.cost = cost_new;
+        kin_current = true;
+        lambda = std::max(lambda * defaults::kIkLambdaDown, defaults::kIkLambdaMin_m2);
+        accepted = true;
+      } else {
+        lambda *= defaults::kIkLambdaUp;
+        if (lambda > defaults::kIkLambdaMax_m2) break;
+      }
+    }
+    if (!accepted || slow >= defaults::kIkStagnationSteps) break;
+  }
+  if (!kin_current) forwardKinematics(model, kin, q);
+  res.success = withinTolerance(res.err, o, 1.0);
+  return res;
+}
+
+// ---- NLopt SLSQP (analytic gradients, joint limits as bounds) ----
+
+struct NloptData {
+  const Model* model;
+  KinematicsWorkspace* kin;
+  const IkTarget* target;
+  double w_o;
+  Eigen::VectorXd q, g;
+  int evaluations = 0;
+};
+
+double nloptObjective(unsigned n, const double* x, double* grad, void* data) {
+  auto* d = static_cast<NloptData*>(data);
+  ++d->evaluations;
+  d->q = Eigen::Map<const Eigen::VectorXd>(x, n);
+  const double f = ikObjective(*d->model, *d->kin, *d->target, d->w_o, d->q, grad ? &d->g : nullptr);
+  if (grad) Eigen::Map<Eigen::VectorXd>(grad, n) = d->g;
+  return f;
+}
+
+// Minimises ikObjective from q (in place) with NLopt SLSQP; returns the local result.
+LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q) {
+  const Model& model = *c.model;
+  const int n = model.dof();
+  NloptData data{&model, &ws.kin, &c.target, c.w_o, Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  nlopt::opt opt(nlopt::LD_SLSQP, static_cast<unsigned>(n));
+  std::vector<double> lo(n), hi(n), x(n);
+  for (int i = 0; i < n; ++i) {
+    lo[i] = model.joints[i].limits.q_min;
+    hi[i] = model.joints[i].limits.q_max;
+    x[i] = std::clamp(q[i], lo[i], hi[i]);
+  }
+  opt.set_lower_bounds(lo);
+  opt.set_upper_bounds(hi);
+  opt.set_min_objective(nloptObjective, &data);
+  // Stop once the objective corresponds to errors well inside the tolerances.
+  const double tp = defaults::kIkConvergenceFraction * o.position_tolerance_m;
+  const double to = defaults::kIkConvergenceFraction * o.orientation_tolerance_rad * c.w_o;
+  opt.set_stopval(0.5 * (tp * tp + to * to) * 0.25);
+  opt.set_xtol_abs(1e-12);
+  opt.set_ftol_abs(1e-16);
+  opt.set_maxeval(defaults::kIkPolishMaxEvaluations);
+  double f = 0;
+  try {
+    opt.optimize(x, f);
+  } catch (const std::exception&) {
+    // Round-off or a failed line search: keep the best point NLopt reports in x.
+  }
+  for (int i = 0; i < n; ++i) q[i] = std::clamp(x[i], lo[i], hi[i]);
+  LocalResult res;
+  forwardKinematics(model, ws.kin, q);
+  VecM e;
+  residual(c, ws.kin, e, res.err);
+  res.cost = e.squaredNorm();
+  res.success = withinTolerance(res.err, o, 1.0);
+  return res;
+}
+
+void randomStart(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k,
+                 JointVector& q) {
+  std::uint64_t s = splitmix(seed ^ splitmix(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
+  for (int i = 0; i < model.dof(); ++i) {
+    s = splitmix(s);
+    const double u = static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
+    const JointLimits& L = model.joints[i].limits;
+    q[i] = L.q_min + u * (L.q_max - L.q_min);
+  }
+}
+
+void midStart(const Model& model, JointVector& q) {
+  for (int i = 0; i < model.dof(); ++i)
+    q[i] = 0.5 * (model.joints[i].limits.q_min + model.joints[i].limits.q_max);
+}
+
+// Distance of the target position to the set the first revolute joint's origin can reach.
+bool beyondReachBound(const IkWorkspace& ws, const IkTarget& t, bool limits) {
+  const auto& s = t.task_space.selected;
+  if (!ws.has_bound || !(s[0] && s[1] && s[2])) return false;
+  const Eigen::Vector3d d = t.w_d.head<3>() - ws.bound_p0;
+  double tt = d.dot(ws.bound_axis);
+  if (limits) tt = std::clamp(tt, ws.bound_t_min, ws.bound_t_max);
+  const double dist = (d - tt * ws.bound_axis).norm();
+  return dist > ws.reach_radius + defaults::kIkReachBoundSlack_m;
+}
+
+}  // namespace
+
+IkWorkspace::IkWorkspace(const Model& model) : kin(model) {
+  // First revolute joint r; the joints before it must be at most one prismatic joint.
+  int r = 0;
+  while (r < model.dof() && model.joints[r].type == JointType::Prismatic) ++r;
+  if (r == model.dof() || r > 1) return;
+  Eigen::Isometry3d T = model.T_WB;
+  for (int i = 0; i <= r; ++i) {
+    T = T * model.joints[i].T_PJ0;
+    if (i < r) {
+      bound_axis = T.linear().col(2);
+      bound_t_min = model.joints[i].limits.q_min;
+      bound_t_max = model.joints[i].limits.q_max;
+    }
+  }
+  bound_p0 = T.translation();
+  double radius = model.T_NT.translation().norm();
+  for (int i = r + 1; i < model.dof(); ++i) {
+    radius += model.joints[i].T_PJ0.translation().norm();
+    if (model.joints[i].type == JointType::Prismatic)
+      radius += std::max(std::abs(model.joints[i].limits.q_min), std::abs(model.joints[i].limits.q_max));
+  }
+  reach_radius = radius;
+  has_bound = true;
+}
+
+PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
+  // The weight only scales e, not the reported errors.
+  const Context c = makeContext(nullptr, target, 1.0);
+  VecM e;
+  PoseError err;
+  residual(c, kin, e, err);
+  return err;
+}
+
+double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target,
+                   double w_o, const Eigen::VectorXd& q, Eigen::VectorXd* grad) {
+  const Context c = makeContext(&model, target, w_o);
+  const auto& sel = target.task_space.selected;
+  const int n = model.dof();
+  forwardKinematics(model, kin, q);
+  if (grad) {
+    tcpJacobian(model, kin);
+    grad->setZero(n);
+  }
+  double f = 0;
+  for (int k = 0; k < 3; ++k)
+    if (sel[k]) {
+      const double d = target.w_d[k] - kin.p_WT[k];
+      f += 0.5 * d * d;
+      if (grad) *grad -= d * kin.J_W_tcp.row(k).transpose();
+    }
+  if (c.full_orientation) {
+    // w^2 (1 - cos(angle)), cos(angle) = (tr(A) - 1) / 2 with A = R R_d^T; d tr(A)/dq_i = -omega_i . v.
+    const Eigen::Matrix3d A = kin.R_WT * c.R_d.transpose();
+    f += w_o * w_o * (1.0 - 0.5 * (A.trace() - 1.0));
+    if (grad) {
+      const Eigen::Vector3d v(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
+      *grad += 0.5 * w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * v);
+    }
+  } else if (c.any_orientation) {
+    const CardanAngles a = cardanFromRotation(kin.R_WT);
+    const double cur[3] = {a.alpha, a.beta, a.gamma};
+    Eigen::Matrix3d T_A_inv;
+    const bool ok = !a.singular && cardanRateMatrix(a.alpha, a.beta, T_A_inv);
+    for (int k = 0; k < 3; ++k)
+      if (sel[3 + k]) {
+        const double d = wrapAngle(target.w_d[3 + k] - cur[k]);
+        f += 0.5 * w_o * w_o * d * d;
+        if (grad && ok)
+          *grad -= w_o * w_o * d * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>()).transpose();
+      }
+  }
+  return f;
+}
+
+double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
+  IkTarget t;
+  t.task_space = task_space;
+  const Context c = makeContext(nullptr, t, 1.0);
+  JacW J;
+  if (!taskJacobian(c, kin, J)) return 0.0;
+  const MatM JJt = J * J.transpose();
+  const double det = JJt.determinant();
+  return det > 0 ? std::sqrt(det) : 0.0;  // eq. (5.59)
+}
+
+double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q) {
+  double margin = 0.5;
+  for (int i = 0; i < model.dof(); ++i) {
+    const JointLimits& L = model.joints[i].limits;
+    const double range = L.q_max - L.q_min;
+    if (!(range > 0)) return 0.0;
+    margin = std::min(margin, std::min(q[i] - L.q_min, L.q_max - q[i]) / range);
+  }
+  return std::max(margin, 0.0);
+}
+
+IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
+                   const IkOptions& o, std::uint64_t pose_id, const JointVector* warm_start) {
+  const int n = model.dof();
+  ARMSTUDY_CHECK(ws.kin.n == n, "IkWorkspace was built for another model");
+  const Context c = makeContext(&model, target, o.orientation_weight_m);
+  IkResult r;
+  r.q.resize(n);
+  JointVector q(n), best_q(n);
+  LocalResult best;
+  best.cost = std::numeric_limits<double>::infinity();
+  bool have_best = false;
+  bool solved = false;
+
+  const bool bound_out = o.use_reach_bound && beyondReachBound(ws, target, true);
+  if (bound_out) {
+    // Certainly unreachable; one local solve from the middle of the limits gives the closest
+    // configuration found for the reported errors.
+    r.bound_rejected = true;
+    midStart(model, best_q);
+    best = runLm(c, ws, o, best_q, true, r.iterations);
+    best.success = false;
+    have_best = true;
+  } else {
+    for (int k = 0; k < o.max_starts && !solved; ++k) {
+      if (k == 0 && warm_start) {
+        q = *warm_start;
+      } else if (k == (warm_start ? 1 : 0)) {
+        midStart(model, q);
+      } else {
+        randomStart(model, o.seed, pose_id, k, q);
+      }
+      ++r.starts;
+      const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
+                                 ? runSlsqp(c, ws, o, q)
+                                 : runLm(c, ws, o, q, true, r.iterations);
+      if (lr.success || lr.cost < best.cost) {
+        best = lr;
+        best_q = q;
+        have_best = true;
+      }
+      solved = lr.success;
+    }
+    // Constrained fallback: polish a near miss with SLSQP.
+    if (!solved && o.algorithm == IkAlgorithm::LmThenSlsqp && have_best && !best.singular &&
+        best.err.position_m < defaults::kIkPolishBand * o.position_tolerance_m &&
+        best.err.orientation_rad < defaults::kIkPolishBand * o.orientation_tolerance_rad) {
+      q = best_q;
+      const LocalResult lr = runSlsqp(c, ws, o, q);
+      if (lr.success || lr.cost < best.cost) {
+        best = lr;
+        best_q = q;
+      }
+      solved = lr.success;
+      r.polished = solved;
+    }
+  }
+
+  r.q = best_q;
+  forwardKinematicsAndJacobian(model, ws.kin, best_q);
+  {
+    VecM e;
+    PoseError err;
+    residual(c, ws.kin, e, err);
+    r.position_error_m = err.position_m;
+    r.orientation_error_rad = err.orientation_rad;
+  }
+  r.manipulability = taskManipulability(ws.kin, target.task_space);
+  r.joint_limit_margin = jointLimitMargin(model, best_q);
+  if (solved) {
+    r.status = ReachStatus::Reachable;
+    return r;
+  }
+
+  // Why not: re-solve without joint limits.
+  bool free_success = false;
+  if (o.classify_failures && !beyondReachBound(ws, target, false)) {
+    for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
+      if (k == 0) q = best_q;
+      else randomStart(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
+      free_success = runLm(c, ws, o, q, false, r.iterations).success;
+    }
+  }
+  if (free_success) r.status = ReachStatus::JointLimits;
+  else if (best.singular) r.status = ReachStatus::RepresentationSingularity;
+  else r.status = ReachStatus::OutOfReach;
+  return r;
+}
+
+}  // namespace armstudy

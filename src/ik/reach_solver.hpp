@@ -1,0 +1,125 @@
+#pragma once
+// Per-pose inverse kinematics for reachability (thesis eq. 3.2):
+//   || w_d - f(q) || -> min over q in C (the joint-limit box),
+// and the pose is reachable when the position and orientation errors are below the tolerances.
+//
+// Algorithm (docs/reachability.md, benchmark in docs/performance.md):
+//  1. A conservative reach bound (distance of the target to the set the first revolute joint's
+//     origin can occupy, versus the summed link lengths after it) rejects far targets at once.
+//  2. Levenberg-Marquardt / damped least squares on the weighted task error, projected onto the
+//     joint-limit box with an active set (joints at a bound that the step pushes outward are held),
+//     from a sequence of deterministic starts: the warm start (the neighbouring grid cell's
+//     solution) if given, the middle of the limits, then seeded random configurations.
+//  3. When every start misses narrowly, NLopt SLSQP with analytic gradients and the limits as
+//     bounds polishes the best configuration (the constrained fallback).
+//  4. For an unreachable pose, the reason: a re-solve without joint limits that succeeds means the
+//     limits block the pose; a best solution at cos(beta) = 0 means the Cardan representation is
+//     singular there; otherwise the pose is out of reach.
+//
+// Orientation error: for the full pose (eq. 5.3) the geodesic angle between R_d and R (the
+// solver uses the rotation vector of R_d R^T with the geometric Jacobian); for task spaces that
+// select only some Cardan angles (spraying, eq. 3.1) the Euclidean norm of the wrapped Cardan
+// angle differences of the selected components, with the analytic Jacobian (eq. 5.9-5.11).
+#include <cstdint>
+#include <string>
+
+#include "kinematics/kinematics.hpp"
+#include "tasks/task_grid.hpp"
+
+namespace armstudy {
+
+// Why a pose is (not) reachable. Values are stable: they are written into maps and summaries.
+enum class ReachStatus : std::uint8_t {
+  Reachable = 0,
+  OutOfReach = 1,                 // no configuration reaches it, even without joint limits
+  JointLimits = 2,                // reachable only if the joint limits were lifted
+  RepresentationSingularity = 3,  // best solution at cos(beta) = 0 (partial Cardan task spaces)
+  SelfCollision = 4,              // reserved for the collision stage
+  TorqueLimit = 5,                // reserved for the dynamics stage
+};
+inline constexpr int kReachStatusCount = 6;
+const char* toString(ReachStatus s);
+
+enum class IkAlgorithm {
+  LmThenSlsqp,  // default: LM starts, SLSQP polish of near misses
+  LmOnly,
+  SlsqpOnly,    // every start solved by NLopt SLSQP (benchmark comparison)
+};
+const char* toString(IkAlgorithm a);
+
+struct IkOptions {
+  double position_tolerance_m = defaults::kPositionTolerance_m;
+  double orientation_tolerance_rad = defaults::kOrientationTolerance_rad;
+  int max_starts = defaults::kIkMaxStarts;         // including the warm start
+  int max_iterations = defaults::kIkMaxIterations;  // LM iterations per start
+  std::uint64_t seed = defaults::kIkSeed;
+  bool classify_failures = true;                    // tell out_of_reach from joint_limits
+  int classify_starts = defaults::kIkClassifyStarts;
+  bool use_reach_bound = true;
+  IkAlgorithm algorithm = IkAlgorithm::LmThenSlsqp;
+  double orientation_weight_m = defaults::kIkOrientationWeight_m;
+  std::string validate() const;                     // empty when valid
+};
+
+struct IkTarget {
+  TaskSpace task_space = TaskSpace::fullPose();
+  TaskVector6 w_d = TaskVector6::Zero();  // (x, y, z, alpha, beta, gamma) in W
+};
+
+struct IkResult {
+  ReachStatus status = ReachStatus::OutOfReach;
+  bool reachable() const { return status == ReachStatus::Reachable; }
+  double position_error_m = 0;       // of the best configuration found (within the limits)
+  double orientation_error_rad = 0;
+  JointVector q;                     // best configuration found (the solution when reachable)
+  int starts = 0;                    // starts used (within limits)
+  int iterations = 0;                // LM iterations over all starts (incl. classification)
+  bool polished = false;             // the SLSQP polish produced the solution
+  bool bound_rejected = false;       // certainly unreachable by the reach bound (one local solve only)
+  double manipulability = 0;         // sqrt(det(J_w J_w^T)) of the task Jacobian (eq. 5.59)
+  double joint_limit_margin = 0;     // min over joints of distance to a limit / limit range
+};
+
+// Per-thread scratch; constructed once per thread from the model. The hot path does not allocate
+// (the SLSQP polish, a rare fallback, does).
+class IkWorkspace {
+ public:
+  explicit IkWorkspace(const Model& model);
+  KinematicsWorkspace kin;
+  // Conservative reach bound: the TCP lies within `reach_radius` of the origin of the first
+  // revolute joint, which moves on the segment p0 + t * axis, t in [t_min, t_max] (leading lift).
+  bool has_bound = false;
+  Eigen::Vector3d bound_p0 = Eigen::Vector3d::Zero(), bound_axis = Eigen::Vector3d::Zero();
+  double bound_t_min = 0, bound_t_max = 0, reach_radius = 0;
+};
+
+// Solves one pose. `pose_id` seeds the random starts (deterministic: the same id gives the same
+// starts on any thread). `warm_start` (may be null) is tried first.
+IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
+                   const IkOptions& options, std::uint64_t pose_id,
+                   const JointVector* warm_start = nullptr);
+
+// Errors of the TCP pose currently in ws.kin against the target (see the header comment).
+struct PoseError {
+  double position_m = 0;
+  double orientation_rad = 0;
+  bool singular = false;  // Cardan representation singular at the current pose (partial tasks)
+};
+PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target);
+
+// The smooth objective the SLSQP polish minimises and its analytic gradient (grad may be null):
+// 0.5 |e_p|^2 + orientation term (0.5 w^2 |e_Cardan|^2, or w^2 (1 - cos(angle)) for the full
+// pose). Runs forwardKinematics at q. Exposed for the finite-difference test.
+double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target,
+                   double orientation_weight_m, const Eigen::VectorXd& q, Eigen::VectorXd* grad);
+
+// Thesis eq. (5.59): Yoshikawa manipulability sqrt(det(J_w J_w^T)) of the task Jacobian at the
+// configuration in kin (requires tcpJacobian). Geometric rows for the full pose, analytic rows
+// (eq. 5.11) for partial orientation task spaces; 0 at the representation singularity.
+double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space);
+
+// Smallest distance to a joint limit as a fraction of that joint's range (0 at a limit, 0.5 in
+// the middle).
+double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);
+
+}  // namespace armstudy

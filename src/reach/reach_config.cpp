@@ -1,0 +1,176 @@
+#include "reach/reach_config.hpp"
+
+#include <filesystem>
+#include <set>
+
+#include "io/files.hpp"
+#include "io/toml_reader.hpp"
+
+namespace armstudy {
+
+using io::TableReader;
+
+std::string ReachConfig::validate() const {
+  const std::string why = ik.validate();
+  if (!why.empty()) return why;
+  for (const TaskGrid& g : grids) {
+    const std::string w = g.validate();
+    if (!w.empty()) return "grid '" + g.name + "': " + w;
+  }
+  return "";
+}
+
+namespace {
+
+const char* kAxisNames[3] = {"x", "y", "z"};
+const char* kAngleNames[3] = {"alpha", "beta", "gamma"};
+
+TaskSpace readTaskSpace(TableReader& r, const std::string& key, const TaskSpace& fallback) {
+  if (!r.has(key)) return fallback;
+  TaskSpace ts;
+  std::string err;
+  if (!parseTaskSpace(r.string(key), ts, err)) r.fail(key, err);
+  return ts;
+}
+
+// A range table {from, to, step}; `dim` gives the unit checking.
+AxisRange readRange(const toml::table& t, const std::string& file, const std::string& key_path,
+                    Dimension dim) {
+  TableReader r(t, file, key_path);
+  AxisRange a;
+  a.from = r.quantity("from", dim);
+  a.to = r.quantity("to", dim);
+  a.step = r.quantity("step", dim);
+  r.finish();
+  const std::string why = a.validate();
+  if (!why.empty()) throw InputError(file, r.line(), key_path, why);
+  return a;
+}
+
+// x, y, z: a single value or a {from, to, step} range.
+AxisRange readAxis(TableReader& r, const std::string& key) {
+  const toml::node* n = r.node(key);
+  if (!n) r.fail(key, "missing axis (a value such as \"1.2 m\" or {from, to, step})");
+  if (const toml::table* t = n->as_table()) return readRange(*t, r.file(), r.keyPath(key), Dimension::Length);
+  AxisRange a;
+  a.from = a.to = io::nodeQuantity(*n, Dimension::Length, r.file(), r.keyPath(key));
+  a.step = 1;
+  return a;
+}
+
+// alpha, beta, gamma: a value, an array of values, or a {from, to, step} range.
+std::vector<double> readAngles(TableReader& r, const std::string& key) {
+  std::vector<double> v;
+  const toml::node* n = r.node(key);
+  if (!n) return {0.0};
+  if (const toml::table* t = n->as_table()) {
+    const AxisRange a = readRange(*t, r.file(), r.keyPath(key), Dimension::Angle);
+    for (int i = 0; i < a.count(); ++i) v.push_back(a.value(i));
+  } else if (const toml::array* arr = n->as_array()) {
+    if (arr->empty()) r.fail(key, "empty list of angles");
+    for (const auto& e : *arr) v.push_back(io::nodeQuantity(e, Dimension::Angle, r.file(), r.keyPath(key)));
+  } else {
+    v.push_back(io::nodeQuantity(*n, Dimension::Angle, r.file(), r.keyPath(key)));
+  }
+  return v;
+}
+
+void checkName(TableReader& r, const std::string& name, std::set<std::string>& names) {
+  if (name.empty()) r.fail("name", "name is empty");
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
+      r.fail("name", "names use letters, digits, '_' and '-' only (they name output files)");
+  if (!names.insert(name).second) r.fail("name", "name '" + name + "' is used twice in [reach]");
+}
+
+}  // namespace
+
+void readReachSection(TableReader& top, const std::string& study_dir, ReachConfig& cfg,
+                      std::vector<std::pair<std::string, std::string>>& files_read) {
+  namespace fs = std::filesystem;
+  const toml::table* t = top.table("reach");
+  if (!t) return;
+  cfg.enabled = true;
+  TableReader r(*t, top.file(), "reach");
+  const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
+  cfg.ik.position_tolerance_m = r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);
+  if (!(cfg.ik.position_tolerance_m > 0)) r.fail("position_tolerance", "tolerance must be positive");
+  cfg.ik.orientation_tolerance_rad =
+      r.quantity("orientation_tolerance", Dimension::Angle, cfg.ik.orientation_tolerance_rad);
+  if (!(cfg.ik.orientation_tolerance_rad > 0)) r.fail("orientation_tolerance", "tolerance must be positive");
+  const long long starts = r.integer("starts", cfg.ik.max_starts);
+  if (starts < 1 || starts > 10000) r.fail("starts", "starts must be between 1 and 10000");
+  cfg.ik.max_starts = static_cast<int>(starts);
+  const long long cls = r.integer("classify_starts", cfg.ik.classify_starts);
+  if (cls < 0 || cls > 10000) r.fail("classify_starts", "classify_starts must be between 0 and 10000");
+  cfg.ik.classify_starts = static_cast<int>(cls);
+  const long long seed = r.integer("seed", static_cast<long long>(cfg.ik.seed));
+  if (seed < 0) r.fail("seed", "seed must not be negative");
+  cfg.ik.seed = static_cast<std::uint64_t>(seed);
+  cfg.ik.classify_failures = r.boolean("classify", true);
+  if (r.has("outputs")) {
+    cfg.outputs = ReachOutputs{false, false, false};
+    for (const std::string& o : r.stringArray("outputs")) {
+      if (o == "vtk") cfg.outputs.vtk = true;
+      else if (o == "images") cfg.outputs.images = true;
+      else if (o == "surface") cfg.outputs.surface = true;
+      else r.fail("outputs", "unknown output '" + o + "' (expected vtk, images, surface)");
+    }
+  }
+
+  std::set<std::string> names;
+  int idx = 0;
+  if (const toml::array* grids = r.array("grid")) {
+    for (const auto& e : *grids) {
+      if (!e.is_table())
+        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.grid", "expected [[reach.grid]] tables");
+      TableReader g(*e.as_table(), top.file(), "reach.grid[" + std::to_string(idx++) + "]");
+      TaskGrid grid;
+      grid.name = g.string("name");
+      checkName(g, grid.name, names);
+      grid.task_space = readTaskSpace(g, "task_space", default_space);
+      for (int a = 0; a < 3; ++a) grid.axes[a] = readAxis(g, kAxisNames[a]);
+      std::vector<double> ang[3];
+      for (int k = 0; k < 3; ++k) {
+        if (g.has(kAngleNames[k]) && !grid.task_space.selected[3 + k])
+          g.fail(kAngleNames[k], std::string(kAngleNames[k]) + " is not part of the task space " +
+                                     grid.task_space.toString() + " (it is left free); remove it");
+        ang[k] = readAngles(g, kAngleNames[k]);
+      }
+      for (double a : ang[0])
+        for (double b : ang[1])
+          for (double c : ang[2]) grid.orientations.push_back({a, b, c});
+      grid.reference = g.string("reference", "");
+      g.finish();
+      const std::string why = grid.validate();
+      if (!why.empty()) throw InputError(top.file(), g.line(), g.path(), why);
+      cfg.grids.push_back(grid);
+    }
+  }
+  idx = 0;
+  if (const toml::array* lists = r.array("poses")) {
+    for (const auto& e : *lists) {
+      if (!e.is_table())
+        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.poses", "expected [[reach.poses]] tables");
+      TableReader p(*e.as_table(), top.file(), "reach.poses[" + std::to_string(idx++) + "]");
+      const std::string name = p.string("name");
+      checkName(p, name, names);
+      const TaskSpace ts = readTaskSpace(p, "task_space", default_space);
+      const std::string file = p.string("file");
+      const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : fs::path(study_dir) / file;
+      if (!fs::exists(resolved)) p.fail("file", "pose list '" + file + "' does not exist (looked for " + resolved.string() + ")");
+      p.finish();
+      const std::string path = resolved.lexically_normal().string();
+      const std::string text = readFileOrThrow(path);
+      PoseList list = parsePoseCsv(text, path, ts);
+      list.name = name;
+      files_read.emplace_back(path, contentHash(text));
+      cfg.pose_lists.push_back(std::move(list));
+    }
+  }
+  r.finish();
+  if (cfg.grids.empty() && cfg.pose_lists.empty())
+    throw InputError(top.file(), r.line(), "reach", "[reach] needs at least one [[reach.grid]] or [[reach.poses]]");
+}
+
+}  // namespace armstudy

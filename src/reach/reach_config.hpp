@@ -1,0 +1,43 @@
+#pragma once
+// The [reach] section of a study (docs/reachability.md): task grids and pose lists, the task
+// space, tolerances, starts, seed and which outputs to write.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ik/reach_solver.hpp"
+#include "tasks/task_grid.hpp"
+
+namespace armstudy {
+
+namespace io {
+class TableReader;
+}
+
+struct ReachOutputs {
+  bool vtk = true;       // .vti per grid and design, .vtp per pose list and design
+  bool images = true;    // PNG maps in the report
+  bool surface = true;   // boundary surface (.vtp) and volume for 3-D grids
+};
+
+struct ReachConfig {
+  bool enabled = false;              // the study has a [reach] section
+  IkOptions ik = studyDefaults();    // tolerances, starts, seed, classification
+  static IkOptions studyDefaults() {
+    IkOptions o;
+    o.max_starts = defaults::kReachStudyStarts;  // grid poses get warm starts from their neighbours
+    return o;
+  }
+  std::vector<TaskGrid> grids;
+  std::vector<PoseList> pose_lists;
+  ReachOutputs outputs;
+  std::string validate() const;      // empty when valid (programmer check after parsing)
+};
+
+// Reads the optional [reach] section from the study's top-level table. Relative pose-list paths
+// are resolved against `study_dir`; every file read is appended to `files_read` as (path, hash).
+// Throws InputError (file, line, key) on bad input.
+void readReachSection(io::TableReader& top, const std::string& study_dir, ReachConfig& out,
+                      std::vector<std::pair<std::string, std::string>>& files_read);
+
+}  // namespace armstudy

@@ -1,0 +1,146 @@
+#include "reach/reach_sweep.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+
+#include "common/errors.hpp"
+
+namespace armstudy {
+
+long PoseSweep::countReachable() const {
+  long n = 0;
+  for (long i = 0; i < size; ++i) n += reachable(i) ? 1 : 0;
+  return n;
+}
+
+Progress::Progress(long total, bool enabled, std::string label)
+    : total_(std::max(1L, total)), enabled_(enabled && isatty(STDERR_FILENO)), label_(std::move(label)) {}
+
+Progress::~Progress() {
+  if (enabled_ && last_permille_ >= 0) std::fprintf(stderr, "\n");
+}
+
+void Progress::advance(long n) {
+  if (!enabled_) return;
+  const long done = done_.fetch_add(n) + n;
+  const int permille = static_cast<int>(1000 * done / total_);
+  int last = last_permille_.load();
+  if (permille / 5 == last / 5 && last >= 0) return;
+  if (!last_permille_.compare_exchange_strong(last, permille)) return;
+  const int width = 40, fill = permille * width / 1000;
+  std::fprintf(stderr, "\r%-32.32s [%.*s%*s] %5.1f %%", label_.c_str(), fill,
+               "########################################", width - fill, "", permille / 10.0);
+  std::fflush(stderr);
+}
+
+namespace {
+
+PoseSweep makeSweep(const Model& model, long size) {
+  PoseSweep s;
+  s.design = model.name;
+  s.dof = model.dof();
+  s.size = size;
+  s.status.assign(size, 0);
+  s.starts.assign(size, 0);
+  s.position_error_m.assign(size, 0);
+  s.orientation_error_rad.assign(size, 0);
+  s.manipulability.assign(size, 0);
+  s.joint_limit_margin.assign(size, 0);
+  s.q.assign(static_cast<std::size_t>(size) * s.dof, 0);
+  return s;
+}
+
+void store(PoseSweep& s, long i, const IkResult& r, int extra_starts) {
+  s.status[i] = static_cast<std::uint8_t>(r.status);
+  s.starts[i] = static_cast<std::uint8_t>(std::min(255, r.starts + extra_starts));
+  s.position_error_m[i] = r.position_error_m;
+  s.orientation_error_rad[i] = r.orientation_error_rad;
+  s.manipulability[i] = r.manipulability;
+  s.joint_limit_margin[i] = r.joint_limit_margin;
+  for (int k = 0; k < s.dof; ++k) s.q[static_cast<std::size_t>(i) * s.dof + k] = r.q[k];
+}
+
+JointVector solutionOf(const PoseSweep& s, long i) {
+  JointVector q(s.dof);
+  for (int k = 0; k < s.dof; ++k) q[k] = s.q[static_cast<std::size_t>(i) * s.dof + k];
+  return q;
+}
+
+// Solves units [0, units) of consecutive poses; unit u covers [u * len, min((u+1) * len, size)).
+PoseSweep sweepUnits(const Model& model, long size, long len,
+                     const std::function<IkTarget(long)>& target, const IkOptions& options,
+                     int threads, Progress* progress) {
+  ARMSTUDY_CHECK(options.validate().empty(), options.validate());
+  PoseSweep s = makeSweep(model, size);
+  const long units = (size + len - 1) / len;
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+  s.threads = nt;
+  IkOptions retry = options;
+  retry.max_starts = 1;
+  retry.classify_failures = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  double t_reach = 0, t_unreach = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : t_reach, t_unreach)
+  {
+    IkWorkspace ws(model);
+#pragma omp for schedule(dynamic, 1)
+    for (long u = 0; u < units; ++u) {
+      const long begin = u * len, end = std::min(size, begin + len);
+      JointVector warm(model.dof());
+      bool have_warm = false;
+      for (long i = begin; i < end; ++i) {
+        const auto p0 = std::chrono::steady_clock::now();
+        const IkResult r = solvePose(model, ws, target(i), options, static_cast<std::uint64_t>(i),
+                                     have_warm ? &warm : nullptr);
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        (r.reachable() ? t_reach : t_unreach) += dt;
+        store(s, i, r, 0);
+        if (r.reachable()) {
+          warm = r.q;
+          have_warm = true;
+        }
+      }
+      // Backward pass: an unreachable pose next to a reachable one gets one more start from its
+      // right-hand neighbour's solution.
+      for (long i = end - 2; i >= begin; --i) {
+        if (s.reachable(i) || !s.reachable(i + 1)) continue;
+        const JointVector w = solutionOf(s, i + 1);
+        const auto p0 = std::chrono::steady_clock::now();
+        const IkResult r = solvePose(model, ws, target(i), retry, static_cast<std::uint64_t>(i), &w);
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        (r.reachable() ? t_reach : t_unreach) += dt;
+        if (r.reachable()) store(s, i, r, s.starts[i]);
+      }
+      if (progress) progress->advance(end - begin);
+    }
+  }
+  s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.solve_seconds_reachable = t_reach;
+  s.solve_seconds_unreachable = t_unreach;
+  return s;
+}
+
+}  // namespace
+
+PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
+                    int threads, Progress* progress) {
+  ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
+  return sweepUnits(
+      model, grid.size(), grid.lineLength(),
+      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, options, threads, progress);
+}
+
+PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
+                        int threads, Progress* progress) {
+  return sweepUnits(
+      model, static_cast<long>(list.poses.size()), defaults::kPoseListChunk,
+      [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, options, threads,
+      progress);
+}
+
+}  // namespace armstudy

@@ -1,0 +1,57 @@
+#pragma once
+// Parallel, deterministic reachability sweeps of one design over a task grid or a pose list.
+//
+// Work is split into independent units: the lines of a grid (consecutive cells along its first
+// multi-valued axis) or fixed chunks of a pose list. Each unit is solved in order, warm-starting
+// every pose from the last reachable solution of the same unit, then swept once backwards so a
+// reachable region entered from its far side is not missed. Units never read each other's
+// results, so results are bit-identical for any thread count and schedule (and units could be
+// distributed across processes).
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ik/reach_solver.hpp"
+#include "tasks/task_grid.hpp"
+
+namespace armstudy {
+
+// Per-pose results of one design, stored column-wise (one vector per quantity).
+struct PoseSweep {
+  std::string design;
+  int dof = 0;
+  long size = 0;
+  std::vector<std::uint8_t> status;          // ReachStatus
+  std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
+  std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
+  std::vector<double> q;                     // size * dof, pose-major
+  double wall_seconds = 0;
+  int threads = 1;
+  double solve_seconds_reachable = 0;    // summed per-pose solve time of reachable poses (all threads)
+  double solve_seconds_unreachable = 0;  // ... of unreachable poses (timings only, not results)
+  bool reachable(long i) const { return status[i] == static_cast<std::uint8_t>(ReachStatus::Reachable); }
+  long countReachable() const;
+};
+
+// Progress on stderr: a bar redrawn in place, only when enabled and stderr is a terminal.
+class Progress {
+ public:
+  Progress(long total, bool enabled, std::string label);
+  ~Progress();
+  void advance(long n);  // thread-safe
+ private:
+  long total_;
+  bool enabled_;
+  std::string label_;
+  std::atomic<long> done_{0};
+  std::atomic<int> last_permille_{-1};
+};
+
+// threads <= 0: OpenMP default. `progress` may be null.
+PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
+                    int threads, Progress* progress);
+PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
+                        int threads, Progress* progress);
+
+}  // namespace armstudy

@@ -1,0 +1,104 @@
+// End-to-end: the armstudy executable as a user runs it.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+using namespace armstudy::test;
+namespace fs = std::filesystem;
+
+namespace {
+std::string cli(const std::string& args, int& status) {
+  std::string out;
+  status = runCommand(binaryPath() + " " + args, out);
+  return out;
+}
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_cli_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+}  // namespace
+
+TEST_CASE("--help teaches the commands", "[cli]") {
+  int st = 0;
+  const std::string out = cli("--help", st);
+  CHECK(st == 0);
+  for (const char* cmd : {"describe", "fk", "run"}) CHECK(out.find(cmd) != std::string::npos);
+  const std::string fk = cli("fk --help", st);
+  CHECK(st == 0);
+  CHECK(fk.find("--q") != std::string::npos);
+  CHECK(fk.find("Example") != std::string::npos);
+}
+
+TEST_CASE("describe prints the table and the assumptions", "[cli]") {
+  int st = 0;
+  const std::string out = cli(sourcePath("designs/final_prototype_7dof.toml") + " ", st);
+  CHECK(st != 0);  // no subcommand given
+  const std::string d = cli("describe " + sourcePath("designs/final_prototype_7dof.toml"), st);
+  CHECK(st == 0);
+  CHECK(d.find("7 DoF") != std::string::npos);
+  CHECK(d.find("assumptions") != std::string::npos);
+  CHECK(d.find("prismatic") != std::string::npos);
+}
+
+TEST_CASE("fk --json reports every frame and the TCP", "[cli]") {
+  int st = 0;
+  const std::string out =
+      cli("fk " + sourcePath("designs/first_prototype_6dof.toml") + " --q 0,0,0,0,0,0 --json", st);
+  REQUIRE(st == 0);
+  const auto j = nlohmann::json::parse(out);
+  REQUIRE(j["frames"].size() == 7);
+  CHECK(j["frames"][6]["frame"] == "tcp");
+  CHECK(j["frames"][6]["y_m"].get<double>() == Approx(1.03));
+  CHECK(j["frames"][6]["z_m"].get<double>() == Approx(1.0));
+  // Wrong number of joint values: error, non-zero exit, names the key.
+  const std::string bad = cli("fk " + sourcePath("designs/first_prototype_6dof.toml") + " --q 0,0", st);
+  CHECK(st != 0);
+  CHECK(bad.find("joint values") != std::string::npos);
+}
+
+TEST_CASE("run writes manifest and resolved designs; refuses to overwrite silently", "[cli][study]") {
+  const fs::path dir = freshDir("run");
+  const fs::path study = dir / "mini.toml";
+  std::ofstream(study) << "[study]\nname = \"mini\"\n[[design]]\nfile = \""
+                       << sourcePath("designs/final_prototype_7dof.toml")
+                       << "\"\n[[variant]]\nof = \"final_prototype_7dof\"\nsweep = { \"base.x\" = [0.0, 0.1] }\n";
+  int st = 0;
+  std::string out = cli("run " + study.string() + " --output " + (dir / "out").string(), st);
+  INFO(out);
+  REQUIRE(st == 0);
+  const auto man = nlohmann::json::parse(std::ifstream(dir / "out/mini/manifest.json"));
+  CHECK(man["study"] == "mini");
+  CHECK(man["inputs"].size() == 2);
+  CHECK(man["designs"].size() == 3);
+  CHECK(man["designs"][2] == "final_prototype_7dof+base.x=0.1");
+  CHECK(!man["git_revision"].get<std::string>().empty());
+  const auto designs = nlohmann::json::parse(std::ifstream(dir / "out/mini/designs.json"));
+  CHECK(designs[2]["base"]["x_m"].get<double>() == Approx(0.1));
+  out = cli("run " + study.string() + " --output " + (dir / "out").string(), st);
+  CHECK(st != 0);
+  CHECK(out.find("--overwrite") != std::string::npos);
+  out = cli("run " + study.string() + " --output " + (dir / "out").string() + " --overwrite", st);
+  CHECK(st == 0);
+  // No temporary files left behind.
+  for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+    CHECK(e.path().string().find(".tmp") == std::string::npos);
+}
+
+TEST_CASE("a study naming a missing design fails once, names file and key, writes nothing",
+          "[cli][study][bad-input]") {
+  const fs::path dir = freshDir("bad");
+  const fs::path study = dir / "bad.toml";
+  std::ofstream(study) << "[study]\nname = \"bad\"\n[[design]]\nfile = \"nope.toml\"\n";
+  int st = 0;
+  const std::string out = cli("run " + study.string() + " --output " + (dir / "out").string(), st);
+  CHECK(st == 2);
+  CHECK(out.find("bad.toml:4") != std::string::npos);
+  CHECK(out.find("design[0].file") != std::string::npos);
+  CHECK(out.find("error") == out.rfind("error"));  // printed once
+  CHECK_FALSE(fs::exists(dir / "out"));
+}

@@ -1,0 +1,307 @@
+// The dexterity stage: stem-grid geometry (Fig. 3.4), per-cell invariants (tool on the pose, plain
+// and optimised both valid, optimisation never worse), determinism across thread counts, VTK
+// read-back with VTK's own readers, PNG structure, and bad [dexterity] input.
+#include <catch2/catch.hpp>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/errors.hpp"
+#include "dexterity/dexterity_output.hpp"
+#include "dexterity/png_image.hpp"
+#include "io/design_io.hpp"
+#include "io/files.hpp"
+#include "io/study_io.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::dexterity;
+using namespace armstudy::test;
+
+namespace {
+constexpr double kGeometryTolerance = 1e-12;
+constexpr double kOnPoseTolerance = 1e-6;  // [m and rad] the tool stays on the pose
+
+DexterityOptions smallOptions() {
+  DexterityOptions o;
+  o.grid.stem_x_m = 0.225;
+  o.grid.stem_y_m = 0.7;
+  o.grid.radius_m = 0.15;
+  o.grid.gamma_rad = {-M_PI / 2, M_PI / 2, 13};
+  o.grid.z_m = {0.2, 1.4, 7};
+  o.w_joint_limits = 0.1;
+  o.w_manipulability = 1.0;
+  o.w_transmission = 0.05;
+  return o;
+}
+
+std::string tempDir(const std::string& name) {
+  const auto p = std::filesystem::temp_directory_path() / ("armstudy_dexterity_test_" + name);
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p.string();
+}
+
+std::string writeStudy(const std::string& dir, const std::string& body) {
+  const std::string path = dir + "/study.toml";
+  std::ofstream(path) << "[study]\nname = \"t\"\n[[design]]\nfile = \"" +
+                             sourcePath("designs/first_prototype_9dof.toml") + "\"\n" + body;
+  return path;
+}
+}  // namespace
+
+TEST_CASE("stem grid places the TCP on the circle with the tool axis through the stem (Fig. 3.4)",
+          "[dexterity][grid]") {
+  DexterityOptions o = smallOptions();
+  o.grid.task = ik::PoseTaskKind::FullPose;
+  o.grid.roll_rad = 0.3;
+  for (int ig = 0; ig < o.grid.gamma_rad.count; ++ig) {
+    const auto c = o.grid.cell(ig, 2);
+    const Eigen::Vector3d stem(0.225, 0.7, c.z);
+    CHECK(std::abs((c.target.p_WT - stem).norm() - 0.15) < kGeometryTolerance);
+    CHECK((c.u_W - (stem - c.target.p_WT).normalized()).norm() < kGeometryTolerance);
+    CHECK((c.target.R_WT.col(2) - c.u_W).norm() < kGeometryTolerance);
+    CHECK(std::abs(c.target.R_WT.determinant() - 1.0) < kGeometryTolerance);
+    CHECK((c.target.R_WT.transpose() * c.target.R_WT - Eigen::Matrix3d::Identity()).norm() < kGeometryTolerance);
+  }
+  // gamma = 0: straight from the robot side (-y of the stem), gamma = +90 deg from -x.
+  const auto c0 = o.grid.cell(6, 0);
+  CHECK((c0.target.p_WT - Eigen::Vector3d(0.225, 0.55, 0.2)).norm() < kGeometryTolerance);
+  const auto c90 = o.grid.cell(12, 0);
+  CHECK((c90.target.p_WT - Eigen::Vector3d(0.075, 0.7, 0.2)).norm() < kGeometryTolerance);
+}
+
+TEST_CASE("every reachable cell: plain and optimised on the pose, optimisation never worse",
+          "[dexterity][invariant]") {
+  for (const char* rel : {"designs/first_prototype_9dof.toml", "designs/final_prototype_7dof.toml"}) {
+    const Model m = loadDesign(sourcePath(rel));
+    const DexterityOptions o = smallOptions();
+    const DexterityMap map = computeDexterityMap(m, o, 2);
+    KinematicsWorkspace ws(m);
+    int reachable = 0;
+    for (int iz = 0; iz < o.grid.z_m.count; ++iz)
+      for (int ig = 0; ig < o.grid.gamma_rad.count; ++ig) {
+        const CellResult& c = map.cells[o.grid.index(ig, iz)];
+        if (!c.reachable) continue;
+        ++reachable;
+        const auto cell = o.grid.cell(ig, iz);
+        // Reachable = within the study tolerances (a pose pressed against a joint limit may stay
+        // up to that far away); the optimised configuration is no further from the pose than the
+        // plain one (or than the null-space pose tolerance).
+        forwardKinematicsAndJacobian(m, ws, c.q_plain);
+        const auto pp = ik::poseError(ws, cell.target);
+        CHECK(pp.position_m <= o.position_tolerance_m);
+        CHECK(pp.orientation_rad <= o.orientation_tolerance_rad);
+        CHECK(ik::withinLimits(m, c.q_plain));
+        forwardKinematicsAndJacobian(m, ws, c.q_opt);
+        const auto po = ik::poseError(ws, cell.target);
+        CHECK(po.position_m <= std::max(pp.position_m, kOnPoseTolerance));
+        CHECK(po.orientation_rad <= std::max(pp.orientation_rad, kOnPoseTolerance));
+        CHECK(ik::withinLimits(m, c.q_opt));
+        // Recomputed measures match the stored ones (second evaluation path).
+        const auto d = metrics::tcpMeasures(ws, o.measure_space, cell.u_W, true);
+        CHECK(std::abs(d.manipulability - c.opt.manipulability) < 1e-12);
+        CHECK(c.H_opt <= c.H_plain);
+      }
+    INFO(rel << " reachable " << reachable);
+    CHECK(reachable > 0);
+  }
+}
+
+TEST_CASE("dexterity maps are identical with 1 and 2 threads", "[dexterity][determinism]") {
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  const DexterityOptions o = smallOptions();
+  const DexterityMap a = computeDexterityMap(m, o, 1), b = computeDexterityMap(m, o, 2);
+  REQUIRE(a.cells.size() == b.cells.size());
+  for (std::size_t i = 0; i < a.cells.size(); ++i) {
+    CHECK(a.cells[i].reachable == b.cells[i].reachable);
+    if (!a.cells[i].reachable) continue;
+    CHECK((a.cells[i].q_opt == b.cells[i].q_opt));  // bit-identical
+    CHECK((a.cells[i].q_plain == b.cells[i].q_plain));
+    CHECK(a.cells[i].opt.manipulability == b.cells[i].opt.manipulability);
+  }
+}
+
+TEST_CASE("a study run writes VTK files that VTK's readers read back", "[dexterity][io][oracle]") {
+  const std::string dir = tempDir("vtk");
+  const std::string study = writeStudy(dir, R"(
+[dexterity]
+stem_x = "225 mm"
+stem_y = 0.7
+radius = "0.15 m"
+gamma = { min = "-90 deg", max = "90 deg", step = "30 deg" }
+z = { min = 0.5, max = 1.1, count = 4 }
+[dexterity.objective]
+manipulability = 1
+transmission = 0.05
+)");
+  std::string out;
+  const int rc = runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2", out);
+  INFO(out);
+  REQUIRE(rc == 0);
+  const std::string base = dir + "/out/t/dexterity/";
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  const Study s = loadStudy(study);
+  REQUIRE(s.dexterity.has_value());
+  const DexterityMap map = computeDexterityMap(m, *s.dexterity, 1);
+  const MapFields f = mapFields(map);
+
+  vtkNew<vtkXMLImageDataReader> ir;
+  ir->SetFileName((base + "first_prototype_9dof.vti").c_str());
+  ir->Update();
+  vtkImageData* img = ir->GetOutput();
+  int dims[3];
+  img->GetDimensions(dims);
+  CHECK(dims[0] == 7);
+  CHECK(dims[1] == 4);
+  CHECK(dims[2] == 1);
+  double origin[3], spacing[3];
+  img->GetOrigin(origin);
+  img->GetSpacing(spacing);
+  CHECK(std::abs(origin[0] + M_PI / 2) < kGeometryTolerance);
+  CHECK(std::abs(origin[1] - 0.5) < kGeometryTolerance);
+  CHECK(std::abs(spacing[0] - M_PI / 6) < kGeometryTolerance);
+  CHECK(std::abs(spacing[1] - 0.2) < kGeometryTolerance);
+  vtkDataArray* mn = img->GetPointData()->GetArray("manipulability_optimised_normalised");
+  vtkDataArray* re = img->GetPointData()->GetArray("reachable");
+  REQUIRE(mn);
+  REQUIRE(re);
+  double best = 0;
+  for (vtkIdType i = 0; i < mn->GetNumberOfTuples(); ++i) {
+    CHECK(re->GetTuple1(i) == f.reachable[i]);
+    if (f.reachable[i] == 0) {
+      CHECK(std::isnan(mn->GetTuple1(i)));
+      continue;
+    }
+    CHECK(mn->GetTuple1(i) == f.manip_opt_norm[i]);  // the run and the in-process map agree bitwise
+    best = std::max(best, mn->GetTuple1(i));
+  }
+  CHECK(best <= 1.0);
+  CHECK(std::abs(std::max(best, [&] {
+                   double b = 0;
+                   vtkDataArray* p = img->GetPointData()->GetArray("manipulability_plain_normalised");
+                   for (vtkIdType i = 0; i < p->GetNumberOfTuples(); ++i)
+                     if (!std::isnan(p->GetTuple1(i))) b = std::max(b, p->GetTuple1(i));
+                   return b;
+                 }()) - 1.0) < kGeometryTolerance);
+
+  vtkNew<vtkXMLPolyDataReader> pr;
+  pr->SetFileName((base + "first_prototype_9dof_ellipsoids_optimised.vtp").c_str());
+  pr->Update();
+  vtkPolyData* poly = pr->GetOutput();
+  CHECK(poly->GetNumberOfPoints() == map.reachable());
+  vtkDataArray* tensor = poly->GetPointData()->GetArray("ellipsoid_tensor");
+  REQUIRE(tensor);
+  CHECK(tensor->GetNumberOfComponents() == 9);
+  vtkIdType k = 0;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) {
+    if (!map.cells[i].reachable) continue;
+    // Tensor = U diag(sigma) U^T: its square is J_T J_T^T at the optimised configuration.
+    Eigen::Matrix3d T;
+    double t9[9];
+    tensor->GetTuple(k, t9);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) T(r, c) = t9[3 * r + c];
+    KinematicsWorkspace ws(m);
+    forwardKinematicsAndJacobian(m, ws, map.cells[i].q_opt);
+    const Eigen::Matrix3d A = ws.J_W_tcp.topRows<3>() * ws.J_W_tcp.topRows<3>().transpose();
+    CHECK((T * T - A).norm() < 1e-9);
+    double p[3];
+    poly->GetPoint(k, p);
+    const auto cell = map.grid.cell(static_cast<int>(i) % 7, static_cast<int>(i) / 7);
+    CHECK((Eigen::Vector3d(p[0], p[1], p[2]) - cell.target.p_WT).norm() < kGeometryTolerance);
+    ++k;
+  }
+  // PNG: signature and IHDR size.
+  const std::string png = readFileOrThrow(base + "first_prototype_9dof_reachable.png");
+  REQUIRE(png.size() > 33);
+  CHECK(png.substr(0, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
+  CHECK(std::filesystem::exists(base + "report.md"));
+  CHECK(std::filesystem::exists(base + "summary.json"));
+}
+
+TEST_CASE("bad [dexterity] input is rejected with file, line and key before any work",
+          "[dexterity][input]") {
+  const std::string dir = tempDir("bad");
+  const std::string good = R"(
+[dexterity]
+stem_x = 0.225
+stem_y = 0.7
+radius = 0.15
+gamma = { min = "-90 deg", max = "90 deg", step = "30 deg" }
+z = { min = 0.5, max = 1.1, count = 4 }
+)";
+  REQUIRE_NOTHROW(loadStudy(writeStudy(dir, good)));
+  struct Case { std::string from, to, append, key; };
+  const Case cases[] = {
+      {"radius = 0.15", "radius = 0", "", "dexterity.radius"},
+      {"radius = 0.15", "radius = -0.1", "", "dexterity.radius"},
+      {"radius = 0.15", "radius = 0.15\ndirection = [0, 0, 0]", "", "dexterity.direction"},
+      {"radius = 0.15", "radius = 0.15\ndirection = [0, 2, 0]", "", "dexterity.direction"},
+      {"", "", "[dexterity.objective]\nmanipulability = -1\n", "dexterity.objective.manipulability"},
+      {"", "", "[dexterity.objective]\njoint_limits = nan\n", "dexterity.objective.joint_limits"},
+      {"", "", "[dexterity.solver]\ndamping = -0.1\n", "dexterity.solver.damping"},
+      {"", "", "[dexterity.solver]\njoint_weights = [1, 1]\n", "dexterity"},
+      {"step = \"30 deg\"", "step = \"0 deg\"", "", "dexterity.gamma.step"},
+      {"step = \"30 deg\"", "step = \"7 deg\"", "", "dexterity.gamma.step"},
+      {"radius = 0.15", "radius = 0.15\nradiu = 3", "", "dexterity.radiu"},
+  };
+  for (const Case& c : cases) {
+    std::string body = good;
+    if (!c.from.empty()) body.replace(body.find(c.from), c.from.size(), c.to);
+    body += c.append;
+    const std::string path = writeStudy(dir, body);
+    INFO(c.to << c.append);
+    try {
+      loadStudy(path);
+      FAIL("no InputError");
+    } catch (const InputError& e) {
+      INFO(e.what());
+      CHECK(e.file() == path);
+      CHECK(e.line() > 0);
+      CHECK(e.key() == c.key);
+    }
+  }
+  // Through the CLI: exit 2 and nothing written.
+  std::string body = good;
+  body.replace(body.find("radius = 0.15"), 13, "radius = 0");
+  const std::string path = writeStudy(dir, body);
+  std::string out;
+  CHECK(runCommand(binaryPath() + " run " + path + " --output " + dir + "/out", out) == 2);
+  CHECK(!std::filesystem::exists(dir + "/out/t"));
+}
+
+TEST_CASE("PNG encoder: stored-block zlib stream decodes to the pixels (Adler-32 and CRC-32 checked)",
+          "[dexterity][png]") {
+  RgbImage img(3, 2);
+  img.set(0, 0, {255, 0, 0});
+  img.set(2, 1, {1, 2, 3});
+  const std::string png = encodePng(img);
+  // IHDR: width 3, height 2, 8-bit RGB.
+  CHECK(static_cast<unsigned char>(png[19]) == 3);
+  CHECK(static_cast<unsigned char>(png[23]) == 2);
+  CHECK(png[24] == 8);
+  CHECK(png[25] == 2);
+  // IDAT payload: zlib header, one stored block holding filter byte + pixels per row.
+  const std::size_t idat = png.find("IDAT");
+  REQUIRE(idat != std::string::npos);
+  const std::string z = png.substr(idat + 4);
+  CHECK(static_cast<unsigned char>(z[0]) == 0x78);
+  CHECK(z[2] == 1);  // final stored block
+  const std::string raw = z.substr(7, 2 * (1 + 9));
+  CHECK(static_cast<unsigned char>(raw[1]) == 255);
+  CHECK(raw[0] == 0);
+  CHECK(static_cast<unsigned char>(raw[10 + 1 + 6]) == 1);
+  CHECK(static_cast<unsigned char>(raw[10 + 1 + 8]) == 3);
+  // Colour map end points (viridis).
+  CHECK(colourMap(0.0) == std::array<std::uint8_t, 3>{68, 1, 84});
+  CHECK(colourMap(1.0) == std::array<std::uint8_t, 3>{253, 231, 37});
+}

@@ -1,0 +1,213 @@
+// Per-pose IK (thesis eq. 3.2) against independent oracles: poses made by forward kinematics
+// (known reachable; the solution is re-checked with an independent pose comparison), closed-form
+// arms for out_of_reach vs joint_limits, central finite differences for the SLSQP gradient, and a
+// finite-difference Jacobian for the manipulability (eq. 5.59).
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "io/design_io.hpp"
+#include "ik/reach_solver.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::test;
+
+namespace {
+
+constexpr double kGradientTolerance = 1e-6;
+constexpr double kManipulabilityTolerance = 1e-6;
+constexpr double kSolveRateRequired = 0.99;  // tests use few poses; the benchmark checks 99.9 %
+
+IkTarget fullPoseOf(const KinematicsWorkspace& kin) {
+  IkTarget t;
+  t.task_space = TaskSpace::fullPose();
+  const CardanAngles c = cardanFromRotation(kin.R_WT);
+  t.w_d << kin.p_WT, c.alpha, c.beta, c.gamma;
+  return t;
+}
+
+// Independent check of a solution: FK at q, then position distance and the geodesic angle.
+void checkSolution(const Model& m, const IkTarget& t, const IkResult& r, const IkOptions& o) {
+  KinematicsWorkspace kin(m);
+  forwardKinematics(m, kin, r.q);
+  CHECK((kin.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
+  const Eigen::Matrix3d R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
+  CHECK(Eigen::AngleAxisd(R_d.transpose() * kin.R_WT).angle() <= o.orientation_tolerance_rad);
+  for (int i = 0; i < m.dof(); ++i) {
+    CHECK(r.q[i] >= m.joints[i].limits.q_min);
+    CHECK(r.q[i] <= m.joints[i].limits.q_max);
+  }
+}
+
+// Two joints: a lift along z in [0, 0.1] m, then a revolute joint about z with a 0.5 m link.
+Model liftArm() {
+  return parseDesign(R"(
+[design]
+name = "lift_arm"
+[[joint]]
+name = "lift"
+type = "prismatic"
+x = 0
+y = 0
+z = 0
+alpha = 0
+beta = 0
+gamma = 0
+min = 0
+max = 0.1
+[[joint]]
+name = "turn"
+type = "revolute"
+x = 0
+y = 0
+z = 0
+alpha = 0
+beta = 0
+gamma = 0
+min = "-170 deg"
+max = "170 deg"
+[tcp]
+x = 0.5
+)",
+                     "lift_arm.toml");
+}
+
+}  // namespace
+
+TEST_CASE("poses made by forward kinematics are found reachable on every shipped design", "[ik][oracle]") {
+  std::mt19937_64 rng(7);
+  IkOptions o;
+  for (const auto& rel : shippedDesigns()) {
+    const Model m = loadDesign(sourcePath(rel));
+    KinematicsWorkspace kin(m);
+    IkWorkspace ws(m);
+    const int n = 150;
+    int solved = 0;
+    for (int k = 0; k < n; ++k) {
+      forwardKinematics(m, kin, randomConfiguration(m, rng));
+      const IkTarget t = fullPoseOf(kin);
+      const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(k));
+      if (!r.reachable()) continue;
+      ++solved;
+      checkSolution(m, t, r, o);
+      CHECK(r.position_error_m <= o.position_tolerance_m);
+      CHECK(r.joint_limit_margin >= 0);
+      CHECK(r.joint_limit_margin <= 0.5);
+    }
+    INFO(m.name);
+    CHECK(solved >= kSolveRateRequired * n);
+  }
+}
+
+TEST_CASE("poses beyond the summed link lengths are out of reach", "[ik][oracle]") {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const auto& rel : shippedDesigns()) {
+    const Model m = loadDesign(sourcePath(rel));
+    IkWorkspace ws(m);
+    for (bool bound : {true, false}) {
+      IkOptions o;
+      o.use_reach_bound = bound;
+      o.max_starts = 4;
+      for (int k = 0; k < 20; ++k) {
+        const Eigen::Vector3d a = ws.bound_axis.unitOrthogonal(), b = ws.bound_axis.cross(a);
+        const double phi = 6.283185307 * u(rng);
+        IkTarget t;
+        t.task_space = TaskSpace::position();
+        t.w_d.head<3>() = ws.bound_p0 + 0.05 * ws.bound_axis + ws.reach_radius * 1.1 * (std::cos(phi) * a + std::sin(phi) * b);
+        const IkResult r = solvePose(m, ws, t, o, k);
+        CHECK(r.status == ReachStatus::OutOfReach);
+        CHECK(r.bound_rejected == bound);
+      }
+    }
+  }
+}
+
+TEST_CASE("closed-form arm: lift limits block, distance puts out of reach", "[ik][oracle]") {
+  const Model m = liftArm();
+  IkWorkspace ws(m);
+  IkOptions o;
+  IkTarget t;
+  t.task_space = TaskSpace::position();
+  t.w_d << 0.3, 0.4, 0.05, 0, 0, 0;  // |(x, y)| = 0.5 at a height inside the stroke
+  IkResult r = solvePose(m, ws, t, o, 1);
+  REQUIRE(r.reachable());
+  CHECK(r.q[0] == Approx(0.05).margin(o.position_tolerance_m));
+  CHECK(r.q[1] == Approx(std::atan2(0.4, 0.3)).margin(1e-2));
+  t.w_d << 0.3, 0.4, 0.5, 0, 0, 0;  // needs a 0.5 m lift, the stroke ends at 0.1 m
+  r = solvePose(m, ws, t, o, 2);
+  CHECK(r.status == ReachStatus::JointLimits);
+  CHECK(r.position_error_m == Approx(0.4).margin(o.position_tolerance_m));
+  t.w_d << 0.3, 0.2, 0.05, 0, 0, 0;  // |(x, y)| = 0.36 != 0.5: no lift height helps
+  r = solvePose(m, ws, t, o, 3);
+  CHECK(r.status == ReachStatus::OutOfReach);
+  t.w_d << -0.5, 0.0, 0.05, 0, 0, 0;  // needs q2 = 180 deg, the limit is 170 deg
+  r = solvePose(m, ws, t, o, 4);
+  CHECK(r.status == ReachStatus::JointLimits);
+}
+
+TEST_CASE("the SLSQP objective gradient matches central finite differences", "[ik][oracle]") {
+  std::mt19937_64 rng(11);
+  for (const auto& rel : shippedDesigns()) {
+    const Model m = loadDesign(sourcePath(rel));
+    KinematicsWorkspace kin(m);
+    for (const TaskSpace& ts : {TaskSpace::fullPose(), TaskSpace::spraying(), TaskSpace::position()}) {
+      for (int trial = 0; trial < 10; ++trial) {
+        IkTarget t;
+        t.task_space = ts;
+        forwardKinematics(m, kin, randomConfiguration(m, rng));
+        t.w_d = tcpTaskVector(kin).w;
+        const Eigen::VectorXd q = randomConfiguration(m, rng);
+        Eigen::VectorXd g;
+        ikObjective(m, kin, t, 0.3, q, &g);
+        for (int i = 0; i < m.dof(); ++i) {
+          Eigen::VectorXd qp = q, qm = q;
+          qp[i] += kFdStep;
+          qm[i] -= kFdStep;
+          const double fd = (ikObjective(m, kin, t, 0.3, qp, nullptr) - ikObjective(m, kin, t, 0.3, qm, nullptr)) / (2 * kFdStep);
+          CHECK(g[i] == Approx(fd).margin(kGradientTolerance));
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference position Jacobian", "[ik][oracle]") {
+  std::mt19937_64 rng(13);
+  const Model m = loadDesign(sourcePath("designs/final_prototype_7dof.toml"));
+  KinematicsWorkspace kin(m), k2(m);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Eigen::VectorXd q = randomConfiguration(m, rng);
+    forwardKinematicsAndJacobian(m, kin, q);
+    Eigen::MatrixXd J(3, m.dof());
+    for (int i = 0; i < m.dof(); ++i) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[i] += kFdStep;
+      qm[i] -= kFdStep;
+      forwardKinematics(m, k2, qp);
+      const Eigen::Vector3d pp = k2.p_WT;
+      forwardKinematics(m, k2, qm);
+      J.col(i) = (pp - k2.p_WT) / (2 * kFdStep);
+    }
+    const double expected = std::sqrt((J * J.transpose()).determinant());
+    CHECK(taskManipulability(kin, TaskSpace::position()) == Approx(expected).margin(kManipulabilityTolerance));
+  }
+}
+
+TEST_CASE("the same pose id gives the same result; options are validated", "[ik]") {
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  IkWorkspace a(m), b(m);
+  IkTarget t;
+  t.task_space = TaskSpace::spraying();
+  t.w_d << 0.2, 0.7, 1.1, 0, 0, 0.5;
+  IkOptions o;
+  const IkResult r1 = solvePose(m, a, t, o, 42), r2 = solvePose(m, b, t, o, 42);
+  CHECK(r1.status == r2.status);
+  CHECK(r1.q == r2.q);
+  CHECK(r1.position_error_m == r2.position_error_m);
+  o.position_tolerance_m = 0;
+  CHECK_FALSE(o.validate().empty());
+  o = IkOptions{};
+  o.orientation_tolerance_rad = -1;
+  CHECK_FALSE(o.validate().empty());
+}

@@ -1,0 +1,257 @@
+// Reachability sweeps and the study stage: bit-identical results for 1 and 2 threads, every
+// written VTK file read back with VTK's own XML readers (dimensions, origin, spacing, values, and
+// FK of the stored joint solutions as an independent check), the CGAL boundary surface against a
+// closed-form box volume and the divergence theorem, and each bad-input rule of the [reach] section.
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "common/errors.hpp"
+#include "io/design_io.hpp"
+#include "io/study_io.hpp"
+#include "reach/boundary_surface.hpp"
+#include "reach/reach_sweep.hpp"
+#include "study/run.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kVolumeTolerance = 1e-9;   // m^3, closed-form box volume
+constexpr double kStoredValueTolerance = 0;  // Float64 arrays round-trip exactly
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_reach_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void writeText(const fs::path& p, const std::string& s) {
+  std::ofstream(p) << s;
+}
+
+std::string studyText(const std::string& name, const std::string& reach) {
+  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" + sourcePath("designs/first_prototype_6dof.toml") +
+         "\"\n[[design]]\nfile = \"" + sourcePath("designs/final_prototype_7dof.toml") + "\"\n" + reach;
+}
+
+const char* kSmallReach = R"(
+[reach]
+task_space = "spraying"
+[[reach.grid]]
+name = "row"
+x = { from = "-0.6 m", to = "0.6 m", step = "0.1 m" }
+y = { from = "0.4 m", to = "1.0 m", step = "0.1 m" }
+z = "1.2 m"
+alpha = 0
+gamma = ["-40 deg", "40 deg"]
+[[reach.grid]]
+name = "box"
+task_space = "position"
+x = { from = "-0.4 m", to = "0.4 m", step = "0.2 m" }
+y = { from = "0.2 m", to = "1.0 m", step = "0.2 m" }
+z = { from = "0.6 m", to = "1.4 m", step = "0.2 m" }
+[[reach.poses]]
+name = "list"
+file = "poses.csv"
+task_space = "position"
+)";
+
+}  // namespace
+
+TEST_CASE("sweeps are bit-identical for 1 and 2 threads and from run to run", "[reach][determinism]") {
+  const Model m = loadDesign(sourcePath("designs/first_prototype_6dof.toml"));
+  TaskGrid g;
+  g.name = "g";
+  g.task_space = TaskSpace::spraying();
+  g.axes = {AxisRange{-0.78, 0.78, 0.04}, AxisRange{0.3, 1.2, 0.05}, AxisRange{1.2, 1.2, 1}};
+  g.orientations = {{0, 0, -0.7}, {0, 0, 0.7}};
+  IkOptions o = ReachConfig::studyDefaults();
+  const PoseSweep a = sweepGrid(m, g, o, 1, nullptr);
+  const PoseSweep b = sweepGrid(m, g, o, 2, nullptr);
+  const PoseSweep c = sweepGrid(m, g, o, 2, nullptr);
+  CHECK(a.countReachable() > 0);
+  CHECK(a.countReachable() < a.size);
+  for (const PoseSweep* s : {&b, &c}) {
+    CHECK(s->status == a.status);
+    CHECK(s->starts == a.starts);
+    CHECK(s->q == a.q);
+    CHECK(s->position_error_m == a.position_error_m);
+    CHECK(s->orientation_error_rad == a.orientation_error_rad);
+    CHECK(s->manipulability == a.manipulability);
+    CHECK(s->joint_limit_margin == a.joint_limit_margin);
+  }
+}
+
+TEST_CASE("alpha-shape volume of a sampled box equals the box volume; facets face outwards", "[reach][oracle]") {
+  std::vector<Eigen::Vector3d> pts;
+  const double h = 0.1;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 6; ++k) pts.emplace_back(i * h, 0.3 + j * h, -0.2 + k * h);
+  const BoundarySurface s = alphaShapeSurface(pts, gridAlphaRadius({h, h, h}));
+  const double box = (4 * h) * (3 * h) * (5 * h);
+  CHECK(s.volume_m3 == Approx(box).margin(kVolumeTolerance));
+  // Divergence theorem: sum of signed tetrahedra (origin, facet) = enclosed volume when the
+  // facets are consistently oriented outwards.
+  double v = 0;
+  for (const auto& t : s.triangles)
+    v += s.vertices[t[0]].dot(s.vertices[t[1]].cross(s.vertices[t[2]])) / 6.0;
+  CHECK(v == Approx(box).margin(kVolumeTolerance));
+  // 2 x (4x3 + 3x5 + 4x5) squares on the box surface, two triangles each.
+  CHECK(s.triangles.size() == 2u * 2u * (4 * 3 + 3 * 5 + 4 * 5));
+}
+
+TEST_CASE("a study writes VTK files that VTK's readers load with the right grid and values", "[reach][oracle]") {
+  const fs::path dir = tempDir("e2e");
+  writeText(dir / "poses.csv", "x,y,z\n0.0,0.8,1.0\n0.3,0.6,1.2\n5,5,5\n");
+  writeText(dir / "s.toml", studyText("e2e", kSmallReach));
+  const Study study = loadStudy((dir / "s.toml").string());
+  RunOptions ro;
+  ro.output_root = (dir / "out").string();
+  ro.threads = 2;
+  ro.progress = false;
+  const RunSummary rs = runStudy(study, ro);
+  const fs::path out = dir / "out" / "e2e";
+  nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  REQUIRE(fs::exists(out / "report.md"));
+  int vti = 0, vtp = 0;
+  for (const std::string& rel : rs.files_written) {
+    const fs::path p = out / rel;
+    REQUIRE(fs::exists(p));
+    if (p.extension() == ".vti") {
+      ++vti;
+      vtkNew<vtkXMLImageDataReader> r;
+      r->SetFileName(p.c_str());
+      r->Update();
+      vtkImageData* img = r->GetOutput();
+      int dims[3];
+      img->GetDimensions(dims);
+      const bool row = rel.find("reach/row/") == 0;
+      const TaskGrid& g = study.reach.grids[row ? 0 : 1];
+      CHECK(dims[0] == g.dims()[0]);
+      CHECK(dims[1] == g.dims()[1]);
+      CHECK(dims[2] == g.dims()[2]);
+      double origin[3], spacing[3];
+      img->GetOrigin(origin);
+      img->GetSpacing(spacing);
+      for (int a = 0; a < 3; ++a) {
+        CHECK(origin[a] == g.axes[a].from);
+        if (g.axes[a].count() > 1) CHECK(spacing[a] == g.axes[a].step);
+      }
+      if (rel.find("comparison") != std::string::npos) {
+        CHECK(img->GetPointData()->GetArray(row ? "reached_by_mask_o0" : "reached_by_mask"));
+        continue;
+      }
+      // Reachable count per file equals summary.json; stored q reproduces the pose by FK.
+      const std::string design = p.stem().string();
+      const Model m = loadDesign(sourcePath("designs/" + design + ".toml"));
+      KinematicsWorkspace kin(m);
+      long reachable = 0;
+      const int no = static_cast<int>(g.orientations.size());
+      for (int k = 0; k < no; ++k) {
+        const std::string sfx = no > 1 ? "_o" + std::to_string(k) : "";
+        vtkDataArray* reach = img->GetPointData()->GetArray(("reachable" + sfx).c_str());
+        vtkDataArray* q = img->GetPointData()->GetArray(("q" + sfx).c_str());
+        vtkDataArray* pe = img->GetPointData()->GetArray(("position_error_m" + sfx).c_str());
+        REQUIRE(reach);
+        REQUIRE(q);
+        REQUIRE(pe);
+        CHECK(q->GetNumberOfComponents() == m.dof());
+        for (vtkIdType p = 0; p < reach->GetNumberOfTuples(); ++p) {
+          if (reach->GetTuple1(p) == 0) continue;
+          ++reachable;
+          Eigen::VectorXd qv(m.dof());
+          for (int c = 0; c < m.dof(); ++c) qv[c] = q->GetComponent(p, c);
+          forwardKinematics(m, kin, qv);
+          double xyz[3];
+          img->GetPoint(p, xyz);
+          const double err = (kin.p_WT - Eigen::Vector3d(xyz[0], xyz[1], xyz[2])).norm();
+          CHECK(err <= study.reach.ik.position_tolerance_m);
+          CHECK(std::abs(err - pe->GetTuple1(p)) <= 1e-9);
+        }
+      }
+      for (const auto& jg : summary["reach"]["grids"])
+        if (jg["name"] == g.name)
+          for (const auto& jd : jg["designs"])
+            if (jd["design"] == design) CHECK(jd["reachable"].get<long>() == reachable);
+    } else if (p.extension() == ".vtp") {
+      ++vtp;
+      vtkNew<vtkXMLPolyDataReader> r;
+      r->SetFileName(p.c_str());
+      r->Update();
+      vtkPolyData* poly = r->GetOutput();
+      if (rel.find("_surface") != std::string::npos) {
+        CHECK(poly->GetNumberOfPolys() > 0);
+        continue;
+      }
+      REQUIRE(poly->GetNumberOfPoints() == 3);
+      CHECK(poly->GetNumberOfVerts() == 3);
+      vtkDataArray* line = poly->GetPointData()->GetArray("line");
+      REQUIRE(line);
+      CHECK(line->GetTuple1(2) == 4);
+      CHECK(poly->GetPointData()->GetArray("reachable")->GetTuple1(2) == 0);  // (5, 5, 5) m
+      CHECK(poly->GetPointData()->GetArray("status")->GetTuple1(2) == double(ReachStatus::OutOfReach));
+      double xyz[3];
+      poly->GetPoint(1, xyz);
+      CHECK(xyz[1] == 0.6 + kStoredValueTolerance);
+    }
+  }
+  CHECK(vti == 2 + 2 + 2);  // (6-DoF, 7-DoF, comparison) x 2 grids
+  CHECK(vtp >= 2 + 1);      // 2 pose lists + at least one surface
+  CHECK(summary["reach"]["grids"][0]["comparison"]["pairs"].size() == 1);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("bad [reach] input is an InputError naming file, line and key; nothing is written", "[reach][bad-input]") {
+  const fs::path dir = tempDir("bad");
+  writeText(dir / "poses.csv", "x,y,z\n0.1,0.2,0.3\n0.1,zz,0.3\n");
+  struct Case {
+    std::string what, reach, key;
+    int line;
+  };
+  const std::string grid = "[[reach.grid]]\nname = \"g\"\n";
+  const std::vector<Case> cases = {
+      {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 9},
+      {"negative step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = \"-1 cm\" }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 9},
+      {"empty range", "[reach]\n" + grid + "x = 0\ny = { from = 1, to = 0.5, step = 0.1 }\nz = 1\n", "reach.grid[0].y", 10},
+      {"unknown task-space component", "[reach]\ntask_space = \"x,y,z,roll\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.task_space", 7},
+      {"zero tolerance", "[reach]\nposition_tolerance = \"0 mm\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.position_tolerance", 7},
+      {"negative tolerance", "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.orientation_tolerance", 7},
+      {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n", "reach.grid[0].beta", 12},
+      {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n", "reach.grid[0].speed", 12},
+      {"malformed CSV row", "[reach]\n[[reach.poses]]\nname = \"p\"\nfile = \"poses.csv\"\ntask_space = \"position\"\n", "y", 3},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    writeText(dir / "s.toml", studyText("bad", c.reach));
+    bool thrown = false;
+    try {
+      loadStudy((dir / "s.toml").string());
+    } catch (const InputError& e) {
+      thrown = true;
+      CHECK(e.key() == c.key);
+      CHECK(e.line() == c.line);
+      CHECK(e.file().find(c.what == "malformed CSV row" ? "poses.csv" : "s.toml") != std::string::npos);
+    }
+    CHECK(thrown);
+    // Through the CLI: exit status 2 and no output folder.
+    std::string log;
+    CHECK(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --output " + (dir / "out").string(), log) == 2);
+    CHECK_FALSE(fs::exists(dir / "out"));
+  }
+  fs::remove_all(dir);
+}
