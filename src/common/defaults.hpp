@@ -85,6 +85,7 @@ inline constexpr double kCollisionParallelSin2 = 1e-4;    // sin^2 of segment an
 inline constexpr double kCollisionDegenerateRelative = 1e-14;  // sin^2 of triangle corner: degenerate
 inline constexpr double kCollisionTouching_m = 1e-12;     // core distance below: cores touch, no normal
 inline constexpr double kCollisionCoincident_m = 1e-9;    // SSV points closer than this coincide (input error)
+inline constexpr int kCollisionEscapeAttempts = 8;        // (study) extra IK solves to escape a colliding solution
 inline constexpr unsigned kSsvFitSeed = 1;                 // CGAL's random generator in fitSsvs (reproducible fits)
 inline constexpr double kSsvFitInflation_m = 1e-9;        // fitted radii: added to the max vertex distance
 inline constexpr double kCollisionSafetyDistance_m = 0.05;  // (study) d_a of eq. (5.57)
