@@ -18,5 +18,6 @@ void addFitCommand(CLI::App& app, Action& action);
 void addSynthCommand(CLI::App& app, Action& action);
 void addDynamicsCommand(CLI::App& app, Action& action);
 void addApproachCommand(CLI::App& app, Action& action);
+void addFitSsvCommand(CLI::App& app, Action& action);
 
 }  // namespace armstudy::cli

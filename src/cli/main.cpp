@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   armstudy::cli::addSynthCommand(app, action);
   armstudy::cli::addDynamicsCommand(app, action);
   armstudy::cli::addApproachCommand(app, action);
+  armstudy::cli::addFitSsvCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

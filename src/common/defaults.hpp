@@ -82,5 +82,18 @@ inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool mu
 inline constexpr double kHarvestRate_Hz = 1000.0;          // (study) tracking and inverse-dynamics rate [Hz]
 inline constexpr double kHarvestTemperature_C = 20.0;      // (study) drive temperature for friction terms [deg C]
 inline constexpr double kHarvestToolBeta_rad = 1.5707963267948966;  // (study) R_tool = Ry(pi/2): TCP z = approach axis
+// Self-collision (src/collision, thesis sections 3.4.4 and 5.4.3)
+inline constexpr int kMaxCollisionVolumes = 160;          // SSVs per design the workspace holds
+inline constexpr int kMaxObstacles = 64;                  // environment obstacles per query
+inline constexpr double kCollisionParallelSin2 = 1e-4;    // sin^2 of segment angle: treat as parallel
+inline constexpr double kCollisionDegenerateRelative = 1e-14;  // sin^2 of triangle corner: degenerate
+inline constexpr double kCollisionTouching_m = 1e-12;     // core distance below: cores touch, no normal
+inline constexpr double kCollisionCoincident_m = 1e-9;    // SSV points closer than this coincide (input error)
+inline constexpr int kCollisionEscapeAttempts = 8;        // (study) extra IK solves to escape a colliding solution
+inline constexpr unsigned kSsvFitSeed = 1;                 // CGAL's random generator in fitSsvs (reproducible fits)
+inline constexpr double kSsvFitInflation_m = 1e-9;        // fitted radii: added to the max vertex distance
+inline constexpr double kCollisionSafetyDistance_m = 0.05;  // (study) d_a of eq. (5.57)
+inline constexpr double kCollisionBlendT = 0.5;           // (study) t of eq. (5.57): cubic for d >= t d_a
+inline constexpr double kCollisionPotentialAtContact = 1.0;  // (study) H_0 = H_c,i(0) of eq. (5.57)
 
 }  // namespace armstudy::defaults

@@ -7,6 +7,7 @@
 // the per-thread ObjectiveContext.
 #include <Eigen/Core>
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,10 @@ class ObjectiveContext {
 
   // Task data a term may use: the direction u for the transmission objective (unit, in W).
   Eigen::Vector3d u_W = Eigen::Vector3d::UnitX();
+
+  // Per-thread scratch of terms that need more than the kinematics workspace (e.g. the collision
+  // workspace of collision::CollisionTerm), keyed by the term and created by it on first use.
+  std::map<const void*, std::shared_ptr<void>> term_scratch;
 
  private:
   const Model* model_;

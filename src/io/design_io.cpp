@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "collision/collision_model.hpp"
 #include "drive/friction.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
@@ -51,6 +52,63 @@ void forEachTable(TableReader& parent, const std::string& key, Fn fn) {
     fn(r);
     r.finish();
   }
+}
+
+// [[collision]] swept-sphere volumes and [[collision_allowed]] link pairs (docs/collision.md).
+void readCollisionModel(TableReader& top, Model& m) {
+  forEachTable(top, "collision", [&](TableReader& r) {
+    CollisionVolume v;
+    v.source_line = r.line();
+    v.name = r.string("name", "");
+    const std::string link = r.string("link");
+    v.link = collision::bodyIndex(m, link);
+    if (v.link < -1) r.fail("link", "no link named '" + link + "' (use a joint name or \"base\")");
+    const std::string type = r.string("type");
+    if (type == "point")
+      v.type = SsvType::Point;
+    else if (type == "line")
+      v.type = SsvType::Line;
+    else if (type == "triangle")
+      v.type = SsvType::Triangle;
+    else
+      r.fail("type", "unknown SSV type '" + type + "' (expected point, line or triangle)");
+    const int n = static_cast<int>(v.type);
+    const toml::node* pts = r.node("points");
+    if (!pts) r.fail("points", "missing required key");
+    const toml::array* arr = pts->as_array();
+    if (!arr || static_cast<int>(arr->size()) != n)
+      r.fail("points", "a " + type + " SSV needs " + std::to_string(n) +
+                           " points [[x, y, z], ...] in the link frame");
+    for (int i = 0; i < n; ++i) {
+      const toml::array* xyz = (*arr)[i].as_array();
+      if (!xyz || xyz->size() != 3) r.fail("points", "each point is [x, y, z] (metres or with unit)");
+      for (int k = 0; k < 3; ++k)
+        v.p_L[i][k] = io::nodeQuantity(*xyz->get(k), Dimension::Length, r.file(), r.keyPath("points"));
+    }
+    v.radius_m = r.quantity("radius", Dimension::Length);
+    const std::string problem = collision::volumeGeometryProblem(v.type, v.p_L, v.radius_m);
+    if (!problem.empty()) r.fail(problem.find("radius") == 0 ? "radius" : "points", problem);
+    m.collision.volumes.push_back(v);
+  });
+  if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
+    throw InputError(top.file(), m.collision.volumes.back().source_line, "collision",
+                     "more than " + std::to_string(defaults::kMaxCollisionVolumes) +
+                         " collision volumes are not supported");
+  forEachTable(top, "collision_allowed", [&](TableReader& r) {
+    const auto links = r.stringArray("links");
+    if (links.size() != 2) r.fail("links", "expected two link names [\"a\", \"b\"]");
+    std::array<int, 2> pair{};
+    for (int i = 0; i < 2; ++i) {
+      pair[i] = collision::bodyIndex(m, links[i]);
+      if (pair[i] < -1) r.fail("links", "no link named '" + links[i] + "' (use a joint name or \"base\")");
+    }
+    if (pair[0] == pair[1]) r.fail("links", "a link cannot be paired with itself");
+    if (pair[0] > pair[1]) std::swap(pair[0], pair[1]);
+    for (const auto& p : m.collision.allowed_pairs)
+      if (p == pair) r.fail("links", "pair listed twice");
+    r.string("reason", "");
+    m.collision.allowed_pairs.push_back(pair);
+  });
 }
 
 // Drive friction laws and the "<joint>.<effect>" entries of [model].effects (src/drive/friction.hpp).
@@ -223,6 +281,8 @@ Model buildModel(const toml::table& root, const std::string& file) {
     r.finish();
   }
   validateDriveEffects(m, file, effects_line);
+
+  readCollisionModel(top, m);
 
   top.finish();
   m.finalize();

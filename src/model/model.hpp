@@ -65,6 +65,30 @@ struct Drive {
   int source_line = 0;
 };
 
+// Self-collision model (thesis section 3.4.4, Fig. 3.24; docs/collision.md): swept-sphere volumes
+// (SSVs) rigidly attached to link frames. A point SSV is a sphere, a line SSV a capsule, a
+// triangle SSV a triangle swept by a sphere.
+enum class SsvType { Point = 1, Line = 2, Triangle = 3 };  // value = number of core points
+const char* toString(SsvType t);
+
+struct CollisionVolume {
+  std::string name;              // optional label, e.g. "upper_arm"
+  int link = -1;                 // joint index of the body it is attached to; -1 = the fixed base
+  SsvType type = SsvType::Point;
+  std::array<Eigen::Vector3d, 3> p_L{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                     Eigen::Vector3d::Zero()};  // core points in the link frame [m]
+  double radius_m = 0;
+  int source_line = 0;
+};
+
+struct CollisionModel {
+  std::vector<CollisionVolume> volumes;
+  // Link pairs (joint index, -1 = base) excluded from self-collision checks besides the
+  // neighbours, e.g. bodies that touch by construction at a wrist. Stored with first < second.
+  std::vector<std::array<int, 2>> allowed_pairs;
+  bool empty() const { return volumes.empty(); }
+};
+
 struct Model {
   std::string name;              // stable design (or variant) name, appears in every output
   std::string description;
@@ -84,6 +108,7 @@ struct Model {
   Eigen::Vector3d p_payload_com_T = Eigen::Vector3d::Zero();
   std::vector<Drive> drives;
   std::vector<std::string> effects;   // enabled model effects (calibration issue)
+  CollisionModel collision;           // [[collision]] volumes; empty = no collision model
 
   int dof() const { return static_cast<int>(joints.size()); }
   int jointIndex(const std::string& joint_name) const;  // -1 when absent

@@ -1,0 +1,66 @@
+// Collision-aware reachability: reachable and collision-free (escaping a colliding first solution
+// through the redundancy), reachable only in collision (with the pair), unreachable.
+#include <catch2/catch.hpp>
+
+#include "collision/reach_collision.hpp"
+#include "io/design_io.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::collision;
+
+TEST_CASE("collision-aware reachability classifies poses and escapes collisions through the redundancy") {
+  const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
+  IkWorkspace ws(m);
+  CollisionWorkspace cws(m);
+  IkOptions ik;
+  CollisionReachOptions co;
+  REQUIRE(co.validate().empty());
+  // A position target (redundancy 4) at the TCP of a known collision-free configuration.
+  Eigen::VectorXd q_true(7);
+  q_true << 0.0, 0.2, 0.3, 1.2, 0.0, 0.6, 0.0;
+  forwardKinematics(m, ws.kin, q_true);
+  IkTarget target;
+  target.task_space = TaskSpace::position();
+  target.w_d.head<3>() = ws.kin.p_WT;
+  const Eigen::Vector3d p_elbow = 0.5 * (ws.kin.p_WF[2] + ws.kin.p_WF[3]);
+
+  // No obstacles: reachable and collision-free.
+  const auto free = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1);
+  REQUIRE(free.ik.status == ReachStatus::Reachable);
+  CHECK(free.min_distance_m > 0);
+
+  // A sphere on the first solution's upper arm: the solver finds another arm posture.
+  forwardKinematics(m, ws.kin, free.ik.q);
+  const std::vector<Obstacle> on_arm = {
+      sphereObstacle("ball", 0.5 * (ws.kin.p_WF[2] + ws.kin.p_WF[3]), 0.05)};
+  const auto escaped = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, on_arm);
+  INFO("attempts " << escaped.attempts << ", distance " << escaped.min_distance_m);
+  CHECK(escaped.ik.status == ReachStatus::Reachable);
+  CHECK(escaped.attempts > 1);
+  CHECK(escaped.min_distance_m > 0);
+  forwardKinematics(m, ws.kin, escaped.ik.q);
+  CHECK((ws.kin.p_WT - target.w_d.head<3>()).norm() <= ik.position_tolerance_m);
+  collisionDistances(m, ws.kin, on_arm, cws);  // independent re-check of the returned q
+  CHECK(minEnvironmentDistance(cws) > 0);
+  CHECK(minSelfDistance(cws) > 0);
+  (void)p_elbow;
+
+  // A sphere around the target itself: reachable only in collision, and the pair is named.
+  const std::vector<Obstacle> at_tcp = {sphereObstacle("fruit", target.w_d.head<3>(), 0.04)};
+  const auto hit = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, at_tcp);
+  CHECK(hit.ik.status == ReachStatus::SelfCollision);
+  CHECK(hit.min_distance_m < 0);
+  CHECK(hit.colliding_pair == "j9-obstacle:fruit");
+  CHECK(hit.attempts == 1 + co.escape_attempts);
+  // Deterministic for a pose id.
+  const auto again = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, at_tcp);
+  CHECK(again.ik.q == hit.ik.q);
+
+  // Far away: unreachable, no collision check.
+  IkTarget far = target;
+  far.w_d.head<3>() = Eigen::Vector3d(5, 5, 5);
+  const auto out = solvePoseCollisionAware(m, ws, cws, far, ik, co, 1);
+  CHECK(out.ik.status == ReachStatus::OutOfReach);
+  CHECK(out.attempts == 1);
+}
