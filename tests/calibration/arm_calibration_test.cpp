@@ -179,3 +179,168 @@ TEST_CASE("trajectory: nothing hidden gives no significant missing effect") {
   CHECK_FALSE(d.missing_effect_found);
   CHECK(d.noise_estimate == Approx(kTauNoise).epsilon(0.35));
 }
+
+TEST_CASE("bad input: missing column / NaN cell / too few rows / joints the design lacks / unknown effect") {
+  const Model& m = design7();
+  const std::string dir = tmpDir("arm_bad");
+  TcpSynthOptions so;
+  so.rows = 12;
+  const std::string good = tcpDataToCsv(synthesizeTcp(m, so));
+  auto write = [&](const std::string& name, const std::string& text) {
+    writeFileAtomic(dir + "/" + name, text);
+    return dir + "/" + name;
+  };
+  // Missing q3: the column is named.
+  {
+    std::string text = good;
+    text.replace(text.find("q3"), 2, "qq");
+    try {
+      readTcpData(write("noq3.csv", text), m);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find("q3") != std::string::npos);
+    }
+  }
+  // NaN in data line 4 (header is line 1).
+  {
+    std::string text = good;
+    std::size_t pos = 0;
+    for (int i = 0; i < 3; ++i) pos = text.find('\n', pos) + 1;
+    text.replace(pos, text.find(',', pos) - pos, "NaN");
+    try {
+      readTcpData(write("nan.csv", text), m);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.line() == 4);
+      CHECK(e.file() == dir + "/nan.csv");
+    }
+  }
+  // A column for a joint the design does not have.
+  {
+    std::string text = good;
+    text.replace(text.find("x,y,z"), 5, "q8,x,y");
+    try {
+      readTcpData(write("q8.csv", text), m);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find("q8") != std::string::npos);
+    }
+    TrajectorySynthOptions ts;
+    ts.duration_s = 0.5;
+    std::string traj = trajectoryDataToCsv(synthesizeTrajectory(m, ts), true);
+    traj.replace(traj.find("tau1"), 4, "tau9");
+    CHECK_THROWS_AS(readTrajectoryData(write("tau9.csv", traj), m), InputError);
+  }
+  // Neither efforts nor currents; too few rows; unknown effect to add.
+  {
+    TrajectorySynthOptions ts;
+    ts.duration_s = 0.5;
+    const TrajectoryData td = synthesizeTrajectory(m, ts);
+    std::string traj = trajectoryDataToCsv(td, true);
+    for (int j = 1; j <= 7; ++j) traj.replace(traj.find("tau" + std::to_string(j)), 3, "xyz");
+    try {
+      readTrajectoryData(write("notau.csv", traj), m);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find("tau1") != std::string::npos);
+    }
+    TcpSynthOptions few;
+    few.rows = 6;
+    CHECK_THROWS_AS(compareArm(*makeTcpProblem(m, synthesizeTcp(m, few)), {}), InputError);
+    ArmFitOptions o;
+    o.add = {"joint_offset.j12"};
+    CHECK_THROWS_AS(diagnoseArm(*makeTcpProblem(m, synthesizeTcp(m, so)), o), InputError);
+  }
+  // A design without drives cannot explain motor currents.
+  {
+    const Model m6 = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
+    TrajectorySynthOptions ts;
+    ts.duration_s = 0.5;
+    TrajectoryData td = synthesizeTrajectory(m6, ts);
+    td.currents = true;
+    CHECK_THROWS_AS(makeTrajectoryProblem(m6, td), InputError);
+  }
+}
+
+TEST_CASE("trajectory: a joint that does not move makes its friction effects unidentifiable (warned)") {
+  TrajectorySynthOptions so;
+  so.duration_s = 2.0;
+  so.rate_Hz = 40;
+  so.noise = kTauNoise;
+  so.still_joints = {"j4"};
+  const auto P = makeTrajectoryProblem(design7(), synthesizeTrajectory(design7(), so));
+  const ArmDiagnosis d = diagnoseArm(*P, {});
+  bool warned = false;
+  for (const auto& w : d.warnings) warned = warned || w.find("j4 does not move") != std::string::npos;
+  CHECK(warned);
+  int dead = 0;
+  for (const auto& c : d.ranking)
+    if (c.name.rfind("j4.", 0) == 0) {
+      // coulomb/viscous/stribeck/asymmetry/load terms see no speed: no column at all.
+      CHECK(c.status == "unidentifiable");
+      ++dead;
+    }
+  CHECK(dead == 6);
+}
+
+TEST_CASE("trajectory: accelerations from the Savitzky-Golay filter still find the hidden payload") {
+  TrajectorySynthOptions so;
+  so.duration_s = 3.0;
+  so.rate_Hz = 100;
+  so.noise = kTauNoise;
+  so.hidden = {"payload"};
+  so.write_qdd = false;
+  const std::string dir = tmpDir("arm_sg");
+  const Model& m = design7();
+  writeFileAtomic(dir + "/run.csv", trajectoryDataToCsv(synthesizeTrajectory(m, so), false));
+  const TrajectoryData data = readTrajectoryData(dir + "/run.csv", m);
+  CHECK_FALSE(data.qdd_given);
+  const ArmDiagnosis d = diagnoseArm(*makeTrajectoryProblem(m, data), {});
+  REQUIRE(d.missing_effect_found);
+  CHECK(d.ranking.front().name == "payload");
+}
+
+TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare (tcp and trajectory); bad input exits 2") {
+  namespace fs = std::filesystem;
+  const std::string dir = tmpDir("arm_cli");
+  const std::string bin = test::binaryPath();
+  const std::string design = test::sourcePath("designs/final_prototype_7dof.toml");
+  std::string out;
+  // tcp
+  REQUIRE(test::runCommand(bin + " synth " + design + " --kind tcp --rows 50 --hide joint_offset.j3:offset=0.01 --noise 2e-4 --seed 3 --out " +
+                               dir + "/tcp.csv",
+                           out) == 0);
+  REQUIRE(test::runCommand(bin + " fit " + design + " --kind tcp --data " + dir + "/tcp.csv --auto --out " + dir + "/tcp", out) == 0);
+  INFO(out);
+  auto j = nlohmann::json::parse(readFileOrThrow(dir + "/tcp/result.json"));
+  CHECK(j["kind"] == "tcp");
+  CHECK(j["ranking"][0]["effect"] == "joint_offset.j3");
+  CHECK(j["ranking"][0]["significant"] == true);
+  for (const char* k : {"rmse", "noise_estimate", "regions", "rmse_before", "rmse_after"}) CHECK(j.contains(k));
+  CHECK(j["rmse_after"].get<double>() <= kNoiseRatio * 2e-4);
+  CHECK(fs::exists(dir + "/tcp/before_workspace_cells.vti"));
+  CHECK(fs::exists(dir + "/tcp/after_residual_points.vtp"));
+  // The calibrated copy has the offset in its joint table: compared as is, it meets the noise.
+  const std::string cal = j["calibrated_design"];
+  REQUIRE(test::runCommand(bin + " compare " + cal + " --kind tcp --data " + dir + "/tcp.csv --out " + dir + "/tcp", out) == 0);
+  j = nlohmann::json::parse(readFileOrThrow(dir + "/tcp/result.json"));
+  CHECK(j["as_designed"]["rmse"].get<double>() <= kNoiseRatio * 2e-4);
+  const std::string hist = readFileOrThrow(dir + "/tcp/history.csv");
+  CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 2 + 1);  // header, fit ladder (2), compare
+  // trajectory with currents
+  REQUIRE(test::runCommand(bin + " synth " + design + " --kind trajectory --duration 2 --rate 40 --currents --noise 0.01 --hide payload --out " +
+                               dir + "/run.csv",
+                           out) == 0);
+  REQUIRE(test::runCommand(bin + " fit " + design + " --kind trajectory --data " + dir + "/run.csv --add payload --out " + dir + "/traj", out) == 0);
+  j = nlohmann::json::parse(readFileOrThrow(dir + "/traj/result.json"));
+  CHECK(j["kind"] == "trajectory");
+  CHECK(j["added"][0] == "payload");
+  CHECK(j["rmse_after"].get<double>() <= kNoiseRatio * 0.01);
+  const Model cm = loadDesign(j["calibrated_design"].get<std::string>());
+  CHECK(cm.payload_kg == Approx(design7().payload_kg + 0.5).margin(0.01));
+  // Bad input: exit code 2 with a message.
+  writeFileAtomic(dir + "/bad.csv", "q1,q2,x,y,z\n0,0,0,0,0\n");
+  CHECK(test::runCommand(bin + " compare " + design + " --kind tcp --data " + dir + "/bad.csv --out " + dir + "/bad", out) == 2);
+  CHECK(out.find("q3") != std::string::npos);
+  CHECK(test::runCommand(bin + " compare " + design + " --kind tcp --drive j3 --data " + dir + "/tcp.csv", out) == 2);
+}
