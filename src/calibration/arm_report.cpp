@@ -1,6 +1,7 @@
 // Outputs of compare/fit for the arm kinds (tcp, trajectory): docs/calibration.md, "Arms".
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -127,6 +128,31 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
     }
   }
   g.point_arrays = {n, fl, mr, ratio};
+  {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
+    HeatmapSpec h;
+    h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
+    h.x_label = "x [m]";
+    h.y_label = "y [m]";
+    h.value_label = "|mean residual| [" + P.fit_unit + "]";
+    h.x_min = m.ws_origin[0];
+    h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
+    h.y_min = m.ws_origin[1];
+    h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
+    std::map<int, HeatCell> cells;
+    for (const auto& b : m.bins) {
+      if (b.space != "workspace") continue;
+      const int key = b.index[1] * m.ws_dims[0] + b.index[0];
+      auto it = cells.find(key);
+      if (it == cells.end()) it = cells.emplace(key, HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, 0, false}).first;
+      for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
+      it->second.n += b.n;
+      it->second.flagged = it->second.flagged || b.flagged;
+    }
+    for (const auto& [k, c] : cells) h.cells.push_back(c);
+    fs::create_directories(fs::path(dir) / "plots");
+    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(), svgHeatmap(h));
+    files.push_back("plots/" + stage + "_workspace_map.svg");
+  }
   io::writeVti((fs::path(dir) / (stage + "_workspace_cells.vti")).string(), g);
   files.push_back(stage + "_workspace_cells.vti");
   io::PolyDataSet poly;

@@ -161,7 +161,8 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
                   100 * c.improvement, c.t_statistic, c.significant ? "yes" : "no");
     else
       std::printf("  %-26s %-15s\n", c.name.c_str(), c.status.c_str());
-    for (const auto& w : c.warnings) std::printf("      warning: %s\n", w.c_str());
+    for (std::size_t k = 0; k < c.warnings.size() && k < 3; ++k) std::printf("      warning: %s\n", c.warnings[k].c_str());
+    if (c.warnings.size() > 3) std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
   }
   std::printf("\nverdict: %s\n",
               d.missing_effect_found ? ("missing effect: " + d.ranking.front().name).c_str() : "no significant missing effect");

@@ -85,7 +85,7 @@ TEST_CASE("Savitzky-Golay derivative of a sine equals the closed form (interior 
   for (std::size_t i = 0; i < tu.size(); ++i) CHECK(du[i] == Approx(2 - tu[i]).margin(1e-9));
 }
 
-TEST_CASE("tcp: every hidden effect ranks first and adding it brings the held-out RMSE to the noise") {
+TEST_CASE("tcp: every hidden effect ranks first - its values lie in the intervals - adding it brings the held-out RMSE to the noise") {
   const Model& m = design7();
   const char* hidden[] = {"joint_offset.j3", "link_length.j4.x", "base_offset", "joint_compliance.j3"};
   for (const char* h : hidden) {
@@ -103,10 +103,19 @@ TEST_CASE("tcp: every hidden effect ranks first and adding it brings the held-ou
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTcpNoise_m);
     CHECK(r.d.as_designed_map.flagged() > 0);
+    // The hidden (typical) values lie inside the reported 95 % intervals.
+    const ArmEffect& info = P->catalogue[P->findEffect(h)];
+    REQUIRE(r.d.final_fit.params.size() == info.params.size());
+    for (std::size_t k = 0; k < info.params.size(); ++k) {
+      const auto& fp = r.d.final_fit.params[k];
+      INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden " << info.params[k].typical);
+      CHECK(fp.ci_low <= info.params[k].typical);
+      CHECK(fp.ci_high >= info.params[k].typical);
+    }
   }
 }
 
-TEST_CASE("tcp: nothing hidden gives no significant missing effect; noise estimate near the injected noise") {
+TEST_CASE("tcp: nothing hidden gives no significant missing effect - noise estimate near the injected noise") {
   TcpSynthOptions so;
   so.rows = kTcpRows;
   so.noise_m = kTcpNoise_m;
@@ -300,7 +309,7 @@ TEST_CASE("trajectory: accelerations from the Savitzky-Golay filter still find t
   CHECK(d.ranking.front().name == "payload");
 }
 
-TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare (tcp and trajectory); bad input exits 2") {
+TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare (tcp and trajectory) - bad input exits 2") {
   namespace fs = std::filesystem;
   const std::string dir = tmpDir("arm_cli");
   const std::string bin = test::binaryPath();
