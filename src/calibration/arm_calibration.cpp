@@ -587,16 +587,23 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
     for (const auto& b : out) {
       if (a.effect == b.effect || !resid_cols.count(b.effect)) continue;
       const Eigen::MatrixXd& B = resid_cols[b.effect];
+      bool warned = false, all_in = true;
       for (int j = 0; j < A.cols(); ++j) {
         if (A.col(j).norm() == 0) continue;
         const double r2 = r2OnBasis(A.col(j), B);
-        if (r2 > defaults::kCollinearR2) {
+        if (r2 <= defaults::kCollinearR2) {
+          all_in = false;
+          continue;
+        }
+        if (!warned) {
           a.warnings.push_back("parameter '" + P.catalogue[a.effect].params[j].key +
                                "' cannot be told apart from the candidate '" + b.name + "' (R^2 = " + fmt(r2) +
                                ") with this data");
-          break;
+          a.indistinguishable.push_back(b.name);
+          warned = true;
         }
       }
+      if (all_in) a.contained_in.push_back(b.name);
     }
   }
   std::stable_sort(out.begin(), out.end(), [](const ArmCandidate& a, const ArmCandidate& b) {
@@ -605,6 +612,23 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
     if (!ao) return false;
     return a.fit.heldout_rmse < b.fit.heldout_rmse;
   });
+  // Parsimony: a candidate whose columns all lie in the span of a better-ranked one and that
+  // scores about as well (held-out RMSE within kParsimonyTolerance) is the simpler explanation of
+  // the same pattern; it moves ahead of it (e.g. the offset of a vertical joint vs base_offset).
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    if (out[i].status != "ok") continue;
+    std::size_t k = i;
+    while (k > 0) {
+      const ArmCandidate& b = out[k - 1];
+      const ArmCandidate& a = out[k];
+      const bool inside = std::find(a.contained_in.begin(), a.contained_in.end(), b.name) != a.contained_in.end();
+      if (!inside || a.fit.n_params >= b.fit.n_params ||
+          a.fit.heldout_rmse > b.fit.heldout_rmse * (1 + defaults::kParsimonyTolerance))
+        break;
+      std::swap(out[k - 1], out[k]);
+      --k;
+    }
+  }
   return out;
 }
 
@@ -657,6 +681,13 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
   d.ranking = ranking;
   ranked = true;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
+  d.verdict = "no significant missing effect";
+  if (d.missing_effect_found) {
+    d.verdict = "missing effect: " + ranking.front().name;
+    std::string others;
+    for (const auto& o2 : ranking.front().indistinguishable) others += (others.empty() ? "" : ", ") + o2;
+    if (!others.empty()) d.verdict += " (cannot be told apart from " + others + " with this data)";
+  }
   if (o.auto_add)
     while (!ranking.empty() && ranking.front().significant) {
       if (!addEffect(ranking.front().effect, true)) break;

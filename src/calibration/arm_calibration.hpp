@@ -116,6 +116,10 @@ struct ArmCandidate {
   double improvement = 0, t_statistic = 0;
   bool significant = false;
   std::vector<std::string> warnings;
+  // Candidates this one cannot be told apart from with this data (some parameter column in their
+  // span), and those whose span contains all of this one's columns.
+  std::vector<std::string> indistinguishable;
+  std::vector<std::string> contained_in;
 };
 
 struct ArmBin {
@@ -148,6 +152,8 @@ struct ArmDiagnosis {
   ArmResidualMap as_designed_map;
   std::vector<ArmCandidate> ranking;   // for the design as is (plus effects added by --add before it)
   bool missing_effect_found = false;
+  std::string verdict;                 // "missing effect: X [(cannot be told apart from ...)]" or
+                                       // "no significant missing effect"
   std::vector<ArmFit> ladder;
   std::vector<std::string> added;
   ArmFit final_fit;

@@ -297,11 +297,11 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
                   {"t_statistic", finite(c.t_statistic)},
                   {"significant", c.significant},
                   {"params", paramsJson(c.fit.params)},
-                  {"warnings", c.warnings}});
+                  {"warnings", c.warnings},
+                  {"indistinguishable_from", c.indistinguishable}});
   j["ranking"] = rk;
   j["verdict"] = o.command == "compare" ? "compare only (run fit to rank candidate effects)"
-                 : d.missing_effect_found ? "missing effect: " + d.ranking.front().name
-                                          : "no significant missing effect";
+                                          : d.verdict;
   j["regions"] = regionsJson(d.final_map, true);
   j["regions_before"] = regionsJson(d.as_designed_map, true);
   j["flagged_before"] = d.as_designed_map.flagged();

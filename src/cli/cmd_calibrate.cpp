@@ -164,8 +164,7 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
     for (std::size_t k = 0; k < c.warnings.size() && k < 3; ++k) std::printf("      warning: %s\n", c.warnings[k].c_str());
     if (c.warnings.size() > 3) std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
   }
-  std::printf("\nverdict: %s\n",
-              d.missing_effect_found ? ("missing effect: " + d.ranking.front().name).c_str() : "no significant missing effect");
+  std::printf("\nverdict: %s\n", d.verdict.c_str());
   if (!d.added.empty()) {
     std::printf("added:");
     for (const auto& e : d.added) std::printf(" %s", e.c_str());

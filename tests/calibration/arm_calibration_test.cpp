@@ -123,6 +123,7 @@ TEST_CASE("tcp: nothing hidden gives no significant missing effect - noise estim
   const auto P = makeTcpProblem(design7(), synthesizeTcp(design7(), so));
   const ArmDiagnosis d = diagnoseArm(*P, {});
   CHECK_FALSE(d.missing_effect_found);
+  CHECK(d.verdict == "no significant missing effect");
   CHECK(d.noise_estimate == Approx(kTcpNoise_m).epsilon(0.35));
   CHECK(d.as_designed_map.flagged() == 0);
 }
@@ -153,6 +154,36 @@ TEST_CASE("tcp: identifiability warnings (lift offset vs base z, compliance of t
   for (const auto& c : d.ranking)
     if (c.name.rfind("joint_compliance.", 0) == 0 && c.status == "unidentifiable") some_dead = true;
   CHECK(some_dead);
+}
+
+TEST_CASE("tcp: a hidden effect that other candidates mimic exactly is named with them (parsimony first)") {
+  const Model& m = design7();
+  // j2 turns about the base z axis: its offset is a base rotation gamma. The 1-parameter offset
+  // ranks ahead of the 6-parameter base_offset, and the verdict names base_offset.
+  {
+    TcpSynthOptions so;
+    so.rows = kTcpRows;
+    so.noise_m = kTcpNoise_m;
+    so.seed = 21;
+    so.hidden = {"joint_offset.j2"};
+    const ArmDiagnosis d = diagnoseArm(*makeTcpProblem(m, synthesizeTcp(m, so)), {});
+    INFO(d.verdict);
+    CHECK(d.ranking.front().name == "joint_offset.j2");
+    CHECK(d.verdict.find("base_offset") != std::string::npos);
+  }
+  // Link entries along parallel axes are the same displacement: the hidden one is first or named.
+  {
+    TcpSynthOptions so;
+    so.rows = kTcpRows;
+    so.noise_m = kTcpNoise_m;
+    so.seed = 23;
+    so.hidden = {"link_length.j3.y"};
+    const ArmDiagnosis d = diagnoseArm(*makeTcpProblem(m, synthesizeTcp(m, so)), {});
+    INFO(d.verdict);
+    REQUIRE(d.missing_effect_found);
+    CHECK(d.verdict.find("link_length.j3.y") != std::string::npos);
+    CHECK(d.verdict.find("cannot be told apart") != std::string::npos);
+  }
 }
 
 TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the held-out RMSE to the noise") {
