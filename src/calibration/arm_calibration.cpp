@@ -163,14 +163,45 @@ Solved fitSet(const ArmProblem& P, const EffectValues& start) {
   for (std::size_t k = 0; k < start.size(); ++k)
     if (std::isnan(start[k].profile)) prof = static_cast<int>(k);
   if (prof < 0) return gaussNewton(P, start);
-  Solved best;
-  best.ssr = kInf;
-  for (double g : P.catalogue[start[prof].effect].profile_grid) {
+  const std::vector<double>& grid = P.catalogue[start[prof].effect].profile_grid;
+  auto at = [&](double g) {
     EffectValues v = start;
     v[prof].profile = g;
-    Solved s = gaussNewton(P, v);
-    if (s.ssr < best.ssr) best = std::move(s);
+    return gaussNewton(P, v);
+  };
+  Solved best;
+  best.ssr = kInf;
+  std::size_t bi = 0;
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    Solved s = at(grid[k]);
+    if (s.ssr < best.ssr) {
+      best = std::move(s);
+      bi = k;
+    }
   }
+  // Golden-section refinement in log space between the neighbours of the best grid point.
+  double lo = std::log(grid[bi > 0 ? bi - 1 : 0]), hi = std::log(grid[std::min(grid.size() - 1, bi + 1)]);
+  if (hi <= lo) return best;
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
+  Solved f1 = at(std::exp(x1)), f2 = at(std::exp(x2));
+  for (int it = 0; it < defaults::kArmProfileRefineIterations; ++it) {
+    if (f1.ssr < f2.ssr) {
+      hi = x2;
+      x2 = x1;
+      f2 = std::move(f1);
+      x1 = hi - phi * (hi - lo);
+      f1 = at(std::exp(x1));
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = std::move(f2);
+      x2 = lo + phi * (hi - lo);
+      f2 = at(std::exp(x2));
+    }
+  }
+  if (f1.ssr < best.ssr) best = std::move(f1);
+  if (f2.ssr < best.ssr) best = std::move(f2);
   return best;
 }
 

@@ -115,6 +115,26 @@ TEST_CASE("tcp: every hidden effect ranks first - its values lie in the interval
   }
 }
 
+TEST_CASE("tcp with orientation: angles wrap and count in the fit - a hidden base rotation is found") {
+  const Model& m = design7();
+  TcpSynthOptions so;
+  so.rows = kTcpRows;
+  so.noise_m = kTcpNoise_m;
+  so.orientation = true;
+  so.noise_rad = kTcpNoise_m / defaults::kTcpAngleLength_m;  // the same noise in fit units
+  so.seed = 4;
+  so.hidden = {"base_offset:x=0,y=0,z=0,alpha=0.004,beta=-0.003,gamma=0.002"};
+  const auto P = makeTcpProblem(m, synthesizeTcp(m, so));
+  REQUIRE(P->channels() == 6);
+  const Outcome r = fitWith(*P, "base_offset");
+  INFO(r.first << " " << r.d.rmse_before << " -> " << r.d.rmse_after);
+  CHECK(r.first == "base_offset");
+  CHECK(r.significant);
+  CHECK(r.d.rmse_after <= kNoiseRatio * kTcpNoise_m);
+  // Angle residuals stay small although measured angles wrap at +-pi.
+  for (int c = 3; c < 6; ++c) CHECK(r.d.final_fit.channel_train[c].max_abs < 10 * so.noise_rad);
+}
+
 TEST_CASE("tcp: nothing hidden gives no significant missing effect - noise estimate near the injected noise") {
   TcpSynthOptions so;
   so.rows = kTcpRows;
@@ -205,6 +225,14 @@ TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the 
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTauNoise);
+    // Single-parameter effects (and the payload mass): the hidden value lies in the 95 % interval
+    // (not for the Stribeck torque, whose interval is conditional on the profiled v_S grid value).
+    const ArmEffect& info = P->catalogue[P->findEffect(h)];
+    if (info.hasProfile()) continue;
+    const auto& fp = r.d.final_fit.params.front();
+    INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden " << info.params[0].typical);
+    CHECK(fp.ci_low <= info.params[0].typical);
+    CHECK(fp.ci_high >= info.params[0].typical);
   }
 }
 
