@@ -672,7 +672,6 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
   Solved cur_solved = gaussNewton(P, {});
   ArmFit cur = d.as_designed;
   std::vector<ArmCandidate> ranking;
-  bool ranked = false;
   auto addEffect = [&](int e, bool warn_status) {
     const std::string& name = P.catalogue[e].name;
     if (findValue(current, e)) {
@@ -710,7 +709,6 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
   }
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
   d.ranking = ranking;
-  ranked = true;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   d.verdict = "no significant missing effect";
   if (d.missing_effect_found) {
@@ -724,7 +722,6 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
       if (!addEffect(ranking.front().effect, true)) break;
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
     }
-  (void)ranked;
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);
   d.rmse_before = d.as_designed.heldout_rmse;

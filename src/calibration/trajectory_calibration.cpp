@@ -126,14 +126,12 @@ class TrajectoryProblem : public ArmProblem {
       e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4}};
       add(e, {TrajEffect::LinkMass, j});
     }
-    double max_speed = 0;
     for (int j = 0; j < n; ++j) {
       if (!drive_[j]) continue;
       const double N = drive_[j]->gear_ratio;
       const bool js = fp_[j].joint_side;
       double vmax = 0;
       for (int i = 0; i < data.rows(); ++i) vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
-      max_speed = std::max(max_speed, vmax);
       for (drive::Effect fe : drive::kAllEffects) {
         if (fe == drive::Effect::Temperature) continue;  // trajectories carry no temperature column
         const EffectInfo& info = effectInfo(fe);
@@ -159,7 +157,6 @@ class TrajectoryProblem : public ArmProblem {
         add(e, t);
       }
     }
-    (void)max_speed;
     // Operating variables, workspace positions (design FK), held-out regions (time blocks).
     for (int j = 0; j < n; ++j) {
       const bool rev = model.joints[j].type == JointType::Revolute;
