@@ -68,11 +68,12 @@ const ArmParam& paramAt(const ArmProblem& P, const EffectValues& v, int j) {
   return P.catalogue[0].params[0];
 }
 
-// d prediction / d parameters (flattened, weighted) by central differences.
-Eigen::MatrixXd jacobian(const ArmProblem& P, const EffectValues& v) {
+// d prediction / d parameters (flattened, weighted) by central differences; columns of the
+// parameters from index `first` on.
+Eigen::MatrixXd jacobian(const ArmProblem& P, const EffectValues& v, int first = 0) {
   const Eigen::VectorXd x = packX(v);
-  Eigen::MatrixXd J(P.rows() * P.channels(), x.size());
-  for (int j = 0; j < x.size(); ++j) {
+  Eigen::MatrixXd J(P.rows() * P.channels(), x.size() - first);
+  for (int j = first; j < x.size(); ++j) {
     const double h = paramAt(P, v, j).step;
     EffectValues vp = v, vm = v;
     Eigen::VectorXd xp = x, xm = x;
@@ -80,7 +81,7 @@ Eigen::MatrixXd jacobian(const ArmProblem& P, const EffectValues& v) {
     xm[j] -= h;
     unpackX(vp, xp);
     unpackX(vm, xm);
-    J.col(j) = (flatten(P, P.predict(vp)) - flatten(P, P.predict(vm))) / (2 * h);
+    J.col(j - first) = (flatten(P, P.predict(vp)) - flatten(P, P.predict(vm))) / (2 * h);
   }
   return J;
 }
@@ -352,9 +353,7 @@ EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan) {
 Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& current, int e) {
   EffectValues v = current;
   v.push_back(zeroValue(P, e, false));
-  const Eigen::MatrixXd J = jacobian(P, v);
-  const int p = static_cast<int>(P.catalogue[e].params.size());
-  return J.rightCols(p);
+  return jacobian(P, v, static_cast<int>(packX(current).size()));
 }
 
 ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, const std::vector<double>& sigma,
