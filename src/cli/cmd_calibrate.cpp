@@ -1,10 +1,13 @@
-// CLI for model versus measurement of a drive (docs/calibration.md): compare, fit, synth.
+// CLI for model versus measurement (docs/calibration.md): compare, fit, synth for the kinds drive
+// (one joint drive on a test bed), tcp (measured TCP poses) and trajectory (joint efforts/currents).
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "calibration/drive_calibration.hpp"
 #include "calibration/drive_report.hpp"
+#include "calibration/tcp_calibration.hpp"
+#include "calibration/trajectory_calibration.hpp"
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
@@ -42,22 +45,64 @@ double parseNumber(const std::string& s, const std::string& option) {
   throw InputError("", 0, option, "'" + s + "' is not a number");
 }
 
-struct CommonArgs {
-  std::string design, joint, data, out;
-  int speed_bins = defaults::kSpeedBins, load_bins = defaults::kLoadBins;
+struct ArmSynthArgs {
+  calibration::TcpSynthOptions tcp;
+  calibration::TrajectorySynthOptions traj;
+  bool no_qdd = false;
 };
 
+struct CommonArgs {
+  std::string kind = "drive";
+  std::string design, joint, data, out;
+  int speed_bins = defaults::kSpeedBins, load_bins = defaults::kLoadBins;
+  int variable_bins = defaults::kArmVariableBins, workspace_bins = defaults::kArmWorkspaceBins;
+};
+
+const char* kKindHelp =
+    "Kind of measurement data: drive (CSV speed, load_torque, current[, temperature]; needs --drive),\n"
+    "tcp (CSV q1..qn, x, y, z[, alpha, beta, gamma]: measured TCP in the design's world/base frame),\n"
+    "trajectory (CSV t, q1..qn, qd1..qdn[, qdd1..qddn], tau1..taun or current1..currentn)";
+
+void checkKind(const CommonArgs& a) {
+  if (a.kind == "drive" && a.joint.empty())
+    throw InputError("", 0, "--drive", "the drive kind needs --drive <joint> (the joint whose drive was measured)");
+  if (a.kind != "drive" && !a.joint.empty())
+    throw InputError("", 0, "--drive", "--drive belongs to --kind drive; the " + a.kind + " kind uses every joint");
+}
+
 void addCommon(CLI::App* cmd, CommonArgs& a) {
-  cmd->add_option("design", a.design, "Design file (TOML) with a [[drive]] for the joint")->required();
-  cmd->add_option("--drive", a.joint, "Joint whose drive was measured, e.g. j6")->required();
-  cmd->add_option("--data", a.data, "Test-bed CSV: speed, load_torque, current[, temperature] (SI)")->required();
-  cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint>)");
-  cmd->add_option("--speed-bins", a.speed_bins, "Residual map: bins over signed motor speed");
-  cmd->add_option("--load-bins", a.load_bins, "Residual map: bins over |load torque|");
+  cmd->add_option("design", a.design, "Design file (TOML); drive kind: with a [[drive]] for the joint")->required();
+  cmd->add_option("--kind", a.kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
+  cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
+  cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
+  cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint or kind>)");
+  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed");
+  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|");
+  cmd->add_option("--variable-bins", a.variable_bins, "tcp/trajectory: bins over each joint variable (q, qd)");
+  cmd->add_option("--workspace-bins", a.workspace_bins, "tcp/trajectory: workspace cells per axis (x, y, z)");
 }
 
 std::string outDir(const CommonArgs& a, const Model& m) {
-  return a.out.empty() ? "output/calibration/" + m.name + "-" + a.joint : a.out;
+  return a.out.empty() ? "output/calibration/" + m.name + "-" + (a.kind == "drive" ? a.joint : a.kind) : a.out;
+}
+
+std::unique_ptr<calibration::ArmProblem> armProblem(const CommonArgs& a, const Model& m) {
+  if (a.kind == "tcp") return calibration::makeTcpProblem(m, calibration::readTcpData(a.data, m));
+  return calibration::makeTrajectoryProblem(m, calibration::readTrajectoryData(a.data, m));
+}
+
+void printArm(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
+  std::printf("%s data of %s vs %s (%d rows, %d channels)\n", d.kind.c_str(), d.design.c_str(), P.file.c_str(), P.rows(),
+              P.channels());
+  for (const auto& w : d.warnings) std::printf("warning: %s\n", w.c_str());
+  std::printf("as designed: RMSE %.4g %s; per channel:\n", d.as_designed.train_rmse, P.fit_unit.c_str());
+  for (int c = 0; c < P.channels(); ++c) {
+    const auto& s = d.as_designed.channel_train[c];
+    std::printf("  %-10s RMSE %.4g  bias %+.4g  max %.4g %s\n", P.channel_names[c].c_str(), s.rmse, s.bias, s.max_abs,
+                P.channel_units[c].c_str());
+  }
+  std::printf("noise estimate %.4g %s (lag-1 autocorrelation %.2f); flagged bins: %d of %zu\n", d.noise_estimate,
+              P.fit_unit.c_str(), d.noise_rho, d.as_designed_map.flagged(), d.as_designed_map.bins.size());
 }
 
 void printFit(const char* label, const calibration::ModelFit& m) {
@@ -76,20 +121,94 @@ void printHeader(const calibration::DriveDiagnosis& d, const calibration::DriveD
               d.noise_rho, c.map.flagged(), c.map.bins.size());
 }
 
+
+int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool autoAdd, int folds,
+           unsigned long long seed, const std::string& designOut) {
+  calibration::ArmFitOptions o;
+  o.variable_bins = a.variable_bins;
+  o.workspace_bins = a.workspace_bins;
+  o.folds = folds;
+  o.seed = seed;
+  o.auto_add = autoAdd;
+  o.add = splitList(add);
+  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
+  const auto P = armProblem(a, m);
+  const auto d = calibration::diagnoseArm(*P, o);
+  const std::string out = outDir(a, m);
+  std::vector<std::string> notes;
+  const std::string path = designOut.empty() ? out + "/" + m.name + "_calibrated.toml" : designOut;
+  std::string text = a.kind == "tcp" ? calibration::calibratedTcpToml(m, *P, d.final_fit.values, notes)
+                                     : calibration::calibratedTrajectoryToml(m, *P, d.final_fit.values, notes);
+  text = calibration::setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
+  parseDesign(text, path);  // still a valid design
+  calibration::ArmReportOptions ro{out, "fit"};
+  calibration::writeArmReport(d, *P, ro, path);
+  writeFileAtomic(path, text);
+  printArm(d, *P);
+  std::printf("\nmodels (RMSE [%s]; held-out = %d-fold cross-validation, linearised refit):\n", P->fit_unit.c_str(), o.folds);
+  for (const auto& f : d.ladder)
+    std::printf("  %-40s params %2d  train %.4g  held-out %.4g  by region %.4g  AIC %.1f\n", f.label.c_str(), f.n_params,
+                f.train_rmse, f.heldout_rmse, f.region_heldout_rmse, f.aic);
+  std::printf("\ncandidates (best first; first 12 and any with warnings):\n");
+  std::printf("  %-26s %-15s %12s %11s %8s  %s\n", "effect", "status", "held-out", "improvement", "t", "significant");
+  int shown = 0;
+  for (const auto& c : d.ranking) {
+    const bool show = shown < 12 || !c.warnings.empty();
+    if (!show) continue;
+    ++shown;
+    if (c.status == "ok")
+      std::printf("  %-26s %-15s %12.4g %10.1f%% %8.1f  %s\n", c.name.c_str(), c.status.c_str(), c.fit.heldout_rmse,
+                  100 * c.improvement, c.t_statistic, c.significant ? "yes" : "no");
+    else
+      std::printf("  %-26s %-15s\n", c.name.c_str(), c.status.c_str());
+    for (std::size_t k = 0; k < c.warnings.size() && k < 3; ++k) std::printf("      warning: %s\n", c.warnings[k].c_str());
+    if (c.warnings.size() > 3) std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
+  }
+  std::printf("\nverdict: %s\n", d.verdict.c_str());
+  if (!d.added.empty()) {
+    std::printf("added:");
+    for (const auto& e : d.added) std::printf(" %s", e.c_str());
+    std::printf("\nheld-out RMSE before %.4g -> after %.4g %s (x%.2f lower); noise estimate %.4g\n", d.rmse_before,
+                d.rmse_after, P->fit_unit.c_str(), d.rmse_before / d.rmse_after, d.noise_estimate);
+  }
+  std::printf("final parameters:\n");
+  for (const auto& p : d.final_fit.params)
+    std::printf("  %-36s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value, p.unit.c_str(), p.ci_low,
+                p.ci_high, p.at_bound ? "  (at bound)" : "");
+  for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
+  std::printf("calibrated design: %s\nresults in %s/\n", path.c_str(), out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 void addCompareCommand(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "compare",
-      "Compare a design's drive model with test-bed measurements: RMSE, bias and max per channel,\n"
-      "plots of measured vs predicted and residual vs every operating variable, a residual map over\n"
-      "speed x load with the bins the noise cannot explain flagged; appends to history.csv.\n"
-      "Example: armstudy compare designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv");
+      "Compare a design's model with measurements: RMSE, bias and max per channel, plots of measured\n"
+      "vs predicted and residual vs every operating variable, residual bins the noise cannot explain\n"
+      "flagged (drive: speed x load map; tcp/trajectory: joint-variable bins and workspace cells, also\n"
+      "as VTK .vti/.vtp); appends to history.csv.\n"
+      "Examples: armstudy compare designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv\n"
+      "          armstudy compare designs/final_prototype_7dof.toml --kind tcp --data tcp.csv");
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
   cmd->callback([&action, a] {
     action = [a] {
+      checkKind(*a);
       const Model m = loadDesign(a->design);
+      if (a->kind != "drive") {
+        const auto P = armProblem(*a, m);
+        calibration::ArmFitOptions o;
+        o.variable_bins = a->variable_bins;
+        o.workspace_bins = a->workspace_bins;
+        const auto d = calibration::compareArm(*P, o);
+        calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
+        calibration::writeArmReport(d, *P, ro, "");
+        printArm(d, *P);
+        std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg, *.vti/*.vtp)\n", ro.out_dir.c_str());
+        return 0;
+      }
       const calibration::DriveData data = calibration::readDriveData(a->data);
       DriveFitOptions o;
       o.speed_bins = a->speed_bins;
@@ -110,10 +229,14 @@ void addCompareCommand(CLI::App& app, Action& action) {
 void addFitCommand(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "fit",
-      "Refit a design's drive friction to test-bed data, rank the candidate effects that could be\n"
-      "missing by k-fold cross-validated error (with held-out-by-region scores, confidence intervals\n"
-      "and identifiability warnings), optionally add effects, and write a calibrated copy of the design.\n"
-      "Example: armstudy fit designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv --auto");
+      "Rank the candidate effects that could be missing from a design's model by k-fold cross-validated\n"
+      "error (with held-out-by-region scores, confidence intervals and identifiability warnings),\n"
+      "optionally add effects, and write a calibrated copy of the design. Effects by kind:\n"
+      "  drive: coulomb viscous load_coulomb load_viscous stribeck asymmetry temperature\n"
+      "  tcp: joint_offset.<joint> link_length.<joint>.<x|y|z> base_offset joint_compliance.<joint>\n"
+      "  trajectory: payload rotor_inertia gravity_tilt link_mass.<joint> <joint>.<drive effect>\n"
+      "Examples: armstudy fit designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv --auto\n"
+      "          armstudy fit designs/final_prototype_7dof.toml --kind trajectory --data run.csv --add payload");
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
   auto add = std::make_shared<std::string>();
@@ -121,14 +244,16 @@ void addFitCommand(CLI::App& app, Action& action) {
   auto folds = std::make_shared<int>(defaults::kCvFolds);
   auto seed = std::make_shared<unsigned long long>(defaults::kCvSeed);
   auto designOut = std::make_shared<std::string>();
-  cmd->add_option("--add", *add, "Effects to add (comma list, in order), e.g. stribeck,asymmetry");
+  cmd->add_option("--add", *add, "Effects to add (comma list, in order), e.g. stribeck,asymmetry or joint_offset.j3");
   cmd->add_flag("--auto", *autoAdd, "Add the best significant effect until none is left");
   cmd->add_option("--folds", *folds, "k of k-fold cross-validation");
   cmd->add_option("--seed", *seed, "Seed of the fold assignment");
   cmd->add_option("--write-design", *designOut, "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
   cmd->callback([&action, a, add, autoAdd, folds, seed, designOut] {
     action = [a, add, autoAdd, folds, seed, designOut] {
+      checkKind(*a);
       const Model m = loadDesign(a->design);
+      if (a->kind != "drive") return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
       DriveFitOptions o;
       o.speed_bins = a->speed_bins;
       o.load_bins = a->load_bins;
@@ -181,10 +306,17 @@ void addFitCommand(CLI::App& app, Action& action) {
 void addSynthCommand(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "synth",
-      "Virtual drive test bed: write test-bed CSV data from a design's drive plus hidden effects and\n"
-      "noise (seeded, reproducible). Speeds run in both directions, loads oppose the motion, the\n"
-      "housing temperature warms up over the run.\n"
-      "Example: armstudy synth designs/final_prototype_9dof.toml --drive j6 --hide stribeck:stribeck_velocity=60 --out bed.csv");
+      "Virtual test bed / robot: write measurement CSV data from a design plus hidden effects and noise\n"
+      "(seeded, reproducible).\n"
+      "  drive: test-bed sweep of one drive; speeds in both directions, loads oppose the motion, the\n"
+      "         housing temperature warms up over the run (--drive, --speeds, --loads, --temperature)\n"
+      "  tcp: joint positions uniform in the central part of the limits, measured TCP = forward\n"
+      "       kinematics with the hidden effects + noise (--rows, --noise [m], --orientation)\n"
+      "  trajectory: smooth random sum-of-sines joint motion, efforts by inverse dynamics + drive chain\n"
+      "       with the hidden effects + noise (--duration, --rate, --noise [N m|N or A], --currents, --no-qdd)\n"
+      "Examples: armstudy synth designs/final_prototype_9dof.toml --drive j6 --hide stribeck:stribeck_velocity=60 --out bed.csv\n"
+      "          armstudy synth designs/final_prototype_7dof.toml --kind tcp --hide joint_offset.j3:offset=0.01 --out tcp.csv\n"
+      "          armstudy synth designs/final_prototype_7dof.toml --kind trajectory --hide payload --out run.csv");
   auto joint = std::make_shared<std::string>();
   auto design = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
@@ -195,11 +327,25 @@ void addSynthCommand(CLI::App& app, Action& action) {
   auto o = std::make_shared<calibration::SynthOptions>();
   auto noTemp = std::make_shared<bool>(false);
   cmd->add_option("design", *design, "Design file (TOML)")->required();
-  cmd->add_option("--drive", *joint, "Joint whose drive is simulated")->required();
+  auto kind = std::make_shared<std::string>("drive");
+  auto arm = std::make_shared<ArmSynthArgs>();
+  cmd->add_option("--kind", *kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
+  cmd->add_option("--drive", *joint, "drive kind: joint whose drive is simulated");
+  cmd->add_option("--rows", arm->tcp.rows, "tcp: number of poses");
+  cmd->add_option("--noise-angle", arm->tcp.noise_rad, "tcp: angle noise [rad] (with --orientation)");
+  cmd->add_flag("--orientation", arm->tcp.orientation, "tcp: also write alpha, beta, gamma");
+  cmd->add_option("--duration", arm->traj.duration_s, "trajectory: duration [s]");
+  cmd->add_option("--rate", arm->traj.rate_Hz, "trajectory: sample rate [Hz]");
+  cmd->add_flag("--currents", arm->traj.currents, "trajectory: write motor currents instead of joint efforts");
+  cmd->add_flag("--no-qdd", arm->no_qdd, "trajectory: omit the qdd columns (the reader differentiates qd)");
+  cmd->add_option("--still", arm->traj.still_joints, "trajectory: joint held still (repeatable)");
   cmd->add_option("--out", *out, "CSV file to write")->required();
   cmd->add_option("--hide", *hide,
-                  "Hidden effect, repeatable: name[:key=value,...], e.g. stribeck:stribeck_torque=0.03,stribeck_velocity=60");
-  cmd->add_option("--noise", o->noise_A, "Current noise standard deviation [A]");
+                  "Hidden effect, repeatable: name[:key=value,...], e.g. stribeck:stribeck_torque=0.03,stribeck_velocity=60,\n"
+                  "joint_offset.j3:offset=0.01, payload:mass=0.4 (see fit --help for the names per kind)");
+  auto noise = std::make_shared<double>(std::nan(""));
+  cmd->add_option("--noise", *noise,
+                  "Noise standard deviation: drive [A] (default 0.01), tcp [m] (1e-4), trajectory [N m|N or A] (0.05)");
   cmd->add_option("--noise-correlation", o->noise_rho, "AR(1) correlation of successive noise samples");
   cmd->add_option("--seed", o->seed, "Random seed");
   cmd->add_option("--series", o->series, "Number of test series (each visits the speeds in a new order)");
@@ -207,10 +353,34 @@ void addSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--loads", *loads, "Load torque levels [N m], comma list");
   cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
   cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");
-  cmd->callback([&action, design, joint, out, hide, speeds, loads, temp, o, noTemp] {
-    action = [design, joint, out, hide, speeds, loads, temp, o, noTemp] {
+  cmd->callback([&action, design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise] {
+    action = [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise] {
+      if (*kind == "drive" && joint->empty())
+        throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
       const Model m = loadDesign(*design);
+      if (*kind == "tcp") {
+        calibration::TcpSynthOptions so = arm->tcp;
+        so.seed = o->seed;
+        if (!std::isnan(*noise)) so.noise_m = *noise;
+        so.hidden = *hide;
+        const auto data = calibration::synthesizeTcp(m, so);
+        writeFileAtomic(*out, calibration::tcpDataToCsv(data));
+        std::printf("wrote %d TCP poses to %s\n", data.rows(), out->c_str());
+        return 0;
+      }
+      if (*kind == "trajectory") {
+        calibration::TrajectorySynthOptions so = arm->traj;
+        so.seed = o->seed;
+        if (!std::isnan(*noise)) so.noise = *noise;
+        so.hidden = *hide;
+        so.write_qdd = !arm->no_qdd;
+        const auto data = calibration::synthesizeTrajectory(m, so);
+        writeFileAtomic(*out, calibration::trajectoryDataToCsv(data, so.write_qdd));
+        std::printf("wrote %d trajectory samples to %s\n", data.rows(), out->c_str());
+        return 0;
+      }
       calibration::SynthOptions so = *o;
+      if (!std::isnan(*noise)) so.noise_A = *noise;
       for (const auto& s : splitList(*speeds)) so.speeds_radps.push_back(parseNumber(s, "--speeds"));
       for (const auto& s : splitList(*loads)) so.loads.push_back(parseNumber(s, "--loads"));
       const auto t = splitList(*temp, ':');

@@ -54,6 +54,17 @@ inline constexpr double kUnidentifiableR2 = 1.0 - 1e-9;       // R^2 above: not 
 inline constexpr double kMinTemperatureSpan_K = 5.0;          // temperature range below: warning
 inline constexpr double kConfidenceZ = 1.959963984540054;     // two-sided 95 % intervals
 inline constexpr int kMinResidualDof = 2;                     // rows beyond the parameter count
+// Model versus measurement for arms (kinds tcp and trajectory, src/calibration/arm_calibration.hpp).
+inline constexpr int kArmVariableBins = 4;                    // 1-D bins per joint variable
+inline constexpr int kArmWorkspaceBins = 4;                   // workspace cells per axis
+inline constexpr int kGaussNewtonIterations = 8;              // full-data fit iterations
+inline constexpr int kArmProfileGridPoints = 12;              // log grid of a profiled parameter
+inline constexpr int kArmProfileRefineIterations = 12;        // golden-section steps after the grid
+inline constexpr double kParsimonyTolerance = 0.02;           // simpler nested candidate ranks first within 2 %
+inline constexpr double kTcpAngleLength_m = 0.1;              // TCP angle residual [rad] -> fit units [m]
+inline constexpr int kSavitzkyGolayHalfWindow = 4;            // qdd from qd: 9-sample window
+inline constexpr int kSavitzkyGolayDegree = 2;                // local quadratic
+inline constexpr double kUniformSamplingTolerance = 0.01;     // relative spread of time steps allowed
 // Dynamics
 inline constexpr double kStandardGravity_mps2 = 9.81;    // |g|, default gravity (0, 0, -g) in W (study)
 

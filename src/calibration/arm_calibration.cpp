@@ -1,0 +1,802 @@
+#include "calibration/arm_calibration.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "calibration/least_squares.hpp"
+#include "common/errors.hpp"
+
+namespace armstudy::calibration {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Flattened weighted residual vector (row-major: row * C + channel).
+Eigen::VectorXd flatten(const ArmProblem& P, const Eigen::MatrixXd& m) {
+  Eigen::VectorXd v(m.size());
+  for (int i = 0; i < P.rows(); ++i)
+    for (int c = 0; c < P.channels(); ++c) v[i * P.channels() + c] = m(i, c) * P.weight[c];
+  return v;
+}
+
+Eigen::MatrixXd unflatten(const ArmProblem& P, const Eigen::VectorXd& v) {
+  Eigen::MatrixXd m(P.rows(), P.channels());
+  for (int i = 0; i < P.rows(); ++i)
+    for (int c = 0; c < P.channels(); ++c) m(i, c) = v[i * P.channels() + c] / P.weight[c];
+  return m;
+}
+
+int countParams(const ArmProblem& P, const EffectValues& v) {
+  int p = 0;
+  for (const auto& e : v) p += static_cast<int>(P.catalogue[e.effect].params.size());
+  return p;
+}
+
+Eigen::VectorXd packX(const EffectValues& v) {
+  int n = 0;
+  for (const auto& e : v) n += static_cast<int>(e.x.size());
+  Eigen::VectorXd x(n);
+  int k = 0;
+  for (const auto& e : v) {
+    x.segment(k, e.x.size()) = e.x;
+    k += static_cast<int>(e.x.size());
+  }
+  return x;
+}
+
+void unpackX(EffectValues& v, const Eigen::VectorXd& x) {
+  int k = 0;
+  for (auto& e : v) {
+    e.x = x.segment(k, e.x.size());
+    k += static_cast<int>(e.x.size());
+  }
+}
+
+const ArmParam& paramAt(const ArmProblem& P, const EffectValues& v, int j) {
+  for (const auto& e : v) {
+    const auto& ps = P.catalogue[e.effect].params;
+    if (j < static_cast<int>(ps.size())) return ps[j];
+    j -= static_cast<int>(ps.size());
+  }
+  ARMSTUDY_CHECK(false, "parameter index in range");
+  return P.catalogue[0].params[0];
+}
+
+// d prediction / d parameters (flattened, weighted) by central differences; columns of the
+// parameters from index `first` on.
+Eigen::MatrixXd jacobian(const ArmProblem& P, const EffectValues& v, int first = 0) {
+  const Eigen::VectorXd x = packX(v);
+  Eigen::MatrixXd J(P.rows() * P.channels(), x.size() - first);
+  for (int j = first; j < x.size(); ++j) {
+    const double h = paramAt(P, v, j).step;
+    EffectValues vp = v, vm = v;
+    Eigen::VectorXd xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    unpackX(vp, xp);
+    unpackX(vm, xm);
+    J.col(j - first) = (flatten(P, P.predict(vp)) - flatten(P, P.predict(vm))) / (2 * h);
+  }
+  return J;
+}
+
+struct Solved {
+  EffectValues v;
+  Eigen::MatrixXd pred;  // native
+  Eigen::VectorXd r;     // flattened weighted residual
+  Eigen::MatrixXd J;     // at the solution
+  double ssr = 0;
+};
+
+void bounds(const ArmProblem& P, const EffectValues& v, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
+  const Eigen::VectorXd x = packX(v);
+  lo.resize(x.size());
+  hi.resize(x.size());
+  for (int j = 0; j < x.size(); ++j) {
+    lo[j] = paramAt(P, v, j).lower - x[j];
+    hi[j] = paramAt(P, v, j).upper - x[j];
+  }
+}
+
+// Bounded solve that leaves parameters with all-zero columns untouched.
+Eigen::VectorXd solveStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, const Eigen::VectorXd& lo,
+                          const Eigen::VectorXd& hi) {
+  std::vector<int> live;
+  for (int j = 0; j < J.cols(); ++j)
+    if (J.col(j).norm() > 0) live.push_back(j);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(J.cols());
+  if (live.empty()) return d;
+  Eigen::MatrixXd A(J.rows(), live.size());
+  Eigen::VectorXd l(live.size()), h(live.size());
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    A.col(k) = J.col(live[k]);
+    l[k] = std::min(0.0, lo[live[k]]);
+    h[k] = std::max(0.0, hi[live[k]]);
+  }
+  const LeastSquaresResult ls = boundedLeastSquares(A, r, l, h);
+  for (std::size_t k = 0; k < live.size(); ++k) d[live[k]] = ls.x[k];
+  return d;
+}
+
+// Gauss-Newton from the given start values (all parameters of v are free).
+Solved gaussNewton(const ArmProblem& P, EffectValues v) {
+  const Eigen::VectorXd y = flatten(P, P.measured);
+  Solved s;
+  s.v = v;
+  s.pred = P.predict(v);
+  s.r = y - flatten(P, s.pred);
+  s.ssr = s.r.squaredNorm();
+  if (packX(v).size() == 0) return s;
+  s.J = jacobian(P, v);
+  for (int it = 0; it < defaults::kGaussNewtonIterations; ++it) {
+    Eigen::VectorXd lo, hi;
+    bounds(P, s.v, lo, hi);
+    const Eigen::VectorXd d = solveStep(s.J, s.r, lo, hi);
+    const double predicted_ssr = (s.r - s.J * d).squaredNorm();
+    EffectValues nv = s.v;
+    unpackX(nv, packX(s.v) + d);
+    const Eigen::MatrixXd pred = P.predict(nv);
+    const Eigen::VectorXd r = y - flatten(P, pred);
+    const double ssr = r.squaredNorm();
+    if (ssr > s.ssr) break;  // no progress: keep the current point
+    const bool linear = std::abs(ssr - predicted_ssr) <= 1e-6 * ssr + 1e-300;
+    s.v = nv;
+    s.pred = pred;
+    s.r = r;
+    const double gain = s.ssr - ssr;
+    s.ssr = ssr;
+    if (linear) break;  // the model is linear over the step: J still holds
+    s.J = jacobian(P, s.v);
+    if (gain <= 1e-12 * ssr) break;
+  }
+  return s;
+}
+
+// Fit of a set: the effects in `start` (a profiled effect whose value is NaN is profiled on its grid).
+Solved fitSet(const ArmProblem& P, const EffectValues& start) {
+  int prof = -1;
+  for (std::size_t k = 0; k < start.size(); ++k)
+    if (std::isnan(start[k].profile)) prof = static_cast<int>(k);
+  if (prof < 0) return gaussNewton(P, start);
+  const std::vector<double>& grid = P.catalogue[start[prof].effect].profile_grid;
+  auto at = [&](double g) {
+    EffectValues v = start;
+    v[prof].profile = g;
+    return gaussNewton(P, v);
+  };
+  Solved best;
+  best.ssr = kInf;
+  std::size_t bi = 0;
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    Solved s = at(grid[k]);
+    if (s.ssr < best.ssr) {
+      best = std::move(s);
+      bi = k;
+    }
+  }
+  // Golden-section refinement in log space between the neighbours of the best grid point.
+  double lo = std::log(grid[bi > 0 ? bi - 1 : 0]), hi = std::log(grid[std::min(grid.size() - 1, bi + 1)]);
+  if (hi <= lo) return best;
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
+  Solved f1 = at(std::exp(x1)), f2 = at(std::exp(x2));
+  for (int it = 0; it < defaults::kArmProfileRefineIterations; ++it) {
+    if (f1.ssr < f2.ssr) {
+      hi = x2;
+      x2 = x1;
+      f2 = std::move(f1);
+      x1 = hi - phi * (hi - lo);
+      f1 = at(std::exp(x1));
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = std::move(f2);
+      x2 = lo + phi * (hi - lo);
+      f2 = at(std::exp(x2));
+    }
+  }
+  if (f1.ssr < best.ssr) best = std::move(f1);
+  if (f2.ssr < best.ssr) best = std::move(f2);
+  return best;
+}
+
+double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / r.size()) : kNaN; }
+
+// Linearised held-out residuals for a partition of the rows. Returns false when a training set is
+// too small.
+bool heldOut(const ArmProblem& P, const Solved& s, const std::vector<int>& part, int parts, Eigen::VectorXd& out) {
+  const int C = P.channels(), p = static_cast<int>(packX(s.v).size());
+  out = s.r;
+  if (p == 0) return true;
+  Eigen::VectorXd lo, hi;
+  bounds(P, s.v, lo, hi);
+  for (int k = 0; k < parts; ++k) {
+    std::vector<int> train, test;
+    for (int i = 0; i < P.rows(); ++i) (part[i] == k ? test : train).push_back(i);
+    if (test.empty()) continue;
+    if (static_cast<int>(train.size()) * C < p + defaults::kMinResidualDof) return false;
+    Eigen::MatrixXd Jt(train.size() * C, p);
+    Eigen::VectorXd rt(train.size() * C);
+    for (std::size_t a = 0; a < train.size(); ++a)
+      for (int c = 0; c < C; ++c) {
+        Jt.row(a * C + c) = s.J.row(train[a] * C + c);
+        rt[a * C + c] = s.r[train[a] * C + c];
+      }
+    const Eigen::VectorXd d = solveStep(Jt, rt, lo, hi);
+    for (int i : test)
+      for (int c = 0; c < C; ++c) out[i * C + c] = s.r[i * C + c] - s.J.row(i * C + c).dot(d);
+  }
+  return true;
+}
+
+std::vector<ChannelStats> channelStatsOf(const ArmProblem& P, const Eigen::MatrixXd& m) {
+  std::vector<ChannelStats> out;
+  for (int c = 0; c < P.channels(); ++c) {
+    std::vector<double> col(m.rows());
+    for (int i = 0; i < m.rows(); ++i) col[i] = m(i, c);
+    out.push_back(channelStats(col));
+  }
+  return out;
+}
+
+std::string paramUnit(const ArmParam& p) { return p.unit; }
+
+// Linearised 95 % intervals (as the drive kind: sigma^2 (J^T J)^-1, inflated for AR(1) residuals).
+void confidence(const ArmProblem& P, const Solved& s, ArmFit& f) {
+  const int p = static_cast<int>(packX(s.v).size());
+  const Eigen::VectorXd x = packX(s.v);
+  const int dof = static_cast<int>(s.r.size()) - p;
+  const double rho = std::clamp(lag1Autocorrelation(std::vector<double>(s.r.data(), s.r.data() + s.r.size())), 0.0, 0.95);
+  const double s2 = dof > 0 ? s.ssr / dof * (1 + rho) / (1 - rho) : kInf;
+  Eigen::VectorXd sd = Eigen::VectorXd::Constant(p, kInf);
+  if (p > 0) {
+    Eigen::VectorXd scale(p);
+    for (int j = 0; j < p; ++j) scale[j] = s.J.col(j).norm() > 0 ? s.J.col(j).norm() : 1.0;
+    const Eigen::MatrixXd Js = s.J * scale.cwiseInverse().asDiagonal();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeThinV);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (sv.size() == p && sv[p - 1] > 1e-10 * sv[0]) {
+      const Eigen::MatrixXd V = svd.matrixV();
+      const Eigen::MatrixXd cov = V * sv.cwiseInverse().cwiseAbs2().asDiagonal() * V.transpose();
+      for (int j = 0; j < p; ++j) sd[j] = std::sqrt(s2 * cov(j, j)) / scale[j];
+    }
+  }
+  f.params.clear();
+  int j = 0;
+  for (const auto& e : s.v) {
+    const ArmEffect& info = P.catalogue[e.effect];
+    for (const auto& ap : info.params) {
+      FittedParameter fp;
+      fp.key = info.name + "." + ap.key;
+      fp.unit = paramUnit(ap);
+      fp.value = x[j];
+      fp.ci_low = x[j] - defaults::kConfidenceZ * sd[j];
+      fp.ci_high = x[j] + defaults::kConfidenceZ * sd[j];
+      fp.at_bound = x[j] <= ap.lower || x[j] >= ap.upper;
+      f.params.push_back(fp);
+      ++j;
+    }
+    if (info.hasProfile()) {
+      FittedParameter fp;
+      fp.key = info.name + "." + info.profile.key;
+      fp.unit = info.profile.unit;
+      fp.value = e.profile;
+      fp.ci_low = fp.ci_high = kNaN;  // profiled on a grid: no linearised interval
+      fp.at_bound = e.profile <= info.profile_grid.front() || e.profile >= info.profile_grid.back();
+      f.params.push_back(fp);
+    }
+  }
+}
+
+struct Engine {
+  const ArmProblem& P;
+  std::vector<int> folds;
+  int k = 5;
+
+  ArmFit make(const Solved& s, const std::string& label, bool& ok) const {
+    ArmFit f;
+    f.label = label;
+    f.values = s.v;
+    for (const auto& e : s.v) f.effects.push_back(P.catalogue[e.effect].name);
+    f.n_params = countParams(P, s.v);
+    for (const auto& e : s.v) f.n_params += P.catalogue[e.effect].hasProfile();
+    f.predicted = s.pred;
+    f.residual = unflatten(P, s.r);
+    f.train_rmse = rms(s.r);
+    f.channel_train = channelStatsOf(P, f.residual);
+    Eigen::VectorXd ho, hr;
+    ok = heldOut(P, s, folds, k, ho);
+    if (!ok) return f;
+    f.heldout_residual = unflatten(P, ho);
+    f.heldout_rmse = rms(ho);
+    f.channel_heldout = channelStatsOf(P, f.heldout_residual);
+    f.region_heldout_rmse = P.region_count > 1 && heldOut(P, s, P.regions, P.region_count, hr) ? rms(hr) : kNaN;
+    const double n = static_cast<double>(s.r.size());
+    const double ll = n * std::log(std::max(s.ssr, 1e-300) / n);
+    f.aic = ll + 2.0 * f.n_params;
+    f.bic = ll + f.n_params * std::log(n);
+    confidence(P, s, f);
+    return f;
+  }
+};
+
+double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis) {
+  const double tot = col.squaredNorm();
+  if (tot == 0) return 1.0;
+  if (basis.cols() == 0) return 0.0;
+  const Eigen::VectorXd coef = basis.colPivHouseholderQr().solve(col);
+  return 1.0 - (col - basis * coef).squaredNorm() / tot;
+}
+
+std::string fmt(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+// Candidate columns at the current values (a profiled effect at the middle of its grid).
+EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan) {
+  EffectValue v;
+  v.effect = e;
+  v.x = Eigen::VectorXd::Zero(P.catalogue[e].params.size());
+  const auto& g = P.catalogue[e].profile_grid;
+  v.profile = g.empty() ? 0.0 : (profile_nan ? kNaN : g[g.size() / 2]);
+  return v;
+}
+
+Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& current, int e) {
+  EffectValues v = current;
+  v.push_back(zeroValue(P, e, false));
+  return jacobian(P, v, static_cast<int>(packX(current).size()));
+}
+
+ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, const std::vector<double>& sigma,
+                           double rho, const ArmFitOptions& o) {
+  ArmResidualMap map;
+  map.rho = rho;
+  const int C = P.channels();
+  struct Proto {
+    ArmBin bin;
+    std::vector<int> rows;
+  };
+  std::vector<Proto> protos;
+  auto edgesOf = [](double a, double b, int nb) {
+    if (b <= a) b = a + 1e-12;
+    std::vector<double> e(nb + 1);
+    for (int i = 0; i <= nb; ++i) e[i] = a + (b - a) * i / nb;
+    return e;
+  };
+  auto binOf = [](const std::vector<double>& e, double x) {
+    const int nb = static_cast<int>(e.size()) - 1;
+    return std::clamp(static_cast<int>(std::upper_bound(e.begin(), e.end(), x) - e.begin()) - 1, 0, nb - 1);
+  };
+  for (const BinVariable& var : P.variables) {
+    const auto [mn, mx] = std::minmax_element(var.values.begin(), var.values.end());
+    if (*mx - *mn <= 0) continue;  // constant variable: nothing to bin
+    const auto e = edgesOf(*mn, *mx, o.variable_bins);
+    std::vector<Proto> local(o.variable_bins);
+    for (int b = 0; b < o.variable_bins; ++b) {
+      local[b].bin.space = "joint";
+      local[b].bin.variable = var.name;
+      local[b].bin.index = {b, 0, 0};
+      local[b].bin.lo = {e[b], 0, 0};
+      local[b].bin.hi = {e[b + 1], 0, 0};
+    }
+    for (int i = 0; i < P.rows(); ++i) local[binOf(e, var.values[i])].rows.push_back(i);
+    for (auto& l : local)
+      if (!l.rows.empty()) protos.push_back(std::move(l));
+  }
+  if (!P.workspace.empty()) {
+    const int nb = o.workspace_bins;
+    std::array<std::vector<double>, 3> e;
+    for (int a = 0; a < 3; ++a) {
+      double mn = kInf, mx = -kInf;
+      for (const auto& p : P.workspace) {
+        mn = std::min(mn, p[a]);
+        mx = std::max(mx, p[a]);
+      }
+      e[a] = edgesOf(mn, mx, nb);
+      map.ws_dims[a] = nb;
+      map.ws_origin[a] = e[a][0];
+      map.ws_cell[a] = e[a][1] - e[a][0];
+    }
+    std::map<int, Proto> cells;
+    for (int i = 0; i < P.rows(); ++i) {
+      std::array<int, 3> id;
+      for (int a = 0; a < 3; ++a) id[a] = binOf(e[a], P.workspace[i][a]);
+      Proto& pr = cells[(id[2] * nb + id[1]) * nb + id[0]];
+      pr.bin.space = "workspace";
+      pr.bin.variable = "x,y,z";
+      pr.bin.index = id;
+      for (int a = 0; a < 3; ++a) {
+        pr.bin.lo[a] = e[a][id[a]];
+        pr.bin.hi[a] = e[a][id[a] + 1];
+      }
+      pr.rows.push_back(i);
+    }
+    for (auto& [key, pr] : cells) protos.push_back(std::move(pr));
+  }
+  int tested = 0;
+  for (const auto& p : protos) tested += static_cast<int>(p.rows.size()) >= defaults::kMinBinSamples;
+  map.z = normalQuantile(1.0 - defaults::kBinFalseAlarm / (2.0 * std::max(1, tested * C)));
+  for (auto& pr : protos) {
+    ArmBin& b = pr.bin;
+    b.n = static_cast<int>(pr.rows.size());
+    b.n_eff = effectiveSampleSize(b.n, rho);
+    for (int c = 0; c < C; ++c) {
+      double m = 0;
+      for (int i : pr.rows) m += res(i, c);
+      m /= b.n;
+      b.mean.push_back(m);
+      b.threshold.push_back(map.z * sigma[c] / std::sqrt(b.n_eff));
+      if (b.n >= defaults::kMinBinSamples && std::abs(m) > b.threshold.back()) b.flagged = true;
+    }
+    map.bins.push_back(b);
+  }
+  return map;
+}
+
+}  // namespace
+
+int ArmProblem::findEffect(const std::string& name) const {
+  for (std::size_t i = 0; i < catalogue.size(); ++i)
+    if (catalogue[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int ArmResidualMap::flagged() const {
+  int n = 0;
+  for (const auto& b : bins) n += b.flagged;
+  return n;
+}
+
+std::string ArmFitOptions::validate() const {
+  if (folds < 2) return "folds must be at least 2";
+  if (variable_bins < 1 || workspace_bins < 1) return "bin counts must be positive";
+  if (!(significance_z > 0)) return "significance z must be positive";
+  if (!(min_relative_improvement >= 0 && min_relative_improvement < 1))
+    return "minimum relative improvement must lie in [0, 1)";
+  return "";
+}
+
+const EffectValue* findValue(const EffectValues& values, int effect) {
+  for (const auto& v : values)
+    if (v.effect == effect) return &v;
+  return nullptr;
+}
+
+ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
+  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
+  const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
+  if (P.rows() < min_rows)
+    throw InputError(P.file, 0, "", std::to_string(P.rows()) + " rows are too few to compare and cross-validate (need at least " +
+                                        std::to_string(min_rows) + ")");
+  ArmDiagnosis d;
+  d.kind = P.kind;
+  d.design = P.design;
+  d.file = P.file;
+  d.warnings = P.warnings;
+  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds};
+  bool ok = false;
+  d.as_designed = eng.make(gaussNewton(P, {}), "as designed", ok);
+  ARMSTUDY_CHECK(ok, "no parameters to fit");
+
+  // Noise: one linearised step of the most flexible model (every candidate at once, dependent
+  // columns dropped by the rank-revealing QR); residual standard deviation with its dof.
+  const Eigen::VectorXd r0 = flatten(P, P.measured - d.as_designed.predicted);
+  Eigen::MatrixXd all(r0.size(), 0);
+  for (std::size_t e = 0; e < P.catalogue.size(); ++e) {
+    const Eigen::MatrixXd cols = candidateColumns(P, {}, static_cast<int>(e));
+    Eigen::MatrixXd next(r0.size(), all.cols() + cols.cols());
+    next << all, cols;
+    all = next;
+  }
+  Eigen::VectorXd sat_r = r0;
+  int rank = 0;
+  if (all.cols() > 0) {
+    Eigen::VectorXd sc(all.cols());
+    for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
+    const Eigen::MatrixXd As = all * sc.asDiagonal();
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+    qr.setThreshold(1e-9);
+    rank = static_cast<int>(qr.rank());
+    sat_r = r0 - As * qr.solve(r0);
+  }
+  const int dof = static_cast<int>(r0.size()) - rank;
+  if (dof >= defaults::kMinResidualDof && dof >= static_cast<int>(r0.size()) / 4) {
+    d.noise_estimate = std::sqrt(sat_r.squaredNorm() / dof);
+  } else {
+    d.noise_estimate = d.as_designed.train_rmse;
+    d.warnings.push_back("too few rows for the noise estimate (" + std::to_string(rank) +
+                         " independent candidate parameters); the RMSE of the design is used instead");
+  }
+  const Eigen::MatrixXd sat = unflatten(P, sat_r);
+  const double scale = std::sqrt(static_cast<double>(r0.size()) / std::max(1, dof));
+  double rho_sum = 0;
+  for (int c = 0; c < P.channels(); ++c) {
+    std::vector<double> col(P.rows());
+    for (int i = 0; i < P.rows(); ++i) col[i] = sat(i, c);
+    d.channel_noise.push_back(channelStats(col).rmse * scale);
+    rho_sum += lag1Autocorrelation(col);
+  }
+  d.noise_rho = rho_sum / P.channels();
+  d.as_designed_map = residualMap(P, d.as_designed.residual, d.channel_noise, d.noise_rho, o);
+  d.ladder.push_back(d.as_designed);
+  d.final_fit = d.as_designed;
+  d.final_map = d.as_designed_map;
+  d.rmse_before = d.rmse_after = d.as_designed.heldout_rmse;
+  return d;
+}
+
+namespace {
+
+std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const EffectValues& current,
+                               const ArmFit& base, const Solved& base_solved, double noise_rho, const ArmFitOptions& o) {
+  std::vector<ArmCandidate> out;
+  const int N = P.rows() * P.channels();
+  const Eigen::MatrixXd basis = base_solved.J.cols() > 0 ? base_solved.J : Eigen::MatrixXd(N, 0);
+  std::map<int, Eigen::MatrixXd> resid_cols;
+  for (std::size_t ei = 0; ei < P.catalogue.size(); ++ei) {
+    const int e = static_cast<int>(ei);
+    if (findValue(current, e)) continue;
+    const ArmEffect& info = P.catalogue[e];
+    ArmCandidate cand;
+    cand.effect = e;
+    cand.name = info.name;
+    const Eigen::MatrixXd cols = candidateColumns(P, current, e);
+    bool dead = true;
+    for (int j = 0; j < cols.cols(); ++j) {
+      const double r2 = r2OnBasis(cols.col(j), basis);
+      if (cols.col(j).norm() == 0) {
+        cand.warnings.push_back("parameter '" + info.params[j].key +
+                                "' has no effect on the predicted channels with this data (an operating variable it "
+                                "needs is constant or zero)");
+        continue;
+      }
+      if (r2 > defaults::kCollinearR2)
+        cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from the terms already in "
+                                "the model (R^2 = " + fmt(r2) + ") with this data");
+      if (r2 <= defaults::kUnidentifiableR2) dead = false;
+    }
+    if (dead) {
+      cand.status = "unidentifiable";
+      out.push_back(cand);
+      continue;
+    }
+    Eigen::MatrixXd rc = cols;
+    if (basis.cols() > 0) rc = cols - basis * basis.colPivHouseholderQr().solve(cols);
+    resid_cols[e] = rc;
+    const int p = static_cast<int>(packX(current).size() + info.params.size());
+    if (N * (o.folds - 1) / o.folds < p + defaults::kMinResidualDof) {
+      cand.status = "too_few_rows";
+      cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+      out.push_back(cand);
+      continue;
+    }
+    EffectValues v = current;
+    v.push_back(zeroValue(P, e, true));
+    bool ok = false;
+    cand.fit = eng.make(fitSet(P, v), "+" + info.name, ok);
+    if (!ok) {
+      cand.status = "too_few_rows";
+      cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+      out.push_back(cand);
+      continue;
+    }
+    cand.improvement = (base.heldout_rmse - cand.fit.heldout_rmse) / base.heldout_rmse;
+    // Paired held-out squared-error differences per row (all channels of a row together).
+    std::vector<double> dd(P.rows());
+    for (int i = 0; i < P.rows(); ++i) {
+      double s = 0;
+      for (int c = 0; c < P.channels(); ++c) {
+        const double a = base.heldout_residual(i, c) * P.weight[c], b = cand.fit.heldout_residual(i, c) * P.weight[c];
+        s += a * a - b * b;
+      }
+      dd[i] = s;
+    }
+    const double md = mean(dd);
+    double var = 0;
+    for (double x : dd) var += (x - md) * (x - md);
+    var /= std::max(1, P.rows() - 1);
+    const double neff = effectiveSampleSize(P.rows(), noise_rho);
+    cand.t_statistic = var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
+    cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
+    out.push_back(cand);
+  }
+  // Candidates that cannot be told apart from each other: a parameter column of one lies in the
+  // span of another candidate's columns (after removing what the model already explains).
+  for (auto& a : out) {
+    if (!resid_cols.count(a.effect)) continue;
+    const Eigen::MatrixXd& A = resid_cols[a.effect];
+    for (const auto& b : out) {
+      if (a.effect == b.effect || !resid_cols.count(b.effect)) continue;
+      const Eigen::MatrixXd& B = resid_cols[b.effect];
+      bool warned = false, all_in = true;
+      for (int j = 0; j < A.cols(); ++j) {
+        if (A.col(j).norm() == 0) continue;
+        const double r2 = r2OnBasis(A.col(j), B);
+        if (r2 <= defaults::kCollinearR2) {
+          all_in = false;
+          continue;
+        }
+        if (!warned) {
+          a.warnings.push_back("parameter '" + P.catalogue[a.effect].params[j].key +
+                               "' cannot be told apart from the candidate '" + b.name + "' (R^2 = " + fmt(r2) +
+                               ") with this data");
+          a.indistinguishable.push_back(b.name);
+          warned = true;
+        }
+      }
+      if (all_in) a.contained_in.push_back(b.name);
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [](const ArmCandidate& a, const ArmCandidate& b) {
+    const bool ao = a.status == "ok", bo = b.status == "ok";
+    if (ao != bo) return ao;
+    if (!ao) return false;
+    return a.fit.heldout_rmse < b.fit.heldout_rmse;
+  });
+  // Parsimony: a candidate whose columns all lie in the span of a better-ranked one and that
+  // scores about as well (held-out RMSE within kParsimonyTolerance) is the simpler explanation of
+  // the same pattern; it moves ahead of it (e.g. the offset of a vertical joint vs base_offset).
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    if (out[i].status != "ok") continue;
+    std::size_t k = i;
+    while (k > 0) {
+      const ArmCandidate& b = out[k - 1];
+      const ArmCandidate& a = out[k];
+      const bool inside = std::find(a.contained_in.begin(), a.contained_in.end(), b.name) != a.contained_in.end();
+      if (!inside || a.fit.n_params >= b.fit.n_params ||
+          a.fit.heldout_rmse > b.fit.heldout_rmse * (1 + defaults::kParsimonyTolerance))
+        break;
+      std::swap(out[k - 1], out[k]);
+      --k;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
+  ArmDiagnosis d = compareArm(P, o);
+  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds};
+  EffectValues current;
+  Solved cur_solved = gaussNewton(P, {});
+  ArmFit cur = d.as_designed;
+  std::vector<ArmCandidate> ranking;
+  auto addEffect = [&](int e, bool warn_status) {
+    const std::string& name = P.catalogue[e].name;
+    if (findValue(current, e)) {
+      d.warnings.push_back("effect '" + name + "' is already in the model");
+      return false;
+    }
+    if (warn_status)
+      for (const auto& c : ranking)
+        if (c.effect == e && c.status != "ok")
+          d.warnings.push_back("adding '" + name + "' although it is " + c.status);
+    EffectValues v = current;
+    v.push_back(zeroValue(P, e, true));
+    const Solved s = fitSet(P, v);
+    bool ok = false;
+    ArmFit f = eng.make(s, "+" + name, ok);
+    if (!ok) {
+      d.warnings.push_back("cannot add '" + name + "': too few rows");
+      return false;
+    }
+    current = s.v;
+    cur_solved = s;
+    cur = f;
+    d.added.push_back(name);
+    d.ladder.push_back(f);
+    return true;
+  };
+  for (const std::string& name : o.add) {
+    const int e = P.findEffect(name);
+    if (e < 0) {
+      std::string names;
+      for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
+      throw InputError("", 0, "--add", "unknown effect '" + name + "' for this design and data (candidates: " + names + ")");
+    }
+    addEffect(e, false);
+  }
+  ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+  d.ranking = ranking;
+  d.missing_effect_found = !ranking.empty() && ranking.front().significant;
+  d.verdict = "no significant missing effect";
+  if (d.missing_effect_found) {
+    d.verdict = "missing effect: " + ranking.front().name;
+    std::string others;
+    for (const auto& o2 : ranking.front().indistinguishable) others += (others.empty() ? "" : ", ") + o2;
+    if (!others.empty()) d.verdict += " (cannot be told apart from " + others + " with this data)";
+  }
+  if (o.auto_add)
+    while (!ranking.empty() && ranking.front().significant) {
+      if (!addEffect(ranking.front().effect, true)) break;
+      ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+    }
+  d.final_fit = cur;
+  d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);
+  d.rmse_before = d.as_designed.heldout_rmse;
+  d.rmse_after = cur.heldout_rmse;
+  return d;
+}
+
+EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
+  const auto colon = spec.find(':');
+  const std::string name = spec.substr(0, colon);
+  const int e = P.findEffect(name);
+  if (e < 0) {
+    std::string names;
+    for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
+    throw InputError("", 0, "--hide", "unknown effect '" + name + "' for this design (candidates: " + names + ")");
+  }
+  const ArmEffect& info = P.catalogue[e];
+  EffectValue v;
+  v.effect = e;
+  v.x.resize(info.params.size());
+  for (std::size_t j = 0; j < info.params.size(); ++j) v.x[j] = info.params[j].typical;
+  v.profile = info.hasProfile() ? info.profile.typical : 0.0;
+  if (colon == std::string::npos) return v;
+  std::stringstream ss(spec.substr(colon + 1));
+  for (std::string item; std::getline(ss, item, ',');) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos) throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
+    const std::string key = item.substr(0, eq);
+    double val = 0;
+    try {
+      std::size_t pos = 0;
+      val = std::stod(item.substr(eq + 1), &pos);
+      if (pos != item.size() - eq - 1 || !std::isfinite(val)) throw std::invalid_argument("x");
+    } catch (const std::exception&) {
+      throw InputError("", 0, "--hide", "'" + item.substr(eq + 1) + "' is not a number");
+    }
+    bool found = false;
+    for (std::size_t j = 0; j < info.params.size(); ++j)
+      if (info.params[j].key == key) {
+        v.x[j] = val;
+        found = true;
+      }
+    if (info.hasProfile() && info.profile.key == key) {
+      if (!(val > 0)) throw InputError("", 0, "--hide", key + " must be positive");
+      v.profile = val;
+      found = true;
+    }
+    if (!found) throw InputError("", 0, "--hide", "parameter '" + key + "' does not belong to the effect '" + name + "'");
+  }
+  return v;
+}
+
+std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const std::vector<double>& y, int m,
+                                            int degree) {
+  const int n = static_cast<int>(t.size());
+  ARMSTUDY_CHECK(n == static_cast<int>(y.size()), "same length");
+  const int w = std::min(2 * m + 1, n);
+  const int deg = std::min(degree, w - 1);
+  std::vector<double> out(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    const int start = std::clamp(i - m, 0, n - w);
+    Eigen::MatrixXd A(w, deg + 1);
+    Eigen::VectorXd b(w);
+    for (int k = 0; k < w; ++k) {
+      const double dt = t[start + k] - t[i];
+      double pw = 1;
+      for (int p = 0; p <= deg; ++p) {
+        A(k, p) = pw;
+        pw *= dt;
+      }
+      b[k] = y[start + k];
+    }
+    const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
+    out[i] = deg >= 1 ? c[1] : 0.0;  // derivative of the local polynomial at t_i
+  }
+  return out;
+}
+
+}  // namespace armstudy::calibration

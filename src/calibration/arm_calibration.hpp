@@ -1,0 +1,202 @@
+#pragma once
+// Model versus measurement for whole arms (issue 7, kinds `tcp` and `trajectory`): the same loop
+// as the drive kind (drive_calibration.hpp) on a generic problem -- rows of measured channels, a
+// prediction from the design plus a set of effect instances with physical parameters -- so that
+// compare, rank, add and the outputs are shared by both kinds. docs/calibration.md, "Arms".
+//
+// Fitting: Gauss-Newton on all rows with forward-model Jacobians by central differences and the
+// bounded linear least squares of least_squares.hpp in every step (effects nonlinear in a
+// parameter, such as the Stribeck velocity, are profiled on a grid). Held-out scores (k-fold and
+// by region) use the linearised refit at the full-data optimum: a fold's parameter change solves
+// the bounded least-squares problem of the Jacobian on the training rows (exact for models linear
+// in their parameters, first order otherwise).
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "calibration/drive_calibration.hpp"  // FittedParameter
+#include "calibration/stats.hpp"
+#include "common/defaults.hpp"
+
+namespace armstudy::calibration {
+
+struct ArmParam {
+  std::string key;   // e.g. "offset", "mass", "coulomb"
+  std::string unit;  // SI unit text
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
+  double typical = 0;  // magnitude `armstudy synth` hides by default
+  double step = 1e-6;  // central-difference step (SI)
+};
+
+// One candidate effect instance, e.g. "joint_offset.j3", "payload", "j5.stribeck".
+struct ArmEffect {
+  std::string name;     // instance name (what --add/--hide take)
+  std::string effect;   // catalogue name, e.g. "joint_offset"
+  std::string joint;    // joint it belongs to ("" for global effects)
+  std::string pattern;  // the residual pattern it explains
+  std::vector<ArmParam> params;  // fitted linearly (Gauss-Newton)
+  ArmParam profile;              // a nonlinear parameter profiled on profile_grid (if not empty)
+  std::vector<double> profile_grid;
+  bool hasProfile() const { return !profile_grid.empty(); }
+};
+
+// The value of one switched-on effect: parameters (deltas to the design, SI) and profiled value.
+struct EffectValue {
+  int effect = 0;  // index into ArmProblem::catalogue
+  Eigen::VectorXd x;
+  double profile = 0;
+};
+using EffectValues = std::vector<EffectValue>;
+
+struct BinVariable {
+  std::string name, unit;
+  std::vector<double> values;  // one per row
+};
+
+// A measurement data set together with its forward model. Subclasses fill the data members and
+// implement predict(); the engine below never looks inside.
+class ArmProblem {
+ public:
+  virtual ~ArmProblem() = default;
+  std::string kind;  // "tcp" | "trajectory"
+  std::string design, file, hash;
+  std::vector<std::string> channel_names, channel_units;
+  Eigen::VectorXd weight;       // per channel: residual -> fit units (1 unless documented)
+  Eigen::MatrixXd measured;     // rows x channels
+  std::vector<int> lines;       // file line of each row
+  std::vector<ArmEffect> catalogue;     // candidate instances applicable to this design/data
+  std::vector<BinVariable> variables;   // operating variables (plots, joint-space bins)
+  std::vector<Eigen::Vector3d> workspace;  // TCP position of each row in W (workspace cells)
+  std::vector<int> regions;     // held-out-by-region partition (ids 0..region_count-1)
+  int region_count = 0;
+  std::vector<std::string> warnings;
+  std::string fit_unit;         // unit of the overall RMSE
+
+  int rows() const { return static_cast<int>(measured.rows()); }
+  int channels() const { return static_cast<int>(measured.cols()); }
+  int findEffect(const std::string& name) const;  // -1 when absent
+  // Prediction (rows x channels) of the design with the given effects switched on.
+  virtual Eigen::MatrixXd predict(const EffectValues& values) const = 0;
+};
+
+struct ArmFitOptions {
+  int folds = defaults::kCvFolds;
+  std::uint64_t seed = defaults::kCvSeed;
+  int variable_bins = defaults::kArmVariableBins;
+  int workspace_bins = defaults::kArmWorkspaceBins;
+  double significance_z = defaults::kSignificanceZ;
+  double min_relative_improvement = defaults::kMinRelativeImprovement;
+  std::vector<std::string> add;  // effect instances to add, in this order
+  bool auto_add = false;
+  std::string validate() const;
+};
+
+struct ArmFit {
+  std::string label;
+  EffectValues values;
+  std::vector<std::string> effects;  // instance names
+  std::vector<FittedParameter> params;  // key = "<instance>.<param>"
+  int n_params = 0;
+  double train_rmse = 0, heldout_rmse = 0, region_heldout_rmse = 0;  // fit units
+  double aic = 0, bic = 0;
+  std::vector<ChannelStats> channel_heldout;  // native units
+  std::vector<ChannelStats> channel_train;
+  Eigen::MatrixXd predicted, residual, heldout_residual;  // rows x channels, native units
+};
+
+struct ArmCandidate {
+  int effect = 0;
+  std::string name;
+  std::string status = "ok";  // ok | unidentifiable | too_few_rows
+  ArmFit fit;
+  double improvement = 0, t_statistic = 0;
+  bool significant = false;
+  std::vector<std::string> warnings;
+  // Candidates this one cannot be told apart from with this data (some parameter column in their
+  // span), and those whose span contains all of this one's columns.
+  std::vector<std::string> indistinguishable;
+  std::vector<std::string> contained_in;
+};
+
+struct ArmBin {
+  std::string space;     // "joint" (a 1-D bin of one operating variable) | "workspace"
+  std::string variable;  // variable name for joint bins, "x,y,z" for workspace cells
+  std::array<int, 3> index{0, 0, 0};
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  int n = 0;
+  double n_eff = 0;
+  std::vector<double> mean;       // per channel, native units
+  std::vector<double> threshold;  // per channel
+  bool flagged = false;
+};
+
+struct ArmResidualMap {
+  std::vector<ArmBin> bins;
+  double rho = 0, z = 0;
+  std::array<int, 3> ws_dims{0, 0, 0};
+  std::array<double, 3> ws_origin{0, 0, 0}, ws_cell{0, 0, 0};  // lower corner, cell size [m]
+  int flagged() const;
+};
+
+struct ArmDiagnosis {
+  std::string kind, design, file;
+  std::vector<std::string> warnings;
+  double noise_estimate = 0;           // fit units
+  std::vector<double> channel_noise;   // native units
+  double noise_rho = 0;
+  ArmFit as_designed;
+  ArmResidualMap as_designed_map;
+  std::vector<ArmCandidate> ranking;   // for the design as is (plus effects added by --add before it)
+  bool missing_effect_found = false;
+  std::string verdict;                 // "missing effect: X [(cannot be told apart from ...)]" or
+                                       // "no significant missing effect"
+  std::vector<ArmFit> ladder;
+  std::vector<std::string> added;
+  ArmFit final_fit;
+  ArmResidualMap final_map;
+  double rmse_before = 0, rmse_after = 0;
+};
+
+// Compare only: the design as is, noise estimate, residual map.
+ArmDiagnosis compareArm(const ArmProblem& problem, const ArmFitOptions& options);
+// Compare, rank the candidates, add effects as the options ask.
+ArmDiagnosis diagnoseArm(const ArmProblem& problem, const ArmFitOptions& options);
+
+// Fitted values of an effect instance in a diagnosis' final fit (nullptr when not added).
+const EffectValue* findValue(const EffectValues& values, int effect);
+
+// "name" or "name:key=value,..." -> instance + parameter overrides (typical values otherwise).
+EffectValue parseHiddenEffect(const ArmProblem& problem, const std::string& spec);
+
+// Savitzky-Golay derivative (docs/calibration.md): local least-squares polynomial of `degree` over
+// 2*half_window+1 samples (shifted inside the series at its ends) differentiated at each sample.
+// Precondition: t strictly increasing; samples need not be exactly uniform.
+std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const std::vector<double>& y,
+                                            int half_window, int degree);
+
+// ---- outputs (compare/fit): result.json, residuals.csv, plots/*.svg, history.csv,
+// error_ladder.svg, workspace_cells.vti + residual_points.vtp ----
+struct ArmReportOptions {
+  std::string out_dir;
+  std::string command;  // compare | fit
+};
+struct ArmReportSummary {
+  std::vector<std::string> files_written;
+  std::string json;
+};
+ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem, const ArmReportOptions& o,
+                                const std::string& calibrated_design_path);
+
+// Line-level edit of TOML design text (keeps comments and layout): sets `key = value_text` in the
+// block that starts with `header` ("[payload]", "[[joint]]", ...) and, when match_key is not
+// empty, contains `match_key = "match_value"`. For header "[drive.friction]" the block is the
+// friction sub-table of the [[drive]] whose joint is match_value. A missing single block is
+// appended; a missing matched block is an InputError.
+std::string setDesignEntry(const std::string& text, const std::string& header, const std::string& match_key,
+                           const std::string& match_value, const std::string& key, const std::string& value_text);
+
+}  // namespace armstudy::calibration

@@ -1,0 +1,397 @@
+// Outputs of compare/fit for the arm kinds (tcp, trajectory): docs/calibration.md, "Arms".
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "calibration/arm_calibration.hpp"
+#include "calibration/svg_plot.hpp"
+#include "common/errors.hpp"
+#include "io/csv_io.hpp"
+#include "io/files.hpp"
+#include "io/vtk_io.hpp"
+
+namespace armstudy::calibration {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json statsJson(const ArmProblem& P, const std::vector<ChannelStats>& s) {
+  json j = json::object();
+  for (std::size_t c = 0; c < s.size(); ++c)
+    j[P.channel_names[c]] = {{"rmse", finite(s[c].rmse)}, {"bias", finite(s[c].bias)}, {"max", finite(s[c].max_abs)},
+                             {"unit", P.channel_units[c]}};
+  return j;
+}
+
+json paramsJson(const std::vector<FittedParameter>& ps) {
+  json a = json::array();
+  for (const auto& p : ps)
+    a.push_back({{"key", p.key}, {"unit", p.unit}, {"value", finite(p.value)}, {"ci_low", finite(p.ci_low)},
+                 {"ci_high", finite(p.ci_high)}, {"at_bound", p.at_bound}});
+  return a;
+}
+
+json fitJson(const ArmProblem& P, const ArmFit& f) {
+  return {{"label", f.label},
+          {"effects", f.effects},
+          {"n_params", f.n_params},
+          {"train_rmse", finite(f.train_rmse)},
+          {"heldout_rmse", finite(f.heldout_rmse)},
+          {"region_heldout_rmse", finite(f.region_heldout_rmse)},
+          {"aic", finite(f.aic)},
+          {"bic", finite(f.bic)},
+          {"channels_heldout", statsJson(P, f.channel_heldout)},
+          {"params", paramsJson(f.params)}};
+}
+
+json regionsJson(const ArmResidualMap& m, bool flagged_only) {
+  json a = json::array();
+  for (const auto& b : m.bins) {
+    if (flagged_only && !b.flagged) continue;
+    a.push_back({{"space", b.space}, {"variable", b.variable}, {"index", b.index}, {"lo", b.lo}, {"hi", b.hi},
+                 {"n", b.n}, {"n_eff", b.n_eff}, {"mean", b.mean}, {"threshold", b.threshold}, {"flagged", b.flagged}});
+  }
+  return a;
+}
+
+const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf",
+                         "#7f7f7f", "#bcbd22", "#393b79", "#637939"};
+
+void writePlots(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
+                std::vector<std::string>& files) {
+  fs::create_directories(fs::path(dir) / "plots");
+  auto put = [&](const std::string& name, const std::string& svg) {
+    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_" + name)).string(), svg);
+    files.push_back("plots/" + stage + "_" + name);
+  };
+  for (int c = 0; c < P.channels(); ++c) {
+    PlotSpec p;
+    p.title = stage + ": " + f.label + " - " + P.channel_names[c];
+    p.x_label = "predicted " + P.channel_names[c] + " [" + P.channel_units[c] + "]";
+    p.y_label = "measured [" + P.channel_units[c] + "]";
+    p.diagonal = true;
+    PlotSeries s;
+    s.label = P.channel_names[c];
+    for (int i = 0; i < P.rows(); ++i) {
+      s.x.push_back(f.predicted(i, c));
+      s.y.push_back(P.measured(i, c));
+    }
+    p.series.push_back(s);
+    put("measured_vs_predicted_" + P.channel_names[c] + ".svg", svgPlot(p));
+  }
+  for (const BinVariable& v : P.variables) {
+    PlotSpec p;
+    p.title = stage + ": residual vs " + v.name;
+    p.x_label = v.name + " [" + v.unit + "]";
+    p.y_label = "residual [" + P.fit_unit + " or channel unit]";
+    p.h_lines = {0.0};
+    for (int c = 0; c < P.channels(); ++c) {
+      PlotSeries s;
+      s.label = P.channel_names[c];
+      s.color = kColors[c % 12];
+      s.x = v.values;
+      for (int i = 0; i < P.rows(); ++i) s.y.push_back(f.residual(i, c));
+      p.series.push_back(s);
+    }
+    put("residual_vs_" + v.name + ".svg", svgPlot(p));
+  }
+}
+
+void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
+                       const ArmResidualMap& m, std::vector<std::string>& files) {
+  if (P.workspace.empty() || m.ws_dims[0] == 0) return;
+  io::ImageGrid g;
+  g.dims = m.ws_dims;
+  for (int a = 0; a < 3; ++a) {
+    g.origin[a] = m.ws_origin[a] + 0.5 * m.ws_cell[a];  // points are the cell centres
+    g.spacing[a] = m.ws_cell[a] > 0 ? m.ws_cell[a] : 1e-3;
+  }
+  const long np = g.points();
+  io::NamedArray n{"n", io::ArrayType::Int32, 1, std::vector<double>(np, 0.0)};
+  io::NamedArray fl{"flagged", io::ArrayType::UInt8, 1, std::vector<double>(np, 0.0)};
+  io::NamedArray mr{"mean_residual_max_abs", io::ArrayType::Float64, 1, std::vector<double>(np, 0.0)};
+  io::NamedArray ratio{"mean_over_threshold_max", io::ArrayType::Float64, 1, std::vector<double>(np, 0.0)};
+  for (const auto& b : m.bins) {
+    if (b.space != "workspace") continue;
+    const long id = (static_cast<long>(b.index[2]) * g.dims[1] + b.index[1]) * g.dims[0] + b.index[0];
+    n.values[id] = b.n;
+    fl.values[id] = b.flagged;
+    for (std::size_t c = 0; c < b.mean.size(); ++c) {
+      mr.values[id] = std::max(mr.values[id], std::abs(b.mean[c]));
+      if (b.threshold[c] > 0) ratio.values[id] = std::max(ratio.values[id], std::abs(b.mean[c]) / b.threshold[c]);
+    }
+  }
+  g.point_arrays = {n, fl, mr, ratio};
+  {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
+    HeatmapSpec h;
+    h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
+    h.x_label = "x [m]";
+    h.y_label = "y [m]";
+    h.value_label = "|mean residual| [" + P.fit_unit + "]";
+    h.x_min = m.ws_origin[0];
+    h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
+    h.y_min = m.ws_origin[1];
+    h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
+    std::map<int, HeatCell> cells;
+    for (const auto& b : m.bins) {
+      if (b.space != "workspace") continue;
+      const int key = b.index[1] * m.ws_dims[0] + b.index[0];
+      auto it = cells.find(key);
+      if (it == cells.end()) it = cells.emplace(key, HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, 0, false}).first;
+      for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
+      it->second.n += b.n;
+      it->second.flagged = it->second.flagged || b.flagged;
+    }
+    for (const auto& [k, c] : cells) h.cells.push_back(c);
+    fs::create_directories(fs::path(dir) / "plots");
+    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(), svgHeatmap(h));
+    files.push_back("plots/" + stage + "_workspace_map.svg");
+  }
+  io::writeVti((fs::path(dir) / (stage + "_workspace_cells.vti")).string(), g);
+  files.push_back(stage + "_workspace_cells.vti");
+  io::PolyDataSet poly;
+  poly.points = P.workspace;
+  poly.vertices = true;
+  for (int c = 0; c < P.channels(); ++c) {
+    io::NamedArray a{"residual_" + P.channel_names[c], io::ArrayType::Float64, 1, {}};
+    for (int i = 0; i < P.rows(); ++i) a.values.push_back(f.residual(i, c));
+    poly.point_arrays.push_back(a);
+  }
+  io::writeVtp((fs::path(dir) / (stage + "_residual_points.vtp")).string(), poly);
+  files.push_back(stage + "_residual_points.vtp");
+}
+
+std::vector<std::vector<std::string>> appendHistory(const std::string& path, const ArmDiagnosis& d,
+                                                    const ArmProblem& P, const std::string& command) {
+  const std::string header =
+      "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
+  std::vector<std::vector<std::string>> rows;
+  std::string text;
+  if (fs::exists(path)) {
+    text = readFileOrThrow(path);
+    std::istringstream is(text);
+    std::string line;
+    std::getline(is, line);
+    if (line != header)
+      throw InputError(path, 1, "", "history file has an unexpected header (another kind?); use another output folder");
+    while (std::getline(is, line)) {
+      if (line.empty()) continue;
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      rows.push_back(cells);
+    }
+  } else {
+    text = header + "\n";
+  }
+  int run = 1;
+  for (const auto& r : rows)
+    if (!r.empty()) run = std::max(run, std::atoi(r[0].c_str()) + 1);
+  auto g = [](double v) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return std::string(b);
+  };
+  for (const ArmFit& f : d.ladder) {
+    std::string eff;
+    for (const auto& e : f.effects) eff += (eff.empty() ? "" : "+") + e;
+    std::vector<std::string> cells = {std::to_string(run), command, d.kind, d.design, P.hash.empty() ? "-" : P.hash,
+                                      f.label, eff.empty() ? "-" : eff, std::to_string(f.n_params),
+                                      std::to_string(P.rows()), g(f.train_rmse), g(f.heldout_rmse), P.fit_unit,
+                                      g(f.aic), g(f.bic)};
+    std::string line;
+    for (const auto& c : cells) line += (line.empty() ? "" : ",") + c;
+    text += line + "\n";
+    rows.push_back(cells);
+  }
+  writeFileAtomic(path, text);
+  return rows;
+}
+
+}  // namespace
+
+ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
+                                const std::string& calibrated_design_path) {
+  ArmReportSummary s;
+  fs::create_directories(o.out_dir);
+  writePlots(o.out_dir, "before", P, d.as_designed, s.files_written);
+  writeWorkspaceVtk(o.out_dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  const bool after = o.command == "fit" && !d.added.empty();
+  if (after) {
+    writePlots(o.out_dir, "after", P, d.final_fit, s.files_written);
+    writeWorkspaceVtk(o.out_dir, "after", P, d.final_fit, d.final_map, s.files_written);
+  }
+  // residuals.csv: operating variables, measured, predicted, residual (final model).
+  {
+    std::vector<std::string> h;
+    std::vector<std::vector<double>> cols;
+    for (const auto& v : P.variables) {
+      h.push_back(v.name);
+      cols.push_back(v.values);
+    }
+    for (int c = 0; c < P.channels(); ++c) {
+      const std::string& n = P.channel_names[c];
+      h.insert(h.end(), {"measured_" + n, "predicted_" + n, "residual_" + n});
+      std::vector<double> m, p, r;
+      for (int i = 0; i < P.rows(); ++i) {
+        m.push_back(P.measured(i, c));
+        p.push_back(d.final_fit.predicted(i, c));
+        r.push_back(d.final_fit.residual(i, c));
+      }
+      cols.push_back(m);
+      cols.push_back(p);
+      cols.push_back(r);
+    }
+    writeFileAtomic((fs::path(o.out_dir) / "residuals.csv").string(), io::formatCsv(h, cols));
+    s.files_written.push_back("residuals.csv");
+  }
+  const auto rows = appendHistory((fs::path(o.out_dir) / "history.csv").string(), d, P, o.command);
+  s.files_written.push_back("history.csv");
+  {
+    PlotSpec p;
+    p.title = "error ladder (" + d.design + ", " + d.kind + ")";
+    p.y_label = "RMSE [" + P.fit_unit + "]";
+    PlotSeries tr{"training", {}, {}, "#1f77b4", true, true}, ho{"held-out", {}, {}, "#d62728", true, true};
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      p.x_categories.push_back(rows[i][0] + ":" + rows[i][5]);
+      tr.x.push_back(static_cast<double>(i));
+      ho.x.push_back(static_cast<double>(i));
+      tr.y.push_back(std::atof(rows[i][9].c_str()));
+      ho.y.push_back(std::atof(rows[i][10].c_str()));
+    }
+    p.series = {tr, ho};
+    p.h_lines = {d.noise_estimate};
+    writeFileAtomic((fs::path(o.out_dir) / "error_ladder.svg").string(), svgPlot(p));
+    s.files_written.push_back("error_ladder.svg");
+  }
+  json j;
+  j["kind"] = d.kind;
+  j["command"] = o.command;
+  j["design"] = d.design;
+  j["data"] = {{"file", P.file}, {"hash", P.hash}, {"rows", P.rows()}, {"channels", P.channel_names}};
+  j["unit"] = P.fit_unit;
+  j["warnings"] = d.warnings;
+  j["rmse"] = {{"overall", finite(d.final_fit.heldout_rmse)},
+               {"train", finite(d.final_fit.train_rmse)},
+               {"region_heldout", finite(d.final_fit.region_heldout_rmse)},
+               {"channels", statsJson(P, d.final_fit.channel_heldout)}};
+  j["as_designed"] = {{"rmse", finite(d.as_designed.train_rmse)}, {"channels", statsJson(P, d.as_designed.channel_train)}};
+  j["noise_estimate"] = finite(d.noise_estimate);
+  j["channel_noise"] = d.channel_noise;
+  j["noise_autocorrelation"] = finite(d.noise_rho);
+  json rk = json::array();
+  for (const auto& c : d.ranking)
+    rk.push_back({{"effect", c.name},
+                  {"catalogue", P.catalogue[c.effect].effect},
+                  {"pattern", P.catalogue[c.effect].pattern},
+                  {"status", c.status},
+                  {"heldout_rmse", c.status == "ok" ? finite(c.fit.heldout_rmse) : json(nullptr)},
+                  {"region_heldout_rmse", c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
+                  {"improvement", finite(c.improvement)},
+                  {"t_statistic", finite(c.t_statistic)},
+                  {"significant", c.significant},
+                  {"params", paramsJson(c.fit.params)},
+                  {"warnings", c.warnings},
+                  {"indistinguishable_from", c.indistinguishable}});
+  j["ranking"] = rk;
+  j["verdict"] = o.command == "compare" ? "compare only (run fit to rank candidate effects)"
+                                          : d.verdict;
+  j["regions"] = regionsJson(d.final_map, true);
+  j["regions_before"] = regionsJson(d.as_designed_map, true);
+  j["flagged_before"] = d.as_designed_map.flagged();
+  j["flagged_after"] = d.final_map.flagged();
+  json ladder = json::array();
+  for (const auto& f : d.ladder) ladder.push_back(fitJson(P, f));
+  j["ladder"] = ladder;
+  j["added"] = d.added;
+  j["final_params"] = paramsJson(d.final_fit.params);
+  if (o.command == "fit") {
+    j["rmse_before"] = finite(d.rmse_before);
+    j["rmse_after"] = finite(d.rmse_after);
+    j["calibrated_design"] = calibrated_design_path;
+  }
+  j["files"] = s.files_written;
+  s.json = j.dump(2);
+  writeFileAtomic((fs::path(o.out_dir) / "result.json").string(), s.json + "\n");
+  return s;
+}
+
+std::string setDesignEntry(const std::string& text, const std::string& header, const std::string& match_key,
+                           const std::string& match_value, const std::string& key, const std::string& value_text) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream is(text);
+    for (std::string l; std::getline(is, l);) lines.push_back(l);
+  }
+  auto trim = [](const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    return b == std::string::npos ? std::string() : s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+  };
+  auto isHeader = [&](const std::string& l) { return !trim(l).empty() && trim(l)[0] == '['; };
+  auto headerIs = [&](const std::string& l, const std::string& h) { return trim(l).rfind(h, 0) == 0; };
+  auto keyOf = [&](const std::string& l) {
+    const std::string t = trim(l);
+    const auto eq = t.find('=');
+    return eq == std::string::npos ? std::string() : trim(t.substr(0, eq));
+  };
+  auto valueOf = [&](const std::string& l) {
+    std::string v = trim(l.substr(l.find('=') + 1));
+    const auto hash = v.find('#');
+    if (hash != std::string::npos) v = trim(v.substr(0, hash));
+    if (v.size() >= 2 && v.front() == '"') v = v.substr(1, v.size() - 2);
+    return v;
+  };
+  auto blockEnd = [&](std::size_t start) {
+    std::size_t e = start + 1;
+    while (e < lines.size() && !isHeader(lines[e])) ++e;
+    return e;
+  };
+  const bool friction = header == "[drive.friction]";
+  const std::string outer = friction ? "[[drive]]" : header;
+  std::size_t start = lines.size();
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (!headerIs(lines[i], outer)) continue;
+    bool ok = match_key.empty();
+    for (std::size_t k = i + 1; k < blockEnd(i) && !ok; ++k) ok = keyOf(lines[k]) == match_key && valueOf(lines[k]) == match_value;
+    if (ok) {
+      start = i;
+      break;
+    }
+  }
+  if (start == lines.size()) {
+    if (!match_key.empty())
+      throw InputError("", 0, key, "the design has no " + outer + " with " + match_key + " = \"" + match_value + "\"");
+    lines.push_back("");
+    lines.push_back(header);
+    start = lines.size() - 1;
+  }
+  if (friction) {
+    const std::size_t e = blockEnd(start);
+    if (e < lines.size() && headerIs(lines[e], "[drive.friction]")) {
+      start = e;
+    } else {
+      lines.insert(lines.begin() + e, "[drive.friction]");
+      start = e;
+    }
+  }
+  const std::size_t end = blockEnd(start);
+  for (std::size_t k = start + 1; k < end; ++k)
+    if (keyOf(lines[k]) == key) {
+      lines[k] = key + " = " + value_text + "   # calibrated";
+      std::string out;
+      for (const auto& l : lines) out += l + "\n";
+      return out;
+    }
+  lines.insert(lines.begin() + start + 1, key + " = " + value_text + "   # calibrated");
+  std::string out;
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+
+}  // namespace armstudy::calibration

@@ -1,0 +1,504 @@
+#include "calibration/trajectory_calibration.hpp"
+
+#include <cmath>
+#include <regex>
+#include <set>
+
+#include "calibration/rng.hpp"
+#include "common/errors.hpp"
+#include "drive/drive_chain.hpp"
+#include "dynamics/dynamics.hpp"
+#include "io/csv_io.hpp"
+#include "io/design_io.hpp"
+#include "io/files.hpp"
+#include "kinematics/kinematics.hpp"
+
+namespace armstudy::calibration {
+
+namespace {
+
+constexpr double kInfD = std::numeric_limits<double>::infinity();
+
+enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction };
+
+void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
+  if (key == "coulomb") p.coulomb += d;
+  else if (key == "viscous") p.viscous += d;
+  else if (key == "load_coulomb") p.load_coulomb += d;
+  else if (key == "load_viscous") p.load_viscous += d;
+  else if (key == "stribeck_torque") p.stribeck_torque += d;
+  else if (key == "asymmetry") p.asymmetry += d;
+  else ARMSTUDY_CHECK(false, "known friction key " + key);
+}
+
+double frictionValue(const drive::FrictionParams& p, const std::string& key) {
+  if (key == "coulomb") return p.coulomb;
+  if (key == "viscous") return p.viscous;
+  if (key == "load_coulomb") return p.load_coulomb;
+  if (key == "load_viscous") return p.load_viscous;
+  if (key == "stribeck_torque") return p.stribeck_torque;
+  if (key == "asymmetry") return p.asymmetry;
+  return 0;
+}
+
+// Scale of a motor-side catalogue value for a joint-side (prismatic) law: torque-like x N,
+// viscous x N^2 (assumption for typical values only).
+double jointSideScale(const std::string& key, double N) {
+  if (key == "viscous") return N * N;
+  if (key == "load_coulomb") return 1.0;
+  return N;
+}
+
+struct Tag {
+  TrajEffect type;
+  int joint = -1;
+  drive::Effect friction = drive::Effect::Coulomb;
+};
+
+class TrajectoryProblem : public ArmProblem {
+ public:
+  TrajectoryProblem(const Model& model, const TrajectoryData& data) : model_(model), data_(data) {
+    kind = "trajectory";
+    design = model.name;
+    file = data.file;
+    hash = data.hash;
+    lines = data.lines;
+    warnings = data.warnings;
+    measured = data.measured;
+    fit_unit = data.currents ? "A" : "N m|N";
+    const int n = model.dof();
+    drive_.assign(n, nullptr);
+    for (const Drive& d : model.drives) {
+      const int j = model.jointIndex(d.joint);
+      if (j >= 0 && d.gear_ratio > 0 && d.torque_constant_NmpA > 0) drive_[j] = &d;
+    }
+    for (int j = 0; j < n; ++j) {
+      const bool rev = model.joints[j].type == JointType::Revolute;
+      channel_names.push_back((data.currents ? "current" : "tau") + std::to_string(j + 1));
+      channel_units.push_back(data.currents ? "A" : (rev ? "N m" : "N"));
+      if (data.currents && !drive_[j])
+        throw InputError(model.file, model.joints[j].source_line, "drive",
+                         "the data has motor currents but joint '" + model.joints[j].name +
+                             "' has no [[drive]] with gear ratio and torque constant");
+      if (drive_[j]) fp_.push_back(drive::frictionParams(model, *drive_[j]));
+      else fp_.emplace_back();
+    }
+    weight = Eigen::VectorXd::Ones(n);
+    makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
+    // ---- catalogue ----
+    {
+      ArmEffect e;
+      e.name = e.effect = "payload";
+      e.pattern = "gravity and inertia torques of an extra mass at the TCP: largest at the proximal joints with the "
+                  "arm stretched out, grows with the TCP acceleration";
+      e.params = {{"mass", "kg", -model.payload_kg, kInfD, 0.5, 1e-4},
+                  {"first_moment_x", "kg m", -kInfD, kInfD, 0.01, 1e-5},
+                  {"first_moment_y", "kg m", -kInfD, kInfD, -0.01, 1e-5},
+                  {"first_moment_z", "kg m", -kInfD, kInfD, 0.03, 1e-5}};
+      add(e, {TrajEffect::Payload});
+    }
+    {
+      ArmEffect e;
+      e.name = e.effect = "rotor_inertia";
+      e.pattern = "residual of joint j proportional to its own acceleration qdd_j";
+      for (int j = 0; j < n; ++j) {
+        const bool rev = model.joints[j].type == JointType::Revolute;
+        const double a0 = drive_[j] ? drive_[j]->gear_ratio * drive_[j]->gear_ratio * drive_[j]->rotor_inertia_kgm2 : 0.0;
+        e.params.push_back({"armature_" + model.joints[j].name, rev ? "kg m^2" : "kg", -a0, kInfD, rev ? 0.05 : 0.5, 1e-4});
+      }
+      add(e, {TrajEffect::RotorInertia});
+    }
+    {
+      ArmEffect e;
+      e.name = e.effect = "gravity_tilt";
+      e.pattern = "gravity torques turned about a horizontal axis: a residual like the gravity torque of a 90 deg "
+                  "rotated arm, scaled by the tilt";
+      e.params = {{"alpha", "rad", -kInfD, kInfD, 0.02, 1e-6}, {"beta", "rad", -kInfD, kInfD, -0.015, 1e-6}};
+      add(e, {TrajEffect::GravityTilt});
+    }
+    for (int j = 0; j < n; ++j) {
+      if (j >= static_cast<int>(model.inertias.size())) break;
+      ArmEffect e;
+      e.name = "link_mass." + model.joints[j].name;
+      e.effect = "link_mass";
+      e.joint = model.joints[j].name;
+      e.pattern = "gravity and inertia torques of extra mass at the link's centre of mass (joints up to this one)";
+      e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4}};
+      add(e, {TrajEffect::LinkMass, j});
+    }
+    for (int j = 0; j < n; ++j) {
+      if (!drive_[j]) continue;
+      const double N = drive_[j]->gear_ratio;
+      const bool js = fp_[j].joint_side;
+      double vmax = 0;
+      for (int i = 0; i < data.rows(); ++i) vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
+      for (drive::Effect fe : drive::kAllEffects) {
+        if (fe == drive::Effect::Temperature) continue;  // trajectories carry no temperature column
+        const EffectInfo& info = effectInfo(fe);
+        ArmEffect e;
+        e.name = model.joints[j].name + "." + info.name;
+        e.effect = info.name;
+        e.joint = model.joints[j].name;
+        e.pattern = info.pattern + " (joint " + model.joints[j].name + ", over its speed)";
+        const EffectParameter& ep = info.params[0];
+        const double scale = js ? jointSideScale(ep.key, N) : 1.0;
+        const double cur = fe == drive::Effect::Stribeck && !fp_[j].has(fe) ? fp_[j].coulomb : frictionValue(fp_[j], ep.key);
+        ArmParam ap{ep.key, js ? ep.unit_joint : ep.unit_motor, ep.lower - cur, ep.upper - cur, ep.typical * scale,
+                    std::max(1e-9, std::abs(ep.typical * scale) * 1e-3)};
+        e.params = {ap};
+        if (fe == drive::Effect::Stribeck) {
+          const EffectParameter& pv = info.params[1];
+          e.profile = {pv.key, js ? pv.unit_joint : pv.unit_motor, 0, kInfD, 0.3 * vmax, 0};
+          const double lo = std::max(vmax * 0.01, 1e-6), hi = std::max(vmax, 2e-6);
+          for (int g = 0; g < defaults::kArmProfileGridPoints; ++g)
+            e.profile_grid.push_back(lo * std::pow(hi / lo, g / double(defaults::kArmProfileGridPoints - 1)));
+        }
+        Tag t{TrajEffect::Friction, j, fe};
+        add(e, t);
+      }
+    }
+    // Operating variables, workspace positions (design FK), held-out regions (time blocks).
+    for (int j = 0; j < n; ++j) {
+      const bool rev = model.joints[j].type == JointType::Revolute;
+      BinVariable v{"q" + std::to_string(j + 1), rev ? "rad" : "m", {}};
+      BinVariable w{"qd" + std::to_string(j + 1), rev ? "rad/s" : "m/s", {}};
+      for (int i = 0; i < data.rows(); ++i) {
+        v.values.push_back(data.q(i, j));
+        w.values.push_back(data.qd(i, j));
+      }
+      variables.push_back(v);
+      variables.push_back(w);
+      bool moves = false;
+      for (int i = 0; i < data.rows(); ++i) moves = moves || data.qd(i, j) != 0;
+      if (!moves)
+        warnings.push_back("joint " + model.joints[j].name + " does not move in the data: its friction effects cannot "
+                           "be identified");
+    }
+    KinematicsWorkspace ks(model);
+    for (int i = 0; i < data.rows(); ++i) {
+      forwardKinematics(model, ks, data.q.row(i).transpose());
+      workspace.push_back(ks.p_WT);
+    }
+    region_count = 4;
+    for (int i = 0; i < data.rows(); ++i) regions.push_back(std::min(3, i * 4 / std::max(1, data.rows())));
+  }
+
+  Eigen::MatrixXd predict(const EffectValues& values) const override {
+    Model m = model_;
+    const int n = m.dof();
+    std::vector<drive::FrictionParams> fp = fp_;
+    Eigen::VectorXd arm = Eigen::VectorXd::Zero(n);
+    bool tilt = false;
+    for (const auto& v : values) {
+      const Tag& t = tags_[v.effect];
+      switch (t.type) {
+        case TrajEffect::Payload: {
+          const Eigen::Vector3d h = m.payload_kg * m.p_payload_com_T + v.x.segment<3>(1);
+          m.payload_kg += v.x[0];
+          m.p_payload_com_T = m.payload_kg > 1e-9 ? Eigen::Vector3d(h / m.payload_kg) : Eigen::Vector3d::Zero();
+          if (m.payload_kg < 0) m.payload_kg = 0;
+          break;
+        }
+        case TrajEffect::RotorInertia: arm += v.x; break;
+        case TrajEffect::GravityTilt:
+          m.base.alpha += v.x[0];
+          m.base.beta += v.x[1];
+          tilt = true;
+          break;
+        case TrajEffect::LinkMass: m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]); break;
+        case TrajEffect::Friction: {
+          drive::FrictionParams& p = fp[t.joint];
+          const std::string& key = catalogue[v.effect].params[0].key;
+          if (t.friction == drive::Effect::Stribeck) {
+            if (!p.has(t.friction)) p.stribeck_torque = p.coulomb;  // T_S = T_f0: no change at zero delta
+            p.stribeck_velocity = v.profile;
+          }
+          p.on[static_cast<int>(t.friction)] = true;
+          addFriction(p, key, v.x[0]);
+          break;
+        }
+      }
+    }
+    if (tilt) m.finalize();
+    const RigidBodyModel rbm = makeRigidBodyModel(m);
+    DynamicsWorkspace ws(rbm);
+    Eigen::MatrixXd out(data_.rows(), n);
+    Eigen::VectorXd Q(n);
+    for (int i = 0; i < data_.rows(); ++i) {
+      inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(), data_.qdd.row(i).transpose(), Q);
+      for (int j = 0; j < n; ++j) {
+        const double Qj = Q[j] + arm[j] * data_.qdd(i, j);
+        if (!drive_[j]) {
+          out(i, j) = Qj;
+          continue;
+        }
+        const drive::MotorState s = drive::motorState(*drive_[j], fp[j], data_.qd(i, j), data_.qdd(i, j), Qj,
+                                                      fp[j].reference_temperature_C);
+        out(i, j) = data_.currents ? s.current_A : s.motor_torque_Nm * drive_[j]->gear_ratio;
+      }
+    }
+    return out;
+  }
+
+  std::vector<Tag> tags_;
+  std::vector<const Drive*> drive_;
+  std::vector<drive::FrictionParams> fp_;
+
+ private:
+  void add(const ArmEffect& e, Tag t) {
+    catalogue.push_back(e);
+    tags_.push_back(t);
+  }
+  Model model_;
+  TrajectoryData data_;
+};
+
+}  // namespace
+
+TrajectoryData readTrajectoryData(const std::string& path, const Model& model) {
+  const int n = model.dof();
+  io::CsvSchema schema;
+  schema.required.push_back("t");
+  for (const char* p : {"q", "qd"})
+    for (int j = 1; j <= n; ++j) schema.required.push_back(p + std::to_string(j));
+  for (const char* p : {"qdd", "tau", "current"})
+    for (int j = 1; j <= n; ++j) schema.optional.push_back(p + std::to_string(j));
+  const io::CsvTable t = io::readCsv(path, schema);
+  TrajectoryData d;
+  d.file = path;
+  d.hash = fileHash(path);
+  static const std::regex jcol("(q|qd|qdd|tau|current)([0-9]+)");
+  for (const std::string& x : t.extra_columns) {
+    std::smatch mm;
+    if (std::regex_match(x, mm, jcol))
+      throw InputError(path, 1, x,
+                       "column '" + x + "' names joint " + mm[2].str() + " but design '" + model.name + "' has only " +
+                           std::to_string(n) + " joints");
+    d.warnings.push_back(path + ": extra column '" + x + "' is not used");
+  }
+  auto group = [&](const std::string& p) {
+    int c = 0;
+    std::string missing;
+    for (int j = 1; j <= n; ++j) {
+      if (t.has(p + std::to_string(j))) ++c;
+      else if (missing.empty()) missing = p + std::to_string(j);
+    }
+    if (c != 0 && c != n)
+      throw InputError(path, 1, missing, "missing column '" + missing + "' (give " + p + "1.." + p + std::to_string(n) +
+                                             " for all joints or none)");
+    return c == n;
+  };
+  const bool has_qdd = group("qdd"), has_tau = group("tau"), has_cur = group("current");
+  if (has_tau && has_cur) throw InputError(path, 1, "current1", "give either tau1..taun or current1..currentn, not both");
+  if (!has_tau && !has_cur)
+    throw InputError(path, 1, "tau1", "missing column 'tau1' (or 'current1'): the measured joint efforts or motor currents");
+  d.t = t.column("t");
+  d.lines = t.row_lines;
+  const int R = t.rows();
+  d.q.resize(R, n);
+  d.qd.resize(R, n);
+  d.qdd.resize(R, n);
+  d.measured.resize(R, n);
+  d.currents = has_cur;
+  d.qdd_given = has_qdd;
+  for (int j = 0; j < n; ++j) {
+    const std::string s = std::to_string(j + 1);
+    for (int i = 0; i < R; ++i) {
+      d.q(i, j) = t.column("q" + s)[i];
+      d.qd(i, j) = t.column("qd" + s)[i];
+      d.measured(i, j) = t.column((has_cur ? "current" : "tau") + s)[i];
+      if (has_qdd) d.qdd(i, j) = t.column("qdd" + s)[i];
+    }
+  }
+  for (int i = 1; i < R; ++i)
+    if (!(d.t[i] > d.t[i - 1]))
+      throw InputError(path, d.lines[i], "t", "time must increase strictly from row to row");
+  if (!has_qdd) {
+    const int w = 2 * defaults::kSavitzkyGolayHalfWindow + 1;
+    if (R < w)
+      throw InputError(path, 0, "qdd1", "no qdd columns and only " + std::to_string(R) + " rows: differentiating qd needs at least " +
+                                            std::to_string(w));
+    double hmin = kInfD, hmax = 0;
+    for (int i = 1; i < R; ++i) {
+      hmin = std::min(hmin, d.t[i] - d.t[i - 1]);
+      hmax = std::max(hmax, d.t[i] - d.t[i - 1]);
+    }
+    if (hmax > hmin * (1 + defaults::kUniformSamplingTolerance))
+      d.warnings.push_back(path + ": time steps are not uniform (" + std::to_string(hmin) + " .. " + std::to_string(hmax) +
+                           " s); the Savitzky-Golay fit uses the actual times");
+    for (int j = 0; j < n; ++j) {
+      const std::vector<double> qd(d.qd.col(j).data(), d.qd.col(j).data() + R);
+      const auto a = savitzkyGolayDerivative(d.t, qd, defaults::kSavitzkyGolayHalfWindow, defaults::kSavitzkyGolayDegree);
+      for (int i = 0; i < R; ++i) d.qdd(i, j) = a[i];
+    }
+    d.warnings.push_back(path + ": no qdd columns; accelerations are the Savitzky-Golay derivative of qd (local quadratic, " +
+                         std::to_string(2 * defaults::kSavitzkyGolayHalfWindow + 1) + " samples)");
+  }
+  return d;
+}
+
+std::string trajectoryDataToCsv(const TrajectoryData& d, bool write_qdd) {
+  std::vector<std::string> h = {"t"};
+  std::vector<std::vector<double>> cols = {d.t};
+  const int n = static_cast<int>(d.q.cols());
+  auto put = [&](const std::string& p, const Eigen::MatrixXd& m) {
+    for (int j = 0; j < n; ++j) {
+      h.push_back(p + std::to_string(j + 1));
+      const Eigen::VectorXd c = m.col(j);
+      cols.emplace_back(c.data(), c.data() + c.size());
+    }
+  };
+  put("q", d.q);
+  put("qd", d.qd);
+  if (write_qdd) put("qdd", d.qdd);
+  put(d.currents ? "current" : "tau", d.measured);
+  return io::formatCsv(h, cols);
+}
+
+std::unique_ptr<ArmProblem> makeTrajectoryProblem(const Model& model, const TrajectoryData& data) {
+  ARMSTUDY_CHECK(data.q.cols() == model.dof(), "data columns match the design");
+  return std::make_unique<TrajectoryProblem>(model, data);
+}
+
+TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& o) {
+  if (!(o.duration_s > 0) || !(o.rate_Hz > 0)) throw InputError("", 0, "duration", "duration and rate must be positive");
+  if (!(o.noise >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
+  if (o.harmonics < 1) throw InputError("", 0, "harmonics", "at least one harmonic");
+  const int n = model.dof();
+  std::set<int> still;
+  for (const auto& s : o.still_joints) {
+    const int j = model.jointIndex(s);
+    if (j < 0) throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
+    still.insert(j);
+  }
+  SplitMix64 rng{o.seed};
+  const int R = static_cast<int>(std::floor(o.duration_s * o.rate_Hz)) + 1;
+  TrajectoryData d;
+  d.currents = o.currents;
+  d.q.resize(R, n);
+  d.qd.resize(R, n);
+  d.qdd.resize(R, n);
+  d.measured = Eigen::MatrixXd::Zero(R, n);
+  for (int i = 0; i < R; ++i) {
+    d.t.push_back(i / o.rate_Hz);
+    d.lines.push_back(i + 2);
+  }
+  // Smooth random joint motion: a sum of sines around the middle of the joint range.
+  for (int j = 0; j < n; ++j) {
+    const JointLimits& l = model.joints[j].limits;
+    const double c = 0.5 * (l.q_min + l.q_max);
+    double amp = o.range_fraction * 0.5 * (l.q_max - l.q_min);
+    if (model.joints[j].type == JointType::Revolute) amp = std::min(amp, o.max_amplitude_rad);
+    if (still.count(j)) amp = 0;
+    std::vector<double> a(o.harmonics), w(o.harmonics), ph(o.harmonics);
+    double sum = 0;
+    for (int k = 0; k < o.harmonics; ++k) {
+      a[k] = 0.3 + rng.uniform();
+      sum += a[k];
+      w[k] = 2 * M_PI * o.max_frequency_Hz * (0.25 + 0.75 * rng.uniform());
+      ph[k] = 2 * M_PI * rng.uniform();
+    }
+    for (int k = 0; k < o.harmonics; ++k) a[k] *= amp / sum;
+    for (int i = 0; i < R; ++i) {
+      double q = c, qd = 0, qdd = 0;
+      for (int k = 0; k < o.harmonics; ++k) {
+        const double x = w[k] * d.t[i] + ph[k];
+        q += a[k] * std::sin(x);
+        qd += a[k] * w[k] * std::cos(x);
+        qdd -= a[k] * w[k] * w[k] * std::sin(x);
+      }
+      d.q(i, j) = q;
+      d.qd(i, j) = qd;
+      d.qdd(i, j) = qdd;
+    }
+  }
+  const auto P = makeTrajectoryProblem(model, d);
+  EffectValues hidden;
+  for (const auto& h : o.hidden) hidden.push_back(parseHiddenEffect(*P, h));
+  d.measured = P->predict(hidden);
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < n; ++j) d.measured(i, j) += o.noise * rng.normal();
+  d.qdd_given = o.write_qdd;
+  return d;
+}
+
+std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
+                                     std::vector<std::string>& notes) {
+  const auto& P = dynamic_cast<const TrajectoryProblem&>(problem);
+  std::string text = readFileOrThrow(model.file);
+  auto num = [](double v) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.10g", v);
+    return std::string(b);
+  };
+  std::vector<std::string> effects = model.effects;
+  std::vector<drive::FrictionParams> fp = P.fp_;
+  std::set<int> friction_joints;
+  Model expect = model;
+  for (const auto& v : values) {
+    const Tag& t = P.tags_[v.effect];
+    switch (t.type) {
+      case TrajEffect::Payload: {
+        const Eigen::Vector3d h = model.payload_kg * model.p_payload_com_T + v.x.segment<3>(1);
+        const double m = std::max(0.0, model.payload_kg + v.x[0]);
+        const Eigen::Vector3d c = m > 1e-9 ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
+        text = setDesignEntry(text, "[payload]", "", "", "mass", num(m));
+        text = setDesignEntry(text, "[payload]", "", "", "com", "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
+        expect.payload_kg = m;
+        break;
+      }
+      case TrajEffect::RotorInertia:
+        for (int j = 0; j < model.dof(); ++j) {
+          if (v.x[j] == 0) continue;
+          if (!P.drive_[j]) {
+            notes.push_back("armature of " + model.joints[j].name + " (" + num(v.x[j]) +
+                            ") is not stored: the joint has no [[drive]]");
+            continue;
+          }
+          const double N = P.drive_[j]->gear_ratio;
+          text = setDesignEntry(text, "[[drive]]", "joint", model.joints[j].name, "rotor_inertia",
+                                num(P.drive_[j]->rotor_inertia_kgm2 + v.x[j] / (N * N)));
+        }
+        break;
+      case TrajEffect::GravityTilt:
+        text = setDesignEntry(text, "[base]", "", "", "alpha", num(model.base.alpha + v.x[0]));
+        text = setDesignEntry(text, "[base]", "", "", "beta", num(model.base.beta + v.x[1]));
+        notes.push_back("gravity_tilt is stored as the base orientation (alpha, beta): a tilted base is a tilted gravity vector");
+        break;
+      case TrajEffect::LinkMass:
+        text = setDesignEntry(text, "[[inertia]]", "link", model.joints[t.joint].name, "mass",
+                              num(std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0])));
+        break;
+      case TrajEffect::Friction: {
+        drive::FrictionParams& p = fp[t.joint];
+        const std::string key = problem.catalogue[v.effect].params[0].key;
+        if (t.friction == drive::Effect::Stribeck) {
+          if (!p.has(t.friction)) p.stribeck_torque = p.coulomb;
+          p.stribeck_velocity = v.profile;
+          text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[t.joint].name, "stribeck_velocity",
+                                num(v.profile));
+        }
+        if (!p.has(t.friction)) {
+          bool in_law = false;
+          for (auto e : drive::lawEffects(p.law)) in_law = in_law || e == t.friction;
+          if (!in_law) effects.push_back(model.joints[t.joint].name + "." + drive::toString(t.friction));
+        }
+        p.on[static_cast<int>(t.friction)] = true;
+        addFriction(p, key, v.x[0]);
+        text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[t.joint].name, key,
+                              num(frictionValue(p, key)));
+        break;
+      }
+    }
+  }
+  if (effects != model.effects) {
+    std::string list;
+    for (const auto& e : effects) list += (list.empty() ? "\"" : ", \"") + e + "\"";
+    text = setDesignEntry(text, "[model]", "", "", "effects", "[" + list + "]");
+  }
+  const Model back = parseDesign(text, model.file + " (calibrated)");  // must stay a valid design
+  ARMSTUDY_CHECK(std::abs(back.payload_kg - expect.payload_kg) < 1e-9, "calibrated design round trip (payload)");
+  return text;
+}
+
+}  // namespace armstudy::calibration
