@@ -139,6 +139,26 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
     const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
     sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
     sum.timings.push_back({"dexterity", ds.seconds});
+    // Summary metrics for regression checks; per-map timings go to the manifest only.
+    StudyMetrics dm;
+    for (const auto& map : ds.maps) {
+      const std::string prefix = "dexterity/" + map.design;
+      std::vector<std::uint8_t> flags(map.cells.size());
+      double sum_opt = 0, sum_plain = 0;
+      for (std::size_t i = 0; i < map.cells.size(); ++i) {
+        flags[i] = map.cells[i].reachable;
+        if (!flags[i]) continue;
+        sum_opt += map.cells[i].opt.manipulability;
+        sum_plain += map.cells[i].plain.manipulability;
+      }
+      const int r = map.reachable();
+      dm.scalars[prefix + "/reachable_fraction"] = map.cells.empty() ? 0.0 : double(r) / map.cells.size();
+      dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
+      dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
+      dm.flags[prefix + "/reachable"] = flags;
+      sum.timings.push_back({prefix + "/wall", map.seconds});
+    }
+    sum.metrics.merge(dm);
   }
   if (study.harvest) {  // harvest torque stage (docs/dynamics.md)
     const auto hs = harvest::runHarvestStage(ctx, *study.harvest);
