@@ -18,26 +18,30 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
                                              const JointVector* warm_start) {
   CollisionReachResult out;
   // The smallest distance at q and the pair attaining it.
-  auto check = [&](const JointVector& q, double& d_min, std::string& pair) {
+  auto check = [&](const JointVector& q, double& d_min, std::string& pair, int& self_index) {
     forwardKinematics(model, ws.kin, q);
     collisionDistances(model, ws.kin, obstacles, cws);
     const double ds = minSelfDistance(cws), de = minEnvironmentDistance(cws);
     d_min = std::min(ds, de);
-    if (ds <= de && cws.closest_self >= 0)
+    self_index = -1;
+    if (ds <= de && cws.closest_self >= 0) {
       pair = pairName(model, cws.self[cws.closest_self], false);
-    else if (cws.closest_env >= 0)
+      self_index = cws.closest_self;
+    } else if (cws.closest_env >= 0)
       pair = pairName(model, cws.env[cws.closest_env], true, obstacles);
   };
   out.ik = solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
   if (!out.ik.reachable()) return out;
   std::string pair;
-  check(out.ik.q, out.min_distance_m, pair);
+  int self_index = -1;
+  check(out.ik.q, out.min_distance_m, pair, self_index);
   if (out.min_distance_m > options.clearance_m) return out;
   // Escape: other solutions of the same pose (the redundancy), from other deterministic seeds.
   const IkResult first = out.ik;
   const double first_d = out.min_distance_m;
   const std::string first_pair = pair;
+  const int first_self_index = self_index;
   for (int k = 1; k <= options.escape_attempts; ++k) {
     // Each escape starts from its own random configuration (deterministic per pose and attempt);
     // the solver's own start sequence begins at the middle of the limits and would find the
@@ -53,7 +57,8 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     if (!r.reachable()) continue;
     double d = 0;
     std::string p;
-    check(r.q, d, p);
+    int pi = -1;
+    check(r.q, d, p, pi);
     if (d > options.clearance_m) {
       out.ik = r;
       out.min_distance_m = d;
@@ -64,6 +69,7 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
   out.ik.status = ReachStatus::SelfCollision;
   out.min_distance_m = first_d;
   out.colliding_pair = first_pair;
+  out.colliding_self_pair = first_self_index;
   return out;
 }
 

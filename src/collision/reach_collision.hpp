@@ -22,6 +22,7 @@ struct CollisionReachResult {
   IkResult ik;                     // status SelfCollision when reachable only in collision
   double min_distance_m = 0;       // smallest self/obstacle distance at ik.q (reachable poses)
   std::string colliding_pair;      // e.g. "j3-j7" or "j4-obstacle:stem" (status SelfCollision)
+  int colliding_self_pair = -1;    // index into cws.self when the colliding pair is a self pair
   int attempts = 0;                // IK solves used (1 + escapes)
 };
 

@@ -164,7 +164,9 @@ Study loadStudy(const std::string& path) {
   }
   {
     std::vector<std::pair<std::string, std::string>> files;
-    readReachSection(top, dir.string(), s.reach, files);
+    std::vector<const Model*> models;
+    for (const auto& d : s.designs) models.push_back(&d.model);
+    readReachSection(top, dir.string(), models, s.reach, files);
     for (const auto& [f, h] : files) s.inputs.push_back({f, h});
   }
   // [regression]: where the baseline lives and how far each metric may move.

@@ -85,7 +85,8 @@ void checkName(TableReader& r, const std::string& name, std::set<std::string>& n
 
 }  // namespace
 
-void readReachSection(TableReader& top, const std::string& study_dir, ReachConfig& cfg,
+void readReachSection(TableReader& top, const std::string& study_dir,
+                      const std::vector<const Model*>& models, ReachConfig& cfg,
                       std::vector<std::pair<std::string, std::string>>& files_read) {
   namespace fs = std::filesystem;
   const toml::table* t = top.table("reach");
@@ -108,6 +109,19 @@ void readReachSection(TableReader& top, const std::string& study_dir, ReachConfi
   if (seed < 0) r.fail("seed", "seed must not be negative");
   cfg.ik.seed = static_cast<std::uint64_t>(seed);
   cfg.ik.classify_failures = r.boolean("classify", true);
+  {
+    bool all_have_model = !models.empty();
+    std::string without;
+    for (const Model* m : models)
+      if (m->collision.empty()) {
+        all_have_model = false;
+        if (without.empty()) without = m->name;
+      }
+    cfg.self_collision = r.boolean("self_collision", all_have_model);
+    if (cfg.self_collision && !all_have_model)
+      r.fail("self_collision", "self_collision = true needs a collision model for every design, but design '" +
+                                   without + "' has none (add [[collision]] volumes or set self_collision = false)");
+  }
   if (r.has("outputs")) {
     cfg.outputs = ReachOutputs{false, false, false};
     for (const std::string& o : r.stringArray("outputs")) {

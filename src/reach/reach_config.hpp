@@ -31,13 +31,19 @@ struct ReachConfig {
   std::vector<TaskGrid> grids;
   std::vector<PoseList> pose_lists;
   ReachOutputs outputs;
+  // Collision-aware sweeps (docs/reachability.md): poses reachable only in self-collision get
+  // status SelfCollision, and the smallest self-collision distance at the solution is stored.
+  // Default: on when every design of the study has a collision model.
+  bool self_collision = false;
   std::string validate() const;      // empty when valid (programmer check after parsing)
 };
 
 // Reads the optional [reach] section from the study's top-level table. Relative pose-list paths
 // are resolved against `study_dir`; every file read is appended to `files_read` as (path, hash).
+// `models` are the study's designs and variants (for the self_collision default and check).
 // Throws InputError (file, line, key) on bad input.
-void readReachSection(io::TableReader& top, const std::string& study_dir, ReachConfig& out,
+void readReachSection(io::TableReader& top, const std::string& study_dir,
+                      const std::vector<const Model*>& models, ReachConfig& out,
                       std::vector<std::pair<std::string, std::string>>& files_read);
 
 }  // namespace armstudy

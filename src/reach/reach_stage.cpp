@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "common/errors.hpp"
@@ -58,9 +59,18 @@ struct Stats {
   std::array<long, kReachStatusCount> status{};
   Extent extent;
   double manip_sum = 0, manip_min = INFINITY, manip_max = 0;
+  bool self_collision = false;
+  std::map<std::string, long> colliding_pairs;  // SelfCollision poses per pair
+  double min_distance = INFINITY;               // smallest distance over the reachable poses
   void add(const PoseSweep& s, long i, const Eigen::Vector3d& p) {
     ++n;
     ++status[s.status[i]];
+    if (s.self_collision) {
+      self_collision = true;
+      const int c = s.colliding_pair[i];
+      if (c >= 0) ++colliding_pairs[s.pair_names[c]];
+      if (s.reachable(i)) min_distance = std::min(min_distance, s.min_distance_m[i]);
+    }
     if (s.reachable(i)) {
       ++reachable;
       extent.add(p);
@@ -81,6 +91,12 @@ struct Stats {
     j["extent"] = extent.json();
     if (reachable)
       j["manipulability"] = {{"mean", manip_sum / reachable}, {"min", manip_min}, {"max", manip_max}};
+    if (self_collision) {
+      ordered_json cp = ordered_json::object();
+      for (const auto& [name, count] : colliding_pairs) cp[name] = count;
+      j["colliding_pairs"] = cp;
+      j["min_distance_m"] = reachable && std::isfinite(min_distance) ? ordered_json(min_distance) : ordered_json(nullptr);
+    }
     return j;
   }
 };
@@ -204,6 +220,12 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   out.push_back(arrayOf("starts" + sfx, ArrayType::UInt8, g, points, k, 1, [&](long i, int) { return s.starts[i]; }));
   out.push_back(arrayOf("q" + sfx, ArrayType::Float64, g, points, k, s.dof,
                         [&](long i, int c) { return s.q[static_cast<std::size_t>(i) * s.dof + c]; }));
+  if (s.self_collision) {
+    out.push_back(arrayOf("min_distance" + sfx, ArrayType::Float64, g, points, k, 1,
+                          [&](long i, int) { return s.min_distance_m[i]; }));
+    out.push_back(arrayOf("colliding_pair" + sfx, ArrayType::Int32, g, points, k, 1,
+                          [&](long i, int) { return double(s.colliding_pair[i]); }));
+  }
 }
 
 struct Writer {
@@ -235,7 +257,7 @@ bool getVector(const std::string& b, std::size_t& pos, std::vector<T>& v) {
   pos += n * sizeof(T);
   return true;
 }
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v1";
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v2";
 
 std::string serializeSweep(const PoseSweep& s) {
   std::string b(kUnitMagic);
@@ -248,6 +270,13 @@ std::string serializeSweep(const PoseSweep& s) {
   putVector(b, s.manipulability);
   putVector(b, s.joint_limit_margin);
   putVector(b, s.q);
+  const std::vector<std::uint8_t> flag{static_cast<std::uint8_t>(s.self_collision)};
+  putVector(b, flag);
+  putVector(b, s.min_distance_m);
+  putVector(b, s.colliding_pair);
+  std::string names;
+  for (const std::string& n : s.pair_names) names += n + '\n';
+  putVector(b, std::vector<char>(names.begin(), names.end()));
   return b;
 }
 
@@ -265,8 +294,26 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
                   getVector(b, pos, s.position_error_m) && getVector(b, pos, s.orientation_error_rad) &&
                   getVector(b, pos, s.manipulability) && getVector(b, pos, s.joint_limit_margin) &&
                   getVector(b, pos, s.q);
-  return ok && pos == b.size() && static_cast<long>(s.status.size()) == s.size &&
-         s.q.size() == static_cast<std::size_t>(s.size) * s.dof;
+  std::vector<std::uint8_t> flag;
+  std::vector<char> names;
+  const bool ok_collision = ok && getVector(b, pos, flag) && flag.size() == 1 &&
+                            getVector(b, pos, s.min_distance_m) && getVector(b, pos, s.colliding_pair) &&
+                            getVector(b, pos, names);
+  if (!ok_collision) return false;
+  s.self_collision = flag[0] != 0;
+  std::string n;
+  for (char c : names) {
+    if (c == '\n') {
+      s.pair_names.push_back(n);
+      n.clear();
+    } else {
+      n += c;
+    }
+  }
+  const std::size_t nc = s.self_collision ? static_cast<std::size_t>(s.size) : 0;
+  return pos == b.size() && static_cast<long>(s.status.size()) == s.size &&
+         s.q.size() == static_cast<std::size_t>(s.size) * s.dof && s.min_distance_m.size() == nc &&
+         s.colliding_pair.size() == nc;
 }
 
 // Solves one unit (design x grid or pose list), or loads it from an earlier interrupted run.
@@ -329,7 +376,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"classify", cfg.ik.classify_failures},
                     {"classify_starts", cfg.ik.classify_starts},
                     {"seed", cfg.ik.seed},
-                    {"algorithm", toString(cfg.ik.algorithm)}};
+                    {"algorithm", toString(cfg.ik.algorithm)},
+                    {"self_collision", cfg.self_collision}};
   std::string md = "# Reachability: study `" + study.name + "`\n\n";
   if (!study.description.empty()) md += study.description + "\n\n";
   md += "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the TCP within " +
@@ -341,7 +389,13 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
   md += "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
         report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
         " blocked by joint limits, " + report::hex(report::categorical(3)) +
-        " representation singularity (green, light grey, orange, purple).\n\n";
+        " representation singularity" +
+        (cfg.self_collision ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
+        " (green, light grey, orange, purple" + (cfg.self_collision ? ", red" : "") + ").\n\n";
+  if (cfg.self_collision)
+    md += "Self-collision: on. A pose counts as reachable only with a collision-free solution (every self-collision "
+          "distance of the design's swept-sphere volumes > 0, other postures tried through the redundancy); poses "
+          "reachable only in collision are counted separately, with the colliding pair in summary.json.\n\n";
 
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids) {
@@ -371,7 +425,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
       sweeps.push_back(solveUnit(options, sum, unit, sd.model.name, g.size(), progress,
-                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress); }));
+                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress, cfg.self_collision); }));
       addUnitMetrics(sum.metrics, unit, sweeps.back());
     }
     sum.poses += g.size() * static_cast<long>(sweeps.size());
@@ -407,6 +461,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                         report::percent(per[k].n ? double(per[k].status[1]) / per[k].n : 0),
                         report::percent(per[k].n ? double(per[k].status[3]) / per[k].n : 0),
                         per[k].extent.text()});
+        if (cfg.self_collision)
+          rows.back().insert(rows.back().begin() + 3, report::percent(per[k].n ? double(per[k].status[4]) / per[k].n : 0));
       }
       jd["per_orientation"] = jper;
 
@@ -498,9 +554,10 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       jdesigns.push_back(jd);
     }
     jg["designs"] = jdesigns;
-    md += report::markdownTable({"design", "orientation", ">reachable", ">joint limits", ">out of reach",
-                                 ">repr. singular", "extent of the reachable poses"},
-                                rows);
+    std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
+                                       ">repr. singular", "extent of the reachable poses"};
+    if (cfg.self_collision) header.insert(header.begin() + 3, ">self-collision");
+    md += report::markdownTable(header, rows);
     md += "\n";
     if (g.spatialDimension() == 3 && cfg.outputs.surface) {
       std::vector<std::vector<std::string>> srows;
@@ -656,7 +713,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
       const PoseSweep s =
           solveUnit(options, sum, unit, sd.model.name, static_cast<long>(l.poses.size()), progress,
-                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress); });
+                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress, cfg.self_collision); });
       addUnitMetrics(sum.metrics, unit, s);
       sum.poses += s.size;
       Stats st;
@@ -680,10 +737,14 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       rows.push_back({s.design, report::percent(st.fraction()),
                       report::percent(st.n ? double(st.status[2]) / st.n : 0),
                       report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()});
+      if (cfg.self_collision)
+        rows.back().insert(rows.back().begin() + 2, report::percent(st.n ? double(st.status[4]) / st.n : 0));
     }
     jl["designs"] = jdesigns;
     jlists.push_back(jl);
-    md += report::markdownTable({"design", ">reachable", ">joint limits", ">out of reach", "extent"}, rows) + "\n";
+    std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach", "extent"};
+    if (cfg.self_collision) header.insert(header.begin() + 2, ">self-collision");
+    md += report::markdownTable(header, rows) + "\n";
   }
   jr["pose_lists"] = jlists;
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -7,7 +7,10 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <limits>
+#include <optional>
 
+#include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
@@ -40,7 +43,7 @@ void Progress::advance(long n) {
 
 namespace {
 
-PoseSweep makeSweep(const Model& model, long size) {
+PoseSweep makeSweep(const Model& model, long size, bool self_collision) {
   PoseSweep s;
   s.design = model.name;
   s.dof = model.dof();
@@ -52,6 +55,13 @@ PoseSweep makeSweep(const Model& model, long size) {
   s.manipulability.assign(size, 0);
   s.joint_limit_margin.assign(size, 0);
   s.q.assign(static_cast<std::size_t>(size) * s.dof, 0);
+  s.self_collision = self_collision;
+  if (self_collision) {
+    s.min_distance_m.assign(size, std::numeric_limits<double>::quiet_NaN());
+    s.colliding_pair.assign(size, -1);
+    const collision::CollisionWorkspace cws(model);
+    for (int p = 0; p < cws.num_self; ++p) s.pair_names.push_back(collision::pairName(model, cws.self[p], false));
+  }
   return s;
 }
 
@@ -65,6 +75,19 @@ void store(PoseSweep& s, long i, const IkResult& r, int extra_starts) {
   for (int k = 0; k < s.dof; ++k) s.q[static_cast<std::size_t>(i) * s.dof + k] = r.q[k];
 }
 
+// A pose's result with or without the collision check (min_distance_m / pair only with it).
+struct PoseResult {
+  IkResult ik;
+  double min_distance_m = std::numeric_limits<double>::quiet_NaN();
+  int pair = -1;
+};
+
+void storeCollision(PoseSweep& s, long i, const PoseResult& r) {
+  if (!s.self_collision) return;
+  s.min_distance_m[i] = r.min_distance_m;
+  s.colliding_pair[i] = static_cast<std::int16_t>(r.pair);
+}
+
 JointVector solutionOf(const PoseSweep& s, long i) {
   JointVector q(s.dof);
   for (int k = 0; k < s.dof; ++k) q[k] = s.q[static_cast<std::size_t>(i) * s.dof + k];
@@ -74,9 +97,11 @@ JointVector solutionOf(const PoseSweep& s, long i) {
 // Solves units [0, units) of consecutive poses; unit u covers [u * len, min((u+1) * len, size)).
 PoseSweep sweepUnits(const Model& model, long size, long len,
                      const std::function<IkTarget(long)>& target, const IkOptions& options,
-                     int threads, Progress* progress) {
+                     int threads, Progress* progress, bool self_collision) {
   ARMSTUDY_CHECK(options.validate().empty(), options.validate());
-  PoseSweep s = makeSweep(model, size);
+  PoseSweep s = makeSweep(model, size, self_collision);
+  ARMSTUDY_CHECK(!self_collision || !model.collision.empty(),
+                 "self-collision sweep of design '" + model.name + "' without a collision model");
   const long units = (size + len - 1) / len;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
   s.threads = nt;
@@ -88,6 +113,24 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
 #pragma omp parallel num_threads(nt) reduction(+ : t_reach, t_unreach)
   {
     IkWorkspace ws(model);
+    std::optional<collision::CollisionWorkspace> cws;
+    if (self_collision) cws.emplace(model);
+    const collision::CollisionReachOptions copts;
+    // One pose: plain IK, or collision-aware (reachable only in collision -> SelfCollision).
+    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
+      PoseResult r;
+      if (!self_collision) {
+        r.ik = solvePose(model, ws, target(i), o, static_cast<std::uint64_t>(i), warm_start);
+        return r;
+      }
+      collision::CollisionReachResult c = collision::solvePoseCollisionAware(
+          model, ws, *cws, target(i), o, copts, static_cast<std::uint64_t>(i), {}, warm_start);
+      r.ik = std::move(c.ik);
+      const bool solved = r.ik.reachable() || r.ik.status == ReachStatus::SelfCollision;
+      if (solved) r.min_distance_m = c.min_distance_m;
+      if (r.ik.status == ReachStatus::SelfCollision) r.pair = c.colliding_self_pair;
+      return r;
+    };
 #pragma omp for schedule(dynamic, 1)
     for (long u = 0; u < units; ++u) {
       const long begin = u * len, end = std::min(size, begin + len);
@@ -95,26 +138,34 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       bool have_warm = false;
       for (long i = begin; i < end; ++i) {
         const auto p0 = std::chrono::steady_clock::now();
-        const IkResult r = solvePose(model, ws, target(i), options, static_cast<std::uint64_t>(i),
-                                     have_warm ? &warm : nullptr);
+        const PoseResult pr = solve(i, options, have_warm ? &warm : nullptr);
+        const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
         store(s, i, r, 0);
+        storeCollision(s, i, pr);
         if (r.reachable()) {
           warm = r.q;
           have_warm = true;
         }
       }
       // Backward pass: an unreachable pose next to a reachable one gets one more start from its
-      // right-hand neighbour's solution.
+      // right-hand neighbour's solution. A pose reachable only in collision keeps its result
+      // unless the retry finds a collision-free solution; an unreachable one also takes a
+      // solution in collision.
+      const auto in_collision = static_cast<std::uint8_t>(ReachStatus::SelfCollision);
       for (long i = end - 2; i >= begin; --i) {
         if (s.reachable(i) || !s.reachable(i + 1)) continue;
         const JointVector w = solutionOf(s, i + 1);
         const auto p0 = std::chrono::steady_clock::now();
-        const IkResult r = solvePose(model, ws, target(i), retry, static_cast<std::uint64_t>(i), &w);
+        const PoseResult pr = solve(i, retry, &w);
+        const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable()) store(s, i, r, s.starts[i]);
+        if (r.reachable() || (r.status == ReachStatus::SelfCollision && s.status[i] != in_collision)) {
+          store(s, i, r, s.starts[i]);
+          storeCollision(s, i, pr);
+        }
       }
       if (progress) progress->advance(end - begin);
     }
@@ -128,19 +179,20 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
 }  // namespace
 
 PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress) {
+                    int threads, Progress* progress, bool self_collision) {
   ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
   return sweepUnits(
       model, grid.size(), grid.lineLength(),
-      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, options, threads, progress);
+      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, options, threads, progress,
+      self_collision);
 }
 
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
-                        int threads, Progress* progress) {
+                        int threads, Progress* progress, bool self_collision) {
   return sweepUnits(
       model, static_cast<long>(list.poses.size()), defaults::kPoseListChunk,
       [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, options, threads,
-      progress);
+      progress, self_collision);
 }
 
 }  // namespace armstudy

@@ -26,6 +26,13 @@ struct PoseSweep {
   std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
   std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
   std::vector<double> q;                     // size * dof, pose-major
+  // Self-collision sweeps only (empty otherwise): the smallest self-collision distance at the
+  // solution (negative: penetration; NaN when unreachable) and, for SelfCollision poses, the
+  // colliding pair as an index into pair_names (-1 otherwise).
+  bool self_collision = false;
+  std::vector<double> min_distance_m;
+  std::vector<std::int16_t> colliding_pair;
+  std::vector<std::string> pair_names;       // the design's self-collision pairs, e.g. "j2-j5"
   double wall_seconds = 0;
   int threads = 1;
   double solve_seconds_reachable = 0;    // summed per-pose solve time of reachable poses (all threads)
@@ -48,10 +55,11 @@ class Progress {
   std::atomic<int> last_permille_{-1};
 };
 
-// threads <= 0: OpenMP default. `progress` may be null.
+// threads <= 0: OpenMP default. `progress` may be null. self_collision: solve every pose
+// collision-aware (collision::solvePoseCollisionAware, no obstacles); needs a collision model.
 PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress);
+                    int threads, Progress* progress, bool self_collision = false);
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
-                        int threads, Progress* progress);
+                        int threads, Progress* progress, bool self_collision = false);
 
 }  // namespace armstudy
