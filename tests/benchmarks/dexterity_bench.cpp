@@ -16,30 +16,17 @@
 #include "dexterity/dexterity_map.hpp"
 #include "io/design_io.hpp"
 #include "io/study_io.hpp"
+#include "kdl_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
+using armstudy::test::toKdl;
+using armstudy::test::toKdlChain;
 
 namespace {
 constexpr double kSolvedTolerance = 1e-6;  // [m and rad] a peer solve counts below this
 double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-KDL::Frame toKdl(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d R = T.linear();
-  return KDL::Frame(KDL::Rotation(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)),
-                    KDL::Vector(T.translation().x(), T.translation().y(), T.translation().z()));
-}
-KDL::Chain toKdlChain(const Model& m) {
-  KDL::Chain c;
-  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_WB)));
-  for (const Joint& j : m.joints) {
-    c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(j.T_PJ0)));
-    c.addSegment(KDL::Segment(KDL::Joint(j.type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ),
-                              KDL::Frame::Identity()));
-  }
-  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_NT)));
-  return c;
 }
 }  // namespace
 

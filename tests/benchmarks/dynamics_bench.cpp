@@ -11,7 +11,7 @@
 
 #include "bench_util.hpp"
 #include "dynamics/dynamics.hpp"
-#include "dynamics/kdl_chain.hpp"
+#include "kdl_support.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
 

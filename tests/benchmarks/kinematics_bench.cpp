@@ -10,15 +10,11 @@
 #include "io/design_io.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"
+#include "kdl_support.hpp"
+
+using armstudy::test::toKdl;
 
 using namespace armstudy;
-
-static KDL::Frame toKdl(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d R = T.linear();
-  return KDL::Frame(KDL::Rotation(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0),
-                                  R(2, 1), R(2, 2)),
-                    KDL::Vector(T.translation().x(), T.translation().y(), T.translation().z()));
-}
 
 int main() {
   std::printf("Forward kinematics + full TCP Jacobian, time per call (median of 7 batches)\n\n");

@@ -14,7 +14,7 @@
 
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
-#include "kdl_chain.hpp"
+#include "kdl_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;

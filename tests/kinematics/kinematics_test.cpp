@@ -8,32 +8,15 @@
 #include "io/design_io.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"
+#include "kdl_support.hpp"
+
+using armstudy::test::toKdl;
+using armstudy::test::toKdlChain;
 
 using namespace armstudy;
 using namespace armstudy::test;
 
 namespace {
-
-KDL::Frame toKdl(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d R = T.linear();
-  return KDL::Frame(KDL::Rotation(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0),
-                                  R(2, 1), R(2, 2)),
-                    KDL::Vector(T.translation().x(), T.translation().y(), T.translation().z()));
-}
-
-// The same table written as a KDL chain: fixed segment T_PJ0, then the joint about/along z.
-KDL::Chain toKdlChain(const Model& m) {
-  KDL::Chain c;
-  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_WB)));
-  for (const Joint& j : m.joints) {
-    c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(j.T_PJ0)));
-    c.addSegment(KDL::Segment(
-        KDL::Joint(j.type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ),
-        KDL::Frame::Identity()));
-  }
-  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_NT)));
-  return c;
-}
 
 Eigen::Matrix<double, 6, 1> poseError(const KinematicsWorkspace& a, const KinematicsWorkspace& b) {
   // translation difference and rotation difference as angle-axis vector (R_b^T R_a)

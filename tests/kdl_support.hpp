@@ -1,7 +1,7 @@
 #pragma once
-// A Model written as an orocos-kdl chain with inertias (test and benchmark oracle only).
-// Built from the Model directly (not from RigidBodyModel), so the payload merge, the inertia shift
-// to the link origin and the reflected rotor inertia are checked independently.
+// A Model written as an orocos-kdl chain, kinematic or with inertias (test and benchmark oracle
+// only). Built from the Model directly (not from RigidBodyModel), so the payload merge, the inertia
+// shift to the link origin and the reflected rotor inertia are checked independently.
 #include <kdl/chain.hpp>
 
 #include "model/model.hpp"
@@ -13,6 +13,21 @@ inline KDL::Frame toKdl(const Eigen::Isometry3d& T) {
   return KDL::Frame(KDL::Rotation(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0),
                                   R(2, 1), R(2, 2)),
                     KDL::Vector(T.translation().x(), T.translation().y(), T.translation().z()));
+}
+
+// The kinematic table as a KDL chain: fixed segment T_WB, per joint a fixed segment T_PJ0 and the
+// joint about/along z, then the TCP.
+inline KDL::Chain toKdlChain(const Model& m) {
+  KDL::Chain c;
+  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_WB)));
+  for (const Joint& j : m.joints) {
+    c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(j.T_PJ0)));
+    c.addSegment(KDL::Segment(
+        KDL::Joint(j.type == JointType::Revolute ? KDL::Joint::RotZ : KDL::Joint::TransZ),
+        KDL::Frame::Identity()));
+  }
+  c.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), toKdl(m.T_NT)));
+  return c;
 }
 
 inline KDL::RigidBodyInertia toKdl(const LinkInertia& li) {
