@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "calibration/arm_calibration.hpp"
+#include "calibration/history.hpp"
 #include "calibration/svg_plot.hpp"
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
@@ -169,49 +170,18 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
 
 std::vector<std::vector<std::string>> appendHistory(const std::string& path, const ArmDiagnosis& d,
                                                     const ArmProblem& P, const std::string& command) {
-  const std::string header =
-      "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
-  std::vector<std::vector<std::string>> rows;
-  std::string text;
-  if (fs::exists(path)) {
-    text = readFileOrThrow(path);
-    std::istringstream is(text);
-    std::string line;
-    std::getline(is, line);
-    if (line != header)
-      throw InputError(path, 1, "", "history file has an unexpected header (another kind?); use another output folder");
-    while (std::getline(is, line)) {
-      if (line.empty()) continue;
-      std::vector<std::string> cells;
-      std::stringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-      rows.push_back(cells);
-    }
-  } else {
-    text = header + "\n";
-  }
-  int run = 1;
-  for (const auto& r : rows)
-    if (!r.empty()) run = std::max(run, std::atoi(r[0].c_str()) + 1);
-  auto g = [](double v) {
-    char b[48];
-    std::snprintf(b, sizeof b, "%.6g", v);
-    return std::string(b);
-  };
+  HistoryFile h = readHistory(
+      path, "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic");
+  const auto g = historyNumber;
   for (const ArmFit& f : d.ladder) {
     std::string eff;
     for (const auto& e : f.effects) eff += (eff.empty() ? "" : "+") + e;
-    std::vector<std::string> cells = {std::to_string(run), command, d.kind, d.design, P.hash.empty() ? "-" : P.hash,
-                                      f.label, eff.empty() ? "-" : eff, std::to_string(f.n_params),
-                                      std::to_string(P.rows()), g(f.train_rmse), g(f.heldout_rmse), P.fit_unit,
-                                      g(f.aic), g(f.bic)};
-    std::string line;
-    for (const auto& c : cells) line += (line.empty() ? "" : ",") + c;
-    text += line + "\n";
-    rows.push_back(cells);
+    appendHistoryRow(h, {std::to_string(h.next_run), command, d.kind, d.design, P.hash.empty() ? "-" : P.hash,
+                         f.label, eff.empty() ? "-" : eff, std::to_string(f.n_params), std::to_string(P.rows()),
+                         g(f.train_rmse), g(f.heldout_rmse), P.fit_unit, g(f.aic), g(f.bic)});
   }
-  writeFileAtomic(path, text);
-  return rows;
+  writeHistory(h);
+  return h.rows;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "calibration/drive_report.hpp"
+#include "calibration/history.hpp"
 
 #include <toml++/toml.h>
 
@@ -121,57 +122,23 @@ void writePlots(const std::string& dir, const std::string& stage, const ModelFit
 }
 
 // history.csv: appended rows; returns all rows (for the ladder plot).
-struct HistoryRow {
-  std::vector<std::string> cells;
-};
-
 std::vector<std::vector<std::string>> appendHistory(const std::string& path, const DriveDiagnosis& d,
                                                     const DriveData& data, const std::string& command) {
-  const std::string header =
-      "run,command,design,drive,data_hash,model,effects,n_params,n_rows,train_rmse_A,heldout_rmse_A,aic,bic";
-  std::vector<std::vector<std::string>> rows;
-  std::string text;
-  if (fs::exists(path)) {
-    text = readFileOrThrow(path);
-    std::istringstream is(text);
-    std::string line;
-    std::getline(is, line);
-    if (line != header)
-      throw InputError(path, 1, "", "history file has an unexpected header; move it away or use another output folder");
-    while (std::getline(is, line)) {
-      if (line.empty()) continue;
-      std::vector<std::string> cells;
-      std::stringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-      rows.push_back(cells);
-    }
-  } else {
-    text = header + "\n";
-  }
-  int run = 1;
-  for (const auto& r : rows)
-    if (!r.empty()) run = std::max(run, std::atoi(r[0].c_str()) + 1);
-  char buf[64];
-  auto g = [&](double v) {
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return std::string(buf);
-  };
+  HistoryFile h = readHistory(
+      path, "run,command,design,drive,data_hash,model,effects,n_params,n_rows,train_rmse_A,heldout_rmse_A,aic,bic");
+  const auto g = historyNumber;
   for (const ModelFit& m : d.ladder) {
     std::string eff;
-    for (auto e : m.effects) { eff += eff.empty() ? "" : "+"; eff += std::string(drive::toString(e)); }
-    std::string label = m.label;
-    for (char& ch : label)
-      if (ch == ',') ch = ';';
-    std::vector<std::string> cells = {std::to_string(run), command, d.design, d.joint, data.hash, label, eff,
-                                      std::to_string(m.n_params), std::to_string(data.rows()), g(m.train_rmse),
-                                      g(m.heldout_rmse), g(m.aic), g(m.bic)};
-    std::string line;
-    for (const auto& c : cells) { line += line.empty() ? "" : ","; line += c; }
-    text += line + "\n";
-    rows.push_back(cells);
+    for (auto e : m.effects) {
+      if (!eff.empty()) eff += "+";
+      eff += std::string(drive::toString(e));
+    }
+    appendHistoryRow(h, {std::to_string(h.next_run), command, d.design, d.joint, data.hash, m.label, eff,
+                         std::to_string(m.n_params), std::to_string(data.rows()), g(m.train_rmse),
+                         g(m.heldout_rmse), g(m.aic), g(m.bic)});
   }
-  writeFileAtomic(path, text);
-  return rows;
+  writeHistory(h);
+  return h.rows;
 }
 
 }  // namespace

@@ -1,0 +1,60 @@
+#include "calibration/history.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "io/files.hpp"
+
+namespace armstudy::calibration {
+
+HistoryFile readHistory(const std::string& path, const std::string& header) {
+  HistoryFile h;
+  h.path = path;
+  if (!std::filesystem::exists(path)) {
+    h.text = header + "\n";
+    return h;
+  }
+  h.text = readFileOrThrow(path);
+  std::istringstream is(h.text);
+  std::string line;
+  std::getline(is, line);
+  if (line != header)
+    throw InputError(path, 1, "",
+                     "history file has an unexpected header (another kind?); move it away or use another "
+                     "output folder");
+  while (std::getline(is, line)) {
+    if (line.empty()) continue;
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    h.rows.push_back(cells);
+  }
+  for (const auto& r : h.rows)
+    if (!r.empty()) h.next_run = std::max(h.next_run, std::atoi(r[0].c_str()) + 1);
+  return h;
+}
+
+void appendHistoryRow(HistoryFile& h, std::vector<std::string> cells) {
+  std::string line;
+  for (auto& c : cells) {
+    std::replace(c.begin(), c.end(), ',', ';');
+    if (!line.empty()) line += ',';
+    line += c;
+  }
+  h.text += line + "\n";
+  h.rows.push_back(std::move(cells));
+}
+
+void writeHistory(const HistoryFile& h) { writeFileAtomic(h.path, h.text); }
+
+std::string historyNumber(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+}  // namespace armstudy::calibration
