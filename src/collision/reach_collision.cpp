@@ -11,37 +11,71 @@ std::string CollisionReachOptions::validate() const {
   return "";
 }
 
+std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles, bool self) {
+  const CollisionWorkspace cws(model);
+  std::vector<std::string> names;
+  if (self)
+    for (int p = 0; p < cws.num_self; ++p) names.push_back(pairName(model, cws.self[p], false));
+  // The order of collisionDistances' environment pairs: per obstacle, every body with volumes.
+  for (int o = 0; o < static_cast<int>(obstacles.size()); ++o)
+    for (int b = 0; b <= model.dof(); ++b) {
+      if (cws.body_begin[b] == cws.body_begin[b + 1]) continue;
+      PairDistance p;
+      p.link_a = b - 1;
+      p.link_b = o;
+      names.push_back(pairName(model, p, true, obstacles));
+    }
+  return names;
+}
+
+namespace {
+
+// The smallest checked distance at a configuration and the pair attaining it.
+struct Check {
+  double d_min = 0, d_obstacle = 0;
+  std::string pair;
+  int pair_index = -1;
+  bool obstacle = false;  // the closest pair is a body-obstacle pair
+};
+
+}  // namespace
+
 CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
                                              const IkTarget& target, const IkOptions& ik_options,
                                              const CollisionReachOptions& options, std::uint64_t pose_id,
                                              std::span<const Obstacle> obstacles,
                                              const JointVector* warm_start) {
   CollisionReachResult out;
-  // The smallest distance at q and the pair attaining it.
-  auto check = [&](const JointVector& q, double& d_min, std::string& pair, int& self_index) {
+  CollisionQueryOptions query;
+  query.self = options.self;
+  query.environment = !obstacles.empty();
+  auto check = [&](const JointVector& q) {
     forwardKinematics(model, ws.kin, q);
-    collisionDistances(model, ws.kin, obstacles, cws);
-    const double ds = minSelfDistance(cws), de = minEnvironmentDistance(cws);
-    d_min = std::min(ds, de);
-    self_index = -1;
+    collisionDistances(model, ws.kin, obstacles, cws, query);
+    Check c;
+    const double ds = options.self ? minSelfDistance(cws) : std::numeric_limits<double>::infinity();
+    const double de = minEnvironmentDistance(cws);
+    c.d_min = std::min(ds, de);
+    c.d_obstacle = de;
     if (ds <= de && cws.closest_self >= 0) {
-      pair = pairName(model, cws.self[cws.closest_self], false);
-      self_index = cws.closest_self;
-    } else if (cws.closest_env >= 0)
-      pair = pairName(model, cws.env[cws.closest_env], true, obstacles);
+      c.pair = pairName(model, cws.self[cws.closest_self], false);
+      c.pair_index = cws.closest_self;
+    } else if (cws.closest_env >= 0) {
+      c.pair = pairName(model, cws.env[cws.closest_env], true, obstacles);
+      c.pair_index = (options.self ? cws.num_self : 0) + cws.closest_env;
+      c.obstacle = true;
+    }
+    return c;
   };
   out.ik = solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
   if (!out.ik.reachable()) return out;
-  std::string pair;
-  int self_index = -1;
-  check(out.ik.q, out.min_distance_m, pair, self_index);
-  if (out.min_distance_m > options.clearance_m) return out;
+  const Check first_check = check(out.ik.q);
+  out.min_distance_m = first_check.d_min;
+  out.obstacle_distance_m = first_check.d_obstacle;
+  if (first_check.d_min > options.clearance_m) return out;
   // Escape: other solutions of the same pose (the redundancy), from other deterministic seeds.
   const IkResult first = out.ik;
-  const double first_d = out.min_distance_m;
-  const std::string first_pair = pair;
-  const int first_self_index = self_index;
   for (int k = 1; k <= options.escape_attempts; ++k) {
     // Each escape starts from its own random configuration (deterministic per pose and attempt);
     // the solver's own start sequence begins at the middle of the limits and would find the
@@ -55,21 +89,18 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     IkResult r = solvePose(model, ws, target, ik_options, id, &start);
     ++out.attempts;
     if (!r.reachable()) continue;
-    double d = 0;
-    std::string p;
-    int pi = -1;
-    check(r.q, d, p, pi);
-    if (d > options.clearance_m) {
+    const Check c = check(r.q);
+    if (c.d_min > options.clearance_m) {
       out.ik = r;
-      out.min_distance_m = d;
+      out.min_distance_m = c.d_min;
+      out.obstacle_distance_m = c.d_obstacle;
       return out;
     }
   }
   out.ik = first;
-  out.ik.status = ReachStatus::SelfCollision;
-  out.min_distance_m = first_d;
-  out.colliding_pair = first_pair;
-  out.colliding_self_pair = first_self_index;
+  out.ik.status = first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;
+  out.colliding_pair = first_check.pair;
+  out.colliding_pair_index = first_check.pair_index;
   return out;
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 // Collision-aware reachability of one pose (issue 5): reachable and collision-free, reachable
-// only in collision (and which pair), or unreachable. The redundancy is used to escape a
-// collision: when the first solution collides, further IK solves from deterministic random
-// starts (seeded by pose id and attempt) look for a collision-free configuration of the same pose
-// before giving up.
+// only in collision (and which pair: self-collision or an environment obstacle), or unreachable.
+// The redundancy is used to escape a collision: when the first solution collides, further IK
+// solves from deterministic random starts (seeded by pose id and attempt) look for a
+// collision-free configuration of the same pose before giving up.
 #include <span>
 #include <string>
+#include <vector>
 
 #include "collision/collision.hpp"
 #include "ik/reach_solver.hpp"
@@ -15,14 +16,18 @@ namespace armstudy::collision {
 struct CollisionReachOptions {
   double clearance_m = 0;   // a configuration is collision-free when every distance > clearance
   int escape_attempts = defaults::kCollisionEscapeAttempts;  // extra IK solves after a collision
+  bool self = true;         // check the design's self-collision pairs (obstacles: when given)
   std::string validate() const;
 };
 
 struct CollisionReachResult {
-  IkResult ik;                     // status SelfCollision when reachable only in collision
-  double min_distance_m = 0;       // smallest self/obstacle distance at ik.q (reachable poses)
-  std::string colliding_pair;      // e.g. "j3-j7" or "j4-obstacle:stem" (status SelfCollision)
-  int colliding_self_pair = -1;    // index into cws.self when the colliding pair is a self pair
+  IkResult ik;                     // status SelfCollision / ObstacleCollision when reachable only in collision
+  double min_distance_m = 0;       // smallest checked distance at ik.q (reachable poses)
+  double obstacle_distance_m = 0;  // smallest body-obstacle distance at ik.q (+inf without obstacles)
+  std::string colliding_pair;      // e.g. "j3-j7" or "j4-obstacle:stem" (in collision)
+  // Index of the colliding pair in collisionPairNames(model, obstacles): self pairs first
+  // (cws.self order), then body-obstacle pairs (cws.env order); -1 when not in collision.
+  int colliding_pair_index = -1;
   int attempts = 0;                // IK solves used (1 + escapes)
 };
 
@@ -32,5 +37,10 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
                                              const CollisionReachOptions& options, std::uint64_t pose_id,
                                              std::span<const Obstacle> obstacles = {},
                                              const JointVector* warm_start = nullptr);
+
+// Names of every pair a collision-aware solve can report, indexed like
+// CollisionReachResult::colliding_pair_index: the self pairs (when `self`) then, for each
+// obstacle, every body with volumes ("j4-obstacle:stem").
+std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles, bool self);
 
 }  // namespace armstudy::collision

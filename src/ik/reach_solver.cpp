@@ -19,6 +19,7 @@ const char* toString(ReachStatus s) {
     case ReachStatus::RepresentationSingularity: return "representation_singularity";
     case ReachStatus::SelfCollision: return "self_collision";
     case ReachStatus::TorqueLimit: return "torque";
+    case ReachStatus::ObstacleCollision: return "obstacle_collision";
   }
   return "?";
 }

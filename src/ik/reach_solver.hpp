@@ -36,10 +36,11 @@ enum class ReachStatus : std::uint8_t {
   OutOfReach = 1,                 // no configuration reaches it, even without joint limits
   JointLimits = 2,                // reachable only if the joint limits were lifted
   RepresentationSingularity = 3,  // best solution at cos(beta) = 0 (partial Cardan task spaces)
-  SelfCollision = 4,              // reserved for the collision stage
+  SelfCollision = 4,              // reachable only in self-collision (collision-aware sweeps)
   TorqueLimit = 5,                // reserved for the dynamics stage
+  ObstacleCollision = 6,          // reachable only in collision with an environment obstacle
 };
-inline constexpr int kReachStatusCount = 6;
+inline constexpr int kReachStatusCount = 7;
 const char* toString(ReachStatus s);
 
 enum class IkAlgorithm {

@@ -8,6 +8,7 @@
 #include "collision/collision_model.hpp"
 #include "drive/friction.hpp"
 #include "io/files.hpp"
+#include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
 
 namespace armstudy {
@@ -63,31 +64,10 @@ void readCollisionModel(TableReader& top, Model& m) {
     const std::string link = r.string("link");
     v.link = collision::bodyIndex(m, link);
     if (v.link < -1) r.fail("link", "no link named '" + link + "' (use a joint name or \"base\")");
-    const std::string type = r.string("type");
-    if (type == "point")
-      v.type = SsvType::Point;
-    else if (type == "line")
-      v.type = SsvType::Line;
-    else if (type == "triangle")
-      v.type = SsvType::Triangle;
-    else
-      r.fail("type", "unknown SSV type '" + type + "' (expected point, line or triangle)");
-    const int n = static_cast<int>(v.type);
-    const toml::node* pts = r.node("points");
-    if (!pts) r.fail("points", "missing required key");
-    const toml::array* arr = pts->as_array();
-    if (!arr || static_cast<int>(arr->size()) != n)
-      r.fail("points", "a " + type + " SSV needs " + std::to_string(n) +
-                           " points [[x, y, z], ...] in the link frame");
-    for (int i = 0; i < n; ++i) {
-      const toml::array* xyz = (*arr)[i].as_array();
-      if (!xyz || xyz->size() != 3) r.fail("points", "each point is [x, y, z] (metres or with unit)");
-      for (int k = 0; k < 3; ++k)
-        v.p_L[i][k] = io::nodeQuantity(*xyz->get(k), Dimension::Length, r.file(), r.keyPath("points"));
-    }
-    v.radius_m = r.quantity("radius", Dimension::Length);
-    const std::string problem = collision::volumeGeometryProblem(v.type, v.p_L, v.radius_m);
-    if (!problem.empty()) r.fail(problem.find("radius") == 0 ? "radius" : "points", problem);
+    const io::SsvGeometry g = io::readSsvGeometry(r, false, "the link frame");
+    v.type = g.type;
+    v.p_L = g.p;
+    v.radius_m = g.radius_m;
     m.collision.volumes.push_back(v);
   });
   if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)

@@ -8,6 +8,7 @@
 #include "dexterity/dexterity_io.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
 
 namespace armstudy {
@@ -57,6 +58,37 @@ std::vector<Override> readOverrides(TableReader& r, const std::string& section, 
       o.values.push_back(io::nodeQuantity(v, dim, r.file(), key_path));
     }
     out.push_back(o);
+  }
+  return out;
+}
+
+// [[obstacle]] entries (docs/collision.md): name, type (sphere/point, capsule/line, triangle),
+// points in the task frame W, radius.
+std::vector<collision::Obstacle> readObstacles(TableReader& top) {
+  std::vector<collision::Obstacle> out;
+  const toml::array* arr = top.array("obstacle");
+  if (!arr) return out;
+  int idx = 0;
+  for (const auto& e : *arr) {
+    if (!e.is_table())
+      throw InputError(top.file(), static_cast<int>(e.source().begin.line), "obstacle", "expected [[obstacle]] tables");
+    TableReader r(*e.as_table(), top.file(), "obstacle[" + std::to_string(idx++) + "]");
+    collision::Obstacle o;
+    o.name = r.string("name");
+    if (o.name.empty()) r.fail("name", "obstacle name is empty");
+    for (char c : o.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
+        r.fail("name", "obstacle names use letters, digits, '_' and '-' only (they appear in pair names and fields)");
+    for (const auto& other : out)
+      if (other.name == o.name) r.fail("name", "obstacle '" + o.name + "' is defined twice");
+    const io::SsvGeometry g = io::readSsvGeometry(r, true, "the task frame W");
+    o.type = g.type;
+    o.p_W = g.p;
+    o.radius_m = g.radius_m;
+    r.finish();
+    if (static_cast<int>(out.size()) == collision::kMaxObstacles)
+      r.fail("name", "more than " + std::to_string(collision::kMaxObstacles) + " obstacles are not supported");
+    out.push_back(std::move(o));
   }
   return out;
 }
@@ -162,11 +194,12 @@ Study loadStudy(const std::string& path) {
       }
     }
   }
+  s.obstacles = readObstacles(top);
   {
     std::vector<std::pair<std::string, std::string>> files;
     std::vector<const Model*> models;
     for (const auto& d : s.designs) models.push_back(&d.model);
-    readReachSection(top, dir.string(), models, s.reach, files);
+    readReachSection(top, dir.string(), models, s.obstacles, s.reach, files);
     for (const auto& [f, h] : files) s.inputs.push_back({f, h});
   }
   // [regression]: where the baseline lives and how far each metric may move.

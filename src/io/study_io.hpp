@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "collision/collision.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "dynamics/harvest_stage.hpp"
 #include "model/model.hpp"
@@ -33,6 +34,9 @@ struct Study {
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order
   std::vector<InputFile> inputs;     // every file read (study, designs), with content hashes
+  // [[obstacle]] entries: environment obstacles fixed in the task frame W (plant stems, wires,
+  // the platform; docs/collision.md), checked against every design's collision volumes.
+  std::vector<collision::Obstacle> obstacles;
   ReachConfig reach;                 // [reach] section (reach.enabled = present)
   RegressionSpec regression;         // [regression]: baseline path and tolerances
   std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)

@@ -86,7 +86,8 @@ void checkName(TableReader& r, const std::string& name, std::set<std::string>& n
 }  // namespace
 
 void readReachSection(TableReader& top, const std::string& study_dir,
-                      const std::vector<const Model*>& models, ReachConfig& cfg,
+                      const std::vector<const Model*>& models,
+                      const std::vector<collision::Obstacle>& obstacles, ReachConfig& cfg,
                       std::vector<std::pair<std::string, std::string>>& files_read) {
   namespace fs = std::filesystem;
   const toml::table* t = top.table("reach");
@@ -117,10 +118,17 @@ void readReachSection(TableReader& top, const std::string& study_dir,
         all_have_model = false;
         if (without.empty()) without = m->name;
       }
-    cfg.self_collision = r.boolean("self_collision", all_have_model);
-    if (cfg.self_collision && !all_have_model)
+    cfg.collision.self = r.boolean("self_collision", all_have_model);
+    if (cfg.collision.self && !all_have_model)
       r.fail("self_collision", "self_collision = true needs a collision model for every design, but design '" +
                                    without + "' has none (add [[collision]] volumes or set self_collision = false)");
+    const bool use_obstacles = r.boolean("obstacles", !obstacles.empty());
+    if (use_obstacles && obstacles.empty())
+      r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
+    if (use_obstacles && !all_have_model)
+      r.fail("obstacles", "obstacles are checked against the designs' collision volumes, but design '" + without +
+                              "' has none (add [[collision]] volumes or set obstacles = false)");
+    if (use_obstacles) cfg.collision.obstacles = obstacles;
   }
   if (r.has("outputs")) {
     cfg.outputs = ReachOutputs{false, false, false};

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "ik/reach_solver.hpp"
+#include "reach/reach_sweep.hpp"
 #include "tasks/task_grid.hpp"
 
 namespace armstudy {
@@ -32,18 +33,21 @@ struct ReachConfig {
   std::vector<PoseList> pose_lists;
   ReachOutputs outputs;
   // Collision-aware sweeps (docs/reachability.md): poses reachable only in self-collision get
-  // status SelfCollision, and the smallest self-collision distance at the solution is stored.
-  // Default: on when every design of the study has a collision model.
-  bool self_collision = false;
+  // status SelfCollision, those reachable only in contact with an obstacle ObstacleCollision,
+  // and the smallest distance at the solution is stored. collision.self (key self_collision)
+  // defaults to on when every design of the study has a collision model; collision.obstacles
+  // (key obstacles = true, the default when the study declares [[obstacle]]s) are the study's.
+  SweepCollision collision;
   std::string validate() const;      // empty when valid (programmer check after parsing)
 };
 
 // Reads the optional [reach] section from the study's top-level table. Relative pose-list paths
 // are resolved against `study_dir`; every file read is appended to `files_read` as (path, hash).
-// `models` are the study's designs and variants (for the self_collision default and check).
-// Throws InputError (file, line, key) on bad input.
+// `models` are the study's designs and variants (for the self_collision default and check);
+// `obstacles` the study's [[obstacle]] entries. Throws InputError (file, line, key) on bad input.
 void readReachSection(io::TableReader& top, const std::string& study_dir,
-                      const std::vector<const Model*>& models, ReachConfig& out,
+                      const std::vector<const Model*>& models,
+                      const std::vector<collision::Obstacle>& obstacles, ReachConfig& out,
                       std::vector<std::pair<std::string, std::string>>& files_read);
 
 }  // namespace armstudy

@@ -59,17 +59,22 @@ struct Stats {
   std::array<long, kReachStatusCount> status{};
   Extent extent;
   double manip_sum = 0, manip_min = INFINITY, manip_max = 0;
-  bool self_collision = false;
-  std::map<std::string, long> colliding_pairs;  // SelfCollision poses per pair
+  bool collision = false, obstacles = false;
+  std::map<std::string, long> colliding_pairs;  // poses reachable only in collision, per pair
   double min_distance = INFINITY;               // smallest distance over the reachable poses
+  double min_obstacle_distance = INFINITY;      //   ... to an obstacle
   void add(const PoseSweep& s, long i, const Eigen::Vector3d& p) {
     ++n;
     ++status[s.status[i]];
-    if (s.self_collision) {
-      self_collision = true;
+    if (s.collision) {
+      collision = true;
       const int c = s.colliding_pair[i];
       if (c >= 0) ++colliding_pairs[s.pair_names[c]];
       if (s.reachable(i)) min_distance = std::min(min_distance, s.min_distance_m[i]);
+    }
+    if (s.obstacles) {
+      obstacles = true;
+      if (s.reachable(i)) min_obstacle_distance = std::min(min_obstacle_distance, s.obstacle_distance_m[i]);
     }
     if (s.reachable(i)) {
       ++reachable;
@@ -91,12 +96,16 @@ struct Stats {
     j["extent"] = extent.json();
     if (reachable)
       j["manipulability"] = {{"mean", manip_sum / reachable}, {"min", manip_min}, {"max", manip_max}};
-    if (self_collision) {
+    if (collision) {
       ordered_json cp = ordered_json::object();
       for (const auto& [name, count] : colliding_pairs) cp[name] = count;
       j["colliding_pairs"] = cp;
       j["min_distance_m"] = reachable && std::isfinite(min_distance) ? ordered_json(min_distance) : ordered_json(nullptr);
     }
+    if (obstacles)
+      j["min_obstacle_distance_m"] = reachable && std::isfinite(min_obstacle_distance)
+                                         ? ordered_json(min_obstacle_distance)
+                                         : ordered_json(nullptr);
     return j;
   }
 };
@@ -220,7 +229,10 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   out.push_back(arrayOf("starts" + sfx, ArrayType::UInt8, g, points, k, 1, [&](long i, int) { return s.starts[i]; }));
   out.push_back(arrayOf("q" + sfx, ArrayType::Float64, g, points, k, s.dof,
                         [&](long i, int c) { return s.q[static_cast<std::size_t>(i) * s.dof + c]; }));
-  if (s.self_collision) {
+  if (s.obstacles)
+    out.push_back(arrayOf("obstacle_distance" + sfx, ArrayType::Float64, g, points, k, 1,
+                          [&](long i, int) { return s.obstacle_distance_m[i]; }));
+  if (s.collision) {
     out.push_back(arrayOf("min_distance" + sfx, ArrayType::Float64, g, points, k, 1,
                           [&](long i, int) { return s.min_distance_m[i]; }));
     out.push_back(arrayOf("colliding_pair" + sfx, ArrayType::Int32, g, points, k, 1,
@@ -257,7 +269,7 @@ bool getVector(const std::string& b, std::size_t& pos, std::vector<T>& v) {
   pos += n * sizeof(T);
   return true;
 }
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v2";
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v3";
 
 std::string serializeSweep(const PoseSweep& s) {
   std::string b(kUnitMagic);
@@ -270,10 +282,11 @@ std::string serializeSweep(const PoseSweep& s) {
   putVector(b, s.manipulability);
   putVector(b, s.joint_limit_margin);
   putVector(b, s.q);
-  const std::vector<std::uint8_t> flag{static_cast<std::uint8_t>(s.self_collision)};
+  const std::vector<std::uint8_t> flag{static_cast<std::uint8_t>(s.collision), static_cast<std::uint8_t>(s.obstacles)};
   putVector(b, flag);
   putVector(b, s.min_distance_m);
   putVector(b, s.colliding_pair);
+  putVector(b, s.obstacle_distance_m);
   std::string names;
   for (const std::string& n : s.pair_names) names += n + '\n';
   putVector(b, std::vector<char>(names.begin(), names.end()));
@@ -296,11 +309,12 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
                   getVector(b, pos, s.q);
   std::vector<std::uint8_t> flag;
   std::vector<char> names;
-  const bool ok_collision = ok && getVector(b, pos, flag) && flag.size() == 1 &&
+  const bool ok_collision = ok && getVector(b, pos, flag) && flag.size() == 2 &&
                             getVector(b, pos, s.min_distance_m) && getVector(b, pos, s.colliding_pair) &&
-                            getVector(b, pos, names);
+                            getVector(b, pos, s.obstacle_distance_m) && getVector(b, pos, names);
   if (!ok_collision) return false;
-  s.self_collision = flag[0] != 0;
+  s.collision = flag[0] != 0;
+  s.obstacles = flag[1] != 0;
   std::string n;
   for (char c : names) {
     if (c == '\n') {
@@ -310,10 +324,11 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
       n += c;
     }
   }
-  const std::size_t nc = s.self_collision ? static_cast<std::size_t>(s.size) : 0;
+  const std::size_t nc = s.collision ? static_cast<std::size_t>(s.size) : 0;
+  const std::size_t no = s.obstacles ? static_cast<std::size_t>(s.size) : 0;
   return pos == b.size() && static_cast<long>(s.status.size()) == s.size &&
          s.q.size() == static_cast<std::size_t>(s.size) * s.dof && s.min_distance_m.size() == nc &&
-         s.colliding_pair.size() == nc;
+         s.colliding_pair.size() == nc && s.obstacle_distance_m.size() == no;
 }
 
 // Solves one unit (design x grid or pose list), or loads it from an earlier interrupted run.
@@ -336,6 +351,33 @@ PoseSweep solveUnit(const ReachStageOptions& options, ReachStageSummary& sum, co
   sum.timings.emplace_back(unit_id + "/per_unreachable_pose",
                            s.size > nr ? s.solve_seconds_unreachable / (s.size - nr) : 0.0);
   return s;
+}
+
+// The self-collision and obstacle-collision columns of the report tables (when checked).
+void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at, const Stats& st) {
+  auto share = [&](ReachStatus k) { return report::percent(st.n ? double(st.status[int(k)]) / st.n : 0); };
+  if (!cfg.collision.obstacles.empty()) row.insert(row.begin() + at, share(ReachStatus::ObstacleCollision));
+  if (cfg.collision.self) row.insert(row.begin() + at, share(ReachStatus::SelfCollision));
+}
+void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& header, int at) {
+  if (!cfg.collision.obstacles.empty()) header.insert(header.begin() + at, ">obstacle collision");
+  if (cfg.collision.self) header.insert(header.begin() + at, ">self-collision");
+}
+
+const char* ssvTypeName(SsvType t) {
+  return t == SsvType::Point ? "sphere" : t == SsvType::Line ? "capsule" : "triangle";
+}
+ordered_json obstacleJson(const collision::Obstacle& o) {
+  ordered_json pts = ordered_json::array();
+  for (int i = 0; i < static_cast<int>(o.type); ++i) pts.push_back({o.p_W[i].x(), o.p_W[i].y(), o.p_W[i].z()});
+  return {{"name", o.name}, {"type", ssvTypeName(o.type)}, {"points_m", pts}, {"radius_m", o.radius_m}};
+}
+std::vector<std::string> obstacleRow(const collision::Obstacle& o) {
+  std::string pts;
+  for (int i = 0; i < static_cast<int>(o.type); ++i)
+    pts += (i ? ", (" : "(") + report::fixed(o.p_W[i].x(), 3) + ", " + report::fixed(o.p_W[i].y(), 3) + ", " +
+           report::fixed(o.p_W[i].z(), 3) + ")";
+  return {o.name, ssvTypeName(o.type), pts, report::fixed(o.radius_m * 1e3, 1)};
 }
 
 // Summary metrics of one unit for baselines and checks.
@@ -377,7 +419,12 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"classify_starts", cfg.ik.classify_starts},
                     {"seed", cfg.ik.seed},
                     {"algorithm", toString(cfg.ik.algorithm)},
-                    {"self_collision", cfg.self_collision}};
+                    {"self_collision", cfg.collision.self}};
+  {
+    ordered_json jobs = ordered_json::array();
+    for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
+    jr["settings"]["obstacles"] = jobs;
+  }
   std::string md = "# Reachability: study `" + study.name + "`\n\n";
   if (!study.description.empty()) md += study.description + "\n\n";
   md += "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the TCP within " +
@@ -386,16 +433,27 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
         " deg of it (up to " + std::to_string(cfg.ik.max_starts) +
         " deterministic starts, seed " + std::to_string(cfg.ik.seed) +
         "). See docs/reachability.md for the solver, the failure reasons and the file formats.\n\n";
+  const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   md += "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
         report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
         " blocked by joint limits, " + report::hex(report::categorical(3)) +
         " representation singularity" +
-        (cfg.self_collision ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
-        " (green, light grey, orange, purple" + (cfg.self_collision ? ", red" : "") + ").\n\n";
-  if (cfg.self_collision)
+        (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
+        (obst_on ? ", " + report::hex(report::categorical(6)) + " reachable only in contact with an obstacle" : "") +
+        " (green, light grey, orange, purple" + (self_on ? ", red" : "") + (obst_on ? ", brown" : "") + ").\n\n";
+  if (self_on)
     md += "Self-collision: on. A pose counts as reachable only with a collision-free solution (every self-collision "
           "distance of the design's swept-sphere volumes > 0, other postures tried through the redundancy); poses "
           "reachable only in collision are counted separately, with the colliding pair in summary.json.\n\n";
+  if (obst_on) {
+    md += "Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
+          " in the task frame, checked against every link's swept-sphere volumes; a pose counts as reachable only "
+          "with a solution clear of them (field `obstacle_distance`: the arm's clearance from the nearest "
+          "obstacle at the solution).\n\n";
+    std::vector<std::vector<std::string>> orows;
+    for (const collision::Obstacle& o : cfg.collision.obstacles) orows.push_back(obstacleRow(o));
+    md += report::markdownTable({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"}, orows) + "\n";
+  }
 
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids) {
@@ -425,7 +483,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
       sweeps.push_back(solveUnit(options, sum, unit, sd.model.name, g.size(), progress,
-                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress, cfg.self_collision); }));
+                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress, cfg.collision); }));
       addUnitMetrics(sum.metrics, unit, sweeps.back());
     }
     sum.poses += g.size() * static_cast<long>(sweeps.size());
@@ -461,8 +519,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                         report::percent(per[k].n ? double(per[k].status[1]) / per[k].n : 0),
                         report::percent(per[k].n ? double(per[k].status[3]) / per[k].n : 0),
                         per[k].extent.text()});
-        if (cfg.self_collision)
-          rows.back().insert(rows.back().begin() + 3, report::percent(per[k].n ? double(per[k].status[4]) / per[k].n : 0));
+        insertCollisionColumns(cfg, rows.back(), 3, per[k]);
       }
       jd["per_orientation"] = jper;
 
@@ -556,7 +613,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     jg["designs"] = jdesigns;
     std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
                                        ">repr. singular", "extent of the reachable poses"};
-    if (cfg.self_collision) header.insert(header.begin() + 3, ">self-collision");
+    insertCollisionColumns(cfg, header, 3);
     md += report::markdownTable(header, rows);
     md += "\n";
     if (g.spatialDimension() == 3 && cfg.outputs.surface) {
@@ -713,7 +770,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
       const PoseSweep s =
           solveUnit(options, sum, unit, sd.model.name, static_cast<long>(l.poses.size()), progress,
-                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress, cfg.self_collision); });
+                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress, cfg.collision); });
       addUnitMetrics(sum.metrics, unit, s);
       sum.poses += s.size;
       Stats st;
@@ -737,13 +794,12 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       rows.push_back({s.design, report::percent(st.fraction()),
                       report::percent(st.n ? double(st.status[2]) / st.n : 0),
                       report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()});
-      if (cfg.self_collision)
-        rows.back().insert(rows.back().begin() + 2, report::percent(st.n ? double(st.status[4]) / st.n : 0));
+      insertCollisionColumns(cfg, rows.back(), 2, st);
     }
     jl["designs"] = jdesigns;
     jlists.push_back(jl);
     std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach", "extent"};
-    if (cfg.self_collision) header.insert(header.begin() + 2, ">self-collision");
+    insertCollisionColumns(cfg, header, 2);
     md += report::markdownTable(header, rows) + "\n";
   }
   jr["pose_lists"] = jlists;

@@ -43,7 +43,7 @@ void Progress::advance(long n) {
 
 namespace {
 
-PoseSweep makeSweep(const Model& model, long size, bool self_collision) {
+PoseSweep makeSweep(const Model& model, long size, const SweepCollision& collision) {
   PoseSweep s;
   s.design = model.name;
   s.dof = model.dof();
@@ -55,13 +55,14 @@ PoseSweep makeSweep(const Model& model, long size, bool self_collision) {
   s.manipulability.assign(size, 0);
   s.joint_limit_margin.assign(size, 0);
   s.q.assign(static_cast<std::size_t>(size) * s.dof, 0);
-  s.self_collision = self_collision;
-  if (self_collision) {
+  s.collision = collision.enabled();
+  if (s.collision) {
     s.min_distance_m.assign(size, std::numeric_limits<double>::quiet_NaN());
     s.colliding_pair.assign(size, -1);
-    const collision::CollisionWorkspace cws(model);
-    for (int p = 0; p < cws.num_self; ++p) s.pair_names.push_back(collision::pairName(model, cws.self[p], false));
+    s.pair_names = collision::collisionPairNames(model, collision.obstacles, collision.self);
   }
+  s.obstacles = !collision.obstacles.empty();
+  if (s.obstacles) s.obstacle_distance_m.assign(size, std::numeric_limits<double>::quiet_NaN());
   return s;
 }
 
@@ -79,13 +80,19 @@ void store(PoseSweep& s, long i, const IkResult& r, int extra_starts) {
 struct PoseResult {
   IkResult ik;
   double min_distance_m = std::numeric_limits<double>::quiet_NaN();
+  double obstacle_distance_m = std::numeric_limits<double>::quiet_NaN();
   int pair = -1;
 };
 
 void storeCollision(PoseSweep& s, long i, const PoseResult& r) {
-  if (!s.self_collision) return;
+  if (!s.collision) return;
   s.min_distance_m[i] = r.min_distance_m;
   s.colliding_pair[i] = static_cast<std::int16_t>(r.pair);
+  if (s.obstacles) s.obstacle_distance_m[i] = r.obstacle_distance_m;
+}
+
+bool inCollision(ReachStatus st) {
+  return st == ReachStatus::SelfCollision || st == ReachStatus::ObstacleCollision;
 }
 
 JointVector solutionOf(const PoseSweep& s, long i) {
@@ -97,11 +104,12 @@ JointVector solutionOf(const PoseSweep& s, long i) {
 // Solves units [0, units) of consecutive poses; unit u covers [u * len, min((u+1) * len, size)).
 PoseSweep sweepUnits(const Model& model, long size, long len,
                      const std::function<IkTarget(long)>& target, const IkOptions& options,
-                     int threads, Progress* progress, bool self_collision) {
+                     int threads, Progress* progress, const SweepCollision& collision) {
   ARMSTUDY_CHECK(options.validate().empty(), options.validate());
-  PoseSweep s = makeSweep(model, size, self_collision);
-  ARMSTUDY_CHECK(!self_collision || !model.collision.empty(),
-                 "self-collision sweep of design '" + model.name + "' without a collision model");
+  PoseSweep s = makeSweep(model, size, collision);
+  ARMSTUDY_CHECK(!collision.enabled() || !model.collision.empty(),
+                 "collision-aware sweep of design '" + model.name + "' without a collision model");
+  ARMSTUDY_CHECK(static_cast<int>(collision.obstacles.size()) <= collision::kMaxObstacles, "too many obstacles");
   const long units = (size + len - 1) / len;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
   s.threads = nt;
@@ -114,21 +122,25 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
   {
     IkWorkspace ws(model);
     std::optional<collision::CollisionWorkspace> cws;
-    if (self_collision) cws.emplace(model);
-    const collision::CollisionReachOptions copts;
-    // One pose: plain IK, or collision-aware (reachable only in collision -> SelfCollision).
+    if (collision.enabled()) cws.emplace(model);
+    collision::CollisionReachOptions copts;
+    copts.self = collision.self;
+    // One pose: plain IK, or collision-aware (reachable only in collision -> Self/ObstacleCollision).
     auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
       PoseResult r;
-      if (!self_collision) {
+      if (!collision.enabled()) {
         r.ik = solvePose(model, ws, target(i), o, static_cast<std::uint64_t>(i), warm_start);
         return r;
       }
-      collision::CollisionReachResult c = collision::solvePoseCollisionAware(
-          model, ws, *cws, target(i), o, copts, static_cast<std::uint64_t>(i), {}, warm_start);
+      collision::CollisionReachResult c =
+          collision::solvePoseCollisionAware(model, ws, *cws, target(i), o, copts, static_cast<std::uint64_t>(i),
+                                             collision.obstacles, warm_start);
       r.ik = std::move(c.ik);
-      const bool solved = r.ik.reachable() || r.ik.status == ReachStatus::SelfCollision;
-      if (solved) r.min_distance_m = c.min_distance_m;
-      if (r.ik.status == ReachStatus::SelfCollision) r.pair = c.colliding_self_pair;
+      if (r.ik.reachable() || inCollision(r.ik.status)) {
+        r.min_distance_m = c.min_distance_m;
+        r.obstacle_distance_m = c.obstacle_distance_m;
+      }
+      r.pair = c.colliding_pair_index;
       return r;
     };
 #pragma omp for schedule(dynamic, 1)
@@ -153,7 +165,6 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       // right-hand neighbour's solution. A pose reachable only in collision keeps its result
       // unless the retry finds a collision-free solution; an unreachable one also takes a
       // solution in collision.
-      const auto in_collision = static_cast<std::uint8_t>(ReachStatus::SelfCollision);
       for (long i = end - 2; i >= begin; --i) {
         if (s.reachable(i) || !s.reachable(i + 1)) continue;
         const JointVector w = solutionOf(s, i + 1);
@@ -162,7 +173,7 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
         const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable() || (r.status == ReachStatus::SelfCollision && s.status[i] != in_collision)) {
+        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(s.status[i])))) {
           store(s, i, r, s.starts[i]);
           storeCollision(s, i, pr);
         }
@@ -179,20 +190,20 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
 }  // namespace
 
 PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress, bool self_collision) {
+                    int threads, Progress* progress, const SweepCollision& collision) {
   ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
   return sweepUnits(
       model, grid.size(), grid.lineLength(),
       [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, options, threads, progress,
-      self_collision);
+      collision);
 }
 
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
-                        int threads, Progress* progress, bool self_collision) {
+                        int threads, Progress* progress, const SweepCollision& collision) {
   return sweepUnits(
       model, static_cast<long>(list.poses.size()), defaults::kPoseListChunk,
       [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, options, threads,
-      progress, self_collision);
+      progress, collision);
 }
 
 }  // namespace armstudy

@@ -12,10 +12,19 @@
 #include <string>
 #include <vector>
 
+#include "collision/collision.hpp"
 #include "ik/reach_solver.hpp"
 #include "tasks/task_grid.hpp"
 
 namespace armstudy {
+
+// What a collision-aware sweep checks (docs/reachability.md): the design's self-collision pairs
+// and/or environment obstacles fixed in the task frame W. Both need the design's collision model.
+struct SweepCollision {
+  bool self = false;
+  std::vector<collision::Obstacle> obstacles;
+  bool enabled() const { return self || !obstacles.empty(); }
+};
 
 // Per-pose results of one design, stored column-wise (one vector per quantity).
 struct PoseSweep {
@@ -26,13 +35,18 @@ struct PoseSweep {
   std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
   std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
   std::vector<double> q;                     // size * dof, pose-major
-  // Self-collision sweeps only (empty otherwise): the smallest self-collision distance at the
-  // solution (negative: penetration; NaN when unreachable) and, for SelfCollision poses, the
-  // colliding pair as an index into pair_names (-1 otherwise).
-  bool self_collision = false;
+  // Collision-aware sweeps only (empty otherwise): the smallest checked distance at the solution
+  // (self pairs and obstacles; negative: penetration; NaN when unreachable) and, for poses
+  // reachable only in collision (SelfCollision / ObstacleCollision), the colliding pair as an
+  // index into pair_names (-1 otherwise).
+  bool collision = false;
   std::vector<double> min_distance_m;
   std::vector<std::int16_t> colliding_pair;
-  std::vector<std::string> pair_names;       // the design's self-collision pairs, e.g. "j2-j5"
+  std::vector<std::string> pair_names;       // collision::collisionPairNames: "j2-j5", "j4-obstacle:stem"
+  // Sweeps with obstacles only: the smallest body-obstacle distance at the solution (NaN when
+  // unreachable), the clearance of the arm from its environment.
+  bool obstacles = false;
+  std::vector<double> obstacle_distance_m;
   double wall_seconds = 0;
   int threads = 1;
   double solve_seconds_reachable = 0;    // summed per-pose solve time of reachable poses (all threads)
@@ -55,11 +69,11 @@ class Progress {
   std::atomic<int> last_permille_{-1};
 };
 
-// threads <= 0: OpenMP default. `progress` may be null. self_collision: solve every pose
-// collision-aware (collision::solvePoseCollisionAware, no obstacles); needs a collision model.
+// threads <= 0: OpenMP default. `progress` may be null. With collision.enabled() every pose is
+// solved collision-aware (collision::solvePoseCollisionAware); that needs a collision model.
 PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress, bool self_collision = false);
+                    int threads, Progress* progress, const SweepCollision& collision = {});
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
-                        int threads, Progress* progress, bool self_collision = false);
+                        int threads, Progress* progress, const SweepCollision& collision = {});
 
 }  // namespace armstudy

@@ -49,7 +49,7 @@ TEST_CASE("collision-aware reachability classifies poses and escapes collisions 
   // A sphere around the target itself: reachable only in collision, and the pair is named.
   const std::vector<Obstacle> at_tcp = {sphereObstacle("fruit", target.w_d.head<3>(), 0.04)};
   const auto hit = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, at_tcp);
-  CHECK(hit.ik.status == ReachStatus::SelfCollision);
+  CHECK(hit.ik.status == ReachStatus::ObstacleCollision);
   CHECK(hit.min_distance_m < 0);
   CHECK(hit.colliding_pair == "j9-obstacle:fruit");
   CHECK(hit.attempts == 1 + co.escape_attempts);

@@ -72,7 +72,7 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   bool found = false;
   for (double extra : {0.0, 0.03, 0.06, 0.1, 0.15}) {
     m = inflated(extra);
-    a = sweepGrid(m, g, o, 1, nullptr, true);
+    a = sweepGrid(m, g, o, 1, nullptr, SweepCollision{true, {}});
     if (countStatus(a, ReachStatus::SelfCollision) > 0 && a.countReachable() > 0) {
       found = true;
       break;
@@ -81,12 +81,12 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   REQUIRE(found);
   INFO("reachable " << a.countReachable() << ", in collision " << countStatus(a, ReachStatus::SelfCollision)
                     << " of " << a.size);
-  REQUIRE(a.self_collision);
+  REQUIRE(a.collision);
   REQUIRE(a.min_distance_m.size() == static_cast<std::size_t>(a.size));
   REQUIRE_FALSE(a.pair_names.empty());
 
   // (c) 1 vs 2 threads (and run to run): every column bit-identical.
-  const PoseSweep b = sweepGrid(m, g, o, 2, nullptr, true);
+  const PoseSweep b = sweepGrid(m, g, o, 2, nullptr, SweepCollision{true, {}});
   CHECK(b.status == a.status);
   CHECK(b.starts == a.starts);
   CHECK(sameBits(b.q, a.q));
@@ -109,7 +109,7 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   study.reach.ik = o;
   study.reach.grids = {g};
   study.reach.outputs = ReachOutputs{true, false, false};
-  study.reach.self_collision = true;
+  study.reach.collision.self = true;
   ReachStageOptions ro;
   ro.output_dir = dir.string();
   ro.threads = 2;
@@ -219,10 +219,10 @@ TEST_CASE("self_collision = true for a design without a collision model is an in
     CHECK(std::string(e.what()).find("self_collision") != std::string::npos);
   }
   const Study s = loadStudy((dir / "default.toml").string());
-  CHECK_FALSE(s.reach.self_collision);
+  CHECK_FALSE(s.reach.collision.self);
   // Every shipped design has a collision model: the default is on.
   std::ofstream(dir / "shipped.toml") << "[study]\nname = \"t\"\n[[design]]\nfile = \""
                                        << test::sourcePath("designs/first_prototype_6dof.toml")
                                        << "\"\n[reach]\ntask_space = \"position\"\n" << grid;
-  CHECK(loadStudy((dir / "shipped.toml").string()).reach.self_collision);
+  CHECK(loadStudy((dir / "shipped.toml").string()).reach.collision.self);
 }
