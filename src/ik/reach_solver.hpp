@@ -61,12 +61,11 @@ struct IkOptions {
   bool use_reach_bound = true;
   IkAlgorithm algorithm = IkAlgorithm::LmThenSlsqp;
   double orientation_weight_m = defaults::kIkOrientationWeight_m;
-  // Levenberg-Marquardt tuning, chosen with tests/benchmarks/ik_bench (docs/performance.md); the
-  // cold-start values supersede defaults::kIkStagnationRatio.
-  double lambda_initial_m2 = 0.3;  // damping (m^2, on J J^T) at a cold start: short first steps
-                                   // keep LM in the basin of its start
-  double lambda_warm_m2 = defaults::kIkLambdaInitial_m2;  // ... at a warm start (already close)
-  double stagnation_ratio = 0.1;   // accepted steps reducing the cost by less (relative), ...
+  // Levenberg-Marquardt tuning, chosen with tests/benchmarks/ik_bench (docs/performance.md).
+  double lambda_initial_m2 = defaults::kIkLambdaCold_m2;  // damping (m^2, on J J^T) at a cold start:
+                                                          // short first steps keep LM in its basin
+  double lambda_warm_m2 = defaults::kIkLambdaWarm_m2;  // ... at a warm start (already close)
+  double stagnation_ratio = defaults::kIkStagnationRatio;  // accepted steps reducing the cost by less (relative), ...
                                    // defaults::kIkStagnationSteps times in a row, end a start
   int max_rejected_steps = 5;      // rejected LM steps in a row end a start
   int seed_candidates = 8;         // a random start is the best (lowest task error) of this many
