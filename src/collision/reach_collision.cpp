@@ -1,13 +1,19 @@
 #include "collision/reach_collision.hpp"
 
 #include <cmath>
+#include <memory>
 #include <random>
+
+#include "collision/collision_term.hpp"
+#include "ik/nullspace.hpp"
 
 namespace armstudy::collision {
 
 std::string CollisionReachOptions::validate() const {
   if (!(clearance_m >= 0) || !std::isfinite(clearance_m)) return "clearance must be a finite length >= 0";
   if (escape_attempts < 0 || escape_attempts > 1000) return "escape_attempts must lie in 0..1000";
+  if (!(escape_safety_distance_m >= 0) || !std::isfinite(escape_safety_distance_m))
+    return "escape safety distance must be a finite length >= 0";
   return "";
 }
 
@@ -38,6 +44,34 @@ struct Check {
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
 
+// The reach target as a pose task of the null-space IK: position, full pose or tool axis. Other
+// task spaces (partial Cardan angles such as spraying) have no exact null space there: false.
+bool nullspaceTarget(const IkTarget& t, ik::PoseTarget& out) {
+  const auto& s = t.task_space.selected;
+  if (!(s[0] && s[1] && s[2])) return false;
+  out.p_WT = t.w_d.head<3>();
+  if (t.tool_axis) {
+    out.kind = ik::PoseTaskKind::PositionAxis;
+    // Any frame whose z column is the tool axis.
+    const Eigen::Vector3d z = t.z_d_W.normalized();
+    const Eigen::Vector3d x = z.unitOrthogonal();
+    out.R_WT.col(0) = x;
+    out.R_WT.col(1) = z.cross(x);
+    out.R_WT.col(2) = z;
+    return true;
+  }
+  if (s[3] && s[4] && s[5]) {
+    out.kind = ik::PoseTaskKind::FullPose;
+    out.R_WT = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
+    return true;
+  }
+  if (!(s[3] || s[4] || s[5])) {
+    out.kind = ik::PoseTaskKind::Position;
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
@@ -67,6 +101,36 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     }
     return c;
   };
+  // Step 1 of the escape: descend H_c in the null space from a colliding solution, the tool held
+  // on the pose (thesis section 5.4.3). True (and `found`) when that clears every pair.
+  ik::PoseTarget pose_task;
+  const bool nullspace = options.escape_safety_distance_m > 0 && nullspaceTarget(target, pose_task);
+  std::unique_ptr<ik::ObjectiveContext> ctx;
+  ik::WeightedObjective h_c;
+  auto descend = [&](const JointVector& q_colliding, IkResult& found, Check& found_check) {
+    if (!nullspace) return false;
+    if (!ctx) {
+      ctx = std::make_unique<ik::ObjectiveContext>(model, ws.kin);
+      CollisionPotentialOptions po;
+      po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
+      po.self = options.self;
+      po.environment = !obstacles.empty();
+      h_c.add(1.0, std::make_shared<CollisionTerm>(po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
+    }
+    const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
+    // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
+    const ik::PoseSolveResult on = ik::solvePose(model, ws.kin, pose_task, q_colliding, w_inv, ik::PoseSolveOptions{});
+    ik::NullspaceOptions no;
+    no.max_iterations = defaults::kCollisionEscapeIterations;
+    const ik::NullspaceResult r = ik::optimiseAtPose(model, ws.kin, *ctx, pose_task, on.q, h_c, w_inv, no);
+    if (r.status == ik::NullspaceStatus::NotOnPose) return false;
+    found = evaluateSolution(model, ws, target, ik_options, r.q, ReachStatus::OutOfReach);
+    if (!found.reachable()) return false;
+    found.starts = 0;
+    found_check = check(found.q);
+    return found_check.d_min > options.clearance_m;
+  };
+
   out.ik = solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
   if (!out.ik.reachable()) return out;
@@ -74,8 +138,19 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
   out.min_distance_m = first_check.d_min;
   out.obstacle_distance_m = first_check.d_obstacle;
   if (first_check.d_min > options.clearance_m) return out;
-  // Escape: other solutions of the same pose (the redundancy), from other deterministic seeds.
   const IkResult first = out.ik;
+  auto accept = [&](IkResult r, const Check& c, bool by_descent) {
+    r.starts += first.starts;
+    out.ik = r;
+    out.min_distance_m = c.d_min;
+    out.obstacle_distance_m = c.d_obstacle;
+    out.nullspace_escape = by_descent;
+    return out;
+  };
+  IkResult found;
+  Check found_check;
+  if (descend(first.q, found, found_check)) return accept(found, found_check, true);
+  // Step 2: other solutions of the same pose (the redundancy), from other deterministic seeds.
   for (int k = 1; k <= options.escape_attempts; ++k) {
     // Each escape starts from its own random configuration (deterministic per pose and attempt);
     // the solver's own start sequence begins at the middle of the limits and would find the
@@ -90,12 +165,8 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     ++out.attempts;
     if (!r.reachable()) continue;
     const Check c = check(r.q);
-    if (c.d_min > options.clearance_m) {
-      out.ik = r;
-      out.min_distance_m = c.d_min;
-      out.obstacle_distance_m = c.d_obstacle;
-      return out;
-    }
+    if (c.d_min > options.clearance_m) return accept(r, c, false);
+    if (descend(r.q, found, found_check)) return accept(found, found_check, true);
   }
   out.ik = first;
   out.ik.status = first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;

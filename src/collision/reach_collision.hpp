@@ -1,9 +1,14 @@
 #pragma once
 // Collision-aware reachability of one pose (issue 5): reachable and collision-free, reachable
 // only in collision (and which pair: self-collision or an environment obstacle), or unreachable.
-// The redundancy is used to escape a collision: when the first solution collides, further IK
-// solves from deterministic random starts (seeded by pose id and attempt) look for a
-// collision-free configuration of the same pose before giving up.
+// The redundancy is used to escape a collision: when the first solution collides,
+//  1. (position, full-pose and tool-axis tasks) the collision potential H_c (eq. 5.53-5.57) is
+//     descended in the null space of the task from that solution, the tool held on the pose
+//     (ik::optimiseAtPose, thesis section 5.4.3), which moves the links apart without leaving
+//     the pose;
+//  2. if that does not clear it, further IK solves from deterministic random starts (seeded by
+//     pose id and attempt) look for another posture, each again followed by the null-space
+//     descent when it collides.
 #include <span>
 #include <string>
 #include <vector>
@@ -17,6 +22,8 @@ struct CollisionReachOptions {
   double clearance_m = 0;   // a configuration is collision-free when every distance > clearance
   int escape_attempts = defaults::kCollisionEscapeAttempts;  // extra IK solves after a collision
   bool self = true;         // check the design's self-collision pairs (obstacles: when given)
+  // Null-space escape: H_c with this safety distance d_a (eq. 5.57); 0 disables step 1.
+  double escape_safety_distance_m = defaults::kCollisionEscapeSafetyDistance_m;
   std::string validate() const;
 };
 
@@ -29,6 +36,7 @@ struct CollisionReachResult {
   // (cws.self order), then body-obstacle pairs (cws.env order); -1 when not in collision.
   int colliding_pair_index = -1;
   int attempts = 0;                // IK solves used (1 + escapes)
+  bool nullspace_escape = false;   // the collision-free solution came from the null-space descent
 };
 
 // Requires cws built from the same model. Deterministic for a given pose_id.

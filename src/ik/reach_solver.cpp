@@ -191,6 +191,20 @@ double toolAxisManipulability(const Context& c, const KinematicsWorkspace& kin) 
   return det > 0 ? std::sqrt(det) : 0.0;
 }
 
+// Errors, manipulability and joint-limit margin of configuration q into r (r.q = q).
+void fillSolution(const Model& model, IkWorkspace& ws, const Context& c, const JointVector& q, IkResult& r) {
+  r.q = q;
+  forwardKinematicsAndJacobian(model, ws.kin, q);
+  Vec6 e;
+  PoseError err;
+  residual(c, ws.kin, e, err);
+  r.position_error_m = err.position_m;
+  r.orientation_error_rad = err.orientation_rad;
+  r.manipulability =
+      c.tool_axis ? toolAxisManipulability(c, ws.kin) : taskManipulability(ws.kin, c.target.task_space);
+  r.joint_limit_margin = jointLimitMargin(model, q);
+}
+
 bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction) {
   return e.position_m <= fraction * o.position_tolerance_m &&
          e.orientation_rad <= fraction * o.orientation_tolerance_rad;
@@ -527,6 +541,21 @@ double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_
   return det > 0 ? std::sqrt(det) : 0.0;  // eq. (5.59)
 }
 
+IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,
+                          const IkOptions& options, const JointVector& q, ReachStatus otherwise) {
+  const Context c = makeContext(&model, target, options.orientation_weight_m);
+  IkResult r;
+  fillSolution(model, ws, c, q, r);
+  bool within_limits = true;
+  for (int i = 0; i < model.dof(); ++i)
+    within_limits &= q[i] >= model.joints[i].limits.q_min && q[i] <= model.joints[i].limits.q_max;
+  PoseError err;
+  err.position_m = r.position_error_m;
+  err.orientation_rad = r.orientation_error_rad;
+  r.status = within_limits && withinTolerance(err, options, 1.0) ? ReachStatus::Reachable : otherwise;
+  return r;
+}
+
 double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q) {
   double margin = 0.5;
   for (int i = 0; i < model.dof(); ++i) {
@@ -597,18 +626,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
     }
   }
 
-  r.q = best_q;
-  forwardKinematicsAndJacobian(model, ws.kin, best_q);
-  {
-    Vec6 e;
-    PoseError err;
-    residual(c, ws.kin, e, err);
-    r.position_error_m = err.position_m;
-    r.orientation_error_rad = err.orientation_rad;
-  }
-  r.manipulability = target.tool_axis ? toolAxisManipulability(c, ws.kin)
-                                      : taskManipulability(ws.kin, target.task_space);
-  r.joint_limit_margin = jointLimitMargin(model, best_q);
+  fillSolution(model, ws, c, best_q, r);
   if (solved) {
     r.status = ReachStatus::Reachable;
     return r;

@@ -136,6 +136,12 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
 // (eq. 5.11) for partial orientation task spaces; 0 at the representation singularity.
 double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space);
 
+// The result solvePose would report for configuration q (errors, manipulability, joint-limit
+// margin at q; status Reachable when q is within the joint limits and the tolerances, else
+// `otherwise`). For solutions found by other means (the collision escape's null-space descent).
+IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,
+                          const IkOptions& options, const JointVector& q, ReachStatus otherwise);
+
 // Smallest distance to a joint limit as a fraction of that joint's range (0 at a limit, 0.5 in
 // the middle).
 double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "collision/reach_collision.hpp"
+#include "ik/nullspace.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
 
@@ -37,13 +38,25 @@ TEST_CASE("collision-aware reachability classifies poses and escapes collisions 
   const auto escaped = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, on_arm);
   INFO("attempts " << escaped.attempts << ", distance " << escaped.min_distance_m);
   CHECK(escaped.ik.status == ReachStatus::Reachable);
-  CHECK(escaped.attempts > 1);
+  CHECK(escaped.nullspace_escape);  // H_c descended in the null space: no further IK solve
+  CHECK(escaped.attempts == 1);
   CHECK(escaped.min_distance_m > 0);
-  forwardKinematics(m, ws.kin, escaped.ik.q);
-  CHECK((ws.kin.p_WT - target.w_d.head<3>()).norm() <= ik.position_tolerance_m);
-  collisionDistances(m, ws.kin, on_arm, cws);  // independent re-check of the returned q
-  CHECK(minEnvironmentDistance(cws) > 0);
-  CHECK(minSelfDistance(cws) > 0);
+  // Without the null-space descent, other IK starts find another posture.
+  CollisionReachOptions restarts_only = co;
+  restarts_only.escape_safety_distance_m = 0;
+  const auto restarted = solvePoseCollisionAware(m, ws, cws, target, ik, restarts_only, 1, on_arm);
+  CHECK(restarted.ik.status == ReachStatus::Reachable);
+  CHECK_FALSE(restarted.nullspace_escape);
+  CHECK(restarted.attempts > 1);
+  for (const auto* r : {&escaped, &restarted}) {
+    forwardKinematics(m, ws.kin, r->ik.q);
+    CHECK((ws.kin.p_WT - target.w_d.head<3>()).norm() <= ik.position_tolerance_m);
+    CHECK(ik::withinLimits(m, r->ik.q));
+    collisionDistances(m, ws.kin, on_arm, cws);  // independent re-check of the returned q
+    CHECK(minEnvironmentDistance(cws) > 0);
+    CHECK(minSelfDistance(cws) > 0);
+    CHECK(std::min(minEnvironmentDistance(cws), minSelfDistance(cws)) == r->min_distance_m);
+  }
   (void)p_elbow;
 
   // A sphere around the target itself: reachable only in collision, and the pair is named.
