@@ -56,7 +56,8 @@ struct PairDistance {
 struct CollisionQueryOptions {
   // Pairs whose distance is at least this may be reported by a lower bound (exact = false)
   // instead of the exact value. Infinity: every pair exact. The potential H_c needs exact
-  // distances below its safety distance d_a only.
+  // distances below its safety distance d_a only. A finite cutoff also lists every volume pair
+  // closer than it (CollisionWorkspace::near_self / near_env): the terms of H_c.
   double cutoff_m = std::numeric_limits<double>::infinity();
   bool self = true;          // body-body pairs
   bool environment = true;   // body-obstacle pairs
@@ -99,6 +100,15 @@ struct CollisionWorkspace {
   int closest_self = -1;                        // index into self of the smallest distance
   int closest_env = -1;                         // index into env of the smallest distance
   double cutoff_used_m = 0;
+  // Queries with a finite cutoff only: every volume pair (SSV pair) closer than the cutoff, each
+  // with its own exact distance and witnesses (PairDistance with volume_a/volume_b set and
+  // exact = true). Self: the volume pairs of the body pairs in `self`, grouped by body pair in
+  // the order of `self`; environment: each volume against each obstacle (volume_b, link_b = the
+  // obstacle index), by obstacle, then body. Capacity fixed at construction (all volume pairs).
+  int num_near_self = 0;
+  std::vector<PairDistance> near_self;
+  int num_near_env = 0;
+  std::vector<PairDistance> near_env;
   // Jacobian scratch for the potential gradient.
   Jacobian6 J_a, J_b;
 };

@@ -1,6 +1,7 @@
 #include "collision/potential.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "common/errors.hpp"
 
@@ -39,12 +40,13 @@ double pairPotential(double d, const CollisionPotentialOptions& o, double* dH_dd
 double collisionPotential(const Model& model, const KinematicsWorkspace& kin, CollisionWorkspace& ws,
                           const CollisionPotentialOptions& o, Eigen::Ref<Eigen::VectorXd> grad) {
   ARMSTUDY_CHECK(grad.size() == model.dof(), "collisionPotential: gradient size must be the DoF");
-  ARMSTUDY_CHECK(ws.cutoff_used_m >= o.safety_distance_m,
-                 "collisionPotential: query distances with cutoff_m >= safety_distance_m");
+  ARMSTUDY_CHECK(ws.cutoff_used_m >= o.safety_distance_m &&
+                     ws.cutoff_used_m < std::numeric_limits<double>::infinity(),
+                 "collisionPotential: query distances with a finite cutoff_m >= safety_distance_m");
   grad.setZero();
   double H = 0;
   auto add = [&](const PairDistance& p, bool environment) {
-    if (!p.exact || p.distance_m >= o.safety_distance_m) return;
+    if (p.distance_m >= o.safety_distance_m) return;
     double dH = 0;
     H += pairPotential(p.distance_m, o, &dH);  // eq. (5.53)
     if (p.w.n.isZero()) return;                 // cores touch: direction undefined
@@ -56,10 +58,12 @@ double collisionPotential(const Model& model, const KinematicsWorkspace& kin, Co
       grad.noalias() += dH * (ws.J_b.topRows<3>().transpose() * p.w.n);
     }
   };
+  // The collision pairs of eq. (5.53) are pairs of SSVs: every volume pair closer than the query
+  // cutoff, listed by collisionDistances (pairs beyond d_a add nothing).
   if (o.self)
-    for (int i = 0; i < ws.num_self; ++i) add(ws.self[i], false);
+    for (int i = 0; i < ws.num_near_self; ++i) add(ws.near_self[i], false);
   if (o.environment)
-    for (int i = 0; i < ws.num_env; ++i) add(ws.env[i], true);
+    for (int i = 0; i < ws.num_near_env; ++i) add(ws.near_env[i], true);
   return H;
 }
 
