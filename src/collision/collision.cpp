@@ -123,6 +123,8 @@ CollisionWorkspace::CollisionWorkspace(const Model& model) {
   pair_d.resize(pair_a.size());
   pair_s.resize(pair_a.size());
   pair_t.resize(pair_a.size());
+  pair_ca.resize(pair_a.size());
+  pair_cb.resize(pair_a.size());
   active.resize(pair_a.size());
   near_self.resize(pair_a.size());
   near_env.resize(static_cast<std::size_t>(num_volumes) * kMaxObstacles);
@@ -223,25 +225,24 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
     const int k = act[i];
     if (!general[k]) continue;
     const int A = pa[k], B = pb[k];
-    Vector3d ca, cb;
-    out_d[k] = std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ca, cb)) - rad[A] - rad[B];
-    out_s[k] = -1;  // witnesses recomputed for the winner
+    out_d[k] = std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ws.pair_ca[k], ws.pair_cb[k])) -
+               rad[A] - rad[B];
+    out_s[k] = -1;  // witnesses in pair_ca / pair_cb
     general[k] &= 1;
   }
 }
 
-// Witnesses of the evaluated volume pair k: from the kernel's segment parameters, or recomputed
-// with the general routines (triangles, near-parallel segments).
+// Witnesses of the evaluated volume pair k: from the kernel's segment parameters, or those of the
+// general routines (triangles, near-parallel segments).
 void volumePairWitnesses(const CollisionWorkspace& ws, int k, SsvDistance& w) {
   const int A = ws.pair_a[k], B = ws.pair_b[k];
-  Vector3d ca, cb;
   if (ws.pair_s[k] >= 0) {
-    ca = ws.core_W[A].p[0] + ws.pair_s[k] * ws.seg_d_W[A];
-    cb = ws.core_W[B].p[0] + ws.pair_t[k] * ws.seg_d_W[B];
+    const Vector3d ca = ws.core_W[A].p[0] + ws.pair_s[k] * ws.seg_d_W[A];
+    const Vector3d cb = ws.core_W[B].p[0] + ws.pair_t[k] * ws.seg_d_W[B];
+    ssvDistanceFromWitnesses(ca, ws.radius[A], cb, ws.radius[B], w);
   } else {
-    squaredDistanceCores(ws.core_W[A], ws.core_W[B], ca, cb);
+    ssvDistanceFromWitnesses(ws.pair_ca[k], ws.radius[A], ws.pair_cb[k], ws.radius[B], w);
   }
-  ssvDistanceFromWitnesses(ca, ws.radius[A], cb, ws.radius[B], w);
 }
 
 // The smallest of the evaluated volume pairs [k0, k1) of one body pair, with its witnesses. With

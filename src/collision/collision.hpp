@@ -84,6 +84,7 @@ struct CollisionWorkspace {
   std::vector<int> pair_a, pair_b;               // volume slots
   std::vector<unsigned char> pair_general;       // 1: a triangle is involved (general routine)
   std::vector<double> pair_d, pair_s, pair_t;    // per query: SSV distance, segment parameters
+  std::vector<Eigen::Vector3d> pair_ca, pair_cb; // per query: core witnesses where pair_s < 0
   std::vector<int> active;                       // per query: pairs to evaluate (capacity: all)
 
   // --- per query ---
