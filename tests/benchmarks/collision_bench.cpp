@@ -1,8 +1,10 @@
-// Self-collision distance benchmark (docs/performance.md, "## Self-collision distance").
+// Self-collision distance benchmark (docs/performance.md, "## Self-collision distance" and
+// "## Collision potential H_c").
 //
 // 1. Full self-collision evaluation of the shipped models per configuration: forward kinematics
 //    + every collision pair's exact distance (and, for the null-space IK use, with the cutoff at
-//    the safety distance d_a plus the H_c gradient).
+//    the safety distance d_a plus the H_c gradient; at d_a = 0.1 m also the superseded
+//    one-term-per-body-pair H_c on the same query, and the mean number of terms of each).
 // 2. The same capsule/sphere pairs in FCL 0.7 (specialised capsule-capsule, sphere-capsule and
 //    sphere-sphere routines): narrow phase only, on identical world-frame pairs, distances
 //    compared pair by pair; then per configuration including FCL's transform updates.
@@ -222,7 +224,7 @@ void benchModel(const char* path) {
   std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, one term per body pair (before)", t_body);
   std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, collisionPotential", t_ssv);
   std::printf("  mean terms below d_a = 0.1 m per configuration: %.2f body pairs, %.2f SSV pairs"
-              " (largest H_c increase %.3f)\n",
+              " (largest H_c(SSV pairs) - H_c(body pairs) %.3f)\n",
               static_cast<double>(body_terms) / kConfigurations,
               static_cast<double>(ssv_terms) / kConfigurations, max_h_diff);
 
