@@ -110,7 +110,7 @@ struct CollisionWorkspace {
   std::vector<PairDistance> near_self;
   int num_near_env = 0;
   std::vector<PairDistance> near_env;
-  // Jacobian scratch for the potential gradient.
+  // Jacobian scratch (6 x n) for callers; collisionPotential accumulates J^T f without it.
   Jacobian6 J_a, J_b;
 };
 
