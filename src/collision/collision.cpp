@@ -123,7 +123,11 @@ CollisionWorkspace::CollisionWorkspace(const Model& model) {
   pair_d.resize(pair_a.size());
   pair_s.resize(pair_a.size());
   pair_t.resize(pair_a.size());
+  pair_ca.resize(pair_a.size());
+  pair_cb.resize(pair_a.size());
   active.resize(pair_a.size());
+  near_self.resize(pair_a.size());
+  near_env.resize(static_cast<std::size_t>(num_volumes) * kMaxObstacles);
   J_a.setZero(6, n);
   J_b.setZero(6, n);
 }
@@ -221,30 +225,55 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
     const int k = act[i];
     if (!general[k]) continue;
     const int A = pa[k], B = pb[k];
-    Vector3d ca, cb;
-    out_d[k] = std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ca, cb)) - rad[A] - rad[B];
-    out_s[k] = -1;  // witnesses recomputed for the winner
+    out_d[k] = std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ws.pair_ca[k], ws.pair_cb[k])) -
+               rad[A] - rad[B];
+    out_s[k] = -1;  // witnesses in pair_ca / pair_cb
     general[k] &= 1;
   }
 }
 
-// The smallest of the evaluated volume pairs [k0, k1) of one body pair, with its witnesses.
-void finishPair(CollisionWorkspace& ws, int k0, int k1, PairDistance& out) {
+// Witnesses of the evaluated volume pair k: from the kernel's segment parameters, or those of the
+// general routines (triangles, near-parallel segments).
+void volumePairWitnesses(const CollisionWorkspace& ws, int k, SsvDistance& w) {
+  const int A = ws.pair_a[k], B = ws.pair_b[k];
+  if (ws.pair_s[k] >= 0) {
+    const Vector3d ca = ws.core_W[A].p[0] + ws.pair_s[k] * ws.seg_d_W[A];
+    const Vector3d cb = ws.core_W[B].p[0] + ws.pair_t[k] * ws.seg_d_W[B];
+    ssvDistanceFromWitnesses(ca, ws.radius[A], cb, ws.radius[B], w);
+  } else {
+    ssvDistanceFromWitnesses(ws.pair_ca[k], ws.radius[A], ws.pair_cb[k], ws.radius[B], w);
+  }
+}
+
+// The smallest of the evaluated volume pairs [k0, k1) of one body pair, with its witnesses. With
+// near_below finite, also appends every volume pair closer than it to ws.near_self.
+void finishPair(CollisionWorkspace& ws, int k0, int k1, double near_below, PairDistance& out) {
   int win = k0;
   for (int k = k0 + 1; k < k1; ++k) win = ws.pair_d[k] < ws.pair_d[win] ? k : win;
-  const int A = ws.pair_a[win], B = ws.pair_b[win];
-  Vector3d ca, cb;
-  if (ws.pair_s[win] >= 0) {
-    ca = ws.core_W[A].p[0] + ws.pair_s[win] * ws.seg_d_W[A];
-    cb = ws.core_W[B].p[0] + ws.pair_t[win] * ws.seg_d_W[B];
-  } else {
-    squaredDistanceCores(ws.core_W[A], ws.core_W[B], ca, cb);
+  const PairDistance* win_near = nullptr;
+  if (ws.pair_d[win] < near_below) {
+    for (int k = k0; k < k1; ++k) {
+      if (!(ws.pair_d[k] < near_below)) continue;
+      PairDistance& v = ws.near_self[ws.num_near_self++];
+      v.link_a = out.link_a;
+      v.link_b = out.link_b;
+      v.volume_a = ws.model_index[ws.pair_a[k]];
+      v.volume_b = ws.model_index[ws.pair_b[k]];
+      volumePairWitnesses(ws, k, v.w);
+      v.distance_m = v.w.distance_m;
+      v.exact = true;
+      if (k == win) win_near = &v;
+    }
   }
-  ssvDistanceFromWitnesses(ca, ws.radius[A], cb, ws.radius[B], out.w);
+  if (win_near) {
+    out.w = win_near->w;
+  } else {
+    volumePairWitnesses(ws, win, out.w);
+  }
   out.distance_m = out.w.distance_m;
   out.exact = true;
-  out.volume_a = ws.model_index[A];
-  out.volume_b = ws.model_index[B];
+  out.volume_a = ws.model_index[ws.pair_a[win]];
+  out.volume_b = ws.model_index[ws.pair_b[win]];
 }
 
 }  // namespace
@@ -257,6 +286,10 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
   const int n = model.dof();
   const double cutoff = options.cutoff_m;
   ws.cutoff_used_m = cutoff;
+  // Volume pairs closer than this are listed in near_self / near_env (finite cutoffs only).
+  const double near_below = cutoff < std::numeric_limits<double>::infinity() ? cutoff : -cutoff;
+  ws.num_near_self = 0;
+  ws.num_near_env = 0;
 
   // Volumes into W (bounding-sphere centres only when something uses them).
   const bool need_bounds = cutoff < std::numeric_limits<double>::infinity() ||
@@ -291,7 +324,7 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
   // Environment: the exact minimum over one body's volumes against one obstacle core. Volumes
   // whose bounding spheres lie beyond the cutoff are skipped (their bound is kept as a lower bound).
   auto obstaclePair = [&](int k0, int k1, const Core& oc, const Vector3d& oc_centre, double oc_bound,
-                          double oc_radius, PairDistance& out) {
+                          double oc_radius, int obstacle, PairDistance& out) {
     double best = std::numeric_limits<double>::infinity();
     double lower = std::numeric_limits<double>::infinity();
     int win = -1;
@@ -304,6 +337,16 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
       }
       Vector3d ca, cb;
       const double d = std::sqrt(squaredDistanceCores(ws.core_W[k], oc, ca, cb)) - ws.radius[k] - oc_radius;
+      if (d < near_below) {
+        PairDistance& v = ws.near_env[ws.num_near_env++];
+        v.link_a = out.link_a;
+        v.link_b = obstacle;
+        v.volume_a = ws.model_index[k];
+        v.volume_b = obstacle;
+        ssvDistanceFromWitnesses(ca, ws.radius[k], cb, oc_radius, v.w);
+        v.distance_m = v.w.distance_m;
+        v.exact = true;
+      }
       if (d < best) {
         best = d;
         win = k;
@@ -346,7 +389,7 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
     double min_d = std::numeric_limits<double>::infinity();
     for (int i = 0; i < ws.num_self; ++i) {
       PairDistance& pr = ws.self[i];
-      if (pr.exact) finishPair(ws, ws.pair_begin[i], ws.pair_begin[i + 1], pr);
+      if (pr.exact) finishPair(ws, ws.pair_begin[i], ws.pair_begin[i + 1], near_below, pr);
       if (pr.distance_m < min_d) {
         min_d = pr.distance_m;
         ws.closest_self = i;
@@ -377,7 +420,7 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
           pr.distance_m = lb;
           pr.exact = false;
         } else {
-          obstaclePair(ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre, oc_bound, ob.radius_m, pr);
+          obstaclePair(ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre, oc_bound, ob.radius_m, o, pr);
           pr.volume_b = o;
         }
         if (pr.distance_m < min_d) {

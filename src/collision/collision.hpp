@@ -56,7 +56,8 @@ struct PairDistance {
 struct CollisionQueryOptions {
   // Pairs whose distance is at least this may be reported by a lower bound (exact = false)
   // instead of the exact value. Infinity: every pair exact. The potential H_c needs exact
-  // distances below its safety distance d_a only.
+  // distances below its safety distance d_a only. A finite cutoff also lists every volume pair
+  // closer than it (CollisionWorkspace::near_self / near_env): the terms of H_c.
   double cutoff_m = std::numeric_limits<double>::infinity();
   bool self = true;          // body-body pairs
   bool environment = true;   // body-obstacle pairs
@@ -83,6 +84,7 @@ struct CollisionWorkspace {
   std::vector<int> pair_a, pair_b;               // volume slots
   std::vector<unsigned char> pair_general;       // 1: a triangle is involved (general routine)
   std::vector<double> pair_d, pair_s, pair_t;    // per query: SSV distance, segment parameters
+  std::vector<Eigen::Vector3d> pair_ca, pair_cb; // per query: core witnesses where pair_s < 0
   std::vector<int> active;                       // per query: pairs to evaluate (capacity: all)
 
   // --- per query ---
@@ -99,7 +101,16 @@ struct CollisionWorkspace {
   int closest_self = -1;                        // index into self of the smallest distance
   int closest_env = -1;                         // index into env of the smallest distance
   double cutoff_used_m = 0;
-  // Jacobian scratch for the potential gradient.
+  // Queries with a finite cutoff only: every volume pair (SSV pair) closer than the cutoff, each
+  // with its own exact distance and witnesses (PairDistance with volume_a/volume_b set and
+  // exact = true). Self: the volume pairs of the body pairs in `self`, grouped by body pair in
+  // the order of `self`; environment: each volume against each obstacle (volume_b, link_b = the
+  // obstacle index), by obstacle, then body. Capacity fixed at construction (all volume pairs).
+  int num_near_self = 0;
+  std::vector<PairDistance> near_self;
+  int num_near_env = 0;
+  std::vector<PairDistance> near_env;
+  // Jacobian scratch (6 x n) for callers; collisionPotential accumulates J^T f without it.
   Jacobian6 J_a, J_b;
 };
 

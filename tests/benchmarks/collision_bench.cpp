@@ -1,14 +1,17 @@
-// Self-collision distance benchmark (docs/performance.md, "## Self-collision distance").
+// Self-collision distance benchmark (docs/performance.md, "## Self-collision distance" and
+// "## Collision potential H_c").
 //
 // 1. Full self-collision evaluation of the shipped models per configuration: forward kinematics
 //    + every collision pair's exact distance (and, for the null-space IK use, with the cutoff at
-//    the safety distance d_a plus the H_c gradient).
+//    the safety distance d_a plus the H_c gradient; at d_a = 0.1 m also the superseded
+//    one-term-per-body-pair H_c on the same query, and the mean number of terms of each).
 // 2. The same capsule/sphere pairs in FCL 0.7 (specialised capsule-capsule, sphere-capsule and
 //    sphere-sphere routines): narrow phase only, on identical world-frame pairs, distances
 //    compared pair by pair; then per configuration including FCL's transform updates.
 // Best of several repetitions (the machine is shared); times are per configuration or per pair.
 #include <fcl/fcl.h>
 
+#include <algorithm>
 #include <ctime>
 #include <cstdio>
 #include <memory>
@@ -62,6 +65,29 @@ double bestNs(int items, F&& f) {
 }
 
 volatile double g_sink = 0;
+
+// H_c as it was before SSV pairs (one term per body pair: its closest volume pair), for the
+// before/after row: eq. (5.53) over ws.self / ws.env with the witness-point gradient.
+double bodyPairPotential(const Model& m, const KinematicsWorkspace& kin, CollisionWorkspace& ws,
+                         const CollisionPotentialOptions& o, Eigen::VectorXd& grad) {
+  grad.setZero();
+  double H = 0;
+  auto add = [&](const PairDistance& p, bool environment) {
+    if (!p.exact || p.distance_m >= o.safety_distance_m) return;
+    double dH = 0;
+    H += pairPotential(p.distance_m, o, &dH);
+    if (p.w.n.isZero()) return;
+    pointJacobian(m, kin, p.link_a, p.w.c_a, ws.J_a);
+    grad.noalias() -= dH * (ws.J_a.topRows<3>().transpose() * p.w.n);
+    if (!environment) {
+      pointJacobian(m, kin, p.link_b, p.w.c_b, ws.J_b);
+      grad.noalias() += dH * (ws.J_b.topRows<3>().transpose() * p.w.n);
+    }
+  };
+  for (int i = 0; i < ws.num_self; ++i) add(ws.self[i], false);
+  for (int i = 0; i < ws.num_env; ++i) add(ws.env[i], true);
+  return H;
+}
 
 // The model restricted to point and line SSVs (FCL spheres and capsules).
 Model capsulesOnly(const Model& m) {
@@ -151,9 +177,56 @@ void benchModel(const char* path) {
       g_sink = g_sink + collisionPotential(full, kin, ws_full, po, grad);
     }
   });
+  // H_c at d_a = 0.1 m: the query with that cutoff alone, then with the body-pair minimum
+  // formulation (before) and with collisionPotential's sum over SSV pairs (after).
+  CollisionPotentialOptions po1;
+  po1.safety_distance_m = 0.1;
+  CollisionQueryOptions qo1;
+  qo1.cutoff_m = po1.safety_distance_m;
+  const double t_q1 = bestNs(kConfigurations, [&](int b, int e) {
+    for (int s = b; s < e; ++s) {
+      forwardKinematics(full, kin, qs[s]);
+      collisionDistances(full, kin, {}, ws_full, qo1);
+      g_sink = g_sink + minSelfDistance(ws_full);
+    }
+  });
+  const double t_body = bestNs(kConfigurations, [&](int b, int e) {
+    for (int s = b; s < e; ++s) {
+      forwardKinematics(full, kin, qs[s]);
+      collisionDistances(full, kin, {}, ws_full, qo1);
+      g_sink = g_sink + bodyPairPotential(full, kin, ws_full, po1, grad);
+    }
+  });
+  const double t_ssv = bestNs(kConfigurations, [&](int b, int e) {
+    for (int s = b; s < e; ++s) {
+      forwardKinematics(full, kin, qs[s]);
+      collisionDistances(full, kin, {}, ws_full, qo1);
+      g_sink = g_sink + collisionPotential(full, kin, ws_full, po1, grad);
+    }
+  });
+  long body_terms = 0, ssv_terms = 0;
+  double max_h_diff = 0;
+  for (const auto& q : qs) {
+    forwardKinematics(full, kin, q);
+    collisionDistances(full, kin, {}, ws_full, qo1);
+    for (int i = 0; i < ws_full.num_self; ++i)
+      body_terms += ws_full.self[i].exact && ws_full.self[i].distance_m < po1.safety_distance_m;
+    for (int i = 0; i < ws_full.num_near_self; ++i)
+      ssv_terms += ws_full.near_self[i].distance_m < po1.safety_distance_m;
+    Eigen::VectorXd g_old(full.dof());
+    max_h_diff = std::max(max_h_diff, collisionPotential(full, kin, ws_full, po1, grad) -
+                                          bodyPairPotential(full, kin, ws_full, po1, g_old));
+  }
   std::printf("  %-62s %9.0f ns\n", "forward kinematics alone", t_fk);
   std::printf("  %-62s %9.0f ns\n", "FK + exact distance of every collision pair (all SSVs)", t_exact);
   std::printf("  %-62s %9.0f ns\n", "FK + distances below d_a = 0.05 m + H_c and its gradient", t_cut);
+  std::printf("  %-62s %9.0f ns\n", "FK + distances with cutoff d_a = 0.1 m (no potential)", t_q1);
+  std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, one term per body pair (before)", t_body);
+  std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, collisionPotential", t_ssv);
+  std::printf("  mean terms below d_a = 0.1 m per configuration: %.2f body pairs, %.2f SSV pairs"
+              " (largest H_c(SSV pairs) - H_c(body pairs) %.3f)\n",
+              static_cast<double>(body_terms) / kConfigurations,
+              static_cast<double>(ssv_terms) / kConfigurations, max_h_diff);
 
   // --- 2. FCL on the same capsule/sphere pairs ---
   std::vector<FclVolume> fv;

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
+#include "collision/collision_model.hpp"
 #include "collision/potential.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
@@ -69,38 +70,132 @@ TEST_CASE("pair potential meets the boundary and transition conditions of eq. (5
   CHECK_FALSE(bad.validate().empty());
 }
 
+namespace {
+// Obstacles beside the arm at configuration q (of any design; its base may sit anywhere): a
+// sphere beside the middle of the arm and a vertical stem beside the TCP.
+std::vector<Obstacle> obstaclesNearArm(const Model& m, KinematicsWorkspace& kin, const Eigen::VectorXd& q) {
+  forwardKinematics(m, kin, q);
+  const int mid = m.dof() / 2;
+  const Eigen::Vector3d c = 0.5 * (kin.p_WF[mid] + kin.p_WT) + Eigen::Vector3d(0.15, 0.1, 0.0);
+  const Eigen::Vector3d s = kin.p_WT + Eigen::Vector3d(0.0, 0.12, 0.0);
+  return {sphereObstacle("sphere", c, 0.08),
+          capsuleObstacle("stem", s - Eigen::Vector3d(0, 0, 1), s + Eigen::Vector3d(0, 0, 1), 0.02)};
+}
+
+// Core of a volume in W, written out from the frames of forward kinematics.
+Core worldCore(const Model& m, const KinematicsWorkspace& kin, const CollisionVolume& v) {
+  const Eigen::Matrix3d R = v.link < 0 ? Eigen::Matrix3d(m.T_WB.linear()) : kin.R_WF[v.link];
+  const Eigen::Vector3d p = v.link < 0 ? Eigen::Vector3d(m.T_WB.translation()) : kin.p_WF[v.link];
+  Core c;
+  c.n = static_cast<int>(v.type);
+  for (int i = 0; i < c.n; ++i) c.p[i] = p + R * v.p_L[i];
+  return c;
+}
+
+// Agreement of the workspace's H_c with the brute-force sum (same distances up to rounding).
+constexpr double kBruteForceH = 1e-10;
+}  // namespace
+
 TEST_CASE("H_c gradient through witness-point Jacobians matches central differences") {
-  const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
-  KinematicsWorkspace kin(m);
-  CollisionWorkspace ws(m);
-  CollisionPotentialOptions o;
-  o.safety_distance_m = 0.25;  // wide, so many pairs are active
-  CollisionQueryOptions qo;
-  qo.cutoff_m = o.safety_distance_m;
-  const std::vector<Obstacle> obstacles = {
-      sphereObstacle("sphere", Eigen::Vector3d(0.2, 1.0, 0.5), 0.12),
-      capsuleObstacle("stem", Eigen::Vector3d(0.4, 1.2, 0), Eigen::Vector3d(0.4, 1.2, 2), 0.02)};
-  auto H = [&](const Eigen::VectorXd& q, Eigen::VectorXd& g) {
-    forwardKinematics(m, kin, q);
-    collisionDistances(m, kin, obstacles, ws, qo);
-    return collisionPotential(m, kin, ws, o, g);
-  };
-  std::mt19937_64 rng(17);
-  Eigen::VectorXd g(m.dof()), dummy(m.dof());
-  int active = 0;
-  for (int s = 0; s < 60; ++s) {
-    const Eigen::VectorXd q = test::randomConfiguration(m, rng);
-    const double h = H(q, g);
-    if (h == 0) continue;
-    ++active;
-    for (int i = 0; i < m.dof(); ++i) {
-      Eigen::VectorXd qp = q, qm = q;
-      qp[i] += test::kFdStep;
-      qm[i] -= test::kFdStep;
-      const double fd = (H(qp, dummy) - H(qm, dummy)) / (2 * test::kFdStep);
-      INFO("sample " << s << " joint " << i << " H=" << h);
-      CHECK(g[i] == Approx(fd).margin(kArmFdRelative * std::max(1.0, std::abs(g[i]))));
+  for (const auto& design : test::shippedDesigns()) {
+    const Model m = loadDesign(test::sourcePath(design));
+    KinematicsWorkspace kin(m);
+    CollisionWorkspace ws(m);
+    CollisionPotentialOptions o;
+    o.safety_distance_m = 0.25;  // wide, so many pairs are active
+    CollisionQueryOptions qo;
+    qo.cutoff_m = o.safety_distance_m;
+    for (const bool with_obstacles : {false, true}) {
+      std::vector<Obstacle> obstacles;  // placed per sample, fixed while differencing
+      auto H = [&](const Eigen::VectorXd& q, Eigen::VectorXd& g) {
+        forwardKinematics(m, kin, q);
+        collisionDistances(m, kin, obstacles, ws, qo);
+        return collisionPotential(m, kin, ws, o, g);
+      };
+      std::mt19937_64 rng(17);
+      Eigen::VectorXd g(m.dof()), dummy(m.dof());
+      int active = 0, env_active = 0;
+      for (int s = 0; s < 60; ++s) {
+        const Eigen::VectorXd q = test::randomConfiguration(m, rng);
+        if (with_obstacles) obstacles = obstaclesNearArm(m, kin, q);
+        const double h = H(q, g);
+        if (h == 0) continue;
+        ++active;
+        env_active += ws.num_near_env > 0;
+        for (int i = 0; i < m.dof(); ++i) {
+          Eigen::VectorXd qp = q, qm = q;
+          qp[i] += test::kFdStep;
+          qm[i] -= test::kFdStep;
+          const double fd = (H(qp, dummy) - H(qm, dummy)) / (2 * test::kFdStep);
+          INFO(design << (with_obstacles ? " with" : " without") << " obstacles, sample " << s
+                      << " joint " << i << " H=" << h);
+          CHECK(g[i] == Approx(fd).margin(kArmFdRelative * std::max(1.0, std::abs(g[i]))));
+        }
+      }
+      INFO(design << (with_obstacles ? " with" : " without") << " obstacles");
+      CHECK(active > 30);
+      if (with_obstacles) CHECK(env_active == active);
     }
   }
-  CHECK(active > 30);
+}
+
+TEST_CASE("H_c is the sum over every SSV pair closer than d_a (brute force over the volumes)") {
+  for (const auto& design : test::shippedDesigns()) {
+    const Model m = loadDesign(test::sourcePath(design));
+    KinematicsWorkspace kin(m);
+    CollisionWorkspace ws(m);
+    CollisionPotentialOptions o;
+    o.safety_distance_m = 0.2;
+    CollisionQueryOptions qo;
+    qo.cutoff_m = o.safety_distance_m;
+    const auto& vols = m.collision.volumes;
+    std::mt19937_64 rng(29);
+    Eigen::VectorXd g(m.dof());
+    int multi = 0;  // configurations where some body pair has two volume pairs below d_a
+    for (int s = 0; s < 100; ++s) {
+      const Eigen::VectorXd q = test::randomConfiguration(m, rng);
+      const std::vector<Obstacle> obstacles = obstaclesNearArm(m, kin, q);
+      collisionDistances(m, kin, obstacles, ws, qo);
+      const double h = collisionPotential(m, kin, ws, o, g);
+      // Every pair of volumes on two bodies that are checked against each other, and every
+      // volume against every obstacle, with the plain SSV distance routine.
+      double h_self = 0, h_env = 0;
+      int n_self = 0, n_env = 0;
+      SsvDistance w;
+      for (std::size_t i = 0; i < vols.size(); ++i) {
+        for (std::size_t j = i + 1; j < vols.size(); ++j) {
+          if (!isCollisionPair(m, std::min(vols[i].link, vols[j].link), std::max(vols[i].link, vols[j].link)))
+            continue;
+          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, worldCore(m, kin, vols[j]), vols[j].radius_m, w);
+          if (w.distance_m >= o.safety_distance_m) continue;
+          h_self += pairPotential(w.distance_m, o);
+          ++n_self;
+        }
+        for (const Obstacle& ob : obstacles) {
+          Core oc;
+          oc.n = static_cast<int>(ob.type);
+          for (int k = 0; k < oc.n; ++k) oc.p[k] = ob.p_W[k];
+          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, oc, ob.radius_m, w);
+          if (w.distance_m >= o.safety_distance_m) continue;
+          h_env += pairPotential(w.distance_m, o);
+          ++n_env;
+        }
+      }
+      INFO(design << " sample " << s);
+      CHECK(h == Approx(h_self + h_env).margin(kBruteForceH));
+      CHECK(ws.num_near_self == n_self);
+      CHECK(ws.num_near_env == n_env);
+      CollisionPotentialOptions only_self = o, only_env = o;
+      only_self.environment = false;
+      only_env.self = false;
+      CHECK(collisionPotential(m, kin, ws, only_self, g) == Approx(h_self).margin(kBruteForceH));
+      CHECK(collisionPotential(m, kin, ws, only_env, g) == Approx(h_env).margin(kBruteForceH));
+      int self_pairs_below = 0;
+      for (int i = 0; i < ws.num_self; ++i)
+        self_pairs_below += ws.self[i].exact && ws.self[i].distance_m < o.safety_distance_m;
+      multi += ws.num_near_self > self_pairs_below;
+    }
+    INFO(design);
+    CHECK(multi > 10);  // the sum over SSV pairs differs from one term per body pair
+  }
 }
