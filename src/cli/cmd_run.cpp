@@ -25,6 +25,10 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--threads", a->opt.threads, "OpenMP threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--overwrite", a->opt.overwrite, "Replace results already in the output folder");
+  cmd->add_option("--unit-size", a->opt.unit_items,
+                  "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
+                  "defaults). Results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
   cmd->callback([&action, a] {
     action = [a] {
       const Study s = loadStudy(a->path);

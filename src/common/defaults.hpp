@@ -36,6 +36,11 @@ inline constexpr double kIkPolishBand = 50.0;           // SLSQP polish when the
 inline constexpr int kIkPolishMaxEvaluations = 200;     // NLopt SLSQP evaluations per polish
 inline constexpr double kIkReachBoundSlack_m = 1e-6;    // slack of the conservative reach bound
 inline constexpr long kPoseListChunk = 32;              // poses per warm-start chain in pose lists
+// Work units (checkpoint and distribution grain, docs/regression.md); results do not depend on them.
+inline constexpr long kReachUnitPoses = 4096;           // poses per reach unit (whole grid lines / list chunks)
+inline constexpr long kDexterityUnitCells = 128;        // map cells per dexterity unit (whole z rows)
+inline constexpr long kHarvestUnitFruits = 1;           // approaches per harvest unit
+inline constexpr long kHarvestUnitGridPoints = 1024;    // holding-grid points per harvest unit
 
 // Model versus measurement (calibration, docs/calibration.md).
 inline constexpr double kLeastSquaresRankTolerance = 1e-10;  // relative pivot threshold of QR

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 
 #include "common/errors.hpp"
@@ -160,6 +161,14 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
 }
 
 DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& options, int threads) {
+  std::vector<ItemRange> all;
+  if (options.grid.z_m.count > 0) all.push_back({0, options.grid.z_m.count});
+  return computeDexterityRows(model, options, all, threads);
+}
+
+DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& options,
+                                  const std::vector<ItemRange>& row_ranges, int threads,
+                                  const RowsDone& on_done) {
   const std::string why = options.validateFor(model);
   ARMSTUDY_CHECK(why.empty(), why);
   const auto t0 = std::chrono::steady_clock::now();
@@ -170,14 +179,25 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
   map.cells.resize(options.grid.size());
   map.threads = threads > 0 ? threads : omp_get_max_threads();
   const ik::WeightedObjective objective = options.buildObjective(model);
-  const int rows = options.grid.z_m.count, cols = options.grid.gamma_rad.count;
+  const int cols = options.grid.gamma_rad.count;
+  std::vector<std::pair<std::size_t, int>> work;  // (range, row), in order
+  for (std::size_t k = 0; k < row_ranges.size(); ++k) {
+    const ItemRange& r = row_ranges[k];
+    ARMSTUDY_CHECK(0 <= r.begin && r.begin < r.end && r.end <= options.grid.z_m.count,
+                   "dexterity row range out of bounds");
+    for (long iz = r.begin; iz < r.end; ++iz) work.emplace_back(k, static_cast<int>(iz));
+  }
+  RangeCountdown countdown(row_ranges);
+  std::exception_ptr failure;
+  const int n_work = static_cast<int>(work.size());
 #pragma omp parallel num_threads(map.threads)
   {
     KinematicsWorkspace ws(model);
     IkWorkspace ik_ws(model);
     ik::ObjectiveContext ctx(model, ws);
 #pragma omp for schedule(dynamic, 1)
-    for (int iz = 0; iz < rows; ++iz) {
+    for (int w = 0; w < n_work; ++w) {
+      const auto [k, iz] = work[w];
       // One row = one circle around the stem, solved in gamma order with warm starts.
       JointVector prev_plain, prev_opt;
       bool have_prev = false;
@@ -193,8 +213,17 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
         }
         map.cells[options.grid.index(ig, iz)] = std::move(r);
       }
+      if (countdown.itemDone(k) && on_done) {
+        try {
+          on_done(k, map);
+        } catch (...) {
+#pragma omp critical(armstudy_dexterity_failure)
+          if (!failure) failure = std::current_exception();
+        }
+      }
     }
   }
+  if (failure) std::rethrow_exception(failure);
   map.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return map;
 }

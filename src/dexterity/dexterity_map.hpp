@@ -8,6 +8,7 @@
 // with warm starts from the previous cell; rows run in parallel (OpenMP) and their results do not
 // depend on the thread count or schedule.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "ik/reach_solver.hpp"
 #include "ik/objectives.hpp"
 #include "metrics/dexterity_measures.hpp"
+#include "study/checkpoint.hpp"
 
 namespace armstudy::dexterity {
 
@@ -67,6 +69,17 @@ struct DexterityMap {
 
 // Computes the map. threads = 0: OpenMP default. Preconditions: options.validateFor(model) empty.
 DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& options, int threads);
+
+// Computes only the z rows of the given ranges (each within [0, z count), non-empty), in one
+// parallel loop over all their rows; the map has every cell, those of other rows stay default.
+// Each computed cell equals computeDexterityMap's (rows are independent). `on_done` (may be
+// empty) is called once per range as soon as its last row is done, from the thread that did it
+// (concurrently for distinct ranges), with the range's index and the map, whose cells of that
+// range are final. An exception thrown by on_done is rethrown after the loop.
+using RowsDone = std::function<void(std::size_t range, const DexterityMap& map)>;
+DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& options,
+                                  const std::vector<ItemRange>& row_ranges, int threads,
+                                  const RowsDone& on_done = {});
 
 // Solves and optimises one cell. The plain configuration: a local damped Newton solve from
 // `warm_plain` (the previous cell's plain solution, may be null) when that lands on the pose (so

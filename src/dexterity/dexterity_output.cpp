@@ -1,5 +1,6 @@
 #include "dexterity/dexterity_output.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -158,6 +159,79 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
 
 namespace {
 
+constexpr char kUnitMagic[] = "armstudy-dexterity-unit-v1";
+
+void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
+  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min, m.sigma_max})
+    w.put(v);
+}
+void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
+  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition, &m.sigma_min,
+                    &m.sigma_max})
+    *v = r.get<double>();
+}
+
+}  // namespace
+
+std::string serializeRows(const DexterityMap& map, const ItemRange& rows) {
+  const int G = map.grid.gamma_rad.count;
+  UnitWriter w(kUnitMagic);
+  for (long v : {long(map.dof), long(G), long(map.grid.z_m.count), rows.begin, rows.end}) w.put<std::int64_t>(v);
+  for (long i = rows.begin * G; i < rows.end * G; ++i) {
+    const CellResult& c = map.cells[i];
+    w.put<std::uint8_t>(c.reachable);
+    w.put<std::uint8_t>(c.optimised);
+    w.putMatrix(c.q_plain);
+    w.putMatrix(c.q_opt);
+    putMeasures(w, c.plain);
+    putMeasures(w, c.opt);
+    for (const metrics::Ellipsoid* e : {&c.ellipsoid_plain, &c.ellipsoid_opt}) {
+      w.putMatrix(e->axes_W);
+      w.putMatrix(e->lengths);
+    }
+    for (double v : {c.H_plain, c.H_opt, c.position_error_m, c.orientation_error_rad}) w.put(v);
+    w.put<std::int32_t>(c.starts);
+    w.put<std::int32_t>(c.nullspace_iterations);
+    w.put<std::int32_t>(static_cast<std::int32_t>(c.nullspace_status));
+  }
+  return w.bytes();
+}
+
+bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& rows) {
+  const int G = map.grid.gamma_rad.count;
+  UnitReader r(bytes, kUnitMagic);
+  const auto dof = r.get<std::int64_t>(), g = r.get<std::int64_t>(), z = r.get<std::int64_t>();
+  const auto b = r.get<std::int64_t>(), e = r.get<std::int64_t>();
+  if (!r.ok() || dof != map.dof || g != G || z != map.grid.z_m.count || !(0 <= b && b < e && e <= z) ||
+      map.cells.size() != static_cast<std::size_t>(g * z))
+    return false;
+  std::vector<CellResult> cells(static_cast<std::size_t>((e - b) * G));
+  for (CellResult& c : cells) {
+    c.reachable = r.get<std::uint8_t>() != 0;
+    c.optimised = r.get<std::uint8_t>() != 0;
+    r.getMatrix(c.q_plain);
+    r.getMatrix(c.q_opt);
+    getMeasures(r, c.plain);
+    getMeasures(r, c.opt);
+    for (metrics::Ellipsoid* el : {&c.ellipsoid_plain, &c.ellipsoid_opt}) {
+      r.getMatrix(el->axes_W);
+      r.getMatrix(el->lengths);
+    }
+    for (double* v : {&c.H_plain, &c.H_opt, &c.position_error_m, &c.orientation_error_rad}) *v = r.get<double>();
+    c.starts = r.get<std::int32_t>();
+    c.nullspace_iterations = r.get<std::int32_t>();
+    const auto st = r.get<std::int32_t>();
+    if (st < 0 || st > static_cast<int>(ik::NullspaceStatus::NotOnPose)) r.fail();
+    c.nullspace_status = static_cast<ik::NullspaceStatus>(st);
+  }
+  if (!r.finished()) return false;
+  std::move(cells.begin(), cells.end(), map.cells.begin() + b * G);
+  rows = {b, e};
+  return true;
+}
+
+namespace {
+
 // Heatmap image of a (gamma, z) field: gamma to the right, z upwards, viridis over [0, hi], grey
 // where the cell is unreachable (NaN), with the colour bar below.
 report::RasterImage heatmapImage(const DexterityMap& map, const std::vector<double>& v, double hi) {
@@ -183,11 +257,47 @@ std::string statsRow(const std::string& what, const FieldStats& s) {
          fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m |\n";
 }
 
+// One design's map, in checkpoint units of whole rows (see runDexterityStage).
+DexterityMap checkpointedMap(const Model& m, const DexterityOptions& options, int threads,
+                             const CheckpointStore* checkpoints, long unit_cells, long& units_resumed) {
+  if (!checkpoints || !checkpoints->enabled()) return computeDexterityMap(m, options, threads);
+  const long per = unit_cells > 0 ? unit_cells : defaults::kDexterityUnitCells;
+  const std::vector<ItemRange> units =
+      splitRange(options.grid.z_m.count, std::max(1L, per / std::max(1, options.grid.gamma_rad.count)));
+  auto id = [&](const ItemRange& r) { return "dexterity/" + m.name + "/rows_" + r.text(); };
+  // Loaded units go into a map of the right shape; the rest is computed, then both are joined by
+  // cell index (so the order units finished in does not matter).
+  DexterityMap loaded;
+  loaded.dof = m.dof();
+  loaded.grid = options.grid;
+  loaded.cells.resize(options.grid.size());
+  std::vector<ItemRange> todo, done;
+  for (const ItemRange& u : units) {
+    std::string bytes;
+    ItemRange got;
+    if (checkpoints->load(id(u), bytes) && deserializeRows(bytes, loaded, got) && got.begin == u.begin &&
+        got.end == u.end) {
+      done.push_back(u);
+      ++units_resumed;
+    } else {
+      todo.push_back(u);
+    }
+  }
+  DexterityMap map = computeDexterityRows(m, options, todo, threads, [&](std::size_t k, const DexterityMap& partial) {
+    checkpoints->save(id(todo[k]), serializeRows(partial, todo[k]));
+  });
+  const int G = options.grid.gamma_rad.count;
+  for (const ItemRange& u : done)
+    std::move(loaded.cells.begin() + u.begin * G, loaded.cells.begin() + u.end * G, map.cells.begin() + u.begin * G);
+  return map;
+}
+
 }  // namespace
 
 DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
                                         const DexterityOptions& options,
-                                        const std::string& output_dir, int threads) {
+                                        const std::string& output_dir, int threads,
+                                        const CheckpointStore* checkpoints, long unit_cells) {
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
   DexterityStageSummary sum;
@@ -229,7 +339,7 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) |\n|---|---|---|---|---|---|---|---|\n";
   for (const Model& m : designs) {
-    DexterityMap map = computeDexterityMap(m, options, threads);
+    DexterityMap map = checkpointedMap(m, options, threads, checkpoints, unit_cells, sum.units_resumed);
     const MapFields f = mapFields(map);
     sum.files.push_back(sub + "/" + writeMapVti(map, f, dir));
     if (options.ellipsoids) {

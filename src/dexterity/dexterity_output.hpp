@@ -33,14 +33,25 @@ std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::
 // Writes <dir>/<design>_ellipsoids_{plain|optimised}.vtp (reachable cells only).
 std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir);
 
+// The cells of rows [rows.begin, rows.end) as checkpoint unit bytes (every field, bit for bit),
+// and back into a map of the same grid and design size: false, with the map unchanged, when the
+// bytes are not such a unit or do not fit the map; else `rows` receives the unit's rows.
+std::string serializeRows(const DexterityMap& map, const ItemRange& rows);
+bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& rows);
+
 // Runs the stage for every design and writes everything under <output_dir>/dexterity/. Appends the
 // files written (relative to output_dir) to `files`. threads = 0: OpenMP default.
+// With `checkpoints`, each design's map is split into units of whole z rows (about `unit_cells`
+// cells, at least one row; 0 = defaults::kDexterityUnitCells), id dexterity/<design>/rows_<b>-<e>:
+// units saved by an interrupted run are loaded, the others computed and saved as soon as done.
 struct DexterityStageSummary {
   std::vector<std::string> files;
   double seconds = 0;
   std::vector<DexterityMap> maps;  // kept for callers (tests, benchmark)
+  long units_resumed = 0;          // units loaded from checkpoints instead of computed
 };
 DexterityStageSummary runDexterityStage(const std::vector<Model>& designs, const DexterityOptions& options,
-                                        const std::string& output_dir, int threads);
+                                        const std::string& output_dir, int threads,
+                                        const CheckpointStore* checkpoints = nullptr, long unit_cells = 0);
 
 }  // namespace armstudy::dexterity

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -157,6 +158,17 @@ Eigen::Matrix3d toolRotation(double beta) {
   return Eigen::AngleAxisd(beta, Eigen::Vector3d::UnitY()).toRotationMatrix();
 }
 
+// The (range, item) pairs of `ranges`, in order; every range non-empty and within [0, count).
+std::vector<std::pair<std::size_t, long>> workItems(const std::vector<ItemRange>& ranges, long count) {
+  std::vector<std::pair<std::size_t, long>> items;
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    ARMSTUDY_CHECK(0 <= ranges[k].begin && ranges[k].begin < ranges[k].end && ranges[k].end <= count,
+                   "harvest work range out of bounds");
+    for (long i = ranges[k].begin; i < ranges[k].end; ++i) items.emplace_back(k, i);
+  }
+  return items;
+}
+
 ApproachTrackingOptions trackingOptions(const HarvestOptions& o) {
   ApproachTrackingOptions t;
   t.tracking.dt = 1.0 / o.rate_Hz;
@@ -168,7 +180,7 @@ ApproachTrackingOptions trackingOptions(const HarvestOptions& o) {
 }  // namespace
 
 DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& options,
-                                   const GreenhouseRow& row, int threads) {
+                                   const GreenhouseRow& row, int threads, const HarvestWork* work) {
   ARMSTUDY_CHECK(options.validate().empty(), "harvest options must validate");
   DesignResult res;
   res.design = model.name;
@@ -187,13 +199,30 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
 
   const int nf = static_cast<int>(row.fruits.size());
   res.fruits.resize(nf);
+  std::vector<ItemRange> all_fruits;
+  if (nf > 0) all_fruits.push_back({0, nf});
+  const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
+  std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
+  RangeCountdown fruit_countdown(fruit_ranges);
+  std::exception_ptr failure;
+  // Tells `done` (may be empty) that range k is complete; keeps the first exception.
+  auto report = [&](const RangeDone& done, std::size_t k) {
+    if (!done) return;
+    try {
+      done(k, res);
+    } catch (...) {
+#pragma omp critical(armstudy_harvest_failure)
+      if (!failure) failure = std::current_exception();
+    }
+  };
+  const long n_fruit_work = static_cast<long>(fruit_work.size());
 #pragma omp parallel num_threads(nthreads)
   {
     IkWorkspace ws(model);
     ik::ObjectiveContext ctx(model, ws.kin);
     DynamicsWorkspace dws(rbm);
-#pragma omp for schedule(dynamic)
-    for (int f = 0; f < nf; ++f) {
+    // One approach: planned, tracked, through the drive chain with and without friction.
+    auto evaluateFruit = [&](int f) {
       const SampledFruit& fr = row.fruits[f];
       FruitResult& out = res.fruits[f];
       out.fruit = f;
@@ -211,7 +240,7 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
       const ApproachTrajectory appr = planApproach(pb, options.approach);
       if (appr.status() != ApproachStatus::Ok) {
         out.status = toString(appr.status());
-        continue;
+        return;
       }
       const TrackedApproach tr =
           trackApproach(model, ws, ctx, appr, objective, topt, static_cast<std::uint64_t>(f));
@@ -221,7 +250,7 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
         out.status = tr.status == ApproachTrackingStatus::TrackingFailed
                          ? std::string("tracking_") + ik::toString(tr.tracking_status)
                          : std::string(toString(tr.status));
-        continue;
+        return;
       }
       out.status = "ok";
       DriveFeasibilityOptions fo;
@@ -231,8 +260,15 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
       out.with_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
       fo.friction = false;
       out.without_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
+    };
+#pragma omp for schedule(dynamic)
+    for (long w = 0; w < n_fruit_work; ++w) {
+      const auto [k, f] = fruit_work[w];
+      evaluateFruit(static_cast<int>(f));
+      if (fruit_countdown.itemDone(k)) report(work ? work->fruits_done : RangeDone{}, k);
     }
   }
+  if (failure) std::rethrow_exception(failure);
 
   if (options.grid) {
     const HarvestGrid& g = *options.grid;
@@ -245,12 +281,18 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
     const CardanAngles c = cardanFromRotation(R_WT);
     IkOptions iko;
     iko.classify_failures = false;
+    std::vector<ItemRange> all_points{{0, np}};
+    const std::vector<ItemRange>& grid_ranges = work ? work->grid : all_points;
+    std::vector<std::pair<std::size_t, long>> grid_work = workItems(grid_ranges, np);
+    RangeCountdown grid_countdown(grid_ranges);
+    const long n_grid_work = static_cast<long>(grid_work.size());
 #pragma omp parallel num_threads(nthreads)
     {
       IkWorkspace ws(model);
       DynamicsWorkspace dws(rbm);
 #pragma omp for schedule(dynamic, 8)
-      for (long p = 0; p < np; ++p) {
+      for (long w = 0; w < n_grid_work; ++w) {
+        const auto [range, p] = grid_work[w];
         const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
         IkTarget target;
         target.task_space = TaskSpace::fullPose();
@@ -260,11 +302,228 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
         GridPointResult& gp = res.grid[p];
         gp.reachable = r.reachable();
         if (gp.reachable) gp.holding = holdingLoad(model, rbm, dws, r.q);
+        if (grid_countdown.itemDone(range)) report(work ? work->grid_done : RangeDone{}, range);
       }
     }
+    if (failure) std::rethrow_exception(failure);
   }
   return res;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Checkpoint units
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v1";
+constexpr char kGridMagic[] = "armstudy-harvest-grid-v1";
+
+// Per-sample rows of equal width: count, width, values.
+void putRows(UnitWriter& w, const std::vector<JointVector>& rows) {
+  w.put<std::uint64_t>(rows.size());
+  w.put<std::int64_t>(rows.empty() ? 0 : rows.front().size());
+  for (const JointVector& r : rows)
+    for (Eigen::Index i = 0; i < r.size(); ++i) w.put(r[i]);
+}
+void getRows(UnitReader& r, std::vector<JointVector>& rows) {
+  const auto n = r.get<std::uint64_t>();
+  const auto width = r.get<std::int64_t>();
+  if (!r.ok() || width < 0 || width > defaults::kMaxDof || (n > 0 && width == 0) || n > (1ULL << 32)) {
+    r.fail();
+    return;
+  }
+  rows.assign(n, JointVector::Zero(width));
+  for (JointVector& row : rows)
+    for (Eigen::Index i = 0; r.ok() && i < width; ++i) row[i] = r.get<double>();
+}
+
+void putFeasibility(UnitWriter& w, const DriveFeasibility& d) {
+  w.put<std::uint8_t>(d.feasible);
+  w.put<std::int32_t>(d.failing_joint);
+  w.put<std::int32_t>(static_cast<std::int32_t>(d.failing_quantity));
+  w.put(d.failure_time_s);
+  w.put<std::uint64_t>(d.joints.size());
+  for (const JointDriveSummary& j : d.joints) {
+    w.putString(j.joint);
+    w.put<std::uint8_t>(j.has_drive);
+    w.put(j.peak_effort);
+    w.put(j.peak_motor_torque_Nm);
+    for (const QuantityCheck& c : j.checks) {
+      for (double v : {c.value, c.limit, c.margin, c.first_exceeded_s}) w.put(v);
+      w.put<std::uint8_t>(c.checked);
+      w.put<std::uint8_t>(c.exceeded);
+      w.put<std::int32_t>(c.first_exceeded_k);
+    }
+  }
+  for (const auto* rows : {&d.effort, &d.motor_torque, &d.current, &d.motor_speed, &d.voltage}) putRows(w, *rows);
+  w.put<std::uint8_t>(d.options_used.friction);
+  w.put(d.options_used.temperature_C);
+  w.put<std::uint8_t>(d.options_used.keep_profiles);
+  w.put<std::uint8_t>(d.options_used.drive_rotor_inertia);
+}
+
+void getFeasibility(UnitReader& r, DriveFeasibility& d) {
+  d.feasible = r.get<std::uint8_t>() != 0;
+  d.failing_joint = r.get<std::int32_t>();
+  const auto q = r.get<std::int32_t>();
+  if (q < 0 || q >= kDriveQuantityCount) r.fail();
+  d.failing_quantity = static_cast<DriveQuantity>(q);
+  d.failure_time_s = r.get<double>();
+  const auto nj = r.get<std::uint64_t>();
+  if (nj > static_cast<std::uint64_t>(defaults::kMaxDof)) r.fail();
+  d.joints.assign(r.ok() ? nj : 0, JointDriveSummary{});
+  for (JointDriveSummary& j : d.joints) {
+    j.joint = r.getString();
+    j.has_drive = r.get<std::uint8_t>() != 0;
+    j.peak_effort = r.get<double>();
+    j.peak_motor_torque_Nm = r.get<double>();
+    for (QuantityCheck& c : j.checks) {
+      for (double* v : {&c.value, &c.limit, &c.margin, &c.first_exceeded_s}) *v = r.get<double>();
+      c.checked = r.get<std::uint8_t>() != 0;
+      c.exceeded = r.get<std::uint8_t>() != 0;
+      c.first_exceeded_k = r.get<std::int32_t>();
+    }
+  }
+  for (auto* rows : {&d.effort, &d.motor_torque, &d.current, &d.motor_speed, &d.voltage}) getRows(r, *rows);
+  d.options_used.friction = r.get<std::uint8_t>() != 0;
+  d.options_used.temperature_C = r.get<double>();
+  d.options_used.keep_profiles = r.get<std::uint8_t>() != 0;
+  d.options_used.drive_rotor_inertia = r.get<std::uint8_t>() != 0;
+}
+
+// Header of a unit: the design's result sizes and the range; false when it does not fit `size`.
+void putHead(UnitWriter& w, long size, const ItemRange& range) {
+  for (long v : {size, range.begin, range.end}) w.put<std::int64_t>(v);
+}
+bool getHead(UnitReader& r, long size, ItemRange& range) {
+  const auto n = r.get<std::int64_t>(), b = r.get<std::int64_t>(), e = r.get<std::int64_t>();
+  range = {b, e};
+  return r.ok() && n == size && 0 <= b && b < e && e <= n;
+}
+
+}  // namespace
+
+std::string serializeFruits(const DesignResult& d, const ItemRange& range) {
+  UnitWriter w(kFruitsMagic);
+  putHead(w, static_cast<long>(d.fruits.size()), range);
+  for (long i = range.begin; i < range.end; ++i) {
+    const FruitResult& f = d.fruits[i];
+    w.put<std::int32_t>(f.fruit);
+    w.putMatrix(f.p_fruit_W);
+    w.putString(f.status);
+    w.put(f.max_position_error_m);
+    w.put(f.max_orientation_error_rad);
+    putFeasibility(w, f.with_friction);
+    putFeasibility(w, f.without_friction);
+  }
+  return w.bytes();
+}
+
+bool deserializeFruits(const std::string& bytes, DesignResult& d, ItemRange& range) {
+  UnitReader r(bytes, kFruitsMagic);
+  ItemRange got;
+  if (!getHead(r, static_cast<long>(d.fruits.size()), got)) return false;
+  std::vector<FruitResult> fruits(static_cast<std::size_t>(got.size()));
+  for (FruitResult& f : fruits) {
+    f.fruit = r.get<std::int32_t>();
+    r.getMatrix(f.p_fruit_W);
+    f.status = r.getString();
+    f.max_position_error_m = r.get<double>();
+    f.max_orientation_error_rad = r.get<double>();
+    getFeasibility(r, f.with_friction);
+    getFeasibility(r, f.without_friction);
+  }
+  if (!r.finished()) return false;
+  std::move(fruits.begin(), fruits.end(), d.fruits.begin() + got.begin);
+  range = got;
+  return true;
+}
+
+std::string serializeGridPoints(const DesignResult& d, const ItemRange& range) {
+  UnitWriter w(kGridMagic);
+  putHead(w, static_cast<long>(d.grid.size()), range);
+  for (long i = range.begin; i < range.end; ++i) {
+    const GridPointResult& p = d.grid[i];
+    w.put<std::uint8_t>(p.reachable);
+    w.putMatrix(p.holding.effort);
+    w.putMatrix(p.holding.current_A);
+    w.putMatrix(p.holding.current_ratio);
+    w.put<std::uint8_t>(p.holding.feasible);
+    w.put<std::int32_t>(p.holding.limiting_joint);
+    w.put(p.holding.max_ratio);
+  }
+  return w.bytes();
+}
+
+bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange& range) {
+  UnitReader r(bytes, kGridMagic);
+  ItemRange got;
+  if (!getHead(r, static_cast<long>(d.grid.size()), got)) return false;
+  std::vector<GridPointResult> points(static_cast<std::size_t>(got.size()));
+  for (GridPointResult& p : points) {
+    p.reachable = r.get<std::uint8_t>() != 0;
+    r.getMatrix(p.holding.effort);
+    r.getMatrix(p.holding.current_A);
+    r.getMatrix(p.holding.current_ratio);
+    p.holding.feasible = r.get<std::uint8_t>() != 0;
+    p.holding.limiting_joint = r.get<std::int32_t>();
+    p.holding.max_ratio = r.get<double>();
+  }
+  if (!r.finished()) return false;
+  std::move(points.begin(), points.end(), d.grid.begin() + got.begin);
+  range = got;
+  return true;
+}
+
+namespace {
+
+// One design's result in checkpoint units (fruits and holding-grid points in ranges of
+// unit_items, 0 = defaults): units saved by an interrupted run are loaded, the rest evaluated and
+// saved as soon as done; loaded and evaluated entries are joined by index.
+DesignResult checkpointedDesign(const Model& model, const HarvestOptions& options, const GreenhouseRow& row,
+                                int threads, const CheckpointStore& store, long unit_items, long& units_resumed) {
+  if (!store.enabled()) return evaluateHarvestDesign(model, options, row, threads);
+  const long nf = static_cast<long>(row.fruits.size());
+  long np = 0;
+  if (options.grid) np = long(options.grid->axes[0].count()) * options.grid->axes[1].count() * options.grid->axes[2].count();
+  const std::vector<ItemRange> fruit_units =
+      splitRange(nf, unit_items > 0 ? unit_items : defaults::kHarvestUnitFruits);
+  const std::vector<ItemRange> grid_units =
+      splitRange(np, unit_items > 0 ? unit_items : defaults::kHarvestUnitGridPoints);
+  auto fid = [&](const ItemRange& r) { return "harvest/" + model.name + "/fruits_" + r.text(); };
+  auto gid = [&](const ItemRange& r) { return "harvest/" + model.name + "/grid_" + r.text(); };
+  DesignResult loaded;
+  loaded.fruits.resize(nf);
+  loaded.grid.resize(np);
+  HarvestWork work;
+  std::vector<ItemRange> fruits_loaded, grid_loaded;
+  auto sort = [&](const std::vector<ItemRange>& units, auto&& id, auto&& deserialize, std::vector<ItemRange>& todo,
+                  std::vector<ItemRange>& done) {
+    for (const ItemRange& u : units) {
+      std::string bytes;
+      ItemRange got;
+      if (store.load(id(u), bytes) && deserialize(bytes, loaded, got) && got.begin == u.begin && got.end == u.end) {
+        done.push_back(u);
+        ++units_resumed;
+      } else {
+        todo.push_back(u);
+      }
+    }
+  };
+  sort(fruit_units, fid, deserializeFruits, work.fruits, fruits_loaded);
+  sort(grid_units, gid, deserializeGridPoints, work.grid, grid_loaded);
+  work.fruits_done = [&](std::size_t k, const DesignResult& d) { store.save(fid(work.fruits[k]), serializeFruits(d, work.fruits[k])); };
+  work.grid_done = [&](std::size_t k, const DesignResult& d) { store.save(gid(work.grid[k]), serializeGridPoints(d, work.grid[k])); };
+  DesignResult d = evaluateHarvestDesign(model, options, row, threads, &work);
+  for (const ItemRange& u : fruits_loaded)
+    std::move(loaded.fruits.begin() + u.begin, loaded.fruits.begin() + u.end, d.fruits.begin() + u.begin);
+  for (const ItemRange& u : grid_loaded)
+    std::move(loaded.grid.begin() + u.begin, loaded.grid.begin() + u.end, d.grid.begin() + u.begin);
+  return d;
+}
+
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Outputs
@@ -462,7 +721,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       throw InputError(
           model.file, 0, "inertia",
           "design '" + model.name + "' has no [[inertia]] data; the harvest stage needs it");
-    DesignResult d = evaluateHarvestDesign(model, options, row, ctx.options.threads);
+    DesignResult d = checkpointedDesign(model, options, row, ctx.options.threads, ctx.checkpoints,
+                                        ctx.options.unit_items, sum.units_resumed);
     const int n = model.dof();
     const std::string base = model.name;
     const std::string mprefix = "dynamics/" + model.name + "/";

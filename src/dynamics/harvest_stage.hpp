@@ -15,12 +15,14 @@
 //   [harvest.approach]  the [approach] keys (entry_radius, s_a, s_e, duration, ...)
 //   [harvest.objective] joint_limits = 0.1, manipulability = 1.0 (weights of eq. 5.51)
 //   [harvest.grid]      x, y, z: value or {from, to, step}; gamma (tool heading, default 0)
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "dynamics/drive_feasibility.hpp"
 #include "model/model.hpp"
+#include "study/checkpoint.hpp"
 #include "tasks/task_grid.hpp"
 #include "trajectory/approach_planner.hpp"
 #include "trajectory/greenhouse_row.hpp"
@@ -81,17 +83,41 @@ struct HarvestStageSummary {
   std::vector<std::string> files;
   double seconds = 0;
   std::vector<DesignResult> designs;
+  long units_resumed = 0;  // checkpoint units loaded instead of evaluated
+};
+
+// Which fruits (approaches) and holding-grid points evaluateHarvestDesign computes, as ranges of
+// indices (non-empty, within the row's fruits / the grid's points), and whom it tells when a range
+// is complete: called once per range from the thread that finished it (concurrently for distinct
+// ranges), with the range's index and the design result, whose entries of that range are final.
+using RangeDone = std::function<void(std::size_t range, const DesignResult& partial)>;
+struct HarvestWork {
+  std::vector<ItemRange> fruits, grid;
+  RangeDone fruits_done, grid_done;  // may be empty
 };
 
 // Evaluates one design (threads: OpenMP over fruits and grid points; results are independent of
-// the thread count).
+// the thread count). Fruits and grid points are independent of each other: with `work`, only the
+// listed ranges are computed (the others keep default entries), each bit-identical to a full run.
 DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& options,
-                                   const GreenhouseRow& row, int threads);
+                                   const GreenhouseRow& row, int threads,
+                                   const HarvestWork* work = nullptr);
+
+// Checkpoint units of a design result: the fruits / grid points of one range as bytes (every
+// field, profiles included, bit for bit), and back into a result of the same size (false, result
+// unchanged, when the bytes are not such a unit or do not fit; else `range` receives its range).
+std::string serializeFruits(const DesignResult& d, const ItemRange& range);
+bool deserializeFruits(const std::string& bytes, DesignResult& d, ItemRange& range);
+std::string serializeGridPoints(const DesignResult& d, const ItemRange& range);
+bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange& range);
 
 // Runs the stage for the selected designs and writes under <output_dir>/harvest/: per design
 // <design>_fruits.csv, <design>_fruit<k>_profile.csv (plotted fruits), SVG plots,
 // <design>_holding.vti and PNG maps; report.md and summary.json. Adds metrics
-// "dynamics/<design>/..." to ctx.summary.metrics.
+// "dynamics/<design>/..." to ctx.summary.metrics. With an enabled ctx.checkpoints, work is split
+// into units of one design x a range of fruits (defaults::kHarvestUnitFruits) or holding-grid
+// points (defaults::kHarvestUnitGridPoints; ctx.options.unit_items overrides both), ids
+// harvest/<design>/fruits_<b>-<e> and harvest/<design>/grid_<b>-<e>, loaded on a resumed run.
 HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOptions& options);
 
 }  // namespace harvest

@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
@@ -250,107 +251,109 @@ struct Writer {
   }
 };
 
-// A unit's result as bytes for the checkpoint store: every per-pose column, no timings.
-template <class T>
-void putVector(std::string& b, const std::vector<T>& v) {
-  const std::uint64_t n = v.size();
-  b.append(reinterpret_cast<const char*>(&n), sizeof n);
-  b.append(reinterpret_cast<const char*>(v.data()), n * sizeof(T));
-}
-template <class T>
-bool getVector(const std::string& b, std::size_t& pos, std::vector<T>& v) {
-  std::uint64_t n = 0;
-  if (pos + sizeof n > b.size()) return false;
-  std::memcpy(&n, b.data() + pos, sizeof n);
-  pos += sizeof n;
-  if (pos + n * sizeof(T) > b.size()) return false;
-  v.resize(n);
-  std::memcpy(v.data(), b.data() + pos, n * sizeof(T));
-  pos += n * sizeof(T);
-  return true;
-}
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v3";
+// A chunk's result as bytes for the checkpoint store: its place in the sweep and every per-pose
+// column, no timings.
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v4";
 
 std::string serializeSweep(const PoseSweep& s) {
-  std::string b(kUnitMagic);
-  const std::int64_t head[2] = {s.dof, s.size};
-  b.append(reinterpret_cast<const char*>(head), sizeof head);
-  putVector(b, s.status);
-  putVector(b, s.starts);
-  putVector(b, s.position_error_m);
-  putVector(b, s.orientation_error_rad);
-  putVector(b, s.manipulability);
-  putVector(b, s.joint_limit_margin);
-  putVector(b, s.q);
-  const std::vector<std::uint8_t> flag{static_cast<std::uint8_t>(s.collision), static_cast<std::uint8_t>(s.obstacles)};
-  putVector(b, flag);
-  putVector(b, s.min_distance_m);
-  putVector(b, s.colliding_pair);
-  putVector(b, s.obstacle_distance_m);
-  std::string names;
-  for (const std::string& n : s.pair_names) names += n + '\n';
-  putVector(b, std::vector<char>(names.begin(), names.end()));
-  return b;
+  UnitWriter w(kUnitMagic);
+  w.put<std::int64_t>(s.dof);
+  w.put<std::int64_t>(s.offset);
+  w.put<std::int64_t>(s.size);
+  w.putVector(s.status);
+  w.putVector(s.starts);
+  w.putVector(s.position_error_m);
+  w.putVector(s.orientation_error_rad);
+  w.putVector(s.manipulability);
+  w.putVector(s.joint_limit_margin);
+  w.putVector(s.q);
+  w.put<std::uint8_t>(s.collision);
+  w.put<std::uint8_t>(s.obstacles);
+  w.putVector(s.min_distance_m);
+  w.putVector(s.colliding_pair);
+  w.putVector(s.obstacle_distance_m);
+  w.put<std::uint64_t>(s.pair_names.size());
+  for (const std::string& n : s.pair_names) w.putString(n);
+  return w.bytes();
 }
 
 bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep& s) {
-  const std::size_t m = sizeof(kUnitMagic) - 1;
-  if (b.compare(0, m, kUnitMagic) != 0 || b.size() < m + 16) return false;
-  std::int64_t head[2];
-  std::memcpy(head, b.data() + m, sizeof head);
-  std::size_t pos = m + sizeof head;
+  UnitReader r(b, kUnitMagic);
   s = PoseSweep{};
   s.design = design;
-  s.dof = static_cast<int>(head[0]);
-  s.size = head[1];
-  const bool ok = getVector(b, pos, s.status) && getVector(b, pos, s.starts) &&
-                  getVector(b, pos, s.position_error_m) && getVector(b, pos, s.orientation_error_rad) &&
-                  getVector(b, pos, s.manipulability) && getVector(b, pos, s.joint_limit_margin) &&
-                  getVector(b, pos, s.q);
-  std::vector<std::uint8_t> flag;
-  std::vector<char> names;
-  const bool ok_collision = ok && getVector(b, pos, flag) && flag.size() == 2 &&
-                            getVector(b, pos, s.min_distance_m) && getVector(b, pos, s.colliding_pair) &&
-                            getVector(b, pos, s.obstacle_distance_m) && getVector(b, pos, names);
-  if (!ok_collision) return false;
-  s.collision = flag[0] != 0;
-  s.obstacles = flag[1] != 0;
-  std::string n;
-  for (char c : names) {
-    if (c == '\n') {
-      s.pair_names.push_back(n);
-      n.clear();
-    } else {
-      n += c;
-    }
-  }
-  const std::size_t nc = s.collision ? static_cast<std::size_t>(s.size) : 0;
-  const std::size_t no = s.obstacles ? static_cast<std::size_t>(s.size) : 0;
-  return pos == b.size() && static_cast<long>(s.status.size()) == s.size &&
-         s.q.size() == static_cast<std::size_t>(s.size) * s.dof && s.min_distance_m.size() == nc &&
-         s.colliding_pair.size() == nc && s.obstacle_distance_m.size() == no;
+  s.dof = static_cast<int>(r.get<std::int64_t>());
+  s.offset = r.get<std::int64_t>();
+  s.size = r.get<std::int64_t>();
+  r.getVector(s.status);
+  r.getVector(s.starts);
+  r.getVector(s.position_error_m);
+  r.getVector(s.orientation_error_rad);
+  r.getVector(s.manipulability);
+  r.getVector(s.joint_limit_margin);
+  r.getVector(s.q);
+  s.collision = r.get<std::uint8_t>() != 0;
+  s.obstacles = r.get<std::uint8_t>() != 0;
+  r.getVector(s.min_distance_m);
+  r.getVector(s.colliding_pair);
+  r.getVector(s.obstacle_distance_m);
+  const auto names = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; r.ok() && k < names; ++k) s.pair_names.push_back(r.getString());
+  if (!r.finished() || s.size < 0 || s.dof < 0) return false;
+  const auto n = static_cast<std::size_t>(s.size);
+  const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;
+  return s.status.size() == n && s.starts.size() == n && s.position_error_m.size() == n &&
+         s.orientation_error_rad.size() == n && s.manipulability.size() == n && s.joint_limit_margin.size() == n &&
+         s.q.size() == n * s.dof && s.min_distance_m.size() == nc && s.colliding_pair.size() == nc &&
+         s.obstacle_distance_m.size() == no;
 }
 
-// Solves one unit (design x grid or pose list), or loads it from an earlier interrupted run.
-template <class Solve>
-PoseSweep solveUnit(const ReachStageOptions& options, ReachStageSummary& sum, const std::string& unit_id,
-                    const std::string& design, long poses, Progress& progress, Solve&& solve) {
-  std::string bytes;
-  PoseSweep s;
-  if (options.checkpoints && options.checkpoints->load(unit_id, bytes) && deserializeSweep(bytes, design, s) &&
-      s.size == poses) {
-    ++sum.units_resumed;
-    progress.advance(poses);
-    return s;
+// One design's sweep of a grid or pose list, as checkpoint units of `unit_poses` poses (rounded to
+// whole sweep units, at least one): units saved by an interrupted run are loaded, the others
+// solved in one parallel sweep and each saved as soon as it is done; the sweep is assembled from
+// the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units).
+long posesOf(const TaskGrid& g) { return g.size(); }
+long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
+
+template <class Source, class SweepRanges>
+PoseSweep solveUnits(const ReachStageOptions& options, ReachStageSummary& sum, const std::string& prefix,
+                     const Model& model, const Source& source, Progress& progress, SweepRanges&& sweep_ranges) {
+  const long len = sweepUnitLength(source), poses = posesOf(source);
+  const long unit_poses = options.unit_poses > 0 ? options.unit_poses : defaults::kReachUnitPoses;
+  const std::vector<ItemRange> ranges = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len));
+  auto id = [&](const ItemRange& r) { return prefix + "/units_" + r.text(); };
+  std::vector<PoseSweep> chunks;
+  std::vector<ItemRange> todo;
+  for (const ItemRange& r : ranges) {
+    std::string bytes;
+    PoseSweep c;
+    const long first = r.begin * len, n = std::min(poses, r.end * len) - first;
+    if (options.checkpoints && options.checkpoints->load(id(r), bytes) && deserializeSweep(bytes, model.name, c) &&
+        c.offset == first && c.size == n && c.dof == model.dof()) {
+      ++sum.units_resumed;
+      progress.advance(n);
+      chunks.push_back(std::move(c));
+    } else {
+      todo.push_back(r);
+    }
   }
-  s = solve();
-  if (options.checkpoints) options.checkpoints->save(unit_id, serializeSweep(s));
-  sum.timings.emplace_back(unit_id + "/wall", s.wall_seconds);
-  const long nr = s.countReachable();
-  sum.timings.emplace_back(unit_id + "/per_reachable_pose", nr ? s.solve_seconds_reachable / nr : 0.0);
-  sum.timings.emplace_back(unit_id + "/per_unreachable_pose",
-                           s.size > nr ? s.solve_seconds_unreachable / (s.size - nr) : 0.0);
-  return s;
+  if (todo.empty() && !chunks.empty()) return assembleSweep(std::move(chunks), poses);
+  std::vector<PoseSweep> solved = sweep_ranges(todo, [&](std::size_t k, const PoseSweep& c) {
+    if (options.checkpoints) options.checkpoints->save(id(todo[k]), serializeSweep(c));
+  });
+  double wall = 0, t_reach = 0, t_unreach = 0;
+  long nr = 0, n = 0;
+  for (PoseSweep& c : solved) {
+    wall = std::max(wall, c.wall_seconds);
+    t_reach += c.solve_seconds_reachable;
+    t_unreach += c.solve_seconds_unreachable;
+    nr += c.countReachable();
+    n += c.size;
+    chunks.push_back(std::move(c));
+  }
+  sum.timings.emplace_back(prefix + "/wall", wall);
+  sum.timings.emplace_back(prefix + "/per_reachable_pose", nr ? t_reach / nr : 0.0);
+  sum.timings.emplace_back(prefix + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0);
+  return assembleSweep(std::move(chunks), poses);
 }
 
 // The self-collision and obstacle-collision columns of the report tables (when checked).
@@ -482,8 +485,9 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     std::vector<PoseSweep> sweeps;
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
-      sweeps.push_back(solveUnit(options, sum, unit, sd.model.name, g.size(), progress,
-                                 [&] { return sweepGrid(sd.model, g, cfg.ik, options.threads, &progress, cfg.collision); }));
+      sweeps.push_back(solveUnits(options, sum, unit, sd.model, g, progress, [&](const auto& ranges, const auto& done) {
+        return sweepGridRanges(sd.model, g, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
+      }));
       addUnitMetrics(sum.metrics, unit, sweeps.back());
     }
     sum.poses += g.size() * static_cast<long>(sweeps.size());
@@ -768,9 +772,9 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     ordered_json jdesigns = ordered_json::array();
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
-      const PoseSweep s =
-          solveUnit(options, sum, unit, sd.model.name, static_cast<long>(l.poses.size()), progress,
-                    [&] { return sweepPoseList(sd.model, l, cfg.ik, options.threads, &progress, cfg.collision); });
+      const PoseSweep s = solveUnits(options, sum, unit, sd.model, l, progress, [&](const auto& ranges, const auto& done) {
+        return sweepPoseListRanges(sd.model, l, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
+      });
       addUnitMetrics(sum.metrics, unit, s);
       sum.poses += s.size;
       Stats st;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -101,24 +102,38 @@ JointVector solutionOf(const PoseSweep& s, long i) {
   return q;
 }
 
-// Solves units [0, units) of consecutive poses; unit u covers [u * len, min((u+1) * len, size)).
-PoseSweep sweepUnits(const Model& model, long size, long len,
-                     const std::function<IkTarget(long)>& target, const IkOptions& options,
-                     int threads, Progress* progress, const SweepCollision& collision) {
+// Solves the units of every range (unit u covers poses [u * len, min((u+1) * len, size))) into
+// one chunk per range; see sweepGridRanges.
+std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
+                                   const std::function<IkTarget(long)>& target,
+                                   const std::vector<ItemRange>& ranges, const IkOptions& options, int threads,
+                                   Progress* progress, const SweepCollision& collision,
+                                   const SweepChunkDone& on_done) {
   ARMSTUDY_CHECK(options.validate().empty(), options.validate());
-  PoseSweep s = makeSweep(model, size, collision);
   ARMSTUDY_CHECK(!collision.enabled() || !model.collision.empty(),
                  "collision-aware sweep of design '" + model.name + "' without a collision model");
   ARMSTUDY_CHECK(static_cast<int>(collision.obstacles.size()) <= collision::kMaxObstacles, "too many obstacles");
   const long units = (size + len - 1) / len;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
-  s.threads = nt;
+  std::vector<PoseSweep> chunks;
+  std::vector<std::pair<std::size_t, long>> work;  // (range, unit), in order
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    const ItemRange& r = ranges[k];
+    ARMSTUDY_CHECK(0 <= r.begin && r.begin < r.end && r.end <= units, "sweep unit range out of bounds");
+    const long first = r.begin * len, last = std::min(size, r.end * len);
+    chunks.push_back(makeSweep(model, last - first, collision));
+    chunks.back().offset = first;
+    chunks.back().threads = nt;
+    for (long u = r.begin; u < r.end; ++u) work.emplace_back(k, u);
+  }
+  RangeCountdown countdown(ranges);
+  std::exception_ptr failure;
   IkOptions retry = options;
   retry.max_starts = 1;
   retry.classify_failures = false;
   const auto t0 = std::chrono::steady_clock::now();
-  double t_reach = 0, t_unreach = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : t_reach, t_unreach)
+  const long n_work = static_cast<long>(work.size());
+#pragma omp parallel num_threads(nt)
   {
     IkWorkspace ws(model);
     std::optional<collision::CollisionWorkspace> cws;
@@ -126,6 +141,7 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
     collision::CollisionReachOptions copts;
     copts.self = collision.self;
     // One pose: plain IK, or collision-aware (reachable only in collision -> Self/ObstacleCollision).
+    // Target and seed follow the pose's index in the whole sweep, never its place in a chunk.
     auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
       PoseResult r;
       if (!collision.enabled()) {
@@ -144,8 +160,12 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       return r;
     };
 #pragma omp for schedule(dynamic, 1)
-    for (long u = 0; u < units; ++u) {
+    for (long w = 0; w < n_work; ++w) {
+      const auto [k, u] = work[w];
+      PoseSweep& s = chunks[k];
+      const long off = s.offset;
       const long begin = u * len, end = std::min(size, begin + len);
+      double t_reach = 0, t_unreach = 0;
       JointVector warm(model.dof());
       bool have_warm = false;
       for (long i = begin; i < end; ++i) {
@@ -154,8 +174,8 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
         const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        store(s, i, r, 0);
-        storeCollision(s, i, pr);
+        store(s, i - off, r, 0);
+        storeCollision(s, i - off, pr);
         if (r.reachable()) {
           warm = r.q;
           have_warm = true;
@@ -166,44 +186,142 @@ PoseSweep sweepUnits(const Model& model, long size, long len,
       // unless the retry finds a collision-free solution; an unreachable one also takes a
       // solution in collision.
       for (long i = end - 2; i >= begin; --i) {
-        if (s.reachable(i) || !s.reachable(i + 1)) continue;
-        const JointVector w = solutionOf(s, i + 1);
+        const long li = i - off;
+        if (s.reachable(li) || !s.reachable(li + 1)) continue;
+        const JointVector w = solutionOf(s, li + 1);
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, retry, &w);
         const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(s.status[i])))) {
-          store(s, i, r, s.starts[i]);
-          storeCollision(s, i, pr);
+        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(s.status[li])))) {
+          store(s, li, r, s.starts[li]);
+          storeCollision(s, li, pr);
         }
       }
+#pragma omp atomic
+      s.solve_seconds_reachable += t_reach;
+#pragma omp atomic
+      s.solve_seconds_unreachable += t_unreach;
       if (progress) progress->advance(end - begin);
+      if (countdown.itemDone(k)) {
+        s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (on_done) {
+          try {
+            on_done(k, s);
+          } catch (...) {
+#pragma omp critical(armstudy_sweep_failure)
+            if (!failure) failure = std::current_exception();
+          }
+        }
+      }
     }
   }
-  s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  s.solve_seconds_reachable = t_reach;
-  s.solve_seconds_unreachable = t_unreach;
-  return s;
+  if (failure) std::rethrow_exception(failure);
+  return chunks;
+}
+
+PoseSweep wholeSweep(std::vector<PoseSweep> chunks, long size, const Model& model, const SweepCollision& collision) {
+  if (chunks.empty()) {  // an empty grid or list
+    PoseSweep s = makeSweep(model, size, collision);
+    s.threads = 1;
+    return s;
+  }
+  return std::move(chunks.front());
 }
 
 }  // namespace
 
+long sweepUnitLength(const TaskGrid& grid) { return grid.lineLength(); }
+long sweepUnitLength(const PoseList&) { return defaults::kPoseListChunk; }
+long sweepUnitCount(const TaskGrid& grid) { return (grid.size() + grid.lineLength() - 1) / grid.lineLength(); }
+long sweepUnitCount(const PoseList& list) {
+  return (static_cast<long>(list.poses.size()) + defaults::kPoseListChunk - 1) / defaults::kPoseListChunk;
+}
+
+std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid, const std::vector<ItemRange>& ranges,
+                                       const IkOptions& options, int threads, Progress* progress,
+                                       const SweepCollision& collision, const SweepChunkDone& on_done) {
+  ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
+  return sweepRanges(
+      model, grid.size(), sweepUnitLength(grid),
+      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, ranges, options, threads, progress,
+      collision, on_done);
+}
+
+std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& list,
+                                           const std::vector<ItemRange>& ranges, const IkOptions& options,
+                                           int threads, Progress* progress, const SweepCollision& collision,
+                                           const SweepChunkDone& on_done) {
+  return sweepRanges(
+      model, static_cast<long>(list.poses.size()), sweepUnitLength(list),
+      [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, ranges, options, threads, progress,
+      collision, on_done);
+}
+
 PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
                     int threads, Progress* progress, const SweepCollision& collision) {
-  ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
-  return sweepUnits(
-      model, grid.size(), grid.lineLength(),
-      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, options, threads, progress,
-      collision);
+  const long units = sweepUnitCount(grid);
+  std::vector<ItemRange> all;
+  if (units > 0) all.push_back({0, units});
+  return wholeSweep(sweepGridRanges(model, grid, all, options, threads, progress, collision), grid.size(), model,
+                    collision);
 }
 
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
                         int threads, Progress* progress, const SweepCollision& collision) {
-  return sweepUnits(
-      model, static_cast<long>(list.poses.size()), defaults::kPoseListChunk,
-      [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, options, threads,
-      progress, collision);
+  const long units = sweepUnitCount(list);
+  std::vector<ItemRange> all;
+  if (units > 0) all.push_back({0, units});
+  return wholeSweep(sweepPoseListRanges(model, list, all, options, threads, progress, collision),
+                    static_cast<long>(list.poses.size()), model, collision);
+}
+
+namespace {
+template <class T>
+void append(std::vector<T>& to, const std::vector<T>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+}
+}  // namespace
+
+PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
+  ARMSTUDY_CHECK(!chunks.empty(), "no chunks to assemble");
+  std::sort(chunks.begin(), chunks.end(), [](const PoseSweep& a, const PoseSweep& b) { return a.offset < b.offset; });
+  const PoseSweep& first = chunks.front();
+  PoseSweep s;
+  s.design = first.design;
+  s.dof = first.dof;
+  s.collision = first.collision;
+  s.obstacles = first.obstacles;
+  s.pair_names = first.pair_names;
+  s.threads = 0;
+  long next = 0;
+  for (const PoseSweep& c : chunks) {
+    ARMSTUDY_CHECK(c.offset == next, "sweep chunks of '" + s.design + "' leave a gap or overlap at pose " +
+                                         std::to_string(next));
+    ARMSTUDY_CHECK(c.dof == s.dof && c.collision == s.collision && c.obstacles == s.obstacles &&
+                       c.pair_names == s.pair_names,
+                   "sweep chunks of '" + s.design + "' do not match");
+    next += c.size;
+    append(s.status, c.status);
+    append(s.starts, c.starts);
+    append(s.position_error_m, c.position_error_m);
+    append(s.orientation_error_rad, c.orientation_error_rad);
+    append(s.manipulability, c.manipulability);
+    append(s.joint_limit_margin, c.joint_limit_margin);
+    append(s.q, c.q);
+    append(s.min_distance_m, c.min_distance_m);
+    append(s.colliding_pair, c.colliding_pair);
+    append(s.obstacle_distance_m, c.obstacle_distance_m);
+    s.wall_seconds = std::max(s.wall_seconds, c.wall_seconds);
+    s.threads = std::max(s.threads, c.threads);
+    s.solve_seconds_reachable += c.solve_seconds_reachable;
+    s.solve_seconds_unreachable += c.solve_seconds_unreachable;
+  }
+  ARMSTUDY_CHECK(next == size, "sweep chunks of '" + s.design + "' cover " + std::to_string(next) + " of " +
+                                   std::to_string(size) + " poses");
+  s.size = size;
+  return s;
 }
 
 }  // namespace armstudy

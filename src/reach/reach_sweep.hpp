@@ -6,14 +6,17 @@
 // every pose from the last reachable solution of the same unit, then swept once backwards so a
 // reachable region entered from its far side is not missed. Units never read each other's
 // results, so results are bit-identical for any thread count and schedule (and units could be
-// distributed across processes).
+// distributed across processes). A chunk (a contiguous range of units, the checkpoint grain of
+// the reach stage) is therefore bit-identical whether it is swept alone or as part of the whole.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "collision/collision.hpp"
 #include "ik/reach_solver.hpp"
+#include "study/checkpoint.hpp"
 #include "tasks/task_grid.hpp"
 
 namespace armstudy {
@@ -30,7 +33,8 @@ struct SweepCollision {
 struct PoseSweep {
   std::string design;
   int dof = 0;
-  long size = 0;
+  long offset = 0;                           // index of the first pose (chunks; 0 for a whole sweep)
+  long size = 0;                             // poses held; entry i is pose offset + i
   std::vector<std::uint8_t> status;          // ReachStatus
   std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
   std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
@@ -75,5 +79,33 @@ PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& o
                     int threads, Progress* progress, const SweepCollision& collision = {});
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
                         int threads, Progress* progress, const SweepCollision& collision = {});
+
+// The sweep units of a grid (its lines) or pose list (chunks of defaults::kPoseListChunk poses):
+// unit u covers poses [u * unitLength, min((u + 1) * unitLength, size)).
+long sweepUnitLength(const TaskGrid& grid);
+long sweepUnitLength(const PoseList& list);
+long sweepUnitCount(const TaskGrid& grid);
+long sweepUnitCount(const PoseList& list);
+
+// Sweeps the units of every range in `ranges` (ranges of sweep units, within [0, unit count),
+// non-empty) in one parallel loop over all their units and returns one chunk per range (offset =
+// its first pose), each bit-identical to the same poses of sweepGrid / sweepPoseList. `on_done`
+// (may be empty) is called once per range, as soon as its last unit is solved, from the thread
+// that solved it (concurrently for distinct ranges), with the range's index and finished chunk;
+// the chunk's wall_seconds then holds the time from the start of the call. An exception thrown by
+// on_done is rethrown after the loop.
+using SweepChunkDone = std::function<void(std::size_t range, const PoseSweep& chunk)>;
+std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid, const std::vector<ItemRange>& ranges,
+                                       const IkOptions& options, int threads, Progress* progress,
+                                       const SweepCollision& collision = {}, const SweepChunkDone& on_done = {});
+std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& list,
+                                           const std::vector<ItemRange>& ranges, const IkOptions& options,
+                                           int threads, Progress* progress, const SweepCollision& collision = {},
+                                           const SweepChunkDone& on_done = {});
+
+// Joins chunks of one design's sweep, given in any order, into the whole sweep of `size` poses:
+// ordered by offset, they must tile [0, size) without gap or overlap and agree on dof and the
+// collision columns (programmer checks). Solve times add up; wall_seconds is the largest.
+PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size);
 
 }  // namespace armstudy

@@ -1,5 +1,6 @@
 #include "study/checkpoint.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "common/errors.hpp"
@@ -80,6 +81,52 @@ void CheckpointStore::save(const std::string& id, const std::string& bytes) cons
 
 void CheckpointStore::finish() {
   if (enabled()) fs::remove_all(dir_);
+}
+
+std::vector<ItemRange> splitRange(long count, long per_range) {
+  per_range = std::max(1L, per_range);
+  std::vector<ItemRange> out;
+  for (long b = 0; b < count; b += per_range) out.push_back({b, std::min(count, b + per_range)});
+  return out;
+}
+
+RangeCountdown::RangeCountdown(const std::vector<ItemRange>& ranges)
+    : left_(new std::atomic<long>[ranges.size()]) {
+  for (std::size_t k = 0; k < ranges.size(); ++k) left_[k].store(ranges[k].size(), std::memory_order_relaxed);
+}
+
+bool RangeCountdown::itemDone(std::size_t range) {
+  return left_[range].fetch_sub(1, std::memory_order_acq_rel) == 1;
+}
+
+void UnitWriter::putString(const std::string& s) {
+  put<std::uint64_t>(s.size());
+  bytes_ += s;
+}
+
+UnitReader::UnitReader(const std::string& bytes, std::string_view magic) : b_(bytes) {
+  ok_ = b_.compare(0, magic.size(), magic) == 0;
+  pos_ = ok_ ? magic.size() : b_.size();
+}
+
+bool UnitReader::take(std::size_t n) {
+  if (!ok_ || n > b_.size() - pos_) {
+    ok_ = false;
+    return false;
+  }
+  pos_ += n;
+  return true;
+}
+
+std::string UnitReader::getString() {
+  const auto n = get<std::uint64_t>();
+  if (!ok_ || n > b_.size() - pos_) {
+    ok_ = false;
+    return {};
+  }
+  std::string s = b_.substr(pos_, n);
+  pos_ += n;
+  return s;
 }
 
 }  // namespace armstudy

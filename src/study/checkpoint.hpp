@@ -7,7 +7,21 @@
 // folder is stamped with a fingerprint of everything the results depend on (armstudy version and
 // git revision, the study and design file hashes, resolved settings); a resume with a different
 // fingerprint starts fresh and says why, never mixing old and new results.
+//
+// Units are the grain a later multi-process run distributes (docs/architecture.md): every unit is
+// a contiguous range of a stage's independent work items (grid lines, pose-list chunks, dexterity
+// rows, harvest approaches, holding-grid points) of one design, its result depends on nothing but
+// the inputs and the range, and a stage assembles its result from the units in index order, so
+// the result is the same whatever order the units finished in.
+#include <Eigen/Core>
+#include <atomic>
+#include <cstdint>
+#include <cstring>
+#include <memory>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace armstudy {
 
@@ -35,6 +49,119 @@ class CheckpointStore {
   std::string unitPath(const std::string& unit_id) const;
   std::string dir_;
   int completed_ = 0;
+};
+
+// A contiguous range [begin, end) of work items.
+struct ItemRange {
+  long begin = 0, end = 0;
+  long size() const { return end - begin; }
+  // "<begin>-<end>", for unit ids.
+  std::string text() const { return std::to_string(begin) + "-" + std::to_string(end); }
+};
+
+// Splits items [0, count) into consecutive ranges of `per_range` items (the last may be shorter).
+// per_range < 1 counts as 1; count 0 gives no ranges.
+std::vector<ItemRange> splitRange(long count, long per_range);
+
+// Completion of ranges whose items are processed in any order by many threads: itemDone(k)
+// returns true for exactly one call per range, the one that completes it. That caller sees every
+// write the other items' threads made before their itemDone calls (acquire-release), so it may
+// read the whole range's results, e.g. to save them.
+class RangeCountdown {
+ public:
+  explicit RangeCountdown(const std::vector<ItemRange>& ranges);
+  bool itemDone(std::size_t range);
+
+ private:
+  std::unique_ptr<std::atomic<long>[]> left_;
+};
+
+// Binary encoding of unit results: a magic string naming the format and its version (bump it
+// whenever a unit's layout changes; a unit of another format is not loaded but solved again),
+// then values in native byte order (a store is only read back by the same armstudy revision: the
+// fingerprint holds it). Values go in bit for bit, so a loaded unit equals the solved one.
+class UnitWriter {
+ public:
+  explicit UnitWriter(std::string_view magic) : bytes_(magic) {}
+  template <class T>
+  void put(T v) {
+    static_assert(std::is_arithmetic_v<T> || std::is_enum_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <class T>
+  void putVector(const std::vector<T>& v) {
+    static_assert(std::is_arithmetic_v<T>);
+    put<std::uint64_t>(v.size());
+    bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void putString(const std::string& s);
+  // Any Eigen vector or matrix (fixed or dynamic size) of doubles.
+  template <class Derived>
+  void putMatrix(const Eigen::DenseBase<Derived>& m) {
+    put<std::int64_t>(m.rows());
+    put<std::int64_t>(m.cols());
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      for (Eigen::Index r = 0; r < m.rows(); ++r) put<double>(m(r, c));
+  }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+// Reads what UnitWriter wrote. A wrong magic, a short buffer or a size mismatch makes ok() false
+// (and every later read a no-op); finished() also requires that every byte was read.
+class UnitReader {
+ public:
+  UnitReader(const std::string& bytes, std::string_view magic);
+  bool ok() const { return ok_; }
+  bool finished() const { return ok_ && pos_ == b_.size(); }
+  template <class T>
+  T get() {
+    static_assert(std::is_arithmetic_v<T> || std::is_enum_v<T>);
+    T v{};
+    if (take(sizeof v)) std::memcpy(&v, b_.data() + pos_ - sizeof v, sizeof v);
+    return v;
+  }
+  template <class T>
+  void getVector(std::vector<T>& v) {
+    static_assert(std::is_arithmetic_v<T>);
+    const auto n = get<std::uint64_t>();
+    if (!ok_ || n > (b_.size() - pos_) / sizeof(T)) {
+      ok_ = false;
+      return;
+    }
+    v.resize(n);
+    if (take(n * sizeof(T))) std::memcpy(v.data(), b_.data() + pos_ - n * sizeof(T), n * sizeof(T));
+  }
+  std::string getString();
+  // Into a fixed- or dynamic-size Eigen object; a fixed size must match.
+  template <class Derived>
+  void getMatrix(Eigen::PlainObjectBase<Derived>& m) {
+    const auto rows = get<std::int64_t>(), cols = get<std::int64_t>();
+    if (!ok_ || rows < 0 || cols < 0 || rows > (1 << 30) || cols > (1 << 30) ||
+        static_cast<std::uint64_t>(rows * cols) > (b_.size() - pos_) / sizeof(double)) {
+      ok_ = false;
+      return;
+    }
+    if ((Derived::RowsAtCompileTime != Eigen::Dynamic && rows != Derived::RowsAtCompileTime) ||
+        (Derived::ColsAtCompileTime != Eigen::Dynamic && cols != Derived::ColsAtCompileTime) ||
+        (Derived::MaxRowsAtCompileTime != Eigen::Dynamic && rows > Derived::MaxRowsAtCompileTime) ||
+        (Derived::MaxColsAtCompileTime != Eigen::Dynamic && cols > Derived::MaxColsAtCompileTime)) {
+      ok_ = false;
+      return;
+    }
+    m.resize(rows, cols);
+    for (Eigen::Index c = 0; c < cols; ++c)
+      for (Eigen::Index r = 0; r < rows; ++r) m(r, c) = get<double>();
+  }
+  void fail() { ok_ = false; }
+
+ private:
+  bool take(std::size_t n);
+  const std::string& b_;
+  std::size_t pos_ = 0;
+  bool ok_ = true;
 };
 
 }  // namespace armstudy

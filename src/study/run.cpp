@@ -22,6 +22,7 @@ using nlohmann::ordered_json;
 std::string RunOptions::validate() const {
   if (output_root.empty()) return "output root is empty";
   if (threads < 0) return "thread count must not be negative";
+  if (unit_items < 0) return "unit size must not be negative";
   return "";
 }
 
@@ -127,7 +128,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
 
   if (study.reach.enabled) {
     const ReachStageSummary rs =
-        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress, &store});
+        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress, &store, options.unit_items});
+    sum.units_resumed += rs.units_resumed;
     sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
     sum.timings.push_back({"reachability", rs.seconds});
     for (const auto& [name, value] : rs.timings) sum.timings.push_back({name, value});
@@ -136,7 +138,9 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
     std::vector<Model> models;
     for (const auto& d : study.designs) models.push_back(d.model);
-    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads);
+    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads, &store,
+                                                 options.unit_items);
+    sum.units_resumed += ds.units_resumed;
     sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
     sum.timings.push_back({"dexterity", ds.seconds});
     // Summary metrics for regression checks; per-map timings go to the manifest only.
@@ -162,6 +166,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   }
   if (study.harvest) {  // harvest torque stage (docs/dynamics.md)
     const auto hs = harvest::runHarvestStage(ctx, *study.harvest);
+    sum.units_resumed += hs.units_resumed;
     sum.files_written.insert(sum.files_written.end(), hs.files.begin(), hs.files.end());
     sum.timings.push_back({"harvest", hs.seconds});
   }
@@ -179,6 +184,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   man["designs"] = ordered_json::array();
   for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
   if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
+  if (!sum.resume_message.empty()) man["units_resumed"] = sum.units_resumed;
   ordered_json tim = ordered_json::object();
   for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
   man["timings"] = tim;

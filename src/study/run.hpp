@@ -15,6 +15,10 @@ struct RunOptions {
   int threads = 0;                     // 0 = OpenMP default
   bool overwrite = false;              // replace an existing output folder's results
   bool progress = true;                // progress on stderr (only when it is a terminal)
+  // Work items per checkpoint unit in every stage (reach: poses, rounded to whole grid lines;
+  // dexterity: map cells, rounded to whole rows; harvest: approaches and holding-grid points).
+  // 0 = each stage's default (defaults::k*Unit*). Results do not depend on it.
+  long unit_items = 0;
   std::string validate() const;        // empty when valid, else the reason
 };
 
@@ -31,6 +35,7 @@ struct RunSummary {
   std::vector<std::string> files_written;  // relative to output_dir
   StudyMetrics metrics;                    // summary metrics (baselines, checks)
   std::string resume_message;              // "resuming: ..." / "starting fresh because ..."
+  long units_resumed = 0;                  // checkpoint units loaded instead of computed (all stages)
 };
 
 // What an evaluation stage gets: the study, the options, where to write, the checkpoint store
