@@ -20,7 +20,8 @@ bool CheckpointStore::hasPartialRun(const std::string& output_dir) {
 
 CheckpointStore::CheckpointStore() = default;
 
-CheckpointStore::CheckpointStore(std::string output_dir, std::string fingerprint, std::string& message)
+CheckpointStore::CheckpointStore(std::string output_dir, std::string fingerprint,
+                                 std::string& message)
     : dir_(partialDir(output_dir)) {
   message.clear();
   const fs::path fp = fs::path(dir_) / "fingerprint";
@@ -59,11 +60,13 @@ CheckpointStore::CheckpointStore(std::string output_dir, std::string fingerprint
 
 std::string CheckpointStore::unitPath(const std::string& id) const {
   std::string safe;
-  for (char c : id) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_' ||
-                             c == '+' || c == '=')
-                                ? c
-                                : '_';
-  return (fs::path(dir_) / "units" / (safe + "." + contentHash(id).substr(8, 8) + ".unit")).string();
+  for (char c : id)
+    safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_' ||
+             c == '+' || c == '=')
+                ? c
+                : '_';
+  return (fs::path(dir_) / "units" / (safe + "." + contentHash(id).substr(8, 8) + ".unit"))
+      .string();
 }
 
 bool CheckpointStore::load(const std::string& id, std::string& bytes) const {
@@ -92,7 +95,8 @@ std::vector<ItemRange> splitRange(long count, long per_range) {
 
 RangeCountdown::RangeCountdown(const std::vector<ItemRange>& ranges)
     : left_(new std::atomic<long>[ranges.size()]) {
-  for (std::size_t k = 0; k < ranges.size(); ++k) left_[k].store(ranges[k].size(), std::memory_order_relaxed);
+  for (std::size_t k = 0; k < ranges.size(); ++k)
+    left_[k].store(ranges[k].size(), std::memory_order_relaxed);
 }
 
 bool RangeCountdown::itemDone(std::size_t range) {

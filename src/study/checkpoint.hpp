@@ -109,8 +109,9 @@ class UnitWriter {
   std::string bytes_;
 };
 
-// Reads what UnitWriter wrote. A wrong magic, a short buffer or a size mismatch makes ok() false
-// (and every later read a no-op); finished() also requires that every byte was read.
+// Reads what UnitWriter wrote (`bytes` must outlive the reader). A wrong magic, a short buffer or a
+// size mismatch makes ok() false (and every later read a no-op); finished() also requires that
+// every byte was read.
 class UnitReader {
  public:
   UnitReader(const std::string& bytes, std::string_view magic);

@@ -42,7 +42,8 @@ fs::path freshDir(const std::string& name) {
 // Bitwise equality (NaN == NaN, -0 != +0).
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 void requireSameSweep(const PoseSweep& a, const PoseSweep& b) {
@@ -113,8 +114,8 @@ long damageStore(const fs::path& output_dir, const std::string& prefix) {
 std::string designPath(const std::string& name) { return sourcePath("designs/" + name + ".toml"); }
 
 // A study file in `dir` with the given designs and sections.
-std::string writeStudy(const fs::path& dir, const std::string& name, const std::vector<std::string>& designs,
-                       const std::string& sections) {
+std::string writeStudy(const fs::path& dir, const std::string& name,
+                       const std::vector<std::string>& designs, const std::string& sections) {
   const fs::path p = dir / (name + ".toml");
   std::ofstream f(p);
   f << "[study]\nname = \"" << name << "\"\n";
@@ -155,9 +156,11 @@ z = { from = "0.3 m", to = "1.2 m", step = "0.15 m" }
 
 }  // namespace
 
-TEST_CASE("a grid swept in chunks of 1 line, 7 lines or whole, with 1 or 2 threads, assembles in any order "
-          "into the whole sweep",
-          "[study][chunk][reach]") {
+TEST_CASE(
+    "a grid swept in chunks of 1 line, 7 lines or whole, with 1 or 2 threads, assembles in any "
+    "order "
+    "into the whole sweep",
+    "[study][chunk][reach]") {
   const Model m = loadDesign(designPath("first_prototype_6dof"));
   TaskGrid g;
   g.name = "g";
@@ -196,22 +199,27 @@ TEST_CASE("a grid swept in chunks of 1 line, 7 lines or whole, with 1 or 2 threa
   const std::vector<PoseSweep> alone = sweepGridRanges(m, g, {{3, 5}}, o, 2, nullptr);
   const long b = 3 * g.lineLength(), e = 5 * g.lineLength();
   REQUIRE(alone.front().size == e - b);
-  CHECK(std::equal(alone.front().status.begin(), alone.front().status.end(), whole.status.begin() + b));
-  CHECK(std::memcmp(alone.front().q.data(), whole.q.data() + b * whole.dof, (e - b) * whole.dof * sizeof(double)) == 0);
+  CHECK(std::equal(alone.front().status.begin(), alone.front().status.end(),
+                   whole.status.begin() + b));
+  CHECK(std::memcmp(alone.front().q.data(), whole.q.data() + b * whole.dof,
+                    (e - b) * whole.dof * sizeof(double)) == 0);
 }
 
-TEST_CASE("collision-aware sweeps of pose-list chunks assemble into the whole sweep", "[study][chunk][reach]") {
+TEST_CASE("collision-aware sweeps of pose-list chunks assemble into the whole sweep",
+          "[study][chunk][reach]") {
   const Model m = loadDesign(designPath("first_prototype_6dof"));
   PoseList l;
   l.name = "l";
   l.task_space = TaskSpace::position();
   for (int i = 0; i < 150; ++i) {  // a helix through the workspace: 5 chunks of 32 poses
     TaskVector6 w = TaskVector6::Zero();
-    w.head<3>() << 0.6 * std::cos(0.15 * i), 0.3 + 0.5 * std::abs(std::sin(0.05 * i)), 0.6 + 0.006 * i;
+    w.head<3>() << 0.6 * std::cos(0.15 * i), 0.3 + 0.5 * std::abs(std::sin(0.05 * i)),
+        0.6 + 0.006 * i;
     l.poses.push_back(w);
     l.lines.push_back(i + 2);
   }
-  SweepCollision col{true, {collision::sphereObstacle("stem", Eigen::Vector3d(0.3, 0.6, 1.0), 0.05)}};
+  SweepCollision col{true,
+                     {collision::sphereObstacle("stem", Eigen::Vector3d(0.3, 0.6, 1.0), 0.05)}};
   const IkOptions o = ReachConfig::studyDefaults();
   const PoseSweep whole = sweepPoseList(m, l, o, 1, nullptr, col);
   REQUIRE(whole.collision);
@@ -219,7 +227,8 @@ TEST_CASE("collision-aware sweeps of pose-list chunks assemble into the whole sw
   REQUIRE(whole.countReachable() > 0);
   const long units = sweepUnitCount(l);
   REQUIRE(units == 5);
-  std::vector<PoseSweep> chunks = sweepPoseListRanges(m, l, splitRange(units, 2), o, 2, nullptr, col);
+  std::vector<PoseSweep> chunks =
+      sweepPoseListRanges(m, l, splitRange(units, 2), o, 2, nullptr, col);
   std::reverse(chunks.begin(), chunks.end());
   requireSameSweep(assembleSweep(chunks, whole.size), whole);
 }
@@ -227,13 +236,15 @@ TEST_CASE("collision-aware sweeps of pose-list chunks assemble into the whole sw
 TEST_CASE("the reach stage resumes from saved chunks into the files of an uninterrupted run",
           "[study][chunk][checkpoint]") {
   const fs::path dir = freshDir("reach_stage");
-  const Study s = loadStudy(writeStudy(dir, "r", {"final_prototype_7dof", "first_prototype_6dof"},
-                                       "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
-                                       "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.05 m\" }\ny = \"0.8 m\"\n"
-                                       "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
-                                       "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
+  const Study s = loadStudy(
+      writeStudy(dir, "r", {"final_prototype_7dof", "first_prototype_6dof"},
+                 "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
+                 "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.05 m\" }\ny = \"0.8 m\"\n"
+                 "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
+                 "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
   // Reference: no checkpoints, default unit size, one thread.
-  const ReachStageSummary ref = runReachStage(s, ReachStageOptions{(dir / "ref").string(), 1, false, nullptr, 0});
+  const ReachStageSummary ref =
+      runReachStage(s, ReachStageOptions{(dir / "ref").string(), 1, false, nullptr, 0});
   const auto ref_files = resultFiles(dir / "ref");
   REQUIRE(ref_files.size() >= 4);
 
@@ -242,7 +253,8 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
   std::string msg;
   {
     CheckpointStore store(out.string(), "fp\n", msg);
-    const ReachStageSummary first = runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
+    const ReachStageSummary first =
+        runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
     CHECK(first.units_resumed == 0);
   }
   const long lines = s.reach.grids[0].lines();
@@ -251,19 +263,22 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
   fs::remove_all(out / "reach");
   CheckpointStore store(out.string(), "fp\n", msg);
   CHECK(msg.find("resuming") != std::string::npos);
-  const ReachStageSummary resumed = runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
+  const ReachStageSummary resumed =
+      runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
   CHECK(resumed.units_resumed == intact);
   CHECK(resultFiles(out) == ref_files);
   CHECK(resumed.metrics.scalars == ref.metrics.scalars);
   CHECK(resumed.metrics.flags == ref.metrics.flags);
   // Everything saved now: a third run solves nothing.
-  const ReachStageSummary third = runReachStage(s, ReachStageOptions{out.string(), 1, false, &store, 1});
+  const ReachStageSummary third =
+      runReachStage(s, ReachStageOptions{out.string(), 1, false, &store, 1});
   CHECK(third.units_resumed == 2 * lines);
   CHECK(resultFiles(out) == ref_files);
 }
 
-TEST_CASE("dexterity rows computed in ranges and units deserialised in any order give the whole map",
-          "[study][chunk][dexterity]") {
+TEST_CASE(
+    "dexterity rows computed in ranges and units deserialised in any order give the whole map",
+    "[study][chunk][dexterity]") {
   const fs::path dir = freshDir("dexterity_rows");
   const Study s = loadStudy(writeStudy(dir, "d", {"final_prototype_7dof"}, kDexteritySection));
   REQUIRE(s.dexterity);
@@ -277,8 +292,8 @@ TEST_CASE("dexterity rows computed in ranges and units deserialised in any order
 
   const std::vector<ItemRange> ranges = splitRange(rows, 3);
   std::vector<std::string> units(ranges.size());
-  const dexterity::DexterityMap parts =
-      dexterity::computeDexterityRows(m, *s.dexterity, ranges, 2, [&](std::size_t k, const dexterity::DexterityMap& p) {
+  const dexterity::DexterityMap parts = dexterity::computeDexterityRows(
+      m, *s.dexterity, ranges, 2, [&](std::size_t k, const dexterity::DexterityMap& p) {
         units[k] = dexterity::serializeRows(p, ranges[k]);
       });
   CHECK(dexterity::serializeRows(parts, all) == whole_bytes);
@@ -310,7 +325,8 @@ TEST_CASE("dexterity rows computed in ranges and units deserialised in any order
 TEST_CASE("the dexterity stage resumes from saved rows into the files of an uninterrupted run",
           "[study][chunk][checkpoint][dexterity]") {
   const fs::path dir = freshDir("dexterity_stage");
-  const Study s = loadStudy(writeStudy(dir, "d", {"final_prototype_7dof", "first_prototype_9dof"}, kDexteritySection));
+  const Study s = loadStudy(
+      writeStudy(dir, "d", {"final_prototype_7dof", "first_prototype_9dof"}, kDexteritySection));
   std::vector<Model> models;
   for (const auto& d : s.designs) models.push_back(d.model);
   dexterity::runDexterityStage(models, *s.dexterity, (dir / "ref").string(), 1);
@@ -319,9 +335,11 @@ TEST_CASE("the dexterity stage resumes from saved rows into the files of an unin
   std::string msg;
   {
     CheckpointStore store(out.string(), "fp\n", msg);
-    CHECK(dexterity::runDexterityStage(models, *s.dexterity, out.string(), 2, &store, 1).units_resumed == 0);
+    CHECK(dexterity::runDexterityStage(models, *s.dexterity, out.string(), 2, &store, 1)
+              .units_resumed == 0);
   }
-  REQUIRE(static_cast<long>(unitFiles(out, "dexterity_").size()) == 2 * s.dexterity->grid.z_m.count);
+  REQUIRE(static_cast<long>(unitFiles(out, "dexterity_").size()) ==
+          2 * s.dexterity->grid.z_m.count);
   const long intact = damageStore(out, "dexterity_");
   fs::remove_all(out / "dexterity");
   CheckpointStore store(out.string(), "fp\n", msg);
@@ -357,7 +375,8 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   };
   const harvest::DesignResult parts = harvest::evaluateHarvestDesign(m, *s.harvest, row, 2, &work);
   CHECK(harvest::serializeFruits(parts, all_fruits) == harvest::serializeFruits(whole, all_fruits));
-  CHECK(harvest::serializeGridPoints(parts, all_points) == harvest::serializeGridPoints(whole, all_points));
+  CHECK(harvest::serializeGridPoints(parts, all_points) ==
+        harvest::serializeGridPoints(whole, all_points));
   harvest::DesignResult joined;
   joined.fruits.resize(6);
   joined.grid.resize(whole.grid.size());
@@ -367,8 +386,10 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   ItemRange got;
   for (const auto& u : fruit_units) REQUIRE(harvest::deserializeFruits(u, joined, got));
   for (const auto& u : grid_units) REQUIRE(harvest::deserializeGridPoints(u, joined, got));
-  CHECK(harvest::serializeFruits(joined, all_fruits) == harvest::serializeFruits(whole, all_fruits));
-  CHECK(harvest::serializeGridPoints(joined, all_points) == harvest::serializeGridPoints(whole, all_points));
+  CHECK(harvest::serializeFruits(joined, all_fruits) ==
+        harvest::serializeFruits(whole, all_fruits));
+  CHECK(harvest::serializeGridPoints(joined, all_points) ==
+        harvest::serializeGridPoints(whole, all_points));
   CHECK_FALSE(harvest::deserializeFruits(grid_units[0], joined, got));  // another unit kind
 
   // The stage: killed (no finish), units lost, resumed -> the files of a run without checkpoints.
@@ -383,14 +404,17 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   std::string msg;
   {
     CheckpointStore store(out, "fp\n", msg);
-    CHECK(harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed == 0);
+    CHECK(
+        harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed ==
+        0);
   }
   const long n_units = static_cast<long>(unitFiles(out, "harvest_").size());
   CHECK(n_units == 3 + (all_points.end + 1) / 2);
   const long intact = damageStore(out, "harvest_");
   fs::remove_all(fs::path(out) / "harvest");
   CheckpointStore store(out, "fp\n", msg);
-  CHECK(harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed == intact);
+  CHECK(harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed ==
+        intact);
   CHECK(resultFiles(out) == ref_files);
 }
 
@@ -399,10 +423,12 @@ namespace {
 // Starts `armstudy run` in the background and SIGKILLs it as soon as `ready` holds for its
 // checkpoint folder. Returns true when it was killed before it finished.
 template <class Ready>
-bool runAndKill(const std::string& args, const fs::path& dir, const fs::path& study_out, Ready&& ready) {
+bool runAndKill(const std::string& args, const fs::path& dir, const fs::path& study_out,
+                Ready&& ready) {
   const fs::path pidfile = dir / "pid";
-  REQUIRE(std::system((binaryPath() + " run " + args + " > /dev/null 2>&1 & echo $! > " + pidfile.string()).c_str()) ==
-          0);
+  REQUIRE(std::system(
+              (binaryPath() + " run " + args + " > /dev/null 2>&1 & echo $! > " + pidfile.string())
+                  .c_str()) == 0);
   const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
   bool hit = false;
   for (int i = 0; i < 4000 && !hit; ++i) {
@@ -431,7 +457,8 @@ void resumeAndCompare(const std::string& args, const fs::path& study_out, const 
 
 }  // namespace
 
-TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks", "[study][chunk][checkpoint][e2e]") {
+TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks",
+          "[study][chunk][checkpoint][e2e]") {
   const fs::path dir = freshDir("kill_grid");
   const std::string study =
       writeStudy(dir, "g", {"final_prototype_7dof"},
@@ -440,7 +467,9 @@ TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks", 
                  "z = { from = \"0.4 m\", to = \"1.6 m\", step = \"0.05 m\" }\n"
                  "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = [\"0 deg\", \"20 deg\"]\n");
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(),
+                 log) == 0);
   const fs::path out = dir / "out/g";
   const std::string args = study + " --threads 1 --unit-size 1 --output " + (dir / "out").string();
   // One grid line per unit: 50 units; kill once a few are saved.
@@ -448,7 +477,8 @@ TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks", 
     const auto saved = unitFiles(out).size();
     CHECK(saved >= 3);
     CHECK(saved < 50);
-    resumeAndCompare(study + " --threads 2 --unit-size 1 --output " + (dir / "out").string(), out, dir / "ref/g");
+    resumeAndCompare(study + " --threads 2 --unit-size 1 --output " + (dir / "out").string(), out,
+                     dir / "ref/g");
   } else {
     WARN("the run finished before it could be killed; nothing to resume");
   }
@@ -457,15 +487,18 @@ TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks", 
 TEST_CASE("a run killed in its harvest stage resumes its dexterity and harvest units",
           "[study][chunk][checkpoint][e2e]") {
   const fs::path dir = freshDir("kill_stages");
-  const std::string study =
-      writeStudy(dir, "dh", {"final_prototype_9dof"}, std::string(kDexteritySection) + kHarvestSection);
+  const std::string study = writeStudy(dir, "dh", {"final_prototype_9dof"},
+                                       std::string(kDexteritySection) + kHarvestSection);
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(),
+                 log) == 0);
   const fs::path out = dir / "out/dh";
   const std::string args = study + " --threads 1 --unit-size 2 --output " + (dir / "out").string();
   if (runAndKill(args, dir, out, [&] { return !unitFiles(out, "harvest_").empty(); })) {
     CHECK_FALSE(unitFiles(out, "dexterity_").empty());
-    resumeAndCompare(study + " --threads 2 --unit-size 2 --output " + (dir / "out").string(), out, dir / "ref/dh");
+    resumeAndCompare(study + " --threads 2 --unit-size 2 --output " + (dir / "out").string(), out,
+                     dir / "ref/dh");
   } else {
     WARN("the run finished before it could be killed; nothing to resume");
   }
