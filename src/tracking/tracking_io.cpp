@@ -1,5 +1,5 @@
-// Reading the [[tracking]] entries of a study (docs/tracking.md). Everything is checked here, before
-// any work: a study that loads runs without input errors.
+// Reading the [[tracking]] entries of a study (docs/tracking.md). Everything is checked here,
+// before any work: a study that loads runs without input errors.
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -42,7 +42,8 @@ void readNullspace(TableReader& r, const Model& model, TrackingEntry& e) {
   if (r.has("joint_weights")) {
     ro.joint_weights = r.numberArray("joint_weights");
     if (static_cast<int>(ro.joint_weights.size()) != model.dof())
-      r.fail("joint_weights", "expected one weight per joint (" + std::to_string(model.dof()) + ")");
+      r.fail("joint_weights",
+             "expected one weight per joint (" + std::to_string(model.dof()) + ")");
     for (double w : ro.joint_weights)
       if (!(w > 0)) r.fail("joint_weights", "joint weights must be > 0");
   }
@@ -54,7 +55,8 @@ void readNullspace(TableReader& r, const Model& model, TrackingEntry& e) {
   if (e.w_joint_limits < 0) r.fail("joint_limits", "weight must be >= 0");
   e.joint_limit_activation = r.number("joint_limit_activation", e.joint_limit_activation);
   if (!(e.joint_limit_activation > 0 && e.joint_limit_activation < 0.5))
-    r.fail("joint_limit_activation", "must lie in (0, 0.5) (fraction of the range inside each limit)");
+    r.fail("joint_limit_activation",
+           "must lie in (0, 0.5) (fraction of the range inside each limit)");
   e.w_manipulability = r.number("manipulability", e.w_manipulability);
   if (e.w_manipulability < 0) r.fail("manipulability", "weight must be >= 0");
 }
@@ -85,7 +87,8 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
     if (m->name == e.design) model = m;
   if (!model) r.fail("design", "design '" + e.design + "' is not a design or variant of the study");
   if (model->collision.volumes.empty())
-    r.fail("design", "design '" + e.design + "' has no [[collision]] volumes (distances need them)");
+    r.fail("design",
+           "design '" + e.design + "' has no [[collision]] volumes (distances need them)");
   const int n = model->dof();
 
   const toml::array* q = r.array("q0");
@@ -96,19 +99,24 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
   e.q0.resize(n);
   for (int i = 0; i < n; ++i) {
     const Joint& j = model->joints[i];
-    e.q0[i] = io::nodeQuantity(*q->get(i),
-                               j.type == JointType::Prismatic ? Dimension::Length : Dimension::Angle,
-                               r.file(), r.keyPath("q0"));
+    e.q0[i] = io::nodeQuantity(
+        *q->get(i), j.type == JointType::Prismatic ? Dimension::Length : Dimension::Angle, r.file(),
+        r.keyPath("q0"));
     if (e.q0[i] < j.limits.q_min || e.q0[i] > j.limits.q_max)
-      r.fail("q0", "joint " + j.name + " = " + std::to_string(e.q0[i]) + " lies outside its limits [" +
-                       std::to_string(j.limits.q_min) + ", " + std::to_string(j.limits.q_max) + "]");
+      r.fail("q0", "joint " + j.name + " = " + std::to_string(e.q0[i]) +
+                       " lies outside its limits [" + std::to_string(j.limits.q_min) + ", " +
+                       std::to_string(j.limits.q_max) + "]");
   }
 
   const std::string task = r.string("task_space", "position");
-  if (task == "position") e.task = ik::PoseTaskKind::Position;
-  else if (task == "position_axis") e.task = ik::PoseTaskKind::PositionAxis;
-  else if (task == "full" || task == "pose") e.task = ik::PoseTaskKind::FullPose;
-  else r.fail("task_space", "unknown task space '" + task + "' (position, position_axis, full)");
+  if (task == "position")
+    e.task = ik::PoseTaskKind::Position;
+  else if (task == "position_axis")
+    e.task = ik::PoseTaskKind::PositionAxis;
+  else if (task == "full" || task == "pose")
+    e.task = ik::PoseTaskKind::FullPose;
+  else
+    r.fail("task_space", "unknown task space '" + task + "' (position, position_axis, full)");
   if (taskDim(e.task) >= n)
     r.fail("task_space", "'" + e.design + "' has no redundancy for a " + task +
                              " task (the null space would be empty)");
@@ -122,7 +130,8 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
   e.duration_s = r.number("duration");
   if (!(e.duration_s > 0)) r.fail("duration", "duration must be > 0 [s]");
   e.rate_Hz = r.number("rate", e.rate_Hz);
-  if (!(e.rate_Hz > 0) || e.rate_Hz > kMaxRate_Hz) r.fail("rate", "rate must lie in (0, 100000] Hz");
+  if (!(e.rate_Hz > 0) || e.rate_Hz > kMaxRate_Hz)
+    r.fail("rate", "rate must lie in (0, 100000] Hz");
   if (e.duration_s * e.rate_Hz > kMaxSamples)
     r.fail("duration", "duration x rate exceeds 1e6 samples");
   e.stop_at_joint_limit = r.boolean("stop_at_joint_limit", e.stop_at_joint_limit);
@@ -136,7 +145,8 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
       const collision::Obstacle* found = nullptr;
       for (const auto& o : obstacles)
         if (o.name == name) found = &o;
-      if (!found) r.fail("obstacles", "unknown obstacle '" + name + "' (define it in an [[obstacle]] table)");
+      if (!found)
+        r.fail("obstacles", "unknown obstacle '" + name + "' (define it in an [[obstacle]] table)");
       if (!seen.insert(name).second) r.fail("obstacles", "obstacle '" + name + "' is listed twice");
       e.obstacles.push_back(*found);
     }
@@ -177,11 +187,13 @@ std::string TrackingEntry::validate(int dof) const {
   if (!(w_joint_limits >= 0) || !(w_manipulability >= 0)) return "objective weights must be >= 0";
   if (!(joint_limit_activation > 0 && joint_limit_activation < 0.5))
     return "joint_limit_activation must lie in (0, 0.5)";
-  if (!(avoidance.weight > 0) || !std::isfinite(avoidance.weight)) return "avoidance weight must be > 0";
+  if (!(avoidance.weight > 0) || !std::isfinite(avoidance.weight))
+    return "avoidance weight must be > 0";
   if (std::string why = avoidance.potential.validate(); !why.empty()) return "avoidance: " + why;
   if (avoidance.potential.environment != !obstacles.empty())
     return "avoidance.environment must be set exactly when there are obstacles";
-  if (!avoidance.potential.environment && !avoidance.potential.self) return "H_c has nothing to avoid";
+  if (!avoidance.potential.environment && !avoidance.potential.self)
+    return "H_c has nothing to avoid";
   if (static_cast<int>(obstacles.size()) > collision::kMaxObstacles) return "too many obstacles";
   ik::TrackingOptions t;
   t.redundancy = redundancy;

@@ -26,9 +26,9 @@ using nlohmann::ordered_json;
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPathRate_Hz = 100.0;   // TCP path points per second in the .vtp
-constexpr double kPlotRate_Hz = 200.0;   // plotted samples per second in the SVGs
-constexpr int kCircleSegments = 36;      // wireframe circles of the obstacles in the .vtp
+constexpr double kPathRate_Hz = 100.0;  // TCP path points per second in the .vtp
+constexpr double kPlotRate_Hz = 200.0;  // plotted samples per second in the SVGs
+constexpr int kCircleSegments = 36;     // wireframe circles of the obstacles in the .vtp
 }  // namespace
 
 const char* toString(RunKind k) { return k == RunKind::Plain ? "plain" : "with_hc"; }
@@ -82,12 +82,13 @@ RunResult runOnce(const Model& model, const TrackingEntry& e, const LineReferenc
   // Thesis eq. (5.51): H = w_j H_j + w_c H_c + w_m H_m; H_c only in the second run.
   ik::WeightedObjective objective;
   if (e.w_joint_limits > 0)
-    objective.add(e.w_joint_limits, std::make_shared<ik::JointLimitTerm>(model, e.joint_limit_activation));
+    objective.add(e.w_joint_limits,
+                  std::make_shared<ik::JointLimitTerm>(model, e.joint_limit_activation));
   if (e.w_manipulability > 0)
     objective.add(e.w_manipulability,
-                  std::make_shared<ik::ManipulabilityTerm>(e.task == ik::PoseTaskKind::FullPose
-                                                               ? metrics::MeasureSpace::Full
-                                                               : metrics::MeasureSpace::Translational));
+                  std::make_shared<ik::ManipulabilityTerm>(
+                      e.task == ik::PoseTaskKind::FullPose ? metrics::MeasureSpace::Full
+                                                           : metrics::MeasureSpace::Translational));
   if (kind == RunKind::WithHc)
     objective.add(e.avoidance.weight,
                   std::make_shared<collision::CollisionTerm>(e.avoidance.potential, e.obstacles));
@@ -181,7 +182,9 @@ std::string num(double v) {
   return buf;
 }
 
-ordered_json finiteOrNull(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
+ordered_json finiteOrNull(double v) {
+  return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr);
+}
 
 std::string pairText(const RunResult& r, int pair) { return pair >= 0 ? r.pair_names[pair] : ""; }
 
@@ -237,21 +240,24 @@ bool inContact(const RunSample& s) { return s.obstacle_distance_m < 0 || s.self_
 void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference& line,
                  const RunResult& r, const std::string& path) {
   PolyBuilder b;
-  b.poly.lines.push_back({b.add(line.p0_W, 0, 0, false, 0), b.add(line.p1_W, e.duration_s, 0, false, 0)});
+  b.poly.lines.push_back(
+      {b.add(line.p0_W, 0, 0, false, 0), b.add(line.p1_W, e.duration_s, 0, false, 0)});
   const int n = static_cast<int>(r.samples.size());
   const int stride = std::max(1, static_cast<int>(std::lround(e.rate_Hz / kPathRate_Hz)));
   std::vector<int> path_ids;
   for (int k = 0; k < n; k += stride)
     path_ids.push_back(b.add(r.samples[k].p_WT, r.samples[k].t, 1, inContact(r.samples[k]), 0));
   if (n > 0 && (n - 1) % stride != 0)
-    path_ids.push_back(b.add(r.samples[n - 1].p_WT, r.samples[n - 1].t, 1, inContact(r.samples[n - 1]), 0));
+    path_ids.push_back(
+        b.add(r.samples[n - 1].p_WT, r.samples[n - 1].t, 1, inContact(r.samples[n - 1]), 0));
   if (path_ids.size() >= 2) b.poly.lines.push_back(path_ids);
 
   KinematicsWorkspace ws(model);
   const Eigen::Vector3d p_base(model.base.x, model.base.y, model.base.z);
   const int shots = n == 0 ? 0 : std::min(e.snapshots, n);
   for (int k = 0; k < shots; ++k) {
-    const int idx = shots == 1 ? 0 : static_cast<int>(std::lround(double(k) * (n - 1) / (shots - 1)));
+    const int idx =
+        shots == 1 ? 0 : static_cast<int>(std::lround(double(k) * (n - 1) / (shots - 1)));
     const RunSample& s = r.samples[idx];
     forwardKinematics(model, ws, s.q);
     const bool c = inContact(s);
@@ -267,7 +273,8 @@ void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference
     for (int c = 0; c < np; ++c) {
       core.push_back(b.add(o.p_W[c], 0, 3, false, o.radius_m));
       for (int plane = 0; plane < 3; ++plane) {
-        const Eigen::Vector3d u = Eigen::Vector3d::Unit(plane), v = Eigen::Vector3d::Unit((plane + 1) % 3);
+        const Eigen::Vector3d u = Eigen::Vector3d::Unit(plane),
+                              v = Eigen::Vector3d::Unit((plane + 1) % 3);
         std::vector<int> circle;
         for (int k = 0; k < kCircleSegments; ++k) {
           const double a = 2 * M_PI * k / kCircleSegments;
@@ -308,12 +315,15 @@ ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult
   j["run"] = toString(r.kind);
   j["status"] = ik::toString(r.status);
   j["completed"] = r.completed();
-  j["limit_joint"] = r.limit_joint >= 0 ? ordered_json(model.joints[r.limit_joint].name) : ordered_json(nullptr);
+  j["limit_joint"] =
+      r.limit_joint >= 0 ? ordered_json(model.joints[r.limit_joint].name) : ordered_json(nullptr);
   j["samples"] = r.samples.size();
   j["end_time_s"] = r.samples.empty() ? 0.0 : r.samples.back().t;
   j["collision_free"] = r.collisionFree();
-  j["first_contact_s"] = r.first_contact_s ? ordered_json(*r.first_contact_s) : ordered_json(nullptr);
-  j["first_contact_pair"] = r.first_contact_s ? ordered_json(pairText(r, r.first_contact_pair)) : ordered_json(nullptr);
+  j["first_contact_s"] =
+      r.first_contact_s ? ordered_json(*r.first_contact_s) : ordered_json(nullptr);
+  j["first_contact_pair"] =
+      r.first_contact_s ? ordered_json(pairText(r, r.first_contact_pair)) : ordered_json(nullptr);
   if (!e.obstacles.empty()) {
     j["min_obstacle_distance_m"] = finiteOrNull(r.min_obstacle_distance_m);
     j["min_obstacle_pair"] = pairText(r, r.min_obstacle_pair);
@@ -324,17 +334,20 @@ ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult
   j["min_self_time_s"] = r.min_self_time_s;
   j["max_position_error_m"] = r.max_position_error_m;
   j["final_position_error_m"] = r.final_position_error_m;
-  if (e.task != ik::PoseTaskKind::Position) j["max_orientation_error_rad"] = r.max_orientation_error_rad;
+  if (e.task != ik::PoseTaskKind::Position)
+    j["max_orientation_error_rad"] = r.max_orientation_error_rad;
   j["max_joint_speed"] = r.max_joint_speed;
   j["max_joint_speed_ratio"] = r.max_speed_ratio;
-  j["max_joint_speed_ratio_joint"] =
-      r.max_speed_joint >= 0 ? ordered_json(model.joints[r.max_speed_joint].name) : ordered_json(nullptr);
+  j["max_joint_speed_ratio_joint"] = r.max_speed_joint >= 0
+                                         ? ordered_json(model.joints[r.max_speed_joint].name)
+                                         : ordered_json(nullptr);
   return j;
 }
 
 }  // namespace
 
-TrackingStageSummary runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries) {
+TrackingStageSummary runTrackingStage(const StageContext& ctx,
+                                      const std::vector<TrackingEntry>& entries) {
   const auto t0 = std::chrono::steady_clock::now();
   TrackingStageSummary sum;
   std::vector<const Model*> models;
@@ -373,7 +386,8 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx, const std::vector
         "the null-space IK (Algorithm 5.3, drift compensation eq. 5.50, explicit Euler eq. 5.49). "
         "Each entry runs twice: without and with the collision-avoidance potential H_c "
         "(eq. 5.53-5.57) in the null-space objective (eq. 5.51). Distances are those of the "
-        "swept-sphere volumes (negative = overlap; docs/collision.md). Details: docs/tracking.md.\n\n";
+        "swept-sphere volumes (negative = overlap; docs/collision.md). Details: "
+        "docs/tracking.md.\n\n";
   ordered_json js;
   js["study"] = ctx.study.name;
   js["entries"] = ordered_json::array();
@@ -393,8 +407,10 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx, const std::vector
       const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
       M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
       M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;
-      if (!e.obstacles.empty()) M.scalars[mp + "min_obstacle_distance_m"] = r->min_obstacle_distance_m;
-      if (std::isfinite(r->min_self_distance_m)) M.scalars[mp + "min_self_distance_m"] = r->min_self_distance_m;
+      if (!e.obstacles.empty())
+        M.scalars[mp + "min_obstacle_distance_m"] = r->min_obstacle_distance_m;
+      if (std::isfinite(r->min_self_distance_m))
+        M.scalars[mp + "min_self_distance_m"] = r->min_self_distance_m;
       M.scalars[mp + "max_tcp_error_m"] = r->max_position_error_m;
       M.scalars[mp + "final_tcp_error_m"] = r->final_position_error_m;
       M.scalars[mp + "max_joint_speed_ratio"] = r->max_speed_ratio;
@@ -413,27 +429,31 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx, const std::vector
     std::vector<report::Series> es;
     for (const RunResult* r : {&er.plain, &er.with_hc})
       es.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
-    writeFileAtomic((dir / (base + "_tcp_error.svg")).string(),
-                    report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
+    writeFileAtomic(
+        (dir / (base + "_tcp_error.svg")).string(),
+        report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
     sum.files.push_back(rel(base + "_distance.svg"));
     sum.files.push_back(rel(base + "_tcp_error.svg"));
 
     // Report section.
     std::string obstacle_list;
     for (const auto& o : e.obstacles)
-      obstacle_list += (obstacle_list.empty() ? "" : ", ") + o.name + " (" + toString(o.type) + ", r = " +
-                       report::fixed(o.radius_m, 3) + " m)";
+      obstacle_list += (obstacle_list.empty() ? "" : ", ") + o.name + " (" + toString(o.type) +
+                       ", r = " + report::fixed(o.radius_m, 3) + " m)";
     const Eigen::Vector3d& p0 = er.line.p0_W;
     const Eigen::Vector3d& p1 = er.line.p1_W;
     md << "## " << e.name << "\n\n"
        << "Design `" << e.design << "`, " << ik::toString(e.task) << " task, TCP from ("
-       << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", " << report::fixed(p0.z(), 3)
-       << ") m to (" << report::fixed(p1.x(), 3) << ", " << report::fixed(p1.y(), 3) << ", "
-       << report::fixed(p1.z(), 3) << ") m in " << report::fixed(e.duration_s, 2) << " s at "
-       << report::fixed(e.rate_Hz, 0) << " Hz; null-space gain alpha = " << e.redundancy.alpha
+       << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
+       << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
+       << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
+       << report::fixed(e.duration_s, 2) << " s at " << report::fixed(e.rate_Hz, 0)
+       << " Hz; null-space gain alpha = " << e.redundancy.alpha
        << "/s, drift gain K = " << e.redundancy.drift_gain << "/s"
-       << (e.w_joint_limits > 0 ? ", H_j weight " + report::fixed(e.w_joint_limits, 3) : std::string())
-       << (e.w_manipulability > 0 ? ", H_m1 weight " + report::fixed(e.w_manipulability, 3) : std::string())
+       << (e.w_joint_limits > 0 ? ", H_j weight " + report::fixed(e.w_joint_limits, 3)
+                                : std::string())
+       << (e.w_manipulability > 0 ? ", H_m1 weight " + report::fixed(e.w_manipulability, 3)
+                                  : std::string())
        << ". Obstacles: " << (obstacle_list.empty() ? "none" : obstacle_list)
        << ". H_c: d_a = " << report::fixed(e.avoidance.potential.safety_distance_m, 3)
        << " m, t = " << e.avoidance.potential.blend_t << ", H_0 = " << e.avoidance.potential.h0
@@ -441,28 +461,30 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx, const std::vector
        << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".\n\n";
     std::vector<std::vector<std::string>> rows;
     for (const RunResult* r : {&er.plain, &er.with_hc}) {
-      const std::string contact =
-          r->first_contact_s ? report::fixed(*r->first_contact_s, 3) + " s (" + pairText(*r, r->first_contact_pair) + ")"
-                             : "none";
+      const std::string contact = r->first_contact_s
+                                      ? report::fixed(*r->first_contact_s, 3) + " s (" +
+                                            pairText(*r, r->first_contact_pair) + ")"
+                                      : "none";
       rows.push_back({runLabel(r->kind), r->statusText(model),
-                      obst ? mm(r->min_obstacle_distance_m) + " (" + pairText(*r, r->min_obstacle_pair) +
+                      obst ? mm(r->min_obstacle_distance_m) + " (" +
+                                 pairText(*r, r->min_obstacle_pair) +
                                  ", t = " + report::fixed(r->min_obstacle_time_s, 2) + " s)"
                            : "-",
-                      mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")", contact,
-                      report::scientific(r->max_position_error_m, 2),
+                      mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")",
+                      contact, report::scientific(r->max_position_error_m, 2),
                       report::scientific(r->final_position_error_m, 2),
                       r->max_speed_joint >= 0 ? report::percent(r->max_speed_ratio, 0) + " (" +
                                                     model.joints[r->max_speed_joint].name + ")"
                                               : "-"});
     }
-    md << report::markdownTable({"run", "status", ">min obstacle distance [mm]", ">min self distance [mm]",
-                                 "first contact", ">max TCP error [m]", ">final TCP error [m]",
-                                 ">peak joint speed / limit"},
+    md << report::markdownTable({"run", "status", ">min obstacle distance [mm]",
+                                 ">min self distance [mm]", "first contact", ">max TCP error [m]",
+                                 ">final TCP error [m]", ">peak joint speed / limit"},
                                 rows)
        << "\nThe IK is kinematic: joint speeds are not limited; the last column is the largest "
           "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
-          "not follow).\n\n![" << what << "](" << base << "_distance.svg) ![TCP error](" << base
-       << "_tcp_error.svg)\n\n"
+          "not follow).\n\n!["
+       << what << "](" << base << "_distance.svg) ![TCP error](" << base << "_tcp_error.svg)\n\n"
        << "Per-sample data: `" << base << "_plain.csv`, `" << base
        << "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, obstacles; "
           "colour by `in_contact` or `time`): `"

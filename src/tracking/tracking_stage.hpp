@@ -49,10 +49,10 @@ struct AvoidanceOptions {
 
 struct TrackingEntry {
   std::string name;
-  std::string design;                 // model name of a study design or variant
-  Eigen::VectorXd q0;                 // start configuration (SI)
+  std::string design;  // model name of a study design or variant
+  Eigen::VectorXd q0;  // start configuration (SI)
   ik::PoseTaskKind task = ik::PoseTaskKind::Position;
-  bool line_is_delta = true;          // true: `line` is p1 - p0; false: `line` is p1 in W
+  bool line_is_delta = true;  // true: `line` is p1 - p0; false: `line` is p1 in W
   Eigen::Vector3d line = Eigen::Vector3d::Zero();  // [m]
   double duration_s = 0;
   double rate_Hz = 1.0 / defaults::kTrackingStep_s;
@@ -93,8 +93,8 @@ struct RunSample {
   JointVector q;
   Eigen::Vector3d p_WT = Eigen::Vector3d::Zero();
   double position_error_m = 0, orientation_error_rad = 0;
-  double obstacle_distance_m = 0;   // min over body-obstacle pairs (+inf without obstacles)
-  double self_distance_m = 0;       // min over self-collision pairs (+inf without pairs)
+  double obstacle_distance_m = 0;          // min over body-obstacle pairs (+inf without obstacles)
+  double self_distance_m = 0;              // min over self-collision pairs (+inf without pairs)
   int obstacle_pair = -1, self_pair = -1;  // indices into RunResult::pair_names (-1: none)
 };
 
@@ -104,10 +104,10 @@ const char* toString(RunKind k);  // "plain", "with_hc"
 struct RunResult {
   RunKind kind = RunKind::Plain;
   ik::TrackingStatus status = ik::TrackingStatus::Completed;
-  int limit_joint = -1;              // the joint that left its limits (JointLimitReached)
+  int limit_joint = -1;  // the joint that left its limits (JointLimitReached)
   std::vector<RunSample> samples;
   std::vector<std::string> pair_names;  // closest pairs seen, first-seen order
-  double max_joint_speed = 0;        // max |qdot_i| [rad/s or m/s]
+  double max_joint_speed = 0;           // max |qdot_i| [rad/s or m/s]
   // max |qdot_i| / qd_max_i over the joints with a velocity limit, and that joint (-1: none). The
   // IK is kinematic: joint speeds are not limited, this says whether the drives could follow.
   double max_speed_ratio = 0;
@@ -118,7 +118,8 @@ struct RunResult {
   double min_self_distance_m = 0, min_self_time_s = 0;
   int min_self_pair = -1;
   double max_position_error_m = 0, max_orientation_error_rad = 0;
-  double final_position_error_m = 0;  // |p_WT - p_ref| at the last sample (the line's end when completed)
+  double final_position_error_m =
+      0;  // |p_WT - p_ref| at the last sample (the line's end when completed)
   std::optional<double> first_contact_s;  // first sample with a negative obstacle or self distance
   int first_contact_pair = -1;
   bool completed() const { return status == ik::TrackingStatus::Completed; }

@@ -65,7 +65,8 @@ RunCsv readRunCsv(const std::string& path, const std::vector<std::string>& numer
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::size_t a = 0;
-    for (std::size_t b; (b = line.find(',', a)) != std::string::npos; a = b + 1) cells.push_back(line.substr(a, b - a));
+    for (std::size_t b; (b = line.find(',', a)) != std::string::npos; a = b + 1)
+      cells.push_back(line.substr(a, b - a));
     cells.push_back(line.substr(a));
     REQUIRE(cells.size() == header.size());
     for (std::size_t i = 0; i < header.size(); ++i) r.text[header[i]].push_back(cells[i]);
@@ -131,8 +132,8 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   const Eigen::Vector3d p0 = ws.p_WT, p1 = p0 + Eigen::Vector3d(0.6, 0, 0);
   auto onLine = [&](double t) -> Eigen::Vector3d { return p0 + (p1 - p0) * (t / e.duration_s); };
 
-  std::vector<std::string> numeric = {"t_s", "x_m", "y_m", "z_m", "position_error_m",
-                                      "obstacle_distance_m", "self_distance_m"};
+  std::vector<std::string> numeric = {
+      "t_s", "x_m", "y_m", "z_m", "position_error_m", "obstacle_distance_m", "self_distance_m"};
   for (const Joint& j : m.joints) numeric.push_back("q_" + j.name);
   collision::CollisionWorkspace cws(m);
   const auto summary = nlohmann::json::parse(readFileOrThrow((out / "summary.json").string()));
@@ -182,9 +183,10 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   };
 
   const Recomputed plain = recompute("plain");
-  INFO("plain: min distance " << plain.min_d << " (" << plain.pair << "), max TCP error " << plain.max_err);
+  INFO("plain: min distance " << plain.min_d << " (" << plain.pair << "), max TCP error "
+                              << plain.max_err);
   CHECK(plain.rows == 4001);
-  CHECK(plain.min_d < 0);                       // the upper arm runs into the sphere
+  CHECK(plain.min_d < 0);  // the upper arm runs into the sphere
   CHECK(plain.pair == "j3-obstacle:sphere");
   CHECK(plain.max_err < kPlainTracking_m);
   CHECK(runs[0]["run"] == "plain");
@@ -196,11 +198,12 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   CHECK(runs[0]["first_contact_s"].get<double>() > 0.5);  // clear at the start
 
   const Recomputed with = recompute("with_hc");
-  INFO("with H_c: min distance " << with.min_d << " (" << with.pair << "), max TCP error " << with.max_err);
+  INFO("with H_c: min distance " << with.min_d << " (" << with.pair << "), max TCP error "
+                                 << with.max_err);
   CHECK(with.rows == 4001);
   CHECK(with.last_t == Approx(e.duration_s).margin(1e-12));
-  CHECK(with.all_clear);                        // every sample clear of the sphere
-  CHECK(with.max_err < kFig513Tracking_m);      // while the TCP stays on the line
+  CHECK(with.all_clear);                    // every sample clear of the sphere
+  CHECK(with.max_err < kFig513Tracking_m);  // while the TCP stays on the line
   CHECK(with.final_err < kFig513Tracking_m);
   CHECK(runs[1]["run"] == "with_hc");
   CHECK(runs[1]["completed"] == true);
@@ -211,7 +214,8 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   // matches the Euler steps of the written trajectory (its maximum lies inside the run).
   CHECK(runs[1]["max_joint_speed_ratio"].get<double>() ==
         Approx(with.max_speed_ratio).epsilon(kSpeedFromCsvRelative));
-  CHECK(runs[0]["max_joint_speed_ratio"].get<double>() >= plain.max_speed_ratio * (1 - kSpeedFromCsvRelative));
+  CHECK(runs[0]["max_joint_speed_ratio"].get<double>() >=
+        plain.max_speed_ratio * (1 - kSpeedFromCsvRelative));
 
   // Summary metrics for `armstudy check`.
   const auto& M = a.metrics.scalars;
@@ -251,12 +255,15 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
         CHECK((dc < 1e-12 || std::abs(dc - radius->GetTuple1(p)) < 1e-12));
       }
     }
-    // 9 skeletons of base + 7 frame origins + TCP; lines: reference, TCP path, 9 skeletons, 3 circles.
+    // 9 skeletons of base + 7 frame origins + TCP; lines: reference, TCP path, 9 skeletons, 3
+    // circles.
     CHECK(skeleton_points == 9 * (m.dof() + 2));
     CHECK(poly->GetNumberOfLines() == 1 + 1 + 9 + 3);
     CHECK(max_time == Approx(e.duration_s).margin(1e-12));
-    if (run == "plain") CHECK(contact_points > 0);   // some snapshot shows the collision
-    else CHECK(contact_points == 0);
+    if (run == "plain")
+      CHECK(contact_points > 0);  // some snapshot shows the collision
+    else
+      CHECK(contact_points == 0);
   }
 
   // Byte-identical result files with another thread count (timings only in the manifest).
@@ -271,6 +278,20 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
           readFileOrThrow((fs::path(b.output_dir) / f).string()));
   }
   CHECK(compared == 2 * 2 + 2 + 2);  // csv + vtp per run, 2 plots, report, summary
+  fs::remove_all(root);
+}
+
+TEST_CASE("the shipped Fig. 5.13 study passes `armstudy check` against its committed baseline",
+          "[tracking][regression]") {
+  const fs::path root = fs::temp_directory_path() / "armstudy_tracking_check";
+  fs::remove_all(root);
+  std::string out;
+  const int rc = test::runCommand(
+      test::binaryPath() + " check " + test::sourcePath(kStudy) + " --output " + root.string(),
+      out);
+  INFO(out);
+  CHECK(rc == 0);
+  CHECK(out.find("14 metric(s) compared") != std::string::npos);
   fs::remove_all(root);
 }
 
@@ -322,7 +343,8 @@ safety_distance = "50 mm"
   const std::string key = q_end > q_start ? "joint.j2.max" : "joint.j2.min";
   std::ostringstream v;
   v.precision(17);
-  v << "[[variant]]\nof = \"final_prototype_7dof\"\nset = { \"" << key << "\" = " << limit << " }\n";
+  v << "[[variant]]\nof = \"final_prototype_7dof\"\nset = { \"" << key << "\" = " << limit
+    << " }\n";
   const std::string variant = variantName("final_prototype_7dof", {{key, limit}});
   const Study lim = loadStudy(writeStudy(dir, v.str() + withDesign(variant)).string());
   const tracking::EntryResult r1 =
@@ -335,7 +357,8 @@ safety_distance = "50 mm"
   CHECK(r1.plain.samples.back().t < 1.0);
   // Every recorded sample is within the limit; the motion up to there is the free one.
   for (std::size_t k = 0; k < r1.plain.samples.size(); ++k) {
-    CHECK((q_end > q_start ? r1.plain.samples[k].q[1] <= limit : r1.plain.samples[k].q[1] >= limit));
+    CHECK(
+        (q_end > q_start ? r1.plain.samples[k].q[1] <= limit : r1.plain.samples[k].q[1] >= limit));
     CHECK((r1.plain.samples[k].q - r0.plain.samples[k].q).norm() == 0.0);
   }
   // Through the stage: the completed metric and the status in summary.json.
@@ -348,7 +371,7 @@ safety_distance = "50 mm"
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad [[tracking]] input is an InputError with file, line and key; nothing is written",
+TEST_CASE("bad [[tracking]] input is an InputError with file, line and key, and nothing is written",
           "[tracking][input]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_tracking_bad";
   fs::remove_all(dir);
@@ -383,15 +406,20 @@ self = true
       {"obstacles = [\"ball\"]", "obstacles = [\"bal\"]", "tracking[0].obstacles"},
       {"obstacles = [\"ball\"]", "obstacles = [\"ball\", \"ball\"]", "tracking[0].obstacles"},
       {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [0, 0.2, 0.3, 1.2, 0, 0.6]", "tracking[0].q0"},
-      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, \"400 deg\"]", "tracking[0].q0"},
-      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [\"5 m\", 0.2, 0.3, 1.2, 0, 0.6, 0]", "tracking[0].q0"},
-      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [\"10 deg\", 0.2, 0.3, 1.2, 0, 0.6, 0]", "tracking[0].q0"},
+      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, \"400 deg\"]",
+       "tracking[0].q0"},
+      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [\"5 m\", 0.2, 0.3, 1.2, 0, 0.6, 0]",
+       "tracking[0].q0"},
+      {"q0 = [0, 0.2, 0.3, 1.2, 0, 0.6, 0]", "q0 = [\"10 deg\", 0.2, 0.3, 1.2, 0, 0.6, 0]",
+       "tracking[0].q0"},
       {"duration = 1.0", "duration = 0", "tracking[0].duration"},
       {"duration = 1.0", "duration = -1.0", "tracking[0].duration"},
       {"duration = 1.0", "duration = \"1 s\"", "tracking[0].duration"},
       {"duration = 1.0", "duration = 1.0\nrate = 0", "tracking[0].rate"},
-      {"safety_distance = \"100 mm\"", "safety_distance = \"-100 mm\"", "tracking[0].avoidance.safety_distance"},
-      {"safety_distance = \"100 mm\"", "safety_distance = 0", "tracking[0].avoidance.safety_distance"},
+      {"safety_distance = \"100 mm\"", "safety_distance = \"-100 mm\"",
+       "tracking[0].avoidance.safety_distance"},
+      {"safety_distance = \"100 mm\"", "safety_distance = 0",
+       "tracking[0].avoidance.safety_distance"},
       {"weight = 2", "weight = 0", "tracking[0].avoidance.weight"},
       {"weight = 2", "weight = 2\nblend = 1.5", "tracking[0].avoidance.blend"},
       {"gain = 10", "gain = -1", "tracking[0].nullspace.gain"},
@@ -403,10 +431,12 @@ self = true
       {"delta = [\"0.2 m\", 0, 0]", "", "tracking[0].delta"},
       {"delta = [\"0.2 m\", 0, 0]", "delta = [\"0.2 deg\", 0, 0]", "tracking[0].delta"},
       {"task_space = \"position\"", "task_space = \"joint\"", "tracking[0].task_space"},
-      {"task_space = \"position\"", "task_space = \"full\"\nstop_at_joint_limit = 1", "tracking[0].stop_at_joint_limit"},
+      {"task_space = \"position\"", "task_space = \"full\"\nstop_at_joint_limit = 1",
+       "tracking[0].stop_at_joint_limit"},
       {"duration = 1.0", "duration = 1.0\nsnapshots = -1", "tracking[0].snapshots"},
       {"name = \"line\"", "name = \"a line\"", "tracking[0].name"},
-      {"obstacles = [\"ball\"]", "obstacles = []", "tracking[0].avoidance", "self = true", "self = false"},
+      {"obstacles = [\"ball\"]", "obstacles = []", "tracking[0].avoidance", "self = true",
+       "self = false"},
       {"self = true", "self = \"yes\"", "tracking[0].avoidance.self"},
   };
   for (const Case& c : cases) {
@@ -428,7 +458,8 @@ self = true
   }
   // A second entry with the same name.
   {
-    const std::string path = writeStudy(dir, good + good.substr(good.find("[[tracking]]"))).string();
+    const std::string path =
+        writeStudy(dir, good + good.substr(good.find("[[tracking]]"))).string();
     try {
       (void)loadStudy(path);
       FAIL("no InputError for a duplicate name");
@@ -441,7 +472,8 @@ self = true
   body.replace(body.find("duration = 1.0"), 14, "duration = 0");
   const std::string path = writeStudy(dir, body).string();
   std::string out;
-  CHECK(test::runCommand(test::binaryPath() + " run " + path + " --output " + (dir / "out").string(), out) == 2);
+  CHECK(test::runCommand(
+            test::binaryPath() + " run " + path + " --output " + (dir / "out").string(), out) == 2);
   CHECK(out.find("tracking[0].duration") != std::string::npos);
   CHECK(!fs::exists(dir / "out" / "t"));
   fs::remove_all(dir);
