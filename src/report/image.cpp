@@ -283,15 +283,22 @@ std::string svgLinePlot(const std::vector<Series>& series, const std::string& x_
     << xmlEscape(x_label) << "</text>\n<text x=\"14\" y=\"" << mt + ph / 2
     << "\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << mt + ph / 2 << ")\">" << xmlEscape(y_label)
     << "</text>\n";
+  auto colour = [](std::size_t k) { return hex(categorical(static_cast<int>(k) + 5 * (k > 0))); };
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
-    o << "<polyline fill=\"none\" stroke=\"" << hex(categorical(static_cast<int>(k) + 5 * (k > 0)))
-      << "\" stroke-width=\"1.5\" points=\"";
+    o << "<polyline fill=\"none\" stroke=\"" << colour(k) << "\" stroke-width=\"1.5\" points=\"";
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) o << X(s.x[i]) << "," << Y(s.y[i]) << " ";
-    o << "\"/>\n<text x=\"" << ml + 8 << "\" y=\"" << mt + 16 + 14 * k << "\" fill=\""
-      << hex(categorical(static_cast<int>(k) + 5 * (k > 0))) << "\">" << xmlEscape(s.label) << "</text>\n";
+    o << "\"/>\n";
   }
+  // Legend over the curves, in a half-transparent box: curves stay visible, the text legible.
+  std::size_t longest = 0;
+  for (const Series& s : series) longest = std::max(longest, s.label.size());
+  o << "<rect x=\"" << ml + 4 << "\" y=\"" << mt + 4 << "\" width=\"" << 12 + 7.0 * longest << "\" height=\""
+    << 6 + 14.0 * series.size() << "\" fill=\"white\" fill-opacity=\"0.8\" stroke=\"#ccc\"/>\n";
+  for (std::size_t k = 0; k < series.size(); ++k)
+    o << "<text x=\"" << ml + 8 << "\" y=\"" << mt + 16 + 14 * k << "\" fill=\"" << colour(k) << "\">"
+      << xmlEscape(series[k].label) << "</text>\n";
   o << "</svg>\n";
   return o.str();
 }
