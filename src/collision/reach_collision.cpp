@@ -166,7 +166,6 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     if (!r.reachable()) continue;
     const Check c = check(r.q);
     if (c.d_min > options.clearance_m) return accept(r, c, false);
-    if (descend(r.q, found, found_check)) return accept(found, found_check, true);
   }
   out.ik = first;
   out.ik.status = first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;

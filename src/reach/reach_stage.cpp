@@ -454,7 +454,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"classify_starts", cfg.ik.classify_starts},
                     {"seed", cfg.ik.seed},
                     {"algorithm", toString(cfg.ik.algorithm)},
-                    {"self_collision", cfg.collision.self}};
+                    {"self_collision", cfg.collision.self},
+                    {"nullspace_escape", cfg.collision.nullspace_escape}};
   {
     ordered_json jobs = ordered_json::array();
     for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
