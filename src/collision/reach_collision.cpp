@@ -39,7 +39,7 @@ namespace {
 // The smallest checked distance at a configuration and the pair attaining it.
 struct Check {
   double d_min = 0, d_obstacle = 0;
-  std::string pair;
+  PairDistance pair;      // the closest pair (named only when the pose ends in collision)
   int pair_index = -1;
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
@@ -72,6 +72,32 @@ bool nullspaceTarget(const IkTarget& t, ik::PoseTarget& out) {
   return false;
 }
 
+// From a colliding solution q: put the tool exactly on the pose, then descend H_c (safety
+// distance escape_safety_distance_m + clearance) in the null space of the task with the tool held
+// there (ik::optimiseAtPose). The result judged by the reach solver's tolerances and limits
+// (status Reachable or OutOfReach; its collision distances are the caller's to check).
+IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, const IkTarget& target, const ik::PoseTarget& pose_task,
+                         const IkOptions& ik_options, const CollisionReachOptions& options,
+                         std::span<const Obstacle> obstacles, const JointVector& q) {
+  CollisionPotentialOptions po;
+  po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
+  po.self = options.self;
+  po.environment = !obstacles.empty();
+  ik::WeightedObjective h_c;
+  h_c.add(1.0, std::make_shared<CollisionTerm>(po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
+  ik::ObjectiveContext ctx(model, ws.kin);
+  const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
+  // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
+  const ik::PoseSolveResult on = ik::solvePose(model, ws.kin, pose_task, q, w_inv, ik::PoseSolveOptions{});
+  ik::NullspaceOptions no;
+  no.max_iterations = defaults::kCollisionEscapeIterations;
+  const ik::NullspaceResult r = ik::optimiseAtPose(model, ws.kin, ctx, pose_task, on.q, h_c, w_inv, no);
+  if (r.status == ik::NullspaceStatus::NotOnPose) return IkResult{};
+  IkResult found = evaluateSolution(model, ws, target, ik_options, r.q, ReachStatus::OutOfReach);
+  found.starts = 0;
+  return found;
+}
+
 }  // namespace
 
 CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
@@ -92,45 +118,15 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     c.d_min = std::min(ds, de);
     c.d_obstacle = de;
     if (ds <= de && cws.closest_self >= 0) {
-      c.pair = pairName(model, cws.self[cws.closest_self], false);
+      c.pair = cws.self[cws.closest_self];
       c.pair_index = cws.closest_self;
     } else if (cws.closest_env >= 0) {
-      c.pair = pairName(model, cws.env[cws.closest_env], true, obstacles);
+      c.pair = cws.env[cws.closest_env];
       c.pair_index = (options.self ? cws.num_self : 0) + cws.closest_env;
       c.obstacle = true;
     }
     return c;
   };
-  // Step 1 of the escape: descend H_c in the null space from a colliding solution, the tool held
-  // on the pose (thesis section 5.4.3). True (and `found`) when that clears every pair.
-  ik::PoseTarget pose_task;
-  const bool nullspace = options.escape_safety_distance_m > 0 && nullspaceTarget(target, pose_task);
-  std::unique_ptr<ik::ObjectiveContext> ctx;
-  ik::WeightedObjective h_c;
-  auto descend = [&](const JointVector& q_colliding, IkResult& found, Check& found_check) {
-    if (!nullspace) return false;
-    if (!ctx) {
-      ctx = std::make_unique<ik::ObjectiveContext>(model, ws.kin);
-      CollisionPotentialOptions po;
-      po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
-      po.self = options.self;
-      po.environment = !obstacles.empty();
-      h_c.add(1.0, std::make_shared<CollisionTerm>(po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
-    }
-    const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
-    // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
-    const ik::PoseSolveResult on = ik::solvePose(model, ws.kin, pose_task, q_colliding, w_inv, ik::PoseSolveOptions{});
-    ik::NullspaceOptions no;
-    no.max_iterations = defaults::kCollisionEscapeIterations;
-    const ik::NullspaceResult r = ik::optimiseAtPose(model, ws.kin, *ctx, pose_task, on.q, h_c, w_inv, no);
-    if (r.status == ik::NullspaceStatus::NotOnPose) return false;
-    found = evaluateSolution(model, ws, target, ik_options, r.q, ReachStatus::OutOfReach);
-    if (!found.reachable()) return false;
-    found.starts = 0;
-    found_check = check(found.q);
-    return found_check.d_min > options.clearance_m;
-  };
-
   out.ik = solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
   if (!out.ik.reachable()) return out;
@@ -147,9 +143,15 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     out.nullspace_escape = by_descent;
     return out;
   };
-  IkResult found;
-  Check found_check;
-  if (descend(first.q, found, found_check)) return accept(found, found_check, true);
+  // Step 1: descend H_c in the null space from the colliding solution (thesis section 5.4.3).
+  ik::PoseTarget pose_task;
+  if (options.escape_safety_distance_m > 0 && nullspaceTarget(target, pose_task)) {
+    const IkResult found = nullspaceEscape(model, ws, target, pose_task, ik_options, options, obstacles, first.q);
+    if (found.reachable()) {
+      const Check c = check(found.q);
+      if (c.d_min > options.clearance_m) return accept(found, c, true);
+    }
+  }
   // Step 2: other solutions of the same pose (the redundancy), from other deterministic seeds.
   for (int k = 1; k <= options.escape_attempts; ++k) {
     // Each escape starts from its own random configuration (deterministic per pose and attempt);
@@ -166,11 +168,10 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     if (!r.reachable()) continue;
     const Check c = check(r.q);
     if (c.d_min > options.clearance_m) return accept(r, c, false);
-    if (descend(r.q, found, found_check)) return accept(found, found_check, true);
   }
   out.ik = first;
   out.ik.status = first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;
-  out.colliding_pair = first_check.pair;
+  out.colliding_pair = pairName(model, first_check.pair, first_check.obstacle, obstacles);
   out.colliding_pair_index = first_check.pair_index;
   return out;
 }

@@ -7,8 +7,7 @@
 //     (ik::optimiseAtPose, thesis section 5.4.3), which moves the links apart without leaving
 //     the pose;
 //  2. if that does not clear it, further IK solves from deterministic random starts (seeded by
-//     pose id and attempt) look for another posture, each again followed by the null-space
-//     descent when it collides.
+//     pose id and attempt) look for another posture.
 #include <span>
 #include <string>
 #include <vector>

@@ -234,14 +234,27 @@ namespace {
 
 // Heatmap image of a (gamma, z) field: gamma to the right, z upwards, viridis over [0, hi], grey
 // where the cell is unreachable (NaN), with the colour bar below.
-report::RasterImage heatmapImage(const DexterityMap& map, const std::vector<double>& v, double hi) {
+report::RasterImage heatmapCells(const DexterityMap& map, const std::vector<double>& v, double hi) {
   const int G = map.grid.gamma_rad.count, Z = map.grid.z_m.count;
   const double span = hi > 0 ? hi : 1.0;
-  const report::RasterImage cells = report::renderCellMap(G, Z, [&](int i, int j) {
+  return report::renderCellMap(G, Z, [&](int i, int j) {
     const double x = v[static_cast<std::size_t>(map.grid.index(i, j))];
     return std::isnan(x) ? kUnreachableGrey : report::viridis(x / span);
   });
-  return report::withColorBar(cells, report::viridis);
+}
+
+// The same map as a figure: gamma [deg] to the right, z [m] upwards, colour bar 0..hi.
+std::string heatmapFigure(const DexterityMap& map, const report::RasterImage& cells, double hi,
+                          const std::string& title, const std::string& scale_label) {
+  const AxisRange& ga = map.grid.gamma_rad;
+  const AxisRange& za = map.grid.z_m;
+  report::MapFigure f;
+  f.title = title;
+  f.x = report::cellAxis("gamma [deg]", ga.min * kRadToDeg, ga.max * kRadToDeg, ga.step() * kRadToDeg);
+  f.y = report::cellAxis("z [m]", za.min, za.max, za.step());
+  f.scale = report::ColourScale{report::viridis, 0, hi > 0 ? hi : 1.0, scale_label};
+  f.legend = {{kUnreachableGrey, "not reachable"}};
+  return report::svgMapFigure(cells, f);
 }
 
 nlohmann::ordered_json statsJson(const FieldStats& s) {
@@ -350,17 +363,23 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
     // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
     // max), reachable.
     const FieldStats beta_s = fieldStats(map, f.beta_opt);
-    struct Img { const char* key; const std::vector<double>* v; double hi; };
-    const Img imgs[] = {{"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0},
-                        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0},
-                        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0},
-                        {"reachable", &f.reachable, 1.0}};
-    std::map<std::string, std::string> png;
+    struct Img { const char* key; const std::vector<double>* v; double hi; const char* label; };
+    const Img imgs[] = {
+        {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised"},
+        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain"},
+        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised"},
+        {"reachable", &f.reachable, 1.0, "reachable (1)"}};
+    std::map<std::string, std::string> png;  // what the report shows: the .svg figures
     for (const Img& im : imgs) {
-      const std::string name = map.design + "_" + im.key + ".png";
-      report::writePng((fs::path(dir) / name).string(), heatmapImage(map, *im.v, im.hi));
-      sum.files.push_back(sub + "/" + name);
-      png[im.key] = name;
+      // <design>_<key>.png: the raw map with its colour bar; .svg: the figure with axes.
+      const std::string name = map.design + "_" + im.key;
+      const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
+      report::writePng((fs::path(dir) / (name + ".png")).string(), report::withColorBar(cells, report::viridis));
+      writeFileAtomic((fs::path(dir) / (name + ".svg")).string(),
+                      heatmapFigure(map, cells, im.hi, map.design, im.label));
+      sum.files.push_back(sub + "/" + name + ".png");
+      sum.files.push_back(sub + "/" + name + ".svg");
+      png[im.key] = name + ".svg";
     }
     const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);
     const FieldStats bp = fieldStats(map, f.beta_plain);

@@ -962,15 +962,34 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
                  : s == 1 ? report::Rgb{60, 170, 90}
                           : report::Rgb{215, 50, 40};
         });
+        // Raw maps (.png) and figures with axes and legends (.svg, shown in the report).
+        const char* an[3] = {"x", "y", "z"};
+        auto figure = [&](const std::string& title) {
+          report::MapFigure f;
+          f.title = title;
+          f.x = report::cellAxis(std::string(an[a0]) + " [m]", img.origin[a0],
+                                 img.origin[a0] + img.spacing[a0] * (img.dims[a0] - 1), img.spacing[a0]);
+          f.y = report::cellAxis(std::string(an[a1]) + " [m]", img.origin[a1],
+                                 img.origin[a1] + img.spacing[a1] * (img.dims[a1] - 1), img.spacing[a1]);
+          return f;
+        };
+        report::MapFigure status_fig = figure(model.name + ": static holding");
+        status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
+                             {report::Rgb{215, 50, 40}, "drive limit"},
+                             {report::Rgb{200, 200, 200}, "unreachable"}};
         report::writePng((dir / (base + "_holding_map.png")).string(), statusImg);
+        writeFileAtomic((dir / (base + "_holding_map.svg")).string(), report::svgMapFigure(statusImg, status_fig));
         const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
           const double r = ratio_rev.values[index(u, v)];
           return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
         });
+        report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
+        ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous"};
+        ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
         report::writePng((dir / (base + "_holding_ratio.png")).string(), ratioImg);
-        sum.files.push_back(rel(base + "_holding_map.png"));
-        sum.files.push_back(rel(base + "_holding_ratio.png"));
-        const char* an[3] = {"x", "y", "z"};
+        writeFileAtomic((dir / (base + "_holding_ratio.svg")).string(), report::svgMapFigure(ratioImg, ratio_fig));
+        for (const char* f : {"_holding_map.png", "_holding_map.svg", "_holding_ratio.png", "_holding_ratio.svg"})
+          sum.files.push_back(rel(base + f));
         md << "Static holding (gravity + payload) over the grid, tool heading "
            << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << reachable << " of " << np
            << " points reachable, " << limited
@@ -980,8 +999,8 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
               "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
               "ratio is "
               "nearly constant, it carries the whole arm).\n\n"
-           << "![holding map](" << base << "_holding_map.png) ![ratio](" << base
-           << "_holding_ratio.png)\n\n";
+           << "![holding map](" << base << "_holding_map.svg) ![ratio](" << base
+           << "_holding_ratio.svg)\n\n";
       } else {
         md << "Static holding over the grid: " << reachable << " of " << np << " points reachable, "
            << limited << " drive-limited.\n\n";

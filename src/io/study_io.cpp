@@ -243,6 +243,11 @@ Study loadStudy(const std::string& path) {
     s.harvest = harvest::readHarvestOptions(r, names);
     r.finish();
   }
+  {  // [[tracking]] entries (docs/tracking.md)
+    std::vector<const Model*> models;
+    for (const auto& d : s.designs) models.push_back(&d.model);
+    s.tracking = tracking::readTrackingEntries(top, models, s.obstacles);
+  }
   top.finish();
   return s;
 }

@@ -12,6 +12,7 @@
 #include "model/model.hpp"
 #include "reach/reach_config.hpp"
 #include "study/regression.hpp"
+#include "tracking/tracking_stage.hpp"
 
 namespace armstudy {
 
@@ -41,6 +42,7 @@ struct Study {
   RegressionSpec regression;         // [regression]: baseline path and tolerances
   std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)
   std::optional<harvest::HarvestOptions> harvest;        // [harvest] section (docs/dynamics.md)
+  std::vector<tracking::TrackingEntry> tracking;         // [[tracking]] entries (docs/tracking.md)
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.

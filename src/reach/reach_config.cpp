@@ -129,6 +129,7 @@ void readReachSection(TableReader& top, const std::string& study_dir,
       r.fail("obstacles", "obstacles are checked against the designs' collision volumes, but design '" + without +
                               "' has none (add [[collision]] volumes or set obstacles = false)");
     if (use_obstacles) cfg.collision.obstacles = obstacles;
+    cfg.collision.nullspace_escape = r.boolean("nullspace_escape", true);
   }
   if (r.has("outputs")) {
     cfg.outputs = ReachOutputs{false, false, false};

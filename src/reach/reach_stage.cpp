@@ -249,7 +249,42 @@ struct Writer {
     writeFileAtomic(abs(rel), content);
     files.push_back(rel);
   }
+  // The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the
+  // .svg path (what the report shows).
+  std::string figure(const std::string& stem, const report::RasterImage& img, const report::MapFigure& fig) {
+    report::writePng(abs(stem + ".png"), img);
+    files.push_back(stem + ".png");
+    text(stem + ".svg", report::svgMapFigure(img, fig));
+    return stem + ".svg";
+  }
 };
+
+// Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
+report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string title) {
+  report::MapFigure f;
+  f.title = std::move(title);
+  const auto d = g.dims();
+  const AxisRange& a = g.axes[p.a];
+  f.x = report::cellAxis(std::string(kAxis[p.a]) + " [m]", a.from, a.to, a.step);
+  if (p.b != p.a && d[p.b] > 1) {
+    const AxisRange& b = g.axes[p.b];
+    f.y = report::cellAxis(std::string(kAxis[p.b]) + " [m]", b.from, b.to, b.step);
+  } else {
+    f.y = report::MapAxis{"", 0, 0};
+  }
+  return f;
+}
+
+// Legend of the status map: the statuses that occur in it.
+std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts) {
+  const char* text[kReachStatusCount] = {"reachable", "out of reach", "blocked by joint limits",
+                                         "representation singularity", "only in self-collision", "torque",
+                                         "only in contact with an obstacle"};
+  std::vector<report::LegendEntry> l;
+  for (int k = 0; k < kReachStatusCount; ++k)
+    if (counts[k] > 0) l.push_back({report::categorical(k), text[k]});
+  return l;
+}
 
 // A chunk's result as bytes for the checkpoint store: its place in the sweep and every per-pose
 // column, no timings.
@@ -422,7 +457,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"classify_starts", cfg.ik.classify_starts},
                     {"seed", cfg.ik.seed},
                     {"algorithm", toString(cfg.ik.algorithm)},
-                    {"self_collision", cfg.collision.self}};
+                    {"self_collision", cfg.collision.self},
+                    {"nullspace_escape", cfg.collision.nullspace_escape}};
   {
     ordered_json jobs = ordered_json::array();
     for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
@@ -589,9 +625,15 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
             forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
             return col;
           });
-          const std::string rel = "reach/images/" + g.name + "__" + s.design + suffix(g, k) + ".png";
-          report::writePng(out.abs(rel), status_img);
-          out.files.push_back(rel);
+          report::MapFigure fig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+          if (plane.projected >= 0)
+            fig.scale = report::ColourScale{report::viridis, 0, 1,
+                                            "fraction of the cells along " + std::string(kAxis[plane.projected]) +
+                                                " that are reachable"};
+          else
+            fig.legend = statusLegend(per[k].status);
+          const std::string rel =
+              out.figure("reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
           images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
                        orientationText(g, k) + ": " + report::percent(per[k].fraction()) + " reachable. " +
                        imageCaptionAxes(g, plane) + ".*\n\n";
@@ -603,9 +645,11 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
               });
               return col;
             });
-            const std::string mrel = "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability.png";
-            report::writePng(out.abs(mrel), m_img);
-            out.files.push_back(mrel);
+            report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+            mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability (eq. 5.59)"};
+            mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
+            const std::string mrel = out.figure(
+                "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
             images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
                          s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
                          report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
@@ -708,10 +752,15 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                 });
                 return col;
               });
-              const std::string rel = "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
-                                      sweeps[b].design + suffix(g, k) + ".png";
-              report::writePng(out.abs(rel), img);
-              out.files.push_back(rel);
+              report::MapFigure cfig =
+                  mapAxes(g, plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
+              cfig.legend = {{report::categorical(0), "both"},
+                             {report::categorical(5), "only " + sweeps[a].design},
+                             {report::categorical(2), "only " + sweeps[b].design},
+                             {report::categorical(1), "neither"}};
+              const std::string rel = out.figure("reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
+                                                     sweeps[b].design + suffix(g, k),
+                                                 img, cfig);
               pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
                            orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design +
                            " (blue), only " + sweeps[b].design + " (orange), neither (light grey). " +

@@ -140,6 +140,7 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
     if (collision.enabled()) cws.emplace(model);
     collision::CollisionReachOptions copts;
     copts.self = collision.self;
+    if (!collision.nullspace_escape) copts.escape_safety_distance_m = 0;
     // One pose: plain IK, or collision-aware (reachable only in collision -> Self/ObstacleCollision).
     // Target and seed follow the pose's index in the whole sweep, never its place in a chunk.
     auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {

@@ -26,6 +26,7 @@ namespace armstudy {
 struct SweepCollision {
   bool self = false;
   std::vector<collision::Obstacle> obstacles;
+  bool nullspace_escape = true;  // descend H_c in the null space before restarts (reach_collision.hpp)
   bool enabled() const { return self || !obstacles.empty(); }
 };
 

@@ -1,5 +1,6 @@
 #include "report/image.hpp"
 
+#include <vtkBase64Utilities.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -134,6 +135,119 @@ void writePng(const std::string& path, const RasterImage& image) {
   writeFileAtomic(path, encodePng(image));
 }
 
+std::vector<double> niceTicks(double lo, double hi, int target) {
+  std::vector<double> t;
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return t;
+  const double raw = (hi - lo) / std::max(1, target);
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = mag;
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * mag >= raw * (1 - 1e-9)) {
+      step = m * mag;
+      break;
+    }
+  const double eps = 1e-9 * step;
+  for (double v = std::ceil((lo - eps) / step) * step; v <= hi + eps; v += step)
+    t.push_back(std::abs(v) < eps ? 0.0 : v);
+  return t;
+}
+
+std::string xmlEscape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '&') o += "&amp;";
+    else if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+namespace {
+// Tick label: shortest of %g with up to 6 significant digits.
+std::string tickText(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+}  // namespace
+
+MapAxis cellAxis(std::string label, double from, double to, double step) {
+  const double h = 0.5 * (to > from ? step : 1.0);
+  return MapAxis{std::move(label), from - h, to + h};
+}
+
+std::string svgMapFigure(const RasterImage& map, const MapFigure& f) {
+  const std::string png = encodePng(map);
+  std::string b64(png.size() * 4 / 3 + 8, '\0');
+  const unsigned long n = vtkBase64Utilities::Encode(reinterpret_cast<const unsigned char*>(png.data()),
+                                                     png.size(), reinterpret_cast<unsigned char*>(b64.data()), 0);
+  b64.resize(n);
+  const int w = map.width(), h = map.height(), bp = f.border_px;
+  const double ml = 64, mt = f.title.empty() ? 12 : 32, mb = 46 + (f.scale ? 58 : 0);
+  const double legend_w = f.legend.empty() ? 0 : 230;
+  const double mr = 16 + legend_w;
+  const double W = ml + w + mr, H = mt + h + mb;
+  // Data -> pixel on the raster's inner area.
+  const double ix0 = ml + bp, ix1 = ml + w - bp, iy0 = mt + bp, iy1 = mt + h - bp;
+  auto X = [&](double v) { return ix0 + (v - f.x.lo) / (f.x.hi - f.x.lo) * (ix1 - ix0); };
+  auto Y = [&](double v) { return iy1 - (v - f.y.lo) / (f.y.hi - f.y.lo) * (iy1 - iy0); };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  if (!f.title.empty())
+    o << "<text x=\"" << ml + w / 2.0 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << xmlEscape(f.title)
+      << "</text>\n";
+  o << "<image x=\"" << ml << "\" y=\"" << mt << "\" width=\"" << w << "\" height=\"" << h
+    << "\" style=\"image-rendering:pixelated\" preserveAspectRatio=\"none\" href=\"data:image/png;base64," << b64
+    << "\"/>\n";
+  if (f.x.hi > f.x.lo)
+    for (double t : niceTicks(f.x.lo, f.x.hi, std::max(2, w / 90))) {
+      const double px = X(t);
+      o << "<line x1=\"" << px << "\" y1=\"" << mt + h << "\" x2=\"" << px << "\" y2=\"" << mt + h + 5
+        << "\" stroke=\"black\"/><text x=\"" << px << "\" y=\"" << mt + h + 18 << "\" text-anchor=\"middle\">"
+        << tickText(t) << "</text>\n";
+    }
+  if (f.y.hi > f.y.lo)
+    for (double t : niceTicks(f.y.lo, f.y.hi, std::max(2, h / 70))) {
+      const double py = Y(t);
+      o << "<line x1=\"" << ml - 5 << "\" y1=\"" << py << "\" x2=\"" << ml << "\" y2=\"" << py
+        << "\" stroke=\"black\"/><text x=\"" << ml - 8 << "\" y=\"" << py + 4 << "\" text-anchor=\"end\">"
+        << tickText(t) << "</text>\n";
+    }
+  o << "<text x=\"" << ml + w / 2.0 << "\" y=\"" << mt + h + 38 << "\" text-anchor=\"middle\">" << xmlEscape(f.x.label)
+    << "</text>\n<text x=\"16\" y=\"" << mt + h / 2.0 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 "
+    << mt + h / 2.0 << ")\">" << xmlEscape(f.y.label) << "</text>\n";
+  if (f.scale) {
+    const ColourScale& s = *f.scale;
+    const double by = mt + h + 50, bh = 14;
+    const int steps = 64;
+    for (int k = 0; k < steps; ++k)
+      o << "<rect x=\"" << ml + w * double(k) / steps << "\" y=\"" << by << "\" width=\"" << w / double(steps) + 0.5
+        << "\" height=\"" << bh << "\" fill=\"" << hex(s.map((k + 0.5) / steps)) << "\"/>\n";
+    o << "<rect x=\"" << ml << "\" y=\"" << by << "\" width=\"" << w << "\" height=\"" << bh
+      << "\" fill=\"none\" stroke=\"black\"/>\n";
+    if (s.hi > s.lo)
+      for (double t : niceTicks(s.lo, s.hi, 5)) {
+        const double px = ml + (t - s.lo) / (s.hi - s.lo) * w;
+        o << "<line x1=\"" << px << "\" y1=\"" << by + bh << "\" x2=\"" << px << "\" y2=\"" << by + bh + 4
+          << "\" stroke=\"black\"/><text x=\"" << px << "\" y=\"" << by + bh + 16 << "\" text-anchor=\"middle\">"
+          << tickText(t) << "</text>\n";
+      }
+    o << "<text x=\"" << ml + w / 2.0 << "\" y=\"" << by - 4 << "\" text-anchor=\"middle\">" << xmlEscape(s.label)
+      << "</text>\n";
+  }
+  for (std::size_t k = 0; k < f.legend.size(); ++k) {
+    const double lx = ml + w + 16, ly = mt + 4 + 20.0 * k;
+    o << "<rect x=\"" << lx << "\" y=\"" << ly << "\" width=\"14\" height=\"14\" fill=\"" << hex(f.legend[k].colour)
+      << "\" stroke=\"#555\"/><text x=\"" << lx + 20 << "\" y=\"" << ly + 11 << "\">" << xmlEscape(f.legend[k].label)
+      << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
 std::string svgLinePlot(const std::vector<Series>& series, const std::string& x_label,
                         const std::string& y_label, const std::string& title, int width,
                         int height) {
@@ -156,28 +270,35 @@ std::string svgLinePlot(const std::vector<Series>& series, const std::string& x_
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
     << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << width / 2 << "\" y=\"18\" text-anchor=\"middle\">" << title << "</text>\n"
+    << "<text x=\"" << width / 2 << "\" y=\"18\" text-anchor=\"middle\">" << xmlEscape(title) << "</text>\n"
     << "<rect x=\"" << ml << "\" y=\"" << mt << "\" width=\"" << pw << "\" height=\"" << ph
     << "\" fill=\"none\" stroke=\"black\"/>\n";
-  for (int t = 0; t <= 4; ++t) {
-    const double xv = x0 + (x1 - x0) * t / 4, yv = y0 + (y1 - y0) * t / 4;
-    o << "<text x=\"" << X(xv) << "\" y=\"" << mt + ph + 16 << "\" text-anchor=\"middle\">" << xv
-      << "</text>\n<text x=\"" << ml - 6 << "\" y=\"" << Y(yv) + 4 << "\" text-anchor=\"end\">"
-      << yv << "</text>\n";
-  }
+  for (double xv : niceTicks(x0, x1, 5))
+    o << "<text x=\"" << X(xv) << "\" y=\"" << mt + ph + 16 << "\" text-anchor=\"middle\">" << tickText(xv)
+      << "</text>\n";
+  for (double yv : niceTicks(y0, y1, 5))
+    o << "<text x=\"" << ml - 6 << "\" y=\"" << Y(yv) + 4 << "\" text-anchor=\"end\">" << tickText(yv)
+      << "</text>\n";
   o << "<text x=\"" << ml + pw / 2 << "\" y=\"" << height - 10 << "\" text-anchor=\"middle\">"
-    << x_label << "</text>\n<text x=\"14\" y=\"" << mt + ph / 2
-    << "\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << mt + ph / 2 << ")\">" << y_label
+    << xmlEscape(x_label) << "</text>\n<text x=\"14\" y=\"" << mt + ph / 2
+    << "\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << mt + ph / 2 << ")\">" << xmlEscape(y_label)
     << "</text>\n";
+  auto colour = [](std::size_t k) { return hex(categorical(static_cast<int>(k) + 5 * (k > 0))); };
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
-    o << "<polyline fill=\"none\" stroke=\"" << hex(categorical(static_cast<int>(k) + 5 * (k > 0)))
-      << "\" stroke-width=\"1.5\" points=\"";
+    o << "<polyline fill=\"none\" stroke=\"" << colour(k) << "\" stroke-width=\"1.5\" points=\"";
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) o << X(s.x[i]) << "," << Y(s.y[i]) << " ";
-    o << "\"/>\n<text x=\"" << ml + 8 << "\" y=\"" << mt + 16 + 14 * k << "\" fill=\""
-      << hex(categorical(static_cast<int>(k) + 5 * (k > 0))) << "\">" << s.label << "</text>\n";
+    o << "\"/>\n";
   }
+  // Legend over the curves, in a half-transparent box: curves stay visible, the text legible.
+  std::size_t longest = 0;
+  for (const Series& s : series) longest = std::max(longest, s.label.size());
+  o << "<rect x=\"" << ml + 4 << "\" y=\"" << mt + 4 << "\" width=\"" << 12 + 7.0 * longest << "\" height=\""
+    << 6 + 14.0 * series.size() << "\" fill=\"white\" fill-opacity=\"0.8\" stroke=\"#ccc\"/>\n";
+  for (std::size_t k = 0; k < series.size(); ++k)
+    o << "<text x=\"" << ml + 8 << "\" y=\"" << mt + 16 + 14 * k << "\" fill=\"" << colour(k) << "\">"
+      << xmlEscape(series[k].label) << "</text>\n";
   o << "</svg>\n";
   return o.str();
 }

@@ -14,6 +14,7 @@
 #include "dynamics/harvest_stage.hpp"
 #include "io/files.hpp"
 #include "reach/reach_stage.hpp"
+#include "tracking/tracking_stage.hpp"
 
 namespace armstudy {
 
@@ -169,6 +170,11 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
     sum.units_resumed += hs.units_resumed;
     sum.files_written.insert(sum.files_written.end(), hs.files.begin(), hs.files.end());
     sum.timings.push_back({"harvest", hs.seconds});
+  }
+  if (!study.tracking.empty()) {  // straight-line tracking with/without H_c (docs/tracking.md)
+    const auto ts = tracking::runTrackingStage(ctx, study.tracking);
+    sum.files_written.insert(sum.files_written.end(), ts.files.begin(), ts.files.end());
+    sum.timings.push_back({"tracking", ts.seconds});
   }
 
   // The manifest is written last: its presence marks a complete run.

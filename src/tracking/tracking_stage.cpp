@@ -1,0 +1,529 @@
+#include "tracking/tracking_stage.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "collision/collision_term.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+#include "io/vtk_io.hpp"
+#include "report/image.hpp"
+#include "report/markdown.hpp"
+#include "study/run.hpp"
+
+namespace armstudy::tracking {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPathRate_Hz = 100.0;  // TCP path points per second in the .vtp
+constexpr double kPlotRate_Hz = 200.0;  // plotted samples per second in the SVGs
+constexpr int kCircleSegments = 36;     // wireframe circles of the obstacles in the .vtp
+}  // namespace
+
+const char* toString(RunKind k) { return k == RunKind::Plain ? "plain" : "with_hc"; }
+
+std::string RunResult::statusText(const Model& model) const {
+  std::string s = ik::toString(status);
+  if (status == ik::TrackingStatus::JointLimitReached && limit_joint >= 0)
+    s += " (" + model.joints[limit_joint].name + ")";
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Evaluation
+// ---------------------------------------------------------------------------------------------
+
+ik::ReferencePoint LineReference::operator()(double t) const {
+  ik::ReferencePoint r;
+  r.pose.kind = task;
+  const double s = std::clamp(t / duration_s, 0.0, 1.0);
+  r.pose.p_WT = p0_W + (p1_W - p0_W) * s;
+  r.pose.R_WT = R_WT;
+  r.v_W = (p1_W - p0_W) / duration_s;  // constant speed; omega = 0 (orientation held)
+  return r;
+}
+
+LineReference lineReference(const Model& model, const TrackingEntry& entry) {
+  KinematicsWorkspace ws(model);
+  forwardKinematics(model, ws, entry.q0);
+  LineReference l;
+  l.p0_W = ws.p_WT;
+  l.p1_W = entry.line_is_delta ? Eigen::Vector3d(ws.p_WT + entry.line) : entry.line;
+  l.R_WT = ws.R_WT;
+  l.duration_s = entry.duration_s;
+  l.task = entry.task;
+  return l;
+}
+
+namespace {
+
+int internName(std::vector<std::string>& names, const std::string& s) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == s) return static_cast<int>(i);
+  names.push_back(s);
+  return static_cast<int>(names.size()) - 1;
+}
+
+RunResult runOnce(const Model& model, const TrackingEntry& e, const LineReference& line,
+                  RunKind kind) {
+  KinematicsWorkspace ws(model);
+  ik::ObjectiveContext ctx(model, ws);
+  // Thesis eq. (5.51): H = w_j H_j + w_c H_c + w_m H_m; H_c only in the second run.
+  ik::WeightedObjective objective;
+  if (e.w_joint_limits > 0)
+    objective.add(e.w_joint_limits,
+                  std::make_shared<ik::JointLimitTerm>(model, e.joint_limit_activation));
+  if (e.w_manipulability > 0)
+    objective.add(e.w_manipulability,
+                  std::make_shared<ik::ManipulabilityTerm>(
+                      e.task == ik::PoseTaskKind::FullPose ? metrics::MeasureSpace::Full
+                                                           : metrics::MeasureSpace::Translational));
+  if (kind == RunKind::WithHc)
+    objective.add(e.avoidance.weight,
+                  std::make_shared<collision::CollisionTerm>(e.avoidance.potential, e.obstacles));
+  ik::TrackingOptions to;
+  to.redundancy = e.redundancy;
+  to.dt = 1.0 / e.rate_Hz;
+  to.stop_at_joint_limit = e.stop_at_joint_limit;
+  const ik::Reference ref = [&line](double t) { return line(t); };
+  const ik::TrackingSummary ts = ik::trackReference(
+      model, ws, ref, e.q0, e.duration_s, objective.empty() ? nullptr : &objective, &ctx, to);
+
+  RunResult r;
+  r.kind = kind;
+  r.status = ts.status;
+  r.limit_joint = ts.limit_joint;
+  r.max_joint_speed = ts.max_joint_speed;
+  for (const ik::TrackingSample& s : ts.samples)
+    for (int i = 0; i < model.dof(); ++i) {
+      const double lim = model.joints[i].limits.qd_max;
+      if (lim > 0 && std::abs(s.qdot[i]) / lim > r.max_speed_ratio) {
+        r.max_speed_ratio = std::abs(s.qdot[i]) / lim;
+        r.max_speed_joint = i;
+      }
+    }
+  r.min_obstacle_distance_m = r.min_self_distance_m = kInf;
+  auto cws = std::make_unique<collision::CollisionWorkspace>(model);
+  r.samples.reserve(ts.samples.size());
+  for (const ik::TrackingSample& s : ts.samples) {
+    RunSample rs;
+    rs.t = s.t;
+    rs.q = s.q;
+    rs.position_error_m = s.position_error_m;
+    rs.orientation_error_rad = s.orientation_error_rad;
+    forwardKinematics(model, ws, s.q);
+    rs.p_WT = ws.p_WT;
+    collision::collisionDistances(model, ws, e.obstacles, *cws);
+    rs.obstacle_distance_m = collision::minEnvironmentDistance(*cws);
+    rs.self_distance_m = collision::minSelfDistance(*cws);
+    if (cws->closest_env >= 0)
+      rs.obstacle_pair = internName(
+          r.pair_names, collision::pairName(model, cws->env[cws->closest_env], true, e.obstacles));
+    if (cws->closest_self >= 0)
+      rs.self_pair =
+          internName(r.pair_names, collision::pairName(model, cws->self[cws->closest_self], false));
+    if (rs.obstacle_distance_m < r.min_obstacle_distance_m) {
+      r.min_obstacle_distance_m = rs.obstacle_distance_m;
+      r.min_obstacle_time_s = rs.t;
+      r.min_obstacle_pair = rs.obstacle_pair;
+    }
+    if (rs.self_distance_m < r.min_self_distance_m) {
+      r.min_self_distance_m = rs.self_distance_m;
+      r.min_self_time_s = rs.t;
+      r.min_self_pair = rs.self_pair;
+    }
+    r.max_position_error_m = std::max(r.max_position_error_m, rs.position_error_m);
+    r.max_orientation_error_rad = std::max(r.max_orientation_error_rad, rs.orientation_error_rad);
+    if (!r.first_contact_s && (rs.obstacle_distance_m < 0 || rs.self_distance_m < 0)) {
+      r.first_contact_s = rs.t;
+      r.first_contact_pair =
+          rs.obstacle_distance_m <= rs.self_distance_m ? rs.obstacle_pair : rs.self_pair;
+    }
+    r.samples.push_back(std::move(rs));
+  }
+  if (!r.samples.empty()) r.final_position_error_m = r.samples.back().position_error_m;
+  return r;
+}
+
+}  // namespace
+
+EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry) {
+  const std::string why = entry.validate(model.dof());
+  ARMSTUDY_CHECK(why.empty(), "tracking entry must validate: " + why);
+  EntryResult res;
+  res.name = entry.name;
+  res.line = lineReference(model, entry);
+  res.plain = runOnce(model, entry, res.line, RunKind::Plain);
+  res.with_hc = runOnce(model, entry, res.line, RunKind::WithHc);
+  return res;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Outputs
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+std::string num(double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+ordered_json finiteOrNull(double v) {
+  return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr);
+}
+
+std::string pairText(const RunResult& r, int pair) { return pair >= 0 ? r.pair_names[pair] : ""; }
+
+std::string runLabel(RunKind k) { return k == RunKind::Plain ? "without H_c" : "with H_c"; }
+
+void writeRunCsv(const Model& model, const TrackingEntry& e, const RunResult& r,
+                 const std::string& path) {
+  const bool obstacles = !e.obstacles.empty();
+  const bool orientation = e.task != ik::PoseTaskKind::Position;
+  std::ostringstream s;
+  s << "t_s";
+  for (const Joint& j : model.joints) s << ",q_" << j.name;
+  s << ",x_m,y_m,z_m,position_error_m";
+  if (orientation) s << ",orientation_error_rad";
+  if (obstacles) s << ",obstacle_distance_m,obstacle_pair";
+  s << ",self_distance_m,self_pair\n";
+  for (const RunSample& rs : r.samples) {
+    s << num(rs.t);
+    for (int i = 0; i < model.dof(); ++i) s << "," << num(rs.q[i]);
+    s << "," << num(rs.p_WT.x()) << "," << num(rs.p_WT.y()) << "," << num(rs.p_WT.z()) << ","
+      << num(rs.position_error_m);
+    if (orientation) s << "," << num(rs.orientation_error_rad);
+    if (obstacles) s << "," << num(rs.obstacle_distance_m) << "," << pairText(r, rs.obstacle_pair);
+    s << "," << num(rs.self_distance_m) << "," << pairText(r, rs.self_pair) << "\n";
+  }
+  writeFileAtomic(path, s.str());
+}
+
+// ParaView scene of one run: parts 0 = reference line, 1 = TCP path, 2 = arm skeletons (base,
+// joint-frame origins, TCP) at `snapshots` times, 3 = obstacles (core, plus three great circles of
+// the radius around every core point).
+struct PolyBuilder {
+  io::PolyDataSet poly;
+  std::vector<double> time, part, contact, radius;
+  int add(const Eigen::Vector3d& p, double t, int prt, bool in_contact, double r) {
+    poly.points.push_back(p);
+    time.push_back(t);
+    part.push_back(prt);
+    contact.push_back(in_contact ? 1 : 0);
+    radius.push_back(r);
+    return static_cast<int>(poly.points.size()) - 1;
+  }
+  void finish() {
+    poly.point_arrays = {{"time", io::ArrayType::Float64, 1, time},
+                         {"part", io::ArrayType::Int32, 1, part},
+                         {"in_contact", io::ArrayType::UInt8, 1, contact},
+                         {"radius", io::ArrayType::Float64, 1, radius}};
+  }
+};
+
+bool inContact(const RunSample& s) { return s.obstacle_distance_m < 0 || s.self_distance_m < 0; }
+
+void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference& line,
+                 const RunResult& r, const std::string& path) {
+  PolyBuilder b;
+  b.poly.lines.push_back(
+      {b.add(line.p0_W, 0, 0, false, 0), b.add(line.p1_W, e.duration_s, 0, false, 0)});
+  const int n = static_cast<int>(r.samples.size());
+  const int stride = std::max(1, static_cast<int>(std::lround(e.rate_Hz / kPathRate_Hz)));
+  std::vector<int> path_ids;
+  for (int k = 0; k < n; k += stride)
+    path_ids.push_back(b.add(r.samples[k].p_WT, r.samples[k].t, 1, inContact(r.samples[k]), 0));
+  if (n > 0 && (n - 1) % stride != 0)
+    path_ids.push_back(
+        b.add(r.samples[n - 1].p_WT, r.samples[n - 1].t, 1, inContact(r.samples[n - 1]), 0));
+  if (path_ids.size() >= 2) b.poly.lines.push_back(path_ids);
+
+  KinematicsWorkspace ws(model);
+  const Eigen::Vector3d p_base(model.base.x, model.base.y, model.base.z);
+  const int shots = n == 0 ? 0 : std::min(e.snapshots, n);
+  for (int k = 0; k < shots; ++k) {
+    const int idx =
+        shots == 1 ? 0 : static_cast<int>(std::lround(double(k) * (n - 1) / (shots - 1)));
+    const RunSample& s = r.samples[idx];
+    forwardKinematics(model, ws, s.q);
+    const bool c = inContact(s);
+    std::vector<int> ids{b.add(p_base, s.t, 2, c, 0)};
+    for (int i = 0; i < model.dof(); ++i) ids.push_back(b.add(ws.p_WF[i], s.t, 2, c, 0));
+    ids.push_back(b.add(ws.p_WT, s.t, 2, c, 0));
+    b.poly.lines.push_back(ids);
+  }
+
+  for (const collision::Obstacle& o : e.obstacles) {
+    const int np = o.type == SsvType::Point ? 1 : (o.type == SsvType::Line ? 2 : 3);
+    std::vector<int> core;
+    for (int c = 0; c < np; ++c) {
+      core.push_back(b.add(o.p_W[c], 0, 3, false, o.radius_m));
+      for (int plane = 0; plane < 3; ++plane) {
+        const Eigen::Vector3d u = Eigen::Vector3d::Unit(plane),
+                              v = Eigen::Vector3d::Unit((plane + 1) % 3);
+        std::vector<int> circle;
+        for (int k = 0; k < kCircleSegments; ++k) {
+          const double a = 2 * M_PI * k / kCircleSegments;
+          circle.push_back(b.add(o.p_W[c] + o.radius_m * (std::cos(a) * u + std::sin(a) * v), 0, 3,
+                                 false, o.radius_m));
+        }
+        circle.push_back(circle.front());
+        b.poly.lines.push_back(circle);
+      }
+    }
+    if (np == 2) b.poly.lines.push_back(core);
+    if (np == 3) b.poly.triangles.push_back({core[0], core[1], core[2]});
+  }
+  b.finish();
+  io::writeVtp(path, b.poly);
+}
+
+report::Series plotSeries(const RunResult& r, double rate_Hz, const std::string& label,
+                          double RunSample::*field, double scale) {
+  report::Series s;
+  s.label = label;
+  const int n = static_cast<int>(r.samples.size());
+  const int stride = std::max(1, static_cast<int>(std::lround(rate_Hz / kPlotRate_Hz)));
+  for (int k = 0; k < n; ++k) {
+    if (k % stride != 0 && k != n - 1) continue;
+    s.x.push_back(r.samples[k].t);
+    s.y.push_back(r.samples[k].*field * scale);
+  }
+  return s;
+}
+
+std::string mm(double v_m, int decimals = 1) {
+  return std::isfinite(v_m) ? report::fixed(v_m * 1e3, decimals) : "-";
+}
+
+ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult& r) {
+  ordered_json j;
+  j["run"] = toString(r.kind);
+  j["status"] = ik::toString(r.status);
+  j["completed"] = r.completed();
+  j["limit_joint"] =
+      r.limit_joint >= 0 ? ordered_json(model.joints[r.limit_joint].name) : ordered_json(nullptr);
+  j["samples"] = r.samples.size();
+  j["end_time_s"] = r.samples.empty() ? 0.0 : r.samples.back().t;
+  j["collision_free"] = r.collisionFree();
+  j["first_contact_s"] =
+      r.first_contact_s ? ordered_json(*r.first_contact_s) : ordered_json(nullptr);
+  j["first_contact_pair"] =
+      r.first_contact_s ? ordered_json(pairText(r, r.first_contact_pair)) : ordered_json(nullptr);
+  if (!e.obstacles.empty()) {
+    j["min_obstacle_distance_m"] = finiteOrNull(r.min_obstacle_distance_m);
+    j["min_obstacle_pair"] = pairText(r, r.min_obstacle_pair);
+    j["min_obstacle_time_s"] = r.min_obstacle_time_s;
+  }
+  j["min_self_distance_m"] = finiteOrNull(r.min_self_distance_m);
+  j["min_self_pair"] = pairText(r, r.min_self_pair);
+  j["min_self_time_s"] = r.min_self_time_s;
+  j["max_position_error_m"] = r.max_position_error_m;
+  j["final_position_error_m"] = r.final_position_error_m;
+  if (e.task != ik::PoseTaskKind::Position)
+    j["max_orientation_error_rad"] = r.max_orientation_error_rad;
+  j["max_joint_speed"] = r.max_joint_speed;
+  j["max_joint_speed_ratio"] = r.max_speed_ratio;
+  j["max_joint_speed_ratio_joint"] = r.max_speed_joint >= 0
+                                         ? ordered_json(model.joints[r.max_speed_joint].name)
+                                         : ordered_json(nullptr);
+  return j;
+}
+
+}  // namespace
+
+TrackingStageSummary runTrackingStage(const StageContext& ctx,
+                                      const std::vector<TrackingEntry>& entries) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TrackingStageSummary sum;
+  std::vector<const Model*> models;
+  for (const TrackingEntry& e : entries) {
+    const Model* m = nullptr;
+    for (const StudyDesign& d : ctx.study.designs)
+      if (d.model.name == e.design) m = &d.model;
+    ARMSTUDY_CHECK(m, "tracking entry '" + e.name + "' names a design the study does not have");
+    models.push_back(m);
+  }
+
+  // Units of work: (entry, run), each sequential and independent of the others.
+  const int ne = static_cast<int>(entries.size());
+  sum.entries.resize(ne);
+  std::vector<LineReference> lines(ne);
+  for (int i = 0; i < ne; ++i) {
+    lines[i] = lineReference(*models[i], entries[i]);
+    sum.entries[i].name = entries[i].name;
+    sum.entries[i].line = lines[i];
+  }
+  const int threads = ctx.options.threads > 0 ? ctx.options.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int u = 0; u < 2 * ne; ++u) {
+    const int i = u / 2;
+    const RunKind kind = u % 2 == 0 ? RunKind::Plain : RunKind::WithHc;
+    (kind == RunKind::Plain ? sum.entries[i].plain : sum.entries[i].with_hc) =
+        runOnce(*models[i], entries[i], lines[i], kind);
+  }
+
+  const fs::path dir = fs::path(ctx.output_dir) / "tracking";
+  fs::create_directories(dir);
+  auto rel = [](const std::string& name) { return "tracking/" + name; };
+  std::ostringstream md;
+  md << "# Straight-line tracking past obstacles: " << ctx.study.name << "\n\n"
+     << "Thesis Fig. 5.13 (section 5.4.3): the TCP follows a straight line at constant speed with "
+        "the null-space IK (Algorithm 5.3, drift compensation eq. 5.50, explicit Euler eq. 5.49). "
+        "Each entry runs twice: without and with the collision-avoidance potential H_c "
+        "(eq. 5.53-5.57) in the null-space objective (eq. 5.51). Distances are those of the "
+        "swept-sphere volumes (negative = overlap; docs/collision.md). Details: "
+        "docs/tracking.md.\n\n";
+  ordered_json js;
+  js["study"] = ctx.study.name;
+  js["entries"] = ordered_json::array();
+  auto& M = ctx.summary.metrics;
+
+  for (int i = 0; i < ne; ++i) {
+    const TrackingEntry& e = entries[i];
+    const Model& model = *models[i];
+    const EntryResult& er = sum.entries[i];
+    const std::string base = e.name;
+    for (const RunResult* r : {&er.plain, &er.with_hc}) {
+      const std::string rb = base + "_" + toString(r->kind);
+      writeRunCsv(model, e, *r, (dir / (rb + ".csv")).string());
+      writeRunVtp(model, e, er.line, *r, (dir / (rb + ".vtp")).string());
+      sum.files.push_back(rel(rb + ".csv"));
+      sum.files.push_back(rel(rb + ".vtp"));
+      const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
+      M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
+      M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;
+      if (!e.obstacles.empty())
+        M.scalars[mp + "min_obstacle_distance_m"] = r->min_obstacle_distance_m;
+      if (std::isfinite(r->min_self_distance_m))
+        M.scalars[mp + "min_self_distance_m"] = r->min_self_distance_m;
+      M.scalars[mp + "max_tcp_error_m"] = r->max_position_error_m;
+      M.scalars[mp + "final_tcp_error_m"] = r->final_position_error_m;
+      M.scalars[mp + "max_joint_speed_ratio"] = r->max_speed_ratio;
+    }
+
+    // Plots: obstacle (or, without obstacles, self) distance and TCP error over time.
+    const bool obst = !e.obstacles.empty();
+    double RunSample::*dist = obst ? &RunSample::obstacle_distance_m : &RunSample::self_distance_m;
+    std::vector<report::Series> ds;
+    for (const RunResult* r : {&er.plain, &er.with_hc})
+      ds.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
+    ds.push_back({"contact (d = 0)", {0.0, e.duration_s}, {0.0, 0.0}});
+    const std::string what = obst ? "obstacle distance" : "self-collision distance";
+    writeFileAtomic((dir / (base + "_distance.svg")).string(),
+                    report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
+    std::vector<report::Series> es;
+    for (const RunResult* r : {&er.plain, &er.with_hc})
+      es.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
+    writeFileAtomic(
+        (dir / (base + "_tcp_error.svg")).string(),
+        report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
+    sum.files.push_back(rel(base + "_distance.svg"));
+    sum.files.push_back(rel(base + "_tcp_error.svg"));
+
+    // Report section.
+    std::string obstacle_list;
+    for (const auto& o : e.obstacles)
+      obstacle_list += (obstacle_list.empty() ? "" : ", ") + o.name + " (" + toString(o.type) +
+                       ", r = " + report::fixed(o.radius_m, 3) + " m)";
+    const Eigen::Vector3d& p0 = er.line.p0_W;
+    const Eigen::Vector3d& p1 = er.line.p1_W;
+    md << "## " << e.name << "\n\n"
+       << "Design `" << e.design << "`, " << ik::toString(e.task) << " task, TCP from ("
+       << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
+       << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
+       << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
+       << report::fixed(e.duration_s, 2) << " s at " << report::fixed(e.rate_Hz, 0)
+       << " Hz; null-space gain alpha = " << e.redundancy.alpha
+       << "/s, drift gain K = " << e.redundancy.drift_gain << "/s"
+       << (e.w_joint_limits > 0 ? ", H_j weight " + report::fixed(e.w_joint_limits, 3)
+                                : std::string())
+       << (e.w_manipulability > 0 ? ", H_m1 weight " + report::fixed(e.w_manipulability, 3)
+                                  : std::string())
+       << ". Obstacles: " << (obstacle_list.empty() ? "none" : obstacle_list)
+       << ". H_c: d_a = " << report::fixed(e.avoidance.potential.safety_distance_m, 3)
+       << " m, t = " << e.avoidance.potential.blend_t << ", H_0 = " << e.avoidance.potential.h0
+       << ", weight " << e.avoidance.weight << ", "
+       << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".\n\n";
+    std::vector<std::vector<std::string>> rows;
+    for (const RunResult* r : {&er.plain, &er.with_hc}) {
+      const std::string contact = r->first_contact_s
+                                      ? report::fixed(*r->first_contact_s, 3) + " s (" +
+                                            pairText(*r, r->first_contact_pair) + ")"
+                                      : "none";
+      rows.push_back({runLabel(r->kind), r->statusText(model),
+                      obst ? mm(r->min_obstacle_distance_m) + " (" +
+                                 pairText(*r, r->min_obstacle_pair) +
+                                 ", t = " + report::fixed(r->min_obstacle_time_s, 2) + " s)"
+                           : "-",
+                      mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")",
+                      contact, report::scientific(r->max_position_error_m, 2),
+                      report::scientific(r->final_position_error_m, 2),
+                      r->max_speed_joint >= 0 ? report::percent(r->max_speed_ratio, 0) + " (" +
+                                                    model.joints[r->max_speed_joint].name + ")"
+                                              : "-"});
+    }
+    md << report::markdownTable({"run", "status", ">min obstacle distance [mm]",
+                                 ">min self distance [mm]", "first contact", ">max TCP error [m]",
+                                 ">final TCP error [m]", ">peak joint speed / limit"},
+                                rows)
+       << "\nThe IK is kinematic: joint speeds are not limited; the last column is the largest "
+          "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
+          "not follow).\n\n!["
+       << what << "](" << base << "_distance.svg) ![TCP error](" << base << "_tcp_error.svg)\n\n"
+       << "Per-sample data: `" << base << "_plain.csv`, `" << base
+       << "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, obstacles; "
+          "colour by `in_contact` or `time`): `"
+       << base << "_plain.vtp`, `" << base << "_with_hc.vtp`.\n\n";
+
+    ordered_json ej;
+    ej["name"] = e.name;
+    ej["design"] = e.design;
+    ej["task_space"] = ik::toString(e.task);
+    ej["q0"] = std::vector<double>(e.q0.data(), e.q0.data() + e.q0.size());
+    ej["p0_W"] = {p0.x(), p0.y(), p0.z()};
+    ej["p1_W"] = {p1.x(), p1.y(), p1.z()};
+    ej["duration_s"] = e.duration_s;
+    ej["rate_Hz"] = e.rate_Hz;
+    ej["obstacles"] = ordered_json::array();
+    for (const auto& o : e.obstacles) ej["obstacles"].push_back(o.name);
+    ej["nullspace"] = {{"gain_per_s", e.redundancy.alpha},
+                       {"drift_gain_per_s", e.redundancy.drift_gain},
+                       {"joint_weights", e.redundancy.joint_weights},
+                       {"damping_lambda0", e.redundancy.damping_lambda0},
+                       {"damping_m0", e.redundancy.damping_m0},
+                       {"joint_limits", e.w_joint_limits},
+                       {"joint_limit_activation", e.joint_limit_activation},
+                       {"manipulability", e.w_manipulability}};
+    ej["avoidance"] = {{"safety_distance_m", e.avoidance.potential.safety_distance_m},
+                       {"weight", e.avoidance.weight},
+                       {"blend", e.avoidance.potential.blend_t},
+                       {"h0", e.avoidance.potential.h0},
+                       {"self", e.avoidance.potential.self},
+                       {"environment", e.avoidance.potential.environment}};
+    ej["runs"] = {runJson(model, e, er.plain), runJson(model, e, er.with_hc)};
+    js["entries"].push_back(ej);
+  }
+  writeFileAtomic((dir / "report.md").string(), md.str());
+  writeFileAtomic((dir / "summary.json").string(), js.dump(2) + "\n");
+  sum.files.push_back(rel("report.md"));
+  sum.files.push_back(rel("summary.json"));
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return sum;
+}
+
+}  // namespace armstudy::tracking
