@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "collision/reach_collision.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
@@ -342,17 +343,22 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
          s.obstacle_distance_m.size() == no;
 }
 
-// One design's sweep of a grid or pose list, as checkpoint units of `unit_poses` poses (rounded to
-// whole sweep units, at least one): units saved by an interrupted run are loaded, the others
-// solved in one parallel sweep and each saved as soon as it is done; the sweep is assembled from
-// the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units).
 long posesOf(const TaskGrid& g) { return g.size(); }
 long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
 
+// One design's sweep of a grid or pose list, as checkpoint units of `unit_poses` poses (rounded to
+// whole sweep units, at least one): units saved by an interrupted run are loaded, the others
+// solved in one parallel sweep and each saved as soon as it is done; the sweep is assembled from
+// the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units). A
+// saved unit that does not fit (place, size, design size, collision columns) is solved again.
 template <class Source, class SweepRanges>
 PoseSweep solveUnits(const ReachStageOptions& options, ReachStageSummary& sum, const std::string& prefix,
-                     const Model& model, const Source& source, Progress& progress, SweepRanges&& sweep_ranges) {
+                     const Model& model, const Source& source, const SweepCollision& collision, Progress& progress,
+                     SweepRanges&& sweep_ranges) {
   const long len = sweepUnitLength(source), poses = posesOf(source);
+  const std::vector<std::string> pair_names =
+      collision.enabled() ? collision::collisionPairNames(model, collision.obstacles, collision.self)
+                          : std::vector<std::string>{};
   const long unit_poses = options.unit_poses > 0 ? options.unit_poses : defaults::kReachUnitPoses;
   const std::vector<ItemRange> ranges = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len));
   auto id = [&](const ItemRange& r) { return prefix + "/units_" + r.text(); };
@@ -363,7 +369,8 @@ PoseSweep solveUnits(const ReachStageOptions& options, ReachStageSummary& sum, c
     PoseSweep c;
     const long first = r.begin * len, n = std::min(poses, r.end * len) - first;
     if (options.checkpoints && options.checkpoints->load(id(r), bytes) && deserializeSweep(bytes, model.name, c) &&
-        c.offset == first && c.size == n && c.dof == model.dof()) {
+        c.offset == first && c.size == n && c.dof == model.dof() && c.collision == collision.enabled() &&
+        c.obstacles == !collision.obstacles.empty() && c.pair_names == pair_names) {
       ++sum.units_resumed;
       progress.advance(n);
       chunks.push_back(std::move(c));
@@ -521,7 +528,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     std::vector<PoseSweep> sweeps;
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
-      sweeps.push_back(solveUnits(options, sum, unit, sd.model, g, progress, [&](const auto& ranges, const auto& done) {
+      sweeps.push_back(solveUnits(options, sum, unit, sd.model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
         return sweepGridRanges(sd.model, g, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
       }));
       addUnitMetrics(sum.metrics, unit, sweeps.back());
@@ -821,7 +828,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     ordered_json jdesigns = ordered_json::array();
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
-      const PoseSweep s = solveUnits(options, sum, unit, sd.model, l, progress, [&](const auto& ranges, const auto& done) {
+      const PoseSweep s = solveUnits(options, sum, unit, sd.model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
         return sweepPoseListRanges(sd.model, l, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
       });
       addUnitMetrics(sum.metrics, unit, s);

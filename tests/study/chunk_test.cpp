@@ -238,7 +238,7 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
   const fs::path dir = freshDir("reach_stage");
   const Study s = loadStudy(
       writeStudy(dir, "r", {"final_prototype_7dof", "first_prototype_6dof"},
-                 "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
+                 "[reach]\ntask_space = \"full\"\nself_collision = true\n[[reach.grid]]\nname = \"wall\"\n"
                  "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.05 m\" }\ny = \"0.8 m\"\n"
                  "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
                  "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
@@ -247,6 +247,7 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
       runReachStage(s, ReachStageOptions{(dir / "ref").string(), 1, false, nullptr, 0});
   const auto ref_files = resultFiles(dir / "ref");
   REQUIRE(ref_files.size() >= 4);
+  REQUIRE(ref_files.at("summary.json").find("colliding_pairs") != std::string::npos);  // collision columns
 
   // One grid line per unit; the run "dies" before finish(), then loses some units.
   const fs::path out = dir / "out";
