@@ -6,8 +6,10 @@
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 
 namespace armstudy {
 
@@ -32,13 +34,18 @@ BoundarySurface alphaShapeSurface(const std::vector<Eigen::Vector3d>& points, do
   for (const auto& p : points) pts.emplace_back(p.x(), p.y(), p.z());
   AlphaShape as(pts.begin(), pts.end(), alpha_radius * alpha_radius, AlphaShape::REGULARIZED);
 
-  // Volume: the solid (interior) tetrahedra.
+  // CGAL iterates cells and facets in memory order, which differs from run to run; every output
+  // below is put into a canonical order so result files are byte-identical across runs.
+  // Volume: the solid (interior) tetrahedra, summed in sorted order.
+  std::vector<double> cell_volumes;
   for (auto c = as.finite_cells_begin(); c != as.finite_cells_end(); ++c) {
     if (as.classify(c) != AlphaShape::INTERIOR) continue;
-    out.volume_m3 += std::abs(CGAL::to_double(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
-                                                          c->vertex(2)->point(), c->vertex(3)->point())));
-    ++out.components;
+    cell_volumes.push_back(std::abs(CGAL::to_double(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
+                                                                 c->vertex(2)->point(), c->vertex(3)->point()))));
   }
+  std::sort(cell_volumes.begin(), cell_volumes.end());
+  for (double v : cell_volumes) out.volume_m3 += v;
+  out.components = static_cast<int>(cell_volumes.size());
   // Boundary facets, oriented with the interior cell behind them.
   std::map<AlphaShape::Vertex_handle, int> index;
   auto vid = [&](AlphaShape::Vertex_handle v) {
@@ -54,11 +61,34 @@ BoundarySurface alphaShapeSurface(const std::vector<Eigen::Vector3d>& points, do
   for (auto f : facets) {
     if (as.classify(f.first) != AlphaShape::INTERIOR) f = as.mirror_facet(f);
     const int i = f.second;
-    // Vertices of the facet opposite vertex i, ordered so the normal points away from the cell.
+    // Vertices of the facet opposite vertex i, ordered so the normal points away from the interior
+    // cell (away from its vertex i).
     int a = (i + 1) % 4, b = (i + 2) % 4, c = (i + 3) % 4;
-    if (i % 2 == 0) std::swap(b, c);
+    const K::Point_3 &pa = f.first->vertex(a)->point(), &pb = f.first->vertex(b)->point(),
+                     &pc = f.first->vertex(c)->point(), &pi = f.first->vertex(i)->point();
+    if (CGAL::orientation(pa, pb, pc, pi) == CGAL::POSITIVE) std::swap(b, c);
     out.triangles.push_back({vid(f.first->vertex(a)), vid(f.first->vertex(b)), vid(f.first->vertex(c))});
   }
+  // Canonical order: vertices lexicographically by coordinates, each triangle rotated to start at
+  // its smallest index (orientation kept), triangles sorted.
+  std::vector<int> order(out.vertices.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    const Eigen::Vector3d &a = out.vertices[i], &b = out.vertices[j];
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  });
+  std::vector<int> new_index(order.size());
+  std::vector<Eigen::Vector3d> sorted(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    new_index[order[k]] = static_cast<int>(k);
+    sorted[k] = out.vertices[order[k]];
+  }
+  out.vertices = std::move(sorted);
+  for (auto& t : out.triangles) {
+    for (auto& v : t) v = new_index[v];
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
   return out;
 }
 

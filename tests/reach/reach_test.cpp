@@ -11,7 +11,9 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <filesystem>
+#include <random>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -113,6 +115,31 @@ TEST_CASE("alpha-shape volume of a sampled box equals the box volume; facets fac
   CHECK(v == Approx(box).margin(kVolumeTolerance));
   // 2 x (4x3 + 3x5 + 4x5) squares on the box surface, two triangles each.
   CHECK(s.triangles.size() == 2u * 2u * (4 * 3 + 3 * 5 + 4 * 5));
+}
+
+TEST_CASE("boundary surfaces are canonical: the same point set in any order gives the same surface",
+          "[reach]") {
+  // An L-shaped block of grid points (degenerate for Delaunay: many co-spherical points), given
+  // in two different orders. CGAL iterates cells in memory order; the output must not depend on it.
+  const double h = 0.1;
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 4; ++k)
+        if (i < 3 || j < 2) pts.emplace_back(i * h, j * h, k * h);
+  std::vector<Eigen::Vector3d> shuffled = pts;
+  std::mt19937 rng(7);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const BoundarySurface a = alphaShapeSurface(pts, gridAlphaRadius({h, h, h}));
+  const BoundarySurface b = alphaShapeSurface(shuffled, gridAlphaRadius({h, h, h}));
+  REQUIRE_FALSE(a.triangles.empty());
+  CHECK(a.triangles == b.triangles);
+  CHECK(a.vertices == b.vertices);
+  CHECK(a.volume_m3 == b.volume_m3);  // bit for bit: summed in a canonical order
+  // The sorted, re-indexed triangles still enclose the solid: divergence theorem.
+  double v = 0;
+  for (const auto& t : a.triangles) v += a.vertices[t[0]].dot(a.vertices[t[1]].cross(a.vertices[t[2]])) / 6.0;
+  CHECK(v == Approx(a.volume_m3).margin(kVolumeTolerance));
 }
 
 TEST_CASE("a study writes VTK files that VTK's readers load with the right grid and values", "[reach][oracle]") {
