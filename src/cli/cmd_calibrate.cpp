@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "calibration/calibration_run.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/drive_report.hpp"
 #include "calibration/tcp_calibration.hpp"
@@ -27,12 +28,7 @@ std::vector<std::string> splitList(const std::string& s, char sep = ',') {
 }
 
 drive::Effect parseEffectOption(const std::string& name, const std::string& option) {
-  drive::Effect e;
-  if (!drive::parseEffect(name, e))
-    throw InputError("", 0, option,
-                     "unknown effect '" + name +
-                         "' (expected coulomb, viscous, load_coulomb, load_viscous, stribeck, asymmetry, temperature)");
-  return e;
+  return calibration::parseDriveEffect(name, "", 0, option);
 }
 
 double parseNumber(const std::string& s, const std::string& option) {
@@ -87,8 +83,7 @@ std::string outDir(const CommonArgs& a, const Model& m) {
 }
 
 std::unique_ptr<calibration::ArmProblem> armProblem(const CommonArgs& a, const Model& m) {
-  if (a.kind == "tcp") return calibration::makeTcpProblem(m, calibration::readTcpData(a.data, m));
-  return calibration::makeTrajectoryProblem(m, calibration::readTrajectoryData(a.data, m));
+  return calibration::makeArmProblem(m, calibration::readArmData(a.kind, a.data, m));
 }
 
 void printArm(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
@@ -135,15 +130,9 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
   const auto P = armProblem(a, m);
   const auto d = calibration::diagnoseArm(*P, o);
   const std::string out = outDir(a, m);
-  std::vector<std::string> notes;
-  const std::string path = designOut.empty() ? out + "/" + m.name + "_calibrated.toml" : designOut;
-  std::string text = a.kind == "tcp" ? calibration::calibratedTcpToml(m, *P, d.final_fit.values, notes)
-                                     : calibration::calibratedTrajectoryToml(m, *P, d.final_fit.values, notes);
-  text = calibration::setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
-  parseDesign(text, path);  // still a valid design
-  calibration::ArmReportOptions ro{out, "fit"};
-  calibration::writeArmReport(d, *P, ro, path);
-  writeFileAtomic(path, text);
+  const calibration::ArmFitFiles files = calibration::writeArmFit(d, *P, m, out, designOut);
+  const std::vector<std::string>& notes = files.notes;
+  const std::string& path = files.calibrated_design_path;
   printArm(d, *P);
   std::printf("\nmodels (RMSE [%s]; held-out = %d-fold cross-validation, linearised refit):\n", P->fit_unit.c_str(), o.folds);
   for (const auto& f : d.ladder)

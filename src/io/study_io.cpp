@@ -248,6 +248,13 @@ Study loadStudy(const std::string& path) {
     for (const auto& d : s.designs) models.push_back(&d.model);
     s.tracking = tracking::readTrackingEntries(top, models, s.obstacles);
   }
+  {  // [[calibration]] entries (docs/calibration.md, "As a study stage"); data files are inputs
+    std::vector<const Model*> models;
+    for (const auto& d : s.designs) models.push_back(&d.model);
+    std::vector<std::pair<std::string, std::string>> files;
+    s.calibration = calibration::readCalibrationEntries(top, dir.string(), models, files);
+    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
+  }
   top.finish();
   return s;
 }

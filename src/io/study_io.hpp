@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "calibration/calibration_stage.hpp"
 #include "collision/collision.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "dynamics/harvest_stage.hpp"
@@ -43,6 +44,7 @@ struct Study {
   std::optional<dexterity::DexterityOptions> dexterity;  // [dexterity] section (docs/dexterity.md)
   std::optional<harvest::HarvestOptions> harvest;        // [harvest] section (docs/dynamics.md)
   std::vector<tracking::TrackingEntry> tracking;         // [[tracking]] entries (docs/tracking.md)
+  std::vector<calibration::CalibrationEntry> calibration;  // [[calibration]] entries (docs/calibration.md)
 };
 
 // Parses and validates a study; loads every design it names and derives the variants.

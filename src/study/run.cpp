@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "armstudy/version.hpp"
+#include "calibration/calibration_stage.hpp"
 #include "common/errors.hpp"
 #include "dexterity/dexterity_output.hpp"
 #include "dynamics/harvest_stage.hpp"
@@ -175,6 +176,11 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
     const auto ts = tracking::runTrackingStage(ctx, study.tracking);
     sum.files_written.insert(sum.files_written.end(), ts.files.begin(), ts.files.end());
     sum.timings.push_back({"tracking", ts.seconds});
+  }
+  if (!study.calibration.empty()) {  // model versus measurement (docs/calibration.md)
+    const auto cs = calibration::runCalibrationStage(ctx, study.calibration);
+    sum.files_written.insert(sum.files_written.end(), cs.files.begin(), cs.files.end());
+    sum.timings.push_back({"calibration", cs.seconds});
   }
 
   // The manifest is written last: its presence marks a complete run.

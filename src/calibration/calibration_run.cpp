@@ -1,0 +1,49 @@
+#include "calibration/calibration_run.hpp"
+
+#include "common/errors.hpp"
+#include "io/design_io.hpp"
+#include "io/files.hpp"
+
+namespace armstudy::calibration {
+
+bool isKind(const std::string& kind) { return kind == "drive" || kind == "tcp" || kind == "trajectory"; }
+
+drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line, const std::string& key) {
+  drive::Effect e;
+  if (drive::parseEffect(name, e)) return e;
+  std::string names;
+  for (const EffectInfo& info : driveEffectCatalogue()) names += (names.empty() ? "" : ", ") + info.name;
+  throw InputError(file, line, key, "unknown effect '" + name + "' (expected " + names + ")");
+}
+
+ArmData readArmData(const std::string& kind, const std::string& path, const Model& model) {
+  ARMSTUDY_CHECK(kind == "tcp" || kind == "trajectory", "arm data kind is tcp or trajectory");
+  ArmData d;
+  d.kind = kind;
+  if (kind == "tcp")
+    d.tcp = std::make_shared<const TcpData>(readTcpData(path, model));
+  else
+    d.trajectory = std::make_shared<const TrajectoryData>(readTrajectoryData(path, model));
+  return d;
+}
+
+std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& data) {
+  if (data.tcp) return makeTcpProblem(model, *data.tcp);
+  ARMSTUDY_CHECK(data.trajectory != nullptr, "arm data holds tcp or trajectory rows");
+  return makeTrajectoryProblem(model, *data.trajectory);
+}
+
+ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m, const std::string& out_dir,
+                        const std::string& design_path) {
+  ArmFitFiles f;
+  f.calibrated_design_path = design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
+  std::string text = P.kind == "tcp" ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
+                                     : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
+  text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
+  parseDesign(text, f.calibrated_design_path);  // still a valid design
+  f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit"}, f.calibrated_design_path);
+  writeFileAtomic(f.calibrated_design_path, text);
+  return f;
+}
+
+}  // namespace armstudy::calibration

@@ -1,0 +1,525 @@
+#include "calibration/calibration_stage.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdlib>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "calibration/drive_report.hpp"
+#include "common/errors.hpp"
+#include "io/design_io.hpp"
+#include "io/files.hpp"
+#include "report/markdown.hpp"
+#include "study/run.hpp"
+
+namespace armstudy::calibration {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+namespace {
+
+constexpr double kRoundTripTolerance = 1e-12;  // variant design text read back vs the variant
+
+// ---------------------------------------------------------------------------------------------
+// Summary <-> JSON
+// ---------------------------------------------------------------------------------------------
+
+ordered_json finite(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
+double number(const ordered_json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
+}  // namespace
+
+std::string entrySummaryToJson(const EntrySummary& s) {
+  ordered_json j;
+  j["name"] = s.name;
+  j["kind"] = s.kind;
+  j["design"] = s.design;
+  j["data"] = {{"file", s.data_file}, {"hash", s.data_hash}};
+  if (!s.joint.empty()) j["drive"] = s.joint;
+  j["mode"] = s.mode;
+  j["unit"] = s.unit;
+  j["noise_estimate"] = finite(s.noise_estimate);
+  j["as_designed"] = {{"rmse", finite(s.as_designed_rmse)}, {"flagged_bins", s.as_designed_flagged}, {"bins", s.bins}};
+  ordered_json ladder = ordered_json::array();
+  for (const LadderStep& l : s.ladder)
+    ladder.push_back({{"label", l.label},
+                      {"n_params", l.n_params},
+                      {"train_rmse", finite(l.train_rmse)},
+                      {"heldout_rmse", finite(l.heldout_rmse)}});
+  j["ladder"] = ladder;
+  ordered_json cat = ordered_json::array();
+  for (std::size_t i = 0; i < s.catalogue.size(); ++i)
+    cat.push_back({{"effect", s.catalogue[i]}, {"significant", s.significant[i] != 0}});
+  j["candidates"] = cat;
+  j["added"] = s.added;
+  j["verdict"] = s.verdict;
+  j["rmse_before"] = finite(s.rmse_before);
+  j["rmse_after"] = finite(s.rmse_after);
+  ordered_json params = ordered_json::array();
+  for (const FittedParameter& p : s.final_params)
+    params.push_back({{"key", p.key},
+                      {"value", finite(p.value)},
+                      {"unit", p.unit},
+                      {"ci95", {finite(p.ci_low), finite(p.ci_high)}},
+                      {"at_bound", p.at_bound}});
+  j["final_params"] = params;
+  j["calibrated"] = {{"design", s.calibrated_design},
+                     {"rmse", finite(s.calibrated_rmse)},
+                     {"flagged_bins", s.calibrated_flagged}};
+  j["notes"] = s.notes;
+  j["warnings"] = s.warnings;
+  j["files"] = s.files;
+  return j.dump(2) + "\n";
+}
+
+EntrySummary entrySummaryFromJson(const std::string& text) {
+  const ordered_json j = ordered_json::parse(text);
+  EntrySummary s;
+  s.name = j.at("name").get<std::string>();
+  s.kind = j.at("kind").get<std::string>();
+  s.design = j.at("design").get<std::string>();
+  s.data_file = j.at("data").at("file").get<std::string>();
+  s.data_hash = j.at("data").at("hash").get<std::string>();
+  s.joint = j.value("drive", std::string());
+  s.mode = j.at("mode").get<std::string>();
+  s.unit = j.at("unit").get<std::string>();
+  s.noise_estimate = number(j.at("noise_estimate"));
+  s.as_designed_rmse = number(j.at("as_designed").at("rmse"));
+  s.as_designed_flagged = j.at("as_designed").at("flagged_bins").get<int>();
+  s.bins = j.at("as_designed").at("bins").get<int>();
+  for (const auto& l : j.at("ladder"))
+    s.ladder.push_back({l.at("label").get<std::string>(), l.at("n_params").get<int>(), number(l.at("train_rmse")),
+                        number(l.at("heldout_rmse"))});
+  for (const auto& c : j.at("candidates")) {
+    s.catalogue.push_back(c.at("effect").get<std::string>());
+    s.significant.push_back(c.at("significant").get<bool>() ? 1 : 0);
+  }
+  s.added = j.at("added").get<std::vector<std::string>>();
+  s.verdict = j.at("verdict").get<std::string>();
+  s.rmse_before = number(j.at("rmse_before"));
+  s.rmse_after = number(j.at("rmse_after"));
+  for (const auto& p : j.at("final_params")) {
+    FittedParameter f;
+    f.key = p.at("key").get<std::string>();
+    f.value = number(p.at("value"));
+    f.unit = p.at("unit").get<std::string>();
+    f.ci_low = number(p.at("ci95").at(0));
+    f.ci_high = number(p.at("ci95").at(1));
+    f.at_bound = p.at("at_bound").get<bool>();
+    s.final_params.push_back(f);
+  }
+  s.calibrated_design = j.at("calibrated").at("design").get<std::string>();
+  s.calibrated_rmse = number(j.at("calibrated").at("rmse"));
+  s.calibrated_flagged = j.at("calibrated").at("flagged_bins").get<int>();
+  s.notes = j.at("notes").get<std::vector<std::string>>();
+  s.warnings = j.at("warnings").get<std::vector<std::string>>();
+  s.files = j.at("files").get<std::vector<std::string>>();
+  return s;
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The design an entry evaluates
+// ---------------------------------------------------------------------------------------------
+
+// Design names allow letters, digits, '_', '-' and '.'; variant names also hold '+' and '='.
+std::string fileSafe(const std::string& name) {
+  std::string s = name;
+  for (char& c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) c = '_';
+  return s;
+}
+
+// The design file text of a study variant: its base file with the variant's overrides set (line
+// edits that keep comments), renamed to a file-safe form of the variant name, checked by reading
+// it back. The calibrated copy of a variant is an edit of this text.
+std::string variantDesignText(const StudyDesign& d, const std::string& name) {
+  const std::string base = readFileOrThrow(d.model.file);
+  std::set<std::string> base_lines;
+  {
+    std::istringstream is(base);
+    for (std::string l; std::getline(is, l);) base_lines.insert(l);
+  }
+  std::string text = base;
+  auto num = [](double v) {  // shortest of %.15g / %.17g that reads back exactly
+    char b[48];
+    std::snprintf(b, sizeof b, "%.15g", v);
+    if (std::strtod(b, nullptr) != v) std::snprintf(b, sizeof b, "%.17g", v);
+    return std::string(b);
+  };
+  for (const auto& [key, value] : d.overrides) {
+    const auto dot = key.find('.');
+    const std::string head = key.substr(0, dot);
+    if (head == "joint") {
+      const auto dot2 = key.find('.', dot + 1);
+      text = setDesignEntry(text, "[[joint]]", "name", key.substr(dot + 1, dot2 - dot - 1), key.substr(dot2 + 1),
+                            num(value));
+    } else {
+      text = setDesignEntry(text, "[" + head + "]", "", "", key.substr(dot + 1), num(value));
+    }
+  }
+  text = setDesignEntry(text, "[design]", "", "", "name", "\"" + name + "\"");
+  // setDesignEntry marks the lines it writes "# calibrated"; here they are variant overrides.
+  std::istringstream is(text);
+  std::string out = "# Study variant '" + d.model.name + "' of " + d.model.file + " (armstudy [[calibration]] stage).\n";
+  const std::string mark = "   # calibrated";
+  for (std::string l; std::getline(is, l);) {
+    if (!base_lines.count(l) && l.size() > mark.size() && l.compare(l.size() - mark.size(), mark.size(), mark) == 0)
+      l = l.substr(0, l.size() - mark.size()) + "   # study variant";
+    out += l + "\n";
+  }
+  const Model back = parseDesign(out, name + ".toml");
+  const Model& v = d.model;
+  bool same = back.dof() == v.dof() && std::abs(back.payload_kg - v.payload_kg) < kRoundTripTolerance;
+  auto samePose = [](const PoseXYZABG& a, const PoseXYZABG& b) {
+    return std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.z - b.z) + std::abs(a.alpha - b.alpha) +
+               std::abs(a.beta - b.beta) + std::abs(a.gamma - b.gamma) <
+           kRoundTripTolerance;
+  };
+  same = same && samePose(back.tcp, v.tcp) && samePose(back.base, v.base);
+  for (int i = 0; same && i < v.dof(); ++i) {
+    const Joint &a = back.joints[i], &b = v.joints[i];
+    same = samePose(a.offset, b.offset) && std::abs(a.limits.q_min - b.limits.q_min) < kRoundTripTolerance &&
+           std::abs(a.limits.q_max - b.limits.q_max) < kRoundTripTolerance &&
+           std::abs(a.limits.qd_max - b.limits.qd_max) < kRoundTripTolerance;
+  }
+  ARMSTUDY_CHECK(same, "variant design text reads back as the variant '" + v.name + "'");
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// One entry
+// ---------------------------------------------------------------------------------------------
+
+struct Work {
+  const CalibrationEntry* entry = nullptr;
+  const StudyDesign* design = nullptr;
+  Model model;                  // the design as evaluated (variants: file = the written variant text)
+  std::string variant_text;     // variants only
+  std::string folder;           // <output>/calibration/<name>
+  std::optional<DriveDiagnosis> drive;
+  std::unique_ptr<ArmProblem> problem;
+  std::optional<ArmDiagnosis> arm;
+};
+
+// Phase 1 (no files): the diagnosis. InputErrors the loader could not foresee (too few rows for
+// the model's parameters) surface here, before anything of the stage is written.
+void diagnose(Work& w) {
+  const CalibrationEntry& e = *w.entry;
+  if (e.kind == "drive") {
+    w.drive = e.fit ? diagnoseDrive(w.model, e.joint, *e.drive_data, e.drive_options)
+                    : compareDrive(w.model, e.joint, *e.drive_data, e.drive_options);
+    return;
+  }
+  w.problem = makeArmProblem(w.model, e.arm_data);
+  w.arm = e.fit ? diagnoseArm(*w.problem, e.arm_options) : compareArm(*w.problem, e.arm_options);
+}
+
+std::string relativeTo(const std::string& path, const std::string& root) {
+  return fs::path(path).lexically_relative(fs::path(root)).generic_string();
+}
+
+// Phase 2: the files (what `armstudy fit|compare` writes, plus the compare of the calibrated copy
+// in calibrated/) and the entry summary.
+EntrySummary writeEntry(Work& w, const std::string& output_dir) {
+  const CalibrationEntry& e = *w.entry;
+  EntrySummary s;
+  s.name = e.name;
+  s.kind = e.kind;
+  s.design = e.design;
+  s.data_file = e.data_file;
+  s.data_hash = e.dataHash();
+  s.joint = e.joint;
+  s.mode = e.fit ? "fit" : "compare";
+  s.rmse_before = s.rmse_after = s.calibrated_rmse = std::nan("");
+  // A fresh folder: history.csv is appended to by the reports, so a leftover of an interrupted
+  // run must not leak into this one.
+  fs::remove_all(w.folder);
+  fs::create_directories(w.folder);
+  if (!w.variant_text.empty()) writeFileAtomic(w.model.file, w.variant_text);
+  const std::string cal_dir = w.folder + "/calibrated";
+  std::string cal_path;
+
+  if (w.drive) {
+    const DriveDiagnosis& d = *w.drive;
+    DriveReportOptions ro;
+    ro.out_dir = w.folder;
+    ro.command = s.mode;
+    ro.write_calibrated_design = e.fit;
+    const DriveReportSummary rs = writeDriveReport(d, w.model, *e.drive_data, ro);
+    s.unit = "A";
+    s.noise_estimate = d.noise_estimate;
+    s.as_designed_rmse = d.as_designed_cmp.current.rmse;
+    s.as_designed_flagged = d.as_designed_cmp.map.flagged();
+    s.bins = static_cast<int>(d.as_designed_cmp.map.bins.size());
+    for (const ModelFit& m : d.ladder) s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+    for (const EffectInfo& info : driveEffectCatalogue()) {
+      s.catalogue.push_back(info.name);
+      bool sig = false;
+      for (const Candidate& c : d.ranking) sig = sig || (c.effect == info.effect && c.significant);
+      s.significant.push_back(sig ? 1 : 0);
+    }
+    for (drive::Effect x : d.added) s.added.push_back(drive::toString(x));
+    s.warnings = d.warnings;
+    if (e.fit) {
+      s.verdict = d.missing_effect_found ? "missing effect: " + std::string(drive::toString(d.ranking.front().effect))
+                                         : "no significant missing effect";
+      s.rmse_before = d.rmse_before;
+      s.rmse_after = d.rmse_after;
+      s.final_params = d.final_fit.params;
+      cal_path = rs.calibrated_design_path;
+      // The calibrated copy as written, read back and compared with the same data.
+      const Model cal = loadDesign(cal_path);
+      const DriveDiagnosis c = compareDrive(cal, e.joint, *e.drive_data, e.drive_options);
+      DriveReportOptions co;
+      co.out_dir = cal_dir;
+      co.command = "compare";
+      writeDriveReport(c, cal, *e.drive_data, co);
+      s.calibrated_rmse = c.as_designed_cmp.current.rmse;
+      s.calibrated_flagged = c.as_designed_cmp.map.flagged();
+    } else {
+      s.verdict = "compare only";
+    }
+  } else {
+    const ArmDiagnosis& d = *w.arm;
+    const ArmProblem& P = *w.problem;
+    if (e.fit) {
+      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "");
+      cal_path = f.calibrated_design_path;
+      s.notes = f.notes;
+    } else {
+      writeArmReport(d, P, ArmReportOptions{w.folder, "compare"}, "");
+    }
+    s.unit = P.fit_unit;
+    s.noise_estimate = d.noise_estimate;
+    s.as_designed_rmse = d.as_designed.train_rmse;
+    s.as_designed_flagged = d.as_designed_map.flagged();
+    s.bins = static_cast<int>(d.as_designed_map.bins.size());
+    for (const ArmFit& m : d.ladder) s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+    for (std::size_t k = 0; k < P.catalogue.size(); ++k) {
+      s.catalogue.push_back(P.catalogue[k].name);
+      bool sig = false;
+      for (const ArmCandidate& c : d.ranking) sig = sig || (c.effect == static_cast<int>(k) && c.significant);
+      s.significant.push_back(sig ? 1 : 0);
+    }
+    s.added = d.added;
+    s.warnings = d.warnings;
+    s.verdict = e.fit ? d.verdict : "compare only";
+    if (e.fit) {
+      s.rmse_before = d.rmse_before;
+      s.rmse_after = d.rmse_after;
+      s.final_params = d.final_fit.params;
+      const Model cal = loadDesign(cal_path);
+      const auto Pc = makeArmProblem(cal, e.arm_data);
+      const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
+      writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare"}, "");
+      s.calibrated_rmse = c.as_designed.train_rmse;
+      s.calibrated_flagged = c.as_designed_map.flagged();
+    }
+  }
+  if (!cal_path.empty()) s.calibrated_design = relativeTo(cal_path, w.folder);
+
+  // Every file of the entry folder, sorted (the reports list theirs in different forms).
+  const std::string summary_rel = relativeTo(w.folder + "/summary.json", output_dir);
+  for (const auto& f : fs::recursive_directory_iterator(w.folder))
+    if (f.is_regular_file()) s.files.push_back(relativeTo(f.path().string(), output_dir));
+  s.files.push_back(summary_rel);
+  std::sort(s.files.begin(), s.files.end());
+  writeFileAtomic(w.folder + "/summary.json", entrySummaryToJson(s));
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checkpoints: a unit is one entry; what is saved is its summary plus the content hash of every
+// file it wrote, so a resumed run reuses the entry only when its files are still intact.
+// ---------------------------------------------------------------------------------------------
+
+std::string unitId(const CalibrationEntry& e) { return "calibration-" + e.name; }
+
+std::string checkpointBytes(const EntrySummary& s, const std::string& output_dir) {
+  ordered_json j;
+  j["summary"] = entrySummaryToJson(s);
+  ordered_json h = ordered_json::object();
+  for (const std::string& f : s.files) h[f] = fileHash((fs::path(output_dir) / f).string());
+  j["hashes"] = h;
+  return j.dump();
+}
+
+std::optional<EntrySummary> resumeEntry(const CheckpointStore& store, const CalibrationEntry& e,
+                                        const std::string& output_dir) {
+  std::string bytes;
+  if (!store.load(unitId(e), bytes)) return std::nullopt;
+  try {
+    const ordered_json j = ordered_json::parse(bytes);
+    EntrySummary s = entrySummaryFromJson(j.at("summary").get<std::string>());
+    const ordered_json& h = j.at("hashes");
+    if (h.size() != s.files.size()) return std::nullopt;
+    for (const std::string& f : s.files) {
+      const fs::path p = fs::path(output_dir) / f;
+      if (!fs::is_regular_file(p) || fileHash(p.string()) != h.at(f).get<std::string>()) return std::nullopt;
+    }
+    return s;
+  } catch (const std::exception&) {
+    return std::nullopt;  // unreadable unit: run the entry again
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Metrics and the stage report
+// ---------------------------------------------------------------------------------------------
+
+void addMetrics(const EntrySummary& s, StudyMetrics& M) {
+  const std::string p = "calibration/" + s.name + "/";
+  M.scalars[p + "as_designed_rmse"] = s.as_designed_rmse;
+  M.scalars[p + "as_designed_flagged_bins"] = s.as_designed_flagged;
+  M.scalars[p + "noise_estimate"] = s.noise_estimate;
+  if (s.mode != "fit") return;
+  M.scalars[p + "rmse_before"] = s.rmse_before;
+  M.scalars[p + "rmse_after"] = s.rmse_after;
+  M.scalars[p + "calibrated_rmse"] = s.calibrated_rmse;
+  M.scalars[p + "calibrated_flagged_bins"] = s.calibrated_flagged;
+  for (std::size_t k = 0; k < s.ladder.size(); ++k)
+    M.scalars[p + "ladder/" + std::to_string(k) + "/heldout_rmse"] = s.ladder[k].heldout_rmse;
+  for (std::size_t k = 0; k < s.added.size(); ++k) M.scalars[p + "added/" + s.added[k]] = static_cast<double>(k + 1);
+  for (const FittedParameter& f : s.final_params) M.scalars[p + "param/" + f.key] = f.value;
+  std::vector<std::uint8_t> added(s.catalogue.size(), 0);
+  for (std::size_t k = 0; k < s.catalogue.size(); ++k)
+    added[k] = std::find(s.added.begin(), s.added.end(), s.catalogue[k]) != s.added.end();
+  M.flags[p + "added"] = added;
+  M.flags[p + "significant"] = s.significant;
+}
+
+std::string g4(double v) {
+  if (!std::isfinite(v)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries) {
+  std::ostringstream md;
+  md << "# Model versus measurement: " << study << "\n\n"
+     << "Each entry compares a design's model with measured data, ranks the candidate effects that "
+        "could be missing by cross-validated error, adds them as asked, writes a calibrated copy of "
+        "the design and compares that copy with the same data (docs/calibration.md, \"As a study "
+        "stage\"). RMSE in the unit of each entry; held-out = k-fold cross-validation.\n\n";
+  for (const EntrySummary& s : entries) {
+    md << "## " << s.name << "\n\n"
+       << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `" << s.design
+       << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode << ". Noise estimate "
+       << g4(s.noise_estimate) << " " << s.unit << "; as designed RMSE " << g4(s.as_designed_rmse) << " " << s.unit
+       << ", flagged bins " << s.as_designed_flagged << " of " << s.bins << ".\n\n";
+    std::vector<std::vector<std::string>> rows;
+    for (const LadderStep& l : s.ladder)
+      rows.push_back({l.label, std::to_string(l.n_params), g4(l.train_rmse), g4(l.heldout_rmse)});
+    md << report::markdownTable({"model", ">params", ">train RMSE [" + s.unit + "]", ">held-out RMSE [" + s.unit + "]"},
+                                rows)
+       << "\n";
+    if (s.mode == "fit") {
+      std::string added;
+      for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + a;
+      md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added) << ". Held-out RMSE "
+         << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
+      if (s.rmse_after > 0) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
+      md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
+         << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
+         << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+      std::vector<std::vector<std::string>> prow;
+      for (const FittedParameter& f : s.final_params)
+        prow.push_back({f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
+      if (!prow.empty())
+        md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow) << "\n";
+    }
+    for (const auto& n : s.notes) md << "Note: " << n << "\n\n";
+    for (const auto& x : s.warnings) md << "Warning: " << x << "\n\n";
+    md << "Reports: `" << s.name << "/result.json`, plots in `" << s.name << "/plots/`"
+       << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`" : std::string())
+       << ".\n\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+CalibrationStageSummary runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CalibrationStageSummary sum;
+  const int n = static_cast<int>(entries.size());
+  const std::string dir = ctx.output_dir + "/calibration";
+  std::vector<Work> work(n);
+  std::vector<std::optional<EntrySummary>> done(n);
+  for (int i = 0; i < n; ++i) {
+    Work& w = work[i];
+    w.entry = &entries[i];
+    for (const StudyDesign& d : ctx.study.designs)
+      if (d.model.name == entries[i].design) w.design = &d;
+    ARMSTUDY_CHECK(w.design, "calibration entry '" + entries[i].name + "' names a design the study has");
+    w.folder = dir + "/" + entries[i].name;
+    w.model = w.design->model;
+    if (!w.design->overrides.empty()) {
+      w.model.name = fileSafe(w.design->model.name);
+      w.variant_text = variantDesignText(*w.design, w.model.name);
+      w.model.file = w.folder + "/" + w.model.name + ".toml";
+      w.model.file_hash = contentHash(w.variant_text);
+    }
+    done[i] = resumeEntry(ctx.checkpoints, entries[i], ctx.output_dir);
+    if (done[i]) ++sum.resumed;
+  }
+
+  // Units: one per entry, each sequential; exceptions are carried out of the parallel loops and
+  // the first one in entry order is rethrown.
+  const int threads = ctx.options.threads > 0 ? ctx.options.threads : omp_get_max_threads();
+  std::vector<std::exception_ptr> errors(n);
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int i = 0; i < n; ++i) {
+    if (done[i]) continue;
+    try {
+      diagnose(work[i]);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  }
+  for (const auto& err : errors)
+    if (err) std::rethrow_exception(err);
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int i = 0; i < n; ++i) {
+    if (done[i]) continue;
+    try {
+      done[i] = writeEntry(work[i], ctx.output_dir);
+      ctx.checkpoints.save(unitId(entries[i]), checkpointBytes(*done[i], ctx.output_dir));
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  }
+  for (const auto& err : errors)
+    if (err) std::rethrow_exception(err);
+
+  ordered_json js;
+  js["study"] = ctx.study.name;
+  js["entries"] = ordered_json::array();
+  for (int i = 0; i < n; ++i) {
+    sum.entries.push_back(*done[i]);
+    sum.files.insert(sum.files.end(), done[i]->files.begin(), done[i]->files.end());
+    js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
+    addMetrics(*done[i], ctx.summary.metrics);
+  }
+  writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, sum.entries));
+  writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");
+  sum.files.push_back("calibration/report.md");
+  sum.files.push_back("calibration/summary.json");
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return sum;
+}
+
+}  // namespace armstudy::calibration

@@ -1,0 +1,112 @@
+#pragma once
+// The [[calibration]] study stage (docs/calibration.md, "As a study stage"): model versus
+// measurement as part of `armstudy run`. Each entry does what `armstudy fit` (or `compare`) does
+// for one data file and one design of the study, then compares the calibrated design copy with the
+// same data, so the loop "compare, see where it fails, add the missing effect, watch the error
+// fall" is reproducible (data files hashed into the manifest) and checkable (summary metrics for
+// `armstudy baseline` / `armstudy check`).
+//
+//   [[calibration]]
+//   name = "b2_friction"             # letters, digits, _ -; names the output folder
+//   kind = "drive"                   # drive | tcp | trajectory
+//   design = "final_prototype_9dof"  # a design or variant of the study
+//   data = "data/drive_testbed_module_b2.csv"   # CSV, relative to the study file
+//   drive = "j6"                     # kind drive only: the joint whose drive was measured
+//   mode = "fit"                     # fit (default) | compare
+//   auto = true                      # fit --auto (default false)
+//   add = ["stribeck"]               # fit --add: effects to add first, in this order
+//   folds = 5                        # fit --folds
+//   seed = 1                         # fit --seed
+//   speed_bins = 8                   # drive kind: --speed-bins, --load-bins
+//   load_bins = 4
+//   variable_bins = 4                # tcp/trajectory: --variable-bins, --workspace-bins
+//   workspace_bins = 4
+//
+// The data file is read (and every option checked, effect names against the kind's catalogue for
+// this design and data) when the study loads, so a study that loads runs without input errors.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "calibration/calibration_run.hpp"
+#include "model/model.hpp"
+
+namespace armstudy {
+namespace io {
+class TableReader;
+}
+struct StageContext;
+
+namespace calibration {
+
+struct CalibrationEntry {
+  std::string name;
+  std::string kind;       // drive | tcp | trajectory
+  std::string design;     // model name of a study design or variant
+  std::string data_file;  // resolved path of the data CSV
+  std::string joint;      // drive kind: the measured drive's joint
+  bool fit = true;        // false: compare only
+  DriveFitOptions drive_options;  // drive kind
+  ArmFitOptions arm_options;      // tcp and trajectory kinds
+  std::shared_ptr<const DriveData> drive_data;  // drive kind, read when the study loads
+  ArmData arm_data;                             // tcp and trajectory kinds
+  const std::string& dataHash() const { return drive_data ? drive_data->hash : arm_data.hash(); }
+};
+
+// Reads every [[calibration]] entry of a study (none when absent); `study_dir` resolves the data
+// paths; `designs` are the study's designs and variants. Appends (data file, hash) of every data
+// file read to `files`. Throws InputError (file, line, key) for an unknown kind, design, joint,
+// effect or key, a missing or malformed data file, options of the other kind, ...
+std::vector<CalibrationEntry> readCalibrationEntries(io::TableReader& top, const std::string& study_dir,
+                                                     const std::vector<const Model*>& designs,
+                                                     std::vector<std::pair<std::string, std::string>>& files);
+
+// One step of the error ladder (as designed, refit, +effect, ...).
+struct LadderStep {
+  std::string label;
+  int n_params = 0;
+  double train_rmse = 0, heldout_rmse = 0;
+};
+
+// What one entry found; also the content of calibration/<name>/summary.json.
+struct EntrySummary {
+  std::string name, kind, design, data_file, data_hash, joint, mode, unit;
+  double noise_estimate = 0;
+  double as_designed_rmse = 0;  // design as is, all rows (what `compare` prints)
+  int as_designed_flagged = 0, bins = 0;
+  std::vector<LadderStep> ladder;
+  std::vector<std::string> catalogue;     // candidate effects in catalogue order
+  std::vector<std::uint8_t> significant;  // per catalogue effect: significant in the first ranking
+  std::vector<std::string> added;         // in the order they were added
+  std::string verdict;
+  double rmse_before = 0, rmse_after = 0;  // held-out, fit mode
+  std::vector<FittedParameter> final_params;
+  std::vector<std::string> notes, warnings;
+  // Fit mode: the calibrated copy compared with the same data.
+  std::string calibrated_design;  // relative to the stage folder
+  double calibrated_rmse = 0;     // all rows
+  int calibrated_flagged = 0;
+  std::vector<std::string> files;  // relative to the study output folder
+};
+
+std::string entrySummaryToJson(const EntrySummary& s);
+EntrySummary entrySummaryFromJson(const std::string& json);  // throws std::exception when malformed
+
+struct CalibrationStageSummary {
+  std::vector<std::string> files;  // relative to the output folder
+  double seconds = 0;
+  std::vector<EntrySummary> entries;
+  int resumed = 0;  // entries taken from the checkpoint store
+};
+
+// Runs every entry (OpenMP over entries; each entry is sequential, so results do not depend on the
+// thread count) and writes under <output_dir>/calibration/: per entry <name>/ (the fit or compare
+// report), <name>/calibrated/ (fit: the compare report of the calibrated copy), <name>/summary.json;
+// then report.md and summary.json. Adds metrics "calibration/<name>/..." to ctx.summary.metrics.
+// Each entry is one checkpoint unit.
+CalibrationStageSummary runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries);
+
+}  // namespace calibration
+}  // namespace armstudy
