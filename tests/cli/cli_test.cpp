@@ -61,7 +61,7 @@ TEST_CASE("fk --json reports every frame and the TCP", "[cli]") {
   CHECK(bad.find("joint values") != std::string::npos);
 }
 
-TEST_CASE("run writes manifest and resolved designs; refuses to overwrite silently", "[cli][study]") {
+TEST_CASE("run writes manifest and resolved designs, refuses to overwrite silently", "[cli][study]") {
   const fs::path dir = freshDir("run");
   const fs::path study = dir / "mini.toml";
   std::ofstream(study) << "[study]\nname = \"mini\"\n[[design]]\nfile = \""

@@ -150,7 +150,7 @@ TEST_CASE("mass matrix agrees with orocos-kdl ChainDynParam and is symmetric pos
   }
 }
 
-TEST_CASE("M qdd + h equals Newton-Euler; M equals RNEA with unit accelerations",
+TEST_CASE("M qdd + h equals Newton-Euler, M equals RNEA with unit accelerations",
           "[dynamics][consistency]") {
   std::mt19937_64 rng(5);
   for (const auto& rel : shippedDesigns()) {
@@ -202,7 +202,7 @@ TEST_CASE("inverse then forward dynamics returns the accelerations", "[dynamics]
   }
 }
 
-TEST_CASE("kinetic energy from link velocities equals qd^T M qd / 2; gravity is dV/dq",
+TEST_CASE("kinetic energy from link velocities equals qd^T M qd / 2, gravity is dV/dq",
           "[dynamics][consistency][fd]") {
   std::mt19937_64 rng(23);
   for (const auto& rel : shippedDesigns()) {

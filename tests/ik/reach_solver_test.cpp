@@ -196,7 +196,7 @@ TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference positio
   }
 }
 
-TEST_CASE("the same pose id gives the same result; options are validated", "[ik]") {
+TEST_CASE("the same pose id gives the same result, options are validated", "[ik]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   IkWorkspace a(m), b(m);
   IkTarget t;

@@ -98,7 +98,7 @@ TEST_CASE("sweeps are bit-identical for 1 and 2 threads and from run to run", "[
   }
 }
 
-TEST_CASE("alpha-shape volume of a sampled box equals the box volume; facets face outwards", "[reach][oracle]") {
+TEST_CASE("alpha-shape volume of a sampled box equals the box volume, facets face outwards", "[reach][oracle]") {
   std::vector<Eigen::Vector3d> pts;
   const double h = 0.1;
   for (int i = 0; i < 5; ++i)
@@ -243,7 +243,7 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad [reach] input is an InputError naming file, line and key; nothing is written", "[reach][bad-input]") {
+TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing is written", "[reach][bad-input]") {
   const fs::path dir = tempDir("bad");
   writeText(dir / "poses.csv", "x,y,z\n0.1,0.2,0.3\n0.1,zz,0.3\n");
   struct Case {
@@ -251,15 +251,16 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key; nothing
     int line;
   };
   const std::string grid = "[[reach.grid]]\nname = \"g\"\n";
+  // studyText puts 6 lines before the [reach] section, which starts on line 7.
   const std::vector<Case> cases = {
-      {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 9},
-      {"negative step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = \"-1 cm\" }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 9},
-      {"empty range", "[reach]\n" + grid + "x = 0\ny = { from = 1, to = 0.5, step = 0.1 }\nz = 1\n", "reach.grid[0].y", 10},
-      {"unknown task-space component", "[reach]\ntask_space = \"x,y,z,roll\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.task_space", 7},
-      {"zero tolerance", "[reach]\nposition_tolerance = \"0 mm\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.position_tolerance", 7},
-      {"negative tolerance", "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.orientation_tolerance", 7},
-      {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n", "reach.grid[0].beta", 12},
-      {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n", "reach.grid[0].speed", 12},
+      {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 10},
+      {"negative step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = \"-1 cm\" }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 10},
+      {"empty range", "[reach]\n" + grid + "x = 0\ny = { from = 1, to = 0.5, step = 0.1 }\nz = 1\n", "reach.grid[0].y", 11},
+      {"unknown task-space component", "[reach]\ntask_space = \"x,y,z,roll\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.task_space", 8},
+      {"zero tolerance", "[reach]\nposition_tolerance = \"0 mm\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.position_tolerance", 8},
+      {"negative tolerance", "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.orientation_tolerance", 8},
+      {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n", "reach.grid[0].beta", 13},
+      {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n", "reach.grid[0].speed", 13},
       {"malformed CSV row", "[reach]\n[[reach.poses]]\nname = \"p\"\nfile = \"poses.csv\"\ntask_space = \"position\"\n", "y", 3},
   };
   for (const Case& c : cases) {

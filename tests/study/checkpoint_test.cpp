@@ -51,7 +51,7 @@ TEST_CASE("checkpoint store starts fresh, saying why, when an input changed",
   CHECK(s.completedUnits() == 0);
 }
 
-TEST_CASE("unit bytes round-trip bit for bit; other formats and damaged bytes are refused",
+TEST_CASE("unit bytes round-trip bit for bit, other formats and damaged bytes are refused",
           "[study][checkpoint]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> q(7);
@@ -113,7 +113,7 @@ TEST_CASE("unit bytes round-trip bit for bit; other formats and damaged bytes ar
   CHECK_FALSE(s.ok());
 }
 
-TEST_CASE("ranges split items evenly; the countdown reports each range's completion exactly once",
+TEST_CASE("ranges split items evenly, the countdown reports each range's completion exactly once",
           "[study][checkpoint]") {
   const std::vector<ItemRange> r = splitRange(10, 4);
   REQUIRE(r.size() == 3);

@@ -46,7 +46,7 @@ TEST_CASE("baselines round-trip through JSON exactly", "[study][regression]") {
   CHECK(r.rows.size() == 3);
 }
 
-TEST_CASE("tolerances decide the verdict per metric; the first matching rule wins", "[study][regression]") {
+TEST_CASE("tolerances decide the verdict per metric, the first matching rule wins", "[study][regression]") {
   const Baseline b = sampleBaseline();
   StudyMetrics now = b.metrics;
   now.scalars["reach/a/grid0/reachable_fraction"] = 0.5009;  // within 0.001 absolute
