@@ -11,17 +11,10 @@
 #include "collision/collision_model.hpp"
 #include "collision/potential.hpp"
 #include "io/design_io.hpp"
+#include "alloc_counter.hpp"
 #include "test_support.hpp"
 
-// Counts heap allocations in this test binary (for the no-heap invariant).
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+using armstudy::test::g_allocations;  // tests/alloc_counter.hpp replaces the allocation functions
 
 using namespace armstudy;
 using namespace armstudy::collision;

@@ -15,20 +15,13 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "kdl_support.hpp"
+#include "alloc_counter.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::test;
 
-// Counts heap allocations of this test executable, to check "no heap per call".
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+using armstudy::test::g_allocations;  // tests/alloc_counter.hpp replaces the allocation functions
 
 namespace {
 
