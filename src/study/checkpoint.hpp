@@ -114,7 +114,9 @@ class UnitWriter {
 // every byte was read.
 class UnitReader {
  public:
+  // Reads `bytes` in place: they must outlive the reader (binding a temporary is refused).
   UnitReader(const std::string& bytes, std::string_view magic);
+  UnitReader(std::string&&, std::string_view) = delete;
   bool ok() const { return ok_; }
   bool finished() const { return ok_ && pos_ == b_.size(); }
   template <class T>
@@ -133,7 +135,7 @@ class UnitReader {
       return;
     }
     v.resize(n);
-    if (take(n * sizeof(T))) std::memcpy(v.data(), b_.data() + pos_ - n * sizeof(T), n * sizeof(T));
+    if (take(n * sizeof(T)) && n > 0) std::memcpy(v.data(), b_.data() + pos_ - n * sizeof(T), n * sizeof(T));
   }
   std::string getString();
   // Into a fixed- or dynamic-size Eigen object; a fixed size must match.

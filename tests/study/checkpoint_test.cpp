@@ -88,10 +88,12 @@ TEST_CASE("unit bytes round-trip bit for bit, other formats and damaged bytes ar
   CHECK(r.finished());
 
   CHECK_FALSE(UnitReader(b, "fmt-v2").ok());      // another format version
-  CHECK_FALSE(UnitReader("fmt", "fmt-v1").ok());  // shorter than the magic
+  const std::string too_short = "fmt";
+  CHECK_FALSE(UnitReader(too_short, "fmt-v1").ok());  // shorter than the magic
   // Cut anywhere: some read fails, nothing is read past the end.
   for (std::size_t cut : {b.size() - 1, b.size() / 2, std::size_t(10)}) {
-    UnitReader t(b.substr(0, cut), "fmt-v1");
+    const std::string cut_bytes = b.substr(0, cut);
+    UnitReader t(cut_bytes, "fmt-v1");
     t.get<std::int32_t>();
     t.get<double>();
     t.getVector(v);
