@@ -95,6 +95,20 @@ inline constexpr double kNullspaceRelativeImprovement = 1e-6;  // (study) stop w
 inline constexpr double kNullspaceMaxStep = 0.2;          // largest joint change per null-space step [rad or m]
 inline constexpr int kNullspaceCorrectionIterations = 6;  // Newton steps that bring the tool back onto the pose
 inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool must stay this close to the pose
+// Map search (docs/dexterity.md, "How a map value is found"): after the chained row sweeps, seeded
+// multi-starts on a sub-grid and neighbour propagation make a cell's value independent of the
+// order the grid was traversed in. (study) = [dexterity.search] may override.
+inline constexpr int kMapSeedStarts = 24;                 // (study) random starts per seeding cell
+inline constexpr int kMapSeedStride = 4;                  // (study) seeding cells: every n-th gamma and z value
+inline constexpr int kMapPropagationRounds = 1000;        // (study) cap on neighbour-propagation rounds
+inline constexpr double kMapImprovementRelative = 1e-7;   // a candidate replaces a cell's value when H drops by more (relative)
+inline constexpr unsigned long long kMapSearchSeed = 2;   // (study) seed of the multi-starts
+// Map audit (docs/dexterity.md, docs/reachability.md): an independent many-start search on cells
+// drawn at random; a study enables it with [dexterity.audit] / [reach.audit].
+inline constexpr int kAuditDexterityStarts = 200;         // (study) starts per audited dexterity cell
+inline constexpr int kAuditReachStarts = 500;             // (study) starts per audited reach pose
+inline constexpr unsigned long long kAuditSeed = 7;       // (study) draws cells and starts; distinct from the map's seeds
+inline constexpr double kAuditTolerance = 0.01;           // a cell agrees when within 1 % of the audit's best
 // Harvest torque stage (docs/dynamics.md). (study) = [harvest] may override.
 inline constexpr double kHarvestRate_Hz = 1000.0;          // (study) tracking and inverse-dynamics rate [Hz]
 inline constexpr double kHarvestTemperature_C = 20.0;      // (study) drive temperature for friction terms [deg C]

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <algorithm>
 #include <limits>
 
 #include "common/errors.hpp"
@@ -77,6 +78,94 @@ IkTarget reachTarget(const ik::PoseTarget& t) {
   return r;
 }
 
+namespace {
+
+JointVector weightInverse(const DexterityOptions& options, int n) {
+  ik::RedundancyOptions ro;
+  ro.joint_weights = options.joint_weights;
+  return ro.weightInverse(n);
+}
+
+bool onPose(const ik::PoseSolveResult& s, const DexterityOptions& options) {
+  return s.error.position_m <= options.position_tolerance_m && s.error.orientation_rad <= options.orientation_tolerance_rad;
+}
+
+// The cell's results once r.q_plain (and its errors) hold a reachable plain solution: plain
+// measures, then (redundant designs) the null-space optimisation from `start` (the plain
+// configuration when null), retried from the plain configuration when `start` led to a worse
+// optimum, so the optimised configuration is never worse than the plain one.
+void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                const ik::WeightedObjective& objective, const DexterityOptions& options, const StemGrid::Cell& cell,
+                const JointVector& w_inv, const JointVector* start, CellResult& r) {
+  const Eigen::Vector3d u = options.fixed_direction ? options.direction_W : cell.u_W;
+  ctx.u_W = u;
+  forwardKinematicsAndJacobian(model, ws, r.q_plain);
+  r.plain = metrics::tcpMeasures(ws, options.measure_space, u, true);
+  r.ellipsoid_plain = metrics::translationalEllipsoid(ws);
+  ctx.prepare(r.q_plain);
+  r.H_plain = objective.evaluate(ctx, nullptr);
+  r.q_opt = r.q_plain;
+  r.opt = r.plain;
+  r.ellipsoid_opt = r.ellipsoid_plain;
+  r.H_opt = r.H_plain;
+  if (model.dof() <= ik::taskDim(cell.target.kind) || objective.empty()) return;
+  const JointVector& from = start ? *start : r.q_plain;
+  ik::NullspaceResult o = ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
+  if (from != r.q_plain && !(o.H_final <= r.H_plain))
+    o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv, options.nullspace);
+  r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
+  r.nullspace_status = o.status;
+  r.nullspace_iterations = o.iterations;
+  r.q_opt = o.q;
+  r.H_opt = o.H_final;
+  forwardKinematicsAndJacobian(model, ws, r.q_opt);
+  r.opt = metrics::tcpMeasures(ws, options.measure_space, u, true);
+  r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
+}
+
+// True when `cand` should replace `cur`: reachable where `cur` is not, or a lower objective by
+// more than the relative threshold (so rounding noise cannot keep the propagation going).
+bool better(const CellResult& cand, const CellResult& cur) {
+  if (!cand.reachable) return false;
+  if (!cur.reachable) return true;
+  return cand.H_opt < cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
+}
+
+// Replaces the optimised part of `cur` by the candidate's (the plain part stays the chained
+// solution when `cur` was reachable: "plain" is the pose solution before any optimisation).
+void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
+  if (!cur.reachable) {
+    cur = cand;
+  } else {
+    cur.optimised = cand.optimised;
+    cur.q_opt = cand.q_opt;
+    cur.opt = cand.opt;
+    cur.ellipsoid_opt = cand.ellipsoid_opt;
+    cur.H_opt = cand.H_opt;
+    cur.nullspace_iterations = cand.nullspace_iterations;
+    cur.nullspace_status = cand.nullspace_status;
+  }
+  cur.found_by = source;
+}
+
+}  // namespace
+
+bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                  const ik::WeightedObjective& objective, const DexterityOptions& options,
+                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out) {
+  const JointVector w_inv = weightInverse(options, model.dof());
+  const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
+  if (!onPose(s, options)) return false;
+  out = CellResult{};
+  out.reachable = true;
+  out.starts = 1;
+  out.q_plain = s.q;
+  out.position_error_m = s.error.position_m;
+  out.orientation_error_rad = s.error.orientation_rad;
+  finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
+  return true;
+}
+
 CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
@@ -84,14 +173,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
                      const JointVector* warm_opt) {
   CellResult r;
   const int n = model.dof();
-  ik::RedundancyOptions ro;
-  ro.joint_weights = options.joint_weights;
-  const JointVector w_inv = ro.weightInverse(n);
-  const Eigen::Vector3d u = options.fixed_direction ? options.direction_W : cell.u_W;
-  auto accept = [&](const ik::PoseSolveResult& s) {
-    return s.error.position_m <= options.position_tolerance_m &&
-           s.error.orientation_rad <= options.orientation_tolerance_rad;
-  };
+  const JointVector w_inv = weightInverse(options, n);
   auto cost = [](const ik::PoseSolveResult& s) {
     return s.error.position_m + defaults::kOrientationLength_m * s.error.orientation_rad;
   };
@@ -102,7 +184,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     ++r.starts;
     best = ik::solvePose(model, ws, cell.target, *warm_plain, w_inv, options.solve);
   }
-  if (!accept(best)) {
+  if (!onPose(best, options)) {
     // The reachability solver (thesis eq. 3.2), then the local solve polishes its solution to the
     // tight tolerance of options.solve.
     IkOptions io;
@@ -118,52 +200,155 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   r.q_plain = best.q;
   r.position_error_m = best.error.position_m;
   r.orientation_error_rad = best.error.orientation_rad;
-  r.reachable = accept(best);
+  r.reachable = onPose(best, options);
   if (!r.reachable) {
     r.q_opt = r.q_plain;
     return r;
   }
-  ctx.u_W = u;
-  forwardKinematicsAndJacobian(model, ws, r.q_plain);
-  r.plain = metrics::tcpMeasures(ws, options.measure_space, u, true);
-  r.ellipsoid_plain = metrics::translationalEllipsoid(ws);
-  ctx.prepare(r.q_plain);
-  r.H_plain = objective.evaluate(ctx, nullptr);
-  r.q_opt = r.q_plain;
-  r.opt = r.plain;
-  r.ellipsoid_opt = r.ellipsoid_plain;
-  r.H_opt = r.H_plain;
-  if (n > ik::taskDim(cell.target.kind) && !objective.empty()) {
-    JointVector start = r.q_plain;
-    if (warm_opt) {
-      const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
-      if (s.error.position_m <= options.nullspace.pose_tolerance &&
-          s.error.orientation_rad <= options.nullspace.pose_tolerance)
-        start = s.q;
+  // The null-space descent starts from the pose solution nearest the previous cell's optimum.
+  JointVector start;
+  bool chained = false;
+  if (warm_opt && n > ik::taskDim(cell.target.kind) && !objective.empty()) {
+    const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
+    if (s.error.position_m <= options.nullspace.pose_tolerance && s.error.orientation_rad <= options.nullspace.pose_tolerance) {
+      start = s.q;
+      chained = true;
     }
-    ik::NullspaceResult o =
-        ik::optimiseAtPose(model, ws, ctx, cell.target, start, objective, w_inv, options.nullspace);
-    if (start != r.q_plain && !(o.H_final <= r.H_plain)) {
-      // The chained start led to a worse local optimum: optimise from the plain solution instead,
-      // so the optimised configuration is never worse than the plain one.
-      o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv, options.nullspace);
-    }
-    r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
-    r.nullspace_status = o.status;
-    r.nullspace_iterations = o.iterations;
-    r.q_opt = o.q;
-    r.H_opt = o.H_final;
-    forwardKinematicsAndJacobian(model, ws, r.q_opt);
-    r.opt = metrics::tcpMeasures(ws, options.measure_space, u, true);
-    r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
   }
+  finishCell(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr, r);
   return r;
 }
 
 DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& options, int threads) {
   std::vector<ItemRange> all;
   if (options.grid.z_m.count > 0) all.push_back({0, options.grid.z_m.count});
-  return computeDexterityRows(model, options, all, threads);
+  DexterityMap map = computeDexterityRows(model, options, all, threads);
+  searchDexterityMap(model, options, map, threads);
+  return map;
+}
+
+namespace {
+
+// The up to eight neighbours of a cell (gamma wraps around on a full circle), in a fixed order.
+int neighbours(const StemGrid& g, int idx, int out[8]) {
+  const int G = g.gamma_rad.count, Z = g.z_m.count;
+  const bool wrap = G > 2 && std::abs(g.gamma_rad.step() * G - 2 * M_PI) < 1e-9;
+  const int ig = idx % G, iz = idx / G;
+  int n = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dg = -1; dg <= 1; ++dg) {
+      if (dz == 0 && dg == 0) continue;
+      int jg = ig + dg;
+      const int jz = iz + dz;
+      if (jz < 0 || jz >= Z) continue;
+      if (wrap) jg = (jg + G) % G;
+      if (jg < 0 || jg >= G) continue;
+      out[n++] = g.index(jg, jz);
+    }
+  return n;
+}
+
+}  // namespace
+
+void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const StemGrid& g = options.grid;
+  const int N = g.size(), G = g.gamma_rad.count;
+  ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == N, "dexterity map does not match its grid");
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+  const ik::WeightedObjective objective = options.buildObjective(model);
+  MapSearchSummary& sum = map.search;
+  sum = MapSearchSummary{};
+  std::vector<CellResult>& cells = map.cells;
+  // Cells that changed in the last step: the sources of the next propagation round.
+  std::vector<std::uint8_t> changed(N, 0);
+
+  // (1) Seeded multi-starts on the sub-grid. Each cell depends only on its own index.
+  std::vector<int> seeding;
+  if (options.seed_starts > 0) {
+    const int st = std::max(1, options.seed_stride);
+    for (int iz = 0; iz < g.z_m.count; iz += st)
+      for (int ig = 0; ig < G; ig += st) seeding.push_back(g.index(ig, iz));
+  }
+  sum.seeding_cells = static_cast<int>(seeding.size());
+  long tries = 0;
+  int improved = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tries, improved)
+  {
+    KinematicsWorkspace ws(model);
+    ik::ObjectiveContext ctx(model, ws);
+    JointVector q0(model.dof());
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < static_cast<int>(seeding.size()); ++k) {
+      const int idx = seeding[k];
+      const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+      CellResult& cur = cells[idx];
+      for (int s = 0; s < options.seed_starts; ++s) {
+        randomConfiguration(model, options.search_seed, static_cast<std::uint64_t>(idx), s, q0);
+        CellResult cand;
+        ++tries;
+        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand) || !better(cand, cur)) continue;
+        if (cur.found_by != CellResult::Source::MultiStart) ++improved;
+        adopt(cur, cand, CellResult::Source::MultiStart);
+        changed[idx] = 1;
+      }
+    }
+  }
+  sum.multistart_tries = tries;
+  sum.multistart_improved = improved;
+
+  // (2) Neighbour propagation, Jacobi rounds. Round 0 tries every better neighbour (the chain's
+  // branch choices are not marked); later rounds only neighbours that changed in the round before.
+  bool first = true;
+  sum.converged = options.propagation_rounds == 0;
+  while (sum.rounds < options.propagation_rounds) {
+    std::vector<CellResult> next = cells;
+    std::vector<std::uint8_t> now(N, 0);
+    long round_tries = 0;
+    int round_improved = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : round_tries, round_improved)
+    {
+      KinematicsWorkspace ws(model);
+      ik::ObjectiveContext ctx(model, ws);
+      int nb[8];
+#pragma omp for schedule(dynamic, 16)
+      for (int idx = 0; idx < N; ++idx) {
+        const CellResult& cur = cells[idx];
+        const int count = neighbours(g, idx, nb);
+        CellResult best = cur;
+        bool any = false;
+        for (int k = 0; k < count; ++k) {
+          const CellResult& src = cells[nb[k]];
+          if (!src.reachable || !(first || changed[nb[k]])) continue;
+          if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
+          CellResult cand;
+          ++round_tries;
+          if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt, cand) ||
+              !better(cand, best))
+            continue;
+          adopt(best, cand, CellResult::Source::Neighbour);
+          any = true;
+        }
+        if (any) {
+          next[idx] = std::move(best);
+          now[idx] = 1;
+          ++round_improved;
+        }
+      }
+    }
+    ++sum.rounds;
+    sum.neighbour_tries += round_tries;
+    sum.neighbour_improved += round_improved;
+    cells.swap(next);
+    changed.swap(now);
+    first = false;
+    if (round_improved == 0) {
+      sum.converged = true;
+      break;
+    }
+  }
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  map.seconds += sum.seconds;
 }
 
 DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& options,
@@ -201,7 +386,8 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
       // One row = one circle around the stem, solved in gamma order with warm starts.
       JointVector prev_plain, prev_opt;
       bool have_prev = false;
-      for (int ig = 0; ig < cols; ++ig) {
+      for (int step = 0; step < cols; ++step) {
+        const int ig = options.descending ? cols - 1 - step : step;
         const StemGrid::Cell cell = options.grid.cell(ig, iz);
         CellResult r = solveCell(model, ws, ik_ws, ctx, objective, options, cell,
                                  static_cast<std::uint64_t>(options.grid.index(ig, iz)),

@@ -7,6 +7,13 @@
 // Work split: one z row (a circle around the stem) is one independent unit, solved in gamma order
 // with warm starts from the previous cell; rows run in parallel (OpenMP) and their results do not
 // depend on the thread count or schedule.
+//
+// A map value describes the design, not the solver's path (docs/dexterity.md, "How a map value is
+// found"): the chained rows alone stay on the solution branch they started in, so after them
+// searchDexterityMap (1) runs seeded multi-starts on a sub-grid of cells and (2) propagates
+// better solutions to neighbouring cells (all eight directions, Jacobi rounds: every cell of a round
+// reads only the previous round) until no cell improves. Both steps are order-independent and
+// bit-identical for any thread count.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -38,6 +45,18 @@ struct DexterityOptions {
   ik::PoseSolveOptions solve;
   ik::NullspaceOptions nullspace;
   bool ellipsoids = true;  // write .vtp ellipsoid glyph data
+  // The map search after the chained rows (searchDexterityMap); seed_starts = 0 and
+  // propagation_rounds = 0 give the chained sweep alone.
+  int seed_starts = defaults::kMapSeedStarts;
+  int seed_stride = defaults::kMapSeedStride;
+  int propagation_rounds = defaults::kMapPropagationRounds;
+  std::uint64_t search_seed = defaults::kMapSearchSeed;
+  bool descending = false;  // chained rows from the largest gamma down (a check of path independence)
+  // The audit (dexterity_audit.hpp): cells drawn at random, each searched from audit_starts
+  // random configurations independently of the map's path; audit_cells = 0: no audit.
+  int audit_cells = 0;
+  int audit_starts = defaults::kAuditDexterityStarts;
+  std::uint64_t audit_seed = defaults::kAuditSeed;
   // Validation independent of the design (weights, tolerances, grid) and per design (weights size).
   std::string validate() const;
   std::string validateFor(const Model& model) const;
@@ -55,6 +74,21 @@ struct CellResult {
   int starts = 0;                // starts tried (1 = the warm start sufficed)
   int nullspace_iterations = 0;
   ik::NullspaceStatus nullspace_status = ik::NullspaceStatus::Converged;
+  // Where the optimised configuration came from (values written into the .vti field found_by).
+  enum class Source : std::uint8_t { Chain = 0, MultiStart = 1, Neighbour = 2 };
+  Source found_by = Source::Chain;
+};
+
+// What the map search did (searchDexterityMap).
+struct MapSearchSummary {
+  int seeding_cells = 0;         // cells that got seeded multi-starts
+  long multistart_tries = 0;     // random starts solved onto a pose
+  int multistart_improved = 0;   // cells the multi-starts improved (or made reachable)
+  int rounds = 0;                // neighbour-propagation rounds until no cell changed
+  long neighbour_tries = 0;      // neighbour seeds tried
+  int neighbour_improved = 0;    // cell updates by neighbour seeds (a cell may improve in several rounds)
+  bool converged = true;         // false when the round cap stopped the propagation
+  double seconds = 0;
 };
 
 struct DexterityMap {
@@ -64,10 +98,12 @@ struct DexterityMap {
   std::vector<CellResult> cells;  // index = grid.index(i_gamma, i_z)
   double seconds = 0;
   int threads = 1;
+  MapSearchSummary search;
   int reachable() const;
 };
 
-// Computes the map. threads = 0: OpenMP default. Preconditions: options.validateFor(model) empty.
+// Computes the map: the chained rows, then searchDexterityMap. threads = 0: OpenMP default.
+// Preconditions: options.validateFor(model) empty.
 DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& options, int threads);
 
 // Computes only the z rows of the given ranges (each within [0, z count), non-empty), in one
@@ -80,6 +116,22 @@ using RowsDone = std::function<void(std::size_t range, const DexterityMap& map)>
 DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& options,
                                   const std::vector<ItemRange>& row_ranges, int threads,
                                   const RowsDone& on_done = {});
+
+// The map search after the chained rows (see the header comment): seeded multi-starts on every
+// options.seed_stride-th gamma and z value (options.seed_starts random configurations within the
+// limits, each solved onto the cell's pose and optimised in the null space), then neighbour
+// propagation: a cell retries from the optimised configuration of each neighbour that is better
+// (lower H) or reachable where it is not, keeping a candidate that lowers H by more than
+// defaults::kMapImprovementRelative; rounds repeat, retrying only from neighbours that changed,
+// until no cell changes (at most options.propagation_rounds). Updates map.cells and map.search.
+void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map, int threads);
+
+// One candidate for a cell from the configuration `seed`: solved onto the cell's pose by the
+// local solve, then optimised in the null space (redundant designs). False when the seed does not
+// lead onto the pose. `out` holds the candidate's plain (the solved pose) and optimised results.
+bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                  const ik::WeightedObjective& objective, const DexterityOptions& options,
+                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out);
 
 // Solves and optimises one cell. The plain configuration: a local damped Newton solve from
 // `warm_plain` (the previous cell's plain solution, may be null) when that lands on the pose (so

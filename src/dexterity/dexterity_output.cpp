@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "dexterity/dexterity_audit.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
@@ -111,6 +112,9 @@ std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::
   add("objective_plain", f.H_plain);
   add("objective_optimised", f.H_opt);
   add("nullspace_iterations", f.nullspace_iterations);
+  std::vector<double> found_by(map.cells.size());
+  for (std::size_t i = 0; i < map.cells.size(); ++i) found_by[i] = static_cast<double>(map.cells[i].found_by);
+  add("found_by", found_by, io::ArrayType::UInt8);  // 0 chained row, 1 seeded multi-start, 2 neighbour
   const std::string name = map.design + ".vti";
   io::writeVti((std::filesystem::path(dir) / name).string(), grid);
   return name;
@@ -302,6 +306,9 @@ DexterityMap checkpointedMap(const Model& m, const DexterityOptions& options, in
   const int G = options.grid.gamma_rad.count;
   for (const ItemRange& u : done)
     std::move(loaded.cells.begin() + u.begin * G, loaded.cells.begin() + u.end * G, map.cells.begin() + u.begin * G);
+  // The search across rows needs every row: it runs once all units are in (deterministic, so a
+  // resumed run ends in the same map).
+  searchDexterityMap(m, options, map, threads);
   return map;
 }
 
@@ -334,7 +341,12 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
                     {"orientation_tolerance_rad", options.orientation_tolerance_rad},
                     {"cold_starts", options.cold_starts},
                     {"nullspace_max_iterations", options.nullspace.max_iterations},
-                    {"nullspace_relative_improvement", options.nullspace.relative_improvement}};
+                    {"nullspace_relative_improvement", options.nullspace.relative_improvement},
+                    {"search_seed_starts", options.seed_starts},
+                    {"search_seed_stride", options.seed_stride},
+                    {"search_propagation_rounds", options.propagation_rounds},
+                    {"search_seed", options.search_seed},
+                    {"chain_order", options.descending ? "descending" : "ascending"}};
   js["designs"] = nlohmann::ordered_json::array();
   std::ostringstream md, cmp;
   md << "# Dexterity maps\n\n"
@@ -429,6 +441,50 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
     d["transmission_plain"] = statsJson(bp);
     d["mean_normalised_plain"] = mean_p;
     d["mean_normalised_optimised"] = mean_o;
+    const MapSearchSummary& se = map.search;
+    d["search"] = {{"seeding_cells", se.seeding_cells},         {"seed_starts", options.seed_starts},
+                   {"multistart_tries", se.multistart_tries},   {"multistart_improved", se.multistart_improved},
+                   {"propagation_rounds", se.rounds},           {"neighbour_tries", se.neighbour_tries},
+                   {"neighbour_improved", se.neighbour_improved}, {"converged", se.converged}};
+    md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells << " cells got "
+       << options.seed_starts << " seeded starts each (" << se.multistart_improved << " improved), then "
+       << se.rounds << " neighbour-propagation rounds improved " << se.neighbour_improved << " cell values"
+       << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
+       << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
+    if (options.audit_cells > 0) {
+      const DexterityAudit a = auditDexterityMap(m, options, map, threads);
+      nlohmann::ordered_json aj;
+      aj["cells"] = a.cells;
+      aj["starts_per_cell"] = a.starts;
+      aj["seed"] = a.seed;
+      aj["both_reachable"] = a.both_reachable;
+      aj["share_within_1pct"] = a.shareWithin1Percent();
+      aj["share_within_5pct"] = a.both_reachable ? double(a.within_5pct) / a.both_reachable : 1.0;
+      aj["reachability_contradicted"] = a.reach_contradicted;
+      aj["audit_found_no_solution"] = a.audit_missed;
+      aj["worst_gap"] = a.worst_gap;
+      if (a.worst_index >= 0)
+        aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)}, {"z_m", g.z_m.value(a.worst_index / G)}};
+      d["audit"] = aj;
+      std::ostringstream csv;
+      csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
+             "manipulability_audit,audit_solutions\n";
+      csv.precision(17);
+      for (const AuditCell& r : a.rows)
+        csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << "," << r.audit_reachable
+            << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
+            << r.manipulability_audit << "," << r.solutions << "\n";
+      const std::string csv_name = m.name + "_audit.csv";
+      writeFileAtomic((fs::path(dir) / csv_name).string(), csv.str());
+      sum.files.push_back(sub + "/" + csv_name);
+      md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
+         << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
+         << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
+         << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1) << " % are within 1 % of the audit's best "
+         << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
+         << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2) << " %). Reachability verdicts contradicted "
+         << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `" << csv_name << "`.\n\n";
+    }
     js["designs"].push_back(d);
     sum.maps.push_back(std::move(map));
   }

@@ -393,8 +393,15 @@ LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, Join
   return res;
 }
 
-void randomStart(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k,
-                 JointVector& q) {
+}  // namespace
+
+double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k) {
+  const std::uint64_t s = splitmix(splitmix(seed ^ splitmix(id * 0x100000001B3ull + k)));
+  return static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
+}
+
+void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k, JointVector& q) {
+  q.resize(model.dof());
   std::uint64_t s = splitmix(seed ^ splitmix(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
   for (int i = 0; i < model.dof(); ++i) {
     s = splitmix(s);
@@ -403,6 +410,8 @@ void randomStart(const Model& model, std::uint64_t seed, std::uint64_t pose_id, 
     q[i] = L.q_min + u * (L.q_max - L.q_min);
   }
 }
+
+namespace {
 
 void midStart(const Model& model, JointVector& q) {
   for (int i = 0; i < model.dof(); ++i)
@@ -415,7 +424,7 @@ void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uin
   const Model& model = *c.model;
   const int K = o.seed_candidates;
   if (K <= 1) {
-    randomStart(model, o.seed, pose_id, k, q);
+    randomConfiguration(model, o.seed, pose_id, k, q);
     return;
   }
   JointVector cand(model.dof());
@@ -423,7 +432,7 @@ void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uin
   Vec6 e;
   PoseError err;
   for (int j = 0; j < K; ++j) {
-    randomStart(model, o.seed, pose_id, k * K + j, cand);
+    randomConfiguration(model, o.seed, pose_id, k * K + j, cand);
     forwardKinematics(model, ws.kin, cand);
     residual(c, ws.kin, e, err);
     const double cost = e.squaredNorm();
@@ -637,7 +646,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
   if (o.classify_failures && !beyondReachBound(ws, target, false)) {
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
       if (k == 0) q = best_q;
-      else randomStart(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
+      else randomConfiguration(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
       const double lambda0 = k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2;
       free_success = runLm(c, ws, o, q, false, lambda0, r.iterations).success;
     }

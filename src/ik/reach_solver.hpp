@@ -142,6 +142,13 @@ double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_
 IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,
                           const IkOptions& options, const JointVector& q, ReachStatus otherwise);
 
+// The k-th seeded random configuration of `id`, uniform within the joint limits (counter-based
+// splitmix64: the same on any thread and platform). The solver's random starts and every
+// multi-start search (dexterity refinement, map audits) draw from it.
+void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t id, int k, JointVector& q);
+// The k-th uniform number in [0, 1) of stream `id` from the same generator.
+double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k);
+
 // Smallest distance to a joint limit as a fraction of that joint's range (0 at a limit, 0.5 in
 // the middle).
 double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);

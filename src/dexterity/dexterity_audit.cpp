@@ -1,0 +1,102 @@
+#include "dexterity/dexterity_audit.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "common/errors.hpp"
+
+namespace armstudy::dexterity {
+
+std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
+  std::vector<int> all(std::max(0, n));
+  std::iota(all.begin(), all.end(), 0);
+  if (cells >= n) return all;
+  // Partial Fisher-Yates with the counter-based generator of the random starts.
+  for (int i = 0; i < cells; ++i) {
+    const double u = uniformDraw(seed, 0xD1CEull, static_cast<std::uint64_t>(i));
+    const int j = i + std::min(n - i - 1, static_cast<int>(u * (n - i)));
+    std::swap(all[i], all[j]);
+  }
+  all.resize(cells);
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options, const DexterityMap& map,
+                                   const std::vector<int>& cells, int starts, std::uint64_t seed, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const StemGrid& g = options.grid;
+  ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == g.size(), "dexterity map does not match its grid");
+  DexterityAudit a;
+  a.cells = static_cast<int>(cells.size());
+  a.starts = starts;
+  a.seed = seed;
+  a.rows.resize(cells.size());
+  const ik::WeightedObjective objective = options.buildObjective(model);
+  const int G = g.gamma_rad.count;
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel num_threads(nt)
+  {
+    KinematicsWorkspace ws(model);
+    ik::ObjectiveContext ctx(model, ws);
+    JointVector q0(model.dof());
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < static_cast<int>(cells.size()); ++k) {
+      const int idx = cells[k];
+      ARMSTUDY_CHECK(idx >= 0 && idx < g.size(), "audit cell out of range");
+      const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+      AuditCell& row = a.rows[k];
+      row.index = idx;
+      row.gamma_rad = cell.gamma;
+      row.z_m = cell.z;
+      const CellResult& m = map.cells[idx];
+      row.map_reachable = m.reachable;
+      row.H_map = m.H_opt;
+      row.manipulability_map = m.opt.manipulability;
+      double best = std::numeric_limits<double>::infinity();
+      for (int s = 0; s < starts; ++s) {
+        randomConfiguration(model, seed, static_cast<std::uint64_t>(idx), s, q0);
+        CellResult cand;
+        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand)) continue;
+        ++row.solutions;
+        if (cand.H_opt < best) {
+          best = cand.H_opt;
+          row.manipulability_audit = cand.opt.manipulability;
+        }
+      }
+      row.audit_reachable = row.solutions > 0;
+      row.H_audit = row.audit_reachable ? best : std::numeric_limits<double>::quiet_NaN();
+      row.gap = row.map_reachable && row.audit_reachable
+                    ? (row.H_map - row.H_audit) / std::max(std::abs(row.H_audit), 1e-12)
+                    : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  for (const AuditCell& r : a.rows) {
+    if (r.map_reachable && r.audit_reachable) {
+      ++a.both_reachable;
+      a.within_1pct += r.gap <= 0.01 ? 1 : 0;
+      a.within_5pct += r.gap <= 0.05 ? 1 : 0;
+      if (r.gap > a.worst_gap) {
+        a.worst_gap = r.gap;
+        a.worst_index = r.index;
+      }
+    }
+    a.reach_contradicted += !r.map_reachable && r.audit_reachable ? 1 : 0;
+    a.audit_missed += r.map_reachable && !r.audit_reachable ? 1 : 0;
+  }
+  a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return a;
+}
+
+DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options, const DexterityMap& map,
+                                 int threads) {
+  return auditDexterityCells(model, options, map, drawCells(options.grid.size(), options.audit_cells, options.audit_seed),
+                             options.audit_starts, options.audit_seed, threads);
+}
+
+}  // namespace armstudy::dexterity
