@@ -70,6 +70,9 @@ struct IkOptions {
   int max_rejected_steps = 5;      // rejected LM steps in a row end a start
   int seed_candidates = 8;         // a random start is the best (lowest task error) of this many
                                    // seeded configurations
+  // Sweeps (src/reach/reach_sweep): traverse each line from its last pose (a check that results
+  // do not depend on the traversal order; not a solver setting).
+  bool sweep_descending = false;
   std::string validate() const;                     // empty when valid
 };
 

@@ -38,6 +38,12 @@ struct ReachConfig {
   // defaults to on when every design of the study has a collision model; collision.obstacles
   // (key obstacles = true, the default when the study declares [[obstacle]]s) are the study's.
   SweepCollision collision;
+  SweepSearch search;                // [reach.search]: the map search after the sweeps of a grid
+  // [reach.audit]: poses drawn per grid and design, searched from `audit_starts` random starts
+  // each, independently of the sweep (reach_audit.hpp); 0 = no audit.
+  int audit_poses = 0;
+  int audit_starts = defaults::kAuditReachStarts;
+  std::uint64_t audit_seed = defaults::kAuditSeed;
   std::string validate() const;      // empty when valid (programmer check after parsing)
 };
 

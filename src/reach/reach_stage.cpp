@@ -1,4 +1,5 @@
 #include "reach/reach_stage.hpp"
+#include "reach/reach_audit.hpp"
 
 #include <algorithm>
 #include <array>
@@ -465,7 +466,11 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"seed", cfg.ik.seed},
                     {"algorithm", toString(cfg.ik.algorithm)},
                     {"self_collision", cfg.collision.self},
-                    {"nullspace_escape", cfg.collision.nullspace_escape}};
+                    {"nullspace_escape", cfg.collision.nullspace_escape},
+                    {"search_propagation_rounds", cfg.search.propagation_rounds},
+                    {"search_collision_starts", cfg.search.collision_starts},
+                    {"search_seed", cfg.search.seed},
+                    {"sweep_order", cfg.ik.sweep_descending ? "descending" : "ascending"}};
   {
     ordered_json jobs = ordered_json::array();
     for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
@@ -526,11 +531,17 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
           std::to_string(g.size()) + " poses per design.\n\n";
 
     std::vector<PoseSweep> sweeps;
+    std::vector<SweepSearchSummary> searches;
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
       sweeps.push_back(solveUnits(options, sum, unit, sd.model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
         return sweepGridRanges(sd.model, g, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
       }));
+      // Across units, once all are in: statuses that do not depend on the traversal (issue 12).
+      const SweepSearchSummary ss =
+          searchGridSweep(sd.model, g, cfg.ik, options.threads, cfg.collision, cfg.search, sweeps.back());
+      searches.push_back(ss);
+      sum.timings.emplace_back(unit + "/search", ss.seconds);
       addUnitMetrics(sum.metrics, unit, sweeps.back());
     }
     sum.poses += g.size() * static_cast<long>(sweeps.size());
@@ -569,6 +580,51 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
         insertCollisionColumns(cfg, rows.back(), 3, per[k]);
       }
       jd["per_orientation"] = jper;
+      const SweepSearchSummary& se = searches[di];
+      jd["search"] = {{"propagation_rounds", se.rounds},
+                      {"neighbour_tries", se.neighbour_tries},
+                      {"neighbour_updates", se.neighbour_updates},
+                      {"collision_multistart_poses", se.multistart_poses},
+                      {"collision_multistart_tries", se.multistart_tries},
+                      {"collision_multistart_freed", se.multistart_freed},
+                      {"converged", se.converged}};
+      md += "Map search (" + s.design + "): " + std::to_string(se.rounds) + " neighbour-propagation rounds changed " +
+            std::to_string(se.neighbour_updates) + " statuses";
+      if (cfg.collision.enabled())
+        md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
+              std::to_string(cfg.search.collision_starts) + " seeded starts each (" +
+              std::to_string(se.multistart_freed) + " found collision-free). A pose is `self_collision` / "
+              "`obstacle_collision` only when no collision-free solution was found in all its starts (array "
+              "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, capped at 255)";
+      md += ".\n\n";
+      if (cfg.audit_poses > 0) {
+        const ReachAudit au = auditGridSweep(sd.model, g, cfg.ik, cfg.collision, s, cfg.audit_poses, cfg.audit_starts,
+                                             cfg.audit_seed, options.threads);
+        ordered_json ja;
+        ja["poses"] = au.poses;
+        ja["starts_per_pose"] = au.starts;
+        ja["seed"] = au.seed;
+        ordered_json jb = ordered_json::object(), jc = ordered_json::object();
+        for (int k = 0; k < kReachStatusCount; ++k) {
+          jb[toString(static_cast<ReachStatus>(k))] = au.by_status[k];
+          jc[toString(static_cast<ReachStatus>(k))] = au.contradicted[k];
+        }
+        ja["audited_by_status"] = jb;
+        ja["contradicted_by_status"] = jc;
+        ja["contradicted"] = au.contradictedTotal();
+        ja["reachable_but_audit_found_none"] = au.audit_missed;
+        jd["audit"] = ja;
+        const int sc = static_cast<int>(ReachStatus::SelfCollision), oc = static_cast<int>(ReachStatus::ObstacleCollision);
+        md += "Audit (" + s.design + "): " + std::to_string(au.poses) + " poses drawn at random (seed " +
+              std::to_string(au.seed) + "), " + std::to_string(au.starts) +
+              " random starts each, without the sweep's warm starts or neighbours: " +
+              std::to_string(au.contradictedTotal()) + " statuses contradicted (a solution" +
+              (cfg.collision.enabled() ? " clear of collisions" : "") + " found where the map has none; " +
+              std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) +
+              " self_collision, " + std::to_string(au.contradicted[oc]) + " of " + std::to_string(au.by_status[oc]) +
+              " obstacle_collision), " + std::to_string(au.audit_missed) +
+              " reachable poses where the audit found no solution.\n\n";
+      }
 
       // VTK image data: one array per quantity and orientation.
       if (cfg.outputs.vtk) {

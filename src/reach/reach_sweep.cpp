@@ -13,6 +13,7 @@
 
 #include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
+#include "common/defaults.hpp"
 
 namespace armstudy {
 
@@ -102,6 +103,46 @@ JointVector solutionOf(const PoseSweep& s, long i) {
   return q;
 }
 
+// One pose, plain IK or collision-aware (reachable only in collision -> Self/ObstacleCollision),
+// with per-thread workspaces. Target and seed follow the pose's index in the whole sweep, never
+// its place in a chunk.
+class PoseSolver {
+ public:
+  PoseSolver(const Model& model, const SweepCollision& collision, const std::function<IkTarget(long)>& target)
+      : model_(model), collision_(collision), target_(target), ws_(model) {
+    if (collision.enabled()) cws_.emplace(model);
+    copts_.self = collision.self;
+    if (!collision.nullspace_escape) copts_.escape_safety_distance_m = 0;
+  }
+  // escape_attempts < 0: the default number of random escapes after a colliding solution.
+  PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start, int escape_attempts = -1) {
+    PoseResult r;
+    if (!collision_.enabled()) {
+      r.ik = solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
+      return r;
+    }
+    collision::CollisionReachOptions copts = copts_;
+    if (escape_attempts >= 0) copts.escape_attempts = escape_attempts;
+    collision::CollisionReachResult c = collision::solvePoseCollisionAware(
+        model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i), collision_.obstacles, warm_start);
+    r.ik = std::move(c.ik);
+    if (r.ik.reachable() || inCollision(r.ik.status)) {
+      r.min_distance_m = c.min_distance_m;
+      r.obstacle_distance_m = c.obstacle_distance_m;
+    }
+    r.pair = c.colliding_pair_index;
+    return r;
+  }
+
+ private:
+  const Model& model_;
+  const SweepCollision& collision_;
+  const std::function<IkTarget(long)>& target_;
+  IkWorkspace ws_;
+  std::optional<collision::CollisionWorkspace> cws_;
+  collision::CollisionReachOptions copts_;
+};
+
 // Solves the units of every range (unit u covers poses [u * len, min((u+1) * len, size))) into
 // one chunk per range; see sweepGridRanges.
 std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
@@ -135,31 +176,8 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
   const long n_work = static_cast<long>(work.size());
 #pragma omp parallel num_threads(nt)
   {
-    IkWorkspace ws(model);
-    std::optional<collision::CollisionWorkspace> cws;
-    if (collision.enabled()) cws.emplace(model);
-    collision::CollisionReachOptions copts;
-    copts.self = collision.self;
-    if (!collision.nullspace_escape) copts.escape_safety_distance_m = 0;
-    // One pose: plain IK, or collision-aware (reachable only in collision -> Self/ObstacleCollision).
-    // Target and seed follow the pose's index in the whole sweep, never its place in a chunk.
-    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
-      PoseResult r;
-      if (!collision.enabled()) {
-        r.ik = solvePose(model, ws, target(i), o, static_cast<std::uint64_t>(i), warm_start);
-        return r;
-      }
-      collision::CollisionReachResult c =
-          collision::solvePoseCollisionAware(model, ws, *cws, target(i), o, copts, static_cast<std::uint64_t>(i),
-                                             collision.obstacles, warm_start);
-      r.ik = std::move(c.ik);
-      if (r.ik.reachable() || inCollision(r.ik.status)) {
-        r.min_distance_m = c.min_distance_m;
-        r.obstacle_distance_m = c.obstacle_distance_m;
-      }
-      r.pair = c.colliding_pair_index;
-      return r;
-    };
+    PoseSolver solver(model, collision, target);
+    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) { return solver.solve(i, o, warm_start); };
 #pragma omp for schedule(dynamic, 1)
     for (long w = 0; w < n_work; ++w) {
       const auto [k, u] = work[w];
@@ -169,7 +187,10 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
       double t_reach = 0, t_unreach = 0;
       JointVector warm(model.dof());
       bool have_warm = false;
-      for (long i = begin; i < end; ++i) {
+      // Forward pass in the traversal direction (options.sweep_descending: from the line's end).
+      const long dir = options.sweep_descending ? -1 : 1;
+      const long first = dir > 0 ? begin : end - 1, past = dir > 0 ? end : begin - 1;
+      for (long i = first; i != past; i += dir) {
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, options, have_warm ? &warm : nullptr);
         const IkResult& r = pr.ik;
@@ -183,13 +204,13 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
         }
       }
       // Backward pass: an unreachable pose next to a reachable one gets one more start from its
-      // right-hand neighbour's solution. A pose reachable only in collision keeps its result
-      // unless the retry finds a collision-free solution; an unreachable one also takes a
-      // solution in collision.
-      for (long i = end - 2; i >= begin; --i) {
+      // neighbour's solution (the one after it in the forward direction). A pose reachable only
+      // in collision keeps its result unless the retry finds a collision-free solution; an
+      // unreachable one also takes a solution in collision.
+      for (long i = past - 2 * dir; i != first - dir; i -= dir) {
         const long li = i - off;
-        if (s.reachable(li) || !s.reachable(li + 1)) continue;
-        const JointVector w = solutionOf(s, li + 1);
+        if (s.reachable(li) || !s.reachable(li + dir)) continue;
+        const JointVector w = solutionOf(s, li + dir);
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, retry, &w);
         const IkResult& r = pr.ik;
@@ -276,6 +297,136 @@ PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOption
   if (units > 0) all.push_back({0, units});
   return wholeSweep(sweepPoseListRanges(model, list, all, options, threads, progress, collision),
                     static_cast<long>(list.poses.size()), model, collision);
+}
+
+namespace {
+
+// The neighbours of grid pose i: +-1 along each spatial axis, and the same point in the previous
+// and next orientation of the grid's list, in a fixed order.
+int gridNeighbours(const TaskGrid& g, long i, long out[8]) {
+  const auto d = g.dims();
+  const long P = g.points(), O = static_cast<long>(g.orientations.size());
+  const long o = i / P, p = i % P;
+  const long ix = p % d[0], iy = (p / d[0]) % d[1], iz = p / (static_cast<long>(d[0]) * d[1]);
+  const long c[3] = {ix, iy, iz};
+  const long stride[3] = {1, d[0], static_cast<long>(d[0]) * d[1]};
+  int n = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (c[a] > 0) out[n++] = i - stride[a];
+    if (c[a] + 1 < d[a]) out[n++] = i + stride[a];
+  }
+  if (o > 0) out[n++] = i - P;
+  if (o + 1 < O) out[n++] = i + P;
+  return n;
+}
+
+}  // namespace
+
+SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
+                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ARMSTUDY_CHECK(s.offset == 0 && s.size == grid.size(), "the map search needs the whole sweep of the grid");
+  SweepSearchSummary sum;
+  const long N = s.size;
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+  const std::function<IkTarget(long)> target = [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; };
+  IkOptions one = options;  // one start from the given configuration
+  one.max_starts = 1;
+  one.classify_failures = false;
+  auto settle = [](ReachStatus st) { return st == ReachStatus::Reachable; };
+  // Adopts a candidate: collision-free wins; an unreachable pose also takes a solution in collision.
+  auto improves = [](const PoseResult& pr, ReachStatus cur) {
+    return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
+  };
+  std::vector<std::uint8_t> changed(N, 0);
+  std::vector<int> extra(N, 0);  // starts spent on the pose by the search
+  // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results).
+  auto propagate = [&](bool all_sources) {
+    bool first = all_sources;
+    for (;;) {
+      if (sum.rounds >= search.propagation_rounds) {
+        sum.converged = false;
+        return;
+      }
+      std::vector<PoseResult> found(N);
+      std::vector<std::uint8_t> now(N, 0);
+      long tries = 0;
+      long updates = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
+      {
+        PoseSolver solver(model, collision, target);
+        long nb[8];
+#pragma omp for schedule(dynamic, 64)
+        for (long i = 0; i < N; ++i) {
+          const auto cur = static_cast<ReachStatus>(s.status[i]);
+          if (settle(cur)) continue;
+          const int count = gridNeighbours(grid, i, nb);
+          for (int k = 0; k < count; ++k) {
+            if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
+            const JointVector w = solutionOf(s, nb[k]);
+            PoseResult pr = solver.solve(i, one, &w, 0);
+            ++tries;
+            ++extra[i];
+            if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
+            found[i] = std::move(pr);
+            now[i] = 1;
+            if (found[i].ik.reachable()) break;
+          }
+          updates += now[i];
+        }
+      }
+      for (long i = 0; i < N; ++i)
+        if (now[i]) {
+          store(s, i, found[i].ik, s.starts[i]);
+          storeCollision(s, i, found[i]);
+        }
+      ++sum.rounds;
+      sum.neighbour_tries += tries;
+      sum.neighbour_updates += updates;
+      changed.swap(now);
+      first = false;
+      if (updates == 0) return;
+    }
+  };
+  propagate(true);
+  // Seeded multi-starts for every pose still reachable only in collision, then propagation
+  // from the poses they freed.
+  if (collision.enabled() && search.collision_starts > 0) {
+    std::vector<long> todo;
+    for (long i = 0; i < N; ++i)
+      if (inCollision(static_cast<ReachStatus>(s.status[i]))) todo.push_back(i);
+    sum.multistart_poses = static_cast<long>(todo.size());
+    std::fill(changed.begin(), changed.end(), 0);
+    long tries = 0, freed = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tries, freed)
+    {
+      PoseSolver solver(model, collision, target);
+      JointVector q0(model.dof());
+#pragma omp for schedule(dynamic, 8)
+      for (long t = 0; t < static_cast<long>(todo.size()); ++t) {
+        const long i = todo[t];
+        for (int k = 0; k < search.collision_starts; ++k) {
+          randomConfiguration(model, search.seed, static_cast<std::uint64_t>(i), k, q0);
+          const PoseResult pr = solver.solve(i, one, &q0, 0);
+          ++tries;
+          ++extra[i];
+          if (!pr.ik.reachable()) continue;
+          store(s, i, pr.ik, s.starts[i]);
+          storeCollision(s, i, pr);
+          changed[i] = 1;
+          ++freed;
+          break;
+        }
+      }
+    }
+    sum.multistart_tries = tries;
+    sum.multistart_freed = freed;
+    if (freed > 0) propagate(false);
+  }
+  for (long i = 0; i < N; ++i)
+    s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return sum;
 }
 
 namespace {

@@ -104,6 +104,31 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
                                            int threads, Progress* progress, const SweepCollision& collision = {},
                                            const SweepChunkDone& on_done = {});
 
+// The map search after the unit sweeps of a grid (issue 12; docs/reachability.md, "What a status
+// claims"): a status must not depend on the order the grid was traversed in.
+//  1. Neighbour propagation: every pose not reachable collision-free retries from the solution of
+//     each collision-free neighbour (+-1 along x, y, z; the previous and next orientation), one
+//     start each; Jacobi rounds (a round reads only the previous one) until nothing changes.
+//  2. Every pose still reachable only in collision gets `collision_starts` seeded random starts
+//     (collision-aware, deterministic per pose), then propagation from the poses they freed.
+// A pose then reports SelfCollision / ObstacleCollision only when none of its starts (its own,
+// the escapes, the neighbour seeds and the seeded starts; counted in `starts`) found a
+// collision-free solution. Bit-identical for any thread count.
+struct SweepSearch {
+  int propagation_rounds = defaults::kMapPropagationRounds;  // 0: no propagation
+  int collision_starts = defaults::kReachCollisionStarts;    // 0: no multi-starts
+  std::uint64_t seed = defaults::kMapSearchSeed;
+};
+struct SweepSearchSummary {
+  int rounds = 0;
+  long neighbour_tries = 0, neighbour_updates = 0;
+  long multistart_poses = 0, multistart_tries = 0, multistart_freed = 0;
+  bool converged = true;
+  double seconds = 0;
+};
+SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
+                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep);
+
 // Joins chunks of one design's sweep, given in any order, into the whole sweep of `size` poses:
 // ordered by offset, they must tile [0, size) without gap or overlap and agree on dof and the
 // collision columns (programmer checks). Solve times add up; wall_seconds is the largest.

@@ -1,0 +1,88 @@
+#include "reach/reach_audit.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <optional>
+
+#include "common/errors.hpp"
+
+namespace armstudy {
+
+int ReachAudit::contradictedTotal() const { return std::accumulate(contradicted.begin(), contradicted.end(), 0); }
+
+std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
+  std::vector<long> all(std::max(0L, n));
+  std::iota(all.begin(), all.end(), 0L);
+  if (count >= n) return all;
+  for (long i = 0; i < count; ++i) {  // partial Fisher-Yates
+    const double u = uniformDraw(seed, 0xD1CEull, static_cast<std::uint64_t>(i));
+    const long j = i + std::min(n - i - 1, static_cast<long>(u * static_cast<double>(n - i)));
+    std::swap(all[i], all[j]);
+  }
+  all.resize(count);
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
+                          const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
+                          std::uint64_t seed, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the audit needs the whole sweep of the grid");
+  ReachAudit a;
+  a.starts = starts;
+  a.seed = seed;
+  const std::vector<long> idx = drawIndices(grid.size(), poses, seed);
+  a.poses = static_cast<int>(idx.size());
+  a.rows.resize(idx.size());
+  IkOptions one = options;
+  one.max_starts = 1;
+  one.classify_failures = false;
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel num_threads(nt)
+  {
+    IkWorkspace ws(model);
+    std::optional<collision::CollisionWorkspace> cws;
+    if (collision.enabled()) cws.emplace(model);
+    collision::CollisionQueryOptions query;
+    query.self = collision.self;
+    query.environment = !collision.obstacles.empty();
+    JointVector q0(model.dof());
+#pragma omp for schedule(dynamic, 1)
+    for (long t = 0; t < static_cast<long>(idx.size()); ++t) {
+      const long i = idx[t];
+      ReachAuditPose& row = a.rows[t];
+      row.index = i;
+      row.map_status = static_cast<ReachStatus>(sweep.status[i]);
+      row.manipulability_map = sweep.reachable(i) ? sweep.manipulability[i] : 0.0;
+      const IkTarget target{grid.task_space, grid.pose(i)};
+      for (int k = 0; k < starts; ++k) {
+        randomConfiguration(model, seed, static_cast<std::uint64_t>(i), k, q0);
+        const IkResult r = solvePose(model, ws, target, one, static_cast<std::uint64_t>(i), &q0);
+        if (!r.reachable()) continue;
+        if (cws) {
+          forwardKinematics(model, ws.kin, r.q);
+          collision::collisionDistances(model, ws.kin, collision.obstacles, *cws, query);
+          const double ds = collision.self ? collision::minSelfDistance(*cws) : INFINITY;
+          if (!(std::min(ds, collision::minEnvironmentDistance(*cws)) > 0)) continue;
+        }
+        ++row.solutions;
+        row.manipulability_best = std::max(row.manipulability_best, r.manipulability);
+        if (!sweep.reachable(i)) break;  // one solution contradicts the status
+      }
+    }
+  }
+  for (const ReachAuditPose& r : a.rows) {
+    const int s = static_cast<int>(r.map_status);
+    ++a.by_status[s];
+    if (r.map_status != ReachStatus::Reachable && r.solutions > 0) ++a.contradicted[s];
+    if (r.map_status == ReachStatus::Reachable && r.solutions == 0) ++a.audit_missed;
+  }
+  a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return a;
+}
+
+}  // namespace armstudy

@@ -1,0 +1,100 @@
+// Map trust benchmark (docs/performance.md, "## Map trust"; issue 12): how far the shipped maps are
+// from searches that do not share the solver's path, and what the map search costs.
+//  - Dexterity (studies/stem_heatmap.toml, thesis Fig. 3.6): the map with and without the map
+//    search (seeded multi-starts + neighbour propagation), each against the audit (500 random
+//    cells, 200 random starts each), the chained rows ascending vs descending in gamma, and a
+//    sub-range study (gamma from 0 deg) against the full map on the shared cells.
+// Run: cmake --build build --target map_trust_bench && build/tests/benchmarks/map_trust_bench
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "dexterity/dexterity_audit.hpp"
+#include "io/study_io.hpp"
+
+using namespace armstudy;
+using namespace armstudy::dexterity;
+
+namespace {
+
+// Share of the cells reachable in both maps whose optimised objective agrees within `tol`
+// (relative to the better of the two), and the count of cells differing in reachability.
+struct Agreement {
+  int both = 0, within = 0, reach_differs = 0;
+  double share() const { return both ? double(within) / both : 1.0; }
+};
+Agreement agree(const DexterityMap& a, const DexterityMap& b, int b_gamma_offset, double tol) {
+  Agreement r;
+  const int Ga = a.grid.gamma_rad.count, Gb = b.grid.gamma_rad.count;
+  for (int iz = 0; iz < b.grid.z_m.count; ++iz)
+    for (int jg = 0; jg < Gb; ++jg) {
+      const CellResult& cb = b.cells[b.grid.index(jg, iz)];
+      const CellResult& ca = a.cells[iz * Ga + jg + b_gamma_offset];
+      if (ca.reachable != cb.reachable) ++r.reach_differs;
+      if (!(ca.reachable && cb.reachable)) continue;
+      ++r.both;
+      const double best = std::min(ca.H_opt, cb.H_opt);
+      r.within += std::abs(ca.H_opt - cb.H_opt) <= tol * std::max(std::abs(best), 1e-12) ? 1 : 0;
+    }
+  return r;
+}
+
+void auditRow(const char* what, const Model& m, const DexterityOptions& o, const DexterityMap& map, int threads) {
+  const DexterityAudit a = auditDexterityMap(m, o, map, threads);
+  std::printf("| %s | %.3f | %d | %.2f %% | %.2f %% | %.1f %% | %d | %.1f |\n", what, map.seconds, a.both_reachable,
+              100.0 * a.shareWithin1Percent(), a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0,
+              100.0 * a.worst_gap, a.reach_contradicted, a.seconds);
+}
+
+}  // namespace
+
+int main() {
+  const int threads = 2;
+  const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
+  const Model& m = study.designs.at(0).model;
+  DexterityOptions o = *study.dexterity;
+  o.audit_cells = 500;
+  o.audit_starts = defaults::kAuditDexterityStarts;
+  std::printf("Map trust: %s, %d cells (studies/stem_heatmap.toml), %d threads; audit %d cells x %d starts\n\n",
+              m.name.c_str(), o.grid.size(), threads, o.audit_cells, o.audit_starts);
+  std::printf("| map | wall [s] | audited cells reached by both | within 1 %% | within 5 %% | worst gap | "
+              "reachability contradicted | audit [s] |\n|---|---|---|---|---|---|---|---|\n");
+  DexterityOptions chain = o;
+  chain.seed_starts = 0;
+  chain.propagation_rounds = 0;
+  const DexterityMap m_chain = computeDexterityMap(m, chain, threads);
+  auditRow("chained rows only (before issue 12)", m, chain, m_chain, threads);
+  const DexterityMap m_full = computeDexterityMap(m, o, threads);
+  auditRow("chained rows + map search (shipped)", m, o, m_full, threads);
+
+  std::printf("\n| comparison | cells reached by both | within 1 %% | reachability differs |\n|---|---|---|---|\n");
+  DexterityOptions desc = o, chain_desc = chain;
+  desc.descending = chain_desc.descending = true;
+  const DexterityMap m_chain_desc = computeDexterityMap(m, chain_desc, threads);
+  Agreement a = agree(m_chain, m_chain_desc, 0, defaults::kAuditTolerance);
+  std::printf("| chained only: gamma ascending vs descending | %d | %.2f %% | %d |\n", a.both, 100 * a.share(),
+              a.reach_differs);
+  const DexterityMap m_desc = computeDexterityMap(m, desc, threads);
+  a = agree(m_full, m_desc, 0, defaults::kAuditTolerance);
+  std::printf("| with map search: gamma ascending vs descending | %d | %.2f %% | %d |\n", a.both, 100 * a.share(),
+              a.reach_differs);
+  // Sub-range: gamma from 0 deg (the full grid's middle value) to the same maximum.
+  DexterityOptions sub = o, chain_sub = chain;
+  const int G = o.grid.gamma_rad.count, off = (G - 1) / 2;
+  for (DexterityOptions* s : {&sub, &chain_sub}) {
+    s->grid.gamma_rad.min = o.grid.gamma_rad.value(off);
+    s->grid.gamma_rad.count = G - off;
+  }
+  a = agree(m_chain, computeDexterityMap(m, chain_sub, threads), off, defaults::kAuditTolerance);
+  std::printf("| chained only: gamma from %.0f deg vs full map | %d | %.2f %% | %d |\n",
+              sub.grid.gamma_rad.min * 180 / M_PI, a.both, 100 * a.share(), a.reach_differs);
+  a = agree(m_full, computeDexterityMap(m, sub, threads), off, defaults::kAuditTolerance);
+  std::printf("| with map search: gamma from %.0f deg vs full map | %d | %.2f %% | %d |\n",
+              sub.grid.gamma_rad.min * 180 / M_PI, a.both, 100 * a.share(), a.reach_differs);
+  std::printf("\nMap search of the shipped map: %d seeding cells, %ld multi-start tries (%d cells improved), %d "
+              "propagation rounds, %ld neighbour tries (%d updates), %.3f s\n",
+              m_full.search.seeding_cells, m_full.search.multistart_tries, m_full.search.multistart_improved,
+              m_full.search.rounds, m_full.search.neighbour_tries, m_full.search.neighbour_improved,
+              m_full.search.seconds);
+  return 0;
+}
