@@ -98,7 +98,7 @@ inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool mu
 // Map search (docs/dexterity.md, "How a map value is found"): after the chained row sweeps, seeded
 // multi-starts on a sub-grid and neighbour propagation make a cell's value independent of the
 // order the grid was traversed in. (study) = [dexterity.search] may override.
-inline constexpr int kMapSeedStarts = 24;                 // (study) random starts per seeding cell
+inline constexpr int kMapSeedStarts = 48;                 // (study) random starts per seeding cell
 inline constexpr int kMapSeedStride = 4;                  // (study) seeding cells: every n-th gamma and z value
 inline constexpr int kMapPropagationRounds = 1000;        // (study) cap on neighbour-propagation rounds
 inline constexpr double kMapImprovementRelative = 1e-7;   // a candidate replaces a cell's value when H drops by more (relative)

@@ -155,7 +155,11 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveCont
                   const StemGrid::Cell& cell, const JointVector& seed, CellResult& out) {
   const JointVector w_inv = weightInverse(options, model.dof());
   const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
-  if (!onPose(s, options)) return false;
+  // On the pose as exactly as the null-space stage needs (a seed that only gets within the
+  // study's tolerance is no candidate: its optimum would be off the pose).
+  if (!(onPose(s, options) && s.error.position_m <= options.nullspace.pose_tolerance &&
+        s.error.orientation_rad <= options.nullspace.pose_tolerance))
+    return false;
   out = CellResult{};
   out.reachable = true;
   out.starts = 1;

@@ -160,6 +160,24 @@ TEST_CASE("the shipped collision models enclose the kinematic skeleton and have 
           for (int j = 0; j < c.n; ++j) c.p[j] = v.p_L[j];
           inside |= pointToCore(x, c) <= v.radius_m;
         }
+        // Or inside the housing of its own joint, a volume of the parent body (the 6-DoF nozzle
+        // starts at the j6 housing's surface): inside it at every joint angle sampled.
+        if (!inside && i > 0 && m.joints[i].type == JointType::Revolute) {
+          bool all = true;
+          for (double q : {-M_PI, -1.0, 0.0, 1.0, 2.0}) {
+            const Vector3d xp = m.joints[i].T_PJ0 * (Eigen::AngleAxisd(q, Vector3d::UnitZ()) * x);
+            bool in = false;
+            for (const auto& v : m.collision.volumes) {
+              if (v.link != i - 1) continue;
+              Core c;
+              c.n = static_cast<int>(v.type);
+              for (int j = 0; j < c.n; ++j) c.p[j] = v.p_L[j];
+              in |= pointToCore(xp, c) <= v.radius_m;
+            }
+            all &= in;
+          }
+          inside = all;
+        }
         INFO("body " << m.joints[i].name << " skeleton point " << x.transpose());
         CHECK(inside);
       }

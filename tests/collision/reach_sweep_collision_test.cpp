@@ -97,6 +97,8 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   CHECK(sameBits(b.min_distance_m, a.min_distance_m));
   CHECK(b.colliding_pair == a.colliding_pair);
   CHECK(b.pair_names == a.pair_names);
+  // The stage searches the whole grid after the sweep (issue 12): compare the stage with that.
+  searchGridSweep(m, g, o, 2, SweepCollision{true, {}}, SweepSearch{}, a);
 
   // The stage writes the fields; read them back with VTK's reader.
   const fs::path dir = fs::temp_directory_path() / "armstudy_reach_sweep_collision_test";

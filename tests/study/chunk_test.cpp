@@ -284,9 +284,10 @@ TEST_CASE(
   const Study s = loadStudy(writeStudy(dir, "d", {"final_prototype_7dof"}, kDexteritySection));
   REQUIRE(s.dexterity);
   const Model& m = s.designs[0].model;
-  const dexterity::DexterityMap whole = dexterity::computeDexterityMap(m, *s.dexterity, 1);
-  REQUIRE(whole.reachable() > 0);
   const long rows = s.dexterity->grid.z_m.count;
+  // The chained rows of the whole grid (the units hold these; the map search runs after them).
+  const dexterity::DexterityMap whole = dexterity::computeDexterityRows(m, *s.dexterity, {{0, rows}}, 1);
+  REQUIRE(whole.reachable() > 0);
   REQUIRE(rows >= 5);
   const ItemRange all{0, rows};
   const std::string whole_bytes = dexterity::serializeRows(whole, all);
@@ -313,6 +314,11 @@ TEST_CASE(
     CHECK(got.end == ranges[k].end);
   }
   CHECK(dexterity::serializeRows(joined, all) == whole_bytes);
+  // The search over the joined units gives computeDexterityMap's map.
+  dexterity::DexterityMap searched = joined;
+  dexterity::searchDexterityMap(m, *s.dexterity, searched, 2);
+  CHECK(dexterity::serializeRows(searched, all) ==
+        dexterity::serializeRows(dexterity::computeDexterityMap(m, *s.dexterity, 1), all));
   // Bytes of another kind or a map of another shape are refused, leaving the map unchanged.
   ItemRange got;
   CHECK_FALSE(dexterity::deserializeRows("armstudy-reach-unit-v4", joined, got));
