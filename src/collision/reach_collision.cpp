@@ -44,9 +44,14 @@ struct Check {
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
 
-// The reach target as a pose task of the null-space IK: position, full pose or tool axis. Other
-// task spaces (partial Cardan angles such as spraying) have no exact null space there: false.
-bool nullspaceTarget(const IkTarget& t, ik::PoseTarget& out) {
+// The reach target as a pose task of the null-space IK: position, full pose or tool axis. Task
+// spaces that select only some Cardan angles (spraying: beta free) have no exact null space of
+// their own; there the full pose of the colliding solution q is held (its orientation already
+// meets the selected angles), so the descent explores the redundancy that remains with the free
+// angle fixed (for the 6-DoF first prototype: the lift against the arm's plane). False when the
+// position is not fully selected.
+bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarget& t, const JointVector& q,
+                     ik::PoseTarget& out) {
   const auto& s = t.task_space.selected;
   if (!(s[0] && s[1] && s[2])) return false;
   out.p_WT = t.w_d.head<3>();
@@ -69,7 +74,10 @@ bool nullspaceTarget(const IkTarget& t, ik::PoseTarget& out) {
     out.kind = ik::PoseTaskKind::Position;
     return true;
   }
-  return false;
+  out.kind = ik::PoseTaskKind::FullPose;
+  forwardKinematics(model, kin, q);
+  out.R_WT = kin.R_WT;
+  return true;
 }
 
 // From a colliding solution q: put the tool exactly on the pose, then descend H_c (safety
@@ -145,7 +153,7 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
   };
   // Step 1: descend H_c in the null space from the colliding solution (thesis section 5.4.3).
   ik::PoseTarget pose_task;
-  if (options.escape_safety_distance_m > 0 && nullspaceTarget(target, pose_task)) {
+  if (options.escape_safety_distance_m > 0 && nullspaceTarget(model, ws.kin, target, first.q, pose_task)) {
     const IkResult found = nullspaceEscape(model, ws, target, pose_task, ik_options, options, obstacles, first.q);
     if (found.reachable()) {
       const Check c = check(found.q);

@@ -4,12 +4,18 @@
 //    search (seeded multi-starts + neighbour propagation), each against the audit (500 random
 //    cells, 200 random starts each), the chained rows ascending vs descending in gamma, and a
 //    sub-range study (gamma from 0 deg) against the full map on the shared cells.
+//  - Reach (studies/spraying_row.toml, thesis Fig. 3.8 grid, self-collision checked): the sweep
+//    with and without the map search against the audit (500 poses, 500 random starts each), and
+//    the statuses with the grid lines swept in the other direction.
 // Run: cmake --build build --target map_trust_bench && build/tests/benchmarks/map_trust_bench
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "dexterity/dexterity_audit.hpp"
+#include "reach/reach_audit.hpp"
 #include "io/study_io.hpp"
 
 using namespace armstudy;
@@ -46,10 +52,61 @@ void auditRow(const char* what, const Model& m, const DexterityOptions& o, const
               100.0 * a.worst_gap, a.reach_contradicted, a.seconds);
 }
 
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void reachPart(int threads, int collision_starts) {
+  Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/spraying_row.toml");
+  const Model& m = study.designs.at(0).model;
+  if (collision_starts >= 0) study.reach.search.collision_starts = collision_starts;
+  const ReachConfig& cfg = study.reach;
+  const TaskGrid& g = cfg.grids.at(0);
+  std::printf("\nReach: %s, grid %s (%ld poses, studies/spraying_row.toml), %d threads; audit 500 poses x 500 starts\n\n",
+              m.name.c_str(), g.name.c_str(), g.size(), threads);
+  std::printf("| sweep | wall [s] | self_collision | audited self_collision | contradicted | reachable, audit found none | "
+              "audit [s] |\n|---|---|---|---|---|---|---|\n");
+  const int sc = static_cast<int>(ReachStatus::SelfCollision);
+  auto row = [&](const char* what, const PoseSweep& s, double wall) {
+    const ReachAudit a = auditGridSweep(m, g, cfg.ik, cfg.collision, s, 500, 500, defaults::kAuditSeed, threads);
+    long n = 0;
+    for (long i = 0; i < s.size; ++i) n += s.status[i] == sc;
+    std::printf("| %s | %.3f | %ld | %d | %d | %d | %.1f |\n", what, wall, n, a.by_status[sc], a.contradicted[sc],
+                a.audit_missed, a.seconds);
+  };
+  auto t0 = std::chrono::steady_clock::now();
+  PoseSweep raw = sweepGrid(m, g, cfg.ik, threads, nullptr, cfg.collision);
+  const double t_raw = seconds(t0);
+  row("sweep alone (before issue 12)", raw, t_raw);
+  PoseSweep up = raw;
+  t0 = std::chrono::steady_clock::now();
+  const SweepSearchSummary ss = searchGridSweep(m, g, cfg.ik, threads, cfg.collision, cfg.search, up);
+  row("sweep + map search (shipped)", up, t_raw + seconds(t0));
+  IkOptions rev = cfg.ik;
+  rev.sweep_descending = true;
+  PoseSweep raw_down = sweepGrid(m, g, rev, threads, nullptr, cfg.collision);
+  PoseSweep down = raw_down;
+  searchGridSweep(m, g, rev, threads, cfg.collision, cfg.search, down);
+  long d_raw = 0, d = 0;
+  for (long i = 0; i < up.size; ++i) {
+    d_raw += raw.status[i] != raw_down.status[i];
+    d += up.status[i] != down.status[i];
+  }
+  std::printf("\nStatuses differing with the lines swept in the other direction: sweep alone %ld, with map search "
+              "%ld (of %ld poses).\nMap search: %d propagation rounds (%ld neighbour tries, %ld updates), %ld poses "
+              "in collision x %d seeded starts (%ld tries, %ld freed), %.3f s\n",
+              d_raw, d, up.size, ss.rounds, ss.neighbour_tries, ss.neighbour_updates, ss.multistart_poses,
+              cfg.search.collision_starts, ss.multistart_tries, ss.multistart_freed, ss.seconds);
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const int threads = 2;
+  if (argc > 1 && std::string(argv[1]) == "reach") {
+    reachPart(threads, argc > 2 ? std::atoi(argv[2]) : -1);  // optional: seeded starts per pose in collision
+    return 0;
+  }
   const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
   const Model& m = study.designs.at(0).model;
   DexterityOptions o = *study.dexterity;
@@ -96,5 +153,6 @@ int main() {
               m_full.search.seeding_cells, m_full.search.multistart_tries, m_full.search.multistart_improved,
               m_full.search.rounds, m_full.search.neighbour_tries, m_full.search.neighbour_improved,
               m_full.search.seconds);
+  reachPart(threads, -1);
   return 0;
 }
