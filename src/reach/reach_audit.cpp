@@ -80,6 +80,10 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
     ++a.by_status[s];
     if (r.map_status != ReachStatus::Reachable && r.solutions > 0) ++a.contradicted[s];
     if (r.map_status == ReachStatus::Reachable && r.solutions == 0) ++a.audit_missed;
+    if (r.map_status == ReachStatus::Reachable && r.solutions > 0) {
+      ++a.manipulability_compared;
+      a.manipulability_within_5pct += r.manipulability_map >= 0.95 * r.manipulability_best ? 1 : 0;
+    }
   }
   a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return a;

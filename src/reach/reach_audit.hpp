@@ -27,6 +27,8 @@ struct ReachAudit {
   std::array<int, kReachStatusCount> by_status{};      // audited poses per map status
   std::array<int, kReachStatusCount> contradicted{};   // ... of which the audit found a solution
   int audit_missed = 0;   // map reachable, audit found none (the map's solution is the witness)
+  int manipulability_compared = 0;   // reachable poses where the audit found solutions too
+  int manipulability_within_5pct = 0;  // ... whose map manipulability is >= 95 % of the audit's best
   double seconds = 0;
   std::vector<ReachAuditPose> rows;  // ascending pose index
   int contradictedTotal() const;

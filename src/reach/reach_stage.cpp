@@ -613,6 +613,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
         ja["contradicted_by_status"] = jc;
         ja["contradicted"] = au.contradictedTotal();
         ja["reachable_but_audit_found_none"] = au.audit_missed;
+        ja["manipulability_compared"] = au.manipulability_compared;
+        ja["manipulability_within_5pct_of_audit_best"] = au.manipulability_within_5pct;
         jd["audit"] = ja;
         const int sc = static_cast<int>(ReachStatus::SelfCollision), oc = static_cast<int>(ReachStatus::ObstacleCollision);
         md += "Audit (" + s.design + "): " + std::to_string(au.poses) + " poses drawn at random (seed " +
@@ -623,7 +625,9 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
               std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) +
               " self_collision, " + std::to_string(au.contradicted[oc]) + " of " + std::to_string(au.by_status[oc]) +
               " obstacle_collision), " + std::to_string(au.audit_missed) +
-              " reachable poses where the audit found no solution.\n\n";
+              " reachable poses where the audit found no solution; manipulability at the map's solution within 5 % "
+              "of the best the audit found at " + std::to_string(au.manipulability_within_5pct) + " of " +
+              std::to_string(au.manipulability_compared) + " reachable poses.\n\n";
       }
 
       // VTK image data: one array per quantity and orientation.

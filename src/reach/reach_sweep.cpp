@@ -115,7 +115,9 @@ class PoseSolver {
     if (!collision.nullspace_escape) copts_.escape_safety_distance_m = 0;
   }
   // escape_attempts < 0: the default number of random escapes after a colliding solution.
-  PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start, int escape_attempts = -1) {
+  // escape = false: no H_c descent either (a colliding solution stays in collision).
+  PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start, int escape_attempts = -1,
+                   bool escape = true) {
     PoseResult r;
     if (!collision_.enabled()) {
       r.ik = solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
@@ -123,6 +125,7 @@ class PoseSolver {
     }
     collision::CollisionReachOptions copts = copts_;
     if (escape_attempts >= 0) copts.escape_attempts = escape_attempts;
+    if (!escape) copts.escape_safety_distance_m = 0;
     collision::CollisionReachResult c = collision::solvePoseCollisionAware(
         model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i), collision_.obstacles, warm_start);
     r.ik = std::move(c.ik);
@@ -422,6 +425,51 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
     sum.multistart_tries = tries;
     sum.multistart_freed = freed;
     if (freed > 0) propagate(false);
+  }
+  // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
+  // retries from every collision-free neighbour whose manipulability is higher and keeps a
+  // collision-free solution that raises its own (relative threshold), until nothing changes.
+  if (search.best_manipulability) {
+    std::vector<std::uint8_t> src(N, 1);
+    for (int round = 0; round < search.propagation_rounds; ++round) {
+      std::vector<PoseResult> found(N);
+      std::vector<std::uint8_t> now(N, 0);
+      long tries = 0, updates = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
+      {
+        PoseSolver solver(model, collision, target);
+        long nb[8];
+#pragma omp for schedule(dynamic, 64)
+        for (long i = 0; i < N; ++i) {
+          if (!s.reachable(i)) continue;
+          double best = s.manipulability[i];
+          const int count = gridNeighbours(grid, i, nb);
+          for (int k = 0; k < count; ++k) {
+            if (!src[nb[k]] || !s.reachable(nb[k]) || !(s.manipulability[nb[k]] > best)) continue;
+            const JointVector w = solutionOf(s, nb[k]);
+            PoseResult pr = solver.solve(i, one, &w, 0, false);
+            ++tries;
+            if (!pr.ik.reachable() ||
+                !(pr.ik.manipulability > best + defaults::kMapImprovementRelative * std::abs(best)))
+              continue;
+            best = pr.ik.manipulability;
+            found[i] = std::move(pr);
+            now[i] = 1;
+          }
+          updates += now[i];
+        }
+      }
+      for (long i = 0; i < N; ++i)
+        if (now[i]) {
+          store(s, i, found[i].ik, s.starts[i]);
+          storeCollision(s, i, found[i]);
+        }
+      ++sum.best_rounds;
+      sum.best_tries += tries;
+      sum.best_updates += updates;
+      src.swap(now);
+      if (updates == 0) break;
+    }
   }
   for (long i = 0; i < N; ++i)
     s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));

@@ -111,18 +111,25 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
 //     start each; Jacobi rounds (a round reads only the previous one) until nothing changes.
 //  2. Every pose still reachable only in collision gets `collision_starts` seeded random starts
 //     (collision-aware, deterministic per pose), then propagation from the poses they freed.
+//  3. Every reachable pose retries from each collision-free neighbour with a higher manipulability
+//     (eq. 5.59 of the task Jacobian) and keeps the collision-free solution with the highest
+//     manipulability found (Jacobi rounds until nothing changes), so the quantities shown at a
+//     reachable pose are those of the best solution found, not of the first.
 // A pose then reports SelfCollision / ObstacleCollision only when none of its starts (its own,
 // the escapes, the neighbour seeds and the seeded starts; counted in `starts`) found a
 // collision-free solution. Bit-identical for any thread count.
 struct SweepSearch {
   int propagation_rounds = defaults::kMapPropagationRounds;  // 0: no propagation
   int collision_starts = defaults::kReachCollisionStarts;    // 0: no multi-starts
+  bool best_manipulability = true;  // 3. reachable poses keep the best-manipulability solution found
   std::uint64_t seed = defaults::kMapSearchSeed;
 };
 struct SweepSearchSummary {
   int rounds = 0;
   long neighbour_tries = 0, neighbour_updates = 0;
   long multistart_poses = 0, multistart_tries = 0, multistart_freed = 0;
+  int best_rounds = 0;
+  long best_tries = 0, best_updates = 0;
   bool converged = true;
   double seconds = 0;
 };

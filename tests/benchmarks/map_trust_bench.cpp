@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 
@@ -65,14 +66,14 @@ void reachPart(int threads, int collision_starts) {
   std::printf("\nReach: %s, grid %s (%ld poses, studies/spraying_row.toml), %d threads; audit 500 poses x 500 starts\n\n",
               m.name.c_str(), g.name.c_str(), g.size(), threads);
   std::printf("| sweep | wall [s] | self_collision | audited self_collision | contradicted | reachable, audit found none | "
-              "audit [s] |\n|---|---|---|---|---|---|---|\n");
+              "manipulability within 5 %% of the audit's best | audit [s] |\n|---|---|---|---|---|---|---|---|\n");
   const int sc = static_cast<int>(ReachStatus::SelfCollision);
   auto row = [&](const char* what, const PoseSweep& s, double wall) {
     const ReachAudit a = auditGridSweep(m, g, cfg.ik, cfg.collision, s, 500, 500, defaults::kAuditSeed, threads);
     long n = 0;
     for (long i = 0; i < s.size; ++i) n += s.status[i] == sc;
-    std::printf("| %s | %.3f | %ld | %d | %d | %d | %.1f |\n", what, wall, n, a.by_status[sc], a.contradicted[sc],
-                a.audit_missed, a.seconds);
+    std::printf("| %s | %.3f | %ld | %d | %d | %d | %d of %d | %.1f |\n", what, wall, n, a.by_status[sc],
+                a.contradicted[sc], a.audit_missed, a.manipulability_within_5pct, a.manipulability_compared, a.seconds);
   };
   auto t0 = std::chrono::steady_clock::now();
   PoseSweep raw = sweepGrid(m, g, cfg.ik, threads, nullptr, cfg.collision);
@@ -87,16 +88,23 @@ void reachPart(int threads, int collision_starts) {
   PoseSweep raw_down = sweepGrid(m, g, rev, threads, nullptr, cfg.collision);
   PoseSweep down = raw_down;
   searchGridSweep(m, g, rev, threads, cfg.collision, cfg.search, down);
-  long d_raw = 0, d = 0;
+  long d_raw = 0, d = 0, both_raw = 0, m_raw = 0, both = 0, m5 = 0;
+  auto close = [](double a, double b) { return std::abs(a - b) <= 0.05 * std::max(a, b); };
   for (long i = 0; i < up.size; ++i) {
     d_raw += raw.status[i] != raw_down.status[i];
     d += up.status[i] != down.status[i];
+    if (raw.reachable(i) && raw_down.reachable(i)) ++both_raw, m_raw += !close(raw.manipulability[i], raw_down.manipulability[i]);
+    if (up.reachable(i) && down.reachable(i)) ++both, m5 += !close(up.manipulability[i], down.manipulability[i]);
   }
+  std::printf("\nManipulability at the solution differing by more than 5 %% with the other direction: sweep alone "
+              "%.1f %% of %ld poses, with map search %.1f %% of %ld.", 100.0 * m_raw / std::max(1L, both_raw), both_raw,
+              100.0 * m5 / std::max(1L, both), both);
   std::printf("\nStatuses differing with the lines swept in the other direction: sweep alone %ld, with map search "
               "%ld (of %ld poses).\nMap search: %d propagation rounds (%ld neighbour tries, %ld updates), %ld poses "
-              "in collision x %d seeded starts (%ld tries, %ld freed), %.3f s\n",
+              "in collision x %d seeded starts (%ld tries, %ld freed), %d best-manipulability rounds (%ld tries, %ld updates), %.3f s\n",
               d_raw, d, up.size, ss.rounds, ss.neighbour_tries, ss.neighbour_updates, ss.multistart_poses,
-              cfg.search.collision_starts, ss.multistart_tries, ss.multistart_freed, ss.seconds);
+              cfg.search.collision_starts, ss.multistart_tries, ss.multistart_freed, ss.best_rounds, ss.best_tries,
+              ss.best_updates, ss.seconds);
 }
 
 }  // namespace
@@ -153,6 +161,25 @@ int main(int argc, char** argv) {
               m_full.search.seeding_cells, m_full.search.multistart_tries, m_full.search.multistart_improved,
               m_full.search.rounds, m_full.search.neighbour_tries, m_full.search.neighbour_improved,
               m_full.search.seconds);
+  // Where the valley of the shipped map lies (docs/dexterity.md, "What our model finds").
+  double best = 0;
+  for (const CellResult& c : m_full.cells)
+    if (c.reachable) best = std::max(best, c.opt.manipulability);
+  std::printf("\n| z [m] | row mean | row min | at gamma [deg] | at gamma 90 deg |\n|---|---|---|---|---|\n");
+  for (int iz = 30; iz < o.grid.z_m.count; iz += 10) {
+    double mn = 1e9, at = 0, sum = 0;
+    int n = 0;
+    for (int ig = 0; ig < G; ++ig) {
+      const CellResult& c = m_full.cells[o.grid.index(ig, iz)];
+      if (!c.reachable) continue;
+      const double v = c.opt.manipulability / best;
+      sum += v;
+      ++n;
+      if (v < mn) mn = v, at = o.grid.gamma_rad.value(ig) * 180 / M_PI;
+    }
+    std::printf("| %.2f | %.3f | %.3f | %.0f | %.3f |\n", o.grid.z_m.value(iz), n ? sum / n : 0.0, mn, at,
+                m_full.cells[o.grid.index(G - 1, iz)].opt.manipulability / best);
+  }
   reachPart(threads, -1);
   return 0;
 }
