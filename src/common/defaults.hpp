@@ -103,7 +103,8 @@ inline constexpr int kMapSeedStride = 4;                  // (study) seeding cel
 inline constexpr int kMapPropagationRounds = 1000;        // (study) cap on neighbour-propagation rounds
 inline constexpr double kMapImprovementRelative = 1e-7;   // a candidate replaces a cell's value when H drops by more (relative)
 inline constexpr unsigned long long kMapSearchSeed = 2;   // (study) seed of the multi-starts
-inline constexpr int kReachCollisionStarts = 48;         // (study) seeded starts per pose still in collision after propagation
+inline constexpr double kReachManipulabilityImprovement = 0.01;  // a neighbour's solution replaces a reachable pose's when 1 % better
+inline constexpr int kReachCollisionStarts = 32;         // (study) seeded starts per pose still in collision after propagation
 // Map audit (docs/dexterity.md, docs/reachability.md): an independent many-start search on cells
 // drawn at random; a study enables it with [dexterity.audit] / [reach.audit].
 inline constexpr int kAuditDexterityStarts = 200;         // (study) starts per audited dexterity cell

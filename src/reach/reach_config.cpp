@@ -139,6 +139,7 @@ void readReachSection(TableReader& top, const std::string& study_dir,
     const long long cs = se.integer("collision_starts", cfg.search.collision_starts);
     if (cs < 0 || cs > 100000) se.fail("collision_starts", "must be between 0 and 100000");
     cfg.search.collision_starts = static_cast<int>(cs);
+    cfg.search.best_manipulability = se.boolean("best_manipulability", cfg.search.best_manipulability);
     const long long sd = se.integer("seed", static_cast<long long>(cfg.search.seed));
     if (sd < 0) se.fail("seed", "seed must not be negative");
     cfg.search.seed = static_cast<std::uint64_t>(sd);

@@ -469,6 +469,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                     {"nullspace_escape", cfg.collision.nullspace_escape},
                     {"search_propagation_rounds", cfg.search.propagation_rounds},
                     {"search_collision_starts", cfg.search.collision_starts},
+                    {"search_best_manipulability", cfg.search.best_manipulability},
                     {"search_seed", cfg.search.seed},
                     {"sweep_order", cfg.ik.sweep_descending ? "descending" : "ascending"}};
   {
@@ -587,6 +588,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                       {"collision_multistart_poses", se.multistart_poses},
                       {"collision_multistart_tries", se.multistart_tries},
                       {"collision_multistart_freed", se.multistart_freed},
+                      {"best_manipulability_rounds", se.best_rounds},
+                      {"best_manipulability_updates", se.best_updates},
                       {"converged", se.converged}};
       md += "Map search (" + s.design + "): " + std::to_string(se.rounds) + " neighbour-propagation rounds changed " +
             std::to_string(se.neighbour_updates) + " statuses";

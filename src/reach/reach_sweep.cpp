@@ -343,6 +343,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
   };
   std::vector<std::uint8_t> changed(N, 0);
   std::vector<int> extra(N, 0);  // starts spent on the pose by the search
+  std::vector<PoseResult> found(N);  // per-round candidates (allocated once)
   // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results).
   auto propagate = [&](bool all_sources) {
     bool first = all_sources;
@@ -351,8 +352,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
         sum.converged = false;
         return;
       }
-      std::vector<PoseResult> found(N);
-      std::vector<std::uint8_t> now(N, 0);
+      std::vector<std::uint8_t> now(N, 0);  // found[i] is this round's candidate where now[i]
       long tries = 0;
       long updates = 0;
 #pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
@@ -428,12 +428,13 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
   }
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
   // retries from every collision-free neighbour whose manipulability is higher and keeps a
-  // collision-free solution that raises its own (relative threshold), until nothing changes.
+  // collision-free solution that raises its own by more than defaults::kReachManipulabilityImprovement
+  // (a step to a better posture, not a creep along a continuous family of solutions), until
+  // nothing changes.
   if (search.best_manipulability) {
     std::vector<std::uint8_t> src(N, 1);
     for (int round = 0; round < search.propagation_rounds; ++round) {
-      std::vector<PoseResult> found(N);
-      std::vector<std::uint8_t> now(N, 0);
+      std::vector<std::uint8_t> now(N, 0);  // found[i] is this round's candidate where now[i]
       long tries = 0, updates = 0;
 #pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
       {
@@ -450,7 +451,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
             PoseResult pr = solver.solve(i, one, &w, 0, false);
             ++tries;
             if (!pr.ik.reachable() ||
-                !(pr.ik.manipulability > best + defaults::kMapImprovementRelative * std::abs(best)))
+                !(pr.ik.manipulability > best + defaults::kReachManipulabilityImprovement * std::abs(best)))
               continue;
             best = pr.ik.manipulability;
             found[i] = std::move(pr);

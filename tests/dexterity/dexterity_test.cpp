@@ -317,6 +317,11 @@ z = { min = 0.5, max = 1.1, count = 4 }
       {"step = \"30 deg\"", "step = \"0 deg\"", "", "dexterity.gamma.step"},
       {"step = \"30 deg\"", "step = \"7 deg\"", "", "dexterity.gamma.step"},
       {"radius = 0.15", "radius = 0.15\nradiu = 3", "", "dexterity.radiu"},
+      {"", "", "[dexterity.search]\nseed_starts = -1\n", "dexterity.search.seed_starts"},
+      {"", "", "[dexterity.search]\nseed_stride = 0\n", "dexterity.search.seed_stride"},
+      {"", "", "[dexterity.search]\norder = \"sideways\"\n", "dexterity.search.order"},
+      {"", "", "[dexterity.audit]\nstarts = 0\n", "dexterity.audit.starts"},
+      {"", "", "[dexterity.audit]\nposes = 10\n", "dexterity.audit.poses"},
   };
   for (const Case& c : cases) {
     std::string body = good;

@@ -261,6 +261,14 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
       {"negative tolerance", "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.orientation_tolerance", 8},
       {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n", "reach.grid[0].beta", 13},
       {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n", "reach.grid[0].speed", 13},
+      {"negative collision starts", "[reach]\n[reach.search]\ncollision_starts = -1\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.search.collision_starts", 9},
+      {"unknown sweep order", "[reach]\n[reach.search]\norder = \"random\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.search.order", 9},
+      {"zero audit starts", "[reach]\n[reach.audit]\nstarts = 0\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.audit.starts", 9},
+      {"unknown audit key", "[reach]\n[reach.audit]\ncells = 5\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.audit.cells", 9},
       {"malformed CSV row", "[reach]\n[[reach.poses]]\nname = \"p\"\nfile = \"poses.csv\"\ntask_space = \"position\"\n", "y", 3},
   };
   for (const Case& c : cases) {
