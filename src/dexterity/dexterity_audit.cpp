@@ -13,18 +13,8 @@
 namespace armstudy::dexterity {
 
 std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
-  std::vector<int> all(std::max(0, n));
-  std::iota(all.begin(), all.end(), 0);
-  if (cells >= n) return all;
-  // Partial Fisher-Yates with the counter-based generator of the random starts.
-  for (int i = 0; i < cells; ++i) {
-    const double u = uniformDraw(seed, 0xD1CEull, static_cast<std::uint64_t>(i));
-    const int j = i + std::min(n - i - 1, static_cast<int>(u * (n - i)));
-    std::swap(all[i], all[j]);
-  }
-  all.resize(cells);
-  std::sort(all.begin(), all.end());
-  return all;
+  const std::vector<long> d = drawIndices(n, cells, seed);
+  return std::vector<int>(d.begin(), d.end());
 }
 
 DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options, const DexterityMap& map,

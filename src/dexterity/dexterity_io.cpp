@@ -125,18 +125,10 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<cons
   }
   if (const toml::table* t = r.table("search")) {  // docs/dexterity.md, "How a map value is found"
     io::TableReader se(*t, r.file(), r.keyPath("search"));
-    const long long ss = se.integer("seed_starts", o.seed_starts);
-    if (ss < 0 || ss > 10000) se.fail("seed_starts", "must be between 0 and 10000");
-    o.seed_starts = static_cast<int>(ss);
-    const long long st = se.integer("seed_stride", o.seed_stride);
-    if (st < 1 || st > 100000) se.fail("seed_stride", "must be between 1 and 100000");
-    o.seed_stride = static_cast<int>(st);
-    const long long pr = se.integer("propagation_rounds", o.propagation_rounds);
-    if (pr < 0 || pr > 1000000) se.fail("propagation_rounds", "must be between 0 and 1000000");
-    o.propagation_rounds = static_cast<int>(pr);
-    const long long sd = se.integer("seed", static_cast<long long>(o.search_seed));
-    if (sd < 0) se.fail("seed", "seed must not be negative");
-    o.search_seed = static_cast<std::uint64_t>(sd);
+    o.seed_starts = se.integerIn("seed_starts", o.seed_starts, 0, 10000);
+    o.seed_stride = se.integerIn("seed_stride", o.seed_stride, 1, 100000);
+    o.propagation_rounds = se.integerIn("propagation_rounds", o.propagation_rounds, 0, 1000000);
+    o.search_seed = se.seed("seed", o.search_seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")
       se.fail("order", "expected \"ascending\" or \"descending\" (the gamma order of the chained rows)");
@@ -145,15 +137,9 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<cons
   }
   if (const toml::table* t = r.table("audit")) {  // docs/dexterity.md, "The audit"
     io::TableReader au(*t, r.file(), r.keyPath("audit"));
-    const long long c = au.integer("cells", 50);
-    if (c < 0 || c > 10000000) au.fail("cells", "must be between 0 and 1e7");
-    o.audit_cells = static_cast<int>(c);
-    const long long st = au.integer("starts", o.audit_starts);
-    if (st < 1 || st > 100000) au.fail("starts", "must be between 1 and 100000");
-    o.audit_starts = static_cast<int>(st);
-    const long long sd = au.integer("seed", static_cast<long long>(o.audit_seed));
-    if (sd < 0) au.fail("seed", "seed must not be negative");
-    o.audit_seed = static_cast<std::uint64_t>(sd);
+    o.audit_cells = au.integerIn("cells", 50, 0, 10000000);
+    o.audit_starts = au.integerIn("starts", o.audit_starts, 1, 100000);
+    o.audit_seed = au.seed("seed", o.audit_seed);
     au.finish();
   }
   r.finish();

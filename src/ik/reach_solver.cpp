@@ -400,6 +400,20 @@ double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k) {
   return static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
 }
 
+std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
+  std::vector<long> all(std::max(0L, n));
+  for (long i = 0; i < n; ++i) all[i] = i;
+  if (count >= n) return all;
+  for (long i = 0; i < count; ++i) {
+    const double u = uniformDraw(seed, 0xD1CEull, static_cast<std::uint64_t>(i));
+    const long j = i + std::min(n - i - 1, static_cast<long>(u * static_cast<double>(n - i)));
+    std::swap(all[i], all[j]);
+  }
+  all.resize(std::max(0L, count));
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
 void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k, JointVector& q) {
   q.resize(model.dof());
   std::uint64_t s = splitmix(seed ^ splitmix(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));

@@ -24,6 +24,7 @@
 // scaled to the angle, with the angular Jacobian rows projected perpendicular to the tool axis).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "kinematics/kinematics.hpp"
 #include "tasks/task_grid.hpp"
@@ -151,6 +152,9 @@ IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& t
 void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t id, int k, JointVector& q);
 // The k-th uniform number in [0, 1) of stream `id` from the same generator.
 double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k);
+// `count` distinct indices of [0, n) drawn with `seed` from the same generator (partial
+// Fisher-Yates), ascending; all of them when count >= n. The map audits draw their cells with it.
+std::vector<long> drawIndices(long n, long count, std::uint64_t seed);
 
 // Smallest distance to a joint limit as a fraction of that joint's range (0 at a limit, 0.5 in
 // the middle).

@@ -85,6 +85,18 @@ long long TableReader::integer(const std::string& key, long long fallback) {
   return n.value<long long>().value();
 }
 
+int TableReader::integerIn(const std::string& key, int fallback, int lo, int hi) {
+  const long long v = integer(key, fallback);
+  if (v < lo || v > hi) fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return static_cast<int>(v);
+}
+
+std::uint64_t TableReader::seed(const std::string& key, std::uint64_t fallback) {
+  const long long v = integer(key, static_cast<long long>(fallback));
+  if (v < 0) fail(key, "seed must not be negative");
+  return static_cast<std::uint64_t>(v);
+}
+
 std::string TableReader::string(const std::string& key) {
   const toml::node& n = require(key);
   if (!n.is_string()) fail(key, "expected a string");

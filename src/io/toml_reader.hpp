@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <set>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ class TableReader {
   double number(const std::string& key);
   double number(const std::string& key, double fallback);
   long long integer(const std::string& key, long long fallback);
+  // An integer within [lo, hi] (else an input error naming the key and the range).
+  int integerIn(const std::string& key, int fallback, int lo, int hi);
+  // A non-negative integer seed.
+  std::uint64_t seed(const std::string& key, std::uint64_t fallback);
   std::string string(const std::string& key);
   std::string string(const std::string& key, const std::string& fallback);
   bool boolean(const std::string& key, bool fallback);

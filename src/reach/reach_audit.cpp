@@ -13,20 +13,6 @@ namespace armstudy {
 
 int ReachAudit::contradictedTotal() const { return std::accumulate(contradicted.begin(), contradicted.end(), 0); }
 
-std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
-  std::vector<long> all(std::max(0L, n));
-  std::iota(all.begin(), all.end(), 0L);
-  if (count >= n) return all;
-  for (long i = 0; i < count; ++i) {  // partial Fisher-Yates
-    const double u = uniformDraw(seed, 0xD1CEull, static_cast<std::uint64_t>(i));
-    const long j = i + std::min(n - i - 1, static_cast<long>(u * static_cast<double>(n - i)));
-    std::swap(all[i], all[j]);
-  }
-  all.resize(count);
-  std::sort(all.begin(), all.end());
-  return all;
-}
-
 ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
                           const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
                           std::uint64_t seed, int threads) {

@@ -42,7 +42,4 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
                           const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
                           std::uint64_t seed, int threads);
 
-// Pose indices: `count` distinct indices of [0, n) drawn with `seed`, ascending (all when count >= n).
-std::vector<long> drawIndices(long n, long count, std::uint64_t seed);
-
 }  // namespace armstudy

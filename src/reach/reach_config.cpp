@@ -133,16 +133,10 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   }
   if (const toml::table* t = r.table("search")) {  // docs/reachability.md, "What a status claims"
     TableReader se(*t, top.file(), r.keyPath("search"));
-    const long long pr = se.integer("propagation_rounds", cfg.search.propagation_rounds);
-    if (pr < 0 || pr > 1000000) se.fail("propagation_rounds", "must be between 0 and 1000000");
-    cfg.search.propagation_rounds = static_cast<int>(pr);
-    const long long cs = se.integer("collision_starts", cfg.search.collision_starts);
-    if (cs < 0 || cs > 100000) se.fail("collision_starts", "must be between 0 and 100000");
-    cfg.search.collision_starts = static_cast<int>(cs);
+    cfg.search.propagation_rounds = se.integerIn("propagation_rounds", cfg.search.propagation_rounds, 0, 1000000);
+    cfg.search.collision_starts = se.integerIn("collision_starts", cfg.search.collision_starts, 0, 100000);
     cfg.search.best_manipulability = se.boolean("best_manipulability", cfg.search.best_manipulability);
-    const long long sd = se.integer("seed", static_cast<long long>(cfg.search.seed));
-    if (sd < 0) se.fail("seed", "seed must not be negative");
-    cfg.search.seed = static_cast<std::uint64_t>(sd);
+    cfg.search.seed = se.seed("seed", cfg.search.seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")
       se.fail("order", "expected \"ascending\" or \"descending\" (the direction grid lines are swept in)");
@@ -151,15 +145,9 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   }
   if (const toml::table* t = r.table("audit")) {  // docs/reachability.md, "The audit"
     TableReader au(*t, top.file(), r.keyPath("audit"));
-    const long long c = au.integer("poses", 100);
-    if (c < 0 || c > 10000000) au.fail("poses", "must be between 0 and 1e7");
-    cfg.audit_poses = static_cast<int>(c);
-    const long long st = au.integer("starts", cfg.audit_starts);
-    if (st < 1 || st > 100000) au.fail("starts", "must be between 1 and 100000");
-    cfg.audit_starts = static_cast<int>(st);
-    const long long sd = au.integer("seed", static_cast<long long>(cfg.audit_seed));
-    if (sd < 0) au.fail("seed", "seed must not be negative");
-    cfg.audit_seed = static_cast<std::uint64_t>(sd);
+    cfg.audit_poses = au.integerIn("poses", 100, 0, 10000000);
+    cfg.audit_starts = au.integerIn("starts", cfg.audit_starts, 1, 100000);
+    cfg.audit_seed = au.seed("seed", cfg.audit_seed);
     au.finish();
   }
   if (r.has("outputs")) {
