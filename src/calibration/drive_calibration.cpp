@@ -536,6 +536,10 @@ DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const 
   r.joint = joint;
   r.warnings = data.warnings;
   const Context c = makeContext(d, fp, data);
+  if (c.n < 2 * o.folds)
+    throw InputError(data.file, 0, "folds",
+                     std::to_string(o.folds) + "-fold cross-validation needs at least " + std::to_string(2 * o.folds) +
+                         " data rows (two per fold), the data has " + std::to_string(c.n) + "; use fewer folds");
   if (fp.has(Effect::Temperature) && !c.has_temperature)
     r.warnings.push_back("the design has a temperature term but the data has no temperature column; "
                          "evaluated at the reference temperature");

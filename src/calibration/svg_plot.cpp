@@ -38,8 +38,14 @@ std::vector<double> niceTicks(double lo, double hi, int target = 6) {
       step = m * mag;
       break;
     }
-  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step)
+  const double first = std::ceil(lo / step) * step;
+  // Below one ulp `v += step` never advances (a constant column plus rounding): ticks by index.
+  if (!(first + step > first)) return {lo};
+  const double n = std::floor((hi + 1e-9 * step - first) / step);
+  for (int i = 0; i <= static_cast<int>(std::min(n, 1000.0)); ++i) {
+    const double v = first + i * step;
     t.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
+  }
   return t;
 }
 

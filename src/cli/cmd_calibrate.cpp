@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/defaults.hpp"
 #include "calibration/calibration_run.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/drive_report.hpp"
@@ -72,10 +73,13 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
   cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
   cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
   cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint or kind>)");
-  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed");
-  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|");
-  cmd->add_option("--variable-bins", a.variable_bins, "tcp/trajectory: bins over each joint variable (q, qd)");
-  cmd->add_option("--workspace-bins", a.workspace_bins, "tcp/trajectory: workspace cells per axis (x, y, z)");
+  const auto bins = CLI::Range(1, defaults::kMaxResidualBins);
+  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed")->check(bins);
+  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|")->check(bins);
+  cmd->add_option("--variable-bins", a.variable_bins, "tcp/trajectory: bins over each joint variable (q, qd)")
+      ->check(bins);
+  cmd->add_option("--workspace-bins", a.workspace_bins, "tcp/trajectory: workspace cells per axis (x, y, z)")
+      ->check(bins);
 }
 
 std::string outDir(const CommonArgs& a, const Model& m) {
@@ -235,7 +239,8 @@ void addFitCommand(CLI::App& app, Action& action) {
   auto designOut = std::make_shared<std::string>();
   cmd->add_option("--add", *add, "Effects to add (comma list, in order), e.g. stribeck,asymmetry or joint_offset.j3");
   cmd->add_flag("--auto", *autoAdd, "Add the best significant effect until none is left");
-  cmd->add_option("--folds", *folds, "k of k-fold cross-validation");
+  cmd->add_option("--folds", *folds, "k of k-fold cross-validation (2 to the number of data rows)")
+      ->check(CLI::Range(2, 1000000));
   cmd->add_option("--seed", *seed, "Seed of the fold assignment");
   cmd->add_option("--write-design", *designOut, "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
   cmd->callback([&action, a, add, autoAdd, folds, seed, designOut] {

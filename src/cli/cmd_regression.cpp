@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/defaults.hpp"
 #include "armstudy/version.hpp"
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
@@ -24,7 +25,9 @@ struct Args {
 void addRunOptions(CLI::App* cmd, Args& a) {
   cmd->add_option("study", a.path, "Study file (TOML)")->required();
   cmd->add_option("--output", a.opt.output_root, "Folder that receives <study name>/")->capture_default_str();
-  cmd->add_option("--threads", a.opt.threads, "OpenMP threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", a.opt.threads,
+                  "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
+      ->check(CLI::Range(0, defaults::kMaxThreads));
 }
 }  // namespace
 

@@ -1,5 +1,6 @@
 #include <cstdio>
 
+#include "common/defaults.hpp"
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
 #include "io/study_io.hpp"
@@ -22,13 +23,14 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")->required();
   cmd->add_option("--output", a->opt.output_root, "Folder that receives <study name>/")
       ->capture_default_str();
-  cmd->add_option("--threads", a->opt.threads, "OpenMP threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", a->opt.threads,
+                  "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
+      ->check(CLI::Range(0, defaults::kMaxThreads));
   cmd->add_flag("--overwrite", a->opt.overwrite, "Replace results already in the output folder");
   cmd->add_option("--unit-size", a->opt.unit_items,
                   "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
                   "defaults). Results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0L, defaults::kMaxUnitItems));
   cmd->callback([&action, a] {
     action = [a] {
       const Study s = loadStudy(a->path);

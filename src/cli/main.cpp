@@ -33,7 +33,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every bad command line (unknown option, out-of-range value)
+    // is an input error: exit 2, like bad files.
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
   }
   try {
     return action ? action() : 0;

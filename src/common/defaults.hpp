@@ -3,6 +3,12 @@
 // here, with its unit; study files may override the ones marked (study).
 namespace armstudy::defaults {
 
+// Command line and inputs (docs/hardening: limits an input may not exceed; exit 2 beyond them)
+inline constexpr int kMaxThreads = 256;                      // --threads (0 = all cores)
+inline constexpr long kMaxUnitItems = 1000000000L;           // --unit-size
+inline constexpr int kMaxResidualBins = 1000;                // --speed-bins, --load-bins, --variable-bins, --workspace-bins
+inline constexpr unsigned long long kMaxInputFileBytes = 256ull << 20;  // any file armstudy reads (256 MiB)
+
 // Kinematics
 inline constexpr int kMaxDof = 12;                     // largest chain the fixed-size workspace holds
 inline constexpr double kCardanSingularCosBeta = 1e-6;  // |cos(beta)| below: representation singular

@@ -8,11 +8,22 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
 
 std::string readFileOrThrow(const std::string& path) {
+  // Only regular files of bounded size: a FIFO would block forever, /dev/zero never ends.
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throw InputError(path, 0, "", "cannot open file (it does not exist)");
+  if (!std::filesystem::is_regular_file(st))
+    throw InputError(path, 0, "", "not a regular file (a directory, FIFO or device); armstudy reads only regular files");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > defaults::kMaxInputFileBytes)
+    throw InputError(path, 0, "", "file of " + std::to_string(size) + " bytes exceeds the input limit of " +
+                                      std::to_string(defaults::kMaxInputFileBytes) + " bytes");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open file");
   std::ostringstream ss;

@@ -147,8 +147,15 @@ std::vector<double> niceTicks(double lo, double hi, int target) {
       break;
     }
   const double eps = 1e-9 * step;
-  for (double v = std::ceil((lo - eps) / step) * step; v <= hi + eps; v += step)
+  const double first = std::ceil((lo - eps) / step) * step;
+  // A range narrower than the values' resolution (a constant column plus rounding): the step is
+  // below one ulp and `v += step` would never advance. Ticks by index, at most a few hundred.
+  if (!(first + step > first)) return {lo};
+  const double n = std::floor((hi + eps - first) / step);
+  for (int i = 0; i <= static_cast<int>(std::min(n, 1000.0)); ++i) {
+    const double v = first + i * step;
     t.push_back(std::abs(v) < eps ? 0.0 : v);
+  }
   return t;
 }
 

@@ -72,9 +72,14 @@ static void removePreviousResults(const std::filesystem::path& dir) {
   if (!fs::exists(man)) return;
   try {
     const auto j = nlohmann::json::parse(readFileOrThrow(man.string()));
+    // Only files inside the folder: canonical paths (symbolic links resolved), compared by path
+    // components, never by string prefix (out/mini_other is not inside out/mini).
+    const fs::path base = fs::weakly_canonical(dir);
     for (const auto& f : j.value("files", std::vector<std::string>{})) {
-      const fs::path p = dir / f;
-      if (p.lexically_normal().string().rfind(dir.lexically_normal().string(), 0) == 0) fs::remove(p);
+      const fs::path p = fs::weakly_canonical(dir / f);
+      const fs::path rel = p.lexically_relative(base);
+      if (rel.empty() || *rel.begin() == ".." || rel.is_absolute()) continue;
+      fs::remove(p);
     }
   } catch (const nlohmann::json::exception&) {
     // An unreadable manifest lists nothing to remove; new files replace old ones by name.

@@ -1,0 +1,110 @@
+// Issue 19 (part): crashes, hangs and deletions outside the output folder found by hand-made bad
+// inputs, each kept as a regression test. Every case: exit 2 (input error), a message naming what
+// is wrong, and nothing written.
+#include <sys/stat.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "report/image.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy::test;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_hardening_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+}  // namespace
+
+TEST_CASE("out-of-range command-line values are input errors and write nothing", "[cli][hardening]") {
+  const fs::path d = freshDir("cli");
+  const std::string study = sourcePath("studies/regression.toml"), out = (d / "out").string();
+  struct Case {
+    std::string args, message;
+  };
+  const Case cases[] = {
+      {"run " + study + " --threads 100000 --output " + out, "--threads"},
+      {"run " + study + " --threads 20000 --output " + out, "--threads"},
+      {"run " + study + " --threads -1 --output " + out, "--threads"},
+      {"run " + study + " --unit-size 99999999999 --output " + out, "--unit-size"},
+      {"check " + study + " --threads 100000 --output " + out, "--threads"},
+      {"fit " + sourcePath("designs/final_prototype_9dof.toml") + " --drive j6 --data " +
+           sourcePath("studies/data/drive_testbed_module_b2.csv") + " --speed-bins 100000000 --load-bins 100000000 --out " +
+           out,
+       "--speed-bins"},
+      {"fit " + sourcePath("designs/final_prototype_9dof.toml") + " --drive j6 --data " +
+           sourcePath("studies/data/drive_testbed_module_b2.csv") + " --folds 127 --out " + out,
+       "folds"},
+      {"fit " + sourcePath("designs/final_prototype_9dof.toml") + " --drive j6 --data " +
+           sourcePath("studies/data/drive_testbed_module_b2.csv") + " --folds 1 --out " + out,
+       "--folds"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.args);
+    std::string log;
+    CHECK(runCommand(binaryPath() + " " + c.args, log) == 2);
+    INFO(log);
+    CHECK(log.find(c.message) != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+  }
+}
+
+TEST_CASE("special and oversized files are refused instead of read forever", "[cli][hardening]") {
+  const fs::path d = freshDir("files");
+  const std::string out = (d / "out").string();
+  const std::string fifo = (d / "design.fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  for (const std::string& path : {std::string("/dev/zero"), fifo, d.string()}) {
+    INFO(path);
+    std::string log;
+    // `timeout` turns a blocking read (the old behaviour on a FIFO) into a failure, not a hung suite.
+    CHECK(runCommand("timeout 20 " + binaryPath() + " describe " + path, log) == 2);
+    CHECK(log.find("not a regular file") != std::string::npos);
+    CHECK(runCommand("timeout 20 " + binaryPath() + " run " + path + " --output " + out, log) == 2);
+    CHECK_FALSE(fs::exists(out));
+  }
+  // A regular file over the input limit (sparse: no disk space used).
+  const fs::path big = d / "big.toml";
+  fs::resize_file((std::ofstream(big), big), 300ull << 20);
+  std::string log;
+  CHECK(runCommand(binaryPath() + " describe " + big.string(), log) == 2);
+  CHECK(log.find("exceeds the input limit") != std::string::npos);
+}
+
+TEST_CASE("--overwrite never removes files outside the output folder a manifest lists", "[cli][hardening]") {
+  const fs::path d = freshDir("overwrite");
+  // The study `regression` writes into <out>/regression; a sibling folder that shares its prefix.
+  const fs::path out = d / "out", mine = out / "regression", other = out / "regression_other";
+  fs::create_directories(mine);
+  fs::create_directories(other);
+  std::ofstream(other / "keep.txt") << "not armstudy's\n";
+  std::ofstream(d / "outside.txt") << "not armstudy's\n";
+  fs::create_directory_symlink(other, mine / "link");
+  std::ofstream(mine / "manifest.json")
+      << R"({"files": ["../regression_other/keep.txt", "../../outside.txt", "link/keep.txt", "/etc/hostname"]})";
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") + " --overwrite --threads 2 --output " +
+                         out.string(),
+                     log) == 0);
+  CHECK(fs::exists(other / "keep.txt"));
+  CHECK(fs::exists(d / "outside.txt"));
+  CHECK(fs::exists(mine / "manifest.json"));  // the new run's
+}
+
+TEST_CASE("the tick generator ends on ranges narrower than the values' resolution", "[report][hardening]") {
+  // Constant data plus rounding: a step below one ulp of the values made `v += step` loop forever.
+  const double lo = 1e6, hi = std::nextafter(1e6, 2e6);
+  const std::vector<double> t = armstudy::report::niceTicks(lo, hi, 5);
+  CHECK(t.size() <= 2);
+  const std::vector<double> u = armstudy::report::niceTicks(0.0, 1.0, 5);  // an ordinary range
+  CHECK(u.size() == 6);
+  CHECK(u.front() == 0.0);
+  CHECK(u.back() == Approx(1.0));
+}
