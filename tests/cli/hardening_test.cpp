@@ -78,7 +78,7 @@ TEST_CASE("special and oversized files are refused instead of read forever", "[c
   CHECK(log.find("exceeds the input limit") != std::string::npos);
 }
 
-TEST_CASE("--overwrite never removes files outside the output folder a manifest lists", "[cli][hardening]") {
+TEST_CASE("overwriting never removes files outside the output folder a manifest lists", "[cli][hardening]") {
   const fs::path d = freshDir("overwrite");
   // The study `regression` writes into <out>/regression; a sibling folder that shares its prefix.
   const fs::path out = d / "out", mine = out / "regression", other = out / "regression_other";
