@@ -891,9 +891,13 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     ordered_json jdesigns = ordered_json::array();
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
-      const PoseSweep s = solveUnits(options, sum, unit, sd.model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
+      PoseSweep s = solveUnits(options, sum, unit, sd.model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
         return sweepPoseListRanges(sd.model, l, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
       });
+      // Poses in collision get the seeded starts too (issue 12; a list has no neighbours).
+      const SweepSearchSummary ss =
+          searchPoseListSweep(sd.model, l, cfg.ik, options.threads, cfg.collision, cfg.search, s);
+      sum.timings.emplace_back(unit + "/search", ss.seconds);
       addUnitMetrics(sum.metrics, unit, s);
       sum.poses += s.size;
       Stats st;
@@ -901,6 +905,9 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       ordered_json jd;
       jd["design"] = s.design;
       jd.update(st.json());
+      jd["search"] = {{"collision_multistart_poses", ss.multistart_poses},
+                      {"collision_multistart_tries", ss.multistart_tries},
+                      {"collision_multistart_freed", ss.multistart_freed}};
       if (cfg.outputs.vtk) {
         io::PolyDataSet poly;
         poly.vertices = true;

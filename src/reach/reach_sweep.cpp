@@ -323,16 +323,16 @@ int gridNeighbours(const TaskGrid& g, long i, long out[8]) {
   return n;
 }
 
-}  // namespace
-
-SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
-                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& s) {
+// The map search over a whole sweep; `neighbours(i, out)` lists pose i's neighbours (none for a
+// pose list, whose poses need not lie next to each other).
+using Neighbours = std::function<int(long, long[8])>;
+SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
+                               const Neighbours& neighbours, const IkOptions& options, int threads,
+                               const SweepCollision& collision, const SweepSearch& search, PoseSweep& s) {
   const auto t0 = std::chrono::steady_clock::now();
-  ARMSTUDY_CHECK(s.offset == 0 && s.size == grid.size(), "the map search needs the whole sweep of the grid");
   SweepSearchSummary sum;
   const long N = s.size;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
-  const std::function<IkTarget(long)> target = [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; };
   IkOptions one = options;  // one start from the given configuration
   one.max_starts = 1;
   one.classify_failures = false;
@@ -363,7 +363,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
         for (long i = 0; i < N; ++i) {
           const auto cur = static_cast<ReachStatus>(s.status[i]);
           if (settle(cur)) continue;
-          const int count = gridNeighbours(grid, i, nb);
+          const int count = neighbours(i, nb);
           for (int k = 0; k < count; ++k) {
             if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
             const JointVector w = solutionOf(s, nb[k]);
@@ -444,7 +444,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
         for (long i = 0; i < N; ++i) {
           if (!s.reachable(i)) continue;
           double best = s.manipulability[i];
-          const int count = gridNeighbours(grid, i, nb);
+          const int count = neighbours(i, nb);
           for (int k = 0; k < count; ++k) {
             if (!src[nb[k]] || !s.reachable(nb[k]) || !(s.manipulability[nb[k]] > best)) continue;
             const JointVector w = solutionOf(s, nb[k]);
@@ -476,6 +476,25 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
     s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
+}
+
+}  // namespace
+
+SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
+                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep) {
+  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the map search needs the whole sweep of the grid");
+  return searchSweep(
+      model, [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; },
+      [&grid](long i, long out[8]) { return gridNeighbours(grid, i, out); }, options, threads, collision, search, sweep);
+}
+
+SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
+                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep) {
+  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == static_cast<long>(list.poses.size()),
+                 "the map search needs the whole sweep of the pose list");
+  return searchSweep(
+      model, [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, [](long, long[8]) { return 0; },
+      options, threads, collision, search, sweep);
 }
 
 namespace {

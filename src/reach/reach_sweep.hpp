@@ -135,6 +135,10 @@ struct SweepSearchSummary {
 };
 SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
                                    const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep);
+// The same for a pose list (fruit lists): its poses need not be neighbours, so no propagation;
+// steps 2 and 3 run without neighbour seeds (the seeded starts for poses in collision).
+SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
+                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep);
 
 // Joins chunks of one design's sweep, given in any order, into the whole sweep of `size` poses:
 // ordered by offset, they must tile [0, size) without gap or overlap and agree on dof and the

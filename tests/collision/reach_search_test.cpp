@@ -118,3 +118,45 @@ TEST_CASE("self_collision verdicts are rarely contradicted by a 500-start search
   INFO("sweep alone: " << au_raw.contradicted[sc] << " of " << au_raw.by_status[sc] << " contradicted");
   CHECK(au_raw.contradicted[sc] > au.contradicted[sc]);
 }
+
+TEST_CASE("pose lists: poses in collision get the seeded starts, freed poses are verified collision-free",
+          "[reach][map_search]") {
+  const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
+  const TaskGrid g = fig38Part();
+  PoseList list;
+  list.name = "fig3_8_part_as_list";
+  list.task_space = g.task_space;
+  for (long i = 0; i < g.size(); ++i) list.poses.push_back(g.pose(i));
+  const IkOptions o = ReachConfig::studyDefaults();
+  const SweepCollision sc{true, {}};
+  const PoseSweep raw = sweepPoseList(m, list, o, 2, nullptr, sc);
+  auto searchedList = [&](int threads) {
+    PoseSweep s = sweepPoseList(m, list, o, threads, nullptr, sc);
+    const SweepSearchSummary sum = searchPoseListSweep(m, list, o, threads, sc, SweepSearch{}, s);
+    CHECK(sum.multistart_poses > 0);
+    return s;
+  };
+  const PoseSweep a = searchedList(2), b = searchedList(1);
+  CHECK(a.status == b.status);
+  CHECK(std::memcmp(a.q.data(), b.q.data(), a.q.size() * sizeof(double)) == 0);
+  IkWorkspace ws(m);
+  collision::CollisionWorkspace cws(m);
+  long freed = 0, lost = 0;
+  const auto sc_status = static_cast<std::uint8_t>(ReachStatus::SelfCollision);
+  for (long i = 0; i < a.size; ++i) {
+    lost += raw.reachable(i) && !a.reachable(i);  // the search never loses a solution
+    if (raw.status[i] != sc_status || !a.reachable(i)) continue;
+    ++freed;
+    JointVector q(m.dof());
+    for (int k = 0; k < m.dof(); ++k) q[k] = a.q[static_cast<std::size_t>(i) * m.dof() + k];
+    forwardKinematics(m, ws.kin, q);
+    collision::collisionDistances(m, ws.kin, {}, cws);
+    CHECK(collision::minSelfDistance(cws) > 0);
+    CHECK(collision::minSelfDistance(cws) == a.min_distance_m[i]);
+    const IkResult e = evaluateSolution(m, ws, IkTarget{list.task_space, list.poses[i]}, o, q, ReachStatus::OutOfReach);
+    CHECK(e.reachable());
+  }
+  CHECK(lost == 0);
+  INFO("poses freed by the seeded starts: " << freed);
+  CHECK(freed > 0);
+}
