@@ -1,5 +1,7 @@
 #include "io/files.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -61,6 +63,40 @@ void writeFileAtomic(const std::string& path, const std::string& content) {
     }
   }
   fs::rename(tmp, target);
+}
+
+OutputFolderLock::OutputFolderLock(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec || !fs::is_directory(folder))
+    throw InputError(folder, 0, "", "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
+  path_ = (fs::path(folder) / ".armstudy.lock").string();
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw InputError(folder, 0, "", "cannot write into the output folder");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(folder, 0, "", "another armstudy run is writing to this output folder; wait for it or choose "
+                                    "another --output");
+  }
+  // Temporaries of writeFileAtomic ("<name>.tmp.<pid>") left by a killed run: no other run can be
+  // writing here now.
+  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const auto dot = name.rfind(".tmp.");
+    if (dot == std::string::npos || dot + 5 >= name.size() || !it->is_regular_file()) continue;
+    if (name.find_first_not_of("0123456789", dot + 5) != std::string::npos) continue;
+    std::error_code rm;
+    if (fs::remove(it->path(), rm)) ++removed_;
+  }
+}
+
+OutputFolderLock::~OutputFolderLock() {
+  // The lock file stays (removing it would let a run that opened it just before lock a file no
+  // later run sees); closing releases the lock.
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace armstudy

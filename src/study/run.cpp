@@ -100,6 +100,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
 
   const fs::path out(sum.output_dir);
   const fs::path manifest_path = out / "manifest.json";
+  // One run per output folder at a time; stale temporaries of a killed run go (issue 19).
+  const OutputFolderLock lock(sum.output_dir);
   if (options.overwrite) {
     removePreviousResults(out);
     fs::remove_all(out / ".partial");

@@ -1,7 +1,10 @@
 // Issue 19 (part): crashes, hangs and deletions outside the output folder found by hand-made bad
 // inputs, each kept as a regression test. Every case: exit 2 (input error), a message naming what
 // is wrong, and nothing written.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -107,4 +110,36 @@ TEST_CASE("the tick generator ends on ranges narrower than the values' resolutio
   CHECK(u.size() == 6);
   CHECK(u.front() == 0.0);
   CHECK(u.back() == Approx(1.0));
+}
+
+TEST_CASE("one run per output folder, stale temporaries of a killed run removed, uncreatable folders named",
+          "[cli][hardening]") {
+  const fs::path d = freshDir("lock");
+  const fs::path out = d / "out", mine = out / "regression";
+  fs::create_directories(mine / "reach");
+  // A killed run's temporaries (writeFileAtomic: <name>.tmp.<pid>) and a file that only looks alike.
+  std::ofstream(mine / "reach" / "summary.json.tmp.4242") << "half";
+  std::ofstream(mine / "notes.tmp.txt") << "a user's file";
+  // Another process holds the folder's lock: this test process, like a concurrent run.
+  const std::string lock = (mine / ".armstudy.lock").string();
+  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT, 0644);
+  REQUIRE(fd >= 0);
+  REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);
+  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") + " --threads 2 --output " +
+                          out.string();
+  std::string log;
+  CHECK(runCommand(run, log) == 2);
+  CHECK(log.find("another armstudy run is writing") != std::string::npos);
+  CHECK(fs::exists(mine / "reach" / "summary.json.tmp.4242"));  // untouched while locked
+  ::close(fd);                                                  // the other run ends
+  CHECK(runCommand(run, log) == 0);
+  CHECK_FALSE(fs::exists(mine / "reach" / "summary.json.tmp.4242"));
+  CHECK(fs::exists(mine / "notes.tmp.txt"));
+  CHECK(fs::exists(mine / "manifest.json"));
+  // An output root below a regular file: an input error naming the path, not a raw filesystem error.
+  std::ofstream(d / "file.txt") << "x";
+  CHECK(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") + " --output " +
+                       (d / "file.txt" / "sub").string(),
+                   log) == 2);
+  CHECK(log.find("cannot create the output folder") != std::string::npos);
 }
