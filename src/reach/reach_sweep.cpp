@@ -344,6 +344,14 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   std::vector<std::uint8_t> changed(N, 0);
   std::vector<int> extra(N, 0);  // starts spent on the pose by the search
   std::vector<PoseResult> found(N);  // per-round candidates (allocated once)
+  // The end of a Jacobi round: the candidates of the poses marked in `now` replace their results.
+  auto adoptRound = [&](const std::vector<std::uint8_t>& now) {
+    for (long i = 0; i < N; ++i)
+      if (now[i]) {
+        store(s, i, found[i].ik, s.starts[i]);
+        storeCollision(s, i, found[i]);
+      }
+  };
   // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results).
   auto propagate = [&](bool all_sources) {
     bool first = all_sources;
@@ -378,11 +386,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
           updates += now[i];
         }
       }
-      for (long i = 0; i < N; ++i)
-        if (now[i]) {
-          store(s, i, found[i].ik, s.starts[i]);
-          storeCollision(s, i, found[i]);
-        }
+      adoptRound(now);
       ++sum.rounds;
       sum.neighbour_tries += tries;
       sum.neighbour_updates += updates;
@@ -460,11 +464,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
           updates += now[i];
         }
       }
-      for (long i = 0; i < N; ++i)
-        if (now[i]) {
-          store(s, i, found[i].ik, s.starts[i]);
-          storeCollision(s, i, found[i]);
-        }
+      adoptRound(now);
       ++sum.best_rounds;
       sum.best_tries += tries;
       sum.best_updates += updates;
