@@ -71,8 +71,12 @@ struct IkOptions {
   int max_rejected_steps = 5;      // rejected LM steps in a row end a start
   int seed_candidates = 8;         // a random start is the best (lowest task error) of this many
                                    // seeded configurations
-  // Sweeps (src/reach/reach_sweep): traverse each line from its last pose (a check that results
-  // do not depend on the traversal order; not a solver setting).
+  // Sweeps (src/reach/reach_sweep): chain each line from both ends and keep the better result per
+  // pose (results then do not depend on the traversal direction); false: one chain per line,
+  // in the direction below (the sweep before issue 12; benchmarks and tests only).
+  bool sweep_both_directions = true;
+  // Traverse each line from its last pose first (a check that results do not depend on the
+  // traversal order; not a solver setting).
   bool sweep_descending = false;
   std::string validate() const;                     // empty when valid
 };

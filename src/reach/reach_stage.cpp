@@ -290,7 +290,7 @@ std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatu
 
 // A chunk's result as bytes for the checkpoint store: its place in the sweep and every per-pose
 // column, no timings.
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v4";
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v5";
 
 std::string serializeSweep(const PoseSweep& s) {
   UnitWriter w(kUnitMagic);
@@ -304,6 +304,7 @@ std::string serializeSweep(const PoseSweep& s) {
   w.putVector(s.manipulability);
   w.putVector(s.joint_limit_margin);
   w.putVector(s.q);
+  w.putVector(s.q_alt);
   w.put<std::uint8_t>(s.collision);
   w.put<std::uint8_t>(s.obstacles);
   w.putVector(s.min_distance_m);
@@ -328,6 +329,7 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
   r.getVector(s.manipulability);
   r.getVector(s.joint_limit_margin);
   r.getVector(s.q);
+  r.getVector(s.q_alt);
   s.collision = r.get<std::uint8_t>() != 0;
   s.obstacles = r.get<std::uint8_t>() != 0;
   r.getVector(s.min_distance_m);
@@ -340,7 +342,7 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
   const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;
   return s.status.size() == n && s.starts.size() == n && s.position_error_m.size() == n &&
          s.orientation_error_rad.size() == n && s.manipulability.size() == n && s.joint_limit_margin.size() == n &&
-         s.q.size() == n * s.dof && s.min_distance_m.size() == nc && s.colliding_pair.size() == nc &&
+         s.q.size() == n * s.dof && s.q_alt.size() == n * s.dof && s.min_distance_m.size() == nc && s.colliding_pair.size() == nc &&
          s.obstacle_distance_m.size() == no;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -57,6 +58,7 @@ PoseSweep makeSweep(const Model& model, long size, const SweepCollision& collisi
   s.manipulability.assign(size, 0);
   s.joint_limit_margin.assign(size, 0);
   s.q.assign(static_cast<std::size_t>(size) * s.dof, 0);
+  s.q_alt.assign(static_cast<std::size_t>(size) * s.dof, std::numeric_limits<double>::quiet_NaN());
   s.collision = collision.enabled();
   if (s.collision) {
     s.min_distance_m.assign(size, std::numeric_limits<double>::quiet_NaN());
@@ -103,6 +105,16 @@ JointVector solutionOf(const PoseSweep& s, long i) {
   return q;
 }
 
+bool hasAlternative(const PoseSweep& s, long i) {
+  return !s.q_alt.empty() && !std::isnan(s.q_alt[static_cast<std::size_t>(i) * s.dof]);
+}
+
+JointVector alternativeOf(const PoseSweep& s, long i) {
+  JointVector q(s.dof);
+  for (int k = 0; k < s.dof; ++k) q[k] = s.q_alt[static_cast<std::size_t>(i) * s.dof + k];
+  return q;
+}
+
 // One pose, plain IK or collision-aware (reachable only in collision -> Self/ObstacleCollision),
 // with per-thread workspaces. Target and seed follow the pose's index in the whole sweep, never
 // its place in a chunk.
@@ -146,6 +158,50 @@ class PoseSolver {
   collision::CollisionReachOptions copts_;
 };
 
+// Rank of a pose result: collision-free reachable, then reachable only in collision, then the rest.
+int poseClass(const PoseSweep& s, long i) {
+  if (s.reachable(i)) return 0;
+  return inCollision(static_cast<ReachStatus>(s.status[i])) ? 1 : 2;
+}
+
+// True when entry i of a is better than entry i of b: class, then manipulability (reachable),
+// the smallest distance (less penetration, in collision) or the position error (unreachable),
+// then status and joint values. A total order, symmetric in a and b.
+bool betterPose(const PoseSweep& a, const PoseSweep& b, long i) {
+  const int ca = poseClass(a, i), cb = poseClass(b, i);
+  if (ca != cb) return ca < cb;
+  auto key = [&](const PoseSweep& s) {
+    if (ca == 0) return -s.manipulability[i];
+    if (ca == 1 && s.collision) return -s.min_distance_m[i];
+    return s.position_error_m[i];
+  };
+  auto finite = [](double v) { return std::isnan(v) ? std::numeric_limits<double>::infinity() : v; };
+  const double ka = finite(key(a)), kb = finite(key(b));
+  if (ka != kb) return ka < kb;
+  if (a.status[i] != b.status[i]) return a.status[i] < b.status[i];
+  for (int k = 0; k < a.dof; ++k) {
+    const double qa = a.q[static_cast<std::size_t>(i) * a.dof + k], qb = b.q[static_cast<std::size_t>(i) * b.dof + k];
+    if (qa != qb) return qa < qb;
+  }
+  return false;
+}
+
+// Copies entry i of from to entry j of to, with the given start count (saturated at 255).
+void copyPose(const PoseSweep& from, long i, PoseSweep& to, long j, int starts) {
+  to.status[j] = from.status[i];
+  to.starts[j] = static_cast<std::uint8_t>(std::min(255, starts));
+  to.position_error_m[j] = from.position_error_m[i];
+  to.orientation_error_rad[j] = from.orientation_error_rad[i];
+  to.manipulability[j] = from.manipulability[i];
+  to.joint_limit_margin[j] = from.joint_limit_margin[i];
+  for (int k = 0; k < from.dof; ++k) to.q[static_cast<std::size_t>(j) * to.dof + k] = from.q[static_cast<std::size_t>(i) * from.dof + k];
+  if (to.collision) {
+    to.min_distance_m[j] = from.min_distance_m[i];
+    to.colliding_pair[j] = from.colliding_pair[i];
+  }
+  if (to.obstacles) to.obstacle_distance_m[j] = from.obstacle_distance_m[i];
+}
+
 // Solves the units of every range (unit u covers poses [u * len, min((u+1) * len, size))) into
 // one chunk per range; see sweepGridRanges.
 std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
@@ -181,17 +237,12 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
   {
     PoseSolver solver(model, collision, target);
     auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) { return solver.solve(i, o, warm_start); };
-#pragma omp for schedule(dynamic, 1)
-    for (long w = 0; w < n_work; ++w) {
-      const auto [k, u] = work[w];
-      PoseSweep& s = chunks[k];
-      const long off = s.offset;
-      const long begin = u * len, end = std::min(size, begin + len);
-      double t_reach = 0, t_unreach = 0;
+    PoseSweep first_chain = makeSweep(model, len, collision), second_chain = first_chain;
+    // One chain along poses [begin, end) in direction dir, into out (entry i - out_off).
+    auto chainLine = [&](long begin, long end, long dir, PoseSweep& out, long out_off, double& t_reach,
+                         double& t_unreach) {
       JointVector warm(model.dof());
       bool have_warm = false;
-      // Forward pass in the traversal direction (options.sweep_descending: from the line's end).
-      const long dir = options.sweep_descending ? -1 : 1;
       const long first = dir > 0 ? begin : end - 1, past = dir > 0 ? end : begin - 1;
       for (long i = first; i != past; i += dir) {
         const auto p0 = std::chrono::steady_clock::now();
@@ -199,30 +250,61 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
         const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        store(s, i - off, r, 0);
-        storeCollision(s, i - off, pr);
+        store(out, i - out_off, r, 0);
+        storeCollision(out, i - out_off, pr);
         if (r.reachable()) {
           warm = r.q;
           have_warm = true;
         }
       }
       // Backward pass: an unreachable pose next to a reachable one gets one more start from its
-      // neighbour's solution (the one after it in the forward direction). A pose reachable only
+      // neighbour's solution (the one after it in the chain's direction). A pose reachable only
       // in collision keeps its result unless the retry finds a collision-free solution; an
       // unreachable one also takes a solution in collision.
       for (long i = past - 2 * dir; i != first - dir; i -= dir) {
-        const long li = i - off;
-        if (s.reachable(li) || !s.reachable(li + dir)) continue;
-        const JointVector w = solutionOf(s, li + dir);
+        const long li = i - out_off;
+        if (out.reachable(li) || !out.reachable(li + dir)) continue;
+        const JointVector w = solutionOf(out, li + dir);
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, retry, &w);
         const IkResult& r = pr.ik;
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(s.status[li])))) {
-          store(s, li, r, s.starts[li]);
-          storeCollision(s, li, pr);
+        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(out.status[li])))) {
+          store(out, li, r, out.starts[li]);
+          storeCollision(out, li, pr);
         }
+      }
+    };
+#pragma omp for schedule(dynamic, 1)
+    for (long w = 0; w < n_work; ++w) {
+      const auto [k, u] = work[w];
+      PoseSweep& s = chunks[k];
+      const long off = s.offset;
+      const long begin = u * len, end = std::min(size, begin + len);
+      double t_reach = 0, t_unreach = 0;
+      // Each line is chained in both directions (forward from its start, forward from its end),
+      // each with its own backward pass; every pose keeps the better of the two results
+      // (betterPose, a total order that does not know which direction came first). So the result
+      // does not depend on the traversal direction (IkOptions::sweep_descending only decides
+      // which chain runs first).
+      const long n = end - begin;
+      const int passes = options.sweep_both_directions ? 2 : 1;
+      for (int pass = 0; pass < passes; ++pass) {
+        PoseSweep& out = pass == 0 ? first_chain : second_chain;
+        const long dir = (pass == 0) != options.sweep_descending ? 1 : -1;
+        chainLine(begin, end, dir, out, begin, t_reach, t_unreach);
+      }
+      for (long li = 0; li < n; ++li) {
+        const bool second = passes == 2 && betterPose(second_chain, first_chain, li);
+        const PoseSweep &kept = second ? second_chain : first_chain, &other = second ? first_chain : second_chain;
+        copyPose(kept, li, s, begin - off + li, first_chain.starts[li] + (passes == 2 ? second_chain.starts[li] : 0));
+        // The other chain's collision-free solution, where it differs: a second seed for the search.
+        const std::size_t to = static_cast<std::size_t>(begin - off + li) * s.dof, from = static_cast<std::size_t>(li) * s.dof;
+        const bool distinct = passes == 2 && other.reachable(li) &&
+                              !std::equal(other.q.begin() + from, other.q.begin() + from + s.dof, kept.q.begin() + from);
+        for (int j = 0; j < s.dof; ++j)
+          s.q_alt[to + j] = distinct ? other.q[from + j] : std::numeric_limits<double>::quiet_NaN();
       }
 #pragma omp atomic
       s.solve_seconds_reachable += t_reach;
@@ -323,11 +405,31 @@ int gridNeighbours(const TaskGrid& g, long i, long out[8]) {
   return n;
 }
 
+// Pose i's wider neighbourhood: the other points of the 3 x 3 x 3 box around it (same orientation)
+// and the previous and next orientation at its point, in a fixed order; at most 28.
+int gridBoxNeighbours(const TaskGrid& g, long i, long out[28]) {
+  const auto d = g.dims();
+  const long P = g.points(), O = static_cast<long>(g.orientations.size());
+  const long o = i / P, p = i % P;
+  const long ix = p % d[0], iy = (p / d[0]) % d[1], iz = p / (static_cast<long>(d[0]) * d[1]);
+  int n = 0;
+  for (long dz = -1; dz <= 1; ++dz)
+    for (long dy = -1; dy <= 1; ++dy)
+      for (long dx = -1; dx <= 1; ++dx) {
+        const long x = ix + dx, y = iy + dy, z = iz + dz;
+        if ((dx == 0 && dy == 0 && dz == 0) || x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2]) continue;
+        out[n++] = o * P + x + d[0] * (y + static_cast<long>(d[1]) * z);
+      }
+  if (o > 0) out[n++] = i - P;
+  if (o + 1 < O) out[n++] = i + P;
+  return n;
+}
+
 // The map search over a whole sweep; `neighbours(i, out)` lists pose i's neighbours (none for a
 // pose list, whose poses need not lie next to each other).
-using Neighbours = std::function<int(long, long[8])>;
+using Neighbours = std::function<int(long, long*)>;
 SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
-                               const Neighbours& neighbours, const IkOptions& options, int threads,
+                               const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
                                const SweepCollision& collision, const SweepSearch& search, PoseSweep& s) {
   const auto t0 = std::chrono::steady_clock::now();
   SweepSearchSummary sum;
@@ -374,14 +476,20 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
           const int count = neighbours(i, nb);
           for (int k = 0; k < count; ++k) {
             if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
-            const JointVector w = solutionOf(s, nb[k]);
-            PoseResult pr = solver.solve(i, one, &w, 0);
-            ++tries;
-            ++extra[i];
-            if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
-            found[i] = std::move(pr);
-            now[i] = 1;
-            if (found[i].ik.reachable()) break;
+            // The neighbour's solution, and in the first round also the other chain's (a second
+            // branch, which never changes).
+            const int seeds = first && hasAlternative(s, nb[k]) ? 2 : 1;
+            for (int a = 0; a < seeds; ++a) {
+              const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
+              PoseResult pr = solver.solve(i, one, &w, 0);
+              ++tries;
+              ++extra[i];
+              if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
+              found[i] = std::move(pr);
+              now[i] = 1;
+              if (found[i].ik.reachable()) break;
+            }
+            if (now[i] && found[i].ik.reachable()) break;
           }
           updates += now[i];
         }
@@ -428,6 +536,41 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     }
     sum.multistart_tries = tries;
     sum.multistart_freed = freed;
+    if (freed > 0) propagate(false);
+  }
+  // Poses still in collision: one round from the solutions (and second branches) of every
+  // collision-free pose in their wider neighbourhood (the 3 x 3 x 3 box), then propagation from
+  // the poses it freed.
+  if (collision.enabled() && box) {
+    std::vector<std::uint8_t> now(N, 0);
+    long tries = 0, freed = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tries, freed)
+    {
+      PoseSolver solver(model, collision, target);
+      long nb[28];
+#pragma omp for schedule(dynamic, 16)
+      for (long i = 0; i < N; ++i) {
+        if (!inCollision(static_cast<ReachStatus>(s.status[i]))) continue;
+        const int count = box(i, nb);
+        for (int k = 0; k < count && !now[i]; ++k) {
+          if (!s.reachable(nb[k])) continue;
+          for (int a = 0; a < (hasAlternative(s, nb[k]) ? 2 : 1) && !now[i]; ++a) {
+            const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
+            PoseResult pr = solver.solve(i, one, &w, 0);
+            ++tries;
+            ++extra[i];
+            if (!pr.ik.reachable()) continue;
+            found[i] = std::move(pr);
+            now[i] = 1;
+            ++freed;
+          }
+        }
+      }
+    }
+    adoptRound(now);
+    sum.box_tries = tries;
+    sum.box_freed = freed;
+    changed = now;
     if (freed > 0) propagate(false);
   }
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
@@ -485,7 +628,9 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the map search needs the whole sweep of the grid");
   return searchSweep(
       model, [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; },
-      [&grid](long i, long out[8]) { return gridNeighbours(grid, i, out); }, options, threads, collision, search, sweep);
+      [&grid](long i, long* out) { return gridNeighbours(grid, i, out); },
+      [&grid](long i, long* out) { return gridBoxNeighbours(grid, i, out); }, options, threads, collision, search,
+      sweep);
 }
 
 SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
@@ -493,8 +638,8 @@ SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list,
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == static_cast<long>(list.poses.size()),
                  "the map search needs the whole sweep of the pose list");
   return searchSweep(
-      model, [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, [](long, long[8]) { return 0; },
-      options, threads, collision, search, sweep);
+      model, [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, [](long, long*) { return 0; },
+      Neighbours{}, options, threads, collision, search, sweep);
 }
 
 namespace {
@@ -530,6 +675,7 @@ PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
     append(s.manipulability, c.manipulability);
     append(s.joint_limit_margin, c.joint_limit_margin);
     append(s.q, c.q);
+    append(s.q_alt, c.q_alt);
     append(s.min_distance_m, c.min_distance_m);
     append(s.colliding_pair, c.colliding_pair);
     append(s.obstacle_distance_m, c.obstacle_distance_m);

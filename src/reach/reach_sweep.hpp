@@ -40,6 +40,9 @@ struct PoseSweep {
   std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
   std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
   std::vector<double> q;                     // size * dof, pose-major
+  // The other chain's collision-free solution where it differs from q (each line is chained both
+  // ways), NaN otherwise: a second branch the map search starts from; not an output.
+  std::vector<double> q_alt;                 // size * dof, pose-major
   // Collision-aware sweeps only (empty otherwise): the smallest checked distance at the solution
   // (self pairs and obstacles; negative: penetration; NaN when unreachable) and, for poses
   // reachable only in collision (SelfCollision / ObstacleCollision), the colliding pair as an
@@ -111,6 +114,9 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
 //     start each; Jacobi rounds (a round reads only the previous one) until nothing changes.
 //  2. Every pose still reachable only in collision gets `collision_starts` seeded random starts
 //     (collision-aware, deterministic per pose), then propagation from the poses they freed.
+//     Grids: then one round for every pose still in collision from the solutions (and second
+//     branches, PoseSweep::q_alt) of every collision-free pose in its 3 x 3 x 3 box and at its
+//     point in the neighbouring orientations, then propagation again.
 //  3. Every reachable pose retries from each collision-free neighbour with a higher manipulability
 //     (eq. 5.59 of the task Jacobian) and keeps the collision-free solution with the highest
 //     manipulability found (Jacobi rounds until nothing changes), so the quantities shown at a
@@ -128,6 +134,7 @@ struct SweepSearchSummary {
   int rounds = 0;
   long neighbour_tries = 0, neighbour_updates = 0;
   long multistart_poses = 0, multistart_tries = 0, multistart_freed = 0;
+  long box_tries = 0, box_freed = 0;  // grids: starts from the wider neighbourhood, poses freed
   int best_rounds = 0;
   long best_tries = 0, best_updates = 0;
   bool converged = true;

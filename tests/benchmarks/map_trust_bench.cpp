@@ -57,36 +57,38 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void reachPart(int threads, int collision_starts) {
+void reachPart(int threads, int collision_starts, int audit_poses) {
   Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/spraying_row.toml");
   const Model& m = study.designs.at(0).model;
   if (collision_starts >= 0) study.reach.search.collision_starts = collision_starts;
   const ReachConfig& cfg = study.reach;
   const TaskGrid& g = cfg.grids.at(0);
-  std::printf("\nReach: %s, grid %s (%ld poses, studies/spraying_row.toml), %d threads; audit 500 poses x 500 starts\n\n",
-              m.name.c_str(), g.name.c_str(), g.size(), threads);
+  std::printf("\nReach: %s, grid %s (%ld poses, studies/spraying_row.toml), %d threads; audit %d poses x 500 starts\n\n",
+              m.name.c_str(), g.name.c_str(), g.size(), threads, audit_poses);
   std::printf("| sweep | wall [s] | self_collision | audited self_collision | contradicted | reachable, audit found none | "
               "manipulability within 5 %% of the audit's best | audit [s] |\n|---|---|---|---|---|---|---|---|\n");
   const int sc = static_cast<int>(ReachStatus::SelfCollision);
   auto row = [&](const char* what, const PoseSweep& s, double wall) {
-    const ReachAudit a = auditGridSweep(m, g, cfg.ik, cfg.collision, s, 500, 500, defaults::kAuditSeed, threads);
+    const ReachAudit a = auditGridSweep(m, g, cfg.ik, cfg.collision, s, audit_poses, 500, defaults::kAuditSeed, threads);
     long n = 0;
     for (long i = 0; i < s.size; ++i) n += s.status[i] == sc;
     std::printf("| %s | %.3f | %ld | %d | %d | %d | %d of %d | %.1f |\n", what, wall, n, a.by_status[sc],
                 a.contradicted[sc], a.audit_missed, a.manipulability_within_5pct, a.manipulability_compared, a.seconds);
   };
   auto t0 = std::chrono::steady_clock::now();
-  PoseSweep raw = sweepGrid(m, g, cfg.ik, threads, nullptr, cfg.collision);
+  IkOptions one_way = cfg.ik;  // one chain per line: the sweep before issue 12
+  one_way.sweep_both_directions = false;
+  PoseSweep raw = sweepGrid(m, g, one_way, threads, nullptr, cfg.collision);
   const double t_raw = seconds(t0);
-  row("sweep alone (before issue 12)", raw, t_raw);
-  PoseSweep up = raw;
+  row("one-way sweep alone (before issue 12)", raw, t_raw);
   t0 = std::chrono::steady_clock::now();
+  PoseSweep up = sweepGrid(m, g, cfg.ik, threads, nullptr, cfg.collision);
   const SweepSearchSummary ss = searchGridSweep(m, g, cfg.ik, threads, cfg.collision, cfg.search, up);
-  row("sweep + map search (shipped)", up, t_raw + seconds(t0));
-  IkOptions rev = cfg.ik;
-  rev.sweep_descending = true;
-  PoseSweep raw_down = sweepGrid(m, g, rev, threads, nullptr, cfg.collision);
-  PoseSweep down = raw_down;
+  row("both-way sweep + map search (shipped)", up, seconds(t0));
+  IkOptions rev = cfg.ik, rev_one_way = one_way;
+  rev.sweep_descending = rev_one_way.sweep_descending = true;
+  PoseSweep raw_down = sweepGrid(m, g, rev_one_way, threads, nullptr, cfg.collision);
+  PoseSweep down = sweepGrid(m, g, rev, threads, nullptr, cfg.collision);
   searchGridSweep(m, g, rev, threads, cfg.collision, cfg.search, down);
   long d_raw = 0, d = 0, both_raw = 0, m_raw = 0, both = 0, m5 = 0;
   auto close = [](double a, double b) { return std::abs(a - b) <= 0.05 * std::max(a, b); };
@@ -96,14 +98,14 @@ void reachPart(int threads, int collision_starts) {
     if (raw.reachable(i) && raw_down.reachable(i)) ++both_raw, m_raw += !close(raw.manipulability[i], raw_down.manipulability[i]);
     if (up.reachable(i) && down.reachable(i)) ++both, m5 += !close(up.manipulability[i], down.manipulability[i]);
   }
-  std::printf("\nManipulability at the solution differing by more than 5 %% with the other direction: sweep alone "
-              "%.1f %% of %ld poses, with map search %.1f %% of %ld.", 100.0 * m_raw / std::max(1L, both_raw), both_raw,
+  std::printf("\nManipulability at the solution differing by more than 5 %% with the other direction: one-way sweep alone "
+              "%.1f %% of %ld poses, shipped %.1f %% of %ld.", 100.0 * m_raw / std::max(1L, both_raw), both_raw,
               100.0 * m5 / std::max(1L, both), both);
-  std::printf("\nStatuses differing with the lines swept in the other direction: sweep alone %ld, with map search "
+  std::printf("\nStatuses differing with the lines swept in the other direction: one-way sweep alone %ld, shipped "
               "%ld (of %ld poses).\nMap search: %d propagation rounds (%ld neighbour tries, %ld updates), %ld poses "
-              "in collision x %d seeded starts (%ld tries, %ld freed), %d best-manipulability rounds (%ld tries, %ld updates), %.3f s\n",
+              "in collision x %d seeded starts (%ld tries, %ld freed), wider neighbourhood (%ld tries, %ld freed), %d best-manipulability rounds (%ld tries, %ld updates), %.3f s\n",
               d_raw, d, up.size, ss.rounds, ss.neighbour_tries, ss.neighbour_updates, ss.multistart_poses,
-              cfg.search.collision_starts, ss.multistart_tries, ss.multistart_freed, ss.best_rounds, ss.best_tries,
+              cfg.search.collision_starts, ss.multistart_tries, ss.multistart_freed, ss.box_tries, ss.box_freed, ss.best_rounds, ss.best_tries,
               ss.best_updates, ss.seconds);
 }
 
@@ -112,7 +114,8 @@ void reachPart(int threads, int collision_starts) {
 int main(int argc, char** argv) {
   const int threads = 2;
   if (argc > 1 && std::string(argv[1]) == "reach") {
-    reachPart(threads, argc > 2 ? std::atoi(argv[2]) : -1);  // optional: seeded starts per pose in collision
+    // optional: seeded starts per pose in collision (-1: the study's), poses audited
+    reachPart(threads, argc > 2 ? std::atoi(argv[2]) : -1, argc > 3 ? std::atoi(argv[3]) : 500);
     return 0;
   }
   const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
@@ -180,6 +183,6 @@ int main(int argc, char** argv) {
     std::printf("| %.2f | %.3f | %.3f | %.0f | %.3f |\n", o.grid.z_m.value(iz), n ? sum / n : 0.0, mn, at,
                 m_full.cells[o.grid.index(G - 1, iz)].opt.manipulability / best);
   }
-  reachPart(threads, -1);
+  reachPart(threads, -1, 500);
   return 0;
 }

@@ -17,9 +17,6 @@ using namespace armstudy;
 namespace {
 constexpr int kBruteStarts = 500;            // issue 12: the independent search's starts per pose
 constexpr double kMaxContradicted = 0.01;    // issue 12: at most 1 % of self_collision verdicts
-// Share of statuses that may differ with the sweep direction at the default settings in this
-// region of knife-edge poses next to the base (full Fig. 3.8 grid: 6 of 28,574, map_trust_bench).
-constexpr double kMaxDirectionDiffer = 0.01;
 
 // Close to the base, where the sweep alone called poses self_collision that have collision-free
 // solutions: x -0.36..0.24 m (3 cm), y 0.30..0.50 m (2 cm), z 1.2 m, gamma +-40 deg: 21 x 11 x 2
@@ -73,11 +70,21 @@ TEST_CASE("reach statuses do not depend on the sweep direction and are the same 
     differ += a.status[i] != b.status[i];
     in_collision += a.status[i] == static_cast<std::uint8_t>(ReachStatus::SelfCollision);
   }
-
   INFO("statuses differing between the directions: " << differ << " of " << a.size << ", self_collision "
                                                       << in_collision);
   REQUIRE(in_collision > 0);  // the part has poses reachable only in collision
-  CHECK(double(differ) <= kMaxDirectionDiffer * double(a.size));
+  // Every line is chained both ways and each pose keeps the better result by a symmetric rule, so
+  // the whole result (statuses, solutions, quantities) is the same in either direction.
+  CHECK(differ == 0);
+  CHECK(std::memcmp(b.q.data(), a.q.data(), a.q.size() * sizeof(double)) == 0);
+  CHECK(b.manipulability == a.manipulability);
+  CHECK(b.starts == a.starts);
+  // With one chain per line (the sweep before this rule) the directions disagree here even after
+  // the map search: the comparison can fail.
+  IkOptions one_up = up, one_down = down;
+  one_up.sweep_both_directions = one_down.sweep_both_directions = false;
+  const PoseSweep ou = searched(m, g, one_up, 2), od = searched(m, g, one_down, 2);
+  CHECK(ou.status != od.status);
   CHECK(c.status == a.status);
   CHECK(c.starts == a.starts);
   CHECK(std::memcmp(c.q.data(), a.q.data(), a.q.size() * sizeof(double)) == 0);
