@@ -1,0 +1,94 @@
+#pragma once
+// Fuzz targets of the readers (issue 19): each takes arbitrary bytes as the content of one input
+// file and must either accept it or throw InputError naming the file. Anything else (another
+// exception, a failed ARMSTUDY_CHECK, a crash, a sanitizer report) is a finding.
+//
+// Used twice: tests/fuzz/replay_test.cpp runs them on the corpus and on seeded mutations of it in
+// every test run (a few seconds each), and tests/fuzz/libfuzzer_main.cpp turns each into a
+// libFuzzer binary for the on-demand `fuzz` target (clang; README "Fuzzing").
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <unistd.h>
+
+#include "common/errors.hpp"
+#include "io/csv_io.hpp"
+#include "io/design_io.hpp"
+#include "io/study_io.hpp"
+#include "study/regression.hpp"
+
+namespace armstudy::fuzz {
+
+// Thrown when an InputError does not name its file: the message a user sees must say which file.
+struct UnnamedInputError : std::logic_error {
+  using std::logic_error::logic_error;
+};
+
+inline void requireNamed(const InputError& e, const std::string& file) {
+  if (e.file() != file) throw UnnamedInputError("InputError names '" + e.file() + "', not '" + file + "': " + e.what());
+}
+
+inline std::string bytes(const std::uint8_t* data, std::size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+// A design file's text.
+inline void design(const std::uint8_t* data, std::size_t size) {
+  const std::string file = "fuzz_design.toml";
+  try {
+    (void)parseDesign(bytes(data, size), file);
+  } catch (const InputError& e) {
+    requireNamed(e, file);
+  }
+}
+
+// A measurement CSV (the strict reader behind every data file), with two required and one
+// optional column.
+inline void csv(const std::uint8_t* data, std::size_t size) {
+  const std::string file = "fuzz_data.csv";
+  try {
+    (void)io::parseCsv(bytes(data, size), file, io::CsvSchema{{"q", "current_a"}, {"temperature_c"}});
+  } catch (const InputError& e) {
+    requireNamed(e, file);
+  }
+}
+
+// A regression baseline (JSON).
+inline void baseline(const std::uint8_t* data, std::size_t size) {
+  const std::string file = "fuzz.baseline.json";
+  try {
+    (void)parseBaseline(bytes(data, size), file, "regression");
+  } catch (const InputError& e) {
+    requireNamed(e, file);
+  }
+}
+
+// A study file, in a scratch copy of the repository's layout (studies/ beside designs/, the
+// shipped data reachable as studies/data) so its relative paths resolve. The error may name the
+// study or a file it refers to; it must name a file.
+inline void study(const std::uint8_t* data, std::size_t size) {
+  namespace fs = std::filesystem;
+  static const fs::path root = [] {
+    const fs::path r = fs::temp_directory_path() / ("armstudy_fuzz_study." + std::to_string(::getpid()));
+    fs::create_directories(r / "studies");
+    std::error_code ec;
+    fs::create_directory_symlink(fs::path(ARMSTUDY_SOURCE_DIR) / "designs", r / "designs", ec);
+    fs::create_directory_symlink(fs::path(ARMSTUDY_SOURCE_DIR) / "studies" / "data", r / "studies" / "data", ec);
+    return r;
+  }();
+  const std::string file = (root / "studies" / "fuzz.toml").string();
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  try {
+    (void)loadStudy(file);
+  } catch (const InputError& e) {
+    if (e.file().empty()) throw UnnamedInputError(std::string("InputError names no file: ") + e.what());
+  }
+}
+
+}  // namespace armstudy::fuzz
