@@ -7,6 +7,7 @@
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
+#include "io/units.hpp"
 
 namespace armstudy::cli {
 
@@ -55,8 +56,12 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
         for (int i = 0; i < n; ++i) {
           out[i] = v[i];
           if (a->deg && m.joints[i].type == JointType::Revolute) out[i] *= M_PI / 180.0;
-          if (!std::isfinite(out[i]))
-            throw InputError(std::string("--") + key, 0, key, "value is not finite");
+          const bool rev = m.joints[i].type == JointType::Revolute, pos = std::string(key) == "q",
+                     vel = std::string(key) == "qd";
+          const Dimension dim = pos ? (rev ? Dimension::Angle : Dimension::Length)
+                                    : (rev ? Dimension::AngularVelocity : Dimension::LinearVelocity);
+          if (const std::string bad = implausible(out[i], pos || vel ? &dim : nullptr); !bad.empty())
+            throw InputError(std::string("--") + key, 0, key, "joint " + m.joints[i].name + ": " + bad);
         }
         return out;
       };

@@ -7,6 +7,7 @@
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
+#include "io/units.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy::cli {
@@ -42,7 +43,9 @@ void addFkCommand(CLI::App& app, Action& action) {
       for (int i = 0; i < m.dof(); ++i) {
         q[i] = a->q[i];
         if (a->deg && m.joints[i].type == JointType::Revolute) q[i] *= M_PI / 180.0;
-        if (!std::isfinite(q[i])) throw InputError("--q", 0, "q", "joint value is not finite");
+        const Dimension dim = m.joints[i].type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
+        if (const std::string bad = implausible(q[i], &dim); !bad.empty())
+          throw InputError("--q", 0, "q", "joint " + m.joints[i].name + ": " + bad);
       }
       KinematicsWorkspace ws(m);
       forwardKinematics(m, ws, q);

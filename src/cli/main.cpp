@@ -30,6 +30,20 @@ int main(int argc, char** argv) {
   armstudy::cli::addDynamicsCommand(app, action);
   armstudy::cli::addApproachCommand(app, action);
   armstudy::cli::addFitSsvCommand(app, action);
+  // An unknown command: name it and list the commands (CLI11 would only say one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "armstudy: error: unknown command '%s' (commands: %s; armstudy --help)\n", argv[1],
+                   names.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,4 +1,5 @@
 #include "io/csv_io.hpp"
+#include "io/units.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -109,6 +110,7 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
       if (c.empty() || res.ec != std::errc() || res.ptr != e)
         throw InputError(file, line_no, header[i], "cell '" + c + "' is not a number");
       if (!std::isfinite(v)) throw InputError(file, line_no, header[i], "cell '" + c + "' is not finite (NaN or Inf)");
+      if (const std::string bad = implausible(v, nullptr); !bad.empty()) throw InputError(file, line_no, header[i], bad);
       t.values[header_to_column[i]].push_back(v);
     }
     t.row_lines.push_back(line_no);

@@ -240,6 +240,8 @@ Model buildModel(const toml::table& root, const std::string& file) {
         {"inductance", d.inductance_H}};
     for (const auto& [k, v] : non_negative)
       if (v < 0) r.fail(k, "must not be negative");
+    if (d.peak_current_A > 0 && d.continuous_current_A > d.peak_current_A)
+      r.fail("peak_current", "peak current is below the continuous current");
     if (const toml::table* f = r.table("friction")) {
       TableReader fr(*f, file, r.path() + ".friction");
       d.friction_law = fr.string("law");

@@ -47,13 +47,14 @@ double nodeQuantity(const toml::node& n, Dimension dim, const std::string& file,
   const int line = static_cast<int>(n.source().begin.line);
   if (n.is_number()) {
     const double v = n.value<double>().value();
-    if (!std::isfinite(v)) throw InputError(file, line, key, "value is not finite (NaN or Inf)");
+    if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file, line, key, bad);
     return v;
   }
   if (n.is_string()) {
     double v = 0;
     std::string err;
     if (!parseQuantity(n.as_string()->get(), dim, v, err)) throw InputError(file, line, key, err);
+    if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file, line, key, bad);
     return v;
   }
   throw InputError(file, line, key,
@@ -71,7 +72,7 @@ double TableReader::number(const std::string& key) {
   const toml::node& n = require(key);
   if (!n.is_number()) fail(key, "expected a number");
   const double v = n.value<double>().value();
-  if (!std::isfinite(v)) fail(key, "value is not finite (NaN or Inf)");
+  if (const std::string bad = implausible(v, nullptr); !bad.empty()) fail(key, bad);
   return v;
 }
 double TableReader::number(const std::string& key, double fallback) {
@@ -132,7 +133,7 @@ std::vector<double> TableReader::numberArray(const std::string& key) {
   for (const auto& e : *n.as_array()) {
     if (!e.is_number()) fail(key, "expected an array of numbers");
     const double v = e.value<double>().value();
-    if (!std::isfinite(v)) fail(key, "value is not finite (NaN or Inf)");
+    if (const std::string bad = implausible(v, nullptr); !bad.empty()) fail(key, bad);
     out.push_back(v);
   }
   return out;

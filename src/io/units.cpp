@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace armstudy {
@@ -180,6 +181,27 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
     return false;
   }
   return true;
+}
+
+double plausibleMagnitude(Dimension dim) {
+  switch (dim) {
+    case Dimension::Length: return kMaxLength_m;
+    case Dimension::Angle: return kMaxAngle_rad;
+    case Dimension::LinearVelocity: return kMaxLinearVelocity_mps;
+    case Dimension::AngularVelocity: return kMaxAngularVelocity_radps;
+    case Dimension::Dimensionless: return kMaxDimensionless;
+  }
+  return kMaxPlainNumber;
+}
+
+std::string implausible(double value_si, const Dimension* dim) {
+  if (!std::isfinite(value_si)) return "value is not finite (NaN or Inf)";
+  const double limit = dim ? plausibleMagnitude(*dim) : kMaxPlainNumber;
+  if (std::abs(value_si) <= limit) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "value %.6g is not plausible: |value| must be at most %.0e%s", value_si, limit,
+                dim ? (std::string(" (SI, ") + toString(*dim) + ")").c_str() : "");
+  return buf;
 }
 
 }  // namespace armstudy

@@ -14,4 +14,21 @@ const char* toString(Dimension d);
 // the unit is unknown, or the unit does not fit `dim`.
 bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std::string& error);
 
+// Plausible magnitudes (issue 19; docs/design-format.md, "Plausible magnitudes"): the largest
+// |value| in SI that an input may hold for a quantity of each dimension, and for a plain number
+// (masses, inertias, gear ratios, friction coefficients, currents, torques, measured samples).
+// They reject absurd values (1e308 as a link offset, a current of 1e308 A), not unusual designs.
+// ASSUMPTION: the thesis gives no such limits; these are orders of magnitude above any arm, task
+// or test bed in it (lengths of metres, speeds of rad/s, currents of amperes).
+inline constexpr double kMaxLength_m = 1e3;
+inline constexpr double kMaxAngle_rad = 1e3;
+inline constexpr double kMaxLinearVelocity_mps = 1e3;
+inline constexpr double kMaxAngularVelocity_radps = 1e4;
+inline constexpr double kMaxDimensionless = 1e9;
+inline constexpr double kMaxPlainNumber = 1e12;
+double plausibleMagnitude(Dimension dim);
+// Empty when |value_si| is within plausibleMagnitude(dim) (or kMaxPlainNumber for plain numbers,
+// dim = nullptr), else the message for the input error.
+std::string implausible(double value_si, const Dimension* dim);
+
 }  // namespace armstudy

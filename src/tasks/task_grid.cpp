@@ -8,6 +8,7 @@
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 
 namespace armstudy {
 
@@ -157,6 +158,8 @@ PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
       if (cell.empty() || end != cell.c_str() + cell.size() || errno == ERANGE || !std::isfinite(v))
         throw InputError(file_label, line_no, kNames[n],
                          "'" + cell + "' is not a finite number (metres and radians, no units)");
+      const Dimension dim = n < 3 ? Dimension::Length : Dimension::Angle;
+      if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file_label, line_no, kNames[n], bad);
       w[n] = v;
     }
     list.poses.push_back(w);
