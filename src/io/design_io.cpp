@@ -276,13 +276,7 @@ Model buildModel(const toml::table& root, const std::string& file) {
 
 
 Model parseDesign(const std::string& text, const std::string& file_label) {
-  toml::table root;
-  try {
-    root = toml::parse(text, file_label);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file_label, static_cast<int>(e.source().begin.line), "",
-                     "TOML syntax error: " + std::string(e.description()));
-  }
+  const toml::table root = io::parseTomlText(text, file_label);
   Model m = buildModel(root, file_label);
   m.file_hash = contentHash(text);
   return m;

@@ -102,13 +102,7 @@ Study loadStudy(const std::string& path) {
   const std::string text = readFileOrThrow(path);
   s.file_hash = contentHash(text);
   s.inputs.push_back({path, s.file_hash});
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    throw InputError(path, static_cast<int>(e.source().begin.line), "",
-                     "TOML syntax error: " + std::string(e.description()));
-  }
+  const toml::table root = io::parseTomlText(text, path);
   TableReader top(root, path, "");
   {
     const toml::table* t = top.table("study");

@@ -2,20 +2,60 @@
 
 #include <cmath>
 
+#include "io/files.hpp"
+
 namespace armstudy::io {
 
-toml::table parseTomlFile(const std::string& path) {
+namespace {
+std::vector<std::string> linesOf(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t at = 0;
+  while (at <= text.size()) {
+    const std::size_t nl = text.find('\n', at);
+    lines.push_back(text.substr(at, nl == std::string::npos ? std::string::npos : nl - at));
+    if (nl == std::string::npos) break;
+    at = nl + 1;
+  }
+  return lines;
+}
+
+// Printable ASCII only, without quotes, brackets and surrounding blanks, at most 60 characters.
+std::string cleanKey(const std::string& v) {
+  std::string k;
+  for (unsigned char c : v)
+    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\'' && c != '[' && c != ']') k += static_cast<char>(c);
+  const std::size_t b = k.find_first_not_of(" \t"), e = k.find_last_not_of(" \t");
+  k = b == std::string::npos ? std::string() : k.substr(b, e - b + 1);
+  return k.size() > 60 ? k.substr(0, 60) : k;
+}
+
+// The key a TOML syntax error's line is about: the text before '=' on that line, the table header
+// on it, or the text written where a key was expected; else the table the line belongs to.
+std::string keyOfLine(const std::string& text, int line) {
+  const std::vector<std::string> lines = linesOf(text);
+  if (line < 1 || line > static_cast<int>(lines.size())) return "document";
+  std::string s = lines[line - 1];
+  if (const std::size_t hash = s.find('#'); hash != std::string::npos && s.find('"') == std::string::npos) s.resize(hash);
+  std::string key = cleanKey(s.substr(0, s.find('=')));
+  for (int l = line - 1; key.empty() && l >= 1; --l) {
+    const std::string& h = lines[l - 1];
+    const std::size_t b = h.find_first_not_of(" \t");
+    if (b != std::string::npos && h[b] == '[') key = cleanKey(h.substr(b, h.find('#') == std::string::npos ? std::string::npos : h.find('#') - b));
+  }
+  return key.empty() ? "document" : key;
+}
+}  // namespace
+
+toml::table parseTomlText(const std::string& text, const std::string& file) {
   try {
-    return toml::parse_file(path);
+    return toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     const int line = static_cast<int>(e.source().begin.line);
-    std::string msg(e.description());
-    if (msg.find("No such file") != std::string::npos || msg.find("could not be opened") != std::string::npos ||
-        msg.find("File could not") != std::string::npos)
-      throw InputError(path, 0, "", "cannot open file");
-    throw InputError(path, line, "", "TOML syntax error: " + msg);
+    throw InputError(file, line, keyOfLine(text, line), "TOML syntax error: " + std::string(e.description()));
   }
 }
+
+toml::table parseTomlFile(const std::string& path) { return parseTomlText(readFileOrThrow(path), path); }
 
 TableReader::TableReader(const toml::table& table, std::string file, std::string path)
     : table_(table), file_(std::move(file)), path_(std::move(path)) {}

@@ -15,7 +15,10 @@
 
 namespace armstudy::io {
 
-// Parses a TOML file; syntax errors become InputError with the line.
+// Parses TOML text read from `file`; a syntax error becomes an InputError with the file, the line
+// and the key (or table header) written on that line.
+toml::table parseTomlText(const std::string& text, const std::string& file);
+// Reads (readFileOrThrow: regular files of bounded size only) and parses a TOML file.
 toml::table parseTomlFile(const std::string& path);
 
 class TableReader {

@@ -26,13 +26,7 @@ ApproachPlannerOptions readApproachOptions(io::TableReader& r) {
 }
 
 ApproachPlannerOptions parseApproachOptions(const std::string& text, const std::string& file) {
-  toml::table root;
-  try {
-    root = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<int>(e.source().begin.line), "",
-                     "TOML syntax error: " + std::string(e.description()));
-  }
+  const toml::table root = io::parseTomlText(text, file);
   io::TableReader top(root, file, "");
   const toml::table* t = top.table("approach");
   if (!t) throw InputError(file, 1, "approach", "missing table [approach]");

@@ -147,7 +147,7 @@ TEST_CASE("bad design input names file, line and key", "[io][design][bad-input]"
     s = s.substr(0, s.find("[tcp]"));
     expectError(s, 0, "tcp", "missing");
   }
-  SECTION("TOML syntax error") { expectError(variantOf("x = 0.3", "x = = 0.3"), 17, "", "syntax"); }
+  SECTION("TOML syntax error") { expectError(variantOf("x = 0.3", "x = = 0.3"), 17, "x", "syntax"); }  // key: the one written on that line
   SECTION("negative mass") {
     expectError(std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = -1\ninertia = [1,1,1,0,0,0]\n",
                 29, "inertia[0].mass", "negative");
