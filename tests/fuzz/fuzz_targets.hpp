@@ -17,7 +17,9 @@
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
 #include "io/design_io.hpp"
+#ifndef ARMSTUDY_CORE_ONLY
 #include "io/study_io.hpp"
+#endif
 #include "study/regression.hpp"
 
 namespace armstudy::fuzz {
@@ -66,6 +68,7 @@ inline void baseline(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+#ifndef ARMSTUDY_CORE_ONLY
 // A study file, in a scratch copy of the repository's layout (studies/ beside designs/, the
 // shipped data reachable as studies/data) so its relative paths resolve. The error may name the
 // study or a file it refers to; it must name a file.
@@ -90,5 +93,6 @@ inline void study(const std::uint8_t* data, std::size_t size) {
     if (e.file().empty()) throw UnnamedInputError(std::string("InputError names no file: ") + e.what());
   }
 }
+#endif
 
 }  // namespace armstudy::fuzz
