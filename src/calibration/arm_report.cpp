@@ -194,10 +194,14 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
   files.push_back(stage + "_residual_points.vtp");
 }
 
-std::vector<std::vector<std::string>> appendHistory(const std::string& path, const ArmDiagnosis& d,
+constexpr const char* kArmHistoryHeader =
+    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
+
+// The rows of this run appended to the output folder's history (read before anything is written:
+// a history of another kind is an InputError), written to `to` (the staging folder).
+std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to, const ArmDiagnosis& d,
                                                     const ArmProblem& P, const std::string& command) {
-  HistoryFile h = readHistory(
-      path, "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic");
+  h.path = to;
   const auto g = historyNumber;
   for (const ArmFit& f : d.ladder) {
     std::string eff;
@@ -215,13 +219,17 @@ std::vector<std::vector<std::string>> appendHistory(const std::string& path, con
 ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
                                 const std::string& calibrated_design_path) {
   ArmReportSummary s;
-  fs::create_directories(o.out_dir);
-  writePlots(o.out_dir, "before", P, d.as_designed, s.files_written);
-  writeWorkspaceVtk(o.out_dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  // Validate first (the history in the folder must be of this kind), then write every file into a
+  // staging folder and move the complete result into place (issue 13).
+  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), kArmHistoryHeader);
+  StagedOutput stage(o.out_dir);
+  const std::string dir = stage.dir();
+  writePlots(dir, "before", P, d.as_designed, s.files_written);
+  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
   const bool after = o.command == "fit" && !d.added.empty();
   if (after) {
-    writePlots(o.out_dir, "after", P, d.final_fit, s.files_written);
-    writeWorkspaceVtk(o.out_dir, "after", P, d.final_fit, d.final_map, s.files_written);
+    writePlots(dir, "after", P, d.final_fit, s.files_written);
+    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
   }
   // residuals.csv: operating variables, measured, predicted, residual (final model).
   {
@@ -244,10 +252,10 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
       cols.push_back(p);
       cols.push_back(r);
     }
-    writeFileAtomic((fs::path(o.out_dir) / "residuals.csv").string(), io::formatCsv(h, cols));
+    writeFileAtomic((fs::path(dir) / "residuals.csv").string(), io::formatCsv(h, cols));
     s.files_written.push_back("residuals.csv");
   }
-  const auto rows = appendHistory((fs::path(o.out_dir) / "history.csv").string(), d, P, o.command);
+  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
   s.files_written.push_back("history.csv");
   {
     PlotSpec p;
@@ -263,7 +271,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
     }
     p.series = {tr, ho};
     p.h_lines = {d.noise_estimate};
-    writeFileAtomic((fs::path(o.out_dir) / "error_ladder.svg").string(), svgPlot(p));
+    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), svgPlot(p));
     s.files_written.push_back("error_ladder.svg");
   }
   json j;
@@ -323,7 +331,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   }
   j["files"] = s.files_written;
   s.json = j.dump(2);
-  writeFileAtomic((fs::path(o.out_dir) / "result.json").string(), s.json + "\n");
+  writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");
+  stage.commit();
   return s;
 }
 

@@ -5,10 +5,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "calibration/arm_calibration.hpp"
+#include "calibration/history.hpp"
 #include "calibration/rng.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
@@ -274,6 +276,83 @@ TEST_CASE("issue 13: a payload with an offset centre of mass is learned from a d
   CHECK(d.final_fit.params[0].value == Approx(truth.payload_kg).epsilon(kRecoveredRelative));
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every regular file under a folder with its content hash (what "unchanged" means below).
+std::map<std::string, std::string> snapshot(const std::string& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) out[fs::relative(e.path(), dir).generic_string()] = fileHash(e.path().string());
+  return out;
+}
+
+std::string freshDir(const std::string& name) {
+  const std::string dir = test::binaryPath() + "_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("issue 13: nothing is written before the inputs are validated - a failed run leaves the output folder as it was") {
+  const std::string dir = freshDir("i13_out");
+  const std::string bin = test::binaryPath();
+  const std::string d7 = test::sourcePath("designs/final_prototype_7dof.toml");
+  const std::string d9 = test::sourcePath("designs/final_prototype_9dof.toml");
+  std::string out;
+  REQUIRE(test::runCommand(bin + " synth " + d7 + " --kind tcp --rows 30 --noise 2e-4 --out " + dir + "/tcp.csv", out) == 0);
+  REQUIRE(test::runCommand(bin + " synth " + d9 + " --drive j6 --out " + dir + "/bed.csv", out) == 0);
+  const std::string res = dir + "/res";
+  REQUIRE(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) == 0);
+  const auto before = snapshot(res);
+  REQUIRE(before.count("result.json"));
+  REQUIRE(before.count("history.csv"));
+  // The folder holds tcp results: a drive fit into it is an input error (exit 2), and not one of
+  // the residuals, plots or history rows of the tcp run is touched.
+  CHECK(test::runCommand(bin + " fit " + d9 + " --drive j6 --data " + dir + "/bed.csv --out " + res, out) == 2);
+  CHECK(out.find("history") != std::string::npos);
+  CHECK(snapshot(res) == before);
+  // A bad data file: the same.
+  writeFileAtomic(dir + "/bad.csv", "q1,q2,x,y,z\n0,0,0,0,0\n");
+  CHECK(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/bad.csv --out " + res, out) == 2);
+  CHECK(snapshot(res) == before);
+  // No staging folder is left beside the output folder.
+  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find(".staging.") == std::string::npos);
+  // A complete second run replaces the result and appends its rows to the history.
+  REQUIRE(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) == 0);
+  const std::string hist = readFileOrThrow(res + "/history.csv");
+  CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 1 + 1);  // header, one row per run (no effect added)
+}
+
+TEST_CASE("issue 13: a run that fails before its result is complete leaves no file in the output folder") {
+  const std::string dir = freshDir("i13_staged");
+  const std::string res = dir + "/res";
+  fs::create_directories(res);
+  writeFileAtomic(res + "/history.csv", "old\n");
+  std::string staging;
+  try {
+    StagedOutput st(res);
+    staging = st.dir();
+    writeFileAtomic(st.dir() + "/result.json", "{}\n");
+    writeFileAtomic(st.dir() + "/history.csv", "new\n");
+    throw std::runtime_error("disk full");  // before commit()
+  } catch (const std::runtime_error&) {
+  }
+  CHECK_FALSE(fs::exists(staging));
+  CHECK_FALSE(fs::exists(res + "/result.json"));
+  CHECK(readFileOrThrow(res + "/history.csv") == "old\n");
+  {
+    StagedOutput st(res);
+    writeFileAtomic(st.dir() + "/result.json", "{}\n");
+    writeFileAtomic(st.dir() + "/history.csv", "new\n");
+    st.commit();
+  }
+  CHECK(readFileOrThrow(res + "/history.csv") == "new\n");
+  CHECK(fs::exists(res + "/result.json"));
+}
 
 TEST_CASE("issue 13: fit --help shows the defaults of folds, seed and bins") {
   std::string out;
