@@ -163,7 +163,7 @@ class TrajectoryProblem : public ArmProblem {
       double vmax = 0;
       for (int i = 0; i < data.rows(); ++i) vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
       for (drive::Effect fe : drive::kAllEffects) {
-        if (fe == drive::Effect::Temperature) continue;  // trajectories carry no temperature column
+        if (drive::isTemperatureEffect(fe)) continue;  // trajectories carry no temperature column
         const EffectInfo& info = effectInfo(fe);
         ArmEffect e;
         e.name = model.joints[j].name + "." + info.name;

@@ -3,6 +3,7 @@
 // prediction (an energy minimum, a closed form, a noise per channel), fitted from a design that
 // does not carry it.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -10,11 +11,13 @@
 #include <sstream>
 
 #include "calibration/arm_calibration.hpp"
+#include "calibration/drive_calibration.hpp"
 #include "calibration/history.hpp"
 #include "calibration/rng.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "common/errors.hpp"
+#include "drive/drive_chain.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "kinematics/kinematics.hpp"
@@ -368,4 +371,37 @@ TEST_CASE("issue 13: fit --help shows the defaults of folds, seed and bins") {
   CHECK(line("--seed").find("=" + std::to_string(defaults::kCvSeed)) != std::string::npos);
   CHECK(line("--variable-bins").find("=" + std::to_string(defaults::kArmVariableBins)) != std::string::npos);
   CHECK(line("--speed-bins").find("=" + std::to_string(defaults::kSpeedBins)) != std::string::npos);
+}
+
+TEST_CASE("issue 13: a viscous term that changes with temperature is found by the temperature_viscous candidate") {
+  const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
+  const Drive& dr = requireDrive(m, "j6");
+  const double noise_A = 0.01, k_b = -1e-6, theta_ref = 20.0;  // N m s/(rad K): the lubricant thins as it warms
+  SynthOptions so;
+  so.noise_A = noise_A;
+  so.seed = 53;
+  DriveData data = synthesizeDrive(m, "j6", so);  // warms up from 25 to 45 deg C over the run
+  // The hidden effect in closed form: T_loss += k_b (theta - theta_ref) phi_dot, I = T / k_m.
+  for (int i = 0; i < data.rows(); ++i)
+    data.current[i] += k_b * (data.temperature[i] - theta_ref) * data.speed[i] / dr.torque_constant_NmpA;
+  DriveFitOptions o;
+  o.auto_add = true;
+  const DriveDiagnosis d = diagnoseDrive(m, "j6", data, o);
+  INFO("first " << drive::toString(d.ranking.front().effect) << ", before " << d.rmse_before << ", after " << d.rmse_after);
+  CHECK(d.ranking.front().effect == drive::Effect::TemperatureViscous);
+  CHECK(d.ranking.front().significant);
+  REQUIRE_FALSE(d.added.empty());
+  CHECK(d.added.front() == drive::Effect::TemperatureViscous);
+  CHECK(d.rmse_after <= kNoiseRatio * noise_A);
+  CHECK(d.noise_estimate == Approx(noise_A).epsilon(0.2));
+  double fitted = 0;
+  for (const auto& p : d.final_fit.params)
+    if (p.key == "temperature_viscous_coefficient") fitted = p.value;
+  CHECK(fitted == Approx(k_b).epsilon(kRecoveredRelative));
+  // The fitted law, evaluated through src/drive, reproduces the fit.
+  const auto fp = drive::frictionParams(d.calibrated, *std::find_if(d.calibrated.drives.begin(), d.calibrated.drives.end(),
+                                                                     [](const Drive& x) { return x.joint == "j6"; }));
+  for (int i = 0; i < data.rows(); i += 29)
+    CHECK(drive::testBedCurrent(dr, fp, data.speed[i], data.load[i], data.temperature[i]) ==
+          Approx(d.final_fit.predicted[i]).epsilon(1e-9));
 }
