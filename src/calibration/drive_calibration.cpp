@@ -759,12 +759,20 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
     r.rankings_after.push_back(ranking);
   };
   for (Effect e : o.add) addEffect(e);
+  std::vector<Effect> named;
+  if (r.missing_effect_found) named.push_back(r.ranking.front().effect);
   if (o.auto_add)
     while (!ranking.empty() && ranking.front().significant) {
       const std::size_t before = r.added.size();
-      addEffect(ranking.front().effect);
+      const Effect e = ranking.front().effect;
+      addEffect(e);
       if (r.added.size() == before) break;
+      if (std::find(named.begin(), named.end(), e) == named.end()) named.push_back(e);
     }
+  if (!named.empty()) {
+    r.verdict = named.size() > 1 ? "missing effects: " : "missing effect: ";
+    for (std::size_t k = 0; k < named.size(); ++k) r.verdict += (k ? ", " : "") + std::string(drive::toString(named[k]));
+  }
   r.final_fit = current;
   r.final_cmp = compareFit(data, current, c.km, r.noise_estimate, r.noise_rho, o);
   r.rmse_before = r.base.heldout_rmse;

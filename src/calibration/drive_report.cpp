@@ -449,9 +449,7 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
     j["refit"] = fitJson(d.base);
     j["regions_before"] = regionsJson(d.base_cmp.map);
     j["ranking"] = rankingJson(d.ranking);
-    j["verdict"] = d.missing_effect_found
-                       ? "missing effect: " + std::string(drive::toString(d.ranking.front().effect))
-                       : "no significant missing effect";
+    j["verdict"] = d.verdict;
     json added = json::array();
     for (auto e : d.added) added.push_back(drive::toString(e));
     j["added"] = added;

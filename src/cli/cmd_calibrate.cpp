@@ -308,9 +308,10 @@ void addFitCommand(CLI::App& app, Action& action) {
           std::printf("  %-13s %-15s\n", drive::toString(c.effect), c.status.c_str());
         for (const auto& w : c.warnings) std::printf("      warning: %s\n", w.c_str());
       }
-      std::printf("\nverdict: %s\n", d.missing_effect_found
-                                          ? ("missing effect: " + std::string(drive::toString(d.ranking.front().effect))).c_str()
-                                          : "no significant missing effect");
+      std::printf("\nverdict: %s\n", d.verdict.c_str());
+      std::printf("bins still flagged after the fit: %d of %zu (refit model: %d, as designed: %d)\n",
+                  d.final_cmp.map.flagged(), d.final_cmp.map.bins.size(), d.base_cmp.map.flagged(),
+                  d.as_designed_cmp.map.flagged());
       if (!d.added.empty()) {
         std::printf("added:");
         for (auto e : d.added) std::printf(" %s", drive::toString(e));

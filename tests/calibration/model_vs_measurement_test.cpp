@@ -405,3 +405,34 @@ TEST_CASE("issue 13: a viscous term that changes with temperature is found by th
     CHECK(drive::testBedCurrent(dr, fp, data.speed[i], data.load[i], data.temperature[i]) ==
           Approx(d.final_fit.predicted[i]).epsilon(1e-9));
 }
+
+TEST_CASE("issue 13: the verdict names every effect --auto added (tcp and drive)") {
+  {
+    TcpSynthOptions so;
+    so.rows = 60;
+    so.noise_m = kTcpNoise_m;
+    so.seed = 1;
+    so.hidden = {"joint_offset.j3:offset=0.01", "link_length.j4.x:dx=0.005"};
+    ArmFitOptions o;
+    o.auto_add = true;
+    const ArmDiagnosis d = diagnoseArm(*makeTcpProblem(design7(), synthesizeTcp(design7(), so)), o);
+    CHECK(d.added == std::vector<std::string>{"joint_offset.j3", "link_length.j4.x"});
+    CHECK(d.verdict == "missing effects: joint_offset.j3, link_length.j4.x");
+    CHECK(d.final_map.flagged() == 0);
+  }
+  {
+    const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
+    SynthOptions so;
+    so.noise_A = 0.01;
+    so.seed = 55;
+    so.hidden = {{drive::Effect::Stribeck, {}}, {drive::Effect::Asymmetry, {}}};
+    DriveFitOptions o;
+    o.auto_add = true;
+    const DriveDiagnosis d = diagnoseDrive(m, "j6", synthesizeDrive(m, "j6", so), o);
+    REQUIRE(d.added.size() == 2);
+    INFO(d.verdict);
+    CHECK(d.verdict == std::string("missing effects: ") + drive::toString(d.added[0]) + ", " + drive::toString(d.added[1]));
+    CHECK(d.verdict.find("stribeck") != std::string::npos);
+    CHECK(d.verdict.find("asymmetry") != std::string::npos);
+  }
+}
