@@ -294,10 +294,29 @@ void confidence(const ArmProblem& P, const Solved& s, ArmFit& f) {
   }
 }
 
+// RMS of a native residual matrix in fit units (the problem's own channel weights).
+double rmsFitUnits(const Eigen::MatrixXd& m, const Eigen::VectorXd& w) {
+  if (m.size() == 0) return kNaN;
+  return std::sqrt((m * w.asDiagonal()).squaredNorm() / static_cast<double>(m.size()));
+}
+
+// The problem with every channel weighted by 1 / its noise estimate (issue 13): fits, ranking and
+// significance then see dimensionless residuals, so channels of different units (N, N m, A, m)
+// count by their own noise, not by their unit. Forwards the prediction to the problem.
+class NoiseWeighted : public ArmProblem {
+ public:
+  NoiseWeighted(const ArmProblem& p, const Eigen::VectorXd& w) : ArmProblem(p), inner_(p) { weight = w; }
+  Eigen::MatrixXd predict(const EffectValues& values) const override { return inner_.predict(values); }
+
+ private:
+  const ArmProblem& inner_;
+};
+
 struct Engine {
-  const ArmProblem& P;
+  const ArmProblem& P;  // the noise-weighted problem
   std::vector<int> folds;
   int k = 5;
+  Eigen::VectorXd report_weight;  // the problem's own channel weights (fit units)
 
   ArmFit make(const Solved& s, const std::string& label, bool& ok) const {
     ArmFit f;
@@ -308,15 +327,22 @@ struct Engine {
     for (const auto& e : s.v) f.n_params += P.catalogue[e.effect].hasProfile();
     f.predicted = s.pred;
     f.residual = unflatten(P, s.r);
-    f.train_rmse = rms(s.r);
+    f.train_score = rms(s.r);
+    f.train_rmse = rmsFitUnits(f.residual, report_weight);
     f.channel_train = channelStatsOf(P, f.residual);
     Eigen::VectorXd ho, hr;
     ok = heldOut(P, s, folds, k, ho);
     if (!ok) return f;
     f.heldout_residual = unflatten(P, ho);
-    f.heldout_rmse = rms(ho);
+    f.heldout_score = rms(ho);
+    f.heldout_rmse = rmsFitUnits(f.heldout_residual, report_weight);
     f.channel_heldout = channelStatsOf(P, f.heldout_residual);
-    f.region_heldout_rmse = P.region_count > 1 && heldOut(P, s, P.regions, P.region_count, hr) ? rms(hr) : kNaN;
+    f.region_heldout_score = kNaN;
+    f.region_heldout_rmse = kNaN;
+    if (P.region_count > 1 && heldOut(P, s, P.regions, P.region_count, hr)) {
+      f.region_heldout_score = rms(hr);
+      f.region_heldout_rmse = rmsFitUnits(unflatten(P, hr), report_weight);
+    }
     const double n = static_cast<double>(s.r.size());
     const double ll = n * std::log(std::max(s.ssr, 1e-300) / n);
     f.aic = ll + 2.0 * f.n_params;
@@ -471,6 +497,35 @@ const EffectValue* findValue(const EffectValues& values, int effect) {
   return nullptr;
 }
 
+namespace {
+
+// Per-channel residual weights 1 / sigma_c (native units), guarded against a zero noise estimate.
+Eigen::VectorXd noiseWeights(const ArmProblem& P, const std::vector<double>& sigma) {
+  double smax = 0;
+  for (int c = 0; c < P.channels(); ++c) smax = std::max(smax, sigma[c] * P.weight[c]);
+  if (!(smax > 0) || !std::isfinite(smax)) return P.weight;  // no noise seen: keep the fit units
+  Eigen::VectorXd w(P.channels());
+  for (int c = 0; c < P.channels(); ++c) w[c] = 1.0 / std::max(sigma[c], 1e-9 * smax / P.weight[c]);
+  return w;
+}
+
+// Residuals (flattened, rows scaled by row_scale per channel) of one linearised step of the most
+// flexible model: the design plus every candidate at once, dependent columns dropped by a
+// rank-revealing QR. Returns the rank.
+int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eigen::VectorXd& sat_r) {
+  sat_r = r0;
+  if (all.cols() == 0) return 0;
+  Eigen::VectorXd sc(all.cols());
+  for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
+  const Eigen::MatrixXd As = all * sc.asDiagonal();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+  qr.setThreshold(1e-9);
+  sat_r = r0 - As * qr.solve(r0);
+  return static_cast<int>(qr.rank());
+}
+
+}  // namespace
+
 ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
@@ -482,14 +537,14 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   d.design = P.design;
   d.file = P.file;
   d.warnings = P.warnings;
-  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds};
-  bool ok = false;
-  d.as_designed = eng.make(gaussNewton(P, {}), "as designed", ok);
-  ARMSTUDY_CHECK(ok, "no parameters to fit");
+  const int C = P.channels();
 
-  // Noise: one linearised step of the most flexible model (every candidate at once, dependent
-  // columns dropped by the rank-revealing QR); residual standard deviation with its dof.
-  const Eigen::VectorXd r0 = flatten(P, P.measured - d.as_designed.predicted);
+  // Noise: one linearised step of the most flexible model (every candidate at once); residual
+  // standard deviation with its dof. First in fit units (the overall noise estimate), then again
+  // with every channel weighted by its first estimate (so a noisy channel does not leak into the
+  // others through shared parameters): the per-channel noise that weights all fits below.
+  const Eigen::MatrixXd pred0 = P.predict({});
+  const Eigen::VectorXd r0 = flatten(P, P.measured - pred0);
   Eigen::MatrixXd all(r0.size(), 0);
   for (std::size_t e = 0; e < P.catalogue.size(); ++e) {
     const Eigen::MatrixXd cols = candidateColumns(P, {}, static_cast<int>(e));
@@ -497,35 +552,54 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     next << all, cols;
     all = next;
   }
-  Eigen::VectorXd sat_r = r0;
-  int rank = 0;
-  if (all.cols() > 0) {
-    Eigen::VectorXd sc(all.cols());
-    for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
-    const Eigen::MatrixXd As = all * sc.asDiagonal();
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
-    qr.setThreshold(1e-9);
-    rank = static_cast<int>(qr.rank());
-    sat_r = r0 - As * qr.solve(r0);
-  }
+  Eigen::VectorXd sat_r;
+  const int rank = saturatedResidual(all, r0, sat_r);
   const int dof = static_cast<int>(r0.size()) - rank;
-  if (dof >= defaults::kMinResidualDof && dof >= static_cast<int>(r0.size()) / 4) {
+  const bool enough = dof >= defaults::kMinResidualDof && dof >= static_cast<int>(r0.size()) / 4;
+  const double scale = std::sqrt(static_cast<double>(r0.size()) / std::max(1, dof));
+  auto channelNoise = [&](const Eigen::MatrixXd& sat) {
+    std::vector<double> out;
+    for (int c = 0; c < C; ++c) {
+      std::vector<double> col(P.rows());
+      for (int i = 0; i < P.rows(); ++i) col[i] = sat(i, c);
+      out.push_back(channelStats(col).rmse * (enough ? scale : 1.0));
+    }
+    return out;
+  };
+  if (enough) {
     d.noise_estimate = std::sqrt(sat_r.squaredNorm() / dof);
   } else {
-    d.noise_estimate = d.as_designed.train_rmse;
+    d.noise_estimate = rms(r0);
     d.warnings.push_back("too few rows for the noise estimate (" + std::to_string(rank) +
                          " independent candidate parameters); the RMSE of the design is used instead");
   }
-  const Eigen::MatrixXd sat = unflatten(P, sat_r);
-  const double scale = std::sqrt(static_cast<double>(r0.size()) / std::max(1, dof));
+  Eigen::MatrixXd sat = unflatten(P, enough ? sat_r : r0);
+  std::vector<double> sigma = channelNoise(sat);
+  if (enough && C > 1) {
+    const Eigen::VectorXd w = noiseWeights(P, sigma);
+    Eigen::VectorXd rs(r0.size());
+    for (int i = 0; i < P.rows(); ++i)
+      for (int c = 0; c < C; ++c) rs[i * C + c] = w[c] / P.weight[c];
+    Eigen::VectorXd sat_w;
+    saturatedResidual(rs.asDiagonal() * all, rs.asDiagonal() * r0, sat_w);
+    sat_w = sat_w.cwiseQuotient(rs);
+    sat = unflatten(P, sat_w);
+    sigma = channelNoise(sat);
+  }
+  d.channel_noise = sigma;
   double rho_sum = 0;
-  for (int c = 0; c < P.channels(); ++c) {
+  for (int c = 0; c < C; ++c) {
     std::vector<double> col(P.rows());
     for (int i = 0; i < P.rows(); ++i) col[i] = sat(i, c);
-    d.channel_noise.push_back(channelStats(col).rmse * scale);
     rho_sum += lag1Autocorrelation(col);
   }
-  d.noise_rho = rho_sum / P.channels();
+  d.noise_rho = rho_sum / C;
+
+  const NoiseWeighted W(P, noiseWeights(P, d.channel_noise));
+  Engine eng{W, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P.weight};
+  bool ok = false;
+  d.as_designed = eng.make(gaussNewton(W, {}), "as designed", ok);
+  ARMSTUDY_CHECK(ok, "no parameters to fit");
   d.as_designed_map = residualMap(P, d.as_designed.residual, d.channel_noise, d.noise_rho, o);
   d.ladder.push_back(d.as_designed);
   d.final_fit = d.as_designed;
@@ -589,8 +663,9 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
       out.push_back(cand);
       continue;
     }
-    cand.improvement = (base.heldout_rmse - cand.fit.heldout_rmse) / base.heldout_rmse;
-    // Paired held-out squared-error differences per row (all channels of a row together).
+    cand.improvement = (base.heldout_score - cand.fit.heldout_score) / base.heldout_score;
+    // Paired held-out squared-error differences per row (all channels of a row together, each
+    // weighted by 1 / its noise: P is the noise-weighted problem).
     std::vector<double> dd(P.rows());
     for (int i = 0; i < P.rows(); ++i) {
       double s = 0;
@@ -640,7 +715,7 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
     const bool ao = a.status == "ok", bo = b.status == "ok";
     if (ao != bo) return ao;
     if (!ao) return false;
-    return a.fit.heldout_rmse < b.fit.heldout_rmse;
+    return a.fit.heldout_score < b.fit.heldout_score;
   });
   // Parsimony: a candidate whose columns all lie in the span of a better-ranked one and that
   // scores about as well (held-out RMSE within kParsimonyTolerance) is the simpler explanation of
@@ -653,7 +728,7 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
       const ArmCandidate& a = out[k];
       const bool inside = std::find(a.contained_in.begin(), a.contained_in.end(), b.name) != a.contained_in.end();
       if (!inside || a.fit.n_params >= b.fit.n_params ||
-          a.fit.heldout_rmse > b.fit.heldout_rmse * (1 + defaults::kParsimonyTolerance))
+          a.fit.heldout_score > b.fit.heldout_score * (1 + defaults::kParsimonyTolerance))
         break;
       std::swap(out[k - 1], out[k]);
       --k;
@@ -664,13 +739,207 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
 
 }  // namespace
 
-ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
-  ArmDiagnosis d = compareArm(P, o);
-  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds};
+namespace {
+
+std::string fmt3(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
+// The unexplained-effect search (issue 13) on a model's residuals (native units): every channel,
+// normalised by its noise, against every operating variable (joint positions and speeds, the
+// speed's sign, the channel's load, time or row order): binned means and, against joint
+// positions, a periodogram (least-squares sine fit over a frequency grid). Under the noise alone a
+// standardised bin mean is N(0, 1) and a sine fit's SSR reduction chi^2(2) (both inflated for
+// AR(1) residuals); the 5 % family-wise false-alarm rate is split between the two families and
+// Bonferroni-corrected over all their tests.
+std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
+                                       const std::vector<double>& sigma, double rho) {
+  const int R = P.rows(), C = P.channels();
+  struct Var {
+    std::string name, unit;
+    std::vector<double> x;
+    bool position = false, sign = false;
+    int channel = -1;  // a per-channel variable (the load) applies to that channel only
+  };
+  std::vector<Var> vars;
+  for (const BinVariable& v : P.variables) {
+    vars.push_back({v.name, v.unit, v.values, v.position, false, -1});
+    if (v.name.rfind("qd", 0) == 0 && v.name.rfind("qdd", 0) != 0) {
+      Var sg{"sign(" + v.name + ")", "-", {}, false, true, -1};
+      for (double x : v.values) sg.x.push_back(x < 0 ? -1.0 : 1.0);
+      vars.push_back(sg);
+    }
+  }
+  {
+    Var t{P.time.empty() ? "row" : "t", P.time.empty() ? "-" : "s", P.time, false, false, -1};
+    if (t.x.empty())
+      for (int i = 0; i < R; ++i) t.x.push_back(i);
+    vars.push_back(t);
+  }
+  if (!P.load_name.empty())
+    for (int c = 0; c < C; ++c) {
+      Var l{P.load_name, P.channel_units[c], {}, false, false, c};
+      for (int i = 0; i < R; ++i) l.x.push_back(predicted(i, c));
+      vars.push_back(l);
+    }
+  const double inflate = (1 + std::clamp(rho, 0.0, 0.95)) / (1 - std::clamp(rho, 0.0, 0.95));
+  // Normalised residuals and their sums of squares per channel.
+  Eigen::MatrixXd e(R, C);
+  std::vector<double> ss(C, 0.0);
+  for (int c = 0; c < C; ++c)
+    for (int i = 0; i < R; ++i) {
+      e(i, c) = sigma[c] > 0 ? residual(i, c) / sigma[c] : 0.0;
+      ss[c] += e(i, c) * e(i, c);
+    }
+  struct Bin {
+    double lo, hi;
+    std::vector<int> rows;
+  };
+  auto binsOf = [&](const Var& v) {
+    std::vector<Bin> bins;
+    const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
+    if (!(*mx > *mn)) return bins;
+    const int nb = v.sign ? 2 : defaults::kUnexplainedBins;
+    for (int b = 0; b < nb; ++b) bins.push_back({*mn + (*mx - *mn) * b / nb, *mn + (*mx - *mn) * (b + 1) / nb, {}});
+    for (int i = 0; i < R; ++i)
+      bins[std::clamp(static_cast<int>((v.x[i] - *mn) / (*mx - *mn) * nb), 0, nb - 1)].rows.push_back(i);
+    return bins;
+  };
+  auto frequencies = [&](const Var& v) {
+    std::vector<double> w;
+    if (!v.position) return w;
+    const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
+    const double range = *mx - *mn;
+    if (!(range > 0)) return w;
+    const int kmax = defaults::kPeriodogramOversampling * R / defaults::kPeriodogramRowsPerCycle;
+    for (int k = defaults::kPeriodogramOversampling / 2; k <= kmax; ++k)
+      w.push_back(2 * M_PI * k / (range * defaults::kPeriodogramOversampling));
+    return w;
+  };
+  // Count the tests of both families first (Bonferroni).
+  long bin_tests = 0, freq_tests = 0;
+  for (int c = 0; c < C; ++c)
+    for (const Var& v : vars) {
+      if (v.channel >= 0 && v.channel != c) continue;
+      for (const Bin& b : binsOf(v)) bin_tests += static_cast<int>(b.rows.size()) >= defaults::kMinBinSamples;
+      freq_tests += static_cast<long>(frequencies(v).size());
+    }
+  const double alpha = defaults::kBinFalseAlarm / 2;
+  const double z_bin = normalQuantile(1.0 - alpha / (2.0 * std::max(1L, bin_tests)));
+  const double chi_freq = -2.0 * std::log(alpha / std::max(1L, freq_tests));  // chi^2(2) tail exp(-x/2)
+  std::vector<ArmPattern> out;
+  for (int c = 0; c < C; ++c) {
+    if (!(sigma[c] > 0) || !(ss[c] > 0)) continue;
+    for (const Var& v : vars) {
+      if (v.channel >= 0 && v.channel != c) continue;
+      // Binned means.
+      const std::vector<Bin> bins = binsOf(v);
+      if (!bins.empty()) {
+        ArmPattern p;
+        p.channel = P.channel_names[c];
+        p.variable = v.name;
+        p.unit = v.unit;
+        p.kind = "binned_means";
+        p.threshold = z_bin;
+        double explained = 0;
+        for (const Bin& b : bins) {
+          const int n = static_cast<int>(b.rows.size());
+          if (n == 0) continue;
+          double m = 0;
+          for (int i : b.rows) m += e(i, c);
+          m /= n;
+          explained += n * m * m;
+          if (n < defaults::kMinBinSamples) continue;
+          const double z = std::abs(m) * std::sqrt(effectiveSampleSize(n, rho));
+          if (z > p.statistic) {
+            p.statistic = z;
+            p.peak_mean = m * sigma[c];
+            p.peak_lo = b.lo;
+            p.peak_hi = b.hi;
+          }
+        }
+        p.explained = explained / ss[c];
+        p.significant = p.statistic > z_bin;
+        p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
+                        P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
+                        v.unit + " (" + fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
+        out.push_back(p);
+      }
+      // Periodogram against a joint position.
+      const std::vector<double> ws = frequencies(v);
+      if (!ws.empty()) {
+        ArmPattern p;
+        p.channel = P.channel_names[c];
+        p.variable = v.name;
+        p.unit = v.unit;
+        p.kind = "periodic";
+        p.threshold = chi_freq;
+        double best = -1;
+        for (double w : ws) {
+          double ms = 0, mc = 0, me = 0;
+          for (int i = 0; i < R; ++i) {
+            ms += std::sin(w * v.x[i]);
+            mc += std::cos(w * v.x[i]);
+            me += e(i, c);
+          }
+          ms /= R;
+          mc /= R;
+          me /= R;
+          Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+          Eigen::Vector2d b = Eigen::Vector2d::Zero();
+          for (int i = 0; i < R; ++i) {
+            const Eigen::Vector2d f(std::sin(w * v.x[i]) - ms, std::cos(w * v.x[i]) - mc);
+            A += f * f.transpose();
+            b += f * (e(i, c) - me);
+          }
+          if (std::abs(A.determinant()) <= 1e-12 * A.squaredNorm()) continue;
+          const Eigen::Vector2d ab = A.ldlt().solve(b);
+          const double red = ab.dot(b);  // SSR reduction of the centred sine fit
+          if (red > best) {
+            best = red;
+            p.period = 2 * M_PI / w;
+            p.amplitude = ab.norm() * sigma[c];
+          }
+        }
+        if (best >= 0) {
+          p.statistic = best / inflate;
+          p.explained = best / ss[c];
+          p.significant = p.statistic > chi_freq;
+          p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
+                          (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
+                          ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
+                          ", threshold " + fmt3(chi_freq) + ")";
+          out.push_back(p);
+        }
+      }
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [](const ArmPattern& a, const ArmPattern& b) {
+    if (a.significant != b.significant) return a.significant;
+    return a.explained > b.explained;
+  });
+  return out;
+}
+
+std::string candidateVerdictName(const ArmCandidate& c) {
+  std::string others;
+  for (const auto& o2 : c.indistinguishable) others += (others.empty() ? "" : ", ") + o2;
+  return others.empty() ? c.name : c.name + " (cannot be told apart from " + others + " with this data)";
+}
+
+}  // namespace
+
+ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
+  ArmDiagnosis d = compareArm(P0, o);
+  const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
+  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
   EffectValues current;
   Solved cur_solved = gaussNewton(P, {});
   ArmFit cur = d.as_designed;
   std::vector<ArmCandidate> ranking;
+  std::vector<std::string> auto_added;
   auto addEffect = [&](int e, bool warn_status) {
     const std::string& name = P.catalogue[e].name;
     if (findValue(current, e)) {
@@ -709,20 +978,34 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P, const ArmFitOptions& o) {
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
-  d.verdict = "no significant missing effect";
-  if (d.missing_effect_found) {
-    d.verdict = "missing effect: " + ranking.front().name;
-    std::string others;
-    for (const auto& o2 : ranking.front().indistinguishable) others += (others.empty() ? "" : ", ") + o2;
-    if (!others.empty()) d.verdict += " (cannot be told apart from " + others + " with this data)";
-  }
+  std::vector<std::string> named;
+  if (d.missing_effect_found) named.push_back(candidateVerdictName(ranking.front()));
   if (o.auto_add)
-    while (!ranking.empty() && ranking.front().significant) {
+    for (bool first = true; !ranking.empty() && ranking.front().significant; first = false) {
+      const std::string name = candidateVerdictName(ranking.front());
       if (!addEffect(ranking.front().effect, true)) break;
+      if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);
+  // What the catalogue leaves: patterns in the final residuals. They are an unexplained effect when
+  // no significant candidate is left for the final model (otherwise the candidate comes first).
+  d.patterns = searchPatterns(P, cur.residual, cur.predicted, d.channel_noise, d.noise_rho);
+  const bool candidate_left = !ranking.empty() && ranking.front().significant;
+  d.unexplained_found = !candidate_left && !d.patterns.empty() && d.patterns.front().significant;
+  std::string verdict;
+  if (!named.empty()) {
+    verdict = (named.size() > 1 ? "missing effects: " : "missing effect: ");
+    for (std::size_t k = 0; k < named.size(); ++k) verdict += (k ? ", " : "") + named[k];
+  }
+  if (d.unexplained_found) {
+    const ArmPattern& p = d.patterns.front();
+    const std::string u = "unexplained effect in channel " + p.channel + " against " + p.variable + " (" + p.description +
+                          "): no catalogue effect explains it";
+    verdict = verdict.empty() ? u : verdict + "; then " + u;
+  }
+  d.verdict = verdict.empty() ? "no significant missing effect" : verdict;
   d.rmse_before = d.as_designed.heldout_rmse;
   d.rmse_after = cur.heldout_rmse;
   return d;

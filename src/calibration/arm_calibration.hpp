@@ -55,6 +55,8 @@ using EffectValues = std::vector<EffectValue>;
 struct BinVariable {
   std::string name, unit;
   std::vector<double> values;  // one per row
+  bool position = false;       // a joint position: the unexplained-effect search also looks for
+                               // residuals periodic in it (cogging, torque ripple)
 };
 
 // A measurement data set together with its forward model. Subclasses fill the data members and
@@ -75,6 +77,10 @@ class ArmProblem {
   int region_count = 0;
   std::vector<std::string> warnings;
   std::string fit_unit;         // unit of the overall RMSE
+  // Unexplained-effect search: the time of each row (empty: the row order is used) and, when not
+  // empty, the name under which the predicted channel value counts as the channel's load.
+  std::vector<double> time;
+  std::string load_name;
 
   int rows() const { return static_cast<int>(measured.rows()); }
   int channels() const { return static_cast<int>(measured.cols()); }
@@ -102,6 +108,9 @@ struct ArmFit {
   std::vector<FittedParameter> params;  // key = "<instance>.<param>"
   int n_params = 0;
   double train_rmse = 0, heldout_rmse = 0, region_heldout_rmse = 0;  // fit units
+  // Dimensionless (issue 13): RMS over all channels of residual / that channel's noise estimate.
+  // The fit, the ranking and the significance use these per-channel weighted residuals.
+  double train_score = 0, heldout_score = 0, region_heldout_score = 0;
   double aic = 0, bic = 0;
   std::vector<ChannelStats> channel_heldout;  // native units
   std::vector<ChannelStats> channel_train;
@@ -142,22 +151,45 @@ struct ArmResidualMap {
   int flagged() const;
 };
 
+// A pattern in the final model's residuals that no effect of the catalogue explains (issue 13):
+// binned means of one channel against one operating variable, or a periodic residual against a
+// joint position (periodogram). Significance is family-wise 5 % over all tests (Bonferroni).
+struct ArmPattern {
+  std::string channel;   // channel name, e.g. "tau3"
+  std::string variable;  // "q3", "qd3", "sign(qd3)", "t", "row", the load name
+  std::string unit;      // unit of the variable
+  std::string kind;      // "binned_means" | "periodic"
+  double statistic = 0;  // binned: largest |bin mean| / its standard error; periodic: chi^2(2) power
+  double threshold = 0;  // of the statistic (Bonferroni)
+  bool significant = false;
+  double explained = 0;  // fraction of the channel's residual sum of squares it explains
+  double period = 0, amplitude = 0;  // periodic: period [variable unit], amplitude [channel unit]
+  double peak_mean = 0, peak_lo = 0, peak_hi = 0;  // binned: largest bin mean and its range
+  std::string description;
+};
+
 struct ArmDiagnosis {
   std::string kind, design, file;
   std::vector<std::string> warnings;
   double noise_estimate = 0;           // fit units
-  std::vector<double> channel_noise;   // native units
+  std::vector<double> channel_noise;   // native units; residual weights are 1 / channel_noise
   double noise_rho = 0;
   ArmFit as_designed;
   ArmResidualMap as_designed_map;
   std::vector<ArmCandidate> ranking;   // for the design as is (plus effects added by --add before it)
   bool missing_effect_found = false;
-  std::string verdict;                 // "missing effect: X [(cannot be told apart from ...)]" or
-                                       // "no significant missing effect"
+  std::string verdict;                 // "missing effect: X [(cannot be told apart from ...)]",
+                                       // "missing effects: X, Y" (--auto added several),
+                                       // "unexplained effect: ..." or "no significant missing effect"
   std::vector<ArmFit> ladder;
   std::vector<std::string> added;
   ArmFit final_fit;
   ArmResidualMap final_map;
+  // Unexplained-effect search on the final model's residuals, ranked (significant first, then by
+  // the fraction of the residual they explain); unexplained_found when a pattern is significant and
+  // no catalogue effect is left that would explain it.
+  std::vector<ArmPattern> patterns;
+  bool unexplained_found = false;
   double rmse_before = 0, rmse_after = 0;
 };
 

@@ -22,12 +22,36 @@ using json = nlohmann::json;
 
 json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json statsJson(const ArmProblem& P, const std::vector<ChannelStats>& s) {
+json statsJson(const ArmProblem& P, const std::vector<ChannelStats>& s, const std::vector<double>& noise = {}) {
   json j = json::object();
-  for (std::size_t c = 0; c < s.size(); ++c)
+  for (std::size_t c = 0; c < s.size(); ++c) {
     j[P.channel_names[c]] = {{"rmse", finite(s[c].rmse)}, {"bias", finite(s[c].bias)}, {"max", finite(s[c].max_abs)},
                              {"unit", P.channel_units[c]}};
+    if (c < noise.size()) {  // the channel's noise estimate and the RMSE in units of it
+      j[P.channel_names[c]]["noise"] = finite(noise[c]);
+      j[P.channel_names[c]]["rmse_over_noise"] = noise[c] > 0 ? finite(s[c].rmse / noise[c]) : json(nullptr);
+    }
+  }
   return j;
+}
+
+json patternsJson(const std::vector<ArmPattern>& ps) {
+  json a = json::array();
+  for (std::size_t k = 0; k < ps.size() && k < 20; ++k) {  // the 20 strongest
+    const ArmPattern& p = ps[k];
+    json j = {{"channel", p.channel},         {"variable", p.variable},   {"unit", p.unit},
+              {"kind", p.kind},               {"statistic", finite(p.statistic)}, {"threshold", finite(p.threshold)},
+              {"significant", p.significant}, {"explained", finite(p.explained)}, {"description", p.description}};
+    if (p.kind == "periodic") {
+      j["period"] = finite(p.period);
+      j["amplitude"] = finite(p.amplitude);
+    } else {
+      j["peak_mean"] = finite(p.peak_mean);
+      j["peak_range"] = {finite(p.peak_lo), finite(p.peak_hi)};
+    }
+    a.push_back(j);
+  }
+  return a;
 }
 
 json paramsJson(const std::vector<FittedParameter>& ps) {
@@ -45,6 +69,8 @@ json fitJson(const ArmProblem& P, const ArmFit& f) {
           {"train_rmse", finite(f.train_rmse)},
           {"heldout_rmse", finite(f.heldout_rmse)},
           {"region_heldout_rmse", finite(f.region_heldout_rmse)},
+          {"train_score", finite(f.train_score)},
+          {"heldout_score", finite(f.heldout_score)},
           {"aic", finite(f.aic)},
           {"bic", finite(f.bic)},
           {"channels_heldout", statsJson(P, f.channel_heldout)},
@@ -168,10 +194,14 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
   files.push_back(stage + "_residual_points.vtp");
 }
 
-std::vector<std::vector<std::string>> appendHistory(const std::string& path, const ArmDiagnosis& d,
+constexpr const char* kArmHistoryHeader =
+    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
+
+// The rows of this run appended to the output folder's history (read before anything is written:
+// a history of another kind is an InputError), written to `to` (the staging folder).
+std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to, const ArmDiagnosis& d,
                                                     const ArmProblem& P, const std::string& command) {
-  HistoryFile h = readHistory(
-      path, "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic");
+  h.path = to;
   const auto g = historyNumber;
   for (const ArmFit& f : d.ladder) {
     std::string eff;
@@ -189,13 +219,17 @@ std::vector<std::vector<std::string>> appendHistory(const std::string& path, con
 ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
                                 const std::string& calibrated_design_path) {
   ArmReportSummary s;
-  fs::create_directories(o.out_dir);
-  writePlots(o.out_dir, "before", P, d.as_designed, s.files_written);
-  writeWorkspaceVtk(o.out_dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  // Validate first (the history in the folder must be of this kind), then write every file into a
+  // staging folder and move the complete result into place (issue 13).
+  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), kArmHistoryHeader);
+  StagedOutput stage(o.out_dir);
+  const std::string dir = stage.dir();
+  writePlots(dir, "before", P, d.as_designed, s.files_written);
+  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
   const bool after = o.command == "fit" && !d.added.empty();
   if (after) {
-    writePlots(o.out_dir, "after", P, d.final_fit, s.files_written);
-    writeWorkspaceVtk(o.out_dir, "after", P, d.final_fit, d.final_map, s.files_written);
+    writePlots(dir, "after", P, d.final_fit, s.files_written);
+    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
   }
   // residuals.csv: operating variables, measured, predicted, residual (final model).
   {
@@ -218,10 +252,10 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
       cols.push_back(p);
       cols.push_back(r);
     }
-    writeFileAtomic((fs::path(o.out_dir) / "residuals.csv").string(), io::formatCsv(h, cols));
+    writeFileAtomic((fs::path(dir) / "residuals.csv").string(), io::formatCsv(h, cols));
     s.files_written.push_back("residuals.csv");
   }
-  const auto rows = appendHistory((fs::path(o.out_dir) / "history.csv").string(), d, P, o.command);
+  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
   s.files_written.push_back("history.csv");
   {
     PlotSpec p;
@@ -237,7 +271,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
     }
     p.series = {tr, ho};
     p.h_lines = {d.noise_estimate};
-    writeFileAtomic((fs::path(o.out_dir) / "error_ladder.svg").string(), svgPlot(p));
+    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), svgPlot(p));
     s.files_written.push_back("error_ladder.svg");
   }
   json j;
@@ -250,8 +284,12 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   j["rmse"] = {{"overall", finite(d.final_fit.heldout_rmse)},
                {"train", finite(d.final_fit.train_rmse)},
                {"region_heldout", finite(d.final_fit.region_heldout_rmse)},
-               {"channels", statsJson(P, d.final_fit.channel_heldout)}};
-  j["as_designed"] = {{"rmse", finite(d.as_designed.train_rmse)}, {"channels", statsJson(P, d.as_designed.channel_train)}};
+               {"normalized", finite(d.final_fit.heldout_score)},
+               {"normalized_train", finite(d.final_fit.train_score)},
+               {"channels", statsJson(P, d.final_fit.channel_heldout, d.channel_noise)}};
+  j["as_designed"] = {{"rmse", finite(d.as_designed.train_rmse)},
+                      {"normalized", finite(d.as_designed.train_score)},
+                      {"channels", statsJson(P, d.as_designed.channel_train, d.channel_noise)}};
   j["noise_estimate"] = finite(d.noise_estimate);
   j["channel_noise"] = d.channel_noise;
   j["noise_autocorrelation"] = finite(d.noise_rho);
@@ -263,6 +301,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
                   {"status", c.status},
                   {"heldout_rmse", c.status == "ok" ? finite(c.fit.heldout_rmse) : json(nullptr)},
                   {"region_heldout_rmse", c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
+                  {"heldout_score", c.status == "ok" ? finite(c.fit.heldout_score) : json(nullptr)},
                   {"improvement", finite(c.improvement)},
                   {"t_statistic", finite(c.t_statistic)},
                   {"significant", c.significant},
@@ -276,6 +315,10 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   j["regions_before"] = regionsJson(d.as_designed_map, true);
   j["flagged_before"] = d.as_designed_map.flagged();
   j["flagged_after"] = d.final_map.flagged();
+  if (o.command == "fit") {
+    j["unexplained_found"] = d.unexplained_found;
+    j["patterns"] = patternsJson(d.patterns);
+  }
   json ladder = json::array();
   for (const auto& f : d.ladder) ladder.push_back(fitJson(P, f));
   j["ladder"] = ladder;
@@ -288,7 +331,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   }
   j["files"] = s.files_written;
   s.json = j.dump(2);
-  writeFileAtomic((fs::path(o.out_dir) / "result.json").string(), s.json + "\n");
+  writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");
+  stage.commit();
   return s;
 }
 

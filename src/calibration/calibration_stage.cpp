@@ -273,8 +273,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
     for (drive::Effect x : d.added) s.added.push_back(drive::toString(x));
     s.warnings = d.warnings;
     if (e.fit) {
-      s.verdict = d.missing_effect_found ? "missing effect: " + std::string(drive::toString(d.ranking.front().effect))
-                                         : "no significant missing effect";
+      s.verdict = d.verdict;
       s.rmse_before = d.rmse_before;
       s.rmse_after = d.rmse_after;
       s.final_params = d.final_fit.params;

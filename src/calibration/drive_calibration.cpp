@@ -96,6 +96,7 @@ double column(const Context& c, const EffectSet& on, Effect e, int i, double vS)
     case Effect::Stribeck: val = c.s[i] * st; break;                           // eq. (3.33) T_fS
     case Effect::Asymmetry: val = c.s[i] * c.s[i]; break;
     case Effect::Temperature: val = (c.theta[i] - c.theta_ref) * c.s[i]; break;
+    case Effect::TemperatureViscous: val = (c.theta[i] - c.theta_ref) * c.v[i]; break;
   }
   return val * c.side;
 }
@@ -195,6 +196,7 @@ FrictionParams toFrictionParams(const Context& c, const FrictionParams& base, co
         break;
       case Effect::Asymmetry: p.asymmetry = x; break;
       case Effect::Temperature: p.temperature_coefficient = x; break;
+      case Effect::TemperatureViscous: p.temperature_viscous_coefficient = x; break;
     }
   }
   if (!on[idx(Effect::Coulomb)]) p.coulomb = 0;
@@ -488,6 +490,10 @@ const std::vector<EffectInfo>& driveEffectCatalogue() {
       {Effect::Temperature, "temperature", "temperature dependence (thesis section 4.4.1, 4.6.2)",
        "residual drifts with temperature, sign of the speed",
        {{"temperature_coefficient", "N m/K", "N/K", -kInf, kInf, -2e-3}}},
+      {Effect::TemperatureViscous, "temperature_viscous",
+       "temperature dependence of the viscous term (lubricant viscosity; thesis section 4.4.1)",
+       "a fan of lines through the origin in speed whose slope drifts with temperature",
+       {{"temperature_viscous_coefficient", "N m s/(rad K)", "N s/(m K)", -kInf, kInf, -3e-6}}},
   };
   return cat;
 }
@@ -540,7 +546,7 @@ DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const 
     throw InputError(data.file, 0, "folds",
                      std::to_string(o.folds) + "-fold cross-validation needs at least " + std::to_string(2 * o.folds) +
                          " data rows (two per fold), the data has " + std::to_string(c.n) + "; use fewer folds");
-  if (fp.has(Effect::Temperature) && !c.has_temperature)
+  if ((fp.has(Effect::Temperature) || fp.has(Effect::TemperatureViscous)) && !c.has_temperature)
     r.warnings.push_back("the design has a temperature term but the data has no temperature column; "
                          "evaluated at the reference temperature");
 
@@ -563,7 +569,7 @@ DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const 
   // candidate) fitted to all rows; its residual standard deviation and lag-1 autocorrelation.
   EffectSet sat{};
   for (Effect e : drive::kAllEffects) {
-    if (e == Effect::Temperature) {
+    if (drive::isTemperatureEffect(e)) {
       if (!c.has_temperature) continue;
       const auto [tmin, tmax] = std::minmax_element(c.theta.begin(), c.theta.end());
       if (*tmax - *tmin <= 0) continue;
@@ -609,7 +615,7 @@ std::vector<Candidate> rankCandidates(const Context& c, const Fitter& fitter, co
     if (base_on[idx(e)]) continue;
     Candidate cand;
     cand.effect = e;
-    if (e == Effect::Temperature) {
+    if (drive::isTemperatureEffect(e)) {
       if (!c.has_temperature) {
         cand.status = "not_applicable";
         cand.warnings.push_back("the data has no temperature column");
@@ -753,12 +759,20 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
     r.rankings_after.push_back(ranking);
   };
   for (Effect e : o.add) addEffect(e);
+  std::vector<Effect> named;
+  if (r.missing_effect_found) named.push_back(r.ranking.front().effect);
   if (o.auto_add)
     while (!ranking.empty() && ranking.front().significant) {
       const std::size_t before = r.added.size();
-      addEffect(ranking.front().effect);
+      const Effect e = ranking.front().effect;
+      addEffect(e);
       if (r.added.size() == before) break;
+      if (std::find(named.begin(), named.end(), e) == named.end()) named.push_back(e);
     }
+  if (!named.empty()) {
+    r.verdict = named.size() > 1 ? "missing effects: " : "missing effect: ";
+    for (std::size_t k = 0; k < named.size(); ++k) r.verdict += (k ? ", " : "") + std::string(drive::toString(named[k]));
+  }
   r.final_fit = current;
   r.final_cmp = compareFit(data, current, c.km, r.noise_estimate, r.noise_rho, o);
   r.rmse_before = r.base.heldout_rmse;
@@ -783,6 +797,10 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
   if (f.has(Effect::Asymmetry)) fr["asymmetry"] = f.asymmetry;
   if (f.has(Effect::Temperature)) {
     fr["temperature_coefficient"] = f.temperature_coefficient;
+    fr["reference_temperature"] = f.reference_temperature_C;
+  }
+  if (f.has(Effect::TemperatureViscous)) {
+    fr["temperature_viscous_coefficient"] = f.temperature_viscous_coefficient;
     fr["reference_temperature"] = f.reference_temperature_C;
   }
   cd->friction = fr;
@@ -822,6 +840,7 @@ void setParam(FrictionParams& p, const std::string& key, double v) {
   else if (key == "stribeck_velocity") p.stribeck_velocity = v;
   else if (key == "asymmetry") p.asymmetry = v;
   else if (key == "temperature_coefficient") p.temperature_coefficient = v;
+  else if (key == "temperature_viscous_coefficient") p.temperature_viscous_coefficient = v;
   else if (key == "reference_temperature") p.reference_temperature_C = v;
   else throw InputError("", 0, key, "unknown friction parameter '" + key + "'");
 }
@@ -837,7 +856,7 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
       for (const auto& ep : info.params) setParam(truth, ep.key, ep.typical);
     truth.on[idx(e)] = true;
     for (const auto& [k, v] : overrides) {
-      bool belongs = k == "reference_temperature" && e == Effect::Temperature;
+      bool belongs = k == "reference_temperature" && drive::isTemperatureEffect(e);
       for (const auto& ep : info.params) belongs = belongs || ep.key == k;
       if (!belongs)
         throw InputError("", 0, k, "parameter '" + k + "' does not belong to the effect '" + info.name + "'");

@@ -135,6 +135,10 @@ struct DriveDiagnosis {
   Comparison base_cmp;
   std::vector<Candidate> ranking;    // for `base`, best first
   bool missing_effect_found = false;
+  // "missing effect: X" (the best significant candidate of the refit model), "missing effects: X, Y"
+  // when --auto added several, or "no significant missing effect". The one verdict text of the
+  // console, result.json and the study stage.
+  std::string verdict = "no significant missing effect";
   std::vector<ModelFit> ladder;      // as designed, refit, then one per added effect
   std::vector<drive::Effect> added;
   std::vector<std::vector<Candidate>> rankings_after;  // ranking after each addition

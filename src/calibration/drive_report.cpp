@@ -122,10 +122,14 @@ void writePlots(const std::string& dir, const std::string& stage, const ModelFit
 }
 
 // history.csv: appended rows; returns all rows (for the ladder plot).
-std::vector<std::vector<std::string>> appendHistory(const std::string& path, const DriveDiagnosis& d,
+constexpr const char* kDriveHistoryHeader =
+    "run,command,design,drive,data_hash,model,effects,n_params,n_rows,train_rmse_A,heldout_rmse_A,aic,bic";
+
+// The history read from the output folder before anything is written, extended by this run and
+// written to `to` (the staging folder).
+std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to, const DriveDiagnosis& d,
                                                     const DriveData& data, const std::string& command) {
-  HistoryFile h = readHistory(
-      path, "run,command,design,drive,data_hash,model,effects,n_params,n_rows,train_rmse_A,heldout_rmse_A,aic,bic");
+  h.path = to;
   const auto g = historyNumber;
   for (const ModelFit& m : d.ladder) {
     std::string eff;
@@ -333,6 +337,11 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
   DriveReportSummary sum;
   std::vector<std::string>& files = sum.files_written;
   const bool fitted = o.command == "fit";
+  // Validate first (a history of another kind is an error), then write everything into a staging
+  // folder and move the complete result into place (issue 13).
+  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), kDriveHistoryHeader);
+  StagedOutput stage(o.out_dir);
+  const std::string dir = stage.dir();
 
   // residuals.csv
   {
@@ -357,17 +366,17 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
       h.push_back("temperature");
       cols.push_back(data.temperature);
     }
-    writeFileAtomic((fs::path(o.out_dir) / "residuals.csv").string(), io::formatCsv(h, cols));
+    writeFileAtomic((fs::path(dir) / "residuals.csv").string(), io::formatCsv(h, cols));
     files.push_back("residuals.csv");
   }
-  writePlots(o.out_dir, "as_designed", d.as_designed, d.as_designed_cmp, data, d.noise_estimate, files);
+  writePlots(dir, "as_designed", d.as_designed, d.as_designed_cmp, data, d.noise_estimate, files);
   if (fitted) {
-    writePlots(o.out_dir, "before", d.base, d.base_cmp, data, d.noise_estimate, files);
-    if (!d.added.empty()) writePlots(o.out_dir, "after", d.final_fit, d.final_cmp, data, d.noise_estimate, files);
+    writePlots(dir, "before", d.base, d.base_cmp, data, d.noise_estimate, files);
+    if (!d.added.empty()) writePlots(dir, "after", d.final_fit, d.final_cmp, data, d.noise_estimate, files);
   }
 
   // History and the error ladder.
-  const auto rows = appendHistory((fs::path(o.out_dir) / "history.csv").string(), d, data, o.command);
+  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, data, o.command);
   files.push_back("history.csv");
   {
     PlotSpec p;
@@ -387,10 +396,11 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
     p.series.push_back({"noise estimate", {}, {}, "#888888", false, false});
     p.h_lines = {d.noise_estimate};
     p.x_label = "run: model";
-    writeFileAtomic((fs::path(o.out_dir) / "error_ladder.svg").string(), svgPlot(p));
+    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), svgPlot(p));
     files.push_back("error_ladder.svg");
   }
 
+  std::string design_elsewhere;  // the calibrated copy at a path outside the output folder
   if (fitted && o.write_calibrated_design) {
     sum.calibrated_design_path = o.calibrated_design_path.empty()
                                      ? (fs::path(o.out_dir) / (model.name + "_calibrated.toml")).string()
@@ -403,7 +413,11 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
                   "%.4g A (before: %.4g A).",
                   d.joint.c_str(), eff.c_str(), data.file.c_str(), data.rows(), data.hash.c_str(), d.rmse_after,
                   d.rmse_before);
-    writeFileAtomic(sum.calibrated_design_path, calibratedDesignToml(model, d.calibrated, d.joint, note));
+    design_elsewhere = calibratedDesignToml(model, d.calibrated, d.joint, note);
+    if (o.calibrated_design_path.empty()) {  // in the output folder: staged with the rest
+      writeFileAtomic((fs::path(dir) / (model.name + "_calibrated.toml")).string(), design_elsewhere);
+      design_elsewhere.clear();
+    }
     files.push_back(sum.calibrated_design_path);
   }
 
@@ -435,9 +449,7 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
     j["refit"] = fitJson(d.base);
     j["regions_before"] = regionsJson(d.base_cmp.map);
     j["ranking"] = rankingJson(d.ranking);
-    j["verdict"] = d.missing_effect_found
-                       ? "missing effect: " + std::string(drive::toString(d.ranking.front().effect))
-                       : "no significant missing effect";
+    j["verdict"] = d.verdict;
     json added = json::array();
     for (auto e : d.added) added.push_back(drive::toString(e));
     j["added"] = added;
@@ -454,7 +466,9 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
   j["ladder"] = ladder;
   j["files"] = files;
   sum.json = j.dump(2) + "\n";
-  writeFileAtomic((fs::path(o.out_dir) / "result.json").string(), sum.json);
+  writeFileAtomic((fs::path(dir) / "result.json").string(), sum.json);
+  stage.commit();
+  if (!design_elsewhere.empty()) writeFileAtomic(sum.calibrated_design_path, design_elsewhere);
   files.push_back("result.json");
   return sum;
 }

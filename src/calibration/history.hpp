@@ -23,4 +23,24 @@ void writeHistory(const HistoryFile& h);
 // "%.6g" formatting used for the numeric cells.
 std::string historyNumber(double v);
 
+// The files of one compare/fit run (issue 13): nothing is written into the output folder until the
+// whole result exists. Every file goes to a staging folder beside it (`<out>.staging.<pid>`);
+// commit() moves them into the output folder, result.json and history.csv last. A run that
+// fails before commit() (bad input, full disk) leaves the output folder exactly as it was: the
+// destructor removes the staging folder.
+class StagedOutput {
+ public:
+  explicit StagedOutput(const std::string& out_dir);
+  ~StagedOutput();
+  StagedOutput(const StagedOutput&) = delete;
+  StagedOutput& operator=(const StagedOutput&) = delete;
+  const std::string& dir() const { return staging_; }  // write the run's files here
+  const std::string& outDir() const { return out_; }
+  void commit();
+
+ private:
+  std::string out_, staging_;
+  bool committed_ = false;
+};
+
 }  // namespace armstudy::calibration

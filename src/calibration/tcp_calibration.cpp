@@ -81,8 +81,8 @@ class TcpProblem : public ArmProblem {
         e.name = "joint_compliance." + model.joints[j].name;
         e.effect = "joint_compliance";
         e.joint = model.joints[j].name;
-        e.pattern = "like a joint offset, but proportional to the gravity torque at the joint (largest with the arm "
-                    "stretched out horizontally)";
+        e.pattern = "the arm sags with gravity: like a joint offset against the holding torque, proportional to the "
+                    "gravity torque at the joint (largest with the arm stretched out horizontally)";
         const double typ = rev ? 2e-4 : 1e-6;
         e.params = {{"compliance", rev ? "rad/(N m)" : "m/N", 0.0, kInfD, typ, typ * 1e-3}};
         add(e, TcpEffect::Compliance, j, 0);
@@ -102,7 +102,7 @@ class TcpProblem : public ArmProblem {
       }
     }
     for (int j = 0; j < n; ++j) {
-      BinVariable v{"q" + std::to_string(j + 1), model.joints[j].type == JointType::Revolute ? "rad" : "m", {}};
+      BinVariable v{"q" + std::to_string(j + 1), model.joints[j].type == JointType::Revolute ? "rad" : "m", {}, true};
       for (int i = 0; i < q_.rows(); ++i) v.values.push_back(q_(i, j));
       variables.push_back(v);
     }
@@ -151,10 +151,26 @@ class TcpProblem : public ArmProblem {
     }
     if (geometry) m.finalize();
     KinematicsWorkspace ws(m);
+    std::unique_ptr<DynamicsWorkspace> dws;
+    if (any_comp) dws = std::make_unique<DynamicsWorkspace>(*rbm_);
+    Eigen::VectorXd g(n);
     Eigen::MatrixXd out(q_.rows(), measured.cols());
     for (int i = 0; i < q_.rows(); ++i) {
       Eigen::VectorXd q = q_.row(i).transpose() + dq;
-      if (any_comp) q += comp.cwiseProduct(gravity_.row(i).transpose());  // deflection = c * g(q)
+      if (any_comp) {
+        // A compliant joint sags with gravity. Thesis eq. (4.1b), (4.2a) at rest: 0 = -T_l - T_s,
+        // T_s = (q - phi/N) c_fs, so the link sits at q = phi/N - T_l / c_fs; the load torque T_l
+        // the drive holds is the static holding force g(q) of src/dynamics (eq. 3.28 with qd = qdd
+        // = 0). The measured joint position is the motor side phi/N (encoder before the gear), so
+        // q_link = q_m - C g(q_link), solved by a contraction (C dg/dq << 1) started at q_m.
+        const Eigen::VectorXd q_m = q;
+        g = gravity_.row(i).transpose();
+        for (int it = 0; it < defaults::kComplianceFixedPointIterations; ++it) {
+          q = q_m - comp.cwiseProduct(g);
+          gravityForces(*rbm_, *dws, q, g);
+        }
+        q = q_m - comp.cwiseProduct(g);
+      }
       forwardKinematics(m, ws, q);
       out.block<1, 3>(i, 0) = ws.p_WT.transpose();
       if (measured.cols() == 6) {

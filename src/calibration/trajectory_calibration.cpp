@@ -1,5 +1,6 @@
 #include "calibration/trajectory_calibration.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <regex>
 #include <set>
@@ -49,6 +50,25 @@ double jointSideScale(const std::string& key, double N) {
   return N;
 }
 
+// Adds an extra body at the TCP, given by its linear inertial parameters x = (m, h_T = m c_T,
+// I_T: xx yy zz xy xz yz about the TCP origin in TCP axes), to the last link (frame N) of the
+// rigid-body model: with p = p_NT, R = R_NT, h = R h_T,
+//   mass += m,  h_N += h + m p,  I_N += R I_T R^T + m (|p|^2 1 - p p^T) + 2 (p.h) 1 - p h^T - h p^T
+// (parallel-axis theorem for a body known about the TCP origin), linear in x.
+void addPayloadParameters(const Model& m, const Eigen::VectorXd& x, RigidBodyModel& rbm) {
+  const int L = m.dof() - 1;
+  const Eigen::Matrix3d R = m.T_NT.linear();
+  const Eigen::Vector3d p = m.T_NT.translation();
+  const Eigen::Vector3d h = R * x.segment<3>(1);
+  Eigen::Matrix3d I_T;
+  I_T << x[4], x[7], x[8], x[7], x[5], x[9], x[8], x[9], x[6];
+  const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
+  rbm.mass[L] += x[0];
+  rbm.h[L] += h + x[0] * p;
+  rbm.I_O[L] += R * I_T * R.transpose() + x[0] * (p.squaredNorm() * one - p * p.transpose()) + 2 * p.dot(h) * one -
+                p * h.transpose() - h * p.transpose();
+}
+
 struct Tag {
   TrajEffect type;
   int joint = -1;
@@ -89,12 +109,22 @@ class TrajectoryProblem : public ArmProblem {
     {
       ArmEffect e;
       e.name = e.effect = "payload";
-      e.pattern = "gravity and inertia torques of an extra mass at the TCP: largest at the proximal joints with the "
+      e.pattern = "gravity and inertia torques of an extra body at the TCP: largest at the proximal joints with the "
                   "arm stretched out, grows with the TCP acceleration";
+      // The standard linear inertial parameters of the extra body, in the TCP frame about the TCP
+      // origin: mass m, first moment m c, inertia I (issue 13): the efforts are linear in all ten,
+      // so each is identifiable from a design without payload (m = 0). Typical values: 0.5 kg at
+      // c = (0.02, -0.02, 0.06) m as a point mass, I = m (|c|^2 1 - c c^T).
       e.params = {{"mass", "kg", -model.payload_kg, kInfD, 0.5, 1e-4},
                   {"first_moment_x", "kg m", -kInfD, kInfD, 0.01, 1e-5},
                   {"first_moment_y", "kg m", -kInfD, kInfD, -0.01, 1e-5},
-                  {"first_moment_z", "kg m", -kInfD, kInfD, 0.03, 1e-5}};
+                  {"first_moment_z", "kg m", -kInfD, kInfD, 0.03, 1e-5},
+                  {"inertia_xx", "kg m^2", -kInfD, kInfD, 0.002, 1e-6},
+                  {"inertia_yy", "kg m^2", -kInfD, kInfD, 0.002, 1e-6},
+                  {"inertia_zz", "kg m^2", -kInfD, kInfD, 0.0004, 1e-6},
+                  {"inertia_xy", "kg m^2", -kInfD, kInfD, 0.0002, 1e-6},
+                  {"inertia_xz", "kg m^2", -kInfD, kInfD, -0.0006, 1e-6},
+                  {"inertia_yz", "kg m^2", -kInfD, kInfD, 0.0006, 1e-6}};
       add(e, {TrajEffect::Payload});
     }
     {
@@ -133,7 +163,7 @@ class TrajectoryProblem : public ArmProblem {
       double vmax = 0;
       for (int i = 0; i < data.rows(); ++i) vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
       for (drive::Effect fe : drive::kAllEffects) {
-        if (fe == drive::Effect::Temperature) continue;  // trajectories carry no temperature column
+        if (drive::isTemperatureEffect(fe)) continue;  // trajectories carry no temperature column
         const EffectInfo& info = effectInfo(fe);
         ArmEffect e;
         e.name = model.joints[j].name + "." + info.name;
@@ -160,7 +190,7 @@ class TrajectoryProblem : public ArmProblem {
     // Operating variables, workspace positions (design FK), held-out regions (time blocks).
     for (int j = 0; j < n; ++j) {
       const bool rev = model.joints[j].type == JointType::Revolute;
-      BinVariable v{"q" + std::to_string(j + 1), rev ? "rad" : "m", {}};
+      BinVariable v{"q" + std::to_string(j + 1), rev ? "rad" : "m", {}, true};
       BinVariable w{"qd" + std::to_string(j + 1), rev ? "rad/s" : "m/s", {}};
       for (int i = 0; i < data.rows(); ++i) {
         v.values.push_back(data.q(i, j));
@@ -181,6 +211,8 @@ class TrajectoryProblem : public ArmProblem {
     }
     region_count = 4;
     for (int i = 0; i < data.rows(); ++i) regions.push_back(std::min(3, i * 4 / std::max(1, data.rows())));
+    time = data.t;
+    load_name = "load";  // the predicted joint effort (or current) of the channel
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -189,16 +221,11 @@ class TrajectoryProblem : public ArmProblem {
     std::vector<drive::FrictionParams> fp = fp_;
     Eigen::VectorXd arm = Eigen::VectorXd::Zero(n);
     bool tilt = false;
+    const Eigen::VectorXd* payload = nullptr;
     for (const auto& v : values) {
       const Tag& t = tags_[v.effect];
       switch (t.type) {
-        case TrajEffect::Payload: {
-          const Eigen::Vector3d h = m.payload_kg * m.p_payload_com_T + v.x.segment<3>(1);
-          m.payload_kg += v.x[0];
-          m.p_payload_com_T = m.payload_kg > 1e-9 ? Eigen::Vector3d(h / m.payload_kg) : Eigen::Vector3d::Zero();
-          if (m.payload_kg < 0) m.payload_kg = 0;
-          break;
-        }
+        case TrajEffect::Payload: payload = &v.x; break;
         case TrajEffect::RotorInertia: arm += v.x; break;
         case TrajEffect::GravityTilt:
           m.base.alpha += v.x[0];
@@ -220,7 +247,8 @@ class TrajectoryProblem : public ArmProblem {
       }
     }
     if (tilt) m.finalize();
-    const RigidBodyModel rbm = makeRigidBodyModel(m);
+    RigidBodyModel rbm = makeRigidBodyModel(m);
+    if (payload) addPayloadParameters(m, *payload, rbm);
     DynamicsWorkspace ws(rbm);
     Eigen::MatrixXd out(data_.rows(), n);
     Eigen::VectorXd Q(n);
@@ -445,6 +473,41 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
         text = setDesignEntry(text, "[payload]", "", "", "mass", num(m));
         text = setDesignEntry(text, "[payload]", "", "", "com", "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
         expect.payload_kg = m;
+        // The fitted body (the design's payload plus the extra one) has mass m and centre c, which the
+        // [payload] point mass carries, and an inertia about c, which it cannot: that part goes into
+        // the last link's [[inertia]] (rigid-body parameters of one link add), so the calibrated
+        // copy predicts what the fit predicted. All in frame N about its origin.
+        const int L = model.dof() - 1;
+        const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
+        auto pointI = [&](double mm, const Eigen::Vector3d& cc) {
+          return Eigen::Matrix3d(mm * (cc.squaredNorm() * one - cc * cc.transpose()));
+        };
+        RigidBodyModel delta{};
+        delta.mass[L] = 0;
+        delta.h[L].setZero();
+        delta.I_O[L].setZero();
+        addPayloadParameters(model, v.x, delta);
+        const double m0 = model.payload_kg > 0 ? model.payload_kg : 0.0;
+        const Eigen::Matrix3d dI = pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
+                                   (m > 0 ? pointI(m, model.T_NT * c) : Eigen::Matrix3d::Zero().eval());
+        const bool has_link = L < static_cast<int>(model.inertias.size()) && model.inertias[L].given;
+        if (dI.norm() > 1e-15) {
+          const Eigen::Matrix3d I = has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
+                                             : Eigen::Matrix3d::Zero();
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
+          const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+          const std::string link = model.joints[L].name;
+          if (has_link && ev[0] > 0 && ev[2] <= ev[0] + ev[1]) {
+            text = setDesignEntry(text, "[[inertia]]", "link", link, "inertia",
+                                  "[" + num(I(0, 0)) + ", " + num(I(1, 1)) + ", " + num(I(2, 2)) + ", " + num(I(0, 1)) + ", " +
+                                      num(I(0, 2)) + ", " + num(I(1, 2)) + "]");
+            notes.push_back("the fitted payload's inertia about its centre of mass, which the [payload] point mass cannot "
+                            "carry, is added to the [[inertia]] of link " + link);
+          } else {
+            notes.push_back("the fitted payload's inertia about its centre of mass is not stored (the [payload] is a point "
+                            "mass and link " + link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
+          }
+        }
         break;
       }
       case TrajEffect::RotorInertia:

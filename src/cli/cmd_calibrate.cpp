@@ -74,12 +74,18 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
   cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
   cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint or kind>)");
   const auto bins = CLI::Range(1, defaults::kMaxResidualBins);
-  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed")->check(bins);
-  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|")->check(bins);
+  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed")
+      ->check(bins)
+      ->capture_default_str();
+  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|")
+      ->check(bins)
+      ->capture_default_str();
   cmd->add_option("--variable-bins", a.variable_bins, "tcp/trajectory: bins over each joint variable (q, qd)")
-      ->check(bins);
+      ->check(bins)
+      ->capture_default_str();
   cmd->add_option("--workspace-bins", a.workspace_bins, "tcp/trajectory: workspace cells per axis (x, y, z)")
-      ->check(bins);
+      ->check(bins)
+      ->capture_default_str();
 }
 
 std::string outDir(const CommonArgs& a, const Model& m) {
@@ -102,6 +108,20 @@ void printArm(const calibration::ArmDiagnosis& d, const calibration::ArmProblem&
   }
   std::printf("noise estimate %.4g %s (lag-1 autocorrelation %.2f); flagged bins: %d of %zu\n", d.noise_estimate,
               P.fit_unit.c_str(), d.noise_rho, d.as_designed_map.flagged(), d.as_designed_map.bins.size());
+  std::printf("residuals are weighted per channel by the channel's noise estimate; as designed %.3g x the noise "
+              "(RMS over all channels of residual / noise)\n",
+              d.as_designed.train_score);
+}
+
+// Held-out RMSE per channel in its own unit and in units of its noise, plus the overall figure.
+void printChannels(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
+  std::printf("final model, held-out RMSE per channel (noise estimate; ratio):\n");
+  for (int c = 0; c < P.channels() && c < static_cast<int>(d.final_fit.channel_heldout.size()); ++c) {
+    const double r = d.final_fit.channel_heldout[c].rmse, s = d.channel_noise[c];
+    std::printf("  %-10s %.4g %s (noise %.4g; %.2f x)\n", P.channel_names[c].c_str(), r, P.channel_units[c].c_str(), s,
+                s > 0 ? r / s : 0.0);
+  }
+  std::printf("  overall: %.3g x the noise (dimensionless, held-out)\n", d.final_fit.heldout_score);
 }
 
 void printFit(const char* label, const calibration::ModelFit& m) {
@@ -158,8 +178,17 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
     if (c.warnings.size() > 3) std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
   }
   std::printf("\nverdict: %s\n", d.verdict.c_str());
+  std::printf("bins still flagged after the fit: %d of %zu (as designed: %d)\n", d.final_map.flagged(),
+              d.final_map.bins.size(), d.as_designed_map.flagged());
+  if (d.unexplained_found) {
+    std::printf("residual patterns no catalogue effect explains (strongest first):\n");
+    for (std::size_t k = 0; k < d.patterns.size() && k < 5 && d.patterns[k].significant; ++k)
+      std::printf("  %s: %s (%.0f %% of its residual)\n", d.patterns[k].channel.c_str(), d.patterns[k].description.c_str(),
+                  100 * d.patterns[k].explained);
+  }
+  printChannels(d, *P);
   if (!d.added.empty()) {
-    std::printf("added:");
+    std::printf("added (in this order):");
     for (const auto& e : d.added) std::printf(" %s", e.c_str());
     std::printf("\nheld-out RMSE before %.4g -> after %.4g %s (x%.2f lower); noise estimate %.4g\n", d.rmse_before,
                 d.rmse_after, P->fit_unit.c_str(), d.rmse_before / d.rmse_after, d.noise_estimate);
@@ -225,7 +254,7 @@ void addFitCommand(CLI::App& app, Action& action) {
       "Rank the candidate effects that could be missing from a design's model by k-fold cross-validated\n"
       "error (with held-out-by-region scores, confidence intervals and identifiability warnings),\n"
       "optionally add effects, and write a calibrated copy of the design. Effects by kind:\n"
-      "  drive: coulomb viscous load_coulomb load_viscous stribeck asymmetry temperature\n"
+      "  drive: coulomb viscous load_coulomb load_viscous stribeck asymmetry temperature temperature_viscous\n"
       "  tcp: joint_offset.<joint> link_length.<joint>.<x|y|z> base_offset joint_compliance.<joint>\n"
       "  trajectory: payload rotor_inertia gravity_tilt link_mass.<joint> <joint>.<drive effect>\n"
       "Examples: armstudy fit designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv --auto\n"
@@ -240,8 +269,9 @@ void addFitCommand(CLI::App& app, Action& action) {
   cmd->add_option("--add", *add, "Effects to add (comma list, in order), e.g. stribeck,asymmetry or joint_offset.j3");
   cmd->add_flag("--auto", *autoAdd, "Add the best significant effect until none is left");
   cmd->add_option("--folds", *folds, "k of k-fold cross-validation (2 to the number of data rows)")
-      ->check(CLI::Range(2, 1000000));
-  cmd->add_option("--seed", *seed, "Seed of the fold assignment");
+      ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--seed", *seed, "Seed of the fold assignment")->capture_default_str();
   cmd->add_option("--write-design", *designOut, "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
   cmd->callback([&action, a, add, autoAdd, folds, seed, designOut] {
     action = [a, add, autoAdd, folds, seed, designOut] {
@@ -278,9 +308,10 @@ void addFitCommand(CLI::App& app, Action& action) {
           std::printf("  %-13s %-15s\n", drive::toString(c.effect), c.status.c_str());
         for (const auto& w : c.warnings) std::printf("      warning: %s\n", w.c_str());
       }
-      std::printf("\nverdict: %s\n", d.missing_effect_found
-                                          ? ("missing effect: " + std::string(drive::toString(d.ranking.front().effect))).c_str()
-                                          : "no significant missing effect");
+      std::printf("\nverdict: %s\n", d.verdict.c_str());
+      std::printf("bins still flagged after the fit: %d of %zu (refit model: %d, as designed: %d)\n",
+                  d.final_cmp.map.flagged(), d.final_cmp.map.bins.size(), d.base_cmp.map.flagged(),
+                  d.as_designed_cmp.map.flagged());
       if (!d.added.empty()) {
         std::printf("added:");
         for (auto e : d.added) std::printf(" %s", drive::toString(e));

@@ -74,6 +74,11 @@ inline constexpr int kArmProfileGridPoints = 12;              // log grid of a p
 inline constexpr int kArmProfileRefineIterations = 12;        // golden-section steps after the grid
 inline constexpr double kParsimonyTolerance = 0.02;           // simpler nested candidate ranks first within 2 %
 inline constexpr double kTcpAngleLength_m = 0.1;              // TCP angle residual [rad] -> fit units [m]
+inline constexpr int kComplianceFixedPointIterations = 3;     // sag q = q_m - C g(q): contraction steps
+// Unexplained-effect search (issue 13): residuals of the final model against every operating variable.
+inline constexpr int kUnexplainedBins = 10;                   // equal-width bins of binned means per variable
+inline constexpr int kPeriodogramOversampling = 4;            // frequency grid step = 2 pi / (range * this)
+inline constexpr int kPeriodogramRowsPerCycle = 8;            // highest frequency: rows / this cycles over the range
 inline constexpr int kSavitzkyGolayHalfWindow = 4;            // qdd from qd: 9-sample window
 inline constexpr int kSavitzkyGolayDegree = 2;                // local quadratic
 inline constexpr double kUniformSamplingTolerance = 0.01;     // relative spread of time steps allowed

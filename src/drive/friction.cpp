@@ -15,6 +15,7 @@ constexpr const char* kStribeckTorque = "stribeck_torque";
 constexpr const char* kStribeckVelocity = "stribeck_velocity";
 constexpr const char* kAsymmetry = "asymmetry";
 constexpr const char* kTemperatureCoefficient = "temperature_coefficient";
+constexpr const char* kTemperatureViscousCoefficient = "temperature_viscous_coefficient";
 constexpr const char* kReferenceTemperature = "reference_temperature";
 
 double value(const Drive& d, const char* key, double fallback) {
@@ -43,6 +44,7 @@ const char* toString(Effect e) {
     case Effect::Stribeck: return "stribeck";
     case Effect::Asymmetry: return "asymmetry";
     case Effect::Temperature: return "temperature";
+    case Effect::TemperatureViscous: return "temperature_viscous";
   }
   return "?";
 }
@@ -89,6 +91,7 @@ std::vector<std::string> effectKeys(Effect e) {
     case Effect::Stribeck: return {kStribeckTorque, kStribeckVelocity};
     case Effect::Asymmetry: return {kAsymmetry};
     case Effect::Temperature: return {kTemperatureCoefficient};
+    case Effect::TemperatureViscous: return {kTemperatureViscousCoefficient};
   }
   return {};
 }
@@ -124,9 +127,9 @@ std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, s
     key = "friction." + k;
     if (!std::isfinite(v)) return "friction parameter must be finite";
     if (k == kReferenceTemperature) {
-      if (!on[static_cast<int>(Effect::Temperature)])
-        return "reference_temperature belongs to the temperature effect, which is not enabled "
-               "(add \"" + d.joint + ".temperature\" to [model].effects)";
+      if (!on[static_cast<int>(Effect::Temperature)] && !on[static_cast<int>(Effect::TemperatureViscous)])
+        return "reference_temperature belongs to the temperature effects, which are not enabled "
+               "(add \"" + d.joint + ".temperature\" or \"" + d.joint + ".temperature_viscous\" to [model].effects)";
       continue;
     }
     bool known = false;
@@ -173,6 +176,7 @@ FrictionParams frictionParams(const Drive& d, const std::vector<Effect>& extra) 
   p.stribeck_velocity = value(d, kStribeckVelocity, 1.0);
   p.asymmetry = value(d, kAsymmetry, 0.0);
   p.temperature_coefficient = value(d, kTemperatureCoefficient, 0.0);
+  p.temperature_viscous_coefficient = value(d, kTemperatureViscousCoefficient, 0.0);
   p.reference_temperature_C = value(d, kReferenceTemperature, 20.0);
   p.gear_ratio = d.gear_ratio;
   p.joint_side = lawIsJointSide(p.law);
@@ -207,6 +211,9 @@ double effectTorque(const FrictionParams& p, Effect e, double motor_speed, doubl
     case Effect::Temperature:
       t = p.temperature_coefficient * (temperature_C - p.reference_temperature_C) * s;
       break;
+    case Effect::TemperatureViscous:  // the viscous term's change with the lubricant temperature
+      t = p.temperature_viscous_coefficient * (temperature_C - p.reference_temperature_C) * v;
+      break;
   }
   return t * side;
 }
@@ -223,7 +230,7 @@ double frictionTorque(const Drive& drive, double motor_speed, double load, doubl
 }
 
 FrictionDerivatives frictionDerivatives(const FrictionParams& p, double motor_speed, double load,
-                                        double /*temperature_C*/) {
+                                        double temperature_C) {
   const double side = p.joint_side ? 1.0 / p.gear_ratio : 1.0;
   const double v = motor_speed * side;
   const double s = sgn(v);
@@ -231,6 +238,8 @@ FrictionDerivatives frictionDerivatives(const FrictionParams& p, double motor_sp
   const double sL = sgn(load);
   double dv = 0, dL = 0;  // law-side derivatives of the law-side loss
   if (p.has(Effect::Viscous)) dv += p.viscous;
+  if (p.has(Effect::TemperatureViscous))
+    dv += p.temperature_viscous_coefficient * (temperature_C - p.reference_temperature_C);
   if (p.has(Effect::LoadCoulomb)) dL += p.load_coulomb * s * sL;
   if (p.has(Effect::LoadViscous)) {
     dv += p.load_viscous * L;

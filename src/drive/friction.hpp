@@ -22,6 +22,9 @@
 //                                                                 - direction c-d)
 //   temperature   temperature_coefficient k [N m/K | N/K],     k (theta - theta_ref) sgn(v)
 //                 reference_temperature theta_ref [deg C] (default 20, the catalog temperature)
+//   temperature_viscous                                        k_b (theta - theta_ref) v
+//                 temperature_viscous_coefficient k_b [N m s/(rad K) | N s/(m K)],
+//                 reference_temperature as above (the lubricant's viscosity falls as it warms)
 //
 // Laws: "harmonic_drive" (eq. 3.30: coulomb, load_coulomb, viscous, load_viscous), "stribeck"
 // (eq. 3.33: coulomb, load_coulomb, viscous, stribeck), "prismatic" (eq. 3.35: coulomb, viscous on
@@ -40,11 +43,13 @@ namespace armstudy::drive {
 
 enum class FrictionLaw { None, HarmonicDrive, Stribeck, Prismatic };
 
-enum class Effect { Coulomb, Viscous, LoadCoulomb, LoadViscous, Stribeck, Asymmetry, Temperature };
-inline constexpr int kEffectCount = 7;
+enum class Effect { Coulomb, Viscous, LoadCoulomb, LoadViscous, Stribeck, Asymmetry, Temperature, TemperatureViscous };
+inline constexpr int kEffectCount = 8;
 inline constexpr std::array<Effect, kEffectCount> kAllEffects = {
     Effect::Coulomb,  Effect::Viscous,   Effect::LoadCoulomb, Effect::LoadViscous,
-    Effect::Stribeck, Effect::Asymmetry, Effect::Temperature};
+    Effect::Stribeck, Effect::Asymmetry, Effect::Temperature, Effect::TemperatureViscous};
+// The effects that need a temperature (data column or operating temperature).
+inline bool isTemperatureEffect(Effect e) { return e == Effect::Temperature || e == Effect::TemperatureViscous; }
 
 const char* toString(FrictionLaw law);
 const char* toString(Effect effect);
@@ -68,6 +73,7 @@ struct FrictionParams {
   double stribeck_velocity = 1;         // v_S > 0
   double asymmetry = 0;                 // d
   double temperature_coefficient = 0;   // k
+  double temperature_viscous_coefficient = 0;  // k_b
   double reference_temperature_C = 20;  // theta_ref
   double gear_ratio = 1;                // N (maps motor to law side for joint-side laws)
   bool joint_side = false;

@@ -102,6 +102,8 @@ TEST_CASE("tcp: every hidden effect ranks first - its values lie in the interval
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTcpNoise_m);
+    for (int c = 0; c < P->channels(); ++c)  // issue 13: at the noise in every channel
+      CHECK(r.d.final_fit.channel_heldout[c].rmse <= kNoiseRatio * kTcpNoise_m);
     CHECK(r.d.as_designed_map.flagged() > 0);
     // The hidden (typical) values lie inside the reported 95 % intervals.
     const ArmEffect& info = P->catalogue[P->findEffect(h)];
@@ -225,6 +227,10 @@ TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the 
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTauNoise);
+    for (int c = 0; c < P->channels(); ++c) {  // issue 13: at the noise in every channel
+      INFO("channel " << P->channel_names[c] << " held-out " << r.d.final_fit.channel_heldout[c].rmse);
+      CHECK(r.d.final_fit.channel_heldout[c].rmse <= kNoiseRatio * kTauNoise);
+    }
     // Single-parameter effects (and the payload mass): the hidden value lies in the 95 % interval
     // (not for the Stribeck torque, whose interval is conditional on the profiled v_S grid value).
     const ArmEffect& info = P->catalogue[P->findEffect(h)];

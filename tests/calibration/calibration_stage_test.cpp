@@ -146,7 +146,7 @@ TEST_CASE("thesis study: catalog law vs the B.2 sample reproduces Tables 4.4/4.5
   // Metrics for baselines, and the manifest lists the stage's files.
   CHECK(rs.metrics.scalars.at("calibration/b2_friction/rmse_after") == e.rmse_after);
   CHECK(rs.metrics.scalars.at("calibration/b2_friction/added/stribeck") == 1.0);
-  CHECK(rs.metrics.flags.at("calibration/b2_friction/added") == std::vector<std::uint8_t>{0, 0, 0, 0, 1, 0, 0});
+  CHECK(rs.metrics.flags.at("calibration/b2_friction/added") == std::vector<std::uint8_t>{0, 0, 0, 0, 1, 0, 0, 0});
   const auto man = nlohmann::json::parse(readFileOrThrow((root / s.name / "manifest.json").string()));
   const auto files = man["files"].get<std::vector<std::string>>();
   CHECK(std::find(files.begin(), files.end(), "calibration/b2_friction/calibrated/result.json") != files.end());
