@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "io/design_io.hpp"
 #include "study/run.hpp"
 
@@ -24,12 +24,14 @@ void addDescribeCommand(CLI::App& app, Action& action) {
       "assumptions its author recorded. Validates the file on the way.");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("design", *path, "Design file (TOML), e.g. designs/final_prototype_9dof.toml")
+  auto src = std::make_shared<DesignSourceOptions>();
+  cmd->add_option("design", *path, "Design file (TOML or URDF), e.g. designs/final_prototype_9dof.toml")
       ->required();
+  addDesignSourceOptions(cmd, *src);
   cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
-  cmd->callback([&action, path, json] {
-    action = [path, json] {
-      const Model m = loadDesign(*path);
+  cmd->callback([&action, path, json, src] {
+    action = [path, json, src] {
+      const Model m = loadAnyDesign(*path, src->urdf());
       if (*json) {
         std::cout << modelToJson(m) << "\n";
         return 0;
@@ -53,6 +55,7 @@ void addDescribeCommand(CLI::App& app, Action& action) {
                   m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
       if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
       if (!m.inertias.empty()) std::printf("link inertias: given\n");
+      if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());
       if (!m.assumptions.empty()) {
         std::printf("\nassumptions (values the thesis does not give):\n");
         for (const auto& a : m.assumptions) std::printf("  - %s\n", a.c_str());

@@ -3,7 +3,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
@@ -21,9 +21,11 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
     std::string path;
     std::vector<double> q, qd, qdd, gravity;
     bool deg = false, json = false, no_payload = false, rotor = false, mass_matrix = false;
+    DesignSourceOptions src;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("design", a->path, "Design file (TOML)")->required();
+  cmd->add_option("design", a->path, "Design file (TOML, or URDF with --base/--tip)")->required();
+  addDesignSourceOptions(cmd, a->src);
   cmd->add_option("--q", a->q, "Joint positions, one per joint (m / rad, deg with --deg)")
       ->delimiter(',')
       ->required();
@@ -43,7 +45,9 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", a->json, "Machine-readable output");
   cmd->callback([&action, a] {
     action = [a] {
-      const Model m = loadDesign(a->path);
+      UrdfOptions uo = a->src.urdf();
+      uo.collision = false;
+      const Model m = loadAnyDesign(a->path, uo);
       const int n = m.dof();
       auto vec = [&](const std::vector<double>& v, const char* key) {
         Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
