@@ -275,7 +275,7 @@ struct LinkInBody {
 };
 
 void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file, const UrdfOptions& o,
-                  const XmlIndex& xml, std::vector<std::string>& warnings) {
+                  const XmlIndex& xml, std::vector<std::string>& warnings, std::string& mesh_hashes) {
   int idx = 0;
   for (const auto& c : lb.link->collision_array) {
     if (!c || !c->geometry) continue;
@@ -331,6 +331,7 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
                              me.filename + "': " + err);
           continue;
         }
+        mesh_hashes += me.filename + " " + fileHash(path) + "\n";
         const Vector3d scale(me.scale.x, me.scale.y, me.scale.z);
         tm.triangles = raw.triangles;
         for (const Vector3d& p : raw.vertices) tm.vertices.push_back(T * p.cwiseProduct(scale));
@@ -473,7 +474,6 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   Model m;
   m.name = sanitizeName(urdf->getName());
   m.file = file;
-  m.file_hash = contentHash(text);
   m.source = "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
   m.description = "Imported from " + file + " (robot '" + urdf->getName() + "')";
   info.base_link = base->name;
@@ -559,9 +559,12 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   }
   if (any_inertia) m.inertias = inertias;
 
+  std::string mesh_hashes;
   if (o.collision)
     for (std::size_t b = 0; b < bodies.size(); ++b)
-      for (const auto& lb : bodies[b]) addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings);
+      for (const auto& lb : bodies[b]) addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
+  // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
+  m.file_hash = contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
   if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
     throw InputError(file, xml.robot_line, "collision",
                      "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
@@ -31,6 +32,9 @@ namespace {
 constexpr double kUrdfOracleTolerance = 1e-9;
 constexpr double kKdlGravity = 9.81;
 constexpr int kRandomConfigurations = 20;
+// assimp holds meshes in single precision (ai_real = float): a vertex written as 30 cm in a DAE is
+// 0.30000001 m there. Vertices given in double by the test are inside to this tolerance.
+constexpr double kSinglePrecisionMesh_m = 1e-6;
 
 std::string robotsDir() { return ARMSTUDY_ROBOTS_DIR; }
 // The real arms must be there (CI has ../shared): a missing file fails the test, never skips it.
@@ -466,6 +470,123 @@ TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain
     }
     CHECK(d <= 1e-9);
   }
+}
+
+TEST_CASE("URDF OBJ mesh by relative path with scale and origin: every vertex inside, placed by KDL", "[urdf][collision]") {
+  // An L-shaped prism in millimetres (OBJ through assimp), on a link behind an oblique joint.
+  const fs::path dir = fs::path(tempPath("objarm")) ;
+  fs::create_directories(dir / "meshes");
+  const double P[12][3] = {{0, 0, 0},   {80, 0, 0},   {80, 20, 0},   {20, 20, 0},   {20, 120, 0},   {0, 120, 0},
+                           {0, 0, 30},  {80, 0, 30},  {80, 20, 30},  {20, 20, 30},  {20, 120, 30},  {0, 120, 30}};
+  std::ostringstream obj;
+  for (const auto& p : P) obj << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+  // bottom/top as fans, sides as quads (assimp triangulates)
+  obj << "f 1 6 5 4 3 2\nf 7 8 9 10 11 12\n";
+  for (int k = 0; k < 6; ++k) {
+    const int a = k + 1, b = (k + 1) % 6 + 1;
+    obj << "f " << a << " " << b << " " << b + 6 << " " << a + 6 << "\n";
+  }
+  writeText((dir / "meshes" / "part.obj").string(), obj.str());
+  const std::string urdf = R"(<robot name="objarm">
+  <link name="base"/>
+  <link name="l1"><collision><origin xyz="0.01 -0.02 0.05" rpy="0.3 -0.2 0.5"/>
+    <geometry><mesh filename="meshes/part.obj" scale="0.001 0.001 0.001"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.1" rpy="0 0.4 0"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>)";
+  const std::string f = (dir / "objarm.urdf").string();
+  writeText(f, urdf);
+  std::vector<std::string> warnings;
+  const Model m = importUrdf(f, chain("", "", true), nullptr, &warnings);
+  CHECK(warnings.empty());
+  REQUIRE(!m.collision.volumes.empty());
+  KDL::Chain c;
+  REQUIRE(kdlTreeFromFile(f).getChain("base", "l1", c));
+  KDL::ChainFkSolverPos_recursive fk(c);
+  KinematicsWorkspace ws(m);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 0.9);
+  forwardKinematics(m, ws, q);
+  KDL::Frame F;
+  REQUIRE(fk.JntToCart(toJnt(q), F) >= 0);
+  const Eigen::Isometry3d T_WC = fromKdl(F) * Eigen::Translation3d(0.01, -0.02, 0.05) *
+                                 Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());  // URDF rpy
+  double worst = -1;
+  for (const auto& p : P) {
+    const Eigen::Vector3d x = T_WC * (1e-3 * Eigen::Vector3d(p[0], p[1], p[2]));
+    double d = 1e9;
+    for (const auto& v : m.collision.volumes) {
+      collision::FittedSsv sv;
+      sv.type = v.type;
+      sv.radius_m = v.radius_m;
+      for (int k = 0; k < 3; ++k) sv.p[k] = ws.R_WF[0] * v.p_L[k] + ws.p_WF[0];
+      d = std::min(d, collision::ssvSignedDistance(sv, x));
+    }
+    worst = std::max(worst, d);
+  }
+  INFO("farthest OBJ vertex from the volumes' surface: " << worst);
+  CHECK(worst <= 1e-9);
+}
+
+TEST_CASE("URDF DAE mesh: unit scale applied, up axis ignored, every vertex inside", "[urdf][collision]") {
+  // A tetrahedron in centimetres with <up_axis>Y_UP</up_axis>: armstudy applies the unit (0.01)
+  // and ignores the up axis (assumption, as ROS tools do), so the vertices are 0.1 m along x,
+  // 0.2 m along y and 0.3 m along z of the link frame.
+  const fs::path dir = fs::path(tempPath("daearm"));
+  fs::create_directories(dir);
+  writeText((dir / "tri.dae").string(), std::string(R"DAE(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Y_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="g" name="g">
+      <mesh>
+        <source id="g-pos">
+          <float_array id="g-pos-array" count="12">0 0 0 10 0 0 0 20 0 0 0 30</float_array>
+          <technique_common><accessor source="#g-pos-array" count="4" stride="3">
+            <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+          </accessor></technique_common>
+        </source>
+        <vertices id="g-vtx"><input semantic="POSITION" source="#g-pos"/></vertices>
+        <triangles count="4"><input semantic="VERTEX" source="#g-vtx" offset="0"/>
+          <p>0 2 1 0 1 3 0 3 2 1 2 3</p></triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)DAE"));
+  writeText((dir / "a.urdf").string(), R"(<robot name="daearm">
+  <link name="base"/>
+  <link name="l1"><collision><geometry><mesh filename="tri.dae"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>)");
+  std::vector<std::string> warnings;
+  const Model m = importUrdf((dir / "a.urdf").string(), chain("", "", true), nullptr, &warnings);
+  CHECK(warnings.empty());
+  REQUIRE(!m.collision.volumes.empty());
+  const Eigen::Vector3d V[4] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.2, 0}, {0, 0, 0.3}};
+  double worst = -1, farthest_core = 0;
+  for (const auto& x : V) {  // q = 0: body frame = link frame (axis z)
+    double d = 1e9;
+    for (const auto& v : m.collision.volumes) {
+      collision::FittedSsv sv;
+      sv.type = v.type;
+      sv.radius_m = v.radius_m;
+      sv.p = v.p_L;
+      d = std::min(d, collision::ssvSignedDistance(sv, x));
+      for (int k = 0; k < static_cast<int>(v.type); ++k) farthest_core = std::max(farthest_core, v.p_L[k].norm());
+    }
+    worst = std::max(worst, d);
+  }
+  INFO("farthest DAE vertex from the volumes' surface: " << worst);
+  CHECK(worst <= kSinglePrecisionMesh_m);
+  CHECK(farthest_core < 0.3);  // metres, not centimetres
 }
 
 TEST_CASE("URDF missing mesh is a warning and that link gets no volume", "[urdf][collision]") {
