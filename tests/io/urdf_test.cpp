@@ -7,6 +7,7 @@
 #include <kdl_parser/kdl_parser.hpp>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -796,4 +797,51 @@ TEST_CASE("URDF keys on a TOML design in a study are an input error", "[urdf][st
   CHECK(e.file() == f);
   CHECK(e.line() == 5);
   CHECK_THAT(e.key(), Catch::Contains("tip_link"));
+}
+
+namespace {
+// Largest coordinate `axis` of the reachable extent of `design` on grid `grid` in a run's summary.
+double largestReach(const nlohmann::json& summary, const std::string& grid, const std::string& design,
+                    const std::string& axis) {
+  for (const auto& g : summary["reach"]["grids"])
+    if (g["name"] == grid)
+      for (const auto& d : g["designs"])
+        if (d["design"] == design) return d["extent"][axis][1].get<double>();
+  FAIL("no grid " << grid << " / design " << design << " in the summary");
+  return 0;
+}
+}  // namespace
+
+TEST_CASE("URDF studies run end to end and the largest reach found matches the datasheets", "[urdf][study]") {
+  // Datasheets: UR5 850 mm, Panda 855 mm (../shared/robots/README.md). The reach line runs at
+  // shoulder height; the UR5 flange point reaches beyond 850 mm there (its wrist offsets), the
+  // Panda's hand TCP is 0.1034 m beyond its flange.
+  constexpr double kUr5Datasheet_m = 0.850, kPandaDatasheet_m = 0.855, kPandaHandTcp_m = 0.1034;
+  constexpr double kPandaReachTolerance_m = 0.02;   // 5 mm grid + the definition of "reach"
+  constexpr double kUr5WristOffsets_m = 0.093 + 0.09465 + 0.0823;  // most the wrist can add
+  const std::string out_dir = tempPath("study_out");
+  std::string out;
+  for (const char* study : {"ur5_vs_first_prototype", "stem_heatmap_panda"}) {
+    INFO(study);
+    REQUIRE(test::runCommand(test::binaryPath() + " run " + test::sourcePath(std::string("studies/") + study + ".toml") +
+                                 " --threads 2 --overwrite --output " + out_dir,
+                             out) == 0);
+  }
+  nlohmann::json ur5s, pandas;
+  std::ifstream(out_dir + "/ur5_vs_first_prototype/summary.json") >> ur5s;
+  std::ifstream(out_dir + "/stem_heatmap_panda/summary.json") >> pandas;
+  const double ur5_reach = largestReach(ur5s, "reach_line", "ur5_flange", "x_m");
+  CHECK(ur5_reach >= kUr5Datasheet_m);
+  CHECK(ur5_reach <= kUr5Datasheet_m + kUr5WristOffsets_m);
+  const double panda_reach = largestReach(pandas, "reach_line", "panda", "y_m") - kPandaHandTcp_m;
+  CHECK(std::abs(panda_reach - kPandaDatasheet_m) < kPandaReachTolerance_m);
+  WARN("largest reach found: UR5 flange " << ur5_reach << " m (datasheet 0.850), Panda flange about " << panda_reach
+                                           << " m (datasheet 0.855)");
+  // Both arms were checked for self-collision with their own volumes on the Fig. 3.8 row.
+  for (const auto& g : ur5s["reach"]["grids"])
+    if (g["name"] == "fig3_8")
+      for (const auto& d : g["designs"]) CHECK(d["fraction"].get<double>() > 0.3);
+  std::ifstream report(out_dir + "/ur5_vs_first_prototype/report.md");
+  const std::string md((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  CHECK_THAT(md, Catch::Contains("Self-collision: on") && Catch::Contains("UR5 datasheet: reach 850 mm"));
 }
