@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -40,18 +41,20 @@ void addDescribeCommand(CLI::App& app, Action& action) {
       if (!m.description.empty()) std::printf("about    %s\n", m.description.c_str());
       if (!m.source.empty()) std::printf("source   %s\n", m.source.c_str());
       std::printf("file     %s  [%s]\n\n", m.file.c_str(), m.file_hash.c_str());
-      std::printf("%-3s %-12s %-9s %8s %8s %8s %9s %9s %9s   %-12s %-12s\n", "#", "joint", "type",
+      int w = 12;  // joint name column: wider for long (URDF) names
+      for (const Joint& j : m.joints) w = std::max(w, static_cast<int>(j.name.size()));
+      std::printf("%-3s %-*s %-9s %8s %8s %8s %9s %9s %9s   %-12s %-12s\n", "#", w, "joint", "type",
                   "x [m]", "y [m]", "z [m]", "alpha[deg]", "beta[deg]", "gamma[deg]", "min", "max");
       int i = 1;
       for (const Joint& j : m.joints) {
         const double d = 180.0 / M_PI;
-        std::printf("%-3d %-12s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++,
+        std::printf("%-3d %-*s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++, w,
                     j.name.c_str(), toString(j.type), j.offset.x, j.offset.y, j.offset.z,
                     j.offset.alpha * d, j.offset.beta * d, j.offset.gamma * d,
                     fmtQ(j, j.limits.q_min).c_str(), fmtQ(j, j.limits.q_max).c_str());
       }
       const double d = 180.0 / M_PI;
-      std::printf("tcp %-22s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", "(from last frame)", m.tcp.x,
+      std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)", m.tcp.x,
                   m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
       if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
       if (!m.inertias.empty()) std::printf("link inertias: given\n");

@@ -15,6 +15,7 @@
 #include <random>
 #include <sstream>
 
+#include "collision/collision.hpp"
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
@@ -844,4 +845,39 @@ TEST_CASE("URDF studies run end to end and the largest reach found matches the d
   std::ifstream report(out_dir + "/ur5_vs_first_prototype/report.md");
   const std::string md((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
   CHECK_THAT(md, Catch::Contains("Self-collision: on") && Catch::Contains("UR5 datasheet: reach 850 mm"));
+}
+
+TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no permanent contact", "[urdf][collision]") {
+  // The pairs touching at q = 0 (clamped) become allowed pairs (assumption, docs/design-format.md);
+  // every other pair must be free in the home posture and somewhere in a random sample, or the
+  // import left a structural contact in the self-collision check.
+  const std::pair<std::string, UrdfOptions> arms[] = {{ur5(), chain("base_link", "tool0", true)},
+                                                      {panda(), chain("panda_link0", "panda_hand", true)}};
+  std::mt19937_64 rng(5);
+  for (const auto& [file, o] : arms) {
+    const Model m = importUrdf(file, o);
+    INFO(m.name);
+    REQUIRE(!m.collision.empty());
+    KinematicsWorkspace kin(m);
+    collision::CollisionWorkspace ws(m);
+    REQUIRE(ws.num_self > 0);
+    std::vector<bool> free(ws.num_self, false);
+    for (int s = 0; s < 2000; ++s) {
+      Eigen::VectorXd q = test::randomConfiguration(m, rng);
+      if (s == 0)
+        for (int i = 0; i < m.dof(); ++i) q[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
+      forwardKinematics(m, kin, q);
+      collision::collisionDistances(m, kin, {}, ws);
+      if (s == 0) {
+        INFO("home posture");
+        CHECK(collision::minSelfDistance(ws) > 0);
+      }
+      for (int i = 0; i < ws.num_self; ++i)
+        if (ws.self[i].distance_m > 0) free[i] = true;
+    }
+    for (int i = 0; i < ws.num_self; ++i) {
+      INFO(collision::pairName(m, ws.self[i], false));
+      CHECK(free[i]);
+    }
+  }
 }
