@@ -11,8 +11,10 @@ void addConvertCommand(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
       "convert",
       "Convert a design between URDF and the design TOML format, by the extensions of IN and OUT:\n"
-      ".urdf -> .toml (the chain --base .. --tip, with inertias, limits and collision volumes fitted\n"
-      "to the links' collision geometry) or .toml -> .urdf (kinematics, inertias, limits; docs/design-format.md).\n"
+      ".urdf -> .toml (the chain --base .. --tip, with inertias, limits and collision volumes "
+      "fitted\n"
+      "to the links' collision geometry) or .toml -> .urdf (kinematics, inertias, limits; "
+      "docs/design-format.md).\n"
       "Joint values keep their meaning both ways.\n"
       "Example: armstudy convert ur5_robot.urdf ur5.toml --base base_link --tip tool0\n"
       "         armstudy convert designs/final_prototype_7dof.toml final_7dof.urdf");

@@ -1,31 +1,32 @@
 #include "io/urdf_io.hpp"
 
-#include <tinyxml.h>
-
-#include <Eigen/Geometry>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <algorithm>
-#include <cmath>
 #include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
-#include <urdf_parser/urdf_parser.h>
 
 #include "collision/collision.hpp"
 #include "collision/ssv_fit.hpp"
-#include "kinematics/kinematics.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "kinematics/kinematics.hpp"
 
 namespace armstudy {
 namespace fs = std::filesystem;
 
-std::pair<std::string, std::string> parsePackageOption(const std::string& text, const std::string& option) {
+std::pair<std::string, std::string> parsePackageOption(const std::string& text,
+                                                       const std::string& option) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
     throw InputError(option, 0, "package", "expected NAME=DIR, got '" + text + "'");
@@ -59,9 +60,9 @@ struct XmlIndex {
   std::map<std::string, int> links, joints;  // element name -> line
 };
 
-const char* kNumericAttributes[] = {"xyz", "rpy", "value", "lower", "upper", "effort", "velocity",
-                                    "ixx", "ixy", "ixz", "iyy", "iyz", "izz", "radius", "length",
-                                    "size", "scale", "multiplier", "offset"};
+const char* kNumericAttributes[] = {
+    "xyz", "rpy", "value", "lower",  "upper",  "effort", "velocity", "ixx",        "ixy",   "ixz",
+    "iyy", "iyz", "izz",   "radius", "length", "size",   "scale",    "multiplier", "offset"};
 
 std::string elementLabel(const TiXmlElement* e) {
   const char* name = e->Attribute("name");
@@ -98,7 +99,8 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
   TiXmlDocument doc;
   doc.Parse(text.c_str());
   if (doc.Error())
-    throw InputError(file, doc.ErrorRow(), "xml", std::string("not well-formed XML: ") + doc.ErrorDesc());
+    throw InputError(file, doc.ErrorRow(), "xml",
+                     std::string("not well-formed XML: ") + doc.ErrorDesc());
   const TiXmlElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw InputError(file, 1, "robot", "no <robot> element: not a URDF file");
   XmlIndex out;
@@ -106,14 +108,16 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
   struct {
     std::map<std::string, const TiXmlElement*> links, joints;
   } idx;
-  static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"};
+  static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic",
+                                               "fixed",    "floating",   "planar"};
   for (const TiXmlElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string tag = e->Value();
     if (tag != "link" && tag != "joint") continue;
     const char* name = e->Attribute("name");
     if (!name) throw InputError(file, e->Row(), tag, "<" + tag + "> without a name");
     auto& map = tag == "link" ? idx.links : idx.joints;
-    if (map.count(name)) throw InputError(file, e->Row(), elementLabel(e), tag + " name '" + name + "' is used twice");
+    if (map.count(name))
+      throw InputError(file, e->Row(), elementLabel(e), tag + " name '" + name + "' is used twice");
     map[name] = e;
   }
   for (const auto& [name, e] : idx.joints) {
@@ -126,7 +130,9 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
     for (const char* role : {"parent", "child"}) {
       const TiXmlElement* r = e->FirstChildElement(role);
       const char* link = r ? r->Attribute("link") : nullptr;
-      if (!link) throw InputError(file, e->Row(), label + "/" + role, std::string("joint has no <") + role + " link=...>");
+      if (!link)
+        throw InputError(file, e->Row(), label + "/" + role,
+                         std::string("joint has no <") + role + " link=...>");
       if (!idx.links.count(link))
         throw InputError(file, r->Row(), label + "/" + role,
                          std::string(role) + " link '" + link + "' is not defined in this file");
@@ -140,8 +146,8 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
     const std::string child = e->FirstChildElement("child")->Attribute("link");
     if (parent_of.count(child))
       throw InputError(file, e->Row(), elementLabel(e),
-                       "link '" + child + "' has two parent joints ('" + parent_of[child] + "' and '" + name +
-                           "'): a URDF is a tree");
+                       "link '" + child + "' has two parent joints ('" + parent_of[child] +
+                           "' and '" + name + "'): a URDF is a tree");
     parent_of[child] = name;
   }
   for (const auto& [link, joint] : parent_of) {
@@ -151,7 +157,8 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
       const TiXmlElement* j = idx.joints.at(parent_of[cur]);
       cur = j->FirstChildElement("parent")->Attribute("link");
       if (!seen.insert(cur).second)
-        throw InputError(file, j->Row(), elementLabel(j), "the joints form a cycle through link '" + cur + "'");
+        throw InputError(file, j->Row(), elementLabel(j),
+                         "the joints form a cycle through link '" + cur + "'");
     }
   }
   for (const auto& [name, e] : idx.links) out.links[name] = e->Row();
@@ -161,7 +168,8 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
 
 Isometry3d toIso(const urdf::Pose& p) {
   Isometry3d T = Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).toRotationMatrix();
+  T.linear() =
+      Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).toRotationMatrix();
   T.translation() = Vector3d(p.position.x, p.position.y, p.position.z);
   return T;
 }
@@ -187,19 +195,23 @@ Matrix3d axisFrame(const Vector3d& a) {
 
 std::string sanitizeName(const std::string& s) {
   std::string o;
-  for (char c : s) o += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
+  for (char c : s)
+    o +=
+        (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
   return o.empty() ? "urdf_robot" : o;
 }
 
 // package://NAME/rest: --package NAME=DIR first, then the folders above the URDF file (the first
 // A with A/rest or A/NAME/rest). file:// URIs are absolute, plain names relative to the URDF.
-std::string resolveMesh(const std::string& uri, const std::string& urdf_file, const UrdfOptions& o) {
+std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
+                        const UrdfOptions& o) {
   const fs::path urdf_dir = fs::absolute(fs::path(urdf_file)).parent_path();
   const std::string pkg = "package://", file = "file://";
   if (uri.rfind(pkg, 0) == 0) {
     const std::string s = uri.substr(pkg.size());
     const auto slash = s.find('/');
-    const std::string name = s.substr(0, slash), rest = slash == std::string::npos ? "" : s.substr(slash + 1);
+    const std::string name = s.substr(0, slash),
+                      rest = slash == std::string::npos ? "" : s.substr(slash + 1);
     for (const auto& [n, dir] : o.packages)
       if (n == name) return (fs::path(dir) / rest).string();
     for (fs::path a = urdf_dir; !a.empty(); a = a.parent_path()) {
@@ -228,7 +240,8 @@ bool loadMesh(const std::string& path, collision::TriangleMesh& out, std::string
     error = std::string("assimp cannot read it: ") + imp.GetErrorString();
     return false;
   }
-  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{sc->mRootNode, sc->mRootNode->mTransformation}};
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{
+      {sc->mRootNode, sc->mRootNode->mTransformation}};
   while (!stack.empty()) {
     auto [node, T] = stack.back();
     stack.pop_back();
@@ -274,12 +287,14 @@ struct LinkInBody {
   Isometry3d T_FL;
 };
 
-void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file, const UrdfOptions& o,
-                  const XmlIndex& xml, std::vector<std::string>& warnings, std::string& mesh_hashes) {
+void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
+                  const UrdfOptions& o, const XmlIndex& xml, std::vector<std::string>& warnings,
+                  std::string& mesh_hashes) {
   int idx = 0;
   for (const auto& c : lb.link->collision_array) {
     if (!c || !c->geometry) continue;
-    const std::string name = lb.link->name + (lb.link->collision_array.size() > 1 ? "_c" + std::to_string(idx) : "");
+    const std::string name =
+        lb.link->name + (lb.link->collision_array.size() > 1 ? "_c" + std::to_string(idx) : "");
     ++idx;
     const Isometry3d T = lb.T_FL * toIso(c->origin);
     const int line = xml.links.count(lb.link->name) ? xml.links.at(lb.link->name) : 0;
@@ -314,7 +329,8 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
       case urdf::Geometry::BOX: {
         const auto& b = static_cast<const urdf::Box&>(*c->geometry);
         for (int k = 0; k < 8; ++k)
-          tm.vertices.push_back(T * Vector3d((k & 1 ? 0.5 : -0.5) * b.dim.x, (k & 2 ? 0.5 : -0.5) * b.dim.y,
+          tm.vertices.push_back(T * Vector3d((k & 1 ? 0.5 : -0.5) * b.dim.x,
+                                             (k & 2 ? 0.5 : -0.5) * b.dim.y,
                                              (k & 4 ? 0.5 : -0.5) * b.dim.z));
         // 12 triangles of the box (corner k has bit 0 = +x, bit 1 = +y, bit 2 = +z)
         tm.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
@@ -327,8 +343,8 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
         std::string err = path.empty() ? "package not found (give --package NAME=DIR)" : "";
         collision::TriangleMesh raw;
         if (path.empty() || !loadMesh(path, raw, err)) {
-          warnings.push_back("URDF import: link '" + lb.link->name + "' gets no collision volume from mesh '" +
-                             me.filename + "': " + err);
+          warnings.push_back("URDF import: link '" + lb.link->name +
+                             "' gets no collision volume from mesh '" + me.filename + "': " + err);
           continue;
         }
         mesh_hashes += me.filename + " " + fileHash(path) + "\n";
@@ -344,7 +360,8 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
     fo.max_volumes = defaults::kUrdfSsvMaxVolumesPerMesh;
     const std::size_t before = m.collision.volumes.size();
     addFitted(m, body, name, collision::fitSsvs(tm, fo));
-    for (std::size_t k = before; k < m.collision.volumes.size(); ++k) m.collision.volumes[k].source_line = line;
+    for (std::size_t k = before; k < m.collision.volumes.size(); ++k)
+      m.collision.volumes[k].source_line = line;
   }
 }
 
@@ -385,8 +402,8 @@ LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
 
 }  // namespace
 
-Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o, UrdfInfo* info_out,
-                     std::vector<std::string>* warnings_out) {
+Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
+                     UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
   UrdfInfo info;
   const XmlIndex xml = indexAndCheck(text, file);
   CaptureHandler capture;
@@ -410,26 +427,36 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
         const auto b = s.find(']', a);
         if (b == std::string::npos) break;
         const std::string n = s.substr(a + 1, b - a - 1);
-        if (xml.joints.count(n)) line = xml.joints.at(n), key = "joint '" + n + "'";
-        else if (xml.links.count(n)) line = xml.links.at(n), key = "link '" + n + "'";
+        if (xml.joints.count(n))
+          line = xml.joints.at(n), key = "joint '" + n + "'";
+        else if (xml.links.count(n))
+          line = xml.links.at(n), key = "link '" + n + "'";
       }
     throw InputError(file, line, key, msg);
   }
-  auto jointLine = [&](const std::string& n) { return xml.joints.count(n) ? xml.joints.at(n) : xml.robot_line; };
-  auto linkLine = [&](const std::string& n) { return xml.links.count(n) ? xml.links.at(n) : xml.robot_line; };
+  auto jointLine = [&](const std::string& n) {
+    return xml.joints.count(n) ? xml.joints.at(n) : xml.robot_line;
+  };
+  auto linkLine = [&](const std::string& n) {
+    return xml.links.count(n) ? xml.links.at(n) : xml.robot_line;
+  };
 
   // --- the chain ---
   const urdf::LinkConstSharedPtr root = urdf->getRoot();
   urdf::LinkConstSharedPtr base = root;
   if (!o.base_link.empty()) {
     base = urdf->getLink(o.base_link);
-    if (!base) throw InputError(file, xml.robot_line, "base_link", "no link named '" + o.base_link + "' (--base)");
+    if (!base)
+      throw InputError(file, xml.robot_line, "base_link",
+                       "no link named '" + o.base_link + "' (--base)");
   }
   auto isMovable = [](const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; };
   urdf::LinkConstSharedPtr tip;
   if (!o.tip_link.empty()) {
     tip = urdf->getLink(o.tip_link);
-    if (!tip) throw InputError(file, xml.robot_line, "tip_link", "no link named '" + o.tip_link + "' (--tip)");
+    if (!tip)
+      throw InputError(file, xml.robot_line, "tip_link",
+                       "no link named '" + o.tip_link + "' (--tip)");
   } else {
     // The end of the longest chain of movable joints below the base, when unique.
     int best = 0;
@@ -457,7 +484,8 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
       for (const auto& c : candidates) list += (list.empty() ? "" : ", ") + c;
       throw InputError(file, xml.robot_line, "tip_link",
                        "the longest chains of movable joints (" + std::to_string(best) +
-                           ") end in several links: " + list + "; choose one with --tip (tip_link in a study)");
+                           ") end in several links: " + list +
+                           "; choose one with --tip (tip_link in a study)");
     }
     tip = urdf->getLink(candidates.front());
   }
@@ -474,13 +502,15 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   Model m;
   m.name = sanitizeName(urdf->getName());
   m.file = file;
-  m.source = "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
+  m.source =
+      "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
   m.description = "Imported from " + file + " (robot '" + urdf->getName() + "')";
   info.base_link = base->name;
   info.tcp_link = tip->name;
   std::vector<std::string> warnings;
 
-  std::vector<std::vector<LinkInBody>> bodies(1);  // bodies[0] = base, bodies[i + 1] = after joint i
+  std::vector<std::vector<LinkInBody>> bodies(
+      1);  // bodies[0] = base, bodies[i + 1] = after joint i
   bodies[0].push_back({base, Isometry3d::Identity()});
   std::set<std::string> on_chain{base->name};
   Isometry3d T_acc = Isometry3d::Identity();  // current body frame F -> current link frame L
@@ -496,13 +526,16 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
     if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS &&
         j->type != urdf::Joint::PRISMATIC)
       throw InputError(file, jointLine(j->name), jl,
-                       "joint type on the chain is not supported (floating and planar joints are not serial-arm joints)");
+                       "joint type on the chain is not supported (floating and planar joints are "
+                       "not serial-arm joints)");
     if (j->mimic)
-      throw InputError(file, jointLine(j->name), jl + "/mimic",
-                       "mimic joints on the chain are not supported (the joint would not be independent); "
-                       "choose another --tip");
+      throw InputError(
+          file, jointLine(j->name), jl + "/mimic",
+          "mimic joints on the chain are not supported (the joint would not be independent); "
+          "choose another --tip");
     Vector3d a(j->axis.x, j->axis.y, j->axis.z);
-    if (!(a.norm() > 1e-12)) throw InputError(file, jointLine(j->name), jl + "/axis", "joint axis is zero");
+    if (!(a.norm() > 1e-12))
+      throw InputError(file, jointLine(j->name), jl + "/axis", "joint axis is zero");
     a.normalize();
     Isometry3d R_a = Isometry3d::Identity();
     R_a.linear() = axisFrame(a);
@@ -519,7 +552,8 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
       J.limits.q_max = defaults::kContinuousJointRange_rad;
     } else {
       if (!j->limits)
-        throw InputError(file, jointLine(j->name), jl + "/limit", "revolute and prismatic joints need <limit>");
+        throw InputError(file, jointLine(j->name), jl + "/limit",
+                         "revolute and prismatic joints need <limit>");
       J.limits.q_min = j->limits->lower;
       J.limits.q_max = j->limits->upper;
       if (!(J.limits.q_min < J.limits.q_max))
@@ -540,15 +574,18 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
     throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
                      "no movable joint between '" + base->name + "' and '" + tip->name + "'");
   if (m.dof() > defaults::kMaxDof)
-    throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
-                     "more than " + std::to_string(defaults::kMaxDof) + " movable joints are not supported");
+    throw InputError(
+        file, linkLine(tip->name), "link '" + tip->name + "'",
+        "more than " + std::to_string(defaults::kMaxDof) + " movable joints are not supported");
   m.tcp = poseFromIso(T_acc);
 
   // Branches off the chain are ignored (fingers, sensors, tool frames).
   for (const auto& [name, link] : urdf->links_)
-    if (!on_chain.count(name) && link->parent_joint && on_chain.count(link->parent_joint->parent_link_name))
-      warnings.push_back("URDF import: branch at link '" + name + "' (joint '" + link->parent_joint->name +
-                         "') is off the chain " + base->name + " -> " + tip->name + " and ignored");
+    if (!on_chain.count(name) && link->parent_joint &&
+        on_chain.count(link->parent_joint->parent_link_name))
+      warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
+                         link->parent_joint->name + "') is off the chain " + base->name + " -> " +
+                         tip->name + " and ignored");
 
   // Inertias: the body after joint i carries its link and the links folded onto it.
   bool any_inertia = false;
@@ -562,12 +599,14 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   std::string mesh_hashes;
   if (o.collision)
     for (std::size_t b = 0; b < bodies.size(); ++b)
-      for (const auto& lb : bodies[b]) addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
+      for (const auto& lb : bodies[b])
+        addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
   // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
   m.file_hash = contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
   if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
-    throw InputError(file, xml.robot_line, "collision",
-                     "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");
+    throw InputError(
+        file, xml.robot_line, "collision",
+        "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");
 
   m.finalize();
   if (!m.collision.empty()) {
@@ -575,7 +614,8 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
     // reference configuration (q = 0 clamped into the limits) touch by construction; they become
     // [[collision_allowed]] pairs, so a self-collision check reports real contacts only.
     Eigen::VectorXd q_ref(m.dof());
-    for (int i = 0; i < m.dof(); ++i) q_ref[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
+    for (int i = 0; i < m.dof(); ++i)
+      q_ref[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
     KinematicsWorkspace kin(m);
     forwardKinematics(m, kin, q_ref);
     collision::CollisionWorkspace cws(m);
@@ -584,19 +624,24 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
     for (int k = 0; k < cws.num_self; ++k) {
       const collision::PairDistance& p = cws.self[k];
       if (p.distance_m > 0) continue;
-      m.collision.allowed_pairs.push_back({std::min(p.link_a, p.link_b), std::max(p.link_a, p.link_b)});
+      m.collision.allowed_pairs.push_back(
+          {std::min(p.link_a, p.link_b), std::max(p.link_a, p.link_b)});
       allowed.push_back(collision::pairName(m, p, false));
     }
     if (!allowed.empty()) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      m.assumptions.push_back("URDF import: body pairs whose volumes touch at q = 0 (clamped into the limits) are "
-                              "allowed to touch: " + list);
+      m.assumptions.push_back(
+          "URDF import: body pairs whose volumes touch at q = 0 (clamped into the limits) are "
+          "allowed to touch: " +
+          list);
     }
   }
-  m.assumptions.push_back("URDF import: joint values are the URDF's (about/along each URDF axis); body frame i "
-                          "is the URDF child link frame rotated so that its z axis is the joint axis");
-  m.assumptions.push_back("URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
+  m.assumptions.push_back(
+      "URDF import: joint values are the URDF's (about/along each URDF axis); body frame i "
+      "is the URDF child link frame rotated so that its z axis is the joint axis");
+  m.assumptions.push_back(
+      "URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
   m.assumptions.push_back("URDF import: collision meshes and boxes are fitted with at most " +
                           std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
                           " swept-sphere volumes each, cylinders become capsules, spheres points");
@@ -607,7 +652,8 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   return m;
 }
 
-Model importUrdf(const std::string& path, const UrdfOptions& o, UrdfInfo* info, std::vector<std::string>* warnings) {
+Model importUrdf(const std::string& path, const UrdfOptions& o, UrdfInfo* info,
+                 std::vector<std::string>* warnings) {
   return importUrdfText(readFileOrThrow(path), path, o, info, warnings);
 }
 
@@ -620,24 +666,31 @@ std::string fmt(double v) {
 std::string vec(const Vector3d& v) { return fmt(v.x()) + " " + fmt(v.y()) + " " + fmt(v.z()); }
 std::string origin(const Isometry3d& T) {
   const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
-  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) + " " +
-         fmt(ypr[0]) + "\"/>";
+  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
+         " " + fmt(ypr[0]) + "\"/>";
 }
 std::string xmlEscape(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
   }
   return o;
 }
 std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
-  return "    <inertial>\n      <origin xyz=\"" + vec(c) + "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) +
-         "\"/>\n      <inertia ixx=\"" + fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) +
-         "\" iyy=\"" + fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) + "\"/>\n    </inertial>\n";
+  return "    <inertial>\n      <origin xyz=\"" + vec(c) +
+         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) + "\"/>\n      <inertia ixx=\"" +
+         fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) + "\" iyy=\"" +
+         fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) +
+         "\"/>\n    </inertial>\n";
 }
 }  // namespace
 
@@ -655,28 +708,35 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
     const std::string& l = has_joint_info ? info.joints[i].link : std::string();
     links.push_back(unique(l.empty() ? m.joints[i].name + "_link" : l));
   }
-  const bool tcp_is_last =
-      isIdentity(m.T_NT) && m.payload_kg == 0 && (info.tcp_link.empty() || info.tcp_link == links.back());
-  const std::string tcp = tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
+  const bool tcp_is_last = isIdentity(m.T_NT) && m.payload_kg == 0 &&
+                           (info.tcp_link.empty() || info.tcp_link == links.back());
+  const std::string tcp =
+      tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
   o << "<?xml version=\"1.0\"?>\n<!-- Written by armstudy from design '" << xmlEscape(m.name)
-    << "' (docs/design-format.md, \"URDF\"). Not exported: drives, model effects, collision volumes. -->\n";
+    << "' (docs/design-format.md, \"URDF\"). Not exported: drives, model effects, collision "
+       "volumes. -->\n";
   o << "<robot name=\"" << xmlEscape(m.name) << "\">\n";
   if (!isIdentity(m.T_WB)) {
     const std::string world = unique("world");
     o << "  <link name=\"" << world << "\"/>\n  <joint name=\"" << unique(world + "_joint")
-      << "\" type=\"fixed\">\n    <parent link=\"" << world << "\"/>\n    <child link=\"" << xmlEscape(base)
-      << "\"/>\n    " << origin(m.T_WB) << "\n  </joint>\n";
+      << "\" type=\"fixed\">\n    <parent link=\"" << world << "\"/>\n    <child link=\""
+      << xmlEscape(base) << "\"/>\n    " << origin(m.T_WB) << "\n  </joint>\n";
   }
   o << "  <link name=\"" << xmlEscape(base) << "\"/>\n";
   for (int i = 0; i < m.dof(); ++i) {
     const Joint& j = m.joints[i];
     const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
-    const char* type = j.type == JointType::Prismatic ? "prismatic" : ji.continuous ? "continuous" : "revolute";
-    o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type << "\">\n    <parent link=\""
-      << xmlEscape(i == 0 ? base : links[i - 1]) << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    "
-      << origin(j.T_PJ0) << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
-    if (!ji.continuous) o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
-    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max) << "\"/>\n  </joint>\n";
+    const char* type = j.type == JointType::Prismatic ? "prismatic"
+                       : ji.continuous                ? "continuous"
+                                                      : "revolute";
+    o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type
+      << "\">\n    <parent link=\"" << xmlEscape(i == 0 ? base : links[i - 1])
+      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(j.T_PJ0)
+      << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
+    if (!ji.continuous)
+      o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
+    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
+      << "\"/>\n  </joint>\n";
     o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
     if (!m.inertias.empty() && m.inertias[i].given)
       o << inertial(m.inertias[i].mass_kg, m.inertias[i].p_com_m, m.inertias[i].I_com_kgm2);
@@ -684,8 +744,8 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
   }
   if (!tcp_is_last) {
     o << "  <joint name=\"" << unique(tcp + "_joint") << "\" type=\"fixed\">\n    <parent link=\""
-      << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    " << origin(m.T_NT)
-      << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
+      << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    "
+      << origin(m.T_NT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
     if (m.payload_kg > 0) o << inertial(m.payload_kg, m.p_payload_com_T, Matrix3d::Zero());
     o << "  </link>\n";
   }

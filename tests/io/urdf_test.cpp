@@ -1,17 +1,16 @@
 // URDF in and out (issue 14). Oracle: orocos-kdl built from the same URDF by kdl_parser (an
 // independent URDF implementation), never armstudy's own reading of the file.
+#include <catch2/catch.hpp>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
 #include <kdl_parser/kdl_parser.hpp>
-
-#include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
-#include <cstdint>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -115,7 +114,8 @@ Errors compareWithKdl(const Model& m, const KDL::Chain& chain, bool dynamics, st
     KDL::Jacobian J(chain.getNrOfJoints());
     REQUIRE(jac.JntToJac(toJnt(q), J) >= 0);
     for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < m.dof(); ++c) e.jac = std::max(e.jac, std::abs(J(r, c) - ws.J_W_tcp(r, c)));
+      for (int c = 0; c < m.dof(); ++c)
+        e.jac = std::max(e.jac, std::abs(J(r, c) - ws.J_W_tcp(r, c)));
     if (dynamics) {
       Eigen::VectorXd qd(m.dof()), qdd(m.dof()), tau(m.dof());
       for (int i = 0; i < m.dof(); ++i) qd[i] = u(rng), qdd[i] = 2 * u(rng);
@@ -130,17 +130,20 @@ Errors compareWithKdl(const Model& m, const KDL::Chain& chain, bool dynamics, st
   return e;
 }
 
-void checkAgainstKdl(const std::string& file, const std::string& base, const std::string& tip, int dof) {
+void checkAgainstKdl(const std::string& file, const std::string& base, const std::string& tip,
+                     int dof) {
   const Model m = importUrdf(file, chain(base, tip));
   REQUIRE(m.dof() == dof);
   const KdlOracle kdl(kdlTreeFromFile(file), base, tip);
   const Errors e = compareWithKdl(m, kdl.chain, true, 14);
-  INFO(file << " " << base << " -> " << tip << ": max |FK| " << e.fk << ", |J| " << e.jac << ", |ID| " << e.id);
+  INFO(file << " " << base << " -> " << tip << ": max |FK| " << e.fk << ", |J| " << e.jac
+            << ", |ID| " << e.id);
   CHECK(e.fk < kUrdfOracleTolerance);
   CHECK(e.jac < kUrdfOracleTolerance);
   CHECK(e.id < kUrdfOracleTolerance);
-  WARN("max error vs KDL (" << fs::path(file).filename().string() << ", " << base << " -> " << tip << "): FK " << e.fk
-                            << ", Jacobian " << e.jac << ", inverse dynamics " << e.id << " N m");
+  WARN("max error vs KDL (" << fs::path(file).filename().string() << ", " << base << " -> " << tip
+                            << "): FK " << e.fk << ", Jacobian " << e.jac << ", inverse dynamics "
+                            << e.id << " N m");
 }
 
 template <class Fn>
@@ -156,7 +159,8 @@ InputError expectInputError(Fn fn) {
 
 // A small valid arm: base -> j1 (revolute about x) -> j2 (prismatic along y) -> tool (fixed).
 std::string smallArm(const std::string& j1_extra = "", const std::string& j1_type = "revolute",
-                     const std::string& j1_origin = "0 0 0.1", const std::string& j2_parent = "l1") {
+                     const std::string& j1_origin = "0 0 0.1",
+                     const std::string& j2_parent = "l1") {
   return R"(<?xml version="1.0"?>
 <robot name="small">
   <link name="base"/>
@@ -168,14 +172,18 @@ std::string smallArm(const std::string& j1_extra = "", const std::string& j1_typ
     <collision><origin xyz="0 0 0.03" rpy="1.5707963267948966 0 0"/><geometry><cylinder radius="0.02" length="0.06"/></geometry></collision>
     <collision><geometry><sphere radius="0.03"/></geometry></collision></link>
   <link name="tool"/>
-  <joint name="j1" type=")" + j1_type + R"(">
+  <joint name="j1" type=")" +
+         j1_type + R"(">
     <parent link="base"/><child link="l1"/>
-    <origin xyz=")" + j1_origin + R"(" rpy="0 0.3 0"/>
+    <origin xyz=")" +
+         j1_origin + R"(" rpy="0 0.3 0"/>
     <axis xyz="1 0 0"/>
-    <limit lower="-2" upper="2" effort="20" velocity="1.5"/>)" + j1_extra + R"(
+    <limit lower="-2" upper="2" effort="20" velocity="1.5"/>)" +
+         j1_extra + R"(
   </joint>
   <joint name="j2" type="prismatic">
-    <parent link=")" + j2_parent + R"("/><child link="l2"/>
+    <parent link=")" +
+         j2_parent + R"("/><child link="l2"/>
     <origin xyz="0 0 0.2" rpy="0.4 0 -0.2"/>
     <axis xyz="0 -0.6 0.8"/>
     <limit lower="-0.1" upper="0.3" effort="100" velocity="0.2"/>
@@ -189,18 +197,19 @@ std::string smallArm(const std::string& j1_extra = "", const std::string& j1_typ
 }
 
 std::string tempPath(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
   fs::create_directories(d);
   return (d / name).string();
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 }  // namespace
 
-TEST_CASE("URDF UR5 base_link to tool0: FK, TCP Jacobian and inverse dynamics match kdl_parser to 1e-9", "[urdf]") {
+TEST_CASE(
+    "URDF UR5 base_link to tool0: FK, TCP Jacobian and inverse dynamics match kdl_parser to 1e-9",
+    "[urdf]") {
   checkAgainstKdl(ur5(), "base_link", "tool0", 6);
 }
 
@@ -220,15 +229,19 @@ TEST_CASE("URDF UR5 default chain is world to wrist_3_link and matches KDL", "[u
   CHECK(m.joints[0].limits.qd_max == 3.15);
 }
 
-TEST_CASE("URDF Panda panda_link0 to panda_hand: FK, TCP Jacobian and inverse dynamics match kdl_parser", "[urdf]") {
+TEST_CASE(
+    "URDF Panda panda_link0 to panda_hand: FK, TCP Jacobian and inverse dynamics match kdl_parser",
+    "[urdf]") {
   checkAgainstKdl(panda(), "panda_link0", "panda_hand", 7);
 }
 
-TEST_CASE("URDF Panda to the left finger: a prismatic joint along y on the chain matches KDL", "[urdf]") {
+TEST_CASE("URDF Panda to the left finger: a prismatic joint along y on the chain matches KDL",
+          "[urdf]") {
   checkAgainstKdl(panda(), "panda_link0", "panda_leftfinger", 8);
 }
 
-TEST_CASE("URDF small arm with oblique axes, rotated inertial origin and fixed tool matches KDL", "[urdf]") {
+TEST_CASE("URDF small arm with oblique axes, rotated inertial origin and fixed tool matches KDL",
+          "[urdf]") {
   const std::string f = tempPath("small.urdf");
   writeText(f, smallArm());
   checkAgainstKdl(f, "base", "tool", 2);
@@ -243,7 +256,8 @@ TEST_CASE("URDF Panda default tip is ambiguous: the error lists both fingers", "
   const InputError e = expectInputError([&] { importUrdf(panda(), o); });
   CHECK(e.file() == panda());
   CHECK(e.key() == "tip_link");
-  CHECK_THAT(e.message(), Catch::Contains("panda_leftfinger") && Catch::Contains("panda_rightfinger"));
+  CHECK_THAT(e.message(),
+             Catch::Contains("panda_leftfinger") && Catch::Contains("panda_rightfinger"));
 }
 
 TEST_CASE("URDF import notes the branches off the chain", "[urdf]") {
@@ -256,7 +270,9 @@ TEST_CASE("URDF import notes the branches off the chain", "[urdf]") {
 
 // ---- round trips ----
 
-TEST_CASE("URDF round trip UR5 URDF to TOML to URDF keeps FK identical to 1e-9 and loads in kdl_parser", "[urdf]") {
+TEST_CASE(
+    "URDF round trip UR5 URDF to TOML to URDF keeps FK identical to 1e-9 and loads in kdl_parser",
+    "[urdf]") {
   UrdfInfo info, info_back;
   const Model m = importUrdf(ur5(), chain("base_link", "tool0", true), &info);
   const std::string toml = designToToml(m, info);
@@ -277,8 +293,9 @@ TEST_CASE("URDF round trip UR5 URDF to TOML to URDF keeps FK identical to 1e-9 a
   const KdlOracle exported(t, "base_link", "tool0");
   const Errors e1 = compareWithKdl(again, original.chain, true, 5);
   const Errors e2 = compareWithKdl(m, exported.chain, true, 6);
-  INFO("again vs original KDL: " << e1.fk << " " << e1.jac << " " << e1.id << "; import vs exported KDL: " << e2.fk
-                                  << " " << e2.jac << " " << e2.id);
+  INFO("again vs original KDL: " << e1.fk << " " << e1.jac << " " << e1.id
+                                 << "; import vs exported KDL: " << e2.fk << " " << e2.jac << " "
+                                 << e2.id);
   CHECK(e1.fk < kUrdfOracleTolerance);
   CHECK(e1.jac < kUrdfOracleTolerance);
   CHECK(e1.id < kUrdfOracleTolerance);
@@ -307,12 +324,14 @@ TEST_CASE("URDF round trip Panda with a continuous joint keeps the joint type an
   KDL::Tree t;
   REQUIRE(kdl_parser::treeFromString(urdf, t));
   const KdlOracle original(kdlTreeFromFile(f), "panda_link0", "panda_hand");
-  const Errors e = compareWithKdl(importUrdfText(urdf, "p.urdf", chain("", "panda_hand")), original.chain, true, 9);
+  const Errors e = compareWithKdl(importUrdfText(urdf, "p.urdf", chain("", "panda_hand")),
+                                  original.chain, true, 9);
   CHECK(e.fk < kUrdfOracleTolerance);
   CHECK(e.id < kUrdfOracleTolerance);
 }
 
-TEST_CASE("URDF export of every shipped design loads in kdl_parser with the same FK and dynamics", "[urdf]") {
+TEST_CASE("URDF export of every shipped design loads in kdl_parser with the same FK and dynamics",
+          "[urdf]") {
   for (const std::string& rel : test::shippedDesigns()) {
     const Model m = loadDesign(test::sourcePath(rel));
     const std::string urdf = exportUrdf(m);
@@ -365,7 +384,8 @@ std::vector<Eigen::Vector3d> readBinaryStlVertices(const std::string& path) {
 
 // Every vertex of each link's collision mesh, placed by KDL's FK of that link, lies inside the
 // link's fitted volumes placed by armstudy's FK.
-void checkMeshesInsideVolumes(const std::string& file, const std::string& base, const std::string& tip,
+void checkMeshesInsideVolumes(const std::string& file, const std::string& base,
+                              const std::string& tip,
                               const std::vector<std::pair<std::string, std::string>>& link_meshes) {
   UrdfOptions o = chain(base, tip, true);
   o.packages = {{"example-robot-data", fs::path(robotsDir()).parent_path().string()}};
@@ -395,7 +415,8 @@ void checkMeshesInsideVolumes(const std::string& file, const std::string& base, 
         s.type = v.type;
         s.radius_m = v.radius_m;
         for (int p = 0; p < 3; ++p)
-          s.p[p] = body < 0 ? Eigen::Vector3d(v.p_L[p]) : Eigen::Vector3d(ws.R_WF[body] * v.p_L[p] + ws.p_WF[body]);
+          s.p[p] = body < 0 ? Eigen::Vector3d(v.p_L[p])
+                            : Eigen::Vector3d(ws.R_WF[body] * v.p_L[p] + ws.p_WF[body]);
         vols.push_back(s);
       }
       REQUIRE(!vols.empty());
@@ -407,14 +428,16 @@ void checkMeshesInsideVolumes(const std::string& file, const std::string& base, 
         for (const auto& s : vols) d = std::min(d, collision::ssvSignedDistance(s, x));
         worst = std::max(worst, d);
       }
-      INFO(link << " (" << verts.size() << " vertices): farthest vertex " << worst << " m from the volumes' surface");
+      INFO(link << " (" << verts.size() << " vertices): farthest vertex " << worst
+                << " m from the volumes' surface");
       CHECK(worst <= 1e-9);
     }
   }
 }
 }  // namespace
 
-TEST_CASE("URDF UR5 collision volumes contain every vertex of every collision mesh", "[urdf][collision]") {
+TEST_CASE("URDF UR5 collision volumes contain every vertex of every collision mesh",
+          "[urdf][collision]") {
   checkMeshesInsideVolumes(ur5(), "base_link", "tool0",
                            {{"base_link", "ur_description/meshes/ur5/collision/base.stl"},
                             {"shoulder_link", "ur_description/meshes/ur5/collision/shoulder.stl"},
@@ -425,7 +448,8 @@ TEST_CASE("URDF UR5 collision volumes contain every vertex of every collision me
                             {"wrist_3_link", "ur_description/meshes/ur5/collision/wrist3.stl"}});
 }
 
-TEST_CASE("URDF Panda collision volumes contain every vertex of every collision mesh", "[urdf][collision]") {
+TEST_CASE("URDF Panda collision volumes contain every vertex of every collision mesh",
+          "[urdf][collision]") {
   std::vector<std::pair<std::string, std::string>> lm;
   for (int i = 0; i <= 7; ++i)
     lm.push_back({"panda_link" + std::to_string(i),
@@ -433,7 +457,8 @@ TEST_CASE("URDF Panda collision volumes contain every vertex of every collision 
   checkMeshesInsideVolumes(panda(), "panda_link0", "panda_link7", lm);
 }
 
-TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain them", "[urdf][collision]") {
+TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain them",
+          "[urdf][collision]") {
   const Model m = importUrdfText(smallArm(), "small.urdf", chain("base", "tool", true));
   // l1 (body 0): a box 0.05 x 0.06 x 0.1 at z = 0.05 in the link frame; its corners must be inside.
   int box = 0, cyl = 0, sph = 0;
@@ -459,7 +484,8 @@ TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain
   REQUIRE(fk.JntToCart(toJnt(q.head(1)), F) >= 0);
   const Eigen::Isometry3d T_WL = fromKdl(F);
   for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d corner((k & 1 ? 0.025 : -0.025), (k & 2 ? 0.03 : -0.03), 0.05 + (k & 4 ? 0.05 : -0.05));
+    const Eigen::Vector3d corner((k & 1 ? 0.025 : -0.025), (k & 2 ? 0.03 : -0.03),
+                                 0.05 + (k & 4 ? 0.05 : -0.05));
     const Eigen::Vector3d x = T_WL * corner;
     double d = 1e9;
     for (const auto& v : m.collision.volumes) {
@@ -474,12 +500,15 @@ TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain
   }
 }
 
-TEST_CASE("URDF OBJ mesh by relative path with scale and origin: every vertex inside, placed by KDL", "[urdf][collision]") {
+TEST_CASE(
+    "URDF OBJ mesh by relative path with scale and origin: every vertex inside, placed by KDL",
+    "[urdf][collision]") {
   // An L-shaped prism in millimetres (OBJ through assimp), on a link behind an oblique joint.
-  const fs::path dir = fs::path(tempPath("objarm")) ;
+  const fs::path dir = fs::path(tempPath("objarm"));
   fs::create_directories(dir / "meshes");
-  const double P[12][3] = {{0, 0, 0},   {80, 0, 0},   {80, 20, 0},   {20, 20, 0},   {20, 120, 0},   {0, 120, 0},
-                           {0, 0, 30},  {80, 0, 30},  {80, 20, 30},  {20, 20, 30},  {20, 120, 30},  {0, 120, 30}};
+  const double P[12][3] = {{0, 0, 0},    {80, 0, 0},   {80, 20, 0},   {20, 20, 0},
+                           {20, 120, 0}, {0, 120, 0},  {0, 0, 30},    {80, 0, 30},
+                           {80, 20, 30}, {20, 20, 30}, {20, 120, 30}, {0, 120, 30}};
   std::ostringstream obj;
   for (const auto& p : P) obj << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
   // bottom/top as fans, sides as quads (assimp triangulates)
@@ -532,7 +561,8 @@ TEST_CASE("URDF OBJ mesh by relative path with scale and origin: every vertex in
   CHECK(worst <= 1e-9);
 }
 
-TEST_CASE("URDF DAE mesh: unit scale applied, up axis ignored, every vertex inside", "[urdf][collision]") {
+TEST_CASE("URDF DAE mesh: unit scale applied, up axis ignored, every vertex inside",
+          "[urdf][collision]") {
   // A tetrahedron in centimetres with <up_axis>Y_UP</up_axis>: armstudy applies the unit (0.01)
   // and ignores the up axis (assumption, as ROS tools do), so the vertices are 0.1 m along x,
   // 0.2 m along y and 0.3 m along z of the link frame.
@@ -582,7 +612,8 @@ TEST_CASE("URDF DAE mesh: unit scale applied, up axis ignored, every vertex insi
       sv.radius_m = v.radius_m;
       sv.p = v.p_L;
       d = std::min(d, collision::ssvSignedDistance(sv, x));
-      for (int k = 0; k < static_cast<int>(v.type); ++k) farthest_core = std::max(farthest_core, v.p_L[k].norm());
+      for (int k = 0; k < static_cast<int>(v.type); ++k)
+        farthest_core = std::max(farthest_core, v.p_L[k].norm());
     }
     worst = std::max(worst, d);
   }
@@ -596,7 +627,8 @@ TEST_CASE("URDF missing mesh is a warning and that link gets no volume", "[urdf]
   const std::string box = R"(<box size="0.05 0.06 0.1"/>)";
   text.replace(text.find(box), box.size(), R"(<mesh filename="package://nowhere/meshes/l1.stl"/>)");
   std::vector<std::string> warnings;
-  const Model m = importUrdfText(text, "missing_mesh.urdf", chain("base", "tool", true), nullptr, &warnings);
+  const Model m =
+      importUrdfText(text, "missing_mesh.urdf", chain("base", "tool", true), nullptr, &warnings);
   for (const auto& v : m.collision.volumes) CHECK(v.link != 0);
   REQUIRE(warnings.size() >= 1);
   CHECK_THAT(warnings.front(), Catch::Contains("l1") && Catch::Contains("package://nowhere"));
@@ -605,25 +637,29 @@ TEST_CASE("URDF missing mesh is a warning and that link gets no volume", "[urdf]
 // ---- bad files: one test per case, each naming the file, line and element ----
 
 TEST_CASE("URDF bad: unknown tip link", "[urdf][bad]") {
-  const InputError e = expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("base", "nosuch")); });
+  const InputError e =
+      expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("base", "nosuch")); });
   CHECK(e.file() == "bad.urdf");
   CHECK(e.key() == "tip_link");
   CHECK_THAT(e.message(), Catch::Contains("nosuch"));
 }
 
 TEST_CASE("URDF bad: unknown base link", "[urdf][bad]") {
-  const InputError e = expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("nobase", "")); });
+  const InputError e =
+      expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("nobase", "")); });
   CHECK(e.key() == "base_link");
 }
 
 TEST_CASE("URDF bad: tip not below the base", "[urdf][bad]") {
-  const InputError e = expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("l2", "l1")); });
+  const InputError e =
+      expectInputError([] { importUrdfText(smallArm(), "bad.urdf", chain("l2", "l1")); });
   CHECK_THAT(e.message(), Catch::Contains("not below"));
 }
 
 TEST_CASE("URDF bad: missing parent link", "[urdf][bad]") {
-  const InputError e =
-      expectInputError([] { importUrdfText(smallArm("", "revolute", "0 0 0.1", "ghost"), "bad.urdf", chain("", "")); });
+  const InputError e = expectInputError([] {
+    importUrdfText(smallArm("", "revolute", "0 0 0.1", "ghost"), "bad.urdf", chain("", ""));
+  });
   CHECK(e.file() == "bad.urdf");
   CHECK(e.line() == 19);  // <parent link="ghost"/> of joint j2
   CHECK_THAT(e.key(), Catch::Contains("joint 'j2'"));
@@ -658,15 +694,16 @@ TEST_CASE("URDF bad: a cycle without a second parent", "[urdf][bad]") {
   <joint name="ba" type="revolute"><parent link="b"/><child link="a"/><axis xyz="0 0 1"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
 </robot>)";
-  const InputError e = expectInputError([&] { importUrdfText(text, "cycle2.urdf", chain("", "")); });
+  const InputError e =
+      expectInputError([&] { importUrdfText(text, "cycle2.urdf", chain("", "")); });
   CHECK_THAT(e.message(), Catch::Contains("cycle"));
   CHECK_THAT(e.key(), Catch::StartsWith("joint '"));
   CHECK(e.line() >= 4);
 }
 
 TEST_CASE("URDF bad: NaN in a joint origin", "[urdf][bad]") {
-  const InputError e =
-      expectInputError([] { importUrdfText(smallArm("", "revolute", "0 nan 0.1"), "nan.urdf", chain("", "")); });
+  const InputError e = expectInputError(
+      [] { importUrdfText(smallArm("", "revolute", "0 nan 0.1"), "nan.urdf", chain("", "")); });
   CHECK(e.file() == "nan.urdf");
   CHECK(e.line() == 14);  // <origin xyz="0 nan 0.1" .../> of joint j1
   CHECK(e.key() == "joint 'j1'/origin@xyz");
@@ -674,29 +711,31 @@ TEST_CASE("URDF bad: NaN in a joint origin", "[urdf][bad]") {
 }
 
 TEST_CASE("URDF bad: unknown joint type", "[urdf][bad]") {
-  const InputError e =
-      expectInputError([] { importUrdfText(smallArm("", "spherical"), "type.urdf", chain("", "")); });
+  const InputError e = expectInputError(
+      [] { importUrdfText(smallArm("", "spherical"), "type.urdf", chain("", "")); });
   CHECK(e.line() == 12);
   CHECK(e.key() == "joint 'j1'@type");
   CHECK_THAT(e.message(), Catch::Contains("spherical"));
 }
 
 TEST_CASE("URDF bad: mimic joint on the chain", "[urdf][bad]") {
-  const InputError e = expectInputError([] { importUrdf(panda(), chain("panda_link0", "panda_rightfinger")); });
+  const InputError e =
+      expectInputError([] { importUrdf(panda(), chain("panda_link0", "panda_rightfinger")); });
   CHECK(e.file() == panda());
   CHECK(e.line() == 342);  // <joint name="panda_finger_joint2"> in panda.urdf
   CHECK(e.key() == "joint 'panda_finger_joint2'/mimic");
 }
 
 TEST_CASE("URDF bad: floating joint on the chain", "[urdf][bad]") {
-  const InputError e =
-      expectInputError([] { importUrdfText(smallArm("", "floating"), "float.urdf", chain("base", "tool")); });
+  const InputError e = expectInputError(
+      [] { importUrdfText(smallArm("", "floating"), "float.urdf", chain("base", "tool")); });
   CHECK(e.line() == 12);
   CHECK(e.key() == "joint 'j1'");
 }
 
 TEST_CASE("URDF bad: malformed XML names the line", "[urdf][bad]") {
-  const InputError e = expectInputError([] { importUrdfText("<robot name=\"x\">\n<link name=\"a\">\n</robot>", "xml.urdf", {}); });
+  const InputError e = expectInputError(
+      [] { importUrdfText("<robot name=\"x\">\n<link name=\"a\">\n</robot>", "xml.urdf", {}); });
   CHECK(e.file() == "xml.urdf");
   CHECK(e.key() == "xml");
 }
@@ -704,9 +743,11 @@ TEST_CASE("URDF bad: malformed XML names the line", "[urdf][bad]") {
 // ---- CLI ----
 
 TEST_CASE("URDF CLI fk of the UR5 agrees with KDL and convert round-trips", "[urdf][cli]") {
-  const std::string pkg = " --package example-robot-data=" + fs::path(robotsDir()).parent_path().string();
+  const std::string pkg =
+      " --package example-robot-data=" + fs::path(robotsDir()).parent_path().string();
   std::string out;
-  REQUIRE(test::runCommand(test::binaryPath() + " fk " + ur5() + " --base base_link --tip tool0 --q 0.1,-1.2,0.8,0.3,-0.4,0.5 --json",
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + ur5() +
+                               " --base base_link --tip tool0 --q 0.1,-1.2,0.8,0.3,-0.4,0.5 --json",
                            out) == 0);
   const KdlOracle kdl(kdlTreeFromFile(ur5()), "base_link", "tool0");
   KDL::ChainFkSolverPos_recursive fk(kdl.chain);
@@ -747,7 +788,8 @@ TEST_CASE("URDF CLI fk of the UR5 agrees with KDL and convert round-trips", "[ur
   }
 
   const std::string toml = tempPath("ur5.toml"), urdf = tempPath("ur5_back.urdf");
-  REQUIRE(test::runCommand(test::binaryPath() + " convert " + ur5() + " " + toml + " --base base_link --tip tool0" + pkg,
+  REQUIRE(test::runCommand(test::binaryPath() + " convert " + ur5() + " " + toml +
+                               " --base base_link --tip tool0" + pkg,
                            out) == 0);
   REQUIRE(test::runCommand(test::binaryPath() + " convert " + toml + " " + urdf, out) == 0);
   // urdfdom's own checker (liburdfdom-tools) accepts the export
@@ -769,7 +811,8 @@ TEST_CASE("URDF CLI fk of the UR5 agrees with KDL and convert round-trips", "[ur
 
 // ---- studies ----
 
-TEST_CASE("URDF designs in the shipped studies load with their chain, placement, TCP and volumes", "[urdf][study]") {
+TEST_CASE("URDF designs in the shipped studies load with their chain, placement, TCP and volumes",
+          "[urdf][study]") {
   const Study s = loadStudy(test::sourcePath("studies/ur5_vs_first_prototype.toml"));
   REQUIRE(s.designs.size() == 3);
   const Model& ur5m = s.designs[1].model;
@@ -781,8 +824,8 @@ TEST_CASE("URDF designs in the shipped studies load with their chain, placement,
   // The study's tcp = {z = 100 mm, alpha = 90 deg} is an offset from the tip link frame tool0.
   const Model& flange = s.designs[2].model;
   CHECK(flange.name == "ur5_flange");
-  const Eigen::Isometry3d expected =
-      flange.T_NT * Eigen::Translation3d(0, 0, 0.1) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX());
+  const Eigen::Isometry3d expected = flange.T_NT * Eigen::Translation3d(0, 0, 0.1) *
+                                     Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX());
   CHECK((ur5m.T_NT.matrix() - expected.matrix()).cwiseAbs().maxCoeff() < kUrdfOracleTolerance);
   const Study p = loadStudy(test::sourcePath("studies/stem_heatmap_panda.toml"));
   REQUIRE(p.designs.size() == 1);
@@ -792,7 +835,8 @@ TEST_CASE("URDF designs in the shipped studies load with their chain, placement,
 
 TEST_CASE("URDF keys on a TOML design in a study are an input error", "[urdf][study][bad]") {
   const std::string f = tempPath("study_bad.toml");
-  writeText(f, "[study]\nname = \"x\"\n[[design]]\nfile = \"" + test::sourcePath("designs/first_prototype_6dof.toml") +
+  writeText(f, "[study]\nname = \"x\"\n[[design]]\nfile = \"" +
+                   test::sourcePath("designs/first_prototype_6dof.toml") +
                    "\"\ntip_link = \"tool0\"\n");
   const InputError e = expectInputError([&] { loadStudy(f); });
   CHECK(e.file() == f);
@@ -802,8 +846,8 @@ TEST_CASE("URDF keys on a TOML design in a study are an input error", "[urdf][st
 
 namespace {
 // Largest coordinate `axis` of the reachable extent of `design` on grid `grid` in a run's summary.
-double largestReach(const nlohmann::json& summary, const std::string& grid, const std::string& design,
-                    const std::string& axis) {
+double largestReach(const nlohmann::json& summary, const std::string& grid,
+                    const std::string& design, const std::string& axis) {
   for (const auto& g : summary["reach"]["grids"])
     if (g["name"] == grid)
       for (const auto& d : g["designs"])
@@ -813,18 +857,20 @@ double largestReach(const nlohmann::json& summary, const std::string& grid, cons
 }
 }  // namespace
 
-TEST_CASE("URDF studies run end to end and the largest reach found matches the datasheets", "[urdf][study]") {
+TEST_CASE("URDF studies run end to end and the largest reach found matches the datasheets",
+          "[urdf][study]") {
   // Datasheets: UR5 850 mm, Panda 855 mm (../shared/robots/README.md). The reach line runs at
   // shoulder height; the UR5 flange point reaches beyond 850 mm there (its wrist offsets), the
   // Panda's hand TCP is 0.1034 m beyond its flange.
   constexpr double kUr5Datasheet_m = 0.850, kPandaDatasheet_m = 0.855, kPandaHandTcp_m = 0.1034;
-  constexpr double kPandaReachTolerance_m = 0.02;   // 5 mm grid + the definition of "reach"
+  constexpr double kPandaReachTolerance_m = 0.02;  // 5 mm grid + the definition of "reach"
   constexpr double kUr5WristOffsets_m = 0.093 + 0.09465 + 0.0823;  // most the wrist can add
   const std::string out_dir = tempPath("study_out");
   std::string out;
   for (const char* study : {"ur5_vs_first_prototype", "stem_heatmap_panda"}) {
     INFO(study);
-    REQUIRE(test::runCommand(test::binaryPath() + " run " + test::sourcePath(std::string("studies/") + study + ".toml") +
+    REQUIRE(test::runCommand(test::binaryPath() + " run " +
+                                 test::sourcePath(std::string("studies/") + study + ".toml") +
                                  " --threads 2 --overwrite --output " + out_dir,
                              out) == 0);
   }
@@ -836,23 +882,27 @@ TEST_CASE("URDF studies run end to end and the largest reach found matches the d
   CHECK(ur5_reach <= kUr5Datasheet_m + kUr5WristOffsets_m);
   const double panda_reach = largestReach(pandas, "reach_line", "panda", "y_m") - kPandaHandTcp_m;
   CHECK(std::abs(panda_reach - kPandaDatasheet_m) < kPandaReachTolerance_m);
-  WARN("largest reach found: UR5 flange " << ur5_reach << " m (datasheet 0.850), Panda flange about " << panda_reach
-                                           << " m (datasheet 0.855)");
+  WARN("largest reach found: UR5 flange "
+       << ur5_reach << " m (datasheet 0.850), Panda flange about " << panda_reach
+       << " m (datasheet 0.855)");
   // Both arms were checked for self-collision with their own volumes on the Fig. 3.8 row.
   for (const auto& g : ur5s["reach"]["grids"])
     if (g["name"] == "fig3_8")
       for (const auto& d : g["designs"]) CHECK(d["fraction"].get<double>() > 0.3);
   std::ifstream report(out_dir + "/ur5_vs_first_prototype/report.md");
   const std::string md((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
-  CHECK_THAT(md, Catch::Contains("Self-collision: on") && Catch::Contains("UR5 datasheet: reach 850 mm"));
+  CHECK_THAT(
+      md, Catch::Contains("Self-collision: on") && Catch::Contains("UR5 datasheet: reach 850 mm"));
 }
 
-TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no permanent contact", "[urdf][collision]") {
+TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no permanent contact",
+          "[urdf][collision]") {
   // The pairs touching at q = 0 (clamped) become allowed pairs (assumption, docs/design-format.md);
   // every other pair must be free in the home posture and somewhere in a random sample, or the
   // import left a structural contact in the self-collision check.
-  const std::pair<std::string, UrdfOptions> arms[] = {{ur5(), chain("base_link", "tool0", true)},
-                                                      {panda(), chain("panda_link0", "panda_hand", true)}};
+  const std::pair<std::string, UrdfOptions> arms[] = {
+      {ur5(), chain("base_link", "tool0", true)},
+      {panda(), chain("panda_link0", "panda_hand", true)}};
   std::mt19937_64 rng(5);
   for (const auto& [file, o] : arms) {
     const Model m = importUrdf(file, o);
@@ -865,7 +915,8 @@ TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no
     for (int s = 0; s < 2000; ++s) {
       Eigen::VectorXd q = test::randomConfiguration(m, rng);
       if (s == 0)
-        for (int i = 0; i < m.dof(); ++i) q[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
+        for (int i = 0; i < m.dof(); ++i)
+          q[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
       forwardKinematics(m, kin, q);
       collision::collisionDistances(m, kin, {}, ws);
       if (s == 0) {
