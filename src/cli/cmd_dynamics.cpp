@@ -47,8 +47,13 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
     action = [a] {
       UrdfOptions uo = a->src.urdf();
       uo.collision = false;
-      const Model m = loadAnyDesign(a->path, uo);
+      UrdfInfo info;
+      const Model m = loadAnyDesign(a->path, uo, &info);
       const int n = m.dof();
+      // URDF <limit effort> (also `max_effort` in a design TOML): |Q| above it is reported.
+      auto effort = [&](int i) {
+        return info.joints.size() == static_cast<std::size_t>(n) ? info.joints[i].effort_max : 0.0;
+      };
       auto vec = [&](const std::vector<double>& v, const char* key) {
         Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
         if (v.empty() && std::string(key) != "q") return out;
@@ -85,11 +90,17 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
         j["payload"] = opt.include_payload;
         j["rotor_inertia"] = opt.include_rotor_inertia;
         j["joints"] = nlohmann::ordered_json::array();
-        for (int i = 0; i < n; ++i)
-          j["joints"].push_back({{"joint", m.joints[i].name},
-                                 {"unit", m.joints[i].type == JointType::Revolute ? "N m" : "N"},
-                                 {"Q", Q[i]},
-                                 {"gravity", g[i]}});
+        for (int i = 0; i < n; ++i) {
+          nlohmann::ordered_json row = {{"joint", m.joints[i].name},
+                                        {"unit", m.joints[i].type == JointType::Revolute ? "N m" : "N"},
+                                        {"Q", Q[i]},
+                                        {"gravity", g[i]}};
+          if (effort(i) > 0) {
+            row["effort_limit"] = effort(i);
+            row["over_effort_limit"] = std::abs(Q[i]) > effort(i);
+          }
+          j["joints"].push_back(row);
+        }
         if (a->mass_matrix) {
           j["mass_matrix"] = nlohmann::ordered_json::array();
           for (int r = 0; r < n; ++r) {
@@ -103,8 +114,11 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
       }
       std::printf("%-8s %-4s %14s %14s\n", "joint", "unit", "Q", "g(q)");
       for (int i = 0; i < n; ++i)
-        std::printf("%-8s %-4s %14.6f %14.6f\n", m.joints[i].name.c_str(),
-                    m.joints[i].type == JointType::Revolute ? "N m" : "N", Q[i], g[i]);
+        std::printf("%-8s %-4s %14.6f %14.6f%s\n", m.joints[i].name.c_str(),
+                    m.joints[i].type == JointType::Revolute ? "N m" : "N", Q[i], g[i],
+                    effort(i) > 0 && std::abs(Q[i]) > effort(i)
+                        ? ("  over the effort limit " + std::to_string(effort(i))).c_str()
+                        : "");
       if (a->mass_matrix) {
         std::printf("M(q):\n");
         for (int r = 0; r < n; ++r) {

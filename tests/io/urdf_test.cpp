@@ -932,3 +932,23 @@ TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no
     }
   }
 }
+
+TEST_CASE("URDF effort limits reach the dynamics command: Q above <limit effort> is flagged", "[urdf][cli]") {
+  std::string out;
+  // Panda wrist joints 5-7 have effort 12 N m; 50 rad/s^2 on every joint exceeds it somewhere.
+  REQUIRE(test::runCommand(test::binaryPath() + " dynamics " + panda() +
+                               " --base panda_link0 --tip panda_hand --q 0,-0.5,0,-2,0,1.5,0.7"
+                               " --qdd 50,50,50,50,50,50,50 --json",
+                           out) == 0);
+  const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+  REQUIRE(j["joints"].size() == 7);
+  int over = 0;
+  for (const auto& row : j["joints"]) {
+    REQUIRE(row.contains("effort_limit"));
+    const bool expect = std::abs(row["Q"].get<double>()) > row["effort_limit"].get<double>();
+    CHECK(row["over_effort_limit"].get<bool>() == expect);
+    over += expect ? 1 : 0;
+  }
+  CHECK(j["joints"][0]["effort_limit"].get<double>() == 87.0);
+  CHECK(over > 0);
+}
