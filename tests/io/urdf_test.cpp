@@ -952,3 +952,22 @@ TEST_CASE("URDF effort limits reach the dynamics command: Q above <limit effort>
   CHECK(j["joints"][0]["effort_limit"].get<double>() == 87.0);
   CHECK(over > 0);
 }
+
+TEST_CASE("URDF package:// resolution: --package first, then the folders above the URDF file", "[urdf][collision]") {
+  std::vector<std::string> warnings;
+  // No --package: example-robot-data/robots/... is found above ../shared/robots/ur_description/urdf.
+  const Model found = importUrdf(ur5(), chain("base_link", "tool0", true), nullptr, &warnings);
+  CHECK(warnings.size() == 2);  // the two branches, no mesh warning
+  CHECK(found.collision.volumes.size() >= 7);
+  // A --package pointing elsewhere wins over the search: every mesh is missing, a warning each.
+  UrdfOptions o = chain("base_link", "tool0", true);
+  o.packages = {{"example-robot-data", tempPath("no_meshes_here")}};
+  const Model missing = importUrdf(ur5(), o, nullptr, &warnings);
+  CHECK(missing.collision.empty());
+  int mesh_warnings = 0;
+  for (const auto& w : warnings) mesh_warnings += w.find("mesh file not found") != std::string::npos ? 1 : 0;
+  CHECK(mesh_warnings == 7);
+  // The kinematics do not depend on the meshes.
+  CHECK(missing.dof() == found.dof());
+  CHECK((missing.joints[3].T_PJ0.matrix() - found.joints[3].T_PJ0.matrix()).norm() == 0.0);
+}
