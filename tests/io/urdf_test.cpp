@@ -287,7 +287,18 @@ TEST_CASE(
   const std::string urdf = exportUrdf(back, info_back);
   KDL::Tree t;
   REQUIRE(kdl_parser::treeFromString(urdf, t));
-  const Model again = importUrdfText(urdf, "ur5_roundtrip.urdf", chain("", "tool0"));
+  UrdfInfo info_again;
+  const Model again = importUrdfText(urdf, "ur5_roundtrip.urdf", chain("", "tool0"), &info_again);
+  // Limits survive URDF -> TOML -> URDF -> import unchanged (17 significant digits both ways).
+  REQUIRE(again.dof() == m.dof());
+  for (int i = 0; i < m.dof(); ++i) {
+    CHECK(again.joints[i].name == m.joints[i].name);
+    CHECK(again.joints[i].limits.q_min == m.joints[i].limits.q_min);
+    CHECK(again.joints[i].limits.q_max == m.joints[i].limits.q_max);
+    CHECK(again.joints[i].limits.qd_max == m.joints[i].limits.qd_max);
+    CHECK(info_again.joints[i].effort_max == info.joints[i].effort_max);
+    CHECK(info_again.joints[i].link == info.joints[i].link);
+  }
   // Against KDL of the original file, for the model read from the exported file and for KDL of it.
   const KdlOracle original(kdlTreeFromFile(ur5()), "base_link", "tool0");
   const KdlOracle exported(t, "base_link", "tool0");
