@@ -982,3 +982,38 @@ TEST_CASE("URDF package:// resolution: --package first, then the folders above t
   CHECK(missing.dof() == found.dof());
   CHECK((missing.joints[3].T_PJ0.matrix() - found.joints[3].T_PJ0.matrix()).norm() == 0.0);
 }
+
+// ---- the design-format keys that carry URDF facts ----
+
+namespace {
+std::string oneJointDesign(const std::string& joint_extra, const std::string& type = "revolute") {
+  return "[design]\nname = \"d\"\n[[joint]]\nname = \"j1\"\ntype = \"" + type +
+         "\"\nx = 0\ny = 0\nz = 0\nalpha = 0\nbeta = 0\ngamma = 0\n" + joint_extra + "\n[tcp]\n";
+}
+}  // namespace
+
+TEST_CASE("Design TOML: a continuous joint gets the stand-in range unless min/max are given", "[urdf][design]") {
+  UrdfInfo info;
+  const Model m = parseDesignWithUrdfInfo(oneJointDesign("continuous = true\nlink = \"l1\"\nmax_effort = 3"), "c.toml", &info);
+  CHECK(m.joints[0].limits.q_min == -defaults::kContinuousJointRange_rad);
+  CHECK(m.joints[0].limits.q_max == defaults::kContinuousJointRange_rad);
+  REQUIRE(info.joints.size() == 1);
+  CHECK(info.joints[0].continuous);
+  CHECK(info.joints[0].link == "l1");
+  CHECK(info.joints[0].effort_max == 3.0);
+}
+
+TEST_CASE("Design TOML bad: continuous on a prismatic joint", "[urdf][design][bad]") {
+  const InputError e = expectInputError(
+      [] { parseDesign(oneJointDesign("continuous = true\nmin = -1\nmax = 1", "prismatic"), "bad.toml"); });
+  CHECK(e.file() == "bad.toml");
+  CHECK(e.key() == "joint[0].continuous");
+  CHECK(e.line() == 12);  // the key's line
+}
+
+TEST_CASE("Design TOML bad: negative max_effort", "[urdf][design][bad]") {
+  const InputError e =
+      expectInputError([] { parseDesign(oneJointDesign("min = -1\nmax = 1\nmax_effort = -2"), "bad.toml"); });
+  CHECK(e.key() == "joint[0].max_effort");
+  CHECK(e.line() == 14);
+}
