@@ -10,6 +10,7 @@
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
 #include <kdl_parser/kdl_parser.hpp>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -204,6 +205,30 @@ std::string tempPath(const std::string& name) {
 }
 
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+// Largest signed distance [m] (<= 0: inside) of the points p_W (in W) from the volumes of body
+// `body` (-1 = base) placed by armstudy's forward kinematics in `ws`.
+double farthestOutside(const Model& m, const KinematicsWorkspace& ws, int body,
+                       const std::vector<Eigen::Vector3d>& p_W) {
+  std::vector<collision::FittedSsv> vols;
+  for (const CollisionVolume& v : m.collision.volumes) {
+    if (v.link != body) continue;
+    collision::FittedSsv s;
+    s.type = v.type;
+    s.radius_m = v.radius_m;
+    for (int k = 0; k < 3; ++k)
+      s.p[k] = body < 0 ? Eigen::Vector3d(v.p_L[k])
+                        : Eigen::Vector3d(ws.R_WF[body] * v.p_L[k] + ws.p_WF[body]);
+    vols.push_back(s);
+  }
+  REQUIRE(!vols.empty());
+  double worst = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& x : p_W) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& s : vols) d = std::min(d, collision::ssvSignedDistance(s, x));
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
 
 }  // namespace
 
@@ -419,26 +444,10 @@ void checkMeshesInsideVolumes(const std::string& file, const std::string& base,
       KDL::Frame F;
       REQUIRE(fk.JntToCart(toJnt(q.head(c.getNrOfJoints())), F) >= 0);
       const Eigen::Isometry3d T_WL = fromKdl(F);
-      std::vector<collision::FittedSsv> vols;
-      for (const CollisionVolume& v : m.collision.volumes) {
-        if (v.link != body) continue;
-        collision::FittedSsv s;
-        s.type = v.type;
-        s.radius_m = v.radius_m;
-        for (int p = 0; p < 3; ++p)
-          s.p[p] = body < 0 ? Eigen::Vector3d(v.p_L[p])
-                            : Eigen::Vector3d(ws.R_WF[body] * v.p_L[p] + ws.p_WF[body]);
-        vols.push_back(s);
-      }
-      REQUIRE(!vols.empty());
-      double worst = -1;
       const auto verts = readBinaryStlVertices(fs::path(robotsDir()).string() + "/" + mesh);
-      for (const Eigen::Vector3d& pv : verts) {
-        const Eigen::Vector3d x = T_WL * pv;
-        double d = 1e9;
-        for (const auto& s : vols) d = std::min(d, collision::ssvSignedDistance(s, x));
-        worst = std::max(worst, d);
-      }
+      std::vector<Eigen::Vector3d> p_W;
+      for (const Eigen::Vector3d& pv : verts) p_W.push_back(T_WL * pv);
+      const double worst = farthestOutside(m, ws, body, p_W);
       INFO(link << " (" << verts.size() << " vertices): farthest vertex " << worst
                 << " m from the volumes' surface");
       CHECK(worst <= 1e-9);
@@ -494,21 +503,11 @@ TEST_CASE("URDF primitives: box, cylinder and sphere become volumes that contain
   KDL::Frame F;
   REQUIRE(fk.JntToCart(toJnt(q.head(1)), F) >= 0);
   const Eigen::Isometry3d T_WL = fromKdl(F);
-  for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d corner((k & 1 ? 0.025 : -0.025), (k & 2 ? 0.03 : -0.03),
-                                 0.05 + (k & 4 ? 0.05 : -0.05));
-    const Eigen::Vector3d x = T_WL * corner;
-    double d = 1e9;
-    for (const auto& v : m.collision.volumes) {
-      if (v.link != 0) continue;
-      collision::FittedSsv s;
-      s.type = v.type;
-      s.radius_m = v.radius_m;
-      for (int p = 0; p < 3; ++p) s.p[p] = ws.R_WF[0] * v.p_L[p] + ws.p_WF[0];
-      d = std::min(d, collision::ssvSignedDistance(s, x));
-    }
-    CHECK(d <= 1e-9);
-  }
+  std::vector<Eigen::Vector3d> corners_W;
+  for (int k = 0; k < 8; ++k)
+    corners_W.push_back(T_WL * Eigen::Vector3d((k & 1 ? 0.025 : -0.025), (k & 2 ? 0.03 : -0.03),
+                                               0.05 + (k & 4 ? 0.05 : -0.05)));
+  CHECK(farthestOutside(m, ws, 0, corners_W) <= 1e-9);
 }
 
 TEST_CASE(
@@ -555,19 +554,9 @@ TEST_CASE(
                                  Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) *
                                  Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
                                  Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());  // URDF rpy
-  double worst = -1;
-  for (const auto& p : P) {
-    const Eigen::Vector3d x = T_WC * (1e-3 * Eigen::Vector3d(p[0], p[1], p[2]));
-    double d = 1e9;
-    for (const auto& v : m.collision.volumes) {
-      collision::FittedSsv sv;
-      sv.type = v.type;
-      sv.radius_m = v.radius_m;
-      for (int k = 0; k < 3; ++k) sv.p[k] = ws.R_WF[0] * v.p_L[k] + ws.p_WF[0];
-      d = std::min(d, collision::ssvSignedDistance(sv, x));
-    }
-    worst = std::max(worst, d);
-  }
+  std::vector<Eigen::Vector3d> p_W;
+  for (const auto& p : P) p_W.push_back(T_WC * (1e-3 * Eigen::Vector3d(p[0], p[1], p[2])));
+  const double worst = farthestOutside(m, ws, 0, p_W);
   INFO("farthest OBJ vertex from the volumes' surface: " << worst);
   CHECK(worst <= 1e-9);
 }
@@ -614,20 +603,13 @@ TEST_CASE("URDF DAE mesh: unit scale applied, up axis ignored, every vertex insi
   CHECK(warnings.empty());
   REQUIRE(!m.collision.volumes.empty());
   const Eigen::Vector3d V[4] = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.2, 0}, {0, 0, 0.3}};
-  double worst = -1, farthest_core = 0;
-  for (const auto& x : V) {  // q = 0: body frame = link frame (axis z)
-    double d = 1e9;
-    for (const auto& v : m.collision.volumes) {
-      collision::FittedSsv sv;
-      sv.type = v.type;
-      sv.radius_m = v.radius_m;
-      sv.p = v.p_L;
-      d = std::min(d, collision::ssvSignedDistance(sv, x));
-      for (int k = 0; k < static_cast<int>(v.type); ++k)
-        farthest_core = std::max(farthest_core, v.p_L[k].norm());
-    }
-    worst = std::max(worst, d);
-  }
+  KinematicsWorkspace ws(m);
+  forwardKinematics(m, ws, Eigen::VectorXd::Zero(1));  // q = 0: body frame = link frame (axis z)
+  const double worst = farthestOutside(m, ws, 0, {V, V + 4});
+  double farthest_core = 0;
+  for (const auto& v : m.collision.volumes)
+    for (int k = 0; k < static_cast<int>(v.type); ++k)
+      farthest_core = std::max(farthest_core, v.p_L[k].norm());
   INFO("farthest DAE vertex from the volumes' surface: " << worst);
   CHECK(worst <= kSinglePrecisionMesh_m);
   CHECK(farthest_core < 0.3);  // metres, not centimetres
@@ -691,9 +673,9 @@ TEST_CASE("URDF bad: a cycle of joints", "[urdf][bad]") {
 </robot>)";
   const InputError e = expectInputError([&] { importUrdfText(text, "cycle.urdf", chain("", "")); });
   CHECK(e.file() == "cycle.urdf");
-  CHECK(e.line() >= 5);
-  CHECK_THAT(e.key(), Catch::StartsWith("joint '"));
-  CHECK_THAT(e.message(), Catch::Contains("two parent joints") || Catch::Contains("cycle"));
+  CHECK(e.line() == 9);  // <joint name="cb">: b's second parent closes the cycle b -> c -> b
+  CHECK(e.key() == "joint 'cb'");
+  CHECK_THAT(e.message(), Catch::Contains("two parent joints"));
 }
 
 TEST_CASE("URDF bad: a cycle without a second parent", "[urdf][bad]") {
@@ -707,9 +689,10 @@ TEST_CASE("URDF bad: a cycle without a second parent", "[urdf][bad]") {
 </robot>)";
   const InputError e =
       expectInputError([&] { importUrdfText(text, "cycle2.urdf", chain("", "")); });
+  CHECK(e.file() == "cycle2.urdf");
   CHECK_THAT(e.message(), Catch::Contains("cycle"));
-  CHECK_THAT(e.key(), Catch::StartsWith("joint '"));
-  CHECK(e.line() >= 4);
+  CHECK(e.key() == "joint 'ab'");
+  CHECK(e.line() == 4);
 }
 
 TEST_CASE("URDF bad: NaN in a joint origin", "[urdf][bad]") {
@@ -944,7 +927,8 @@ TEST_CASE("URDF collision models of the UR5 and the Panda: home posture free, no
   }
 }
 
-TEST_CASE("URDF effort limits reach the dynamics command: Q above <limit effort> is flagged", "[urdf][cli]") {
+TEST_CASE("URDF effort limits reach the dynamics command: Q above <limit effort> is flagged",
+          "[urdf][cli]") {
   std::string out;
   // Panda wrist joints 5-7 have effort 12 N m; 50 rad/s^2 on every joint exceeds it somewhere.
   REQUIRE(test::runCommand(test::binaryPath() + " dynamics " + panda() +
@@ -964,9 +948,11 @@ TEST_CASE("URDF effort limits reach the dynamics command: Q above <limit effort>
   CHECK(over > 0);
 }
 
-TEST_CASE("URDF package:// resolution: --package first, then the folders above the URDF file", "[urdf][collision]") {
+TEST_CASE("URDF package:// resolution: --package first, then the folders above the URDF file",
+          "[urdf][collision]") {
   std::vector<std::string> warnings;
-  // No --package: example-robot-data/robots/... is found above ../shared/robots/ur_description/urdf.
+  // No --package: example-robot-data/robots/... is found above
+  // ../shared/robots/ur_description/urdf.
   const Model found = importUrdf(ur5(), chain("base_link", "tool0", true), nullptr, &warnings);
   CHECK(warnings.size() == 2);  // the two branches, no mesh warning
   CHECK(found.collision.volumes.size() >= 7);
@@ -976,7 +962,8 @@ TEST_CASE("URDF package:// resolution: --package first, then the folders above t
   const Model missing = importUrdf(ur5(), o, nullptr, &warnings);
   CHECK(missing.collision.empty());
   int mesh_warnings = 0;
-  for (const auto& w : warnings) mesh_warnings += w.find("mesh file not found") != std::string::npos ? 1 : 0;
+  for (const auto& w : warnings)
+    mesh_warnings += w.find("mesh file not found") != std::string::npos ? 1 : 0;
   CHECK(mesh_warnings == 7);
   // The kinematics do not depend on the meshes.
   CHECK(missing.dof() == found.dof());
@@ -992,9 +979,11 @@ std::string oneJointDesign(const std::string& joint_extra, const std::string& ty
 }
 }  // namespace
 
-TEST_CASE("Design TOML: a continuous joint gets the stand-in range unless min/max are given", "[urdf][design]") {
+TEST_CASE("Design TOML: a continuous joint gets the stand-in range unless min/max are given",
+          "[urdf][design]") {
   UrdfInfo info;
-  const Model m = parseDesignWithUrdfInfo(oneJointDesign("continuous = true\nlink = \"l1\"\nmax_effort = 3"), "c.toml", &info);
+  const Model m = parseDesignWithUrdfInfo(
+      oneJointDesign("continuous = true\nlink = \"l1\"\nmax_effort = 3"), "c.toml", &info);
   CHECK(m.joints[0].limits.q_min == -defaults::kContinuousJointRange_rad);
   CHECK(m.joints[0].limits.q_max == defaults::kContinuousJointRange_rad);
   REQUIRE(info.joints.size() == 1);
@@ -1004,16 +993,17 @@ TEST_CASE("Design TOML: a continuous joint gets the stand-in range unless min/ma
 }
 
 TEST_CASE("Design TOML bad: continuous on a prismatic joint", "[urdf][design][bad]") {
-  const InputError e = expectInputError(
-      [] { parseDesign(oneJointDesign("continuous = true\nmin = -1\nmax = 1", "prismatic"), "bad.toml"); });
+  const InputError e = expectInputError([] {
+    parseDesign(oneJointDesign("continuous = true\nmin = -1\nmax = 1", "prismatic"), "bad.toml");
+  });
   CHECK(e.file() == "bad.toml");
   CHECK(e.key() == "joint[0].continuous");
   CHECK(e.line() == 12);  // the key's line
 }
 
 TEST_CASE("Design TOML bad: negative max_effort", "[urdf][design][bad]") {
-  const InputError e =
-      expectInputError([] { parseDesign(oneJointDesign("min = -1\nmax = 1\nmax_effort = -2"), "bad.toml"); });
+  const InputError e = expectInputError(
+      [] { parseDesign(oneJointDesign("min = -1\nmax = 1\nmax_effort = -2"), "bad.toml"); });
   CHECK(e.key() == "joint[0].max_effort");
   CHECK(e.line() == 14);
 }
