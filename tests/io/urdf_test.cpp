@@ -13,6 +13,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <unistd.h>
 #include <sstream>
 
 #include "collision/collision.hpp"
@@ -197,12 +198,22 @@ std::string smallArm(const std::string& j1_extra = "", const std::string& j1_typ
 )";
 }
 
-std::string tempPath(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return (d / name).string();
+// One scratch folder per test process (ctest runs the cases in parallel processes), removed when
+// the process ends.
+const fs::path& scratchDir() {
+  struct Dir {
+    fs::path path = fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
+    Dir() { fs::create_directories(path); }
+    ~Dir() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  };
+  static const Dir d;
+  return d.path;
 }
+
+std::string tempPath(const std::string& name) { return (scratchDir() / name).string(); }
 
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 // Largest signed distance [m] (<= 0: inside) of the points p_W (in W) from the volumes of body
