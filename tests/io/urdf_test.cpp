@@ -1,5 +1,7 @@
 // URDF in and out (issue 14). Oracle: orocos-kdl built from the same URDF by kdl_parser (an
 // independent URDF implementation), never armstudy's own reading of the file.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstring>
@@ -13,7 +15,6 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
-#include <unistd.h>
 #include <sstream>
 
 #include "collision/collision.hpp"
@@ -202,7 +203,8 @@ std::string smallArm(const std::string& j1_extra = "", const std::string& j1_typ
 // the process ends.
 const fs::path& scratchDir() {
   struct Dir {
-    fs::path path = fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
+    fs::path path =
+        fs::temp_directory_path() / ("armstudy_urdf_test_" + std::to_string(::getpid()));
     Dir() { fs::create_directories(path); }
     ~Dir() {
       std::error_code ec;
@@ -1017,4 +1019,53 @@ TEST_CASE("Design TOML bad: negative max_effort", "[urdf][design][bad]") {
       [] { parseDesign(oneJointDesign("min = -1\nmax = 1\nmax_effort = -2"), "bad.toml"); });
   CHECK(e.key() == "joint[0].max_effort");
   CHECK(e.line() == 14);
+}
+
+TEST_CASE("Design TOML writer: every shipped design written and read back is the same model",
+          "[urdf][design]") {
+  for (const std::string& rel : test::shippedDesigns()) {
+    INFO(rel);
+    const Model a = loadDesign(test::sourcePath(rel));
+    const Model b = parseDesign(designToToml(a), rel + ".written.toml");
+    CHECK(b.name == a.name);
+    CHECK(b.assumptions == a.assumptions);
+    REQUIRE(b.dof() == a.dof());
+    for (int i = 0; i < a.dof(); ++i) {
+      CHECK(b.joints[i].type == a.joints[i].type);
+      CHECK(b.joints[i].T_PJ0.matrix() == a.joints[i].T_PJ0.matrix());
+      CHECK(b.joints[i].limits.q_min == a.joints[i].limits.q_min);
+      CHECK(b.joints[i].limits.q_max == a.joints[i].limits.q_max);
+      CHECK(b.joints[i].limits.qd_max == a.joints[i].limits.qd_max);
+    }
+    CHECK(b.T_NT.matrix() == a.T_NT.matrix());
+    CHECK(b.T_WB.matrix() == a.T_WB.matrix());
+    REQUIRE(b.inertias.size() == a.inertias.size());
+    for (std::size_t i = 0; i < a.inertias.size(); ++i) {
+      CHECK(b.inertias[i].given == a.inertias[i].given);
+      CHECK(b.inertias[i].mass_kg == a.inertias[i].mass_kg);
+      CHECK(b.inertias[i].p_com_m == a.inertias[i].p_com_m);
+      CHECK(b.inertias[i].I_com_kgm2 == a.inertias[i].I_com_kgm2);
+    }
+    CHECK(b.payload_kg == a.payload_kg);
+    CHECK(b.p_payload_com_T == a.p_payload_com_T);
+    REQUIRE(b.drives.size() == a.drives.size());
+    for (std::size_t i = 0; i < a.drives.size(); ++i) {
+      CHECK(b.drives[i].joint == a.drives[i].joint);
+      CHECK(b.drives[i].gear_ratio == a.drives[i].gear_ratio);
+      CHECK(b.drives[i].torque_constant_NmpA == a.drives[i].torque_constant_NmpA);
+      CHECK(b.drives[i].rotor_inertia_kgm2 == a.drives[i].rotor_inertia_kgm2);
+      CHECK(b.drives[i].peak_current_A == a.drives[i].peak_current_A);
+      CHECK(b.drives[i].friction_law == a.drives[i].friction_law);
+      CHECK(b.drives[i].friction == a.drives[i].friction);
+    }
+    CHECK(b.effects == a.effects);
+    REQUIRE(b.collision.volumes.size() == a.collision.volumes.size());
+    for (std::size_t i = 0; i < a.collision.volumes.size(); ++i) {
+      CHECK(b.collision.volumes[i].link == a.collision.volumes[i].link);
+      CHECK(b.collision.volumes[i].type == a.collision.volumes[i].type);
+      CHECK(b.collision.volumes[i].radius_m == a.collision.volumes[i].radius_m);
+      CHECK(b.collision.volumes[i].p_L == a.collision.volumes[i].p_L);
+    }
+    CHECK(b.collision.allowed_pairs == a.collision.allowed_pairs);
+  }
 }
