@@ -10,7 +10,7 @@
 #include "calibration/drive_report.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
-#include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -53,6 +53,7 @@ struct CommonArgs {
   std::string design, joint, data, out;
   int speed_bins = defaults::kSpeedBins, load_bins = defaults::kLoadBins;
   int variable_bins = defaults::kArmVariableBins, workspace_bins = defaults::kArmWorkspaceBins;
+  DesignSourceOptions src;  // URDF designs: --base/--tip/--package
 };
 
 const char* kKindHelp =
@@ -68,7 +69,8 @@ void checkKind(const CommonArgs& a) {
 }
 
 void addCommon(CLI::App* cmd, CommonArgs& a) {
-  cmd->add_option("design", a.design, "Design file (TOML); drive kind: with a [[drive]] for the joint")->required();
+  cmd->add_option("design", a.design, "Design file (TOML or URDF); drive kind: with a [[drive]] for the joint")->required();
+  addDesignSourceOptions(cmd, a.src);
   cmd->add_option("--kind", a.kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
   cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
   cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
@@ -218,7 +220,7 @@ void addCompareCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, a] {
     action = [a] {
       checkKind(*a);
-      const Model m = loadDesign(a->design);
+      const Model m = loadAnyDesign(a->design, a->src.urdf());
       if (a->kind != "drive") {
         const auto P = armProblem(*a, m);
         calibration::ArmFitOptions o;
@@ -276,7 +278,7 @@ void addFitCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, a, add, autoAdd, folds, seed, designOut] {
     action = [a, add, autoAdd, folds, seed, designOut] {
       checkKind(*a);
-      const Model m = loadDesign(a->design);
+      const Model m = loadAnyDesign(a->design, a->src.urdf());
       if (a->kind != "drive") return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
       DriveFitOptions o;
       o.speed_bins = a->speed_bins;
@@ -351,7 +353,9 @@ void addSynthCommand(CLI::App& app, Action& action) {
   auto temp = std::make_shared<std::string>("25:45");
   auto o = std::make_shared<calibration::SynthOptions>();
   auto noTemp = std::make_shared<bool>(false);
-  cmd->add_option("design", *design, "Design file (TOML)")->required();
+  cmd->add_option("design", *design, "Design file (TOML or URDF)")->required();
+  auto src = std::make_shared<DesignSourceOptions>();
+  addDesignSourceOptions(cmd, *src);
   auto kind = std::make_shared<std::string>("drive");
   auto arm = std::make_shared<ArmSynthArgs>();
   cmd->add_option("--kind", *kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
@@ -378,11 +382,11 @@ void addSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--loads", *loads, "Load torque levels [N m], comma list");
   cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
   cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");
-  cmd->callback([&action, design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise] {
-    action = [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise] {
+  cmd->callback([&action, design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
+    action = [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
       if (*kind == "drive" && joint->empty())
         throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
-      const Model m = loadDesign(*design);
+      const Model m = loadAnyDesign(*design, src->urdf());
       if (*kind == "tcp") {
         calibration::TcpSynthOptions so = arm->tcp;
         so.seed = o->seed;

@@ -3,7 +3,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
@@ -22,9 +22,11 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
     std::string path;
     std::vector<double> q, qd, qdd, gravity;
     bool deg = false, json = false, no_payload = false, rotor = false, mass_matrix = false;
+    DesignSourceOptions src;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("design", a->path, "Design file (TOML)")->required();
+  cmd->add_option("design", a->path, "Design file (TOML, or URDF with --base/--tip)")->required();
+  addDesignSourceOptions(cmd, a->src);
   cmd->add_option("--q", a->q, "Joint positions, one per joint (m / rad, deg with --deg)")
       ->delimiter(',')
       ->required();
@@ -44,8 +46,15 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", a->json, "Machine-readable output");
   cmd->callback([&action, a] {
     action = [a] {
-      const Model m = loadDesign(a->path);
+      UrdfOptions uo = a->src.urdf();
+      uo.collision = false;
+      UrdfInfo info;
+      const Model m = loadAnyDesign(a->path, uo, &info);
       const int n = m.dof();
+      // URDF <limit effort> (also `max_effort` in a design TOML): |Q| above it is reported.
+      auto effort = [&](int i) {
+        return info.joints.size() == static_cast<std::size_t>(n) ? info.joints[i].effort_max : 0.0;
+      };
       auto vec = [&](const std::vector<double>& v, const char* key) {
         Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
         if (v.empty() && std::string(key) != "q") return out;
@@ -86,11 +95,17 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
         j["payload"] = opt.include_payload;
         j["rotor_inertia"] = opt.include_rotor_inertia;
         j["joints"] = nlohmann::ordered_json::array();
-        for (int i = 0; i < n; ++i)
-          j["joints"].push_back({{"joint", m.joints[i].name},
-                                 {"unit", m.joints[i].type == JointType::Revolute ? "N m" : "N"},
-                                 {"Q", Q[i]},
-                                 {"gravity", g[i]}});
+        for (int i = 0; i < n; ++i) {
+          nlohmann::ordered_json row = {{"joint", m.joints[i].name},
+                                        {"unit", m.joints[i].type == JointType::Revolute ? "N m" : "N"},
+                                        {"Q", Q[i]},
+                                        {"gravity", g[i]}};
+          if (effort(i) > 0) {
+            row["effort_limit"] = effort(i);
+            row["over_effort_limit"] = std::abs(Q[i]) > effort(i);
+          }
+          j["joints"].push_back(row);
+        }
         if (a->mass_matrix) {
           j["mass_matrix"] = nlohmann::ordered_json::array();
           for (int r = 0; r < n; ++r) {
@@ -104,8 +119,11 @@ void addDynamicsCommand(CLI::App& app, Action& action) {
       }
       std::printf("%-8s %-4s %14s %14s\n", "joint", "unit", "Q", "g(q)");
       for (int i = 0; i < n; ++i)
-        std::printf("%-8s %-4s %14.6f %14.6f\n", m.joints[i].name.c_str(),
-                    m.joints[i].type == JointType::Revolute ? "N m" : "N", Q[i], g[i]);
+        std::printf("%-8s %-4s %14.6f %14.6f%s\n", m.joints[i].name.c_str(),
+                    m.joints[i].type == JointType::Revolute ? "N m" : "N", Q[i], g[i],
+                    effort(i) > 0 && std::abs(Q[i]) > effort(i)
+                        ? ("  over the effort limit " + std::to_string(effort(i))).c_str()
+                        : "");
       if (a->mass_matrix) {
         std::printf("M(q):\n");
         for (int r = 0; r < n; ++r) {

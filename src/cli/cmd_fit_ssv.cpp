@@ -7,6 +7,7 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "io/urdf_io.hpp"
 
 namespace armstudy::cli {
 
@@ -38,6 +39,10 @@ void addFitSsvCommand(CLI::App& app, Action& action) {
     action = [a] {
       if (a->in_place && !a->out.empty())
         throw InputError("--out", 0, "out", "use either --out or --in-place, not both");
+      if (isUrdfPath(a->design))
+        throw InputError(a->design, 0, "design",
+                         "fit-ssv rewrites a design TOML; a URDF's volumes are fitted to its collision geometry "
+                         "on import: convert it first (armstudy convert X.urdf X.toml) and fit into the TOML");
       const std::string text = readFileOrThrow(a->design);
       const Model m = parseDesign(text, a->design);
       if (collision::bodyIndex(m, a->link) < -1)

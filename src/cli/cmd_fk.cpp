@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/units.hpp"
@@ -17,14 +17,17 @@ void addFkCommand(CLI::App& app, Action& action) {
       "fk",
       "Forward kinematics: pose of every joint frame and the TCP for a joint vector.\n"
       "Positions in metres, orientation as Cardan angles alpha, beta, gamma (R = Rx Ry Rz).\n"
-      "Example: armstudy fk designs/first_prototype_6dof.toml --q 0.3,0,0,0,0,0");
+      "Example: armstudy fk designs/first_prototype_6dof.toml --q 0.3,0,0,0,0,0\n"
+      "         armstudy fk ur5_robot.urdf --base base_link --tip tool0 --q 0,-1.57,0,0,0,0 --json");
   struct Args {
     std::string path;
     std::vector<double> q;
     bool deg = false, json = false;
+    DesignSourceOptions src;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("design", a->path, "Design file (TOML)")->required();
+  cmd->add_option("design", a->path, "Design file (TOML, or URDF with --base/--tip)")->required();
+  addDesignSourceOptions(cmd, a->src);
   cmd->add_option("--q", a->q,
                   "Joint values, comma-separated, one per joint: metres for prismatic joints,\n"
                   "radians for revolute joints (degrees with --deg)")
@@ -34,7 +37,11 @@ void addFkCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", a->json, "Machine-readable output");
   cmd->callback([&action, a] {
     action = [a] {
-      const Model m = loadDesign(a->path);
+      UrdfOptions uo = a->src.urdf();
+      uo.collision = false;  // fk needs no collision volumes
+      UrdfInfo info;
+      const Model m = loadAnyDesign(a->path, uo, &info);
+      const bool has_links = info.joints.size() == static_cast<std::size_t>(m.dof());
       if (static_cast<int>(a->q.size()) != m.dof())
         throw InputError("--q", 0, "q",
                          "got " + std::to_string(a->q.size()) + " joint values, design '" + m.name +
@@ -57,8 +64,12 @@ void addFkCommand(CLI::App& app, Action& action) {
         CardanAngles c;
       };
       std::vector<Row> rows;
+      // Joint rows: the body frame after each joint; for a URDF design its child link frame
+      // (L_i = F_i R_FL), so every row agrees with URDF tools.
       for (int i = 0; i < m.dof(); ++i)
-        rows.push_back({m.joints[i].name, ws.p_WF[i], cardanFromRotation(ws.R_WF[i])});
+        rows.push_back({m.joints[i].name, ws.p_WF[i],
+                        cardanFromRotation(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
+                                                     : Eigen::Matrix3d(ws.R_WF[i]))});
       rows.push_back({"tcp", ws.p_WT, cardanFromRotation(ws.R_WT)});
       std::vector<std::string> warn;
       for (int i = 0; i < m.dof(); ++i) {

@@ -5,6 +5,7 @@
 
 #include "armstudy/version.hpp"
 #include "cli/commands.hpp"
+#include "cli/design_options.hpp"
 #include "common/errors.hpp"
 
 int main(int argc, char** argv) {
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   armstudy::cli::addDynamicsCommand(app, action);
   armstudy::cli::addApproachCommand(app, action);
   armstudy::cli::addFitSsvCommand(app, action);
+  armstudy::cli::addConvertCommand(app, action);
   // An unknown command: name it and list the commands (CLI11 would only say one is required).
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;

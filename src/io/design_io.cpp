@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <sstream>
 
@@ -10,6 +11,7 @@
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/urdf_io.hpp"
 
 namespace armstudy {
 namespace {
@@ -118,7 +120,8 @@ void validateDriveEffects(const Model& m, const std::string& file, int effects_l
   }
 }
 
-Model buildModel(const toml::table& root, const std::string& file) {
+Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* info) {
+  UrdfInfo urdf;
   Model m;
   m.file = file;
   TableReader top(root, file, "");
@@ -153,12 +156,26 @@ Model buildModel(const toml::table& root, const std::string& file) {
     else
       r.fail("type", "unknown joint type '" + type + "' (expected revolute or prismatic)");
     j.offset = readPose(r, true);
+    UrdfJointInfo ji;  // URDF facts (io/urdf_io.hpp), optional
+    ji.link = r.string("link", "");
+    ji.continuous = r.boolean("continuous", false);
+    if (ji.continuous && j.type != JointType::Revolute)
+      r.fail("continuous", "only a revolute joint can be continuous");
     const Dimension qd = j.type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
     const Dimension vd =
         j.type == JointType::Revolute ? Dimension::AngularVelocity : Dimension::LinearVelocity;
-    j.limits.q_min = r.quantity("min", qd);
-    j.limits.q_max = r.quantity("max", qd);
+    if (ji.continuous) {  // no position limits: the documented stand-in range unless given
+      j.limits.q_min = r.quantity("min", qd, -defaults::kContinuousJointRange_rad);
+      j.limits.q_max = r.quantity("max", qd, defaults::kContinuousJointRange_rad);
+    } else {
+      j.limits.q_min = r.quantity("min", qd);
+      j.limits.q_max = r.quantity("max", qd);
+    }
     j.limits.qd_max = r.quantity("max_velocity", vd, 0.0);
+    ji.effort_max = r.number("max_effort", 0.0);
+    if (!(ji.effort_max >= 0) || !std::isfinite(ji.effort_max))
+      r.fail("max_effort", "effort limit must be finite and not negative (N m or N; 0 = not given)");
+    urdf.joints.push_back(ji);
     if (!(j.limits.q_min < j.limits.q_max))
       r.fail("max", "joint limits are inverted or empty (min must be below max)");
     if (j.limits.qd_max < 0) r.fail("max_velocity", "velocity limit must not be negative");
@@ -175,11 +192,13 @@ Model buildModel(const toml::table& root, const std::string& file) {
     if (!t) throw InputError(file, 1, "tcp", "missing required table [tcp] (TCP offset from the last frame)");
     TableReader r(*t, file, "tcp");
     m.tcp = readPose(r, false);
+    urdf.tcp_link = r.string("link", "");
     r.finish();
   }
   if (const toml::table* t = top.table("base")) {
     TableReader r(*t, file, "base");
     m.base = readPose(r, false);
+    urdf.base_link = r.string("link", "");
     r.finish();
   }
 
@@ -269,6 +288,7 @@ Model buildModel(const toml::table& root, const std::string& file) {
   top.finish();
   m.finalize();
   validateModel(m, file);
+  if (info) *info = urdf;
   return m;
 }
 
@@ -276,13 +296,126 @@ Model buildModel(const toml::table& root, const std::string& file) {
 
 
 Model parseDesign(const std::string& text, const std::string& file_label) {
+  return parseDesignWithUrdfInfo(text, file_label, nullptr);
+}
+
+Model parseDesignWithUrdfInfo(const std::string& text, const std::string& file_label, UrdfInfo* info) {
   const toml::table root = io::parseTomlText(text, file_label);
-  Model m = buildModel(root, file_label);
+  Model m = buildModel(root, file_label, info);
   m.file_hash = contentHash(text);
   return m;
 }
 
-Model loadDesign(const std::string& path) { return parseDesign(readFileOrThrow(path), path); }
+// A `.urdf` design is imported with the default chain (io/urdf_io.hpp, loadAnyDesign for others).
+Model loadDesign(const std::string& path) { return loadAnyDesign(path, UrdfOptions{}); }
+
+Model loadAnyDesign(const std::string& path, const UrdfOptions& urdf, UrdfInfo* info,
+                    std::vector<std::string>* warnings) {
+  if (isUrdfPath(path)) return importUrdf(path, urdf, info, warnings);
+  return parseDesignWithUrdfInfo(readFileOrThrow(path), path, info);
+}
+
+namespace {
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::string s(buf);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // TOML float, not integer
+  return s;
+}
+std::string quoted(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (c == '\n') {
+      o += "\\n";
+      continue;
+    }
+    o += c;
+  }
+  return o + "\"";
+}
+void writePose(std::ostringstream& o, const PoseXYZABG& p, bool all) {
+  const std::pair<const char*, double> f[] = {{"x", p.x},         {"y", p.y},        {"z", p.z},
+                                              {"alpha", p.alpha}, {"beta", p.beta}, {"gamma", p.gamma}};
+  for (const auto& [k, v] : f)
+    if (all || v != 0) o << k << " = " << num(v) << "\n";
+}
+std::string vec3(const Eigen::Vector3d& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+}  // namespace
+
+std::string designToToml(const Model& m, const UrdfInfo& info) {
+  const bool has_joint_info = info.joints.size() == m.joints.size();
+  std::ostringstream o;
+  o << "# Written by armstudy (design format: docs/design-format.md). SI units: m, rad, kg, s.\n";
+  o << "[design]\nname = " << quoted(m.name) << "\n";
+  if (!m.description.empty()) o << "description = " << quoted(m.description) << "\n";
+  if (!m.source.empty()) o << "source = " << quoted(m.source) << "\n";
+  if (!m.assumptions.empty()) {
+    o << "assumptions = [\n";
+    for (const auto& a : m.assumptions) o << "  " << quoted(a) << ",\n";
+    o << "]\n";
+  }
+  o << "\n[base]\n";
+  if (!info.base_link.empty()) o << "link = " << quoted(info.base_link) << "\n";
+  writePose(o, m.base, false);
+  for (std::size_t i = 0; i < m.joints.size(); ++i) {
+    const Joint& j = m.joints[i];
+    const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
+    o << "\n[[joint]]\nname = " << quoted(j.name) << "\ntype = " << quoted(toString(j.type)) << "\n";
+    if (!ji.link.empty()) o << "link = " << quoted(ji.link) << "\n";
+    writePose(o, j.offset, true);
+    if (ji.continuous) o << "continuous = true\n";
+    o << "min = " << num(j.limits.q_min) << "\nmax = " << num(j.limits.q_max) << "\n";
+    if (j.limits.qd_max > 0) o << "max_velocity = " << num(j.limits.qd_max) << "\n";
+    if (ji.effort_max > 0) o << "max_effort = " << num(ji.effort_max) << "\n";
+  }
+  o << "\n[tcp]\n";
+  if (!info.tcp_link.empty()) o << "link = " << quoted(info.tcp_link) << "\n";
+  writePose(o, m.tcp, false);
+  for (std::size_t i = 0; i < m.inertias.size(); ++i) {
+    const LinkInertia& li = m.inertias[i];
+    if (!li.given) continue;
+    const Eigen::Matrix3d& I = li.I_com_kgm2;
+    o << "\n[[inertia]]\nlink = " << quoted(m.joints[i].name) << "\nmass = " << num(li.mass_kg)
+      << "\ncom = " << vec3(li.p_com_m) << "\ninertia = [" << num(I(0, 0)) << ", " << num(I(1, 1)) << ", "
+      << num(I(2, 2)) << ", " << num(I(0, 1)) << ", " << num(I(0, 2)) << ", " << num(I(1, 2)) << "]\n";
+  }
+  if (m.payload_kg > 0)
+    o << "\n[payload]\nmass = " << num(m.payload_kg) << "\ncom = " << vec3(m.p_payload_com_T) << "\n";
+  for (const Drive& d : m.drives) {
+    o << "\n[[drive]]\njoint = " << quoted(d.joint) << "\n";
+    if (!d.module.empty()) o << "module = " << quoted(d.module) << "\n";
+    o << "gear_ratio = " << num(d.gear_ratio) << "\ntorque_constant = " << num(d.torque_constant_NmpA) << "\n";
+    const std::pair<const char*, double> opt[] = {
+        {"rotor_inertia", d.rotor_inertia_kgm2},     {"peak_current", d.peak_current_A},
+        {"continuous_current", d.continuous_current_A}, {"max_motor_speed", d.max_motor_speed_radps},
+        {"max_voltage", d.max_voltage_V},            {"resistance", d.resistance_ohm},
+        {"inductance", d.inductance_H}};
+    for (const auto& [k, v] : opt)
+      if (v != 0) o << k << " = " << num(v) << "\n";
+    if (!d.friction_law.empty()) {
+      o << "[drive.friction]\nlaw = " << quoted(d.friction_law) << "\n";
+      for (const auto& [k, v] : d.friction) o << k << " = " << num(v) << "\n";
+    }
+  }
+  if (!m.effects.empty()) {
+    o << "\n[model]\neffects = [";
+    for (std::size_t i = 0; i < m.effects.size(); ++i) o << (i ? ", " : "") << quoted(m.effects[i]);
+    o << "]\n";
+  }
+  auto linkName = [&](int link) { return link < 0 ? std::string("base") : m.joints[link].name; };
+  for (const CollisionVolume& v : m.collision.volumes) {
+    o << "\n[[collision]]\n";
+    if (!v.name.empty()) o << "name = " << quoted(v.name) << "\n";
+    o << "link = " << quoted(linkName(v.link)) << "\ntype = " << quoted(toString(v.type)) << "\npoints = [";
+    for (int k = 0; k < static_cast<int>(v.type); ++k) o << (k ? ", " : "") << vec3(v.p_L[k]);
+    o << "]\nradius = " << num(v.radius_m) << "\n";
+  }
+  for (const auto& p : m.collision.allowed_pairs)
+    o << "\n[[collision_allowed]]\nlinks = [" << quoted(linkName(p[0])) << ", " << quoted(linkName(p[1])) << "]\n";
+  return o.str();
+}
 
 void validateModel(const Model& m, const std::string& file) {
   for (const Joint& j : m.joints) {

@@ -10,6 +10,7 @@
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/urdf_io.hpp"
 
 namespace armstudy {
 
@@ -133,7 +134,48 @@ Study loadStudy(const std::string& path) {
     const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
     if (!fs::exists(resolved))
       r.fail("file", "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
-    Model m = loadDesign(resolved.lexically_normal().string());
+    UrdfOptions uo;  // URDF designs (docs/study-format.md): chain and package folders
+    uo.base_link = r.string("base_link", "");
+    uo.tip_link = r.string("tip_link", "");
+    if (const toml::table* pk = r.table("packages")) {
+      TableReader pr(*pk, path, r.path() + ".packages");
+      for (auto&& [k, v] : *pk) {
+        const std::string dir_text = pr.string(std::string(k.str()));
+        const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
+        uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
+      }
+      pr.finish();
+    }
+    const bool urdf = isUrdfPath(resolved.string());
+    if (!urdf)
+      for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
+        if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
+    Model m = loadAnyDesign(resolved.lexically_normal().string(), uo);
+    if (urdf) {  // a URDF has no task-frame placement, TCP offset or design name of ours
+      auto pose = [&](const char* key, PoseXYZABG& p) {
+        const toml::table* t = r.table(key);
+        if (!t) return;
+        TableReader pr(*t, path, r.path() + "." + key);
+        p.x = pr.quantity("x", Dimension::Length, 0.0);
+        p.y = pr.quantity("y", Dimension::Length, 0.0);
+        p.z = pr.quantity("z", Dimension::Length, 0.0);
+        p.alpha = pr.quantity("alpha", Dimension::Angle, 0.0);
+        p.beta = pr.quantity("beta", Dimension::Angle, 0.0);
+        p.gamma = pr.quantity("gamma", Dimension::Angle, 0.0);
+        pr.finish();
+      };
+      pose("base", m.base);
+      PoseXYZABG offset;  // the TCP offset is given in the tip link frame: T_NT = T_N,tip * offset
+      pose("tcp", offset);
+      const Eigen::Isometry3d T_NT = m.tcp.toIsometry() * offset.toIsometry();
+      const Eigen::Vector3d abg = T_NT.linear().eulerAngles(0, 1, 2);  // R = Rx Ry Rz
+      m.tcp = {T_NT.translation().x(), T_NT.translation().y(), T_NT.translation().z(), abg[0], abg[1], abg[2]};
+      m.name = r.string("name", m.name);
+      for (char c : m.name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+          r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+      m.finalize();
+    }
     r.finish();
     if (by_name.count(m.name))
       r.fail("file", "design name '" + m.name + "' appears twice in this study");

@@ -1,0 +1,756 @@
+#include "io/urdf_io.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "collision/collision.hpp"
+#include "collision/ssv_fit.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+#include "kinematics/kinematics.hpp"
+
+namespace armstudy {
+namespace fs = std::filesystem;
+
+std::pair<std::string, std::string> parsePackageOption(const std::string& text,
+                                                       const std::string& option) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError(option, 0, "package", "expected NAME=DIR, got '" + text + "'");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+bool isUrdfPath(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".urdf";
+}
+
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// urdfdom reports its errors only through console_bridge: collect them for our message.
+class CaptureHandler : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages.push_back(text);
+  }
+  std::vector<std::string> messages;
+};
+
+// Lines of the URDF's elements (urdfdom keeps none), found with tinyxml, the parser urdfdom uses.
+struct XmlIndex {
+  int robot_line = 1;
+  std::map<std::string, int> links, joints;  // element name -> line
+};
+
+const char* kNumericAttributes[] = {
+    "xyz", "rpy", "value", "lower",  "upper",  "effort", "velocity", "ixx",        "ixy",   "ixz",
+    "iyy", "iyz", "izz",   "radius", "length", "size",   "scale",    "multiplier", "offset"};
+
+std::string elementLabel(const TiXmlElement* e) {
+  const char* name = e->Attribute("name");
+  return std::string(e->Value()) + (name ? " '" + std::string(name) + "'" : std::string());
+}
+
+// Every number in the elements we read must be finite: report the exact element and its line.
+void checkNumbers(const TiXmlElement* e, const std::string& owner, const std::string& file) {
+  for (const char* attr : kNumericAttributes) {
+    const char* v = e->Attribute(attr);
+    if (!v) continue;
+    std::istringstream in(v);
+    in.imbue(std::locale::classic());
+    std::string tok;
+    while (in >> tok) {
+      bool ok = true;
+      try {
+        std::size_t used = 0;
+        const double d = std::stod(tok, &used);
+        ok = used == tok.size() && std::isfinite(d);
+      } catch (const std::exception&) {
+        ok = false;
+      }
+      if (!ok)
+        throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr,
+                         "'" + tok + "' is not a finite number");
+    }
+  }
+  for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+    checkNumbers(c, owner, file);
+}
+
+XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  if (doc.Error())
+    throw InputError(file, doc.ErrorRow(), "xml",
+                     std::string("not well-formed XML: ") + doc.ErrorDesc());
+  const TiXmlElement* robot = doc.FirstChildElement("robot");
+  if (!robot) throw InputError(file, 1, "robot", "no <robot> element: not a URDF file");
+  XmlIndex out;
+  out.robot_line = robot->Row();
+  struct {
+    std::map<std::string, const TiXmlElement*> links, joints;
+  } idx;
+  static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic",
+                                               "fixed",    "floating",   "planar"};
+  for (const TiXmlElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string tag = e->Value();
+    if (tag != "link" && tag != "joint") continue;
+    const char* name = e->Attribute("name");
+    if (!name) throw InputError(file, e->Row(), tag, "<" + tag + "> without a name");
+    auto& map = tag == "link" ? idx.links : idx.joints;
+    if (map.count(name))
+      throw InputError(file, e->Row(), elementLabel(e), tag + " name '" + name + "' is used twice");
+    map[name] = e;
+  }
+  for (const auto& [name, e] : idx.joints) {
+    const std::string label = elementLabel(e);
+    const char* type = e->Attribute("type");
+    if (!type || !kTypes.count(type))
+      throw InputError(file, e->Row(), label + "@type",
+                       "unknown joint type '" + std::string(type ? type : "") +
+                           "' (URDF: revolute, continuous, prismatic, fixed, floating, planar)");
+    for (const char* role : {"parent", "child"}) {
+      const TiXmlElement* r = e->FirstChildElement(role);
+      const char* link = r ? r->Attribute("link") : nullptr;
+      if (!link)
+        throw InputError(file, e->Row(), label + "/" + role,
+                         std::string("joint has no <") + role + " link=...>");
+      if (!idx.links.count(link))
+        throw InputError(file, r->Row(), label + "/" + role,
+                         std::string(role) + " link '" + link + "' is not defined in this file");
+    }
+    checkNumbers(e, label, file);
+  }
+  for (const auto& [name, e] : idx.links) checkNumbers(e, elementLabel(e), file);
+  // Each link has at most one parent joint; following parents from any link must reach a root.
+  std::map<std::string, std::string> parent_of;  // child link -> joint
+  for (const auto& [name, e] : idx.joints) {
+    const std::string child = e->FirstChildElement("child")->Attribute("link");
+    if (parent_of.count(child))
+      throw InputError(file, e->Row(), elementLabel(e),
+                       "link '" + child + "' has two parent joints ('" + parent_of[child] +
+                           "' and '" + name + "'): a URDF is a tree");
+    parent_of[child] = name;
+  }
+  for (const auto& [link, joint] : parent_of) {
+    std::set<std::string> seen{link};
+    std::string cur = link;
+    while (parent_of.count(cur)) {
+      const TiXmlElement* j = idx.joints.at(parent_of[cur]);
+      cur = j->FirstChildElement("parent")->Attribute("link");
+      if (!seen.insert(cur).second)
+        throw InputError(file, j->Row(), elementLabel(j),
+                         "the joints form a cycle through link '" + cur + "'");
+    }
+  }
+  for (const auto& [name, e] : idx.links) out.links[name] = e->Row();
+  for (const auto& [name, e] : idx.joints) out.joints[name] = e->Row();
+  return out;  // the document dies here: keep lines, not elements
+}
+
+Isometry3d toIso(const urdf::Pose& p) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() =
+      Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).toRotationMatrix();
+  T.translation() = Vector3d(p.position.x, p.position.y, p.position.z);
+  return T;
+}
+
+PoseXYZABG poseFromIso(const Isometry3d& T) {
+  PoseXYZABG p;
+  p.x = T.translation().x();
+  p.y = T.translation().y();
+  p.z = T.translation().z();
+  const Vector3d a = T.linear().eulerAngles(0, 1, 2);  // R = Rx(a0) Ry(a1) Rz(a2)
+  p.alpha = a[0];
+  p.beta = a[1];
+  p.gamma = a[2];
+  return p;
+}
+
+bool isIdentity(const Isometry3d& T) { return T.isApprox(Isometry3d::Identity(), 1e-15); }
+
+// Rotation R_a with R_a e_z = a (unit): the joint frame of armstudy, whose z axis is the URDF axis.
+Matrix3d axisFrame(const Vector3d& a) {
+  return Eigen::Quaterniond::FromTwoVectors(Vector3d::UnitZ(), a).toRotationMatrix();
+}
+
+std::string sanitizeName(const std::string& s) {
+  std::string o;
+  for (char c : s)
+    o +=
+        (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
+  return o.empty() ? "urdf_robot" : o;
+}
+
+// package://NAME/rest: --package NAME=DIR first, then the folders above the URDF file (the first
+// A with A/rest or A/NAME/rest). file:// URIs are absolute, plain names relative to the URDF.
+std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
+                        const UrdfOptions& o) {
+  const fs::path urdf_dir = fs::absolute(fs::path(urdf_file)).parent_path();
+  const std::string pkg = "package://", file = "file://";
+  if (uri.rfind(pkg, 0) == 0) {
+    const std::string s = uri.substr(pkg.size());
+    const auto slash = s.find('/');
+    const std::string name = s.substr(0, slash),
+                      rest = slash == std::string::npos ? "" : s.substr(slash + 1);
+    for (const auto& [n, dir] : o.packages)
+      if (n == name) return (fs::path(dir) / rest).string();
+    for (fs::path a = urdf_dir; !a.empty(); a = a.parent_path()) {
+      if (fs::exists(a / rest)) return (a / rest).string();
+      if (fs::exists(a / name / rest)) return (a / name / rest).string();
+      if (a == a.parent_path()) break;
+    }
+    return "";  // unresolved
+  }
+  if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
+  const fs::path p(uri);
+  return p.is_absolute() ? p.string() : (urdf_dir / p).string();
+}
+
+// All triangles of a mesh file (STL, DAE, OBJ, ... through assimp), node transforms applied.
+bool loadMesh(const std::string& path, collision::TriangleMesh& out, std::string& error) {
+  if (!fs::is_regular_file(path)) {
+    error = "mesh file not found";
+    return false;
+  }
+  Assimp::Importer imp;
+  // Assumption: a DAE's up axis is ignored, as ROS tools do with URDF meshes; unit scale applies.
+  imp.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* sc = imp.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (!sc || !sc->mRootNode) {
+    error = std::string("assimp cannot read it: ") + imp.GetErrorString();
+    return false;
+  }
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{
+      {sc->mRootNode, sc->mRootNode->mTransformation}};
+  while (!stack.empty()) {
+    auto [node, T] = stack.back();
+    stack.pop_back();
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const aiMesh* mesh = sc->mMeshes[node->mMeshes[k]];
+      const int first = static_cast<int>(out.vertices.size());
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D p = T * mesh->mVertices[v];
+        out.vertices.emplace_back(p.x, p.y, p.z);
+      }
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+        if (mesh->mFaces[f].mNumIndices == 3)
+          out.triangles.push_back({first + static_cast<int>(mesh->mFaces[f].mIndices[0]),
+                                   first + static_cast<int>(mesh->mFaces[f].mIndices[1]),
+                                   first + static_cast<int>(mesh->mFaces[f].mIndices[2])});
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c)
+      stack.push_back({node->mChildren[c], T * node->mChildren[c]->mTransformation});
+  }
+  if (out.vertices.empty()) {
+    error = "the mesh has no vertices";
+    return false;
+  }
+  return true;
+}
+
+void addFitted(Model& m, int body, const std::string& name, const collision::SsvFitSummary& fit) {
+  int k = 0;
+  for (const auto& f : fit.volumes) {
+    CollisionVolume v;
+    v.name = name + (fit.volumes.size() > 1 ? "_" + std::to_string(k++) : "");
+    v.link = body;
+    v.type = f.type;
+    v.p_L = f.p;
+    v.radius_m = f.radius_m;
+    m.collision.volumes.push_back(v);
+  }
+}
+
+// One link's part of a body: the link and the transform from the body frame F to the link frame L.
+struct LinkInBody {
+  urdf::LinkConstSharedPtr link;
+  Isometry3d T_FL;
+};
+
+void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
+                  const UrdfOptions& o, const XmlIndex& xml, std::vector<std::string>& warnings,
+                  std::string& mesh_hashes) {
+  int idx = 0;
+  for (const auto& c : lb.link->collision_array) {
+    if (!c || !c->geometry) continue;
+    const std::string name =
+        lb.link->name + (lb.link->collision_array.size() > 1 ? "_c" + std::to_string(idx) : "");
+    ++idx;
+    const Isometry3d T = lb.T_FL * toIso(c->origin);
+    const int line = xml.links.count(lb.link->name) ? xml.links.at(lb.link->name) : 0;
+    collision::TriangleMesh tm;
+    switch (c->geometry->type) {
+      case urdf::Geometry::SPHERE: {
+        const auto& s = static_cast<const urdf::Sphere&>(*c->geometry);
+        CollisionVolume v;
+        v.name = name;
+        v.link = body;
+        v.type = SsvType::Point;
+        v.p_L[0] = T.translation();
+        v.radius_m = s.radius;
+        v.source_line = line;
+        m.collision.volumes.push_back(v);
+        continue;
+      }
+      case urdf::Geometry::CYLINDER: {  // a capsule on the cylinder's axis: contains the cylinder
+        const auto& s = static_cast<const urdf::Cylinder&>(*c->geometry);
+        CollisionVolume v;
+        v.name = name;
+        v.link = body;
+        v.type = s.length > 0 ? SsvType::Line : SsvType::Point;
+        v.p_L[0] = T * Vector3d(0, 0, -s.length / 2);
+        v.p_L[1] = T * Vector3d(0, 0, s.length / 2);
+        if (v.type == SsvType::Point) v.p_L[0] = T.translation();
+        v.radius_m = s.radius;
+        v.source_line = line;
+        m.collision.volumes.push_back(v);
+        continue;
+      }
+      case urdf::Geometry::BOX: {
+        const auto& b = static_cast<const urdf::Box&>(*c->geometry);
+        for (int k = 0; k < 8; ++k)
+          tm.vertices.push_back(T * Vector3d((k & 1 ? 0.5 : -0.5) * b.dim.x,
+                                             (k & 2 ? 0.5 : -0.5) * b.dim.y,
+                                             (k & 4 ? 0.5 : -0.5) * b.dim.z));
+        // 12 triangles of the box (corner k has bit 0 = +x, bit 1 = +y, bit 2 = +z)
+        tm.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                        {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+        break;
+      }
+      case urdf::Geometry::MESH: {
+        const auto& me = static_cast<const urdf::Mesh&>(*c->geometry);
+        const std::string path = resolveMesh(me.filename, file, o);
+        std::string err = path.empty() ? "package not found (give --package NAME=DIR)" : "";
+        collision::TriangleMesh raw;
+        if (path.empty() || !loadMesh(path, raw, err)) {
+          warnings.push_back("URDF import: link '" + lb.link->name +
+                             "' gets no collision volume from mesh '" + me.filename + "': " + err);
+          continue;
+        }
+        mesh_hashes += me.filename + " " + fileHash(path) + "\n";
+        const Vector3d scale(me.scale.x, me.scale.y, me.scale.z);
+        tm.triangles = raw.triangles;
+        for (const Vector3d& p : raw.vertices) tm.vertices.push_back(T * p.cwiseProduct(scale));
+        break;
+      }
+      default:
+        continue;
+    }
+    collision::SsvFitOptions fo;
+    fo.max_volumes = defaults::kUrdfSsvMaxVolumesPerMesh;
+    const std::size_t before = m.collision.volumes.size();
+    addFitted(m, body, name, collision::fitSsvs(tm, fo));
+    for (std::size_t k = before; k < m.collision.volumes.size(); ++k)
+      m.collision.volumes[k].source_line = line;
+  }
+}
+
+// Inertials of the links of one body, merged into one rigid body about its COM, in frame F.
+LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
+  LinkInertia out;
+  double mass = 0;
+  Vector3d mc = Vector3d::Zero();
+  struct Part {
+    double m;
+    Vector3d c;
+    Matrix3d I;
+  };
+  std::vector<Part> parts;
+  for (const auto& lb : links) {
+    const auto& in = lb.link->inertial;
+    if (!in) continue;
+    out.given = true;
+    const Isometry3d T = lb.T_FL * toIso(in->origin);  // inertial frame in F
+    Matrix3d I;
+    I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
+    const Matrix3d R = T.linear();
+    parts.push_back({in->mass, T.translation(), R * I * R.transpose()});
+    mass += in->mass;
+    mc += in->mass * T.translation();
+  }
+  if (!out.given) return out;
+  out.mass_kg = mass;
+  out.p_com_m = mass > 0 ? Vector3d(mc / mass) : parts.front().c;
+  Matrix3d I = Matrix3d::Zero();
+  for (const Part& p : parts) {  // parallel-axis theorem to the common COM
+    const Vector3d d = p.c - out.p_com_m;
+    I += p.I + p.m * (d.squaredNorm() * Matrix3d::Identity() - d * d.transpose());
+  }
+  out.I_com_kgm2 = I;
+  return out;
+}
+
+}  // namespace
+
+Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
+                     UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
+  UrdfInfo info;
+  const XmlIndex xml = indexAndCheck(text, file);
+  CaptureHandler capture;
+  console_bridge::OutputHandler* previous = console_bridge::getOutputHandler();
+  console_bridge::useOutputHandler(&capture);
+  urdf::ModelInterfaceSharedPtr urdf;
+  try {
+    urdf = urdf::parseURDF(text);
+  } catch (const std::exception& e) {
+    capture.messages.push_back(e.what());
+  }
+  console_bridge::useOutputHandler(previous);
+  if (!urdf) {
+    std::string msg = "urdfdom cannot parse the file";
+    for (const auto& s : capture.messages) msg += ": " + s;
+    // Name the element when urdfdom's message does ("... [name] ...").
+    int line = xml.robot_line;
+    std::string key = "robot";
+    for (const auto& s : capture.messages)
+      for (std::size_t a = s.find('['); a != std::string::npos; a = s.find('[', a + 1)) {
+        const auto b = s.find(']', a);
+        if (b == std::string::npos) break;
+        const std::string n = s.substr(a + 1, b - a - 1);
+        if (xml.joints.count(n))
+          line = xml.joints.at(n), key = "joint '" + n + "'";
+        else if (xml.links.count(n))
+          line = xml.links.at(n), key = "link '" + n + "'";
+      }
+    throw InputError(file, line, key, msg);
+  }
+  auto jointLine = [&](const std::string& n) {
+    return xml.joints.count(n) ? xml.joints.at(n) : xml.robot_line;
+  };
+  auto linkLine = [&](const std::string& n) {
+    return xml.links.count(n) ? xml.links.at(n) : xml.robot_line;
+  };
+
+  // --- the chain ---
+  const urdf::LinkConstSharedPtr root = urdf->getRoot();
+  urdf::LinkConstSharedPtr base = root;
+  if (!o.base_link.empty()) {
+    base = urdf->getLink(o.base_link);
+    if (!base)
+      throw InputError(file, xml.robot_line, "base_link",
+                       "no link named '" + o.base_link + "' (--base)");
+  }
+  auto isMovable = [](const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; };
+  urdf::LinkConstSharedPtr tip;
+  if (!o.tip_link.empty()) {
+    tip = urdf->getLink(o.tip_link);
+    if (!tip)
+      throw InputError(file, xml.robot_line, "tip_link",
+                       "no link named '" + o.tip_link + "' (--tip)");
+  } else {
+    // The end of the longest chain of movable joints below the base, when unique.
+    int best = 0;
+    std::vector<std::string> candidates;
+    std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{base, 0}};
+    while (!stack.empty()) {
+      auto [l, n] = stack.back();
+      stack.pop_back();
+      for (const auto& j : l->child_joints) {
+        const int nn = n + (isMovable(*j) ? 1 : 0);
+        if (isMovable(*j) && nn >= best) {
+          if (nn > best) candidates.clear();
+          best = nn;
+          candidates.push_back(j->child_link_name);
+        }
+        stack.push_back({urdf->getLink(j->child_link_name), nn});
+      }
+    }
+    if (candidates.empty())
+      throw InputError(file, linkLine(base->name), "link '" + base->name + "'",
+                       "no movable joint below the base link '" + base->name + "'");
+    if (candidates.size() > 1) {
+      std::sort(candidates.begin(), candidates.end());
+      std::string list;
+      for (const auto& c : candidates) list += (list.empty() ? "" : ", ") + c;
+      throw InputError(file, xml.robot_line, "tip_link",
+                       "the longest chains of movable joints (" + std::to_string(best) +
+                           ") end in several links: " + list +
+                           "; choose one with --tip (tip_link in a study)");
+    }
+    tip = urdf->getLink(candidates.front());
+  }
+  std::vector<urdf::JointConstSharedPtr> chain;
+  for (urdf::LinkConstSharedPtr l = tip; l != base;) {
+    if (!l->parent_joint)
+      throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
+                       "tip link '" + tip->name + "' is not below base link '" + base->name + "'");
+    chain.push_back(l->parent_joint);
+    l = urdf->getLink(l->parent_joint->parent_link_name);
+  }
+  std::reverse(chain.begin(), chain.end());
+
+  Model m;
+  m.name = sanitizeName(urdf->getName());
+  m.file = file;
+  m.source =
+      "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
+  m.description = "Imported from " + file + " (robot '" + urdf->getName() + "')";
+  info.base_link = base->name;
+  info.tcp_link = tip->name;
+  std::vector<std::string> warnings;
+
+  std::vector<std::vector<LinkInBody>> bodies(
+      1);  // bodies[0] = base, bodies[i + 1] = after joint i
+  bodies[0].push_back({base, Isometry3d::Identity()});
+  std::set<std::string> on_chain{base->name};
+  Isometry3d T_acc = Isometry3d::Identity();  // current body frame F -> current link frame L
+  for (const auto& j : chain) {
+    const std::string jl = "joint '" + j->name + "'";
+    const Isometry3d T_o = toIso(j->parent_to_joint_origin_transform);
+    on_chain.insert(j->child_link_name);
+    if (j->type == urdf::Joint::FIXED) {
+      T_acc = T_acc * T_o;
+      bodies.back().push_back({urdf->getLink(j->child_link_name), T_acc});
+      continue;
+    }
+    if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS &&
+        j->type != urdf::Joint::PRISMATIC)
+      throw InputError(file, jointLine(j->name), jl,
+                       "joint type on the chain is not supported (floating and planar joints are "
+                       "not serial-arm joints)");
+    if (j->mimic)
+      throw InputError(
+          file, jointLine(j->name), jl + "/mimic",
+          "mimic joints on the chain are not supported (the joint would not be independent); "
+          "choose another --tip");
+    Vector3d a(j->axis.x, j->axis.y, j->axis.z);
+    if (!(a.norm() > 1e-12))
+      throw InputError(file, jointLine(j->name), jl + "/axis", "joint axis is zero");
+    a.normalize();
+    Isometry3d R_a = Isometry3d::Identity();
+    R_a.linear() = axisFrame(a);
+    Joint J;
+    UrdfJointInfo ji;
+    J.name = j->name;
+    ji.link = j->child_link_name;
+    J.source_line = jointLine(j->name);
+    J.type = j->type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
+    J.offset = poseFromIso(T_acc * T_o * R_a);
+    if (j->type == urdf::Joint::CONTINUOUS) {
+      ji.continuous = true;
+      J.limits.q_min = -defaults::kContinuousJointRange_rad;
+      J.limits.q_max = defaults::kContinuousJointRange_rad;
+    } else {
+      if (!j->limits)
+        throw InputError(file, jointLine(j->name), jl + "/limit",
+                         "revolute and prismatic joints need <limit>");
+      J.limits.q_min = j->limits->lower;
+      J.limits.q_max = j->limits->upper;
+      if (!(J.limits.q_min < J.limits.q_max))
+        throw InputError(file, jointLine(j->name), jl + "/limit",
+                         "lower limit must be below upper limit (armstudy sweeps the joint range)");
+    }
+    if (j->limits) {
+      J.limits.qd_max = std::max(0.0, j->limits->velocity);
+      ji.effort_max = std::max(0.0, j->limits->effort);
+    }
+    ji.R_FL = R_a.linear().transpose();
+    m.joints.push_back(J);
+    info.joints.push_back(ji);
+    T_acc = R_a.inverse();  // F_i = L_i R_a, so L_i = F_i R_a^T
+    bodies.push_back({{urdf->getLink(j->child_link_name), T_acc}});
+  }
+  if (m.joints.empty())
+    throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
+                     "no movable joint between '" + base->name + "' and '" + tip->name + "'");
+  if (m.dof() > defaults::kMaxDof)
+    throw InputError(
+        file, linkLine(tip->name), "link '" + tip->name + "'",
+        "more than " + std::to_string(defaults::kMaxDof) + " movable joints are not supported");
+  m.tcp = poseFromIso(T_acc);
+
+  // Branches off the chain are ignored (fingers, sensors, tool frames).
+  for (const auto& [name, link] : urdf->links_)
+    if (!on_chain.count(name) && link->parent_joint &&
+        on_chain.count(link->parent_joint->parent_link_name))
+      warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
+                         link->parent_joint->name + "') is off the chain " + base->name + " -> " +
+                         tip->name + " and ignored");
+
+  // Inertias: the body after joint i carries its link and the links folded onto it.
+  bool any_inertia = false;
+  std::vector<LinkInertia> inertias;
+  for (std::size_t b = 1; b < bodies.size(); ++b) {
+    inertias.push_back(mergeInertials(bodies[b]));
+    any_inertia = any_inertia || inertias.back().given;
+  }
+  if (any_inertia) m.inertias = inertias;
+
+  std::string mesh_hashes;
+  if (o.collision)
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+      for (const auto& lb : bodies[b])
+        addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
+  // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
+  m.file_hash = contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
+  if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
+    throw InputError(
+        file, xml.robot_line, "collision",
+        "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");
+
+  m.finalize();
+  if (!m.collision.empty()) {
+    // Assumption (like MoveIt's "adjacent/default" pairs): bodies whose volumes touch at the
+    // reference configuration (q = 0 clamped into the limits) touch by construction; they become
+    // [[collision_allowed]] pairs, so a self-collision check reports real contacts only.
+    Eigen::VectorXd q_ref(m.dof());
+    for (int i = 0; i < m.dof(); ++i)
+      q_ref[i] = std::clamp(0.0, m.joints[i].limits.q_min, m.joints[i].limits.q_max);
+    KinematicsWorkspace kin(m);
+    forwardKinematics(m, kin, q_ref);
+    collision::CollisionWorkspace cws(m);
+    collision::collisionDistances(m, kin, {}, cws);
+    std::vector<std::string> allowed;
+    for (int k = 0; k < cws.num_self; ++k) {
+      const collision::PairDistance& p = cws.self[k];
+      if (p.distance_m > 0) continue;
+      m.collision.allowed_pairs.push_back(
+          {std::min(p.link_a, p.link_b), std::max(p.link_a, p.link_b)});
+      allowed.push_back(collision::pairName(m, p, false));
+    }
+    if (!allowed.empty()) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      m.assumptions.push_back(
+          "URDF import: body pairs whose volumes touch at q = 0 (clamped into the limits) are "
+          "allowed to touch: " +
+          list);
+    }
+  }
+  m.assumptions.push_back(
+      "URDF import: joint values are the URDF's (about/along each URDF axis); body frame i "
+      "is the URDF child link frame rotated so that its z axis is the joint axis");
+  m.assumptions.push_back(
+      "URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
+  m.assumptions.push_back("URDF import: collision meshes and boxes are fitted with at most " +
+                          std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
+                          " swept-sphere volumes each, cylinders become capsules, spheres points");
+  for (const auto& w : warnings) m.assumptions.push_back(w);
+  if (warnings_out) *warnings_out = warnings;
+  if (info_out) *info_out = info;
+  m.finalize();
+  return m;
+}
+
+Model importUrdf(const std::string& path, const UrdfOptions& o, UrdfInfo* info,
+                 std::vector<std::string>* warnings) {
+  return importUrdfText(readFileOrThrow(path), path, o, info, warnings);
+}
+
+namespace {
+std::string fmt(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+std::string vec(const Vector3d& v) { return fmt(v.x()) + " " + fmt(v.y()) + " " + fmt(v.z()); }
+std::string origin(const Isometry3d& T) {
+  const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
+  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
+         " " + fmt(ypr[0]) + "\"/>";
+}
+std::string xmlEscape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
+  }
+  return o;
+}
+std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
+  return "    <inertial>\n      <origin xyz=\"" + vec(c) +
+         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) + "\"/>\n      <inertia ixx=\"" +
+         fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) + "\" iyy=\"" +
+         fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) +
+         "\"/>\n    </inertial>\n";
+}
+}  // namespace
+
+std::string exportUrdf(const Model& m, const UrdfInfo& info) {
+  const bool has_joint_info = info.joints.size() == m.joints.size();
+  std::ostringstream o;
+  std::set<std::string> used;
+  auto unique = [&](std::string n) {
+    while (!used.insert(n).second) n += "_";
+    return n;
+  };
+  const std::string base = unique(info.base_link.empty() ? "base_link" : info.base_link);
+  std::vector<std::string> links;
+  for (int i = 0; i < m.dof(); ++i) {
+    const std::string& l = has_joint_info ? info.joints[i].link : std::string();
+    links.push_back(unique(l.empty() ? m.joints[i].name + "_link" : l));
+  }
+  const bool tcp_is_last = isIdentity(m.T_NT) && m.payload_kg == 0 &&
+                           (info.tcp_link.empty() || info.tcp_link == links.back());
+  const std::string tcp =
+      tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
+  o << "<?xml version=\"1.0\"?>\n<!-- Written by armstudy from design '" << xmlEscape(m.name)
+    << "' (docs/design-format.md, \"URDF\"). Not exported: drives, model effects, collision "
+       "volumes. -->\n";
+  o << "<robot name=\"" << xmlEscape(m.name) << "\">\n";
+  if (!isIdentity(m.T_WB)) {
+    const std::string world = unique("world");
+    o << "  <link name=\"" << world << "\"/>\n  <joint name=\"" << unique(world + "_joint")
+      << "\" type=\"fixed\">\n    <parent link=\"" << world << "\"/>\n    <child link=\""
+      << xmlEscape(base) << "\"/>\n    " << origin(m.T_WB) << "\n  </joint>\n";
+  }
+  o << "  <link name=\"" << xmlEscape(base) << "\"/>\n";
+  for (int i = 0; i < m.dof(); ++i) {
+    const Joint& j = m.joints[i];
+    const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
+    const char* type = j.type == JointType::Prismatic ? "prismatic"
+                       : ji.continuous                ? "continuous"
+                                                      : "revolute";
+    o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type
+      << "\">\n    <parent link=\"" << xmlEscape(i == 0 ? base : links[i - 1])
+      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(j.T_PJ0)
+      << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
+    if (!ji.continuous)
+      o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
+    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
+      << "\"/>\n  </joint>\n";
+    o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
+    if (!m.inertias.empty() && m.inertias[i].given)
+      o << inertial(m.inertias[i].mass_kg, m.inertias[i].p_com_m, m.inertias[i].I_com_kgm2);
+    o << "  </link>\n";
+  }
+  if (!tcp_is_last) {
+    o << "  <joint name=\"" << unique(tcp + "_joint") << "\" type=\"fixed\">\n    <parent link=\""
+      << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    "
+      << origin(m.T_NT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
+    if (m.payload_kg > 0) o << inertial(m.payload_kg, m.p_payload_com_T, Matrix3d::Zero());
+    o << "  </link>\n";
+  }
+  o << "</robot>\n";
+  return o.str();
+}
+
+}  // namespace armstudy
