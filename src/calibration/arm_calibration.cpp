@@ -861,6 +861,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
           }
         }
         p.explained = explained / ss[c];
+        p.sum_squares = explained;
         p.significant = p.statistic > z_bin;
         p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
                         P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
@@ -906,6 +907,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
         if (best >= 0) {
           p.statistic = best / inflate;
           p.explained = best / ss[c];
+          p.sum_squares = best;
           p.significant = p.statistic > chi_freq;
           p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
                           (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
@@ -921,6 +923,54 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
     return a.explained > b.explained;
   });
   return out;
+}
+
+// A significant candidate must explain what is visibly there (issue 13): when the residuals of the
+// current model show significant patterns, its fit has to remove at least kPatternExplainedDrop of
+// the strongest one (or make it insignificant). A candidate that lowers the error without removing
+// the strongest pattern is fitting part of an effect outside the catalogue (e.g.
+// rotor_inertia, linear in qdd, absorbing a slice of a position-periodic ripple of a joint that
+// moves sinusoidally); it is then not called significant and is moved behind the ones that are.
+constexpr double kPatternExplainedDrop = 0.5;  // share of a pattern's sum of squares a candidate must remove
+
+void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, const ArmFit& current,
+                       const std::vector<double>& sigma, double rho) {
+  const std::vector<ArmPattern> before = searchPatterns(P, current.residual, current.predicted, sigma, rho);
+  // The strongest significant pattern (largest explained sum of squares in noise units).
+  std::vector<const ArmPattern*> seen;
+  for (const ArmPattern& p : before)
+    if (p.significant && (seen.empty() || p.sum_squares > seen.front()->sum_squares)) seen.assign(1, &p);
+  if (seen.empty()) return;
+  std::vector<std::string> demoted;
+  for (ArmCandidate& c : ranking) {
+    if (!c.significant) continue;
+    const std::vector<ArmPattern> after = searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
+    bool explains = false;
+    for (const ArmPattern* b : seen) {
+      const ArmPattern* a = nullptr;
+      for (const ArmPattern& x : after)
+        if (x.channel == b->channel && x.variable == b->variable && x.kind == b->kind) a = &x;
+      if (!a || !a->significant || a->sum_squares <= (1 - kPatternExplainedDrop) * b->sum_squares) {
+        explains = true;
+        break;
+      }
+    }
+    if (explains) continue;
+    c.significant = false;
+    c.warnings.push_back("lowers the error but leaves the strongest residual pattern in place (" +
+                         seen.front()->description + "): it does not explain it");
+    demoted.push_back(c.name);
+  }
+  if (demoted.empty()) return;
+  // The demoted ones go right behind the last candidate that is still significant.
+  std::vector<ArmCandidate> keep, moved;
+  for (ArmCandidate& c : ranking)
+    (std::find(demoted.begin(), demoted.end(), c.name) != demoted.end() ? moved : keep).push_back(std::move(c));
+  std::size_t pos = 0;
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    if (keep[k].significant) pos = k + 1;
+  keep.insert(keep.begin() + static_cast<long>(pos), moved.begin(), moved.end());
+  ranking = std::move(keep);
 }
 
 std::string candidateVerdictName(const ArmCandidate& c) {
@@ -976,6 +1026,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     addEffect(e, false);
   }
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
@@ -986,6 +1037,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
       if (!addEffect(ranking.front().effect, true)) break;
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);
