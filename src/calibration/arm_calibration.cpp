@@ -509,11 +509,14 @@ Eigen::VectorXd noiseWeights(const ArmProblem& P, const std::vector<double>& sig
   return w;
 }
 
-// Residuals (flattened, rows scaled by row_scale per channel) of one linearised step of the most
-// flexible model: the design plus every candidate at once, dependent columns dropped by a
-// rank-revealing QR. Returns the rank.
-int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eigen::VectorXd& sat_r) {
+// Residuals (flattened) of one linearised step of the most flexible model: the design plus every
+// candidate at once, dependent columns dropped by a rank-revealing QR. Returns the rank; `leverage`
+// gets the diagonal of the hat matrix (how much of each residual's degree of freedom the fit
+// used), so that each channel's noise is estimated with its own degrees of freedom.
+int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eigen::VectorXd& sat_r,
+                      Eigen::VectorXd& leverage) {
   sat_r = r0;
+  leverage = Eigen::VectorXd::Zero(r0.size());
   if (all.cols() == 0) return 0;
   Eigen::VectorXd sc(all.cols());
   for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
@@ -521,7 +524,10 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
   qr.setThreshold(1e-9);
   sat_r = r0 - As * qr.solve(r0);
-  return static_cast<int>(qr.rank());
+  const int rank = static_cast<int>(qr.rank());
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(r0.size(), rank);
+  leverage = Q.rowwise().squaredNorm();
+  return rank;
 }
 
 }  // namespace
@@ -552,17 +558,20 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     next << all, cols;
     all = next;
   }
-  Eigen::VectorXd sat_r;
-  const int rank = saturatedResidual(all, r0, sat_r);
+  Eigen::VectorXd sat_r, lev;
+  const int rank = saturatedResidual(all, r0, sat_r, lev);
   const int dof = static_cast<int>(r0.size()) - rank;
   const bool enough = dof >= defaults::kMinResidualDof && dof >= static_cast<int>(r0.size()) / 4;
-  const double scale = std::sqrt(static_cast<double>(r0.size()) / std::max(1, dof));
-  auto channelNoise = [&](const Eigen::MatrixXd& sat) {
+  // Per channel: sqrt(SS_c / (rows - sum of the channel's leverages)), the channel's own dof.
+  auto channelNoise = [&](const Eigen::MatrixXd& sat, const Eigen::VectorXd& leverage) {
     std::vector<double> out;
     for (int c = 0; c < C; ++c) {
-      std::vector<double> col(P.rows());
-      for (int i = 0; i < P.rows(); ++i) col[i] = sat(i, c);
-      out.push_back(channelStats(col).rmse * (enough ? scale : 1.0));
+      double ss = 0, used = 0;
+      for (int i = 0; i < P.rows(); ++i) {
+        ss += sat(i, c) * sat(i, c);
+        used += enough ? leverage[i * C + c] : 0.0;
+      }
+      out.push_back(std::sqrt(ss / std::max(1.0, P.rows() - used)));
     }
     return out;
   };
@@ -574,17 +583,17 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
                          " independent candidate parameters); the RMSE of the design is used instead");
   }
   Eigen::MatrixXd sat = unflatten(P, enough ? sat_r : r0);
-  std::vector<double> sigma = channelNoise(sat);
+  std::vector<double> sigma = channelNoise(sat, lev);
   if (enough && C > 1) {
     const Eigen::VectorXd w = noiseWeights(P, sigma);
     Eigen::VectorXd rs(r0.size());
     for (int i = 0; i < P.rows(); ++i)
       for (int c = 0; c < C; ++c) rs[i * C + c] = w[c] / P.weight[c];
-    Eigen::VectorXd sat_w;
-    saturatedResidual(rs.asDiagonal() * all, rs.asDiagonal() * r0, sat_w);
+    Eigen::VectorXd sat_w, lev_w;
+    saturatedResidual(rs.asDiagonal() * all, rs.asDiagonal() * r0, sat_w, lev_w);
     sat_w = sat_w.cwiseQuotient(rs);
     sat = unflatten(P, sat_w);
-    sigma = channelNoise(sat);
+    sigma = channelNoise(sat, lev_w);
   }
   d.channel_noise = sigma;
   double rho_sum = 0;
