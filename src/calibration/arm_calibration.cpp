@@ -509,11 +509,14 @@ Eigen::VectorXd noiseWeights(const ArmProblem& P, const std::vector<double>& sig
   return w;
 }
 
-// Residuals (flattened, rows scaled by row_scale per channel) of one linearised step of the most
-// flexible model: the design plus every candidate at once, dependent columns dropped by a
-// rank-revealing QR. Returns the rank.
-int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eigen::VectorXd& sat_r) {
+// Residuals (flattened) of one linearised step of the most flexible model: the design plus every
+// candidate at once, dependent columns dropped by a rank-revealing QR. Returns the rank; `leverage`
+// gets the diagonal of the hat matrix (how much of each residual's degree of freedom the fit
+// used), so that each channel's noise is estimated with its own degrees of freedom.
+int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eigen::VectorXd& sat_r,
+                      Eigen::VectorXd& leverage) {
   sat_r = r0;
+  leverage = Eigen::VectorXd::Zero(r0.size());
   if (all.cols() == 0) return 0;
   Eigen::VectorXd sc(all.cols());
   for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
@@ -521,7 +524,10 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
   qr.setThreshold(1e-9);
   sat_r = r0 - As * qr.solve(r0);
-  return static_cast<int>(qr.rank());
+  const int rank = static_cast<int>(qr.rank());
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(r0.size(), rank);
+  leverage = Q.rowwise().squaredNorm();
+  return rank;
 }
 
 }  // namespace
@@ -552,17 +558,20 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     next << all, cols;
     all = next;
   }
-  Eigen::VectorXd sat_r;
-  const int rank = saturatedResidual(all, r0, sat_r);
+  Eigen::VectorXd sat_r, lev;
+  const int rank = saturatedResidual(all, r0, sat_r, lev);
   const int dof = static_cast<int>(r0.size()) - rank;
   const bool enough = dof >= defaults::kMinResidualDof && dof >= static_cast<int>(r0.size()) / 4;
-  const double scale = std::sqrt(static_cast<double>(r0.size()) / std::max(1, dof));
-  auto channelNoise = [&](const Eigen::MatrixXd& sat) {
+  // Per channel: sqrt(SS_c / (rows - sum of the channel's leverages)), the channel's own dof.
+  auto channelNoise = [&](const Eigen::MatrixXd& sat, const Eigen::VectorXd& leverage) {
     std::vector<double> out;
     for (int c = 0; c < C; ++c) {
-      std::vector<double> col(P.rows());
-      for (int i = 0; i < P.rows(); ++i) col[i] = sat(i, c);
-      out.push_back(channelStats(col).rmse * (enough ? scale : 1.0));
+      double ss = 0, used = 0;
+      for (int i = 0; i < P.rows(); ++i) {
+        ss += sat(i, c) * sat(i, c);
+        used += enough ? leverage[i * C + c] : 0.0;
+      }
+      out.push_back(std::sqrt(ss / std::max(1.0, P.rows() - used)));
     }
     return out;
   };
@@ -574,17 +583,17 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
                          " independent candidate parameters); the RMSE of the design is used instead");
   }
   Eigen::MatrixXd sat = unflatten(P, enough ? sat_r : r0);
-  std::vector<double> sigma = channelNoise(sat);
+  std::vector<double> sigma = channelNoise(sat, lev);
   if (enough && C > 1) {
     const Eigen::VectorXd w = noiseWeights(P, sigma);
     Eigen::VectorXd rs(r0.size());
     for (int i = 0; i < P.rows(); ++i)
       for (int c = 0; c < C; ++c) rs[i * C + c] = w[c] / P.weight[c];
-    Eigen::VectorXd sat_w;
-    saturatedResidual(rs.asDiagonal() * all, rs.asDiagonal() * r0, sat_w);
+    Eigen::VectorXd sat_w, lev_w;
+    saturatedResidual(rs.asDiagonal() * all, rs.asDiagonal() * r0, sat_w, lev_w);
     sat_w = sat_w.cwiseQuotient(rs);
     sat = unflatten(P, sat_w);
-    sigma = channelNoise(sat);
+    sigma = channelNoise(sat, lev_w);
   }
   d.channel_noise = sigma;
   double rho_sum = 0;
@@ -861,6 +870,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
           }
         }
         p.explained = explained / ss[c];
+        p.sum_squares = explained;
         p.significant = p.statistic > z_bin;
         p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
                         P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
@@ -906,6 +916,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
         if (best >= 0) {
           p.statistic = best / inflate;
           p.explained = best / ss[c];
+          p.sum_squares = best;
           p.significant = p.statistic > chi_freq;
           p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
                           (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
@@ -921,6 +932,54 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
     return a.explained > b.explained;
   });
   return out;
+}
+
+// A significant candidate must explain what is visibly there (issue 13): when the residuals of the
+// current model show significant patterns, its fit has to remove at least kPatternExplainedDrop of
+// the strongest one (or make it insignificant). A candidate that lowers the error without removing
+// the strongest pattern is fitting part of an effect outside the catalogue (e.g.
+// rotor_inertia, linear in qdd, absorbing a slice of a position-periodic ripple of a joint that
+// moves sinusoidally); it is then not called significant and is moved behind the ones that are.
+constexpr double kPatternExplainedDrop = 0.5;  // share of a pattern's sum of squares a candidate must remove
+
+void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, const ArmFit& current,
+                       const std::vector<double>& sigma, double rho) {
+  const std::vector<ArmPattern> before = searchPatterns(P, current.residual, current.predicted, sigma, rho);
+  // The strongest significant pattern (largest explained sum of squares in noise units).
+  std::vector<const ArmPattern*> seen;
+  for (const ArmPattern& p : before)
+    if (p.significant && (seen.empty() || p.sum_squares > seen.front()->sum_squares)) seen.assign(1, &p);
+  if (seen.empty()) return;
+  std::vector<std::string> demoted;
+  for (ArmCandidate& c : ranking) {
+    if (!c.significant) continue;
+    const std::vector<ArmPattern> after = searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
+    bool explains = false;
+    for (const ArmPattern* b : seen) {
+      const ArmPattern* a = nullptr;
+      for (const ArmPattern& x : after)
+        if (x.channel == b->channel && x.variable == b->variable && x.kind == b->kind) a = &x;
+      if (!a || !a->significant || a->sum_squares <= (1 - kPatternExplainedDrop) * b->sum_squares) {
+        explains = true;
+        break;
+      }
+    }
+    if (explains) continue;
+    c.significant = false;
+    c.warnings.push_back("lowers the error but leaves the strongest residual pattern in place (" +
+                         seen.front()->description + "): it does not explain it");
+    demoted.push_back(c.name);
+  }
+  if (demoted.empty()) return;
+  // The demoted ones go right behind the last candidate that is still significant.
+  std::vector<ArmCandidate> keep, moved;
+  for (ArmCandidate& c : ranking)
+    (std::find(demoted.begin(), demoted.end(), c.name) != demoted.end() ? moved : keep).push_back(std::move(c));
+  std::size_t pos = 0;
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    if (keep[k].significant) pos = k + 1;
+  keep.insert(keep.begin() + static_cast<long>(pos), moved.begin(), moved.end());
+  ranking = std::move(keep);
 }
 
 std::string candidateVerdictName(const ArmCandidate& c) {
@@ -976,6 +1035,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     addEffect(e, false);
   }
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
@@ -986,6 +1046,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
       if (!addEffect(ranking.front().effect, true)) break;
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
+      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);

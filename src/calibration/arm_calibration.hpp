@@ -163,6 +163,7 @@ struct ArmPattern {
   double threshold = 0;  // of the statistic (Bonferroni)
   bool significant = false;
   double explained = 0;  // fraction of the channel's residual sum of squares it explains
+  double sum_squares = 0;  // the part it explains, in squared noise units (comparable between models)
   double period = 0, amplitude = 0;  // periodic: period [variable unit], amplitude [channel unit]
   double peak_mean = 0, peak_lo = 0, peak_hi = 0;  // binned: largest bin mean and its range
   std::string description;
