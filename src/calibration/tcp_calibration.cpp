@@ -3,7 +3,7 @@
 #include <cmath>
 #include <regex>
 
-#include "calibration/rng.hpp"
+#include "common/rng.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
@@ -275,7 +275,7 @@ TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& o) {
   if (o.rows < 1) throw InputError("", 0, "rows", "at least one row");
   if (!(o.noise_m >= 0) || !(o.noise_rad >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
   if (!(o.range_fraction > 0 && o.range_fraction <= 1)) throw InputError("", 0, "range", "range fraction in (0, 1]");
-  SplitMix64 rng{o.seed};
+  rng::SplitMix64 rng{o.seed};
   TcpData d;
   const int n = model.dof();
   d.q.resize(o.rows, n);
