@@ -19,6 +19,16 @@ enum class TcpEffect { JointOffset, LinkLength, BaseOffset, Compliance };
 
 double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
+// The base-offset effect: x = (dx, dy, dz, dalpha, dbeta, dgamma) added to the base pose.
+void addBaseOffset(PoseXYZABG& base, const Eigen::VectorXd& x) {
+  base.x += x[0];
+  base.y += x[1];
+  base.z += x[2];
+  base.alpha += x[3];
+  base.beta += x[4];
+  base.gamma += x[5];
+}
+
 class TcpProblem : public ArmProblem {
  public:
   TcpProblem(const Model& model, const TcpData& data) : model_(model), q_(data.q) {
@@ -135,12 +145,7 @@ class TcpProblem : public ArmProblem {
           break;
         }
         case TcpEffect::BaseOffset:
-          m.base.x += v.x[0];
-          m.base.y += v.x[1];
-          m.base.z += v.x[2];
-          m.base.alpha += v.x[3];
-          m.base.beta += v.x[4];
-          m.base.gamma += v.x[5];
+          addBaseOffset(m.base, v.x);
           geometry = true;
           break;
         case TcpEffect::Compliance:
@@ -324,12 +329,7 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
         break;
       }
       case TcpEffect::BaseOffset:
-        m.base.x += v.x[0];
-        m.base.y += v.x[1];
-        m.base.z += v.x[2];
-        m.base.alpha += v.x[3];
-        m.base.beta += v.x[4];
-        m.base.gamma += v.x[5];
+        addBaseOffset(m.base, v.x);
         break;
       case TcpEffect::Compliance: {
         char b[160];
