@@ -9,6 +9,7 @@
 
 #include "calibration/least_squares.hpp"
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
@@ -814,23 +815,6 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
 
 namespace {
 
-struct SplitMix {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return (next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-  double normal() {  // Box-Muller, platform independent
-    double u1 = uniform();
-    while (u1 <= 0) u1 = uniform();
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-};
-
 void setParam(FrictionParams& p, const std::string& key, double v) {
   if (key == "coulomb") p.coulomb = v;
   else if (key == "viscous") p.viscous = v;
@@ -881,7 +865,7 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
   if (o.series < 1) throw InputError("", 0, "series", "at least one test series");
   if (!(o.noise_A >= 0) || !(o.noise_rho >= 0 && o.noise_rho < 1))
     throw InputError("", 0, "noise", "noise must be >= 0 and its correlation in [0, 1)");
-  SplitMix rng{o.seed};
+  rng::SplitMix64 rng{o.seed};
   DriveData out;
   out.file = "synthetic";
   const int total = o.series * static_cast<int>(levels.size() * loads.size());

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 
 namespace armstudy::calibration {
 
@@ -62,13 +63,8 @@ std::vector<int> foldAssignment(int n, int k, std::uint64_t seed) {
   std::vector<int> perm(n);
   std::iota(perm.begin(), perm.end(), 0);
   std::uint64_t state = seed;
-  auto next = [&state] {  // splitmix64
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  };
-  for (int i = n - 1; i > 0; --i) std::swap(perm[i], perm[next() % static_cast<std::uint64_t>(i + 1)]);
+  for (int i = n - 1; i > 0; --i)
+    std::swap(perm[i], perm[rng::splitmix64Next(state) % static_cast<std::uint64_t>(i + 1)]);
   std::vector<int> fold(n);
   for (int j = 0; j < n; ++j) fold[perm[j]] = static_cast<int>(static_cast<long long>(j) * k / n);
   return fold;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <regex>
 
-#include "calibration/rng.hpp"
+#include "common/rng.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
@@ -18,6 +18,16 @@ namespace {
 enum class TcpEffect { JointOffset, LinkLength, BaseOffset, Compliance };
 
 double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
+
+// The base-offset effect: x = (dx, dy, dz, dalpha, dbeta, dgamma) added to the base pose.
+void addBaseOffset(PoseXYZABG& base, const Eigen::VectorXd& x) {
+  base.x += x[0];
+  base.y += x[1];
+  base.z += x[2];
+  base.alpha += x[3];
+  base.beta += x[4];
+  base.gamma += x[5];
+}
 
 class TcpProblem : public ArmProblem {
  public:
@@ -135,12 +145,7 @@ class TcpProblem : public ArmProblem {
           break;
         }
         case TcpEffect::BaseOffset:
-          m.base.x += v.x[0];
-          m.base.y += v.x[1];
-          m.base.z += v.x[2];
-          m.base.alpha += v.x[3];
-          m.base.beta += v.x[4];
-          m.base.gamma += v.x[5];
+          addBaseOffset(m.base, v.x);
           geometry = true;
           break;
         case TcpEffect::Compliance:
@@ -275,7 +280,7 @@ TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& o) {
   if (o.rows < 1) throw InputError("", 0, "rows", "at least one row");
   if (!(o.noise_m >= 0) || !(o.noise_rad >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
   if (!(o.range_fraction > 0 && o.range_fraction <= 1)) throw InputError("", 0, "range", "range fraction in (0, 1]");
-  SplitMix64 rng{o.seed};
+  rng::SplitMix64 rng{o.seed};
   TcpData d;
   const int n = model.dof();
   d.q.resize(o.rows, n);
@@ -324,12 +329,7 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
         break;
       }
       case TcpEffect::BaseOffset:
-        m.base.x += v.x[0];
-        m.base.y += v.x[1];
-        m.base.z += v.x[2];
-        m.base.alpha += v.x[3];
-        m.base.beta += v.x[4];
-        m.base.gamma += v.x[5];
+        addBaseOffset(m.base, v.x);
         break;
       case TcpEffect::Compliance: {
         char b[160];

@@ -5,7 +5,7 @@
 #include <regex>
 #include <set>
 
-#include "calibration/rng.hpp"
+#include "common/rng.hpp"
 #include "common/errors.hpp"
 #include "drive/drive_chain.hpp"
 #include "dynamics/dynamics.hpp"
@@ -399,7 +399,7 @@ TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOpt
     if (j < 0) throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
     still.insert(j);
   }
-  SplitMix64 rng{o.seed};
+  rng::SplitMix64 rng{o.seed};
   const int R = static_cast<int>(std::floor(o.duration_s * o.rate_Hz)) + 1;
   TrajectoryData d;
   d.currents = o.currents;

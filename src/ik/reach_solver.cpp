@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 
 namespace armstudy {
 
@@ -58,14 +59,6 @@ constexpr double kPi = 3.14159265358979323846;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
-
-// Counter-based generator (splitmix64): the k-th start of pose `id` is the same on any thread.
-inline std::uint64_t splitmix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // What the solver needs about a target, prepared once per pose.
 struct Context {
@@ -396,8 +389,9 @@ LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, Join
 }  // namespace
 
 double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k) {
-  const std::uint64_t s = splitmix(splitmix(seed ^ splitmix(id * 0x100000001B3ull + k)));
-  return static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
+  // Counter-based (splitmix64): the k-th draw of `id` is the same on any thread.
+  const std::uint64_t s = rng::splitmix64(rng::splitmix64(seed ^ rng::splitmix64(id * 0x100000001B3ull + k)));
+  return rng::unitDouble(s);
 }
 
 std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
@@ -416,10 +410,10 @@ std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
 
 void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k, JointVector& q) {
   q.resize(model.dof());
-  std::uint64_t s = splitmix(seed ^ splitmix(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
+  std::uint64_t s = rng::splitmix64(seed ^ rng::splitmix64(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
   for (int i = 0; i < model.dof(); ++i) {
-    s = splitmix(s);
-    const double u = static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
+    s = rng::splitmix64(s);
+    const double u = rng::unitDouble(s);
     const JointLimits& L = model.joints[i].limits;
     q[i] = L.q_min + u * (L.q_max - L.q_min);
   }

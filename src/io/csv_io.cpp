@@ -50,21 +50,27 @@ const std::vector<double>& CsvTable::column(const std::string& name) const {
   return values[i];
 }
 
-CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSchema& schema) {
-  CsvTable t;
-  t.file = file;
-  std::vector<std::string> lines;
+std::vector<CsvLine> splitCsvLines(const std::string& text) {
+  std::vector<CsvLine> out;
+  int line_no = 0;
   for (std::size_t pos = 0; pos <= text.size();) {
     const std::size_t nl = text.find('\n', pos);
-    lines.push_back(text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos));
+    const std::string line = text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
+    ++line_no;
+    if (!skippable(line)) out.push_back({line_no, splitCells(line)});
     if (nl == std::string::npos) break;
     pos = nl + 1;
   }
-  std::size_t li = 0;
-  while (li < lines.size() && skippable(lines[li])) ++li;
-  if (li == lines.size()) throw InputError(file, 0, "", "the CSV file is empty (expected a header line)");
-  const int header_line = static_cast<int>(li) + 1;
-  const std::vector<std::string> header = splitCells(lines[li]);
+  return out;
+}
+
+CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSchema& schema) {
+  CsvTable t;
+  t.file = file;
+  const std::vector<CsvLine> lines = splitCsvLines(text);
+  if (lines.empty()) throw InputError(file, 0, "", "the CSV file is empty (expected a header line)");
+  const int header_line = lines[0].line;
+  const std::vector<std::string>& header = lines[0].cells;
   std::set<std::string> seen;
   for (const std::string& h : header) {
     if (h.empty()) throw InputError(file, header_line, "", "empty column name in the header");
@@ -92,10 +98,9 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
     }
   }
   t.values.resize(t.columns.size());
-  for (++li; li < lines.size(); ++li) {
-    if (skippable(lines[li])) continue;
-    const int line_no = static_cast<int>(li) + 1;
-    const std::vector<std::string> cells = splitCells(lines[li]);
+  for (std::size_t li = 1; li < lines.size(); ++li) {
+    const int line_no = lines[li].line;
+    const std::vector<std::string>& cells = lines[li].cells;
     if (cells.size() != header.size())
       throw InputError(file, line_no, "", "row has " + std::to_string(cells.size()) + " cells, the header has " +
                                               std::to_string(header.size()));

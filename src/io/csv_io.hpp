@@ -12,6 +12,15 @@
 
 namespace armstudy::io {
 
+// The tokenizer under every CSV reader of the engine: the text split at '\n' into lines, each line
+// into cells at ',', every cell trimmed of spaces, tabs and '\r'. Blank lines and lines starting
+// with '#' are skipped. No checks on the cells (the readers check them with their own messages).
+struct CsvLine {
+  int line = 0;  // 1-based line in the text
+  std::vector<std::string> cells;
+};
+std::vector<CsvLine> splitCsvLines(const std::string& text);
+
 struct CsvSchema {
   std::vector<std::string> required;
   std::vector<std::string> optional;

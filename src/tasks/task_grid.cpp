@@ -1,12 +1,13 @@
 #include "tasks/task_grid.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "io/csv_io.hpp"
 #include "io/files.hpp"
 #include "io/units.hpp"
 
@@ -80,26 +81,6 @@ std::string TaskGrid::validate() const {
 
 // ---- CSV pose lists ----
 
-namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::stringstream ss(line);
-  while (std::getline(ss, cell, ',')) out.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
-
-}  // namespace
-
 PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
                       const TaskSpace& task_space) {
   static const char* kNames[6] = {"x", "y", "z", "alpha", "beta", "gamma"};
@@ -109,14 +90,9 @@ PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
   std::array<int, 6> column{-1, -1, -1, -1, -1, -1};
   std::size_t columns = 0;
   bool have_header = false;
-  std::stringstream ss(text);
-  std::string raw;
-  int line_no = 0;
-  while (std::getline(ss, raw)) {
-    ++line_no;
-    const std::string line = trim(raw);
-    if (line.empty() || line[0] == '#') continue;
-    const std::vector<std::string> cells = splitCsv(line);
+  for (const io::CsvLine& csv_line : io::splitCsvLines(text)) {
+    const int line_no = csv_line.line;
+    const std::vector<std::string>& cells = csv_line.cells;
     if (!have_header) {
       columns = cells.size();
       for (std::size_t c = 0; c < cells.size(); ++c) {
@@ -166,7 +142,12 @@ PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
     list.lines.push_back(line_no);
   }
   if (!have_header) throw InputError(file_label, 1, "", "empty pose list (no header)");
-  if (list.poses.empty()) throw InputError(file_label, line_no, "", "pose list has no poses");
+  if (list.poses.empty()) {
+    // The last line of the text (a final '\n' ends the last line, it does not start another).
+    const int last_line = static_cast<int>(std::count(text.begin(), text.end(), '\n')) +
+                          (!text.empty() && text.back() != '\n' ? 1 : 0);
+    throw InputError(file_label, last_line, "", "pose list has no poses");
+  }
   return list;
 }
 

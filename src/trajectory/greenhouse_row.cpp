@@ -8,36 +8,14 @@
 namespace armstudy {
 namespace {
 
-std::uint64_t splitmix64(std::uint64_t& x) {
-  std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
 double phi(double x) { return std::exp(-0.5 * x * x) / std::sqrt(2.0 * std::numbers::pi); }
 double Phi(double x) { return 0.5 * std::erfc(-x / std::numbers::sqrt2); }
 
 }  // namespace
 
-RowRandom::RowRandom(std::uint64_t seed) {
-  for (auto& s : state_) s = splitmix64(seed);
-}
+RowRandom::RowRandom(std::uint64_t seed) : gen_(seed) {}
 
-double RowRandom::uniform() {
-  // xoshiro256** (Blackman and Vigna), top 53 bits to a double in [0, 1).
-  const std::uint64_t result = rotl(state_[1] * 5, 7) * 9;
-  const std::uint64_t t = state_[1] << 17;
-  state_[2] ^= state_[0];
-  state_[3] ^= state_[1];
-  state_[1] ^= state_[2];
-  state_[0] ^= state_[3];
-  state_[2] ^= t;
-  state_[3] = rotl(state_[3], 45);
-  return static_cast<double>(result >> 11) * 0x1.0p-53;
-}
+double RowRandom::uniform() { return gen_.uniform(); }
 
 double RowRandom::normal() {
   if (has_spare_) {

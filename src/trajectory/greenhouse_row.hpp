@@ -3,9 +3,9 @@
 // row-to-row 862 +/- 50 mm [750, 1020], stem-to-stem 192 +/- 60 mm [40, 350], fruit heights with a
 // standard deviation of 220 mm within [0, 1650] mm, stem-to-fruit 38 +/- 6.9 mm [15, 96].
 // Each quantity is a normal distribution truncated to the table's observed min/max (rejection
-// sampling). The generator is self-contained (xoshiro256** seeded by splitmix64, own uniform and
-// Box-Muller; no std:: distributions, whose output differs between standard libraries), so a seed
-// gives the same row on every platform and compiler.
+// sampling). The generator is the engine's xoshiro256** (common/rng.hpp, seeded by splitmix64) with
+// its own Box-Muller; no std:: distributions, whose output differs between standard libraries, so a
+// seed gives the same row on every platform and compiler.
 //
 // Layout in the task frame W: the robot base is at the origin in the middle of the aisle, which
 // runs along y; the plant row is at x = row_to_row / 2 (thesis Fig. 5.8: stems at x = 0.43 m);
@@ -14,6 +14,8 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "common/rng.hpp"
 
 namespace armstudy {
 
@@ -67,7 +69,7 @@ class RowRandom {
   double truncatedNormal(const TruncatedNormal& d);
 
  private:
-  std::uint64_t state_[4];
+  rng::Xoshiro256ss gen_;
   bool has_spare_ = false;
   double spare_ = 0;
 };

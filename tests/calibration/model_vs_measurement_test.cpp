@@ -13,7 +13,7 @@
 #include "calibration/arm_calibration.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/history.hpp"
-#include "calibration/rng.hpp"
+#include "common/rng.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "common/errors.hpp"
@@ -94,7 +94,7 @@ TEST_CASE("issue 13: a compliant joint sags with gravity - the hidden compliance
   so.noise_m = 0;
   so.seed = 31;
   TcpData data = synthesizeTcp(m, so);  // joint positions only; the poses are replaced below
-  SplitMix64 rng{97};
+  rng::SplitMix64 rng{97};
   KinematicsWorkspace ws(m);
   double sag_energy = 0;
   for (int i = 0; i < data.rows(); ++i) {
@@ -139,7 +139,7 @@ TrajectoryData trajectoryWith(const Model& truth, const std::vector<double>& noi
   so.noise = 0;
   so.seed = seed;
   TrajectoryData d = synthesizeTrajectory(truth, so);
-  SplitMix64 rng{seed + 1000};
+  rng::SplitMix64 rng{seed + 1000};
   for (int i = 0; i < d.rows(); ++i)
     for (int j = 0; j < truth.dof(); ++j) d.measured(i, j) += extra(d, i, j) + noise[j] * rng.normal();
   return d;
