@@ -5,7 +5,7 @@
 
 #include "cli/design_options.hpp"
 #include "io/design_io.hpp"
-#include "study/run.hpp"
+#include "engine/run.hpp"
 
 namespace armstudy::cli {
 

@@ -8,9 +8,9 @@
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "study/regression.hpp"
-#include "study/run.hpp"
+#include "engine/run.hpp"
 
 namespace armstudy::cli {
 

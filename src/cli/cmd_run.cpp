@@ -3,8 +3,8 @@
 #include "common/defaults.hpp"
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
-#include "io/study_io.hpp"
-#include "study/run.hpp"
+#include "engine/study_file.hpp"
+#include "engine/run.hpp"
 
 namespace armstudy::cli {
 

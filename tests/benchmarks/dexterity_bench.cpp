@@ -15,7 +15,7 @@
 
 #include "dexterity/dexterity_map.hpp"
 #include "io/design_io.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "kdl_support.hpp"
 
 using namespace armstudy;
@@ -33,7 +33,7 @@ double now() {
 int main() {
   const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
   const Model& m = study.designs.at(0).model;
-  const DexterityOptions& opt = *study.dexterity;
+  const DexterityOptions& opt = *stageSettings<DexterityOptions>(study, "dexterity");
   std::printf("Dexterity map benchmark: %s, grid %d x %d = %d cells (studies/stem_heatmap.toml)\n\n",
               m.name.c_str(), opt.grid.z_m.count, opt.grid.gamma_rad.count, opt.grid.size());
   std::printf("| run | threads | wall [s] | per cell [us] | reachable | mean null-space iterations | ratio |\n");

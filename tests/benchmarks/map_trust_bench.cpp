@@ -17,7 +17,7 @@
 
 #include "dexterity/dexterity_audit.hpp"
 #include "reach/reach_audit.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
@@ -60,8 +60,8 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 void reachPart(int threads, int collision_starts, int audit_poses) {
   Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/spraying_row.toml");
   const Model& m = study.designs.at(0).model;
-  if (collision_starts >= 0) study.reach.search.collision_starts = collision_starts;
-  const ReachConfig& cfg = study.reach;
+  ReachConfig cfg = *stageSettings<ReachConfig>(study, "reach");
+  if (collision_starts >= 0) cfg.search.collision_starts = collision_starts;
   const TaskGrid& g = cfg.grids.at(0);
   std::printf("\nReach: %s, grid %s (%ld poses, studies/spraying_row.toml), %d threads; audit %d poses x 500 starts\n\n",
               m.name.c_str(), g.name.c_str(), g.size(), threads, audit_poses);
@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
   }
   const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
   const Model& m = study.designs.at(0).model;
-  DexterityOptions o = *study.dexterity;
+  DexterityOptions o = *stageSettings<DexterityOptions>(study, "dexterity");
   o.audit_cells = 500;
   o.audit_starts = defaults::kAuditDexterityStarts;
   std::printf("Map trust: %s, %d cells (studies/stem_heatmap.toml), %d threads; audit %d cells x %d starts\n\n",

@@ -13,12 +13,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "calibration/calibration_stage.hpp"
+#include "stages/calibration/calibration_stage.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
-#include "study/run.hpp"
+#include "engine/study_file.hpp"
+#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -63,7 +63,13 @@ std::map<std::string, std::string> resultFiles(const fs::path& dir) {
   return out;
 }
 
-const EntrySummary& entry(const CalibrationStageSummary& s, const std::string& name) {
+// What runStage returns: the stage's result and the entries' summaries.
+struct StageRun {
+  StageResult result;
+  std::vector<EntrySummary> entries;
+};
+
+const EntrySummary& entry(const StageRun& s, const std::string& name) {
   for (const auto& e : s.entries)
     if (e.name == name) return e;
   FAIL("no calibration entry " << name);
@@ -84,12 +90,17 @@ const Model& studyModel(const Study& s, const std::string& name) {
 }
 
 // Runs the calibration stage of a study alone, with a checkpoint store in `root`/<study>.
-CalibrationStageSummary runStage(const Study& s, const fs::path& root, RunSummary& rs, int threads) {
+StageRun runStage(const Study& s, const fs::path& root, RunSummary& rs, int threads) {
   const RunOptions ro = runOptions(root, threads);
   const std::string out = (root / s.name).string();
   std::string msg;
   CheckpointStore store(out, studyFingerprint(s), msg);
-  return runCalibrationStage(StageContext{s, ro, out, store, rs}, s.calibration);
+  const UnitRunner units(store);
+  StageRun r;
+  r.result = runCalibrationStage(StageContext{s, ro, out, units, threads},
+                                 *stageSettings<std::vector<CalibrationEntry>>(s, "calibration"), &r.entries);
+  rs.metrics = r.result.metrics;
+  return r;
 }
 
 }  // namespace
@@ -177,7 +188,7 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
 
   const fs::path root = freshDir("arm");
   RunSummary rs1;
-  const CalibrationStageSummary c = runStage(s, root, rs1, 1);
+  const StageRun c = runStage(s, root, rs1, 1);
   const auto one = resultFiles(root / s.name);
 
   // tcp: both hidden effects added, their values inside the 95 % intervals.
@@ -247,19 +258,19 @@ TEST_CASE("checkpoint: a saved entry is reused while its files are intact, run a
   const Study s = loadStudy(test::sourcePath(kThesisStudy));
   const fs::path root = freshDir("resume");
   RunSummary r1, r2, r3;
-  const CalibrationStageSummary a = runStage(s, root, r1, 1);
-  CHECK(a.resumed == 0);
+  const StageRun a = runStage(s, root, r1, 1);
+  CHECK(a.result.units_resumed == 0);
   const auto first = resultFiles(root / s.name / "calibration");
-  const CalibrationStageSummary b = runStage(s, root, r2, 1);
-  CHECK(b.resumed == 1);
+  const StageRun b = runStage(s, root, r2, 1);
+  CHECK(b.result.units_resumed == 1);
   CHECK(resultFiles(root / s.name / "calibration") == first);
   CHECK(r2.metrics.scalars == r1.metrics.scalars);
   CHECK(r2.metrics.flags == r1.metrics.flags);
   // A damaged result file: the entry runs again and restores it.
   const fs::path damaged = root / s.name / "calibration/b2_friction/residuals.csv";
   std::ofstream(damaged) << "not the residuals\n";
-  const CalibrationStageSummary c = runStage(s, root, r3, 1);
-  CHECK(c.resumed == 0);
+  const StageRun c = runStage(s, root, r3, 1);
+  CHECK(c.result.units_resumed == 0);
   CHECK(resultFiles(root / s.name / "calibration") == first);
   fs::remove_all(root);
 }

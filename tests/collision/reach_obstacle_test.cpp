@@ -21,8 +21,9 @@
 #include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
-#include "reach/reach_stage.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
+#include "stages/reach/reach_stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -94,13 +95,13 @@ TEST_CASE("[[obstacle]] entries are read with units into the task frame", "[coll
   CHECK(s.obstacles[2].type == SsvType::Triangle);
   CHECK(s.obstacles[2].radius_m == 0);
   // The reach stage checks them (default on when obstacles exist) along with self-collision.
-  CHECK(s.reach.collision.self);
-  CHECK(s.reach.collision.obstacles.size() == 3);
+  CHECK(stageSettings<ReachConfig>(s, "reach")->collision.self);
+  CHECK(stageSettings<ReachConfig>(s, "reach")->collision.obstacles.size() == 3);
   // obstacles = false keeps them out of the sweeps.
   const Study off = loadStudy(
       writeStudy(dir, "off.toml", edited("task_space = \"position\"\n", "task_space = \"position\"\nobstacles = false\n"))
           .string());
-  CHECK(off.reach.collision.obstacles.empty());
+  CHECK(stageSettings<ReachConfig>(off, "reach")->collision.obstacles.empty());
   CHECK(off.obstacles.size() == 3);
 }
 
@@ -155,15 +156,14 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
   fs::remove_all(dir);
   const Study study = loadStudy(writeStudy(dir, "s.toml", kStudy).string());
   const Model& m = study.designs[0].model;
-  const TaskGrid& g = study.reach.grids[0];
+  const TaskGrid& g = stageSettings<ReachConfig>(study, "reach")->grids[0];
   const std::vector<Obstacle>& obstacles = study.obstacles;
 
   auto run = [&](const std::string& sub, int threads) {
-    ReachStageOptions ro;
-    ro.output_dir = (dir / sub).string();
+    RunOptions ro;
     ro.threads = threads;
     ro.progress = false;
-    runReachStage(study, ro);
+    runStage(study, "reach", (dir / sub).string(), ro);
     return dir / sub;
   };
   const fs::path one = run("t1", 1), two = run("t2", 2);
@@ -225,7 +225,7 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
     JointVector q(m.dof());
     for (int c = 0; c < m.dof(); ++c) q[c] = qa->GetComponent(p, c);
     forwardKinematics(m, ws.kin, q);
-    CHECK((ws.kin.p_WT - target).norm() <= study.reach.ik.position_tolerance_m);
+    CHECK((ws.kin.p_WT - target).norm() <= stageSettings<ReachConfig>(study, "reach")->ik.position_tolerance_m);
     collisionDistances(m, ws.kin, obstacles, cws);
     const double ds = minSelfDistance(cws), de = minEnvironmentDistance(cws);
     CHECK(odist->GetComponent(p, 0) == de);

@@ -10,7 +10,7 @@
 #include "collision/collision.hpp"
 #include "io/design_io.hpp"
 #include "reach/reach_audit.hpp"
-#include "reach/reach_config.hpp"
+#include "stages/reach/reach_config.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;

@@ -19,8 +19,10 @@
 #include "collision/collision.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
-#include "io/study_io.hpp"
-#include "reach/reach_stage.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
+#include "stages/reach/stage.hpp"
+#include "stages/reach/reach_stage.hpp"
 #include "reach/reach_sweep.hpp"
 #include "test_support.hpp"
 
@@ -107,16 +109,17 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   Study study;
   study.name = "sc";
   study.designs.push_back({m, m.name, {}});
-  study.reach.enabled = true;
-  study.reach.ik = o;
-  study.reach.grids = {g};
-  study.reach.outputs = ReachOutputs{true, false, false};
-  study.reach.collision.self = true;
-  ReachStageOptions ro;
-  ro.output_dir = dir.string();
+  ReachConfig cfg;
+  cfg.enabled = true;
+  cfg.ik = o;
+  cfg.grids = {g};
+  cfg.outputs = ReachOutputs{true, false, false};
+  cfg.collision.self = true;
+  study.sections.push_back({&reachStage(), std::make_shared<SettingsOf<ReachConfig>>(cfg)});
+  RunOptions ro;
   ro.threads = 2;
   ro.progress = false;
-  runReachStage(study, ro);
+  runStage(study, "reach", dir.string(), ro);
 
   vtkNew<vtkXMLImageDataReader> r;
   const fs::path vti = dir / "reach" / g.name / (m.name + ".vti");
@@ -221,10 +224,10 @@ TEST_CASE("self_collision = true for a design without a collision model is an in
     CHECK(std::string(e.what()).find("self_collision") != std::string::npos);
   }
   const Study s = loadStudy((dir / "default.toml").string());
-  CHECK_FALSE(s.reach.collision.self);
+  CHECK_FALSE(stageSettings<ReachConfig>(s, "reach")->collision.self);
   // Every shipped design has a collision model: the default is on.
   std::ofstream(dir / "shipped.toml") << "[study]\nname = \"t\"\n[[design]]\nfile = \""
                                        << test::sourcePath("designs/first_prototype_6dof.toml")
                                        << "\"\n[reach]\ntask_space = \"position\"\n" << grid;
-  CHECK(loadStudy((dir / "shipped.toml").string()).reach.collision.self);
+  CHECK(stageSettings<ReachConfig>(loadStudy((dir / "shipped.toml").string()), "reach")->collision.self);
 }

@@ -19,10 +19,10 @@
 #include <random>
 
 #include "common/errors.hpp"
-#include "dexterity/dexterity_output.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -191,8 +191,8 @@ transmission = 0.05
   const std::string base = dir + "/out/t/dexterity/";
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   const Study s = loadStudy(study);
-  REQUIRE(s.dexterity.has_value());
-  const DexterityMap map = computeDexterityMap(m, *s.dexterity, 1);
+  REQUIRE(stageSettings<dexterity::DexterityOptions>(s, "dexterity"));
+  const DexterityMap map = computeDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1);
   const MapFields f = mapFields(map);
 
   vtkNew<vtkXMLImageDataReader> ir;

@@ -12,11 +12,11 @@
 #include "drive/friction.hpp"
 #include "dynamics/approach_tracking.hpp"
 #include "dynamics/drive_feasibility.hpp"
-#include "dynamics/harvest_stage.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 #include "io/design_io.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "kinematics/kinematics.hpp"
-#include "study/run.hpp"
+#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -331,10 +331,10 @@ z = { from = "0.3 m", to = "1.2 m", step = "0.3 m" }
 TEST_CASE("harvest stage: identical results with 1 and 2 threads") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_harvest_threads";
   const Study s = loadStudy(writeStudy(dir, kSmallHarvest));
-  REQUIRE(s.harvest);
-  const GreenhouseRow row = sampleGreenhouseRow(s.harvest->row);
-  const auto a = harvest::evaluateHarvestDesign(s.designs[0].model, *s.harvest, row, 1);
-  const auto b = harvest::evaluateHarvestDesign(s.designs[0].model, *s.harvest, row, 2);
+  REQUIRE(stageSettings<harvest::HarvestOptions>(s, "harvest"));
+  const GreenhouseRow row = sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
+  const auto a = harvest::evaluateHarvestDesign(s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
+  const auto b = harvest::evaluateHarvestDesign(s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2);
   REQUIRE(a.fruits.size() == b.fruits.size());
   int evaluated = 0;
   for (size_t f = 0; f < a.fruits.size(); ++f) {

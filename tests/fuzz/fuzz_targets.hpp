@@ -18,7 +18,7 @@
 #include "io/csv_io.hpp"
 #include "io/design_io.hpp"
 #ifndef ARMSTUDY_CORE_ONLY
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #endif
 #include "study/regression.hpp"
 

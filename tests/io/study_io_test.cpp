@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "common/errors.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;

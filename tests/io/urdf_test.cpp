@@ -22,7 +22,7 @@
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "io/urdf_io.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"

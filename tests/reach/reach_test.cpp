@@ -19,10 +19,11 @@
 
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_sweep.hpp"
-#include "study/run.hpp"
+#include "stages/reach/reach_config.hpp"
+#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -168,7 +169,7 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
       int dims[3];
       img->GetDimensions(dims);
       const bool row = rel.find("reach/row/") == 0;
-      const TaskGrid& g = study.reach.grids[row ? 0 : 1];
+      const TaskGrid& g = stageSettings<ReachConfig>(study, "reach")->grids[row ? 0 : 1];
       CHECK(dims[0] == g.dims()[0]);
       CHECK(dims[1] == g.dims()[1]);
       CHECK(dims[2] == g.dims()[2]);
@@ -207,7 +208,7 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
           double xyz[3];
           img->GetPoint(p, xyz);
           const double err = (kin.p_WT - Eigen::Vector3d(xyz[0], xyz[1], xyz[2])).norm();
-          CHECK(err <= study.reach.ik.position_tolerance_m);
+          CHECK(err <= stageSettings<ReachConfig>(study, "reach")->ik.position_tolerance_m);
           CHECK(std::abs(err - pe->GetTuple1(p)) <= 1e-9);
         }
       }

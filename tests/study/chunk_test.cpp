@@ -16,19 +16,32 @@
 #include <thread>
 
 #include "collision/collision.hpp"
-#include "dexterity/dexterity_output.hpp"
-#include "dynamics/harvest_stage.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
-#include "reach/reach_stage.hpp"
+#include "engine/study_file.hpp"
+#include "stages/reach/reach_stage.hpp"
 #include "reach/reach_sweep.hpp"
-#include "study/run.hpp"
+#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::test;
 namespace fs = std::filesystem;
+
+namespace {
+
+// Options of a stage run in these tests: threads, items per unit (0 = stage default), no progress.
+RunOptions runOpts(int threads, long unit_items) {
+  RunOptions o;
+  o.threads = threads;
+  o.unit_items = unit_items;
+  o.progress = false;
+  return o;
+}
+
+}  // namespace
 
 namespace {
 
@@ -243,8 +256,7 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
                  "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
                  "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
   // Reference: no checkpoints, default unit size, one thread.
-  const ReachStageSummary ref =
-      runReachStage(s, ReachStageOptions{(dir / "ref").string(), 1, false, nullptr, 0});
+  const StageResult ref = runStage(s, "reach", (dir / "ref").string(), runOpts(1, 0));
   const auto ref_files = resultFiles(dir / "ref");
   REQUIRE(ref_files.size() >= 4);
   REQUIRE(ref_files.at("summary.json").find("colliding_pairs") != std::string::npos);  // collision columns
@@ -254,25 +266,22 @@ TEST_CASE("the reach stage resumes from saved chunks into the files of an uninte
   std::string msg;
   {
     CheckpointStore store(out.string(), "fp\n", msg);
-    const ReachStageSummary first =
-        runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
+    const StageResult first = runStage(s, "reach", out.string(), runOpts(2, 1), &store);
     CHECK(first.units_resumed == 0);
   }
-  const long lines = s.reach.grids[0].lines();
+  const long lines = stageSettings<ReachConfig>(s, "reach")->grids[0].lines();
   REQUIRE(static_cast<long>(unitFiles(out).size()) == 2 * lines);
   const long intact = damageStore(out, "");
   fs::remove_all(out / "reach");
   CheckpointStore store(out.string(), "fp\n", msg);
   CHECK(msg.find("resuming") != std::string::npos);
-  const ReachStageSummary resumed =
-      runReachStage(s, ReachStageOptions{out.string(), 2, false, &store, 1});
+  const StageResult resumed = runStage(s, "reach", out.string(), runOpts(2, 1), &store);
   CHECK(resumed.units_resumed == intact);
   CHECK(resultFiles(out) == ref_files);
   CHECK(resumed.metrics.scalars == ref.metrics.scalars);
   CHECK(resumed.metrics.flags == ref.metrics.flags);
   // Everything saved now: a third run solves nothing.
-  const ReachStageSummary third =
-      runReachStage(s, ReachStageOptions{out.string(), 1, false, &store, 1});
+  const StageResult third = runStage(s, "reach", out.string(), runOpts(1, 1), &store);
   CHECK(third.units_resumed == 2 * lines);
   CHECK(resultFiles(out) == ref_files);
 }
@@ -282,11 +291,11 @@ TEST_CASE(
     "[study][chunk][dexterity]") {
   const fs::path dir = freshDir("dexterity_rows");
   const Study s = loadStudy(writeStudy(dir, "d", {"final_prototype_7dof"}, kDexteritySection));
-  REQUIRE(s.dexterity);
+  REQUIRE(stageSettings<dexterity::DexterityOptions>(s, "dexterity"));
   const Model& m = s.designs[0].model;
-  const long rows = s.dexterity->grid.z_m.count;
+  const long rows = stageSettings<dexterity::DexterityOptions>(s, "dexterity")->grid.z_m.count;
   // The chained rows of the whole grid (the units hold these; the map search runs after them).
-  const dexterity::DexterityMap whole = dexterity::computeDexterityRows(m, *s.dexterity, {{0, rows}}, 1);
+  const dexterity::DexterityMap whole = dexterity::computeDexterityRows(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), {{0, rows}}, 1);
   REQUIRE(whole.reachable() > 0);
   REQUIRE(rows >= 5);
   const ItemRange all{0, rows};
@@ -295,7 +304,7 @@ TEST_CASE(
   const std::vector<ItemRange> ranges = splitRange(rows, 3);
   std::vector<std::string> units(ranges.size());
   const dexterity::DexterityMap parts = dexterity::computeDexterityRows(
-      m, *s.dexterity, ranges, 2, [&](std::size_t k, const dexterity::DexterityMap& p) {
+      m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), ranges, 2, [&](std::size_t k, const dexterity::DexterityMap& p) {
         units[k] = dexterity::serializeRows(p, ranges[k]);
       });
   CHECK(dexterity::serializeRows(parts, all) == whole_bytes);
@@ -305,7 +314,7 @@ TEST_CASE(
   std::shuffle(order.begin(), order.end(), std::mt19937(3));
   dexterity::DexterityMap joined;
   joined.dof = m.dof();
-  joined.grid = s.dexterity->grid;
+  joined.grid = stageSettings<dexterity::DexterityOptions>(s, "dexterity")->grid;
   joined.cells.resize(joined.grid.size());
   for (std::size_t k : order) {
     ItemRange got;
@@ -316,9 +325,9 @@ TEST_CASE(
   CHECK(dexterity::serializeRows(joined, all) == whole_bytes);
   // The search over the joined units gives computeDexterityMap's map.
   dexterity::DexterityMap searched = joined;
-  dexterity::searchDexterityMap(m, *s.dexterity, searched, 2);
+  dexterity::searchDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), searched, 2);
   CHECK(dexterity::serializeRows(searched, all) ==
-        dexterity::serializeRows(dexterity::computeDexterityMap(m, *s.dexterity, 1), all));
+        dexterity::serializeRows(dexterity::computeDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1), all));
   // Bytes of another kind or a map of another shape are refused, leaving the map unchanged.
   ItemRange got;
   CHECK_FALSE(dexterity::deserializeRows("armstudy-reach-unit-v4", joined, got));
@@ -334,23 +343,20 @@ TEST_CASE("the dexterity stage resumes from saved rows into the files of an unin
   const fs::path dir = freshDir("dexterity_stage");
   const Study s = loadStudy(
       writeStudy(dir, "d", {"final_prototype_7dof", "first_prototype_9dof"}, kDexteritySection));
-  std::vector<Model> models;
-  for (const auto& d : s.designs) models.push_back(d.model);
-  dexterity::runDexterityStage(models, *s.dexterity, (dir / "ref").string(), 1);
+  runStage(s, "dexterity", (dir / "ref").string(), runOpts(1, 0));
   const auto ref_files = resultFiles(dir / "ref");
   const fs::path out = dir / "out";
   std::string msg;
   {
     CheckpointStore store(out.string(), "fp\n", msg);
-    CHECK(dexterity::runDexterityStage(models, *s.dexterity, out.string(), 2, &store, 1)
-              .units_resumed == 0);
+    CHECK(runStage(s, "dexterity", out.string(), runOpts(2, 1), &store).units_resumed == 0);
   }
   REQUIRE(static_cast<long>(unitFiles(out, "dexterity_").size()) ==
-          2 * s.dexterity->grid.z_m.count);
+          2 * stageSettings<dexterity::DexterityOptions>(s, "dexterity")->grid.z_m.count);
   const long intact = damageStore(out, "dexterity_");
   fs::remove_all(out / "dexterity");
   CheckpointStore store(out.string(), "fp\n", msg);
-  const auto ds = dexterity::runDexterityStage(models, *s.dexterity, out.string(), 2, &store, 1);
+  const StageResult ds = runStage(s, "dexterity", out.string(), runOpts(2, 1), &store);
   CHECK(ds.units_resumed == intact);
   CHECK(resultFiles(out) == ref_files);
 }
@@ -359,13 +365,13 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
           "[study][chunk][checkpoint][harvest]") {
   const fs::path dir = freshDir("harvest_stage");
   const Study s = loadStudy(writeStudy(dir, "h", {"final_prototype_9dof"}, kHarvestSection));
-  REQUIRE(s.harvest);
+  REQUIRE(stageSettings<harvest::HarvestOptions>(s, "harvest"));
   const Model& m = s.designs[0].model;
-  const GreenhouseRow row = sampleGreenhouseRow(s.harvest->row);
+  const GreenhouseRow row = sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
   REQUIRE(row.fruits.size() == 6);
 
   // Units in shuffled order give the whole design result, profiles included.
-  const harvest::DesignResult whole = harvest::evaluateHarvestDesign(m, *s.harvest, row, 1);
+  const harvest::DesignResult whole = harvest::evaluateHarvestDesign(m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
   int evaluated = 0;
   for (const auto& f : whole.fruits) evaluated += f.evaluated();
   REQUIRE(evaluated > 0);
@@ -380,7 +386,7 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   work.grid_done = [&](std::size_t k, const harvest::DesignResult& d) {
     grid_units[k] = harvest::serializeGridPoints(d, work.grid[k]);
   };
-  const harvest::DesignResult parts = harvest::evaluateHarvestDesign(m, *s.harvest, row, 2, &work);
+  const harvest::DesignResult parts = harvest::evaluateHarvestDesign(m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2, &work);
   CHECK(harvest::serializeFruits(parts, all_fruits) == harvest::serializeFruits(whole, all_fruits));
   CHECK(harvest::serializeGridPoints(parts, all_points) ==
         harvest::serializeGridPoints(whole, all_points));
@@ -400,28 +406,22 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   CHECK_FALSE(harvest::deserializeFruits(grid_units[0], joined, got));  // another unit kind
 
   // The stage: killed (no finish), units lost, resumed -> the files of a run without checkpoints.
-  RunOptions opt;
-  opt.unit_items = 2;
-  RunSummary rs;
+  const RunOptions opt = runOpts(0, 2);
   const std::string ref_dir = (dir / "ref").string();
-  CheckpointStore none;
-  harvest::runHarvestStage(StageContext{s, RunOptions{}, ref_dir, none, rs}, *s.harvest);
+  runStage(s, "harvest", ref_dir, RunOptions{});
   const auto ref_files = resultFiles(dir / "ref");
   const std::string out = (dir / "out").string();
   std::string msg;
   {
     CheckpointStore store(out, "fp\n", msg);
-    CHECK(
-        harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed ==
-        0);
+    CHECK(runStage(s, "harvest", out, opt, &store).units_resumed == 0);
   }
   const long n_units = static_cast<long>(unitFiles(out, "harvest_").size());
   CHECK(n_units == 3 + (all_points.end + 1) / 2);
   const long intact = damageStore(out, "harvest_");
   fs::remove_all(fs::path(out) / "harvest");
   CheckpointStore store(out, "fp\n", msg);
-  CHECK(harvest::runHarvestStage(StageContext{s, opt, out, store, rs}, *s.harvest).units_resumed ==
-        intact);
+  CHECK(runStage(s, "harvest", out, opt, &store).units_resumed == intact);
   CHECK(resultFiles(out) == ref_files);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.hpp"
+#include "io/pose_list_io.hpp"
 #include "tasks/task_grid.hpp"
 
 using namespace armstudy;

@@ -20,11 +20,11 @@
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 #include "kinematics/kinematics.hpp"
-#include "study/run.hpp"
+#include "engine/run.hpp"
 #include "test_support.hpp"
-#include "tracking/tracking_stage.hpp"
+#include "stages/tracking/tracking_stage.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;
@@ -96,9 +96,9 @@ TEST_CASE("the shipped sphere sits where the Fig. 5.13 recipe puts it", "[tracki
   // The middle of link j3 (frames j3 and j4) at the middle sample of the unweighted minimum-norm
   // run (no null-space term, W = I), plus (0.19, 0.08, 0.04) m.
   const Study s = loadStudy(test::sourcePath(kStudy));
-  REQUIRE(s.tracking.size() == 1);
+  REQUIRE(stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->size() == 1);
   REQUIRE(s.obstacles.size() == 1);
-  const tracking::TrackingEntry& e = s.tracking[0];
+  const tracking::TrackingEntry& e = stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
   const Model& m = studyModel(s, e.design);
   const tracking::LineReference line = tracking::lineReference(m, e);
   KinematicsWorkspace ws(m);
@@ -120,8 +120,8 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   const fs::path root = fs::temp_directory_path() / "armstudy_tracking_fig513";
   fs::remove_all(root);
   const Study s = loadStudy(test::sourcePath(kStudy));
-  REQUIRE(s.tracking.size() == 1);
-  const tracking::TrackingEntry& e = s.tracking[0];
+  REQUIRE(stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->size() == 1);
+  const tracking::TrackingEntry& e = stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
   const Model& m = studyModel(s, e.design);
   const RunSummary a = runStudy(s, runOptions(root / "a", 2));
   const fs::path out = fs::path(a.output_dir) / "tracking";
@@ -333,7 +333,7 @@ safety_distance = "50 mm"
   };
   const Study free = loadStudy(writeStudy(dir, withDesign("final_prototype_7dof")).string());
   const Model& m = studyModel(free, "final_prototype_7dof");
-  const tracking::EntryResult r0 = tracking::evaluateTrackingEntry(m, free.tracking[0]);
+  const tracking::EntryResult r0 = tracking::evaluateTrackingEntry(m, stageSettings<std::vector<tracking::TrackingEntry>>(free, "tracking")->at(0));
   REQUIRE(r0.plain.completed());
   CHECK(r0.plain.collisionFree());  // no obstacles here: self distances only
   CHECK(std::isinf(r0.plain.min_obstacle_distance_m));
@@ -349,7 +349,7 @@ safety_distance = "50 mm"
   const std::string variant = variantName("final_prototype_7dof", {{key, limit}});
   const Study lim = loadStudy(writeStudy(dir, v.str() + withDesign(variant)).string());
   const tracking::EntryResult r1 =
-      tracking::evaluateTrackingEntry(studyModel(lim, variant), lim.tracking[0]);
+      tracking::evaluateTrackingEntry(studyModel(lim, variant), stageSettings<std::vector<tracking::TrackingEntry>>(lim, "tracking")->at(0));
   CHECK(r1.plain.status == ik::TrackingStatus::JointLimitReached);
   CHECK(r1.plain.limit_joint == 1);
   CHECK(r1.plain.statusText(m) == "joint_limit_reached (j2)");

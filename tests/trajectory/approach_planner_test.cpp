@@ -10,7 +10,7 @@
 
 #include "common/errors.hpp"
 #include "test_support.hpp"
-#include "trajectory/approach_io.hpp"
+#include "io/approach_io.hpp"
 
 using namespace armstudy;
 using namespace armstudy::test;

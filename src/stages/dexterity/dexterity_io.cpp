@@ -1,4 +1,4 @@
-#include "dexterity/dexterity_io.hpp"
+#include "stages/dexterity/dexterity_io.hpp"
 
 #include <cmath>
 

@@ -1,10 +1,11 @@
-#include "reach/reach_config.hpp"
+#include "stages/reach/reach_config.hpp"
 
 #include <filesystem>
 #include <set>
 
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
+#include "io/pose_list_io.hpp"
 
 namespace armstudy {
 

@@ -23,6 +23,7 @@
 #include "dynamics/drive_feasibility.hpp"
 #include "model/model.hpp"
 #include "study/checkpoint.hpp"
+#include "study/stage.hpp"
 #include "tasks/task_grid.hpp"
 #include "trajectory/approach_planner.hpp"
 #include "trajectory/greenhouse_row.hpp"
@@ -31,7 +32,6 @@ namespace armstudy {
 namespace io {
 class TableReader;
 }
-struct StageContext;
 
 namespace harvest {
 
@@ -79,12 +79,6 @@ struct DesignResult {
   std::vector<GridPointResult> grid;
 };
 
-struct HarvestStageSummary {
-  std::vector<std::string> files;
-  double seconds = 0;
-  std::vector<DesignResult> designs;
-  long units_resumed = 0;  // checkpoint units loaded instead of evaluated
-};
 
 // Which fruits (approaches) and holding-grid points evaluateHarvestDesign computes, as ranges of
 // indices (non-empty, within the row's fruits / the grid's points), and whom it tells when a range
@@ -113,12 +107,13 @@ bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange&
 
 // Runs the stage for the selected designs and writes under <output_dir>/harvest/: per design
 // <design>_fruits.csv, <design>_fruit<k>_profile.csv (plotted fruits), SVG plots,
-// <design>_holding.vti and PNG maps; report.md and summary.json. Adds metrics
-// "dynamics/<design>/..." to ctx.summary.metrics. With an enabled ctx.checkpoints, work is split
-// into units of one design x a range of fruits (defaults::kHarvestUnitFruits) or holding-grid
+// <design>_holding.vti and PNG maps; report.md and summary.json. Metrics "dynamics/<design>/...".
+// Work units: one design x a range of fruits (defaults::kHarvestUnitFruits) or holding-grid
 // points (defaults::kHarvestUnitGridPoints; ctx.options.unit_items overrides both), ids
-// harvest/<design>/fruits_<b>-<e> and harvest/<design>/grid_<b>-<e>, loaded on a resumed run.
-HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOptions& options);
+// harvest/<design>/fruits_<b>-<e> and harvest/<design>/grid_<b>-<e>, run through ctx.units.
+// With `results`, each design's result is appended there (tests).
+StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& options,
+                            std::vector<DesignResult>* results = nullptr);
 
 }  // namespace harvest
 }  // namespace armstudy

@@ -1,4 +1,4 @@
-#include "study/run.hpp"
+#include "engine/run.hpp"
 
 #include <omp.h>
 
@@ -9,24 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "armstudy/version.hpp"
-#include "calibration/calibration_stage.hpp"
 #include "common/errors.hpp"
-#include "dexterity/dexterity_output.hpp"
-#include "dynamics/harvest_stage.hpp"
 #include "io/files.hpp"
-#include "reach/reach_stage.hpp"
-#include "tracking/tracking_stage.hpp"
+#include "study/checkpoint.hpp"
 
 namespace armstudy {
 
 using nlohmann::ordered_json;
-
-std::string RunOptions::validate() const {
-  if (output_root.empty()) return "output root is empty";
-  if (threads < 0) return "thread count must not be negative";
-  if (unit_items < 0) return "unit size must not be negative";
-  return "";
-}
 
 static ordered_json poseJson(const PoseXYZABG& p) {
   return ordered_json{{"x_m", p.x},         {"y_m", p.y},        {"z_m", p.z},
@@ -112,7 +101,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   }
   CheckpointStore store(sum.output_dir, studyFingerprint(study), sum.resume_message);
   if (!sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
-  StageContext ctx{study, options, sum.output_dir, store, sum};
+  const UnitRunner units(store);
 
   ordered_json designs = ordered_json::array();
   for (const auto& d : study.designs) {
@@ -132,62 +121,15 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   };
   lap("load_and_resolve");
 
-  // Evaluation stages, in order. Each is skipped when its study section is absent.
-  (void)ctx;
-
-  if (study.reach.enabled) {
-    const ReachStageSummary rs =
-        runReachStage(study, ReachStageOptions{sum.output_dir, sum.threads, options.progress, &store, options.unit_items});
-    sum.units_resumed += rs.units_resumed;
-    sum.files_written.insert(sum.files_written.end(), rs.files_written.begin(), rs.files_written.end());
-    sum.timings.push_back({"reachability", rs.seconds});
-    for (const auto& [name, value] : rs.timings) sum.timings.push_back({name, value});
-    sum.metrics.merge(rs.metrics);
-  }
-  if (study.dexterity) {  // dexterity stage (docs/dexterity.md)
-    std::vector<Model> models;
-    for (const auto& d : study.designs) models.push_back(d.model);
-    const auto ds = dexterity::runDexterityStage(models, *study.dexterity, sum.output_dir, options.threads, &store,
-                                                 options.unit_items);
-    sum.units_resumed += ds.units_resumed;
-    sum.files_written.insert(sum.files_written.end(), ds.files.begin(), ds.files.end());
-    sum.timings.push_back({"dexterity", ds.seconds});
-    // Summary metrics for regression checks; per-map timings go to the manifest only.
-    StudyMetrics dm;
-    for (const auto& map : ds.maps) {
-      const std::string prefix = "dexterity/" + map.design;
-      std::vector<std::uint8_t> flags(map.cells.size());
-      double sum_opt = 0, sum_plain = 0;
-      for (std::size_t i = 0; i < map.cells.size(); ++i) {
-        flags[i] = map.cells[i].reachable;
-        if (!flags[i]) continue;
-        sum_opt += map.cells[i].opt.manipulability;
-        sum_plain += map.cells[i].plain.manipulability;
-      }
-      const int r = map.reachable();
-      dm.scalars[prefix + "/reachable_fraction"] = map.cells.empty() ? 0.0 : double(r) / map.cells.size();
-      dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
-      dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
-      dm.flags[prefix + "/reachable"] = flags;
-      sum.timings.push_back({prefix + "/wall", map.seconds});
-    }
-    sum.metrics.merge(dm);
-  }
-  if (study.harvest) {  // harvest torque stage (docs/dynamics.md)
-    const auto hs = harvest::runHarvestStage(ctx, *study.harvest);
-    sum.units_resumed += hs.units_resumed;
-    sum.files_written.insert(sum.files_written.end(), hs.files.begin(), hs.files.end());
-    sum.timings.push_back({"harvest", hs.seconds});
-  }
-  if (!study.tracking.empty()) {  // straight-line tracking with/without H_c (docs/tracking.md)
-    const auto ts = tracking::runTrackingStage(ctx, study.tracking);
-    sum.files_written.insert(sum.files_written.end(), ts.files.begin(), ts.files.end());
-    sum.timings.push_back({"tracking", ts.seconds});
-  }
-  if (!study.calibration.empty()) {  // model versus measurement (docs/calibration.md)
-    const auto cs = calibration::runCalibrationStage(ctx, study.calibration);
-    sum.files_written.insert(sum.files_written.end(), cs.files.begin(), cs.files.end());
-    sum.timings.push_back({"calibration", cs.seconds});
+  // Evaluation stages, in registry order; the study holds a section for each stage it runs.
+  const StageContext ctx{study, options, sum.output_dir, units, sum.threads};
+  for (const StudySection& section : study.sections) {
+    StageResult r = section.stage->run(ctx, *section.settings);
+    sum.units_resumed += r.units_resumed;
+    sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
+    sum.timings.push_back({section.stage->timingName(), r.seconds});
+    sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
+    sum.metrics.merge(r.metrics);
   }
 
   // The manifest is written last: its presence marks a complete run.
@@ -215,6 +157,18 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
   store.finish();
   return sum;
+}
+
+StageResult runStage(const Study& study, const std::string& name, const std::string& output_dir,
+                     const RunOptions& options, const CheckpointStore* store) {
+  const CheckpointStore none;
+  const UnitRunner units(store ? *store : none);
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const StageContext ctx{study, options, output_dir, units, threads};
+  for (const StudySection& section : study.sections)
+    if (section.stage->name() == name) return section.stage->run(ctx, *section.settings);
+  ARMSTUDY_CHECK(false, "the study has no section for stage '" + name + "'");
+  return {};
 }
 
 }  // namespace armstudy

@@ -1,4 +1,4 @@
-#include "reach/reach_stage.hpp"
+#include "stages/reach/reach_stage.hpp"
 #include "reach/reach_audit.hpp"
 
 #include <algorithm>
@@ -243,23 +243,15 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   }
 }
 
-struct Writer {
-  std::string root;
-  std::vector<std::string> files;
-  std::string abs(const std::string& rel) const { return (fs::path(root) / rel).string(); }
-  void text(const std::string& rel, const std::string& content) {
-    writeFileAtomic(abs(rel), content);
-    files.push_back(rel);
-  }
-  // The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the
-  // .svg path (what the report shows).
-  std::string figure(const std::string& stem, const report::RasterImage& img, const report::MapFigure& fig) {
-    report::writePng(abs(stem + ".png"), img);
-    files.push_back(stem + ".png");
-    text(stem + ".svg", report::svgMapFigure(img, fig));
-    return stem + ".svg";
-  }
-};
+// The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the .svg
+// path (what the report shows).
+std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,
+                        const report::MapFigure& fig) {
+  report::writePng(out.path(stem + ".png"), img);
+  out.add(stem + ".png");
+  out.text(stem + ".svg", report::svgMapFigure(img, fig));
+  return stem + ".svg";
+}
 
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
 report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string title) {
@@ -355,36 +347,36 @@ long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
 // the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units). A
 // saved unit that does not fit (place, size, design size, collision columns) is solved again.
 template <class Source, class SweepRanges>
-PoseSweep solveUnits(const ReachStageOptions& options, ReachStageSummary& sum, const std::string& prefix,
+PoseSweep solveUnits(const StageContext& ctx, StageResult& sum, const std::string& prefix,
                      const Model& model, const Source& source, const SweepCollision& collision, Progress& progress,
                      SweepRanges&& sweep_ranges) {
   const long len = sweepUnitLength(source), poses = posesOf(source);
   const std::vector<std::string> pair_names =
       collision.enabled() ? collision::collisionPairNames(model, collision.obstacles, collision.self)
                           : std::vector<std::string>{};
-  const long unit_poses = options.unit_poses > 0 ? options.unit_poses : defaults::kReachUnitPoses;
+  const long unit_poses = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
   const std::vector<ItemRange> ranges = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len));
-  auto id = [&](const ItemRange& r) { return prefix + "/units_" + r.text(); };
-  std::vector<PoseSweep> chunks;
-  std::vector<ItemRange> todo;
-  for (const ItemRange& r : ranges) {
-    std::string bytes;
+  std::vector<PoseSweep> chunks, solved;
+  UnitBatch batch;
+  for (const ItemRange& r : ranges) batch.ids.push_back(prefix + "/units_" + r.text());
+  batch.load = [&](std::size_t k, const std::string& bytes) {
     PoseSweep c;
-    const long first = r.begin * len, n = std::min(poses, r.end * len) - first;
-    if (options.checkpoints && options.checkpoints->load(id(r), bytes) && deserializeSweep(bytes, model.name, c) &&
-        c.offset == first && c.size == n && c.dof == model.dof() && c.collision == collision.enabled() &&
-        c.obstacles == !collision.obstacles.empty() && c.pair_names == pair_names) {
-      ++sum.units_resumed;
-      progress.advance(n);
-      chunks.push_back(std::move(c));
-    } else {
-      todo.push_back(r);
-    }
-  }
-  if (todo.empty() && !chunks.empty()) return assembleSweep(std::move(chunks), poses);
-  std::vector<PoseSweep> solved = sweep_ranges(todo, [&](std::size_t k, const PoseSweep& c) {
-    if (options.checkpoints) options.checkpoints->save(id(todo[k]), serializeSweep(c));
-  });
+    const long first = ranges[k].begin * len, n = std::min(poses, ranges[k].end * len) - first;
+    if (!(deserializeSweep(bytes, model.name, c) && c.offset == first && c.size == n && c.dof == model.dof() &&
+          c.collision == collision.enabled() && c.obstacles == !collision.obstacles.empty() &&
+          c.pair_names == pair_names))
+      return false;
+    progress.advance(n);
+    chunks.push_back(std::move(c));
+    return true;
+  };
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    std::vector<ItemRange> todo_ranges;
+    for (std::size_t k : todo) todo_ranges.push_back(ranges[k]);
+    solved = sweep_ranges(todo_ranges, [&](std::size_t j, const PoseSweep& c) { done(todo[j], serializeSweep(c)); });
+  };
+  sum.units_resumed += ctx.units.run(batch);
+  if (solved.empty() && !chunks.empty()) return assembleSweep(std::move(chunks), poses);
   double wall = 0, t_reach = 0, t_unreach = 0;
   long nr = 0, n = 0;
   for (PoseSweep& c : solved) {
@@ -395,9 +387,9 @@ PoseSweep solveUnits(const ReachStageOptions& options, ReachStageSummary& sum, c
     n += c.size;
     chunks.push_back(std::move(c));
   }
-  sum.timings.emplace_back(prefix + "/wall", wall);
-  sum.timings.emplace_back(prefix + "/per_reachable_pose", nr ? t_reach / nr : 0.0);
-  sum.timings.emplace_back(prefix + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0);
+  sum.timings.push_back({prefix + "/wall", wall});
+  sum.timings.push_back({prefix + "/per_reachable_pose", nr ? t_reach / nr : 0.0});
+  sum.timings.push_back({prefix + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0});
   return assembleSweep(std::move(chunks), poses);
 }
 
@@ -444,17 +436,17 @@ void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep&
 
 }  // namespace
 
-ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& options) {
+StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
-  ReachStageSummary sum;
-  const ReachConfig& cfg = study.reach;
+  StageResult sum;
+  const Study& study = ctx.study;
   if (!cfg.enabled) return sum;
   ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
-  Writer out{options.output_dir, {}};
+  Writer out(ctx.output_dir);
   long total = 0;
   for (const TaskGrid& g : cfg.grids) total += g.size() * static_cast<long>(study.designs.size());
   for (const PoseList& l : cfg.pose_lists) total += static_cast<long>(l.poses.size() * study.designs.size());
-  Progress progress(total, options.progress, "reachability " + study.name);
+  Progress progress(total, ctx.options.progress, "reachability " + study.name);
 
   ordered_json js;
   js["study"] = study.name;
@@ -537,17 +529,16 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     std::vector<SweepSearchSummary> searches;
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + g.name + "/" + sd.model.name;
-      sweeps.push_back(solveUnits(options, sum, unit, sd.model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
-        return sweepGridRanges(sd.model, g, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
+      sweeps.push_back(solveUnits(ctx, sum, unit, sd.model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
+        return sweepGridRanges(sd.model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
       }));
       // Across units, once all are in: statuses that do not depend on the traversal (issue 12).
       const SweepSearchSummary ss =
-          searchGridSweep(sd.model, g, cfg.ik, options.threads, cfg.collision, cfg.search, sweeps.back());
+          searchGridSweep(sd.model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search, sweeps.back());
       searches.push_back(ss);
-      sum.timings.emplace_back(unit + "/search", ss.seconds);
+      sum.timings.push_back({unit + "/search", ss.seconds});
       addUnitMetrics(sum.metrics, unit, sweeps.back());
     }
-    sum.poses += g.size() * static_cast<long>(sweeps.size());
 
     std::vector<std::vector<std::string>> rows;
     ordered_json jdesigns = ordered_json::array();
@@ -604,7 +595,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
       md += ".\n\n";
       if (cfg.audit_poses > 0) {
         const ReachAudit au = auditGridSweep(sd.model, g, cfg.ik, cfg.collision, s, cfg.audit_poses, cfg.audit_starts,
-                                             cfg.audit_seed, options.threads);
+                                             cfg.audit_seed, ctx.threads);
         ordered_json ja;
         ja["poses"] = au.poses;
         ja["starts_per_pose"] = au.starts;
@@ -650,8 +641,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                                                return double(c);
                                              }));
         const std::string rel = gdir + "/" + s.design + ".vti";
-        io::writeVti(out.abs(rel), img);
-        out.files.push_back(rel);
+        io::writeVti(out.path(rel), img);
+        out.add(rel);
         jd["vti"] = rel;
       }
       // Boundary surface of the reachable region (3-D grids).
@@ -668,8 +659,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
           poly.points = bs.vertices;
           poly.triangles = bs.triangles;
           const std::string rel = gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
-          io::writeVtp(out.abs(rel), poly);
-          out.files.push_back(rel);
+          io::writeVtp(out.path(rel), poly);
+          out.add(rel);
           jsurf.push_back({{"orientation", orientationText(g, k)},
                            {"file", rel},
                            {"alpha_shape_volume_m3", bs.volume_m3},
@@ -705,7 +696,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
           else
             fig.legend = statusLegend(per[k].status);
           const std::string rel =
-              out.figure("reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
+              writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
           images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
                        orientationText(g, k) + ": " + report::percent(per[k].fraction()) + " reachable. " +
                        imageCaptionAxes(g, plane) + ".*\n\n";
@@ -720,7 +711,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
             report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
             mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability (eq. 5.59)"};
             mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
-            const std::string mrel = out.figure(
+            const std::string mrel = writeFigure(out, 
                 "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
             images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
                          s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
@@ -783,8 +774,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                                              }));
         }
         const std::string rel = gdir + "/comparison.vti";
-        io::writeVti(out.abs(rel), img);
-        out.files.push_back(rel);
+        io::writeVti(out.path(rel), img);
+        out.add(rel);
         jcmp["vti"] = rel;
         ordered_json bits = ordered_json::array();
         for (const auto& s : sweeps) bits.push_back(s.design);
@@ -830,7 +821,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
                              {report::categorical(5), "only " + sweeps[a].design},
                              {report::categorical(2), "only " + sweeps[b].design},
                              {report::categorical(1), "neither"}};
-              const std::string rel = out.figure("reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
+              const std::string rel = writeFigure(out, "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
                                                      sweeps[b].design + suffix(g, k),
                                                  img, cfig);
               pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
@@ -893,15 +884,14 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
     ordered_json jdesigns = ordered_json::array();
     for (const StudyDesign& sd : study.designs) {
       const std::string unit = "reach/" + l.name + "/" + sd.model.name;
-      PoseSweep s = solveUnits(options, sum, unit, sd.model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
-        return sweepPoseListRanges(sd.model, l, ranges, cfg.ik, options.threads, &progress, cfg.collision, done);
+      PoseSweep s = solveUnits(ctx, sum, unit, sd.model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
+        return sweepPoseListRanges(sd.model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
       });
       // Poses in collision get the seeded starts too (issue 12; a list has no neighbours).
       const SweepSearchSummary ss =
-          searchPoseListSweep(sd.model, l, cfg.ik, options.threads, cfg.collision, cfg.search, s);
-      sum.timings.emplace_back(unit + "/search", ss.seconds);
+          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collision, cfg.search, s);
+      sum.timings.push_back({unit + "/search", ss.seconds});
       addUnitMetrics(sum.metrics, unit, s);
-      sum.poses += s.size;
       Stats st;
       for (long i = 0; i < s.size; ++i) st.add(s, i, l.poses[i].head<3>());
       ordered_json jd;
@@ -918,8 +908,8 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
         poly.point_arrays.push_back(arrayOf("line", io::ArrayType::Int32, nullptr, s.size, 0, 1,
                                             [&](long i, int) { return double(l.lines[i]); }));
         const std::string rel = "reach/" + l.name + "/" + s.design + ".vtp";
-        io::writeVtp(out.abs(rel), poly);
-        out.files.push_back(rel);
+        io::writeVtp(out.path(rel), poly);
+        out.add(rel);
         jd["vtp"] = rel;
       }
       jdesigns.push_back(jd);
@@ -939,7 +929,7 @@ ReachStageSummary runReachStage(const Study& study, const ReachStageOptions& opt
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
   out.text("report.md", md);
-  sum.files_written = out.files;
+  sum.files = out.files();
   return sum;
 }
 

@@ -1,4 +1,4 @@
-#include "trajectory/approach_io.hpp"
+#include "io/approach_io.hpp"
 
 #include "io/toml_reader.hpp"
 

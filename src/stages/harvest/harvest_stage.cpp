@@ -1,4 +1,4 @@
-#include "dynamics/harvest_stage.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 
 #include <omp.h>
 
@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -20,8 +21,7 @@
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
-#include "study/run.hpp"
-#include "trajectory/approach_io.hpp"
+#include "io/approach_io.hpp"
 
 namespace armstudy::harvest {
 
@@ -478,12 +478,12 @@ bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange&
 
 namespace {
 
-// One design's result in checkpoint units (fruits and holding-grid points in ranges of
-// unit_items, 0 = defaults): units saved by an interrupted run are loaded, the rest evaluated and
-// saved as soon as done; loaded and evaluated entries are joined by index.
-DesignResult checkpointedDesign(const Model& model, const HarvestOptions& options, const GreenhouseRow& row,
-                                int threads, const CheckpointStore& store, long unit_items, long& units_resumed) {
-  if (!store.enabled()) return evaluateHarvestDesign(model, options, row, threads);
+// One design's result in work units (fruits and holding-grid points in ranges of unit_items,
+// 0 = defaults), run through ctx.units: units saved by an interrupted run are loaded, the rest
+// evaluated in one parallel loop and saved as soon as done; both are joined by index.
+DesignResult unitDesign(const StageContext& ctx, const Model& model, const HarvestOptions& options,
+                        const GreenhouseRow& row, long& units_resumed) {
+  const long unit_items = ctx.options.unit_items;
   const long nf = static_cast<long>(row.fruits.size());
   long np = 0;
   if (options.grid) np = long(options.grid->axes[0].count()) * options.grid->axes[1].count() * options.grid->axes[2].count();
@@ -491,31 +491,36 @@ DesignResult checkpointedDesign(const Model& model, const HarvestOptions& option
       splitRange(nf, unit_items > 0 ? unit_items : defaults::kHarvestUnitFruits);
   const std::vector<ItemRange> grid_units =
       splitRange(np, unit_items > 0 ? unit_items : defaults::kHarvestUnitGridPoints);
-  auto fid = [&](const ItemRange& r) { return "harvest/" + model.name + "/fruits_" + r.text(); };
-  auto gid = [&](const ItemRange& r) { return "harvest/" + model.name + "/grid_" + r.text(); };
+  const std::size_t F = fruit_units.size();
+  auto range = [&](std::size_t k) { return k < F ? fruit_units[k] : grid_units[k - F]; };
+  UnitBatch batch;
+  for (const ItemRange& r : fruit_units) batch.ids.push_back("harvest/" + model.name + "/fruits_" + r.text());
+  for (const ItemRange& r : grid_units) batch.ids.push_back("harvest/" + model.name + "/grid_" + r.text());
   DesignResult loaded;
   loaded.fruits.resize(nf);
   loaded.grid.resize(np);
-  HarvestWork work;
   std::vector<ItemRange> fruits_loaded, grid_loaded;
-  auto sort = [&](const std::vector<ItemRange>& units, auto&& id, auto&& deserialize, std::vector<ItemRange>& todo,
-                  std::vector<ItemRange>& done) {
-    for (const ItemRange& u : units) {
-      std::string bytes;
-      ItemRange got;
-      if (store.load(id(u), bytes) && deserialize(bytes, loaded, got) && got.begin == u.begin && got.end == u.end) {
-        done.push_back(u);
-        ++units_resumed;
-      } else {
-        todo.push_back(u);
-      }
-    }
+  batch.load = [&](std::size_t k, const std::string& bytes) {
+    ItemRange got;
+    const bool ok = k < F ? deserializeFruits(bytes, loaded, got) : deserializeGridPoints(bytes, loaded, got);
+    if (!ok || got.begin != range(k).begin || got.end != range(k).end) return false;
+    (k < F ? fruits_loaded : grid_loaded).push_back(range(k));
+    return true;
   };
-  sort(fruit_units, fid, deserializeFruits, work.fruits, fruits_loaded);
-  sort(grid_units, gid, deserializeGridPoints, work.grid, grid_loaded);
-  work.fruits_done = [&](std::size_t k, const DesignResult& d) { store.save(fid(work.fruits[k]), serializeFruits(d, work.fruits[k])); };
-  work.grid_done = [&](std::size_t k, const DesignResult& d) { store.save(gid(work.grid[k]), serializeGridPoints(d, work.grid[k])); };
-  DesignResult d = evaluateHarvestDesign(model, options, row, threads, &work);
+  HarvestWork work;
+  std::vector<std::size_t> fruit_ids, grid_ids;
+  std::optional<DesignResult> computed;
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    for (std::size_t k : todo) {
+      (k < F ? work.fruits : work.grid).push_back(range(k));
+      (k < F ? fruit_ids : grid_ids).push_back(k);
+    }
+    work.fruits_done = [&](std::size_t j, const DesignResult& d) { done(fruit_ids[j], serializeFruits(d, work.fruits[j])); };
+    work.grid_done = [&](std::size_t j, const DesignResult& d) { done(grid_ids[j], serializeGridPoints(d, work.grid[j])); };
+    computed = evaluateHarvestDesign(model, options, row, ctx.threads, &work);
+  };
+  units_resumed += ctx.units.run(batch);
+  DesignResult d = computed ? std::move(*computed) : evaluateHarvestDesign(model, options, row, ctx.threads, &work);
   for (const ItemRange& u : fruits_loaded)
     std::move(loaded.fruits.begin() + u.begin, loaded.fruits.begin() + u.end, d.fruits.begin() + u.begin);
   for (const ItemRange& u : grid_loaded)
@@ -676,9 +681,10 @@ std::vector<report::Series> profileSeries(const Model& model, const std::vector<
 
 }  // namespace
 
-HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOptions& options) {
+StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& options,
+                            std::vector<DesignResult>* results) {
   const auto t0 = std::chrono::steady_clock::now();
-  HarvestStageSummary sum;
+  StageResult sum;
   const fs::path dir = fs::path(ctx.output_dir) / "harvest";
   fs::create_directories(dir);
   auto rel = [](const std::string& name) { return "harvest/" + name; };
@@ -721,8 +727,7 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       throw InputError(
           model.file, 0, "inertia",
           "design '" + model.name + "' has no [[inertia]] data; the harvest stage needs it");
-    DesignResult d = checkpointedDesign(model, options, row, ctx.options.threads, ctx.checkpoints,
-                                        ctx.options.unit_items, sum.units_resumed);
+    DesignResult d = unitDesign(ctx, model, options, row, sum.units_resumed);
     const int n = model.dof();
     const std::string base = model.name;
     const std::string mprefix = "dynamics/" + model.name + "/";
@@ -740,7 +745,7 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
       feasible_nf += f.without_friction.feasible;
     }
     const double nfr = std::max<double>(1, static_cast<double>(d.fruits.size()));
-    auto& M = ctx.summary.metrics;
+    auto& M = sum.metrics;
     M.scalars[mprefix + "evaluated_fraction"] = evaluated / nfr;
     M.scalars[mprefix + "feasible_fraction"] = feasible / nfr;
     M.scalars[mprefix + "feasible_fraction_no_friction"] = feasible_nf / nfr;
@@ -1017,7 +1022,7 @@ HarvestStageSummary runHarvestStage(const StageContext& ctx, const HarvestOption
                     {"max_current_ratio", max_ratio}};
     }
     js["designs"].push_back(dj);
-    sum.designs.push_back(std::move(d));
+    if (results) results->push_back(std::move(d));
   }
   writeFileAtomic((dir / "report.md").string(), md.str());
   writeFileAtomic((dir / "summary.json").string(), js.dump(2) + "\n");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dexterity/dexterity_map.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy::dexterity {
 
@@ -39,19 +40,12 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
 std::string serializeRows(const DexterityMap& map, const ItemRange& rows);
 bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& rows);
 
-// Runs the stage for every design and writes everything under <output_dir>/dexterity/. Appends the
-// files written (relative to output_dir) to `files`. threads = 0: OpenMP default.
-// With `checkpoints`, each design's map is split into units of whole z rows (about `unit_cells`
-// cells, at least one row; 0 = defaults::kDexterityUnitCells), id dexterity/<design>/rows_<b>-<e>:
-// units saved by an interrupted run are loaded, the others computed and saved as soon as done.
-struct DexterityStageSummary {
-  std::vector<std::string> files;
-  double seconds = 0;
-  std::vector<DexterityMap> maps;  // kept for callers (tests, benchmark)
-  long units_resumed = 0;          // units loaded from checkpoints instead of computed
-};
-DexterityStageSummary runDexterityStage(const std::vector<Model>& designs, const DexterityOptions& options,
-                                        const std::string& output_dir, int threads,
-                                        const CheckpointStore* checkpoints = nullptr, long unit_cells = 0);
+// Runs the stage for every design of the study and writes everything under
+// <output_dir>/dexterity/. Each design's map is cut into work units of whole z rows (about
+// ctx.options.unit_items cells, at least one row; 0 = defaults::kDexterityUnitCells), ids
+// dexterity/<design>/rows_<b>-<e>, run through ctx.units (loaded when an interrupted run saved
+// them). Metrics: dexterity/<design>/... With `maps`, the maps are appended there (tests, benchmark).
+StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
+                              std::vector<DexterityMap>* maps = nullptr);
 
 }  // namespace armstudy::dexterity

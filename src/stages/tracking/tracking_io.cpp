@@ -5,7 +5,7 @@
 #include <set>
 
 #include "io/toml_reader.hpp"
-#include "tracking/tracking_stage.hpp"
+#include "stages/tracking/tracking_stage.hpp"
 
 namespace armstudy::tracking {
 

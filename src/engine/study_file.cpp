@@ -1,11 +1,11 @@
-#include "io/study_io.hpp"
+#include "engine/study_file.hpp"
 
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
 
-#include "dexterity/dexterity_io.hpp"
+#include "engine/registry.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
@@ -231,13 +231,6 @@ Study loadStudy(const std::string& path) {
     }
   }
   s.obstacles = readObstacles(top);
-  {
-    std::vector<std::pair<std::string, std::string>> files;
-    std::vector<const Model*> models;
-    for (const auto& d : s.designs) models.push_back(&d.model);
-    readReachSection(top, dir.string(), models, s.obstacles, s.reach, files);
-    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
-  }
   // [regression]: where the baseline lives and how far each metric may move.
   s.regression.baseline_path = (dir / (fs::path(path).stem().string() + ".baseline.json")).string();
   if (const toml::table* t = top.table("regression")) {
@@ -266,30 +259,13 @@ Study loadStudy(const std::string& path) {
     }
     r.finish();
   }
-  if (const toml::table* t = top.table("dexterity")) {
-    TableReader r(*t, path, "dexterity");
-    std::vector<const Model*> models;
-    for (const auto& d : s.designs) models.push_back(&d.model);
-    s.dexterity = dexterity::readDexterityOptions(r, models);
-  }
-  if (const toml::table* t = top.table("harvest")) {  // docs/dynamics.md
-    TableReader r(*t, path, "harvest");
-    std::vector<std::string> names;
-    for (const auto& d : s.designs) names.push_back(d.model.name);
-    s.harvest = harvest::readHarvestOptions(r, names);
-    r.finish();
-  }
-  {  // [[tracking]] entries (docs/tracking.md)
-    std::vector<const Model*> models;
-    for (const auto& d : s.designs) models.push_back(&d.model);
-    s.tracking = tracking::readTrackingEntries(top, models, s.obstacles);
-  }
-  {  // [[calibration]] entries (docs/calibration.md, "As a study stage"); data files are inputs
-    std::vector<const Model*> models;
-    for (const auto& d : s.designs) models.push_back(&d.model);
-    std::vector<std::pair<std::string, std::string>> files;
-    s.calibration = calibration::readCalibrationEntries(top, dir.string(), models, files);
-    for (const auto& [f, h] : files) s.inputs.push_back({f, h});
+  // Every stage reads its own section(s); the registry says which stages exist, in run order.
+  {
+    const std::vector<const Model*> models = s.models();
+    const std::string study_dir = dir.string();
+    SectionInput in{top, study_dir, models, s.obstacles, s.inputs};
+    for (const Stage* stage : stageRegistry())
+      if (auto settings = stage->read(in)) s.sections.push_back({stage, std::move(settings)});
   }
   top.finish();
   return s;

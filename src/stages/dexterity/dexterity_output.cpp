@@ -1,4 +1,4 @@
-#include "dexterity/dexterity_output.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -274,53 +275,72 @@ std::string statsRow(const std::string& what, const FieldStats& s) {
          fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m |\n";
 }
 
-// One design's map, in checkpoint units of whole rows (see runDexterityStage).
-DexterityMap checkpointedMap(const Model& m, const DexterityOptions& options, int threads,
-                             const CheckpointStore* checkpoints, long unit_cells, long& units_resumed) {
-  if (!checkpoints || !checkpoints->enabled()) return computeDexterityMap(m, options, threads);
-  const long per = unit_cells > 0 ? unit_cells : defaults::kDexterityUnitCells;
-  const std::vector<ItemRange> units =
+// One design's map, in work units of whole rows (see runDexterityStage): units saved by an
+// interrupted run are loaded, the others computed; both are joined by cell index (so the order
+// units finished in does not matter), then the search across rows runs on the whole map.
+DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOptions& options, long& units_resumed) {
+  const long per = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kDexterityUnitCells;
+  const std::vector<ItemRange> ranges =
       splitRange(options.grid.z_m.count, std::max(1L, per / std::max(1, options.grid.gamma_rad.count)));
-  auto id = [&](const ItemRange& r) { return "dexterity/" + m.name + "/rows_" + r.text(); };
-  // Loaded units go into a map of the right shape; the rest is computed, then both are joined by
-  // cell index (so the order units finished in does not matter).
   DexterityMap loaded;
   loaded.dof = m.dof();
   loaded.grid = options.grid;
   loaded.cells.resize(options.grid.size());
-  std::vector<ItemRange> todo, done;
-  for (const ItemRange& u : units) {
-    std::string bytes;
+  std::vector<ItemRange> done, todo;
+  std::optional<DexterityMap> computed;
+  UnitBatch batch;
+  for (const ItemRange& r : ranges) batch.ids.push_back("dexterity/" + m.name + "/rows_" + r.text());
+  batch.load = [&](std::size_t k, const std::string& bytes) {
     ItemRange got;
-    if (checkpoints->load(id(u), bytes) && deserializeRows(bytes, loaded, got) && got.begin == u.begin &&
-        got.end == u.end) {
-      done.push_back(u);
-      ++units_resumed;
-    } else {
-      todo.push_back(u);
-    }
-  }
-  DexterityMap map = computeDexterityRows(m, options, todo, threads, [&](std::size_t k, const DexterityMap& partial) {
-    checkpoints->save(id(todo[k]), serializeRows(partial, todo[k]));
-  });
+    if (!(deserializeRows(bytes, loaded, got) && got.begin == ranges[k].begin && got.end == ranges[k].end))
+      return false;
+    done.push_back(ranges[k]);
+    return true;
+  };
+  batch.compute = [&](const std::vector<std::size_t>& list, const UnitBatch::Done& unit_done) {
+    for (std::size_t k : list) todo.push_back(ranges[k]);
+    computed = computeDexterityRows(m, options, todo, ctx.threads, [&](std::size_t j, const DexterityMap& partial) {
+      unit_done(list[j], serializeRows(partial, todo[j]));
+    });
+  };
+  units_resumed += ctx.units.run(batch);
+  DexterityMap map = computed ? std::move(*computed) : computeDexterityRows(m, options, {}, ctx.threads);
   const int G = options.grid.gamma_rad.count;
   for (const ItemRange& u : done)
     std::move(loaded.cells.begin() + u.begin * G, loaded.cells.begin() + u.end * G, map.cells.begin() + u.begin * G);
   // The search across rows needs every row: it runs once all units are in (deterministic, so a
   // resumed run ends in the same map).
-  searchDexterityMap(m, options, map, threads);
+  searchDexterityMap(m, options, map, ctx.threads);
   return map;
+}
+
+// Summary metrics of one map for regression checks.
+void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
+  const std::string prefix = "dexterity/" + map.design;
+  std::vector<std::uint8_t> flags(map.cells.size());
+  double sum_opt = 0, sum_plain = 0;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) {
+    flags[i] = map.cells[i].reachable;
+    if (!flags[i]) continue;
+    sum_opt += map.cells[i].opt.manipulability;
+    sum_plain += map.cells[i].plain.manipulability;
+  }
+  const int r = map.reachable();
+  dm.scalars[prefix + "/reachable_fraction"] = map.cells.empty() ? 0.0 : double(r) / map.cells.size();
+  dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
+  dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
+  dm.flags[prefix + "/reachable"] = flags;
 }
 
 }  // namespace
 
-DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
-                                        const DexterityOptions& options,
-                                        const std::string& output_dir, int threads,
-                                        const CheckpointStore* checkpoints, long unit_cells) {
+StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
+                              std::vector<DexterityMap>* maps) {
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
-  DexterityStageSummary sum;
+  StageResult sum;
+  const int threads = ctx.threads;
+  const std::string& output_dir = ctx.output_dir;
   const std::string sub = "dexterity";
   const std::string dir = (fs::path(output_dir) / sub).string();
   nlohmann::ordered_json js;
@@ -363,8 +383,11 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
      << "grey = not reachable.\n\n";
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) |\n|---|---|---|---|---|---|---|---|\n";
-  for (const Model& m : designs) {
-    DexterityMap map = checkpointedMap(m, options, threads, checkpoints, unit_cells, sum.units_resumed);
+  for (const StudyDesign& sd : ctx.study.designs) {
+    const Model& m = sd.model;
+    DexterityMap map = unitMap(ctx, m, options, sum.units_resumed);
+    addMapMetrics(sum.metrics, map);
+    sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
     const MapFields f = mapFields(map);
     sum.files.push_back(sub + "/" + writeMapVti(map, f, dir));
     if (options.ellipsoids) {
@@ -486,9 +509,9 @@ DexterityStageSummary runDexterityStage(const std::vector<Model>& designs,
          << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `" << csv_name << "`.\n\n";
     }
     js["designs"].push_back(d);
-    sum.maps.push_back(std::move(map));
+    if (maps) maps->push_back(std::move(map));
   }
-  if (designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
+  if (ctx.study.designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
   else md << "## Summary\n\n" << cmp.str() << "\n";
   writeFileAtomic((fs::path(dir) / "summary.json").string(), js.dump(2) + "\n");
   writeFileAtomic((fs::path(dir) / "report.md").string(), md.str());

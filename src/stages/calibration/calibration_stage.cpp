@@ -1,4 +1,4 @@
-#include "calibration/calibration_stage.hpp"
+#include "stages/calibration/calibration_stage.hpp"
 
 #include <omp.h>
 
@@ -19,7 +19,6 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "report/markdown.hpp"
-#include "study/run.hpp"
 
 namespace armstudy::calibration {
 
@@ -355,10 +354,8 @@ std::string checkpointBytes(const EntrySummary& s, const std::string& output_dir
   return j.dump();
 }
 
-std::optional<EntrySummary> resumeEntry(const CheckpointStore& store, const CalibrationEntry& e,
-                                        const std::string& output_dir) {
-  std::string bytes;
-  if (!store.load(unitId(e), bytes)) return std::nullopt;
+// A saved unit's entry summary, when every file it lists is still intact.
+std::optional<EntrySummary> resumeEntry(const std::string& bytes, const std::string& output_dir) {
   try {
     const ordered_json j = ordered_json::parse(bytes);
     EntrySummary s = entrySummaryFromJson(j.at("summary").get<std::string>());
@@ -451,13 +448,15 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
 
 }  // namespace
 
-CalibrationStageSummary runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries) {
+StageResult runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries,
+                                std::vector<EntrySummary>* results) {
   const auto t0 = std::chrono::steady_clock::now();
-  CalibrationStageSummary sum;
+  StageResult sum;
   const int n = static_cast<int>(entries.size());
   const std::string dir = ctx.output_dir + "/calibration";
   std::vector<Work> work(n);
   std::vector<std::optional<EntrySummary>> done(n);
+  UnitBatch batch;
   for (int i = 0; i < n; ++i) {
     Work& w = work[i];
     w.entry = &entries[i];
@@ -472,52 +471,58 @@ CalibrationStageSummary runCalibrationStage(const StageContext& ctx, const std::
       w.model.file = w.folder + "/" + w.model.name + ".toml";
       w.model.file_hash = contentHash(w.variant_text);
     }
-    done[i] = resumeEntry(ctx.checkpoints, entries[i], ctx.output_dir);
-    if (done[i]) ++sum.resumed;
+    batch.ids.push_back(unitId(entries[i]));
   }
-
+  batch.load = [&](std::size_t i, const std::string& bytes) {
+    done[i] = resumeEntry(bytes, ctx.output_dir);
+    return done[i].has_value();
+  };
   // Units: one per entry, each sequential; exceptions are carried out of the parallel loops and
   // the first one in entry order is rethrown.
-  const int threads = ctx.options.threads > 0 ? ctx.options.threads : omp_get_max_threads();
-  std::vector<std::exception_ptr> errors(n);
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    if (done[i]) continue;
-    try {
-      diagnose(work[i]);
-    } catch (...) {
-      errors[i] = std::current_exception();
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& unit_done) {
+    const int m = static_cast<int>(todo.size());
+    std::vector<std::exception_ptr> errors(m);
+#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
+    for (int k = 0; k < m; ++k) {
+      try {
+        diagnose(work[todo[k]]);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
     }
-  }
-  for (const auto& err : errors)
-    if (err) std::rethrow_exception(err);
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    if (done[i]) continue;
-    try {
-      done[i] = writeEntry(work[i], ctx.output_dir);
-      ctx.checkpoints.save(unitId(entries[i]), checkpointBytes(*done[i], ctx.output_dir));
-    } catch (...) {
-      errors[i] = std::current_exception();
+    for (const auto& err : errors)
+      if (err) std::rethrow_exception(err);
+#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
+    for (int k = 0; k < m; ++k) {
+      try {
+        const std::size_t i = todo[k];
+        done[i] = writeEntry(work[i], ctx.output_dir);
+        unit_done(i, checkpointBytes(*done[i], ctx.output_dir));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
     }
-  }
-  for (const auto& err : errors)
-    if (err) std::rethrow_exception(err);
+    for (const auto& err : errors)
+      if (err) std::rethrow_exception(err);
+  };
+  sum.units_resumed = ctx.units.run(batch);
 
+  std::vector<EntrySummary> entry_summaries;
   ordered_json js;
   js["study"] = ctx.study.name;
   js["entries"] = ordered_json::array();
   for (int i = 0; i < n; ++i) {
-    sum.entries.push_back(*done[i]);
+    entry_summaries.push_back(*done[i]);
     sum.files.insert(sum.files.end(), done[i]->files.begin(), done[i]->files.end());
     js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
-    addMetrics(*done[i], ctx.summary.metrics);
+    addMetrics(*done[i], sum.metrics);
   }
-  writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, sum.entries));
+  writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries));
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");
   sum.files.push_back("calibration/report.md");
   sum.files.push_back("calibration/summary.json");
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (results) *results = std::move(entry_summaries);
   return sum;
 }
 

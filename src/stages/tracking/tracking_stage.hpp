@@ -29,12 +29,12 @@
 #include "collision/potential.hpp"
 #include "ik/nullspace.hpp"
 #include "model/model.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy {
 namespace io {
 class TableReader;
 }
-struct StageContext;
 
 namespace tracking {
 
@@ -136,18 +136,13 @@ struct EntryResult {
 // Runs both motions of one entry (single-threaded; deterministic).
 EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry);
 
-struct TrackingStageSummary {
-  std::vector<std::string> files;  // relative to the output folder
-  double seconds = 0;
-  std::vector<EntryResult> entries;
-};
 
 // Runs every entry (OpenMP over entries x runs; results do not depend on the thread count) and
 // writes under <output_dir>/tracking/: per entry and run <name>_<run>.csv and <name>_<run>.vtp,
 // per entry <name>_distance.svg and <name>_tcp_error.svg, then report.md and summary.json. Adds
 // metrics "tracking/<name>/<run>/..." to ctx.summary.metrics.
-TrackingStageSummary runTrackingStage(const StageContext& ctx,
-                                      const std::vector<TrackingEntry>& entries);
+StageResult runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
+                             std::vector<EntryResult>* results = nullptr);
 
 }  // namespace tracking
 }  // namespace armstudy

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
-#include "calibration/calibration_stage.hpp"
+#include "stages/calibration/calibration_stage.hpp"
 #include "io/toml_reader.hpp"
 
 namespace armstudy::calibration {

@@ -32,12 +32,12 @@
 
 #include "calibration/calibration_run.hpp"
 #include "model/model.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy {
 namespace io {
 class TableReader;
 }
-struct StageContext;
 
 namespace calibration {
 
@@ -94,19 +94,14 @@ struct EntrySummary {
 std::string entrySummaryToJson(const EntrySummary& s);
 EntrySummary entrySummaryFromJson(const std::string& json);  // throws std::exception when malformed
 
-struct CalibrationStageSummary {
-  std::vector<std::string> files;  // relative to the output folder
-  double seconds = 0;
-  std::vector<EntrySummary> entries;
-  int resumed = 0;  // entries taken from the checkpoint store
-};
 
 // Runs every entry (OpenMP over entries; each entry is sequential, so results do not depend on the
 // thread count) and writes under <output_dir>/calibration/: per entry <name>/ (the fit or compare
 // report), <name>/calibrated/ (fit: the compare report of the calibrated copy), <name>/summary.json;
-// then report.md and summary.json. Adds metrics "calibration/<name>/..." to ctx.summary.metrics.
-// Each entry is one checkpoint unit.
-CalibrationStageSummary runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries);
+// then report.md and summary.json. Metrics "calibration/<name>/...". With `results`, the entries'
+// summaries go there (tests). Each entry is one work unit (id calibration-<name>).
+StageResult runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries,
+                                std::vector<EntrySummary>* results = nullptr);
 
 }  // namespace calibration
 }  // namespace armstudy

@@ -1,4 +1,4 @@
-#include "tracking/tracking_stage.hpp"
+#include "stages/tracking/tracking_stage.hpp"
 
 #include <omp.h>
 
@@ -17,7 +17,6 @@
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
-#include "study/run.hpp"
 
 namespace armstudy::tracking {
 
@@ -346,10 +345,11 @@ ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult
 
 }  // namespace
 
-TrackingStageSummary runTrackingStage(const StageContext& ctx,
-                                      const std::vector<TrackingEntry>& entries) {
+StageResult runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
+                             std::vector<EntryResult>* results) {
   const auto t0 = std::chrono::steady_clock::now();
-  TrackingStageSummary sum;
+  StageResult sum;
+  std::vector<EntryResult> entry_results;
   std::vector<const Model*> models;
   for (const TrackingEntry& e : entries) {
     const Model* m = nullptr;
@@ -361,19 +361,19 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx,
 
   // Units of work: (entry, run), each sequential and independent of the others.
   const int ne = static_cast<int>(entries.size());
-  sum.entries.resize(ne);
+  entry_results.resize(ne);
   std::vector<LineReference> lines(ne);
   for (int i = 0; i < ne; ++i) {
     lines[i] = lineReference(*models[i], entries[i]);
-    sum.entries[i].name = entries[i].name;
-    sum.entries[i].line = lines[i];
+    entry_results[i].name = entries[i].name;
+    entry_results[i].line = lines[i];
   }
-  const int threads = ctx.options.threads > 0 ? ctx.options.threads : omp_get_max_threads();
+  const int threads = ctx.threads;
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int u = 0; u < 2 * ne; ++u) {
     const int i = u / 2;
     const RunKind kind = u % 2 == 0 ? RunKind::Plain : RunKind::WithHc;
-    (kind == RunKind::Plain ? sum.entries[i].plain : sum.entries[i].with_hc) =
+    (kind == RunKind::Plain ? entry_results[i].plain : entry_results[i].with_hc) =
         runOnce(*models[i], entries[i], lines[i], kind);
   }
 
@@ -391,12 +391,12 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx,
   ordered_json js;
   js["study"] = ctx.study.name;
   js["entries"] = ordered_json::array();
-  auto& M = ctx.summary.metrics;
+  auto& M = sum.metrics;
 
   for (int i = 0; i < ne; ++i) {
     const TrackingEntry& e = entries[i];
     const Model& model = *models[i];
-    const EntryResult& er = sum.entries[i];
+    const EntryResult& er = entry_results[i];
     const std::string base = e.name;
     for (const RunResult* r : {&er.plain, &er.with_hc}) {
       const std::string rb = base + "_" + toString(r->kind);
@@ -523,6 +523,7 @@ TrackingStageSummary runTrackingStage(const StageContext& ctx,
   sum.files.push_back(rel("report.md"));
   sum.files.push_back(rel("summary.json"));
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (results) *results = std::move(entry_results);
   return sum;
 }
 

@@ -1,0 +1,140 @@
+#pragma once
+// The Stage interface (docs/architecture.md, "Stages"): every evaluation stage of a study
+// (reachability, dexterity, harvest, tracking, calibration, ...) looks the same from outside.
+//
+// A stage
+//   - reads its own section(s) of a study file into immutable settings (`read`, null when the
+//     study has none), checking every key with file, line and key on bad input;
+//   - runs (`run`): it cuts its work into work units (one design x a contiguous range of its
+//     independent work items), hands them as a UnitBatch to the run's UnitRunner, which loads
+//     the units saved by an interrupted run and has the others computed (and saves each as it
+//     completes), then merges the units in index order and writes its files through the Writer;
+//   - returns one StageResult: files written, summary metrics, timings, units resumed.
+// Only the registry (engine/registry.cpp) names concrete stages; the study-file parser and the
+// runner ask it. Adding a stage means a folder under src/stages/ and one registry line.
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "study/metrics.hpp"
+#include "study/study.hpp"
+#include "study/writer.hpp"
+
+namespace armstudy {
+
+class CheckpointStore;
+namespace io {
+class TableReader;
+}
+
+// How a study is run: options in (the CLI fills them), a RunSummary out (engine/run.hpp).
+struct RunOptions {
+  std::string output_root = "output";  // results go to <output_root>/<study name>/
+  int threads = 0;                     // 0 = OpenMP default
+  bool overwrite = false;              // replace an existing output folder's results
+  bool progress = true;                // progress on stderr (only when it is a terminal)
+  // Work items per checkpoint unit in every stage (reach: poses, rounded to whole grid lines;
+  // dexterity: map cells, rounded to whole rows; harvest: approaches and holding-grid points).
+  // 0 = each stage's default (defaults::k*Unit*). Results do not depend on it.
+  long unit_items = 0;
+  std::string validate() const;  // empty when valid, else the reason
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0;
+};
+
+// What one stage run gives back to the runner. Timings go to the manifest only, so result files
+// stay byte-identical across runs.
+struct StageResult {
+  std::vector<std::string> files;  // relative to the study output folder, in writing order
+  StudyMetrics metrics;            // "<stage>/<design>/..." for baselines and checks
+  double seconds = 0;              // the stage's wall time
+  std::vector<StageTiming> timings;  // finer timings (per grid, per map, ...)
+  long units_resumed = 0;          // work units loaded from the checkpoint store instead of computed
+};
+
+// A stage's work, cut into units: the grain of checkpointing and of distribution. Ids are stable
+// ("<stage>/<design>/<range>") and unique within a run; units are independent of each other, and
+// a unit's bytes (UnitWriter) hold its whole result bit for bit, so a loaded unit equals the
+// computed one and the stage's merge does not depend on where or in which order units ran.
+struct UnitBatch {
+  std::vector<std::string> ids;  // index order
+  // Takes the bytes of unit k saved by an earlier run; false when they do not fit (the unit is
+  // then computed again). Called from one thread.
+  std::function<bool(std::size_t k, const std::string& bytes)> load;
+  // Computes the listed units (indices into ids, ascending) with the run's threads and calls
+  // done(k, bytes) once per unit as soon as it is complete (concurrently for distinct units).
+  using Done = std::function<void(std::size_t k, const std::string& bytes)>;
+  std::function<void(const std::vector<std::size_t>& todo, const Done& done)> compute;
+};
+
+// Runs the units of batches: loads those an interrupted run saved (same fingerprint), computes
+// the rest and saves each as soon as it is done. One per study run; stages only see this.
+class UnitRunner {
+ public:
+  explicit UnitRunner(const CheckpointStore& store) : store_(store) {}
+  // Returns the number of units loaded instead of computed.
+  long run(const UnitBatch& batch) const;
+
+ private:
+  const CheckpointStore& store_;
+};
+
+// What a stage gets to run: the study, the options, where to write, the unit runner.
+struct StageContext {
+  const Study& study;
+  const RunOptions& options;
+  const std::string& output_dir;  // <output_root>/<study name>
+  const UnitRunner& units;
+  int threads = 1;                // resolved thread count (options.threads or the OpenMP default)
+};
+
+// What a stage's section reader gets from the study-file parser.
+struct SectionInput {
+  io::TableReader& top;                               // the study file's top-level table
+  const std::string& study_dir;                       // relative paths resolve here
+  const std::vector<const Model*>& designs;           // designs and variants, study order
+  const std::vector<collision::Obstacle>& obstacles;  // the study's [[obstacle]] entries
+  std::vector<InputFile>& inputs;                     // append every data file read (path, hash)
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  // Short name: the study-file section, the output folder and the metric prefix by convention.
+  virtual std::string name() const = 0;
+  // Manifest timing key of the whole stage (defaults to name()).
+  virtual std::string timingName() const { return name(); }
+  // Reads this stage's section(s) of a study file; null when the study has none. Throws
+  // InputError (file, line, key) on bad input.
+  virtual std::shared_ptr<const StageSettings> read(const SectionInput& in) const = 0;
+  // Runs the stage with settings this stage's `read` returned.
+  virtual StageResult run(const StageContext& ctx, const StageSettings& settings) const = 0;
+};
+
+// Typed settings of a stage: what `read` returns and `run` receives.
+template <class T>
+struct SettingsOf : StageSettings {
+  explicit SettingsOf(T v) : value(std::move(v)) {}
+  T value;
+};
+
+template <class T>
+const T& settingsAs(const StageSettings& s) {
+  return dynamic_cast<const SettingsOf<T>&>(s).value;
+}
+
+// The settings of the stage `name` in a loaded study, as its type; null when the study has no
+// such section (tests, benchmarks and tools look at them this way).
+template <class T>
+const T* stageSettings(const Study& study, const std::string& name) {
+  const StageSettings* s = study.settings(name);
+  return s ? &settingsAs<T>(*s) : nullptr;
+}
+
+}  // namespace armstudy
