@@ -133,6 +133,10 @@ struct EntryResult {
   RunResult plain, with_hc;
 };
 
+// One motion of an entry along its line, without or with H_c (single-threaded; deterministic).
+RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& entry, const LineReference& line,
+                              RunKind kind);
+
 // Runs both motions of one entry (single-threaded; deterministic).
 EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry);
 
