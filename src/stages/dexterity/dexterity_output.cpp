@@ -15,6 +15,7 @@
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
+#include "study/writer.hpp"
 
 namespace armstudy::dexterity {
 
@@ -270,6 +271,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   const std::string& output_dir = ctx.output_dir;
   const std::string sub = "dexterity";
   const std::string dir = (fs::path(output_dir) / sub).string();
+  Writer out(output_dir);
   nlohmann::ordered_json js;
   const StemGrid& g = options.grid;
   js["grid"] = {{"stem_x_m", g.stem_x_m},
@@ -316,10 +318,10 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     addMapMetrics(sum.metrics, map);
     sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
     const MapFields f = mapFields(map);
-    sum.files.push_back(sub + "/" + writeMapVti(map, f, dir));
+    out.add(sub + "/" + writeMapVti(map, f, dir));
     if (options.ellipsoids) {
-      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, false, dir));
-      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, true, dir));
+      out.add(sub + "/" + writeEllipsoidsVtp(map, false, dir));
+      out.add(sub + "/" + writeEllipsoidsVtp(map, true, dir));
     }
     const int G = g.gamma_rad.count;
     // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
@@ -336,11 +338,10 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
       // <design>_<key>.png: the raw map with its colour bar; .svg: the figure with axes.
       const std::string name = map.design + "_" + im.key;
       const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
-      report::writePng((fs::path(dir) / (name + ".png")).string(), report::withColorBar(cells, report::viridis));
-      writeFileAtomic((fs::path(dir) / (name + ".svg")).string(),
+      report::writePng(out.path(sub + "/" + name + ".png"), report::withColorBar(cells, report::viridis));
+      out.add(sub + "/" + name + ".png");
+      out.text(sub + "/" + name + ".svg",
                       heatmapFigure(map, cells, im.hi, map.design, im.label));
-      sum.files.push_back(sub + "/" + name + ".png");
-      sum.files.push_back(sub + "/" + name + ".svg");
       png[im.key] = name + ".svg";
     }
     const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);
@@ -425,8 +426,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
             << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
             << r.manipulability_audit << "," << r.solutions << "\n";
       const std::string csv_name = m.name + "_audit.csv";
-      writeFileAtomic((fs::path(dir) / csv_name).string(), csv.str());
-      sum.files.push_back(sub + "/" + csv_name);
+      out.text(sub + "/" + csv_name, csv.str());
       md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
          << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
          << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
@@ -440,10 +440,9 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   }
   if (ctx.study.designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
   else md << "## Summary\n\n" << cmp.str() << "\n";
-  writeFileAtomic((fs::path(dir) / "summary.json").string(), js.dump(2) + "\n");
-  writeFileAtomic((fs::path(dir) / "report.md").string(), md.str());
-  sum.files.push_back(sub + "/summary.json");
-  sum.files.push_back(sub + "/report.md");
+  out.text(sub + "/summary.json", js.dump(2) + "\n");
+  out.text(sub + "/report.md", md.str());
+  sum.files = out.files();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

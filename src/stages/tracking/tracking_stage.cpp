@@ -17,6 +17,7 @@
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
+#include "study/writer.hpp"
 
 namespace armstudy::tracking {
 
@@ -238,9 +239,8 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
         evaluateTrackingRun(*models[i], entries[i], lines[i], kind);
   }
 
-  const fs::path dir = fs::path(ctx.output_dir) / "tracking";
-  fs::create_directories(dir);
-  auto rel = [](const std::string& name) { return "tracking/" + name; };
+  fs::create_directories(fs::path(ctx.output_dir) / "tracking");
+  Writer out(ctx.output_dir);  // files under tracking/
   std::ostringstream md;
   md << "# Straight-line tracking past obstacles: " << ctx.study.name << "\n\n"
      << "Thesis Fig. 5.13 (section 5.4.3): the TCP follows a straight line at constant speed with "
@@ -261,10 +261,10 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     const std::string base = e.name;
     for (const RunResult* r : {&er.plain, &er.with_hc}) {
       const std::string rb = base + "_" + toString(r->kind);
-      writeRunCsv(model, e, *r, (dir / (rb + ".csv")).string());
-      writeRunVtp(model, e, er.line, *r, (dir / (rb + ".vtp")).string());
-      sum.files.push_back(rel(rb + ".csv"));
-      sum.files.push_back(rel(rb + ".vtp"));
+      writeRunCsv(model, e, *r, out.path("tracking/" + rb + ".csv"));
+      out.add("tracking/" + rb + ".csv");
+      writeRunVtp(model, e, er.line, *r, out.path("tracking/" + rb + ".vtp"));
+      out.add("tracking/" + rb + ".vtp");
       const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
       M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
       M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;
@@ -285,16 +285,14 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
       ds.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
     ds.push_back({"contact (d = 0)", {0.0, e.duration_s}, {0.0, 0.0}});
     const std::string what = obst ? "obstacle distance" : "self-collision distance";
-    writeFileAtomic((dir / (base + "_distance.svg")).string(),
-                    report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
+    out.text("tracking/" + base + "_distance.svg",
+             report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
     std::vector<report::Series> es;
     for (const RunResult* r : {&er.plain, &er.with_hc})
       es.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
-    writeFileAtomic(
-        (dir / (base + "_tcp_error.svg")).string(),
+    out.text(
+        "tracking/" + base + "_tcp_error.svg",
         report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
-    sum.files.push_back(rel(base + "_distance.svg"));
-    sum.files.push_back(rel(base + "_tcp_error.svg"));
 
     // Report section.
     std::string obstacle_list;
@@ -379,10 +377,9 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     ej["runs"] = {runJson(model, e, er.plain), runJson(model, e, er.with_hc)};
     js["entries"].push_back(ej);
   }
-  writeFileAtomic((dir / "report.md").string(), md.str());
-  writeFileAtomic((dir / "summary.json").string(), js.dump(2) + "\n");
-  sum.files.push_back(rel("report.md"));
-  sum.files.push_back(rel("summary.json"));
+  out.text("tracking/report.md", md.str());
+  out.text("tracking/summary.json", js.dump(2) + "\n");
+  sum.files = out.files();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (results) *results = std::move(entry_results);
   return sum;
