@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -230,14 +231,37 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     entry_results[i].name = entries[i].name;
     entry_results[i].line = lines[i];
   }
-  const int threads = ctx.threads;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int u = 0; u < 2 * ne; ++u) {
-    const int i = u / 2;
-    const RunKind kind = u % 2 == 0 ? RunKind::Plain : RunKind::WithHc;
-    (kind == RunKind::Plain ? entry_results[i].plain : entry_results[i].with_hc) =
-        evaluateTrackingRun(*models[i], entries[i], lines[i], kind);
-  }
+  // Work units: (entry, run), each sequential and independent of the others.
+  auto runOf = [&](std::size_t u) -> RunResult& {
+    return u % 2 == 0 ? entry_results[u / 2].plain : entry_results[u / 2].with_hc;
+  };
+  auto kindOf = [](std::size_t u) { return u % 2 == 0 ? RunKind::Plain : RunKind::WithHc; };
+  UnitBatch batch;
+  for (std::size_t u = 0; u < 2 * entries.size(); ++u)
+    batch.ids.push_back("tracking/" + entries[u / 2].name + "/" + toString(kindOf(u)));
+  batch.load = [&](std::size_t u, const std::string& bytes) {
+    RunResult r;
+    if (!deserializeRun(bytes, r) || r.kind != kindOf(u)) return false;
+    runOf(u) = std::move(r);
+    return true;
+  };
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    const int m = static_cast<int>(todo.size());
+    std::vector<std::exception_ptr> errors(m);  // e.g. a full disk while saving: rethrown below
+#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
+    for (int k = 0; k < m; ++k) {
+      try {
+        const std::size_t u = todo[k];
+        runOf(u) = evaluateTrackingRun(*models[u / 2], entries[u / 2], lines[u / 2], kindOf(u));
+        done(u, serializeRun(runOf(u)));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  };
+  sum.units_resumed = ctx.units.run(batch);
 
   fs::create_directories(fs::path(ctx.output_dir) / "tracking");
   Writer out(ctx.output_dir);  // files under tracking/
