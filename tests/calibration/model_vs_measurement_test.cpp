@@ -415,14 +415,16 @@ TEST_CASE("issue 13: a viscous term that changes with temperature is found by th
   CHECK(d.noise_estimate == Approx(noise_A).epsilon(0.2));
   double fitted = 0;
   for (const auto& p : d.final_fit.params)
-    if (p.key == "temperature_viscous_coefficient") fitted = p.value;
+    if (p.key == "temperature_viscous.temperature_viscous_coefficient") fitted = p.value;
   CHECK(fitted == Approx(k_b).epsilon(kRecoveredRelative));
-  // The fitted law, evaluated through src/drive, reproduces the fit.
-  const auto fp = drive::frictionParams(d.calibrated, *std::find_if(d.calibrated.drives.begin(), d.calibrated.drives.end(),
-                                                                     [](const Drive& x) { return x.joint == "j6"; }));
+  // The calibrated design copy, read back and evaluated through src/drive, reproduces the fit.
+  std::vector<std::string> notes;
+  const Model cal = parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+  const Drive& cd = requireDrive(cal, "j6");
+  const auto fp = drive::frictionParams(cal, cd);
   for (int i = 0; i < data.rows(); i += 29)
-    CHECK(drive::testBedCurrent(dr, fp, data.speed[i], data.load[i], data.temperature[i]) ==
-          Approx(d.final_fit.predicted[i]).epsilon(1e-9));
+    CHECK(drive::testBedCurrent(cd, fp, data.speed[i], data.load[i], data.temperature[i]) ==
+          Approx(d.final_fit.predicted(i, 0)).epsilon(1e-9));
 }
 
 TEST_CASE("issue 13: the verdict names every effect --auto added (tcp and drive)") {
