@@ -535,6 +535,11 @@ std::string ArmFitOptions::validate() const {
   return "";
 }
 
+SetFit fitEffects(const ArmProblem& problem, const EffectValues& start) {
+  const Solved s = fitSet(problem, start);
+  return {s.v, s.ssr};
+}
+
 const EffectValue* findValue(const EffectValues& values, int effect) {
   for (const auto& v : values)
     if (v.effect == effect) return &v;

@@ -217,6 +217,15 @@ ArmDiagnosis compareArm(const ArmProblem& problem, const ArmFitOptions& options)
 // Compare, rank the candidates, add effects as the options ask.
 ArmDiagnosis diagnoseArm(const ArmProblem& problem, const ArmFitOptions& options);
 
+// One set of effects fitted on all rows with the engine's solver (Gauss-Newton, each step the
+// bounded linear least squares of least_squares.hpp; an effect whose profile value is NaN is
+// profiled on its grid), in the problem's own channel weights. Exposed for benchmarks and tests.
+struct SetFit {
+  EffectValues values;
+  double ssr = 0;  // weighted sum of squared residuals
+};
+SetFit fitEffects(const ArmProblem& problem, const EffectValues& start);
+
 // Fitted values of an effect instance in a diagnosis' final fit (nullptr when not added).
 const EffectValue* findValue(const EffectValues& values, int effect);
 
