@@ -645,6 +645,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     sigma = channelNoise(sat, lev_w);
   }
   d.channel_noise = sigma;
+  if (enough) d.saturated_residual = sat;
   double rho_sum = 0;
   for (int c = 0; c < C; ++c) {
     std::vector<double> col(P.rows());
@@ -989,16 +990,26 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
 // the strongest pattern is fitting part of an effect outside the catalogue (e.g.
 // rotor_inertia, linear in qdd, absorbing a slice of a position-periodic ripple of a joint that
 // moves sinusoidally); it is then not called significant and is moved behind the ones that are.
+// When the strongest pattern is still significant in the residuals of the most flexible model
+// (every candidate at once, `saturated`), no combination of catalogue effects explains it: a
+// candidate then has to make it insignificant, a partial absorption never counts (a slow ripple,
+// nearly linear in the position over the motion, is absorbed by rotor_inertia to 89 %).
 constexpr double kPatternExplainedDrop = 0.5;  // share of a pattern's sum of squares a candidate must remove
 
 void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, const ArmFit& current,
-                       const std::vector<double>& sigma, double rho) {
+                       const std::vector<double>& sigma, double rho, const std::vector<ArmPattern>& saturated) {
   const std::vector<ArmPattern> before = searchPatterns(P, current.residual, current.predicted, sigma, rho);
   // The strongest significant pattern (largest explained sum of squares in noise units).
   std::vector<const ArmPattern*> seen;
   for (const ArmPattern& p : before)
     if (p.significant && (seen.empty() || p.sum_squares > seen.front()->sum_squares)) seen.assign(1, &p);
   if (seen.empty()) return;
+  bool outside = false;  // the catalogue as a whole leaves it significant
+  for (const ArmPattern& x : saturated)
+    if (x.significant && x.channel == seen.front()->channel && x.variable == seen.front()->variable &&
+        x.kind == seen.front()->kind)
+      outside = true;
+  const double drop = outside ? 1.0 : kPatternExplainedDrop;
   std::vector<std::string> demoted;
   for (ArmCandidate& c : ranking) {
     if (!c.significant) continue;
@@ -1008,7 +1019,7 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, 
       const ArmPattern* a = nullptr;
       for (const ArmPattern& x : after)
         if (x.channel == b->channel && x.variable == b->variable && x.kind == b->kind) a = &x;
-      if (!a || !a->significant || a->sum_squares <= (1 - kPatternExplainedDrop) * b->sum_squares) {
+      if (!a || !a->significant || (drop < 1 && a->sum_squares <= (1 - drop) * b->sum_squares)) {
         explains = true;
         break;
       }
@@ -1083,8 +1094,12 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     }
     addEffect(e, false);
   }
+  // Patterns the most flexible model leaves: what no combination of catalogue effects explains.
+  const std::vector<ArmPattern> saturated =
+      d.saturated_residual.size() ? searchPatterns(P, d.saturated_residual, d.as_designed.predicted, d.channel_noise, d.noise_rho)
+                                  : std::vector<ArmPattern>{};
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
-  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
+  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
@@ -1095,7 +1110,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
       if (!addEffect(ranking.front().effect, true)) break;
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
-      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho);
+      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);

@@ -192,6 +192,7 @@ struct ArmDiagnosis {
   std::vector<std::string> warnings;
   double noise_estimate = 0;           // fit units
   std::vector<double> channel_noise;   // native units; residual weights are 1 / channel_noise
+  Eigen::MatrixXd saturated_residual;  // of the most flexible model (noise estimate); empty if too few rows
   double noise_rho = 0;
   ArmFit as_designed;
   ArmResidualMap as_designed_map;
