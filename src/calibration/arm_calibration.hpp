@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "calibration/stats.hpp"
@@ -244,6 +245,8 @@ std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const 
 struct ArmReportOptions {
   std::string out_dir;
   std::string command;  // compare | fit
+  // Further files of the result (name in the output folder, content), published with it.
+  std::vector<std::pair<std::string, std::string>> extra_files = {};
 };
 struct ArmReportSummary {
   std::vector<std::string> files_written;

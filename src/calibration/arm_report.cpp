@@ -360,6 +360,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   }
   j["files"] = s.files_written;
   s.json = j.dump(2);
+  for (const auto& [name, text] : o.extra_files)
+    writeFileAtomic((fs::path(dir) / name).string(), text);
   writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");
   stage.commit();
   return s;

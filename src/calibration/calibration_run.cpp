@@ -44,8 +44,11 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
                                          : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
-  f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit"}, f.calibrated_design_path);
-  writeFileAtomic(f.calibrated_design_path, text);
+  ArmReportOptions o{out_dir, "fit"};
+  if (design_path.empty())  // in the output folder: published with the report as one folder
+    o.extra_files.emplace_back(m.name + "_calibrated.toml", text);
+  f.report = writeArmReport(d, P, o, f.calibrated_design_path);
+  if (!design_path.empty()) writeFileAtomic(f.calibrated_design_path, text);
   return f;
 }
 

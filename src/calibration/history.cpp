@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <system_error>
-#include <unistd.h>
 
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
@@ -63,15 +63,8 @@ std::string historyNumber(double v) {
 
 namespace fs = std::filesystem;
 
-StagedOutput::StagedOutput(const std::string& out_dir) : out_(out_dir) {
-  fs::path p = fs::path(out_dir).lexically_normal();
-  if (p.filename().empty()) p = p.parent_path();
-  staging_ = p.string() + ".staging." + std::to_string(::getpid());
-  std::error_code ec;
-  fs::remove_all(staging_, ec);
-  fs::create_directories(staging_, ec);
-  if (ec) throw InputError(staging_, 0, "--out", "cannot create the staging folder of the output: " + ec.message());
-}
+StagedOutput::StagedOutput(const std::string& out_dir)
+    : out_(out_dir), staging_(makeStagingFolder(out_dir)) {}
 
 StagedOutput::~StagedOutput() {
   std::error_code ec;
@@ -80,21 +73,7 @@ StagedOutput::~StagedOutput() {
 
 void StagedOutput::commit() {
   if (committed_) return;
-  std::error_code ec;
-  fs::create_directories(out_, ec);
-  if (ec) throw InputError(out_, 0, "--out", "cannot create the output folder: " + ec.message());
-  std::vector<std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(staging_))
-    if (e.is_regular_file()) files.push_back(fs::relative(e.path(), staging_).generic_string());
-  auto last = [](const std::string& f) { return f == "result.json" ? 1 : f == "history.csv" ? 2 : 0; };
-  std::stable_sort(files.begin(), files.end(), [&](const std::string& a, const std::string& b) {
-    return last(a) != last(b) ? last(a) < last(b) : a < b;
-  });
-  for (const std::string& f : files) {
-    const fs::path to = fs::path(out_) / f;
-    fs::create_directories(to.parent_path());
-    fs::rename(fs::path(staging_) / f, to);  // same file system: atomic per file
-  }
+  publishFolder(staging_, out_);  // the whole folder at once (issue 19)
   committed_ = true;
 }
 

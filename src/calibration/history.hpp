@@ -30,7 +30,7 @@ std::string historyNumber(double v);
 
 // The files of one compare/fit run (issue 13): nothing is written into the output folder until the
 // whole result exists. Every file goes to a staging folder beside it (`<out>.staging.<pid>`);
-// commit() moves them into the output folder, result.json and history.csv last. A run that
+// commit() swaps that folder in as a whole (io/files.hpp publishFolder, issue 19). A run that
 // fails before commit() (bad input, full disk) leaves the output folder exactly as it was: the
 // destructor removes the staging folder.
 class StagedOutput {
