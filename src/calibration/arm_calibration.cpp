@@ -584,9 +584,14 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
 ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
-  if (P.rows() < min_rows)
-    throw InputError(P.file, 0, "", std::to_string(P.rows()) + " rows are too few to compare and cross-validate (need at least " +
-                                        std::to_string(min_rows) + ")");
+  if (P.rows() < min_rows) {
+    const bool by_folds = 2 * o.folds >= defaults::kMinResidualDof + 1;  // the folds ask for more rows
+    throw InputError(P.file, 0, by_folds ? "folds" : "",
+                     std::to_string(P.rows()) + " rows are too few to compare and cross-validate" +
+                         (by_folds ? " in " + std::to_string(o.folds) + " folds (two rows per fold: need at least "
+                                   : " (need at least ") +
+                         std::to_string(min_rows) + ")");
+  }
   ArmDiagnosis d;
   d.kind = P.kind;
   d.design = P.design;
