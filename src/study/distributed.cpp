@@ -7,6 +7,8 @@
 
 #ifdef ARMSTUDY_MPI
 #include <mpi.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -367,6 +369,18 @@ class MpiUnitRunner final : public UnitRunner {
   int rank_, size_;
 };
 
+// Rank 0's last words when the launcher stops the job (it sends SIGTERM to every rank when one
+// rank died or the job was cancelled): what happened and how to resume. Async-signal-safe.
+const char kStoppedMessage[] =
+    "armstudy: the MPI job was stopped (a rank died or the job was cancelled); the units completed so far are "
+    "saved in the output folder's .partial/: run the same command again, with any number of ranks, to resume\n";
+extern "C" void onStopped(int sig) {
+  const ssize_t ignored = ::write(STDERR_FILENO, kStoppedMessage, sizeof kStoppedMessage - 1);
+  (void)ignored;
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
 class MpiRanks final : public Ranks {
  public:
   MpiRanks() {
@@ -379,6 +393,12 @@ class MpiRanks final : public Ranks {
         std::fprintf(stderr, "armstudy: error: the MPI library offers no MPI_THREAD_SERIALIZED (rank 0 hands out "
                              "units from a second thread)\n");
       MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (rank_ == 0 && size_ > 1) {
+      struct sigaction sa {};
+      sa.sa_handler = onStopped;
+      sigemptyset(&sa.sa_mask);
+      ::sigaction(SIGTERM, &sa, nullptr);
     }
   }
   ~MpiRanks() override { MPI_Finalize(); }
