@@ -125,10 +125,10 @@ void broadcast(std::string& bytes, int root, std::uint64_t size) {
   }
 }
 
-// Packed units: (int64 index, double seconds, uint64 length, bytes)...
+// Packed units: (int64 index, double seconds, double CPU seconds, uint64 length, bytes)...
 struct PackedUnit {
   std::size_t k;
-  double seconds;
+  double seconds, cpu_seconds;
   std::string bytes;
 };
 void pack(std::string& out, const PackedUnit& u) {
@@ -136,6 +136,7 @@ void pack(std::string& out, const PackedUnit& u) {
   const std::uint64_t n = u.bytes.size();
   out.append(reinterpret_cast<const char*>(&k), sizeof k);
   out.append(reinterpret_cast<const char*>(&u.seconds), sizeof u.seconds);
+  out.append(reinterpret_cast<const char*>(&u.cpu_seconds), sizeof u.cpu_seconds);
   out.append(reinterpret_cast<const char*>(&n), sizeof n);
   out += u.bytes;
 }
@@ -144,13 +145,14 @@ std::vector<PackedUnit> unpack(const std::string& in) {
   std::size_t at = 0;
   while (at < in.size()) {
     std::int64_t k;
-    double s;
+    double s, c;
     std::uint64_t n;
     std::memcpy(&k, in.data() + at, sizeof k);
     std::memcpy(&s, in.data() + at + 8, sizeof s);
-    std::memcpy(&n, in.data() + at + 16, sizeof n);
-    out.push_back({static_cast<std::size_t>(k), s, in.substr(at + 24, n)});
-    at += 24 + n;
+    std::memcpy(&c, in.data() + at + 16, sizeof c);
+    std::memcpy(&n, in.data() + at + 24, sizeof n);
+    out.push_back({static_cast<std::size_t>(k), s, c, in.substr(at + 32, n)});
+    at += 32 + n;
   }
   return out;
 }
@@ -230,7 +232,7 @@ class MpiUnitRunner final : public UnitRunner {
         std::string bytes;
         if (store_.load(batch.ids[k], bytes) && batch.load(k, bytes)) {
           present[k] = 1;
-          pack(blob, {k, 0.0, std::move(bytes)});
+          pack(blob, {k, 0.0, 0.0, std::move(bytes)});
         }
       }
     }
@@ -259,14 +261,19 @@ class MpiUnitRunner final : public UnitRunner {
     const UnitBatch::Done done = [&](std::size_t k, const std::string& bytes) {
       store_.save(batch.ids[k], bytes);
       std::lock_guard<std::mutex> g(mine_m);
-      mine.push_back({k, 0.0, bytes});
+      mine.push_back({k, 0.0, 0.0, bytes});
     };
     auto computeChunk = [&](const std::vector<std::size_t>& chunk) {
       const auto t0 = Clock::now();
+      const double c0 = UnitTimeRecord::processCpuSeconds();
       const std::size_t first = mine.size();
       batch.compute(chunk, done);
       const double s = std::chrono::duration<double>(Clock::now() - t0).count() / double(chunk.size());
-      for (std::size_t i = first; i < mine.size(); ++i) mine[i].seconds = s;
+      const double c = (UnitTimeRecord::processCpuSeconds() - c0) / double(chunk.size());
+      for (std::size_t i = first; i < mine.size(); ++i) {
+        mine[i].seconds = s;
+        mine[i].cpu_seconds = c;
+      }
       last_call = chunk;
     };
     if (!todo.empty()) {
@@ -304,7 +311,7 @@ class MpiUnitRunner final : public UnitRunner {
     MPI_Iallgather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
     waitQuietly(req);
     std::vector<std::string> all(n);
-    std::vector<double> seconds(n, 0.0);
+    std::vector<double> seconds(n, 0.0), cpu_seconds(n, 0.0);
     std::vector<int> where(n, -1);
     for (int r = 0; r < size_; ++r) {
       if (sizes[r] == 0) continue;
@@ -312,6 +319,7 @@ class MpiUnitRunner final : public UnitRunner {
       broadcast(b, r, sizes[r]);
       for (PackedUnit& u : unpack(b)) {
         seconds[u.k] = u.seconds;
+        cpu_seconds[u.k] = u.cpu_seconds;
         where[u.k] = r;
         all[u.k] = std::move(u.bytes);
       }
@@ -332,7 +340,7 @@ class MpiUnitRunner final : public UnitRunner {
     }
     if (rank_ == 0 && times_.enabled()) {
       std::vector<UnitTimeRecord::Line> lines;
-      for (std::size_t k : todo) lines.push_back({batch.ids[k], seconds[k], threads_, where[k]});
+      for (std::size_t k : todo) lines.push_back({batch.ids[k], seconds[k], cpu_seconds[k], threads_, where[k], all[k].size()});
       times_.append(lines);
     }
     return resumed;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -30,12 +31,18 @@ void UnitTimeRecord::append(const std::vector<Line>& lines) const {
   const bool fresh = !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0;
   std::ofstream f(path, std::ios::app);
   if (!f) throw std::runtime_error("cannot write the unit-time record " + path);
-  if (fresh) f << "unit,seconds,threads,rank\n";
+  if (fresh) f << "unit,seconds,cpu_seconds,threads,rank,bytes\n";
   char buf[64];
   for (const Line& l : lines) {
-    std::snprintf(buf, sizeof buf, "%.6f", l.seconds);
-    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << '\n';
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f", l.seconds, l.cpu_seconds);
+    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << ',' << l.bytes << '\n';
   }
+}
+
+double UnitTimeRecord::processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
 long UnitRunner::run(const UnitBatch& batch) const {
@@ -60,12 +67,13 @@ long UnitRunner::run(const UnitBatch& batch) const {
   std::vector<UnitTimeRecord::Line> lines;
   for (std::size_t k : todo) {
     const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = UnitTimeRecord::processCpuSeconds();
     batch.compute({k}, [&](std::size_t j, const std::string& bytes) {
       save(j, bytes);
       kept[j] = bytes;
     });
     lines.push_back({batch.ids[k], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                     threads_, 0});
+                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, kept[k].size()});
   }
   for (std::size_t i = 0; i + 1 < todo.size(); ++i)
     ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]), "a unit computed by this run loads back: " + batch.ids[todo[i]]);

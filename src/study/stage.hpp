@@ -86,17 +86,22 @@ struct UnitBatch {
 
 // Opt-in record of per-unit costs (docs/distributed.md, "Unit costs"): when the environment
 // variable ARMSTUDY_UNIT_TIMES names a CSV file, every computed unit is computed in a call of its
-// own and one line "unit,seconds,threads,rank" is appended per unit. Outside the result files.
+// own and one line "unit,seconds,cpu_seconds,threads,rank,bytes" is appended per unit (wall and
+// process CPU seconds of its call, the threads and rank that computed it, the size of its result). Outside the result
+// files; tests/benchmarks/simulate_distribution.py reads it.
 struct UnitTimeRecord {
   std::string path;  // empty: off
   static UnitTimeRecord fromEnvironment();
   bool enabled() const { return !path.empty(); }
   struct Line {
     std::string unit;
-    double seconds = 0;
+    double seconds = 0, cpu_seconds = 0;
     int threads = 1, rank = 0;
+    std::size_t bytes = 0;
   };
   void append(const std::vector<Line>& lines) const;
+  // CPU seconds of this process so far (all threads).
+  static double processCpuSeconds();
 };
 
 // Runs the units of batches: loads those an interrupted run saved (same fingerprint), computes

@@ -192,7 +192,7 @@ TEST_CASE("per-unit costs are recorded on request, one line per unit, outside th
   std::ifstream f(csv);
   std::string line;
   std::getline(f, line);
-  CHECK(line == "unit,seconds,threads,rank");
+  CHECK(line == "unit,seconds,cpu_seconds,threads,rank,bytes");
   int n = 0;
   while (std::getline(f, line)) {
     CHECK(line.rfind("reach/wall/final_prototype_7dof/units_", 0) == 0);
@@ -203,7 +203,7 @@ TEST_CASE("per-unit costs are recorded on request, one line per unit, outside th
   fs::remove_all(dir);
 }
 
-TEST_CASE("a rank killed mid-run ends the job with a clear message; another rank count resumes into the same bytes",
+TEST_CASE("a rank killed mid-run ends the job with a clear message, and another rank count resumes into the same bytes",
           "[distributed][e2e][checkpoint]") {
   if (!mpiBuild()) {
     WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
