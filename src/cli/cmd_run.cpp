@@ -1,10 +1,13 @@
 #include <cstdio>
+#include <memory>
+#include <optional>
 
 #include "common/defaults.hpp"
 #include "cli/commands.hpp"
 #include "common/errors.hpp"
 #include "engine/study_file.hpp"
 #include "engine/run.hpp"
+#include "study/distributed.hpp"
 
 namespace armstudy::cli {
 
@@ -33,10 +36,31 @@ void addRunCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
   cmd->callback([&action, a] {
     action = [a] {
-      const Study s = loadStudy(a->path);
-      const RunSummary sum = runStudy(s, a->opt);
-      std::printf("study %s: %d design(s), %d thread(s) -> %s\n", s.name.c_str(), sum.designs,
-                  sum.threads, sum.output_dir.c_str());
+      // Under mpirun/srun every rank runs this; a plain run is the single process
+      // (docs/distributed.md). Errors before the stages are reported once, by the lowest rank that
+      // found them (the others end quietly); runStudy ends the whole job on an error during them.
+      const std::unique_ptr<Ranks> job = joinMpiJob();
+      const Ranks& ranks = job ? *job : singleProcess();
+      std::optional<Study> s;
+      RunSummary sum;
+      try {
+        std::exception_ptr err;
+        try {
+          s.emplace(loadStudy(a->path));
+        } catch (...) {
+          err = std::current_exception();
+        }
+        const int first = ranks.firstFailure(err != nullptr);
+        if (first == ranks.rank()) std::rethrow_exception(err);
+        if (first < ranks.size()) throw OtherRankFailed();
+        sum = runStudy(*s, a->opt, ranks);
+      } catch (const OtherRankFailed&) {
+        return 1;
+      }
+      if (!ranks.root()) return 0;
+      const std::string across = ranks.distributed() ? " x " + std::to_string(ranks.size()) + " ranks" : "";
+      std::printf("study %s: %d design(s), %d thread(s)%s -> %s\n", s->name.c_str(), sum.designs, sum.threads,
+                  across.c_str(), sum.output_dir.c_str());
       for (const auto& f : sum.files_written) std::printf("  wrote %s\n", f.c_str());
       return 0;
     };

@@ -1,12 +1,14 @@
 #include "engine/run.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
@@ -77,42 +79,107 @@ static void removePreviousResults(const std::filesystem::path& dir) {
 }
 
 RunSummary runStudy(const Study& study, const RunOptions& options) {
+  return runStudy(study, options, singleProcess());
+}
+
+namespace {
+
+// Runs `f` on this rank and agrees with the others: when any rank failed, the lowest failing one
+// rethrows its error and the others throw OtherRankFailed.
+template <class F>
+void agreed(const Ranks& ranks, F&& f) {
+  std::exception_ptr err;
+  try {
+    f();
+  } catch (...) {
+    err = std::current_exception();
+  }
+  const int first = ranks.firstFailure(err != nullptr);
+  if (first == ranks.size()) return;
+  if (first == ranks.rank()) std::rethrow_exception(err);
+  throw OtherRankFailed();
+}
+
+// A private folder of a rank other than 0 (its stages write their files there), removed at the end.
+struct ScratchFolder {
+  std::string path;
+  ScratchFolder() = default;
+  explicit ScratchFolder(int rank) {
+    namespace fs = std::filesystem;
+    path = (fs::temp_directory_path() /
+            ("armstudy-rank" + std::to_string(rank) + "-" + std::to_string(::getpid())))
+               .string();
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~ScratchFolder() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove_all(path, ec);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+};
+
+}  // namespace
+
+RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& ranks) {
   namespace fs = std::filesystem;
   const std::string why = options.validate();
   ARMSTUDY_CHECK(why.empty(), why);
   const auto t0 = std::chrono::steady_clock::now();
+  const bool root = ranks.root();
   RunSummary sum;
   sum.output_dir = (fs::path(options.output_root) / study.name).string();
   sum.designs = static_cast<int>(study.designs.size());
   sum.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  sum.ranks = ranks.size();
   if (options.threads > 0) omp_set_num_threads(options.threads);
 
   const fs::path out(sum.output_dir);
   const fs::path manifest_path = out / "manifest.json";
-  // One run per output folder at a time; stale temporaries of a killed run go (issue 19).
-  const OutputFolderLock lock(sum.output_dir);
-  if (options.overwrite) {
-    removePreviousResults(out);
-    fs::remove_all(out / ".partial");
-  } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
-    throw InputError(sum.output_dir, 0, "",
-                     "output folder already holds the results of a complete run; pass --overwrite to "
-                     "replace them");
-  }
-  CheckpointStore store(sum.output_dir, studyFingerprint(study), sum.resume_message);
-  if (!sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
-  const UnitRunner units(store);
+  // Rank 0 owns the output folder: one run per folder at a time, stale temporaries of a killed run
+  // go (issue 19), the checkpoint store is prepared. The other ranks attach to the store after it.
+  std::optional<OutputFolderLock> lock;
+  std::optional<CheckpointStore> store;
+  agreed(ranks, [&] {
+    if (!root) return;
+    lock.emplace(sum.output_dir);
+    if (options.overwrite) {
+      removePreviousResults(out);
+      fs::remove_all(out / ".partial");
+    } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
+      throw InputError(sum.output_dir, 0, "",
+                       "output folder already holds the results of a complete run; pass --overwrite to "
+                       "replace them");
+    }
+    store.emplace(sum.output_dir, studyFingerprint(study), sum.resume_message);
+  });
+  ScratchFolder scratch;
+  agreed(ranks, [&] {
+    if (root) return;
+    std::string ignored;
+    store.emplace(sum.output_dir, studyFingerprint(study), ignored);
+    ScratchFolder(ranks.rank()).path.swap(scratch.path);
+  });
+  if (root && !sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
+  // In a distributed run the stages' own progress bars would show one rank's share: the runner
+  // reports the whole job instead (rank 0).
+  RunOptions stage_options = options;
+  if (ranks.distributed()) stage_options.progress = false;
+  const std::unique_ptr<UnitRunner> units = ranks.unitRunner(*store, sum.threads, options.progress);
 
-  ordered_json designs = ordered_json::array();
-  for (const auto& d : study.designs) {
-    ordered_json j = modelJson(d.model);
-    j["variant_of"] = d.base_name;
-    ordered_json ov = ordered_json::object();
-    for (const auto& [k, v] : d.overrides) ov[k] = v;
-    j["overrides"] = ov;
-    designs.push_back(j);
+  if (root) {
+    ordered_json designs = ordered_json::array();
+    for (const auto& d : study.designs) {
+      ordered_json j = modelJson(d.model);
+      j["variant_of"] = d.base_name;
+      ordered_json ov = ordered_json::object();
+      for (const auto& [k, v] : d.overrides) ov[k] = v;
+      j["overrides"] = ov;
+      designs.push_back(j);
+    }
+    writeFileAtomic((out / "designs.json").string(), designs.dump(2) + "\n");
   }
-  writeFileAtomic((out / "designs.json").string(), designs.dump(2) + "\n");
   sum.files_written.push_back("designs.json");
   auto lap = [&, t = t0](const std::string& stage) mutable {
     const auto now = std::chrono::steady_clock::now();
@@ -122,15 +189,27 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   lap("load_and_resolve");
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
-  const StageContext ctx{study, options, sum.output_dir, units, sum.threads};
-  for (const StudySection& section : study.sections) {
-    StageResult r = section.stage->run(ctx, *section.settings);
-    sum.units_resumed += r.units_resumed;
-    sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
-    sum.timings.push_back({section.stage->timingName(), r.seconds});
-    sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
-    sum.metrics.merge(r.metrics);
+  const std::string& stage_dir = root ? sum.output_dir : scratch.path;
+  const StageContext ctx{study, stage_options, stage_dir, *units, sum.threads};
+  try {
+    for (const StudySection& section : study.sections) {
+      StageResult r = section.stage->run(ctx, *section.settings);
+      sum.units_resumed += r.units_resumed;
+      sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
+      sum.timings.push_back({section.stage->timingName(), r.seconds});
+      sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
+      sum.metrics.merge(r.metrics);
+    }
+  } catch (const std::exception& e) {
+    if (!ranks.distributed()) throw;
+    // The other ranks may be waiting for this one: say which rank failed and end the whole job.
+    std::fprintf(stderr, "armstudy: error on rank %d of %d: %s\n", ranks.rank(), ranks.size(), e.what());
+    std::fflush(stderr);
+    ranks.abortJob(dynamic_cast<const InputError*>(&e) ? 2 : 1);
   }
+  // Every rank is done (its units are saved) before rank 0 marks the run complete.
+  agreed(ranks, [] {});
+  if (!root) return sum;
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
@@ -142,6 +221,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   for (const auto& in : study.inputs) inputs.push_back({{"path", in.path}, {"hash", in.hash}});
   man["inputs"] = inputs;
   man["threads"] = sum.threads;
+  if (ranks.distributed()) man["ranks"] = sum.ranks;
   man["designs"] = ordered_json::array();
   for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
   if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
@@ -155,14 +235,14 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
   man["date"] = date;
   man["files"] = sum.files_written;
   writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
-  store.finish();
+  store->finish();
   return sum;
 }
 
 StageResult runStage(const Study& study, const std::string& name, const std::string& output_dir,
                      const RunOptions& options, const CheckpointStore* store) {
   const CheckpointStore none;
-  const UnitRunner units(store ? *store : none);
+  const UnitRunner units(store ? *store : none, options.threads > 0 ? options.threads : omp_get_max_threads());
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const StageContext ctx{study, options, output_dir, units, threads};
   for (const StudySection& section : study.sections)

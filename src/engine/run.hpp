@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "study/checkpoint.hpp"
+#include "study/distributed.hpp"
 #include "study/metrics.hpp"
 #include "study/stage.hpp"
 #include "study/study.hpp"
@@ -21,6 +22,7 @@ struct RunSummary {
   StudyMetrics metrics;                    // summary metrics (baselines, checks)
   std::string resume_message;              // "resuming: ..." / "starting fresh because ..."
   long units_resumed = 0;                  // checkpoint units loaded instead of computed (all stages)
+  int ranks = 1;                           // processes of a distributed run (docs/distributed.md)
 };
 
 // Fingerprint of everything a study's results depend on (engine version and revision, study and
@@ -28,6 +30,12 @@ struct RunSummary {
 std::string studyFingerprint(const Study& study);
 
 RunSummary runStudy(const Study& study, const RunOptions& options);
+// The same run by every rank of a distributed job (every rank calls it; docs/distributed.md): rank 0
+// takes the output-folder lock, prepares the checkpoint store and writes every file; the other
+// ranks compute their share of the units, save them into the store and merge in a private scratch
+// folder that is removed at the end. Errors before the stages are reported once, by the lowest
+// failing rank (the others throw OtherRankFailed).
+RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& ranks);
 
 // Runs the stage `name` of a loaded study alone, writing into `output_dir`, with the units of
 // `store` (null: nothing saved or loaded). No manifest, no designs.json, no lock: for tests,

@@ -1,7 +1,14 @@
 #include "study/stage.hpp"
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 
+#include "common/errors.hpp"
 #include "io/files.hpp"
 #include "study/checkpoint.hpp"
 
@@ -14,6 +21,30 @@ std::string RunOptions::validate() const {
   return "";
 }
 
+UnitTimeRecord UnitTimeRecord::fromEnvironment() {
+  const char* p = std::getenv("ARMSTUDY_UNIT_TIMES");
+  return UnitTimeRecord{p ? std::string(p) : std::string()};
+}
+
+void UnitTimeRecord::append(const std::vector<Line>& lines) const {
+  if (!enabled() || lines.empty()) return;
+  const bool fresh = !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0;
+  std::ofstream f(path, std::ios::app);
+  if (!f) throw std::runtime_error("cannot write the unit-time record " + path);
+  if (fresh) f << "unit,seconds,cpu_seconds,threads,rank,bytes\n";
+  char buf[64];
+  for (const Line& l : lines) {
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f", l.seconds, l.cpu_seconds);
+    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << ',' << l.bytes << '\n';
+  }
+}
+
+double UnitTimeRecord::processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
 long UnitRunner::run(const UnitBatch& batch) const {
   std::vector<std::size_t> todo;
   long resumed = 0;
@@ -24,8 +55,29 @@ long UnitRunner::run(const UnitBatch& batch) const {
     else
       todo.push_back(k);
   }
-  if (!todo.empty())
-    batch.compute(todo, [&](std::size_t k, const std::string& bytes) { store_.save(batch.ids[k], bytes); });
+  if (todo.empty()) return resumed;
+  const auto save = [&](std::size_t k, const std::string& bytes) { store_.save(batch.ids[k], bytes); };
+  if (!times_.enabled()) {
+    batch.compute(todo, save);
+    return resumed;
+  }
+  // One call per unit, timed; every call replaces the previous one's units, so the units of the
+  // earlier calls are handed back to the stage through `load` (UnitBatch).
+  std::vector<std::string> kept(batch.ids.size());
+  std::vector<UnitTimeRecord::Line> lines;
+  for (std::size_t k : todo) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = UnitTimeRecord::processCpuSeconds();
+    batch.compute({k}, [&](std::size_t j, const std::string& bytes) {
+      save(j, bytes);
+      kept[j] = bytes;
+    });
+    lines.push_back({batch.ids[k], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, kept[k].size()});
+  }
+  for (std::size_t i = 0; i + 1 < todo.size(); ++i)
+    ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]), "a unit computed by this run loads back: " + batch.ids[todo[i]]);
+  times_.append(lines);
   return resumed;
 }
 

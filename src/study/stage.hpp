@@ -63,27 +63,65 @@ struct StageResult {
 // ("<stage>/<design>/<range>") and unique within a run; units are independent of each other, and
 // a unit's bytes (UnitWriter) hold its whole result bit for bit, so a loaded unit equals the
 // computed one and the stage's merge does not depend on where or in which order units ran.
+//
+// A runner may call `compute` several times for one batch (disjoint lists: units handed out one
+// after another, or one per call when unit costs are recorded); each call replaces what an earlier
+// call computed, i.e. the stage keeps the results of the latest call only. Afterwards `load` is
+// called for every other unit the stage needs: units saved by an interrupted run, units an earlier
+// call computed, units other processes computed (docs/distributed.md).
 struct UnitBatch {
   std::vector<std::string> ids;  // index order
-  // Takes the bytes of unit k saved by an earlier run; false when they do not fit (the unit is
-  // then computed again). Called from one thread.
+  // Takes the bytes of unit k saved by an earlier run (or computed by another call or process);
+  // false when they do not fit (the unit is then computed again). Called from one thread.
   std::function<bool(std::size_t k, const std::string& bytes)> load;
   // Computes the listed units (indices into ids, ascending) with the run's threads and calls
   // done(k, bytes) once per unit as soon as it is complete (concurrently for distinct units).
   using Done = std::function<void(std::size_t k, const std::string& bytes)>;
   std::function<void(const std::vector<std::size_t>& todo, const Done& done)> compute;
+  // False when a unit's result is not all in its bytes: it also writes files into the output
+  // folder whose content names that folder (calibration entries). Such a batch is never split
+  // across processes: in a distributed run every process computes all of it in its own folder and
+  // only the first process uses the checkpoint store.
+  bool portable = true;
+};
+
+// Opt-in record of per-unit costs (docs/distributed.md, "Unit costs"): when the environment
+// variable ARMSTUDY_UNIT_TIMES names a CSV file, every computed unit is computed in a call of its
+// own and one line "unit,seconds,cpu_seconds,threads,rank,bytes" is appended per unit (wall and
+// process CPU seconds of its call, the threads and rank that computed it, the size of its result). Outside the result
+// files; tests/benchmarks/simulate_distribution.py reads it.
+struct UnitTimeRecord {
+  std::string path;  // empty: off
+  static UnitTimeRecord fromEnvironment();
+  bool enabled() const { return !path.empty(); }
+  struct Line {
+    std::string unit;
+    double seconds = 0, cpu_seconds = 0;
+    int threads = 1, rank = 0;
+    std::size_t bytes = 0;
+  };
+  void append(const std::vector<Line>& lines) const;
+  // CPU seconds of this process so far (all threads).
+  static double processCpuSeconds();
 };
 
 // Runs the units of batches: loads those an interrupted run saved (same fingerprint), computes
-// the rest and saves each as soon as it is done. One per study run; stages only see this.
+// the rest and saves each as soon as it is done. One per study run; stages only see this. This
+// class is the single-process runner; a distributed run uses a subclass (study/distributed.hpp)
+// that splits each batch's units among the processes.
 class UnitRunner {
  public:
-  explicit UnitRunner(const CheckpointStore& store) : store_(store) {}
+  explicit UnitRunner(const CheckpointStore& store, int threads = 1,
+                      UnitTimeRecord times = UnitTimeRecord::fromEnvironment())
+      : store_(store), threads_(threads), times_(std::move(times)) {}
+  virtual ~UnitRunner() = default;
   // Returns the number of units loaded instead of computed.
-  long run(const UnitBatch& batch) const;
+  virtual long run(const UnitBatch& batch) const;
 
- private:
+ protected:
   const CheckpointStore& store_;
+  int threads_ = 1;  // recorded with unit times
+  UnitTimeRecord times_;
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

@@ -378,6 +378,8 @@ StageResult runCalibrationStage(const StageContext& ctx, const std::vector<Calib
     }
     batch.ids.push_back(unitId(entries[i]));
   }
+  // An entry's files (they name the output folder) are part of its result: not portable.
+  batch.portable = false;
   batch.load = [&](std::size_t i, const std::string& bytes) {
     done[i] = resumeEntry(bytes, ctx.output_dir);
     return done[i].has_value();

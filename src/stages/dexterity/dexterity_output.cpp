@@ -226,6 +226,7 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
     return true;
   };
   batch.compute = [&](const std::vector<std::size_t>& list, const UnitBatch::Done& unit_done) {
+    todo.clear();  // a later call replaces an earlier one's units (UnitBatch)
     for (std::size_t k : list) todo.push_back(ranges[k]);
     computed = computeDexterityRows(m, options, todo, ctx.threads, [&](std::size_t j, const DexterityMap& partial) {
       unit_done(list[j], serializeRows(partial, todo[j]));

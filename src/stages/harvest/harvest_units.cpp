@@ -227,6 +227,11 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
   std::vector<std::size_t> fruit_ids, grid_ids;
   std::optional<DesignResult> computed;
   batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    // A later call replaces an earlier one's units (UnitBatch).
+    work.fruits.clear();
+    work.grid.clear();
+    fruit_ids.clear();
+    grid_ids.clear();
     for (std::size_t k : todo) {
       (k < F ? work.fruits : work.grid).push_back(range(k));
       (k < F ? fruit_ids : grid_ids).push_back(k);

@@ -1,0 +1,143 @@
+#!/usr/bin/env python3
+"""Simulates the distributed unit runner (src/study/distributed.cpp) on many ranks.
+
+Input: a per-unit cost record of a real run (ARMSTUDY_UNIT_TIMES=units.csv armstudy run ...
+--threads 1; columns unit,seconds,cpu_seconds,threads,rank,bytes). Units are grouped into batches
+by id (everything before the last '/'), in file order, as the stages run them.
+
+Model, per batch (batches run one after another, as every rank runs the stages in lockstep):
+  * rank 0 computes and, on a second thread, hands out chunks of the batch's units on demand:
+    guided chunks of max(1, remaining / (4 N)) units (--single: one unit per hand-out);
+  * a worker's request travels `latency` seconds, waits for rank 0's hand-out thread (one request
+    at a time, `service` seconds each, plus up to `poll` seconds when the thread was idle and
+    sleeping between probes), and the reply travels `latency` seconds back;
+  * a unit costs its recorded CPU seconds (times --scale) on the rank that computes it;
+  * when every rank is done, the batch's result bytes go to every rank: sizes (an allgather,
+    log2(N) latencies) and one broadcast per rank that computed something (log2(N) latencies
+    each, the bytes at `bandwidth` bytes/s into every rank);
+  * then every rank merges the batch and runs the stage's serial work (searches across units,
+    files): `serial` seconds per batch, the same on every rank (it does not shrink with N).
+Makespan = sum over batches; efficiency = T1 / (N x makespan) with T1 = the single process
+(sum of unit costs + serial work); master load = busy time of rank 0's hand-out thread / makespan.
+
+Usage:
+  simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
+      [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single]
+"""
+import argparse
+import csv
+import heapq
+import math
+from collections import OrderedDict
+
+
+def load_batches(path, scale):
+    batches = OrderedDict()
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            unit = row["unit"]
+            key = unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
+            cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
+            batches.setdefault(key, []).append((cost, int(row.get("bytes") or 0)))
+    return list(batches.values())
+
+
+def simulate_batch(units, n, latency, service, poll, bandwidth, single):
+    """Makespan of one batch's unit phase and exchange on n ranks; returns (seconds, master busy, hand-outs)."""
+    costs = [c for c, _ in units]
+    total_bytes = sum(b for _, b in units)
+    nxt = 0
+    remaining = len(costs)
+
+    def take():
+        nonlocal nxt, remaining
+        k = 1 if single else max(1, remaining // (4 * n))
+        k = min(k, remaining)
+        chunk = costs[nxt:nxt + k]
+        nxt += k
+        remaining -= k
+        return chunk
+
+    master_free = 0.0  # when rank 0's hand-out thread is next free
+    master_busy = 0.0
+    handouts = 0
+    computed_by = set()
+    # Events: (time the rank is free, rank).
+    events = [(0.0, r) for r in range(n)]
+    heapq.heapify(events)
+    finish = 0.0
+    while events:
+        t, r = heapq.heappop(events)
+        if r == 0:  # rank 0 takes from the pool directly
+            chunk = take()
+            if not chunk:
+                finish = max(finish, t)
+                continue
+            computed_by.add(r)
+            heapq.heappush(events, (t + sum(chunk), r))
+            continue
+        arrive = t + latency
+        start = max(arrive, master_free)
+        if arrive > master_free:
+            start += poll / 2  # the idle hand-out thread sleeps between probes (mean delay)
+        master_free = start + service
+        master_busy += service
+        handouts += 1
+        chunk = take()
+        reply = master_free + latency
+        if not chunk:
+            finish = max(finish, reply)
+            continue
+        computed_by.add(r)
+        heapq.heappush(events, (reply + sum(chunk), r))
+    log_n = math.log2(n) if n > 1 else 0
+    exchange = log_n * latency * (1 + len(computed_by)) + (total_bytes / bandwidth if n > 1 else 0)
+    return finish + exchange, master_busy, handouts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("csv")
+    ap.add_argument("--replicate", type=int, default=1, help="batches repeated R times (more variants)")
+    ap.add_argument("--scale", type=float, default=1.0, help="unit cost factor")
+    ap.add_argument("--serial-total", type=float, default=0.0,
+                    help="serial seconds of the recorded run outside the units (wall of a 1-thread run minus "
+                         "the sum of unit costs), spread evenly over its batches")
+    ap.add_argument("--ranks", default="1,2,16,32,64,128,256,512,1024")
+    ap.add_argument("--latency", type=float, default=5e-6)
+    ap.add_argument("--service", type=float, default=5e-6)
+    ap.add_argument("--poll", type=float, default=5e-4)
+    ap.add_argument("--bandwidth", type=float, default=5e9)
+    ap.add_argument("--single", action="store_true", help="one unit per hand-out instead of guided chunks")
+    a = ap.parse_args()
+
+    batches = load_batches(a.csv, a.scale) * a.replicate
+    serial = a.serial_total * a.replicate / max(1, len(batches))
+    units = sum(len(b) for b in batches)
+    work = sum(c for b in batches for c, _ in b)
+    t1 = work + serial * len(batches)
+    costs = sorted(c for b in batches for c, _ in b)
+    print(f"{len(batches)} batches, {units} units, unit cost median {costs[len(costs) // 2] * 1e3:.1f} ms, "
+          f"max {costs[-1] * 1e3:.1f} ms, units per batch {min(len(b) for b in batches)}..{max(len(b) for b in batches)}; "
+          f"T1 = {t1:.1f} s (units {work:.1f} s, serial {serial * len(batches):.1f} s)")
+    print(f"latency {a.latency * 1e6:.0f} us, hand-out service {a.service * 1e6:.0f} us, idle poll <= {a.poll * 1e6:.0f} us, "
+          f"bandwidth {a.bandwidth / 1e9:.1f} GB/s, {'one unit' if a.single else 'guided chunks'} per hand-out")
+    print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | idle at batch ends |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    for n in [int(x) for x in a.ranks.split(",")]:
+        total = busy = 0.0
+        peak = 0.0
+        tail = 0.0
+        for b in batches:
+            t, mb, h = simulate_batch(b, n, a.latency, a.service, a.poll, a.bandwidth, a.single)
+            total += t + serial
+            busy += mb
+            if t > 0:
+                peak = max(peak, h / t)
+            tail += n * t - sum(c for c, _ in b)
+        print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * busy / total:.2f} % | "
+              f"{peak:.0f} | {100 * tail / (n * total):.0f} % |")
+
+
+if __name__ == "__main__":
+    main()

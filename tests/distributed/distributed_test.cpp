@@ -1,0 +1,286 @@
+// Studies distributed with MPI (issue 16, docs/distributed.md): `mpirun -np 1/2/3 armstudy run`
+// writes every result file byte for byte as a single process does (the oracle: the same study run
+// without mpirun, into the same output path), whatever the thread count per rank; a rank killed
+// mid-run ends the job with a clear message and a re-run with another rank count resumes from the
+// saved units into the same bytes. In a build without MPI (ARMSTUDY_MPI=OFF) these tests skip.
+#include <signal.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "io/files.hpp"
+#include "study/distributed.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// True when this build runs MPI jobs; else the caller skips (a warning, not a failure).
+bool mpiBuild() { return mpiAvailable() && std::string(ARMSTUDY_MPIEXEC).size() > 0; }
+
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_distributed_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string designPath(const std::string& name) { return sourcePath("designs/" + name + ".toml"); }
+
+std::string writeStudy(const fs::path& dir, const std::string& name, const std::vector<std::string>& designs,
+                       const std::string& sections) {
+  const fs::path p = dir / (name + ".toml");
+  std::ofstream f(p);
+  f << "[study]\nname = \"" << name << "\"\n";
+  for (const auto& d : designs) f << "[[design]]\nfile = \"" << designPath(d) << "\"\n";
+  f << sections;
+  return p.string();
+}
+
+// Every file of a study's output folder but the manifest (timings, date, ranks) and the store.
+std::map<std::string, std::string> resultFiles(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string rel = fs::relative(e.path(), dir).string();
+    if (e.is_regular_file() && rel != "manifest.json" && rel.rfind(".partial", 0) != 0 && rel != ".armstudy.lock")
+      out[rel] = readFileOrThrow(e.path().string());
+  }
+  return out;
+}
+
+// The keys of two file maps that differ (for the failure message).
+std::string differing(const std::map<std::string, std::string>& a, const std::map<std::string, std::string>& b) {
+  std::string d;
+  for (const auto& [k, v] : a)
+    if (!b.count(k) || b.at(k) != v) d += k + " ";
+  for (const auto& [k, v] : b)
+    if (!a.count(k)) d += k + "(extra) ";
+  return d;
+}
+
+// `armstudy run` under mpirun with `ranks` processes (OpenMPI as root needs the two variables).
+std::string mpirun(int ranks, const std::string& args) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(ARMSTUDY_MPIEXEC) + " -np " +
+         std::to_string(ranks) + " --oversubscribe " + binaryPath() + " run " + args;
+}
+
+const char* kReachSection = R"([reach]
+task_space = "full"
+[[reach.grid]]
+name = "wall"
+x = { from = "-0.6 m", to = "0.6 m", step = "0.05 m" }
+y = "0.8 m"
+z = { from = "0.4 m", to = "1.6 m", step = "0.1 m" }
+alpha = "-90 deg"
+beta = "0 deg"
+gamma = ["0 deg", "20 deg"]
+)";
+
+const char* kDexteritySection = R"([dexterity]
+stem_x = "0.225 m"
+stem_y = "0.7 m"
+radius = "0.15 m"
+gamma = { min = "-pi/2", max = "pi/2", step = "30 deg" }
+z = { min = "0.4 m", max = "1.4 m", step = "0.25 m" }
+task = "position_axis"
+measure_space = "translational"
+[dexterity.objective]
+joint_limits = 0.1
+manipulability = 1.0
+)";
+
+const char* kHarvestSection = R"([harvest]
+plot_fruits = 1
+[harvest.row]
+seed = 3
+stems = 2
+fruits_per_stem = 2
+first_stem_y = "0.7 m"
+fruit_z_mean = "0.8 m"
+[harvest.approach]
+duration = 0.5
+[harvest.grid]
+x = { from = "0.3 m", to = "0.9 m", step = "0.2 m" }
+y = "0.8 m"
+z = { from = "0.3 m", to = "1.2 m", step = "0.3 m" }
+)";
+
+// Runs `study` once without mpirun and then under mpirun with each (ranks, threads) into the same
+// output path, comparing every result file with the single process's.
+void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const std::string& name,
+                            const std::string& extra, const std::vector<std::pair<int, int>>& runs) {
+  const fs::path out = dir / "out" / name;
+  const std::string args = study + " --output " + (dir / "out").string() + " --overwrite " + extra;
+  std::string log;
+  INFO("single process");
+  REQUIRE(runCommand(binaryPath() + " run " + args + " --threads 2", log) == 0);
+  const auto ref = resultFiles(out);
+  REQUIRE(ref.size() > 3);
+  for (const auto& [ranks, threads] : runs) {
+    INFO(ranks << " rank(s) x " << threads << " thread(s)");
+    const int st = runCommand(mpirun(ranks, args + " --threads " + std::to_string(threads)), log);
+    INFO(log);
+    REQUIRE(st == 0);
+    const auto got = resultFiles(out);
+    CHECK(differing(ref, got).empty());
+    CHECK(got == ref);
+    const auto man = nlohmann::json::parse(readFileOrThrow((out / "manifest.json").string()));
+    CHECK(man.value("ranks", 1) == ranks);
+    CHECK_FALSE(fs::exists(out / ".partial"));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a single process is rank 0 of 1", "[distributed]") {
+  const Ranks& r = singleProcess();
+  CHECK(r.rank() == 0);
+  CHECK(r.size() == 1);
+  CHECK(r.root());
+  CHECK_FALSE(r.distributed());
+  CHECK(r.firstFailure(false) == 1);
+  CHECK(r.firstFailure(true) == 0);
+}
+
+TEST_CASE("reach, dexterity and harvest on 1, 2 and 3 ranks write the bytes of a single process",
+          "[distributed][e2e]") {
+  if (!mpiBuild()) {
+    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
+    return;
+  }
+  const fs::path dir = freshDir("stages");
+  const std::string study = writeStudy(dir, "rdh", {"final_prototype_7dof", "final_prototype_9dof"},
+                                       std::string(kReachSection) + kDexteritySection + kHarvestSection);
+  // Small units: many per batch, so every rank gets some.
+  requireSameAcrossRanks(dir, study, "rdh", "--unit-size 16", {{1, 2}, {2, 1}, {3, 1}, {2, 2}});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("calibration entries on 1, 2 and 3 ranks write the bytes of a single process",
+          "[distributed][e2e]") {
+  if (!mpiBuild()) {
+    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
+    return;
+  }
+  const fs::path dir = freshDir("calibration");
+  requireSameAcrossRanks(dir, sourcePath("studies/thesis_drive_friction.toml"), "thesis_drive_friction", "",
+                         {{1, 1}, {2, 1}, {3, 1}});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("per-unit costs are recorded on request, one line per unit, outside the result files",
+          "[distributed][e2e]") {
+  if (!mpiBuild()) {
+    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
+    return;
+  }
+  const fs::path dir = freshDir("times");
+  const std::string study = writeStudy(dir, "r", {"final_prototype_7dof"}, kReachSection);
+  const fs::path csv = dir / "units.csv";
+  std::string log;
+  REQUIRE(runCommand("ARMSTUDY_UNIT_TIMES=" + csv.string() + " " +
+                         mpirun(2, study + " --threads 1 --unit-size 50 --output " + (dir / "out").string()),
+                     log) == 0);
+  std::ifstream f(csv);
+  std::string line;
+  std::getline(f, line);
+  CHECK(line == "unit,seconds,cpu_seconds,threads,rank,bytes");
+  int n = 0;
+  while (std::getline(f, line)) {
+    CHECK(line.rfind("reach/wall/final_prototype_7dof/units_", 0) == 0);
+    ++n;
+  }
+  CHECK(n == 13);  // one unit per grid line (25 x 2 orientations = 50 poses), 13 lines
+  CHECK_FALSE(fs::exists(dir / "out/r/units.csv"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a rank killed mid-run ends the job with a clear message, and another rank count resumes into the same bytes",
+          "[distributed][e2e][checkpoint]") {
+  if (!mpiBuild()) {
+    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
+    return;
+  }
+  const fs::path dir = freshDir("kill");
+  const std::string study =
+      writeStudy(dir, "k", {"final_prototype_7dof"},
+                 "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
+                 "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.01 m\" }\ny = \"0.8 m\"\n"
+                 "z = { from = \"0.4 m\", to = \"1.6 m\", step = \"0.025 m\" }\n"
+                 "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = [\"0 deg\", \"20 deg\", \"40 deg\"]\n");
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  const auto ref = resultFiles(dir / "ref/k");
+  const fs::path out = dir / "out/k", units = out / ".partial/units";
+  const std::string args = study + " --threads 1 --unit-size 1 --output " + (dir / "out").string();
+  const fs::path job_log = dir / "job.log", status = dir / "status";
+  REQUIRE(std::system(("(" + mpirun(2, args) + " > " + job_log.string() + " 2>&1; echo $? > " + status.string() +
+                       ") &")
+                          .c_str()) == 0);
+  // Once a few units are saved, SIGKILL rank 1 (found by its rank in the environment).
+  auto saved = [&] {
+    std::error_code ec;
+    long n = 0;
+    for (auto it = fs::directory_iterator(units, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+      n += it->path().extension() == ".unit";  // not the temporary of a unit being written
+    return n;
+  };
+  bool killed = false;
+  for (int i = 0; i < 5000 && !killed && !fs::exists(status); ++i) {
+    if (saved() >= 5) {
+      for (const auto& p : fs::directory_iterator("/proc")) {
+        std::string env;
+        try {
+          env = readFileOrThrow((p.path() / "environ").string());
+        } catch (const std::exception&) {
+          continue;
+        }
+        const std::string cmd = [&] {
+          try {
+            return readFileOrThrow((p.path() / "cmdline").string());
+          } catch (const std::exception&) {
+            return std::string();
+          }
+        }();
+        if (cmd.find(args.substr(0, args.find(' '))) == std::string::npos) continue;
+        if (env.find(std::string("OMPI_COMM_WORLD_RANK=1") + '\0') == std::string::npos) continue;
+        killed = ::kill(std::stoi(p.path().filename().string()), SIGKILL) == 0;
+      }
+    }
+    if (!killed) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  for (int i = 0; i < 3000 && !fs::exists(status); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  REQUIRE(fs::exists(status));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  if (!killed || fs::exists(out / "manifest.json")) {
+    WARN("the job finished before rank 1 could be killed; nothing to resume");
+    fs::remove_all(dir);
+    return;
+  }
+  const std::string job = readFileOrThrow(job_log.string());
+  INFO(job);
+  CHECK(std::stoi(readFileOrThrow(status.string())) != 0);
+  CHECK(job.find("exited on signal 9") != std::string::npos);
+  CHECK(job.find("run the same command again, with any number of ranks, to resume") != std::string::npos);
+  const long kept = saved();
+  CHECK(kept >= 5);
+  // The re-run, with 3 ranks: resumes every saved unit, ends in the single process's bytes.
+  const int st = runCommand(mpirun(3, args), log);
+  INFO(log);
+  REQUIRE(st == 0);
+  CHECK(log.find("resuming: " + std::to_string(kept) + " completed unit(s)") != std::string::npos);
+  const auto man = nlohmann::json::parse(readFileOrThrow((out / "manifest.json").string()));
+  CHECK(man.value("units_resumed", -1L) == kept);
+  const auto got = resultFiles(out);
+  CHECK(differing(ref, got).empty());
+  CHECK(got == ref);
+  fs::remove_all(dir);
+}
