@@ -58,7 +58,14 @@ Baseline parseBaseline(const std::string& text, const std::string& file, const s
   } catch (const std::exception& e) {
     throw InputError(file, 0, "", std::string("baseline is not valid JSON: ") + e.what());
   }
-  if (!j.is_object() || j.value("format", "") != "armstudy-baseline")
+  // A text field ("" when absent); another JSON type is an input error naming the key (issue 19:
+  // libFuzzer found `"format": {...}` escaping as a JSON type error).
+  auto stringField = [&](const char* key) {
+    if (!j.contains(key)) return std::string();
+    if (!j[key].is_string()) throw InputError(file, 0, key, "expected a string");
+    return j[key].get<std::string>();
+  };
+  if (!j.is_object() || stringField("format") != "armstudy-baseline")
     throw InputError(file, 0, "format", "not an armstudy baseline file");
   Baseline b;
   if (!j.contains("format_version") || !j["format_version"].is_number_integer())
@@ -69,12 +76,12 @@ Baseline parseBaseline(const std::string& text, const std::string& file, const s
                      "unknown baseline format version " + std::to_string(b.format_version) +
                          " (this armstudy reads version " + std::to_string(kBaselineFormatVersion) +
                          "); re-record it with `armstudy baseline`");
-  b.study = j.value("study", "");
+  b.study = stringField("study");
   if (b.study != expected_study)
     throw InputError(file, 0, "study",
                      "baseline belongs to study '" + b.study + "', not '" + expected_study + "'");
-  b.armstudy_version = j.value("armstudy_version", "");
-  b.git_revision = j.value("git_revision", "");
+  b.armstudy_version = stringField("armstudy_version");
+  b.git_revision = stringField("git_revision");
   try {
     for (const auto& [k, v] : j.at("scalars").items()) b.metrics.scalars[k] = v.get<double>();
     for (const auto& [k, v] : j.at("flags").items()) {
