@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The sanitizer subset (issue 19; README "Sanitizers"): AddressSanitizer + UndefinedBehaviorSanitizer
-# (leak detection on) over the parsers, their fuzz replays, the kinematics and dynamics kernels and
-# the checkpoint store (tests/CMakeLists.txt, sanitizer_subset), in build-asan/. CI runs it after the suite; the whole
-# suite under the sanitizers (about an hour on 2 cores) stays a manual run (README).
+# The sanitizer subset (issue 19; README "Sanitizers", docs/hardening.md): AddressSanitizer +
+# UndefinedBehaviorSanitizer (leak detection on) over the parsers, their fuzz replays, the
+# kinematics and dynamics kernels, the checkpoint store and one SIGKILL/resume run of the sanitized
+# armstudy (tests/CMakeLists.txt, sanitizer_subset), in build-asan/. CI runs it after the suite;
+# the whole suite under the sanitizers (about an hour on 2 cores) stays a manual run (README).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=build-asan

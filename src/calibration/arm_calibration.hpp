@@ -1,8 +1,9 @@
 #pragma once
-// Model versus measurement for whole arms (issue 7, kinds `tcp` and `trajectory`): the same loop
-// as the drive kind (drive_calibration.hpp) on a generic problem -- rows of measured channels, a
-// prediction from the design plus a set of effect instances with physical parameters -- so that
-// compare, rank, add and the outputs are shared by both kinds. docs/calibration.md, "Arms".
+// The model-versus-measurement engine of every kind (issues 7 and 13; `drive`, `tcp`,
+// `trajectory`): a generic problem -- rows of measured channels, a prediction from the design plus
+// a set of effect instances with physical parameters -- so that compare, rank, add, the
+// diagnosis and the outputs are one code path. Each kind only builds its ArmProblem
+// (drive_calibration.hpp, tcp_calibration.hpp, trajectory_calibration.hpp). docs/calibration.md.
 //
 // Fitting: Gauss-Newton on all rows with forward-model Jacobians by central differences and the
 // bounded linear least squares of least_squares.hpp in every step (effects nonlinear in a
@@ -11,17 +12,26 @@
 // the bounded least-squares problem of the Jacobian on the training rows (exact for models linear
 // in their parameters, first order otherwise).
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "calibration/drive_calibration.hpp"  // FittedParameter
 #include "calibration/stats.hpp"
 #include "common/defaults.hpp"
 
 namespace armstudy::calibration {
+
+struct FittedParameter {
+  std::string key;
+  std::string unit;
+  double value = 0;
+  double ci_low = 0, ci_high = 0;  // 95 % interval (linearised, inflated for correlated samples)
+  bool at_bound = false;
+};
 
 struct ArmParam {
   std::string key;   // e.g. "offset", "mass", "coulomb"
@@ -30,6 +40,10 @@ struct ArmParam {
   double upper = std::numeric_limits<double>::infinity();
   double typical = 0;  // magnitude `armstudy synth` hides by default
   double step = 1e-6;  // central-difference step (SI)
+  // The fit finds a change x to the design; reports show design + x. The drive kind sets the
+  // design's own value (its parameters are reported as absolute friction values, thesis Table 4.4);
+  // the tcp and trajectory kinds report the change itself (0 here).
+  double design = 0;
 };
 
 // One candidate effect instance, e.g. "joint_offset.j3", "payload", "j5.stribeck".
@@ -64,7 +78,7 @@ struct BinVariable {
 class ArmProblem {
  public:
   virtual ~ArmProblem() = default;
-  std::string kind;  // "tcp" | "trajectory"
+  std::string kind;  // "drive" | "tcp" | "trajectory"
   std::string design, file, hash;
   std::vector<std::string> channel_names, channel_units;
   Eigen::VectorXd weight;       // per channel: residual -> fit units (1 unless documented)
@@ -73,6 +87,11 @@ class ArmProblem {
   std::vector<ArmEffect> catalogue;     // candidate instances applicable to this design/data
   std::vector<BinVariable> variables;   // operating variables (plots, joint-space bins)
   std::vector<Eigen::Vector3d> workspace;  // TCP position of each row in W (workspace cells)
+  // A 2-D grid map over two operating variables (the drive kind: signed motor speed x |load|),
+  // grid_bins[a] bins on axis a, besides or instead of the 1-D bins of `variables`.
+  std::vector<BinVariable> grid;
+  std::array<int, 2> grid_bins{0, 0};
+  bool bin_variables = true;  // 1-D bins over each operating variable in the residual map
   std::vector<int> regions;     // held-out-by-region partition (ids 0..region_count-1)
   int region_count = 0;
   std::vector<std::string> warnings;
@@ -132,8 +151,8 @@ struct ArmCandidate {
 };
 
 struct ArmBin {
-  std::string space;     // "joint" (a 1-D bin of one operating variable) | "workspace"
-  std::string variable;  // variable name for joint bins, "x,y,z" for workspace cells
+  std::string space;     // "joint" (a 1-D bin of one operating variable) | "workspace" | "grid"
+  std::string variable;  // variable name for joint bins, "x,y,z" for workspace cells, "a,b" for grid cells
   std::array<int, 3> index{0, 0, 0};
   std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
   int n = 0;
@@ -174,6 +193,7 @@ struct ArmDiagnosis {
   std::vector<std::string> warnings;
   double noise_estimate = 0;           // fit units
   std::vector<double> channel_noise;   // native units; residual weights are 1 / channel_noise
+  Eigen::MatrixXd saturated_residual;  // of the most flexible model (noise estimate); empty if too few rows
   double noise_rho = 0;
   ArmFit as_designed;
   ArmResidualMap as_designed_map;
@@ -199,6 +219,15 @@ ArmDiagnosis compareArm(const ArmProblem& problem, const ArmFitOptions& options)
 // Compare, rank the candidates, add effects as the options ask.
 ArmDiagnosis diagnoseArm(const ArmProblem& problem, const ArmFitOptions& options);
 
+// One set of effects fitted on all rows with the engine's solver (Gauss-Newton, each step the
+// bounded linear least squares of least_squares.hpp; an effect whose profile value is NaN is
+// profiled on its grid), in the problem's own channel weights. Exposed for benchmarks and tests.
+struct SetFit {
+  EffectValues values;
+  double ssr = 0;  // weighted sum of squared residuals
+};
+SetFit fitEffects(const ArmProblem& problem, const EffectValues& start);
+
 // Fitted values of an effect instance in a diagnosis' final fit (nullptr when not added).
 const EffectValue* findValue(const EffectValues& values, int effect);
 
@@ -216,6 +245,8 @@ std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const 
 struct ArmReportOptions {
   std::string out_dir;
   std::string command;  // compare | fit
+  // Further files of the result (name in the output folder, content), published with it.
+  std::vector<std::pair<std::string, std::string>> extra_files = {};
 };
 struct ArmReportSummary {
   std::vector<std::string> files_written;

@@ -1,4 +1,5 @@
-// Outputs of compare/fit for the arm kinds (tcp, trajectory): docs/calibration.md, "Arms".
+// Outputs of compare/fit, the one report writer of every kind (drive, tcp, trajectory):
+// docs/calibration.md, "Outputs".
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -130,6 +131,35 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
   }
 }
 
+// The 2-D grid map (drive kind: signed speed x |load|): mean residual per cell, flagged outlined.
+void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
+                  const ArmResidualMap& m, std::vector<std::string>& files) {
+  if (P.grid.size() != 2) return;
+  HeatmapSpec h;
+  h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
+  h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
+  h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
+  h.value_label = P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]" : "max |mean residual|";
+  bool first = true;
+  for (const auto& b : m.bins) {
+    if (b.space != "grid") continue;
+    double v = 0;
+    if (P.channels() == 1) v = b.mean[0];
+    else
+      for (double x : b.mean) v = std::max(v, std::abs(x));
+    h.cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.n, b.flagged});
+    h.x_min = first ? b.lo[0] : std::min(h.x_min, b.lo[0]);
+    h.x_max = first ? b.hi[0] : std::max(h.x_max, b.hi[0]);
+    h.y_min = first ? b.lo[1] : std::min(h.y_min, b.lo[1]);
+    h.y_max = first ? b.hi[1] : std::max(h.y_max, b.hi[1]);
+    first = false;
+  }
+  if (first) return;
+  fs::create_directories(fs::path(dir) / "plots");
+  writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(), svgHeatmap(h));
+  files.push_back("plots/" + stage + "_residual_map.svg");
+}
+
 void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
                        const ArmResidualMap& m, std::vector<std::string>& files) {
   if (P.workspace.empty() || m.ws_dims[0] == 0) return;
@@ -194,9 +224,6 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
   files.push_back(stage + "_residual_points.vtp");
 }
 
-constexpr const char* kArmHistoryHeader =
-    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
-
 // The rows of this run appended to the output folder's history (read before anything is written:
 // a history of another kind is an InputError), written to `to` (the staging folder).
 std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to, const ArmDiagnosis& d,
@@ -221,15 +248,17 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   ArmReportSummary s;
   // Validate first (the history in the folder must be of this kind), then write every file into a
   // staging folder and move the complete result into place (issue 13).
-  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), kArmHistoryHeader);
+  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
   StagedOutput stage(o.out_dir);
   const std::string dir = stage.dir();
   writePlots(dir, "before", P, d.as_designed, s.files_written);
   writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
   const bool after = o.command == "fit" && !d.added.empty();
   if (after) {
     writePlots(dir, "after", P, d.final_fit, s.files_written);
     writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
+    writeGridMap(dir, "after", P, d.final_fit, d.final_map, s.files_written);
   }
   // residuals.csv: operating variables, measured, predicted, residual (final model).
   {
@@ -331,6 +360,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   }
   j["files"] = s.files_written;
   s.json = j.dump(2);
+  for (const auto& [name, text] : o.extra_files)
+    writeFileAtomic((fs::path(dir) / name).string(), text);
   writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");
   stage.commit();
   return s;

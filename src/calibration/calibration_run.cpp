@@ -1,5 +1,7 @@
 #include "calibration/calibration_run.hpp"
 
+#include "calibration/drive_report.hpp"
+
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -37,13 +39,34 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
                         const std::string& design_path) {
   ArmFitFiles f;
   f.calibrated_design_path = design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
-  std::string text = P.kind == "tcp" ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
-                                     : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
+  std::string text = P.kind == "drive" ? calibratedDriveToml(m, P, d.final_fit.values, f.notes)
+                     : P.kind == "tcp"   ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
+                                         : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
-  f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit"}, f.calibrated_design_path);
-  writeFileAtomic(f.calibrated_design_path, text);
+  ArmReportOptions o{out_dir, "fit"};
+  if (design_path.empty())  // in the output folder: published with the report as one folder
+    o.extra_files.emplace_back(m.name + "_calibrated.toml", text);
+  f.report = writeArmReport(d, P, o, f.calibrated_design_path);
+  if (!design_path.empty()) writeFileAtomic(f.calibrated_design_path, text);
   return f;
+}
+
+DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model, const DriveData& data,
+                                    const DriveReportOptions& o) {
+  ARMSTUDY_CHECK(d.problem != nullptr && d.problem->file == data.file, "the diagnosis of this data");
+  DriveReportSummary s;
+  if (o.command == "fit" && o.write_calibrated_design) {
+    const ArmFitFiles f = writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path);
+    s.files_written = f.report.files_written;
+    s.json = f.report.json;
+    s.calibrated_design_path = f.calibrated_design_path;
+    return s;
+  }
+  const ArmReportSummary r = writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command}, "");
+  s.files_written = r.files_written;
+  s.json = r.json;
+  return s;
 }
 
 }  // namespace armstudy::calibration

@@ -1,16 +1,24 @@
 #pragma once
-// Model versus measurement for one joint drive (issue 7, thesis chapter 4): compare the design's
-// friction model with test-bed data, map where it fails, rank the candidate effects that could be
-// missing, add them and refit. docs/calibration.md describes formats, statistics and outputs.
+// Model versus measurement for one joint drive (issue 7, thesis chapter 4): the drive kind's data,
+// its problem for the one engine of arm_calibration.hpp (issue 13, "One engine") and its virtual
+// test bed. docs/calibration.md describes formats, statistics and outputs.
 //
 // The measured quantity is the motor current I; the model predicts it from the drive chain
-// I = (T_l / N + T_loss(speed, T_l, theta)) / k_m (thesis eq. 4.3, 4.5). Residual = measured -
-// predicted [A]. Friction-torque figures [N m] are the same residuals times k_m (thesis eq. 4.6).
+// I = (T_l / N + T_loss(speed, T_l, theta)) / k_m (thesis eq. 4.3, 4.5), with the friction law of
+// src/drive/friction.hpp. Residual = measured - predicted [A]. Friction-torque figures [N m] are the
+// same residuals times k_m (thesis eq. 4.6).
+//
+// The problem's catalogue: "refit" (the design's own friction terms, thesis Table 4.5's refit of
+// eq. 3.30) and one instance per drive effect the design does not have (drive::Effect names;
+// the temperature effects only when the data has a temperature column). Every parameter is a
+// change to the design's value and reported as the absolute value (ArmParam::design); the
+// Stribeck velocity is profiled on a log grid over the measured speed range.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "calibration/stats.hpp"
+#include "calibration/arm_calibration.hpp"
 #include "common/defaults.hpp"
 #include "drive/friction.hpp"
 #include "model/model.hpp"
@@ -53,6 +61,26 @@ struct EffectInfo {
 const std::vector<EffectInfo>& driveEffectCatalogue();
 const EffectInfo& effectInfo(drive::Effect effect);
 
+// The drive of a joint; InputError (design file, drive key) when the design has none.
+const Drive& requireDrive(const Model& model, const std::string& joint);
+
+// The name of the catalogue instance that refits the design's own friction terms.
+inline constexpr const char* kRefitEffect = "refit";
+
+// The drive kind's problem for the engine: one channel "current" [A]; operating variables speed,
+// load (and temperature); the residual map is the speed x |load| grid (speed_bins x load_bins);
+// held-out-by-region uses the four speed x load quadrants split at the medians.
+std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint, const DriveData& data,
+                                             int speed_bins = defaults::kSpeedBins, int load_bins = defaults::kLoadBins);
+// The resolved friction of the problem's drive with the given effects switched on (what predict uses).
+drive::FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& values);
+// TOML text of the design with the fitted friction in the drive's [drive.friction] and the added
+// effects in [model].effects (line edits that keep comments; setDesignEntry).
+std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
+                                std::vector<std::string>& notes);
+
+// ---- the drive kind through the engine, for callers written against the drive kind's own API ----
+// (the [[calibration]] stage; once it reads ArmDiagnosis directly these views can go.)
 struct DriveFitOptions {
   int folds = defaults::kCvFolds;
   std::uint64_t seed = defaults::kCvSeed;
@@ -60,92 +88,43 @@ struct DriveFitOptions {
   int load_bins = defaults::kLoadBins;
   double significance_z = defaults::kSignificanceZ;
   double min_relative_improvement = defaults::kMinRelativeImprovement;
-  std::vector<drive::Effect> add;  // effects to add (in this order), significant or not
+  std::vector<drive::Effect> add;  // effects to add (in this order, after the refit), significant or not
   bool auto_add = false;           // add the best significant effect until none is left
   std::string validate() const;    // "" when valid
 };
 
-struct FittedParameter {
-  std::string key;
-  std::string unit;
-  double value = 0;
-  double ci_low = 0, ci_high = 0;  // 95 % interval (linearised, inflated for correlated samples)
-  bool at_bound = false;
-};
-
-// One model (a set of effects) fitted to the data.
-struct ModelFit {
-  std::string label;                 // "as designed", "refit harmonic_drive", "+stribeck", ...
-  std::vector<drive::Effect> effects;
-  drive::FrictionParams friction;    // fitted on all rows
-  std::vector<FittedParameter> params;
-  int n_params = 0;                  // fitted parameters (0 for the design as is)
-  double train_rmse = 0;             // [A], all rows
-  double heldout_rmse = 0;           // [A], k-fold cross-validation
-  double region_heldout_rmse = 0;    // [A], leave-one-region-out (speed x load quadrants)
-  double aic = 0, bic = 0;           // Gaussian, from the training residuals
-  std::vector<double> predicted;     // [A], fit on all rows
-  std::vector<double> residual;      // measured - predicted [A]
-  std::vector<double> heldout_residual;  // out-of-fold residuals [A]
-};
+using ModelFit = ArmFit;
 
 struct Candidate {
-  drive::Effect effect;
-  std::string status = "ok";         // ok | unidentifiable | not_applicable | too_few_rows
-  ModelFit fit;                      // base + this effect (when status == ok)
-  double improvement = 0;            // (heldout_base - heldout) / heldout_base
-  double t_statistic = 0;            // paired held-out squared-error difference / its std. error
+  drive::Effect effect = drive::Effect::Coulomb;
+  std::string status = "ok";  // ok | unidentifiable | too_few_rows
+  ArmFit fit;
+  double improvement = 0, t_statistic = 0;
   bool significant = false;
-  std::vector<std::string> warnings;  // identifiability
+  std::vector<std::string> warnings;
 };
 
-struct ResidualBin {
-  int speed_bin = 0, load_bin = 0;
-  double speed_lo = 0, speed_hi = 0, load_lo = 0, load_hi = 0;
-  int n = 0;
-  double n_eff = 0;
-  double mean = 0;                   // mean residual [A]
-  double threshold = 0;              // |mean| above this is flagged [A]
-  bool flagged = false;
-};
-
-struct ResidualMap {
-  std::vector<double> speed_edges, load_edges;  // signed speed [rad/s], |load|
-  std::vector<ResidualBin> bins;     // speed-major; only bins with samples
-  double rho = 0;                    // lag-1 autocorrelation used for n_eff
-  double z = 0;                      // Bonferroni z
-  int flagged() const;
-};
-
-// Comparison of one model's prediction with the data.
+// One model's comparison with the data: current and friction-torque statistics, residual map.
 struct Comparison {
-  ChannelStats current;              // [A]
-  ChannelStats friction_torque;      // [N m] (= current residual * k_m)
-  ResidualMap map;
+  ChannelStats current;          // [A]
+  ChannelStats friction_torque;  // [N m] (= current residual * k_m)
+  ArmResidualMap map;
 };
 
 struct DriveDiagnosis {
+  std::shared_ptr<const ArmProblem> problem;
+  ArmDiagnosis arm;  // what the engine found; the members below are views of it
   std::string design, joint;
   std::vector<std::string> warnings;
-  double noise_estimate = 0;         // [A]
-  double noise_rho = 0;              // lag-1 autocorrelation of the noise proxy residuals
-  ModelFit as_designed;
-  Comparison as_designed_cmp;
-  ModelFit base;                     // refit of the design's effects
-  Comparison base_cmp;
-  std::vector<Candidate> ranking;    // for `base`, best first
+  double noise_estimate = 0, noise_rho = 0;  // [A]
+  ModelFit as_designed, base, final_fit;     // base: the refit of the design's terms
+  Comparison as_designed_cmp, base_cmp, final_cmp;
+  std::vector<Candidate> ranking;            // for the refit model, best first
   bool missing_effect_found = false;
-  // "missing effect: X" (the best significant candidate of the refit model), "missing effects: X, Y"
-  // when --auto added several, or "no significant missing effect". The one verdict text of the
-  // console, result.json and the study stage.
-  std::string verdict = "no significant missing effect";
-  std::vector<ModelFit> ladder;      // as designed, refit, then one per added effect
-  std::vector<drive::Effect> added;
-  std::vector<std::vector<Candidate>> rankings_after;  // ranking after each addition
-  ModelFit final_fit;
-  Comparison final_cmp;
-  double rmse_before = 0, rmse_after = 0;  // held-out [A]: refit base, final model
-  Model calibrated;                  // the design with the final fitted parameters (when fitted)
+  std::string verdict;
+  std::vector<ModelFit> ladder;              // as designed, refit, then one per added effect
+  std::vector<drive::Effect> added;          // after the refit
+  double rmse_before = 0, rmse_after = 0;    // held-out [A]: refit, final model
 };
 
 // Compare only: the design's model as is (no fitting), residual map with the noise estimate.
@@ -154,9 +133,6 @@ DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const 
 // Compare, refit, rank candidates, add effects as the options ask.
 DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const DriveData& data,
                              const DriveFitOptions& options);
-
-// The drive of a joint; InputError (design file, drive key) when the design has none.
-const Drive& requireDrive(const Model& model, const std::string& joint);
 
 // ---- virtual test bed ----
 struct SynthOptions {

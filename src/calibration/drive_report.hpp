@@ -1,11 +1,7 @@
 #pragma once
-// Writing the results of compare/fit for a drive (docs/calibration.md, "Outputs"):
-//   result.json            machine-readable result (kind, rmse, noise_estimate, ranking, regions, ...)
-//   residuals.csv          per row: operating point, measured, predicted, residuals
-//   plots/*.svg            measured vs predicted, residual vs speed/load/temperature, residual maps
-//   history.csv            one row per model per run, appended (the "error ladder")
-//   error_ladder.svg       drawn from the whole history
-//   <design>_calibrated.toml  (fit) the design with the fitted friction parameters and effects
+// The outputs of compare/fit for a drive: the one report writer of every kind (writeArmReport,
+// writeArmFit; docs/calibration.md, "Outputs"), called with the drive diagnosis' engine result.
+// Kept for callers written against the drive kind's own API (the [[calibration]] stage).
 #include <string>
 #include <vector>
 
@@ -26,13 +22,7 @@ struct DriveReportSummary {
   std::string calibrated_design_path;
 };
 
-DriveReportSummary writeDriveReport(const DriveDiagnosis& diagnosis, const Model& model,
-                                    const DriveData& data, const DriveReportOptions& options);
-
-// TOML text of `calibrated`'s design file: the original file (model.file) with the drive's
-// [drive.friction] table, [model].effects and the design name replaced. Re-parsed before it is
-// returned (a round trip through the design reader).
-std::string calibratedDesignToml(const Model& original, const Model& calibrated, const std::string& joint,
-                                 const std::string& note);
+DriveReportSummary writeDriveReport(const DriveDiagnosis& diagnosis, const Model& model, const DriveData& data,
+                                    const DriveReportOptions& options);
 
 }  // namespace armstudy::calibration

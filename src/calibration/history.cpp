@@ -5,39 +5,40 @@
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
-
 #include <system_error>
-#include <unistd.h>
 
 #include "common/errors.hpp"
+#include "io/csv_io.hpp"
 #include "io/files.hpp"
 
 namespace armstudy::calibration {
 
-HistoryFile readHistory(const std::string& path, const std::string& header) {
+HistoryFile readHistory(const std::string& path, const std::string& kind) {
   HistoryFile h;
   h.path = path;
-  if (!std::filesystem::exists(path)) {
-    h.text = header + "\n";
-    return h;
+  h.text = std::string(kHistoryHeader) + "\n";
+  if (!std::filesystem::exists(path)) return h;
+  const std::string text = readFileOrThrow(path);
+  const std::vector<io::CsvLine> lines = io::splitCsvLines(text);
+  const std::vector<io::CsvLine> header = io::splitCsvLines(kHistoryHeader);
+  if (lines.empty() || lines.front().cells != header.front().cells)
+    throw InputError(path, lines.empty() ? 1 : lines.front().line, "",
+                     "history file has an unexpected header (written by another armstudy version?); move it away "
+                     "or use another output folder");
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    const io::CsvLine& l = lines[k];
+    if (l.cells.size() != header.front().cells.size())
+      throw InputError(path, l.line, "", "history row has " + std::to_string(l.cells.size()) + " cells, expected " +
+                                            std::to_string(header.front().cells.size()));
+    if (l.cells[kHistoryKindColumn] != kind)
+      throw InputError(path, l.line, "kind",
+                       "history of kind '" + l.cells[kHistoryKindColumn] + "' in this output folder, this run is of kind '" +
+                           kind + "'; move it away or use another output folder");
+    h.rows.push_back(l.cells);
+    h.next_run = std::max(h.next_run, std::atoi(l.cells[0].c_str()) + 1);
   }
-  h.text = readFileOrThrow(path);
-  std::istringstream is(h.text);
-  std::string line;
-  std::getline(is, line);
-  if (line != header)
-    throw InputError(path, 1, "",
-                     "history file has an unexpected header (another kind?); move it away or use another "
-                     "output folder");
-  while (std::getline(is, line)) {
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ls(line);
-    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-    h.rows.push_back(cells);
-  }
-  for (const auto& r : h.rows)
-    if (!r.empty()) h.next_run = std::max(h.next_run, std::atoi(r[0].c_str()) + 1);
+  h.text = text;
+  if (!h.text.empty() && h.text.back() != '\n') h.text += "\n";
   return h;
 }
 
@@ -62,15 +63,8 @@ std::string historyNumber(double v) {
 
 namespace fs = std::filesystem;
 
-StagedOutput::StagedOutput(const std::string& out_dir) : out_(out_dir) {
-  fs::path p = fs::path(out_dir).lexically_normal();
-  if (p.filename().empty()) p = p.parent_path();
-  staging_ = p.string() + ".staging." + std::to_string(::getpid());
-  std::error_code ec;
-  fs::remove_all(staging_, ec);
-  fs::create_directories(staging_, ec);
-  if (ec) throw InputError(staging_, 0, "--out", "cannot create the staging folder of the output: " + ec.message());
-}
+StagedOutput::StagedOutput(const std::string& out_dir)
+    : out_(out_dir), staging_(makeStagingFolder(out_dir)) {}
 
 StagedOutput::~StagedOutput() {
   std::error_code ec;
@@ -79,21 +73,7 @@ StagedOutput::~StagedOutput() {
 
 void StagedOutput::commit() {
   if (committed_) return;
-  std::error_code ec;
-  fs::create_directories(out_, ec);
-  if (ec) throw InputError(out_, 0, "--out", "cannot create the output folder: " + ec.message());
-  std::vector<std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(staging_))
-    if (e.is_regular_file()) files.push_back(fs::relative(e.path(), staging_).generic_string());
-  auto last = [](const std::string& f) { return f == "result.json" ? 1 : f == "history.csv" ? 2 : 0; };
-  std::stable_sort(files.begin(), files.end(), [&](const std::string& a, const std::string& b) {
-    return last(a) != last(b) ? last(a) < last(b) : a < b;
-  });
-  for (const std::string& f : files) {
-    const fs::path to = fs::path(out_) / f;
-    fs::create_directories(to.parent_path());
-    fs::rename(fs::path(staging_) / f, to);  // same file system: atomic per file
-  }
+  publishFolder(staging_, out_);  // the whole folder at once (issue 19)
   committed_ = true;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // history.csv of a calibration output folder: one row per model of every compare/fit run, the
-// data behind the "error ladder" plot. Shared by the drive and arm kinds.
+// data behind the "error ladder" plot. One format for every kind (kHistoryHeader; the kind is a
+// column), read through the engine's one CSV tokenizer (io::splitCsvLines).
 #include <string>
 #include <vector>
 
@@ -13,9 +14,13 @@ struct HistoryFile {
   int next_run = 1;                              // run number for the rows appended now
 };
 
-// Reads `path` (or starts a new file) and checks its header; an unexpected header is an
-// InputError (a history of another kind in the same folder).
-HistoryFile readHistory(const std::string& path, const std::string& header);
+inline constexpr const char* kHistoryHeader =
+    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
+inline constexpr int kHistoryKindColumn = 2;
+
+// Reads `path` (or starts a new file) and checks it: another header or a row of another kind is an
+// InputError naming the file and line (a history of another kind in the same output folder).
+HistoryFile readHistory(const std::string& path, const std::string& kind);
 // Appends one row (commas inside cells become ';').
 void appendHistoryRow(HistoryFile& h, std::vector<std::string> cells);
 // Writes the file atomically.
@@ -25,7 +30,7 @@ std::string historyNumber(double v);
 
 // The files of one compare/fit run (issue 13): nothing is written into the output folder until the
 // whole result exists. Every file goes to a staging folder beside it (`<out>.staging.<pid>`);
-// commit() moves them into the output folder, result.json and history.csv last. A run that
+// commit() swaps that folder in as a whole (io/files.hpp publishFolder, issue 19). A run that
 // fails before commit() (bad input, full disk) leaves the output folder exactly as it was: the
 // destructor removes the staging folder.
 class StagedOutput {

@@ -5,6 +5,7 @@
 #include <regex>
 #include <set>
 
+#include "calibration/drive_calibration.hpp"
 #include "common/rng.hpp"
 #include "common/errors.hpp"
 #include "drive/drive_chain.hpp"
@@ -22,25 +23,14 @@ constexpr double kInfD = std::numeric_limits<double>::infinity();
 
 enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction };
 
+// Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to fields).
 void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
-  if (key == "coulomb") p.coulomb += d;
-  else if (key == "viscous") p.viscous += d;
-  else if (key == "load_coulomb") p.load_coulomb += d;
-  else if (key == "load_viscous") p.load_viscous += d;
-  else if (key == "stribeck_torque") p.stribeck_torque += d;
-  else if (key == "asymmetry") p.asymmetry += d;
-  else ARMSTUDY_CHECK(false, "known friction key " + key);
+  double* x = drive::parameter(p, key);
+  ARMSTUDY_CHECK(x != nullptr, "known friction key " + key);
+  *x += d;
 }
 
-double frictionValue(const drive::FrictionParams& p, const std::string& key) {
-  if (key == "coulomb") return p.coulomb;
-  if (key == "viscous") return p.viscous;
-  if (key == "load_coulomb") return p.load_coulomb;
-  if (key == "load_viscous") return p.load_viscous;
-  if (key == "stribeck_torque") return p.stribeck_torque;
-  if (key == "asymmetry") return p.asymmetry;
-  return 0;
-}
+double frictionValue(const drive::FrictionParams& p, const std::string& key) { return drive::parameter(p, key); }
 
 // Scale of a motor-side catalogue value for a joint-side (prismatic) law: torque-like x N,
 // viscous x N^2 (assumption for typical values only).

@@ -7,7 +7,6 @@
 #include "common/defaults.hpp"
 #include "calibration/calibration_run.hpp"
 #include "calibration/drive_calibration.hpp"
-#include "calibration/drive_report.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "cli/design_options.hpp"
@@ -17,8 +16,6 @@
 
 namespace armstudy::cli {
 namespace {
-
-using calibration::DriveFitOptions;
 
 std::vector<std::string> splitList(const std::string& s, char sep = ',') {
   std::vector<std::string> out;
@@ -94,7 +91,12 @@ std::string outDir(const CommonArgs& a, const Model& m) {
   return a.out.empty() ? "output/calibration/" + m.name + "-" + (a.kind == "drive" ? a.joint : a.kind) : a.out;
 }
 
+// The problem of any kind for the one engine (drive: the measured drive's test-bed data).
 std::unique_ptr<calibration::ArmProblem> armProblem(const CommonArgs& a, const Model& m) {
+  if (a.kind == "drive") {
+    calibration::requireDrive(m, a.joint);
+    return calibration::makeDriveProblem(m, a.joint, calibration::readDriveData(a.data), a.speed_bins, a.load_bins);
+  }
   return calibration::makeArmProblem(m, calibration::readArmData(a.kind, a.data, m));
 }
 
@@ -126,23 +128,6 @@ void printChannels(const calibration::ArmDiagnosis& d, const calibration::ArmPro
   std::printf("  overall: %.3g x the noise (dimensionless, held-out)\n", d.final_fit.heldout_score);
 }
 
-void printFit(const char* label, const calibration::ModelFit& m) {
-  std::printf("  %-44s params %2d  train %.4g A  held-out %.4g A  AIC %.1f\n", label, m.n_params, m.train_rmse,
-              m.heldout_rmse, m.aic);
-}
-
-void printHeader(const calibration::DriveDiagnosis& d, const calibration::DriveData& data) {
-  std::printf("drive %s of %s vs %s (%d rows%s)\n", d.joint.c_str(), d.design.c_str(), data.file.c_str(), data.rows(),
-              data.hasTemperature() ? ", with temperature" : "");
-  for (const auto& w : d.warnings) std::printf("warning: %s\n", w.c_str());
-  const auto& c = d.as_designed_cmp;
-  std::printf("as designed: current RMSE %.4g A, bias %+.4g A, max %.4g A  (friction torque RMSE %.4g N m)\n",
-              c.current.rmse, c.current.bias, c.current.max_abs, c.friction_torque.rmse);
-  std::printf("noise estimate %.4g A (lag-1 autocorrelation %.2f); flagged bins: %d of %zu\n", d.noise_estimate,
-              d.noise_rho, c.map.flagged(), c.map.bins.size());
-}
-
-
 int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool autoAdd, int folds,
            unsigned long long seed, const std::string& designOut) {
   calibration::ArmFitOptions o;
@@ -151,9 +136,11 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
   o.folds = folds;
   o.seed = seed;
   o.auto_add = autoAdd;
-  o.add = splitList(add);
-  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const auto P = armProblem(a, m);
+  // The drive kind refits the design's own friction terms first (thesis Table 4.5), then ranks.
+  if (a.kind == "drive" && P->findEffect(calibration::kRefitEffect) >= 0) o.add.push_back(calibration::kRefitEffect);
+  for (const auto& e : splitList(add)) o.add.push_back(e);
+  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const auto d = calibration::diagnoseArm(*P, o);
   const std::string out = outDir(a, m);
   const calibration::ArmFitFiles files = calibration::writeArmFit(d, *P, m, out, designOut);
@@ -221,30 +208,16 @@ void addCompareCommand(CLI::App& app, Action& action) {
     action = [a] {
       checkKind(*a);
       const Model m = loadAnyDesign(a->design, a->src.urdf());
-      if (a->kind != "drive") {
-        const auto P = armProblem(*a, m);
-        calibration::ArmFitOptions o;
-        o.variable_bins = a->variable_bins;
-        o.workspace_bins = a->workspace_bins;
-        const auto d = calibration::compareArm(*P, o);
-        calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
-        calibration::writeArmReport(d, *P, ro, "");
-        printArm(d, *P);
-        std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg, *.vti/*.vtp)\n", ro.out_dir.c_str());
-        return 0;
-      }
-      const calibration::DriveData data = calibration::readDriveData(a->data);
-      DriveFitOptions o;
-      o.speed_bins = a->speed_bins;
-      o.load_bins = a->load_bins;
-      const auto d = calibration::compareDrive(m, a->joint, data, o);
-      calibration::DriveReportOptions ro;
-      ro.out_dir = outDir(*a, m);
-      ro.command = "compare";
-      const auto sum = calibration::writeDriveReport(d, m, data, ro);
-      printHeader(d, data);
-      std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg)\n", ro.out_dir.c_str());
-      (void)sum;
+      const auto P = armProblem(*a, m);
+      calibration::ArmFitOptions o;
+      o.variable_bins = a->variable_bins;
+      o.workspace_bins = a->workspace_bins;
+      const auto d = calibration::compareArm(*P, o);
+      calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
+      calibration::writeArmReport(d, *P, ro, "");
+      printArm(d, *P);
+      std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg%s)\n", ro.out_dir.c_str(),
+                  P->workspace.empty() ? "" : ", *.vti/*.vtp");
       return 0;
     };
   });
@@ -279,53 +252,7 @@ void addFitCommand(CLI::App& app, Action& action) {
     action = [a, add, autoAdd, folds, seed, designOut] {
       checkKind(*a);
       const Model m = loadAnyDesign(a->design, a->src.urdf());
-      if (a->kind != "drive") return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
-      DriveFitOptions o;
-      o.speed_bins = a->speed_bins;
-      o.load_bins = a->load_bins;
-      o.folds = *folds;
-      o.seed = *seed;
-      o.auto_add = *autoAdd;
-      for (const auto& e : splitList(*add)) o.add.push_back(parseEffectOption(e, "--add"));
-      if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
-      calibration::requireDrive(m, a->joint);
-      const calibration::DriveData data = calibration::readDriveData(a->data);
-      const auto d = calibration::diagnoseDrive(m, a->joint, data, o);
-      calibration::DriveReportOptions ro;
-      ro.out_dir = outDir(*a, m);
-      ro.command = "fit";
-      ro.write_calibrated_design = true;
-      ro.calibrated_design_path = *designOut;
-      const auto sum = calibration::writeDriveReport(d, m, data, ro);
-      printHeader(d, data);
-      std::printf("\nmodels (current RMSE; held-out = %d-fold cross-validation):\n", o.folds);
-      for (const auto& f : d.ladder) printFit(f.label.c_str(), f);
-      std::printf("\ncandidates for the refit model (best first):\n");
-      std::printf("  %-13s %-15s %12s %11s %8s  %s\n", "effect", "status", "held-out [A]", "improvement", "t", "significant");
-      for (const auto& c : d.ranking) {
-        if (c.status == "ok")
-          std::printf("  %-13s %-15s %12.4g %10.1f%% %8.1f  %s\n", drive::toString(c.effect), c.status.c_str(),
-                      c.fit.heldout_rmse, 100 * c.improvement, c.t_statistic, c.significant ? "yes" : "no");
-        else
-          std::printf("  %-13s %-15s\n", drive::toString(c.effect), c.status.c_str());
-        for (const auto& w : c.warnings) std::printf("      warning: %s\n", w.c_str());
-      }
-      std::printf("\nverdict: %s\n", d.verdict.c_str());
-      std::printf("bins still flagged after the fit: %d of %zu (refit model: %d, as designed: %d)\n",
-                  d.final_cmp.map.flagged(), d.final_cmp.map.bins.size(), d.base_cmp.map.flagged(),
-                  d.as_designed_cmp.map.flagged());
-      if (!d.added.empty()) {
-        std::printf("added:");
-        for (auto e : d.added) std::printf(" %s", drive::toString(e));
-        std::printf("\nheld-out RMSE before %.4g A -> after %.4g A (x%.2f lower); noise estimate %.4g A\n",
-                    d.rmse_before, d.rmse_after, d.rmse_before / d.rmse_after, d.noise_estimate);
-      }
-      std::printf("final parameters:\n");
-      for (const auto& p : d.final_fit.params)
-        std::printf("  %-24s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value, p.unit.c_str(), p.ci_low,
-                    p.ci_high, p.at_bound ? "  (at bound)" : "");
-      std::printf("calibrated design: %s\nresults in %s/\n", sum.calibrated_design_path.c_str(), ro.out_dir.c_str());
-      return 0;
+      return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
     };
   });
 }

@@ -163,6 +163,25 @@ std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, s
   return "";
 }
 
+double* parameter(FrictionParams& p, std::string_view key) {
+  if (key == kCoulomb) return &p.coulomb;
+  if (key == kViscous) return &p.viscous;
+  if (key == kLoadCoulomb) return &p.load_coulomb;
+  if (key == kLoadViscous) return &p.load_viscous;
+  if (key == kStribeckTorque) return &p.stribeck_torque;
+  if (key == kStribeckVelocity) return &p.stribeck_velocity;
+  if (key == kAsymmetry) return &p.asymmetry;
+  if (key == kTemperatureCoefficient) return &p.temperature_coefficient;
+  if (key == kTemperatureViscousCoefficient) return &p.temperature_viscous_coefficient;
+  if (key == kReferenceTemperature) return &p.reference_temperature_C;
+  return nullptr;
+}
+
+double parameter(const FrictionParams& p, std::string_view key) {
+  const double* v = parameter(const_cast<FrictionParams&>(p), key);
+  return v ? *v : 0.0;
+}
+
 FrictionParams frictionParams(const Drive& d, const std::vector<Effect>& extra) {
   FrictionParams p;
   parseFrictionLaw(d.friction_law.empty() ? "none" : d.friction_law, p.law);

@@ -85,6 +85,11 @@ struct FrictionParams {
 // the temperature effect, not a fitted parameter, and is not listed).
 std::vector<std::string> effectKeys(Effect effect);
 
+// The parameter of FrictionParams named by its [drive.friction] key (effectKeys, plus
+// reference_temperature); nullptr for an unknown key. The one place that maps keys to fields.
+double* parameter(FrictionParams& p, std::string_view key);
+double parameter(const FrictionParams& p, std::string_view key);  // 0 for an unknown key
+
 // Builds the resolved parameters from a drive plus the extra effects enabled for it (the
 // "<joint>.<effect>" entries of [model].effects). Precondition: validateFriction passed.
 FrictionParams frictionParams(const Drive& drive, const std::vector<Effect>& extra_effects);

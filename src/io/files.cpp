@@ -1,10 +1,13 @@
 #include "io/files.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -63,6 +66,117 @@ void writeFileAtomic(const std::string& path, const std::string& content) {
     }
   }
   fs::rename(tmp, target);
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// `folder` with symbolic links resolved as far as it exists, without a trailing separator.
+fs::path resolvedFolder(const std::string& folder) {
+  fs::path p = fs::weakly_canonical(fs::absolute(fs::path(folder)));
+  if (p.filename().empty()) p = p.parent_path();
+  return p;
+}
+
+// "<name>.tmp.<digits>": a writeFileAtomic temporary.
+bool isAtomicTemporary(const std::string& name) {
+  const auto dot = name.rfind(".tmp.");
+  return dot != std::string::npos && dot + 5 < name.size() &&
+         name.find_first_not_of("0123456789", dot + 5) == std::string::npos;
+}
+
+}  // namespace
+
+std::string makeStagingFolder(const std::string& folder) {
+  const fs::path target = resolvedFolder(folder);
+  if (fs::exists(target) && !fs::is_directory(target))
+    throw InputError(folder, 0, "", "the output folder is a file, not a folder");
+  const std::string prefix = target.filename().string() + ".staging.",
+                    aside = target.filename().string() + ".previous.";
+  // The process id after `p` in `name`, when `name` is p<digits> and that process no longer exists.
+  auto deadPid = [](const std::string& name, const std::string& p) {
+    if (name.rfind(p, 0) != 0 || name.size() == p.size() ||
+        name.find_first_not_of("0123456789", p.size()) != std::string::npos)
+      return false;
+    const long pid = std::strtol(name.c_str() + p.size(), nullptr, 10);
+    return pid > 0 && pid != ::getpid() && ::kill(static_cast<pid_t>(pid), 0) != 0 &&
+           errno == ESRCH;
+  };
+  std::error_code ec;
+  // Leftovers of killed runs: the staging folder of a run killed before its swap, the previous
+  // folder of a run killed between the swap and the removal, or (without RENAME_EXCHANGE) the
+  // previous folder renamed aside, which goes back when the output folder is missing.
+  for (auto it = fs::directory_iterator(target.parent_path(), ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code rm;
+    if (deadPid(name, prefix)) {
+      fs::remove_all(it->path(), rm);
+    } else if (deadPid(name, aside)) {
+      if (!fs::exists(fs::symlink_status(target))) fs::rename(it->path(), target, rm);
+      if (fs::exists(it->path())) fs::remove_all(it->path(), rm);
+    }
+  }
+  ec.clear();
+  const fs::path staging = target.parent_path() / (prefix + std::to_string(::getpid()));
+  fs::remove_all(staging, ec);
+  ec.clear();
+  fs::create_directories(staging, ec);
+  if (ec || !fs::is_directory(staging))
+    throw InputError(folder, 0, "",
+                     "cannot create the staging folder " + staging.string() +
+                         " beside the output folder" + (ec ? ": " + ec.message() : std::string()));
+  return staging.string();
+}
+
+void publishFolder(const std::string& staging, const std::string& folder) {
+  const fs::path target = resolvedFolder(folder), from(staging);
+  if (!fs::is_directory(from))
+    throw std::runtime_error("cannot publish " + staging + ": not a folder");
+  if (fs::exists(fs::symlink_status(target))) {
+    // Keep what the new result does not replace (a compare's files beside a fit's, the history of
+    // a folder this run did not write): hard links cost no copy and leave the previous folder as
+    // it is until the exchange.
+    for (auto it = fs::recursive_directory_iterator(target);
+         it != fs::recursive_directory_iterator(); ++it) {
+      const fs::path rel = it->path().lexically_relative(target), to = from / rel;
+      const fs::file_status st = it->symlink_status();
+      if (fs::exists(fs::symlink_status(to))) {
+        // The new result's entry wins; a previous folder merges only into a new folder.
+        if (fs::is_directory(st) && !fs::is_directory(fs::symlink_status(to)))
+          it.disable_recursion_pending();
+        continue;
+      }
+      if (fs::is_directory(st)) {
+        fs::create_directory(to);
+      } else if (fs::is_symlink(st)) {
+        fs::copy_symlink(it->path(), to);
+      } else if (fs::is_regular_file(st) && !isAtomicTemporary(rel.filename().string())) {
+        std::error_code ec;
+        fs::create_hard_link(it->path(), to, ec);
+        if (ec) fs::copy_file(it->path(), to);
+      }
+    }
+    if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+      // The previous folder, now at the staging path; a leftover goes with the next staging folder.
+      std::error_code ec;
+      fs::remove_all(from, ec);
+      return;
+    }
+    if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP)
+      throw std::runtime_error("cannot move " + staging + " into place as " + target.string() +
+                               ": " + std::strerror(errno));
+    const fs::path aside = target.parent_path() /
+                           (target.filename().string() + ".previous." + std::to_string(::getpid()));
+    fs::rename(target, aside);
+    fs::rename(from, target);
+    std::error_code ec;
+    fs::remove_all(aside, ec);
+    return;
+  }
+  fs::create_directories(target.parent_path());
+  fs::rename(from, target);
 }
 
 OutputFolderLock::OutputFolderLock(const std::string& folder) {

@@ -16,6 +16,24 @@ std::string fileHash(const std::string& path);
 // the target. An interrupted run never leaves a half-written file. Creates parent folders.
 void writeFileAtomic(const std::string& path, const std::string& content);
 
+// An output folder published as a whole (issue 19): a run writes its complete result into a
+// staging folder beside the output folder, then publishFolder swaps it in, so a reader of the
+// output folder finds the previous complete result or the new one, never a mix.
+//
+// A fresh, empty staging folder "<folder>.staging.<pid>" beside `folder` (symbolic links in
+// `folder` resolved, so both are on one file system). Staging folders of processes that no longer
+// exist (a run killed before or after its swap) are removed first. InputError naming `folder` when
+// the staging folder cannot be created.
+std::string makeStagingFolder(const std::string& folder);
+// Moves the complete folder `staging` into place as `folder` in one step. Entries of `folder` that
+// `staging` does not have are hard-linked (or copied) into it first, so files the new result does
+// not replace stay; writeFileAtomic temporaries are left behind. Then the two folders are
+// exchanged atomically (renameat2 RENAME_EXCHANGE; a plain rename when `folder` does not exist
+// yet) and the previous folder, now at the staging path, is removed. A failure before the exchange
+// leaves `folder` untouched. On a file system without RENAME_EXCHANGE the previous folder is
+// renamed aside first, so `folder` is missing for the moment between two renames.
+void publishFolder(const std::string& staging, const std::string& folder);
+
 }  // namespace armstudy
 
 namespace armstudy {

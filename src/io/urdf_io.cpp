@@ -20,6 +20,7 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy {
@@ -41,6 +42,7 @@ bool isUrdfPath(const std::string& path) {
 
 namespace {
 
+using namespace urdf_detail;
 using Eigen::Isometry3d;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
@@ -54,11 +56,6 @@ class CaptureHandler : public console_bridge::OutputHandler {
   std::vector<std::string> messages;
 };
 
-// Lines of the URDF's elements (urdfdom keeps none), found with tinyxml, the parser urdfdom uses.
-struct XmlIndex {
-  int robot_line = 1;
-  std::map<std::string, int> links, joints;  // element name -> line
-};
 
 const char* kNumericAttributes[] = {
     "xyz", "rpy", "value", "lower",  "upper",  "effort", "velocity", "ixx",        "ixy",   "ixz",
@@ -166,13 +163,6 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
   return out;  // the document dies here: keep lines, not elements
 }
 
-Isometry3d toIso(const urdf::Pose& p) {
-  Isometry3d T = Isometry3d::Identity();
-  T.linear() =
-      Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).toRotationMatrix();
-  T.translation() = Vector3d(p.position.x, p.position.y, p.position.z);
-  return T;
-}
 
 PoseXYZABG poseFromIso(const Isometry3d& T) {
   PoseXYZABG p;
@@ -186,7 +176,6 @@ PoseXYZABG poseFromIso(const Isometry3d& T) {
   return p;
 }
 
-bool isIdentity(const Isometry3d& T) { return T.isApprox(Isometry3d::Identity(), 1e-15); }
 
 // Rotation R_a with R_a e_z = a (unit): the joint frame of armstudy, whose z axis is the URDF axis.
 Matrix3d axisFrame(const Vector3d& a) {
@@ -199,170 +188,6 @@ std::string sanitizeName(const std::string& s) {
     o +=
         (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
   return o.empty() ? "urdf_robot" : o;
-}
-
-// package://NAME/rest: --package NAME=DIR first, then the folders above the URDF file (the first
-// A with A/rest or A/NAME/rest). file:// URIs are absolute, plain names relative to the URDF.
-std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
-                        const UrdfOptions& o) {
-  const fs::path urdf_dir = fs::absolute(fs::path(urdf_file)).parent_path();
-  const std::string pkg = "package://", file = "file://";
-  if (uri.rfind(pkg, 0) == 0) {
-    const std::string s = uri.substr(pkg.size());
-    const auto slash = s.find('/');
-    const std::string name = s.substr(0, slash),
-                      rest = slash == std::string::npos ? "" : s.substr(slash + 1);
-    for (const auto& [n, dir] : o.packages)
-      if (n == name) return (fs::path(dir) / rest).string();
-    for (fs::path a = urdf_dir; !a.empty(); a = a.parent_path()) {
-      if (fs::exists(a / rest)) return (a / rest).string();
-      if (fs::exists(a / name / rest)) return (a / name / rest).string();
-      if (a == a.parent_path()) break;
-    }
-    return "";  // unresolved
-  }
-  if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
-  const fs::path p(uri);
-  return p.is_absolute() ? p.string() : (urdf_dir / p).string();
-}
-
-// All triangles of a mesh file (STL, DAE, OBJ, ... through assimp), node transforms applied.
-bool loadMesh(const std::string& path, collision::TriangleMesh& out, std::string& error) {
-  if (!fs::is_regular_file(path)) {
-    error = "mesh file not found";
-    return false;
-  }
-  Assimp::Importer imp;
-  // Assumption: a DAE's up axis is ignored, as ROS tools do with URDF meshes; unit scale applies.
-  imp.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* sc = imp.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
-  if (!sc || !sc->mRootNode) {
-    error = std::string("assimp cannot read it: ") + imp.GetErrorString();
-    return false;
-  }
-  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{
-      {sc->mRootNode, sc->mRootNode->mTransformation}};
-  while (!stack.empty()) {
-    auto [node, T] = stack.back();
-    stack.pop_back();
-    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
-      const aiMesh* mesh = sc->mMeshes[node->mMeshes[k]];
-      const int first = static_cast<int>(out.vertices.size());
-      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-        const aiVector3D p = T * mesh->mVertices[v];
-        out.vertices.emplace_back(p.x, p.y, p.z);
-      }
-      for (unsigned f = 0; f < mesh->mNumFaces; ++f)
-        if (mesh->mFaces[f].mNumIndices == 3)
-          out.triangles.push_back({first + static_cast<int>(mesh->mFaces[f].mIndices[0]),
-                                   first + static_cast<int>(mesh->mFaces[f].mIndices[1]),
-                                   first + static_cast<int>(mesh->mFaces[f].mIndices[2])});
-    }
-    for (unsigned c = 0; c < node->mNumChildren; ++c)
-      stack.push_back({node->mChildren[c], T * node->mChildren[c]->mTransformation});
-  }
-  if (out.vertices.empty()) {
-    error = "the mesh has no vertices";
-    return false;
-  }
-  return true;
-}
-
-void addFitted(Model& m, int body, const std::string& name, const collision::SsvFitSummary& fit) {
-  int k = 0;
-  for (const auto& f : fit.volumes) {
-    CollisionVolume v;
-    v.name = name + (fit.volumes.size() > 1 ? "_" + std::to_string(k++) : "");
-    v.link = body;
-    v.type = f.type;
-    v.p_L = f.p;
-    v.radius_m = f.radius_m;
-    m.collision.volumes.push_back(v);
-  }
-}
-
-// One link's part of a body: the link and the transform from the body frame F to the link frame L.
-struct LinkInBody {
-  urdf::LinkConstSharedPtr link;
-  Isometry3d T_FL;
-};
-
-void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
-                  const UrdfOptions& o, const XmlIndex& xml, std::vector<std::string>& warnings,
-                  std::string& mesh_hashes) {
-  int idx = 0;
-  for (const auto& c : lb.link->collision_array) {
-    if (!c || !c->geometry) continue;
-    const std::string name =
-        lb.link->name + (lb.link->collision_array.size() > 1 ? "_c" + std::to_string(idx) : "");
-    ++idx;
-    const Isometry3d T = lb.T_FL * toIso(c->origin);
-    const int line = xml.links.count(lb.link->name) ? xml.links.at(lb.link->name) : 0;
-    collision::TriangleMesh tm;
-    switch (c->geometry->type) {
-      case urdf::Geometry::SPHERE: {
-        const auto& s = static_cast<const urdf::Sphere&>(*c->geometry);
-        CollisionVolume v;
-        v.name = name;
-        v.link = body;
-        v.type = SsvType::Point;
-        v.p_L[0] = T.translation();
-        v.radius_m = s.radius;
-        v.source_line = line;
-        m.collision.volumes.push_back(v);
-        continue;
-      }
-      case urdf::Geometry::CYLINDER: {  // a capsule on the cylinder's axis: contains the cylinder
-        const auto& s = static_cast<const urdf::Cylinder&>(*c->geometry);
-        CollisionVolume v;
-        v.name = name;
-        v.link = body;
-        v.type = s.length > 0 ? SsvType::Line : SsvType::Point;
-        v.p_L[0] = T * Vector3d(0, 0, -s.length / 2);
-        v.p_L[1] = T * Vector3d(0, 0, s.length / 2);
-        if (v.type == SsvType::Point) v.p_L[0] = T.translation();
-        v.radius_m = s.radius;
-        v.source_line = line;
-        m.collision.volumes.push_back(v);
-        continue;
-      }
-      case urdf::Geometry::BOX: {
-        const auto& b = static_cast<const urdf::Box&>(*c->geometry);
-        for (int k = 0; k < 8; ++k)
-          tm.vertices.push_back(T * Vector3d((k & 1 ? 0.5 : -0.5) * b.dim.x,
-                                             (k & 2 ? 0.5 : -0.5) * b.dim.y,
-                                             (k & 4 ? 0.5 : -0.5) * b.dim.z));
-        // 12 triangles of the box (corner k has bit 0 = +x, bit 1 = +y, bit 2 = +z)
-        tm.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                        {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-        break;
-      }
-      case urdf::Geometry::MESH: {
-        const auto& me = static_cast<const urdf::Mesh&>(*c->geometry);
-        const std::string path = resolveMesh(me.filename, file, o);
-        std::string err = path.empty() ? "package not found (give --package NAME=DIR)" : "";
-        collision::TriangleMesh raw;
-        if (path.empty() || !loadMesh(path, raw, err)) {
-          warnings.push_back("URDF import: link '" + lb.link->name +
-                             "' gets no collision volume from mesh '" + me.filename + "': " + err);
-          continue;
-        }
-        mesh_hashes += me.filename + " " + fileHash(path) + "\n";
-        const Vector3d scale(me.scale.x, me.scale.y, me.scale.z);
-        tm.triangles = raw.triangles;
-        for (const Vector3d& p : raw.vertices) tm.vertices.push_back(T * p.cwiseProduct(scale));
-        break;
-      }
-      default:
-        continue;
-    }
-    collision::SsvFitOptions fo;
-    fo.max_volumes = defaults::kUrdfSsvMaxVolumesPerMesh;
-    const std::size_t before = m.collision.volumes.size();
-    addFitted(m, body, name, collision::fitSsvs(tm, fo));
-    for (std::size_t k = before; k < m.collision.volumes.size(); ++k)
-      m.collision.volumes[k].source_line = line;
-  }
 }
 
 // Inertials of the links of one body, merged into one rigid body about its COM, in frame F.
@@ -655,102 +480,6 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
 Model importUrdf(const std::string& path, const UrdfOptions& o, UrdfInfo* info,
                  std::vector<std::string>* warnings) {
   return importUrdfText(readFileOrThrow(path), path, o, info, warnings);
-}
-
-namespace {
-std::string fmt(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-std::string vec(const Vector3d& v) { return fmt(v.x()) + " " + fmt(v.y()) + " " + fmt(v.z()); }
-std::string origin(const Isometry3d& T) {
-  const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
-  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
-         " " + fmt(ypr[0]) + "\"/>";
-}
-std::string xmlEscape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<')
-      o += "&lt;";
-    else if (c == '>')
-      o += "&gt;";
-    else if (c == '&')
-      o += "&amp;";
-    else if (c == '"')
-      o += "&quot;";
-    else
-      o += c;
-  }
-  return o;
-}
-std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
-  return "    <inertial>\n      <origin xyz=\"" + vec(c) +
-         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) + "\"/>\n      <inertia ixx=\"" +
-         fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) + "\" iyy=\"" +
-         fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) +
-         "\"/>\n    </inertial>\n";
-}
-}  // namespace
-
-std::string exportUrdf(const Model& m, const UrdfInfo& info) {
-  const bool has_joint_info = info.joints.size() == m.joints.size();
-  std::ostringstream o;
-  std::set<std::string> used;
-  auto unique = [&](std::string n) {
-    while (!used.insert(n).second) n += "_";
-    return n;
-  };
-  const std::string base = unique(info.base_link.empty() ? "base_link" : info.base_link);
-  std::vector<std::string> links;
-  for (int i = 0; i < m.dof(); ++i) {
-    const std::string& l = has_joint_info ? info.joints[i].link : std::string();
-    links.push_back(unique(l.empty() ? m.joints[i].name + "_link" : l));
-  }
-  const bool tcp_is_last = isIdentity(m.T_NT) && m.payload_kg == 0 &&
-                           (info.tcp_link.empty() || info.tcp_link == links.back());
-  const std::string tcp =
-      tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
-  o << "<?xml version=\"1.0\"?>\n<!-- Written by armstudy from design '" << xmlEscape(m.name)
-    << "' (docs/design-format.md, \"URDF\"). Not exported: drives, model effects, collision "
-       "volumes. -->\n";
-  o << "<robot name=\"" << xmlEscape(m.name) << "\">\n";
-  if (!isIdentity(m.T_WB)) {
-    const std::string world = unique("world");
-    o << "  <link name=\"" << world << "\"/>\n  <joint name=\"" << unique(world + "_joint")
-      << "\" type=\"fixed\">\n    <parent link=\"" << world << "\"/>\n    <child link=\""
-      << xmlEscape(base) << "\"/>\n    " << origin(m.T_WB) << "\n  </joint>\n";
-  }
-  o << "  <link name=\"" << xmlEscape(base) << "\"/>\n";
-  for (int i = 0; i < m.dof(); ++i) {
-    const Joint& j = m.joints[i];
-    const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
-    const char* type = j.type == JointType::Prismatic ? "prismatic"
-                       : ji.continuous                ? "continuous"
-                                                      : "revolute";
-    o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type
-      << "\">\n    <parent link=\"" << xmlEscape(i == 0 ? base : links[i - 1])
-      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(j.T_PJ0)
-      << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
-    if (!ji.continuous)
-      o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
-    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
-      << "\"/>\n  </joint>\n";
-    o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
-    if (!m.inertias.empty() && m.inertias[i].given)
-      o << inertial(m.inertias[i].mass_kg, m.inertias[i].p_com_m, m.inertias[i].I_com_kgm2);
-    o << "  </link>\n";
-  }
-  if (!tcp_is_last) {
-    o << "  <joint name=\"" << unique(tcp + "_joint") << "\" type=\"fixed\">\n    <parent link=\""
-      << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    "
-      << origin(m.T_NT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
-    if (m.payload_kg > 0) o << inertial(m.payload_kg, m.p_payload_com_T, Matrix3d::Zero());
-    o << "  </link>\n";
-  }
-  o << "</robot>\n";
-  return o.str();
 }
 
 }  // namespace armstudy

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -166,6 +167,37 @@ template <class T>
 const T& settingsAs(const StageSettings& s) {
   return dynamic_cast<const SettingsOf<T>&>(s).value;
 }
+
+// A stage made of a section reader and a run function, which is what most stages are:
+//   const Stage& trackingStage() {
+//     static const FunctionStage<Entries> stage("tracking", readEntries, runTrackingStage);
+//     return stage;
+//   }
+// `read` returns no value when the study has no section for the stage.
+template <class Settings>
+class FunctionStage final : public Stage {
+ public:
+  using Read = std::function<std::optional<Settings>(const SectionInput&)>;
+  using Run = std::function<StageResult(const StageContext&, const Settings&)>;
+  FunctionStage(std::string name, Read read, Run run, std::string timing_name = "")
+      : name_(std::move(name)), timing_(timing_name.empty() ? name_ : std::move(timing_name)),
+        read_(std::move(read)), run_(std::move(run)) {}
+  std::string name() const override { return name_; }
+  std::string timingName() const override { return timing_; }
+  std::shared_ptr<const StageSettings> read(const SectionInput& in) const override {
+    std::optional<Settings> s = read_(in);
+    if (!s) return nullptr;
+    return std::make_shared<SettingsOf<Settings>>(std::move(*s));
+  }
+  StageResult run(const StageContext& ctx, const StageSettings& settings) const override {
+    return run_(ctx, settingsAs<Settings>(settings));
+  }
+
+ private:
+  std::string name_, timing_;
+  Read read_;
+  Run run_;
+};
 
 // The settings of the stage `name` in a loaded study, as its type; null when the study has no
 // such section (tests, benchmarks and tools look at them this way).

@@ -100,3 +100,34 @@ TEST_CASE("no file in src/ includes a header from a higher layer", "[architectur
   for (const std::string& s : stale) UNSCOPED_INFO("no longer included, delete from kKnownUpward: " << s);
   CHECK(stale.empty());
 }
+
+TEST_CASE("every folder under src/stages/ is one registry line, and the registry names no other stage",
+          "[architecture]") {
+  // Adding a stage means a folder under src/stages/ and one line in src/engine/registry.cpp
+  // (docs/architecture.md, "Stages"); nothing else in src/ may name a concrete stage.
+  std::set<std::string> folders;
+  for (const auto& e : fs::directory_iterator(srcDir() + "/stages"))
+    if (e.is_directory()) folders.insert(e.path().filename().string());
+  REQUIRE(folders.size() >= 5);
+  std::ifstream in(srcDir() + "/engine/registry.cpp");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string registry = text.str();
+  const std::regex line_re(R"(&(\w+)Stage\(\),)");
+  std::set<std::string> listed;
+  for (std::sregex_iterator it(registry.begin(), registry.end(), line_re), end; it != end; ++it)
+    listed.insert((*it)[1].str());
+  CHECK(listed == folders);
+  // Only the registry includes the stages' entry headers (stages/<name>/stage.hpp).
+  const std::regex include_re(R"(#\s*include\s*"stages/\w+/stage\.hpp")");
+  for (const auto& e : fs::recursive_directory_iterator(srcDir())) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), srcDir()).generic_string();
+    if (rel == "engine/registry.cpp" || rel.rfind("stages/", 0) == 0) continue;
+    std::ifstream f(e.path());
+    std::stringstream b;
+    b << f.rdbuf();
+    INFO(rel);
+    CHECK_FALSE(std::regex_search(b.str(), include_re));
+  }
+}

@@ -1,6 +1,6 @@
-// Model versus measurement for drives: hidden effects in synthetic test-bed data must be found,
-// nothing hidden must give "no significant missing effect", the thesis sample reproduces Tables
-// 4.4/4.5, and bad input is reported.
+// Model versus measurement for drives (the drive kind's problem on the one engine): hidden effects
+// in synthetic test-bed data must be found, nothing hidden must give "no significant missing
+// effect", the thesis sample reproduces Tables 4.4/4.5, and bad input is reported.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -72,6 +72,14 @@ std::string withoutDesign(Effect hidden) {
   return design("none", params, effects);
 }
 
+// A design text as a file (the calibrated copy is an edit of the design file).
+Model designFile(const std::string& text, const std::string& name) {
+  const std::string dir = test::binaryPath() + "_designs";
+  std::filesystem::create_directories(dir);
+  writeFileAtomic(dir + "/" + name + ".toml", text);
+  return loadDesign(dir + "/" + name + ".toml");
+}
+
 DriveData synth(const Model& m, std::vector<Effect> hidden, std::uint64_t seed) {
   SynthOptions o;
   o.noise_A = kNoise_A;
@@ -132,9 +140,10 @@ TEST_CASE("every hidden drive effect ranks first / and adding it brings the held
     const Model m = parseDesign(classic ? withoutDesign(hidden) : catalogDesign(), "bed.toml");
     const DriveData data = synth(m, {hidden}, 11);
     DriveFitOptions o;
-    o.add = {hidden};
+    o.auto_add = true;
     const DriveDiagnosis d = diagnoseDrive(m, "j1", data, o);
-    INFO("hidden " << drive::toString(hidden) << ", ranked first: " << drive::toString(d.ranking.front().effect));
+    INFO("hidden " << drive::toString(hidden) << ", ranked first: " << drive::toString(d.ranking.front().effect)
+                   << ", verdict: " << d.verdict);
     REQUIRE(d.ranking.front().effect == hidden);
     CHECK(d.ranking.front().significant);
     CHECK(d.missing_effect_found);
@@ -142,15 +151,14 @@ TEST_CASE("every hidden drive effect ranks first / and adding it brings the held
     CHECK(d.rmse_after <= kNoiseRatio * kNoise_A);
     CHECK(d.rmse_after < d.rmse_before);
     CHECK(d.final_cmp.map.flagged() == 0);
-    CHECK(d.base_cmp.map.flagged() > 0);  // the residual map showed where the model failed
-    // Nothing else is missing afterwards.
-    REQUIRE(d.rankings_after.size() == 1);
-    for (const Candidate& c : d.rankings_after[0]) CHECK_FALSE(c.significant);
+    CHECK(d.as_designed_cmp.map.flagged() > 0);  // the residual map showed where the model failed
+    // Nothing else is missing afterwards (--auto stopped after one; no unexplained pattern).
+    CHECK(d.verdict == std::string("missing effect: ") + drive::toString(hidden));
   }
 }
 
 TEST_CASE("hidden values are recovered within their confidence intervals (Stribeck / profiled v_S)") {
-  const Model m = parseDesign(catalogDesign(), "bed.toml");
+  const Model m = designFile(catalogDesign(), "bed_ci");
   SynthOptions so;
   so.noise_A = kNoise_A;
   so.hidden = {{Effect::Stribeck, {{"stribeck_torque", 0.03}, {"stribeck_velocity", 45.0}}}};
@@ -161,18 +169,23 @@ TEST_CASE("hidden values are recovered within their confidence intervals (Stribe
   REQUIRE(d.added == std::vector<Effect>{Effect::Stribeck});
   std::map<std::string, FittedParameter> p;
   for (const auto& x : d.final_fit.params) p[x.key] = x;
-  for (const auto& [key, truth] : std::vector<std::pair<std::string, double>>{
-           {"stribeck_torque", 0.03}, {"stribeck_velocity", 45.0}, {"coulomb", 0.0802}, {"viscous", 1.51e-4}}) {
+  for (const auto& [key, truth] : std::vector<std::pair<std::string, double>>{{"stribeck.stribeck_torque", 0.03},
+                                                                             {"stribeck.stribeck_velocity", 45.0},
+                                                                             {"refit.coulomb", 0.0802},
+                                                                             {"refit.viscous", 1.51e-4}}) {
     INFO(key << " = " << p[key].value << " [" << p[key].ci_low << ", " << p[key].ci_high << "], truth " << truth);
     CHECK(p[key].ci_low <= truth);
     CHECK(truth <= p[key].ci_high);
   }
-  // The fitted model evaluated through the friction law reproduces the fit's own prediction.
-  const Drive& dr = d.calibrated.drives[0];
-  const auto fp = drive::frictionParams(d.calibrated, dr);
+  // The calibrated design copy, read back and evaluated through the friction law of src/drive,
+  // reproduces the fit's own prediction.
+  std::vector<std::string> notes;
+  const Model cal = parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+  const Drive& dr = requireDrive(cal, "j1");
+  const auto fp = drive::frictionParams(cal, dr);
   for (int i = 0; i < data.rows(); i += 17)
     CHECK(drive::testBedCurrent(dr, fp, data.speed[i], data.load[i], data.temperature[i]) ==
-          Approx(d.final_fit.predicted[i]).epsilon(1e-9));
+          Approx(d.final_fit.predicted(i, 0)).epsilon(1e-9));
 }
 
 TEST_CASE("nothing hidden: no significant missing effect") {
@@ -195,7 +208,7 @@ TEST_CASE("nothing hidden: no significant missing effect") {
     so.seed = seed;
     const DriveDiagnosis d = diagnoseDrive(m, "j1", synthesizeDrive(m, "j1", so), {});
     CHECK_FALSE(d.missing_effect_found);
-    CHECK(d.base_cmp.map.flagged() == 0);
+    CHECK(d.final_cmp.map.flagged() == 0);
     CHECK(d.noise_rho > 0.3);
   }
 }
@@ -219,14 +232,15 @@ TEST_CASE("thesis story: catalog law (eq. 3.30 / Table C.1) vs the B.2 test bed 
   // Fitted eq. (3.33) parameters against Table 4.4, B.2.
   std::map<std::string, double> p;
   for (const auto& x : d.final_fit.params) p[x.key] = x.value;
-  CHECK(p["coulomb"] == Approx(1.36e-1).epsilon(kTableTolerance));
-  CHECK(p["load_coulomb"] == Approx(4.4e-3).epsilon(kTableTolerance));
-  CHECK(p["stribeck_torque"] == Approx(4.77e-2).epsilon(kTableTolerance));
-  CHECK(p["stribeck_velocity"] == Approx(65.2).epsilon(kTableTolerance));
+  CHECK(p["refit.coulomb"] == Approx(1.36e-1).epsilon(kTableTolerance));
+  CHECK(p["refit.load_coulomb"] == Approx(4.4e-3).epsilon(kTableTolerance));
+  CHECK(p["stribeck.stribeck_torque"] == Approx(4.77e-2).epsilon(kTableTolerance));
+  CHECK(p["stribeck.stribeck_velocity"] == Approx(65.2).epsilon(kTableTolerance));
   // The temperature barely varies in the sample: the effect is flagged as hard to identify.
   bool warned = false;
+  for (const std::string& w : d.warnings) warned = warned || w.find("weakly identifiable") != std::string::npos;
   for (const Candidate& c : d.ranking)
-    if (c.effect == Effect::Temperature) warned = !c.warnings.empty();
+    if (c.effect == Effect::Temperature) warned = warned || !c.warnings.empty();
   CHECK(warned);
 }
 
@@ -276,8 +290,7 @@ TEST_CASE("bad input: missing drive / too few rows / standstill row / constant o
       CHECK(c.status == "unidentifiable");
       CHECK_FALSE(c.warnings.empty());
     }
-  for (const Candidate& c : d2.ranking)
-    if (c.effect == Effect::Temperature) CHECK(c.status == "not_applicable");
+  for (const Candidate& c : d2.ranking) CHECK_FALSE(drive::isTemperatureEffect(c.effect));  // not a candidate
 
   SynthOptions one;
   one.speeds_radps = {50, 100, 200, 300};

@@ -6,11 +6,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
+#include "io/files.hpp"
 #include "report/image.hpp"
 #include "test_support.hpp"
 
@@ -142,4 +145,73 @@ TEST_CASE("one run per output folder, stale temporaries of a killed run removed,
                        (d / "file.txt" / "sub").string(),
                    log) == 2);
   CHECK(log.find("cannot create the output folder") != std::string::npos);
+}
+
+namespace {
+// ulimit -f of the failing fit, in the 512-byte blocks of POSIX sh (16 kB): above every file a
+// tcp fit of 30 rows writes (plots, VTK files, residuals, history, calibrated design: at most
+// 13 kB) but result.json (50 kB), which it writes last.
+constexpr int kFileSizeLimitBlocks = 32;
+
+// Every file below `dir` by relative path.
+std::map<std::string, std::string> files(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file())
+      out[fs::relative(e.path(), dir).string()] = armstudy::readFileOrThrow(e.path().string());
+  return out;
+}
+}  // namespace
+
+TEST_CASE(
+    "a fit that fails mid-way leaves the previous result whole, a complete fit replaces the folder "
+    "at once",
+    "[cli][hardening][calibration]") {
+  const fs::path d = freshDir("fit_swap");
+  const std::string design = sourcePath("designs/final_prototype_7dof.toml"),
+                    data = (d / "tcp.csv").string();
+  const fs::path res = d / "res";
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " synth " + design +
+                         " --kind tcp --rows 30 --noise 2e-4 --out " + data,
+                     log) == 0);
+  const std::string fit =
+      binaryPath() + " fit " + design + " --kind tcp --data " + data + " --out " + res.string();
+  REQUIRE(runCommand(fit, log) == 0);
+  std::ofstream(res / "notes.txt") << "a user's note";
+  const auto before = files(res);
+  REQUIRE(before.count("result.json") == 1);
+  REQUIRE(before.count("final_prototype_7dof_calibrated.toml") == 1);
+
+  // Mid-way: under a file-size limit (SIGXFSZ ignored, so a longer write fails with EFBIG) the fit
+  // writes every file of its result into the staging folder but the last, result.json.
+  CHECK(runCommand("sh -c 'trap \"\" XFSZ; ulimit -f " + std::to_string(kFileSizeLimitBlocks) +
+                       "; exec " + fit + "'",
+                   log) == 1);
+  INFO(log);
+  CHECK(log.find("res.staging.") != std::string::npos);  // failed while writing the new result
+  CHECK(log.find("result.json") != std::string::npos);
+  CHECK(files(res) == before);  // history.csv included
+  for (const auto& e : fs::directory_iterator(d))
+    CHECK(e.path().filename().string().find(".staging.") == std::string::npos);
+
+  // The staging folder of a killed fit (a process id no process has) goes with the next fit, which
+  // publishes its result as one folder: the same files, one more history row, the note kept. A
+  // folder in the way of one of its files (which stopped the file-by-file moves half-way, after the
+  // plots and before residuals.csv and history.csv) is replaced with the rest.
+  fs::create_directories(d / "res.staging.999999999");
+  fs::remove(res / "residuals.csv");
+  fs::create_directories(res / "residuals.csv");
+  std::ofstream(res / "residuals.csv" / "in_the_way.txt") << "x";
+  REQUIRE(runCommand(fit, log) == 0);
+  CHECK(fs::is_regular_file(res / "residuals.csv"));
+  const auto after = files(res);
+  CHECK_FALSE(fs::exists(d / "res.staging.999999999"));
+  CHECK(after.size() == before.size());
+  for (const auto& [name, text] : before) CHECK(after.count(name) == 1);
+  CHECK(after.at("notes.txt") == "a user's note");
+  const std::string& h0 = before.at("history.csv");
+  const std::string& h1 = after.at("history.csv");
+  CHECK(std::count(h1.begin(), h1.end(), '\n') == std::count(h0.begin(), h0.end(), '\n') + 1);
+  CHECK(h1.rfind(h0, 0) == 0);  // appended, the earlier rows as they were
 }

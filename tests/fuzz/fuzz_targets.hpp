@@ -6,17 +6,19 @@
 // Used twice: tests/fuzz/replay_test.cpp runs them on the corpus and on seeded mutations of it in
 // every test run (a few seconds each), and tests/fuzz/libfuzzer_main.cpp turns each into a
 // libFuzzer binary for the on-demand `fuzz` target (clang; README "Fuzzing").
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
 #include "io/design_io.hpp"
+#include "io/urdf_io.hpp"
 #ifndef ARMSTUDY_CORE_ONLY
 #include "engine/study_file.hpp"
 #endif
@@ -63,6 +65,18 @@ inline void baseline(const std::uint8_t* data, std::size_t size) {
   const std::string file = "fuzz.baseline.json";
   try {
     (void)parseBaseline(bytes(data, size), file, "regression");
+  } catch (const InputError& e) {
+    requireNamed(e, file);
+  }
+}
+
+// A URDF file, imported with its collision volumes fitted (boxes, cylinders and spheres; meshes a
+// fuzzed file names are looked up beside the working folder, where there are none, and become
+// notes).
+inline void urdf(const std::uint8_t* data, std::size_t size) {
+  const std::string file = "fuzz_robot.urdf";
+  try {
+    (void)importUrdfText(bytes(data, size), file, UrdfOptions{});
   } catch (const InputError& e) {
     requireNamed(e, file);
   }

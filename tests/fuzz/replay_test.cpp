@@ -41,7 +41,8 @@ std::vector<std::string> seeds(const std::string& target, const std::vector<std:
         files.push_back(e.path());
     }
   };
-  for (const auto& [dir, suffix] : globs) add(test::sourcePath(dir), suffix);
+  for (const auto& [dir, suffix] : globs)
+    add(fs::path(dir).is_absolute() ? fs::path(dir) : fs::path(test::sourcePath(dir)), suffix);
   add(test::sourcePath("tests/fuzz/corpus/" + target), "");
   std::sort(files.begin(), files.end());  // a fixed order: the same mutations on every machine
   std::vector<std::string> out;
@@ -141,6 +142,15 @@ TEST_CASE("fuzz CSV reader: shipped data and 30000 mutations accepted or rejecte
 TEST_CASE("fuzz baseline reader: shipped baselines and 30000 mutations accepted or rejected naming the file",
           "[fuzz]") {
   check("baseline", fuzz::baseline, {{"studies", ".baseline.json"}}, 30000);
+}
+
+TEST_CASE("fuzz URDF reader: the real arms and 5000 mutations accepted or rejected naming the file",
+          "[fuzz]") {
+  // The arms of ../shared/robots, read in place (tests/CMakeLists.txt, ARMSTUDY_ROBOTS_DIR).
+  check("urdf", fuzz::urdf,
+        {{ARMSTUDY_ROBOTS_DIR "/panda_description/urdf", ".urdf"},
+         {ARMSTUDY_ROBOTS_DIR "/ur_description/urdf", ".urdf"}},
+        5000);
 }
 
 TEST_CASE("fuzz harness: a reader that throws anything but a named InputError is a finding", "[fuzz]") {

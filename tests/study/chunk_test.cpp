@@ -361,6 +361,29 @@ TEST_CASE("the dexterity stage resumes from saved rows into the files of an unin
   CHECK(resultFiles(out) == ref_files);
 }
 
+TEST_CASE("tracking units: runs resume into the files of an uninterrupted run", "[study][chunk][checkpoint][tracking]") {
+  const fs::path dir = freshDir("tracking_stage");
+  const Study s = loadStudy(test::sourcePath("studies/fig5_13_obstacle.toml"));
+  runStage(s, "tracking", (dir / "ref").string(), runOpts(1, 0));
+  const auto ref_files = resultFiles(dir / "ref");
+  REQUIRE(ref_files.count("tracking/summary.json"));
+  const fs::path out = dir / "out";
+  std::string msg;
+  {
+    CheckpointStore store(out.string(), "fp\n", msg);
+    CHECK(runStage(s, "tracking", out.string(), runOpts(2, 0), &store).units_resumed == 0);
+  }
+  REQUIRE(unitFiles(out, "tracking_").size() == 2);  // one entry: the plain run and the run with H_c
+  const long intact = damageStore(out, "tracking_");
+  REQUIRE(intact == 1);
+  fs::remove_all(out / "tracking");
+  CheckpointStore store(out.string(), "fp\n", msg);
+  CHECK(runStage(s, "tracking", out.string(), runOpts(2, 0), &store).units_resumed == intact);
+  CHECK(resultFiles(out) == ref_files);
+  CHECK(runStage(s, "tracking", out.string(), runOpts(1, 0), &store).units_resumed == 2);
+  CHECK(resultFiles(out) == ref_files);
+}
+
 TEST_CASE("harvest units: fruits and grid points resume into the files of an uninterrupted run",
           "[study][chunk][checkpoint][harvest]") {
   const fs::path dir = freshDir("harvest_stage");

@@ -15,6 +15,7 @@
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
+#include "study/writer.hpp"
 
 namespace armstudy::dexterity {
 
@@ -164,79 +165,6 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
 
 namespace {
 
-constexpr char kUnitMagic[] = "armstudy-dexterity-unit-v1";
-
-void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
-  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min, m.sigma_max})
-    w.put(v);
-}
-void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
-  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition, &m.sigma_min,
-                    &m.sigma_max})
-    *v = r.get<double>();
-}
-
-}  // namespace
-
-std::string serializeRows(const DexterityMap& map, const ItemRange& rows) {
-  const int G = map.grid.gamma_rad.count;
-  UnitWriter w(kUnitMagic);
-  for (long v : {long(map.dof), long(G), long(map.grid.z_m.count), rows.begin, rows.end}) w.put<std::int64_t>(v);
-  for (long i = rows.begin * G; i < rows.end * G; ++i) {
-    const CellResult& c = map.cells[i];
-    w.put<std::uint8_t>(c.reachable);
-    w.put<std::uint8_t>(c.optimised);
-    w.putMatrix(c.q_plain);
-    w.putMatrix(c.q_opt);
-    putMeasures(w, c.plain);
-    putMeasures(w, c.opt);
-    for (const metrics::Ellipsoid* e : {&c.ellipsoid_plain, &c.ellipsoid_opt}) {
-      w.putMatrix(e->axes_W);
-      w.putMatrix(e->lengths);
-    }
-    for (double v : {c.H_plain, c.H_opt, c.position_error_m, c.orientation_error_rad}) w.put(v);
-    w.put<std::int32_t>(c.starts);
-    w.put<std::int32_t>(c.nullspace_iterations);
-    w.put<std::int32_t>(static_cast<std::int32_t>(c.nullspace_status));
-  }
-  return w.bytes();
-}
-
-bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& rows) {
-  const int G = map.grid.gamma_rad.count;
-  UnitReader r(bytes, kUnitMagic);
-  const auto dof = r.get<std::int64_t>(), g = r.get<std::int64_t>(), z = r.get<std::int64_t>();
-  const auto b = r.get<std::int64_t>(), e = r.get<std::int64_t>();
-  if (!r.ok() || dof != map.dof || g != G || z != map.grid.z_m.count || !(0 <= b && b < e && e <= z) ||
-      map.cells.size() != static_cast<std::size_t>(g * z))
-    return false;
-  std::vector<CellResult> cells(static_cast<std::size_t>((e - b) * G));
-  for (CellResult& c : cells) {
-    c.reachable = r.get<std::uint8_t>() != 0;
-    c.optimised = r.get<std::uint8_t>() != 0;
-    r.getMatrix(c.q_plain);
-    r.getMatrix(c.q_opt);
-    getMeasures(r, c.plain);
-    getMeasures(r, c.opt);
-    for (metrics::Ellipsoid* el : {&c.ellipsoid_plain, &c.ellipsoid_opt}) {
-      r.getMatrix(el->axes_W);
-      r.getMatrix(el->lengths);
-    }
-    for (double* v : {&c.H_plain, &c.H_opt, &c.position_error_m, &c.orientation_error_rad}) *v = r.get<double>();
-    c.starts = r.get<std::int32_t>();
-    c.nullspace_iterations = r.get<std::int32_t>();
-    const auto st = r.get<std::int32_t>();
-    if (st < 0 || st > static_cast<int>(ik::NullspaceStatus::NotOnPose)) r.fail();
-    c.nullspace_status = static_cast<ik::NullspaceStatus>(st);
-  }
-  if (!r.finished()) return false;
-  std::move(cells.begin(), cells.end(), map.cells.begin() + b * G);
-  rows = {b, e};
-  return true;
-}
-
-namespace {
-
 // Heatmap image of a (gamma, z) field: gamma to the right, z upwards, viridis over [0, hi], grey
 // where the cell is unreachable (NaN), with the colour bar below.
 report::RasterImage heatmapCells(const DexterityMap& map, const std::vector<double>& v, double hi) {
@@ -344,6 +272,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   const std::string& output_dir = ctx.output_dir;
   const std::string sub = "dexterity";
   const std::string dir = (fs::path(output_dir) / sub).string();
+  Writer out(output_dir);
   nlohmann::ordered_json js;
   const StemGrid& g = options.grid;
   js["grid"] = {{"stem_x_m", g.stem_x_m},
@@ -390,10 +319,10 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     addMapMetrics(sum.metrics, map);
     sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
     const MapFields f = mapFields(map);
-    sum.files.push_back(sub + "/" + writeMapVti(map, f, dir));
+    out.add(sub + "/" + writeMapVti(map, f, dir));
     if (options.ellipsoids) {
-      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, false, dir));
-      sum.files.push_back(sub + "/" + writeEllipsoidsVtp(map, true, dir));
+      out.add(sub + "/" + writeEllipsoidsVtp(map, false, dir));
+      out.add(sub + "/" + writeEllipsoidsVtp(map, true, dir));
     }
     const int G = g.gamma_rad.count;
     // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
@@ -410,11 +339,10 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
       // <design>_<key>.png: the raw map with its colour bar; .svg: the figure with axes.
       const std::string name = map.design + "_" + im.key;
       const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
-      report::writePng((fs::path(dir) / (name + ".png")).string(), report::withColorBar(cells, report::viridis));
-      writeFileAtomic((fs::path(dir) / (name + ".svg")).string(),
+      report::writePng(out.path(sub + "/" + name + ".png"), report::withColorBar(cells, report::viridis));
+      out.add(sub + "/" + name + ".png");
+      out.text(sub + "/" + name + ".svg",
                       heatmapFigure(map, cells, im.hi, map.design, im.label));
-      sum.files.push_back(sub + "/" + name + ".png");
-      sum.files.push_back(sub + "/" + name + ".svg");
       png[im.key] = name + ".svg";
     }
     const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);
@@ -499,8 +427,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
             << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
             << r.manipulability_audit << "," << r.solutions << "\n";
       const std::string csv_name = m.name + "_audit.csv";
-      writeFileAtomic((fs::path(dir) / csv_name).string(), csv.str());
-      sum.files.push_back(sub + "/" + csv_name);
+      out.text(sub + "/" + csv_name, csv.str());
       md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
          << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
          << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
@@ -514,10 +441,9 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   }
   if (ctx.study.designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
   else md << "## Summary\n\n" << cmp.str() << "\n";
-  writeFileAtomic((fs::path(dir) / "summary.json").string(), js.dump(2) + "\n");
-  writeFileAtomic((fs::path(dir) / "report.md").string(), md.str());
-  sum.files.push_back(sub + "/summary.json");
-  sum.files.push_back(sub + "/report.md");
+  out.text(sub + "/summary.json", js.dump(2) + "\n");
+  out.text(sub + "/report.md", md.str());
+  sum.files = out.files();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

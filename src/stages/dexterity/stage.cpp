@@ -6,26 +6,17 @@
 
 namespace armstudy {
 
-namespace {
-
-class DexterityStage final : public Stage {
- public:
-  std::string name() const override { return "dexterity"; }
-  std::shared_ptr<const StageSettings> read(const SectionInput& in) const override {
-    const toml::table* t = in.top.table("dexterity");
-    if (!t) return nullptr;
-    io::TableReader r(*t, in.top.file(), "dexterity");
-    return std::make_shared<SettingsOf<dexterity::DexterityOptions>>(dexterity::readDexterityOptions(r, in.designs));
-  }
-  StageResult run(const StageContext& ctx, const StageSettings& settings) const override {
-    return dexterity::runDexterityStage(ctx, settingsAs<dexterity::DexterityOptions>(settings));
-  }
-};
-
-}  // namespace
-
 const Stage& dexterityStage() {
-  static const DexterityStage stage;
+  using dexterity::DexterityOptions;
+  static const FunctionStage<DexterityOptions> stage(
+      "dexterity",
+      [](const SectionInput& in) -> std::optional<DexterityOptions> {
+        const toml::table* t = in.top.table("dexterity");
+        if (!t) return std::nullopt;
+        io::TableReader r(*t, in.top.file(), "dexterity");
+        return dexterity::readDexterityOptions(r, in.designs);
+      },
+      [](const StageContext& ctx, const DexterityOptions& o) { return dexterity::runDexterityStage(ctx, o); });
   return stage;
 }
 

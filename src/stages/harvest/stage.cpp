@@ -5,30 +5,21 @@
 
 namespace armstudy {
 
-namespace {
-
-class HarvestStage final : public Stage {
- public:
-  std::string name() const override { return "harvest"; }
-  std::shared_ptr<const StageSettings> read(const SectionInput& in) const override {
-    const toml::table* t = in.top.table("harvest");
-    if (!t) return nullptr;
-    io::TableReader r(*t, in.top.file(), "harvest");
-    std::vector<std::string> names;
-    for (const Model* m : in.designs) names.push_back(m->name);
-    auto settings = std::make_shared<SettingsOf<harvest::HarvestOptions>>(harvest::readHarvestOptions(r, names));
-    r.finish();
-    return settings;
-  }
-  StageResult run(const StageContext& ctx, const StageSettings& settings) const override {
-    return harvest::runHarvestStage(ctx, settingsAs<harvest::HarvestOptions>(settings));
-  }
-};
-
-}  // namespace
-
 const Stage& harvestStage() {
-  static const HarvestStage stage;
+  using harvest::HarvestOptions;
+  static const FunctionStage<HarvestOptions> stage(
+      "harvest",
+      [](const SectionInput& in) -> std::optional<HarvestOptions> {
+        const toml::table* t = in.top.table("harvest");
+        if (!t) return std::nullopt;
+        io::TableReader r(*t, in.top.file(), "harvest");
+        std::vector<std::string> names;
+        for (const Model* m : in.designs) names.push_back(m->name);
+        HarvestOptions o = harvest::readHarvestOptions(r, names);
+        r.finish();
+        return o;
+      },
+      [](const StageContext& ctx, const HarvestOptions& o) { return harvest::runHarvestStage(ctx, o); });
   return stage;
 }
 

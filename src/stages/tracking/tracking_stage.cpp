@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -17,6 +18,7 @@
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
+#include "study/writer.hpp"
 
 namespace armstudy::tracking {
 
@@ -24,149 +26,10 @@ namespace fs = std::filesystem;
 using nlohmann::ordered_json;
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPathRate_Hz = 100.0;  // TCP path points per second in the .vtp
 constexpr double kPlotRate_Hz = 200.0;  // plotted samples per second in the SVGs
 constexpr int kCircleSegments = 36;     // wireframe circles of the obstacles in the .vtp
 }  // namespace
-
-const char* toString(RunKind k) { return k == RunKind::Plain ? "plain" : "with_hc"; }
-
-std::string RunResult::statusText(const Model& model) const {
-  std::string s = ik::toString(status);
-  if (status == ik::TrackingStatus::JointLimitReached && limit_joint >= 0)
-    s += " (" + model.joints[limit_joint].name + ")";
-  return s;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Evaluation
-// ---------------------------------------------------------------------------------------------
-
-ik::ReferencePoint LineReference::operator()(double t) const {
-  ik::ReferencePoint r;
-  r.pose.kind = task;
-  const double s = std::clamp(t / duration_s, 0.0, 1.0);
-  r.pose.p_WT = p0_W + (p1_W - p0_W) * s;
-  r.pose.R_WT = R_WT;
-  r.v_W = (p1_W - p0_W) / duration_s;  // constant speed; omega = 0 (orientation held)
-  return r;
-}
-
-LineReference lineReference(const Model& model, const TrackingEntry& entry) {
-  KinematicsWorkspace ws(model);
-  forwardKinematics(model, ws, entry.q0);
-  LineReference l;
-  l.p0_W = ws.p_WT;
-  l.p1_W = entry.line_is_delta ? Eigen::Vector3d(ws.p_WT + entry.line) : entry.line;
-  l.R_WT = ws.R_WT;
-  l.duration_s = entry.duration_s;
-  l.task = entry.task;
-  return l;
-}
-
-namespace {
-
-int internName(std::vector<std::string>& names, const std::string& s) {
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == s) return static_cast<int>(i);
-  names.push_back(s);
-  return static_cast<int>(names.size()) - 1;
-}
-
-RunResult runOnce(const Model& model, const TrackingEntry& e, const LineReference& line,
-                  RunKind kind) {
-  KinematicsWorkspace ws(model);
-  ik::ObjectiveContext ctx(model, ws);
-  // Thesis eq. (5.51): H = w_j H_j + w_c H_c + w_m H_m; H_c only in the second run.
-  ik::WeightedObjective objective;
-  if (e.w_joint_limits > 0)
-    objective.add(e.w_joint_limits,
-                  std::make_shared<ik::JointLimitTerm>(model, e.joint_limit_activation));
-  if (e.w_manipulability > 0)
-    objective.add(e.w_manipulability,
-                  std::make_shared<ik::ManipulabilityTerm>(
-                      e.task == ik::PoseTaskKind::FullPose ? metrics::MeasureSpace::Full
-                                                           : metrics::MeasureSpace::Translational));
-  if (kind == RunKind::WithHc)
-    objective.add(e.avoidance.weight,
-                  std::make_shared<collision::CollisionTerm>(e.avoidance.potential, e.obstacles));
-  ik::TrackingOptions to;
-  to.redundancy = e.redundancy;
-  to.dt = 1.0 / e.rate_Hz;
-  to.stop_at_joint_limit = e.stop_at_joint_limit;
-  const ik::Reference ref = [&line](double t) { return line(t); };
-  const ik::TrackingSummary ts = ik::trackReference(
-      model, ws, ref, e.q0, e.duration_s, objective.empty() ? nullptr : &objective, &ctx, to);
-
-  RunResult r;
-  r.kind = kind;
-  r.status = ts.status;
-  r.limit_joint = ts.limit_joint;
-  r.max_joint_speed = ts.max_joint_speed;
-  for (const ik::TrackingSample& s : ts.samples)
-    for (int i = 0; i < model.dof(); ++i) {
-      const double lim = model.joints[i].limits.qd_max;
-      if (lim > 0 && std::abs(s.qdot[i]) / lim > r.max_speed_ratio) {
-        r.max_speed_ratio = std::abs(s.qdot[i]) / lim;
-        r.max_speed_joint = i;
-      }
-    }
-  r.min_obstacle_distance_m = r.min_self_distance_m = kInf;
-  auto cws = std::make_unique<collision::CollisionWorkspace>(model);
-  r.samples.reserve(ts.samples.size());
-  for (const ik::TrackingSample& s : ts.samples) {
-    RunSample rs;
-    rs.t = s.t;
-    rs.q = s.q;
-    rs.position_error_m = s.position_error_m;
-    rs.orientation_error_rad = s.orientation_error_rad;
-    forwardKinematics(model, ws, s.q);
-    rs.p_WT = ws.p_WT;
-    collision::collisionDistances(model, ws, e.obstacles, *cws);
-    rs.obstacle_distance_m = collision::minEnvironmentDistance(*cws);
-    rs.self_distance_m = collision::minSelfDistance(*cws);
-    if (cws->closest_env >= 0)
-      rs.obstacle_pair = internName(
-          r.pair_names, collision::pairName(model, cws->env[cws->closest_env], true, e.obstacles));
-    if (cws->closest_self >= 0)
-      rs.self_pair =
-          internName(r.pair_names, collision::pairName(model, cws->self[cws->closest_self], false));
-    if (rs.obstacle_distance_m < r.min_obstacle_distance_m) {
-      r.min_obstacle_distance_m = rs.obstacle_distance_m;
-      r.min_obstacle_time_s = rs.t;
-      r.min_obstacle_pair = rs.obstacle_pair;
-    }
-    if (rs.self_distance_m < r.min_self_distance_m) {
-      r.min_self_distance_m = rs.self_distance_m;
-      r.min_self_time_s = rs.t;
-      r.min_self_pair = rs.self_pair;
-    }
-    r.max_position_error_m = std::max(r.max_position_error_m, rs.position_error_m);
-    r.max_orientation_error_rad = std::max(r.max_orientation_error_rad, rs.orientation_error_rad);
-    if (!r.first_contact_s && (rs.obstacle_distance_m < 0 || rs.self_distance_m < 0)) {
-      r.first_contact_s = rs.t;
-      r.first_contact_pair =
-          rs.obstacle_distance_m <= rs.self_distance_m ? rs.obstacle_pair : rs.self_pair;
-    }
-    r.samples.push_back(std::move(rs));
-  }
-  if (!r.samples.empty()) r.final_position_error_m = r.samples.back().position_error_m;
-  return r;
-}
-
-}  // namespace
-
-EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry) {
-  const std::string why = entry.validate(model.dof());
-  ARMSTUDY_CHECK(why.empty(), "tracking entry must validate: " + why);
-  EntryResult res;
-  res.name = entry.name;
-  res.line = lineReference(model, entry);
-  res.plain = runOnce(model, entry, res.line, RunKind::Plain);
-  res.with_hc = runOnce(model, entry, res.line, RunKind::WithHc);
-  return res;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Outputs
@@ -368,18 +231,40 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     entry_results[i].name = entries[i].name;
     entry_results[i].line = lines[i];
   }
-  const int threads = ctx.threads;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int u = 0; u < 2 * ne; ++u) {
-    const int i = u / 2;
-    const RunKind kind = u % 2 == 0 ? RunKind::Plain : RunKind::WithHc;
-    (kind == RunKind::Plain ? entry_results[i].plain : entry_results[i].with_hc) =
-        runOnce(*models[i], entries[i], lines[i], kind);
-  }
+  // Work units: (entry, run), each sequential and independent of the others.
+  auto runOf = [&](std::size_t u) -> RunResult& {
+    return u % 2 == 0 ? entry_results[u / 2].plain : entry_results[u / 2].with_hc;
+  };
+  auto kindOf = [](std::size_t u) { return u % 2 == 0 ? RunKind::Plain : RunKind::WithHc; };
+  UnitBatch batch;
+  for (std::size_t u = 0; u < 2 * entries.size(); ++u)
+    batch.ids.push_back("tracking/" + entries[u / 2].name + "/" + toString(kindOf(u)));
+  batch.load = [&](std::size_t u, const std::string& bytes) {
+    RunResult r;
+    if (!deserializeRun(bytes, r) || r.kind != kindOf(u)) return false;
+    runOf(u) = std::move(r);
+    return true;
+  };
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    const int m = static_cast<int>(todo.size());
+    std::vector<std::exception_ptr> errors(m);  // e.g. a full disk while saving: rethrown below
+#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
+    for (int k = 0; k < m; ++k) {
+      try {
+        const std::size_t u = todo[k];
+        runOf(u) = evaluateTrackingRun(*models[u / 2], entries[u / 2], lines[u / 2], kindOf(u));
+        done(u, serializeRun(runOf(u)));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
+  };
+  sum.units_resumed = ctx.units.run(batch);
 
-  const fs::path dir = fs::path(ctx.output_dir) / "tracking";
-  fs::create_directories(dir);
-  auto rel = [](const std::string& name) { return "tracking/" + name; };
+  fs::create_directories(fs::path(ctx.output_dir) / "tracking");
+  Writer out(ctx.output_dir);  // files under tracking/
   std::ostringstream md;
   md << "# Straight-line tracking past obstacles: " << ctx.study.name << "\n\n"
      << "Thesis Fig. 5.13 (section 5.4.3): the TCP follows a straight line at constant speed with "
@@ -400,10 +285,10 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     const std::string base = e.name;
     for (const RunResult* r : {&er.plain, &er.with_hc}) {
       const std::string rb = base + "_" + toString(r->kind);
-      writeRunCsv(model, e, *r, (dir / (rb + ".csv")).string());
-      writeRunVtp(model, e, er.line, *r, (dir / (rb + ".vtp")).string());
-      sum.files.push_back(rel(rb + ".csv"));
-      sum.files.push_back(rel(rb + ".vtp"));
+      writeRunCsv(model, e, *r, out.path("tracking/" + rb + ".csv"));
+      out.add("tracking/" + rb + ".csv");
+      writeRunVtp(model, e, er.line, *r, out.path("tracking/" + rb + ".vtp"));
+      out.add("tracking/" + rb + ".vtp");
       const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
       M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
       M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;
@@ -424,16 +309,14 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
       ds.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
     ds.push_back({"contact (d = 0)", {0.0, e.duration_s}, {0.0, 0.0}});
     const std::string what = obst ? "obstacle distance" : "self-collision distance";
-    writeFileAtomic((dir / (base + "_distance.svg")).string(),
-                    report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
+    out.text("tracking/" + base + "_distance.svg",
+             report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
     std::vector<report::Series> es;
     for (const RunResult* r : {&er.plain, &er.with_hc})
       es.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
-    writeFileAtomic(
-        (dir / (base + "_tcp_error.svg")).string(),
+    out.text(
+        "tracking/" + base + "_tcp_error.svg",
         report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
-    sum.files.push_back(rel(base + "_distance.svg"));
-    sum.files.push_back(rel(base + "_tcp_error.svg"));
 
     // Report section.
     std::string obstacle_list;
@@ -518,10 +401,9 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     ej["runs"] = {runJson(model, e, er.plain), runJson(model, e, er.with_hc)};
     js["entries"].push_back(ej);
   }
-  writeFileAtomic((dir / "report.md").string(), md.str());
-  writeFileAtomic((dir / "summary.json").string(), js.dump(2) + "\n");
-  sum.files.push_back(rel("report.md"));
-  sum.files.push_back(rel("summary.json"));
+  out.text("tracking/report.md", md.str());
+  out.text("tracking/summary.json", js.dump(2) + "\n");
+  sum.files = out.files();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (results) *results = std::move(entry_results);
   return sum;

@@ -133,6 +133,15 @@ struct EntryResult {
   RunResult plain, with_hc;
 };
 
+// One motion of an entry along its line, without or with H_c (single-threaded; deterministic).
+RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& entry, const LineReference& line,
+                              RunKind kind);
+
+// A run as work-unit bytes (every field, bit for bit), and back (false, run unchanged, when the
+// bytes are not such a unit).
+std::string serializeRun(const RunResult& run);
+bool deserializeRun(const std::string& bytes, RunResult& run);
+
 // Runs both motions of one entry (single-threaded; deterministic).
 EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry);
 

@@ -1,0 +1,48 @@
+#pragma once
+// Private to ik/reach_solver.cpp and ik/local_solvers.cpp: a target prepared for the solver, its
+// weighted residual and task Jacobian, and the two local solvers (Levenberg-Marquardt with an
+// active set on the joint limits; NLopt SLSQP with the limits as bounds).
+#include <Eigen/Core>
+
+#include "ik/reach_solver.hpp"
+
+namespace armstudy::ik_detail {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+// What the solver needs about a target, prepared once per pose.
+struct Context {
+  const Model* model;  // null when only residuals/Jacobians are needed
+  const IkTarget& target;
+  double w_o;
+  bool full_orientation;
+  bool any_orientation;  // some Cardan angles selected (not the tool-axis task)
+  bool tool_axis;
+  Eigen::Matrix3d R_d;
+  int m;  // residual rows (3 for the tool axis, whose rows have rank 2)
+};
+
+// Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
+// zero), and the unweighted errors.
+void residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e, PoseError& err);
+// Weighted task Jacobian rows matching residual() (unselected rows zero). False at the
+// representation singularity.
+bool taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J);
+bool withinTolerance(const PoseError& e, const IkOptions& o, double fraction);
+
+// Outcome of one local solve.
+struct LocalResult {
+  bool success = false;
+  bool singular = false;  // ended because the Cardan representation became singular
+  PoseError err;
+  double cost = 0;
+};
+
+// Levenberg-Marquardt on |W e|^2 projected onto the joint-limit box (active set). q is updated
+// in place to the best configuration of this start; ws.kin holds its forward kinematics on return.
+LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q, bool limits,
+                  double lambda_initial, int& iterations);
+// Minimises ikObjective from q (in place) with NLopt SLSQP; returns the local result.
+LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q);
+
+}  // namespace armstudy::ik_detail

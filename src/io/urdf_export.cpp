@@ -1,0 +1,129 @@
+#include "io/urdf_io.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "collision/collision.hpp"
+#include "collision/ssv_fit.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+#include "kinematics/kinematics.hpp"
+
+namespace armstudy {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+namespace {
+bool isIdentity(const Isometry3d& T) { return T.isApprox(Isometry3d::Identity(), 1e-15); }
+
+std::string fmt(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+std::string vec(const Vector3d& v) { return fmt(v.x()) + " " + fmt(v.y()) + " " + fmt(v.z()); }
+std::string origin(const Isometry3d& T) {
+  const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
+  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
+         " " + fmt(ypr[0]) + "\"/>";
+}
+std::string xmlEscape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
+  }
+  return o;
+}
+std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
+  return "    <inertial>\n      <origin xyz=\"" + vec(c) +
+         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) + "\"/>\n      <inertia ixx=\"" +
+         fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) + "\" iyy=\"" +
+         fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) +
+         "\"/>\n    </inertial>\n";
+}
+}  // namespace
+
+std::string exportUrdf(const Model& m, const UrdfInfo& info) {
+  const bool has_joint_info = info.joints.size() == m.joints.size();
+  std::ostringstream o;
+  std::set<std::string> used;
+  auto unique = [&](std::string n) {
+    while (!used.insert(n).second) n += "_";
+    return n;
+  };
+  const std::string base = unique(info.base_link.empty() ? "base_link" : info.base_link);
+  std::vector<std::string> links;
+  for (int i = 0; i < m.dof(); ++i) {
+    const std::string& l = has_joint_info ? info.joints[i].link : std::string();
+    links.push_back(unique(l.empty() ? m.joints[i].name + "_link" : l));
+  }
+  const bool tcp_is_last = isIdentity(m.T_NT) && m.payload_kg == 0 &&
+                           (info.tcp_link.empty() || info.tcp_link == links.back());
+  const std::string tcp =
+      tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
+  o << "<?xml version=\"1.0\"?>\n<!-- Written by armstudy from design '" << xmlEscape(m.name)
+    << "' (docs/design-format.md, \"URDF\"). Not exported: drives, model effects, collision "
+       "volumes. -->\n";
+  o << "<robot name=\"" << xmlEscape(m.name) << "\">\n";
+  if (!isIdentity(m.T_WB)) {
+    const std::string world = unique("world");
+    o << "  <link name=\"" << world << "\"/>\n  <joint name=\"" << unique(world + "_joint")
+      << "\" type=\"fixed\">\n    <parent link=\"" << world << "\"/>\n    <child link=\""
+      << xmlEscape(base) << "\"/>\n    " << origin(m.T_WB) << "\n  </joint>\n";
+  }
+  o << "  <link name=\"" << xmlEscape(base) << "\"/>\n";
+  for (int i = 0; i < m.dof(); ++i) {
+    const Joint& j = m.joints[i];
+    const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
+    const char* type = j.type == JointType::Prismatic ? "prismatic"
+                       : ji.continuous                ? "continuous"
+                                                      : "revolute";
+    o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type
+      << "\">\n    <parent link=\"" << xmlEscape(i == 0 ? base : links[i - 1])
+      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(j.T_PJ0)
+      << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
+    if (!ji.continuous)
+      o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
+    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
+      << "\"/>\n  </joint>\n";
+    o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
+    if (!m.inertias.empty() && m.inertias[i].given)
+      o << inertial(m.inertias[i].mass_kg, m.inertias[i].p_com_m, m.inertias[i].I_com_kgm2);
+    o << "  </link>\n";
+  }
+  if (!tcp_is_last) {
+    o << "  <joint name=\"" << unique(tcp + "_joint") << "\" type=\"fixed\">\n    <parent link=\""
+      << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    "
+      << origin(m.T_NT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
+    if (m.payload_kg > 0) o << inertial(m.payload_kg, m.p_payload_com_T, Matrix3d::Zero());
+    o << "  </link>\n";
+  }
+  o << "</robot>\n";
+  return o.str();
+}
+
+}  // namespace armstudy

@@ -1,0 +1,202 @@
+#include "io/urdf_internal.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "collision/collision.hpp"
+#include "collision/ssv_fit.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
+#include "kinematics/kinematics.hpp"
+
+namespace armstudy::urdf_detail {
+
+namespace fs = std::filesystem;
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+Isometry3d toIso(const urdf::Pose& p) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() =
+      Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).toRotationMatrix();
+  T.translation() = Vector3d(p.position.x, p.position.y, p.position.z);
+  return T;
+}
+
+namespace {
+
+// package://NAME/rest: --package NAME=DIR first, then the folders above the URDF file (the first
+// A with A/rest or A/NAME/rest). file:// URIs are absolute, plain names relative to the URDF.
+std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
+                        const UrdfOptions& o) {
+  const fs::path urdf_dir = fs::absolute(fs::path(urdf_file)).parent_path();
+  const std::string pkg = "package://", file = "file://";
+  if (uri.rfind(pkg, 0) == 0) {
+    const std::string s = uri.substr(pkg.size());
+    const auto slash = s.find('/');
+    const std::string name = s.substr(0, slash),
+                      rest = slash == std::string::npos ? "" : s.substr(slash + 1);
+    for (const auto& [n, dir] : o.packages)
+      if (n == name) return (fs::path(dir) / rest).string();
+    for (fs::path a = urdf_dir; !a.empty(); a = a.parent_path()) {
+      if (fs::exists(a / rest)) return (a / rest).string();
+      if (fs::exists(a / name / rest)) return (a / name / rest).string();
+      if (a == a.parent_path()) break;
+    }
+    return "";  // unresolved
+  }
+  if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
+  const fs::path p(uri);
+  return p.is_absolute() ? p.string() : (urdf_dir / p).string();
+}
+
+// All triangles of a mesh file (STL, DAE, OBJ, ... through assimp), node transforms applied.
+bool loadMesh(const std::string& path, collision::TriangleMesh& out, std::string& error) {
+  if (!fs::is_regular_file(path)) {
+    error = "mesh file not found";
+    return false;
+  }
+  Assimp::Importer imp;
+  // Assumption: a DAE's up axis is ignored, as ROS tools do with URDF meshes; unit scale applies.
+  imp.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* sc = imp.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (!sc || !sc->mRootNode) {
+    error = std::string("assimp cannot read it: ") + imp.GetErrorString();
+    return false;
+  }
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{
+      {sc->mRootNode, sc->mRootNode->mTransformation}};
+  while (!stack.empty()) {
+    auto [node, T] = stack.back();
+    stack.pop_back();
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const aiMesh* mesh = sc->mMeshes[node->mMeshes[k]];
+      const int first = static_cast<int>(out.vertices.size());
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D p = T * mesh->mVertices[v];
+        out.vertices.emplace_back(p.x, p.y, p.z);
+      }
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+        if (mesh->mFaces[f].mNumIndices == 3)
+          out.triangles.push_back({first + static_cast<int>(mesh->mFaces[f].mIndices[0]),
+                                   first + static_cast<int>(mesh->mFaces[f].mIndices[1]),
+                                   first + static_cast<int>(mesh->mFaces[f].mIndices[2])});
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c)
+      stack.push_back({node->mChildren[c], T * node->mChildren[c]->mTransformation});
+  }
+  if (out.vertices.empty()) {
+    error = "the mesh has no vertices";
+    return false;
+  }
+  return true;
+}
+
+void addFitted(Model& m, int body, const std::string& name, const collision::SsvFitSummary& fit) {
+  int k = 0;
+  for (const auto& f : fit.volumes) {
+    CollisionVolume v;
+    v.name = name + (fit.volumes.size() > 1 ? "_" + std::to_string(k++) : "");
+    v.link = body;
+    v.type = f.type;
+    v.p_L = f.p;
+    v.radius_m = f.radius_m;
+    m.collision.volumes.push_back(v);
+  }
+}
+
+}  // namespace
+
+void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
+                  const UrdfOptions& o, const XmlIndex& xml, std::vector<std::string>& warnings,
+                  std::string& mesh_hashes) {
+  int idx = 0;
+  for (const auto& c : lb.link->collision_array) {
+    if (!c || !c->geometry) continue;
+    const std::string name =
+        lb.link->name + (lb.link->collision_array.size() > 1 ? "_c" + std::to_string(idx) : "");
+    ++idx;
+    const Isometry3d T = lb.T_FL * toIso(c->origin);
+    const int line = xml.links.count(lb.link->name) ? xml.links.at(lb.link->name) : 0;
+    collision::TriangleMesh tm;
+    switch (c->geometry->type) {
+      case urdf::Geometry::SPHERE: {
+        const auto& s = static_cast<const urdf::Sphere&>(*c->geometry);
+        CollisionVolume v;
+        v.name = name;
+        v.link = body;
+        v.type = SsvType::Point;
+        v.p_L[0] = T.translation();
+        v.radius_m = s.radius;
+        v.source_line = line;
+        m.collision.volumes.push_back(v);
+        continue;
+      }
+      case urdf::Geometry::CYLINDER: {  // a capsule on the cylinder's axis: contains the cylinder
+        const auto& s = static_cast<const urdf::Cylinder&>(*c->geometry);
+        CollisionVolume v;
+        v.name = name;
+        v.link = body;
+        v.type = s.length > 0 ? SsvType::Line : SsvType::Point;
+        v.p_L[0] = T * Vector3d(0, 0, -s.length / 2);
+        v.p_L[1] = T * Vector3d(0, 0, s.length / 2);
+        if (v.type == SsvType::Point) v.p_L[0] = T.translation();
+        v.radius_m = s.radius;
+        v.source_line = line;
+        m.collision.volumes.push_back(v);
+        continue;
+      }
+      case urdf::Geometry::BOX: {
+        const auto& b = static_cast<const urdf::Box&>(*c->geometry);
+        for (int k = 0; k < 8; ++k)
+          tm.vertices.push_back(T * Vector3d((k & 1 ? 0.5 : -0.5) * b.dim.x,
+                                             (k & 2 ? 0.5 : -0.5) * b.dim.y,
+                                             (k & 4 ? 0.5 : -0.5) * b.dim.z));
+        // 12 triangles of the box (corner k has bit 0 = +x, bit 1 = +y, bit 2 = +z)
+        tm.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                        {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+        break;
+      }
+      case urdf::Geometry::MESH: {
+        const auto& me = static_cast<const urdf::Mesh&>(*c->geometry);
+        const std::string path = resolveMesh(me.filename, file, o);
+        std::string err = path.empty() ? "package not found (give --package NAME=DIR)" : "";
+        collision::TriangleMesh raw;
+        if (path.empty() || !loadMesh(path, raw, err)) {
+          warnings.push_back("URDF import: link '" + lb.link->name +
+                             "' gets no collision volume from mesh '" + me.filename + "': " + err);
+          continue;
+        }
+        mesh_hashes += me.filename + " " + fileHash(path) + "\n";
+        const Vector3d scale(me.scale.x, me.scale.y, me.scale.z);
+        tm.triangles = raw.triangles;
+        for (const Vector3d& p : raw.vertices) tm.vertices.push_back(T * p.cwiseProduct(scale));
+        break;
+      }
+      default:
+        continue;
+    }
+    collision::SsvFitOptions fo;
+    fo.max_volumes = defaults::kUrdfSsvMaxVolumesPerMesh;
+    const std::size_t before = m.collision.volumes.size();
+    addFitted(m, body, name, collision::fitSsvs(tm, fo));
+    for (std::size_t k = before; k < m.collision.volumes.size(); ++k)
+      m.collision.volumes[k].source_line = line;
+  }
+}
+
+}  // namespace armstudy::urdf_detail

@@ -1,0 +1,110 @@
+#include "stages/calibration/calibration_stage.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace armstudy::calibration {
+
+using nlohmann::ordered_json;
+
+namespace {
+
+
+// ---------------------------------------------------------------------------------------------
+// Summary <-> JSON
+// ---------------------------------------------------------------------------------------------
+
+ordered_json finite(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
+double number(const ordered_json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
+}  // namespace
+
+std::string entrySummaryToJson(const EntrySummary& s) {
+  ordered_json j;
+  j["name"] = s.name;
+  j["kind"] = s.kind;
+  j["design"] = s.design;
+  j["data"] = {{"file", s.data_file}, {"hash", s.data_hash}};
+  if (!s.joint.empty()) j["drive"] = s.joint;
+  j["mode"] = s.mode;
+  j["unit"] = s.unit;
+  j["noise_estimate"] = finite(s.noise_estimate);
+  j["as_designed"] = {{"rmse", finite(s.as_designed_rmse)}, {"flagged_bins", s.as_designed_flagged}, {"bins", s.bins}};
+  ordered_json ladder = ordered_json::array();
+  for (const LadderStep& l : s.ladder)
+    ladder.push_back({{"label", l.label},
+                      {"n_params", l.n_params},
+                      {"train_rmse", finite(l.train_rmse)},
+                      {"heldout_rmse", finite(l.heldout_rmse)}});
+  j["ladder"] = ladder;
+  ordered_json cat = ordered_json::array();
+  for (std::size_t i = 0; i < s.catalogue.size(); ++i)
+    cat.push_back({{"effect", s.catalogue[i]}, {"significant", s.significant[i] != 0}});
+  j["candidates"] = cat;
+  j["added"] = s.added;
+  j["verdict"] = s.verdict;
+  j["rmse_before"] = finite(s.rmse_before);
+  j["rmse_after"] = finite(s.rmse_after);
+  ordered_json params = ordered_json::array();
+  for (const FittedParameter& p : s.final_params)
+    params.push_back({{"key", p.key},
+                      {"value", finite(p.value)},
+                      {"unit", p.unit},
+                      {"ci95", {finite(p.ci_low), finite(p.ci_high)}},
+                      {"at_bound", p.at_bound}});
+  j["final_params"] = params;
+  j["calibrated"] = {{"design", s.calibrated_design},
+                     {"rmse", finite(s.calibrated_rmse)},
+                     {"flagged_bins", s.calibrated_flagged}};
+  j["notes"] = s.notes;
+  j["warnings"] = s.warnings;
+  j["files"] = s.files;
+  return j.dump(2) + "\n";
+}
+
+EntrySummary entrySummaryFromJson(const std::string& text) {
+  const ordered_json j = ordered_json::parse(text);
+  EntrySummary s;
+  s.name = j.at("name").get<std::string>();
+  s.kind = j.at("kind").get<std::string>();
+  s.design = j.at("design").get<std::string>();
+  s.data_file = j.at("data").at("file").get<std::string>();
+  s.data_hash = j.at("data").at("hash").get<std::string>();
+  s.joint = j.value("drive", std::string());
+  s.mode = j.at("mode").get<std::string>();
+  s.unit = j.at("unit").get<std::string>();
+  s.noise_estimate = number(j.at("noise_estimate"));
+  s.as_designed_rmse = number(j.at("as_designed").at("rmse"));
+  s.as_designed_flagged = j.at("as_designed").at("flagged_bins").get<int>();
+  s.bins = j.at("as_designed").at("bins").get<int>();
+  for (const auto& l : j.at("ladder"))
+    s.ladder.push_back({l.at("label").get<std::string>(), l.at("n_params").get<int>(), number(l.at("train_rmse")),
+                        number(l.at("heldout_rmse"))});
+  for (const auto& c : j.at("candidates")) {
+    s.catalogue.push_back(c.at("effect").get<std::string>());
+    s.significant.push_back(c.at("significant").get<bool>() ? 1 : 0);
+  }
+  s.added = j.at("added").get<std::vector<std::string>>();
+  s.verdict = j.at("verdict").get<std::string>();
+  s.rmse_before = number(j.at("rmse_before"));
+  s.rmse_after = number(j.at("rmse_after"));
+  for (const auto& p : j.at("final_params")) {
+    FittedParameter f;
+    f.key = p.at("key").get<std::string>();
+    f.value = number(p.at("value"));
+    f.unit = p.at("unit").get<std::string>();
+    f.ci_low = number(p.at("ci95").at(0));
+    f.ci_high = number(p.at("ci95").at(1));
+    f.at_bound = p.at("at_bound").get<bool>();
+    s.final_params.push_back(f);
+  }
+  s.calibrated_design = j.at("calibrated").at("design").get<std::string>();
+  s.calibrated_rmse = number(j.at("calibrated").at("rmse"));
+  s.calibrated_flagged = j.at("calibrated").at("flagged_bins").get<int>();
+  s.notes = j.at("notes").get<std::vector<std::string>>();
+  s.warnings = j.at("warnings").get<std::vector<std::string>>();
+  s.files = j.at("files").get<std::vector<std::string>>();
+  return s;
+}
+
+}  // namespace armstudy::calibration

@@ -1,0 +1,193 @@
+#include "stages/harvest/harvest_stage.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "dynamics/approach_tracking.hpp"
+#include "io/files.hpp"
+#include "io/toml_reader.hpp"
+#include "io/vtk_io.hpp"
+#include "report/image.hpp"
+#include "report/markdown.hpp"
+#include "io/approach_io.hpp"
+
+namespace armstudy::harvest {
+
+namespace fs = std::filesystem;
+using io::TableReader;
+using nlohmann::ordered_json;
+// ---------------------------------------------------------------------------------------------
+// Evaluation
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+Eigen::Matrix3d toolRotation(double beta) {
+  return Eigen::AngleAxisd(beta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+}
+
+// The (range, item) pairs of `ranges`, in order; every range non-empty and within [0, count).
+std::vector<std::pair<std::size_t, long>> workItems(const std::vector<ItemRange>& ranges, long count) {
+  std::vector<std::pair<std::size_t, long>> items;
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    ARMSTUDY_CHECK(0 <= ranges[k].begin && ranges[k].begin < ranges[k].end && ranges[k].end <= count,
+                   "harvest work range out of bounds");
+    for (long i = ranges[k].begin; i < ranges[k].end; ++i) items.emplace_back(k, i);
+  }
+  return items;
+}
+
+ApproachTrackingOptions trackingOptions(const HarvestOptions& o) {
+  ApproachTrackingOptions t;
+  t.tracking.dt = 1.0 / o.rate_Hz;
+  t.tracking.stop_at_joint_limit = true;
+  t.R_tool = toolRotation(o.tool_beta_rad);
+  return t;
+}
+
+}  // namespace
+
+DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& options,
+                                   const GreenhouseRow& row, int threads, const HarvestWork* work) {
+  ARMSTUDY_CHECK(options.validate().empty(), "harvest options must validate");
+  DesignResult res;
+  res.design = model.name;
+  DynamicsOptions dopt;
+  dopt.include_rotor_inertia = false;  // the drive chain adds J_rotor (counted once)
+  const RigidBodyModel rbm = makeRigidBodyModel(model, dopt);
+  ik::WeightedObjective objective;
+  if (options.w_joint_limits > 0)
+    objective.add(options.w_joint_limits,
+                  std::make_shared<ik::JointLimitTerm>(model, defaults::kJointLimitActivation));
+  if (options.w_manipulability > 0)
+    objective.add(options.w_manipulability,
+                  std::make_shared<ik::ManipulabilityTerm>(metrics::MeasureSpace::Translational));
+  const ApproachTrackingOptions topt = trackingOptions(options);
+  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+
+  const int nf = static_cast<int>(row.fruits.size());
+  res.fruits.resize(nf);
+  std::vector<ItemRange> all_fruits;
+  if (nf > 0) all_fruits.push_back({0, nf});
+  const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
+  std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
+  RangeCountdown fruit_countdown(fruit_ranges);
+  std::exception_ptr failure;
+  // Tells `done` (may be empty) that range k is complete; keeps the first exception.
+  auto report = [&](const RangeDone& done, std::size_t k) {
+    if (!done) return;
+    try {
+      done(k, res);
+    } catch (...) {
+#pragma omp critical(armstudy_harvest_failure)
+      if (!failure) failure = std::current_exception();
+    }
+  };
+  const long n_fruit_work = static_cast<long>(fruit_work.size());
+#pragma omp parallel num_threads(nthreads)
+  {
+    IkWorkspace ws(model);
+    ik::ObjectiveContext ctx(model, ws.kin);
+    DynamicsWorkspace dws(rbm);
+    // One approach: planned, tracked, through the drive chain with and without friction.
+    auto evaluateFruit = [&](int f) {
+      const SampledFruit& fr = row.fruits[f];
+      FruitResult& out = res.fruits[f];
+      out.fruit = f;
+      out.p_fruit_W = fr.p_W;
+      const Eigen::Vector2d stem = row.stems_xy[fr.stem];
+      ApproachProblem pb;
+      pb.p_start_W =
+          Eigen::Vector3d(stem.x() + options.start_offset.x(), stem.y() + options.start_offset.y(),
+                          fr.p_W.z() + options.start_offset.z());
+      const Eigen::Vector2d to_stem = stem - pb.p_start_W.head<2>();
+      pb.cardan_start = Eigen::Vector3d(0, 0, std::atan2(to_stem.y(), to_stem.x()));
+      pb.stem_xy_W = stem;
+      pb.fruit_W = fr.p_W;
+      pb.reference_xy_W = Eigen::Vector2d::Zero();
+      const ApproachTrajectory appr = planApproach(pb, options.approach);
+      if (appr.status() != ApproachStatus::Ok) {
+        out.status = toString(appr.status());
+        return;
+      }
+      const TrackedApproach tr =
+          trackApproach(model, ws, ctx, appr, objective, topt, static_cast<std::uint64_t>(f));
+      out.max_position_error_m = tr.max_position_error_m;
+      out.max_orientation_error_rad = tr.max_orientation_error_rad;
+      if (tr.status != ApproachTrackingStatus::Ok) {
+        out.status = tr.status == ApproachTrackingStatus::TrackingFailed
+                         ? std::string("tracking_") + ik::toString(tr.tracking_status)
+                         : std::string(toString(tr.status));
+        return;
+      }
+      out.status = "ok";
+      DriveFeasibilityOptions fo;
+      fo.temperature_C = options.temperature_C;
+      fo.keep_profiles = true;  // friction share and plots need them (a few MB at most)
+      fo.friction = true;
+      out.with_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
+      fo.friction = false;
+      out.without_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
+    };
+#pragma omp for schedule(dynamic)
+    for (long w = 0; w < n_fruit_work; ++w) {
+      const auto [k, f] = fruit_work[w];
+      evaluateFruit(static_cast<int>(f));
+      if (fruit_countdown.itemDone(k)) report(work ? work->fruits_done : RangeDone{}, k);
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+
+  if (options.grid) {
+    const HarvestGrid& g = *options.grid;
+    const long nx = g.axes[0].count(), ny = g.axes[1].count(), nz = g.axes[2].count();
+    const long np = nx * ny * nz;
+    res.grid.resize(np);
+    const Eigen::Matrix3d R_WT =
+        Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+        toolRotation(options.tool_beta_rad);
+    const CardanAngles c = cardanFromRotation(R_WT);
+    IkOptions iko;
+    iko.classify_failures = false;
+    std::vector<ItemRange> all_points{{0, np}};
+    const std::vector<ItemRange>& grid_ranges = work ? work->grid : all_points;
+    std::vector<std::pair<std::size_t, long>> grid_work = workItems(grid_ranges, np);
+    RangeCountdown grid_countdown(grid_ranges);
+    const long n_grid_work = static_cast<long>(grid_work.size());
+#pragma omp parallel num_threads(nthreads)
+    {
+      IkWorkspace ws(model);
+      DynamicsWorkspace dws(rbm);
+#pragma omp for schedule(dynamic, 8)
+      for (long w = 0; w < n_grid_work; ++w) {
+        const auto [range, p] = grid_work[w];
+        const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
+        IkTarget target;
+        target.task_space = TaskSpace::fullPose();
+        target.w_d << g.axes[0].value(static_cast<int>(i)), g.axes[1].value(static_cast<int>(j)),
+            g.axes[2].value(static_cast<int>(k)), c.alpha, c.beta, c.gamma;
+        const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
+        GridPointResult& gp = res.grid[p];
+        gp.reachable = r.reachable();
+        if (gp.reachable) gp.holding = holdingLoad(model, rbm, dws, r.q);
+        if (grid_countdown.itemDone(range)) report(work ? work->grid_done : RangeDone{}, range);
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+  }
+  return res;
+}
+
+}  // namespace armstudy::harvest

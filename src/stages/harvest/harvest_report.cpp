@@ -1,0 +1,299 @@
+#include "stages/harvest/harvest_report.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "io/vtk_io.hpp"
+#include "report/markdown.hpp"
+
+namespace armstudy::harvest {
+
+namespace {
+
+std::string num(double v) {
+  if (!std::isfinite(v)) return "nan";
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+bool isRevolute(const Model& model, int i) { return model.joints[i].type == JointType::Revolute; }
+
+}  // namespace
+
+std::string marginText(const QuantityCheck& c) {
+  return c.checked ? report::percent(c.margin, 1) : "n/a";
+}
+std::string limitText(const QuantityCheck& c, int decimals) {
+  return c.checked ? report::fixed(c.limit, decimals) : "-";
+}
+
+
+std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d) {
+  const int n = model.dof();
+  std::vector<JointAggregate> agg(n);
+  for (const FruitResult& f : d.fruits) {
+    if (!f.evaluated()) continue;
+    for (int i = 0; i < n; ++i) {
+      const JointDriveSummary& js = f.with_friction.joints[i];
+      const JointDriveSummary& jn = f.without_friction.joints[i];
+      JointAggregate& a = agg[i];
+      a.has_drive = js.has_drive;
+      a.peak_effort = std::max(a.peak_effort, js.peak_effort);
+      bool any = false;
+      for (int q = 0; q < kDriveQuantityCount; ++q) {
+        const QuantityCheck& c = js.checks[q];
+        QuantityCheck& w = a.worst[q];
+        if (c.value >= w.value || !w.checked) {
+          const bool first = !w.checked && w.value == 0;
+          if (c.value >= w.value || first) w = c;
+        }
+        any = any || c.exceeded;
+      }
+      if (any) ++a.exceeded_fruits;
+      a.peak_current_no_friction =
+          std::max(a.peak_current_no_friction, jn.check(DriveQuantity::PeakCurrent).value);
+      if (!f.with_friction.current.empty() && !f.without_friction.current.empty()) {
+        double dmax = 0, imax = 0;
+        for (size_t k = 0; k < f.with_friction.current.size(); ++k) {
+          dmax = std::max(
+              dmax, std::abs(f.with_friction.current[k][i] - f.without_friction.current[k][i]));
+          imax = std::max(imax, std::abs(f.with_friction.current[k][i]));
+        }
+        if (imax > 0) a.friction_share = std::max(a.friction_share, dmax / imax);
+      }
+    }
+  }
+  return agg;
+}
+
+std::string failureText(const Model& model, const DriveFeasibility& r) {
+  if (r.feasible) return "feasible";
+  return model.joints[r.failing_joint].name + " " + toString(r.failing_quantity) + " at " +
+         report::fixed(r.failure_time_s, 3) + " s";
+}
+
+std::string fruitCsv(const Model& model, const DesignResult& d) {
+  std::ostringstream s;
+  const int n = model.dof();
+  s << "fruit,x_m,y_m,z_m,status,feasible,failing_joint,failing_quantity,failure_time_s,"
+       "feasible_no_friction,max_position_error_m,max_orientation_error_rad";
+  for (int i = 0; i < n; ++i) s << ",peak_current_A_" << model.joints[i].name;
+  for (int i = 0; i < n; ++i) s << ",rms_current_A_" << model.joints[i].name;
+  for (int i = 0; i < n; ++i) s << ",peak_current_no_friction_A_" << model.joints[i].name;
+  s << "\n";
+  for (const FruitResult& f : d.fruits) {
+    s << f.fruit << "," << num(f.p_fruit_W.x()) << "," << num(f.p_fruit_W.y()) << ","
+      << num(f.p_fruit_W.z()) << "," << f.status << ",";
+    if (f.evaluated()) {
+      const auto& r = f.with_friction;
+      s << (r.feasible ? 1 : 0) << "," << (r.feasible ? "" : model.joints[r.failing_joint].name)
+        << "," << (r.feasible ? "" : toString(r.failing_quantity)) << ","
+        << (r.feasible ? "" : num(r.failure_time_s)) << "," << (f.without_friction.feasible ? 1 : 0)
+        << "," << num(f.max_position_error_m) << "," << num(f.max_orientation_error_rad);
+      for (int i = 0; i < n; ++i)
+        s << "," << num(r.joints[i].check(DriveQuantity::PeakCurrent).value);
+      for (int i = 0; i < n; ++i)
+        s << "," << num(r.joints[i].check(DriveQuantity::RmsCurrent).value);
+      for (int i = 0; i < n; ++i)
+        s << "," << num(f.without_friction.joints[i].check(DriveQuantity::PeakCurrent).value);
+    } else {
+      s << ",,,,,,";
+      for (int i = 0; i < 3 * n; ++i) s << ",";
+    }
+    s << "\n";
+  }
+  return s.str();
+}
+
+std::string profileCsv(const Model& model, const FruitResult& f, double dt) {
+  const int n = model.dof();
+  const auto& a = f.with_friction;
+  const auto& b = f.without_friction;
+  std::ostringstream s;
+  s << "t_s";
+  const char* cols[] = {"effort", "current_A", "current_no_friction_A", "motor_speed_radps",
+                        "voltage_V"};
+  for (const char* c : cols)
+    for (int i = 0; i < n; ++i) s << "," << c << "_" << model.joints[i].name;
+  s << "\n";
+  for (size_t k = 0; k < a.effort.size(); ++k) {
+    s << num(k * dt);
+    for (int i = 0; i < n; ++i) s << "," << num(a.effort[k][i]);
+    for (int i = 0; i < n; ++i) s << "," << num(a.current[k][i]);
+    for (int i = 0; i < n; ++i) s << "," << num(b.current[k][i]);
+    for (int i = 0; i < n; ++i) s << "," << num(a.motor_speed[k][i]);
+    for (int i = 0; i < n; ++i) s << "," << num(a.voltage[k][i]);
+    s << "\n";
+  }
+  return s.str();
+}
+
+// Every `stride`-th sample (plots stay small).
+std::vector<report::Series> profileSeries(const Model& model, const std::vector<JointVector>& rows,
+                                          double dt, const std::string& suffix, int stride) {
+  std::vector<report::Series> out;
+  for (int i = 0; i < model.dof(); ++i) {
+    report::Series s;
+    s.label = model.joints[i].name + suffix;
+    for (size_t k = 0; k < rows.size(); k += stride) {
+      s.x.push_back(k * dt);
+      s.y.push_back(rows[k][i]);
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
+                                StudyMetrics& M) {
+  HoldingSummary h;
+  std::ostringstream md;
+  const int n = model.dof();
+  const std::string base = model.name;
+  const std::string mprefix = "dynamics/" + model.name + "/";
+  io::ImageGrid img;
+  img.dims = {g.axes[0].count(), g.axes[1].count(), g.axes[2].count()};
+  for (int a = 0; a < 3; ++a) {
+    img.origin[a] = g.axes[a].from;
+    img.spacing[a] = g.axes[a].step;
+  }
+  const long np = img.points();
+  io::NamedArray status{"status", io::ArrayType::Int32, 1, std::vector<double>(np)};
+  io::NamedArray ratio{"max_current_ratio", io::ArrayType::Float64, 1, std::vector<double>(np)};
+  // The lift carries the whole arm: its holding current hardly depends on the pose, so the map
+  // also shows the largest ratio over the revolute joints.
+  io::NamedArray ratio_rev{"max_current_ratio_revolute", io::ArrayType::Float64, 1,
+                           std::vector<double>(np)};
+  io::NamedArray limj{"limiting_joint", io::ArrayType::Int32, 1, std::vector<double>(np)};
+  std::vector<io::NamedArray> hold;
+  for (int i = 0; i < n; ++i)
+    hold.push_back({"holding_" + model.joints[i].name, io::ArrayType::Float64, 1,
+                    std::vector<double>(np)});
+  int reachable = 0, limited = 0;
+  double max_ratio = 0;
+  int max_ratio_joint = -1;
+  std::vector<int> limiting_count(n, 0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (long p = 0; p < np; ++p) {
+    const GridPointResult& gp = d.grid[p];
+    if (!gp.reachable) {
+      status.values[p] = 0;
+      ratio.values[p] = nan;
+      ratio_rev.values[p] = nan;
+      limj.values[p] = -1;
+      for (auto& h : hold) h.values[p] = nan;
+      continue;
+    }
+    ++reachable;
+    const bool ok = gp.holding.feasible;
+    if (!ok) {
+      ++limited;
+      ++limiting_count[gp.holding.limiting_joint];
+    }
+    if (gp.holding.limiting_joint >= 0 && gp.holding.max_ratio > max_ratio) {
+      max_ratio = gp.holding.max_ratio;
+      max_ratio_joint = gp.holding.limiting_joint;
+    }
+    status.values[p] = ok ? 1 : 2;
+    ratio.values[p] = gp.holding.max_ratio;
+    ratio_rev.values[p] = 0;
+    for (int i = 0; i < n; ++i)
+      if (isRevolute(model, i))
+        ratio_rev.values[p] = std::max(ratio_rev.values[p], gp.holding.current_ratio[i]);
+    limj.values[p] = gp.holding.limiting_joint;
+    for (int i = 0; i < n; ++i) hold[i].values[p] = gp.holding.effort[i];
+  }
+  img.point_arrays = {status, ratio, ratio_rev, limj};
+  for (auto& h : hold) img.point_arrays.push_back(std::move(h));
+  io::writeVti(out.path("harvest/" + base + "_holding.vti"), img);
+  out.add("harvest/" + base + "_holding.vti");
+  M.scalars[mprefix + "holding_reachable_fraction"] = reachable / static_cast<double>(np);
+  M.scalars[mprefix + "holding_drive_limited_fraction"] =
+      reachable > 0 ? limited / static_cast<double>(reachable) : 0.0;
+  M.scalars[mprefix + "holding_max_current_ratio"] = max_ratio;
+  md << "Largest static holding current over the reachable grid points: "
+     << report::percent(max_ratio, 1) << " of the continuous limit"
+     << (max_ratio_joint >= 0 ? " (" + model.joints[max_ratio_joint].name + ")" : std::string())
+     << ".\n\n";
+
+  // Maps over the first two axes with more than one value (the first slice of a 3-D grid).
+  std::vector<int> axes;
+  for (int a = 0; a < 3; ++a)
+    if (img.dims[a] > 1) axes.push_back(a);
+  if (axes.size() >= 2) {
+    const int a0 = axes[0], a1 = axes[1];
+    auto index = [&](int u, int v) {
+      std::array<long, 3> ijk{0, 0, 0};
+      ijk[a0] = u;
+      ijk[a1] = v;
+      return ijk[0] + img.dims[0] * (ijk[1] + static_cast<long>(img.dims[1]) * ijk[2]);
+    };
+    const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
+      const int s = static_cast<int>(status.values[index(u, v)]);
+      return s == 0   ? report::Rgb{200, 200, 200}
+             : s == 1 ? report::Rgb{60, 170, 90}
+                      : report::Rgb{215, 50, 40};
+    });
+    // Raw maps (.png) and figures with axes and legends (.svg, shown in the report).
+    const char* an[3] = {"x", "y", "z"};
+    auto figure = [&](const std::string& title) {
+      report::MapFigure f;
+      f.title = title;
+      f.x = report::cellAxis(std::string(an[a0]) + " [m]", img.origin[a0],
+                             img.origin[a0] + img.spacing[a0] * (img.dims[a0] - 1), img.spacing[a0]);
+      f.y = report::cellAxis(std::string(an[a1]) + " [m]", img.origin[a1],
+                             img.origin[a1] + img.spacing[a1] * (img.dims[a1] - 1), img.spacing[a1]);
+      return f;
+    };
+    report::MapFigure status_fig = figure(model.name + ": static holding");
+    status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
+                         {report::Rgb{215, 50, 40}, "drive limit"},
+                         {report::Rgb{200, 200, 200}, "unreachable"}};
+    report::writePng(out.path("harvest/" + base + "_holding_map.png"), statusImg);
+      out.add("harvest/" + base + "_holding_map.png");
+    out.text("harvest/" + base + "_holding_map.svg", report::svgMapFigure(statusImg, status_fig));
+    const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
+      const double r = ratio_rev.values[index(u, v)];
+      return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
+    });
+    report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
+    ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous"};
+    ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
+    report::writePng(out.path("harvest/" + base + "_holding_ratio.png"), ratioImg);
+      out.add("harvest/" + base + "_holding_ratio.png");
+    out.text("harvest/" + base + "_holding_ratio.svg", report::svgMapFigure(ratioImg, ratio_fig));
+    md << "Static holding (gravity + payload) over the grid, tool heading "
+       << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << reachable << " of " << np
+       << " points reachable, " << limited
+       << " of them drive-limited (|I| > continuous current). "
+       << "Map axes: " << an[a0] << " to the right, " << an[a1]
+       << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
+          "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
+          "ratio is "
+          "nearly constant, it carries the whole arm).\n\n"
+       << "![holding map](" << base << "_holding_map.svg) ![ratio](" << base
+       << "_holding_ratio.svg)\n\n";
+  } else {
+    md << "Static holding over the grid: " << reachable << " of " << np << " points reachable, "
+       << limited << " drive-limited.\n\n";
+  }
+  std::vector<std::vector<std::string>> lrows;
+  for (int i = 0; i < n; ++i)
+    if (limiting_count[i] > 0)
+      lrows.push_back({model.joints[i].name, std::to_string(limiting_count[i])});
+  if (!lrows.empty())
+    md << report::markdownTable({"limiting joint", ">grid points"}, lrows) << "\n";
+  h.points = np;
+  h.reachable = reachable;
+  h.limited = limited;
+  h.max_ratio = max_ratio;
+  h.markdown = md.str();
+  return h;
+}
+
+}  // namespace armstudy::harvest

@@ -1,0 +1,48 @@
+#pragma once
+// The harvest stage's outputs (private to stages/harvest): tables, CSV files, profile plots and
+// the holding-load grid of one design, from its DesignResult (see harvest_stage.hpp).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "report/image.hpp"
+#include "stages/harvest/harvest_stage.hpp"
+#include "study/writer.hpp"
+
+namespace armstudy::harvest {
+
+// Worst (largest value) check of joint i and quantity q over the evaluated fruits.
+struct JointAggregate {
+  double peak_effort = 0;
+  std::array<QuantityCheck, kDriveQuantityCount> worst;  // with friction
+  double peak_current_no_friction = 0;
+  double friction_share = 0;  // max over the evaluated fruits of peak |I_f - I_nf| / peak |I_f|
+  int exceeded_fruits = 0;    // fruits where any check of this joint failed (with friction)
+  bool has_drive = false;
+};
+std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d);
+
+std::string marginText(const QuantityCheck& c);
+std::string limitText(const QuantityCheck& c, int decimals);
+// "j3 peak_current at 0.42 s", or "feasible".
+std::string failureText(const Model& model, const DriveFeasibility& r);
+// <design>_fruits.csv: one row per fruit; <design>_fruit<k>_profile.csv: one row per sample.
+std::string fruitCsv(const Model& model, const DesignResult& d);
+std::string profileCsv(const Model& model, const FruitResult& f, double dt);
+// One series per joint, every `stride`-th sample (plots stay small).
+std::vector<report::Series> profileSeries(const Model& model, const std::vector<JointVector>& rows, double dt,
+                                          const std::string& suffix, int stride);
+
+// The static holding load over the [harvest.grid]: <design>_holding.vti and, for a grid with two
+// axes of more than one value, status and current-ratio maps (.png raw, .svg with axes). Adds the
+// holding metrics to M; returns the report paragraph and the numbers for summary.json.
+struct HoldingSummary {
+  long points = 0;
+  int reachable = 0, limited = 0;
+  double max_ratio = 0;
+  std::string markdown;
+};
+HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
+                                StudyMetrics& M);
+
+}  // namespace armstudy::harvest

@@ -1,0 +1,388 @@
+#include "stages/reach/reach_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "collision/reach_collision.hpp"
+#include "io/vtk_io.hpp"
+#include "reach/boundary_surface.hpp"
+#include "reach/reach_audit.hpp"
+#include "report/markdown.hpp"
+#include "stages/reach/reach_report.hpp"
+#include "stages/reach/reach_units.hpp"
+
+namespace armstudy {
+
+using nlohmann::ordered_json;
+using namespace reach_report;
+using namespace reach_units;
+
+ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& g, Progress& progress,
+                        StageResult& sum, Writer& out, std::string& md) {
+  const Study& study = ctx.study;
+  const auto d = g.dims();
+  const long points = g.points();
+  const int no = static_cast<int>(g.orientations.size());
+  const std::string gdir = "reach/" + g.name;
+  ordered_json jg;
+  jg["name"] = g.name;
+  jg["task_space"] = g.task_space.toString();
+  jg["dims"] = {d[0], d[1], d[2]};
+  jg["origin_m"] = {g.axes[0].from, g.axes[1].from, g.axes[2].from};
+  jg["spacing_m"] = {g.axes[0].step, g.axes[1].step, g.axes[2].step};
+  ordered_json jo = ordered_json::array();
+  for (const Orientation& o : g.orientations)
+    jo.push_back({{"alpha_rad", o.alpha}, {"beta_rad", o.beta}, {"gamma_rad", o.gamma}});
+  jg["orientations"] = jo;
+  jg["poses"] = g.size();
+  if (!g.reference.empty()) jg["reference"] = g.reference;
+
+  md += "## Grid `" + g.name + "`\n\n";
+  md += "Task space " + g.task_space.toString() + "; x " + axisText(g.axes[0]) + ", y " + axisText(g.axes[1]) +
+        ", z " + axisText(g.axes[2]) + "; " + std::to_string(no) + " orientation(s); " +
+        std::to_string(g.size()) + " poses per design.\n\n";
+
+  std::vector<PoseSweep> sweeps;
+  std::vector<SweepSearchSummary> searches;
+  for (const StudyDesign& sd : study.designs) {
+    const std::string unit = "reach/" + g.name + "/" + sd.model.name;
+    sweeps.push_back(solveGrid(ctx, sum, unit, sd.model, g, cfg, progress));
+    // Across units, once all are in: statuses that do not depend on the traversal (issue 12).
+    const SweepSearchSummary ss =
+        searchGridSweep(sd.model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search, sweeps.back());
+    searches.push_back(ss);
+    sum.timings.push_back({unit + "/search", ss.seconds});
+    addUnitMetrics(sum.metrics, unit, sweeps.back());
+  }
+
+  std::vector<std::vector<std::string>> rows;
+  ordered_json jdesigns = ordered_json::array();
+  const ImagePlane plane = imagePlane(g);
+  std::string images_md;
+  for (std::size_t di = 0; di < sweeps.size(); ++di) {
+    const PoseSweep& s = sweeps[di];
+    const StudyDesign& sd = study.designs[di];
+    Stats all;
+    std::vector<Stats> per(no);
+    for (long i = 0; i < g.size(); ++i) {
+      const Eigen::Vector3d p = g.position(g.pointOf(i));
+      all.add(s, i, p);
+      per[g.orientationOf(i)].add(s, i, p);
+    }
+    ordered_json jd;
+    jd["design"] = s.design;
+    jd["variant_of"] = sd.base_name;
+    ordered_json ov = ordered_json::object();
+    for (const auto& [k, v] : sd.overrides) ov[k] = v;
+    jd["overrides"] = ov;
+    jd.update(all.json());
+    ordered_json jper = ordered_json::array();
+    for (int k = 0; k < no; ++k) {
+      ordered_json e = per[k].json();
+      e["orientation"] = orientationText(g, k);
+      jper.push_back(e);
+      rows.push_back({s.design, orientationText(g, k), report::percent(per[k].fraction()),
+                      report::percent(per[k].n ? double(per[k].status[2]) / per[k].n : 0),
+                      report::percent(per[k].n ? double(per[k].status[1]) / per[k].n : 0),
+                      report::percent(per[k].n ? double(per[k].status[3]) / per[k].n : 0),
+                      per[k].extent.text()});
+      insertCollisionColumns(cfg, rows.back(), 3, per[k]);
+    }
+    jd["per_orientation"] = jper;
+    const SweepSearchSummary& se = searches[di];
+    jd["search"] = {{"propagation_rounds", se.rounds},
+                    {"neighbour_tries", se.neighbour_tries},
+                    {"neighbour_updates", se.neighbour_updates},
+                    {"collision_multistart_poses", se.multistart_poses},
+                    {"collision_multistart_tries", se.multistart_tries},
+                    {"collision_multistart_freed", se.multistart_freed},
+                    {"best_manipulability_rounds", se.best_rounds},
+                    {"best_manipulability_updates", se.best_updates},
+                    {"converged", se.converged}};
+    md += "Map search (" + s.design + "): " + std::to_string(se.rounds) + " neighbour-propagation rounds changed " +
+          std::to_string(se.neighbour_updates) + " statuses";
+    if (cfg.collision.enabled())
+      md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
+            std::to_string(cfg.search.collision_starts) + " seeded starts each (" +
+            std::to_string(se.multistart_freed) + " found collision-free). A pose is `self_collision` / "
+            "`obstacle_collision` only when no collision-free solution was found in all its starts (array "
+            "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, capped at 255)";
+    md += ".\n\n";
+    if (cfg.audit_poses > 0) {
+      const ReachAudit au = auditGridSweep(sd.model, g, cfg.ik, cfg.collision, s, cfg.audit_poses, cfg.audit_starts,
+                                           cfg.audit_seed, ctx.threads);
+      ordered_json ja;
+      ja["poses"] = au.poses;
+      ja["starts_per_pose"] = au.starts;
+      ja["seed"] = au.seed;
+      ordered_json jb = ordered_json::object(), jc = ordered_json::object();
+      for (int k = 0; k < kReachStatusCount; ++k) {
+        jb[toString(static_cast<ReachStatus>(k))] = au.by_status[k];
+        jc[toString(static_cast<ReachStatus>(k))] = au.contradicted[k];
+      }
+      ja["audited_by_status"] = jb;
+      ja["contradicted_by_status"] = jc;
+      ja["contradicted"] = au.contradictedTotal();
+      ja["reachable_but_audit_found_none"] = au.audit_missed;
+      ja["manipulability_compared"] = au.manipulability_compared;
+      ja["manipulability_within_5pct_of_audit_best"] = au.manipulability_within_5pct;
+      jd["audit"] = ja;
+      const int sc = static_cast<int>(ReachStatus::SelfCollision), oc = static_cast<int>(ReachStatus::ObstacleCollision);
+      md += "Audit (" + s.design + "): " + std::to_string(au.poses) + " poses drawn at random (seed " +
+            std::to_string(au.seed) + "), " + std::to_string(au.starts) +
+            " random starts each, without the sweep's warm starts or neighbours: " +
+            std::to_string(au.contradictedTotal()) + " statuses contradicted (a solution" +
+            (cfg.collision.enabled() ? " clear of collisions" : "") + " found where the map has none; " +
+            std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) +
+            " self_collision, " + std::to_string(au.contradicted[oc]) + " of " + std::to_string(au.by_status[oc]) +
+            " obstacle_collision), " + std::to_string(au.audit_missed) +
+            " reachable poses where the audit found no solution; manipulability at the map's solution within 5 % "
+            "of the best the audit found at " + std::to_string(au.manipulability_within_5pct) + " of " +
+            std::to_string(au.manipulability_compared) + " reachable poses.\n\n";
+    }
+
+    // VTK image data: one array per quantity and orientation.
+    if (cfg.outputs.vtk) {
+      io::ImageGrid img;
+      img.dims = d;
+      img.origin = {g.axes[0].from, g.axes[1].from, g.axes[2].from};
+      img.spacing = {g.axes[0].step, g.axes[1].step, g.axes[2].step};
+      for (int k = 0; k < no; ++k) addPoseArrays(img.point_arrays, s, &g, points, k, suffix(g, k));
+      if (no > 1)
+        img.point_arrays.push_back(arrayOf("reachable_orientations", io::ArrayType::UInt8, nullptr, points, 0, 1,
+                                           [&](long p, int) {
+                                             int c = 0;
+                                             for (int k = 0; k < no; ++k) c += s.reachable(k * points + p);
+                                             return double(c);
+                                           }));
+      const std::string rel = gdir + "/" + s.design + ".vti";
+      io::writeVti(out.path(rel), img);
+      out.add(rel);
+      jd["vti"] = rel;
+    }
+    // Boundary surface of the reachable region (3-D grids).
+    if (cfg.outputs.surface && g.spatialDimension() == 3) {
+      ordered_json jsurf = ordered_json::array();
+      const double voxel = g.axes[0].step * g.axes[1].step * g.axes[2].step;
+      for (int k = 0; k < no; ++k) {
+        std::vector<Eigen::Vector3d> pts;
+        for (long p = 0; p < points; ++p)
+          if (s.reachable(k * points + p)) pts.push_back(g.position(p));
+        const BoundarySurface bs =
+            alphaShapeSurface(pts, gridAlphaRadius({g.axes[0].step, g.axes[1].step, g.axes[2].step}));
+        io::PolyDataSet poly;
+        poly.points = bs.vertices;
+        poly.triangles = bs.triangles;
+        const std::string rel = gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
+        io::writeVtp(out.path(rel), poly);
+        out.add(rel);
+        jsurf.push_back({{"orientation", orientationText(g, k)},
+                         {"file", rel},
+                         {"alpha_shape_volume_m3", bs.volume_m3},
+                         {"voxel_volume_m3", voxel * static_cast<double>(pts.size())},
+                         {"triangles", bs.triangles.size()}});
+        md += "";
+      }
+      jd["surface"] = jsurf;
+    }
+    // Images.
+    if (cfg.outputs.images) {
+      const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
+      double mmax = 0;
+      for (long i = 0; i < g.size(); ++i)
+        if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+      for (int k = 0; k < no; ++k) {
+        const long off = static_cast<long>(k) * points;
+        report::RasterImage status_img = report::renderCellMap(nu, nv, [&](int u, int v) {
+          if (plane.projected >= 0) {
+            long c = 0, n = 0;
+            forCell(g, plane, u, v, [&](long p) { c += s.reachable(off + p); ++n; });
+            return report::viridis(n ? double(c) / n : 0.0);
+          }
+          report::Rgb col;
+          forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
+          return col;
+        });
+        report::MapFigure fig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+        if (plane.projected >= 0)
+          fig.scale = report::ColourScale{report::viridis, 0, 1,
+                                          "fraction of the cells along " + std::string(kAxis[plane.projected]) +
+                                              " that are reachable"};
+        else
+          fig.legend = statusLegend(per[k].status);
+        const std::string rel =
+            writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
+        images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
+                     orientationText(g, k) + ": " + report::percent(per[k].fraction()) + " reachable. " +
+                     imageCaptionAxes(g, plane) + ".*\n\n";
+        if (plane.projected < 0 && mmax > 0) {
+          report::RasterImage m_img = report::renderCellMap(nu, nv, [&](int u, int v) {
+            report::Rgb col{230, 230, 230};
+            forCell(g, plane, u, v, [&](long p) {
+              if (s.reachable(off + p)) col = report::viridis(s.manipulability[off + p] / mmax);
+            });
+            return col;
+          });
+          report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+          mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability (eq. 5.59)"};
+          mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
+          const std::string mrel = writeFigure(out, 
+              "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
+          images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
+                       s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
+                       report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
+        }
+      }
+    }
+    jdesigns.push_back(jd);
+  }
+  jg["designs"] = jdesigns;
+  std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
+                                     ">repr. singular", "extent of the reachable poses"};
+  insertCollisionColumns(cfg, header, 3);
+  md += report::markdownTable(header, rows);
+  md += "\n";
+  if (g.spatialDimension() == 3 && cfg.outputs.surface) {
+    std::vector<std::vector<std::string>> srows;
+    for (const auto& jd : jdesigns)
+      for (const auto& sf : jd["surface"])
+        srows.push_back({jd["design"].get<std::string>(), sf["orientation"].get<std::string>(),
+                         report::fixed(sf["alpha_shape_volume_m3"].get<double>(), 4),
+                         report::fixed(sf["voxel_volume_m3"].get<double>(), 4), sf["file"].get<std::string>()});
+    md += "Reachable volume (boundary surface: CGAL 3-D alpha shape of the reachable grid points; the voxel estimate counts one grid cell per reachable point):\n\n" +
+          report::markdownTable({"design", "orientation", ">alpha shape [m^3]", ">voxels [m^3]", "surface"}, srows) + "\n";
+  }
+  if (!g.reference.empty()) {
+    md += "**Reference:** " + g.reference + "\n\n**This model:** ";
+    for (std::size_t di = 0; di < sweeps.size(); ++di) {
+      const auto& jd = jdesigns[di];
+      md += "`" + sweeps[di].design + "` reaches " + report::percent(jd["fraction"].get<double>()) +
+            " of the grid's poses";
+      Stats all;
+      for (long i = 0; i < g.size(); ++i) all.add(sweeps[di], i, g.position(g.pointOf(i)));
+      md += " (extent " + all.extent.text() + ")" + (di + 1 < sweeps.size() ? "; " : ".\n\n");
+    }
+  }
+  md += images_md;
+
+  // Comparison of designs on this grid.
+  if (sweeps.size() >= 2) {
+    ordered_json jcmp;
+    if (cfg.outputs.vtk && sweeps.size() <= 30) {
+      io::ImageGrid img;
+      img.dims = d;
+      img.origin = {g.axes[0].from, g.axes[1].from, g.axes[2].from};
+      img.spacing = {g.axes[0].step, g.axes[1].step, g.axes[2].step};
+      for (int k = 0; k < no; ++k) {
+        img.point_arrays.push_back(arrayOf("reached_by_mask" + suffix(g, k), io::ArrayType::Int32, &g, points, k, 1,
+                                           [&](long i, int) {
+                                             long m = 0;
+                                             for (std::size_t di = 0; di < sweeps.size(); ++di)
+                                               if (sweeps[di].reachable(i)) m |= 1L << di;
+                                             return double(m);
+                                           }));
+        img.point_arrays.push_back(arrayOf("reached_by_count" + suffix(g, k), io::ArrayType::UInt8, &g, points, k, 1,
+                                           [&](long i, int) {
+                                             int c = 0;
+                                             for (const auto& s : sweeps) c += s.reachable(i);
+                                             return double(c);
+                                           }));
+      }
+      const std::string rel = gdir + "/comparison.vti";
+      io::writeVti(out.path(rel), img);
+      out.add(rel);
+      jcmp["vti"] = rel;
+      ordered_json bits = ordered_json::array();
+      for (const auto& s : sweeps) bits.push_back(s.design);
+      jcmp["mask_bits"] = bits;
+    }
+    md += "### Comparison of designs on `" + g.name + "`\n\n";
+    std::vector<std::vector<std::string>> crow;
+    ordered_json pairs = ordered_json::array();
+    std::string pair_imgs;
+    const std::size_t max_pairs_designs = 4;
+    for (std::size_t a = 0; a < sweeps.size(); ++a)
+      for (std::size_t b = a + 1; b < sweeps.size(); ++b) {
+        if (sweeps.size() > max_pairs_designs && a > 0) continue;  // many designs: first vs each
+        long n_a = 0, n_b = 0, both = 0, neither = 0;
+        for (long i = 0; i < g.size(); ++i) {
+          const bool ra = sweeps[a].reachable(i), rb = sweeps[b].reachable(i);
+          n_a += ra && !rb;
+          n_b += rb && !ra;
+          both += ra && rb;
+          neither += !ra && !rb;
+        }
+        pairs.push_back({{"a", sweeps[a].design}, {"b", sweeps[b].design}, {"a_only", n_a}, {"b_only", n_b},
+                         {"both", both}, {"neither", neither}});
+        const double N = static_cast<double>(g.size());
+        crow.push_back({sweeps[a].design, sweeps[b].design, report::percent(n_a / N), report::percent(n_b / N),
+                        report::percent(both / N), report::percent(neither / N)});
+        if (cfg.outputs.images && plane.projected < 0) {
+          const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
+          for (int k = 0; k < no; ++k) {
+            const long off = static_cast<long>(k) * points;
+            report::RasterImage img = report::renderCellMap(nu, nv, [&](int u, int v) {
+              report::Rgb col;
+              forCell(g, plane, u, v, [&](long p) {
+                const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
+                col = ra && rb ? report::categorical(0)
+                               : ra ? report::categorical(5) : rb ? report::categorical(2) : report::categorical(1);
+              });
+              return col;
+            });
+            report::MapFigure cfig =
+                mapAxes(g, plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
+            cfig.legend = {{report::categorical(0), "both"},
+                           {report::categorical(5), "only " + sweeps[a].design},
+                           {report::categorical(2), "only " + sweeps[b].design},
+                           {report::categorical(1), "neither"}};
+            const std::string rel = writeFigure(out, "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
+                                                   sweeps[b].design + suffix(g, k),
+                                               img, cfig);
+            pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
+                         orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design +
+                         " (blue), only " + sweeps[b].design + " (orange), neither (light grey). " +
+                         imageCaptionAxes(g, plane) + ".*\n\n";
+          }
+        }
+      }
+    jcmp["pairs"] = pairs;
+    // Best design / variant per base design (e.g. the best base placement).
+    ordered_json best = ordered_json::array();
+    std::vector<std::vector<std::string>> brow;
+    std::vector<std::string> bases;
+    for (const auto& sd : study.designs)
+      if (std::find(bases.begin(), bases.end(), sd.base_name) == bases.end()) bases.push_back(sd.base_name);
+    for (const std::string& base : bases) {
+      int count = 0, best_i = -1;
+      double best_f = -1;
+      bool base_sweep = false;
+      for (std::size_t di = 0; di < sweeps.size(); ++di) {
+        if (study.designs[di].base_name != base) continue;
+        ++count;
+        for (const auto& [k, v] : study.designs[di].overrides) base_sweep |= k.rfind("base.", 0) == 0;
+        const double f = jdesigns[di]["fraction"].get<double>();
+        if (f > best_f) {
+          best_f = f;
+          best_i = static_cast<int>(di);
+        }
+      }
+      if (count < 2) continue;
+      best.push_back({{"base_design", base}, {"best", sweeps[best_i].design}, {"fraction", best_f},
+                      {"varies_base_placement", base_sweep}});
+      brow.push_back({base, sweeps[best_i].design, report::percent(best_f), base_sweep ? "yes" : "no"});
+    }
+    jcmp["best_variant"] = best;
+    jg["comparison"] = jcmp;
+    md += "Per pose, which designs reach it (all orientations together):\n\n" +
+          report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n";
+    if (!brow.empty())
+      md += "Best variant per base design (the most reachable poses; with base.* overrides this is the best base placement):\n\n" +
+            report::markdownTable({"base design", "best variant", ">reachable", "base placement varied"}, brow) + "\n";
+    md += pair_imgs;
+  }
+  return jg;
+}
+
+}  // namespace armstudy

@@ -1,0 +1,153 @@
+#include "stages/reach/reach_units.hpp"
+
+#include <algorithm>
+
+#include "collision/reach_collision.hpp"
+#include "common/defaults.hpp"
+
+namespace armstudy::reach_units {
+
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v5";
+
+std::string serializeSweep(const PoseSweep& s) {
+  UnitWriter w(kUnitMagic);
+  w.put<std::int64_t>(s.dof);
+  w.put<std::int64_t>(s.offset);
+  w.put<std::int64_t>(s.size);
+  w.putVector(s.status);
+  w.putVector(s.starts);
+  w.putVector(s.position_error_m);
+  w.putVector(s.orientation_error_rad);
+  w.putVector(s.manipulability);
+  w.putVector(s.joint_limit_margin);
+  w.putVector(s.q);
+  w.putVector(s.q_alt);
+  w.put<std::uint8_t>(s.collision);
+  w.put<std::uint8_t>(s.obstacles);
+  w.putVector(s.min_distance_m);
+  w.putVector(s.colliding_pair);
+  w.putVector(s.obstacle_distance_m);
+  w.put<std::uint64_t>(s.pair_names.size());
+  for (const std::string& n : s.pair_names) w.putString(n);
+  return w.bytes();
+}
+
+bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep& s) {
+  UnitReader r(b, kUnitMagic);
+  s = PoseSweep{};
+  s.design = design;
+  s.dof = static_cast<int>(r.get<std::int64_t>());
+  s.offset = r.get<std::int64_t>();
+  s.size = r.get<std::int64_t>();
+  r.getVector(s.status);
+  r.getVector(s.starts);
+  r.getVector(s.position_error_m);
+  r.getVector(s.orientation_error_rad);
+  r.getVector(s.manipulability);
+  r.getVector(s.joint_limit_margin);
+  r.getVector(s.q);
+  r.getVector(s.q_alt);
+  s.collision = r.get<std::uint8_t>() != 0;
+  s.obstacles = r.get<std::uint8_t>() != 0;
+  r.getVector(s.min_distance_m);
+  r.getVector(s.colliding_pair);
+  r.getVector(s.obstacle_distance_m);
+  const auto names = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; r.ok() && k < names; ++k) s.pair_names.push_back(r.getString());
+  if (!r.finished() || s.size < 0 || s.dof < 0) return false;
+  const auto n = static_cast<std::size_t>(s.size);
+  const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;
+  return s.status.size() == n && s.starts.size() == n && s.position_error_m.size() == n &&
+         s.orientation_error_rad.size() == n && s.manipulability.size() == n && s.joint_limit_margin.size() == n &&
+         s.q.size() == n * s.dof && s.q_alt.size() == n * s.dof && s.min_distance_m.size() == nc && s.colliding_pair.size() == nc &&
+         s.obstacle_distance_m.size() == no;
+}
+
+namespace {
+
+long posesOf(const TaskGrid& g) { return g.size(); }
+long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
+
+// One design's sweep of a grid or pose list, as checkpoint units of `unit_poses` poses (rounded to
+// whole sweep units, at least one): units saved by an interrupted run are loaded, the others
+// solved in one parallel sweep and each saved as soon as it is done; the sweep is assembled from
+// the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units). A
+// saved unit that does not fit (place, size, design size, collision columns) is solved again.
+template <class Source, class SweepRanges>
+PoseSweep solveUnits(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+                     const Model& model, const Source& source, const SweepCollision& collision, Progress& progress,
+                     SweepRanges&& sweep_ranges) {
+  const long len = sweepUnitLength(source), poses = posesOf(source);
+  const std::vector<std::string> pair_names =
+      collision.enabled() ? collision::collisionPairNames(model, collision.obstacles, collision.self)
+                          : std::vector<std::string>{};
+  const long unit_poses = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
+  const std::vector<ItemRange> ranges = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len));
+  std::vector<PoseSweep> chunks, solved;
+  UnitBatch batch;
+  for (const ItemRange& r : ranges) batch.ids.push_back(prefix + "/units_" + r.text());
+  batch.load = [&](std::size_t k, const std::string& bytes) {
+    PoseSweep c;
+    const long first = ranges[k].begin * len, n = std::min(poses, ranges[k].end * len) - first;
+    if (!(deserializeSweep(bytes, model.name, c) && c.offset == first && c.size == n && c.dof == model.dof() &&
+          c.collision == collision.enabled() && c.obstacles == !collision.obstacles.empty() &&
+          c.pair_names == pair_names))
+      return false;
+    progress.advance(n);
+    chunks.push_back(std::move(c));
+    return true;
+  };
+  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    std::vector<ItemRange> todo_ranges;
+    for (std::size_t k : todo) todo_ranges.push_back(ranges[k]);
+    solved = sweep_ranges(todo_ranges, [&](std::size_t j, const PoseSweep& c) { done(todo[j], serializeSweep(c)); });
+  };
+  sum.units_resumed += ctx.units.run(batch);
+  if (solved.empty() && !chunks.empty()) return assembleSweep(std::move(chunks), poses);
+  double wall = 0, t_reach = 0, t_unreach = 0;
+  long nr = 0, n = 0;
+  for (PoseSweep& c : solved) {
+    wall = std::max(wall, c.wall_seconds);
+    t_reach += c.solve_seconds_reachable;
+    t_unreach += c.solve_seconds_unreachable;
+    nr += c.countReachable();
+    n += c.size;
+    chunks.push_back(std::move(c));
+  }
+  sum.timings.push_back({prefix + "/wall", wall});
+  sum.timings.push_back({prefix + "/per_reachable_pose", nr ? t_reach / nr : 0.0});
+  sum.timings.push_back({prefix + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0});
+  return assembleSweep(std::move(chunks), poses);
+}
+
+}  // namespace
+
+PoseSweep solveGrid(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
+                    const TaskGrid& g, const ReachConfig& cfg, Progress& progress) {
+  return solveUnits(ctx, sum, prefix, model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
+    return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
+  });
+}
+
+PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
+                        const PoseList& l, const ReachConfig& cfg, Progress& progress) {
+  return solveUnits(ctx, sum, prefix, model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
+    return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
+  });
+}
+
+// Summary metrics of one unit for baselines and checks.
+void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep& s) {
+  const long nr = s.countReachable();
+  m.scalars[prefix + "/reachable_fraction"] = s.size ? double(nr) / s.size : 0.0;
+  double sum_m = 0;
+  std::vector<std::uint8_t> flags(s.size);
+  for (long i = 0; i < s.size; ++i) {
+    flags[i] = s.reachable(i);
+    if (flags[i]) sum_m += s.manipulability[i];
+  }
+  m.scalars[prefix + "/manipulability_mean"] = nr ? sum_m / nr : 0.0;
+  m.flags[prefix + "/reachable"] = flags;
+}
+
+}  // namespace armstudy::reach_units

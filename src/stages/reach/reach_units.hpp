@@ -1,0 +1,27 @@
+#pragma once
+// The reach stage's work units (private to stages/reach): one design x a range of a grid's lines
+// or a pose list's chunks, as bytes for the unit runner, and the sweep assembled from them.
+#include <string>
+
+#include "reach/reach_sweep.hpp"
+#include "stages/reach/reach_config.hpp"
+#include "study/stage.hpp"
+
+namespace armstudy::reach_units {
+
+// A chunk's result as bytes (its place in the sweep and every per-pose column, no timings), and
+// back: false when the bytes are not such a unit.
+std::string serializeSweep(const PoseSweep& s);
+bool deserializeSweep(const std::string& bytes, const std::string& design, PoseSweep& s);
+
+// One design's sweep of a grid / pose list through ctx.units (unit ids <prefix>/units_<b>-<e>);
+// per-unit timings go to sum.timings, resumed units to sum.units_resumed.
+PoseSweep solveGrid(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
+                    const TaskGrid& g, const ReachConfig& cfg, Progress& progress);
+PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
+                        const PoseList& l, const ReachConfig& cfg, Progress& progress);
+
+// Summary metrics of one design's sweep for baselines and checks (<prefix>/reachable_fraction, ...).
+void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep& s);
+
+}  // namespace armstudy::reach_units
