@@ -6,6 +6,9 @@
 #include "study/checkpoint.hpp"
 
 #ifdef ARMSTUDY_MPI
+// The C API only (OpenMPI and MPICH would otherwise pull in their deprecated C++ bindings).
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 #include <signal.h>
 #include <unistd.h>
@@ -29,7 +32,8 @@ class SingleProcess final : public Ranks {
   int rank() const override { return 0; }
   int size() const override { return 1; }
   int firstFailure(bool failed) const override { return failed ? 0 : 1; }
-  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads, bool) const override {
+  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads,
+                                         bool) const override {
     return std::make_unique<UnitRunner>(store, threads);
   }
   [[noreturn]] void abortJob(int exit_code) const override { std::exit(exit_code); }
@@ -63,10 +67,11 @@ bool mpiAvailable() { return false; }
 std::unique_ptr<Ranks> joinMpiJob() {
   int size = 0;
   if (startedByLauncher(size) && size > 1)
-    throw InputError("", 0, "",
-                     "started as one of " + std::to_string(size) +
-                         " MPI ranks, but this armstudy was built without MPI (CMake option ARMSTUDY_MPI; "
-                         "install libopenmpi-dev and reconfigure); run it without mpirun/srun");
+    throw InputError(
+        "", 0, "",
+        "started as one of " + std::to_string(size) +
+            " MPI ranks, but this armstudy was built without MPI (CMake option ARMSTUDY_MPI; "
+            "install libopenmpi-dev and reconfigure); run it without mpirun/srun");
   return nullptr;
 }
 
@@ -80,11 +85,13 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kTagRequest = 11;  // worker -> rank 0: units finished since the last request (int64)
 constexpr int kTagWork = 12;     // rank 0 -> worker: unit indices (int64), none = the batch is done
-// Hand-out chunk: remaining units / (kGuidedFactor x ranks), at least one ("guided" self-scheduling:
-// few messages while much is left, single units at the end so the ranks finish together).
+// Hand-out chunk: remaining units / (kGuidedFactor x ranks), at least one ("guided"
+// self-scheduling: few messages while much is left, single units at the end so the ranks finish
+// together).
 constexpr long kGuidedFactor = 4;
 // Polling of idle waits: from kPollMin doubling to kPollMax, so an idle rank (or rank 0's hand-out
-// thread) takes no core from the ranks that compute, yet answers within a fraction of a millisecond.
+// thread) takes no core from the ranks that compute, yet answers within a fraction of a
+// millisecond.
 constexpr auto kPollMin = std::chrono::microseconds(20);
 constexpr auto kPollMax = std::chrono::microseconds(500);
 // Largest piece of one broadcast (MPI counts are int).
@@ -160,11 +167,13 @@ std::vector<PackedUnit> unpack(const std::string& in) {
 // The units of one batch still to hand out (rank 0).
 class Pool {
  public:
-  Pool(std::vector<std::size_t> todo, int ranks, bool single) : todo_(std::move(todo)), ranks_(ranks), single_(single) {}
+  Pool(std::vector<std::size_t> todo, int ranks, bool single)
+      : todo_(std::move(todo)), ranks_(ranks), single_(single) {}
   std::vector<std::size_t> take() {
     std::lock_guard<std::mutex> g(m_);
     const long left = static_cast<long>(todo_.size() - next_);
-    const long n = single_ ? std::min(1L, left) : std::min(left, std::max(1L, left / (kGuidedFactor * ranks_)));
+    const long n = single_ ? std::min(1L, left)
+                           : std::min(left, std::max(1L, left / (kGuidedFactor * ranks_)));
     std::vector<std::size_t> out(todo_.begin() + next_, todo_.begin() + next_ + n);
     next_ += n;
     return out;
@@ -182,19 +191,28 @@ class Pool {
 class JobProgress {
  public:
   JobProgress(bool enabled, std::string label, long total, int ranks)
-      : enabled_(enabled), label_(std::move(label)), total_(total), ranks_(ranks), t0_(Clock::now()), last_(t0_) {}
+      : enabled_(enabled),
+        label_(std::move(label)),
+        total_(total),
+        ranks_(ranks),
+        t0_(Clock::now()),
+        last_(t0_) {}
   void add(long n) {
     if (!enabled_ || n <= 0) return;
     std::lock_guard<std::mutex> g(m_);
     done_ += n;
     const auto now = Clock::now();
-    if (done_ < total_ && std::chrono::duration<double>(now - last_).count() < kProgressEverySeconds) return;
+    if (done_ < total_ &&
+        std::chrono::duration<double>(now - last_).count() < kProgressEverySeconds)
+      return;
     last_ = now;
     const double t = std::chrono::duration<double>(now - t0_).count();
     if (done_ >= total_ && t < kProgressEverySeconds) return;  // short batches stay quiet
     const double eta = done_ > 0 ? t * double(total_ - done_) / double(done_) : 0;
-    std::fprintf(stderr, "armstudy: %s: %ld/%ld units on %d ranks, %.0f s, %s\n", label_.c_str(), done_, total_,
-                 ranks_, t, done_ >= total_ ? "done" : ("ETA " + std::to_string(long(eta + 0.5)) + " s").c_str());
+    std::fprintf(
+        stderr, "armstudy: %s: %ld/%ld units on %d ranks, %.0f s, %s\n", label_.c_str(), done_,
+        total_, ranks_, t,
+        done_ >= total_ ? "done" : ("ETA " + std::to_string(long(eta + 0.5)) + " s").c_str());
     std::fflush(stderr);
   }
 
@@ -240,7 +258,8 @@ class MpiUnitRunner final : public UnitRunner {
     MPI_Request req;
     MPI_Ibcast(&blob_size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &req);
     waitQuietly(req);
-    std::vector<std::size_t> refused;  // units this rank's stage did not take: computed here at the end
+    std::vector<std::size_t>
+        refused;  // units this rank's stage did not take: computed here at the end
     if (blob_size > 0) {
       broadcast(blob, 0, blob_size);
       for (PackedUnit& u : unpack(blob)) {
@@ -268,7 +287,8 @@ class MpiUnitRunner final : public UnitRunner {
       const double c0 = UnitTimeRecord::processCpuSeconds();
       const std::size_t first = mine.size();
       batch.compute(chunk, done);
-      const double s = std::chrono::duration<double>(Clock::now() - t0).count() / double(chunk.size());
+      const double s =
+          std::chrono::duration<double>(Clock::now() - t0).count() / double(chunk.size());
       const double c = (UnitTimeRecord::processCpuSeconds() - c0) / double(chunk.size());
       for (std::size_t i = first; i < mine.size(); ++i) {
         mine[i].seconds = s;
@@ -334,13 +354,16 @@ class MpiUnitRunner final : public UnitRunner {
       if (!in_last[k] && !batch.load(k, all[k])) refused.push_back(k);
     }
     if (!refused.empty()) {
-      for (std::size_t k : last_call) ARMSTUDY_CHECK(batch.load(k, all[k]), "a unit this rank computed loads back");
+      for (std::size_t k : last_call)
+        ARMSTUDY_CHECK(batch.load(k, all[k]), "a unit this rank computed loads back");
       std::sort(refused.begin(), refused.end());
       batch.compute(refused, [](std::size_t, const std::string&) {});
     }
     if (rank_ == 0 && times_.enabled()) {
       std::vector<UnitTimeRecord::Line> lines;
-      for (std::size_t k : todo) lines.push_back({batch.ids[k], seconds[k], cpu_seconds[k], threads_, where[k], all[k].size()});
+      for (std::size_t k : todo)
+        lines.push_back(
+            {batch.ids[k], seconds[k], cpu_seconds[k], threads_, where[k], all[k].size()});
       times_.append(lines);
     }
     return resumed;
@@ -364,11 +387,13 @@ class MpiUnitRunner final : public UnitRunner {
     while (active > 0) {
       const MPI_Status st = probeQuietly(MPI_ANY_SOURCE, kTagRequest);
       std::int64_t finished = 0;
-      MPI_Recv(&finished, 1, MPI_INT64_T, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      MPI_Recv(&finished, 1, MPI_INT64_T, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
       progress.add(finished);
       const std::vector<std::size_t> chunk = pool.take();
       const std::vector<std::int64_t> msg(chunk.begin(), chunk.end());
-      MPI_Send(msg.data(), static_cast<int>(msg.size()), MPI_INT64_T, st.MPI_SOURCE, kTagWork, MPI_COMM_WORLD);
+      MPI_Send(msg.data(), static_cast<int>(msg.size()), MPI_INT64_T, st.MPI_SOURCE, kTagWork,
+               MPI_COMM_WORLD);
       if (chunk.empty()) --active;
     }
   }
@@ -380,8 +405,10 @@ class MpiUnitRunner final : public UnitRunner {
 // Rank 0's last words when the launcher stops the job (it sends SIGTERM to every rank when one
 // rank died or the job was cancelled): what happened and how to resume. Async-signal-safe.
 const char kStoppedMessage[] =
-    "armstudy: the MPI job was stopped (a rank died or the job was cancelled); the units completed so far are "
-    "saved in the output folder's .partial/: run the same command again, with any number of ranks, to resume\n";
+    "armstudy: the MPI job was stopped (a rank died or the job was cancelled); the units completed "
+    "so far are "
+    "saved in the output folder's .partial/: run the same command again, with any number of ranks, "
+    "to resume\n";
 extern "C" void onStopped(int sig) {
   const ssize_t ignored = ::write(STDERR_FILENO, kStoppedMessage, sizeof kStoppedMessage - 1);
   (void)ignored;
@@ -398,8 +425,10 @@ class MpiRanks final : public Ranks {
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
     if (provided < MPI_THREAD_SERIALIZED) {
       if (rank_ == 0)
-        std::fprintf(stderr, "armstudy: error: the MPI library offers no MPI_THREAD_SERIALIZED (rank 0 hands out "
-                             "units from a second thread)\n");
+        std::fprintf(
+            stderr,
+            "armstudy: error: the MPI library offers no MPI_THREAD_SERIALIZED (rank 0 hands out "
+            "units from a second thread)\n");
       MPI_Abort(MPI_COMM_WORLD, 1);
     }
     if (rank_ == 0 && size_ > 1) {
@@ -419,7 +448,8 @@ class MpiRanks final : public Ranks {
     waitQuietly(req);
     return first;
   }
-  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads, bool progress) const override {
+  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads,
+                                         bool progress) const override {
     return std::make_unique<MpiUnitRunner>(store, threads, progress && rank_ == 0, rank_, size_);
   }
   [[noreturn]] void abortJob(int exit_code) const override {

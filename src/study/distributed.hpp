@@ -2,12 +2,12 @@
 // Distributed study runs (docs/distributed.md): the processes ("ranks") of one MPI job run the same
 // study in lockstep. Every rank runs every stage, so every rank reaches the same UnitBatch in the
 // same order; the distributed UnitRunner splits each batch's units among the ranks (rank 0 hands
-// them out on demand, in shrinking chunks, and computes too), every rank saves the units it computed
-// into the checkpoint store (a shared filesystem) and, at the end of the batch, receives the bytes
-// of all units computed elsewhere, so each rank merges the whole batch exactly as a single process
-// does. Only rank 0 writes into the output folder; the other ranks write their (identical) files
-// into a private scratch folder that is removed. Results are therefore byte-identical for any number
-// of ranks and threads.
+// them out on demand, in shrinking chunks, and computes too), every rank saves the units it
+// computed into the checkpoint store (a shared filesystem) and, at the end of the batch, receives
+// the bytes of all units computed elsewhere, so each rank merges the whole batch exactly as a
+// single process does. Only rank 0 writes into the output folder; the other ranks write their
+// (identical) files into a private scratch folder that is removed. Results are therefore
+// byte-identical for any number of ranks and threads.
 //
 // MPI itself stays inside distributed.cpp (built with the CMake option ARMSTUDY_MPI); without it
 // only the single process exists.

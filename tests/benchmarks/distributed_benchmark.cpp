@@ -5,7 +5,7 @@
 // tests/benchmarks/simulate_distribution.py.
 //
 //   cmake --build build --target distributed_bench
-//   build/tests/benchmarks/distributed_bench [study.toml] [unit-times.csv]
+//   build/tests/benchmarks/distributed_bench [study.toml] [unit-times.csv] ["more run options"]
 // (default study: studies/compare_designs.toml; needs a build with ARMSTUDY_MPI)
 #include <sys/resource.h>
 #include <sys/time.h>
@@ -49,7 +49,8 @@ Timing run(const std::string& cmd) {
     std::fprintf(stderr, "failed: %s\n", cmd.c_str());
     std::exit(1);
   }
-  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), childCpuSeconds() - c0};
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+          childCpuSeconds() - c0};
 }
 
 std::map<std::string, std::string> resultFiles(const fs::path& dir) {
@@ -65,18 +66,22 @@ std::map<std::string, std::string> resultFiles(const fs::path& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string study = argc > 1 ? argv[1] : std::string(ARMSTUDY_SOURCE_DIR) + "/studies/compare_designs.toml";
+  const std::string study =
+      argc > 1 ? argv[1] : std::string(ARMSTUDY_SOURCE_DIR) + "/studies/compare_designs.toml";
   const std::string times = argc > 2 ? argv[2] : "";
+  const std::string more = argc > 3 ? std::string(" ") + argv[3] : "";
   if (std::string(ARMSTUDY_MPIEXEC).empty()) {
     std::fprintf(stderr, "distributed_bench needs a build with MPI (ARMSTUDY_MPI=ON)\n");
     return 1;
   }
   const fs::path out = fs::temp_directory_path() / "armstudy_distributed_bench";
   fs::remove_all(out);
-  const std::string bin = ARMSTUDY_BINARY, args = " run " + study + " --overwrite --output " + out.string();
-  const std::string mpi = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + ARMSTUDY_MPIEXEC +
-                          " --oversubscribe -np ";
-  std::printf("study %s, load average before: %s\n", study.c_str(), loadAverage().c_str());
+  const std::string bin = ARMSTUDY_BINARY,
+                    args = " run " + study + " --overwrite --output " + out.string() + more;
+  const std::string mpi =
+      std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + ARMSTUDY_MPIEXEC +
+      " --oversubscribe -np ";
+  std::printf("study %s%s, load average before: %s\n", study.c_str(), more.c_str(), loadAverage().c_str());
   const std::string env1 = times.empty() ? "" : "ARMSTUDY_UNIT_TIMES=" + times + " ";
   if (!times.empty()) fs::remove(times);
   const Timing t1 = run(env1 + bin + args + " --threads 1");
@@ -87,12 +92,15 @@ int main(int argc, char** argv) {
   const bool same_r2 = resultFiles(out / name) == ref;
   const Timing t2 = run(bin + args + " --threads 2");
   const bool same_t2 = resultFiles(out / name) == ref;
-  std::printf("| run | wall [s] | CPU [s] | speed-up | efficiency | result files |\n|---|---:|---:|---:|---:|---|\n");
-  std::printf("| 1 process x 1 thread | %.1f | %.1f | 1.00 | 100 %% | reference |\n", t1.wall, t1.cpu);
-  std::printf("| 2 MPI ranks x 1 thread | %.1f | %.1f | %.2f | %.0f %% | %s |\n", r2.wall, r2.cpu, t1.wall / r2.wall,
-              100 * t1.wall / (2 * r2.wall), same_r2 ? "identical" : "DIFFER");
-  std::printf("| 1 process x 2 threads | %.1f | %.1f | %.2f | %.0f %% | %s |\n", t2.wall, t2.cpu, t1.wall / t2.wall,
-              100 * t1.wall / (2 * t2.wall), same_t2 ? "identical" : "DIFFER");
+  std::printf(
+      "| run | wall [s] | CPU [s] | speed-up | efficiency | result files "
+      "|\n|---|---:|---:|---:|---:|---|\n");
+  std::printf("| 1 process x 1 thread | %.1f | %.1f | 1.00 | 100 %% | reference |\n", t1.wall,
+              t1.cpu);
+  std::printf("| 2 MPI ranks x 1 thread | %.1f | %.1f | %.2f | %.0f %% | %s |\n", r2.wall, r2.cpu,
+              t1.wall / r2.wall, 100 * t1.wall / (2 * r2.wall), same_r2 ? "identical" : "DIFFER");
+  std::printf("| 1 process x 2 threads | %.1f | %.1f | %.2f | %.0f %% | %s |\n", t2.wall, t2.cpu,
+              t1.wall / t2.wall, 100 * t1.wall / (2 * t2.wall), same_t2 ? "identical" : "DIFFER");
   std::printf("load average after: %s\n", loadAverage().c_str());
   fs::remove_all(out);
   return same_r2 && same_t2 ? 0 : 1;

@@ -22,7 +22,7 @@ Makespan = sum over batches; efficiency = T1 / (N x makespan) with T1 = the sing
 
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
-      [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single]
+      [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single] [--group G]
 """
 import argparse
 import csv
@@ -31,7 +31,8 @@ import math
 from collections import OrderedDict
 
 
-def load_batches(path, scale):
+def load_batches(path, scale, group):
+    """Batches of (cost, bytes) units; `group` consecutive recorded units of a batch form one unit."""
     batches = OrderedDict()
     with open(path) as f:
         for row in csv.DictReader(f):
@@ -39,7 +40,11 @@ def load_batches(path, scale):
             key = unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
             cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
             batches.setdefault(key, []).append((cost, int(row.get("bytes") or 0)))
-    return list(batches.values())
+    out = []
+    for units in batches.values():
+        out.append([(sum(c for c, _ in units[i:i + group]), sum(b for _, b in units[i:i + group]))
+                    for i in range(0, len(units), group)])
+    return out
 
 
 def simulate_batch(units, n, latency, service, poll, bandwidth, single):
@@ -100,6 +105,7 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--replicate", type=int, default=1, help="batches repeated R times (more variants)")
     ap.add_argument("--scale", type=float, default=1.0, help="unit cost factor")
+    ap.add_argument("--group", type=int, default=1, help="units of G consecutive recorded units (a coarser grain)")
     ap.add_argument("--serial-total", type=float, default=0.0,
                     help="serial seconds of the recorded run outside the units (wall of a 1-thread run minus "
                          "the sum of unit costs), spread evenly over its batches")
@@ -109,9 +115,12 @@ def main():
     ap.add_argument("--poll", type=float, default=5e-4)
     ap.add_argument("--bandwidth", type=float, default=5e9)
     ap.add_argument("--single", action="store_true", help="one unit per hand-out instead of guided chunks")
+    ap.add_argument("--one-pool", action="store_true",
+                    help="what-if: every batch of the study handed out from one pool (no barrier between "
+                         "batches) and the batches' serial work spread over the ranks")
     a = ap.parse_args()
 
-    batches = load_batches(a.csv, a.scale) * a.replicate
+    batches = load_batches(a.csv, a.scale, a.group) * a.replicate
     serial = a.serial_total * a.replicate / max(1, len(batches))
     units = sum(len(b) for b in batches)
     work = sum(c for b in batches for c, _ in b)
@@ -122,9 +131,17 @@ def main():
           f"T1 = {t1:.1f} s (units {work:.1f} s, serial {serial * len(batches):.1f} s)")
     print(f"latency {a.latency * 1e6:.0f} us, hand-out service {a.service * 1e6:.0f} us, idle poll <= {a.poll * 1e6:.0f} us, "
           f"bandwidth {a.bandwidth / 1e9:.1f} GB/s, {'one unit' if a.single else 'guided chunks'} per hand-out")
-    print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | idle at batch ends |")
+    print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | idle: batch tails + exchange |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for n in [int(x) for x in a.ranks.split(",")]:
+        if a.one_pool:
+            pool = [u for b in batches for u in b]
+            t, mb, h = simulate_batch(pool, n, a.latency, a.service, a.poll, a.bandwidth, a.single)
+            # The serial tasks (one per batch, equal) spread over the ranks.
+            total = t + serial * math.ceil(len(batches) / n)
+            print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * mb / total:.2f} % | "
+                  f"{h / t:.0f} | {100 * (n * total - t1) / (n * total):.0f} % |")
+            continue
         total = busy = 0.0
         peak = 0.0
         tail = 0.0

@@ -3,6 +3,8 @@
 // without mpirun, into the same output path), whatever the thread count per rank; a rank killed
 // mid-run ends the job with a clear message and a re-run with another rank count resumes from the
 // saved units into the same bytes. In a build without MPI (ARMSTUDY_MPI=OFF) these tests skip.
+#include "study/distributed.hpp"
+
 #include <signal.h>
 
 #include <catch2/catch.hpp>
@@ -14,7 +16,6 @@
 #include <thread>
 
 #include "io/files.hpp"
-#include "study/distributed.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -35,8 +36,8 @@ fs::path freshDir(const std::string& name) {
 
 std::string designPath(const std::string& name) { return sourcePath("designs/" + name + ".toml"); }
 
-std::string writeStudy(const fs::path& dir, const std::string& name, const std::vector<std::string>& designs,
-                       const std::string& sections) {
+std::string writeStudy(const fs::path& dir, const std::string& name,
+                       const std::vector<std::string>& designs, const std::string& sections) {
   const fs::path p = dir / (name + ".toml");
   std::ofstream f(p);
   f << "[study]\nname = \"" << name << "\"\n";
@@ -50,14 +51,16 @@ std::map<std::string, std::string> resultFiles(const fs::path& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     const std::string rel = fs::relative(e.path(), dir).string();
-    if (e.is_regular_file() && rel != "manifest.json" && rel.rfind(".partial", 0) != 0 && rel != ".armstudy.lock")
+    if (e.is_regular_file() && rel != "manifest.json" && rel.rfind(".partial", 0) != 0 &&
+        rel != ".armstudy.lock")
       out[rel] = readFileOrThrow(e.path().string());
   }
   return out;
 }
 
 // The keys of two file maps that differ (for the failure message).
-std::string differing(const std::map<std::string, std::string>& a, const std::map<std::string, std::string>& b) {
+std::string differing(const std::map<std::string, std::string>& a,
+                      const std::map<std::string, std::string>& b) {
   std::string d;
   for (const auto& [k, v] : a)
     if (!b.count(k) || b.at(k) != v) d += k + " ";
@@ -68,8 +71,9 @@ std::string differing(const std::map<std::string, std::string>& a, const std::ma
 
 // `armstudy run` under mpirun with `ranks` processes (OpenMPI as root needs the two variables).
 std::string mpirun(int ranks, const std::string& args) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(ARMSTUDY_MPIEXEC) + " -np " +
-         std::to_string(ranks) + " --oversubscribe " + binaryPath() + " run " + args;
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+         std::string(ARMSTUDY_MPIEXEC) + " -np " + std::to_string(ranks) + " --oversubscribe " +
+         binaryPath() + " run " + args;
 }
 
 const char* kReachSection = R"([reach]
@@ -116,7 +120,8 @@ z = { from = "0.3 m", to = "1.2 m", step = "0.3 m" }
 // Runs `study` once without mpirun and then under mpirun with each (ranks, threads) into the same
 // output path, comparing every result file with the single process's.
 void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const std::string& name,
-                            const std::string& extra, const std::vector<std::pair<int, int>>& runs) {
+                            const std::string& extra,
+                            const std::vector<std::pair<int, int>>& runs) {
   const fs::path out = dir / "out" / name;
   const std::string args = study + " --output " + (dir / "out").string() + " --overwrite " + extra;
   std::string log;
@@ -157,8 +162,9 @@ TEST_CASE("reach, dexterity and harvest on 1, 2 and 3 ranks write the bytes of a
     return;
   }
   const fs::path dir = freshDir("stages");
-  const std::string study = writeStudy(dir, "rdh", {"final_prototype_7dof", "final_prototype_9dof"},
-                                       std::string(kReachSection) + kDexteritySection + kHarvestSection);
+  const std::string study =
+      writeStudy(dir, "rdh", {"final_prototype_7dof", "final_prototype_9dof"},
+                 std::string(kReachSection) + kDexteritySection + kHarvestSection);
   // Small units: many per batch, so every rank gets some.
   requireSameAcrossRanks(dir, study, "rdh", "--unit-size 16", {{1, 2}, {2, 1}, {3, 1}, {2, 2}});
   fs::remove_all(dir);
@@ -171,8 +177,8 @@ TEST_CASE("calibration entries on 1, 2 and 3 ranks write the bytes of a single p
     return;
   }
   const fs::path dir = freshDir("calibration");
-  requireSameAcrossRanks(dir, sourcePath("studies/thesis_drive_friction.toml"), "thesis_drive_friction", "",
-                         {{1, 1}, {2, 1}, {3, 1}});
+  requireSameAcrossRanks(dir, sourcePath("studies/thesis_drive_friction.toml"),
+                         "thesis_drive_friction", "", {{1, 1}, {2, 1}, {3, 1}});
   fs::remove_all(dir);
 }
 
@@ -187,7 +193,8 @@ TEST_CASE("per-unit costs are recorded on request, one line per unit, outside th
   const fs::path csv = dir / "units.csv";
   std::string log;
   REQUIRE(runCommand("ARMSTUDY_UNIT_TIMES=" + csv.string() + " " +
-                         mpirun(2, study + " --threads 1 --unit-size 50 --output " + (dir / "out").string()),
+                         mpirun(2, study + " --threads 1 --unit-size 50 --output " +
+                                       (dir / "out").string()),
                      log) == 0);
   std::ifstream f(csv);
   std::string line;
@@ -203,33 +210,38 @@ TEST_CASE("per-unit costs are recorded on request, one line per unit, outside th
   fs::remove_all(dir);
 }
 
-TEST_CASE("a rank killed mid-run ends the job with a clear message, and another rank count resumes into the same bytes",
-          "[distributed][e2e][checkpoint]") {
+TEST_CASE(
+    "a rank killed mid-run ends the job with a clear message, and another rank count resumes into "
+    "the same bytes",
+    "[distributed][e2e][checkpoint]") {
   if (!mpiBuild()) {
     WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
     return;
   }
   const fs::path dir = freshDir("kill");
-  const std::string study =
-      writeStudy(dir, "k", {"final_prototype_7dof"},
-                 "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
-                 "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.01 m\" }\ny = \"0.8 m\"\n"
-                 "z = { from = \"0.4 m\", to = \"1.6 m\", step = \"0.025 m\" }\n"
-                 "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = [\"0 deg\", \"20 deg\", \"40 deg\"]\n");
+  const std::string study = writeStudy(
+      dir, "k", {"final_prototype_7dof"},
+      "[reach]\ntask_space = \"full\"\n[[reach.grid]]\nname = \"wall\"\n"
+      "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.01 m\" }\ny = \"0.8 m\"\n"
+      "z = { from = \"0.4 m\", to = \"1.6 m\", step = \"0.025 m\" }\n"
+      "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = [\"0 deg\", \"20 deg\", \"40 deg\"]\n");
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(),
+                 log) == 0);
   const auto ref = resultFiles(dir / "ref/k");
   const fs::path out = dir / "out/k", units = out / ".partial/units";
   const std::string args = study + " --threads 1 --unit-size 1 --output " + (dir / "out").string();
   const fs::path job_log = dir / "job.log", status = dir / "status";
-  REQUIRE(std::system(("(" + mpirun(2, args) + " > " + job_log.string() + " 2>&1; echo $? > " + status.string() +
-                       ") &")
+  REQUIRE(std::system(("(" + mpirun(2, args) + " > " + job_log.string() + " 2>&1; echo $? > " +
+                       status.string() + ") &")
                           .c_str()) == 0);
   // Once a few units are saved, SIGKILL rank 1 (found by its rank in the environment).
   auto saved = [&] {
     std::error_code ec;
     long n = 0;
-    for (auto it = fs::directory_iterator(units, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+    for (auto it = fs::directory_iterator(units, ec); !ec && it != fs::directory_iterator();
+         it.increment(ec))
       n += it->path().extension() == ".unit";  // not the temporary of a unit being written
     return n;
   };
@@ -257,7 +269,8 @@ TEST_CASE("a rank killed mid-run ends the job with a clear message, and another 
     }
     if (!killed) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  for (int i = 0; i < 3000 && !fs::exists(status); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 3000 && !fs::exists(status); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   REQUIRE(fs::exists(status));
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   if (!killed || fs::exists(out / "manifest.json")) {
@@ -269,7 +282,8 @@ TEST_CASE("a rank killed mid-run ends the job with a clear message, and another 
   INFO(job);
   CHECK(std::stoi(readFileOrThrow(status.string())) != 0);
   CHECK(job.find("exited on signal 9") != std::string::npos);
-  CHECK(job.find("run the same command again, with any number of ranks, to resume") != std::string::npos);
+  CHECK(job.find("run the same command again, with any number of ranks, to resume") !=
+        std::string::npos);
   const long kept = saved();
   CHECK(kept >= 5);
   // The re-run, with 3 ranks: resumes every saved unit, ends in the single process's bytes.
