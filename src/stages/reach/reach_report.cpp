@@ -153,13 +153,13 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   }
 }
 
-// The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the .svg
-// path (what the report shows).
+// The figure with axes, colour bar and legend as <stem>.svg and the same figure as <stem>.png;
+// returns the .svg path (what the report shows).
 std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,
                         const report::MapFigure& fig) {
-  report::writePng(out.path(stem + ".png"), img);
-  out.add(stem + ".png");
-  out.text(stem + ".svg", report::svgMapFigure(img, fig));
+  const report::Drawing d = report::mapFigure(img, fig, report::Format::svg_and_png);
+  out.text(stem + ".svg", d.svg);
+  out.text(stem + ".png", d.png);
   return stem + ".svg";
 }
 
