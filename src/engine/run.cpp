@@ -11,6 +11,7 @@
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "report/html_report.hpp"
 #include "study/checkpoint.hpp"
 
 namespace armstudy {
@@ -123,14 +124,19 @@ RunSummary runStudy(const Study& study, const RunOptions& options) {
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
   const StageContext ctx{study, options, sum.output_dir, units, sum.threads};
+  std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   for (const StudySection& section : study.sections) {
     StageResult r = section.stage->run(ctx, *section.settings);
+    pages.push_back({section.stage->name(), r.files});
     sum.units_resumed += r.units_resumed;
     sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
     sum.timings.push_back({section.stage->timingName(), r.seconds});
     sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
     sum.metrics.merge(r.metrics);
   }
+
+  writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
+  sum.files_written.push_back("report.html");
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;
