@@ -126,7 +126,7 @@ TEST_CASE("map figures: a long title wraps and a long colour-bar label stays cle
   CHECK(wellFormedSvg(d.svg));
 }
 
-TEST_CASE("plots: one panel per unit, category labels that do not fit side by side read upwards, legends, limit lines; no text overlaps",
+TEST_CASE("plots: one panel per unit, long category labels read upwards, legends and limit lines, no text overlaps",
           "[report][plot]") {
   PlotSpec p;
   p.title = "error ladder of a calibration with many long category names";
