@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "common/defaults.hpp"
 #include "cli/commands.hpp"
@@ -18,6 +19,7 @@ void addRunCommand(CLI::App& app, Action& action) {
   struct Args {
     std::string path;
     RunOptions opt;
+    bool json = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")->required();
@@ -31,10 +33,29 @@ void addRunCommand(CLI::App& app, Action& action) {
                   "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
                   "defaults). Results do not depend on it")
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
+  cmd->add_flag("--json", a->json,
+                "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
   cmd->callback([&action, a] {
     action = [a] {
       const Study s = loadStudy(a->path);
       const RunSummary sum = runStudy(s, a->opt);
+      if (a->json) {
+        nlohmann::ordered_json j;
+        j["study"] = s.name;
+        j["output_dir"] = sum.output_dir;
+        j["report"] = sum.output_dir + "/report.html";
+        j["designs"] = sum.designs;
+        j["threads"] = sum.threads;
+        j["units_resumed"] = sum.units_resumed;
+        if (!sum.resume_message.empty()) j["resume"] = sum.resume_message;
+        nlohmann::ordered_json t = nlohmann::ordered_json::object();
+        for (const auto& st : sum.timings) t[st.stage + "_s"] = st.seconds;
+        j["timings"] = t;
+        j["metrics"] = sum.metrics.scalars;
+        j["files"] = sum.files_written;
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+      }
       std::printf("study %s: %d design(s), %d thread(s) -> %s\n", s.name.c_str(), sum.designs,
                   sum.threads, sum.output_dir.c_str());
       for (const auto& f : sum.files_written) std::printf("  wrote %s\n", f.c_str());
