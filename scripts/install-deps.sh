@@ -5,6 +5,8 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build ccache git pkg-config
       libeigen3-dev libnlopt-cxx-dev libcgal-dev libgmp-dev libmpfr-dev libvtk9-dev
       libtomlplusplus-dev libcli11-dev nlohmann-json3-dev catch2
+      libcairo2-dev fonts-dejavu-core
+      chromium chromium-driver  # the browser test of report.html (tests/browser)
       liborocos-kdl-dev libfcl-dev libceres-dev
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
       libopenmpi-dev openmpi-bin)

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <nlohmann/json.hpp>
 
 #include "common/defaults.hpp"
 #include "cli/commands.hpp"
@@ -21,6 +22,7 @@ void addRunCommand(CLI::App& app, Action& action) {
   struct Args {
     std::string path;
     RunOptions opt;
+    bool json = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")->required();
@@ -34,6 +36,8 @@ void addRunCommand(CLI::App& app, Action& action) {
                   "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
                   "defaults). Results do not depend on it")
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
+  cmd->add_flag("--json", a->json,
+                "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
   cmd->callback([&action, a] {
     action = [a] {
       // Under mpirun/srun every rank runs this; a plain run is the single process
@@ -58,6 +62,24 @@ void addRunCommand(CLI::App& app, Action& action) {
         return 1;
       }
       if (!ranks.root()) return 0;
+      if (a->json) {
+        nlohmann::ordered_json j;
+        j["study"] = s->name;
+        j["output_dir"] = sum.output_dir;
+        j["report"] = sum.output_dir + "/report.html";
+        j["designs"] = sum.designs;
+        j["threads"] = sum.threads;
+        j["ranks"] = ranks.size();
+        j["units_resumed"] = sum.units_resumed;
+        if (!sum.resume_message.empty()) j["resume"] = sum.resume_message;
+        nlohmann::ordered_json t = nlohmann::ordered_json::object();
+        for (const auto& st : sum.timings) t[st.stage + "_s"] = st.seconds;
+        j["timings"] = t;
+        j["metrics"] = sum.metrics.scalars;
+        j["files"] = sum.files_written;
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+      }
       const std::string across = ranks.distributed() ? " x " + std::to_string(ranks.size()) + " ranks" : "";
       std::printf("study %s: %d design(s), %d thread(s)%s -> %s\n", s->name.c_str(), sum.designs, sum.threads,
                   across.c_str(), sum.output_dir.c_str());

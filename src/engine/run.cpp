@@ -13,6 +13,7 @@
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "report/html_report.hpp"
 #include "study/checkpoint.hpp"
 
 namespace armstudy {
@@ -189,11 +190,13 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   lap("load_and_resolve");
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
+  std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   const std::string& stage_dir = root ? sum.output_dir : scratch.path;
   const StageContext ctx{study, stage_options, stage_dir, *units, sum.threads};
   try {
     for (const StudySection& section : study.sections) {
       StageResult r = section.stage->run(ctx, *section.settings);
+      pages.push_back({section.stage->name(), r.files});
       sum.units_resumed += r.units_resumed;
       sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
       sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -210,6 +213,9 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // Every rank is done (its units are saved) before rank 0 marks the run complete.
   agreed(ranks, [] {});
   if (!root) return sum;
+
+  writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
+  sum.files_written.push_back("report.html");
 
   // The manifest is written last: its presence marks a complete run.
   ordered_json man;

@@ -261,9 +261,10 @@ transmission = 0.05
     CHECK((Eigen::Vector3d(p[0], p[1], p[2]) - cell.target.p_WT).norm() < kGeometryTolerance);
     ++k;
   }
-  // PNG of the reachable flag, read back with vtkPNGReader: cell (i_gamma, i_z) is a square block
-  // (gamma to the right, z upwards, 2 px frame) in viridis(1) when reachable, viridis(0) when not
-  // (the flag is 0 there, not NaN); a colour bar below (viridis(0) at its left end).
+  // PNG of the reachable figure, read back with vtkPNGReader: the cell map (found by its 2 px grey
+  // frame, a run of frame-grey pixels as wide as the map) holds cell (i_gamma, i_z) as a square
+  // block (gamma to the right, z upwards) in viridis(1) when reachable, viridis(0) when not (the
+  // flag is 0 there, not NaN); the colour bar right of the map ends in viridis(0) at the bottom.
   vtkNew<vtkPNGReader> png;
   png->SetFileName((base + "first_prototype_9dof_reachable.png").c_str());
   png->Update();
@@ -272,22 +273,42 @@ transmission = 0.05
   pi->GetDimensions(pd);
   const int G = map.grid.gamma_rad.count, Z = map.grid.z_m.count;
   const int block = (kMinMapPixels + std::max(G, Z) - 1) / std::max(G, Z);
-  REQUIRE(pd[0] == G * block + 2 * kMapBorderPixels);
-  REQUIRE(pd[1] > Z * block + 2 * kMapBorderPixels);
   auto pixel = [&](int x, int y_top) {  // VTK image rows start at the bottom
     std::array<int, 3> c{};
     for (int k = 0; k < 3; ++k)
       c[k] = static_cast<int>(pi->GetScalarComponentAsDouble(x, pd[1] - 1 - y_top, 0, k));
     return c;
   };
+  const std::array<int, 3> frame{128, 128, 128};
+  int x0 = -1, y0 = -1, run = 0;
+  for (int y = 0; y < pd[1] && x0 < 0; ++y)
+    for (int x = 0, n = 0; x < pd[0]; ++x) {
+      n = pixel(x, y) == frame ? n + 1 : 0;
+      if (n >= G * block) {
+        x0 = x - n + 1, y0 = y;
+        while (x + 1 < pd[0] && pixel(x + 1, y) == frame) ++x, ++n;
+        run = n;
+        break;
+      }
+    }
+  REQUIRE(x0 >= 0);
+  REQUIRE(run == G * block + 2 * kMapBorderPixels);
+  REQUIRE(pd[1] > y0 + Z * block + 2 * kMapBorderPixels);
   for (int j = 0; j < Z; ++j)
     for (int i = 0; i < G; ++i) {
-      const auto c = pixel(kMapBorderPixels + i * block + block / 2,
-                           kMapBorderPixels + (Z - 1 - j) * block + block / 2);
+      const auto c = pixel(x0 + kMapBorderPixels + i * block + block / 2,
+                           y0 + kMapBorderPixels + (Z - 1 - j) * block + block / 2);
       const bool reach = f.reachable[static_cast<std::size_t>(map.grid.index(i, j))] != 0;
       CHECK(c == (reach ? std::array<int, 3>{253, 231, 37} : std::array<int, 3>{68, 1, 84}));
     }
-  CHECK(pixel(0, pd[1] - 1) == std::array<int, 3>{68, 1, 84});
+  // The colour bar: the first column right of the map whose bottom pixel is (close to) viridis(0).
+  const int map_bottom = y0 + Z * block + 2 * kMapBorderPixels - 2;
+  bool bar = false;
+  for (int x = x0 + run; x < pd[0] && !bar; ++x) {
+    const auto c = pixel(x, map_bottom);
+    bar = std::abs(c[0] - 68) <= 2 && std::abs(c[1] - 1) <= 3 && std::abs(c[2] - 84) <= 3;
+  }
+  CHECK(bar);
   CHECK(std::filesystem::exists(base + "report.md"));
   CHECK(std::filesystem::exists(base + "summary.json"));
 }

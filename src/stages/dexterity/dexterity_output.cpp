@@ -15,6 +15,7 @@
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
+#include "report/plot.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -177,7 +178,7 @@ report::RasterImage heatmapCells(const DexterityMap& map, const std::vector<doub
 }
 
 // The same map as a figure: gamma [deg] to the right, z [m] upwards, colour bar 0..hi.
-std::string heatmapFigure(const DexterityMap& map, const report::RasterImage& cells, double hi,
+report::Drawing heatmapFigure(const DexterityMap& map, const report::RasterImage& cells, double hi,
                           const std::string& title, const std::string& scale_label) {
   const AxisRange& ga = map.grid.gamma_rad;
   const AxisRange& za = map.grid.z_m;
@@ -187,7 +188,7 @@ std::string heatmapFigure(const DexterityMap& map, const report::RasterImage& ce
   f.y = report::cellAxis("z [m]", za.min, za.max, za.step());
   f.scale = report::ColourScale{report::viridis, 0, hi > 0 ? hi : 1.0, scale_label};
   f.legend = {{kUnreachableGrey, "not reachable"}};
-  return report::svgMapFigure(cells, f);
+  return report::mapFigure(cells, f, report::Format::svg_and_png);
 }
 
 nlohmann::ordered_json statsJson(const FieldStats& s) {
@@ -308,8 +309,8 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
      << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + " << options.w_manipulability
      << " H_m1 + " << options.w_transmission << " H_m2 (thesis eq. 5.51).\n\n"
      << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0) << " deg), y = z (bottom = "
-     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar below "
-     << "each map (left = 0, right = 1; the transmission map is scaled to its maximum); "
+     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
+     << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
      << "grey = not reachable.\n\n";
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) |\n|---|---|---|---|---|---|---|---|\n";
@@ -330,19 +331,18 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     const FieldStats beta_s = fieldStats(map, f.beta_opt);
     struct Img { const char* key; const std::vector<double>* v; double hi; const char* label; };
     const Img imgs[] = {
-        {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised"},
-        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain"},
-        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised"},
-        {"reachable", &f.reachable, 1.0, "reachable (1)"}};
+        {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised [1]"},
+        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain [1]"},
+        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised [m/rad]"},
+        {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
     std::map<std::string, std::string> png;  // what the report shows: the .svg figures
     for (const Img& im : imgs) {
-      // <design>_<key>.png: the raw map with its colour bar; .svg: the figure with axes.
+      // <design>_<key>.svg: the figure with axes and colour bar; .png: the same figure.
       const std::string name = map.design + "_" + im.key;
       const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
-      report::writePng(out.path(sub + "/" + name + ".png"), report::withColorBar(cells, report::viridis));
-      out.add(sub + "/" + name + ".png");
-      out.text(sub + "/" + name + ".svg",
-                      heatmapFigure(map, cells, im.hi, map.design, im.label));
+      const report::Drawing fig = heatmapFigure(map, cells, im.hi, map.design, im.label);
+      out.text(sub + "/" + name + ".svg", fig.svg);
+      out.text(sub + "/" + name + ".png", fig.png);
       png[im.key] = name + ".svg";
     }
     const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);

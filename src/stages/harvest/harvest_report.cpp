@@ -134,11 +134,11 @@ std::string profileCsv(const Model& model, const FruitResult& f, double dt) {
 }
 
 // Every `stride`-th sample (plots stay small).
-std::vector<report::Series> profileSeries(const Model& model, const std::vector<JointVector>& rows,
+std::vector<report::PlotSeries> profileSeries(const Model& model, const std::vector<JointVector>& rows,
                                           double dt, const std::string& suffix, int stride) {
-  std::vector<report::Series> out;
+  std::vector<report::PlotSeries> out;
   for (int i = 0; i < model.dof(); ++i) {
-    report::Series s;
+    report::PlotSeries s;
     s.label = model.joints[i].name + suffix;
     for (size_t k = 0; k < rows.size(); k += stride) {
       s.x.push_back(k * dt);
@@ -239,7 +239,7 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
              : s == 1 ? report::Rgb{60, 170, 90}
                       : report::Rgb{215, 50, 40};
     });
-    // Raw maps (.png) and figures with axes and legends (.svg, shown in the report).
+    // Figures with axes and legends (.svg, shown in the report; the same as .png).
     const char* an[3] = {"x", "y", "z"};
     auto figure = [&](const std::string& title) {
       report::MapFigure f;
@@ -254,19 +254,19 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
     status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
                          {report::Rgb{215, 50, 40}, "drive limit"},
                          {report::Rgb{200, 200, 200}, "unreachable"}};
-    report::writePng(out.path("harvest/" + base + "_holding_map.png"), statusImg);
-      out.add("harvest/" + base + "_holding_map.png");
-    out.text("harvest/" + base + "_holding_map.svg", report::svgMapFigure(statusImg, status_fig));
+    const report::Drawing status_d = report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
+    out.text("harvest/" + base + "_holding_map.png", status_d.png);
+    out.text("harvest/" + base + "_holding_map.svg", status_d.svg);
     const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
       const double r = ratio_rev.values[index(u, v)];
       return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
     });
     report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
-    ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous"};
+    ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous [1]"};
     ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
-    report::writePng(out.path("harvest/" + base + "_holding_ratio.png"), ratioImg);
-      out.add("harvest/" + base + "_holding_ratio.png");
-    out.text("harvest/" + base + "_holding_ratio.svg", report::svgMapFigure(ratioImg, ratio_fig));
+    const report::Drawing ratio_d = report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
+    out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
+    out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
     md << "Static holding (gravity + payload) over the grid, tool heading "
        << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << reachable << " of " << np
        << " points reachable, " << limited

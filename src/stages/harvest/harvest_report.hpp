@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "report/image.hpp"
+#include "report/plot.hpp"
 #include "stages/harvest/harvest_stage.hpp"
 #include "study/writer.hpp"
 
@@ -30,7 +30,7 @@ std::string failureText(const Model& model, const DriveFeasibility& r);
 std::string fruitCsv(const Model& model, const DesignResult& d);
 std::string profileCsv(const Model& model, const FruitResult& f, double dt);
 // One series per joint, every `stride`-th sample (plots stay small).
-std::vector<report::Series> profileSeries(const Model& model, const std::vector<JointVector>& rows, double dt,
+std::vector<report::PlotSeries> profileSeries(const Model& model, const std::vector<JointVector>& rows, double dt,
                                           const std::string& suffix, int stride);
 
 // The static holding load over the [harvest.grid]: <design>_holding.vti and, for a grid with two

@@ -8,6 +8,7 @@
 
 #include "common/errors.hpp"
 #include "report/markdown.hpp"
+#include "report/plot.hpp"
 #include "stages/harvest/harvest_report.hpp"
 #include "stages/harvest/harvest_units.hpp"
 #include "study/writer.hpp"
@@ -101,25 +102,60 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
       if (std::find(plotted.begin(), plotted.end(), f.fruit) == plotted.end()) continue;
       const std::string fb = base + "_fruit" + std::to_string(f.fruit);
       out.text("harvest/" + fb + "_profile.csv", profileCsv(model, f, dt));
-      out.text(
-          "harvest/" + fb + "_effort.svg",
-          report::svgLinePlot(profileSeries(model, f.with_friction.effort, dt, "", stride), "t [s]",
-                              "joint torque [N m] / lift force [N]",
-                              model.name + " fruit " + std::to_string(f.fruit) + ": Q"));
-      out.text(
-          "harvest/" + fb + "_current.svg",
-          report::svgLinePlot(
-              profileSeries(model, f.with_friction.current, dt, "", stride), "t [s]",
-              "motor current [A]",
-              model.name + " fruit " + std::to_string(f.fruit) + ": current with friction"));
+      const std::string what = model.name + " fruit " + std::to_string(f.fruit);
+      // Efforts: revolute joints [N m] and prismatic joints [N] in panels of their own.
+      const auto effort = profileSeries(model, f.with_friction.effort, dt, "", stride);
+      report::PlotSpec ep;
+      ep.title = what + ": joint efforts Q with friction";
+      ep.x_label = "t [s]";
+      for (const bool prismatic : {false, true}) {
+        report::PlotPanel panel;
+        panel.y_label = prismatic ? "lift force [N]" : "joint torque [N m]";
+        for (int i = 0; i < n; ++i)
+          if ((model.joints[i].type == JointType::Prismatic) == prismatic) {
+            panel.series.push_back(effort[i]);
+            panel.series.back().colour = report::seriesColour(i);
+          }
+        if (!panel.series.empty()) ep.panels.push_back(panel);
+      }
+      out.text("harvest/" + fb + "_effort.svg", report::plot(ep).svg);
+      // Motor currents: one panel per driven joint with its drive's current limits.
+      const auto current = profileSeries(model, f.with_friction.current, dt, "", stride);
+      report::PlotSpec cp;
+      cp.title = what + ": motor currents with friction and the drive limits";
+      cp.x_label = "t [s]";
+      cp.panel_height = 120;
+      for (int i = 0; i < n; ++i) {
+        report::PlotPanel panel;
+        panel.title = model.joints[i].name;
+        panel.y_label = "I [A]";
+        panel.series.push_back(current[i]);
+        panel.series.back().label = "motor current";
+        panel.series.back().colour = report::seriesColour(i);
+        for (const Drive& dr : model.drives) {
+          if (dr.joint != model.joints[i].name) continue;
+          if (dr.peak_current_A > 0) {
+            panel.lines.push_back({dr.peak_current_A, "peak limit", true, report::Rgb{214, 39, 40}});
+            panel.lines.push_back({-dr.peak_current_A, "", true, report::Rgb{214, 39, 40}});
+          }
+          if (dr.continuous_current_A > 0) {
+            panel.lines.push_back({dr.continuous_current_A, "continuous limit", true, report::Rgb{255, 127, 14}});
+            panel.lines.push_back({-dr.continuous_current_A, "", true, report::Rgb{255, 127, 14}});
+          }
+        }
+        cp.panels.push_back(panel);
+      }
+      out.text("harvest/" + fb + "_current.svg", report::plot(cp).svg);
       // Fig. 4.1: one joint with and without friction (joint 3 as in the thesis).
       const int jf = std::min(2, n - 1);
       auto a = profileSeries(model, f.with_friction.current, dt, " with friction", stride);
       auto b = profileSeries(model, f.without_friction.current, dt, " without friction", stride);
-      out.text("harvest/" + fb + "_friction.svg",
-                      report::svgLinePlot({a[jf], b[jf]}, "t [s]", "motor current [A]",
-                                          model.name + " fruit " + std::to_string(f.fruit) + ": " +
-                                              model.joints[jf].name + " with/without friction"));
+      report::PlotSpec fp;
+      fp.title = what + ": " + model.joints[jf].name + " with and without friction";
+      fp.x_label = "t [s]";
+      fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false}};
+      fp.panels[0].series[1].dashed = true;
+      out.text("harvest/" + fb + "_friction.svg", report::plot(fp).svg);
     }
 
     // Report: per-fruit and per-joint tables.

@@ -225,7 +225,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
             return col;
           });
           report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
-          mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability (eq. 5.59)"};
+          mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability sqrt(det(J J^T)), eq. 5.59 [m^3]"};
           mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
           const std::string mrel = writeFigure(out, 
               "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);

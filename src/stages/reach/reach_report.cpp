@@ -1,6 +1,7 @@
 #include "stages/reach/reach_report.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "report/markdown.hpp"
@@ -135,8 +136,10 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
                         [&](long i, int) { return s.position_error_m[i]; }));
   out.push_back(arrayOf("orientation_error_rad" + sfx, ArrayType::Float64, g, points, k, 1,
                         [&](long i, int) { return s.orientation_error_rad[i]; }));
+  // NaN where the quantity does not exist (no solution): ParaView leaves those cells uncoloured.
+  const double none = std::numeric_limits<double>::quiet_NaN();
   out.push_back(arrayOf("manipulability" + sfx, ArrayType::Float64, g, points, k, 1,
-                        [&](long i, int) { return s.manipulability[i]; }));
+                        [&](long i, int) { return s.reachable(i) ? s.manipulability[i] : none; }));
   out.push_back(arrayOf("joint_limit_margin" + sfx, ArrayType::Float64, g, points, k, 1,
                         [&](long i, int) { return s.joint_limit_margin[i]; }));
   out.push_back(arrayOf("starts" + sfx, ArrayType::UInt8, g, points, k, 1, [&](long i, int) { return s.starts[i]; }));
@@ -153,13 +156,13 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   }
 }
 
-// The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the .svg
-// path (what the report shows).
+// The figure with axes, colour bar and legend as <stem>.svg and the same figure as <stem>.png;
+// returns the .svg path (what the report shows).
 std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,
                         const report::MapFigure& fig) {
-  report::writePng(out.path(stem + ".png"), img);
-  out.add(stem + ".png");
-  out.text(stem + ".svg", report::svgMapFigure(img, fig));
+  const report::Drawing d = report::mapFigure(img, fig, report::Format::svg_and_png);
+  out.text(stem + ".svg", d.svg);
+  out.text(stem + ".png", d.png);
   return stem + ".svg";
 }
 

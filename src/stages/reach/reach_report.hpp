@@ -12,7 +12,7 @@
 
 #include "io/vtk_io.hpp"
 #include "reach/reach_sweep.hpp"
-#include "report/image.hpp"
+#include "report/plot.hpp"
 #include "stages/reach/reach_config.hpp"
 #include "study/writer.hpp"
 

@@ -16,8 +16,8 @@
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
-#include "report/image.hpp"
 #include "report/markdown.hpp"
+#include "report/plot.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::tracking {
@@ -154,9 +154,9 @@ void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference
   io::writeVtp(path, b.poly);
 }
 
-report::Series plotSeries(const RunResult& r, double rate_Hz, const std::string& label,
+report::PlotSeries plotSeries(const RunResult& r, double rate_Hz, const std::string& label,
                           double RunSample::*field, double scale) {
-  report::Series s;
+  report::PlotSeries s;
   s.label = label;
   const int n = static_cast<int>(r.samples.size());
   const int stride = std::max(1, static_cast<int>(std::lround(rate_Hz / kPlotRate_Hz)));
@@ -304,19 +304,24 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     // Plots: obstacle (or, without obstacles, self) distance and TCP error over time.
     const bool obst = !e.obstacles.empty();
     double RunSample::*dist = obst ? &RunSample::obstacle_distance_m : &RunSample::self_distance_m;
-    std::vector<report::Series> ds;
-    for (const RunResult* r : {&er.plain, &er.with_hc})
-      ds.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
-    ds.push_back({"contact (d = 0)", {0.0, e.duration_s}, {0.0, 0.0}});
     const std::string what = obst ? "obstacle distance" : "self-collision distance";
-    out.text("tracking/" + base + "_distance.svg",
-             report::svgLinePlot(ds, "t [s]", what + " [mm]", e.name + ": " + what));
-    std::vector<report::Series> es;
+    report::PlotSpec dplot;
+    dplot.title = e.name + ": " + what;
+    dplot.x_label = "t [s]";
+    dplot.panels.resize(1);
+    dplot.panels[0].y_label = what + " [mm]";
     for (const RunResult* r : {&er.plain, &er.with_hc})
-      es.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
-    out.text(
-        "tracking/" + base + "_tcp_error.svg",
-        report::svgLinePlot(es, "t [s]", "TCP position error [mm]", e.name + ": TCP error"));
+      dplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
+    dplot.panels[0].lines.push_back({0.0, "contact (d = 0)", true, report::Rgb{214, 39, 40}});
+    out.text("tracking/" + base + "_distance.svg", report::plot(dplot).svg);
+    report::PlotSpec eplot;
+    eplot.title = e.name + ": TCP position error";
+    eplot.x_label = "t [s]";
+    eplot.panels.resize(1);
+    eplot.panels[0].y_label = "TCP position error [mm]";
+    for (const RunResult* r : {&er.plain, &er.with_hc})
+      eplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
+    out.text("tracking/" + base + "_tcp_error.svg", report::plot(eplot).svg);
 
     // Report section.
     std::string obstacle_list;

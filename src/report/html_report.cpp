@@ -1,0 +1,423 @@
+#include "report/html_report.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "io/files.hpp"
+
+namespace armstudy::report {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kCss = R"(
+:root { --fg: #1d1d1f; --muted: #555; --line: #d0d4da; --band: #f4f6f8; --accent: #1f5fa8; }
+* { box-sizing: border-box; }
+body { margin: 0; font: 15px/1.5 "DejaVu Sans", "Segoe UI", Helvetica, Arial, sans-serif; color: var(--fg); }
+header { background: var(--band); border-bottom: 1px solid var(--line); padding: 18px 28px; }
+header h1 { margin: 0; font-size: 24px; }
+header p { margin: 4px 0 0; color: var(--muted); }
+main { max-width: 1180px; margin: 0 auto; padding: 8px 28px 40px; }
+nav.contents { border: 1px solid var(--line); background: var(--band); padding: 10px 18px; margin: 18px 0; }
+nav.contents ul { margin: 4px 0; padding-left: 20px; }
+nav.contents li.l3 { margin-left: 18px; font-size: 14px; }
+section.stage { border-top: 3px solid var(--accent); margin-top: 28px; padding-top: 6px; }
+h1, h2, h3, h4 { line-height: 1.25; }
+h2.stage-title { font-size: 22px; color: var(--accent); text-transform: capitalize; }
+a { color: var(--accent); }
+code { font-family: "DejaVu Sans Mono", monospace; font-size: 90%; background: var(--band); padding: 0 3px;
+       overflow-wrap: anywhere; }
+pre { background: var(--band); padding: 8px; overflow-x: auto; }
+p, li { overflow-wrap: anywhere; }
+.table-wrap { overflow-x: auto; margin: 10px 0; max-width: 100%; }
+table { border-collapse: collapse; font-size: 13.5px; }
+th, td { border: 1px solid var(--line); padding: 3px 8px; vertical-align: top; }
+th { background: var(--band); }
+td.num, th.num { text-align: right; font-variant-numeric: tabular-nums; }
+td img { max-width: 300px; }
+figure { margin: 14px 0; max-width: 100%; overflow: hidden; break-inside: avoid; page-break-inside: avoid; }
+figure img { display: block; max-width: 100%; height: auto; border: 1px solid var(--line); }
+figcaption { color: var(--muted); font-size: 13.5px; margin-top: 4px; }
+.gallery { display: flex; flex-wrap: wrap; gap: 14px; }
+.gallery figure { flex: 1 1 460px; max-width: 100%; }
+ul.files { columns: 2 340px; font-size: 13.5px; }
+@media print {
+  body { font-size: 11pt; }
+  header { background: none; }
+  nav.contents { break-after: page; }
+  section.stage { break-before: page; }
+  a { color: inherit; text-decoration: none; }
+  .table-wrap { overflow: visible; }
+}
+)";
+
+std::string slugless(std::string s) {  // "first_prototype_6dof.svg" -> readable caption
+  for (char& c : s)
+    if (c == '_') c = ' ';
+  return s;
+}
+
+bool endsWith(const std::string& s, const std::string& e) {
+  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+// ---- inline Markdown ----
+std::string inlineMd(const std::string& s, const std::function<std::string(const std::string&)>& image) {
+  std::string o;
+  std::size_t i = 0;
+  auto closing = [&](std::size_t from, const std::string& what) { return s.find(what, from); };
+  while (i < s.size()) {
+    const char c = s[i];
+    if (c == '\\' && i + 1 < s.size() && std::string("\\`*_[]()#|!<>-").find(s[i + 1]) != std::string::npos) {
+      o += htmlEscape(std::string(1, s[i + 1]));
+      i += 2;
+      continue;
+    }
+    if (c == '`') {
+      const std::size_t e = closing(i + 1, "`");
+      if (e != std::string::npos) {
+        o += "<code>" + htmlEscape(s.substr(i + 1, e - i - 1)) + "</code>";
+        i = e + 1;
+        continue;
+      }
+    }
+    if ((c == '!' && i + 1 < s.size() && s[i + 1] == '[') || c == '[') {
+      const bool img = c == '!';
+      const std::size_t lb = i + (img ? 1 : 0);
+      const std::size_t rb = closing(lb + 1, "](");
+      const std::size_t rp = rb == std::string::npos ? rb : closing(rb + 2, ")");
+      if (rb != std::string::npos && rp != std::string::npos) {
+        const std::string text = s.substr(lb + 1, rb - lb - 1), url = s.substr(rb + 2, rp - rb - 2);
+        if (img) o += "<img src=\"" + htmlEscape(image(url)) + "\" alt=\"" + htmlEscape(text) + "\">";
+        else o += "<a href=\"" + htmlEscape(url) + "\">" + inlineMd(text, image) + "</a>";
+        i = rp + 1;
+        continue;
+      }
+    }
+    if (c == '*' && i + 1 < s.size() && s[i + 1] == '*') {
+      const std::size_t e = closing(i + 2, "**");
+      if (e != std::string::npos && e > i + 2) {
+        o += "<strong>" + inlineMd(s.substr(i + 2, e - i - 2), image) + "</strong>";
+        i = e + 2;
+        continue;
+      }
+    }
+    if (c == '*' && i + 1 < s.size() && s[i + 1] != ' ') {
+      std::size_t e = i + 1;
+      while ((e = closing(e, "*")) != std::string::npos && e + 1 < s.size() && s[e + 1] == '*') e += 2;
+      if (e != std::string::npos && e > i + 1 && s[e - 1] != ' ') {
+        o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), image) + "</em>";
+        i = e + 1;
+        continue;
+      }
+    }
+    o += htmlEscape(std::string(1, c));
+    ++i;
+  }
+  return o;
+}
+
+std::vector<std::string> tableCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cur;
+  std::size_t i = 0;
+  std::string l = line;
+  while (!l.empty() && (l.back() == ' ' || l.back() == '\r')) l.pop_back();
+  if (!l.empty() && l[0] == '|') i = 1;
+  for (; i < l.size(); ++i) {
+    if (l[i] == '\\' && i + 1 < l.size() && l[i + 1] == '|') {
+      cur += "\\|";
+      ++i;
+    } else if (l[i] == '|') {
+      cells.push_back(cur);
+      cur.clear();
+    } else {
+      cur += l[i];
+    }
+  }
+  if (!cur.empty() && cur.find_first_not_of(' ') != std::string::npos) cells.push_back(cur);
+  for (auto& c : cells) {
+    const auto a = c.find_first_not_of(' '), b = c.find_last_not_of(' ');
+    c = a == std::string::npos ? "" : c.substr(a, b - a + 1);
+  }
+  return cells;
+}
+
+bool isSeparatorRow(const std::string& line) {
+  if (line.empty() || line[0] != '|') return false;
+  return line.find_first_not_of("|-: ") == std::string::npos && line.find('-') != std::string::npos;
+}
+
+bool wholeItalic(const std::string& p) {
+  return p.size() > 2 && p.front() == '*' && p.back() == '*' && p[1] != '*' && p[1] != ' ';
+}
+
+}  // namespace
+
+std::string htmlEscape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '&') o += "&amp;";
+    else if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string base64(const std::string& in) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string o;
+  o.reserve((in.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const unsigned v = (static_cast<unsigned char>(in[i]) << 16) | (static_cast<unsigned char>(in[i + 1]) << 8) |
+                       static_cast<unsigned char>(in[i + 2]);
+    o += t[v >> 18], o += t[(v >> 12) & 63], o += t[(v >> 6) & 63], o += t[v & 63];
+  }
+  if (i < in.size()) {
+    const unsigned v = (static_cast<unsigned char>(in[i]) << 16) |
+                       (i + 1 < in.size() ? static_cast<unsigned char>(in[i + 1]) << 8 : 0);
+    o += t[v >> 18], o += t[(v >> 12) & 63];
+    o += i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
+    o += '=';
+  }
+  return o;
+}
+
+std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
+                           const std::function<std::string(const std::string&)>& image,
+                           std::vector<Heading>* headings) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(md);
+    std::string l;
+    while (std::getline(in, l)) {
+      if (!l.empty() && l.back() == '\r') l.pop_back();
+      lines.push_back(l);
+    }
+  }
+  std::ostringstream o;
+  std::vector<std::string> para;
+  int n_heading = 0;
+  auto isBlank = [](const std::string& l) { return l.find_first_not_of(" \t") == std::string::npos; };
+  std::size_t i = 0;
+  // A paragraph that is only an image becomes a figure; an italic paragraph right after it is its
+  // caption (the reports write "![alt](file)" then "*caption*").
+  auto paragraphText = [](const std::vector<std::string>& p) {
+    std::string s;
+    for (const auto& l : p) s += (s.empty() ? "" : " ") + l;
+    return s;
+  };
+  auto nextParagraph = [&](std::size_t from, std::size_t& end) {
+    std::size_t k = from;
+    while (k < lines.size() && isBlank(lines[k])) ++k;
+    std::vector<std::string> p;
+    while (k < lines.size() && !isBlank(lines[k]) && lines[k][0] != '#' && lines[k][0] != '|') p.push_back(lines[k++]);
+    end = k;
+    return paragraphText(p);
+  };
+  auto flush = [&] {
+    if (para.empty()) return;
+    const std::string s = paragraphText(para);
+    para.clear();
+    std::vector<std::string> imgs;
+    std::size_t p = 0;
+    bool only_images = true;
+    while (p < s.size()) {
+      while (p < s.size() && s[p] == ' ') ++p;
+      if (p >= s.size()) break;
+      if (s.compare(p, 2, "![") != 0) {
+        only_images = false;
+        break;
+      }
+      const std::size_t e = s.find(')', s.find("](", p));
+      if (e == std::string::npos) {
+        only_images = false;
+        break;
+      }
+      imgs.push_back(s.substr(p, e - p + 1));
+      p = e + 1;
+    }
+    if (only_images && !imgs.empty()) {
+      std::size_t end = i;
+      const std::string next = nextParagraph(i, end);
+      std::string caption;
+      if (wholeItalic(next)) {
+        caption = inlineMd(next.substr(1, next.size() - 2), image);
+        i = end;
+      }
+      o << (imgs.size() > 1 ? "<div class=\"gallery\">\n" : "");
+      for (const auto& im : imgs) {
+        const std::size_t rb = im.find("](");
+        const std::string alt = im.substr(2, rb - 2);
+        o << "<figure>" << inlineMd(im, image) << "<figcaption>"
+          << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image) : caption) << "</figcaption></figure>\n";
+      }
+      if (imgs.size() > 1 && !caption.empty()) o << "<p class=\"caption\">" << caption << "</p>\n";
+      o << (imgs.size() > 1 ? "</div>\n" : "");
+      return;
+    }
+    o << "<p>" << inlineMd(s, image) << "</p>\n";
+  };
+  while (i < lines.size()) {
+    const std::string& l = lines[i];
+    if (isBlank(l)) {
+      const std::size_t at = i;
+      flush();  // may consume the caption paragraph after a figure
+      if (i == at) ++i;
+      continue;
+    }
+    if (l.rfind("```", 0) == 0) {
+      flush();
+      std::string code;
+      for (++i; i < lines.size() && lines[i].rfind("```", 0) != 0; ++i) code += lines[i] + "\n";
+      ++i;
+      o << "<pre><code>" << htmlEscape(code) << "</code></pre>\n";
+      continue;
+    }
+    if (l[0] == '#') {
+      flush();
+      std::size_t level = l.find_first_not_of('#');
+      if (level != std::string::npos && level <= 6 && l[level] == ' ') {
+        const std::string text = l.substr(level + 1);
+        const std::string id = id_prefix + std::to_string(n_heading++);
+        o << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image) << "</h" << level + 1 << ">\n";
+        if (headings) headings->push_back({static_cast<int>(level), id, text});
+        ++i;
+        continue;
+      }
+    }
+    if (l[0] == '|' && i + 1 < lines.size() && isSeparatorRow(lines[i + 1])) {
+      flush();
+      const auto head = tableCells(l);
+      const auto seps = tableCells(lines[i + 1]);
+      std::vector<bool> right(head.size(), false);
+      for (std::size_t c = 0; c < seps.size() && c < right.size(); ++c)
+        right[c] = !seps[c].empty() && seps[c].back() == ':';
+      o << "<div class=\"table-wrap\"><table>\n<thead><tr>";
+      for (std::size_t c = 0; c < head.size(); ++c)
+        o << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image) << "</th>";
+      o << "</tr></thead>\n<tbody>\n";
+      for (i += 2; i < lines.size() && !lines[i].empty() && lines[i][0] == '|'; ++i) {
+        const auto cells = tableCells(lines[i]);
+        o << "<tr>";
+        for (std::size_t c = 0; c < std::max(cells.size(), head.size()); ++c)
+          o << "<td" << (c < right.size() && right[c] ? " class=\"num\"" : "") << ">"
+            << (c < cells.size() ? inlineMd(cells[c], image) : "") << "</td>";
+        o << "</tr>\n";
+      }
+      o << "</tbody></table></div>\n";
+      continue;
+    }
+    if (l.rfind("- ", 0) == 0 || l.rfind("* ", 0) == 0) {
+      flush();
+      o << "<ul>\n";
+      for (; i < lines.size() && (lines[i].rfind("- ", 0) == 0 || lines[i].rfind("* ", 0) == 0); ++i) {
+        std::string item = lines[i].substr(2);
+        while (i + 1 < lines.size() && lines[i + 1].rfind("  ", 0) == 0 && !isBlank(lines[i + 1]))
+          item += " " + lines[++i].substr(2);
+        o << "<li>" << inlineMd(item, image) << "</li>\n";
+      }
+      o << "</ul>\n";
+      continue;
+    }
+    para.push_back(l);
+    ++i;
+  }
+  flush();
+  return o.str();
+}
+
+std::string htmlReport(const std::string& output_dir, const std::string& study_name,
+                       const std::vector<HtmlStage>& stages) {
+  const fs::path root(output_dir);
+  std::set<std::string> shown;  // figures a report already shows (relative to the output folder)
+  auto dataUri = [&](const std::string& rel) -> std::string {
+    const fs::path p = root / rel;
+    std::string mime;
+    if (endsWith(rel, ".svg")) mime = "image/svg+xml";
+    else if (endsWith(rel, ".png")) mime = "image/png";
+    if (mime.empty() || !fs::exists(p)) return rel;  // left as a link
+    shown.insert(fs::path(rel).lexically_normal().generic_string());
+    return "data:" + mime + ";base64," + base64(readFileOrThrow(p.string()));
+  };
+  std::ostringstream body, nav;
+  nav << "<nav class=\"contents\"><strong>Contents</strong>\n<ul>\n";
+  int sec = 0;
+  for (const HtmlStage& st : stages) {
+    const std::string sid = "s" + std::to_string(sec++);
+    body << "<section class=\"stage\" id=\"" << sid << "\">\n<h2 class=\"stage-title\">" << htmlEscape(st.name)
+         << "</h2>\n";
+    nav << "<li><a href=\"#" << sid << "\">" << htmlEscape(st.name) << "</a>\n<ul>\n";
+    int md_count = 0;
+    for (const std::string& f : st.files) {
+      if (!endsWith(f, ".md")) continue;
+      const fs::path p = root / f;
+      if (!fs::exists(p)) continue;
+      const fs::path dir = fs::path(f).parent_path();
+      std::vector<Heading> hs;
+      body << markdownToHtml(readFileOrThrow(p.string()), sid + "-" + std::to_string(md_count++) + "-",
+                             [&](const std::string& url) {
+                               if (url.find("://") != std::string::npos) return url;
+                               return dataUri((dir / url).lexically_normal().generic_string());
+                             },
+                             &hs);
+      for (const Heading& h : hs)
+        if (h.level <= 3)
+          nav << "<li class=\"l" << h.level << "\"><a href=\"#" << h.id << "\">"
+              << inlineMd(h.text, [](const std::string& u) { return u; }) << "</a></li>\n";
+    }
+    // Figures no report shows (one per figure: an .svg, else its .png).
+    std::vector<std::string> more;
+    std::set<std::string> stems_with_svg;
+    for (const std::string& f : st.files)
+      if (endsWith(f, ".svg")) stems_with_svg.insert(f.substr(0, f.size() - 4));
+    for (const std::string& f : st.files) {
+      const std::string n = fs::path(f).lexically_normal().generic_string();
+      if (shown.count(n)) continue;
+      if (endsWith(f, ".svg")) more.push_back(f);
+      else if (endsWith(f, ".png") && !stems_with_svg.count(f.substr(0, f.size() - 4)) &&
+               !shown.count(n.substr(0, n.size() - 4) + ".svg"))
+        more.push_back(f);
+    }
+    if (!more.empty()) {
+      body << "<h3 id=\"" << sid << "-more\">Figures</h3>\n<div class=\"gallery\">\n";
+      nav << "<li class=\"l3\"><a href=\"#" << sid << "-more\">Figures</a></li>\n";
+      for (const std::string& f : more)
+        body << "<figure><img src=\"" << htmlEscape(dataUri(f)) << "\" alt=\"" << htmlEscape(f)
+             << "\"><figcaption>" << htmlEscape(slugless(fs::path(f).stem().string())) << " (<code>"
+             << htmlEscape(f) << "</code>)</figcaption></figure>\n";
+      body << "</div>\n";
+    }
+    // Data files for ParaView and scripts.
+    std::vector<std::string> data;
+    for (const std::string& f : st.files)
+      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md")) data.push_back(f);
+    if (!data.empty()) {
+      body << "<h3 id=\"" << sid << "-files\">Data files</h3>\n<p>Open the <code>.vti</code>, <code>.vtp</code> "
+              "and <code>.pvd</code> files in ParaView; the tables are CSV and JSON.</p>\n<ul class=\"files\">\n";
+      nav << "<li class=\"l3\"><a href=\"#" << sid << "-files\">Data files</a></li>\n";
+      for (const std::string& f : data)
+        body << "<li><a href=\"" << htmlEscape(f) << "\"><code>" << htmlEscape(f) << "</code></a></li>\n";
+      body << "</ul>\n";
+    }
+    body << "</section>\n";
+    nav << "</ul></li>\n";
+  }
+  nav << "</ul></nav>\n";
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>armstudy: "
+       << htmlEscape(study_name) << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n<header><h1>Study "
+       << htmlEscape(study_name) << "</h1><p>armstudy results: one section per stage, figures inline; the "
+       << "Markdown reports beside this file hold the same text.</p></header>\n<main>\n"
+       << nav.str() << body.str() << "</main>\n</body>\n</html>\n";
+  return page.str();
+}
+
+}  // namespace armstudy::report

@@ -1,0 +1,37 @@
+#pragma once
+// One self-contained HTML page per study (output/<study>/report.html), built from what the stages
+// wrote: each stage's Markdown reports converted to HTML (the subset they use: headings,
+// paragraphs, tables, lists, images, links, code, emphasis), every figure inlined as a data URI
+// with its caption, the figures no report shows, and links to the data files (.vti, .vtp, .csv,
+// ...). Inline CSS, nothing fetched; readable on a laptop and printable.
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace armstudy::report {
+
+struct HtmlStage {
+  std::string name;                // "reach"
+  std::vector<std::string> files;  // what the stage wrote, relative to the output folder
+};
+
+// The page for a study whose results are in `output_dir`. Reads the listed Markdown and figure
+// files from there.
+std::string htmlReport(const std::string& output_dir, const std::string& study_name,
+                       const std::vector<HtmlStage>& stages);
+
+// Markdown (the subset above) to HTML. Images are resolved with `image` (returns the src to use,
+// e.g. a data URI); headings get ids "<id_prefix><n>" and are listed in `headings` as
+// (level, id, text) when it is given.
+struct Heading {
+  int level = 1;
+  std::string id, text;
+};
+std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
+                           const std::function<std::string(const std::string&)>& image,
+                           std::vector<Heading>* headings = nullptr);
+
+std::string base64(const std::string& bytes);
+std::string htmlEscape(const std::string& s);
+
+}  // namespace armstudy::report

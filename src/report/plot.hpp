@@ -1,0 +1,111 @@
+#pragma once
+// The one plotting module of the engine: map figures (a cell raster with axes, colour bar and
+// legend), x-y plots (one panel per unit, categories, reference lines, a diagonal) and binned
+// heatmaps. Drawn with cairo (in plot.cpp only) to SVG and, when asked, PNG; every piece of text
+// is placed from its measured extents (cairo_text_extents), so labels never overprint each other
+// and never leave the canvas. Each Drawing lists the boxes of the text it drew, for checks.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "report/image.hpp"
+
+namespace armstudy::report {
+
+// A piece of text on the canvas and the box it covers [px, y down].
+struct TextBox {
+  std::string text;
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+struct Drawing {
+  std::string svg;  // always
+  std::string png;  // when asked for (Format::svg_and_png)
+  double width = 0, height = 0;
+  std::vector<TextBox> texts;
+};
+enum class Format { svg, svg_and_png };
+
+// ---- Map figures: a cell map with axes, ticks, labels, a colour bar and a legend ----
+// The axes' extents are the data coordinates of the raster's inner edges (renderCellMap's border
+// excluded): for a grid with cell centres from..to and spacing step, lo = from - step/2 (cellAxis).
+struct MapAxis {
+  std::string label;  // with its unit, e.g. "x [m]"
+  double lo = 0, hi = 1;
+};
+struct LegendEntry {
+  Rgb colour;
+  std::string label;
+};
+struct ColourScale {
+  std::function<Rgb(double t)> map;  // t in [0, 1]
+  double lo = 0, hi = 1;             // values at t = 0 and t = 1
+  std::string label;                 // quantity and unit, e.g. "manipulability [m^3]"
+};
+struct MapFigure {
+  std::string title;
+  MapAxis x, y;
+  std::vector<LegendEntry> legend;   // categorical colours (e.g. reach status); empty = none
+  std::optional<ColourScale> scale;  // continuous colour bar right of the map
+  int border_px = 2;                 // renderCellMap's frame around the cells
+};
+Drawing mapFigure(const RasterImage& map, const MapFigure& figure, Format format = Format::svg);
+// Axis extent of a grid axis with cell centres from..to (inclusive) and spacing step.
+MapAxis cellAxis(std::string label, double from, double to, double step);
+
+// ---- X-y plots ----
+struct PlotSeries {
+  std::string label;       // legend text; empty = not in the legend
+  std::vector<double> x, y;
+  std::optional<Rgb> colour;  // default: seriesColour(index of the series in its panel)
+  bool lines = true;          // connect the points
+  bool markers = false;       // a dot per point
+  bool dashed = false;
+};
+struct RefLine {  // a horizontal (y = value) or vertical (x = value) reference line
+  double value = 0;
+  std::string label;  // legend text, e.g. "continuous current limit"
+  bool horizontal = true;
+  Rgb colour{90, 90, 90};
+};
+struct PlotPanel {
+  std::string title;    // optional, above the panel
+  std::string y_label;  // with its unit
+  std::vector<PlotSeries> series;
+  std::vector<RefLine> lines;
+  bool diagonal = false;  // y = x (measured vs predicted); x and y share one range
+};
+struct PlotSpec {
+  std::string title, x_label;  // the panels share the x axis
+  std::vector<PlotPanel> panels;
+  std::vector<std::string> x_categories;  // if set: x values are indices 0..n-1 with these labels
+  double width = 720;                     // canvas width [px]; grows to fit text if needed
+  double panel_height = 260;              // plot area height of each panel [px]
+};
+Drawing plot(const PlotSpec& spec, Format format = Format::svg);
+// Distinct colours for series, in order (wraps after 10; never light grey).
+Rgb seriesColour(int k);
+
+// ---- Binned heatmaps with the value written in each cell ----
+struct HeatCell {
+  double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
+  double value = 0;
+  bool flagged = false;  // drawn with a thick frame and a '*' after the value
+};
+struct HeatmapSpec {
+  std::string title, x_label, y_label, value_label;  // value_label: quantity and unit
+  double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
+  std::vector<HeatCell> cells;
+  // Sequential (viridis from 0 or the minimum to the maximum) for absolute values; diverging
+  // (blue - white - red, symmetric about 0, saturating at +-scale; 0 = max |value|) for signed ones.
+  bool diverging = false;
+  double scale = 0;
+  std::string flagged_note = "* / thick frame: flagged";
+  int value_digits = 2;  // significant digits of the cell text
+};
+Drawing heatmap(const HeatmapSpec& spec, Format format = Format::svg);
+
+// Blue - white - red diverging colour map, t in [0, 1] (0.5 = white).
+Rgb diverging(double t);
+
+}  // namespace armstudy::report

@@ -1,0 +1,220 @@
+// Every shipped study's report.html in a real browser (headless Chromium, Debian `chromium`): runs
+// a quick copy of each study (coarser grids, smaller audits) through the CLI, loads its report with a small check script added, and fails on a
+// console error, a broken image, an element overflowing its figure, a figure without caption or a
+// page wider than a laptop screen. Saves a screenshot of each report beside it.
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "io/files.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+using namespace armstudy::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kLaptopWidth = 1366, kLaptopHeight = 900;  // [px] window the reports must fit
+constexpr int kScreenshotHeight = 2400;                  // [px] screenshot of the report's top
+
+// Collects errors from the first moment: uncaught exceptions, failed resources, console.error.
+const char* kHeadScript = R"(<script>
+window.__armstudyErrors = [];
+window.addEventListener('error', e => {
+  const t = e.target;
+  window.__armstudyErrors.push(t && t !== window ? 'failed to load ' + (t.src || t.href || t.tagName).slice(0, 120)
+                                                 : String(e.message));
+}, true);
+window.addEventListener('unhandledrejection', e => window.__armstudyErrors.push(String(e.reason)));
+const __armstudyConsoleError = console.error;
+console.error = (...a) => { window.__armstudyErrors.push(a.join(' ')); __armstudyConsoleError(...a); };
+</script>)";
+
+// After load: broken images, figures whose content sticks out, captions, page width.
+const char* kBodyScript = R"(<script>
+window.addEventListener('load', () => {
+  const r = {errors: window.__armstudyErrors, broken: [], overflow: [], uncaptioned: [], figures: 0,
+             images: document.images.length, pageOverflow: false};
+  for (const img of document.images)
+    if (!(img.complete && img.naturalWidth > 0 && img.naturalHeight > 0)) r.broken.push((img.alt || img.src).slice(0, 120));
+  for (const f of document.querySelectorAll('figure')) {
+    r.figures++;
+    const fr = f.getBoundingClientRect();
+    const name = (f.querySelector('img') || {}).alt || 'figure ' + r.figures;
+    if (f.scrollWidth > f.clientWidth + 1) r.overflow.push(name + ': content wider than the figure');
+    for (const e of f.querySelectorAll('*')) {
+      const b = e.getBoundingClientRect();
+      if (b.width > 0 && (b.right > fr.right + 1 || b.left < fr.left - 1))
+        r.overflow.push(name + ': <' + e.tagName.toLowerCase() + '> leaves the figure');
+    }
+    const c = f.querySelector('figcaption');
+    if (!c || !c.textContent.trim()) r.uncaptioned.push(name);
+  }
+  r.pageOverflow = document.documentElement.scrollWidth > window.innerWidth + 1;
+  const p = document.createElement('pre');
+  p.id = 'armstudy-check';
+  p.textContent = JSON.stringify(r);
+  document.body.appendChild(p);
+});
+</script>)";
+
+struct Check {
+  nlohmann::json result;  // what the script found; null when the browser gave nothing
+  std::string log;
+};
+
+std::string chromium(const fs::path& profile) {
+  return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" + profile.string() +
+         " --window-size=" + std::to_string(kLaptopWidth) + ",";
+}
+
+std::string unescapeText(std::string s) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""},
+                                 {"&amp;", "&"}}) {
+    for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+  }
+  return s;
+}
+
+// Loads `page` (a copy with the check scripts is written beside it) and returns the findings.
+Check checkPage(const fs::path& page, const fs::path& work) {
+  std::string html = readFileOrThrow(page.string());
+  const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
+  REQUIRE(head != std::string::npos);
+  REQUIRE(body != std::string::npos);
+  html.insert(body, kBodyScript);
+  html.insert(head + 6, kHeadScript);
+  const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
+  writeFileAtomic(copy.string(), html);
+  Check c;
+  runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kLaptopHeight) +
+                 " --virtual-time-budget=10000 --dump-dom file://" + copy.string(),
+             c.log);
+  fs::remove(copy);
+  const std::string open = "<pre id=\"armstudy-check\">";
+  const std::size_t a = c.log.find(open);
+  const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
+  if (b != std::string::npos) c.result = nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
+  return c;
+}
+
+// Everything the check found wrong, one line each ("" = nothing).
+std::string faults(const Check& c) {
+  if (c.result.is_null()) return "the browser returned no check result:\n" + c.log.substr(0, 2000);
+  std::string f;
+  for (const char* key : {"errors", "broken", "overflow", "uncaptioned"})
+    for (const auto& e : c.result[key]) f += std::string(key) + ": " + e.get<std::string>() + "\n";
+  if (c.result["pageOverflow"].get<bool>()) f += "the page is wider than " + std::to_string(kLaptopWidth) + " px\n";
+  return f;
+}
+
+// A quick copy of a shipped study: every grid range with more than kValues values gets kValues,
+// audits check a few poses from a few starts, relative paths point at the sources. The report has
+// the same sections, figures and files as the real study's, only coarser.
+constexpr int kValues = 5;
+std::string quickStudy(const std::string& toml, const fs::path& study_dir) {
+  static const std::map<std::string, double> unit = {{"m", 1}, {"cm", 1e-2}, {"mm", 1e-3}, {"deg", 1}, {"rad", 180 / M_PI}};
+  static const std::regex range(
+      R"#(((?:from|min)\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)("\s*,\s*(?:to|max)\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)("\s*,\s*step\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)")#");
+  static const std::regex audit_count(R"(^(\s*)(poses|cells)\s*=\s*\d+)"), audit_starts(R"(^(\s*)starts\s*=\s*\d+)");
+  static const std::regex relative(R"#("((?:\.\./|data/)[^"]*)")#");
+  std::istringstream in(toml);
+  std::string line, out, section;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '[') section = line.substr(0, line.find(']') + 1);
+    std::smatch m;
+    if (std::regex_search(line, m, range) && unit.count(m[3]) && unit.count(m[6]) && unit.count(m[9])) {
+      const double a = std::stod(m[2]) * unit.at(m[3]), b = std::stod(m[5]) * unit.at(m[6]);
+      const double step = std::stod(m[8]) * unit.at(m[9]);
+      if (step > 0 && (b - a) / step > kValues - 1) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.9g %s", (b - a) / (kValues - 1) / unit.at(m[6]), m[6].str().c_str());
+        line = m.prefix().str() + m[1].str() + m[2].str() + " " + m[3].str() + m[4].str() + m[5].str() + " " +
+               m[6].str() + m[7].str() + buf + "\"" + m.suffix().str();
+      }
+    }
+    if (section.find("audit") != std::string::npos) {
+      line = std::regex_replace(line, audit_count, "$1$2 = 2");
+      line = std::regex_replace(line, audit_starts, "$1starts = 4");
+    }
+    line = std::regex_replace(line, relative, "\"" + study_dir.string() + "/$1\"");
+    out += line + "\n";
+  }
+  return out;
+}
+
+fs::path workDir() {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_browser_" + std::to_string(getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("the browser check finds a broken image, an overflowing figure and a console error",
+          "[browser][report]") {
+  // The check itself must be able to fail: a page with each fault.
+  const fs::path work = workDir();
+  const fs::path page = work / "faulty.html";
+  writeFileAtomic(page.string(),
+                  "<!DOCTYPE html><html><head><style>figure{width:300px;margin:0}</style></head><body>"
+                  "<figure><img src=\"missing.png\" alt=\"missing\"><figcaption>a</figcaption></figure>"
+                  "<figure><div style=\"width:900px;height:10px\"></div><figcaption>b</figcaption></figure>"
+                  "<figure><img alt=\"x\" src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"></figure>"
+                  "<script>console.error('boom')</script></body></html>\n");
+  const Check c = checkPage(page, work);
+  REQUIRE_FALSE(c.result.is_null());
+  CHECK(c.result["broken"].size() >= 1);
+  CHECK(c.result["overflow"].size() >= 1);
+  CHECK(c.result["uncaptioned"].size() == 1);
+  bool boom = false;
+  for (const auto& e : c.result["errors"]) boom = boom || e.get<std::string>() == "boom";
+  CHECK(boom);
+  fs::remove_all(work);
+}
+
+TEST_CASE("every shipped study's report.html loads in Chromium without errors, broken images or overflow",
+          "[browser][report][cli]") {
+  const fs::path work = workDir();
+  const fs::path out = work / "output";
+  std::vector<fs::path> studies;
+  for (const auto& e : fs::directory_iterator(sourcePath("studies")))
+    if (e.path().extension() == ".toml") studies.push_back(e.path());
+  std::sort(studies.begin(), studies.end());
+  REQUIRE(studies.size() >= 10);
+  for (const fs::path& study : studies) {
+    SECTION(study.filename().string()) {
+      std::string log;
+      const fs::path quick = work / study.filename();
+      writeFileAtomic(quick.string(), quickStudy(readFileOrThrow(study.string()), study.parent_path()));
+      INFO(readFileOrThrow(quick.string()));
+      REQUIRE(runCommand(binaryPath() + " run " + quick.string() + " --overwrite --threads 2 --output " + out.string(),
+                         log) == 0);
+      // The study's name is its output folder; the run's report is the newest report.html.
+      fs::path report;
+      for (const auto& e : fs::recursive_directory_iterator(out))
+        if (e.path().filename() == "report.html" &&
+            (report.empty() || fs::last_write_time(e.path()) > fs::last_write_time(report)))
+          report = e.path();
+      REQUIRE_FALSE(report.empty());
+      const Check c = checkPage(report, work);
+      INFO(study.filename().string() + ": " + faults(c));
+      CHECK(faults(c).empty());
+      CHECK(c.result.value("figures", 0) + c.result.value("images", 0) > 0);
+      // A screenshot of the report as a laptop shows it, kept beside the report.
+      const fs::path shot = report.parent_path() / "report_screenshot.png";
+      runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kScreenshotHeight) +
+                     " --virtual-time-budget=10000 --screenshot=" + shot.string() + " file://" + report.string(),
+                 log);
+      CHECK(fs::exists(shot));
+      CHECK(fs::file_size(shot) > 1000);
+    }
+  }
+}
