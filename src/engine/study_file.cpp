@@ -187,6 +187,11 @@ Study loadStudy(const std::string& path) {
       const Model& base = *it->second;
       std::vector<Override> sets = readOverrides(r, "set", base, false);
       std::vector<Override> sweeps = readOverrides(r, "sweep", base, true);
+      // Collision volumes and inertias follow moved link ends unless the variant is the same arm.
+      const std::string geometry_text = r.string("geometry", "follows");
+      if (geometry_text != "follows" && geometry_text != "fixed")
+        r.fail("geometry", "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or \"fixed\" (kept from the base design)");
+      const VariantGeometry geometry = geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
       r.finish();
       if (sets.empty() && sweeps.empty())
         throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
@@ -199,7 +204,7 @@ Study loadStudy(const std::string& path) {
         for (std::size_t k = 0; k < sweeps.size(); ++k)
           ov.emplace_back(sweeps[k].key, sweeps[k].values[counter[k]]);
         // Overrides, the geometry that follows (collision volumes, inertias), validation.
-        Model m = deriveVariant(base, ov, path, r.line());
+        Model m = deriveVariant(base, ov, path, r.line(), geometry);
         for (const auto& d : s.designs)
           if (d.model.name == m.name)
             throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");

@@ -19,14 +19,15 @@ std::string variantName(const std::string& base, const Overrides& overrides) {
   return s;
 }
 
-Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line) {
+Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line,
+                    VariantGeometry geometry) {
   Model m = base;
   for (const auto& [key, value] : overrides) {
     std::string err;
     if (!setModelEntry(m, key, value, err)) throw InputError(file, line, key, err);
   }
   m.name = variantName(base.name, overrides);
-  followLinkGeometry(base, m);
+  if (geometry == VariantGeometry::Follows) followLinkGeometry(base, m);
   m.finalize();
   validateModel(m, file + " (variant '" + m.name + "')");
   return m;

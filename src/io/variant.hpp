@@ -18,8 +18,14 @@ using Overrides = std::vector<std::pair<std::string, double>>;  // (entry key, S
 // "first_prototype_9dof+j4.x=0.35" (joint entries drop the "joint." prefix).
 std::string variantName(const std::string& base, const Overrides& overrides);
 
+// How a variant's collision volumes and inertias relate to its table (docs/study-format.md):
+// Follows (default) adapts them to moved link ends (a design change); Fixed keeps the base
+// design's (the variant is the same physical arm, e.g. a table entry carrying a calibration error).
+enum class VariantGeometry { Follows, Fixed };
+
 // The variant of `base` with `overrides` applied, named variantName(base.name, overrides).
 // Throws InputError naming `file`, `line` and the key on an unknown key or an invalid result.
-Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line);
+Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line,
+                    VariantGeometry geometry = VariantGeometry::Follows);
 
 }  // namespace armstudy

@@ -6,8 +6,12 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <signal.h>
+#include <thread>
+#include <chrono>
 
 #include "collision/distance.hpp"
+#include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
@@ -340,5 +344,101 @@ max = "0.8 m"
   CheckpointStore store(out, "fp\n", msg);
   CHECK(runStage(s, "explore", out, one, &store).units_resumed > 0);
   CHECK(resultFiles(out) == ref);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the shipped exploration study, made fast, runs and places the thesis design against its front",
+          "[explore][slow]") {
+  // studies/explore_final_prototype.toml with a coarse stem map, 2 fruits, short approaches and a
+  // budget of 6 calls; everything else (parameters, constraint, objectives, search) as shipped.
+  std::string text = readFileOrThrow(sourcePath("studies/explore_final_prototype.toml"));
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+  };
+  replace("../designs/", sourcePath("designs/"));
+  replace(R"(step = "10 deg")", R"(step = "30 deg")");
+  replace(R"(z = { min = "0 m", max = "1.5 m", step = "5 cm" })", R"(z = { min = "0.3 m", max = "1.3 m", step = "25 cm" })");
+  replace("stems = 4", "stems = 1");
+  replace("duration = 2.0", "duration = 0.5");
+  replace("rate = 500", "rate = 200");
+  replace("budget = 80", "budget = 6");
+  replace("front_designs = 3", "front_designs = 1");
+  const fs::path dir = freshDir("shipped");
+  const Study s = loadStudy(write(dir / "explore_final_prototype.toml", text));
+  const StageResult r = runStage(s, "explore", (dir / "out").string());
+  CHECK(r.metrics.scalars.at("explore/evaluations") >= 3);
+  CHECK(r.metrics.scalars.at("explore/front_size") >= 1);
+  const std::string md = readFileOrThrow((dir / "out/explore/explore.md").string());
+  CHECK(md.find("## Pareto front") != std::string::npos);
+  CHECK(md.find("final_prototype_7dof (base design)") != std::string::npos);
+  CHECK((md.find("The base design is on the front") != std::string::npos ||
+         md.find("The base design is dominated by") != std::string::npos));
+  const std::string csv = readFileOrThrow((dir / "out/explore/candidates.csv").string());
+  CHECK(csv.rfind("name,joint.j4.x,joint.j7.x,joint.j2.y,joint.j1.z,stem map coverage", 0) == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("explore sections with bad input are refused with file, line and key", "[explore]") {
+  const fs::path dir = freshDir("bad");
+  auto fails = [&](const std::string& section, const std::string& what) {
+    const std::string p = write(dir / "bad.toml", reachStudy("bad", "") + section);
+    try {
+      loadStudy(p);
+    } catch (const InputError& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find(what) != std::string::npos);
+      return;
+    }
+    FAIL("accepted: " << section);
+  };
+  const std::string head = "[explore]\ndesign = \"first_prototype_6dof\"\n";
+  fails(head + kObjectives, "explore.parameter");
+  fails(head + kParams, "explore.objective");
+  fails("[explore]\ndesign = \"nope\"\n" + std::string(kParams) + kObjectives, "not part of the study");
+  fails(head + "[[explore.parameter]]\nkey = \"joint.j9.x\"\nvalues = [1]\n" + kObjectives, "no joint named 'j9'");
+  fails(head + kParams + "[[explore.objective]]\nmetric = \"reach/row/reachable_fraction\"\ngoal = \"max\"\n", "{design}");
+  fails(head + kParams + kObjectives + "[[explore.constraint]]\nterms = { \"joint.j1.z\" = 1 }\nmax = 1\n", "is not a parameter");
+  fails(head + "stages = [\"harvest\"]\n" + kParams + kObjectives, "no [harvest] section");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("an exploration killed midway (SIGKILL) resumes into the files of an uninterrupted run",
+          "[explore][slow][e2e]") {
+  const fs::path dir = freshDir("kill");
+  const std::string study = exploreStudy(dir, "k");
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  const fs::path out = dir / "out/k";
+  auto exploreUnits = [&] {
+    long n = 0;
+    std::error_code ec;
+    for (fs::directory_iterator it(out / ".partial/units", ec), end; !ec && it != end; it.increment(ec))
+      n += it->path().filename().string().rfind("explore_", 0) == 0;
+    return n;
+  };
+  const fs::path pidfile = dir / "pid";
+  REQUIRE(std::system((binaryPath() + " run " + study + " --threads 2 --output " + (dir / "out").string() +
+                       " > /dev/null 2>&1 & echo $! > " + pidfile.string())
+                          .c_str()) == 0);
+  const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
+  bool hit = false;
+  for (int i = 0; i < 20000 && !hit; ++i) {
+    hit = exploreUnits() >= 3 || fs::exists(out / "manifest.json");
+    if (!hit) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ::kill(pid, SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  REQUIRE(hit);
+  if (fs::exists(out / "manifest.json")) {
+    WARN("the run finished before it could be killed; nothing to resume");
+  } else {
+    CHECK(exploreUnits() < 10);  // 9 grid candidates and the base: not all done
+    REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "out").string(), log) == 0);
+    INFO(log);
+    CHECK(log.find("resuming:") != std::string::npos);
+    CHECK(resultFiles(out) == resultFiles(dir / "ref/k"));
+  }
   fs::remove_all(dir);
 }
