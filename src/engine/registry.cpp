@@ -2,6 +2,7 @@
 
 #include "stages/calibration/stage.hpp"
 #include "stages/dexterity/stage.hpp"
+#include "stages/explore/stage.hpp"
 #include "stages/harvest/stage.hpp"
 #include "stages/reach/stage.hpp"
 #include "stages/tracking/stage.hpp"
@@ -15,6 +16,7 @@ const std::vector<const Stage*>& stageRegistry() {
       &harvestStage(),      // [harvest]        docs/dynamics.md
       &trackingStage(),     // [[tracking]]     docs/tracking.md
       &calibrationStage(),  // [[calibration]]  docs/calibration.md
+      &exploreStage(),      // [explore]        docs/exploration.md
   };
   return stages;
 }

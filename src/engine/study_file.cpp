@@ -11,22 +11,11 @@
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
 #include "io/urdf_io.hpp"
+#include "io/variant.hpp"
 
 namespace armstudy {
 
 using io::TableReader;
-
-std::string variantName(const std::string& base,
-                        const std::vector<std::pair<std::string, double>>& overrides) {
-  std::string s = base;
-  for (const auto& [key, value] : overrides) {
-    std::string k = key.rfind("joint.", 0) == 0 ? key.substr(6) : key;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.6g", value);
-    s += "+" + k + "=" + buf;
-  }
-  return s;
-}
 
 namespace {
 
@@ -198,6 +187,11 @@ Study loadStudy(const std::string& path) {
       const Model& base = *it->second;
       std::vector<Override> sets = readOverrides(r, "set", base, false);
       std::vector<Override> sweeps = readOverrides(r, "sweep", base, true);
+      // Collision volumes and inertias follow moved link ends unless the variant is the same arm.
+      const std::string geometry_text = r.string("geometry", "follows");
+      if (geometry_text != "follows" && geometry_text != "fixed")
+        r.fail("geometry", "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or \"fixed\" (kept from the base design)");
+      const VariantGeometry geometry = geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
       r.finish();
       if (sets.empty() && sweeps.empty())
         throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
@@ -209,13 +203,8 @@ Study loadStudy(const std::string& path) {
         for (const auto& o : sets) ov.emplace_back(o.key, o.values[0]);
         for (std::size_t k = 0; k < sweeps.size(); ++k)
           ov.emplace_back(sweeps[k].key, sweeps[k].values[counter[k]]);
-        Model m = base;
-        for (const auto& [key, value] : ov) {
-          std::string err;
-          if (!setModelEntry(m, key, value, err)) throw InputError(path, r.line(), key, err);
-        }
-        m.name = variantName(base.name, ov);
-        validateModel(m, path + " (variant '" + m.name + "')");
+        // Overrides, the geometry that follows (collision volumes, inertias), validation.
+        Model m = deriveVariant(base, ov, path, r.line(), geometry);
         for (const auto& d : s.designs)
           if (d.model.name == m.name)
             throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/variant.hpp"
 #include "study/study.hpp"
 
 namespace armstudy {
@@ -13,9 +14,6 @@ namespace armstudy {
 // Throws InputError (file, line, key) on bad input; nothing is written.
 Study loadStudy(const std::string& path);
 
-// Stable variant name from a base name and its overrides, e.g.
-// "first_prototype_9dof+j4.x=0.35" (joint entries drop the "joint." prefix).
-std::string variantName(const std::string& base,
-                        const std::vector<std::pair<std::string, double>>& overrides);
+// variantName and deriveVariant: io/variant.hpp.
 
 }  // namespace armstudy

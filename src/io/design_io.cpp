@@ -490,3 +490,16 @@ bool modelEntryDimension(const Model& m, const std::string& key, Dimension& dim,
 }
 
 }  // namespace armstudy
+
+namespace armstudy {
+
+bool modelEntryValue(const Model& m, const std::string& key, double& value_si, std::string& error) {
+  Model copy = m;
+  Dimension dim;
+  const double* p = entryPointer(copy, key, dim, error);
+  if (!p) return false;
+  value_si = *p;
+  return true;
+}
+
+}  // namespace armstudy

@@ -22,6 +22,8 @@ void validateModel(const Model& model, const std::string& file);
 //   joint.<name>.<x|y|z|alpha|beta|gamma|min|max|max_velocity>, tcp.<x..gamma>, base.<x..gamma>,
 //   payload.mass. `value_si` is already in SI. Returns false with a message for an unknown key.
 bool setModelEntry(Model& model, const std::string& key, double value_si, std::string& error);
+// The current value (SI) of an entry key; false with a message for an unknown key.
+bool modelEntryValue(const Model& model, const std::string& key, double& value_si, std::string& error);
 // The physical dimension of an entry key (for unit checking of override values).
 bool modelEntryDimension(const Model& model, const std::string& key, Dimension& dimension_out,
                          std::string& error);

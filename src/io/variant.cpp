@@ -1,0 +1,36 @@
+#include "io/variant.hpp"
+
+#include <cstdio>
+
+#include "common/errors.hpp"
+#include "io/design_io.hpp"
+#include "model/geometry_follows.hpp"
+
+namespace armstudy {
+
+std::string variantName(const std::string& base, const Overrides& overrides) {
+  std::string s = base;
+  for (const auto& [key, value] : overrides) {
+    std::string k = key.rfind("joint.", 0) == 0 ? key.substr(6) : key;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", value);
+    s += "+" + k + "=" + buf;
+  }
+  return s;
+}
+
+Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line,
+                    VariantGeometry geometry) {
+  Model m = base;
+  for (const auto& [key, value] : overrides) {
+    std::string err;
+    if (!setModelEntry(m, key, value, err)) throw InputError(file, line, key, err);
+  }
+  m.name = variantName(base.name, overrides);
+  if (geometry == VariantGeometry::Follows) followLinkGeometry(base, m);
+  m.finalize();
+  validateModel(m, file + " (variant '" + m.name + "')");
+  return m;
+}
+
+}  // namespace armstudy
