@@ -585,8 +585,10 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
   if (P.rows() < min_rows)
-    throw InputError(P.file, 0, "", std::to_string(P.rows()) + " rows are too few to compare and cross-validate (need at least " +
-                                        std::to_string(min_rows) + ")");
+    throw InputError(P.file, 0, 2 * o.folds >= min_rows ? "folds" : "",
+                     std::to_string(P.rows()) + " rows are too few to compare and cross-validate with " +
+                         std::to_string(o.folds) + " folds (need at least " + std::to_string(min_rows) +
+                         (2 * o.folds >= min_rows ? ", two per fold; use fewer folds)" : ")"));
   ArmDiagnosis d;
   d.kind = P.kind;
   d.design = P.design;
