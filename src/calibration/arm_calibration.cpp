@@ -86,14 +86,11 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
 ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
-  if (P.rows() < min_rows) {
-    const bool by_folds = 2 * o.folds >= defaults::kMinResidualDof + 1;  // the folds ask for more rows
-    throw InputError(P.file, 0, by_folds ? "folds" : "",
-                     std::to_string(P.rows()) + " rows are too few to compare and cross-validate" +
-                         (by_folds ? " in " + std::to_string(o.folds) + " folds (two rows per fold: need at least "
-                                   : " (need at least ") +
-                         std::to_string(min_rows) + ")");
-  }
+  if (P.rows() < min_rows)
+    throw InputError(P.file, 0, 2 * o.folds >= min_rows ? "folds" : "",
+                     std::to_string(P.rows()) + " rows are too few to compare and cross-validate with " +
+                         std::to_string(o.folds) + " folds (need at least " + std::to_string(min_rows) +
+                         (2 * o.folds >= min_rows ? ", two per fold; use fewer folds)" : ")"));
   ArmDiagnosis d;
   d.kind = P.kind;
   d.design = P.design;

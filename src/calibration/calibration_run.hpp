@@ -30,7 +30,7 @@ struct ArmData {
 ArmData readArmData(const std::string& kind, const std::string& path, const Model& model);
 std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& data);
 
-// What `fit --kind tcp|trajectory` writes after the diagnosis: the calibrated design copy (the
+// What `fit` writes after the diagnosis (every kind): the calibrated design copy (the
 // design file edited, named <design>_calibrated, re-parsed) at `design_path` (default
 // <out_dir>/<design>_calibrated.toml) and the report (writeArmReport, command "fit").
 struct ArmFitFiles {
