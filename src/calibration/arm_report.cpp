@@ -8,7 +8,7 @@
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/history.hpp"
-#include "calibration/svg_plot.hpp"
+#include "report/plot.hpp"
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
@@ -88,8 +88,6 @@ json regionsJson(const ArmResidualMap& m, bool flagged_only) {
   return a;
 }
 
-const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf",
-                         "#7f7f7f", "#bcbd22", "#393b79", "#637939"};
 
 void writePlots(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
                 std::vector<std::string>& files) {
@@ -99,35 +97,45 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
     files.push_back("plots/" + stage + "_" + name);
   };
   for (int c = 0; c < P.channels(); ++c) {
-    PlotSpec p;
+    report::PlotSpec p;
     p.title = stage + ": " + f.label + " - " + P.channel_names[c];
     p.x_label = "predicted " + P.channel_names[c] + " [" + P.channel_units[c] + "]";
-    p.y_label = "measured [" + P.channel_units[c] + "]";
-    p.diagonal = true;
-    PlotSeries s;
-    s.label = P.channel_names[c];
+    report::PlotPanel panel;
+    panel.y_label = "measured [" + P.channel_units[c] + "]";
+    panel.diagonal = true;
+    report::PlotSeries s;
+    s.label = "measured samples";
+    s.lines = false;
+    s.markers = true;
     for (int i = 0; i < P.rows(); ++i) {
       s.x.push_back(f.predicted(i, c));
       s.y.push_back(P.measured(i, c));
     }
-    p.series.push_back(s);
-    put("measured_vs_predicted_" + P.channel_names[c] + ".svg", svgPlot(p));
+    panel.series.push_back(s);
+    p.panels.push_back(panel);
+    put("measured_vs_predicted_" + P.channel_names[c] + ".svg", report::plot(p).svg);
   }
+  // One panel per channel: channels of different units never share an axis (issue 18).
   for (const BinVariable& v : P.variables) {
-    PlotSpec p;
+    report::PlotSpec p;
     p.title = stage + ": residual vs " + v.name;
     p.x_label = v.name + " [" + v.unit + "]";
-    p.y_label = "residual [" + P.fit_unit + " or channel unit]";
-    p.h_lines = {0.0};
+    p.panel_height = P.channels() > 1 ? 150 : 260;
     for (int c = 0; c < P.channels(); ++c) {
-      PlotSeries s;
-      s.label = P.channel_names[c];
-      s.color = kColors[c % 12];
+      report::PlotPanel panel;
+      panel.title = P.channel_names[c];
+      panel.y_label = "residual [" + P.channel_units[c] + "]";
+      panel.lines.push_back(report::RefLine{0.0, "zero", true, report::Rgb{90, 90, 90}});
+      report::PlotSeries s;
+      s.label = "measured - predicted";
+      s.lines = false;
+      s.markers = true;
       s.x = v.values;
       for (int i = 0; i < P.rows(); ++i) s.y.push_back(f.residual(i, c));
-      p.series.push_back(s);
+      panel.series.push_back(s);
+      p.panels.push_back(panel);
     }
-    put("residual_vs_" + v.name + ".svg", svgPlot(p));
+    put("residual_vs_" + v.name + ".svg", report::plot(p).svg);
   }
 }
 
@@ -135,7 +143,7 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
 void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
                   const ArmResidualMap& m, std::vector<std::string>& files) {
   if (P.grid.size() != 2) return;
-  HeatmapSpec h;
+  report::HeatmapSpec h;
   h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
   h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
   h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
@@ -147,7 +155,7 @@ void writeGridMap(const std::string& dir, const std::string& stage, const ArmPro
     if (P.channels() == 1) v = b.mean[0];
     else
       for (double x : b.mean) v = std::max(v, std::abs(x));
-    h.cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.n, b.flagged});
+    h.cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.flagged});
     h.x_min = first ? b.lo[0] : std::min(h.x_min, b.lo[0]);
     h.x_max = first ? b.hi[0] : std::max(h.x_max, b.hi[0]);
     h.y_min = first ? b.lo[1] : std::min(h.y_min, b.lo[1]);
@@ -156,7 +164,8 @@ void writeGridMap(const std::string& dir, const std::string& stage, const ArmPro
   }
   if (first) return;
   fs::create_directories(fs::path(dir) / "plots");
-  writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(), svgHeatmap(h));
+  h.diverging = P.channels() == 1;  // a signed mean residual; several channels: max |mean| (absolute)
+  writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(), report::heatmap(h).svg);
   files.push_back("plots/" + stage + "_residual_map.svg");
 }
 
@@ -186,7 +195,7 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
   }
   g.point_arrays = {n, fl, mr, ratio};
   {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
-    HeatmapSpec h;
+    report::HeatmapSpec h;  // absolute values: a sequential scale
     h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
     h.x_label = "x [m]";
     h.y_label = "y [m]";
@@ -195,19 +204,19 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
     h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
     h.y_min = m.ws_origin[1];
     h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
-    std::map<int, HeatCell> cells;
+    std::map<int, report::HeatCell> cells;
     for (const auto& b : m.bins) {
       if (b.space != "workspace") continue;
       const int key = b.index[1] * m.ws_dims[0] + b.index[0];
       auto it = cells.find(key);
-      if (it == cells.end()) it = cells.emplace(key, HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, 0, false}).first;
+      if (it == cells.end())
+        it = cells.emplace(key, report::HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, false}).first;
       for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
-      it->second.n += b.n;
       it->second.flagged = it->second.flagged || b.flagged;
     }
     for (const auto& [k, c] : cells) h.cells.push_back(c);
     fs::create_directories(fs::path(dir) / "plots");
-    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(), svgHeatmap(h));
+    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(), report::heatmap(h).svg);
     files.push_back("plots/" + stage + "_workspace_map.svg");
   }
   io::writeVti((fs::path(dir) / (stage + "_workspace_cells.vti")).string(), g);
@@ -287,10 +296,14 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
   s.files_written.push_back("history.csv");
   {
-    PlotSpec p;
+    report::PlotSpec p;
     p.title = "error ladder (" + d.design + ", " + d.kind + ")";
-    p.y_label = "RMSE [" + P.fit_unit + "]";
-    PlotSeries tr{"training", {}, {}, "#1f77b4", true, true}, ho{"held-out", {}, {}, "#d62728", true, true};
+    report::PlotPanel panel;
+    panel.y_label = "RMSE [" + P.fit_unit + "]";
+    report::PlotSeries tr, ho;
+    tr.label = "training";
+    ho.label = "held-out";
+    tr.markers = ho.markers = true;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       p.x_categories.push_back(rows[i][0] + ":" + rows[i][5]);
       tr.x.push_back(static_cast<double>(i));
@@ -298,9 +311,10 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
       tr.y.push_back(std::atof(rows[i][9].c_str()));
       ho.y.push_back(std::atof(rows[i][10].c_str()));
     }
-    p.series = {tr, ho};
-    p.h_lines = {d.noise_estimate};
-    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), svgPlot(p));
+    panel.series = {tr, ho};
+    panel.lines.push_back(report::RefLine{d.noise_estimate, "noise estimate", true, report::Rgb{90, 90, 90}});
+    p.panels.push_back(panel);
+    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), report::plot(p).svg);
     s.files_written.push_back("error_ladder.svg");
   }
   json j;
