@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/files.hpp"
+#include "report/image.hpp"
 
 namespace armstudy::report {
 namespace {
@@ -157,17 +158,8 @@ bool wholeItalic(const std::string& p) {
 
 }  // namespace
 
-std::string htmlEscape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '&') o += "&amp;";
-    else if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
-}
+// HTML text and attribute values need exactly what XML needs (& < > ").
+std::string htmlEscape(const std::string& s) { return xmlEscape(s); }
 
 std::string base64(const std::string& in) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
