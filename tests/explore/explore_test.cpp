@@ -423,8 +423,10 @@ TEST_CASE("an exploration killed midway (SIGKILL) resumes into the files of an u
                        " > /dev/null 2>&1 & echo $! > " + pidfile.string())
                           .c_str()) == 0);
   const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
+  // Wait (up to 3 minutes: a loaded machine is slow) for three saved candidates.
   bool hit = false;
-  for (int i = 0; i < 20000 && !hit; ++i) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+  while (!hit && std::chrono::steady_clock::now() < deadline) {
     hit = exploreUnits() >= 3 || fs::exists(out / "manifest.json");
     if (!hit) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
