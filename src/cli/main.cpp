@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
       "  armstudy run studies/spraying_row.toml\n"};
   app.set_version_flag("--version", std::string(armstudy::kVersion) + " (" + armstudy::kGitRevision + ")");
   app.require_subcommand(1);
+  // Every option's default value is shown in --help (subcommands inherit this setting).
+  app.option_defaults()->always_capture_default();
   armstudy::cli::Action action;
   armstudy::cli::addDescribeCommand(app, action);
   armstudy::cli::addFkCommand(app, action);
@@ -32,6 +34,12 @@ int main(int argc, char** argv) {
   armstudy::cli::addApproachCommand(app, action);
   armstudy::cli::addFitSsvCommand(app, action);
   armstudy::cli::addConvertCommand(app, action);
+  // Defaults that say nothing (an empty list, NaN = "chosen per kind", a required value) are not shown.
+  for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    for (CLI::Option* opt : sub->get_options()) {
+      const std::string& d = opt->get_default_str();
+      if (d == "[]" || d == "nan" || opt->get_required()) opt->default_str("");
+    }
   // An unknown command: name it and list the commands (CLI11 would only say one is required).
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;
@@ -51,8 +59,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every bad command line (unknown option, out-of-range value)
     // is an input error: exit 2, like bad files.
-    const int rc = app.exit(e);
-    return rc == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::string where = "armstudy";
+    for (const CLI::App* sub : app.get_subcommands()) where += " " + sub->get_name();
+    std::fprintf(stderr, "armstudy: error: %s (%s --help)\n", e.what(), where.c_str());
+    return 2;
   }
   try {
     return action ? action() : 0;

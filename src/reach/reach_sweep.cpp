@@ -25,6 +25,21 @@ long PoseSweep::countReachable() const {
   return n;
 }
 
+namespace {
+// 42 s, 3 min 05 s, 1 h 02 min
+std::string formatDuration(double seconds) {
+  const long s = static_cast<long>(seconds + 0.5);
+  char b[32];
+  if (s < 60)
+    std::snprintf(b, sizeof b, "%ld s", s);
+  else if (s < 3600)
+    std::snprintf(b, sizeof b, "%ld min %02ld s", s / 60, s % 60);
+  else
+    std::snprintf(b, sizeof b, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+  return b;
+}
+}  // namespace
+
 Progress::Progress(long total, bool enabled, std::string label)
     : total_(std::max(1L, total)), enabled_(enabled && isatty(STDERR_FILENO)), label_(std::move(label)) {}
 
@@ -40,8 +55,17 @@ void Progress::advance(long n) {
   if (permille / 5 == last / 5 && last >= 0) return;
   if (!last_permille_.compare_exchange_strong(last, permille)) return;
   const int width = 40, fill = permille * width / 1000;
-  std::fprintf(stderr, "\r%-32.32s [%.*s%*s] %5.1f %%", label_.c_str(), fill,
-               "########################################", width - fill, "", permille / 10.0);
+  // Elapsed time and the remaining time extrapolated from the rate so far (the first 2 % are too
+  // few to extrapolate from: no ETA yet).
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  char eta[32] = "";
+  if (done >= total_)
+    std::snprintf(eta, sizeof eta, "done");
+  else if (permille >= 20)
+    std::snprintf(eta, sizeof eta, "ETA %s", formatDuration(elapsed * double(total_ - done) / double(done)).c_str());
+  std::fprintf(stderr, "\r%-32.32s [%.*s%*s] %5.1f %% %8s %-12s", label_.c_str(), fill,
+               "########################################", width - fill, "", permille / 10.0,
+               formatDuration(elapsed).c_str(), eta);
   std::fflush(stderr);
 }
 

@@ -9,6 +9,7 @@
 // distributed across processes). A chunk (a contiguous range of units, the checkpoint grain of
 // the reach stage) is therefore bit-identical whether it is swept alone or as part of the whole.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -63,7 +64,7 @@ struct PoseSweep {
   long countReachable() const;
 };
 
-// Progress on stderr: a bar redrawn in place, only when enabled and stderr is a terminal.
+// Progress on stderr: a bar with elapsed time and ETA redrawn in place, only when enabled and stderr is a terminal.
 class Progress {
  public:
   Progress(long total, bool enabled, std::string label);
@@ -75,6 +76,7 @@ class Progress {
   std::string label_;
   std::atomic<long> done_{0};
   std::atomic<int> last_permille_{-1};
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 // threads <= 0: OpenMP default. `progress` may be null. With collision.enabled() every pose is

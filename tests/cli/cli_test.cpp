@@ -1,7 +1,9 @@
 // End-to-end: the armstudy executable as a user runs it.
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
@@ -32,6 +34,32 @@ TEST_CASE("--help teaches the commands", "[cli]") {
   CHECK(st == 0);
   CHECK(fk.find("--q") != std::string::npos);
   CHECK(fk.find("Example") != std::string::npos);
+  // Every default is shown (issue 18); empty lists and required options show none.
+  const std::string run = cli("run --help", st);
+  CHECK(run.find("--threads INT:INT in [0 - 256]=0") != std::string::npos);
+  CHECK(run.find("--output TEXT=output") != std::string::npos);
+  CHECK(cli("fit --help", st).find("--folds INT:INT in [2 - 1000000]=5") != std::string::npos);
+  const std::string approach = cli("approach --help", st);
+  CHECK(approach.find("--entry-radius FLOAT=0.1") != std::string::npos);
+  CHECK(approach.find("=[]") == std::string::npos);
+  CHECK(approach.find("--duration FLOAT REQUIRED") != std::string::npos);
+}
+
+TEST_CASE("the progress bar on a terminal shows elapsed time and an ETA", "[cli][study]") {
+  // `script` gives the run a pseudo-terminal (the bar is drawn only on a terminal).
+  REQUIRE(std::system("command -v script >/dev/null 2>&1") == 0);  // bsdutils: essential in Debian
+  const fs::path out = freshDir("progress_eta");
+  const fs::path log = out / "tty.log";
+  const std::string cmd = "script -qec \"" + binaryPath() + " run " + sourcePath("studies/spraying_row.toml") +
+                          " --threads 2 --output " + (out / "o").string() + "\" " + log.string() +
+                          " >/dev/null 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.find("reachability spraying_row") != std::string::npos);
+  CHECK(text.find("ETA ") != std::string::npos);
+  CHECK(text.find("100.0 %") != std::string::npos);
+  CHECK(text.find("done") != std::string::npos);
 }
 
 TEST_CASE("describe prints the table and the assumptions", "[cli]") {
