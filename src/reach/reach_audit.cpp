@@ -6,16 +6,22 @@
 #include <chrono>
 #include <numeric>
 #include <optional>
+#include <string_view>
 
 #include "common/errors.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy {
+
+namespace {
+constexpr std::string_view kAuditMagic = "armstudy-audit-rows-1";
+}  // namespace
 
 int ReachAudit::contradictedTotal() const { return std::accumulate(contradicted.begin(), contradicted.end(), 0); }
 
 ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
                           const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
-                          std::uint64_t seed, int threads) {
+                          std::uint64_t seed, int threads, const UnitRunner* runner) {
   const auto t0 = std::chrono::steady_clock::now();
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the audit needs the whole sweep of the grid");
   ReachAudit a;
@@ -28,39 +34,69 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
   one.max_starts = 1;
   one.classify_failures = false;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
+  // The audited poses, shared among the processes of a distributed run (each audits the poses of
+  // its chunks; the rows travel).
+  SharedLoop loop;
+  loop.items = static_cast<long>(idx.size());
+  loop.id = "audit/" + sweep.design;
+  loop.compute = [&](std::size_t, const ItemRange& range) {
 #pragma omp parallel num_threads(nt)
-  {
-    IkWorkspace ws(model);
-    std::optional<collision::CollisionWorkspace> cws;
-    if (collision.enabled()) cws.emplace(model);
-    collision::CollisionQueryOptions query;
-    query.self = collision.self;
-    query.environment = !collision.obstacles.empty();
-    JointVector q0(model.dof());
+    {
+      IkWorkspace ws(model);
+      std::optional<collision::CollisionWorkspace> cws;
+      if (collision.enabled()) cws.emplace(model);
+      collision::CollisionQueryOptions query;
+      query.self = collision.self;
+      query.environment = !collision.obstacles.empty();
+      JointVector q0(model.dof());
 #pragma omp for schedule(dynamic, 1)
-    for (long t = 0; t < static_cast<long>(idx.size()); ++t) {
-      const long i = idx[t];
-      ReachAuditPose& row = a.rows[t];
-      row.index = i;
-      row.map_status = static_cast<ReachStatus>(sweep.status[i]);
-      row.manipulability_map = sweep.reachable(i) ? sweep.manipulability[i] : 0.0;
-      const IkTarget target{grid.task_space, grid.pose(i)};
-      for (int k = 0; k < starts; ++k) {
-        randomConfiguration(model, seed, static_cast<std::uint64_t>(i), k, q0);
-        const IkResult r = solvePose(model, ws, target, one, static_cast<std::uint64_t>(i), &q0);
-        if (!r.reachable()) continue;
-        if (cws) {
-          forwardKinematics(model, ws.kin, r.q);
-          collision::collisionDistances(model, ws.kin, collision.obstacles, *cws, query);
-          const double ds = collision.self ? collision::minSelfDistance(*cws) : INFINITY;
-          if (!(std::min(ds, collision::minEnvironmentDistance(*cws)) > 0)) continue;
+      for (long t = range.begin; t < range.end; ++t) {
+        const long i = idx[t];
+        ReachAuditPose& row = a.rows[t];
+        row.index = i;
+        row.map_status = static_cast<ReachStatus>(sweep.status[i]);
+        row.manipulability_map = sweep.reachable(i) ? sweep.manipulability[i] : 0.0;
+        const IkTarget target{grid.task_space, grid.pose(i)};
+        for (int k = 0; k < starts; ++k) {
+          randomConfiguration(model, seed, static_cast<std::uint64_t>(i), k, q0);
+          const IkResult r = solvePose(model, ws, target, one, static_cast<std::uint64_t>(i), &q0);
+          if (!r.reachable()) continue;
+          if (cws) {
+            forwardKinematics(model, ws.kin, r.q);
+            collision::collisionDistances(model, ws.kin, collision.obstacles, *cws, query);
+            const double ds = collision.self ? collision::minSelfDistance(*cws) : INFINITY;
+            if (!(std::min(ds, collision::minEnvironmentDistance(*cws)) > 0)) continue;
+          }
+          ++row.solutions;
+          row.manipulability_best = std::max(row.manipulability_best, r.manipulability);
+          if (!sweep.reachable(i)) break;  // one solution contradicts the status
         }
-        ++row.solutions;
-        row.manipulability_best = std::max(row.manipulability_best, r.manipulability);
-        if (!sweep.reachable(i)) break;  // one solution contradicts the status
       }
     }
-  }
+  };
+  loop.pack = [&](std::size_t, const ItemRange& r) {
+    UnitWriter w(kAuditMagic);
+    for (long t = r.begin; t < r.end; ++t) {
+      w.put<std::int64_t>(a.rows[t].index);
+      w.put(a.rows[t].map_status);
+      w.put<std::int32_t>(a.rows[t].solutions);
+      w.put(a.rows[t].manipulability_map);
+      w.put(a.rows[t].manipulability_best);
+    }
+    return w.bytes();
+  };
+  loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+    UnitReader rd(bytes, kAuditMagic);
+    for (long t = r.begin; t < r.end; ++t) {
+      a.rows[t].index = static_cast<long>(rd.get<std::int64_t>());
+      a.rows[t].map_status = rd.get<ReachStatus>();
+      a.rows[t].solutions = rd.get<std::int32_t>();
+      a.rows[t].manipulability_map = rd.get<double>();
+      a.rows[t].manipulability_best = rd.get<double>();
+    }
+    ARMSTUDY_CHECK(rd.finished(), "the audit's rows arrive whole");
+  };
+  runSharedLoop(runner, loop);
   for (const ReachAuditPose& r : a.rows) {
     const int s = static_cast<int>(r.map_status);
     ++a.by_status[s];

@@ -37,9 +37,10 @@ struct ReachAudit {
 // Audits `sweep` (the whole sweep of `grid`, solved with `options` and `collision`) on `poses`
 // poses drawn with `seed` (all when poses >= grid size), `starts` starts each. Poses the map
 // calls reachable get every start (to compare manipulability); others stop at the first solution.
-// Deterministic for any thread count.
+// Deterministic for any thread count. `runner`: the run's unit runner, which shares the audited
+// poses among the processes of a distributed run (null: this process alone).
 ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
                           const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
-                          std::uint64_t seed, int threads);
+                          std::uint64_t seed, int threads, const UnitRunner* runner = nullptr);
 
 }  // namespace armstudy

@@ -10,12 +10,16 @@
 #include <cstdio>
 #include <exception>
 #include <functional>
+#include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
+#include <string_view>
 
 #include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
 #include "common/defaults.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy {
 
@@ -62,12 +66,20 @@ int gridBoxNeighbours(const TaskGrid& g, long i, long out[28]) {
   return n;
 }
 
+constexpr std::string_view kStepMagic = "armstudy-search-step-1";
+
 // The map search over a whole sweep; `neighbours(i, out)` lists pose i's neighbours (none for a
 // pose list, whose poses need not lie next to each other).
+//
+// Every phase is a sequence of Jacobi steps: a step computes each pose's candidate from the sweep
+// as it was before the step, then the poses that found one adopt it. A step is a loop shared among
+// the processes of a distributed run (UnitRunner::share: each computes the poses of its chunks and
+// sends the adopted rows), so the map is the same whichever process computed a pose.
 using Neighbours = std::function<int(long, long*)>;
 SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
                                const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
-                               const SweepCollision& collision, const SweepSearch& search, PoseSweep& s) {
+                               const SweepCollision& collision, const SweepSearch& search, const UnitRunner* runner,
+                               PoseSweep& s) {
   const auto t0 = std::chrono::steady_clock::now();
   SweepSearchSummary sum;
   const long N = s.size;
@@ -81,15 +93,65 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
   };
   std::vector<std::uint8_t> changed(N, 0);
-  std::vector<int> extra(N, 0);  // starts spent on the pose by the search
-  std::vector<PoseResult> found(N);  // per-round candidates (allocated once)
-  // The end of a Jacobi round: the candidates of the poses marked in `now` replace their results.
-  auto adoptRound = [&](const std::vector<std::uint8_t>& now) {
-    for (long i = 0; i < N; ++i)
-      if (now[i]) {
-        store(s, i, found[i].ik, s.starts[i]);
-        storeCollision(s, i, found[i]);
+  std::vector<int> extra(N, 0);  // starts spent on the pose by the search (on the process computing it)
+  std::vector<PoseResult> found(N);  // per-step candidates (allocated once)
+  std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
+  // One step: body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b; returns
+  // the totals of a and b over all poses.
+  int steps = 0;  // steps so far (names them in the unit-cost record)
+  auto step = [&](const char* phase, int grain, auto&& body) {
+    std::fill(now.begin(), now.end(), 0);
+    long total_a = 0, total_b = 0;
+    std::map<std::size_t, std::pair<long, long>> counts;  // per chunk computed here
+    SharedLoop loop;
+    loop.id = "search/" + s.design + "/" + std::to_string(steps++) + "_" + phase;
+    loop.items = N;
+    loop.compute = [&](std::size_t k, const ItemRange& r) {
+      long a = 0, b = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : a, b)
+      {
+        PoseSolver solver(model, collision, target);
+        long nb[28];
+#pragma omp for schedule(dynamic, grain)
+        for (long i = r.begin; i < r.end; ++i) body(solver, i, nb, a, b);
       }
+      counts[k] = {a, b};
+    };
+    // The step ends: the poses computed here adopt their candidates.
+    loop.finish = [&](const std::vector<SharedLoop::Chunk>& mine) {
+      for (const SharedLoop::Chunk& c : mine) {
+        total_a += counts.at(c.first).first;
+        total_b += counts.at(c.first).second;
+        for (long i = c.second.begin; i < c.second.end; ++i)
+          if (now[i]) {
+            store(s, i, found[i].ik, s.starts[i]);
+            storeCollision(s, i, found[i]);
+          }
+      }
+    };
+    loop.pack = [&](std::size_t k, const ItemRange& r) {
+      UnitWriter w(kStepMagic);
+      w.put<std::int64_t>(counts.at(k).first);
+      w.put<std::int64_t>(counts.at(k).second);
+      for (long i = r.begin; i < r.end; ++i)
+        if (now[i]) {
+          w.put<std::int64_t>(i);
+          putPose(w, s, i);
+        }
+      return w.bytes();
+    };
+    loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+      UnitReader rd(bytes, kStepMagic);
+      total_a += static_cast<long>(rd.get<std::int64_t>());
+      total_b += static_cast<long>(rd.get<std::int64_t>());
+      while (rd.ok() && !rd.finished()) {
+        const long i = static_cast<long>(rd.get<std::int64_t>());
+        ARMSTUDY_CHECK(i >= r.begin && i < r.end && getPose(rd, s, i), "a search step's rows arrive whole");
+        now[i] = 1;
+      }
+    };
+    runSharedLoop(runner, loop);
+    return std::pair<long, long>{total_a, total_b};
   };
   // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results).
   auto propagate = [&](bool all_sources) {
@@ -99,116 +161,87 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         sum.converged = false;
         return;
       }
-      std::vector<std::uint8_t> now(N, 0);  // found[i] is this round's candidate where now[i]
-      long tries = 0;
-      long updates = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
-      {
-        PoseSolver solver(model, collision, target);
-        long nb[8];
-#pragma omp for schedule(dynamic, 64)
-        for (long i = 0; i < N; ++i) {
-          const auto cur = static_cast<ReachStatus>(s.status[i]);
-          if (settle(cur)) continue;
-          const int count = neighbours(i, nb);
-          for (int k = 0; k < count; ++k) {
-            if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
-            // The neighbour's solution, and in the first round also the other chain's (a second
-            // branch, which never changes).
-            const int seeds = first && hasAlternative(s, nb[k]) ? 2 : 1;
-            for (int a = 0; a < seeds; ++a) {
-              const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
-              PoseResult pr = solver.solve(i, one, &w, 0);
-              ++tries;
-              ++extra[i];
-              if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
-              found[i] = std::move(pr);
-              now[i] = 1;
-              if (found[i].ik.reachable()) break;
-            }
-            if (now[i] && found[i].ik.reachable()) break;
+      const auto [n_tries, n_updates] = step("propagate", 64, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+        const auto cur = static_cast<ReachStatus>(s.status[i]);
+        if (settle(cur)) return;
+        const int count = neighbours(i, nb);
+        for (int k = 0; k < count; ++k) {
+          if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
+          // The neighbour's solution, and in the first round also the other chain's (a second
+          // branch, which never changes).
+          const int seeds = first && hasAlternative(s, nb[k]) ? 2 : 1;
+          for (int a = 0; a < seeds; ++a) {
+            const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
+            PoseResult pr = solver.solve(i, one, &w, 0);
+            ++tries;
+            ++extra[i];
+            if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
+            found[i] = std::move(pr);
+            now[i] = 1;
+            if (found[i].ik.reachable()) break;
           }
-          updates += now[i];
+          if (now[i] && found[i].ik.reachable()) break;
         }
-      }
-      adoptRound(now);
+        updates += now[i];
+      });
       ++sum.rounds;
-      sum.neighbour_tries += tries;
-      sum.neighbour_updates += updates;
+      sum.neighbour_tries += n_tries;
+      sum.neighbour_updates += n_updates;
       changed.swap(now);
       first = false;
-      if (updates == 0) return;
+      if (n_updates == 0) return;
     }
   };
   propagate(true);
   // Seeded multi-starts for every pose still reachable only in collision, then propagation
   // from the poses they freed.
   if (collision.enabled() && search.collision_starts > 0) {
-    std::vector<long> todo;
-    for (long i = 0; i < N; ++i)
-      if (inCollision(static_cast<ReachStatus>(s.status[i]))) todo.push_back(i);
-    sum.multistart_poses = static_cast<long>(todo.size());
-    std::fill(changed.begin(), changed.end(), 0);
-    long tries = 0, freed = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tries, freed)
-    {
-      PoseSolver solver(model, collision, target);
+    for (long i = 0; i < N; ++i) sum.multistart_poses += inCollision(static_cast<ReachStatus>(s.status[i]));
+    const auto [n_tries, n_freed] = step("multistart", 8, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
+      if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       JointVector q0(model.dof());
-#pragma omp for schedule(dynamic, 8)
-      for (long t = 0; t < static_cast<long>(todo.size()); ++t) {
-        const long i = todo[t];
-        for (int k = 0; k < search.collision_starts; ++k) {
-          randomConfiguration(model, search.seed, static_cast<std::uint64_t>(i), k, q0);
-          const PoseResult pr = solver.solve(i, one, &q0, 0);
-          ++tries;
-          ++extra[i];
-          if (!pr.ik.reachable()) continue;
-          store(s, i, pr.ik, s.starts[i]);
-          storeCollision(s, i, pr);
-          changed[i] = 1;
-          ++freed;
-          break;
-        }
+      for (int k = 0; k < search.collision_starts; ++k) {
+        randomConfiguration(model, search.seed, static_cast<std::uint64_t>(i), k, q0);
+        PoseResult pr = solver.solve(i, one, &q0, 0);
+        ++tries;
+        ++extra[i];
+        if (!pr.ik.reachable()) continue;
+        found[i] = std::move(pr);
+        now[i] = 1;
+        ++freed;
+        break;
       }
-    }
-    sum.multistart_tries = tries;
-    sum.multistart_freed = freed;
-    if (freed > 0) propagate(false);
+    });
+    sum.multistart_tries = n_tries;
+    sum.multistart_freed = n_freed;
+    changed = now;
+    if (n_freed > 0) propagate(false);
   }
   // Poses still in collision: one round from the solutions (and second branches) of every
   // collision-free pose in their wider neighbourhood (the 3 x 3 x 3 box), then propagation from
   // the poses it freed.
   if (collision.enabled() && box) {
-    std::vector<std::uint8_t> now(N, 0);
-    long tries = 0, freed = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tries, freed)
-    {
-      PoseSolver solver(model, collision, target);
-      long nb[28];
-#pragma omp for schedule(dynamic, 16)
-      for (long i = 0; i < N; ++i) {
-        if (!inCollision(static_cast<ReachStatus>(s.status[i]))) continue;
-        const int count = box(i, nb);
-        for (int k = 0; k < count && !now[i]; ++k) {
-          if (!s.reachable(nb[k])) continue;
-          for (int a = 0; a < (hasAlternative(s, nb[k]) ? 2 : 1) && !now[i]; ++a) {
-            const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
-            PoseResult pr = solver.solve(i, one, &w, 0);
-            ++tries;
-            ++extra[i];
-            if (!pr.ik.reachable()) continue;
-            found[i] = std::move(pr);
-            now[i] = 1;
-            ++freed;
-          }
+    const auto [n_tries, n_freed] = step("box", 16, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
+      if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
+      const int count = box(i, nb);
+      for (int k = 0; k < count && !now[i]; ++k) {
+        if (!s.reachable(nb[k])) continue;
+        for (int a = 0; a < (hasAlternative(s, nb[k]) ? 2 : 1) && !now[i]; ++a) {
+          const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
+          PoseResult pr = solver.solve(i, one, &w, 0);
+          ++tries;
+          ++extra[i];
+          if (!pr.ik.reachable()) continue;
+          found[i] = std::move(pr);
+          now[i] = 1;
+          ++freed;
         }
       }
-    }
-    adoptRound(now);
-    sum.box_tries = tries;
-    sum.box_freed = freed;
+    });
+    sum.box_tries = n_tries;
+    sum.box_freed = n_freed;
     changed = now;
-    if (freed > 0) propagate(false);
+    if (n_freed > 0) propagate(false);
   }
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
   // retries from every collision-free neighbour whose manipulability is higher and keeps a
@@ -218,42 +251,46 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   if (search.best_manipulability) {
     std::vector<std::uint8_t> src(N, 1);
     for (int round = 0; round < search.propagation_rounds; ++round) {
-      std::vector<std::uint8_t> now(N, 0);  // found[i] is this round's candidate where now[i]
-      long tries = 0, updates = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tries, updates)
-      {
-        PoseSolver solver(model, collision, target);
-        long nb[8];
-#pragma omp for schedule(dynamic, 64)
-        for (long i = 0; i < N; ++i) {
-          if (!s.reachable(i)) continue;
-          double best = s.manipulability[i];
-          const int count = neighbours(i, nb);
-          for (int k = 0; k < count; ++k) {
-            if (!src[nb[k]] || !s.reachable(nb[k]) || !(s.manipulability[nb[k]] > best)) continue;
-            const JointVector w = solutionOf(s, nb[k]);
-            PoseResult pr = solver.solve(i, one, &w, 0, false);
-            ++tries;
-            if (!pr.ik.reachable() ||
-                !(pr.ik.manipulability > best + defaults::kReachManipulabilityImprovement * std::abs(best)))
-              continue;
-            best = pr.ik.manipulability;
-            found[i] = std::move(pr);
-            now[i] = 1;
-          }
-          updates += now[i];
+      const auto [n_tries, n_updates] = step("best", 64, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+        if (!s.reachable(i)) return;
+        double best = s.manipulability[i];
+        const int count = neighbours(i, nb);
+        for (int k = 0; k < count; ++k) {
+          if (!src[nb[k]] || !s.reachable(nb[k]) || !(s.manipulability[nb[k]] > best)) continue;
+          const JointVector w = solutionOf(s, nb[k]);
+          PoseResult pr = solver.solve(i, one, &w, 0, false);
+          ++tries;
+          if (!pr.ik.reachable() ||
+              !(pr.ik.manipulability > best + defaults::kReachManipulabilityImprovement * std::abs(best)))
+            continue;
+          best = pr.ik.manipulability;
+          found[i] = std::move(pr);
+          now[i] = 1;
         }
-      }
-      adoptRound(now);
+        updates += now[i];
+      });
       ++sum.best_rounds;
-      sum.best_tries += tries;
-      sum.best_updates += updates;
+      sum.best_tries += n_tries;
+      sum.best_updates += n_updates;
       src.swap(now);
-      if (updates == 0) break;
+      if (n_updates == 0) break;
     }
   }
-  for (long i = 0; i < N; ++i)
-    s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+  // The starts the search spent, counted by the process that computed each pose.
+  SharedLoop starts;
+  starts.id = "search/" + s.design + "/" + std::to_string(steps) + "_starts";
+  starts.items = N;
+  starts.compute = [&](std::size_t, const ItemRange& r) {
+    for (long i = r.begin; i < r.end; ++i) s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+  };
+  starts.pack = [&](std::size_t, const ItemRange& r) {
+    return std::string(reinterpret_cast<const char*>(s.starts.data() + r.begin), static_cast<std::size_t>(r.size()));
+  };
+  starts.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+    ARMSTUDY_CHECK(static_cast<long>(bytes.size()) == r.size(), "a search step's start counts arrive whole");
+    std::memcpy(s.starts.data() + r.begin, bytes.data(), bytes.size());
+  };
+  runSharedLoop(runner, starts);
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }
@@ -261,22 +298,24 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
 }  // namespace
 
 SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
-                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep) {
+                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
+                                   const UnitRunner* runner) {
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the map search needs the whole sweep of the grid");
   return searchSweep(
       model, [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; },
       [&grid](long i, long* out) { return gridNeighbours(grid, i, out); },
       [&grid](long i, long* out) { return gridBoxNeighbours(grid, i, out); }, options, threads, collision, search,
-      sweep);
+      runner, sweep);
 }
 
 SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
-                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep) {
+                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
+                                       const UnitRunner* runner) {
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == static_cast<long>(list.poses.size()),
                  "the map search needs the whole sweep of the pose list");
   return searchSweep(
       model, [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, [](long, long*) { return 0; },
-      Neighbours{}, options, threads, collision, search, sweep);
+      Neighbours{}, options, threads, collision, search, runner, sweep);
 }
 
 }  // namespace armstudy

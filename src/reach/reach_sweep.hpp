@@ -22,6 +22,8 @@
 
 namespace armstudy {
 
+class UnitRunner;
+
 // What a collision-aware sweep checks (docs/reachability.md): the design's self-collision pairs
 // and/or environment obstacles fixed in the task frame W. Both need the design's collision model.
 struct SweepCollision {
@@ -142,12 +144,16 @@ struct SweepSearchSummary {
   bool converged = true;
   double seconds = 0;
 };
+// `runner`: the run's unit runner; a distributed run shares each step of the search among its
+// processes (the result does not depend on it). Null: this process alone.
 SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
-                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep);
+                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
+                                   const UnitRunner* runner = nullptr);
 // The same for a pose list (fruit lists): its poses need not be neighbours, so no propagation;
 // steps 2 and 3 run without neighbour seeds (the seeded starts for poses in collision).
 SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
-                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep);
+                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
+                                       const UnitRunner* runner = nullptr);
 
 // Joins chunks of one design's sweep, given in any order, into the whole sweep of `size` poses:
 // ordered by offset, they must tile [0, size) without gap or overlap and agree on dof and the

@@ -166,4 +166,36 @@ inline void copyPose(const PoseSweep& from, long i, PoseSweep& to, long j, int s
   if (to.obstacles) to.obstacle_distance_m[j] = from.obstacle_distance_m[i];
 }
 
+// One pose's row (what store / storeCollision write; not q_alt, which the search never changes), for
+// the rows a distributed search step sends.
+inline void putPose(UnitWriter& w, const PoseSweep& s, long i) {
+  w.put(s.status[i]);
+  w.put(s.starts[i]);
+  w.put(s.position_error_m[i]);
+  w.put(s.orientation_error_rad[i]);
+  w.put(s.manipulability[i]);
+  w.put(s.joint_limit_margin[i]);
+  for (int k = 0; k < s.dof; ++k) w.put(s.q[static_cast<std::size_t>(i) * s.dof + k]);
+  if (s.collision) {
+    w.put(s.min_distance_m[i]);
+    w.put(s.colliding_pair[i]);
+  }
+  if (s.obstacles) w.put(s.obstacle_distance_m[i]);
+}
+inline bool getPose(UnitReader& r, PoseSweep& s, long i) {
+  s.status[i] = r.get<std::uint8_t>();
+  s.starts[i] = r.get<std::uint8_t>();
+  s.position_error_m[i] = r.get<double>();
+  s.orientation_error_rad[i] = r.get<double>();
+  s.manipulability[i] = r.get<double>();
+  s.joint_limit_margin[i] = r.get<double>();
+  for (int k = 0; k < s.dof; ++k) s.q[static_cast<std::size_t>(i) * s.dof + k] = r.get<double>();
+  if (s.collision) {
+    s.min_distance_m[i] = r.get<double>();
+    s.colliding_pair[i] = r.get<std::int16_t>();
+  }
+  if (s.obstacles) s.obstacle_distance_m[i] = r.get<double>();
+  return r.ok();
+}
+
 }  // namespace armstudy::sweep_detail

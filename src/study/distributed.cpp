@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -97,6 +98,9 @@ constexpr auto kPollMax = std::chrono::microseconds(500);
 // Largest piece of one broadcast (MPI counts are int).
 constexpr std::size_t kBroadcastPiece = std::size_t(1) << 30;
 constexpr double kProgressEverySeconds = 5.0;
+// Chunks of a shared loop (UnitRunner::share) per rank: a loop whose cost is concentrated in some
+// items still spreads over the ranks. Chunk k belongs to rank k mod size.
+constexpr long kSharedChunksPerRank = 16;
 
 // Waits for a request, sleeping between tests.
 void waitQuietly(MPI_Request& req) {
@@ -130,6 +134,39 @@ void broadcast(std::string& bytes, int root, std::uint64_t size) {
     const int n = static_cast<int>(std::min<std::size_t>(kBroadcastPiece, size - at));
     MPI_Bcast(bytes.data() + at, n, MPI_BYTE, root, MPI_COMM_WORLD);
   }
+}
+
+// Every rank's `mine`, on every rank (sizes first: ranks still computing are waited for without
+// spinning).
+std::vector<std::string> allGather(const std::string& mine, int rank, int size) {
+  const std::uint64_t my_size = mine.size();
+  std::vector<std::uint64_t> sizes(size);
+  MPI_Request req;
+  MPI_Iallgather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
+  waitQuietly(req);
+  std::vector<std::string> all(size);
+  std::uint64_t total = 0;
+  for (std::uint64_t n : sizes) total += n;
+  if (total <= static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
+    // One collective (log2(size) latencies), as a shared loop's steps need.
+    std::vector<int> counts(size), displs(size);
+    for (int r = 0, at = 0; r < size; at += counts[r], ++r) {
+      counts[r] = static_cast<int>(sizes[r]);
+      displs[r] = at;
+    }
+    std::string joined(total, '\0');
+    MPI_Iallgatherv(mine.data(), counts[rank], MPI_BYTE, joined.data(), counts.data(), displs.data(), MPI_BYTE,
+                    MPI_COMM_WORLD, &req);
+    waitQuietly(req);
+    for (int r = 0; r < size; ++r) all[r] = joined.substr(displs[r], counts[r]);
+    return all;
+  }
+  for (int r = 0; r < size; ++r) {  // more than an int counts: one broadcast per rank, in pieces
+    if (sizes[r] == 0) continue;
+    if (r == rank) all[r] = mine;
+    broadcast(all[r], r, sizes[r]);
+  }
+  return all;
 }
 
 // Packed units: (int64 index, double seconds, double CPU seconds, uint64 length, bytes)...
@@ -326,18 +363,12 @@ class MpiUnitRunner final : public UnitRunner {
     // C: every rank receives the units computed elsewhere (sizes first: the ranks still computing
     // are waited for without spinning).
     for (const PackedUnit& u : mine) pack(blob, u);
-    const std::uint64_t my_size = blob.size();
-    std::vector<std::uint64_t> sizes(size_);
-    MPI_Iallgather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
-    waitQuietly(req);
     std::vector<std::string> all(n);
     std::vector<double> seconds(n, 0.0), cpu_seconds(n, 0.0);
     std::vector<int> where(n, -1);
+    std::vector<std::string> blobs = allGather(blob, rank_, size_);
     for (int r = 0; r < size_; ++r) {
-      if (sizes[r] == 0) continue;
-      std::string b = r == rank_ ? blob : std::string();
-      broadcast(b, r, sizes[r]);
-      for (PackedUnit& u : unpack(b)) {
+      for (PackedUnit& u : unpack(blobs[r])) {
         seconds[u.k] = u.seconds;
         cpu_seconds[u.k] = u.cpu_seconds;
         where[u.k] = r;
@@ -370,6 +401,26 @@ class MpiUnitRunner final : public UnitRunner {
   }
 
  private:
+  // Chunks of about 1 / kSharedChunksPerRank of an even share (a multiple of the recorded chunk),
+  // owned round-robin: chunk k by rank k mod size.
+  void share(const SharedLoop& loop) const override {
+    if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
+    // A multiple of the recorded chunk, so that a record replays this split exactly.
+    const long g = SharedLoop::kRecordedChunk;
+    const long per = g * std::max(1L, (loop.items + kSharedChunksPerRank * size_ * g - 1) / (kSharedChunksPerRank * size_ * g));
+    const std::vector<ItemRange> chunks = splitRange(loop.items, per);
+    std::vector<SharedLoop::Chunk> mine;
+    for (std::size_t k = static_cast<std::size_t>(rank_); k < chunks.size(); k += static_cast<std::size_t>(size_))
+      mine.push_back({k, chunks[k]});
+    loop.computeAll(mine);
+    std::string blob;
+    for (const SharedLoop::Chunk& c : mine) pack(blob, {c.first, 0.0, 0.0, loop.pack(c.first, c.second)});
+    const std::vector<std::string> blobs = allGather(blob, rank_, size_);
+    for (int r = 0; r < size_; ++r)
+      if (r != rank_)
+        for (const PackedUnit& u : unpack(blobs[r])) loop.unpack(u.k, chunks[u.k], u.bytes);
+  }
+
   // A batch whose units write files naming the output folder: every rank computes it all in its
   // own folder; only rank 0 uses the store.
   long runEverywhere(const UnitBatch& batch) const {

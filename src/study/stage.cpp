@@ -81,6 +81,40 @@ long UnitRunner::run(const UnitBatch& batch) const {
   return resumed;
 }
 
+void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
+  for (const Chunk& c : mine) compute(c.first, c.second);
+  if (finish) finish(mine);
+}
+
+void UnitRunner::share(const SharedLoop& loop) const {
+  if (loop.items <= 0) return;
+  if (!times_.enabled()) return loop.computeAll({{0, ItemRange{0, loop.items}}});
+  // Recorded: chunks of kRecordedChunk items, each timed (tests/benchmarks/simulate_distribution.py
+  // regroups them as a distributed run of any size would).
+  const std::vector<ItemRange> ranges = splitRange(loop.items, SharedLoop::kRecordedChunk);
+  std::vector<SharedLoop::Chunk> all;
+  std::vector<UnitTimeRecord::Line> lines;
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    all.push_back({k, ranges[k]});
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = UnitTimeRecord::processCpuSeconds();
+    loop.compute(k, ranges[k]);
+    lines.push_back({"share:" + loop.id, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, 0});
+  }
+  if (loop.finish) loop.finish(all);
+  if (loop.pack)
+    for (std::size_t k = 0; k < ranges.size(); ++k) lines[k].bytes = loop.pack(k, ranges[k]).size();
+  times_.append(lines);
+}
+
+void runSharedLoop(const UnitRunner* runner, const SharedLoop& loop) {
+  if (runner)
+    runner->share(loop);
+  else if (loop.items > 0)
+    loop.computeAll({{0, ItemRange{0, loop.items}}});
+}
+
 const StageSettings* Study::settings(const std::string& stage) const {
   for (const StudySection& s : sections)
     if (s.stage && s.stage->name() == stage) return s.settings.get();

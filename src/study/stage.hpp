@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "study/checkpoint.hpp"
 #include "study/metrics.hpp"
 #include "study/study.hpp"
 #include "study/writer.hpp"
@@ -85,6 +86,26 @@ struct UnitBatch {
   bool portable = true;
 };
 
+// A loop over items [0, items) that a distributed run shares among its processes
+// (UnitRunner::share): `compute(k, r)` computes chunk k (items r) with the run's threads, once for
+// each chunk this process owns, all before `finish(mine)`, which takes the owned chunks' results
+// (ascending k; e.g. a Jacobi step adopts them only then, so no chunk sees another's results).
+// Then `pack(k, r)` returns an owned chunk's results as bytes and the other processes apply them
+// with `unpack(k, r, bytes)`. A single process owns one chunk, all items (pack and unpack are not
+// called) or, when unit costs are recorded, chunks of kRecordedChunk items, each timed.
+struct SharedLoop {
+  using Chunk = std::pair<std::size_t, ItemRange>;
+  static constexpr long kRecordedChunk = 64;
+  std::string id;  // names the loop in the unit-cost record ("share:<id>", one line per chunk)
+  long items = 0;
+  std::function<void(std::size_t k, const ItemRange& r)> compute;
+  std::function<void(const std::vector<Chunk>& mine)> finish;  // optional
+  std::function<std::string(std::size_t k, const ItemRange& r)> pack;
+  std::function<void(std::size_t k, const ItemRange& r, const std::string& bytes)> unpack;
+  // Computes `mine` and finishes (the part every runner does alike).
+  void computeAll(const std::vector<Chunk>& mine) const;
+};
+
 // Opt-in record of per-unit costs (docs/distributed.md, "Unit costs"): when the environment
 // variable ARMSTUDY_UNIT_TIMES names a CSV file, every computed unit is computed in a call of its
 // own and one line "unit,seconds,cpu_seconds,threads,rank,bytes" is appended per unit (wall and
@@ -117,12 +138,21 @@ class UnitRunner {
   virtual ~UnitRunner() = default;
   // Returns the number of units loaded instead of computed.
   virtual long run(const UnitBatch& batch) const;
+  // A collective loop (every process calls it with the same loop.items): the items are cut into
+  // chunks, each process computes the chunks it owns, and every process ends up with every chunk's
+  // results (not checkpointed: for the steps of a search over a whole batch, e.g. the reach map
+  // search's Jacobi rounds). Results must not depend on which process computes a chunk.
+  virtual void share(const SharedLoop& loop) const;
 
  protected:
   const CheckpointStore& store_;
   int threads_ = 1;  // recorded with unit times
   UnitTimeRecord times_;
 };
+
+// Runs `loop` through `runner` (shared among the processes of a distributed run) or, when runner is
+// null (library calls outside a study run), in this process alone.
+void runSharedLoop(const UnitRunner* runner, const SharedLoop& loop);
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.
 struct StageContext {

@@ -170,6 +170,43 @@ TEST_CASE("reach, dexterity and harvest on 1, 2 and 3 ranks write the bytes of a
   fs::remove_all(dir);
 }
 
+TEST_CASE("the reach map search, its steps shared among 2 and 3 ranks, writes the bytes of a single process",
+          "[distributed][e2e]") {
+  if (!mpiBuild()) {
+    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
+    return;
+  }
+  // The Fig. 3.8 spraying row at 4 cm with self-collision: every phase of the search has work
+  // (neighbour propagation, seeded multi-starts that free a pose and the propagation from it, the
+  // wider-neighbourhood round, best-manipulability rounds), each step shared among the ranks, and
+  // so are the audit's poses.
+  const fs::path dir = freshDir("search");
+  const std::string study = writeStudy(dir, "cs", {"first_prototype_6dof"}, R"([reach]
+task_space = "spraying"
+position_tolerance = "1 mm"
+orientation_tolerance = "0.5 deg"
+[reach.audit]
+poses = 40
+starts = 20
+[[reach.grid]]
+name = "row"
+x = { from = "-0.78 m", to = "0.78 m", step = "0.04 m" }
+y = { from = "0.3 m", to = "1.2 m", step = "0.04 m" }
+z = "1.2 m"
+alpha = "0 deg"
+gamma = ["-40 deg", "40 deg"]
+)");
+  requireSameAcrossRanks(dir, study, "cs", "--unit-size 400", {{2, 1}, {3, 1}});
+  const auto sum = nlohmann::json::parse(readFileOrThrow((dir / "out/cs/summary.json").string()));
+  const auto& search = sum["reach"]["grids"][0]["designs"][0]["search"];
+  INFO(search.dump());
+  CHECK(search["propagation_rounds"].get<int>() >= 2);
+  CHECK(search["collision_multistart_freed"].get<int>() >= 1);
+  CHECK(search["best_manipulability_updates"].get<int>() > 0);
+  CHECK(sum["reach"]["grids"][0]["designs"][0]["audit"]["poses"].get<int>() == 40);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("calibration entries on 1, 2 and 3 ranks write the bytes of a single process",
           "[distributed][e2e]") {
   if (!mpiBuild()) {

@@ -50,7 +50,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     sweeps.push_back(solveGrid(ctx, sum, unit, sd.model, g, cfg, progress));
     // Across units, once all are in: statuses that do not depend on the traversal (issue 12).
     const SweepSearchSummary ss =
-        searchGridSweep(sd.model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search, sweeps.back());
+        searchGridSweep(sd.model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search, sweeps.back(), &ctx.units);
     searches.push_back(ss);
     sum.timings.push_back({unit + "/search", ss.seconds});
     addUnitMetrics(sum.metrics, unit, sweeps.back());
@@ -111,7 +111,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     md += ".\n\n";
     if (cfg.audit_poses > 0) {
       const ReachAudit au = auditGridSweep(sd.model, g, cfg.ik, cfg.collision, s, cfg.audit_poses, cfg.audit_starts,
-                                           cfg.audit_seed, ctx.threads);
+                                           cfg.audit_seed, ctx.threads, &ctx.units);
       ordered_json ja;
       ja["poses"] = au.poses;
       ja["starts_per_pose"] = au.starts;

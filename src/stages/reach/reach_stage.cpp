@@ -102,7 +102,7 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
       PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
       // Poses in collision get the seeded starts too (issue 12; a list has no neighbours).
       const SweepSearchSummary ss =
-          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collision, cfg.search, s);
+          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collision, cfg.search, s, &ctx.units);
       sum.timings.push_back({unit + "/search", ss.seconds});
       addUnitMetrics(sum.metrics, unit, s);
       Stats st;
