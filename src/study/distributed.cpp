@@ -273,7 +273,9 @@ std::string batchLabel(const UnitBatch& b) {
 class MpiUnitRunner final : public UnitRunner {
  public:
   MpiUnitRunner(const CheckpointStore& store, int threads, bool progress, int rank, int size)
-      : UnitRunner(store, threads), progress_(progress), rank_(rank), size_(size) {}
+      : UnitRunner(store, threads), progress_(progress), rank_(rank), size_(size), local_(store, threads) {}
+
+  const UnitRunner& local() const override { return local_; }
 
   long run(const UnitBatch& batch) const override {
     const std::size_t n = batch.ids.size();
@@ -451,6 +453,7 @@ class MpiUnitRunner final : public UnitRunner {
 
   bool progress_;
   int rank_, size_;
+  UnitRunner local_;
 };
 
 // Rank 0's last words when the launcher stops the job (it sends SIGTERM to every rank when one

@@ -143,6 +143,10 @@ class UnitRunner {
   // results (not checkpointed: for the steps of a search over a whole batch, e.g. the reach map
   // search's Jacobi rounds). Results must not depend on which process computes a chunk.
   virtual void share(const SharedLoop& loop) const;
+  // The runner for work nested inside one unit (e.g. the stages an exploration runs for one
+  // candidate): this process alone, the same store. A distributed runner's run and share are
+  // collective, so a unit that one rank computes must not call them.
+  virtual const UnitRunner& local() const { return *this; }
 
  protected:
   const CheckpointStore& store_;

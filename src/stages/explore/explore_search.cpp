@@ -87,7 +87,8 @@ StageResult Evaluator::runStages(const Model& m, const Overrides& ov, const std:
   const Study sub = candidateStudy(m, ov);
   StageResult all;
   for (const StudySection& s : sections_) {
-    const StageContext sc{sub, inner_options_, dir, ctx_.units, ctx_.threads};
+    // A candidate is one unit, computed by one process: its stages run their units here.
+    const StageContext sc{sub, inner_options_, dir, ctx_.units.local(), ctx_.threads};
     StageResult r = s.stage->run(sc, *s.settings);
     all.metrics.merge(r.metrics);
     all.files.insert(all.files.end(), r.files.begin(), r.files.end());
