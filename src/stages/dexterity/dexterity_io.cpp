@@ -58,7 +58,8 @@ double positive(io::TableReader& r, const std::string& key, double fallback, Dim
 
 }  // namespace
 
-DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<const Model*>& designs) {
+DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in) {
+  const std::vector<const Model*>& designs = in.designs;
   DexterityOptions o;
   StemGrid& g = o.grid;
   g.stem_x_m = r.quantity("stem_x", Dimension::Length);
