@@ -8,16 +8,13 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration {
 
 namespace {
 
-std::string fmt3(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
+std::string fmt3(double v) { return formatG(v, 3); }
 
 }  // namespace
 
