@@ -28,9 +28,9 @@ int ArmResidualMap::flagged() const {
   return n;
 }
 
-std::string ArmFitOptions::validate() const {
+std::string CvSettings::validate(bool bins_ok) const {
   if (folds < 2) return "folds must be at least 2";
-  if (variable_bins < 1 || workspace_bins < 1) return "bin counts must be positive";
+  if (!bins_ok) return "bin counts must be positive";
   if (!(significance_z > 0)) return "significance z must be positive";
   if (!(min_relative_improvement >= 0 && min_relative_improvement < 1))
     return "minimum relative improvement must lie in [0, 1)";

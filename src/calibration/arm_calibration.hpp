@@ -108,18 +108,38 @@ class ArmProblem {
   int findEffect(const std::string& name) const;  // -1 when absent
   // Prediction (rows x channels) of the design with the given effects switched on.
   virtual Eigen::MatrixXd predict(const EffectValues& values) const = 0;
+
+ protected:
+  // Sets kind, design and where the data came from (file, hash, lines, warnings of a *Data).
+  template <class Data>
+  void setSource(std::string problem_kind, std::string design_name, const Data& data) {
+    kind = std::move(problem_kind);
+    design = std::move(design_name);
+    file = data.file;
+    hash = data.hash;
+    lines = data.lines;
+    warnings = data.warnings;
+  }
 };
 
-struct ArmFitOptions {
+// The cross-validation and effect-selection settings of every kind's fit.
+struct CvSettings {
   int folds = defaults::kCvFolds;
   std::uint64_t seed = defaults::kCvSeed;
-  int variable_bins = defaults::kArmVariableBins;
-  int workspace_bins = defaults::kArmWorkspaceBins;
   double significance_z = defaults::kSignificanceZ;
   double min_relative_improvement = defaults::kMinRelativeImprovement;
+  bool auto_add = false;  // add the best significant effect until none is left
+  // "" when valid; `bins_ok`: the kind's residual-map bin counts are positive.
+  std::string validate(bool bins_ok) const;
+};
+
+struct ArmFitOptions : CvSettings {
+  int variable_bins = defaults::kArmVariableBins;
+  int workspace_bins = defaults::kArmWorkspaceBins;
   std::vector<std::string> add;  // effect instances to add, in this order
-  bool auto_add = false;
-  std::string validate() const;
+  std::string validate() const {
+    return CvSettings::validate(variable_bins >= 1 && workspace_bins >= 1);
+  }
 };
 
 struct ArmFit {
@@ -138,14 +158,18 @@ struct ArmFit {
   Eigen::MatrixXd predicted, residual, heldout_residual;  // rows x channels, native units
 };
 
-struct ArmCandidate {
-  int effect = 0;
-  std::string name;
+// How one candidate effect scored (every kind's ranking).
+struct CandidateScore {
   std::string status = "ok";  // ok | unidentifiable | too_few_rows
   ArmFit fit;
   double improvement = 0, t_statistic = 0;
   bool significant = false;
   std::vector<std::string> warnings;
+};
+
+struct ArmCandidate : CandidateScore {
+  int effect = 0;
+  std::string name;
   // Candidates this one cannot be told apart from with this data (some parameter column in their
   // span), and those whose span contains all of this one's columns.
   std::vector<std::string> indistinguishable;

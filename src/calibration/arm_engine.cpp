@@ -9,6 +9,7 @@
 
 #include "calibration/least_squares.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration::arm_detail {
 
@@ -323,11 +324,7 @@ double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis) {
   return 1.0 - (col - basis * coef).squaredNorm() / tot;
 }
 
-std::string fmt(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
+std::string fmt(double v) { return formatG(v, 4); }
 
 // Candidate columns at the current values (a profiled effect at the middle of its grid).
 EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan) {

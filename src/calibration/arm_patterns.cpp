@@ -8,16 +8,13 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration {
 
 namespace {
 
-std::string fmt3(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
+std::string fmt3(double v) { return formatG(v, 3); }
 
 }  // namespace
 
@@ -108,15 +105,20 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
     if (!(sigma[c] > 0) || !(ss[c] > 0)) continue;
     for (const Var& v : vars) {
       if (v.channel >= 0 && v.channel != c) continue;
-      // Binned means.
-      const std::vector<Bin> bins = binsOf(v);
-      if (!bins.empty()) {
+      // A pattern of channel c against v, of `kind`, significant above `threshold`.
+      auto pattern = [&](const char* kind, double threshold) {
         ArmPattern p;
         p.channel = P.channel_names[c];
         p.variable = v.name;
         p.unit = v.unit;
-        p.kind = "binned_means";
-        p.threshold = z_bin;
+        p.kind = kind;
+        p.threshold = threshold;
+        return p;
+      };
+      // Binned means.
+      const std::vector<Bin> bins = binsOf(v);
+      if (!bins.empty()) {
+        ArmPattern p = pattern("binned_means", z_bin);
         double explained = 0;
         for (const Bin& b : bins) {
           const int n = static_cast<int>(b.rows.size());
@@ -145,12 +147,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
       // Periodogram against a joint position.
       const std::vector<double> ws = frequencies(v);
       if (!ws.empty()) {
-        ArmPattern p;
-        p.channel = P.channel_names[c];
-        p.variable = v.name;
-        p.unit = v.unit;
-        p.kind = "periodic";
-        p.threshold = chi_freq;
+        ArmPattern p = pattern("periodic", chi_freq);
         double best = -1;
         for (double w : ws) {
           double ms = 0, mc = 0, me = 0;

@@ -34,12 +34,7 @@ class DriveProblem : public ArmProblem {
  public:
   DriveProblem(const Model& model, const std::string& joint, const DriveData& data, int speed_bins, int load_bins)
       : joint_(joint), drive_(requireDrive(model, joint)), design_(drive::frictionParams(model, drive_)), data_(data) {
-    kind = "drive";
-    design = model.name;
-    file = data.file;
-    hash = data.hash;
-    lines = data.lines;
-    warnings = data.warnings;
+    setSource("drive", model.name, data);
     channel_names = {"current"};
     channel_units = {"A"};
     fit_unit = "A";
@@ -194,11 +189,7 @@ const DriveProblem& asDrive(const ArmProblem& P) {
 
 ArmFitOptions armOptions(const DriveFitOptions& o) {
   ArmFitOptions a;
-  a.folds = o.folds;
-  a.seed = o.seed;
-  a.significance_z = o.significance_z;
-  a.min_relative_improvement = o.min_relative_improvement;
-  a.auto_add = o.auto_add;
+  static_cast<CvSettings&>(a) = o;
   return a;
 }
 
@@ -240,12 +231,7 @@ DriveDiagnosis view(std::shared_ptr<const ArmProblem> P, ArmDiagnosis a, const s
   for (const ArmCandidate& c : a.ranking) {
     Candidate x;
     if (!drive::parseEffect(c.name, x.effect)) continue;
-    x.status = c.status;
-    x.fit = c.fit;
-    x.improvement = c.improvement;
-    x.t_statistic = c.t_statistic;
-    x.significant = c.significant;
-    x.warnings = c.warnings;
+    static_cast<CandidateScore&>(x) = c;
     d.ranking.push_back(std::move(x));
   }
   d.missing_effect_found = a.missing_effect_found;
@@ -299,15 +285,6 @@ std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, c
   }
   (void)notes;  // the design format carries every drive parameter
   return text;
-}
-
-std::string DriveFitOptions::validate() const {
-  if (folds < 2) return "folds must be at least 2";
-  if (speed_bins < 1 || load_bins < 1) return "bin counts must be positive";
-  if (!(significance_z > 0)) return "significance z must be positive";
-  if (!(min_relative_improvement >= 0 && min_relative_improvement < 1))
-    return "minimum relative improvement must lie in [0, 1)";
-  return "";
 }
 
 DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const DriveData& data,
@@ -388,8 +365,7 @@ DriveData readDriveData(const std::string& path) {
   d.current = t.column("current");
   if (t.has("temperature")) d.temperature = t.column("temperature");
   d.lines = t.row_lines;
-  for (const std::string& x : t.extra_columns)
-    d.warnings.push_back(path + ": extra column '" + x + "' is not used");
+  d.warnings = t.extraColumnWarnings();
   for (int i = 0; i < d.rows(); ++i)
     if (d.speed[i] == 0)
       throw InputError(path, d.lines[i], "speed",

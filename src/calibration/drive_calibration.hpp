@@ -81,27 +81,17 @@ std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, c
 
 // ---- the drive kind through the engine, for callers written against the drive kind's own API ----
 // (the [[calibration]] stage; once it reads ArmDiagnosis directly these views can go.)
-struct DriveFitOptions {
-  int folds = defaults::kCvFolds;
-  std::uint64_t seed = defaults::kCvSeed;
+struct DriveFitOptions : CvSettings {
   int speed_bins = defaults::kSpeedBins;
   int load_bins = defaults::kLoadBins;
-  double significance_z = defaults::kSignificanceZ;
-  double min_relative_improvement = defaults::kMinRelativeImprovement;
   std::vector<drive::Effect> add;  // effects to add (in this order, after the refit), significant or not
-  bool auto_add = false;           // add the best significant effect until none is left
-  std::string validate() const;    // "" when valid
+  std::string validate() const { return CvSettings::validate(speed_bins >= 1 && load_bins >= 1); }
 };
 
 using ModelFit = ArmFit;
 
-struct Candidate {
+struct Candidate : CandidateScore {
   drive::Effect effect = drive::Effect::Coulomb;
-  std::string status = "ok";  // ok | unidentifiable | too_few_rows
-  ArmFit fit;
-  double improvement = 0, t_statistic = 0;
-  bool significant = false;
-  std::vector<std::string> warnings;
 };
 
 // One model's comparison with the data: current and friction-torque statistics, residual map.

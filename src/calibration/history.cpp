@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
 
@@ -55,11 +56,7 @@ void appendHistoryRow(HistoryFile& h, std::vector<std::string> cells) {
 
 void writeHistory(const HistoryFile& h) { writeFileAtomic(h.path, h.text); }
 
-std::string historyNumber(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
+std::string historyNumber(double v) { return formatG(v, 6); }
 
 namespace fs = std::filesystem;
 

@@ -1,10 +1,9 @@
 #include "calibration/tcp_calibration.hpp"
 
 #include <cmath>
-#include <regex>
 
-#include "common/rng.hpp"
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
 #include "io/design_io.hpp"
@@ -32,12 +31,7 @@ void addBaseOffset(PoseXYZABG& base, const Eigen::VectorXd& x) {
 class TcpProblem : public ArmProblem {
  public:
   TcpProblem(const Model& model, const TcpData& data) : model_(model), q_(data.q) {
-    kind = "tcp";
-    design = model.name;
-    file = data.file;
-    hash = data.hash;
-    lines = data.lines;
-    warnings = data.warnings;
+    setSource("tcp", model.name, data);
     measured = data.pose;
     fit_unit = "m";
     const int n = model.dof();
@@ -218,15 +212,7 @@ TcpData readTcpData(const std::string& path, const Model& model) {
   TcpData d;
   d.file = path;
   d.hash = fileHash(path);
-  static const std::regex qcol("q([0-9]+)");
-  for (const std::string& x : t.extra_columns) {
-    std::smatch mm;
-    if (std::regex_match(x, mm, qcol))
-      throw InputError(path, 1, x,
-                       "column '" + x + "' names joint " + mm[1].str() + " but design '" + model.name + "' has only " +
-                           std::to_string(n) + " joints");
-    d.warnings.push_back(path + ": extra column '" + x + "' is not used");
-  }
+  d.warnings = t.extraColumnWarnings("q([0-9]+)", model.name, n);
   const int nori = t.has("alpha") + t.has("beta") + t.has("gamma");
   if (nori != 0 && nori != 3)
     throw InputError(path, 1, t.has("alpha") ? (t.has("beta") ? "gamma" : "beta") : "alpha",

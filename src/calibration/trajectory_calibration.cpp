@@ -68,12 +68,7 @@ struct Tag {
 class TrajectoryProblem : public ArmProblem {
  public:
   TrajectoryProblem(const Model& model, const TrajectoryData& data) : model_(model), data_(data) {
-    kind = "trajectory";
-    design = model.name;
-    file = data.file;
-    hash = data.hash;
-    lines = data.lines;
-    warnings = data.warnings;
+    setSource("trajectory", model.name, data);
     measured = data.measured;
     fit_unit = data.currents ? "A" : "N m|N";
     const int n = model.dof();

@@ -1,14 +1,12 @@
-#include "calibration/trajectory_calibration.hpp"
-
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
-#include <regex>
 #include <set>
 
 #include "calibration/drive_calibration.hpp"
-#include "common/rng.hpp"
+#include "calibration/trajectory_calibration.hpp"
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
@@ -29,15 +27,7 @@ TrajectoryData readTrajectoryData(const std::string& path, const Model& model) {
   TrajectoryData d;
   d.file = path;
   d.hash = fileHash(path);
-  static const std::regex jcol("(q|qd|qdd|tau|current)([0-9]+)");
-  for (const std::string& x : t.extra_columns) {
-    std::smatch mm;
-    if (std::regex_match(x, mm, jcol))
-      throw InputError(path, 1, x,
-                       "column '" + x + "' names joint " + mm[2].str() + " but design '" + model.name + "' has only " +
-                           std::to_string(n) + " joints");
-    d.warnings.push_back(path + ": extra column '" + x + "' is not used");
-  }
+  d.warnings = t.extraColumnWarnings("(q|qd|qdd|tau|current)([0-9]+)", model.name, n);
   auto group = [&](const std::string& p) {
     int c = 0;
     std::string missing;

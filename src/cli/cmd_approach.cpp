@@ -9,14 +9,7 @@
 
 namespace armstudy::cli {
 
-void addApproachCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "approach",
-      "Plan a radial approach to a fruit around its stem (thesis section 5.3.2) and print the\n"
-      "task-space trajectory w = (x, y, z, alpha, beta, gamma) with its first and second time\n"
-      "derivatives as CSV (SI units, radians). Coordinates in the task frame W.\n"
-      "Example (thesis Fig. 5.8): armstudy approach --start 0.55,0.79,1.0 --stem 0.43,0.8\n"
-      "  --fruit 0.43,0.762,0.9 --duration 2 --entry-radius 0.1 --s-a 0.1 --s-e 0.8");
+void addApproachCommand(CLI::App* cmd, Action& action) {
   struct Args {
     std::vector<double> start, stem, fruit, start_cardan, reference;
     ApproachPlannerOptions opt;
@@ -53,46 +46,43 @@ void addApproachCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--rate", a->rate_hz, "Samples per second")->capture_default_str();
   cmd->add_option("--out", a->out, "Write the CSV to this file instead of stdout");
-  cmd->callback([&action, a] {
-    action = [a] {
-      std::string err;
-      if (!a->opt.validate(err)) throw InputError("command line", 0, "approach", err);
-      if (!(a->rate_hz > 0))
-        throw InputError("command line", 0, "rate", "sample rate must be positive");
-      ApproachProblem pb;
-      pb.p_start_W = Eigen::Vector3d(a->start[0], a->start[1], a->start[2]);
-      pb.stem_xy_W = Eigen::Vector2d(a->stem[0], a->stem[1]);
-      pb.fruit_W = Eigen::Vector3d(a->fruit[0], a->fruit[1], a->fruit[2]);
-      if (!a->start_cardan.empty())
-        pb.cardan_start =
-            Eigen::Vector3d(a->start_cardan[0], a->start_cardan[1], a->start_cardan[2]);
-      if (!a->reference.empty())
-        pb.reference_xy_W = Eigen::Vector2d(a->reference[0], a->reference[1]);
-      const ApproachTrajectory tr = planApproach(pb, a->opt);
-      if (tr.status() != ApproachStatus::Ok) {
-        std::fprintf(stderr, "armstudy: approach not plannable: %s\n", toString(tr.status()));
-        return 3;
-      }
-      std::ostringstream os;
-      os.precision(12);
-      os << "t,s,x,y,z,alpha,beta,gamma,xd,yd,zd,alphad,betad,gammad,xdd,ydd,zdd,alphadd,betadd,"
-            "gammadd\n";
-      const long steps = std::lround(a->opt.duration_s * a->rate_hz);
-      for (long k = 0; k <= steps; ++k) {
-        const TaskSample w = tr.sample(std::min(a->opt.duration_s, k / a->rate_hz));
-        os << w.t << ',' << w.s;
-        for (const auto* v : {&w.w, &w.wd, &w.wdd})
-          for (int c = 0; c < 6; ++c) os << ',' << (*v)[c];
-        os << '\n';
-      }
-      if (a->out.empty())
-        std::fputs(os.str().c_str(), stdout);
-      else
-        writeFileAtomic(a->out, os.str());
-      std::fprintf(stderr, "entry time t_e = %.6f s, goal gamma = %.6f rad\n", tr.entryTime(),
-                   tr.goalCardan().z());
-      return 0;
-    };
+  setAction(cmd, action, [a] {
+    std::string err;
+    if (!a->opt.validate(err)) throw InputError("command line", 0, "approach", err);
+    if (!(a->rate_hz > 0))
+      throw InputError("command line", 0, "rate", "sample rate must be positive");
+    ApproachProblem pb;
+    pb.p_start_W = Eigen::Vector3d(a->start[0], a->start[1], a->start[2]);
+    pb.stem_xy_W = Eigen::Vector2d(a->stem[0], a->stem[1]);
+    pb.fruit_W = Eigen::Vector3d(a->fruit[0], a->fruit[1], a->fruit[2]);
+    if (!a->start_cardan.empty())
+      pb.cardan_start = Eigen::Vector3d(a->start_cardan[0], a->start_cardan[1], a->start_cardan[2]);
+    if (!a->reference.empty())
+      pb.reference_xy_W = Eigen::Vector2d(a->reference[0], a->reference[1]);
+    const ApproachTrajectory tr = planApproach(pb, a->opt);
+    if (tr.status() != ApproachStatus::Ok) {
+      std::fprintf(stderr, "armstudy: approach not plannable: %s\n", toString(tr.status()));
+      return 3;
+    }
+    std::ostringstream os;
+    os.precision(12);
+    os << "t,s,x,y,z,alpha,beta,gamma,xd,yd,zd,alphad,betad,gammad,xdd,ydd,zdd,alphadd,betadd,"
+          "gammadd\n";
+    const long steps = std::lround(a->opt.duration_s * a->rate_hz);
+    for (long k = 0; k <= steps; ++k) {
+      const TaskSample w = tr.sample(std::min(a->opt.duration_s, k / a->rate_hz));
+      os << w.t << ',' << w.s;
+      for (const auto* v : {&w.w, &w.wd, &w.wdd})
+        for (int c = 0; c < 6; ++c) os << ',' << (*v)[c];
+      os << '\n';
+    }
+    if (a->out.empty())
+      std::fputs(os.str().c_str(), stdout);
+    else
+      writeFileAtomic(a->out, os.str());
+    std::fprintf(stderr, "entry time t_e = %.6f s, goal gamma = %.6f rad\n", tr.entryTime(),
+                 tr.goalCardan().z());
+    return 0;
   });
 }
 

@@ -3,13 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <tuple>
 
-#include "common/defaults.hpp"
 #include "calibration/calibration_run.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "cli/design_options.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -72,19 +73,18 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
   cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
   cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
   cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint or kind>)");
-  const auto bins = CLI::Range(1, defaults::kMaxResidualBins);
-  cmd->add_option("--speed-bins", a.speed_bins, "drive kind, residual map: bins over signed motor speed")
-      ->check(bins)
-      ->capture_default_str();
-  cmd->add_option("--load-bins", a.load_bins, "drive kind, residual map: bins over |load torque|")
-      ->check(bins)
-      ->capture_default_str();
-  cmd->add_option("--variable-bins", a.variable_bins, "tcp/trajectory: bins over each joint variable (q, qd)")
-      ->check(bins)
-      ->capture_default_str();
-  cmd->add_option("--workspace-bins", a.workspace_bins, "tcp/trajectory: workspace cells per axis (x, y, z)")
-      ->check(bins)
-      ->capture_default_str();
+  const std::tuple<const char*, int CommonArgs::*, const char*> bin_options[] = {
+      {"--speed-bins", &CommonArgs::speed_bins,
+       "drive kind, residual map: bins over signed motor speed"},
+      {"--load-bins", &CommonArgs::load_bins, "drive kind, residual map: bins over |load torque|"},
+      {"--variable-bins", &CommonArgs::variable_bins,
+       "tcp/trajectory: bins over each joint variable (q, qd)"},
+      {"--workspace-bins", &CommonArgs::workspace_bins,
+       "tcp/trajectory: workspace cells per axis (x, y, z)"}};
+  for (const auto& [name, bins, help] : bin_options)
+    cmd->add_option(name, a.*bins, help)
+        ->check(CLI::Range(1, defaults::kMaxResidualBins))
+        ->capture_default_str();
 }
 
 std::string outDir(const CommonArgs& a, const Model& m) {
@@ -193,47 +193,27 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
 
 }  // namespace
 
-void addCompareCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "compare",
-      "Compare a design's model with measurements: RMSE, bias and max per channel, plots of measured\n"
-      "vs predicted and residual vs every operating variable, residual bins the noise cannot explain\n"
-      "flagged (drive: speed x load map; tcp/trajectory: joint-variable bins and workspace cells, also\n"
-      "as VTK .vti/.vtp); appends to history.csv.\n"
-      "Examples: armstudy compare designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv\n"
-      "          armstudy compare designs/final_prototype_7dof.toml --kind tcp --data tcp.csv");
+void addCompareCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
-  cmd->callback([&action, a] {
-    action = [a] {
-      checkKind(*a);
-      const Model m = loadAnyDesign(a->design, a->src.urdf());
-      const auto P = armProblem(*a, m);
-      calibration::ArmFitOptions o;
-      o.variable_bins = a->variable_bins;
-      o.workspace_bins = a->workspace_bins;
-      const auto d = calibration::compareArm(*P, o);
-      calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
-      calibration::writeArmReport(d, *P, ro, "");
-      printArm(d, *P);
-      std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg%s)\n", ro.out_dir.c_str(),
-                  P->workspace.empty() ? "" : ", *.vti/*.vtp");
-      return 0;
-    };
+  setAction(cmd, action, [a] {
+    checkKind(*a);
+    const Model m = loadAnyDesign(a->design, a->src.urdf());
+    const auto P = armProblem(*a, m);
+    calibration::ArmFitOptions o;
+    o.variable_bins = a->variable_bins;
+    o.workspace_bins = a->workspace_bins;
+    const auto d = calibration::compareArm(*P, o);
+    calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
+    calibration::writeArmReport(d, *P, ro, "");
+    printArm(d, *P);
+    std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg%s)\n",
+                ro.out_dir.c_str(), P->workspace.empty() ? "" : ", *.vti/*.vtp");
+    return 0;
   });
 }
 
-void addFitCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "fit",
-      "Rank the candidate effects that could be missing from a design's model by k-fold cross-validated\n"
-      "error (with held-out-by-region scores, confidence intervals and identifiability warnings),\n"
-      "optionally add effects, and write a calibrated copy of the design. Effects by kind:\n"
-      "  drive: coulomb viscous load_coulomb load_viscous stribeck asymmetry temperature temperature_viscous\n"
-      "  tcp: joint_offset.<joint> link_length.<joint>.<x|y|z> base_offset joint_compliance.<joint>\n"
-      "  trajectory: payload rotor_inertia gravity_tilt link_mass.<joint> <joint>.<drive effect>\n"
-      "Examples: armstudy fit designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv --auto\n"
-      "          armstudy fit designs/final_prototype_7dof.toml --kind trajectory --data run.csv --add payload");
+void addFitCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
   auto add = std::make_shared<std::string>();
@@ -248,29 +228,14 @@ void addFitCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--seed", *seed, "Seed of the fold assignment")->capture_default_str();
   cmd->add_option("--write-design", *designOut, "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
-  cmd->callback([&action, a, add, autoAdd, folds, seed, designOut] {
-    action = [a, add, autoAdd, folds, seed, designOut] {
-      checkKind(*a);
-      const Model m = loadAnyDesign(a->design, a->src.urdf());
-      return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
-    };
+  setAction(cmd, action, [a, add, autoAdd, folds, seed, designOut] {
+    checkKind(*a);
+    const Model m = loadAnyDesign(a->design, a->src.urdf());
+    return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
   });
 }
 
-void addSynthCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "synth",
-      "Virtual test bed / robot: write measurement CSV data from a design plus hidden effects and noise\n"
-      "(seeded, reproducible).\n"
-      "  drive: test-bed sweep of one drive; speeds in both directions, loads oppose the motion, the\n"
-      "         housing temperature warms up over the run (--drive, --speeds, --loads, --temperature)\n"
-      "  tcp: joint positions uniform in the central part of the limits, measured TCP = forward\n"
-      "       kinematics with the hidden effects + noise (--rows, --noise [m], --orientation)\n"
-      "  trajectory: smooth random sum-of-sines joint motion, efforts by inverse dynamics + drive chain\n"
-      "       with the hidden effects + noise (--duration, --rate, --noise [N m|N or A], --currents, --no-qdd)\n"
-      "Examples: armstudy synth designs/final_prototype_9dof.toml --drive j6 --hide stribeck:stribeck_velocity=60 --out bed.csv\n"
-      "          armstudy synth designs/final_prototype_7dof.toml --kind tcp --hide joint_offset.j3:offset=0.01 --out tcp.csv\n"
-      "          armstudy synth designs/final_prototype_7dof.toml --kind trajectory --hide payload --out run.csv");
+void addSynthCommand(CLI::App* cmd, Action& action) {
   auto joint = std::make_shared<std::string>();
   auto design = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
@@ -309,59 +274,61 @@ void addSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--loads", *loads, "Load torque levels [N m], comma list");
   cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
   cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");
-  cmd->callback([&action, design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
-    action = [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
-      if (*kind == "drive" && joint->empty())
-        throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
-      const Model m = loadAnyDesign(*design, src->urdf());
-      if (*kind == "tcp") {
-        calibration::TcpSynthOptions so = arm->tcp;
-        so.seed = o->seed;
-        if (!std::isnan(*noise)) so.noise_m = *noise;
-        so.hidden = *hide;
-        const auto data = calibration::synthesizeTcp(m, so);
-        writeFileAtomic(*out, calibration::tcpDataToCsv(data));
-        std::printf("wrote %d TCP poses to %s\n", data.rows(), out->c_str());
-        return 0;
-      }
-      if (*kind == "trajectory") {
-        calibration::TrajectorySynthOptions so = arm->traj;
-        so.seed = o->seed;
-        if (!std::isnan(*noise)) so.noise = *noise;
-        so.hidden = *hide;
-        so.write_qdd = !arm->no_qdd;
-        const auto data = calibration::synthesizeTrajectory(m, so);
-        writeFileAtomic(*out, calibration::trajectoryDataToCsv(data, so.write_qdd));
-        std::printf("wrote %d trajectory samples to %s\n", data.rows(), out->c_str());
-        return 0;
-      }
-      calibration::SynthOptions so = *o;
-      if (!std::isnan(*noise)) so.noise_A = *noise;
-      for (const auto& s : splitList(*speeds)) so.speeds_radps.push_back(parseNumber(s, "--speeds"));
-      for (const auto& s : splitList(*loads)) so.loads.push_back(parseNumber(s, "--loads"));
-      const auto t = splitList(*temp, ':');
-      if (t.size() != 2) throw InputError("", 0, "--temperature", "expected start:end in deg C");
-      so.temperature_start_C = parseNumber(t[0], "--temperature");
-      so.temperature_end_C = parseNumber(t[1], "--temperature");
-      so.write_temperature = !*noTemp;
-      for (const auto& h : *hide) {
-        const auto colon = h.find(':');
-        const drive::Effect e = parseEffectOption(h.substr(0, colon), "--hide");
-        std::vector<std::pair<std::string, double>> kv;
-        if (colon != std::string::npos)
-          for (const auto& item : splitList(h.substr(colon + 1))) {
-            const auto eq = item.find('=');
-            if (eq == std::string::npos) throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
-            kv.emplace_back(item.substr(0, eq), parseNumber(item.substr(eq + 1), "--hide"));
-          }
-        so.hidden.emplace_back(e, kv);
-      }
-      const auto data = calibration::synthesizeDrive(m, *joint, so);
-      writeFileAtomic(*out, calibration::driveDataToCsv(data));
-      std::printf("wrote %d rows to %s\n", data.rows(), out->c_str());
-      return 0;
-    };
-  });
+  setAction(cmd, action,
+            [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
+              if (*kind == "drive" && joint->empty())
+                throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
+              const Model m = loadAnyDesign(*design, src->urdf());
+              if (*kind == "tcp") {
+                calibration::TcpSynthOptions so = arm->tcp;
+                so.seed = o->seed;
+                if (!std::isnan(*noise)) so.noise_m = *noise;
+                so.hidden = *hide;
+                const auto data = calibration::synthesizeTcp(m, so);
+                writeFileAtomic(*out, calibration::tcpDataToCsv(data));
+                std::printf("wrote %d TCP poses to %s\n", data.rows(), out->c_str());
+                return 0;
+              }
+              if (*kind == "trajectory") {
+                calibration::TrajectorySynthOptions so = arm->traj;
+                so.seed = o->seed;
+                if (!std::isnan(*noise)) so.noise = *noise;
+                so.hidden = *hide;
+                so.write_qdd = !arm->no_qdd;
+                const auto data = calibration::synthesizeTrajectory(m, so);
+                writeFileAtomic(*out, calibration::trajectoryDataToCsv(data, so.write_qdd));
+                std::printf("wrote %d trajectory samples to %s\n", data.rows(), out->c_str());
+                return 0;
+              }
+              calibration::SynthOptions so = *o;
+              if (!std::isnan(*noise)) so.noise_A = *noise;
+              for (const auto& s : splitList(*speeds))
+                so.speeds_radps.push_back(parseNumber(s, "--speeds"));
+              for (const auto& s : splitList(*loads)) so.loads.push_back(parseNumber(s, "--loads"));
+              const auto t = splitList(*temp, ':');
+              if (t.size() != 2)
+                throw InputError("", 0, "--temperature", "expected start:end in deg C");
+              so.temperature_start_C = parseNumber(t[0], "--temperature");
+              so.temperature_end_C = parseNumber(t[1], "--temperature");
+              so.write_temperature = !*noTemp;
+              for (const auto& h : *hide) {
+                const auto colon = h.find(':');
+                const drive::Effect e = parseEffectOption(h.substr(0, colon), "--hide");
+                std::vector<std::pair<std::string, double>> kv;
+                if (colon != std::string::npos)
+                  for (const auto& item : splitList(h.substr(colon + 1))) {
+                    const auto eq = item.find('=');
+                    if (eq == std::string::npos)
+                      throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
+                    kv.emplace_back(item.substr(0, eq), parseNumber(item.substr(eq + 1), "--hide"));
+                  }
+                so.hidden.emplace_back(e, kv);
+              }
+              const auto data = calibration::synthesizeDrive(m, *joint, so);
+              writeFileAtomic(*out, calibration::driveDataToCsv(data));
+              std::printf("wrote %d rows to %s\n", data.rows(), out->c_str());
+              return 0;
+            });
 }
 
 }  // namespace armstudy::cli

@@ -18,11 +18,7 @@ static std::string fmtQ(const Joint& j, double v) {
   return buf;
 }
 
-void addDescribeCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "describe",
-      "Print a design's kinematic table (thesis Table 3.1 layout), DoF, joint limits and the\n"
-      "assumptions its author recorded. Validates the file on the way.");
+void addDescribeCommand(CLI::App* cmd, Action& action) {
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto src = std::make_shared<DesignSourceOptions>();
@@ -30,41 +26,39 @@ void addDescribeCommand(CLI::App& app, Action& action) {
       ->required();
   addDesignSourceOptions(cmd, *src);
   cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
-  cmd->callback([&action, path, json, src] {
-    action = [path, json, src] {
-      const Model m = loadAnyDesign(*path, src->urdf());
-      if (*json) {
-        std::cout << modelToJson(m) << "\n";
-        return 0;
-      }
-      std::printf("design   %s  (%d DoF)\n", m.name.c_str(), m.dof());
-      if (!m.description.empty()) std::printf("about    %s\n", m.description.c_str());
-      if (!m.source.empty()) std::printf("source   %s\n", m.source.c_str());
-      std::printf("file     %s  [%s]\n\n", m.file.c_str(), m.file_hash.c_str());
-      int w = 12;  // joint name column: wider for long (URDF) names
-      for (const Joint& j : m.joints) w = std::max(w, static_cast<int>(j.name.size()));
-      std::printf("%-3s %-*s %-9s %8s %8s %8s %9s %9s %9s   %-12s %-12s\n", "#", w, "joint", "type",
-                  "x [m]", "y [m]", "z [m]", "alpha[deg]", "beta[deg]", "gamma[deg]", "min", "max");
-      int i = 1;
-      for (const Joint& j : m.joints) {
-        const double d = 180.0 / M_PI;
-        std::printf("%-3d %-*s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++, w,
-                    j.name.c_str(), toString(j.type), j.offset.x, j.offset.y, j.offset.z,
-                    j.offset.alpha * d, j.offset.beta * d, j.offset.gamma * d,
-                    fmtQ(j, j.limits.q_min).c_str(), fmtQ(j, j.limits.q_max).c_str());
-      }
-      const double d = 180.0 / M_PI;
-      std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)", m.tcp.x,
-                  m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
-      if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
-      if (!m.inertias.empty()) std::printf("link inertias: given\n");
-      if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());
-      if (!m.assumptions.empty()) {
-        std::printf("\nassumptions (values the thesis does not give):\n");
-        for (const auto& a : m.assumptions) std::printf("  - %s\n", a.c_str());
-      }
+  setAction(cmd, action, [path, json, src] {
+    const Model m = loadAnyDesign(*path, src->urdf());
+    if (*json) {
+      std::cout << modelToJson(m) << "\n";
       return 0;
-    };
+    }
+    std::printf("design   %s  (%d DoF)\n", m.name.c_str(), m.dof());
+    if (!m.description.empty()) std::printf("about    %s\n", m.description.c_str());
+    if (!m.source.empty()) std::printf("source   %s\n", m.source.c_str());
+    std::printf("file     %s  [%s]\n\n", m.file.c_str(), m.file_hash.c_str());
+    int w = 12;  // joint name column: wider for long (URDF) names
+    for (const Joint& j : m.joints) w = std::max(w, static_cast<int>(j.name.size()));
+    std::printf("%-3s %-*s %-9s %8s %8s %8s %9s %9s %9s   %-12s %-12s\n", "#", w, "joint", "type",
+                "x [m]", "y [m]", "z [m]", "alpha[deg]", "beta[deg]", "gamma[deg]", "min", "max");
+    int i = 1;
+    for (const Joint& j : m.joints) {
+      const double d = 180.0 / M_PI;
+      std::printf("%-3d %-*s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++, w,
+                  j.name.c_str(), toString(j.type), j.offset.x, j.offset.y, j.offset.z,
+                  j.offset.alpha * d, j.offset.beta * d, j.offset.gamma * d,
+                  fmtQ(j, j.limits.q_min).c_str(), fmtQ(j, j.limits.q_max).c_str());
+    }
+    const double d = 180.0 / M_PI;
+    std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)",
+                m.tcp.x, m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
+    if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
+    if (!m.inertias.empty()) std::printf("link inertias: given\n");
+    if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());
+    if (!m.assumptions.empty()) {
+      std::printf("\nassumptions (values the thesis does not give):\n");
+      for (const auto& a : m.assumptions) std::printf("  - %s\n", a.c_str());
+    }
+    return 0;
   });
 }
 

@@ -11,14 +11,7 @@
 
 namespace armstudy::cli {
 
-void addFitSsvCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "fit-ssv",
-      "Fit swept-sphere collision volumes to a link mesh and write them into the design.\n"
-      "The mesh (closed STL or OFF surface) must be given in the link's frame; every mesh vertex\n"
-      "ends up inside the fitted volumes. The link's existing [[collision]] tables are replaced.\n"
-      "Example: armstudy fit-ssv designs/final_prototype_9dof.toml --link j3 --mesh upper_arm.stl\n"
-      "         --scale 0.001 --out my_design.toml");
+void addFitSsvCommand(CLI::App* cmd, Action& action) {
   struct Args {
     std::string design, link, mesh, out;
     bool in_place = false;
@@ -35,44 +28,48 @@ void addFitSsvCommand(CLI::App& app, Action& action) {
   cmd->add_option("--scale", a->scale, "Mesh units to metres, e.g. 0.001 for millimetres (default 1)");
   cmd->add_option("--max-volumes", a->max_volumes, "Most SSVs to use for the link (default 4)");
   cmd->add_option("--margin-mm", a->margin_mm, "Extra clearance added to every radius [mm] (default 0)");
-  cmd->callback([&action, a] {
-    action = [a] {
-      if (a->in_place && !a->out.empty())
-        throw InputError("--out", 0, "out", "use either --out or --in-place, not both");
-      if (isUrdfPath(a->design))
-        throw InputError(a->design, 0, "design",
-                         "fit-ssv rewrites a design TOML; a URDF's volumes are fitted to its collision geometry "
-                         "on import: convert it first (armstudy convert X.urdf X.toml) and fit into the TOML");
-      const std::string text = readFileOrThrow(a->design);
-      const Model m = parseDesign(text, a->design);
-      if (collision::bodyIndex(m, a->link) < -1)
-        throw InputError(a->design, 0, "--link",
-                         "no link named '" + a->link + "' in design '" + m.name + "' (use a joint name or \"base\")");
-      collision::SsvFitOptions o;
-      o.max_volumes = a->max_volumes;
-      o.margin_m = a->margin_mm * 1e-3;
-      if (const std::string err = o.validate(); !err.empty()) throw InputError("--max-volumes", 0, "fit-ssv", err);
-      const collision::TriangleMesh mesh = collision::loadTriangleMesh(a->mesh, a->scale);
-      const collision::SsvFitSummary fit = collision::fitSsvs(mesh, o);
-      const std::string label = std::filesystem::path(a->mesh).filename().string() + " (" + fileHash(a->mesh) +
-                                ", scale " + std::to_string(a->scale) + ")";
-      const std::string new_text = collision::replaceLinkVolumesInDesignText(text, a->link, fit.volumes, label);
-      std::string out = a->in_place ? a->design : a->out;
-      if (out.empty()) {
-        std::filesystem::path p(a->design);
-        out = (p.parent_path() / (p.stem().string() + ".fitted.toml")).string();
-      }
-      parseDesign(new_text, out);  // the written design must load
-      writeFileAtomic(out, new_text);
-      std::printf("fitted %zu SSV(s) to %s (%d vertices, %d slab(s)): swept volume %.6f m^3 for a mesh volume "
-                  "of %.6f m^3; farthest vertex %.3g m inside\n",
-                  fit.volumes.size(), a->mesh.c_str(), fit.mesh_vertices, fit.slabs, fit.swept_volume_m3,
-                  fit.mesh_volume_m3, -fit.max_vertex_excess_m);
-      for (const auto& v : fit.volumes)
-        std::printf("  %-8s radius %.4f m\n", toString(v.type), v.radius_m);
-      std::printf("wrote %s\n", out.c_str());
-      return 0;
-    };
+  setAction(cmd, action, [a] {
+    if (a->in_place && !a->out.empty())
+      throw InputError("--out", 0, "out", "use either --out or --in-place, not both");
+    if (isUrdfPath(a->design))
+      throw InputError(
+          a->design, 0, "design",
+          "fit-ssv rewrites a design TOML; a URDF's volumes are fitted to its collision geometry "
+          "on import: convert it first (armstudy convert X.urdf X.toml) and fit into the TOML");
+    const std::string text = readFileOrThrow(a->design);
+    const Model m = parseDesign(text, a->design);
+    if (collision::bodyIndex(m, a->link) < -1)
+      throw InputError(a->design, 0, "--link",
+                       "no link named '" + a->link + "' in design '" + m.name +
+                           "' (use a joint name or \"base\")");
+    collision::SsvFitOptions o;
+    o.max_volumes = a->max_volumes;
+    o.margin_m = a->margin_mm * 1e-3;
+    if (const std::string err = o.validate(); !err.empty())
+      throw InputError("--max-volumes", 0, "fit-ssv", err);
+    const collision::TriangleMesh mesh = collision::loadTriangleMesh(a->mesh, a->scale);
+    const collision::SsvFitSummary fit = collision::fitSsvs(mesh, o);
+    const std::string label = std::filesystem::path(a->mesh).filename().string() + " (" +
+                              fileHash(a->mesh) + ", scale " + std::to_string(a->scale) + ")";
+    const std::string new_text =
+        collision::replaceLinkVolumesInDesignText(text, a->link, fit.volumes, label);
+    std::string out = a->in_place ? a->design : a->out;
+    if (out.empty()) {
+      std::filesystem::path p(a->design);
+      out = (p.parent_path() / (p.stem().string() + ".fitted.toml")).string();
+    }
+    parseDesign(new_text, out);  // the written design must load
+    writeFileAtomic(out, new_text);
+    std::printf(
+        "fitted %zu SSV(s) to %s (%d vertices, %d slab(s)): swept volume %.6f m^3 for a mesh "
+        "volume "
+        "of %.6f m^3; farthest vertex %.3g m inside\n",
+        fit.volumes.size(), a->mesh.c_str(), fit.mesh_vertices, fit.slabs, fit.swept_volume_m3,
+        fit.mesh_volume_m3, -fit.max_vertex_excess_m);
+    for (const auto& v : fit.volumes)
+      std::printf("  %-8s radius %.4f m\n", toString(v.type), v.radius_m);
+    std::printf("wrote %s\n", out.c_str());
+    return 0;
   });
 }
 

@@ -12,13 +12,7 @@
 
 namespace armstudy::cli {
 
-void addFkCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "fk",
-      "Forward kinematics: pose of every joint frame and the TCP for a joint vector.\n"
-      "Positions in metres, orientation as Cardan angles alpha, beta, gamma (R = Rx Ry Rz).\n"
-      "Example: armstudy fk designs/first_prototype_6dof.toml --q 0.3,0,0,0,0,0\n"
-      "         armstudy fk ur5_robot.urdf --base base_link --tip tool0 --q 0,-1.57,0,0,0,0 --json");
+void addFkCommand(CLI::App* cmd, Action& action) {
   struct Args {
     std::string path;
     std::vector<double> q;
@@ -35,76 +29,78 @@ void addFkCommand(CLI::App& app, Action& action) {
       ->required();
   cmd->add_flag("--deg", a->deg, "Revolute joint values and printed angles are in degrees");
   cmd->add_flag("--json", a->json, "Machine-readable output");
-  cmd->callback([&action, a] {
-    action = [a] {
-      UrdfOptions uo = a->src.urdf();
-      uo.collision = false;  // fk needs no collision volumes
-      UrdfInfo info;
-      const Model m = loadAnyDesign(a->path, uo, &info);
-      const bool has_links = info.joints.size() == static_cast<std::size_t>(m.dof());
-      if (static_cast<int>(a->q.size()) != m.dof())
-        throw InputError("--q", 0, "q",
-                         "got " + std::to_string(a->q.size()) + " joint values, design '" + m.name +
-                             "' has " + std::to_string(m.dof()) + " joints");
-      Eigen::VectorXd q(m.dof());
-      for (int i = 0; i < m.dof(); ++i) {
-        q[i] = a->q[i];
-        if (a->deg && m.joints[i].type == JointType::Revolute) q[i] *= M_PI / 180.0;
-        const Dimension dim = m.joints[i].type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
-        if (const std::string bad = implausible(q[i], &dim); !bad.empty())
-          throw InputError("--q", 0, "q", "joint " + m.joints[i].name + ": " + bad);
-      }
-      KinematicsWorkspace ws(m);
-      forwardKinematics(m, ws, q);
-      const double as = a->deg ? 180.0 / M_PI : 1.0;
-      const char* au = a->deg ? "deg" : "rad";
-      struct Row {
-        std::string name;
-        Eigen::Vector3d p;
-        CardanAngles c;
-      };
-      std::vector<Row> rows;
-      // Joint rows: the body frame after each joint; for a URDF design its child link frame
-      // (L_i = F_i R_FL), so every row agrees with URDF tools.
-      for (int i = 0; i < m.dof(); ++i)
-        rows.push_back({m.joints[i].name, ws.p_WF[i],
-                        cardanFromRotation(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
-                                                     : Eigen::Matrix3d(ws.R_WF[i]))});
-      rows.push_back({"tcp", ws.p_WT, cardanFromRotation(ws.R_WT)});
-      std::vector<std::string> warn;
-      for (int i = 0; i < m.dof(); ++i) {
-        const auto& L = m.joints[i].limits;
-        if (q[i] < L.q_min || q[i] > L.q_max) warn.push_back(m.joints[i].name + " outside its limits");
-      }
-      if (a->json) {
-        nlohmann::ordered_json j;
-        j["design"] = m.name;
-        j["angle_unit"] = au;
-        j["q"] = a->q;
-        j["frames"] = nlohmann::ordered_json::array();
-        for (const auto& r : rows)
-          j["frames"].push_back({{"frame", r.name},
-                                 {"x_m", r.p.x()},
-                                 {"y_m", r.p.y()},
-                                 {"z_m", r.p.z()},
-                                 {"alpha", r.c.alpha * as},
-                                 {"beta", r.c.beta * as},
-                                 {"gamma", r.c.gamma * as},
-                                 {"cardan_singular", r.c.singular}});
-        j["warnings"] = warn;
-        std::cout << j.dump(2) << "\n";
-        return 0;
-      }
-      std::printf("%-12s %10s %10s %10s %10s %10s %10s\n", "frame", "x [m]", "y [m]", "z [m]",
-                  (std::string("alpha[") + au + "]").c_str(), (std::string("beta[") + au + "]").c_str(),
-                  (std::string("gamma[") + au + "]").c_str());
-      for (const auto& r : rows)
-        std::printf("%-12s %10.5f %10.5f %10.5f %10.4f %10.4f %10.4f%s\n", r.name.c_str(), r.p.x(),
-                    r.p.y(), r.p.z(), r.c.alpha * as, r.c.beta * as, r.c.gamma * as,
-                    r.c.singular ? "  (Cardan singular: cos(beta)=0)" : "");
-      for (const auto& w : warn) std::fprintf(stderr, "warning: %s\n", w.c_str());
-      return 0;
+  setAction(cmd, action, [a] {
+    UrdfOptions uo = a->src.urdf();
+    uo.collision = false;  // fk needs no collision volumes
+    UrdfInfo info;
+    const Model m = loadAnyDesign(a->path, uo, &info);
+    const bool has_links = info.joints.size() == static_cast<std::size_t>(m.dof());
+    if (static_cast<int>(a->q.size()) != m.dof())
+      throw InputError("--q", 0, "q",
+                       "got " + std::to_string(a->q.size()) + " joint values, design '" + m.name +
+                           "' has " + std::to_string(m.dof()) + " joints");
+    Eigen::VectorXd q(m.dof());
+    for (int i = 0; i < m.dof(); ++i) {
+      q[i] = a->q[i];
+      if (a->deg && m.joints[i].type == JointType::Revolute) q[i] *= M_PI / 180.0;
+      const Dimension dim =
+          m.joints[i].type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
+      if (const std::string bad = implausible(q[i], &dim); !bad.empty())
+        throw InputError("--q", 0, "q", "joint " + m.joints[i].name + ": " + bad);
+    }
+    KinematicsWorkspace ws(m);
+    forwardKinematics(m, ws, q);
+    const double as = a->deg ? 180.0 / M_PI : 1.0;
+    const char* au = a->deg ? "deg" : "rad";
+    struct Row {
+      std::string name;
+      Eigen::Vector3d p;
+      CardanAngles c;
     };
+    std::vector<Row> rows;
+    // Joint rows: the body frame after each joint; for a URDF design its child link frame
+    // (L_i = F_i R_FL), so every row agrees with URDF tools.
+    for (int i = 0; i < m.dof(); ++i)
+      rows.push_back(
+          {m.joints[i].name, ws.p_WF[i],
+           cardanFromRotation(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
+                                        : Eigen::Matrix3d(ws.R_WF[i]))});
+    rows.push_back({"tcp", ws.p_WT, cardanFromRotation(ws.R_WT)});
+    std::vector<std::string> warn;
+    for (int i = 0; i < m.dof(); ++i) {
+      const auto& L = m.joints[i].limits;
+      if (q[i] < L.q_min || q[i] > L.q_max)
+        warn.push_back(m.joints[i].name + " outside its limits");
+    }
+    if (a->json) {
+      nlohmann::ordered_json j;
+      j["design"] = m.name;
+      j["angle_unit"] = au;
+      j["q"] = a->q;
+      j["frames"] = nlohmann::ordered_json::array();
+      for (const auto& r : rows)
+        j["frames"].push_back({{"frame", r.name},
+                               {"x_m", r.p.x()},
+                               {"y_m", r.p.y()},
+                               {"z_m", r.p.z()},
+                               {"alpha", r.c.alpha * as},
+                               {"beta", r.c.beta * as},
+                               {"gamma", r.c.gamma * as},
+                               {"cardan_singular", r.c.singular}});
+      j["warnings"] = warn;
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    std::printf("%-12s %10s %10s %10s %10s %10s %10s\n", "frame", "x [m]", "y [m]", "z [m]",
+                (std::string("alpha[") + au + "]").c_str(),
+                (std::string("beta[") + au + "]").c_str(),
+                (std::string("gamma[") + au + "]").c_str());
+    for (const auto& r : rows)
+      std::printf("%-12s %10.5f %10.5f %10.5f %10.4f %10.4f %10.4f%s\n", r.name.c_str(), r.p.x(),
+                  r.p.y(), r.p.z(), r.c.alpha * as, r.c.beta * as, r.c.gamma * as,
+                  r.c.singular ? "  (Cardan singular: cos(beta)=0)" : "");
+    for (const auto& w : warn) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    return 0;
   });
 }
 

@@ -31,62 +31,48 @@ void addRunOptions(CLI::App* cmd, Args& a) {
 }
 }  // namespace
 
-void addBaselineCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "baseline",
-      "Run a study and record its summary metrics as the study's baseline (a small JSON file\n"
-      "beside the study, default <study>.baseline.json, or [regression].baseline). Commit it.\n"
-      "Example: armstudy baseline studies/regression.toml");
+void addBaselineCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<Args>();
   addRunOptions(cmd, *a);
-  cmd->callback([&action, a] {
-    action = [a] {
-      const Study s = loadStudy(a->path);
-      a->opt.overwrite = true;
-      const RunSummary sum = runStudy(s, a->opt);
-      Baseline b;
-      b.study = s.name;
-      b.armstudy_version = kVersion;
-      b.git_revision = kGitRevision;
-      b.metrics = sum.metrics;
-      writeFileAtomic(s.regression.baseline_path, baselineToJson(b));
-      std::printf("baseline of study %s: %zu scalar metric(s), %zu per-pose flag set(s) -> %s\n",
-                  s.name.c_str(), b.metrics.scalars.size(), b.metrics.flags.size(),
-                  s.regression.baseline_path.c_str());
-      return 0;
-    };
+  setAction(cmd, action, [a] {
+    const Study s = loadStudy(a->path);
+    a->opt.overwrite = true;
+    const RunSummary sum = runStudy(s, a->opt);
+    Baseline b;
+    b.study = s.name;
+    b.armstudy_version = kVersion;
+    b.git_revision = kGitRevision;
+    b.metrics = sum.metrics;
+    writeFileAtomic(s.regression.baseline_path, baselineToJson(b));
+    std::printf("baseline of study %s: %zu scalar metric(s), %zu per-pose flag set(s) -> %s\n",
+                s.name.c_str(), b.metrics.scalars.size(), b.metrics.flags.size(),
+                s.regression.baseline_path.c_str());
+    return 0;
   });
 }
 
-void addCheckCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "check",
-      "Re-run a study and compare its summary metrics with the recorded baseline, using the\n"
-      "tolerances of the study's [[regression.tolerance]] rules. Prints what moved (metric,\n"
-      "baseline, now, tolerance, verdict). Exit status 0 when everything is within tolerance,\n"
-      "3 when something moved beyond it, 2 for bad input (e.g. a baseline of another study).\n"
-      "Example: armstudy check studies/regression.toml --json output/regression/check.json");
+void addCheckCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<Args>();
   addRunOptions(cmd, *a);
   cmd->add_option("--json", a->json_out, "Also write the comparison as JSON to this file");
   cmd->add_flag("--all", a->all, "List every metric, not only those that moved");
-  cmd->callback([&action, a] {
-    action = [a] {
-      const Study s = loadStudy(a->path);
-      if (!std::filesystem::exists(s.regression.baseline_path))
-        throw InputError(s.regression.baseline_path, 0, "",
-                         "no baseline recorded for study '" + s.name + "'; run `armstudy baseline " + a->path +
-                             "` first");
-      // Read and validate the baseline before spending time on the run.
-      const Baseline b = parseBaseline(readFileOrThrow(s.regression.baseline_path), s.regression.baseline_path, s.name);
-      a->opt.overwrite = true;
-      const RunSummary sum = runStudy(s, a->opt);
-      const CheckResult r = compareToBaseline(b, sum.metrics, s.regression);
-      std::fputs(checkTable(r, !a->all).c_str(), stdout);
-      if (!a->json_out.empty()) writeFileAtomic(a->json_out, checkJson(r));
-      std::printf("%s\n", r.passed() ? "check passed" : "check FAILED: results moved beyond tolerance");
-      return r.passed() ? 0 : 3;
-    };
+  setAction(cmd, action, [a] {
+    const Study s = loadStudy(a->path);
+    if (!std::filesystem::exists(s.regression.baseline_path))
+      throw InputError(s.regression.baseline_path, 0, "",
+                       "no baseline recorded for study '" + s.name + "'; run `armstudy baseline " +
+                           a->path + "` first");
+    // Read and validate the baseline before spending time on the run.
+    const Baseline b = parseBaseline(readFileOrThrow(s.regression.baseline_path),
+                                     s.regression.baseline_path, s.name);
+    a->opt.overwrite = true;
+    const RunSummary sum = runStudy(s, a->opt);
+    const CheckResult r = compareToBaseline(b, sum.metrics, s.regression);
+    std::fputs(checkTable(r, !a->all).c_str(), stdout);
+    if (!a->json_out.empty()) writeFileAtomic(a->json_out, checkJson(r));
+    std::printf("%s\n",
+                r.passed() ? "check passed" : "check FAILED: results moved beyond tolerance");
+    return r.passed() ? 0 : 3;
   });
 }
 

@@ -12,13 +12,7 @@
 
 namespace armstudy::cli {
 
-void addRunCommand(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand(
-      "run",
-      "Load, validate and run a study. Results go to <output>/<study name>/ with a manifest\n"
-      "(version, git revision, input hashes, settings, timings). Nothing is written when the\n"
-      "study or any design it names is invalid.\n"
-      "Example: armstudy run studies/spraying_row.toml --threads 2");
+void addRunCommand(CLI::App* cmd, Action& action) {
   struct Args {
     std::string path;
     RunOptions opt;
@@ -38,54 +32,53 @@ void addRunCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
   cmd->add_flag("--json", a->json,
                 "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
-  cmd->callback([&action, a] {
-    action = [a] {
-      // Under mpirun/srun every rank runs this; a plain run is the single process
-      // (docs/distributed.md). Errors before the stages are reported once, by the lowest rank that
-      // found them (the others end quietly); runStudy ends the whole job on an error during them.
-      const std::unique_ptr<Ranks> job = joinMpiJob();
-      const Ranks& ranks = job ? *job : singleProcess();
-      std::optional<Study> s;
-      RunSummary sum;
+  setAction(cmd, action, [a] {
+    // Under mpirun/srun every rank runs this; a plain run is the single process
+    // (docs/distributed.md). Errors before the stages are reported once, by the lowest rank that
+    // found them (the others end quietly); runStudy ends the whole job on an error during them.
+    const std::unique_ptr<Ranks> job = joinMpiJob();
+    const Ranks& ranks = job ? *job : singleProcess();
+    std::optional<Study> s;
+    RunSummary sum;
+    try {
+      std::exception_ptr err;
       try {
-        std::exception_ptr err;
-        try {
-          s.emplace(loadStudy(a->path));
-        } catch (...) {
-          err = std::current_exception();
-        }
-        const int first = ranks.firstFailure(err != nullptr);
-        if (first == ranks.rank()) std::rethrow_exception(err);
-        if (first < ranks.size()) throw OtherRankFailed();
-        sum = runStudy(*s, a->opt, ranks);
-      } catch (const OtherRankFailed&) {
-        return 1;
+        s.emplace(loadStudy(a->path));
+      } catch (...) {
+        err = std::current_exception();
       }
-      if (!ranks.root()) return 0;
-      if (a->json) {
-        nlohmann::ordered_json j;
-        j["study"] = s->name;
-        j["output_dir"] = sum.output_dir;
-        j["report"] = sum.output_dir + "/report.html";
-        j["designs"] = sum.designs;
-        j["threads"] = sum.threads;
-        j["ranks"] = ranks.size();
-        j["units_resumed"] = sum.units_resumed;
-        if (!sum.resume_message.empty()) j["resume"] = sum.resume_message;
-        nlohmann::ordered_json t = nlohmann::ordered_json::object();
-        for (const auto& st : sum.timings) t[st.stage + "_s"] = st.seconds;
-        j["timings"] = t;
-        j["metrics"] = sum.metrics.scalars;
-        j["files"] = sum.files_written;
-        std::printf("%s\n", j.dump(2).c_str());
-        return 0;
-      }
-      const std::string across = ranks.distributed() ? " x " + std::to_string(ranks.size()) + " ranks" : "";
-      std::printf("study %s: %d design(s), %d thread(s)%s -> %s\n", s->name.c_str(), sum.designs, sum.threads,
-                  across.c_str(), sum.output_dir.c_str());
-      for (const auto& f : sum.files_written) std::printf("  wrote %s\n", f.c_str());
+      const int first = ranks.firstFailure(err != nullptr);
+      if (first == ranks.rank()) std::rethrow_exception(err);
+      if (first < ranks.size()) throw OtherRankFailed();
+      sum = runStudy(*s, a->opt, ranks);
+    } catch (const OtherRankFailed&) {
+      return 1;
+    }
+    if (!ranks.root()) return 0;
+    if (a->json) {
+      nlohmann::ordered_json j;
+      j["study"] = s->name;
+      j["output_dir"] = sum.output_dir;
+      j["report"] = sum.output_dir + "/report.html";
+      j["designs"] = sum.designs;
+      j["threads"] = sum.threads;
+      j["ranks"] = ranks.size();
+      j["units_resumed"] = sum.units_resumed;
+      if (!sum.resume_message.empty()) j["resume"] = sum.resume_message;
+      nlohmann::ordered_json t = nlohmann::ordered_json::object();
+      for (const auto& st : sum.timings) t[st.stage + "_s"] = st.seconds;
+      j["timings"] = t;
+      j["metrics"] = sum.metrics.scalars;
+      j["files"] = sum.files_written;
+      std::printf("%s\n", j.dump(2).c_str());
       return 0;
-    };
+    }
+    const std::string across =
+        ranks.distributed() ? " x " + std::to_string(ranks.size()) + " ranks" : "";
+    std::printf("study %s: %d design(s), %d thread(s)%s -> %s\n", s->name.c_str(), sum.designs,
+                sum.threads, across.c_str(), sum.output_dir.c_str());
+    for (const auto& f : sum.files_written) std::printf("  wrote %s\n", f.c_str());
+    return 0;
   });
 }
 

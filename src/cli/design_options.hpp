@@ -18,6 +18,4 @@ struct DesignSourceOptions {
 };
 void addDesignSourceOptions(CLI::App* cmd, DesignSourceOptions& options);
 
-void addConvertCommand(CLI::App& app, Action& action);  // cmd_convert.cpp
-
 }  // namespace armstudy::cli

@@ -22,18 +22,8 @@ int main(int argc, char** argv) {
   // Every option's default value is shown in --help (subcommands inherit this setting).
   app.option_defaults()->always_capture_default();
   armstudy::cli::Action action;
-  armstudy::cli::addDescribeCommand(app, action);
-  armstudy::cli::addFkCommand(app, action);
-  armstudy::cli::addRunCommand(app, action);
-  armstudy::cli::addBaselineCommand(app, action);
-  armstudy::cli::addCheckCommand(app, action);
-  armstudy::cli::addCompareCommand(app, action);
-  armstudy::cli::addFitCommand(app, action);
-  armstudy::cli::addSynthCommand(app, action);
-  armstudy::cli::addDynamicsCommand(app, action);
-  armstudy::cli::addApproachCommand(app, action);
-  armstudy::cli::addFitSsvCommand(app, action);
-  armstudy::cli::addConvertCommand(app, action);
+  for (const armstudy::cli::Command& c : armstudy::cli::commands())
+    c.add(app.add_subcommand(c.name, c.help), action);
   // Defaults that say nothing (an empty list, NaN = "chosen per kind", a required value) are not shown.
   for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     for (CLI::Option* opt : sub->get_options()) {

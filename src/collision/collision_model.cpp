@@ -3,20 +3,12 @@
 #include <cmath>
 
 #include "common/defaults.hpp"
+#include "common/enum_names.hpp"
 
 namespace armstudy {
 
-const char* toString(SsvType t) {
-  switch (t) {
-    case SsvType::Point:
-      return "point";
-    case SsvType::Line:
-      return "line";
-    case SsvType::Triangle:
-      return "triangle";
-  }
-  return "?";
-}
+constexpr const char* kSsvTypeNames[] = {"point", "line", "triangle"};  // from Point = 1
+const char* toString(SsvType t) { return enumName(t, kSsvTypeNames, 1); }
 
 namespace collision {
 

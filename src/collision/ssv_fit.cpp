@@ -72,6 +72,26 @@ void inflate(Candidate& c, const std::vector<Vector3d>& pts, double margin) {
   for (auto& v : c.volumes) v.radius_m = r;
 }
 
+// The candidate made of the one volume `v`, inflated over the points.
+Candidate singleVolume(const FittedSsv& v, const std::vector<Vector3d>& pts, double margin) {
+  Candidate out;
+  out.volumes.push_back(v);
+  inflate(out, pts, margin);
+  out.volume_m3 = ssvVolume(out.volumes[0]);
+  return out;
+}
+
+// CGAL's least-squares line or plane `fit` through the points; returns their centroid.
+template <class LineOrPlane>
+Vector3d leastSquaresFit(const std::vector<Vector3d>& pts, LineOrPlane& fit) {
+  std::vector<K::Point_3> cp;
+  for (const auto& p : pts) cp.push_back(toCgal(p));
+  K::Point_3 centroid;
+  CGAL::linear_least_squares_fitting_3(cp.begin(), cp.end(), fit, centroid,
+                                       CGAL::Dimension_tag<0>());
+  return toEigen(centroid);
+}
+
 Candidate sphereCandidate(const std::vector<Vector3d>& pts, double margin) {
   using Traits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<Traits>;
@@ -81,25 +101,16 @@ Candidate sphereCandidate(const std::vector<Vector3d>& pts, double margin) {
   Vector3d c;
   auto it = ms.center_cartesian_begin();
   for (int i = 0; i < 3; ++i, ++it) c[i] = *it;
-  Candidate out;
   FittedSsv v;
   v.type = SsvType::Point;
   v.p[0] = c;
-  out.volumes.push_back(v);
-  inflate(out, pts, margin);
-  out.volume_m3 = ssvVolume(out.volumes[0]);
-  return out;
+  return singleVolume(v, pts, margin);
 }
 
 Candidate capsuleCandidate(const std::vector<Vector3d>& pts, double margin) {
-  Candidate out;
-  if (pts.size() < 2) return out;
-  std::vector<K::Point_3> cp;
-  for (const auto& p : pts) cp.push_back(toCgal(p));
+  if (pts.size() < 2) return {};
   K::Line_3 line;
-  K::Point_3 centroid;
-  CGAL::linear_least_squares_fitting_3(cp.begin(), cp.end(), line, centroid, CGAL::Dimension_tag<0>());
-  const Vector3d c = toEigen(centroid);
+  const Vector3d c = leastSquaresFit(pts, line);
   const Vector3d u = toEigen(line.to_vector()).normalized();
   // Radius: the largest distance from the axis; end points as far in as that radius allows
   // (a point at axial t, radial rho needs an end within sqrt(r^2 - rho^2) of t).
@@ -113,26 +124,19 @@ Candidate capsuleCandidate(const std::vector<Vector3d>& pts, double margin) {
     lo = std::min(lo, t + slack);
     hi = std::max(hi, t - slack);
   }
-  if (!(hi - lo > defaults::kCollisionCoincident_m * 10)) return out;  // a sphere is better
+  if (!(hi - lo > defaults::kCollisionCoincident_m * 10)) return {};  // a sphere is better
   FittedSsv v;
   v.type = SsvType::Line;
   v.p[0] = c + lo * u;
   v.p[1] = c + hi * u;
-  out.volumes.push_back(v);
-  inflate(out, pts, margin);
-  out.volume_m3 = ssvVolume(out.volumes[0]);
-  return out;
+  return singleVolume(v, pts, margin);
 }
 
 Candidate plateCandidate(const std::vector<Vector3d>& pts, double margin) {
   Candidate out;
   if (pts.size() < 3) return out;
-  std::vector<K::Point_3> cp;
-  for (const auto& p : pts) cp.push_back(toCgal(p));
   K::Plane_3 plane;
-  K::Point_3 centroid;
-  CGAL::linear_least_squares_fitting_3(cp.begin(), cp.end(), plane, centroid, CGAL::Dimension_tag<0>());
-  const Vector3d c = toEigen(centroid);
+  const Vector3d c = leastSquaresFit(pts, plane);
   const Vector3d e1 = toEigen(plane.base1()).normalized();
   const Vector3d e2 = toEigen(plane.base2()).normalized();
   std::vector<K::Point_2> p2, hull;

@@ -2,13 +2,14 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <algorithm>
 #include <limits>
 
 #include "common/errors.hpp"
+#include "common/first_exception.hpp"
 
 namespace armstudy::dexterity {
 
@@ -377,7 +378,7 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
     for (long iz = r.begin; iz < r.end; ++iz) work.emplace_back(k, static_cast<int>(iz));
   }
   RangeCountdown countdown(row_ranges);
-  std::exception_ptr failure;
+  FirstException failure;
   const int n_work = static_cast<int>(work.size());
 #pragma omp parallel num_threads(map.threads)
   {
@@ -403,17 +404,10 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
         }
         map.cells[options.grid.index(ig, iz)] = std::move(r);
       }
-      if (countdown.itemDone(k) && on_done) {
-        try {
-          on_done(k, map);
-        } catch (...) {
-#pragma omp critical(armstudy_dexterity_failure)
-          if (!failure) failure = std::current_exception();
-        }
-      }
+      if (countdown.itemDone(k) && on_done) failure.call([&] { on_done(k, map); });
     }
   }
-  if (failure) std::rethrow_exception(failure);
+  failure.rethrow();
   map.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return map;
 }

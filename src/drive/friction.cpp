@@ -1,6 +1,9 @@
 #include "drive/friction.hpp"
 
 #include <cmath>
+#include <iterator>
+
+#include "common/enum_names.hpp"
 
 namespace armstudy::drive {
 namespace {
@@ -25,47 +28,21 @@ double value(const Drive& d, const char* key, double fallback) {
 
 }  // namespace
 
-const char* toString(FrictionLaw law) {
-  switch (law) {
-    case FrictionLaw::None: return "none";
-    case FrictionLaw::HarmonicDrive: return "harmonic_drive";
-    case FrictionLaw::Stribeck: return "stribeck";
-    case FrictionLaw::Prismatic: return "prismatic";
-  }
-  return "?";
-}
+constexpr const char* kFrictionLawNames[] = {"none", "harmonic_drive", "stribeck", "prismatic"};
+const char* toString(FrictionLaw law) { return enumName(law, kFrictionLawNames); }
 
-const char* toString(Effect e) {
-  switch (e) {
-    case Effect::Coulomb: return "coulomb";
-    case Effect::Viscous: return "viscous";
-    case Effect::LoadCoulomb: return "load_coulomb";
-    case Effect::LoadViscous: return "load_viscous";
-    case Effect::Stribeck: return "stribeck";
-    case Effect::Asymmetry: return "asymmetry";
-    case Effect::Temperature: return "temperature";
-    case Effect::TemperatureViscous: return "temperature_viscous";
-  }
-  return "?";
-}
+constexpr const char* kEffectNames[] = {
+    "coulomb",  "viscous",   "load_coulomb", "load_viscous",
+    "stribeck", "asymmetry", "temperature",  "temperature_viscous"};
+static_assert(std::size(kEffectNames) == kEffectCount);
+const char* toString(Effect e) { return enumName(e, kEffectNames); }
 
 bool parseFrictionLaw(std::string_view name, FrictionLaw& out) {
-  for (FrictionLaw l : {FrictionLaw::None, FrictionLaw::HarmonicDrive, FrictionLaw::Stribeck,
-                        FrictionLaw::Prismatic})
-    if (name == toString(l)) {
-      out = l;
-      return true;
-    }
-  return false;
+  return parseEnumName(name, kFrictionLawNames, out);
 }
 
 bool parseEffect(std::string_view name, Effect& out) {
-  for (Effect e : kAllEffects)
-    if (name == toString(e)) {
-      out = e;
-      return true;
-    }
-  return false;
+  return parseEnumName(name, kEffectNames, out);
 }
 
 std::vector<Effect> lawEffects(FrictionLaw law) {

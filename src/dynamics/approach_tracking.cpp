@@ -3,21 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
 
-const char* toString(ApproachTrackingStatus s) {
-  switch (s) {
-    case ApproachTrackingStatus::Ok:
-      return "ok";
-    case ApproachTrackingStatus::StartUnreachable:
-      return "start_unreachable";
-    case ApproachTrackingStatus::TrackingFailed:
-      return "tracking_failed";
-  }
-  return "?";
-}
+constexpr const char* kApproachTrackingStatusNames[] = {"ok", "start_unreachable",
+                                                        "tracking_failed"};
+const char* toString(ApproachTrackingStatus s) { return enumName(s, kApproachTrackingStatusNames); }
 
 std::string ApproachTrackingOptions::validate(int dof) const {
   if (std::string why = tracking.validate(dof); !why.empty()) return why;

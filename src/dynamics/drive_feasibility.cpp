@@ -1,25 +1,18 @@
 #include "dynamics/drive_feasibility.hpp"
 
 #include <cmath>
+#include <iterator>
 #include <limits>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
 
-const char* toString(DriveQuantity q) {
-  switch (q) {
-    case DriveQuantity::PeakCurrent:
-      return "peak_current";
-    case DriveQuantity::RmsCurrent:
-      return "rms_current";
-    case DriveQuantity::MotorSpeed:
-      return "motor_speed";
-    case DriveQuantity::Voltage:
-      return "voltage";
-  }
-  return "?";
-}
+constexpr const char* kDriveQuantityNames[] = {"peak_current", "rms_current", "motor_speed",
+                                               "voltage"};
+static_assert(std::size(kDriveQuantityNames) == kDriveQuantityCount);
+const char* toString(DriveQuantity q) { return enumName(q, kDriveQuantityNames); }
 
 namespace {
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
@@ -262,15 +263,8 @@ void massMatrix(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
   }
 }
 
-const char* toString(ForwardDynamicsStatus s) {
-  switch (s) {
-    case ForwardDynamicsStatus::Ok:
-      return "ok";
-    case ForwardDynamicsStatus::SingularMassMatrix:
-      return "singular_mass_matrix";
-  }
-  return "?";
-}
+constexpr const char* kForwardDynamicsStatusNames[] = {"ok", "singular_mass_matrix"};
+const char* toString(ForwardDynamicsStatus s) { return enumName(s, kForwardDynamicsStatusNames); }
 
 ForwardDynamicsStatus forwardDynamics(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
                                       const Eigen::Ref<const Eigen::VectorXd>& q,

@@ -56,19 +56,11 @@ std::vector<Override> readOverrides(TableReader& r, const std::string& section, 
 // points in the task frame W, radius.
 std::vector<collision::Obstacle> readObstacles(TableReader& top) {
   std::vector<collision::Obstacle> out;
-  const toml::array* arr = top.array("obstacle");
-  if (!arr) return out;
-  int idx = 0;
-  for (const auto& e : *arr) {
-    if (!e.is_table())
-      throw InputError(top.file(), static_cast<int>(e.source().begin.line), "obstacle", "expected [[obstacle]] tables");
-    TableReader r(*e.as_table(), top.file(), "obstacle[" + std::to_string(idx++) + "]");
+  top.forEachTable("obstacle", [&](TableReader& r) {
     collision::Obstacle o;
-    o.name = r.string("name");
-    if (o.name.empty()) r.fail("name", "obstacle name is empty");
-    for (char c : o.name)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
-        r.fail("name", "obstacle names use letters, digits, '_' and '-' only (they appear in pair names and fields)");
+    o.name = r.name("name", "obstacle", "_-",
+                    "obstacle names use letters, digits, '_' and '-' only (they appear in pair "
+                    "names and fields)");
     for (const auto& other : out)
       if (other.name == o.name) r.fail("name", "obstacle '" + o.name + "' is defined twice");
     const io::SsvGeometry g = io::readSsvGeometry(r, true, "the task frame W");
@@ -79,7 +71,7 @@ std::vector<collision::Obstacle> readObstacles(TableReader& top) {
     if (static_cast<int>(out.size()) == collision::kMaxObstacles)
       r.fail("name", "more than " + std::to_string(collision::kMaxObstacles) + " obstacles are not supported");
     out.push_back(std::move(o));
-  }
+  });
   return out;
 }
 
@@ -95,14 +87,10 @@ Study loadStudy(const std::string& path) {
   const toml::table root = io::parseTomlText(text, path);
   TableReader top(root, path, "");
   {
-    const toml::table* t = top.table("study");
-    if (!t) throw InputError(path, 1, "study", "missing required table [study]");
-    TableReader r(*t, path, "study");
-    s.name = r.string("name");
-    if (s.name.empty()) r.fail("name", "study name is empty");
-    for (char c : s.name)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
-        r.fail("name", "study names use letters, digits, '_' and '-' only (they name the output folder)");
+    TableReader r = top.requiredTable("study");
+    s.name =
+        r.name("name", "study", "_-",
+               "study names use letters, digits, '_' and '-' only (they name the output folder)");
     s.description = r.string("description", "");
     r.finish();
   }

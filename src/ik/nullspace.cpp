@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy::ik {
@@ -63,36 +64,19 @@ void clampToLimits(const Model& model, JointVector& q) {
 
 }  // namespace
 
-const char* toString(PoseTaskKind k) {
-  switch (k) {
-    case PoseTaskKind::Position: return "position";
-    case PoseTaskKind::PositionAxis: return "position_axis";
-    case PoseTaskKind::FullPose: return "full";
-  }
-  return "?";
-}
+constexpr const char* kPoseTaskKindNames[] = {"position", "position_axis", "full"};
+const char* toString(PoseTaskKind k) { return enumName(k, kPoseTaskKindNames); }
 
 int taskDim(PoseTaskKind k) {
   return k == PoseTaskKind::Position ? 3 : (k == PoseTaskKind::PositionAxis ? 5 : 6);
 }
 
-const char* toString(TrackingStatus s) {
-  switch (s) {
-    case TrackingStatus::Completed: return "completed";
-    case TrackingStatus::JointLimitReached: return "joint_limit_reached";
-    case TrackingStatus::SingularJacobian: return "singular_jacobian";
-  }
-  return "?";
-}
+constexpr const char* kTrackingStatusNames[] = {"completed", "joint_limit_reached",
+                                                "singular_jacobian"};
+const char* toString(TrackingStatus s) { return enumName(s, kTrackingStatusNames); }
 
-const char* toString(NullspaceStatus s) {
-  switch (s) {
-    case NullspaceStatus::Converged: return "converged";
-    case NullspaceStatus::IterationLimit: return "iteration_limit";
-    case NullspaceStatus::NotOnPose: return "not_on_pose";
-  }
-  return "?";
-}
+constexpr const char* kNullspaceStatusNames[] = {"converged", "iteration_limit", "not_on_pose"};
+const char* toString(NullspaceStatus s) { return enumName(s, kNullspaceStatusNames); }
 
 bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q) {
   for (int i = 0; i < q.size(); ++i)

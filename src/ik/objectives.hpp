@@ -69,27 +69,30 @@ class JointLimitTerm final : public ObjectiveTerm {
   std::vector<double> q_min_, q_max_, q_bar_min_, q_bar_max_;
 };
 
-// Thesis eq. (5.59): H_m1 = -sqrt(det(J J^T)), gradient eq. (5.62). J = rows `space` of J_W_tcp.
-class ManipulabilityTerm final : public ObjectiveTerm {
+// A term of J J^T, J = the rows `space` of J_W_tcp (the dexterity measures).
+class MeasureTerm : public ObjectiveTerm {
  public:
-  explicit ManipulabilityTerm(metrics::MeasureSpace space) : space_(space) {}
+  explicit MeasureTerm(metrics::MeasureSpace space) : space_(space) {}
+
+ protected:
+  metrics::MeasureSpace space_;
+};
+
+// Thesis eq. (5.59): H_m1 = -sqrt(det(J J^T)), gradient eq. (5.62).
+class ManipulabilityTerm final : public MeasureTerm {
+ public:
+  using MeasureTerm::MeasureTerm;
   std::string name() const override { return "manipulability"; }
   double evaluate(ObjectiveContext& ctx, JointVector* grad) const override;
-
- private:
-  metrics::MeasureSpace space_;
 };
 
 // Thesis eq. (5.61): H_m2 = u^T (J J^T)^-1 u (minimising it maximises beta along u, eq. 5.60),
 // gradient eq. (5.64). u = ctx.u_W (translational; zero angular part in the full space).
-class TransmissionTerm final : public ObjectiveTerm {
+class TransmissionTerm final : public MeasureTerm {
  public:
-  explicit TransmissionTerm(metrics::MeasureSpace space) : space_(space) {}
+  using MeasureTerm::MeasureTerm;
   std::string name() const override { return "transmission"; }
   double evaluate(ObjectiveContext& ctx, JointVector* grad) const override;
-
- private:
-  metrics::MeasureSpace space_;
 };
 
 // Thesis eq. (5.51): H = sum_k w_k H_k. Weights must be finite and >= 0 (checked when built from

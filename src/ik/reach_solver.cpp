@@ -3,37 +3,26 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <nlopt.hpp>
 #include <vector>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
 #include "ik/reach_internal.hpp"
 
 namespace armstudy {
 
-const char* toString(ReachStatus s) {
-  switch (s) {
-    case ReachStatus::Reachable: return "reachable";
-    case ReachStatus::OutOfReach: return "out_of_reach";
-    case ReachStatus::JointLimits: return "joint_limits";
-    case ReachStatus::RepresentationSingularity: return "representation_singularity";
-    case ReachStatus::SelfCollision: return "self_collision";
-    case ReachStatus::TorqueLimit: return "torque";
-    case ReachStatus::ObstacleCollision: return "obstacle_collision";
-  }
-  return "?";
-}
+constexpr const char* kReachStatusNames[] = {
+    "reachable",      "out_of_reach", "joint_limits",      "representation_singularity",
+    "self_collision", "torque",       "obstacle_collision"};
+static_assert(std::size(kReachStatusNames) == kReachStatusCount);
+const char* toString(ReachStatus s) { return enumName(s, kReachStatusNames); }
 
-const char* toString(IkAlgorithm a) {
-  switch (a) {
-    case IkAlgorithm::LmThenSlsqp: return "lm+slsqp";
-    case IkAlgorithm::LmOnly: return "lm";
-    case IkAlgorithm::SlsqpOnly: return "slsqp";
-  }
-  return "?";
-}
+constexpr const char* kIkAlgorithmNames[] = {"lm+slsqp", "lm", "slsqp"};
+const char* toString(IkAlgorithm a) { return enumName(a, kIkAlgorithmNames); }
 
 std::string IkOptions::validate() const {
   if (!(position_tolerance_m > 0) || !std::isfinite(position_tolerance_m))

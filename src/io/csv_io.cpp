@@ -1,13 +1,14 @@
 #include "io/csv_io.hpp"
-#include "io/units.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <regex>
 #include <set>
 
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 
 namespace armstudy::io {
 namespace {
@@ -122,6 +123,22 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
   }
   if (t.row_lines.empty()) throw InputError(file, header_line, "", "the CSV file has a header but no data rows");
   return t;
+}
+
+std::vector<std::string> CsvTable::extraColumnWarnings(const std::string& joint_column,
+                                                       const std::string& design, int dof) const {
+  const std::regex joint(joint_column.empty() ? "$^" : joint_column);
+  std::vector<std::string> warnings;
+  for (const std::string& x : extra_columns) {
+    std::smatch mm;
+    if (!joint_column.empty() && std::regex_match(x, mm, joint))
+      throw InputError(file, 1, x,
+                       "column '" + x + "' names joint " + mm[mm.size() - 1].str() +
+                           " but design '" + design + "' has only " + std::to_string(dof) +
+                           " joints");
+    warnings.push_back(file + ": extra column '" + x + "' is not used");
+  }
+  return warnings;
 }
 
 CsvTable readCsv(const std::string& path, const CsvSchema& schema) {

@@ -38,6 +38,11 @@ struct CsvTable {
   int index(const std::string& name) const;   // -1 when absent
   // The values of a schema column; precondition: has(name).
   const std::vector<double>& column(const std::string& name) const;
+  // The extra columns as warnings ("<file>: extra column 'x' is not used"). A column matching
+  // `joint_column` (a regular expression whose last group is a joint number, e.g. "q([0-9]+)")
+  // throws InputError instead: it names a joint that the design `design` (`dof` joints) lacks.
+  std::vector<std::string> extraColumnWarnings(const std::string& joint_column = "",
+                                               const std::string& design = "", int dof = 0) const;
 };
 
 CsvTable parseCsv(const std::string& text, const std::string& file_label, const CsvSchema& schema);

@@ -18,6 +18,23 @@ namespace {
 
 using io::TableReader;
 
+// A drive's optional values ([[drive]] keys; 0 = not given, never negative), read and written in
+// this order.
+struct OptionalDriveValue {
+  const char* key;
+  double Drive::*value;
+  bool angular_velocity;  // a quantity with a unit (else a plain number)
+};
+constexpr OptionalDriveValue kOptionalDriveValues[] = {
+    {"rotor_inertia", &Drive::rotor_inertia_kgm2, false},
+    {"peak_current", &Drive::peak_current_A, false},
+    {"continuous_current", &Drive::continuous_current_A, false},
+    {"max_motor_speed", &Drive::max_motor_speed_radps, true},
+    {"max_voltage", &Drive::max_voltage_V, false},
+    {"resistance", &Drive::resistance_ohm, false},
+    {"inductance", &Drive::inductance_H, false},
+};
+
 PoseXYZABG readPose(TableReader& r, bool all_required) {
   PoseXYZABG p;
   auto len = [&](const char* k) {
@@ -42,24 +59,9 @@ Eigen::Vector3d readVec3(TableReader& r, const std::string& key, Eigen::Vector3d
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
-template <class Fn>
-void forEachTable(TableReader& parent, const std::string& key, Fn fn) {
-  const toml::array* arr = parent.array(key);
-  if (!arr) return;
-  int idx = 0;
-  for (const auto& e : *arr) {
-    if (!e.is_table())
-      throw InputError(parent.file(), static_cast<int>(e.source().begin.line), key,
-                       "expected [[" + key + "]] tables");
-    TableReader r(*e.as_table(), parent.file(), key + "[" + std::to_string(idx++) + "]");
-    fn(r);
-    r.finish();
-  }
-}
-
 // [[collision]] swept-sphere volumes and [[collision_allowed]] link pairs (docs/collision.md).
 void readCollisionModel(TableReader& top, Model& m) {
-  forEachTable(top, "collision", [&](TableReader& r) {
+  top.forEachTable("collision", [&](TableReader& r) {
     CollisionVolume v;
     v.source_line = r.line();
     v.name = r.string("name", "");
@@ -76,13 +78,14 @@ void readCollisionModel(TableReader& top, Model& m) {
     throw InputError(top.file(), m.collision.volumes.back().source_line, "collision",
                      "more than " + std::to_string(defaults::kMaxCollisionVolumes) +
                          " collision volumes are not supported");
-  forEachTable(top, "collision_allowed", [&](TableReader& r) {
+  top.forEachTable("collision_allowed", [&](TableReader& r) {
     const auto links = r.stringArray("links");
     if (links.size() != 2) r.fail("links", "expected two link names [\"a\", \"b\"]");
     std::array<int, 2> pair{};
     for (int i = 0; i < 2; ++i) {
       pair[i] = collision::bodyIndex(m, links[i]);
-      if (pair[i] < -1) r.fail("links", "no link named '" + links[i] + "' (use a joint name or \"base\")");
+      if (pair[i] < -1)
+        r.fail("links", "no link named '" + links[i] + "' (use a joint name or \"base\")");
     }
     if (pair[0] == pair[1]) r.fail("links", "a link cannot be paired with itself");
     if (pair[0] > pair[1]) std::swap(pair[0], pair[1]);
@@ -127,14 +130,9 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
   TableReader top(root, file, "");
 
   {
-    const toml::table* d = top.table("design");
-    if (!d) throw InputError(file, 1, "design", "missing required table [design]");
-    TableReader r(*d, file, "design");
-    m.name = r.string("name");
-    if (m.name.empty()) r.fail("name", "design name is empty");
-    for (char c : m.name)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
-        r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+    TableReader r = top.requiredTable("design");
+    m.name = r.name("name", "design", "_-.",
+                    "design names use letters, digits, '_', '-' and '.' only (they name files)");
     m.description = r.string("description", "");
     m.source = r.string("source", "");
     m.assumptions = r.stringArray("assumptions");
@@ -142,7 +140,7 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
   }
 
   std::set<std::string> names;
-  forEachTable(top, "joint", [&](TableReader& r) {
+  top.forEachTable("joint", [&](TableReader& r) {
     Joint j;
     j.source_line = r.line();
     j.name = r.string("name");
@@ -188,9 +186,7 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
                      "more than " + std::to_string(defaults::kMaxDof) + " joints are not supported");
 
   {
-    const toml::table* t = top.table("tcp");
-    if (!t) throw InputError(file, 1, "tcp", "missing required table [tcp] (TCP offset from the last frame)");
-    TableReader r(*t, file, "tcp");
+    TableReader r = top.requiredTable("tcp", " (TCP offset from the last frame)");
     m.tcp = readPose(r, false);
     urdf.tcp_link = r.string("link", "");
     r.finish();
@@ -202,7 +198,7 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     r.finish();
   }
 
-  forEachTable(top, "inertia", [&](TableReader& r) {
+  top.forEachTable("inertia", [&](TableReader& r) {
     const std::string link = r.string("link");
     const int idx = m.jointIndex(link);
     if (idx < 0) r.fail("link", "no joint named '" + link + "' in this design");
@@ -233,32 +229,25 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     r.finish();
   }
 
-  forEachTable(top, "drive", [&](TableReader& r) {
+  top.forEachTable("drive", [&](TableReader& r) {
     Drive d;
     d.source_line = r.line();
     d.joint = r.string("joint");
-    if (m.jointIndex(d.joint) < 0) r.fail("joint", "no joint named '" + d.joint + "' in this design");
+    if (m.jointIndex(d.joint) < 0)
+      r.fail("joint", "no joint named '" + d.joint + "' in this design");
     for (const auto& other : m.drives)
       if (other.joint == d.joint) r.fail("joint", "two drives for joint '" + d.joint + "'");
     d.module = r.string("module", "");
     d.gear_ratio = r.number("gear_ratio");
     if (!(d.gear_ratio > 0)) r.fail("gear_ratio", "gear ratio must be positive");
     d.torque_constant_NmpA = r.number("torque_constant");
-    if (!(d.torque_constant_NmpA > 0)) r.fail("torque_constant", "torque constant must be positive");
-    d.rotor_inertia_kgm2 = r.number("rotor_inertia", 0.0);
-    d.peak_current_A = r.number("peak_current", 0.0);
-    d.continuous_current_A = r.number("continuous_current", 0.0);
-    d.max_motor_speed_radps = r.quantity("max_motor_speed", Dimension::AngularVelocity, 0.0);
-    d.max_voltage_V = r.number("max_voltage", 0.0);
-    d.resistance_ohm = r.number("resistance", 0.0);
-    d.inductance_H = r.number("inductance", 0.0);
-    const std::pair<const char*, double> non_negative[] = {
-        {"rotor_inertia", d.rotor_inertia_kgm2},     {"peak_current", d.peak_current_A},
-        {"continuous_current", d.continuous_current_A}, {"max_motor_speed", d.max_motor_speed_radps},
-        {"max_voltage", d.max_voltage_V},            {"resistance", d.resistance_ohm},
-        {"inductance", d.inductance_H}};
-    for (const auto& [k, v] : non_negative)
-      if (v < 0) r.fail(k, "must not be negative");
+    if (!(d.torque_constant_NmpA > 0))
+      r.fail("torque_constant", "torque constant must be positive");
+    for (const OptionalDriveValue& v : kOptionalDriveValues)
+      d.*v.value = v.angular_velocity ? r.quantity(v.key, Dimension::AngularVelocity, 0.0)
+                                      : r.number(v.key, 0.0);
+    for (const OptionalDriveValue& v : kOptionalDriveValues)
+      if (d.*v.value < 0) r.fail(v.key, "must not be negative");
     if (d.peak_current_A > 0 && d.continuous_current_A > d.peak_current_A)
       r.fail("peak_current", "peak current is below the continuous current");
     if (const toml::table* f = r.table("friction")) {
@@ -387,13 +376,8 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
     o << "\n[[drive]]\njoint = " << quoted(d.joint) << "\n";
     if (!d.module.empty()) o << "module = " << quoted(d.module) << "\n";
     o << "gear_ratio = " << num(d.gear_ratio) << "\ntorque_constant = " << num(d.torque_constant_NmpA) << "\n";
-    const std::pair<const char*, double> opt[] = {
-        {"rotor_inertia", d.rotor_inertia_kgm2},     {"peak_current", d.peak_current_A},
-        {"continuous_current", d.continuous_current_A}, {"max_motor_speed", d.max_motor_speed_radps},
-        {"max_voltage", d.max_voltage_V},            {"resistance", d.resistance_ohm},
-        {"inductance", d.inductance_H}};
-    for (const auto& [k, v] : opt)
-      if (v != 0) o << k << " = " << num(v) << "\n";
+    for (const OptionalDriveValue& v : kOptionalDriveValues)
+      if (d.*v.value != 0) o << v.key << " = " << num(d.*v.value) << "\n";
     if (!d.friction_law.empty()) {
       o << "[drive.friction]\nlaw = " << quoted(d.friction_law) << "\n";
       for (const auto& [k, v] : d.friction) o << k << " = " << num(v) << "\n";

@@ -1,5 +1,6 @@
 #include "io/toml_reader.hpp"
 
+#include <cctype>
 #include <cmath>
 
 #include "io/files.hpp"
@@ -69,6 +70,21 @@ int TableReader::line(const std::string& key) const {
 
 std::string TableReader::keyPath(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
+}
+
+void TableReader::forEachTable(const std::string& key,
+                               const std::function<void(TableReader&)>& fn) {
+  const toml::array* arr = array(key);
+  if (!arr) return;
+  int idx = 0;
+  for (const auto& e : *arr) {
+    if (!e.is_table())
+      throw InputError(file_, static_cast<int>(e.source().begin.line), keyPath(key),
+                       "expected [[" + keyPath(key) + "]] tables");
+    TableReader r(*e.as_table(), file_, keyPath(key) + "[" + std::to_string(idx++) + "]");
+    fn(r);
+    r.finish();
+  }
 }
 
 void TableReader::fail(const std::string& key, const std::string& message) const {
@@ -145,6 +161,23 @@ std::string TableReader::string(const std::string& key) {
 }
 std::string TableReader::string(const std::string& key, const std::string& fallback) {
   return has(key) ? string(key) : fallback;
+}
+
+std::string TableReader::name(const std::string& key, const std::string& what,
+                              const std::string& punctuation, const std::string& rule) {
+  std::string s = string(key);
+  if (s.empty()) fail(key, what + " name is empty");
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || punctuation.find(c) != std::string::npos))
+      fail(key, rule);
+  return s;
+}
+
+TableReader TableReader::requiredTable(const std::string& key, const std::string& why) {
+  const toml::table* t = table(key);
+  if (!t)
+    throw InputError(file_, 1, keyPath(key), "missing required table [" + keyPath(key) + "]" + why);
+  return TableReader(*t, file_, keyPath(key));
 }
 
 bool TableReader::boolean(const std::string& key, bool fallback) {

@@ -4,9 +4,10 @@
 // Errors are InputError with file, line and the dotted key path.
 #include <toml++/toml.h>
 
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <set>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -45,11 +46,20 @@ class TableReader {
   std::uint64_t seed(const std::string& key, std::uint64_t fallback);
   std::string string(const std::string& key);
   std::string string(const std::string& key, const std::string& fallback);
+  // A name that names files: not empty (else "<what> name is empty"), of letters, digits and the
+  // characters of `punctuation` only (else `rule`).
+  std::string name(const std::string& key, const std::string& what, const std::string& punctuation,
+                   const std::string& rule);
   bool boolean(const std::string& key, bool fallback);
   std::vector<std::string> stringArray(const std::string& key);
   std::vector<double> numberArray(const std::string& key);
   const toml::table* table(const std::string& key);       // nullptr when absent
+  // A reader of the table `key`, which must be present ("missing required table [key]<why>").
+  TableReader requiredTable(const std::string& key, const std::string& why = "");
   const toml::array* array(const std::string& key);       // nullptr when absent
+  // Calls fn with a reader of each table of the array of tables `key` (path key[i]; none when
+  // absent), then finishes that reader. An element that is not a table is an input error.
+  void forEachTable(const std::string& key, const std::function<void(TableReader&)>& fn);
   const toml::node* node(const std::string& key);         // raw, marks the key as read
   void markRead(const std::string& key) { read_.insert(key); }
 

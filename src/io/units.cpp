@@ -5,18 +5,13 @@
 #include <cstdio>
 #include <numbers>
 
+#include "common/enum_names.hpp"
+
 namespace armstudy {
 
-const char* toString(Dimension d) {
-  switch (d) {
-    case Dimension::Length: return "length";
-    case Dimension::Angle: return "angle";
-    case Dimension::LinearVelocity: return "linear velocity";
-    case Dimension::AngularVelocity: return "angular velocity";
-    case Dimension::Dimensionless: return "dimensionless";
-  }
-  return "?";
-}
+constexpr const char* kDimensionNames[] = {"length", "angle", "linear velocity", "angular velocity",
+                                           "dimensionless"};
+const char* toString(Dimension d) { return enumName(d, kDimensionNames); }
 
 namespace {
 
@@ -57,37 +52,36 @@ class ExprParser {
   void skipWs() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
   }
-  bool expr(double& v) {
-    if (!term(v)) return false;
+  // operand ((op1|op2) operand)*, left to right: apply(op, v, r) combines (false: an error).
+  template <class Apply>
+  bool chain(double& v, char op1, char op2, bool (ExprParser::*operand)(double&), Apply apply) {
+    if (!(this->*operand)(v)) return false;
     for (;;) {
       skipWs();
-      if (pos_ < s_.size() && (s_[pos_] == '+' || s_[pos_] == '-')) {
+      if (pos_ < s_.size() && (s_[pos_] == op1 || s_[pos_] == op2)) {
         const char op = s_[pos_++];
         double r;
-        if (!term(r)) return false;
-        v = op == '+' ? v + r : v - r;
+        if (!(this->*operand)(r) || !apply(op, v, r)) return false;
       } else {
         return true;
       }
     }
   }
+  bool expr(double& v) {
+    return chain(v, '+', '-', &ExprParser::term, [](char op, double& l, double r) {
+      l = op == '+' ? l + r : l - r;
+      return true;
+    });
+  }
   bool term(double& v) {
-    if (!factor(v)) return false;
-    for (;;) {
-      skipWs();
-      if (pos_ < s_.size() && (s_[pos_] == '*' || s_[pos_] == '/')) {
-        const char op = s_[pos_++];
-        double r;
-        if (!factor(r)) return false;
-        if (op == '/' && r == 0.0) {
-          err_ = "division by zero in '" + s_ + "'";
-          return false;
-        }
-        v = op == '*' ? v * r : v / r;
-      } else {
-        return true;
+    return chain(v, '*', '/', &ExprParser::factor, [this](char op, double& l, double r) {
+      if (op == '/' && r == 0.0) {
+        err_ = "division by zero in '" + s_ + "'";
+        return false;
       }
-    }
+      l = op == '*' ? l * r : l / r;
+      return true;
+    });
   }
   bool factor(double& v) {
     skipWs();

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/design_io.hpp"
 #include "model/geometry_follows.hpp"
 
@@ -12,9 +13,7 @@ std::string variantName(const std::string& base, const Overrides& overrides) {
   std::string s = base;
   for (const auto& [key, value] : overrides) {
     std::string k = key.rfind("joint.", 0) == 0 ? key.substr(6) : key;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.6g", value);
-    s += "+" + k + "=" + buf;
+    s += "+" + k + "=" + formatG(value, 6);
   }
   return s;
 }

@@ -1,5 +1,4 @@
 #include "reach/reach_sweep.hpp"
-#include "reach/sweep_internal.hpp"
 
 #include <omp.h>
 #include <unistd.h>
@@ -12,10 +11,13 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <span>
 
 #include "collision/reach_collision.hpp"
-#include "common/errors.hpp"
 #include "common/defaults.hpp"
+#include "common/errors.hpp"
+#include "common/first_exception.hpp"
+#include "reach/sweep_internal.hpp"
 
 namespace armstudy {
 
@@ -97,7 +99,7 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
     for (long u = r.begin; u < r.end; ++u) work.emplace_back(k, u);
   }
   RangeCountdown countdown(ranges);
-  std::exception_ptr failure;
+  FirstException failure;
   IkOptions retry = options;
   retry.max_starts = 1;
   retry.classify_failures = false;
@@ -183,18 +185,11 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
       if (progress) progress->advance(end - begin);
       if (countdown.itemDone(k)) {
         s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (on_done) {
-          try {
-            on_done(k, s);
-          } catch (...) {
-#pragma omp critical(armstudy_sweep_failure)
-            if (!failure) failure = std::current_exception();
-          }
-        }
+        if (on_done) failure.call([&] { on_done(k, s); });
       }
     }
   }
-  if (failure) std::rethrow_exception(failure);
+  failure.rethrow();
   return chunks;
 }
 
@@ -254,43 +249,23 @@ PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOption
                     static_cast<long>(list.poses.size()), model, collision);
 }
 
-namespace {
-template <class T>
-void append(std::vector<T>& to, const std::vector<T>& from) {
-  to.insert(to.end(), from.begin(), from.end());
-}
-}  // namespace
-
 PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
   ARMSTUDY_CHECK(!chunks.empty(), "no chunks to assemble");
   std::sort(chunks.begin(), chunks.end(), [](const PoseSweep& a, const PoseSweep& b) { return a.offset < b.offset; });
-  const PoseSweep& first = chunks.front();
-  PoseSweep s;
-  s.design = first.design;
-  s.dof = first.dof;
-  s.collision = first.collision;
-  s.obstacles = first.obstacles;
-  s.pair_names = first.pair_names;
-  s.threads = 0;
-  long next = 0;
-  for (const PoseSweep& c : chunks) {
+  // The first chunk, with the others' poses appended.
+  PoseSweep s = std::move(chunks.front());
+  long next = s.size;
+  ARMSTUDY_CHECK(s.offset == 0,
+                 "sweep chunks of '" + s.design + "' leave a gap or overlap at pose 0");
+  for (const PoseSweep& c : std::span(chunks).subspan(1)) {
     ARMSTUDY_CHECK(c.offset == next, "sweep chunks of '" + s.design + "' leave a gap or overlap at pose " +
                                          std::to_string(next));
     ARMSTUDY_CHECK(c.dof == s.dof && c.collision == s.collision && c.obstacles == s.obstacles &&
                        c.pair_names == s.pair_names,
                    "sweep chunks of '" + s.design + "' do not match");
     next += c.size;
-    append(s.status, c.status);
-    append(s.starts, c.starts);
-    append(s.position_error_m, c.position_error_m);
-    append(s.orientation_error_rad, c.orientation_error_rad);
-    append(s.manipulability, c.manipulability);
-    append(s.joint_limit_margin, c.joint_limit_margin);
-    append(s.q, c.q);
-    append(s.q_alt, c.q_alt);
-    append(s.min_distance_m, c.min_distance_m);
-    append(s.colliding_pair, c.colliding_pair);
-    append(s.obstacle_distance_m, c.obstacle_distance_m);
+    forEachPoseArray(
+        [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); }, s, c);
     s.wall_seconds = std::max(s.wall_seconds, c.wall_seconds);
     s.threads = std::max(s.threads, c.threads);
     s.solve_seconds_reachable += c.solve_seconds_reachable;

@@ -66,6 +66,23 @@ struct PoseSweep {
   long countReachable() const;
 };
 
+// Calls f(a.x, b.x, ...) for every per-pose array x of the sweeps a, b, ... (status ..
+// obstacle_distance_m, in declaration order): the one list that assembling and checkpointing use.
+template <class F, class... Sweep>
+void forEachPoseArray(F&& f, Sweep&... s) {
+  f(s.status...);
+  f(s.starts...);
+  f(s.position_error_m...);
+  f(s.orientation_error_rad...);
+  f(s.manipulability...);
+  f(s.joint_limit_margin...);
+  f(s.q...);
+  f(s.q_alt...);
+  f(s.min_distance_m...);
+  f(s.colliding_pair...);
+  f(s.obstacle_distance_m...);
+}
+
 // Progress on stderr: a bar with elapsed time and ETA redrawn in place, only when enabled and stderr is a terminal.
 class Progress {
  public:

@@ -6,14 +6,15 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <functional>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::report {
 namespace {
@@ -30,11 +31,7 @@ constexpr double kSwatch = 22;       // legend sample
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kPi = 3.14159265358979323846;
 
-std::string tickText(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string tickText(double v) { return formatG(v, 6); }
 
 std::string valueText(double v, int digits) {
   char buf[32];
@@ -131,33 +128,30 @@ class Scene {
   }
   // Text reading bottom to top, its box centred at (x, y).
   void vtext(const std::string& s, double x, double y, double size) {
-    const double w = m_.width(s, size), hh = m_.height(size), asc = m_.ascent(size);
-    op([=](cairo_t* cr) {
-      cairo_save(cr);
-      cairo_set_source_rgb(cr, 0, 0, 0);
-      cairo_set_font_size(cr, size);
-      cairo_translate(cr, x, y);
-      cairo_rotate(cr, -kPi / 2);
-      cairo_move_to(cr, -w / 2, -hh / 2 + asc);
-      cairo_show_text(cr, s.c_str());
-      cairo_restore(cr);
-    });
-    if (!s.empty()) texts.push_back({s, x - hh / 2, y - w / 2, x + hh / 2, y + w / 2});
+    const double w = m_.width(s, size);
+    upward(s, x, size, y, -w / 2, y - w / 2, y + w / 2);
   }
   // Text reading bottom to top, centred on x, its end (top) at y.
   void hanging(const std::string& s, double x, double y, double size) {
-    const double w = m_.width(s, size), hh = m_.height(size), asc = m_.ascent(size);
+    const double w = m_.width(s, size);
+    upward(s, x, size, y + w, 0, y, y + w);
+  }
+  // Text reading bottom to top, centred on x: drawn rotated about (x, pivot_y), starting `start`
+  // from there along the text; its box spans top .. bottom in y.
+  void upward(const std::string& s, double x, double size, double pivot_y, double start, double top,
+              double bottom) {
+    const double hh = m_.height(size), asc = m_.ascent(size);
     op([=](cairo_t* cr) {
       cairo_save(cr);
       cairo_set_source_rgb(cr, 0, 0, 0);
       cairo_set_font_size(cr, size);
-      cairo_translate(cr, x, y + w);
+      cairo_translate(cr, x, pivot_y);
       cairo_rotate(cr, -kPi / 2);
-      cairo_move_to(cr, 0, -hh / 2 + asc);
+      cairo_move_to(cr, start, -hh / 2 + asc);
       cairo_show_text(cr, s.c_str());
       cairo_restore(cr);
     });
-    if (!s.empty()) texts.push_back({s, x - hh / 2, y, x + hh / 2, y + w});
+    if (!s.empty()) texts.push_back({s, x - hh / 2, top, x + hh / 2, bottom});
   }
   void rect(double x, double y, double w, double h, std::optional<Rgb> fill, std::optional<Rgb> stroke,
             double lw = 1) {

@@ -167,4 +167,69 @@ class UnitReader {
   bool ok_ = true;
 };
 
+// One list of a unit's fields for both directions: a function template
+//   template <class Io, class T> void fields(Io& io, T& t) { unitValue<std::int32_t>(io, t.k); }
+// writes with Io = UnitWriter (T const) and reads with Io = UnitReader, so the layouts cannot
+// drift. unitValue: a number or bool as its wire type `Wire` (a bool as std::uint8_t reads back
+// as != 0); unitField: a std::vector of numbers, an Eigen object, a string or a list of strings.
+template <class Wire, class T>
+void unitValue(UnitWriter& w, const T& v) {
+  w.put<Wire>(static_cast<Wire>(v));
+}
+template <class Wire, class T>
+void unitValue(UnitReader& r, T& v) {
+  v = static_cast<T>(r.get<Wire>());
+}
+template <class T>
+inline constexpr bool kIsStdVector = false;
+template <class T>
+inline constexpr bool kIsStdVector<std::vector<T>> = true;
+template <class T>  // a std::vector of numbers or an Eigen object
+void unitField(UnitWriter& w, const T& v) {
+  if constexpr (kIsStdVector<T>)
+    w.putVector(v);
+  else
+    w.putMatrix(v);
+}
+template <class T>
+void unitField(UnitReader& r, T& v) {
+  if constexpr (kIsStdVector<T>)
+    r.getVector(v);
+  else
+    r.getMatrix(v);
+}
+inline void unitField(UnitWriter& w, const std::string& s) { w.putString(s); }
+inline void unitField(UnitReader& r, std::string& s) { s = r.getString(); }
+inline void unitField(UnitWriter& w, const std::vector<std::string>& v) {
+  w.put<std::uint64_t>(v.size());
+  for (const std::string& s : v) w.putString(s);
+}
+inline void unitField(UnitReader& r, std::vector<std::string>& v) {
+  const auto n = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; r.ok() && k < n; ++k) v.push_back(r.getString());
+}
+// An enum of `count` values 0 .. count-1; a value out of range fails the reader.
+template <class Wire, class Enum>
+void unitEnum(UnitWriter& w, const Enum& e, int) {
+  w.put<Wire>(static_cast<Wire>(e));
+}
+template <class Wire, class Enum>
+void unitEnum(UnitReader& r, Enum& e, int count) {
+  const auto v = r.get<Wire>();
+  if (v < 0 || v >= count) r.fail();
+  e = static_cast<Enum>(v);
+}
+// The element count of `v` (the caller then lists each element's fields); the reader makes `v`
+// that long, at most `max` (more fails the reader).
+template <class T>
+void unitCount(UnitWriter& w, const std::vector<T>& v, std::uint64_t) {
+  w.put<std::uint64_t>(v.size());
+}
+template <class T>
+void unitCount(UnitReader& r, std::vector<T>& v, std::uint64_t max) {
+  const auto n = r.get<std::uint64_t>();
+  if (n > max) r.fail();
+  v.assign(r.ok() ? n : 0, T{});
+}
+
 }  // namespace armstudy

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
@@ -19,15 +20,8 @@ const ToleranceRule& RegressionSpec::ruleFor(const std::string& metric) const {
   return fallback;
 }
 
-const char* toString(Verdict v) {
-  switch (v) {
-    case Verdict::Pass: return "ok";
-    case Verdict::Fail: return "MOVED";
-    case Verdict::Missing: return "MISSING";
-    case Verdict::New: return "NEW";
-  }
-  return "?";
-}
+constexpr const char* kVerdictNames[] = {"ok", "MOVED", "MISSING", "NEW"};
+const char* toString(Verdict v) { return enumName(v, kVerdictNames); }
 
 static std::string flagsToString(const std::vector<std::uint8_t>& f) {
   std::string s(f.size(), '0');

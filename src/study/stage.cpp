@@ -10,9 +10,20 @@
 
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/toml_reader.hpp"
 #include "study/checkpoint.hpp"
 
 namespace armstudy {
+
+bool readSectionTable(const SectionInput& in, const std::string& key,
+                      const std::function<void(io::TableReader&)>& parse) {
+  const toml::table* t = in.top.table(key);
+  if (!t) return false;
+  io::TableReader r(*t, in.top.file(), key);
+  parse(r);
+  r.finish();
+  return true;
+}
 
 std::string RunOptions::validate() const {
   if (output_root.empty()) return "output root is empty";

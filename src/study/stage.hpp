@@ -202,10 +202,15 @@ const T& settingsAs(const StageSettings& s) {
   return dynamic_cast<const SettingsOf<T>&>(s).value;
 }
 
+// Calls `parse` with a reader of the study file's table [key], then finishes that reader (unknown
+// keys are input errors); false, without calling it, when the study has no such table.
+bool readSectionTable(const SectionInput& in, const std::string& key,
+                      const std::function<void(io::TableReader&)>& parse);
+
 // A stage made of a section reader and a run function, which is what most stages are:
 //   const Stage& trackingStage() {
-//     static const FunctionStage<Entries> stage("tracking", readEntries, runTrackingStage);
-//     return stage;
+//     static const auto stage = FunctionStage<Entries>::ofEntries("tracking", readEntries,
+//     runTrackingStage); return stage;
 //   }
 // `read` returns no value when the study has no section for the stage.
 template <class Settings>
@@ -216,6 +221,40 @@ class FunctionStage final : public Stage {
   FunctionStage(std::string name, Read read, Run run, std::string timing_name = "")
       : name_(std::move(name)), timing_(timing_name.empty() ? name_ : std::move(timing_name)),
         read_(std::move(read)), run_(std::move(run)) {}
+  // A run function with a last results pointer (tests pass one to see the results): the stage
+  // passes none.
+  template <class Results>
+  FunctionStage(std::string name, Read read,
+                StageResult (*run)(const StageContext&, const Settings&, Results*),
+                std::string timing_name = "")
+      : FunctionStage(
+            std::move(name), std::move(read),
+            [run](const StageContext& ctx, const Settings& s) { return run(ctx, s, nullptr); },
+            std::move(timing_name)) {}
+  // A stage whose section is a list of entries (the [[name]] tables), which `read` returns: no
+  // entries, no stage.
+  template <class RunFunction>
+  static FunctionStage ofEntries(const std::string& name,
+                                 std::function<Settings(const SectionInput&)> read,
+                                 RunFunction run) {
+    Read entries = [read](const SectionInput& in) -> std::optional<Settings> {
+      Settings s = read(in);
+      if (s.empty()) return std::nullopt;
+      return s;
+    };
+    return FunctionStage(name, std::move(entries), run);
+  }
+  // A stage whose section is the one table [name], which `parse` reads: no table, no stage.
+  using ParseTable = std::function<Settings(io::TableReader&, const SectionInput&)>;
+  template <class RunFunction>
+  static FunctionStage ofTable(const std::string& name, ParseTable parse, RunFunction run) {
+    Read read = [name, parse](const SectionInput& in) -> std::optional<Settings> {
+      std::optional<Settings> s;
+      readSectionTable(in, name, [&](io::TableReader& r) { s = parse(r, in); });
+      return s;
+    };
+    return FunctionStage(name, std::move(read), run);
+  }
   std::string name() const override { return name_; }
   std::string timingName() const override { return timing_; }
   std::shared_ptr<const StageSettings> read(const SectionInput& in) const override {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
 namespace armstudy {
@@ -52,19 +53,9 @@ bool ApproachPlannerOptions::validate(std::string& error) const {
   return true;
 }
 
-const char* toString(ApproachStatus s) {
-  switch (s) {
-    case ApproachStatus::Ok:
-      return "ok";
-    case ApproachStatus::StartInsidePlantCircle:
-      return "start_inside_plant_circle";
-    case ApproachStatus::FruitOutsidePlantCircle:
-      return "fruit_outside_plant_circle";
-    case ApproachStatus::StartTooFar:
-      return "start_too_far";
-  }
-  return "?";
-}
+constexpr const char* kApproachStatusNames[] = {"ok", "start_inside_plant_circle",
+                                                "fruit_outside_plant_circle", "start_too_far"};
+const char* toString(ApproachStatus s) { return enumName(s, kApproachStatusNames); }
 
 std::array<double, 6> quinticHermite(double p0, double v0, double a0, double p1, double v1,
                                      double a1) {

@@ -128,26 +128,20 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
 
 }  // namespace
 
-std::vector<CalibrationEntry> readCalibrationEntries(TableReader& top, const std::string& study_dir,
-                                                     const std::vector<const Model*>& designs,
-                                                     std::vector<std::pair<std::string, std::string>>& files) {
+std::vector<CalibrationEntry> readCalibrationEntries(const SectionInput& in) {
   std::vector<CalibrationEntry> out;
-  const toml::array* arr = top.array("calibration");
-  if (!arr) return out;
-  int idx = 0;
-  for (const auto& node : *arr) {
-    if (!node.is_table())
-      throw InputError(top.file(), static_cast<int>(node.source().begin.line), "calibration",
-                       "expected [[calibration]] tables");
-    TableReader r(*node.as_table(), top.file(), "calibration[" + std::to_string(idx++) + "]");
-    CalibrationEntry e = readEntry(r, fs::path(study_dir), designs);
+  std::vector<std::pair<std::string, std::string>> files;  // (data file, hash), each once
+  in.top.forEachTable("calibration", [&](TableReader& r) {
+    CalibrationEntry e = readEntry(r, fs::path(in.study_dir), in.designs);
     for (const CalibrationEntry& other : out)
-      if (other.name == e.name) r.fail("name", "calibration entry '" + e.name + "' is defined twice");
+      if (other.name == e.name)
+        r.fail("name", "calibration entry '" + e.name + "' is defined twice");
     bool listed = false;
     for (const auto& f : files) listed = listed || f.first == e.data_file;
     if (!listed) files.emplace_back(e.data_file, e.dataHash());
     out.push_back(std::move(e));
-  }
+  });
+  for (const auto& [f, h] : files) in.inputs.push_back({f, h});
   return out;
 }
 

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -16,6 +16,7 @@
 
 #include "calibration/drive_report.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "report/markdown.hpp"
@@ -303,9 +304,7 @@ void addMetrics(const EntrySummary& s, StudyMetrics& M) {
 
 std::string g4(double v) {
   if (!std::isfinite(v)) return "-";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
+  return formatG(v, 4);
 }
 
 std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries) {

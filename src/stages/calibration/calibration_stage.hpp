@@ -55,13 +55,11 @@ struct CalibrationEntry {
   const std::string& dataHash() const { return drive_data ? drive_data->hash : arm_data.hash(); }
 };
 
-// Reads every [[calibration]] entry of a study (none when absent); `study_dir` resolves the data
-// paths; `designs` are the study's designs and variants. Appends (data file, hash) of every data
-// file read to `files`. Throws InputError (file, line, key) for an unknown kind, design, joint,
+// Reads every [[calibration]] entry of a study (none when absent); the study folder resolves the
+// data paths; the entries name the study's designs and variants. Appends every data file read to
+// the study's inputs. Throws InputError (file, line, key) for an unknown kind, design, joint,
 // effect or key, a missing or malformed data file, options of the other kind, ...
-std::vector<CalibrationEntry> readCalibrationEntries(io::TableReader& top, const std::string& study_dir,
-                                                     const std::vector<const Model*>& designs,
-                                                     std::vector<std::pair<std::string, std::string>>& files);
+std::vector<CalibrationEntry> readCalibrationEntries(const SectionInput& in);
 
 // One step of the error ladder (as designed, refit, +effect, ...).
 struct LadderStep {

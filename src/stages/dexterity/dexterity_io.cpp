@@ -58,7 +58,8 @@ double positive(io::TableReader& r, const std::string& key, double fallback, Dim
 
 }  // namespace
 
-DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<const Model*>& designs) {
+DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in) {
+  const std::vector<const Model*>& designs = in.designs;
   DexterityOptions o;
   StemGrid& g = o.grid;
   g.stem_x_m = r.quantity("stem_x", Dimension::Length);
@@ -108,15 +109,9 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<cons
     }
     o.position_tolerance_m = positive(sv, "position_tolerance", o.position_tolerance_m, Dimension::Length);
     o.orientation_tolerance_rad = positive(sv, "orientation_tolerance", o.orientation_tolerance_rad, Dimension::Angle);
-    const long long cs = sv.integer("cold_starts", o.cold_starts);
-    if (cs < 1 || cs > 1000) sv.fail("cold_starts", "must be between 1 and 1000");
-    o.cold_starts = static_cast<int>(cs);
-    const long long mi = sv.integer("max_iterations", o.solve.max_iterations);
-    if (mi < 1 || mi > 100000) sv.fail("max_iterations", "must be between 1 and 100000");
-    o.solve.max_iterations = static_cast<int>(mi);
-    const long long ni = sv.integer("nullspace_max_iterations", o.nullspace.max_iterations);
-    if (ni < 0 || ni > 100000) sv.fail("nullspace_max_iterations", "must be between 0 and 100000");
-    o.nullspace.max_iterations = static_cast<int>(ni);
+    o.cold_starts = sv.integerIn("cold_starts", o.cold_starts, 1, 1000);
+    o.solve.max_iterations = sv.integerIn("max_iterations", o.solve.max_iterations, 1, 100000);
+    o.nullspace.max_iterations = sv.integerIn("nullspace_max_iterations", o.nullspace.max_iterations, 0, 100000);
     o.nullspace.relative_improvement =
         nonNegative(sv, "relative_improvement", o.nullspace.relative_improvement, Dimension::Dimensionless);
     o.nullspace.damping_lambda0 = nonNegative(sv, "damping", o.nullspace.damping_lambda0, Dimension::Dimensionless);

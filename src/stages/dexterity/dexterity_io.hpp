@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "dexterity/dexterity_map.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy::io {
 class TableReader;
@@ -13,6 +14,6 @@ namespace armstudy::dexterity {
 
 // Reads and validates the section; `designs` are checked against per-design settings
 // (joint_weights length, enough joints for the task). Calls finish() on every reader it creates.
-DexterityOptions readDexterityOptions(io::TableReader& r, const std::vector<const Model*>& designs);
+DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in);
 
 }  // namespace armstudy::dexterity

@@ -62,7 +62,7 @@ struct ExploreOptions {
   std::string validate() const;
 };
 
-ExploreOptions readExploreOptions(const SectionInput& in);
+ExploreOptions readExploreOptions(io::TableReader& r, const SectionInput& in);
 
 // One evaluated candidate.
 struct Candidate {

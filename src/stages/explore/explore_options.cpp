@@ -56,9 +56,7 @@ std::string ExploreOptions::validate() const {
   return "";
 }
 
-ExploreOptions readExploreOptions(const SectionInput& in) {
-  const toml::table* t = in.top.table("explore");
-  TableReader r(*t, in.top.file(), "explore");
+ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
   ExploreOptions o;
   o.file = in.top.file();
   o.line = r.line();
@@ -71,50 +69,41 @@ ExploreOptions readExploreOptions(const SectionInput& in) {
 
   const toml::array* ps = r.array("parameter");
   if (!ps || ps->empty()) r.fail("parameter", "needs at least one [[explore.parameter]]");
-  int k = 0;
-  for (const auto& e : *ps) {
-    if (!e.is_table()) r.fail("parameter", "expected [[explore.parameter]] tables");
-    TableReader pr(*e.as_table(), r.file(), "explore.parameter[" + std::to_string(k++) + "]");
+  r.forEachTable("parameter", [&](TableReader& pr) {
     Parameter p = readParameter(pr, o.base);
     for (const auto& q : o.parameters)
       if (q.key == p.key) pr.fail("key", "parameter '" + p.key + "' is given twice");
     o.parameters.push_back(std::move(p));
-  }
-  if (const toml::array* cs = r.array("constraint")) {
-    k = 0;
-    for (const auto& e : *cs) {
-      if (!e.is_table()) r.fail("constraint", "expected [[explore.constraint]] tables");
-      TableReader cr(*e.as_table(), r.file(), "explore.constraint[" + std::to_string(k++) + "]");
-      LinearConstraint c;
-      c.line = cr.line();
-      const toml::table* terms = cr.table("terms");
-      if (!terms || terms->empty()) cr.fail("terms", "needs terms = { \"<parameter key>\" = weight, ... }");
-      for (auto&& [key, v] : *terms) {
-        std::size_t idx = o.parameters.size();
-        for (std::size_t i = 0; i < o.parameters.size(); ++i)
-          if (o.parameters[i].key == key.str()) idx = i;
-        if (idx == o.parameters.size()) cr.fail("terms", "'" + std::string(key.str()) + "' is not a parameter");
-        const auto w = v.value<double>();
-        if (!w || !std::isfinite(*w)) cr.fail("terms", "weights are plain numbers");
-        c.terms.emplace_back(idx, *w);
-      }
-      // Bounds carry the unit of the first parameter term (constraints between lengths or angles).
-      Dimension dim;
-      std::string err;
-      modelEntryDimension(o.base, o.parameters[c.terms[0].first].key, dim, err);
-      if (!cr.has("min") && !cr.has("max")) cr.fail("terms", "a constraint needs min or max");
-      c.min = cr.quantity("min", dim, -1e300);
-      c.max = cr.quantity("max", dim, 1e300);
-      cr.finish();
-      o.constraints.push_back(std::move(c));
+  });
+  r.forEachTable("constraint", [&](TableReader& cr) {
+    LinearConstraint c;
+    c.line = cr.line();
+    const toml::table* terms = cr.table("terms");
+    if (!terms || terms->empty())
+      cr.fail("terms", "needs terms = { \"<parameter key>\" = weight, ... }");
+    for (auto&& [key, v] : *terms) {
+      std::size_t idx = o.parameters.size();
+      for (std::size_t i = 0; i < o.parameters.size(); ++i)
+        if (o.parameters[i].key == key.str()) idx = i;
+      if (idx == o.parameters.size())
+        cr.fail("terms", "'" + std::string(key.str()) + "' is not a parameter");
+      const auto w = v.value<double>();
+      if (!w || !std::isfinite(*w)) cr.fail("terms", "weights are plain numbers");
+      c.terms.emplace_back(idx, *w);
     }
-  }
+    // Bounds carry the unit of the first parameter term (constraints between lengths or angles).
+    Dimension dim;
+    std::string err;
+    modelEntryDimension(o.base, o.parameters[c.terms[0].first].key, dim, err);
+    if (!cr.has("min") && !cr.has("max")) cr.fail("terms", "a constraint needs min or max");
+    c.min = cr.quantity("min", dim, -1e300);
+    c.max = cr.quantity("max", dim, 1e300);
+    cr.finish();
+    o.constraints.push_back(std::move(c));
+  });
   const toml::array* os = r.array("objective");
   if (!os || os->empty()) r.fail("objective", "needs at least one [[explore.objective]]");
-  k = 0;
-  for (const auto& e : *os) {
-    if (!e.is_table()) r.fail("objective", "expected [[explore.objective]] tables");
-    TableReader orr(*e.as_table(), r.file(), "explore.objective[" + std::to_string(k++) + "]");
+  r.forEachTable("objective", [&](TableReader& orr) {
     Objective ob;
     ob.line = orr.line();
     ob.metric = orr.string("metric");
@@ -122,9 +111,12 @@ ExploreOptions readExploreOptions(const SectionInput& in) {
       orr.fail("metric", "a stage metric names the candidate as {design}, e.g. \"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
     ob.label = orr.string("label", ob.metric);
     const std::string goal = orr.string("goal", "");
-    if (goal == "max") ob.goal = Goal::Maximise;
-    else if (goal == "min") ob.goal = Goal::Minimise;
-    else if (!goal.empty()) orr.fail("goal", "goal is \"max\" or \"min\"");
+    if (goal == "max")
+      ob.goal = Goal::Maximise;
+    else if (goal == "min")
+      ob.goal = Goal::Minimise;
+    else if (!goal.empty())
+      orr.fail("goal", "goal is \"max\" or \"min\"");
     ob.min = orr.number("min", -1e300);
     ob.max = orr.number("max", 1e300);
     ob.weight = orr.number("weight", 1.0);
@@ -132,7 +124,7 @@ ExploreOptions readExploreOptions(const SectionInput& in) {
       orr.fail("metric", "an objective needs a goal, or min/max to be a constraint");
     orr.finish();
     o.objectives.push_back(std::move(ob));
-  }
+  });
   if (r.has("stages")) {
     o.stages = r.stringArray("stages");
   } else {

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/format.hpp"
+
 namespace armstudy::explore {
 
 namespace {
@@ -15,11 +17,7 @@ std::string f(double v) {
   std::snprintf(b, sizeof b, "%.2f", v);
   return b;
 }
-std::string label(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
+std::string label(double v) { return formatG(v, 4); }
 std::string esc(const std::string& s) {
   std::string o;
   for (char ch : s) o += ch == '<' ? "&lt;" : ch == '>' ? "&gt;" : ch == '&' ? "&amp;" : std::string(1, ch);

@@ -69,16 +69,9 @@ Evaluator::Evaluator(const StageContext& ctx, const ExploreOptions& o) : ctx_(ct
 std::string Evaluator::stageName(const StudySection& s) { return s.stage->name(); }
 
 Study Evaluator::candidateStudy(const Model& m, const Overrides& ov) const {
-  const Study& st = ctx_.study;
-  Study sub;
-  sub.name = st.name;
-  sub.description = st.description;
-  sub.file = st.file;
-  sub.file_hash = st.file_hash;
-  sub.inputs = st.inputs;
-  sub.obstacles = st.obstacles;
-  sub.regression = st.regression;
-  sub.designs.push_back({m, o_.base.name, ov});
+  // The study with the candidate as its one design and the explored stages as its sections.
+  Study sub = ctx_.study;
+  sub.designs = {StudyDesign{m, o_.base.name, ov}};
   sub.sections = sections_;
   return sub;
 }

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/format.hpp"
 #include "io/urdf_io.hpp"
 #include "report/markdown.hpp"
 #include "stages/explore/explore_internal.hpp"
@@ -13,11 +14,7 @@ namespace armstudy::explore {
 
 namespace {
 
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
+std::string num(double v) { return formatG(v, 6); }
 
 std::string goalText(Goal g) { return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint"; }
 

@@ -1,5 +1,3 @@
-#include "stages/harvest/harvest_stage.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -9,19 +7,21 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/first_exception.hpp"
 #include "dynamics/approach_tracking.hpp"
+#include "io/approach_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
-#include "io/approach_io.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 
 namespace armstudy::harvest {
 
@@ -84,16 +84,10 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
   const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
   std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
   RangeCountdown fruit_countdown(fruit_ranges);
-  std::exception_ptr failure;
+  FirstException failure;
   // Tells `done` (may be empty) that range k is complete; keeps the first exception.
   auto report = [&](const RangeDone& done, std::size_t k) {
-    if (!done) return;
-    try {
-      done(k, res);
-    } catch (...) {
-#pragma omp critical(armstudy_harvest_failure)
-      if (!failure) failure = std::current_exception();
-    }
+    if (done) failure.call([&] { done(k, res); });
   };
   const long n_fruit_work = static_cast<long>(fruit_work.size());
 #pragma omp parallel num_threads(nthreads)
@@ -148,7 +142,7 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
       if (fruit_countdown.itemDone(k)) report(work ? work->fruits_done : RangeDone{}, k);
     }
   }
-  if (failure) std::rethrow_exception(failure);
+  failure.rethrow();
 
   if (options.grid) {
     const HarvestGrid& g = *options.grid;
@@ -185,7 +179,7 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
         if (grid_countdown.itemDone(range)) report(work ? work->grid_done : RangeDone{}, range);
       }
     }
-    if (failure) std::rethrow_exception(failure);
+    failure.rethrow();
   }
   return res;
 }

@@ -69,7 +69,9 @@ AxisRange readAxis(TableReader& r, const std::string& key) {
 
 }  // namespace
 
-HarvestOptions readHarvestOptions(TableReader& r, const std::vector<std::string>& designs) {
+HarvestOptions readHarvestOptions(TableReader& r, const SectionInput& in) {
+  std::vector<std::string> designs;
+  for (const Model* m : in.designs) designs.push_back(m->name);
   HarvestOptions o;
   if (r.has("designs")) {
     o.designs = r.stringArray("designs");

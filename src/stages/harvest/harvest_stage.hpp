@@ -56,7 +56,7 @@ struct HarvestOptions {
 
 // Reads the [harvest] table. Throws InputError (file, line, key) on bad input; `designs` are the
 // study's design names (every listed name must exist).
-HarvestOptions readHarvestOptions(io::TableReader& r, const std::vector<std::string>& designs);
+HarvestOptions readHarvestOptions(io::TableReader& r, const SectionInput& in);
 
 // One fruit's result for one design.
 struct FruitResult {

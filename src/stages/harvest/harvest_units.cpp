@@ -38,13 +38,13 @@ constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v1";
 constexpr char kGridMagic[] = "armstudy-harvest-grid-v1";
 
 // Per-sample rows of equal width: count, width, values.
-void putRows(UnitWriter& w, const std::vector<JointVector>& rows) {
+void rowsField(UnitWriter& w, const std::vector<JointVector>& rows) {
   w.put<std::uint64_t>(rows.size());
   w.put<std::int64_t>(rows.empty() ? 0 : rows.front().size());
   for (const JointVector& r : rows)
     for (Eigen::Index i = 0; i < r.size(); ++i) w.put(r[i]);
 }
-void getRows(UnitReader& r, std::vector<JointVector>& rows) {
+void rowsField(UnitReader& r, std::vector<JointVector>& rows) {
   const auto n = r.get<std::uint64_t>();
   const auto width = r.get<std::int64_t>();
   if (!r.ok() || width < 0 || width > defaults::kMaxDof || (n > 0 && width == 0) || n > (1ULL << 32)) {
@@ -56,58 +56,32 @@ void getRows(UnitReader& r, std::vector<JointVector>& rows) {
     for (Eigen::Index i = 0; r.ok() && i < width; ++i) row[i] = r.get<double>();
 }
 
-void putFeasibility(UnitWriter& w, const DriveFeasibility& d) {
-  w.put<std::uint8_t>(d.feasible);
-  w.put<std::int32_t>(d.failing_joint);
-  w.put<std::int32_t>(static_cast<std::int32_t>(d.failing_quantity));
-  w.put(d.failure_time_s);
-  w.put<std::uint64_t>(d.joints.size());
-  for (const JointDriveSummary& j : d.joints) {
-    w.putString(j.joint);
-    w.put<std::uint8_t>(j.has_drive);
-    w.put(j.peak_effort);
-    w.put(j.peak_motor_torque_Nm);
-    for (const QuantityCheck& c : j.checks) {
-      for (double v : {c.value, c.limit, c.margin, c.first_exceeded_s}) w.put(v);
-      w.put<std::uint8_t>(c.checked);
-      w.put<std::uint8_t>(c.exceeded);
-      w.put<std::int32_t>(c.first_exceeded_k);
+// A drive-feasibility result, both ways (study/checkpoint.hpp).
+template <class Io, class Feasibility>
+void feasibilityFields(Io& io, Feasibility& d) {
+  unitValue<std::uint8_t>(io, d.feasible);
+  unitValue<std::int32_t>(io, d.failing_joint);
+  unitEnum<std::int32_t>(io, d.failing_quantity, kDriveQuantityCount);
+  unitValue<double>(io, d.failure_time_s);
+  unitCount(io, d.joints, defaults::kMaxDof);
+  for (auto& j : d.joints) {
+    unitField(io, j.joint);
+    unitValue<std::uint8_t>(io, j.has_drive);
+    for (auto* v : {&j.peak_effort, &j.peak_motor_torque_Nm}) unitValue<double>(io, *v);
+    for (auto& c : j.checks) {
+      for (auto* v : {&c.value, &c.limit, &c.margin, &c.first_exceeded_s})
+        unitValue<double>(io, *v);
+      for (auto* flag : {&c.checked, &c.exceeded}) unitValue<std::uint8_t>(io, *flag);
+      unitValue<std::int32_t>(io, c.first_exceeded_k);
     }
   }
-  for (const auto* rows : {&d.effort, &d.motor_torque, &d.current, &d.motor_speed, &d.voltage}) putRows(w, *rows);
-  w.put<std::uint8_t>(d.options_used.friction);
-  w.put(d.options_used.temperature_C);
-  w.put<std::uint8_t>(d.options_used.keep_profiles);
-  w.put<std::uint8_t>(d.options_used.drive_rotor_inertia);
-}
-
-void getFeasibility(UnitReader& r, DriveFeasibility& d) {
-  d.feasible = r.get<std::uint8_t>() != 0;
-  d.failing_joint = r.get<std::int32_t>();
-  const auto q = r.get<std::int32_t>();
-  if (q < 0 || q >= kDriveQuantityCount) r.fail();
-  d.failing_quantity = static_cast<DriveQuantity>(q);
-  d.failure_time_s = r.get<double>();
-  const auto nj = r.get<std::uint64_t>();
-  if (nj > static_cast<std::uint64_t>(defaults::kMaxDof)) r.fail();
-  d.joints.assign(r.ok() ? nj : 0, JointDriveSummary{});
-  for (JointDriveSummary& j : d.joints) {
-    j.joint = r.getString();
-    j.has_drive = r.get<std::uint8_t>() != 0;
-    j.peak_effort = r.get<double>();
-    j.peak_motor_torque_Nm = r.get<double>();
-    for (QuantityCheck& c : j.checks) {
-      for (double* v : {&c.value, &c.limit, &c.margin, &c.first_exceeded_s}) *v = r.get<double>();
-      c.checked = r.get<std::uint8_t>() != 0;
-      c.exceeded = r.get<std::uint8_t>() != 0;
-      c.first_exceeded_k = r.get<std::int32_t>();
-    }
-  }
-  for (auto* rows : {&d.effort, &d.motor_torque, &d.current, &d.motor_speed, &d.voltage}) getRows(r, *rows);
-  d.options_used.friction = r.get<std::uint8_t>() != 0;
-  d.options_used.temperature_C = r.get<double>();
-  d.options_used.keep_profiles = r.get<std::uint8_t>() != 0;
-  d.options_used.drive_rotor_inertia = r.get<std::uint8_t>() != 0;
+  for (auto* rows : {&d.effort, &d.motor_torque, &d.current, &d.motor_speed, &d.voltage})
+    rowsField(io, *rows);
+  auto& used = d.options_used;
+  unitValue<std::uint8_t>(io, used.friction);
+  unitValue<double>(io, used.temperature_C);
+  for (auto* flag : {&used.keep_profiles, &used.drive_rotor_inertia})
+    unitValue<std::uint8_t>(io, *flag);
 }
 
 // Header of a unit: the design's result sizes and the range; false when it does not fit `size`.
@@ -120,78 +94,63 @@ bool getHead(UnitReader& r, long size, ItemRange& range) {
   return r.ok() && n == size && 0 <= b && b < e && e <= n;
 }
 
+// A unit of the items `range` of `all`: the head, then each item's `fields`.
+template <class T, class Fields>
+std::string serializeRange(const char* magic, const std::vector<T>& all, const ItemRange& range,
+                           Fields fields) {
+  UnitWriter w(magic);
+  putHead(w, static_cast<long>(all.size()), range);
+  for (long i = range.begin; i < range.end; ++i) fields(w, all[i]);
+  return w.bytes();
+}
+// Places the items of a unit in `all` (sized already); false when the unit does not fit.
+template <class T, class Fields>
+bool deserializeRange(const std::string& bytes, const char* magic, std::vector<T>& all,
+                      ItemRange& range, Fields fields) {
+  UnitReader r(bytes, magic);
+  ItemRange got;
+  if (!getHead(r, static_cast<long>(all.size()), got)) return false;
+  std::vector<T> items(static_cast<std::size_t>(got.size()));
+  for (T& x : items) fields(r, x);
+  if (!r.finished()) return false;
+  std::move(items.begin(), items.end(), all.begin() + got.begin);
+  range = got;
+  return true;
+}
+
+constexpr auto kFruitFields = [](auto& io, auto& f) {
+  unitValue<std::int32_t>(io, f.fruit);
+  unitField(io, f.p_fruit_W);
+  unitField(io, f.status);
+  for (auto* v : {&f.max_position_error_m, &f.max_orientation_error_rad}) unitValue<double>(io, *v);
+  for (auto* d : {&f.with_friction, &f.without_friction}) feasibilityFields(io, *d);
+};
+
+constexpr auto kGridPointFields = [](auto& io, auto& p) {
+  unitValue<std::uint8_t>(io, p.reachable);
+  for (auto* m : {&p.holding.effort, &p.holding.current_A, &p.holding.current_ratio})
+    unitField(io, *m);
+  unitValue<std::uint8_t>(io, p.holding.feasible);
+  unitValue<std::int32_t>(io, p.holding.limiting_joint);
+  unitValue<double>(io, p.holding.max_ratio);
+};
+
 }  // namespace
 
 std::string serializeFruits(const DesignResult& d, const ItemRange& range) {
-  UnitWriter w(kFruitsMagic);
-  putHead(w, static_cast<long>(d.fruits.size()), range);
-  for (long i = range.begin; i < range.end; ++i) {
-    const FruitResult& f = d.fruits[i];
-    w.put<std::int32_t>(f.fruit);
-    w.putMatrix(f.p_fruit_W);
-    w.putString(f.status);
-    w.put(f.max_position_error_m);
-    w.put(f.max_orientation_error_rad);
-    putFeasibility(w, f.with_friction);
-    putFeasibility(w, f.without_friction);
-  }
-  return w.bytes();
+  return serializeRange(kFruitsMagic, d.fruits, range, kFruitFields);
 }
 
 bool deserializeFruits(const std::string& bytes, DesignResult& d, ItemRange& range) {
-  UnitReader r(bytes, kFruitsMagic);
-  ItemRange got;
-  if (!getHead(r, static_cast<long>(d.fruits.size()), got)) return false;
-  std::vector<FruitResult> fruits(static_cast<std::size_t>(got.size()));
-  for (FruitResult& f : fruits) {
-    f.fruit = r.get<std::int32_t>();
-    r.getMatrix(f.p_fruit_W);
-    f.status = r.getString();
-    f.max_position_error_m = r.get<double>();
-    f.max_orientation_error_rad = r.get<double>();
-    getFeasibility(r, f.with_friction);
-    getFeasibility(r, f.without_friction);
-  }
-  if (!r.finished()) return false;
-  std::move(fruits.begin(), fruits.end(), d.fruits.begin() + got.begin);
-  range = got;
-  return true;
+  return deserializeRange(bytes, kFruitsMagic, d.fruits, range, kFruitFields);
 }
 
 std::string serializeGridPoints(const DesignResult& d, const ItemRange& range) {
-  UnitWriter w(kGridMagic);
-  putHead(w, static_cast<long>(d.grid.size()), range);
-  for (long i = range.begin; i < range.end; ++i) {
-    const GridPointResult& p = d.grid[i];
-    w.put<std::uint8_t>(p.reachable);
-    w.putMatrix(p.holding.effort);
-    w.putMatrix(p.holding.current_A);
-    w.putMatrix(p.holding.current_ratio);
-    w.put<std::uint8_t>(p.holding.feasible);
-    w.put<std::int32_t>(p.holding.limiting_joint);
-    w.put(p.holding.max_ratio);
-  }
-  return w.bytes();
+  return serializeRange(kGridMagic, d.grid, range, kGridPointFields);
 }
 
 bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange& range) {
-  UnitReader r(bytes, kGridMagic);
-  ItemRange got;
-  if (!getHead(r, static_cast<long>(d.grid.size()), got)) return false;
-  std::vector<GridPointResult> points(static_cast<std::size_t>(got.size()));
-  for (GridPointResult& p : points) {
-    p.reachable = r.get<std::uint8_t>() != 0;
-    r.getMatrix(p.holding.effort);
-    r.getMatrix(p.holding.current_A);
-    r.getMatrix(p.holding.current_ratio);
-    p.holding.feasible = r.get<std::uint8_t>() != 0;
-    p.holding.limiting_joint = r.get<std::int32_t>();
-    p.holding.max_ratio = r.get<double>();
-  }
-  if (!r.finished()) return false;
-  std::move(points.begin(), points.end(), d.grid.begin() + got.begin);
-  range = got;
-  return true;
+  return deserializeRange(bytes, kGridMagic, d.grid, range, kGridPointFields);
 }
 
 // One design's result in work units (fruits and holding-grid points in ranges of unit_items,

@@ -7,28 +7,22 @@
 
 namespace armstudy::reach_units {
 
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v5";
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v6";
+
+// The unit layout, both ways (study/checkpoint.hpp): the sizes and flags, then every per-pose
+// array.
+template <class Io, class Sweep>
+void sweepFields(Io& io, Sweep& s) {
+  unitValue<std::int64_t>(io, s.dof);
+  for (auto* v : {&s.offset, &s.size}) unitValue<std::int64_t>(io, *v);
+  for (auto* flag : {&s.collision, &s.obstacles}) unitValue<std::uint8_t>(io, *flag);
+  forEachPoseArray([&](auto& v) { unitField(io, v); }, s);
+  unitField(io, s.pair_names);
+}
 
 std::string serializeSweep(const PoseSweep& s) {
   UnitWriter w(kUnitMagic);
-  w.put<std::int64_t>(s.dof);
-  w.put<std::int64_t>(s.offset);
-  w.put<std::int64_t>(s.size);
-  w.putVector(s.status);
-  w.putVector(s.starts);
-  w.putVector(s.position_error_m);
-  w.putVector(s.orientation_error_rad);
-  w.putVector(s.manipulability);
-  w.putVector(s.joint_limit_margin);
-  w.putVector(s.q);
-  w.putVector(s.q_alt);
-  w.put<std::uint8_t>(s.collision);
-  w.put<std::uint8_t>(s.obstacles);
-  w.putVector(s.min_distance_m);
-  w.putVector(s.colliding_pair);
-  w.putVector(s.obstacle_distance_m);
-  w.put<std::uint64_t>(s.pair_names.size());
-  for (const std::string& n : s.pair_names) w.putString(n);
+  sweepFields(w, s);
   return w.bytes();
 }
 
@@ -36,24 +30,7 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
   UnitReader r(b, kUnitMagic);
   s = PoseSweep{};
   s.design = design;
-  s.dof = static_cast<int>(r.get<std::int64_t>());
-  s.offset = r.get<std::int64_t>();
-  s.size = r.get<std::int64_t>();
-  r.getVector(s.status);
-  r.getVector(s.starts);
-  r.getVector(s.position_error_m);
-  r.getVector(s.orientation_error_rad);
-  r.getVector(s.manipulability);
-  r.getVector(s.joint_limit_margin);
-  r.getVector(s.q);
-  r.getVector(s.q_alt);
-  s.collision = r.get<std::uint8_t>() != 0;
-  s.obstacles = r.get<std::uint8_t>() != 0;
-  r.getVector(s.min_distance_m);
-  r.getVector(s.colliding_pair);
-  r.getVector(s.obstacle_distance_m);
-  const auto names = r.get<std::uint64_t>();
-  for (std::uint64_t k = 0; r.ok() && k < names; ++k) s.pair_names.push_back(r.getString());
+  sweepFields(r, s);
   if (!r.finished() || s.size < 0 || s.dof < 0) return false;
   const auto n = static_cast<std::size_t>(s.size);
   const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;

@@ -5,15 +5,8 @@
 namespace armstudy {
 
 const Stage& trackingStage() {
-  using Entries = std::vector<tracking::TrackingEntry>;
-  static const FunctionStage<Entries> stage(
-      "tracking",
-      [](const SectionInput& in) -> std::optional<Entries> {
-        Entries entries = tracking::readTrackingEntries(in.top, in.designs, in.obstacles);
-        if (entries.empty()) return std::nullopt;
-        return entries;
-      },
-      [](const StageContext& ctx, const Entries& e) { return tracking::runTrackingStage(ctx, e); });
+  static const auto stage = FunctionStage<std::vector<tracking::TrackingEntry>>::ofEntries(
+      "tracking", tracking::readTrackingEntries, tracking::runTrackingStage);
   return stage;
 }
 

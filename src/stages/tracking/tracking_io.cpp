@@ -201,23 +201,14 @@ std::string TrackingEntry::validate(int dof) const {
   return t.validate(dof);
 }
 
-std::vector<TrackingEntry> readTrackingEntries(TableReader& top,
-                                               const std::vector<const Model*>& designs,
-                                               const std::vector<collision::Obstacle>& obstacles) {
+std::vector<TrackingEntry> readTrackingEntries(const SectionInput& in) {
   std::vector<TrackingEntry> out;
-  const toml::array* arr = top.array("tracking");
-  if (!arr) return out;
-  int idx = 0;
-  for (const auto& node : *arr) {
-    if (!node.is_table())
-      throw InputError(top.file(), static_cast<int>(node.source().begin.line), "tracking",
-                       "expected [[tracking]] tables");
-    TableReader r(*node.as_table(), top.file(), "tracking[" + std::to_string(idx++) + "]");
-    TrackingEntry e = readEntry(r, designs, obstacles);
+  in.top.forEachTable("tracking", [&](TableReader& r) {
+    TrackingEntry e = readEntry(r, in.designs, in.obstacles);
     for (const auto& other : out)
       if (other.name == e.name) r.fail("name", "tracking entry '" + e.name + "' is defined twice");
     out.push_back(std::move(e));
-  }
+  });
   return out;
 }
 

@@ -68,13 +68,11 @@ struct TrackingEntry {
   std::string validate(int dof) const;
 };
 
-// Reads every [[tracking]] entry of a study (none when absent). `designs` are the study's designs
-// and variants; `obstacles` its [[obstacle]] entries. Throws InputError (file, line, key) for an
+// Reads every [[tracking]] entry of a study (none when absent); entries name the study's designs,
+// variants and [[obstacle]] entries. Throws InputError (file, line, key) for an
 // unknown design or obstacle, q0 of the wrong length or outside the joint limits, a non-positive
 // duration or rate, a non-positive safety distance, negative weights, unknown keys, ...
-std::vector<TrackingEntry> readTrackingEntries(io::TableReader& top,
-                                               const std::vector<const Model*>& designs,
-                                               const std::vector<collision::Obstacle>& obstacles);
+std::vector<TrackingEntry> readTrackingEntries(const SectionInput& in);
 
 // The straight line of an entry: p(t) = p0 + (p1 - p0) t / T at constant speed, with the start
 // tool orientation held (for the orientation rows of position_axis and pose tasks).
