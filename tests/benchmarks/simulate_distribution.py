@@ -3,7 +3,9 @@
 
 Input: a per-unit cost record of a real run (ARMSTUDY_UNIT_TIMES=units.csv armstudy run ...
 --threads 1; columns unit,seconds,cpu_seconds,threads,rank,bytes). Units are grouped into batches
-by id (everything before the last '/'), in file order, as the stages run them.
+by id (everything before the last '/'), in file order, as the stages run them. Lines whose unit is
+"share:<id>" are the chunks (64 items each) of a shared loop (UnitRunner::share: the steps of the
+reach map search, the audit), consecutive lines of one id forming one step.
 
 Model, per batch (batches run one after another, as every rank runs the stages in lockstep):
   * rank 0 computes and, on a second thread, hands out chunks of the batch's units on demand:
@@ -15,36 +17,69 @@ Model, per batch (batches run one after another, as every rank runs the stages i
   * when every rank is done, the batch's result bytes go to every rank: sizes (an allgather,
     log2(N) latencies) and one broadcast per rank that computed something (log2(N) latencies
     each, the bytes at `bandwidth` bytes/s into every rank);
-  * then every rank merges the batch and runs the stage's serial work (searches across units,
-    files): `serial` seconds per batch, the same on every rank (it does not shrink with N).
+  * then every rank merges the batch and runs the stage's serial work (files, merges):
+    `serial` seconds per batch, the same on every rank (it does not shrink with N);
+  * a shared step (the search's Jacobi rounds, the audit) cuts its items into chunks of
+    64 * ceil(items / (16 N 64)) items owned round-robin (as src/study/distributed.cpp does); it
+    takes the busiest rank's chunks plus one allgather of the adopted rows (2 log2(N) latencies,
+    the bytes at `bandwidth`); --unshared: every rank computes every step (as before issue 16's
+    shared loops), i.e. the step costs its whole work on every rank.
 Makespan = sum over batches; efficiency = T1 / (N x makespan) with T1 = the single process
-(sum of unit costs + serial work); master load = busy time of rank 0's hand-out thread / makespan.
+(sum of unit costs + shared steps + serial work); master load = busy time of rank 0's hand-out thread / makespan.
 
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single] [--group G]
+      [--one-pool] [--unshared]
 """
 import argparse
 import csv
+import gzip
 import heapq
 import math
 from collections import OrderedDict
 
 
-def load_batches(path, scale, group):
-    """Batches of (cost, bytes) units; `group` consecutive recorded units of a batch form one unit."""
-    batches = OrderedDict()
-    with open(path) as f:
+def load_phases(path, scale, group):
+    """The record in file order as phases: ("units", [(cost, bytes)]) for a batch of units (`group`
+    consecutive recorded units form one unit) and ("step", [(cost, bytes)]) for a shared step's
+    64-item chunks."""
+    phases = []
+    with (gzip.open(path, "rt") if path.endswith(".gz") else open(path)) as f:
         for row in csv.DictReader(f):
             unit = row["unit"]
-            key = unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
             cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
-            batches.setdefault(key, []).append((cost, int(row.get("bytes") or 0)))
+            item = (cost, int(row.get("bytes") or 0))
+            if unit.startswith("share:"):
+                kind, key = "step", unit
+            else:
+                kind, key = "units", unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
+            if phases and phases[-1][0] == kind and phases[-1][1] == key:
+                phases[-1][2].append(item)
+            else:
+                phases.append((kind, key, [item]))
     out = []
-    for units in batches.values():
-        out.append([(sum(c for c, _ in units[i:i + group]), sum(b for _, b in units[i:i + group]))
-                    for i in range(0, len(units), group)])
+    for kind, _, items in phases:
+        if kind == "units":
+            items = [(sum(c for c, _ in items[i:i + group]), sum(b for _, b in items[i:i + group]))
+                     for i in range(0, len(items), group)]
+        out.append((kind, items))
     return out
+
+
+def simulate_step(chunks, n, latency, bandwidth, unshared):
+    """Seconds of one shared step on n ranks (chunks: the recorded 64-item chunks)."""
+    work = sum(c for c, _ in chunks)
+    if n == 1:
+        return work
+    if unshared:
+        return work
+    per = max(1, math.ceil(len(chunks) / (16 * n)))  # recorded chunks per chunk of the run
+    load = [0.0] * n
+    for k in range(0, math.ceil(len(chunks) / per)):
+        load[k % n] += sum(c for c, _ in chunks[k * per:(k + 1) * per])
+    total_bytes = sum(b for _, b in chunks)
+    return max(load) + 2 * math.log2(n) * latency + total_bytes / bandwidth
 
 
 def simulate_batch(units, n, latency, service, poll, bandwidth, single):
@@ -115,45 +150,52 @@ def main():
     ap.add_argument("--poll", type=float, default=5e-4)
     ap.add_argument("--bandwidth", type=float, default=5e9)
     ap.add_argument("--single", action="store_true", help="one unit per hand-out instead of guided chunks")
+    ap.add_argument("--unshared", action="store_true",
+                    help="every rank computes every shared step (the runner before the search was shared)")
     ap.add_argument("--one-pool", action="store_true",
                     help="what-if: every batch of the study handed out from one pool (no barrier between "
                          "batches) and the batches' serial work spread over the ranks")
     a = ap.parse_args()
 
-    batches = load_batches(a.csv, a.scale, a.group) * a.replicate
+    phases = load_phases(a.csv, a.scale, a.group) * a.replicate
+    batches = [items for kind, items in phases if kind == "units"]
+    steps = [items for kind, items in phases if kind == "step"]
     serial = a.serial_total * a.replicate / max(1, len(batches))
     units = sum(len(b) for b in batches)
     work = sum(c for b in batches for c, _ in b)
-    t1 = work + serial * len(batches)
+    step_work = sum(c for st in steps for c, _ in st)
+    t1 = work + step_work + serial * len(batches)
     costs = sorted(c for b in batches for c, _ in b)
     print(f"{len(batches)} batches, {units} units, unit cost median {costs[len(costs) // 2] * 1e3:.1f} ms, "
           f"max {costs[-1] * 1e3:.1f} ms, units per batch {min(len(b) for b in batches)}..{max(len(b) for b in batches)}; "
-          f"T1 = {t1:.1f} s (units {work:.1f} s, serial {serial * len(batches):.1f} s)")
+          f"{len(steps)} shared steps; T1 = {t1:.1f} s (units {work:.1f} s, shared steps {step_work:.1f} s, "
+          f"serial {serial * len(batches):.1f} s)")
     print(f"latency {a.latency * 1e6:.0f} us, hand-out service {a.service * 1e6:.0f} us, idle poll <= {a.poll * 1e6:.0f} us, "
-          f"bandwidth {a.bandwidth / 1e9:.1f} GB/s, {'one unit' if a.single else 'guided chunks'} per hand-out")
-    print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | idle: batch tails + exchange |")
+          f"bandwidth {a.bandwidth / 1e9:.1f} GB/s, {'one unit' if a.single else 'guided chunks'} per hand-out, "
+          f"steps {'repeated on every rank' if a.unshared else 'shared'}")
+    print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | in shared steps |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for n in [int(x) for x in a.ranks.split(",")]:
+        step_time = sum(simulate_step(st, n, a.latency, a.bandwidth, a.unshared) for st in steps)
         if a.one_pool:
             pool = [u for b in batches for u in b]
             t, mb, h = simulate_batch(pool, n, a.latency, a.service, a.poll, a.bandwidth, a.single)
             # The serial tasks (one per batch, equal) spread over the ranks.
-            total = t + serial * math.ceil(len(batches) / n)
+            total = t + serial * math.ceil(len(batches) / n) + step_time
             print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * mb / total:.2f} % | "
-                  f"{h / t:.0f} | {100 * (n * total - t1) / (n * total):.0f} % |")
+                  f"{h / t:.0f} | {100 * step_time / total:.0f} % |")
             continue
         total = busy = 0.0
         peak = 0.0
-        tail = 0.0
         for b in batches:
             t, mb, h = simulate_batch(b, n, a.latency, a.service, a.poll, a.bandwidth, a.single)
             total += t + serial
             busy += mb
             if t > 0:
                 peak = max(peak, h / t)
-            tail += n * t - sum(c for c, _ in b)
+        total += step_time
         print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * busy / total:.2f} % | "
-              f"{peak:.0f} | {100 * tail / (n * total):.0f} % |")
+              f"{peak:.0f} | {100 * step_time / total:.0f} % |")
 
 
 if __name__ == "__main__":
