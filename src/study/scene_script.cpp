@@ -23,6 +23,7 @@ GREY = (0.62, 0.62, 0.62)
 OBSTACLE_GREY = (0.40, 0.40, 0.40)
 
 import os
+import re
 import sys
 from paraview import servermanager
 from paraview.simple import *
@@ -86,7 +87,9 @@ def main():
             bars.add(array)
             shown.SetScalarBarVisibility(view, True)
             bar = GetScalarBar(GetColorTransferFunction(array), view)
-            units = [u.split(": ", 1)[1] for u in field_strings(source, "units") if u.startswith(array + ": ")]
+            base = re.sub(r"_o[0-9]+$", "", array)  # reach arrays per orientation: manipulability_o1
+            units = [u.split(": ", 1)[1].split(" (")[0] for u in field_strings(source, "units")
+                     if u.startswith(base + ": ")]
             bar.Title = array + (" [" + units[0] + "]" if units else "")
             bar.ComponentTitle = ""
             bar.Orientation = "Horizontal"  # a long title fits below the scene

@@ -22,6 +22,7 @@
 #include <random>
 
 #include "common/errors.hpp"
+#include "io/vtk_io.hpp"
 #include "stages/dexterity/dexterity_output.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"

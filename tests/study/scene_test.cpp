@@ -18,12 +18,24 @@ constexpr double kSurfaceTolerance = 1e-9;  // [m] a mesh vertex on its volume's
 
 // Distance of p from the core (point, segment or triangle) of a swept-sphere volume.
 double coreDistance(SsvType type, const std::array<Eigen::Vector3d, 3>& c, const Eigen::Vector3d& p) {
+  Eigen::Vector3d closest;
   switch (type) {
     case SsvType::Point: return (p - c[0]).norm();
-    case SsvType::Line: return std::sqrt(collision::squaredDistancePointSegment(p, c[0], c[1]));
-    case SsvType::Triangle: return std::sqrt(collision::squaredDistancePointTriangle(p, c[0], c[1], c[2]));
+    case SsvType::Line: return std::sqrt(collision::squaredDistancePointSegment(p, c[0], c[1], closest));
+    case SsvType::Triangle:
+      return std::sqrt(collision::squaredDistancePointTriangle(p, c[0], c[1], c[2], closest));
   }
   return NAN;
+}
+
+// A mesh vertex of a swept-sphere volume: never outside it, and on the sphere around one of its
+// core points or at the radius from the core (tube and face points); the corner spheres' inner
+// halves lie inside the volume.
+bool onVolume(SsvType type, const std::array<Eigen::Vector3d, 3>& c, double r, const Eigen::Vector3d& p) {
+  const double d = coreDistance(type, c, p);
+  bool on = std::abs(d - r) < kSurfaceTolerance;
+  for (int i = 0; i < static_cast<int>(type); ++i) on = on || std::abs((p - c[i]).norm() - r) < kSurfaceTolerance;
+  return on && d <= r + kSurfaceTolerance;
 }
 
 const io::NamedArray& array(const io::PolyDataSet& p, const std::string& name) {
@@ -50,11 +62,8 @@ TEST_CASE("obstacle surfaces lie on their spheres, capsules and swept triangles"
   for (std::size_t k = 0; k < poly.points.size(); ++k) {
     const collision::Obstacle& o = obs[static_cast<std::size_t>(idx.values[k])];
     ++count[static_cast<std::size_t>(idx.values[k])];
-    // On the surface: the distance from the core is the radius (the triangle's inner points of
-    // its corner spheres and edge tubes lie inside the volume, at most the radius away).
-    const double d = coreDistance(o.type, o.p_W, poly.points[k]);
-    if (o.type == SsvType::Triangle) CHECK(d <= o.radius_m + kSurfaceTolerance);
-    else CHECK(std::abs(d - o.radius_m) < kSurfaceTolerance);
+    CHECK(onVolume(o.type, o.p_W, o.radius_m, poly.points[k]));
+    if (o.type == SsvType::Point) CHECK(std::abs((poly.points[k] - o.p_W[0]).norm() - o.radius_m) < kSurfaceTolerance);
   }
   CHECK(count[0] > 0);
   CHECK(count[1] > 0);
@@ -85,8 +94,7 @@ TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the po
   for (std::size_t k = 0; k < poly.points.size(); ++k) {
     if (part.values[k] != 1) continue;
     ++surface;
-    // Some volume of the point's body has the point within its radius of the core; for
-    // spheres and capsules exactly at it.
+    // The point lies on some volume of its body.
     bool on = false;
     for (const CollisionVolume& v : m.collision.volumes) {
       if (v.link != static_cast<int>(body.values[k])) continue;
@@ -94,9 +102,7 @@ TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the po
       const Eigen::Vector3d p = v.link < 0 ? Eigen::Vector3d(m.T_WB.translation()) : ws.p_WF[v.link];
       std::array<Eigen::Vector3d, 3> c;
       for (int j = 0; j < 3; ++j) c[j] = p + R * v.p_L[j];
-      const double d = coreDistance(v.type, c, poly.points[k]);
-      on = on || (v.type == SsvType::Triangle ? d <= v.radius_m + kSurfaceTolerance
-                                              : std::abs(d - v.radius_m) < kSurfaceTolerance);
+      on = on || onVolume(v.type, c, v.radius_m, poly.points[k]);
     }
     CHECK(on);
   }

@@ -14,28 +14,20 @@ namespace {
 
 // The map's point arrays (the same in the .vti and the .vts): NaN where a quantity does not exist.
 std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& f) {
-  std::vector<io::NamedArray> arrays;
-  auto add = [&](const char* name, const std::vector<double>& v,
-                 io::ArrayType type = io::ArrayType::Float64) {
-    arrays.push_back({name, type, 1, v});
-  };
-  add("reachable", f.reachable, io::ArrayType::UInt8);
-  add("manipulability_plain", f.manip_plain);
-  add("manipulability_optimised", f.manip_opt);
-  add("manipulability_plain_normalised", f.manip_plain_norm);
-  add("manipulability_optimised_normalised", f.manip_opt_norm);
-  add("transmission_plain", f.beta_plain);
-  add("transmission_optimised", f.beta_opt);
-  add("inverse_condition_plain", f.invcond_plain);
-  add("inverse_condition_optimised", f.invcond_opt);
-  add("sigma_min_plain", f.smin_plain);
-  add("sigma_min_optimised", f.smin_opt);
-  add("objective_plain", f.H_plain);
-  add("objective_optimised", f.H_opt);
-  add("nullspace_iterations", f.nullspace_iterations);
+  std::vector<io::NamedArray> arrays{{"reachable", io::ArrayType::UInt8, 1, f.reachable}};
+  const std::pair<const char*, const std::vector<double>*> fields[] = {
+      {"manipulability_plain", &f.manip_plain}, {"manipulability_optimised", &f.manip_opt},
+      {"manipulability_plain_normalised", &f.manip_plain_norm},
+      {"manipulability_optimised_normalised", &f.manip_opt_norm}, {"transmission_plain", &f.beta_plain},
+      {"transmission_optimised", &f.beta_opt}, {"inverse_condition_plain", &f.invcond_plain},
+      {"inverse_condition_optimised", &f.invcond_opt}, {"sigma_min_plain", &f.smin_plain},
+      {"sigma_min_optimised", &f.smin_opt}, {"objective_plain", &f.H_plain}, {"objective_optimised", &f.H_opt},
+      {"nullspace_iterations", &f.nullspace_iterations}};
+  for (const auto& [name, v] : fields) arrays.push_back({name, io::ArrayType::Float64, 1, *v});
   std::vector<double> found_by(map.cells.size());
   for (std::size_t i = 0; i < map.cells.size(); ++i) found_by[i] = static_cast<double>(map.cells[i].found_by);
-  add("found_by", found_by, io::ArrayType::UInt8);  // 0 chained row, 1 seeded multi-start, 2 neighbour
+  // 0 chained row, 1 seeded multi-start, 2 neighbour
+  arrays.push_back({"found_by", io::ArrayType::UInt8, 1, found_by});
   return arrays;
 }
 
