@@ -14,8 +14,8 @@
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "report/html_report.hpp"
-#include "study/scene.hpp"
 #include "study/checkpoint.hpp"
+#include "study/scene.hpp"
 
 namespace armstudy {
 
@@ -124,12 +124,11 @@ struct ScratchFolder {
 
 // How to open the scene (the report.html section of the scene files).
 std::string sceneReport(const Study& study) {
-  std::string md = "# ParaView scene\n\n`scene.py` opens every spatial file of this run in one ParaView view, in "
-                   "world metres (maps coloured by manipulability or status, robot and obstacles grey): "
-                   "`pvpython output/" + study.name + "/scene.py` (a window), `pvpython output/" + study.name +
-                   "/scene.py --screenshot scene.png` (offscreen) or `paraview --script=output/" + study.name +
-                   "/scene.py`. Every file carries field data `coordinates`, `units` and, for enumerations, "
-                   "`legend` (docs/paraview.md).\n\n";
+  std::string md = "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
+                   "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
+                   "obstacles grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` "
+                   "(a picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
+                   "`units` and, for enumerations, `legend` (docs/paraview.md).\n\n";
   if (!study.obstacles.empty())
     md += "`scene/obstacles.vtp`: the study's " + std::to_string(study.obstacles.size()) +
           " obstacles as surfaces (array `obstacle`, named in the field data `legend`).\n\n";
