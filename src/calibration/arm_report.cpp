@@ -2,6 +2,7 @@
 // docs/calibration.md, "Outputs".
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -193,7 +194,14 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
       if (b.threshold[c] > 0) ratio.values[id] = std::max(ratio.values[id], std::abs(b.mean[c]) / b.threshold[c]);
     }
   }
+  // A cell without samples has no residual: NaN (ParaView leaves it uncoloured).
+  for (long id = 0; id < np; ++id)
+    if (n.values[id] == 0) mr.values[id] = ratio.values[id] = std::numeric_limits<double>::quiet_NaN();
   g.point_arrays = {n, fl, mr, ratio};
+  g.field_data = io::fieldData({"position: m (cell centres)", "n: 1 (samples in the cell)", "flagged: 1",
+                                "mean_residual_max_abs: the channels' units (largest |mean| over them)", "mean_over_threshold_max: 1"},
+                               {"flagged 0: no", "flagged 1: a channel's mean residual over its threshold",
+                                "mean_residual_max_abs, mean_over_threshold_max: NaN where n = 0"});
   {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
     report::HeatmapSpec h;  // absolute values: a sequential scale
     h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
@@ -229,6 +237,9 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
     for (int i = 0; i < P.rows(); ++i) a.values.push_back(f.residual(i, c));
     poly.point_arrays.push_back(a);
   }
+  std::vector<std::string> units{"position: m (TCP position of each data row in W)"};
+  for (int c = 0; c < P.channels(); ++c) units.push_back("residual_" + P.channel_names[c] + ": " + P.channel_units[c]);
+  poly.field_data = io::fieldData(units);
   io::writeVtp((fs::path(dir) / (stage + "_residual_points.vtp")).string(), poly);
   files.push_back(stage + "_residual_points.vtp");
 }

@@ -15,6 +15,7 @@
 #include "io/files.hpp"
 #include "report/html_report.hpp"
 #include "study/checkpoint.hpp"
+#include "study/scene.hpp"
 
 namespace armstudy {
 
@@ -121,6 +122,19 @@ struct ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
 };
 
+// How to open the scene (the report.html section of the scene files).
+std::string sceneReport(const Study& study) {
+  std::string md = "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
+                   "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
+                   "obstacles grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` "
+                   "(a picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
+                   "`units` and, for enumerations, `legend` (docs/paraview.md).\n\n";
+  if (!study.obstacles.empty())
+    md += "`scene/obstacles.vtp`: the study's " + std::to_string(study.obstacles.size()) +
+          " obstacles as surfaces (array `obstacle`, named in the field data `legend`).\n\n";
+  return md;
+}
+
 }  // namespace
 
 RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& ranks) {
@@ -213,6 +227,20 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // Every rank is done (its units are saved) before rank 0 marks the run complete.
   agreed(ranks, [] {});
   if (!root) return sum;
+
+  // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
+  // spatial file of the run in one view.
+  Writer scene_out(sum.output_dir);
+  if (!study.obstacles.empty()) {
+    io::writeVtp(scene_out.path("scene/obstacles.vtp"), scene::obstaclePolyData(study.obstacles));
+    scene_out.add("scene/obstacles.vtp");
+  }
+  std::vector<std::string> spatial = sum.files_written;
+  spatial.insert(spatial.end(), scene_out.files().begin(), scene_out.files().end());
+  scene_out.text("scene.py", scene::sceneScript(study.name, spatial));
+  scene_out.text("scene/report.md", sceneReport(study));
+  pages.push_back({"ParaView scene", scene_out.files()});
+  sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
 
   writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
   sum.files_written.push_back("report.html");

@@ -1,7 +1,9 @@
 #include "io/vtk_io.hpp"
 
 #include <vtkCellArray.h>
+#include <vtkDataSet.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
@@ -10,9 +12,15 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkStructuredGrid.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLStructuredGridWriter.h>
+
+#include <cstdio>
+#include <sstream>
 
 #include "common/errors.hpp"
 #include "io/files.hpp"
@@ -41,6 +49,24 @@ vtkSmartPointer<vtkDataArray> makeArray(const NamedArray& a, long tuples) {
   return arr;
 }
 
+void addFieldData(vtkDataSet* data, const std::vector<FieldStrings>& fields) {
+  for (const FieldStrings& f : fields) {
+    vtkNew<vtkStringArray> a;
+    a->SetName(f.name.c_str());
+    a->SetNumberOfValues(static_cast<vtkIdType>(f.values.size()));
+    for (std::size_t i = 0; i < f.values.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), f.values[i]);
+    data->GetFieldData()->AddArray(a);
+  }
+}
+
+vtkSmartPointer<vtkPoints> makePoints(const std::vector<Eigen::Vector3d>& p) {
+  auto pts = vtkSmartPointer<vtkPoints>::New();
+  pts->SetDataTypeToDouble();
+  pts->SetNumberOfPoints(static_cast<vtkIdType>(p.size()));
+  for (std::size_t i = 0; i < p.size(); ++i) pts->SetPoint(static_cast<vtkIdType>(i), p[i].x(), p[i].y(), p[i].z());
+  return pts;
+}
+
 template <class Writer>
 void writeAtomic(Writer* w, const std::string& path) {
   w->SetDataModeToAppended();
@@ -52,12 +78,20 @@ void writeAtomic(Writer* w, const std::string& path) {
 
 }  // namespace
 
+std::vector<FieldStrings> fieldData(std::vector<std::string> units, std::vector<std::string> legend,
+                                    std::string coordinates) {
+  std::vector<FieldStrings> f{{"coordinates", {std::move(coordinates)}}, {"units", std::move(units)}};
+  if (!legend.empty()) f.push_back({"legend", std::move(legend)});
+  return f;
+}
+
 void writeVti(const std::string& path, const ImageGrid& g) {
   vtkNew<vtkImageData> img;
   img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   img->SetOrigin(g.origin[0], g.origin[1], g.origin[2]);
   img->SetSpacing(g.spacing[0], g.spacing[1], g.spacing[2]);
   for (const NamedArray& a : g.point_arrays) img->GetPointData()->AddArray(makeArray(a, g.points()));
+  addFieldData(img, g.field_data);
   vtkNew<vtkXMLImageDataWriter> w;
   w->SetInputData(img);
   writeAtomic(w.GetPointer(), path);
@@ -65,12 +99,7 @@ void writeVti(const std::string& path, const ImageGrid& g) {
 
 void writeVtp(const std::string& path, const PolyDataSet& p) {
   vtkNew<vtkPolyData> poly;
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  pts->SetNumberOfPoints(static_cast<vtkIdType>(p.points.size()));
-  for (std::size_t i = 0; i < p.points.size(); ++i)
-    pts->SetPoint(static_cast<vtkIdType>(i), p.points[i].x(), p.points[i].y(), p.points[i].z());
-  poly->SetPoints(pts);
+  poly->SetPoints(makePoints(p.points));
   const long n = static_cast<long>(p.points.size());
   auto checkIndex = [n](int i) { ARMSTUDY_CHECK(i >= 0 && i < n, "poly data cell index out of range"); };
   if (p.vertices) {
@@ -104,9 +133,36 @@ void writeVtp(const std::string& path, const PolyDataSet& p) {
                    "active tensors '" + p.active_tensors + "' is not a point array");
     poly->GetPointData()->SetActiveTensors(p.active_tensors.c_str());
   }
+  addFieldData(poly, p.field_data);
   vtkNew<vtkXMLPolyDataWriter> w;
   w->SetInputData(poly);
   writeAtomic(w.GetPointer(), path);
+}
+
+void writeVts(const std::string& path, const StructuredGridSet& g) {
+  const long n = static_cast<long>(g.dims[0]) * g.dims[1] * g.dims[2];
+  ARMSTUDY_CHECK(static_cast<long>(g.points.size()) == n, "structured grid: points do not match its dimensions");
+  vtkNew<vtkStructuredGrid> grid;
+  grid->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
+  grid->SetPoints(makePoints(g.points));
+  for (const NamedArray& a : g.point_arrays) grid->GetPointData()->AddArray(makeArray(a, n));
+  addFieldData(grid, g.field_data);
+  vtkNew<vtkXMLStructuredGridWriter> w;
+  w->SetInputData(grid);
+  writeAtomic(w.GetPointer(), path);
+}
+
+void writePvd(const std::string& path, const std::vector<PvdStep>& steps) {
+  std::ostringstream s;
+  s << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+    << "  <Collection>\n";
+  for (const PvdStep& st : steps) {
+    char t[32];
+    std::snprintf(t, sizeof t, "%.9g", st.time);
+    s << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << st.file << "\"/>\n";
+  }
+  s << "  </Collection>\n</VTKFile>\n";
+  writeFileAtomic(path, s.str());
 }
 
 }  // namespace armstudy::io

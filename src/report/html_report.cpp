@@ -387,12 +387,15 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       body << "</div>\n";
     }
     // Data files for ParaView and scripts.
+    // (The steps of a .pvd time series are listed by the .pvd, not here.)
     std::vector<std::string> data;
     for (const std::string& f : st.files)
-      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md")) data.push_back(f);
+      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md") && f.find("/step_") == std::string::npos)
+        data.push_back(f);
     if (!data.empty()) {
-      body << "<h3 id=\"" << sid << "-files\">Data files</h3>\n<p>Open the <code>.vti</code>, <code>.vtp</code> "
-              "and <code>.pvd</code> files in ParaView; the tables are CSV and JSON.</p>\n<ul class=\"files\">\n";
+      body << "<h3 id=\"" << sid << "-files\">Data files</h3>\n<p>Open the <code>.vti</code>, <code>.vts</code>, "
+              "<code>.vtp</code> and <code>.pvd</code> files in ParaView (all of them in one view: "
+              "<code>pvpython scene.py</code>); the tables are CSV and JSON.</p>\n<ul class=\"files\">\n";
       nav << "<li class=\"l3\"><a href=\"#" << sid << "-files\">Data files</a></li>\n";
       for (const std::string& f : data)
         body << "<li><a href=\"" << htmlEscape(f) << "\"><code>" << htmlEscape(f) << "</code></a></li>\n";

@@ -8,8 +8,11 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPNGReader.h>
+#include <vtkStringArray.h>
+#include <vtkStructuredGrid.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
+#include <vtkXMLStructuredGridReader.h>
 
 #include <algorithm>
 #include <array>
@@ -19,6 +22,7 @@
 #include <random>
 
 #include "common/errors.hpp"
+#include "io/vtk_io.hpp"
 #include "stages/dexterity/dexterity_output.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -311,6 +315,72 @@ transmission = 0.05
   CHECK(bar);
   CHECK(std::filesystem::exists(base + "report.md"));
   CHECK(std::filesystem::exists(base + "summary.json"));
+}
+
+TEST_CASE("the map on its cylinder around the stem: world metres, the .vti's arrays, the arm at the best cell",
+          "[dexterity][io][oracle]") {
+  const std::string dir = tempDir("cylinder");
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  const DexterityOptions o = smallOptions();
+  const DexterityMap map = computeDexterityMap(m, o, 2);
+  const MapFields f = mapFields(map);
+  const std::vector<std::string> files = writeMapVtk(map, f, m, o.measure_space, false, dir);
+  CHECK(files == std::vector<std::string>{"first_prototype_9dof.vti", "first_prototype_9dof_cylinder.vts",
+                                          "first_prototype_9dof_robot_best.vtp"});
+  vtkNew<vtkXMLStructuredGridReader> sr;
+  sr->SetFileName((dir + "/first_prototype_9dof_cylinder.vts").c_str());
+  sr->Update();
+  vtkStructuredGrid* cyl = sr->GetOutput();
+  vtkNew<vtkXMLImageDataReader> ir;
+  ir->SetFileName((dir + "/first_prototype_9dof.vti").c_str());
+  ir->Update();
+  vtkImageData* img = ir->GetOutput();
+  const int G = o.grid.gamma_rad.count, Z = o.grid.z_m.count;
+  REQUIRE(cyl->GetNumberOfPoints() == G * Z);
+  for (int j = 0; j < Z; ++j)
+    for (int i = 0; i < G; ++i) {
+      // Fig. 3.4 written out here: the TCP at gamma from +y towards +x, r from the stem axis.
+      const double g = -M_PI / 2 + i * M_PI / (G - 1), z = 0.2 + j * 1.2 / (Z - 1);
+      const Eigen::Vector3d expect(0.225 - 0.15 * std::sin(g), 0.7 - 0.15 * std::cos(g), z);
+      double p[3];
+      cyl->GetPoint(j * G + i, p);
+      CHECK((Eigen::Vector3d(p[0], p[1], p[2]) - expect).norm() < kGeometryTolerance);
+    }
+  // Every array of the (gamma, z) image is on the cylinder with the same values (NaN alike).
+  vtkPointData* ip = img->GetPointData();
+  REQUIRE(ip->GetNumberOfArrays() >= 15);
+  for (int a = 0; a < ip->GetNumberOfArrays(); ++a) {
+    vtkDataArray* x = ip->GetArray(a);
+    vtkDataArray* y = cyl->GetPointData()->GetArray(x->GetName());
+    INFO(x->GetName());
+    REQUIRE(y);
+    for (vtkIdType k = 0; k < x->GetNumberOfTuples(); ++k) {
+      if (std::isnan(x->GetTuple1(k))) CHECK(std::isnan(y->GetTuple1(k)));
+      else CHECK(x->GetTuple1(k) == y->GetTuple1(k));
+    }
+  }
+  auto field = [](vtkDataObject* d, const char* name) {
+    auto* s = vtkStringArray::SafeDownCast(d->GetFieldData()->GetAbstractArray(name));
+    return s ? std::string(s->GetValue(0)) : std::string();
+  };
+  CHECK(field(cyl, "coordinates") == io::kWorldMetres);
+  CHECK(field(img, "coordinates").rfind("parameter plane", 0) == 0);
+  CHECK(field(img, "legend").rfind("reachable 0", 0) == 0);
+  // The arm at the cell of the best optimised manipulability: its skeleton ends at that cell's TCP.
+  int best = -1;
+  for (std::size_t i = 0; i < map.cells.size(); ++i)
+    if (map.cells[i].reachable && (best < 0 || map.cells[i].opt.manipulability > map.cells[best].opt.manipulability))
+      best = static_cast<int>(i);
+  REQUIRE(best >= 0);
+  vtkNew<vtkXMLPolyDataReader> rr;
+  rr->SetFileName((dir + "/first_prototype_9dof_robot_best.vtp").c_str());
+  rr->Update();
+  vtkPolyData* robot = rr->GetOutput();
+  REQUIRE(robot->GetNumberOfLines() >= 1);
+  double tcp[3];
+  robot->GetPoint(m.dof() + 1, tcp);  // skeleton: base, one point per joint frame, TCP
+  CHECK((Eigen::Vector3d(tcp[0], tcp[1], tcp[2]) - map.grid.cell(best % G, best / G).target.p_WT).norm() <
+        kOnPoseTolerance);
 }
 
 TEST_CASE("bad [dexterity] input is rejected with file, line and key before any work",

@@ -13,7 +13,6 @@
 #include "common/errors.hpp"
 #include "dexterity/dexterity_audit.hpp"
 #include "io/files.hpp"
-#include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/plot.hpp"
 #include "study/writer.hpp"
@@ -87,81 +86,6 @@ FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field)
     s.any = true;
   }
   return s;
-}
-
-std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir) {
-  const StemGrid& g = map.grid;
-  io::ImageGrid grid;
-  // Axes: x = gamma [rad], y = z [m]; point index = i_gamma + i_z * n_gamma (VTK order).
-  grid.dims = {g.gamma_rad.count, g.z_m.count, 1};
-  grid.origin = {g.gamma_rad.min, g.z_m.min, 0.0};
-  grid.spacing = {g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
-                  g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0};
-  auto add = [&](const char* name, const std::vector<double>& v,
-                 io::ArrayType type = io::ArrayType::Float64) {
-    grid.point_arrays.push_back({name, type, 1, v});
-  };
-  add("reachable", f.reachable, io::ArrayType::UInt8);
-  add("manipulability_plain", f.manip_plain);
-  add("manipulability_optimised", f.manip_opt);
-  add("manipulability_plain_normalised", f.manip_plain_norm);
-  add("manipulability_optimised_normalised", f.manip_opt_norm);
-  add("transmission_plain", f.beta_plain);
-  add("transmission_optimised", f.beta_opt);
-  add("inverse_condition_plain", f.invcond_plain);
-  add("inverse_condition_optimised", f.invcond_opt);
-  add("sigma_min_plain", f.smin_plain);
-  add("sigma_min_optimised", f.smin_opt);
-  add("objective_plain", f.H_plain);
-  add("objective_optimised", f.H_opt);
-  add("nullspace_iterations", f.nullspace_iterations);
-  std::vector<double> found_by(map.cells.size());
-  for (std::size_t i = 0; i < map.cells.size(); ++i) found_by[i] = static_cast<double>(map.cells[i].found_by);
-  add("found_by", found_by, io::ArrayType::UInt8);  // 0 chained row, 1 seeded multi-start, 2 neighbour
-  const std::string name = map.design + ".vti";
-  io::writeVti((std::filesystem::path(dir) / name).string(), grid);
-  return name;
-}
-
-std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir) {
-  io::PolyDataSet poly;
-  poly.vertices = true;
-  // U diag(sigma) U^T: ParaView's Tensor Glyph draws semi-axes sigma_k along u_k.
-  io::NamedArray tensor{"ellipsoid_tensor", io::ArrayType::Float64, 9, {}};
-  io::NamedArray semi{"semi_axes", io::ArrayType::Float64, 3, {}};
-  constexpr io::ArrayType kF64 = io::ArrayType::Float64;
-  io::NamedArray a1{"axis_1", kF64, 3, {}}, a2{"axis_2", kF64, 3, {}}, a3{"axis_3", kF64, 3, {}};
-  io::NamedArray u{"u", kF64, 3, {}}, manip{"manipulability", kF64, 1, {}};
-  io::NamedArray beta{"transmission", kF64, 1, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
-  auto push3 = [](io::NamedArray& a, const Eigen::Vector3d& v) {
-    a.values.insert(a.values.end(), {v.x(), v.y(), v.z()});
-  };
-  const int G = map.grid.gamma_rad.count;
-  for (std::size_t i = 0; i < map.cells.size(); ++i) {
-    const CellResult& c = map.cells[i];
-    if (!c.reachable) continue;
-    const StemGrid::Cell cell = map.grid.cell(static_cast<int>(i) % G, static_cast<int>(i) / G);
-    const metrics::Ellipsoid& e = optimised ? c.ellipsoid_opt : c.ellipsoid_plain;
-    poly.points.push_back(cell.target.p_WT);
-    const Eigen::Matrix3d T = e.axes_W * e.lengths.asDiagonal() * e.axes_W.transpose();
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) tensor.values.push_back(T(r, k));
-    push3(semi, e.lengths);
-    push3(a1, e.lengths[0] * e.axes_W.col(0));
-    push3(a2, e.lengths[1] * e.axes_W.col(1));
-    push3(a3, e.lengths[2] * e.axes_W.col(2));
-    push3(u, cell.u_W);
-    manip.values.push_back((optimised ? c.opt : c.plain).manipulability);
-    beta.values.push_back((optimised ? c.opt : c.plain).transmission);
-    gam.values.push_back(cell.gamma);
-    zz.values.push_back(cell.z);
-  }
-  for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u, &manip, &beta, &gam, &zz})
-    poly.point_arrays.push_back(std::move(*a));
-  poly.active_tensors = "ellipsoid_tensor";
-  const std::string name = map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
-  io::writeVtp((std::filesystem::path(dir) / name).string(), poly);
-  return name;
 }
 
 namespace {
@@ -320,11 +244,8 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     addMapMetrics(sum.metrics, map);
     sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
     const MapFields f = mapFields(map);
-    out.add(sub + "/" + writeMapVti(map, f, dir));
-    if (options.ellipsoids) {
-      out.add(sub + "/" + writeEllipsoidsVtp(map, false, dir));
-      out.add(sub + "/" + writeEllipsoidsVtp(map, true, dir));
-    }
+    for (const std::string& name : writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
+      out.add(sub + "/" + name);
     const int G = g.gamma_rad.count;
     // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
     // max), reachable.

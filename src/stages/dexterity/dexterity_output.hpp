@@ -29,10 +29,13 @@ struct MapFields {
 MapFields mapFields(const DexterityMap& map);
 FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field);
 
-// Writes <dir>/<design>.vti; returns the file name relative to dir.
-std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir);
-// Writes <dir>/<design>_ellipsoids_{plain|optimised}.vtp (reachable cells only).
-std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir);
+// Writes the map's VTK files into dir and returns their names relative to it (docs/dexterity.md):
+// <design>.vti over (gamma [rad], z [m]); <design>_cylinder.vts, the same arrays on the cylinder
+// around the stem in world metres; <design>_robot_best.vtp, the arm at the best optimised
+// manipulability (when a cell is reachable); with `ellipsoids`,
+// <design>_ellipsoids_{plain|optimised}.vtp (reachable cells only). `model` is the map's design.
+std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f, const Model& model,
+                                     metrics::MeasureSpace space, bool ellipsoids, const std::string& dir);
 
 // The cells of rows [rows.begin, rows.end) as checkpoint unit bytes (every field, bit for bit),
 // and back into a map of the same grid and design size: false, with the map unchanged, when the

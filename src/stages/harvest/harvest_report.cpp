@@ -210,6 +210,16 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   }
   img.point_arrays = {status, ratio, ratio_rev, limj};
   for (auto& h : hold) img.point_arrays.push_back(std::move(h));
+  std::vector<std::string> units{"position: m", "status: 1", "max_current_ratio: 1", "max_current_ratio_revolute: 1",
+                                 "limiting_joint: 1"};
+  std::vector<std::string> legend{"status 0: unreachable (every other quantity NaN, limiting_joint -1)",
+                                  "status 1: the drives hold the pose", "status 2: a drive over its limit",
+                                  "limiting_joint -1: none"};
+  for (int i = 0; i < n; ++i) {
+    units.push_back("holding_" + model.joints[i].name + (isRevolute(model, i) ? ": N m" : ": N"));
+    legend.push_back("limiting_joint " + std::to_string(i) + ": " + model.joints[i].name);
+  }
+  img.field_data = io::fieldData(units, legend);
   io::writeVti(out.path("harvest/" + base + "_holding.vti"), img);
   out.add("harvest/" + base + "_holding.vti");
   M.scalars[mprefix + "holding_reachable_fraction"] = reachable / static_cast<double>(np);

@@ -156,10 +156,12 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                                              for (int k = 0; k < no; ++k) c += s.reachable(k * points + p);
                                              return double(c);
                                            }));
+      img.field_data = poseFieldData(s, &g);
       const std::string rel = gdir + "/" + s.design + ".vti";
       io::writeVti(out.path(rel), img);
       out.add(rel);
       jd["vti"] = rel;
+      writeBestRobot(out, gdir + "/" + s.design + "_robot_best.vtp", sd.model, s);
     }
     // Boundary surface of the reachable region (3-D grids).
     if (cfg.outputs.surface && g.spatialDimension() == 3) {
@@ -174,6 +176,8 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         io::PolyDataSet poly;
         poly.points = bs.vertices;
         poly.triangles = bs.triangles;
+        poly.field_data = io::fieldData({"position: m"}, {"surface: boundary of the reachable grid points (" +
+                                                          orientationText(g, k) + ")"});
         const std::string rel = gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
         io::writeVtp(out.path(rel), poly);
         out.add(rel);
@@ -289,6 +293,11 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                                              return double(c);
                                            }));
       }
+      std::vector<std::string> legend;
+      for (std::size_t di = 0; di < sweeps.size(); ++di)
+        legend.push_back("reached_by_mask bit " + std::to_string(di) + " (value " + std::to_string(1L << di) +
+                         "): " + sweeps[di].design);
+      img.field_data = io::fieldData({"position: m", "reached_by_mask: 1 (bit mask)", "reached_by_count: 1"}, legend);
       const std::string rel = gdir + "/comparison.vti";
       io::writeVti(out.path(rel), img);
       out.add(rel);

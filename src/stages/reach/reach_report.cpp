@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "report/markdown.hpp"
+#include "study/scene.hpp"
 
 namespace armstudy::reach_report {
 
@@ -182,15 +183,58 @@ report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string ti
   return f;
 }
 
+namespace {
+const char* const kStatusText[kReachStatusCount] = {"reachable", "out of reach", "blocked by joint limits",
+                                                    "representation singularity", "only in self-collision",
+                                                    "torque", "only in contact with an obstacle"};
+}  // namespace
+
 // Legend of the status map: the statuses that occur in it.
 std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts) {
-  const char* text[kReachStatusCount] = {"reachable", "out of reach", "blocked by joint limits",
-                                         "representation singularity", "only in self-collision", "torque",
-                                         "only in contact with an obstacle"};
   std::vector<report::LegendEntry> l;
   for (int k = 0; k < kReachStatusCount; ++k)
-    if (counts[k] > 0) l.push_back({report::categorical(k), text[k]});
+    if (counts[k] > 0) l.push_back({report::categorical(k), kStatusText[k]});
   return l;
+}
+
+std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g) {
+  std::vector<std::string> units{"position: m", "reachable: 1", "status: 1", "position_error_m: m",
+                                 "orientation_error_rad: rad", "manipulability: m^3 (sqrt(det(J J^T)), eq. 5.59)",
+                                 "joint_limit_margin: rad (m for prismatic joints)", "starts: 1",
+                                 "q: rad (m for prismatic joints)"};
+  if (s.obstacles) units.push_back("obstacle_distance: m");
+  if (s.collision) units.insert(units.end(), {"min_distance: m", "colliding_pair: 1"});
+  if (g && g->orientations.size() > 1) {
+    units.push_back("reachable_orientations: 1");
+    for (int k = 0; k < static_cast<int>(g->orientations.size()); ++k)
+      units.push_back("suffix " + suffix(*g, k) + ": orientation " + orientationText(*g, k));
+  }
+  std::vector<std::string> legend;
+  for (int k = 0; k < kReachStatusCount; ++k)
+    legend.push_back("status " + std::to_string(k) + ": " + toString(static_cast<ReachStatus>(k)) + " (" +
+                     kStatusText[k] + ")");
+  legend.push_back("manipulability: NaN where status != 0 (no solution); q, errors and margins there are the "
+                   "best attempt's");
+  if (s.collision) {
+    legend.push_back("colliding_pair -1: none");
+    for (std::size_t i = 0; i < s.pair_names.size(); ++i)
+      legend.push_back("colliding_pair " + std::to_string(i) + ": " + s.pair_names[i]);
+  }
+  return io::fieldData(units, legend);
+}
+
+bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, const PoseSweep& s) {
+  long best = -1;
+  for (long i = 0; i < s.size; ++i)
+    if (s.reachable(i) && (best < 0 || s.manipulability[i] > s.manipulability[best])) best = i;
+  if (best < 0) return false;
+  const Eigen::Map<const Eigen::VectorXd> q(s.q.data() + best * s.dof, s.dof);
+  io::PolyDataSet robot = scene::robotPolyData(model, q);
+  robot.field_data.push_back({"pose", {"the reachable pose of the largest manipulability, index " +
+                                       std::to_string(best + s.offset)}});
+  io::writeVtp(out.path(rel), robot);
+  out.add(rel);
+  return true;
 }
 
 // The self-collision and obstacle-collision columns of the report tables (when checked).

@@ -105,6 +105,12 @@ io::NamedArray arrayOf(const std::string& name, io::ArrayType type, const TaskGr
                        int k, int components, const std::function<double(long, int)>& value);
 void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const TaskGrid* g,
                    long points, int k, const std::string& sfx);
+// Field data of a sweep's VTK file (docs/paraview.md): units of the pose arrays, the status and
+// colliding-pair legends; with a grid `g` of several orientations, what each array suffix means.
+std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g);
+// Writes the arm at the sweep's reachable pose of the largest manipulability to out.path(rel)
+// (scene::robotPolyData) and lists it; false (nothing written) when no pose is reachable.
+bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, const PoseSweep& s);
 // The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the .svg
 // path (what the report shows).
 std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,

@@ -120,10 +120,13 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
         addPoseArrays(poly.point_arrays, s, nullptr, s.size, 0, "");
         poly.point_arrays.push_back(arrayOf("line", io::ArrayType::Int32, nullptr, s.size, 0, 1,
                                             [&](long i, int) { return double(l.lines[i]); }));
+        poly.field_data = poseFieldData(s, nullptr);
+        poly.field_data[1].values.push_back("line: 1");
         const std::string rel = "reach/" + l.name + "/" + s.design + ".vtp";
         io::writeVtp(out.path(rel), poly);
         out.add(rel);
         jd["vtp"] = rel;
+        writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
       }
       jdesigns.push_back(jd);
       rows.push_back({s.design, report::percent(st.fraction()),

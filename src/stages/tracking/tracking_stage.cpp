@@ -18,6 +18,7 @@
 #include "io/vtk_io.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
+#include "study/scene.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::tracking {
@@ -29,6 +30,7 @@ namespace {
 constexpr double kPathRate_Hz = 100.0;  // TCP path points per second in the .vtp
 constexpr double kPlotRate_Hz = 200.0;  // plotted samples per second in the SVGs
 constexpr int kCircleSegments = 36;     // wireframe circles of the obstacles in the .vtp
+constexpr int kMotionSteps = 31;        // robot time steps per run in the .pvd series
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -151,6 +153,11 @@ void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference
     if (np == 3) b.poly.triangles.push_back({core[0], core[1], core[2]});
   }
   b.finish();
+  b.poly.field_data = io::fieldData(
+      {"position: m", "time: s", "part: 1", "in_contact: 1", "radius: m"},
+      {"part 0: reference line", "part 1: TCP path", "part 2: arm skeleton (base, joint frames, TCP)",
+       "part 3: obstacle (core and three great circles of its radius)", "in_contact 0: clear",
+       "in_contact 1: an obstacle or self distance below 0"});
   io::writeVtp(path, b.poly);
 }
 
@@ -289,6 +296,10 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
       out.add("tracking/" + rb + ".csv");
       writeRunVtp(model, e, er.line, *r, out.path("tracking/" + rb + ".vtp"));
       out.add("tracking/" + rb + ".vtp");
+      std::vector<scene::MotionStep> steps;
+      for (int k : scene::evenSamples(static_cast<int>(r->samples.size()), kMotionSteps))
+        steps.push_back({r->samples[k].t, r->samples[k].q});
+      scene::writeMotion(out, "tracking/" + rb, model, steps);
       const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
       M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
       M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;

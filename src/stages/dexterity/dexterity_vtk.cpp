@@ -1,0 +1,167 @@
+#include <cmath>
+#include <filesystem>
+
+#include "io/vtk_io.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
+#include "study/scene.hpp"
+
+// The dexterity stage's VTK files (docs/dexterity.md, docs/paraview.md): the map over (gamma, z)
+// as .vti, the same map on its cylinder around the stem in world metres as .vts, the robot at the
+// map's best pose and the ellipsoid glyphs as .vtp.
+namespace armstudy::dexterity {
+
+namespace {
+
+// The map's point arrays (the same in the .vti and the .vts): NaN where a quantity does not exist.
+std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& f) {
+  std::vector<io::NamedArray> arrays{{"reachable", io::ArrayType::UInt8, 1, f.reachable}};
+  const std::pair<const char*, const std::vector<double>*> fields[] = {
+      {"manipulability_plain", &f.manip_plain}, {"manipulability_optimised", &f.manip_opt},
+      {"manipulability_plain_normalised", &f.manip_plain_norm},
+      {"manipulability_optimised_normalised", &f.manip_opt_norm}, {"transmission_plain", &f.beta_plain},
+      {"transmission_optimised", &f.beta_opt}, {"inverse_condition_plain", &f.invcond_plain},
+      {"inverse_condition_optimised", &f.invcond_opt}, {"sigma_min_plain", &f.smin_plain},
+      {"sigma_min_optimised", &f.smin_opt}, {"objective_plain", &f.H_plain}, {"objective_optimised", &f.H_opt},
+      {"nullspace_iterations", &f.nullspace_iterations}};
+  for (const auto& [name, v] : fields) arrays.push_back({name, io::ArrayType::Float64, 1, *v});
+  std::vector<double> found_by(map.cells.size());
+  for (std::size_t i = 0; i < map.cells.size(); ++i) found_by[i] = static_cast<double>(map.cells[i].found_by);
+  // 0 chained row, 1 seeded multi-start, 2 neighbour
+  arrays.push_back({"found_by", io::ArrayType::UInt8, 1, found_by});
+  return arrays;
+}
+
+// Units of the measures in a measure space (metrics/dexterity_measures.hpp).
+std::vector<std::string> measureUnits(metrics::MeasureSpace space) {
+  const bool t = space == metrics::MeasureSpace::Translational;
+  const std::string m3 = t ? "m^3 (translational Jacobian, revolute joints: per rad^3)" : "mixed m and rad (full Jacobian)";
+  const std::string s = t ? "m/rad" : "mixed m/rad and 1";
+  return {"manipulability_plain: " + m3, "manipulability_optimised: " + m3, "manipulability: " + m3,
+          "manipulability_plain_normalised: 1", "manipulability_optimised_normalised: 1",
+          "transmission_plain: m/rad", "transmission_optimised: m/rad", "transmission: m/rad",
+          "inverse_condition_plain: 1", "inverse_condition_optimised: 1", "sigma_min_plain: " + s,
+          "sigma_min_optimised: " + s, "objective_plain: 1", "objective_optimised: 1",
+          "nullspace_iterations: 1", "reachable: 1", "found_by: 1"};
+}
+
+const std::vector<std::string> kMapLegend = {
+    "reachable 0: no solution at this cell (every other quantity NaN)", "reachable 1: reachable",
+    "found_by 0: chained row", "found_by 1: seeded multi-start", "found_by 2: neighbour propagation"};
+
+std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir,
+                        const std::vector<std::string>& units) {
+  const StemGrid& g = map.grid;
+  io::ImageGrid grid;
+  // Axes: x = gamma [rad], y = z [m]; point index = i_gamma + i_z * n_gamma (VTK order).
+  grid.dims = {g.gamma_rad.count, g.z_m.count, 1};
+  grid.origin = {g.gamma_rad.min, g.z_m.min, 0.0};
+  grid.spacing = {g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
+                  g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0};
+  grid.point_arrays = mapArrays(map, f);
+  grid.field_data = io::fieldData(units, kMapLegend,
+                                  "parameter plane: x = gamma [rad], y = z [m] (world metres: " + map.design +
+                                      "_cylinder.vts)");
+  const std::string name = map.design + ".vti";
+  io::writeVti((std::filesystem::path(dir) / name).string(), grid);
+  return name;
+}
+
+// The same map on its cylinder around the stem: point (i_gamma, i_z) at the TCP position of
+// that cell, p_WT = (x_s, y_s, z) - r u(gamma) (dexterity/stem_grid.hpp).
+std::string writeMapVts(const DexterityMap& map, const MapFields& f, const std::string& dir,
+                        std::vector<std::string> units) {
+  const StemGrid& g = map.grid;
+  io::StructuredGridSet grid;
+  grid.dims = {g.gamma_rad.count, g.z_m.count, 1};
+  io::NamedArray gamma{"gamma", io::ArrayType::Float64, 1, {}}, z{"z", io::ArrayType::Float64, 1, {}};
+  for (int j = 0; j < g.z_m.count; ++j)
+    for (int i = 0; i < g.gamma_rad.count; ++i) {
+      const StemGrid::Cell c = g.cell(i, j);
+      grid.points.push_back(c.target.p_WT);
+      gamma.values.push_back(c.gamma);
+      z.values.push_back(c.z);
+    }
+  grid.point_arrays = mapArrays(map, f);
+  grid.point_arrays.push_back(std::move(gamma));
+  grid.point_arrays.push_back(std::move(z));
+  units.insert(units.begin(), {"position: m", "gamma: rad", "z: m"});
+  grid.field_data = io::fieldData(units, kMapLegend);
+  const std::string name = map.design + "_cylinder.vts";
+  io::writeVts((std::filesystem::path(dir) / name).string(), grid);
+  return name;
+}
+
+std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const std::string& dir,
+                               const std::vector<std::string>& units) {
+  io::PolyDataSet poly;
+  poly.vertices = true;
+  // U diag(sigma) U^T: ParaView's Tensor Glyph draws semi-axes sigma_k along u_k.
+  io::NamedArray tensor{"ellipsoid_tensor", io::ArrayType::Float64, 9, {}};
+  io::NamedArray semi{"semi_axes", io::ArrayType::Float64, 3, {}};
+  constexpr io::ArrayType kF64 = io::ArrayType::Float64;
+  io::NamedArray a1{"axis_1", kF64, 3, {}}, a2{"axis_2", kF64, 3, {}}, a3{"axis_3", kF64, 3, {}};
+  io::NamedArray u{"u", kF64, 3, {}}, manip{"manipulability", kF64, 1, {}};
+  io::NamedArray beta{"transmission", kF64, 1, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
+  auto push3 = [](io::NamedArray& a, const Eigen::Vector3d& v) {
+    a.values.insert(a.values.end(), {v.x(), v.y(), v.z()});
+  };
+  const int G = map.grid.gamma_rad.count;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) {
+    const CellResult& c = map.cells[i];
+    if (!c.reachable) continue;
+    const StemGrid::Cell cell = map.grid.cell(static_cast<int>(i) % G, static_cast<int>(i) / G);
+    const metrics::Ellipsoid& e = optimised ? c.ellipsoid_opt : c.ellipsoid_plain;
+    poly.points.push_back(cell.target.p_WT);
+    const Eigen::Matrix3d T = e.axes_W * e.lengths.asDiagonal() * e.axes_W.transpose();
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) tensor.values.push_back(T(r, k));
+    push3(semi, e.lengths);
+    push3(a1, e.lengths[0] * e.axes_W.col(0));
+    push3(a2, e.lengths[1] * e.axes_W.col(1));
+    push3(a3, e.lengths[2] * e.axes_W.col(2));
+    push3(u, cell.u_W);
+    manip.values.push_back((optimised ? c.opt : c.plain).manipulability);
+    beta.values.push_back((optimised ? c.opt : c.plain).transmission);
+    gam.values.push_back(cell.gamma);
+    zz.values.push_back(cell.z);
+  }
+  for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u, &manip, &beta, &gam, &zz})
+    poly.point_arrays.push_back(std::move(*a));
+  poly.active_tensors = "ellipsoid_tensor";
+  std::vector<std::string> u_all{"position: m", "ellipsoid_tensor: m/rad", "semi_axes: m/rad", "axis_1: m/rad",
+                                 "axis_2: m/rad", "axis_3: m/rad", "u: 1", "gamma: rad", "z: m"};
+  u_all.insert(u_all.end(), units.begin(), units.end());
+  poly.field_data = io::fieldData(u_all);
+  const std::string name = map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
+  io::writeVtp((std::filesystem::path(dir) / name).string(), poly);
+  return name;
+}
+
+}  // namespace
+
+std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f, const Model& model,
+                                     metrics::MeasureSpace space, bool ellipsoids, const std::string& dir) {
+  const std::vector<std::string> units = measureUnits(space);
+  std::vector<std::string> files{writeMapVti(map, f, dir, units), writeMapVts(map, f, dir, units)};
+  if (ellipsoids) {
+    files.push_back(writeEllipsoidsVtp(map, false, dir, units));
+    files.push_back(writeEllipsoidsVtp(map, true, dir, units));
+  }
+  // The robot at the cell of the best optimised manipulability.
+  int best = -1;
+  for (std::size_t i = 0; i < map.cells.size(); ++i)
+    if (map.cells[i].reachable && (best < 0 || f.manip_opt[i] > f.manip_opt[best])) best = static_cast<int>(i);
+  if (best >= 0) {
+    const CellResult& c = map.cells[best];
+    const StemGrid::Cell cell = map.grid.cell(best % map.grid.gamma_rad.count, best / map.grid.gamma_rad.count);
+    io::PolyDataSet robot = scene::robotPolyData(model, c.optimised ? c.q_opt : c.q_plain);
+    robot.field_data.push_back({"pose", {"best optimised manipulability of the map, gamma = " +
+                                         std::to_string(cell.gamma) + " rad, z = " + std::to_string(cell.z) + " m"}});
+    const std::string name = map.design + "_robot_best.vtp";
+    io::writeVtp((std::filesystem::path(dir) / name).string(), robot);
+    files.push_back(name);
+  }
+  return files;
+}
+
+}  // namespace armstudy::dexterity
