@@ -7,6 +7,8 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <numeric>
+#include <cmath>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -189,6 +191,7 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
       const Model m = loadDesign(sourcePath("designs/" + design + ".toml"));
       KinematicsWorkspace kin(m);
       long reachable = 0;
+      std::vector<double> manip;  // manipulability at the reachable poses, from the file
       const int no = static_cast<int>(g.orientations.size());
       for (int k = 0; k < no; ++k) {
         const std::string sfx = no > 1 ? "_o" + std::to_string(k) : "";
@@ -198,10 +201,13 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
         REQUIRE(reach);
         REQUIRE(q);
         REQUIRE(pe);
+        vtkDataArray* mu = img->GetPointData()->GetArray(("manipulability" + sfx).c_str());
+        REQUIRE(mu);
         CHECK(q->GetNumberOfComponents() == m.dof());
         for (vtkIdType p = 0; p < reach->GetNumberOfTuples(); ++p) {
           if (reach->GetTuple1(p) == 0) continue;
           ++reachable;
+          manip.push_back(mu->GetTuple1(p));
           Eigen::VectorXd qv(m.dof());
           for (int c = 0; c < m.dof(); ++c) qv[c] = q->GetComponent(p, c);
           forwardKinematics(m, kin, qv);
@@ -212,6 +218,16 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
           CHECK(std::abs(err - pe->GetTuple1(p)) <= 1e-9);
         }
       }
+      // The map's summary metrics (exploration objectives) from the file's values: mean, lowest and
+      // 5th percentile (nearest rank) of the reachable poses' manipulability.
+      REQUIRE_FALSE(manip.empty());
+      const std::string key = "reach/" + g.name + "/" + design + "/manipulability_";
+      const std::size_t rank = static_cast<std::size_t>(std::ceil(0.05 * manip.size())) - 1;
+      std::nth_element(manip.begin(), manip.begin() + rank, manip.end());
+      CHECK(rs.metrics.scalars.at(key + "p5") == Approx(manip[rank]).epsilon(1e-12));
+      CHECK(rs.metrics.scalars.at(key + "min") == Approx(*std::min_element(manip.begin(), manip.end())).epsilon(1e-12));
+      CHECK(rs.metrics.scalars.at(key + "mean") ==
+            Approx(std::accumulate(manip.begin(), manip.end(), 0.0) / manip.size()).epsilon(1e-9));
       for (const auto& jg : summary["reach"]["grids"])
         if (jg["name"] == g.name)
           for (const auto& jd : jg["designs"])

@@ -1,6 +1,7 @@
 #include "stages/reach/reach_units.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "collision/reach_collision.hpp"
 #include "common/defaults.hpp"
@@ -119,11 +120,23 @@ void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep&
   m.scalars[prefix + "/reachable_fraction"] = s.size ? double(nr) / s.size : 0.0;
   double sum_m = 0;
   std::vector<std::uint8_t> flags(s.size);
+  std::vector<double> reachable_m;
+  reachable_m.reserve(static_cast<std::size_t>(nr));
   for (long i = 0; i < s.size; ++i) {
     flags[i] = s.reachable(i);
-    if (flags[i]) sum_m += s.manipulability[i];
+    if (flags[i]) {
+      sum_m += s.manipulability[i];
+      reachable_m.push_back(s.manipulability[i]);
+    }
   }
   m.scalars[prefix + "/manipulability_mean"] = nr ? sum_m / nr : 0.0;
+  // The weakest part of the map (objectives of a design-space exploration): the lowest and the
+  // 5th-percentile manipulability over the reachable poses (nearest rank: the ceil(0.05 n)-th
+  // smallest), 0 when nothing is reachable.
+  std::sort(reachable_m.begin(), reachable_m.end());
+  const std::size_t p5 = reachable_m.empty() ? 0 : static_cast<std::size_t>(std::ceil(0.05 * reachable_m.size())) - 1;
+  m.scalars[prefix + "/manipulability_min"] = reachable_m.empty() ? 0.0 : reachable_m.front();
+  m.scalars[prefix + "/manipulability_p5"] = reachable_m.empty() ? 0.0 : reachable_m[p5];
   m.flags[prefix + "/reachable"] = flags;
 }
 
