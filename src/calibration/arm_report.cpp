@@ -268,8 +268,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   ArmReportSummary s;
   // Validate first (the history in the folder must be of this kind), then write every file into a
   // staging folder and move the complete result into place (issue 13).
+  StagedOutput stage(o.out_dir);  // locks the folder first: the history read is the one appended to
   const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
-  StagedOutput stage(o.out_dir);
   const std::string dir = stage.dir();
   writePlots(dir, "before", P, d.as_designed, s.files_written);
   writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);

@@ -60,8 +60,19 @@ std::string historyNumber(double v) { return formatG(v, 6); }
 
 namespace fs = std::filesystem;
 
+namespace {
+// <out>.lock beside the output folder (its parent created when missing).
+std::string lockPathBeside(const std::string& out_dir) {
+  const fs::path out = fs::path(out_dir).lexically_normal();
+  const fs::path p = out.has_filename() ? out : out.parent_path();
+  std::error_code ec;
+  if (!p.parent_path().empty()) fs::create_directories(p.parent_path(), ec);
+  return p.string() + ".lock";
+}
+}  // namespace
+
 StagedOutput::StagedOutput(const std::string& out_dir)
-    : out_(out_dir), staging_(makeStagingFolder(out_dir)) {}
+    : out_(out_dir), lock_(lockPathBeside(out_dir), out_dir), staging_(makeStagingFolder(out_dir)) {}
 
 StagedOutput::~StagedOutput() {
   std::error_code ec;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "io/files.hpp"
+
 namespace armstudy::calibration {
 
 struct HistoryFile {
@@ -32,7 +34,10 @@ std::string historyNumber(double v);
 // whole result exists. Every file goes to a staging folder beside it (`<out>.staging.<pid>`);
 // commit() swaps that folder in as a whole (io/files.hpp publishFolder, issue 19). A run that
 // fails before commit() (bad input, full disk) leaves the output folder exactly as it was: the
-// destructor removes the staging folder.
+// destructor removes the staging folder. While it exists, the output folder is locked (a lock file
+// beside it, `<out>.lock`, since the folder itself is swapped): a second compare/fit into the same
+// folder stops with "another armstudy run is writing to ..." instead of losing the first's
+// history row. Construct it before reading anything from the output folder.
 class StagedOutput {
  public:
   explicit StagedOutput(const std::string& out_dir);
@@ -44,7 +49,9 @@ class StagedOutput {
   void commit();
 
  private:
-  std::string out_, staging_;
+  std::string out_;
+  FileLock lock_;
+  std::string staging_;
   bool committed_ = false;
 };
 

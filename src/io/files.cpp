@@ -179,21 +179,30 @@ void publishFolder(const std::string& staging, const std::string& folder) {
   fs::rename(from, target);
 }
 
+FileLock::FileLock(const std::string& path, const std::string& subject) {
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw InputError(subject, 0, "", "cannot write into the output folder");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(subject, 0, "", "another armstudy run is writing to this output folder; wait for it or choose "
+                                     "another --output");
+  }
+}
+
+FileLock::~FileLock() {
+  // The lock file stays (removing it would let a run that opened it just before lock a file no
+  // later run sees); closing releases the lock.
+  if (fd_ >= 0) ::close(fd_);
+}
+
 OutputFolderLock::OutputFolderLock(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec || !fs::is_directory(folder))
     throw InputError(folder, 0, "", "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
-  path_ = (fs::path(folder) / ".armstudy.lock").string();
-  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw InputError(folder, 0, "", "cannot write into the output folder");
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    ::close(fd_);
-    fd_ = -1;
-    throw InputError(folder, 0, "", "another armstudy run is writing to this output folder; wait for it or choose "
-                                    "another --output");
-  }
+  lock_.emplace((fs::path(folder) / ".armstudy.lock").string(), folder);
   // Temporaries of writeFileAtomic ("<name>.tmp.<pid>") left by a killed run: no other run can be
   // writing here now.
   for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
@@ -207,10 +216,6 @@ OutputFolderLock::OutputFolderLock(const std::string& folder) {
   }
 }
 
-OutputFolderLock::~OutputFolderLock() {
-  // The lock file stays (removing it would let a run that opened it just before lock a file no
-  // later run sees); closing releases the lock.
-  if (fd_ >= 0) ::close(fd_);
-}
+OutputFolderLock::~OutputFolderLock() = default;
 
 }  // namespace armstudy

@@ -1,5 +1,6 @@
 #pragma once
 // File helpers: whole-file reads, content hashes, atomic writes.
+#include <optional>
 #include <string>
 
 namespace armstudy {
@@ -38,6 +39,20 @@ void publishFolder(const std::string& staging, const std::string& folder);
 
 namespace armstudy {
 
+// An advisory lock (flock) on `path` (created when missing) for this process, released by the
+// destructor or when the process dies (even by SIGKILL). Throws InputError(`subject`, "another
+// armstudy run is writing to this output folder ...") when another process holds it.
+class FileLock {
+ public:
+  FileLock(const std::string& path, const std::string& subject);
+  ~FileLock();
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // Exclusive use of an output folder for one process (issue 19): creates the folder (an
 // InputError naming it when that fails), takes an advisory lock on <folder>/.armstudy.lock
 // (InputError "another armstudy run is writing to <folder>" when another process holds it; the
@@ -53,8 +68,7 @@ class OutputFolderLock {
   int staleTemporariesRemoved() const { return removed_; }
 
  private:
-  std::string path_;
-  int fd_ = -1;
+  std::optional<FileLock> lock_;
   int removed_ = 0;
 };
 

@@ -214,4 +214,23 @@ TEST_CASE(
   const std::string& h1 = after.at("history.csv");
   CHECK(std::count(h1.begin(), h1.end(), '\n') == std::count(h0.begin(), h0.end(), '\n') + 1);
   CHECK(h1.rfind(h0, 0) == 0);  // appended, the earlier rows as they were
+
+  // A second fit into the folder while one is running (here: this process holds the fit's lock,
+  // <out>.lock beside the folder, which is swapped as a whole) stops at once with an input error
+  // naming the folder; nothing in it changes. Without the lock both would read the same history
+  // and the later commit would drop the other's row.
+  {
+    const int fd = ::open((d / "res.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);
+    CHECK(runCommand(fit, log) == 2);
+    INFO(log);
+    CHECK(log.find("another armstudy run is writing") != std::string::npos);
+    CHECK(log.find(res.string()) != std::string::npos);
+    CHECK(files(res) == after);
+    ::close(fd);
+  }
+  REQUIRE(runCommand(fit, log) == 0);  // the lock released: the next fit runs
+  const std::string h2 = files(res).at("history.csv");
+  CHECK(std::count(h2.begin(), h2.end(), '\n') == std::count(h1.begin(), h1.end(), '\n') + 1);
 }
