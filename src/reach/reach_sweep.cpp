@@ -150,7 +150,8 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
     };
 #pragma omp for schedule(dynamic, 1)
     for (long w = 0; w < n_work; ++w) {
-      const auto [k, u] = work[w];
+      const std::size_t k = work[w].first;  // not a structured binding: captured below (clang)
+      const long u = work[w].second;
       PoseSweep& s = chunks[k];
       const long off = s.offset;
       const long begin = u * len, end = std::min(size, begin + len);
