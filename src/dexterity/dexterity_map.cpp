@@ -387,7 +387,8 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
     ik::ObjectiveContext ctx(model, ws);
 #pragma omp for schedule(dynamic, 1)
     for (int w = 0; w < n_work; ++w) {
-      const auto [k, iz] = work[w];
+      const std::size_t k = work[w].first;  // not a structured binding: captured below (clang)
+      const int iz = work[w].second;
       // One row = one circle around the stem, solved in gamma order with warm starts.
       JointVector prev_plain, prev_opt;
       bool have_prev = false;
