@@ -39,7 +39,9 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
   SharedLoop loop;
   loop.items = static_cast<long>(idx.size());
   loop.id = "audit/" + sweep.design;
-  loop.compute = [&](std::size_t, const ItemRange& range) {
+  loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+    const std::vector<long> items = SharedLoop::itemsOf(mine);
+    const long n = static_cast<long>(items.size());
 #pragma omp parallel num_threads(nt)
     {
       IkWorkspace ws(model);
@@ -50,7 +52,8 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
       query.environment = !collision.obstacles.empty();
       JointVector q0(model.dof());
 #pragma omp for schedule(dynamic, 1)
-      for (long t = range.begin; t < range.end; ++t) {
+      for (long m = 0; m < n; ++m) {
+        const long t = items[m];
         const long i = idx[t];
         ReachAuditPose& row = a.rows[t];
         row.index = i;

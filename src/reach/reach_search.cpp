@@ -96,6 +96,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   std::vector<int> extra(N, 0);  // starts spent on the pose by the search (on the process computing it)
   std::vector<PoseResult> found(N);  // per-step candidates (allocated once)
   std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
+  std::vector<long> item_a(N, 0), item_b(N, 0);  // a step's counts per pose (summed per chunk)
   // One step: body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b; returns
   // the totals of a and b over all poses.
   int steps = 0;  // steps so far (names them in the unit-cost record)
@@ -106,16 +107,24 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     SharedLoop loop;
     loop.id = "search/" + s.design + "/" + std::to_string(steps++) + "_" + phase;
     loop.items = N;
-    loop.compute = [&](std::size_t k, const ItemRange& r) {
-      long a = 0, b = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : a, b)
+    loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+      const std::vector<long> items = SharedLoop::itemsOf(mine);
+      const long n = static_cast<long>(items.size());
+      for (const long i : items) item_a[i] = item_b[i] = 0;
+#pragma omp parallel num_threads(nt)
       {
         PoseSolver solver(model, collision, target);
         long nb[28];
 #pragma omp for schedule(dynamic, grain)
-        for (long i = r.begin; i < r.end; ++i) body(solver, i, nb, a, b);
+        for (long t = 0; t < n; ++t) body(solver, items[t], nb, item_a[items[t]], item_b[items[t]]);
       }
-      counts[k] = {a, b};
+      for (const SharedLoop::Chunk& c : mine) {
+        std::pair<long, long>& ab = counts[c.first];
+        for (long i = c.second.begin; i < c.second.end; ++i) {
+          ab.first += item_a[i];
+          ab.second += item_b[i];
+        }
+      }
     };
     // The step ends: the poses computed here adopt their candidates.
     loop.finish = [&](const std::vector<SharedLoop::Chunk>& mine) {
@@ -280,8 +289,10 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   SharedLoop starts;
   starts.id = "search/" + s.design + "/" + std::to_string(steps) + "_starts";
   starts.items = N;
-  starts.compute = [&](std::size_t, const ItemRange& r) {
-    for (long i = r.begin; i < r.end; ++i) s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+  starts.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+    for (const SharedLoop::Chunk& c : mine)
+      for (long i = c.second.begin; i < c.second.end; ++i)
+        s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
   };
   starts.pack = [&](std::size_t, const ItemRange& r) {
     return std::string(reinterpret_cast<const char*>(s.starts.data() + r.begin), static_cast<std::size_t>(r.size()));

@@ -94,9 +94,10 @@ constexpr int kTagWork = 12;     // rank 0 -> worker: unit indices (int64), none
 // together).
 constexpr long kGuidedFactor = 4;
 constexpr double kProgressEverySeconds = 5.0;
-// Chunks of a shared loop (UnitRunner::share) per rank: a loop whose cost is concentrated in some
-// items still spreads over the ranks. Chunk k belongs to rank k mod size.
-constexpr long kSharedChunksPerRank = 16;
+// A shared loop (UnitRunner::share) is cut into chunks of SharedLoop::kRecordedChunk items owned
+// round-robin (chunk k by rank k mod size): a loop whose cost sits in a band of neighbouring items
+// (the reach search's front) still spreads over the ranks, and a unit-cost record replays the split
+// exactly. Each rank computes all its chunks in one call, so the number of chunks costs no set-up.
 
 // The units of one batch still to hand out (rank 0).
 class Pool {
@@ -300,14 +301,10 @@ class MpiUnitRunner final : public UnitRunner {
   }
 
  private:
-  // Chunks of about 1 / kSharedChunksPerRank of an even share (a multiple of the recorded chunk),
-  // owned round-robin: chunk k by rank k mod size.
+  // Chunks of kRecordedChunk items, owned round-robin: chunk k by rank k mod size.
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
-    // A multiple of the recorded chunk, so that a record replays this split exactly.
-    const long g = SharedLoop::kRecordedChunk;
-    const long per = g * std::max(1L, (loop.items + kSharedChunksPerRank * size_ * g - 1) / (kSharedChunksPerRank * size_ * g));
-    const std::vector<ItemRange> chunks = splitRange(loop.items, per);
+    const std::vector<ItemRange> chunks = splitRange(loop.items, SharedLoop::kRecordedChunk);
     std::vector<SharedLoop::Chunk> mine;
     for (std::size_t k = static_cast<std::size_t>(rank_); k < chunks.size(); k += static_cast<std::size_t>(size_))
       mine.push_back({k, chunks[k]});

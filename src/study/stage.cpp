@@ -92,8 +92,15 @@ long UnitRunner::run(const UnitBatch& batch) const {
   return resumed;
 }
 
+std::vector<long> SharedLoop::itemsOf(const std::vector<Chunk>& mine) {
+  std::vector<long> out;
+  for (const Chunk& c : mine)
+    for (long i = c.second.begin; i < c.second.end; ++i) out.push_back(i);
+  return out;
+}
+
 void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
-  for (const Chunk& c : mine) compute(c.first, c.second);
+  if (!mine.empty()) compute(mine);
   if (finish) finish(mine);
 }
 
@@ -109,7 +116,7 @@ void UnitRunner::share(const SharedLoop& loop) const {
     all.push_back({k, ranges[k]});
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = UnitTimeRecord::processCpuSeconds();
-    loop.compute(k, ranges[k]);
+    loop.compute({all.back()});
     lines.push_back({"share:" + loop.id, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                      UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, 0});
   }

@@ -87,21 +87,24 @@ struct UnitBatch {
 };
 
 // A loop over items [0, items) that a distributed run shares among its processes
-// (UnitRunner::share): `compute(k, r)` computes chunk k (items r) with the run's threads, once for
-// each chunk this process owns, all before `finish(mine)`, which takes the owned chunks' results
-// (ascending k; e.g. a Jacobi step adopts them only then, so no chunk sees another's results).
-// Then `pack(k, r)` returns an owned chunk's results as bytes and the other processes apply them
-// with `unpack(k, r, bytes)`. A single process owns one chunk, all items (pack and unpack are not
-// called) or, when unit costs are recorded, chunks of kRecordedChunk items, each timed.
+// (UnitRunner::share): `compute(mine)` computes the chunks this process owns (ascending k), all in
+// one call with the run's threads (so per-call set-up, such as solver workspaces, is paid once per
+// loop and process), before `finish(mine)`, which takes the owned chunks' results (e.g. a Jacobi
+// step adopts them only then, so no chunk sees another's results). Then `pack(k, r)` returns an
+// owned chunk's results as bytes and the other processes apply them with `unpack(k, r, bytes)`.
+// A single process owns one chunk, all items (pack and unpack are not called) or, when unit costs
+// are recorded, chunks of kRecordedChunk items, each computed and timed in a call of its own.
 struct SharedLoop {
   using Chunk = std::pair<std::size_t, ItemRange>;
   static constexpr long kRecordedChunk = 64;
   std::string id;  // names the loop in the unit-cost record ("share:<id>", one line per chunk)
   long items = 0;
-  std::function<void(std::size_t k, const ItemRange& r)> compute;
+  std::function<void(const std::vector<Chunk>& mine)> compute;
   std::function<void(const std::vector<Chunk>& mine)> finish;  // optional
   std::function<std::string(std::size_t k, const ItemRange& r)> pack;
   std::function<void(std::size_t k, const ItemRange& r, const std::string& bytes)> unpack;
+  // The items of `mine`, ascending (the index space a compute call's parallel loop runs over).
+  static std::vector<long> itemsOf(const std::vector<Chunk>& mine);
   // Computes `mine` and finishes (the part every runner does alike).
   void computeAll(const std::vector<Chunk>& mine) const;
 };
