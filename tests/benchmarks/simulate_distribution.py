@@ -19,8 +19,8 @@ Model, per batch (batches run one after another, as every rank runs the stages i
     each, the bytes at `bandwidth` bytes/s into every rank);
   * then every rank merges the batch and runs the stage's serial work (files, merges):
     `serial` seconds per batch, the same on every rank (it does not shrink with N);
-  * a shared step (the search's Jacobi rounds, the audit) cuts its items into chunks of
-    64 * ceil(items / (16 N 64)) items owned round-robin (as src/study/distributed.cpp does); it
+  * a shared step (the search's Jacobi rounds, the audit) cuts its items into chunks of 64 items
+    owned round-robin (as src/study/distributed.cpp does, each rank computing its chunks in one call); it
     takes the busiest rank's chunks plus one allgather of the adopted rows (2 log2(N) latencies,
     the bytes at `bandwidth`); --unshared: every rank computes every step (as before issue 16's
     shared loops), i.e. the step costs its whole work on every rank.
@@ -74,10 +74,9 @@ def simulate_step(chunks, n, latency, bandwidth, unshared):
         return work
     if unshared:
         return work
-    per = max(1, math.ceil(len(chunks) / (16 * n)))  # recorded chunks per chunk of the run
     load = [0.0] * n
-    for k in range(0, math.ceil(len(chunks) / per)):
-        load[k % n] += sum(c for c, _ in chunks[k * per:(k + 1) * per])
+    for k, (c, _) in enumerate(chunks):  # the recorded 64-item chunks are the run's chunks
+        load[k % n] += c
     total_bytes = sum(b for _, b in chunks)
     return max(load) + 2 * math.log2(n) * latency + total_bytes / bandwidth
 
