@@ -98,11 +98,18 @@ const toml::node& TableReader::require(const std::string& key) {
   return *n;
 }
 
+// A TOML number as a double. toml++'s value<double>() is empty for an integer that a double cannot
+// hold exactly (beyond 2^53; found by fuzzing the study reader), so integers are converted here.
+double numberOf(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+  return n.as_floating_point()->get();
+}
+
 double nodeQuantity(const toml::node& n, Dimension dim, const std::string& file,
                     const std::string& key) {
   const int line = static_cast<int>(n.source().begin.line);
   if (n.is_number()) {
-    const double v = n.value<double>().value();
+    const double v = numberOf(n);
     if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file, line, key, bad);
     return v;
   }
@@ -127,7 +134,7 @@ double TableReader::quantity(const std::string& key, Dimension dim, double fallb
 double TableReader::number(const std::string& key) {
   const toml::node& n = require(key);
   if (!n.is_number()) fail(key, "expected a number");
-  const double v = n.value<double>().value();
+  const double v = numberOf(n);
   if (const std::string bad = implausible(v, nullptr); !bad.empty()) fail(key, bad);
   return v;
 }
@@ -205,7 +212,7 @@ std::vector<double> TableReader::numberArray(const std::string& key) {
   if (!n.is_array()) fail(key, "expected an array of numbers");
   for (const auto& e : *n.as_array()) {
     if (!e.is_number()) fail(key, "expected an array of numbers");
-    const double v = e.value<double>().value();
+    const double v = numberOf(e);
     if (const std::string bad = implausible(v, nullptr); !bad.empty()) fail(key, bad);
     out.push_back(v);
   }
