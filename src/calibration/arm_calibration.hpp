@@ -273,6 +273,9 @@ struct ArmReportOptions {
   std::string command;  // compare | fit
   // Further files of the result (name in the output folder, content), published with it.
   std::vector<std::pair<std::string, std::string>> extra_files = {};
+  // False inside a study run, whose output folder is locked already (no `<out_dir>.lock` is left
+  // among its results).
+  bool lock = true;
 };
 struct ArmReportSummary {
   std::vector<std::string> files_written;

@@ -268,7 +268,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   ArmReportSummary s;
   // Validate first (the history in the folder must be of this kind), then write every file into a
   // staging folder and move the complete result into place (issue 13).
-  StagedOutput stage(o.out_dir);  // locks the folder first: the history read is the one appended to
+  StagedOutput stage(o.out_dir, o.lock);  // locks the folder first: the history read is the one appended to
   const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
   const std::string dir = stage.dir();
   writePlots(dir, "before", P, d.as_designed, s.files_written);

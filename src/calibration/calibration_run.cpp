@@ -36,7 +36,7 @@ std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& da
 }
 
 ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m, const std::string& out_dir,
-                        const std::string& design_path) {
+                        const std::string& design_path, bool lock) {
   ArmFitFiles f;
   f.calibrated_design_path = design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
   std::string text = P.kind == "drive" ? calibratedDriveToml(m, P, d.final_fit.values, f.notes)
@@ -44,7 +44,7 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
                                          : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
-  ArmReportOptions o{out_dir, "fit"};
+  ArmReportOptions o{out_dir, "fit", {}, lock};
   if (design_path.empty())  // in the output folder: published with the report as one folder
     o.extra_files.emplace_back(m.name + "_calibrated.toml", text);
   f.report = writeArmReport(d, P, o, f.calibrated_design_path);
@@ -57,13 +57,13 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
   ARMSTUDY_CHECK(d.problem != nullptr && d.problem->file == data.file, "the diagnosis of this data");
   DriveReportSummary s;
   if (o.command == "fit" && o.write_calibrated_design) {
-    const ArmFitFiles f = writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path);
+    const ArmFitFiles f = writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path, o.lock);
     s.files_written = f.report.files_written;
     s.json = f.report.json;
     s.calibrated_design_path = f.calibrated_design_path;
     return s;
   }
-  const ArmReportSummary r = writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command}, "");
+  const ArmReportSummary r = writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock}, "");
   s.files_written = r.files_written;
   s.json = r.json;
   return s;

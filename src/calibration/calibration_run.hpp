@@ -38,7 +38,8 @@ struct ArmFitFiles {
   std::string calibrated_design_path;
   std::vector<std::string> notes;  // what the design format cannot carry
 };
+// `lock`: ArmReportOptions::lock (false inside a study run).
 ArmFitFiles writeArmFit(const ArmDiagnosis& diagnosis, const ArmProblem& problem, const Model& model,
-                        const std::string& out_dir, const std::string& design_path);
+                        const std::string& out_dir, const std::string& design_path, bool lock = true);
 
 }  // namespace armstudy::calibration

@@ -14,6 +14,7 @@ struct DriveReportOptions {
   std::string command;              // "compare" or "fit"
   bool write_calibrated_design = false;
   std::string calibrated_design_path;  // default <out_dir>/<design>_calibrated.toml
+  bool lock = true;                    // ArmReportOptions::lock
 };
 
 struct DriveReportSummary {

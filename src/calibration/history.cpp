@@ -71,8 +71,10 @@ std::string lockPathBeside(const std::string& out_dir) {
 }
 }  // namespace
 
-StagedOutput::StagedOutput(const std::string& out_dir)
-    : out_(out_dir), lock_(lockPathBeside(out_dir), out_dir), staging_(makeStagingFolder(out_dir)) {}
+StagedOutput::StagedOutput(const std::string& out_dir, bool lock) : out_(out_dir) {
+  if (lock) lock_.emplace(lockPathBeside(out_dir), out_dir);
+  staging_ = makeStagingFolder(out_dir);
+}
 
 StagedOutput::~StagedOutput() {
   std::error_code ec;

@@ -2,6 +2,7 @@
 // history.csv of a calibration output folder: one row per model of every compare/fit run, the
 // data behind the "error ladder" plot. One format for every kind (kHistoryHeader; the kind is a
 // column), read through the engine's one CSV tokenizer (io::splitCsvLines).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,10 +38,12 @@ std::string historyNumber(double v);
 // destructor removes the staging folder. While it exists, the output folder is locked (a lock file
 // beside it, `<out>.lock`, since the folder itself is swapped): a second compare/fit into the same
 // folder stops with "another armstudy run is writing to ..." instead of losing the first's
-// history row. Construct it before reading anything from the output folder.
+// history row. Construct it before reading anything from the output folder. `lock` false: the
+// caller holds the lock of an enclosing folder (a study run's output folder), so no lock file is
+// left among the results.
 class StagedOutput {
  public:
-  explicit StagedOutput(const std::string& out_dir);
+  explicit StagedOutput(const std::string& out_dir, bool lock = true);
   ~StagedOutput();
   StagedOutput(const StagedOutput&) = delete;
   StagedOutput& operator=(const StagedOutput&) = delete;
@@ -50,7 +53,7 @@ class StagedOutput {
 
  private:
   std::string out_;
-  FileLock lock_;
+  std::optional<FileLock> lock_;
   std::string staging_;
   bool committed_ = false;
 };

@@ -161,6 +161,10 @@ TEST_CASE("thesis study: catalog law vs the B.2 sample reproduces Tables 4.4/4.5
   const auto man = nlohmann::json::parse(readFileOrThrow((root / s.name / "manifest.json").string()));
   const auto files = man["files"].get<std::vector<std::string>>();
   CHECK(std::find(files.begin(), files.end(), "calibration/b2_friction/calibrated/result.json") != files.end());
+  // The study's output folder is locked as a whole: its fits leave no `<folder>.lock` among the results.
+  for (const auto& f : fs::recursive_directory_iterator(root / s.name))
+    if (f.path().extension() == ".lock") CHECK(f.path().filename() == ".armstudy.lock");
+  for (const std::string& f : files) CHECK(fs::path(f).extension() != ".lock");
   fs::remove_all(root);
 }
 

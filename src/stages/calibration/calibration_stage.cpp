@@ -162,6 +162,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
     ro.out_dir = w.folder;
     ro.command = s.mode;
     ro.write_calibrated_design = e.fit;
+    ro.lock = false;  // the study's output folder is locked
     const DriveReportSummary rs = writeDriveReport(d, w.model, *e.drive_data, ro);
     s.unit = "A";
     s.noise_estimate = d.noise_estimate;
@@ -189,6 +190,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       DriveReportOptions co;
       co.out_dir = cal_dir;
       co.command = "compare";
+      co.lock = false;
       writeDriveReport(c, cal, *e.drive_data, co);
       s.calibrated_rmse = c.as_designed_cmp.current.rmse;
       s.calibrated_flagged = c.as_designed_cmp.map.flagged();
@@ -199,11 +201,11 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
     const ArmDiagnosis& d = *w.arm;
     const ArmProblem& P = *w.problem;
     if (e.fit) {
-      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "");
+      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false);
       cal_path = f.calibrated_design_path;
       s.notes = f.notes;
     } else {
-      writeArmReport(d, P, ArmReportOptions{w.folder, "compare"}, "");
+      writeArmReport(d, P, ArmReportOptions{w.folder, "compare", {}, false}, "");
     }
     s.unit = P.fit_unit;
     s.noise_estimate = d.noise_estimate;
@@ -227,7 +229,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       const Model cal = loadDesign(cal_path);
       const auto Pc = makeArmProblem(cal, e.arm_data);
       const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
-      writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare"}, "");
+      writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false}, "");
       s.calibrated_rmse = c.as_designed.train_rmse;
       s.calibrated_flagged = c.as_designed_map.flagged();
     }
