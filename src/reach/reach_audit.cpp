@@ -39,6 +39,7 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
   SharedLoop loop;
   loop.items = static_cast<long>(idx.size());
   loop.id = "audit/" + sweep.design;
+  loop.chunk = 1;  // each pose is `starts` searches: hundreds of times a search step's pose
   loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
     const std::vector<long> items = SharedLoop::itemsOf(mine);
     const long n = static_cast<long>(items.size());

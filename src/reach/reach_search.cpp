@@ -93,14 +93,16 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
   };
   std::vector<std::uint8_t> changed(N, 0);
-  std::vector<int> extra(N, 0);  // starts spent on the pose by the search (on the process computing it)
+  std::vector<int> extra(N, 0);  // starts spent on the pose by the search (every process counts all)
   std::vector<PoseResult> found(N);  // per-step candidates (allocated once)
   std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
   std::vector<long> item_a(N, 0), item_b(N, 0);  // a step's counts per pose (summed per chunk)
-  // One step: body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b; returns
-  // the totals of a and b over all poses.
+  // One step: body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b (a: the
+  // starts it spent, which count into the pose's starts when `spends` is set); returns the totals of a
+  // and b over all poses. The spent starts travel with the adopted rows, so that every process
+  // counts them whichever process computed a pose.
   int steps = 0;  // steps so far (names them in the unit-cost record)
-  auto step = [&](const char* phase, int grain, auto&& body) {
+  auto step = [&](const char* phase, int grain, bool spends, auto&& body) {
     std::fill(now.begin(), now.end(), 0);
     long total_a = 0, total_b = 0;
     std::map<std::size_t, std::pair<long, long>> counts;  // per chunk computed here
@@ -131,11 +133,13 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       for (const SharedLoop::Chunk& c : mine) {
         total_a += counts.at(c.first).first;
         total_b += counts.at(c.first).second;
-        for (long i = c.second.begin; i < c.second.end; ++i)
+        for (long i = c.second.begin; i < c.second.end; ++i) {
+          if (spends) extra[i] += static_cast<int>(item_a[i]);
           if (now[i]) {
             store(s, i, found[i].ik, s.starts[i]);
             storeCollision(s, i, found[i]);
           }
+        }
       }
     };
     loop.pack = [&](std::size_t k, const ItemRange& r) {
@@ -147,17 +151,31 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
           w.put<std::int64_t>(i);
           putPose(w, s, i);
         }
+      w.put<std::int64_t>(-1);
+      if (spends)
+        for (long i = r.begin; i < r.end; ++i)
+          if (item_a[i] > 0) {
+            w.put<std::int64_t>(i);
+            w.put<std::int64_t>(item_a[i]);
+          }
       return w.bytes();
     };
     loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
       UnitReader rd(bytes, kStepMagic);
       total_a += static_cast<long>(rd.get<std::int64_t>());
       total_b += static_cast<long>(rd.get<std::int64_t>());
-      while (rd.ok() && !rd.finished()) {
-        const long i = static_cast<long>(rd.get<std::int64_t>());
+      for (long i = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && i >= 0;
+           i = static_cast<long>(rd.get<std::int64_t>())) {
         ARMSTUDY_CHECK(i >= r.begin && i < r.end && getPose(rd, s, i), "a search step's rows arrive whole");
         now[i] = 1;
       }
+      while (rd.ok() && !rd.finished()) {
+        const long i = static_cast<long>(rd.get<std::int64_t>());
+        const long spent = static_cast<long>(rd.get<std::int64_t>());
+        ARMSTUDY_CHECK(rd.ok() && spends && i >= r.begin && i < r.end, "a search step's start counts arrive whole");
+        extra[i] += static_cast<int>(spent);
+      }
+      ARMSTUDY_CHECK(rd.finished(), "a search step's rows arrive whole");
     };
     runSharedLoop(runner, loop);
     return std::pair<long, long>{total_a, total_b};
@@ -170,7 +188,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         sum.converged = false;
         return;
       }
-      const auto [n_tries, n_updates] = step("propagate", 64, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const auto [n_tries, n_updates] = step("propagate", 64, true, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         const auto cur = static_cast<ReachStatus>(s.status[i]);
         if (settle(cur)) return;
         const int count = neighbours(i, nb);
@@ -183,7 +201,6 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
             const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
             PoseResult pr = solver.solve(i, one, &w, 0);
             ++tries;
-            ++extra[i];
             if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
             found[i] = std::move(pr);
             now[i] = 1;
@@ -206,14 +223,13 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   // from the poses they freed.
   if (collision.enabled() && search.collision_starts > 0) {
     for (long i = 0; i < N; ++i) sum.multistart_poses += inCollision(static_cast<ReachStatus>(s.status[i]));
-    const auto [n_tries, n_freed] = step("multistart", 8, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
+    const auto [n_tries, n_freed] = step("multistart", 8, true, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       JointVector q0(model.dof());
       for (int k = 0; k < search.collision_starts; ++k) {
         randomConfiguration(model, search.seed, static_cast<std::uint64_t>(i), k, q0);
         PoseResult pr = solver.solve(i, one, &q0, 0);
         ++tries;
-        ++extra[i];
         if (!pr.ik.reachable()) continue;
         found[i] = std::move(pr);
         now[i] = 1;
@@ -230,7 +246,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   // collision-free pose in their wider neighbourhood (the 3 x 3 x 3 box), then propagation from
   // the poses it freed.
   if (collision.enabled() && box) {
-    const auto [n_tries, n_freed] = step("box", 16, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
+    const auto [n_tries, n_freed] = step("box", 16, true, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       const int count = box(i, nb);
       for (int k = 0; k < count && !now[i]; ++k) {
@@ -239,7 +255,6 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
           const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
           PoseResult pr = solver.solve(i, one, &w, 0);
           ++tries;
-          ++extra[i];
           if (!pr.ik.reachable()) continue;
           found[i] = std::move(pr);
           now[i] = 1;
@@ -260,7 +275,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   if (search.best_manipulability) {
     std::vector<std::uint8_t> src(N, 1);
     for (int round = 0; round < search.propagation_rounds; ++round) {
-      const auto [n_tries, n_updates] = step("best", 64, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const auto [n_tries, n_updates] = step("best", 64, false, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         if (!s.reachable(i)) return;
         double best = s.manipulability[i];
         const int count = neighbours(i, nb);
@@ -285,23 +300,8 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       if (n_updates == 0) break;
     }
   }
-  // The starts the search spent, counted by the process that computed each pose.
-  SharedLoop starts;
-  starts.id = "search/" + s.design + "/" + std::to_string(steps) + "_starts";
-  starts.items = N;
-  starts.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
-    for (const SharedLoop::Chunk& c : mine)
-      for (long i = c.second.begin; i < c.second.end; ++i)
-        s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
-  };
-  starts.pack = [&](std::size_t, const ItemRange& r) {
-    return std::string(reinterpret_cast<const char*>(s.starts.data() + r.begin), static_cast<std::size_t>(r.size()));
-  };
-  starts.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
-    ARMSTUDY_CHECK(static_cast<long>(bytes.size()) == r.size(), "a search step's start counts arrive whole");
-    std::memcpy(s.starts.data() + r.begin, bytes.data(), bytes.size());
-  };
-  runSharedLoop(runner, starts);
+  // The starts the search spent (every process has every pose's count).
+  for (long i = 0; i < N; ++i) s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

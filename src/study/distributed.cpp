@@ -94,7 +94,7 @@ constexpr int kTagWork = 12;     // rank 0 -> worker: unit indices (int64), none
 // together).
 constexpr long kGuidedFactor = 4;
 constexpr double kProgressEverySeconds = 5.0;
-// A shared loop (UnitRunner::share) is cut into chunks of SharedLoop::kRecordedChunk items owned
+// A shared loop (UnitRunner::share) is cut into chunks of SharedLoop::chunk items owned
 // round-robin (chunk k by rank k mod size): a loop whose cost sits in a band of neighbouring items
 // (the reach search's front) still spreads over the ranks, and a unit-cost record replays the split
 // exactly. Each rank computes all its chunks in one call, so the number of chunks costs no set-up.
@@ -301,10 +301,10 @@ class MpiUnitRunner final : public UnitRunner {
   }
 
  private:
-  // Chunks of kRecordedChunk items, owned round-robin: chunk k by rank k mod size.
+  // Chunks of loop.chunk items, owned round-robin: chunk k by rank k mod size.
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
-    const std::vector<ItemRange> chunks = splitRange(loop.items, SharedLoop::kRecordedChunk);
+    const std::vector<ItemRange> chunks = splitRange(loop.items, loop.chunk);
     std::vector<SharedLoop::Chunk> mine;
     for (std::size_t k = static_cast<std::size_t>(rank_); k < chunks.size(); k += static_cast<std::size_t>(size_))
       mine.push_back({k, chunks[k]});

@@ -107,9 +107,9 @@ void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
 void UnitRunner::share(const SharedLoop& loop) const {
   if (loop.items <= 0) return;
   if (!times_.enabled()) return loop.computeAll({{0, ItemRange{0, loop.items}}});
-  // Recorded: chunks of kRecordedChunk items, each timed (tests/benchmarks/simulate_distribution.py
+  // Recorded: chunks of loop.chunk items, each timed (tests/benchmarks/simulate_distribution.py
   // regroups them as a distributed run of any size would).
-  const std::vector<ItemRange> ranges = splitRange(loop.items, SharedLoop::kRecordedChunk);
+  const std::vector<ItemRange> ranges = splitRange(loop.items, loop.chunk);
   std::vector<SharedLoop::Chunk> all;
   std::vector<UnitTimeRecord::Line> lines;
   for (std::size_t k = 0; k < ranges.size(); ++k) {

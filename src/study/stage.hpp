@@ -93,12 +93,15 @@ struct UnitBatch {
 // step adopts them only then, so no chunk sees another's results). Then `pack(k, r)` returns an
 // owned chunk's results as bytes and the other processes apply them with `unpack(k, r, bytes)`.
 // A single process owns one chunk, all items (pack and unpack are not called) or, when unit costs
-// are recorded, chunks of kRecordedChunk items, each computed and timed in a call of its own.
+// are recorded, chunks of `chunk` items, each computed and timed in a call of its own.
 struct SharedLoop {
   using Chunk = std::pair<std::size_t, ItemRange>;
-  static constexpr long kRecordedChunk = 64;
+  static constexpr long kDefaultChunk = 64;
   std::string id;  // names the loop in the unit-cost record ("share:<id>", one line per chunk)
   long items = 0;
+  // Items per chunk among processes (owned round-robin) and in a unit-cost record: small for
+  // items that each cost much (e.g. an audit's many-start searches), so that they spread.
+  long chunk = kDefaultChunk;
   std::function<void(const std::vector<Chunk>& mine)> compute;
   std::function<void(const std::vector<Chunk>& mine)> finish;  // optional
   std::function<std::string(std::size_t k, const ItemRange& r)> pack;

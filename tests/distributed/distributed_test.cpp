@@ -179,9 +179,10 @@ TEST_CASE("the reach map search, its steps shared among 2 and 3 ranks, writes th
   // The Fig. 3.8 spraying row at 4 cm with self-collision: every phase of the search has work
   // (neighbour propagation, seeded multi-starts that free a pose and the propagation from it, the
   // wider-neighbourhood round, best-manipulability rounds), each step shared among the ranks, and
-  // so are the audit's poses.
+  // so are the audit's poses. Two designs: their searches (of different lengths) and audits advance
+  // interleaved, one combined loop per step (study/interleave.hpp).
   const fs::path dir = freshDir("search");
-  const std::string study = writeStudy(dir, "cs", {"first_prototype_6dof"}, R"([reach]
+  const std::string study = writeStudy(dir, "cs", {"first_prototype_6dof", "first_prototype_9dof"}, R"([reach]
 task_space = "spraying"
 position_tolerance = "1 mm"
 orientation_tolerance = "0.5 deg"
@@ -204,6 +205,10 @@ gamma = ["-40 deg", "40 deg"]
   CHECK(search["collision_multistart_freed"].get<int>() >= 1);
   CHECK(search["best_manipulability_updates"].get<int>() > 0);
   CHECK(sum["reach"]["grids"][0]["designs"][0]["audit"]["poses"].get<int>() == 40);
+  const auto& search9 = sum["reach"]["grids"][0]["designs"][1]["search"];
+  INFO(search9.dump());
+  CHECK(search9["best_manipulability_rounds"].get<int>() != search["best_manipulability_rounds"].get<int>());
+  CHECK(sum["reach"]["grids"][0]["designs"][1]["audit"]["poses"].get<int>() == 40);
   fs::remove_all(dir);
 }
 

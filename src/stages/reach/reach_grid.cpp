@@ -11,6 +11,7 @@
 #include "report/markdown.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
+#include "study/interleave.hpp"
 
 namespace armstudy {
 
@@ -44,16 +45,34 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         std::to_string(g.size()) + " poses per design.\n\n";
 
   std::vector<PoseSweep> sweeps;
-  std::vector<SweepSearchSummary> searches;
-  for (const StudyDesign& sd : study.designs) {
-    const std::string unit = "reach/" + g.name + "/" + sd.model.name;
-    sweeps.push_back(solveGrid(ctx, sum, unit, sd.model, g, cfg, progress));
-    // Across units, once all are in: statuses that do not depend on the traversal (issue 12).
-    const SweepSearchSummary ss =
-        searchGridSweep(sd.model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search, sweeps.back(), &ctx.units);
-    searches.push_back(ss);
-    sum.timings.push_back({unit + "/search", ss.seconds});
-    addUnitMetrics(sum.metrics, unit, sweeps.back());
+  for (const StudyDesign& sd : study.designs)
+    sweeps.push_back(solveGrid(ctx, sum, "reach/" + g.name + "/" + sd.model.name, sd.model, g, cfg, progress));
+  // Across units, once all are in: statuses that do not depend on the traversal (issue 12). The
+  // designs' searches advance together, one step each per shared loop (study/interleave.hpp).
+  const std::size_t nd = study.designs.size();
+  std::vector<SweepSearchSummary> searches(nd);
+  std::vector<InterleavedProgram> programs;
+  for (std::size_t di = 0; di < nd; ++di)
+    programs.push_back([&, di](const UnitRunner* r) {
+      searches[di] = searchGridSweep(study.designs[di].model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search,
+                                     sweeps[di], r);
+    });
+  runInterleaved(&ctx.units, programs);
+  for (std::size_t di = 0; di < nd; ++di) {
+    const std::string unit = "reach/" + g.name + "/" + study.designs[di].model.name;
+    sum.timings.push_back({unit + "/search", searches[di].seconds});
+    addUnitMetrics(sum.metrics, unit, sweeps[di]);
+  }
+  // The audits (issue 12), interleaved alike.
+  std::vector<ReachAudit> audits(nd);
+  if (cfg.audit_poses > 0) {
+    programs.clear();
+    for (std::size_t di = 0; di < nd; ++di)
+      programs.push_back([&, di](const UnitRunner* r) {
+        audits[di] = auditGridSweep(study.designs[di].model, g, cfg.ik, cfg.collision, sweeps[di], cfg.audit_poses,
+                                    cfg.audit_starts, cfg.audit_seed, ctx.threads, r);
+      });
+    runInterleaved(&ctx.units, programs);
   }
 
   std::vector<std::vector<std::string>> rows;
@@ -110,8 +129,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
             "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, capped at 255)";
     md += ".\n\n";
     if (cfg.audit_poses > 0) {
-      const ReachAudit au = auditGridSweep(sd.model, g, cfg.ik, cfg.collision, s, cfg.audit_poses, cfg.audit_starts,
-                                           cfg.audit_seed, ctx.threads, &ctx.units);
+      const ReachAudit& au = audits[di];
       ordered_json ja;
       ja["poses"] = au.poses;
       ja["starts_per_pose"] = au.starts;

@@ -1,0 +1,202 @@
+#include "study/interleave.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <memory>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <string_view>
+#include <thread>
+
+#include "common/errors.hpp"
+#include "study/checkpoint.hpp"
+
+namespace armstudy {
+
+namespace {
+
+constexpr std::string_view kCombinedMagic = "armstudy-interleaved-1";
+
+// Where the programs meet: each program's pending loop, the step counter that releases them.
+struct Meeting {
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<const SharedLoop*> pending;  // per program: the loop it waits in, or null
+  std::vector<char> ended;                 // per program: returned or threw
+  std::vector<long> released;              // per program: loops completed so far
+  bool stopping = false;                   // the combined loop failed: programs stop
+};
+
+// The runner a program sees: its shared loops wait for the others'.
+class MeetingRunner final : public UnitRunner {
+ public:
+  MeetingRunner(Meeting& meet, std::size_t index, const UnitRunner* outer)
+      : UnitRunner(storeOff(), 1, UnitTimeRecord{}), meet_(meet), index_(index), outer_(outer) {}
+  long run(const UnitBatch&) const override {
+    ARMSTUDY_CHECK(false, "an interleaved program runs shared loops only, no unit batches");
+    return 0;
+  }
+  void share(const SharedLoop& loop) const override {
+    std::unique_lock<std::mutex> lk(meet_.m);
+    if (meet_.stopping) throw Cancelled();
+    const long before = meet_.released[index_];
+    meet_.pending[index_] = &loop;
+    meet_.cv.notify_all();
+    meet_.cv.wait(lk, [&] { return meet_.released[index_] != before || meet_.stopping; });
+    if (meet_.released[index_] == before) throw Cancelled();
+  }
+  const UnitRunner& local() const override { return outer_ ? outer_->local() : *this; }
+
+  // Thrown in a program when the combined loop failed (the failure itself is rethrown).
+  struct Cancelled {};
+
+ private:
+  static const CheckpointStore& storeOff() {
+    static const CheckpointStore off;
+    return off;
+  }
+  Meeting& meet_;
+  std::size_t index_;
+  const UnitRunner* outer_;
+};
+
+// The pieces of a combined chunk that fall into each program's loop (local item ranges).
+struct Piece {
+  std::size_t loop = 0;  // index into the step's loops
+  SharedLoop::Chunk chunk;
+};
+
+class Combined {
+ public:
+  explicit Combined(std::vector<const SharedLoop*> loops) : loops_(std::move(loops)) {
+    long off = 0;
+    loop_.chunk = loops_.front()->chunk;
+    for (const SharedLoop* l : loops_) {
+      offsets_.push_back(off);
+      off += l->items;
+      loop_.chunk = std::min(loop_.chunk, l->chunk);
+    }
+    loop_.id = "interleaved/" + std::to_string(loops_.size()) + "/" + loops_.front()->id;
+    loop_.items = off;
+    loop_.compute = [this](const std::vector<SharedLoop::Chunk>& mine) {
+      const auto split = pieces(mine);
+      for (std::size_t j = 0; j < loops_.size(); ++j)
+        if (!split[j].empty()) loops_[j]->compute(split[j]);
+    };
+    loop_.finish = [this](const std::vector<SharedLoop::Chunk>& mine) {
+      const auto split = pieces(mine);
+      for (std::size_t j = 0; j < loops_.size(); ++j)
+        if (loops_[j]->finish) loops_[j]->finish(split[j]);
+    };
+    loop_.pack = [this](std::size_t k, const ItemRange& r) {
+      UnitWriter w(kCombinedMagic);
+      for (const Piece& p : piecesOf(k, r)) {
+        w.put<std::uint64_t>(p.loop);
+        w.putString(loops_[p.loop]->pack(p.chunk.first, p.chunk.second));
+      }
+      return w.bytes();
+    };
+    loop_.unpack = [this](std::size_t k, const ItemRange& r, const std::string& bytes) {
+      UnitReader rd(bytes, kCombinedMagic);
+      for (const Piece& p : piecesOf(k, r)) {
+        const auto j = rd.get<std::uint64_t>();
+        const std::string part = rd.getString();
+        ARMSTUDY_CHECK(rd.ok() && j == p.loop, "an interleaved step's chunk arrives whole");
+        loops_[j]->unpack(p.chunk.first, p.chunk.second, part);
+      }
+      ARMSTUDY_CHECK(rd.finished(), "an interleaved step's chunk arrives whole");
+    };
+  }
+  const SharedLoop& loop() const { return loop_; }
+
+ private:
+  // Combined chunk k (items r) as pieces of the programs' loops; each keeps the id k.
+  std::vector<Piece> piecesOf(std::size_t k, const ItemRange& r) const {
+    std::vector<Piece> out;
+    for (std::size_t j = 0; j < loops_.size(); ++j) {
+      const long b = std::max(r.begin, offsets_[j]), e = std::min(r.end, offsets_[j] + loops_[j]->items);
+      if (b < e) out.push_back({j, {k, ItemRange{b - offsets_[j], e - offsets_[j]}}});
+    }
+    return out;
+  }
+  std::vector<std::vector<SharedLoop::Chunk>> pieces(const std::vector<SharedLoop::Chunk>& mine) const {
+    std::vector<std::vector<SharedLoop::Chunk>> split(loops_.size());
+    for (const SharedLoop::Chunk& c : mine)
+      for (const Piece& p : piecesOf(c.first, c.second)) split[p.loop].push_back(p.chunk);
+    return split;
+  }
+
+  std::vector<const SharedLoop*> loops_;
+  std::vector<long> offsets_;
+  SharedLoop loop_;
+};
+
+}  // namespace
+
+void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgram>& programs) {
+  const std::size_t n = programs.size();
+  if (n == 0) return;
+  Meeting meet;
+  meet.pending.assign(n, nullptr);
+  meet.ended.assign(n, 0);
+  meet.released.assign(n, 0);
+  std::vector<std::exception_ptr> errors(n);
+  std::vector<std::unique_ptr<MeetingRunner>> runners;
+  for (std::size_t p = 0; p < n; ++p) runners.push_back(std::make_unique<MeetingRunner>(meet, p, runner));
+  std::vector<std::thread> threads;
+  for (std::size_t p = 0; p < n; ++p)
+    threads.emplace_back([&, p] {
+      try {
+        programs[p](runners[p].get());
+      } catch (const MeetingRunner::Cancelled&) {
+      } catch (...) {
+        errors[p] = std::current_exception();
+      }
+      std::lock_guard<std::mutex> g(meet.m);
+      meet.ended[p] = 1;
+      meet.cv.notify_all();
+    });
+  std::exception_ptr failure;
+  for (;;) {
+    std::vector<std::size_t> at;  // programs waiting in a loop, in program order
+    {
+      std::unique_lock<std::mutex> lk(meet.m);
+      meet.cv.wait(lk, [&] {
+        for (std::size_t p = 0; p < n; ++p)
+          if (!meet.ended[p] && !meet.pending[p]) return false;
+        return true;
+      });
+      for (std::size_t p = 0; p < n; ++p)
+        if (meet.pending[p]) at.push_back(p);
+    }
+    if (at.empty()) break;
+    std::vector<const SharedLoop*> loops;
+    for (std::size_t p : at) loops.push_back(meet.pending[p]);
+    try {
+      if (loops.size() == 1) {
+        runSharedLoop(runner, *loops.front());
+      } else {
+        const Combined combined(loops);
+        runSharedLoop(runner, combined.loop());
+      }
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    std::lock_guard<std::mutex> g(meet.m);
+    for (std::size_t p : at) meet.pending[p] = nullptr;
+    if (failure) {
+      meet.stopping = true;
+    } else {
+      for (std::size_t p : at) ++meet.released[p];
+    }
+    meet.cv.notify_all();
+    if (failure) break;
+  }
+  for (std::thread& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace armstudy

@@ -1,0 +1,31 @@
+#pragma once
+// Interleaved programs (issue 16, docs/distributed.md "Interleaved searches"): several independent
+// sequences of shared loops, e.g. the reach map searches of every design of a grid, advance
+// together, one loop each per collective step, instead of one program after the other.
+//
+// Each program runs in a thread of its own and gets a runner whose `share(loop)` waits until every
+// program still running has reached its next shared loop (or ended); those loops are then run as
+// one combined loop through the real runner (their items concatenated in program order), and the
+// programs go on. A distributed run therefore pays one barrier per combined step rather than one per
+// program step, and a step's cost, concentrated in a few chunks of each program, spreads over all
+// ranks. The programs' own work between loops runs concurrently; a loop's compute, finish, pack and
+// unpack run on the calling thread while every program waits, so results do not depend on the
+// interleaving: a program's loops are the same loops, only grouped (every rank groups alike, since
+// which loops a program reaches depends only on the loops' results).
+#include <functional>
+#include <vector>
+
+#include "study/stage.hpp"
+
+namespace armstudy {
+
+// A program: a sequence of shared loops run through the runner it is given (which it must not use
+// for UnitRunner::run: only shared loops interleave).
+using InterleavedProgram = std::function<void(const UnitRunner* runner)>;
+
+// Runs `programs` interleaved through `runner` (null: this process alone, as runSharedLoop). Returns
+// when all have ended; rethrows the first (by program index) exception a program threw, after every
+// program has ended, and a failure of the combined loop itself after telling every program to stop.
+void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgram>& programs);
+
+}  // namespace armstudy
