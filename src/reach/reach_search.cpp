@@ -143,6 +143,8 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       }
     };
     loop.pack = [&](std::size_t k, const ItemRange& r) {
+      // Nothing tried (so nothing adopted, no starts spent): nothing to send.
+      if (counts.at(k).first == 0 && counts.at(k).second == 0) return std::string();
       UnitWriter w(kStepMagic);
       w.put<std::int64_t>(counts.at(k).first);
       w.put<std::int64_t>(counts.at(k).second);
@@ -161,6 +163,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       return w.bytes();
     };
     loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+      if (bytes.empty()) return;
       UnitReader rd(bytes, kStepMagic);
       total_a += static_cast<long>(rd.get<std::int64_t>());
       total_b += static_cast<long>(rd.get<std::int64_t>());

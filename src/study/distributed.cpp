@@ -310,7 +310,10 @@ class MpiUnitRunner final : public UnitRunner {
       mine.push_back({k, chunks[k]});
     loop.computeAll(mine);
     std::string blob;
-    for (const SharedLoop::Chunk& c : mine) pack(blob, {c.first, 0.0, 0.0, loop.pack(c.first, c.second)});
+    for (const SharedLoop::Chunk& c : mine) {
+      std::string bytes = loop.pack(c.first, c.second);
+      if (!bytes.empty()) pack(blob, {c.first, 0.0, 0.0, std::move(bytes)});  // empty: nothing to apply
+    }
     const std::vector<std::string> blobs = allGather(blob, rank_, size_);
     for (int r = 0; r < size_; ++r)
       if (r != rank_)

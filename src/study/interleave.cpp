@@ -89,21 +89,31 @@ class Combined {
       for (std::size_t j = 0; j < loops_.size(); ++j)
         if (loops_[j]->finish) loops_[j]->finish(split[j]);
     };
+    // The pieces with something to apply, each as (loop index, bytes); empty when none has.
     loop_.pack = [this](std::size_t k, const ItemRange& r) {
       UnitWriter w(kCombinedMagic);
+      bool any = false;
       for (const Piece& p : piecesOf(k, r)) {
+        const std::string part = loops_[p.loop]->pack(p.chunk.first, p.chunk.second);
+        if (part.empty()) continue;
         w.put<std::uint64_t>(p.loop);
-        w.putString(loops_[p.loop]->pack(p.chunk.first, p.chunk.second));
+        w.putString(part);
+        any = true;
       }
-      return w.bytes();
+      return any ? w.bytes() : std::string();
     };
     loop_.unpack = [this](std::size_t k, const ItemRange& r, const std::string& bytes) {
+      if (bytes.empty()) return;
+      const std::vector<Piece> pieces = piecesOf(k, r);
       UnitReader rd(bytes, kCombinedMagic);
-      for (const Piece& p : piecesOf(k, r)) {
+      std::size_t next = 0;
+      while (rd.ok() && !rd.finished()) {
         const auto j = rd.get<std::uint64_t>();
         const std::string part = rd.getString();
-        ARMSTUDY_CHECK(rd.ok() && j == p.loop, "an interleaved step's chunk arrives whole");
-        loops_[j]->unpack(p.chunk.first, p.chunk.second, part);
+        while (next < pieces.size() && pieces[next].loop != j) ++next;
+        ARMSTUDY_CHECK(rd.ok() && next < pieces.size(), "an interleaved step's chunk arrives whole");
+        loops_[j]->unpack(pieces[next].chunk.first, pieces[next].chunk.second, part);
+        ++next;
       }
       ARMSTUDY_CHECK(rd.finished(), "an interleaved step's chunk arrives whole");
     };

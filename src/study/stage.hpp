@@ -91,7 +91,8 @@ struct UnitBatch {
 // one call with the run's threads (so per-call set-up, such as solver workspaces, is paid once per
 // loop and process), before `finish(mine)`, which takes the owned chunks' results (e.g. a Jacobi
 // step adopts them only then, so no chunk sees another's results). Then `pack(k, r)` returns an
-// owned chunk's results as bytes and the other processes apply them with `unpack(k, r, bytes)`.
+// owned chunk's results as bytes and the other processes apply them with `unpack(k, r, bytes)`;
+// empty bytes mean "nothing to apply" (a runner need not send them, and unpack must accept them).
 // A single process owns one chunk, all items (pack and unpack are not called) or, when unit costs
 // are recorded, chunks of `chunk` items, each computed and timed in a call of its own.
 struct SharedLoop {
