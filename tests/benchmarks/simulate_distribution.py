@@ -27,10 +27,15 @@ Model, per batch (batches run one after another, as every rank runs the stages i
 Makespan = sum over batches; efficiency = T1 / (N x makespan) with T1 = the single process
 (sum of unit costs + shared steps + serial work); master load = busy time of rank 0's hand-out thread / makespan.
 
+--replicate R stands for R times the variants: every batch R times; with --interleaved (a record of
+a run whose searches advance interleaved, "share:interleaved/..." steps: src/study/interleave.hpp)
+the R copies of a grid's designs join the same combined steps (a step's chunks R times), as the
+runner does with all the designs of a grid; without it the copies' steps follow one another.
+
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single] [--group G]
-      [--one-pool] [--unshared]
+      [--one-pool] [--unshared] [--interleaved]
 """
 import argparse
 import csv
@@ -64,6 +69,26 @@ def load_phases(path, scale, group):
             items = [(sum(c for c, _ in items[i:i + group]), sum(b for _, b in items[i:i + group]))
                      for i in range(0, len(items), group)]
         out.append((kind, items))
+    return out
+
+
+def replicate(phases, r, interleaved):
+    """R times the variants. Not interleaved: the whole record R times. Interleaved: per segment
+    (a run of unit batches, then the shared steps that follow them, i.e. one grid), the batches R
+    times and each step with its chunks R times (the copies' designs in the same combined step)."""
+    if not interleaved:
+        return phases * r
+    out, i = [], 0
+    while i < len(phases):
+        j = i
+        while j < len(phases) and phases[j][0] == "units":
+            j += 1
+        k = j
+        while k < len(phases) and phases[k][0] == "step":
+            k += 1
+        out += phases[i:j] * r
+        out += [("step", items * r) for _, items in phases[j:k]]
+        i = k
     return out
 
 
@@ -154,9 +179,11 @@ def main():
     ap.add_argument("--one-pool", action="store_true",
                     help="what-if: every batch of the study handed out from one pool (no barrier between "
                          "batches) and the batches' serial work spread over the ranks")
+    ap.add_argument("--interleaved", action="store_true",
+                    help="the replicas' designs join the recorded combined steps (a record of interleaved searches)")
     a = ap.parse_args()
 
-    phases = load_phases(a.csv, a.scale, a.group) * a.replicate
+    phases = replicate(load_phases(a.csv, a.scale, a.group), a.replicate, a.interleaved)
     batches = [items for kind, items in phases if kind == "units"]
     steps = [items for kind, items in phases if kind == "step"]
     serial = a.serial_total * a.replicate / max(1, len(batches))
