@@ -124,6 +124,13 @@ HarvestOptions readHarvestOptions(TableReader& r, const SectionInput& in) {
     o.approach = readApproachOptions(ar);
     ar.finish();
   }
+  // Samples per approach (rate x duration): at least one Euler step (a rate so low that 1 / rate
+  // overflows passes "> 0"), at most kMaxSamples (the trajectory is held in memory).
+  constexpr double kMaxSamples = 1e6;
+  if (!(o.approach.duration_s * o.rate_Hz >= 1))
+    r.fail("rate", "rate x approach duration must give at least one step (rate >= 1 / duration)");
+  if (o.approach.duration_s * o.rate_Hz > kMaxSamples)
+    r.fail("rate", "rate x approach duration exceeds 1e6 samples per approach");
   if (const toml::table* t = r.table("objective")) {
     TableReader orr(*t, r.file(), r.keyPath("objective"));
     o.w_joint_limits = orr.number("joint_limits", o.w_joint_limits);
