@@ -2,21 +2,30 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <string_view>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "collision/reach_collision.hpp"
+#include "common/errors.hpp"
+#include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_audit.hpp"
 #include "report/markdown.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
+#include "study/checkpoint.hpp"
 #include "study/interleave.hpp"
 
 namespace armstudy {
 
 using nlohmann::ordered_json;
+
+namespace {
+constexpr std::string_view kDesignPartMagic = "armstudy-reach-design-part-1";
+}  // namespace
 using namespace reach_report;
 using namespace reach_units;
 
@@ -80,13 +89,22 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     runInterleaved(&ctx.units, programs);
     sum.timings.push_back({"reach/" + g.name + "/audit", seconds(t0)});
   }
-  t0 = Clock::now();  // the files and figures of every design (every rank does this part)
-
-  std::vector<std::vector<std::string>> rows;
-  ordered_json jdesigns = ordered_json::array();
+  // Each design's files, figures and report lines, rendered by the process that owns it (a loop
+  // shared among the processes of a distributed run, one design per chunk): the files go to a
+  // scratch folder inside the store (<output>/.partial/render/), their bytes travel with the
+  // design's summary entry (CBOR) and report lines, and every process then writes them in design
+  // order, so the files and their order are those of a single process.
+  t0 = Clock::now();
   const ImagePlane plane = imagePlane(g);
-  std::string images_md;
-  for (std::size_t di = 0; di < sweeps.size(); ++di) {
+  struct DesignPart {
+    ordered_json jd;
+    std::string md, images_md;
+    std::vector<std::vector<std::string>> rows;
+  };
+  auto renderDesign = [&](std::size_t di, Writer& out, DesignPart& part) {
+    std::string& md = part.md;
+    std::string& images_md = part.images_md;
+    std::vector<std::vector<std::string>>& rows = part.rows;
     const PoseSweep& s = sweeps[di];
     const StudyDesign& sd = study.designs[di];
     Stats all;
@@ -264,7 +282,70 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         }
       }
     }
-    jdesigns.push_back(jd);
+    part.jd = std::move(jd);
+  };
+  std::vector<std::string> parts(nd);  // per design: files, entry and lines as bytes
+  SharedLoop render;
+  render.id = "files/" + g.name;
+  render.items = static_cast<long>(nd);
+  render.chunk = 1;
+  render.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+    for (const long di : SharedLoop::itemsOf(mine)) {
+      const std::string scratch = out.path(".partial/render/" + g.name + "-" + std::to_string(di));
+      std::filesystem::remove_all(scratch);
+      Writer w(scratch);
+      DesignPart part;
+      renderDesign(static_cast<std::size_t>(di), w, part);
+      UnitWriter b(kDesignPartMagic);
+      const std::vector<std::uint8_t> cbor = ordered_json::to_cbor(part.jd);
+      b.putVector(cbor);
+      b.putString(part.md);
+      b.putString(part.images_md);
+      b.put<std::uint64_t>(part.rows.size());
+      for (const auto& row : part.rows) {
+        b.put<std::uint64_t>(row.size());
+        for (const std::string& c : row) b.putString(c);
+      }
+      b.put<std::uint64_t>(w.files().size());
+      for (const std::string& rel : w.files()) {
+        b.putString(rel);
+        b.putString(readFileOrThrow(w.path(rel)));
+      }
+      std::filesystem::remove_all(scratch);
+      parts[static_cast<std::size_t>(di)] = b.bytes();
+    }
+  };
+  render.pack = [&](std::size_t, const ItemRange& r) {
+    UnitWriter b(kDesignPartMagic);
+    for (long di = r.begin; di < r.end; ++di) b.putString(parts[static_cast<std::size_t>(di)]);
+    return b.bytes();
+  };
+  render.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+    UnitReader rd(bytes, kDesignPartMagic);
+    for (long di = r.begin; di < r.end; ++di) parts[static_cast<std::size_t>(di)] = rd.getString();
+    ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
+  };
+  runSharedLoop(&ctx.units, render);
+  std::vector<std::vector<std::string>> rows;
+  ordered_json jdesigns = ordered_json::array();
+  std::string images_md;
+  for (std::size_t di = 0; di < nd; ++di) {
+    UnitReader rd(parts[di], kDesignPartMagic);
+    std::vector<std::uint8_t> cbor;
+    rd.getVector(cbor);
+    jdesigns.push_back(ordered_json::from_cbor(cbor));
+    md += rd.getString();
+    images_md += rd.getString();
+    for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
+      std::vector<std::string> row(rd.get<std::uint64_t>());
+      for (std::string& c : row) c = rd.getString();
+      rows.push_back(std::move(row));
+    }
+    for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
+      const std::string rel = rd.getString();
+      out.text(rel, rd.getString());
+    }
+    ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
   }
   sum.timings.push_back({"reach/" + g.name + "/files", seconds(t0)});
   jg["designs"] = jdesigns;
