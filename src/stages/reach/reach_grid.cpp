@@ -326,6 +326,11 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
   };
   runSharedLoop(&ctx.units, render);
+  {
+    std::error_code ec;  // the scratch folders' parents, when empty (the store may hold units)
+    std::filesystem::remove(out.path(".partial/render"), ec);
+    std::filesystem::remove(out.path(".partial"), ec);
+  }
   std::vector<std::vector<std::string>> rows;
   ordered_json jdesigns = ordered_json::array();
   std::string images_md;
