@@ -9,7 +9,6 @@
 
 #include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
-#include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_audit.hpp"
@@ -24,7 +23,7 @@ namespace armstudy {
 using nlohmann::ordered_json;
 
 namespace {
-constexpr std::string_view kDesignPartMagic = "armstudy-reach-design-part-1";
+constexpr std::string_view kDesignPartMagic = "armstudy-reach-design-parts-1";
 }  // namespace
 using namespace reach_report;
 using namespace reach_units;
@@ -96,11 +95,6 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   // order, so the files and their order are those of a single process.
   t0 = Clock::now();
   const ImagePlane plane = imagePlane(g);
-  struct DesignPart {
-    ordered_json jd;
-    std::string md, images_md;
-    std::vector<std::vector<std::string>> rows;
-  };
   auto renderDesign = [&](std::size_t di, Writer& out, DesignPart& part) {
     std::string& md = part.md;
     std::string& images_md = part.images_md;
@@ -296,23 +290,9 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       Writer w(scratch);
       DesignPart part;
       renderDesign(static_cast<std::size_t>(di), w, part);
-      UnitWriter b(kDesignPartMagic);
-      const std::vector<std::uint8_t> cbor = ordered_json::to_cbor(part.jd);
-      b.putVector(cbor);
-      b.putString(part.md);
-      b.putString(part.images_md);
-      b.put<std::uint64_t>(part.rows.size());
-      for (const auto& row : part.rows) {
-        b.put<std::uint64_t>(row.size());
-        for (const std::string& c : row) b.putString(c);
-      }
-      b.put<std::uint64_t>(w.files().size());
-      for (const std::string& rel : w.files()) {
-        b.putString(rel);
-        b.putString(readFileOrThrow(w.path(rel)));
-      }
+      std::string bytes = packDesignPart(part, w);
       std::filesystem::remove_all(scratch);
-      parts[static_cast<std::size_t>(di)] = b.bytes();
+      parts[static_cast<std::size_t>(di)] = std::move(bytes);
     }
   };
   render.pack = [&](std::size_t, const ItemRange& r) {
@@ -335,22 +315,12 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   ordered_json jdesigns = ordered_json::array();
   std::string images_md;
   for (std::size_t di = 0; di < nd; ++di) {
-    UnitReader rd(parts[di], kDesignPartMagic);
-    std::vector<std::uint8_t> cbor;
-    rd.getVector(cbor);
-    jdesigns.push_back(ordered_json::from_cbor(cbor));
-    md += rd.getString();
-    images_md += rd.getString();
-    for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-      std::vector<std::string> row(rd.get<std::uint64_t>());
-      for (std::string& c : row) c = rd.getString();
-      rows.push_back(std::move(row));
-    }
-    for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-      const std::string rel = rd.getString();
-      out.text(rel, rd.getString());
-    }
-    ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
+    DesignPart part;
+    unpackDesignPart(parts[di], part, out);
+    jdesigns.push_back(std::move(part.jd));
+    md += part.md;
+    images_md += part.images_md;
+    for (auto& row : part.rows) rows.push_back(std::move(row));
   }
   sum.timings.push_back({"reach/" + g.name + "/files", seconds(t0)});
   jg["designs"] = jdesigns;

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -125,5 +125,18 @@ void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& he
 const char* ssvTypeName(SsvType t);
 nlohmann::ordered_json obstacleJson(const collision::Obstacle& o);
 std::vector<std::string> obstacleRow(const collision::Obstacle& o);
+
+// One design's part of a grid's report (rendered by the process that owns the design, docs/
+// distributed.md "Files"): its summary entry, its report and image lines, its table rows, and, as
+// bytes, the files it wrote.
+struct DesignPart {
+  nlohmann::ordered_json jd;
+  std::string md, images_md;
+  std::vector<std::vector<std::string>> rows;
+};
+// The part and the files `w` lists (read back from its folder) as bytes (the entry as CBOR).
+std::string packDesignPart(const DesignPart& part, const Writer& w);
+// The inverse: fills `part` and writes the files into `out` (in the order they were written).
+void unpackDesignPart(const std::string& bytes, DesignPart& part, Writer& out);
 
 }  // namespace armstudy::reach_report
