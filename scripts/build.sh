@@ -3,6 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
+bash scripts/unpack-paraview.sh build/paraview  # pvpython for the scene render test
 GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
 if [ ! -f build/CMakeCache.txt ]; then

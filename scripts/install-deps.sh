@@ -7,6 +7,7 @@ PKGS=(build-essential cmake ninja-build ccache git pkg-config
       libtomlplusplus-dev libcli11-dev nlohmann-json3-dev catch2
       libcairo2-dev fonts-dejavu-core
       chromium chromium-driver  # the browser test of report.html (tests/browser)
+      xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
       liborocos-kdl-dev libfcl-dev libceres-dev
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
       libopenmpi-dev openmpi-bin)

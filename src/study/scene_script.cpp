@@ -17,11 +17,18 @@ bool endsWith(const std::string& s, const std::string& tail) {
 constexpr const char* kScriptBody = R"PY(
 # Colour by the first point array whose name starts with one of these (maps: manipulability,
 # else the status enum, ...); robot, obstacles and motions are grey, boundary surfaces translucent.
+# Magnitudes get a sequential scale (viridis), signed quantities a diverging one centred on 0,
+# enumerations one colour per value named from the file's legend.
 COLOUR_BY = ("manipulability_optimised_normalised", "manipulability", "status", "max_current_ratio",
-             "reached_by_count", "mean_residual_max_abs", "residual", "in_contact", "time")
+             "reached_by_count", "mean_over_threshold_max", "residual", "in_contact", "time")
 GREY = (0.62, 0.62, 0.62)
 OBSTACLE_GREY = (0.40, 0.40, 0.40)
+SIZE = [1280, 800]  # the view and its screenshots [pixels]; fonts are sized for it
+BAR_WIDTH = 0.26    # share of the width on the right kept for the colour bars
+FONT = 15           # colour-bar title and label size [points]
+MAX_BARS = 3        # colour scales beside the scene; a file needing one more is loaded hidden
 
+import math
 import os
 import re
 import sys
@@ -51,19 +58,130 @@ def colour_array(source):
     return None
 
 
+def unit_of(source, array):
+    """The unit of a point array from the field data `units` ("<array>: <unit> (<note>)")."""
+    base = re.sub(r"_o[0-9]+$", "", array)  # reach arrays per orientation: manipulability_o1
+    for u in field_strings(source, "units"):
+        if u.startswith(base + ": "):
+            unit = u.split(": ", 1)[1].split(" (")[0]
+            return "-" if unit == "1" else unit
+    return None
+
+
+def categories(source, array):
+    """The meanings of an enumeration's values from the field data `legend` ("<array> <v>: <text>")."""
+    out = []
+    for entry in field_strings(source, "legend"):
+        m = re.match(re.escape(array) + r" (-?[0-9]+): (.*)$", entry)
+        if m:
+            out.append((int(m.group(1)), m.group(2).split(" (")[0]))
+    return sorted(out)
+
+
+PALETTE = [(0.12, 0.47, 0.71), (1.0, 0.50, 0.05), (0.17, 0.63, 0.17), (0.84, 0.15, 0.16),
+           (0.58, 0.40, 0.74), (0.55, 0.34, 0.29), (0.89, 0.47, 0.76), (0.50, 0.50, 0.50)]
+
+
+def wrapped(title, width=26):
+    """A long title broken after underscores or spaces into lines of about `width` characters."""
+    lines, line = [], ""
+    for part in re.findall(r"[^_ ]*[_ ]?", title):
+        if line and len(line) + len(part) > width:
+            lines.append(line.rstrip())
+            line = ""
+        line += part
+    return "\n".join(lines + [line.rstrip()]) if line else "\n".join(lines)
+
+
+def style_bar(bar, title, index, categorical):
+    bar.Title = wrapped(title)
+    bar.ComponentTitle = ""
+    bar.Orientation = "Vertical"
+    bar.WindowLocation = "Any Location"
+    bar.Position = [1.0 - BAR_WIDTH + 0.01, 0.70 - 0.32 * index]
+    bar.ScalarBarLength = 0.20
+    bar.TitleFontSize = FONT
+    bar.LabelFontSize = FONT - 2
+    bar.TitleJustification = "Left"
+    bar.HorizontalTitle = 1
+    bar.AutomaticLabelFormat = 0
+    bar.LabelFormat = "%-#.3g"
+    bar.RangeLabelFormat = "%-#.3g"
+    bar.DrawTickMarks = 1
+    # All text right of the bar, away from the scene (categories are "annotations" to ParaView).
+    bar.TextPosition = ("Ticks left/bottom, annotations right/top" if categorical
+                        else "Ticks right/top, annotations left/bottom")
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v)) or 1.0
+    return [x / n for x in v]
+
+
+def frame_scene(view, bounds):
+    """Camera: the data's bounding box inside the part of the view left of the colour bars."""
+    renderer = view.GetRenderer()
+    camera = GetActiveCamera()
+    corners = [(bounds[i], bounds[2 + j], bounds[4 + k]) for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+    right_edge = 1.0 - BAR_WIDTH
+    for _ in range(30):
+        Render(view)
+        xs, ys = [], []
+        for c in corners:
+            renderer.SetWorldPoint(c[0], c[1], c[2], 1.0)
+            renderer.WorldToView()
+            x, y, _ = renderer.GetViewPoint()  # -1..1 across the viewport
+            xs.append((x + 1) / 2)
+            ys.append((y + 1) / 2)
+        # Pan: the box's centre to the centre of the free part; then zoom until it fits with a margin.
+        dx = (min(xs) + max(xs)) / 2 - right_edge / 2
+        dy = (min(ys) + max(ys)) / 2 - 0.5
+        scale = max((max(xs) - min(xs)) / (0.92 * right_edge), (max(ys) - min(ys)) / 0.92)
+        if abs(dx) < 0.005 and abs(dy) < 0.005 and 0.97 < scale <= 1.0:
+            break
+        # Move the camera within its view plane by the offset (in units of the view's width at the focal point).
+        fp, pos = list(camera.GetFocalPoint()), list(camera.GetPosition())
+        dist = camera.GetDistance()
+        height = 2 * dist * math.tan(math.radians(camera.GetViewAngle()) / 2)
+        width = height * SIZE[0] / SIZE[1]
+        d = [fp[i] - pos[i] for i in range(3)]
+        right = unit(cross(d, camera.GetViewUp()))
+        up = unit(cross(right, d))  # the view-up orthogonal to the direction of view
+        shift = [dx * width * right[i] + dy * height * up[i] for i in range(3)]
+        camera.SetFocalPoint(*[fp[i] + shift[i] for i in range(3)])
+        camera.SetPosition(*[pos[i] + shift[i] for i in range(3)])
+        camera.Dolly(1.0 / scale if scale > 0 else 1.0)
+
+
 def main():
+    bars_on = "--no-bars" not in sys.argv
     view = GetActiveViewOrCreate("RenderView")
+    view.ViewSize = SIZE
     view.OrientationAxesVisibility = 1
-    bars = set()
+    coloured = {}  # quantity (array name without the orientation suffix _oK) -> [range, source, arrays]
+    bounds = None
     for rel in FILES:
         source = OpenDataFile(os.path.join(HERE, rel))
         RenameSource(rel, source)
         source.UpdatePipeline()
-        shown = Show(source, view)
         if field_strings(source, "coordinates")[:1] != [WORLD]:
-            Hide(source, view)  # e.g. a map over (gamma, z): not in metres, kept for inspection
-            continue
+            continue  # e.g. a map over (gamma, z): not in metres, in the pipeline browser but not shown
         name = os.path.basename(rel)
+        folder = os.path.dirname(rel)
+        if ("/calibrated/" in "/" + rel or name == "comparison.vti" or
+                (name.startswith("before_") and os.path.exists(os.path.join(HERE, folder, "after_" + name[7:])))):
+            # Loaded hidden (one click in the pipeline browser): the model before calibration, the
+            # calibrated copy's duplicate of "after", the designs' comparison on the maps' own points.
+            continue
+        shown = Show(source, view)
+        b = source.GetDataInformation().GetBounds()
+        if b[0] <= b[1]:
+            bounds = list(b) if bounds is None else [min(bounds[i], b[i]) if i % 2 == 0 else max(bounds[i], b[i])
+                                                     for i in range(6)]
         if "robot" in name or "obstacles" in name or rel.endswith(".pvd"):
             shown.ColorArrayName = ["POINTS", ""]  # solid colour
             shown.AmbientColor = shown.DiffuseColor = OBSTACLE_GREY if "obstacles" in name else GREY
@@ -74,36 +192,60 @@ def main():
             shown.Opacity = 0.3
             continue
         extent = source.GetDataInformation().GetExtent()
-        if rel.endswith(".vti") and all(extent[2 * a + 1] > extent[2 * a] for a in range(3)):
-            shown.SetRepresentationType("Points")  # a 3-D grid: every point visible
+        if rel.endswith(".vti") and sum(extent[2 * a + 1] > extent[2 * a] for a in range(3)) != 2:
+            shown.SetRepresentationType("Points")  # a 3-D grid or a line of points: every point visible
         shown.PointSize = 4.0
         shown.LineWidth = 2.0
         array = colour_array(source)
         if array is None:
             continue
+        quantity = re.sub(r"_o[0-9]+$", "", array)  # reach maps: manipulability_o1 per orientation
+        if quantity not in coloured and len(coloured) == MAX_BARS:
+            Hide(source, view)  # no room for another colour scale: kept in the pipeline browser
+            print("hidden (a colour scale too many): %s by %s" % (rel, array))
+            continue
         ColorBy(shown, ("POINTS", array))
-        shown.RescaleTransferFunctionToDataRange(False, True)
-        if not bars:  # one colour bar (the first map's), titled with its unit
-            bars.add(array)
-            shown.SetScalarBarVisibility(view, True)
-            bar = GetScalarBar(GetColorTransferFunction(array), view)
-            base = re.sub(r"_o[0-9]+$", "", array)  # reach arrays per orientation: manipulability_o1
-            units = [u.split(": ", 1)[1].split(" (")[0] for u in field_strings(source, "units")
-                     if u.startswith(base + ": ")]
-            bar.Title = array + (" [" + units[0] + "]" if units else "")
-            bar.ComponentTitle = ""
-            bar.Orientation = "Horizontal"  # a long title fits below the scene
-            bar.WindowLocation = "Lower Center"
-            bar.ScalarBarLength = 0.5
+        shown.SetScalarBarVisibility(view, False)
+        r = source.PointData[array].GetRange()
+        if quantity not in coloured:
+            coloured[quantity] = [r, source, [array]]
+        else:  # one colour scale per quantity over all the files and orientations that show it
+            entry = coloured[quantity]
+            entry[0] = (min(entry[0][0], r[0]), max(entry[0][1], r[1]))
+            if array not in entry[2]:
+                entry[2].append(array)
+    for index, (quantity, (r, source, arrays)) in enumerate(coloured.items()):
+        cats = categories(source, arrays[0])
+        unit = unit_of(source, arrays[0])
+        title = quantity + (" [" + unit + "]" if unit else "")
+        for array in arrays:  # ParaView keeps a colour map per array name: give them all the same
+            lut = GetColorTransferFunction(array)
+            if cats:  # an enumeration: one colour per value, named from the legend
+                lut.InterpretValuesAsCategories = 1
+                lut.Annotations = sum([[str(v), "%d %s" % (v, text)] for v, text in cats], [])
+                lut.IndexedColors = sum([list(PALETTE[k % len(PALETTE)]) for k in range(len(cats))], [])
+            elif r[0] < 0 < r[1]:  # signed (residuals): diverging, white at 0, symmetric
+                lut.ApplyPreset("Cool to Warm", True)
+                lut.RescaleTransferFunction(-max(-r[0], r[1]), max(-r[0], r[1]))
+            else:  # magnitudes: a sequential scale (dark = small)
+                lut.ApplyPreset("Viridis (matplotlib)", True)
+                lut.RescaleTransferFunction(r[0], r[1] if r[1] > r[0] else r[0] + 1.0)
+        if bars_on:  # one bar per quantity (the first array's colour map stands for all)
+            bar = GetScalarBar(GetColorTransferFunction(arrays[0]), view)
+            style_bar(bar, title, index, bool(cats))
+            bar.Visibility = 1
+        print("coloured by %s, %s..%s%s" % (title, r[0], r[1], " (categories)" if cats else ""))
     view.CameraViewUp = [0, 0, 1]
     view.ResetActiveCameraToNegativeY()
     camera = GetActiveCamera()
     camera.Elevation(25)
     camera.Azimuth(-35)
     view.ResetCamera()
+    if bounds is not None:
+        frame_scene(view, bounds)
     Render(view)
     if "--screenshot" in sys.argv:
-        SaveScreenshot(sys.argv[sys.argv.index("--screenshot") + 1], view, ImageResolution=[1280, 800])
+        SaveScreenshot(sys.argv[sys.argv.index("--screenshot") + 1], view, ImageResolution=SIZE)
     elif sys.argv and sys.argv[0].endswith("scene.py"):
         Interact(view)  # pvpython scene.py: an interactive window
 
@@ -121,7 +263,7 @@ std::string sceneScript(const std::string& study_name, const std::vector<std::st
   std::string s = "# ParaView scene of the armstudy study \"" + study_name +
                   "\" (docs/paraview.md), written by `armstudy run`.\n"
                   "#   pvpython scene.py                         an interactive window\n"
-                  "#   pvpython scene.py --screenshot scene.png  renders offscreen into a PNG\n"
+                  "#   pvpython scene.py --screenshot scene.png  renders offscreen into a PNG (--no-bars: without colour bars)\n"
                   "#   paraview --script=scene.py                in the ParaView GUI\n"
                   "WORLD = \"" + std::string(io::kWorldMetres) + "\"\nFILES = [\n";
   for (const std::string& f : files)

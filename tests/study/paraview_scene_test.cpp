@@ -14,6 +14,7 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLStructuredGridReader.h>
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -243,49 +244,77 @@ TEST_CASE("scene.py lists the world files and renders offscreen when ParaView's 
   }
   CHECK(script.find("\"scene/obstacles.vtp\"") != std::string::npos);
 
-  // pvpython (Debian: packages paraview and python3-paraview). Debian's ParaView renders through
-  // X: without a display the test uses xvfb-run (package xvfb) when it is there; else it tries
-  // ParaView's own offscreen rendering, which only builds with EGL or OSMesa support have.
-  // ARMSTUDY_PVPYTHON names another pvpython (e.g. a ParaView unpacked beside the system's VTK:
-  // on Debian 12 python3-paraview conflicts with libvtk9-dev, which armstudy builds with).
+  // pvpython: the one ARMSTUDY_PVPYTHON names, else the ParaView that scripts/unpack-paraview.sh
+  // (run by scripts/build.sh, i.e. the test command) unpacked into the build folder, else a system
+  // one (Debian: paraview, python3-paraview, which conflicts with libvtk9-dev). Debian's ParaView
+  // renders through X: without a display the test uses xvfb-run (package xvfb).
   std::string log;
   const char* own = std::getenv("ARMSTUDY_PVPYTHON");
-  const std::string pvpython = own && *own ? own : "pvpython";
+  std::string pvpython = own && *own ? own : "pvpython";
+  if (!(own && *own) && fs::exists(ARMSTUDY_UNPACKED_PVPYTHON)) pvpython = ARMSTUDY_UNPACKED_PVPYTHON;
   if (runCommand("command -v " + pvpython, log) != 0) {
-    WARN("ParaView's pvpython is not installed (Debian: paraview, python3-paraview; or set ARMSTUDY_PVPYTHON): "
+    WARN("ParaView's pvpython is not available (scripts/unpack-paraview.sh, or set ARMSTUDY_PVPYTHON): "
          "scene.py not rendered");
     return;
   }
   const bool display = std::getenv("DISPLAY") != nullptr;
   const bool xvfb = !display && runCommand("command -v xvfb-run", log) == 0;
   const std::string runner = xvfb ? "xvfb-run -a " + pvpython : display ? pvpython : pvpython + " --force-offscreen-rendering";
-  const fs::path png = out / "scene_test.png";
-  fs::remove(png);
-  const int rc = runCommand(runner + " " + (out / "scene.py").string() + " --screenshot " + png.string(), log);
-  INFO(log);
-  if (rc != 0 && !display && !xvfb) {
+  // Two pictures of the same scene: with its colour bars and without them (--no-bars).
+  auto render = [&](const std::string& name, const std::string& extra) {
+    const fs::path png = out / name;
+    fs::remove(png);
+    const int rc = runCommand(runner + " " + (out / "scene.py").string() + " --screenshot " + png.string() + extra, log);
+    INFO(log);
+    if (rc != 0 && !display && !xvfb) return fs::path();
+    REQUIRE(rc == 0);
+    REQUIRE(fs::exists(png));
+    return png;
+  };
+  const fs::path with_bars = render("scene_test.png", ""), without = render("scene_test_nobars.png", " --no-bars");
+  if (with_bars.empty() || without.empty()) {
     WARN("pvpython could not render without a display (install xvfb for xvfb-run): scene.py not rendered");
     return;
   }
-  REQUIRE(rc == 0);
-  REQUIRE(fs::exists(png));
-  // A picture, not an empty view: a good part of the pixels differ from the background (the
-  // corner pixel; the orientation axes alone cover far less).
-  vtkNew<vtkPNGReader> reader;
-  reader->SetFileName(png.c_str());
-  reader->Update();
-  vtkImageData* img = reader->GetOutput();
-  int dims[3];
-  img->GetDimensions(dims);
+  auto load = [](const fs::path& png, std::vector<vtkSmartPointer<vtkObject>>& keep) {
+    auto reader = vtkSmartPointer<vtkPNGReader>::New();
+    reader->SetFileName(png.c_str());
+    reader->Update();
+    keep.push_back(reader);
+    return reader->GetOutput();
+  };
+  std::vector<vtkSmartPointer<vtkObject>> images;
+  vtkImageData* a = load(with_bars, images);
+  vtkImageData* b = load(without, images);
+  int dims[3], dims_b[3];
+  a->GetDimensions(dims);
+  b->GetDimensions(dims_b);
   REQUIRE(dims[0] * dims[1] > 0);
-  auto pixel = [&](int x, int y) {
+  REQUIRE((dims[0] == dims_b[0] && dims[1] == dims_b[1]));
+  auto pixel = [](vtkImageData* img, int x, int y) {
     std::array<double, 3> c{};
     for (int k = 0; k < 3; ++k) c[k] = img->GetScalarComponentAsDouble(x, y, 0, k);
     return c;
   };
-  const auto background = pixel(dims[0] - 1, dims[1] - 1);
-  long drawn = 0;
+  const auto background = pixel(b, dims[0] - 1, dims[1] - 1);
+  // The scene = what differs from the background without bars; the bars and their text = what
+  // the bars change. A picture, not an empty view; no bar text over the scene (no pixel that is
+  // both); nothing clipped at the picture's edges (neither scene nor bar text on its border).
+  long scene = 0, bar = 0, overlap = 0, scene_on_border = 0, bar_on_border = 0;
   for (int y = 0; y < dims[1]; ++y)
-    for (int x = 0; x < dims[0]; ++x) drawn += pixel(x, y) != background;
-  CHECK(drawn > kMinDrawnShare * dims[0] * dims[1]);
+    for (int x = 0; x < dims[0]; ++x) {
+      const auto pb = pixel(b, x, y);
+      const bool in_scene = pb != background, in_bar = pixel(a, x, y) != pb;
+      const bool border = x < 2 || y < 2 || x >= dims[0] - 2 || y >= dims[1] - 2;
+      scene += in_scene;
+      bar += in_bar;
+      overlap += in_scene && in_bar;
+      scene_on_border += in_scene && border;
+      bar_on_border += in_bar && border;
+    }
+  CHECK(scene > kMinDrawnShare * dims[0] * dims[1]);
+  CHECK(bar > 0);  // the scene colours at least one array (manipulability, status, ...) with a bar
+  CHECK(overlap == 0);
+  CHECK(scene_on_border == 0);
+  CHECK(bar_on_border == 0);
 }
