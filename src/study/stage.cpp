@@ -1,5 +1,6 @@
 #include "study/stage.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -90,6 +91,38 @@ long UnitRunner::run(const UnitBatch& batch) const {
     ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]), "a unit computed by this run loads back: " + batch.ids[todo[i]]);
   times_.append(lines);
   return resumed;
+}
+
+long runUnitBatches(const UnitRunner& runner, const std::vector<UnitBatch>& batches) {
+  if (batches.size() == 1 || !std::all_of(batches.begin(), batches.end(), [](const UnitBatch& b) { return b.portable; })) {
+    long loaded = 0;
+    for (const UnitBatch& b : batches) loaded += runner.run(b);
+    return loaded;
+  }
+  // Unit k of the combined batch is unit k - offset[b] of batch b.
+  std::vector<std::size_t> offset;
+  UnitBatch all;
+  for (const UnitBatch& b : batches) {
+    offset.push_back(all.ids.size());
+    all.ids.insert(all.ids.end(), b.ids.begin(), b.ids.end());
+  }
+  const auto owner = [&](std::size_t k) {
+    return static_cast<std::size_t>(std::upper_bound(offset.begin(), offset.end(), k) - offset.begin()) - 1;
+  };
+  all.load = [&](std::size_t k, const std::string& bytes) {
+    const std::size_t b = owner(k);
+    return batches[b].load(k - offset[b], bytes);
+  };
+  all.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    std::vector<std::vector<std::size_t>> mine(batches.size());
+    for (std::size_t k : todo) {
+      const std::size_t b = owner(k);
+      mine[b].push_back(k - offset[b]);
+    }
+    for (std::size_t b = 0; b < batches.size(); ++b)
+      batches[b].compute(mine[b], [&, b](std::size_t j, const std::string& bytes) { done(j + offset[b], bytes); });
+  };
+  return runner.run(all);
 }
 
 std::vector<long> SharedLoop::itemsOf(const std::vector<Chunk>& mine) {

@@ -76,7 +76,8 @@ struct UnitBatch {
   // false when they do not fit (the unit is then computed again). Called from one thread.
   std::function<bool(std::size_t k, const std::string& bytes)> load;
   // Computes the listed units (indices into ids, ascending) with the run's threads and calls
-  // done(k, bytes) once per unit as soon as it is complete (concurrently for distinct units).
+  // done(k, bytes) once per unit as soon as it is complete (concurrently for distinct units). The
+  // list may be empty (runUnitBatches: this batch has no units in that call).
   using Done = std::function<void(std::size_t k, const std::string& bytes)>;
   std::function<void(const std::vector<std::size_t>& todo, const Done& done)> compute;
   // False when a unit's result is not all in its bytes: it also writes files into the output
@@ -160,6 +161,13 @@ class UnitRunner {
   int threads_ = 1;  // recorded with unit times
   UnitTimeRecord times_;
 };
+
+// Runs several batches as one (one pool of units: one hand-out and one exchange in a distributed
+// run instead of one per batch). Every batch sees what it would see run alone: its own indices,
+// and every call of the combined compute calls every batch's compute (an empty list for a batch
+// without units in that call), so each call replaces every batch's previous units as UnitBatch
+// requires. Batches that are not portable run one by one. Returns the units loaded.
+long runUnitBatches(const UnitRunner& runner, const std::vector<UnitBatch>& batches);
 
 // Runs `loop` through `runner` (shared among the processes of a distributed run) or, when runner is
 // null (library calls outside a study run), in this process alone.

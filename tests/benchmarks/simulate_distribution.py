@@ -35,7 +35,7 @@ runner does with all the designs of a grid; without it the copies' steps follow 
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single] [--group G]
-      [--one-pool] [--unshared] [--interleaved]
+      [--one-pool] [--unshared] [--interleaved] [--pool-per-grid]
 """
 import argparse
 import csv
@@ -69,6 +69,18 @@ def load_phases(path, scale, group):
             items = [(sum(c for c, _ in items[i:i + group]), sum(b for _, b in items[i:i + group]))
                      for i in range(0, len(items), group)]
         out.append((kind, items))
+    return out
+
+
+def pool_per_grid(phases):
+    """The unit batches that follow one another (the designs of one grid) as one batch: the runner
+    since 2026-11-26 hands out every design's units of a grid from one pool (runUnitBatches)."""
+    out = []
+    for kind, items in phases:
+        if kind == "units" and out and out[-1][0] == "units":
+            out[-1] = ("units", out[-1][1] + items)
+        else:
+            out.append((kind, items))
     return out
 
 
@@ -181,9 +193,13 @@ def main():
                          "batches) and the batches' serial work spread over the ranks")
     ap.add_argument("--interleaved", action="store_true",
                     help="the replicas' designs join the recorded combined steps (a record of interleaved searches)")
+    ap.add_argument("--pool-per-grid", action="store_true",
+                    help="the unit batches of a grid's designs (and their replicas) handed out from one pool")
     a = ap.parse_args()
 
     phases = replicate(load_phases(a.csv, a.scale, a.group), a.replicate, a.interleaved)
+    if a.pool_per_grid:
+        phases = pool_per_grid(phases)
     batches = [items for kind, items in phases if kind == "units"]
     steps = [items for kind, items in phases if kind == "step"]
     serial = a.serial_total * a.replicate / max(1, len(batches))

@@ -53,9 +53,10 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         ", z " + axisText(g.axes[2]) + "; " + std::to_string(no) + " orientation(s); " +
         std::to_string(g.size()) + " poses per design.\n\n";
 
-  std::vector<PoseSweep> sweeps;
-  for (const StudyDesign& sd : study.designs)
-    sweeps.push_back(solveGrid(ctx, sum, "reach/" + g.name + "/" + sd.model.name, sd.model, g, cfg, progress));
+  // Every design's units in one pool (one hand-out and exchange in a distributed run).
+  std::vector<const Model*> models;
+  for (const StudyDesign& sd : study.designs) models.push_back(&sd.model);
+  std::vector<PoseSweep> sweeps = solveGridDesigns(ctx, sum, "reach/" + g.name, models, g, cfg, progress);
   // Across units, once all are in: statuses that do not depend on the traversal (issue 12). The
   // designs' searches advance together, one step each per shared loop (study/interleave.hpp).
   const std::size_t nd = study.designs.size();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "collision/reach_collision.hpp"
 #include "common/defaults.hpp"
@@ -51,67 +52,120 @@ long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
 // solved in one parallel sweep and each saved as soon as it is done; the sweep is assembled from
 // the units in index order. Unit ids: <prefix>/units_<first>-<end> (a range of sweep units). A
 // saved unit that does not fit (place, size, design size, collision columns) is solved again.
+// `batch()` is what the runner runs (alone, or with other designs' in one pool: runUnitBatches);
+// `finish()` assembles the sweep afterwards.
 template <class Source, class SweepRanges>
-PoseSweep solveUnits(const StageContext& ctx, StageResult& sum, const std::string& prefix,
-                     const Model& model, const Source& source, const SweepCollision& collision, Progress& progress,
-                     SweepRanges&& sweep_ranges) {
-  const long len = sweepUnitLength(source), poses = posesOf(source);
-  const std::vector<std::string> pair_names =
-      collision.enabled() ? collision::collisionPairNames(model, collision.obstacles, collision.self)
-                          : std::vector<std::string>{};
-  const long unit_poses = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
-  const std::vector<ItemRange> ranges = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len));
-  std::vector<PoseSweep> chunks, solved;
-  UnitBatch batch;
-  for (const ItemRange& r : ranges) batch.ids.push_back(prefix + "/units_" + r.text());
-  batch.load = [&](std::size_t k, const std::string& bytes) {
-    PoseSweep c;
-    const long first = ranges[k].begin * len, n = std::min(poses, ranges[k].end * len) - first;
-    if (!(deserializeSweep(bytes, model.name, c) && c.offset == first && c.size == n && c.dof == model.dof() &&
-          c.collision == collision.enabled() && c.obstacles == !collision.obstacles.empty() &&
-          c.pair_names == pair_names))
-      return false;
-    progress.advance(n);
-    chunks.push_back(std::move(c));
-    return true;
-  };
-  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
-    std::vector<ItemRange> todo_ranges;
-    for (std::size_t k : todo) todo_ranges.push_back(ranges[k]);
-    solved = sweep_ranges(todo_ranges, [&](std::size_t j, const PoseSweep& c) { done(todo[j], serializeSweep(c)); });
-  };
-  sum.units_resumed += ctx.units.run(batch);
-  if (solved.empty() && !chunks.empty()) return assembleSweep(std::move(chunks), poses);
-  double wall = 0, t_reach = 0, t_unreach = 0;
-  long nr = 0, n = 0;
-  for (PoseSweep& c : solved) {
-    wall = std::max(wall, c.wall_seconds);
-    t_reach += c.solve_seconds_reachable;
-    t_unreach += c.solve_seconds_unreachable;
-    nr += c.countReachable();
-    n += c.size;
-    chunks.push_back(std::move(c));
+class UnitSweepJob {
+ public:
+  UnitSweepJob(const StageContext& ctx, const std::string& prefix, const Model& model, const Source& source,
+               const SweepCollision& collision, Progress& progress, SweepRanges sweep_ranges)
+      : prefix_(prefix), model_(model), len_(sweepUnitLength(source)), poses_(posesOf(source)),
+        collision_(collision), progress_(progress), sweep_ranges_(std::move(sweep_ranges)) {
+    if (collision.enabled()) pair_names_ = collision::collisionPairNames(model, collision.obstacles, collision.self);
+    const long unit_poses = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
+    ranges_ = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len_));
   }
-  sum.timings.push_back({prefix + "/wall", wall});
-  sum.timings.push_back({prefix + "/per_reachable_pose", nr ? t_reach / nr : 0.0});
-  sum.timings.push_back({prefix + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0});
-  return assembleSweep(std::move(chunks), poses);
+  UnitSweepJob(const UnitSweepJob&) = delete;  // the batch's functions point at this job
+  UnitSweepJob& operator=(const UnitSweepJob&) = delete;
+
+  UnitBatch batch() {
+    UnitBatch batch;
+    for (const ItemRange& r : ranges_) batch.ids.push_back(prefix_ + "/units_" + r.text());
+    batch.load = [this](std::size_t k, const std::string& bytes) {
+      PoseSweep c;
+      const long first = ranges_[k].begin * len_, n = std::min(poses_, ranges_[k].end * len_) - first;
+      if (!(deserializeSweep(bytes, model_.name, c) && c.offset == first && c.size == n && c.dof == model_.dof() &&
+            c.collision == collision_.enabled() && c.obstacles == !collision_.obstacles.empty() &&
+            c.pair_names == pair_names_))
+        return false;
+      progress_.advance(n);
+      chunks_.push_back(std::move(c));
+      return true;
+    };
+    batch.compute = [this](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+      solved_.clear();  // each call replaces the previous one's units (UnitBatch)
+      if (todo.empty()) return;
+      std::vector<ItemRange> todo_ranges;
+      for (std::size_t k : todo) todo_ranges.push_back(ranges_[k]);
+      solved_ = sweep_ranges_(todo_ranges, [&](std::size_t j, const PoseSweep& c) { done(todo[j], serializeSweep(c)); });
+    };
+    return batch;
+  }
+
+  PoseSweep finish(StageResult& sum) {
+    if (solved_.empty() && !chunks_.empty()) return assembleSweep(std::move(chunks_), poses_);
+    double wall = 0, t_reach = 0, t_unreach = 0;
+    long nr = 0, n = 0;
+    for (PoseSweep& c : solved_) {
+      wall = std::max(wall, c.wall_seconds);
+      t_reach += c.solve_seconds_reachable;
+      t_unreach += c.solve_seconds_unreachable;
+      nr += c.countReachable();
+      n += c.size;
+      chunks_.push_back(std::move(c));
+    }
+    sum.timings.push_back({prefix_ + "/wall", wall});
+    sum.timings.push_back({prefix_ + "/per_reachable_pose", nr ? t_reach / nr : 0.0});
+    sum.timings.push_back({prefix_ + "/per_unreachable_pose", n > nr ? t_unreach / (n - nr) : 0.0});
+    return assembleSweep(std::move(chunks_), poses_);
+  }
+
+ private:
+  std::string prefix_;
+  const Model& model_;
+  long len_, poses_;
+  const SweepCollision& collision_;
+  Progress& progress_;
+  SweepRanges sweep_ranges_;
+  std::vector<std::string> pair_names_;
+  std::vector<ItemRange> ranges_;
+  std::vector<PoseSweep> chunks_, solved_;
+};
+
+template <class Source, class SweepRanges>
+std::unique_ptr<UnitSweepJob<Source, SweepRanges>> makeJob(const StageContext& ctx, const std::string& prefix,
+                                                           const Model& model, const Source& source,
+                                                           const ReachConfig& cfg, Progress& progress,
+                                                           SweepRanges sweep_ranges) {
+  return std::make_unique<UnitSweepJob<Source, SweepRanges>>(ctx, prefix, model, source, cfg.collision, progress,
+                                                             std::move(sweep_ranges));
+}
+
+auto gridJob(const StageContext& ctx, const std::string& prefix, const Model& model, const TaskGrid& g,
+             const ReachConfig& cfg, Progress& progress) {
+  return makeJob(ctx, prefix, model, g, cfg, progress,
+                 [&ctx, &model, &g, &cfg, &progress](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
+                   return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
+                 });
 }
 
 }  // namespace
 
-PoseSweep solveGrid(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
-                    const TaskGrid& g, const ReachConfig& cfg, Progress& progress) {
-  return solveUnits(ctx, sum, prefix, model, g, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
-    return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
-  });
+std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+                                        const std::vector<const Model*>& models, const TaskGrid& g,
+                                        const ReachConfig& cfg, Progress& progress) {
+  using Job = decltype(gridJob(ctx, prefix, *models.front(), g, cfg, progress));
+  std::vector<Job> jobs;
+  std::vector<UnitBatch> batches;
+  for (const Model* m : models) {
+    jobs.push_back(gridJob(ctx, prefix + "/" + m->name, *m, g, cfg, progress));
+    batches.push_back(jobs.back()->batch());
+  }
+  sum.units_resumed += runUnitBatches(ctx.units, batches);
+  std::vector<PoseSweep> out;
+  for (Job& job : jobs) out.push_back(job->finish(sum));
+  return out;
 }
 
 PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
                         const PoseList& l, const ReachConfig& cfg, Progress& progress) {
-  return solveUnits(ctx, sum, prefix, model, l, cfg.collision, progress, [&](const auto& ranges, const auto& done) {
-    return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
-  });
+  auto job = makeJob(ctx, prefix, model, l, cfg, progress,
+                     [&](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
+                       return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collision,
+                                                  done);
+                     });
+  sum.units_resumed += ctx.units.run(job->batch());
+  return job->finish(sum);
 }
 
 // Summary metrics of one unit for baselines and checks.

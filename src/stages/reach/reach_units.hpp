@@ -2,6 +2,7 @@
 // The reach stage's work units (private to stages/reach): one design x a range of a grid's lines
 // or a pose list's chunks, as bytes for the unit runner, and the sweep assembled from them.
 #include <string>
+#include <vector>
 
 #include "reach/reach_sweep.hpp"
 #include "stages/reach/reach_config.hpp"
@@ -14,10 +15,14 @@ namespace armstudy::reach_units {
 std::string serializeSweep(const PoseSweep& s);
 bool deserializeSweep(const std::string& bytes, const std::string& design, PoseSweep& s);
 
-// One design's sweep of a grid / pose list through ctx.units (unit ids <prefix>/units_<b>-<e>);
-// per-unit timings go to sum.timings, resumed units to sum.units_resumed.
-PoseSweep solveGrid(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
-                    const TaskGrid& g, const ReachConfig& cfg, Progress& progress);
+// Every design's sweep of a grid through ctx.units as one pool of units (runUnitBatches: one
+// hand-out pool and one exchange in a distributed run instead of one per design); unit ids
+// <prefix>/<design>/units_<b>-<e>, results in `models` order. Per-unit timings go to sum.timings,
+// resumed units to sum.units_resumed.
+std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+                                        const std::vector<const Model*>& models, const TaskGrid& g,
+                                        const ReachConfig& cfg, Progress& progress);
+// A design's sweep of a pose list through ctx.units (unit ids <prefix>/units_<b>-<e>).
 PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
                         const PoseList& l, const ReachConfig& cfg, Progress& progress);
 
