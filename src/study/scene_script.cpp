@@ -23,6 +23,7 @@ COLOUR_BY = ("manipulability_optimised_normalised", "manipulability", "status", 
              "reached_by_count", "mean_over_threshold_max", "residual", "in_contact", "time")
 GREY = (0.62, 0.62, 0.62)
 OBSTACLE_GREY = (0.40, 0.40, 0.40)
+NAN_COLOUR = [0.86, 0.86, 0.86]  # light grey: no value at this point (no solution), as in the SVG maps
 SIZE = [1280, 800]  # the view and its screenshots [pixels]; fonts are sized for it
 BAR_WIDTH = 0.26    # share of the width on the right kept for the colour bars
 FONT = 15           # colour-bar title and label size [points]
@@ -230,9 +231,12 @@ def main():
             else:  # magnitudes: a sequential scale (dark = small)
                 lut.ApplyPreset("Viridis (matplotlib)", True)
                 lut.RescaleTransferFunction(r[0], r[1] if r[1] > r[0] else r[0] + 1.0)
+            lut.NanColor = NAN_COLOUR  # where the quantity does not exist (e.g. no solution)
         if bars_on:  # one bar per quantity (the first array's colour map stands for all)
             bar = GetScalarBar(GetColorTransferFunction(arrays[0]), view)
             style_bar(bar, title, index, bool(cats))
+            if not cats:  # (ParaView would draw a NaN swatch's text left of the bar, over the scene)
+                bar.Title = bar.Title + "\nlight grey: none (NaN)"
             bar.Visibility = 1
         print("coloured by %s, %s..%s%s" % (title, r[0], r[1], " (categories)" if cats else ""))
     view.CameraViewUp = [0, 0, 1]
