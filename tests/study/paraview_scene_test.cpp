@@ -22,6 +22,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <unistd.h>
 
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
@@ -100,10 +101,21 @@ vtkDataSet* readSpatial(const std::string& path, std::vector<vtkSmartPointer<vtk
   return read(vtkSmartPointer<vtkXMLPolyDataReader>::New());
 }
 
-// The study's output folder, run once for all test cases of this file.
+// A folder removed when the process ends.
+struct TempFolder {
+  fs::path dir;
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+// The study's output folder, run once for all test cases of this file in a process. One folder
+// per process: ctest runs this file's test cases as parallel processes.
 const fs::path& sceneRun() {
+  static const TempFolder folder{fs::temp_directory_path() / ("armstudy_paraview_scene_" + std::to_string(::getpid()))};
   static const fs::path out = [] {
-    const fs::path dir = fs::temp_directory_path() / "armstudy_paraview_scene";
+    const fs::path& dir = folder.dir;
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::string text = kStudy;
