@@ -371,6 +371,25 @@ TEST_CASE("harvest stage: run writes outputs and summary metrics") {
   REQUIRE(sum.metrics.scalars.count(d + "j3/peak_current_A"));
   CHECK(sum.metrics.scalars.at(d + "evaluated_fraction") > 0);
   CHECK(sum.metrics.scalars.at(d + "j3/peak_current_A") > 0);
+  // The drives' current ratio (an exploration objective): the largest |motor current| over every
+  // sample of every evaluated approach, divided by its drive's peak limit, from the raw currents.
+  const auto& opts = *stageSettings<harvest::HarvestOptions>(s, "harvest");
+  const Model& model = s.designs[0].model;
+  const auto raw = harvest::evaluateHarvestDesign(model, opts, sampleGreenhouseRow(opts.row), 1);
+  double ratio = 0;
+  int limited = 0;
+  for (const Drive& dr : model.drives) {
+    const int i = model.jointIndex(dr.joint);
+    if (i < 0 || dr.peak_current_A <= 0) continue;
+    ++limited;
+    for (const auto& f : raw.fruits)
+      if (f.evaluated())
+        for (const auto& c : f.with_friction.current) ratio = std::max(ratio, std::abs(c[i]) / dr.peak_current_A);
+  }
+  REQUIRE(limited > 0);
+  REQUIRE(sum.metrics.scalars.count(d + "peak_current_ratio"));
+  CHECK(sum.metrics.scalars.at(d + "peak_current_ratio") == Approx(ratio).epsilon(1e-12));
+  CHECK(ratio > 0);
   for (const char* f :
        {"harvest/report.md", "harvest/summary.json", "harvest/final_prototype_9dof_fruits.csv",
         "harvest/final_prototype_9dof_holding.vti"}) {

@@ -84,6 +84,17 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
     M.scalars[mprefix + "feasible_fraction_no_friction"] = feasible_nf / nfr;
     M.flags[mprefix + "fruit_feasible"] = flags;
     const std::vector<JointAggregate> agg = aggregate(model, d);
+    // The drives' current margin in one number (an exploration objective without a holding grid):
+    // the largest peak motor current over the approaches relative to its drive's peak limit, over
+    // the joints whose drive gives one (margin = 1 - ratio; > 1: some approach needs more current).
+    double current_ratio = 0;
+    bool current_checked = false;
+    for (int i = 0; i < n; ++i)
+      if (agg[i].has_drive && agg[i].worst[0].checked && agg[i].worst[0].limit > 0) {
+        current_checked = true;
+        current_ratio = std::max(current_ratio, agg[i].worst[0].value / agg[i].worst[0].limit);
+      }
+    if (current_checked) M.scalars[mprefix + "peak_current_ratio"] = current_ratio;
     for (int i = 0; i < n; ++i) {
       if (!agg[i].has_drive) continue;
       const std::string jp = mprefix + model.joints[i].name + "/";
