@@ -1,10 +1,12 @@
 // Design-space exploration (docs/exploration.md): the geometry that follows a variant's link
 // lengths, the Pareto front against a brute force, determinism and resume.
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <signal.h>
 #include <thread>
@@ -326,6 +328,24 @@ max = "0.8 m"
   const auto ref = resultFiles(dir / "t1");
   REQUIRE(ref.count("explore/candidates.csv") == 1);
   CHECK(ref == resultFiles(dir / "t2"));
+  // The budget counts candidates the stages evaluated, not NLopt's calls (revisits of snapped
+  // points and constraint-breaking points are free): the phases' evaluations, the candidates
+  // written (one line each, plus the header and the base design) and the budget agree.
+  {
+    const std::string& md = ref.at("explore/explore.md");
+    const std::regex phase(R"(\((\d+) evaluations in (\d+) calls, ([^)]+)\))");
+    std::vector<std::array<std::string, 3>> phases;
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), phase); it != std::sregex_iterator(); ++it)
+      phases.push_back({(*it)[1], (*it)[2], (*it)[3]});
+    REQUIRE(phases.size() == 2);  // DIRECT_L, then BOBYQA
+    const int global = std::stoi(phases[0][0]), polish = std::stoi(phases[1][0]);
+    CHECK(std::stoi(phases[0][1]) >= global);
+    CHECK(global <= 9);  // (1 - 0.25) x 12
+    CHECK(polish <= 3);
+    if (phases[0][2] == "budget spent") CHECK(global == 9);
+    const std::string& csv = ref.at("explore/candidates.csv");
+    CHECK(static_cast<int>(std::count(csv.begin(), csv.end(), '\n')) == 1 + 1 + global + polish);
+  }
 
   // Killed midway (simulated: every second saved unit lost), resumed: the same files.
   const std::string out = (dir / "resumed").string();
