@@ -158,6 +158,26 @@ def frame_scene(view, bounds):
         camera.Dolly(1.0 / scale if scale > 0 else 1.0)
 
 
+def ellipsoid_glyphs(source, rel):
+    """Manipulability ellipsoids (the 3 x 3 tensor array `ellipsoid_tensor`: semi-axes in its
+    eigenvalues) as ParaView's tensor glyphs, scaled so that the largest semi-axis is 0.45 x the
+    smallest distance between two points (none overlaps), coloured by `manipulability`."""
+    data = servermanager.Fetch(source)
+    points = [data.GetPoint(i) for i in range(data.GetNumberOfPoints())]
+    spacing = min([math.dist(a, b) for i, a in enumerate(points) for b in points[i + 1:]] or [0.1])
+    largest = max(source.PointData["semi_axes"].GetRange(k)[1] for k in range(3)) or 1.0
+    glyphs = TensorGlyph(Input=source, GlyphType="Sphere")
+    glyphs.Tensors = ["POINTS", "ellipsoid_tensor"]
+    glyphs.ScaleFactor = 0.45 * spacing / largest
+    if "manipulability" in source.PointData.keys():
+        glyphs.Scalars = ["POINTS", "manipulability"]
+        glyphs.ColorGlyphs = 1
+        glyphs.Colorby = "input scalars"
+    RenameSource(rel + " (ellipsoids)", glyphs)
+    glyphs.UpdatePipeline()
+    return glyphs
+
+
 def main():
     bars_on = "--no-bars" not in sys.argv
     view = GetActiveViewOrCreate("RenderView")
@@ -174,12 +194,18 @@ def main():
         name = os.path.basename(rel)
         folder = os.path.dirname(rel)
         if ("/calibrated/" in "/" + rel or name == "comparison.vti" or
-                (name.startswith("before_") and os.path.exists(os.path.join(HERE, folder, "after_" + name[7:])))):
+                (name.startswith("before_") and os.path.exists(os.path.join(HERE, folder, "after_" + name[7:]))) or
+                (name.endswith("_ellipsoids_plain.vtp") and
+                 os.path.exists(os.path.join(HERE, folder, name.replace("_plain.vtp", "_optimised.vtp"))))):
             # Loaded hidden (one click in the pipeline browser): the model before calibration, the
-            # calibrated copy's duplicate of "after", the designs' comparison on the maps' own points.
+            # calibrated copy's duplicate of "after", the designs' comparison on the maps' own points,
+            # the plain ellipsoids where the optimised ones are drawn at the same points.
             continue
-        shown = Show(source, view)
-        b = source.GetDataInformation().GetBounds()
+        drawn = source
+        if "ellipsoid_tensor" in source.PointData.keys():
+            drawn = ellipsoid_glyphs(source, rel)  # the ellipsoids themselves, coloured as their points
+        shown = Show(drawn, view)
+        b = drawn.GetDataInformation().GetBounds()
         if b[0] <= b[1]:
             bounds = list(b) if bounds is None else [min(bounds[i], b[i]) if i % 2 == 0 else max(bounds[i], b[i])
                                                      for i in range(6)]
@@ -197,17 +223,17 @@ def main():
             shown.SetRepresentationType("Points")  # a 3-D grid or a line of points: every point visible
         shown.PointSize = 4.0
         shown.LineWidth = 2.0
-        array = colour_array(source)
+        array = colour_array(drawn)
         if array is None:
             continue
         quantity = re.sub(r"_o[0-9]+$", "", array)  # reach maps: manipulability_o1 per orientation
         if quantity not in coloured and len(coloured) == MAX_BARS:
-            Hide(source, view)  # no room for another colour scale: kept in the pipeline browser
+            Hide(drawn, view)  # no room for another colour scale: kept in the pipeline browser
             print("hidden (a colour scale too many): %s by %s" % (rel, array))
             continue
         ColorBy(shown, ("POINTS", array))
         shown.SetScalarBarVisibility(view, False)
-        r = source.PointData[array].GetRange()
+        r = drawn.PointData[array].GetRange()
         if quantity not in coloured:
             coloured[quantity] = [r, source, [array]]
         else:  # one colour scale per quantity over all the files and orientations that show it

@@ -276,7 +276,11 @@ TEST_CASE("scene.py lists the world files and renders offscreen when ParaView's 
   auto render = [&](const std::string& name, const std::string& extra) {
     const fs::path png = out / name;
     fs::remove(png);
-    const int rc = runCommand(runner + " " + (out / "scene.py").string() + " --screenshot " + png.string() + extra, log);
+    const std::string command = runner + " " + (out / "scene.py").string() + " --screenshot " + png.string() + extra;
+    int rc = runCommand(command, log);
+    // xvfb-run -a picks a free display but races with another xvfb-run starting at the same
+    // moment ("bad X server connection"): try once more.
+    if (rc != 0 && xvfb) rc = runCommand(command, log);
     INFO(log);
     if (rc != 0 && !display && !xvfb) return fs::path();
     REQUIRE(rc == 0);
