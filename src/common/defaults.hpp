@@ -8,6 +8,7 @@ inline constexpr int kMaxThreads = 256;                      // --threads (0 = a
 inline constexpr long kMaxUnitItems = 1000000000L;           // --unit-size
 inline constexpr int kMaxResidualBins = 1000;                // --speed-bins, --load-bins, --variable-bins, --workspace-bins
 inline constexpr unsigned long long kMaxInputFileBytes = 256ull << 20;  // any file armstudy reads (256 MiB)
+inline constexpr double kMaxTrajectorySamples = 1e6;  // duration x rate of one trajectory (held in memory: ~200 MB)
 
 // Kinematics
 inline constexpr int kMaxDof = 12;                     // largest chain the fixed-size workspace holds

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "dynamics/approach_tracking.hpp"
 #include "io/files.hpp"
@@ -125,11 +126,10 @@ HarvestOptions readHarvestOptions(TableReader& r, const SectionInput& in) {
     ar.finish();
   }
   // Samples per approach (rate x duration): at least one Euler step (a rate so low that 1 / rate
-  // overflows passes "> 0"), at most kMaxSamples (the trajectory is held in memory).
-  constexpr double kMaxSamples = 1e6;
+  // overflows passes "> 0"), at most defaults::kMaxTrajectorySamples (held in memory).
   if (!(o.approach.duration_s * o.rate_Hz >= 1))
     r.fail("rate", "rate x approach duration must give at least one step (rate >= 1 / duration)");
-  if (o.approach.duration_s * o.rate_Hz > kMaxSamples)
+  if (o.approach.duration_s * o.rate_Hz > defaults::kMaxTrajectorySamples)
     r.fail("rate", "rate x approach duration exceeds 1e6 samples per approach");
   if (const toml::table* t = r.table("objective")) {
     TableReader orr(*t, r.file(), r.keyPath("objective"));

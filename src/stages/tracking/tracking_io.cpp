@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "common/defaults.hpp"
 #include "io/toml_reader.hpp"
 #include "stages/tracking/tracking_stage.hpp"
 
@@ -14,7 +15,6 @@ using io::TableReader;
 namespace {
 
 constexpr double kMaxRate_Hz = 1e5;
-constexpr double kMaxSamples = 1e6;  // duration x rate: memory stays below ~200 MB per run
 constexpr int kMaxSnapshots = 1000;
 
 bool validName(const std::string& s) {
@@ -132,7 +132,7 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
   e.rate_Hz = r.number("rate", e.rate_Hz);
   if (!(e.rate_Hz > 0) || e.rate_Hz > kMaxRate_Hz)
     r.fail("rate", "rate must lie in (0, 100000] Hz");
-  if (e.duration_s * e.rate_Hz > kMaxSamples)
+  if (e.duration_s * e.rate_Hz > defaults::kMaxTrajectorySamples)
     r.fail("duration", "duration x rate exceeds 1e6 samples");
   // At least one Euler step (a rate so low that 1 / rate overflows was found by fuzzing).
   if (!(e.duration_s * e.rate_Hz >= 1))
