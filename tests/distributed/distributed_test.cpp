@@ -212,6 +212,27 @@ gamma = ["-40 deg", "40 deg"]
   fs::remove_all(dir);
 }
 
+// The explorations' task (a spraying row) and objectives (row coverage, link length).
+const char* const kExploreRow = R"([reach]
+task_space = "spraying"
+position_tolerance = "1 mm"
+orientation_tolerance = "0.5 deg"
+[[reach.grid]]
+name = "row"
+x = { from = "-0.6 m", to = "0.6 m", step = "0.1 m" }
+y = { from = "0.5 m", to = "1.1 m", step = "0.1 m" }
+z = "1.2 m"
+alpha = "0 deg"
+gamma = "0 deg"
+)";
+const char* const kExploreObjectives = R"([[explore.objective]]
+metric = "reach/row/{design}/reachable_fraction"
+goal = "max"
+[[explore.objective]]
+metric = "cost/link_length"
+goal = "min"
+)";
+
 TEST_CASE("an exploration on 2 and 3 ranks writes the bytes of a single process", "[distributed][e2e][explore]") {
   if (!mpiBuild()) {
     WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
@@ -220,18 +241,7 @@ TEST_CASE("an exploration on 2 and 3 ranks writes the bytes of a single process"
   // Grid: candidates are the units (one rank evaluates each, its stages run there alone); the map
   // search of the front designs' outputs runs on every rank.
   const fs::path dir = freshDir("explore");
-  const std::string study = writeStudy(dir, "ex", {"first_prototype_6dof"}, R"([reach]
-task_space = "spraying"
-position_tolerance = "1 mm"
-orientation_tolerance = "0.5 deg"
-[[reach.grid]]
-name = "row"
-x = { from = "-0.6 m", to = "0.6 m", step = "0.1 m" }
-y = { from = "0.5 m", to = "1.1 m", step = "0.1 m" }
-z = "1.2 m"
-alpha = "0 deg"
-gamma = "0 deg"
-[explore]
+  const std::string study = writeStudy(dir, "ex", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
 design = "first_prototype_6dof"
 front_designs = 1
 [[explore.parameter]]
@@ -240,30 +250,13 @@ values = ["0.13 m", "0.23 m", "0.33 m"]
 [[explore.parameter]]
 key = "joint.j5.x"
 values = ["0.3 m", "0.4 m", "0.5 m"]
-[[explore.objective]]
-metric = "reach/row/{design}/reachable_fraction"
-goal = "max"
-[[explore.objective]]
-metric = "cost/link_length"
-goal = "min"
-)");
+)" + kExploreObjectives);
   requireSameAcrossRanks(dir, study, "ex", "", {{2, 1}, {3, 1}});
   fs::remove_all(dir);
   // The optimiser asks for one candidate at a time (each a unit one rank computes while NLopt
   // waits on every rank for its values): the same points, the same bytes on any rank count.
   const fs::path odir = freshDir("explore_optimise");
-  const std::string ostudy = writeStudy(odir, "exo", {"first_prototype_6dof"}, R"([reach]
-task_space = "spraying"
-position_tolerance = "1 mm"
-orientation_tolerance = "0.5 deg"
-[[reach.grid]]
-name = "row"
-x = { from = "-0.6 m", to = "0.6 m", step = "0.1 m" }
-y = { from = "0.5 m", to = "1.1 m", step = "0.1 m" }
-z = "1.2 m"
-alpha = "0 deg"
-gamma = "0 deg"
-[explore]
+  const std::string ostudy = writeStudy(odir, "exo", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
 design = "first_prototype_6dof"
 method = "optimise"
 budget = 10
@@ -278,13 +271,7 @@ key = "joint.j5.x"
 from = "0.3 m"
 to = "0.5 m"
 step = "0.05 m"
-[[explore.objective]]
-metric = "reach/row/{design}/reachable_fraction"
-goal = "max"
-[[explore.objective]]
-metric = "cost/link_length"
-goal = "min"
-)");
+)" + kExploreObjectives);
   requireSameAcrossRanks(odir, ostudy, "exo", "", {{2, 1}, {3, 1}});
   fs::remove_all(odir);
 }
