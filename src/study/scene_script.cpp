@@ -35,6 +35,8 @@ import re
 import sys
 from paraview import servermanager
 from paraview.simple import *
+from vtkmodules.vtkCommonCore import vtkIdList
+from vtkmodules.vtkCommonDataModel import vtkStaticPointLocator
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -163,8 +165,20 @@ def ellipsoid_glyphs(source, rel):
     eigenvalues) as ParaView's tensor glyphs, scaled so that the largest semi-axis is 0.45 x the
     smallest distance between two points (none overlaps), coloured by `manipulability`."""
     data = servermanager.Fetch(source)
-    points = [data.GetPoint(i) for i in range(data.GetNumberOfPoints())]
-    spacing = min([math.dist(a, b) for i, a in enumerate(points) for b in points[i + 1:]] or [0.1])
+    # The smallest distance from a point to its nearest other point (a locator, not all pairs).
+    locator = vtkStaticPointLocator()
+    locator.SetDataSet(data)
+    locator.BuildLocator()
+    ids = vtkIdList()
+    distances = []
+    for i in range(data.GetNumberOfPoints()):
+        p = data.GetPoint(i)
+        locator.FindClosestNPoints(2, p, ids)
+        for k in range(ids.GetNumberOfIds()):
+            d = math.dist(p, data.GetPoint(ids.GetId(k)))
+            if d > 0:
+                distances.append(d)
+    spacing = min(distances or [0.1])
     largest = max(source.PointData["semi_axes"].GetRange(k)[1] for k in range(3)) or 1.0
     glyphs = TensorGlyph(Input=source, GlyphType="Sphere")
     glyphs.Tensors = ["POINTS", "ellipsoid_tensor"]
