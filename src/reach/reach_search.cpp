@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string_view>
 
@@ -79,15 +80,24 @@ int gridBoxNeighbours(const GridShape& g, long i, long out[28]) {
   return n;
 }
 
-constexpr std::string_view kStepMagic = "armstudy-search-step-1";
+constexpr std::string_view kStepMagic = "armstudy-search-step-2";
+// Poses per chunk of a search step's shared loop. A step visits only the poses that can change (its
+// active set), which are mostly costly ones, so chunks are small: the search front spreads over the
+// ranks of a distributed run, and a unit-cost record holds the step's cost at this grain.
+constexpr long kSearchStepChunk = 8;
 
 // The map search over a whole sweep; `neighbours(i, out)` lists pose i's neighbours (none for a
-// pose list, whose poses need not lie next to each other).
+// pose list, whose poses need not lie next to each other). Neighbourhoods must be symmetric (j is a
+// neighbour of i exactly when i is one of j), which both grid neighbourhoods are: a step's active
+// set is found from the poses that changed in the step before.
 //
 // Every phase is a sequence of Jacobi steps: a step computes each pose's candidate from the sweep
 // as it was before the step, then the poses that found one adopt it. A step is a loop shared among
 // the processes of a distributed run (UnitRunner::share: each computes the poses of its chunks and
-// sends the adopted rows), so the map is the same whichever process computed a pose.
+// sends the adopted rows), so the map is the same whichever process computed a pose. A step's loop
+// runs over its active set only: the poses for which the step's rule can do anything (e.g. in a
+// propagation round, the unsettled poses next to a pose that changed in the round before); the rule
+// does nothing at the others, so the map is the same as with a loop over every pose.
 using Neighbours = std::function<int(long, long*)>;
 SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
                                const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
@@ -110,101 +120,148 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   std::vector<PoseResult> found(N);  // per-step candidates (allocated once)
   std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
   std::vector<long> item_a(N, 0), item_b(N, 0);  // a step's counts per pose (summed per chunk)
-  // One step: body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b (a: the
-  // starts it spent, which count into the pose's starts when `spends` is set); returns the totals of a
-  // and b over all poses. The spent starts travel with the adopted rows, so that every process
+  std::vector<std::uint8_t> mark(N, 0);  // scratch of `around`
+  // One pose solver per thread for the whole search, built on first use (a step's compute may be
+  // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
+  std::vector<std::unique_ptr<PoseSolver>> solvers(static_cast<std::size_t>(nt));
+  // The poses (ascending) next to any of `from` that pass `keep`.
+  auto around = [&](const std::vector<long>& from, auto&& keep) {
+    std::vector<long> out;
+    long nb[8];
+    for (const long j : from) {
+      const int count = neighbours(j, nb);
+      for (int k = 0; k < count; ++k)
+        if (!mark[nb[k]] && keep(nb[k])) {
+          mark[nb[k]] = 1;
+          out.push_back(nb[k]);
+        }
+    }
+    for (const long i : out) mark[i] = 0;
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  // The poses (ascending) that pass `keep`.
+  auto every = [&](auto&& keep) {
+    std::vector<long> out;
+    for (long i = 0; i < N; ++i)
+      if (keep(i)) out.push_back(i);
+    return out;
+  };
+  // One step over the poses `active` (ascending): body(solver, i, nb, a, b) computes pose i's
+  // candidate and counts into a and b (a: the starts it spent, which count into the pose's starts
+  // when `spends` is set). Returns the totals of a and b over all poses and the poses that adopted a
+  // candidate (ascending). The spent starts travel with the adopted rows, so that every process
   // counts them whichever process computed a pose.
+  struct StepResult {
+    long a = 0, b = 0;
+    std::vector<long> adopted;
+  };
   int steps = 0;  // steps so far (names them in the unit-cost record)
-  auto step = [&](const char* phase, int grain, bool spends, auto&& body) {
+  auto step = [&](const char* phase, int grain, bool spends, const std::vector<long>& active, auto&& body) {
     std::fill(now.begin(), now.end(), 0);
-    long total_a = 0, total_b = 0;
+    StepResult res;
     std::map<std::size_t, std::pair<long, long>> counts;  // per chunk computed here
     SharedLoop loop;
     loop.id = "search/" + s.design + "/" + std::to_string(steps++) + "_" + phase;
-    loop.items = N;
+    loop.items = static_cast<long>(active.size());
+    loop.chunk = kSearchStepChunk;
     loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
       const std::vector<long> items = SharedLoop::itemsOf(mine);
       const long n = static_cast<long>(items.size());
-      for (const long i : items) item_a[i] = item_b[i] = 0;
+      for (const long t : items) item_a[active[t]] = item_b[active[t]] = 0;
 #pragma omp parallel num_threads(nt)
       {
-        PoseSolver solver(model, collision, target);
+        std::unique_ptr<PoseSolver>& solver = solvers[static_cast<std::size_t>(omp_get_thread_num())];
+        if (!solver) solver = std::make_unique<PoseSolver>(model, collision, target);
         long nb[28];
 #pragma omp for schedule(dynamic, grain)
-        for (long t = 0; t < n; ++t) body(solver, items[t], nb, item_a[items[t]], item_b[items[t]]);
+        for (long t = 0; t < n; ++t) {
+          const long i = active[items[t]];
+          body(*solver, i, nb, item_a[i], item_b[i]);
+        }
       }
       for (const SharedLoop::Chunk& c : mine) {
         std::pair<long, long>& ab = counts[c.first];
-        for (long i = c.second.begin; i < c.second.end; ++i) {
-          ab.first += item_a[i];
-          ab.second += item_b[i];
+        for (long t = c.second.begin; t < c.second.end; ++t) {
+          ab.first += item_a[active[t]];
+          ab.second += item_b[active[t]];
         }
       }
     };
     // The step ends: the poses computed here adopt their candidates.
     loop.finish = [&](const std::vector<SharedLoop::Chunk>& mine) {
       for (const SharedLoop::Chunk& c : mine) {
-        total_a += counts.at(c.first).first;
-        total_b += counts.at(c.first).second;
-        for (long i = c.second.begin; i < c.second.end; ++i) {
+        res.a += counts.at(c.first).first;
+        res.b += counts.at(c.first).second;
+        for (long t = c.second.begin; t < c.second.end; ++t) {
+          const long i = active[t];
           if (spends) extra[i] += static_cast<int>(item_a[i]);
           if (now[i]) {
             store(s, i, found[i].ik, s.starts[i]);
             storeCollision(s, i, found[i]);
+            res.adopted.push_back(i);
           }
         }
       }
     };
+    // A chunk's rows travel by item index (its position in the active set).
     loop.pack = [&](std::size_t k, const ItemRange& r) {
       // Nothing tried (so nothing adopted, no starts spent): nothing to send.
       if (counts.at(k).first == 0 && counts.at(k).second == 0) return std::string();
       UnitWriter w(kStepMagic);
       w.put<std::int64_t>(counts.at(k).first);
       w.put<std::int64_t>(counts.at(k).second);
-      for (long i = r.begin; i < r.end; ++i)
-        if (now[i]) {
-          w.put<std::int64_t>(i);
-          putPose(w, s, i);
+      for (long t = r.begin; t < r.end; ++t)
+        if (now[active[t]]) {
+          w.put<std::int64_t>(t);
+          putPose(w, s, active[t]);
         }
       w.put<std::int64_t>(-1);
       if (spends)
-        for (long i = r.begin; i < r.end; ++i)
-          if (item_a[i] > 0) {
-            w.put<std::int64_t>(i);
-            w.put<std::int64_t>(item_a[i]);
+        for (long t = r.begin; t < r.end; ++t)
+          if (item_a[active[t]] > 0) {
+            w.put<std::int64_t>(t);
+            w.put<std::int64_t>(item_a[active[t]]);
           }
       return w.bytes();
     };
     loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
       if (bytes.empty()) return;
       UnitReader rd(bytes, kStepMagic);
-      total_a += static_cast<long>(rd.get<std::int64_t>());
-      total_b += static_cast<long>(rd.get<std::int64_t>());
-      for (long i = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && i >= 0;
-           i = static_cast<long>(rd.get<std::int64_t>())) {
-        ARMSTUDY_CHECK(i >= r.begin && i < r.end && getPose(rd, s, i), "a search step's rows arrive whole");
-        now[i] = 1;
+      res.a += static_cast<long>(rd.get<std::int64_t>());
+      res.b += static_cast<long>(rd.get<std::int64_t>());
+      for (long t = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && t >= 0;
+           t = static_cast<long>(rd.get<std::int64_t>())) {
+        ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s, active[t]), "a search step's rows arrive whole");
+        now[active[t]] = 1;
+        res.adopted.push_back(active[t]);
       }
       while (rd.ok() && !rd.finished()) {
-        const long i = static_cast<long>(rd.get<std::int64_t>());
+        const long t = static_cast<long>(rd.get<std::int64_t>());
         const long spent = static_cast<long>(rd.get<std::int64_t>());
-        ARMSTUDY_CHECK(rd.ok() && spends && i >= r.begin && i < r.end, "a search step's start counts arrive whole");
-        extra[i] += static_cast<int>(spent);
+        ARMSTUDY_CHECK(rd.ok() && spends && t >= r.begin && t < r.end, "a search step's start counts arrive whole");
+        extra[active[t]] += static_cast<int>(spent);
       }
       ARMSTUDY_CHECK(rd.finished(), "a search step's rows arrive whole");
     };
     runSharedLoop(runner, loop);
-    return std::pair<long, long>{total_a, total_b};
+    std::sort(res.adopted.begin(), res.adopted.end());
+    return res;
   };
-  // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results).
-  auto propagate = [&](bool all_sources) {
+  auto unsettled = [&](long i) { return !settle(static_cast<ReachStatus>(s.status[i])); };
+  auto colliding = [&](long i) { return inCollision(static_cast<ReachStatus>(s.status[i])); };
+  // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results). The
+  // first round with all_sources visits every unsettled pose; a later round those next to a pose
+  // that changed in the round before (`from`).
+  auto propagate = [&](bool all_sources, std::vector<long> from) {
     bool first = all_sources;
     for (;;) {
       if (sum.rounds >= search.propagation_rounds) {
         sum.converged = false;
         return;
       }
-      const auto [n_tries, n_updates] = step("propagate", 64, true, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const std::vector<long> active = first ? every(unsettled) : around(from, unsettled);
+      const StepResult r = step("propagate", 4, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         const auto cur = static_cast<ReachStatus>(s.status[i]);
         if (settle(cur)) return;
         const int count = neighbours(i, nb);
@@ -227,19 +284,21 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         updates += now[i];
       });
       ++sum.rounds;
-      sum.neighbour_tries += n_tries;
-      sum.neighbour_updates += n_updates;
+      sum.neighbour_tries += r.a;
+      sum.neighbour_updates += r.b;
       changed.swap(now);
+      from = r.adopted;
       first = false;
-      if (n_updates == 0) return;
+      if (r.b == 0) return;
     }
   };
-  propagate(true);
+  propagate(true, {});
   // Seeded multi-starts for every pose still reachable only in collision, then propagation
   // from the poses they freed.
   if (collision.enabled() && search.collision_starts > 0) {
-    for (long i = 0; i < N; ++i) sum.multistart_poses += inCollision(static_cast<ReachStatus>(s.status[i]));
-    const auto [n_tries, n_freed] = step("multistart", 8, true, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
+    const std::vector<long> active = every(colliding);
+    sum.multistart_poses += static_cast<long>(active.size());
+    const StepResult r = step("multistart", 1, true, active, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       JointVector q0(model.dof());
       for (int k = 0; k < search.collision_starts; ++k) {
@@ -253,16 +312,17 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         break;
       }
     });
-    sum.multistart_tries = n_tries;
-    sum.multistart_freed = n_freed;
+    sum.multistart_tries = r.a;
+    sum.multistart_freed = r.b;
     changed = now;
-    if (n_freed > 0) propagate(false);
+    if (r.b > 0) propagate(false, r.adopted);
   }
   // Poses still in collision: one round from the solutions (and second branches) of every
   // collision-free pose in their wider neighbourhood (the 3 x 3 x 3 box), then propagation from
   // the poses it freed.
   if (collision.enabled() && box) {
-    const auto [n_tries, n_freed] = step("box", 16, true, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
+    const std::vector<long> active = every(colliding);
+    const StepResult r = step("box", 2, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       const int count = box(i, nb);
       for (int k = 0; k < count && !now[i]; ++k) {
@@ -278,20 +338,24 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         }
       }
     });
-    sum.box_tries = n_tries;
-    sum.box_freed = n_freed;
+    sum.box_tries = r.a;
+    sum.box_freed = r.b;
     changed = now;
-    if (n_freed > 0) propagate(false);
+    if (r.b > 0) propagate(false, r.adopted);
   }
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
   // retries from every collision-free neighbour whose manipulability is higher and keeps a
   // collision-free solution that raises its own by more than defaults::kReachManipulabilityImprovement
   // (a step to a better posture, not a creep along a continuous family of solutions), until
-  // nothing changes.
+  // nothing changes. The first round visits every reachable pose, a later one those next to a pose
+  // that improved in the round before.
   if (search.best_manipulability) {
     std::vector<std::uint8_t> src(N, 1);
+    auto reachable = [&](long i) { return s.reachable(i); };
+    std::vector<long> from;
     for (int round = 0; round < search.propagation_rounds; ++round) {
-      const auto [n_tries, n_updates] = step("best", 64, false, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const std::vector<long> active = round == 0 ? every(reachable) : around(from, reachable);
+      const StepResult r = step("best", 4, false, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         if (!s.reachable(i)) return;
         double best = s.manipulability[i];
         const int count = neighbours(i, nb);
@@ -310,10 +374,11 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         updates += now[i];
       });
       ++sum.best_rounds;
-      sum.best_tries += n_tries;
-      sum.best_updates += n_updates;
+      sum.best_tries += r.a;
+      sum.best_updates += r.b;
       src.swap(now);
-      if (n_updates == 0) break;
+      from = r.adopted;
+      if (r.b == 0) break;
     }
   }
   // The starts the search spent (every process has every pose's count).
