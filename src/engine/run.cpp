@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -123,6 +124,45 @@ struct ScratchFolder {
 };
 
 // How to open the scene (the report.html section of the scene files).
+// The runner the stages see: the run's runner, timed. Its seconds are the part of the run that a
+// distributed run shares among its ranks (unit batches and shared loops, their exchanges included);
+// the rest of the run's wall time every rank does alone (manifest timings "units_and_shared_loops_s"
+// and "run_s", docs/distributed.md "What does not shrink"). Nested runs (local()) are not timed again.
+class TimedUnitRunner final : public UnitRunner {
+ public:
+  explicit TimedUnitRunner(const UnitRunner& inner) : UnitRunner(storeOff(), 1, UnitTimeRecord{}), inner_(inner) {}
+  long run(const UnitBatch& batch) const override {
+    const auto t = std::chrono::steady_clock::now();
+    const long r = inner_.run(batch);
+    add(t);
+    return r;
+  }
+  void share(const SharedLoop& loop) const override {
+    const auto t = std::chrono::steady_clock::now();
+    inner_.share(loop);
+    add(t);
+  }
+  const UnitRunner& local() const override { return inner_.local(); }
+  double seconds() const {
+    std::lock_guard<std::mutex> g(m_);
+    return seconds_;
+  }
+
+ private:
+  static const CheckpointStore& storeOff() {
+    static const CheckpointStore off;
+    return off;
+  }
+  void add(std::chrono::steady_clock::time_point t) const {
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    std::lock_guard<std::mutex> g(m_);
+    seconds_ += dt;
+  }
+  const UnitRunner& inner_;
+  mutable std::mutex m_;
+  mutable double seconds_ = 0;
+};
+
 std::string sceneReport(const Study& study) {
   std::string md = "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
                    "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
@@ -181,7 +221,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // reports the whole job instead (rank 0).
   RunOptions stage_options = options;
   if (ranks.distributed()) stage_options.progress = false;
-  const std::unique_ptr<UnitRunner> units = ranks.unitRunner(*store, sum.threads, options.progress);
+  const std::unique_ptr<UnitRunner> run_units = ranks.unitRunner(*store, sum.threads, options.progress);
+  const TimedUnitRunner units(*run_units);
 
   if (root) {
     ordered_json designs = ordered_json::array();
@@ -206,7 +247,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-  const StageContext ctx{study, stage_options, stage_dir, *units, sum.threads};
+  const StageContext ctx{study, stage_options, stage_dir, units, sum.threads};
   try {
     for (const StudySection& section : study.sections) {
       StageResult r = section.stage->run(ctx, *section.settings);
@@ -260,6 +301,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
   if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
   if (!sum.resume_message.empty()) man["units_resumed"] = sum.units_resumed;
+  sum.timings.push_back({"units_and_shared_loops", units.seconds()});
+  sum.timings.push_back({"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
   ordered_json tim = ordered_json::object();
   for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
   man["timings"] = tim;
