@@ -82,9 +82,15 @@ int gridBoxNeighbours(const GridShape& g, long i, long out[28]) {
 
 constexpr std::string_view kStepMagic = "armstudy-search-step-2";
 // Poses per chunk of a search step's shared loop. A step visits only the poses that can change (its
-// active set), which are mostly costly ones, so chunks are small: the search front spreads over the
-// ranks of a distributed run, and a unit-cost record holds the step's cost at this grain.
-constexpr long kSearchStepChunk = 8;
+// active set), which are mostly costly ones, so chunks are small: at most 8 poses, fewer when the
+// active set has fewer than 8 x kSearchStepChunks poses, so that a step has that many chunks to
+// spread over the ranks of a distributed run (owned round-robin; a unit-cost record holds the step
+// at this grain). Steps whose every pose is a many-start search (multistart, box) use single poses.
+constexpr long kSearchStepMaxChunk = 8;
+constexpr long kSearchStepChunks = 1024;
+long searchStepChunk(std::size_t active) {
+  return std::clamp(static_cast<long>(active) / kSearchStepChunks, 1L, kSearchStepMaxChunk);
+}
 
 // The map search over a whole sweep; `neighbours(i, out)` lists pose i's neighbours (none for a
 // pose list, whose poses need not lie next to each other). Neighbourhoods must be symmetric (j is a
@@ -147,7 +153,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       if (keep(i)) out.push_back(i);
     return out;
   };
-  // One step over the poses `active` (ascending): body(solver, i, nb, a, b) computes pose i's
+  // One step over the poses `active` (ascending), in chunks of `chunk` poses: body(solver, i, nb, a, b) computes pose i's
   // candidate and counts into a and b (a: the starts it spent, which count into the pose's starts
   // when `spends` is set). Returns the totals of a and b over all poses and the poses that adopted a
   // candidate (ascending). The spent starts travel with the adopted rows, so that every process
@@ -157,14 +163,15 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     std::vector<long> adopted;
   };
   int steps = 0;  // steps so far (names them in the unit-cost record)
-  auto step = [&](const char* phase, int grain, bool spends, const std::vector<long>& active, auto&& body) {
+  auto step = [&](const char* phase, int grain, long chunk, bool spends, const std::vector<long>& active,
+                  auto&& body) {
     std::fill(now.begin(), now.end(), 0);
     StepResult res;
     std::map<std::size_t, std::pair<long, long>> counts;  // per chunk computed here
     SharedLoop loop;
     loop.id = "search/" + s.design + "/" + std::to_string(steps++) + "_" + phase;
     loop.items = static_cast<long>(active.size());
-    loop.chunk = kSearchStepChunk;
+    loop.chunk = chunk;
     loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
       const std::vector<long> items = SharedLoop::itemsOf(mine);
       const long n = static_cast<long>(items.size());
@@ -261,7 +268,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         return;
       }
       const std::vector<long> active = first ? every(unsettled) : around(from, unsettled);
-      const StepResult r = step("propagate", 4, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const StepResult r = step("propagate", 4, searchStepChunk(active.size()), true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         const auto cur = static_cast<ReachStatus>(s.status[i]);
         if (settle(cur)) return;
         const int count = neighbours(i, nb);
@@ -298,7 +305,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   if (collision.enabled() && search.collision_starts > 0) {
     const std::vector<long> active = every(colliding);
     sum.multistart_poses += static_cast<long>(active.size());
-    const StepResult r = step("multistart", 1, true, active, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
+    const StepResult r = step("multistart", 1, 1, true, active, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       JointVector q0(model.dof());
       for (int k = 0; k < search.collision_starts; ++k) {
@@ -322,7 +329,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   // the poses it freed.
   if (collision.enabled() && box) {
     const std::vector<long> active = every(colliding);
-    const StepResult r = step("box", 2, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
+    const StepResult r = step("box", 1, 1, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
       if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
       const int count = box(i, nb);
       for (int k = 0; k < count && !now[i]; ++k) {
@@ -355,7 +362,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     std::vector<long> from;
     for (int round = 0; round < search.propagation_rounds; ++round) {
       const std::vector<long> active = round == 0 ? every(reachable) : around(from, reachable);
-      const StepResult r = step("best", 4, false, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+      const StepResult r = step("best", 4, searchStepChunk(active.size()), false, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         if (!s.reachable(i)) return;
         double best = s.manipulability[i];
         const int count = neighbours(i, nb);

@@ -301,10 +301,10 @@ class MpiUnitRunner final : public UnitRunner {
   }
 
  private:
-  // Chunks of loop.chunk items, owned round-robin: chunk k by rank k mod size.
+  // The loop's chunks (SharedLoop::chunks), owned round-robin: chunk k by rank k mod size.
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
-    const std::vector<ItemRange> chunks = splitRange(loop.items, loop.chunk);
+    const std::vector<ItemRange> chunks = loop.chunks();
     std::vector<SharedLoop::Chunk> mine;
     for (std::size_t k = static_cast<std::size_t>(rank_); k < chunks.size(); k += static_cast<std::size_t>(size_))
       mine.push_back({k, chunks[k]});

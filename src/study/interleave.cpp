@@ -70,12 +70,12 @@ struct Piece {
 class Combined {
  public:
   explicit Combined(std::vector<const SharedLoop*> loops) : loops_(std::move(loops)) {
+    // Each program's loop keeps its own chunks (a combined chunk never spans two programs).
     long off = 0;
-    loop_.chunk = loops_.front()->chunk;
     for (const SharedLoop* l : loops_) {
       offsets_.push_back(off);
+      for (const ItemRange& r : l->chunks()) loop_.ends.push_back(off + r.end);
       off += l->items;
-      loop_.chunk = std::min(loop_.chunk, l->chunk);
     }
     loop_.id = "interleaved/" + std::to_string(loops_.size()) + "/" + loops_.front()->id;
     loop_.items = off;

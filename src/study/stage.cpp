@@ -132,6 +132,19 @@ std::vector<long> SharedLoop::itemsOf(const std::vector<Chunk>& mine) {
   return out;
 }
 
+std::vector<ItemRange> SharedLoop::chunks() const {
+  if (ends.empty()) return splitRange(items, chunk);
+  ARMSTUDY_CHECK(ends.back() == items, "a shared loop's chunk ends cover its items");
+  std::vector<ItemRange> out;
+  long begin = 0;
+  for (const long e : ends) {
+    ARMSTUDY_CHECK(e > begin, "a shared loop's chunk ends ascend");
+    out.push_back({begin, e});
+    begin = e;
+  }
+  return out;
+}
+
 void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
   if (!mine.empty()) compute(mine);
   if (finish) finish(mine);
@@ -140,9 +153,9 @@ void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
 void UnitRunner::share(const SharedLoop& loop) const {
   if (loop.items <= 0) return;
   if (!times_.enabled()) return loop.computeAll({{0, ItemRange{0, loop.items}}});
-  // Recorded: chunks of loop.chunk items, each timed (tests/benchmarks/simulate_distribution.py
+  // Recorded: the loop's chunks, each timed (tests/benchmarks/simulate_distribution.py
   // regroups them as a distributed run of any size would).
-  const std::vector<ItemRange> ranges = splitRange(loop.items, loop.chunk);
+  const std::vector<ItemRange> ranges = loop.chunks();
   std::vector<SharedLoop::Chunk> all;
   std::vector<UnitTimeRecord::Line> lines;
   for (std::size_t k = 0; k < ranges.size(); ++k) {

@@ -95,7 +95,7 @@ struct UnitBatch {
 // owned chunk's results as bytes and the other processes apply them with `unpack(k, r, bytes)`;
 // empty bytes mean "nothing to apply" (a runner need not send them, and unpack must accept them).
 // A single process owns one chunk, all items (pack and unpack are not called) or, when unit costs
-// are recorded, chunks of `chunk` items, each computed and timed in a call of its own.
+// are recorded, its chunks (`chunks()`), each computed and timed in a call of its own.
 struct SharedLoop {
   using Chunk = std::pair<std::size_t, ItemRange>;
   static constexpr long kDefaultChunk = 64;
@@ -104,6 +104,11 @@ struct SharedLoop {
   // Items per chunk among processes (owned round-robin) and in a unit-cost record: small for
   // items that each cost much (e.g. an audit's many-start searches), so that they spread.
   long chunk = kDefaultChunk;
+  // When not empty: the chunks' ends instead (ascending, the last one `items`), for chunks of
+  // different sizes (e.g. interleave.cpp's combined loop keeps each program's own chunks).
+  std::vector<long> ends;
+  // The chunks, in order (chunk k is the k-th range).
+  std::vector<ItemRange> chunks() const;
   std::function<void(const std::vector<Chunk>& mine)> compute;
   std::function<void(const std::vector<Chunk>& mine)> finish;  // optional
   std::function<std::string(std::size_t k, const ItemRange& r)> pack;
