@@ -89,8 +89,9 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     runInterleaved(&ctx.units, programs);
     sum.timings.push_back({"reach/" + g.name + "/audit", seconds(t0)});
   }
-  // Each design's files, figures and report lines, rendered by the process that owns it (a loop
-  // shared among the processes of a distributed run, one design per chunk): the files go to a
+  // Each design's files, figures and report lines, and each compared pair's images, rendered by the
+  // process that owns it (a loop shared among the processes of a distributed run, one design or
+  // pair per chunk): the files go to a
   // scratch folder inside the store (<output>/.partial/render/), their bytes travel with the
   // design's summary entry (CBOR) and report lines, and every process then writes them in design
   // order, so the files and their order are those of a single process.
@@ -279,10 +280,47 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     }
     part.jd = std::move(jd);
   };
-  std::vector<std::string> parts(nd);  // per design: files, entry and lines as bytes
+  // The pairs of designs compared on this grid (many designs: the first against each other) and
+  // their comparison images, rendered in the same shared loop as the designs' files (one pair per
+  // chunk after the designs' chunks), then written in pair order with the comparison below.
+  const std::size_t max_pairs_designs = 4;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t a = 0; a < nd; ++a)
+    for (std::size_t b = a + 1; b < nd; ++b)
+      if (!(nd > max_pairs_designs && a > 0)) pairs.emplace_back(a, b);
+  const bool pair_images = nd >= 2 && cfg.outputs.images && plane.projected < 0;
+  auto renderPair = [&](std::size_t a, std::size_t b, Writer& out, std::string& pair_imgs) {
+    const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
+    for (int k = 0; k < no; ++k) {
+      const long off = static_cast<long>(k) * points;
+      report::RasterImage img = report::renderCellMap(nu, nv, [&](int u, int v) {
+        report::Rgb col;
+        forCell(g, plane, u, v, [&](long p) {
+          const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
+          col = ra && rb ? report::categorical(0)
+                         : ra ? report::categorical(5) : rb ? report::categorical(2) : report::categorical(1);
+        });
+        return col;
+      });
+      report::MapFigure cfig =
+          mapAxes(g, plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
+      cfig.legend = {{report::categorical(0), "both"},
+                     {report::categorical(5), "only " + sweeps[a].design},
+                     {report::categorical(2), "only " + sweeps[b].design},
+                     {report::categorical(1), "neither"}};
+      const std::string rel = writeFigure(out, "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
+                                             sweeps[b].design + suffix(g, k),
+                                         img, cfig);
+      pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
+                   orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design + " (blue), only " +
+                   sweeps[b].design + " (orange), neither (light grey). " + imageCaptionAxes(g, plane) + ".*\n\n";
+    }
+  };
+  const std::size_t n_items = nd + (pair_images ? pairs.size() : 0);
+  std::vector<std::string> parts(n_items);  // per design, then per pair: files, entry and lines as bytes
   SharedLoop render;
   render.id = "files/" + g.name;
-  render.items = static_cast<long>(nd);
+  render.items = static_cast<long>(n_items);
   render.chunk = 1;
   render.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
     for (const long di : SharedLoop::itemsOf(mine)) {
@@ -290,7 +328,12 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       std::filesystem::remove_all(scratch);
       Writer w(scratch);
       DesignPart part;
-      renderDesign(static_cast<std::size_t>(di), w, part);
+      if (static_cast<std::size_t>(di) < nd) {
+        renderDesign(static_cast<std::size_t>(di), w, part);
+      } else {
+        const auto [a, b] = pairs[static_cast<std::size_t>(di) - nd];
+        renderPair(a, b, w, part.md);
+      }
       std::string bytes = packDesignPart(part, w);
       std::filesystem::remove_all(scratch);
       parts[static_cast<std::size_t>(di)] = std::move(bytes);
@@ -391,55 +434,30 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     }
     md += "### Comparison of designs on `" + g.name + "`\n\n";
     std::vector<std::vector<std::string>> crow;
-    ordered_json pairs = ordered_json::array();
+    ordered_json jpairs = ordered_json::array();
     std::string pair_imgs;
-    const std::size_t max_pairs_designs = 4;
-    for (std::size_t a = 0; a < sweeps.size(); ++a)
-      for (std::size_t b = a + 1; b < sweeps.size(); ++b) {
-        if (sweeps.size() > max_pairs_designs && a > 0) continue;  // many designs: first vs each
-        long n_a = 0, n_b = 0, both = 0, neither = 0;
-        for (long i = 0; i < g.size(); ++i) {
-          const bool ra = sweeps[a].reachable(i), rb = sweeps[b].reachable(i);
-          n_a += ra && !rb;
-          n_b += rb && !ra;
-          both += ra && rb;
-          neither += !ra && !rb;
-        }
-        pairs.push_back({{"a", sweeps[a].design}, {"b", sweeps[b].design}, {"a_only", n_a}, {"b_only", n_b},
-                         {"both", both}, {"neither", neither}});
-        const double N = static_cast<double>(g.size());
-        crow.push_back({sweeps[a].design, sweeps[b].design, report::percent(n_a / N), report::percent(n_b / N),
-                        report::percent(both / N), report::percent(neither / N)});
-        if (cfg.outputs.images && plane.projected < 0) {
-          const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
-          for (int k = 0; k < no; ++k) {
-            const long off = static_cast<long>(k) * points;
-            report::RasterImage img = report::renderCellMap(nu, nv, [&](int u, int v) {
-              report::Rgb col;
-              forCell(g, plane, u, v, [&](long p) {
-                const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
-                col = ra && rb ? report::categorical(0)
-                               : ra ? report::categorical(5) : rb ? report::categorical(2) : report::categorical(1);
-              });
-              return col;
-            });
-            report::MapFigure cfig =
-                mapAxes(g, plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
-            cfig.legend = {{report::categorical(0), "both"},
-                           {report::categorical(5), "only " + sweeps[a].design},
-                           {report::categorical(2), "only " + sweeps[b].design},
-                           {report::categorical(1), "neither"}};
-            const std::string rel = writeFigure(out, "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" +
-                                                   sweeps[b].design + suffix(g, k),
-                                               img, cfig);
-            pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
-                         orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design +
-                         " (blue), only " + sweeps[b].design + " (orange), neither (light grey). " +
-                         imageCaptionAxes(g, plane) + ".*\n\n";
-          }
-        }
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+      const auto [a, b] = pairs[p];
+      long n_a = 0, n_b = 0, both = 0, neither = 0;
+      for (long i = 0; i < g.size(); ++i) {
+        const bool ra = sweeps[a].reachable(i), rb = sweeps[b].reachable(i);
+        n_a += ra && !rb;
+        n_b += rb && !ra;
+        both += ra && rb;
+        neither += !ra && !rb;
       }
-    jcmp["pairs"] = pairs;
+      jpairs.push_back({{"a", sweeps[a].design}, {"b", sweeps[b].design}, {"a_only", n_a}, {"b_only", n_b},
+                        {"both", both}, {"neither", neither}});
+      const double N = static_cast<double>(g.size());
+      crow.push_back({sweeps[a].design, sweeps[b].design, report::percent(n_a / N), report::percent(n_b / N),
+                      report::percent(both / N), report::percent(neither / N)});
+      if (pair_images) {  // the images the render loop made
+        DesignPart part;
+        unpackDesignPart(parts[nd + p], part, out);
+        pair_imgs += part.md;
+      }
+    }
+    jcmp["pairs"] = jpairs;
     // Best design / variant per base design (e.g. the best base placement).
     ordered_json best = ordered_json::array();
     std::vector<std::vector<std::string>> brow;
