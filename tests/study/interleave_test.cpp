@@ -19,6 +19,7 @@ namespace {
 struct Jacobi {
   long n;
   int steps;
+  long chunk;  // items per chunk of its loops
   std::vector<std::int64_t> v;
   void run(const UnitRunner* runner) {
     v.assign(n, 0);
@@ -28,11 +29,11 @@ struct Jacobi {
       SharedLoop loop;
       loop.id = "jacobi/" + std::to_string(n) + "/" + std::to_string(s);
       loop.items = n;
-      loop.chunk = 5;
+      loop.chunk = chunk;
       loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
         for (const long i : SharedLoop::itemsOf(mine)) {
           const std::int64_t l = i > 0 ? v[i - 1] : 0, r = i + 1 < n ? v[i + 1] : 0;
-          // Blocks of 5 items of odd index stay as they are: chunks with nothing to send.
+          // Blocks of 5 items of odd index stay as they are (chunks of 5 with nothing to send).
           next[i] = (i / 5) % 2 ? v[i] : (3 * v[i] + l + 2 * r + s) % 1009;
         }
       };
@@ -70,10 +71,12 @@ class TwoProcesses final : public UnitRunner {
  public:
   TwoProcesses() : UnitRunner(off_, 1, UnitTimeRecord{}) {}
   mutable std::vector<long> loop_items;
+  mutable std::vector<std::vector<ItemRange>> loop_chunks;
   mutable long empty_packs = 0;  // chunks with nothing to send
   void share(const SharedLoop& loop) const override {
     loop_items.push_back(loop.items);
-    const std::vector<ItemRange> chunks = splitRange(loop.items, loop.chunk);
+    const std::vector<ItemRange> chunks = loop.chunks();
+    loop_chunks.push_back(chunks);
     std::vector<SharedLoop::Chunk> even, odd;
     for (std::size_t k = 0; k < chunks.size(); ++k) (k % 2 ? odd : even).push_back({k, chunks[k]});
     // The other process's chunks first: computed (its compute writes only its items' candidates),
@@ -93,7 +96,7 @@ class TwoProcesses final : public UnitRunner {
   CheckpointStore off_;
 };
 
-std::vector<Jacobi> programs() { return {{23, 4, {}}, {7, 9, {}}, {40, 1, {}}, {12, 6, {}}}; }
+std::vector<Jacobi> programs() { return {{23, 4, 5, {}}, {7, 9, 2, {}}, {40, 1, 16, {}}, {12, 6, 5, {}}}; }
 
 }  // namespace
 
@@ -117,6 +120,19 @@ TEST_CASE("interleaved programs give the results of the same programs run one af
       CHECK(runner.loop_items[1] == 23 + 7 + 12);
       CHECK(runner.loop_items[8] == 7);
       CHECK(runner.empty_packs > 0);
+      // A combined loop keeps each program's own chunks: step 0 is the programs' chunks, in program
+      // order, shifted by the items before them (none spans two programs).
+      std::vector<ItemRange> expected;
+      long off = 0;
+      for (const Jacobi& j : il) {
+        for (const ItemRange& r : splitRange(j.n, j.chunk)) expected.push_back({off + r.begin, off + r.end});
+        off += j.n;
+      }
+      REQUIRE(runner.loop_chunks[0].size() == expected.size());
+      for (std::size_t k = 0; k < expected.size(); ++k) {
+        CHECK(runner.loop_chunks[0][k].begin == expected[k].begin);
+        CHECK(runner.loop_chunks[0][k].end == expected[k].end);
+      }
     }
   }
 }
