@@ -4,8 +4,10 @@
 Input: a per-unit cost record of a real run (ARMSTUDY_UNIT_TIMES=units.csv armstudy run ...
 --threads 1; columns unit,seconds,cpu_seconds,threads,rank,bytes). Units are grouped into batches
 by id (everything before the last '/'), in file order, as the stages run them. Lines whose unit is
-"share:<id>" are the chunks (64 items each) of a shared loop (UnitRunner::share: the steps of the
-reach map search, the audit), consecutive lines of one id forming one step.
+"share:<id>" are the chunks of a shared loop as the runner cut them (UnitRunner::share,
+SharedLoop::chunks: a reach map search step's 1 to 8 poses of its active set, an audit's or a
+multistart step's single poses, a grid's files one design or compared pair), consecutive lines of one
+id forming one step.
 
 Model, per batch (batches run one after another, as every rank runs the stages in lockstep):
   * rank 0 computes and, on a second thread, hands out chunks of the batch's units on demand:
@@ -19,8 +21,8 @@ Model, per batch (batches run one after another, as every rank runs the stages i
     each, the bytes at `bandwidth` bytes/s into every rank);
   * then every rank merges the batch and runs the stage's serial work (files, merges):
     `serial` seconds per batch, the same on every rank (it does not shrink with N);
-  * a shared step (the search's Jacobi rounds, the audit) cuts its items into chunks of 64 items
-    owned round-robin (as src/study/distributed.cpp does, each rank computing its chunks in one call); it
+  * a shared step (the search's Jacobi rounds, the audit, the files) has its recorded chunks owned
+    round-robin (as src/study/distributed.cpp does, each rank computing its chunks in one call); it
     takes the busiest rank's chunks plus one allgather of the adopted rows (2 log2(N) latencies,
     the bytes at `bandwidth`); --unshared: every rank computes every step (as before issue 16's
     shared loops), i.e. the step costs its whole work on every rank.
@@ -35,7 +37,7 @@ runner does with all the designs of a grid; without it the copies' steps follow 
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--single] [--group G]
-      [--one-pool] [--unshared] [--interleaved] [--pool-per-grid]
+      [--one-pool] [--unshared] [--interleaved] [--pool-per-grid] [--bounds]
 """
 import argparse
 import csv
@@ -105,14 +107,14 @@ def replicate(phases, r, interleaved):
 
 
 def simulate_step(chunks, n, latency, bandwidth, unshared):
-    """Seconds of one shared step on n ranks (chunks: the recorded 64-item chunks)."""
+    """Seconds of one shared step on n ranks (chunks: the recorded chunks)."""
     work = sum(c for c, _ in chunks)
     if n == 1:
         return work
     if unshared:
         return work
     load = [0.0] * n
-    for k, (c, _) in enumerate(chunks):  # the recorded 64-item chunks are the run's chunks
+    for k, (c, _) in enumerate(chunks):  # the recorded chunks are the run's chunks
         load[k % n] += c
     total_bytes = sum(b for _, b in chunks)
     return max(load) + 2 * math.log2(n) * latency + total_bytes / bandwidth
@@ -193,6 +195,10 @@ def main():
                          "batches) and the batches' serial work spread over the ranks")
     ap.add_argument("--interleaved", action="store_true",
                     help="the replicas' designs join the recorded combined steps (a record of interleaved searches)")
+    ap.add_argument("--bounds", action="store_true",
+                    help="also print, per rank count, the shared steps' ideal share (their work / N), the bound "
+                         "set by their grain (sum over steps of max(costliest chunk, work / N)) and round-robin "
+                         "placement (sum over steps of the busiest rank's chunks), no latency, no serial work")
     ap.add_argument("--pool-per-grid", action="store_true",
                     help="the unit batches of a grid's designs (and their replicas) handed out from one pool")
     a = ap.parse_args()
@@ -215,6 +221,19 @@ def main():
     print(f"latency {a.latency * 1e6:.0f} us, hand-out service {a.service * 1e6:.0f} us, idle poll <= {a.poll * 1e6:.0f} us, "
           f"bandwidth {a.bandwidth / 1e9:.1f} GB/s, {'one unit' if a.single else 'guided chunks'} per hand-out, "
           f"steps {'repeated on every rank' if a.unshared else 'shared'}")
+    if a.bounds:
+        print("| ranks | steps: ideal share [s] | grain bound [s] | round-robin [s] | steps' efficiency at best | as placed |")
+        print("|---:|---:|---:|---:|---:|---:|")
+        for n in [int(x) for x in a.ranks.split(",")]:
+            ideal = step_work / n
+            grain = sum(max(max(c for c, _ in st), sum(c for c, _ in st) / n) for st in steps)
+            rr = 0.0
+            for st in steps:
+                load = [0.0] * n
+                for k, (c, _) in enumerate(st):
+                    load[k % n] += c
+                rr += max(load)
+            print(f"| {n} | {ideal:.2f} | {grain:.2f} | {rr:.2f} | {100 * ideal / grain:.0f} % | {100 * ideal / rr:.0f} % |")
     print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | in shared steps |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for n in [int(x) for x in a.ranks.split(",")]:
