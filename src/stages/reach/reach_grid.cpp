@@ -358,14 +358,18 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   std::vector<std::vector<std::string>> rows;
   ordered_json jdesigns = ordered_json::array();
   std::string images_md;
+  // The files are written on a background thread (Writer::textLater) while the stage goes on: the
+  // next grid's units need not wait for the disk. The stage flushes before it returns.
+  std::vector<std::pair<std::string, std::string>> design_files;
   for (std::size_t di = 0; di < nd; ++di) {
     DesignPart part;
-    unpackDesignPart(parts[di], part, out);
+    unpackDesignPart(parts[di], part, design_files);
     jdesigns.push_back(std::move(part.jd));
     md += part.md;
     images_md += part.images_md;
     for (auto& row : part.rows) rows.push_back(std::move(row));
   }
+  out.textLater(std::move(design_files));
   sum.timings.push_back({"reach/" + g.name + "/files", seconds(t0)});
   jg["designs"] = jdesigns;
   std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
@@ -436,6 +440,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     std::vector<std::vector<std::string>> crow;
     ordered_json jpairs = ordered_json::array();
     std::string pair_imgs;
+    std::vector<std::pair<std::string, std::string>> pair_files;
     for (std::size_t p = 0; p < pairs.size(); ++p) {
       const auto [a, b] = pairs[p];
       long n_a = 0, n_b = 0, both = 0, neither = 0;
@@ -453,10 +458,11 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                       report::percent(both / N), report::percent(neither / N)});
       if (pair_images) {  // the images the render loop made
         DesignPart part;
-        unpackDesignPart(parts[nd + p], part, out);
+        unpackDesignPart(parts[nd + p], part, pair_files);
         pair_imgs += part.md;
       }
     }
+    out.textLater(std::move(pair_files));
     jcmp["pairs"] = jpairs;
     // Best design / variant per base design (e.g. the best base placement).
     ordered_json best = ordered_json::array();

@@ -291,7 +291,8 @@ std::string packDesignPart(const DesignPart& part, const Writer& w) {
   return b.bytes();
 }
 
-void unpackDesignPart(const std::string& bytes, DesignPart& part, Writer& out) {
+void unpackDesignPart(const std::string& bytes, DesignPart& part,
+                      std::vector<std::pair<std::string, std::string>>& files) {
   UnitReader rd(bytes, kDesignPartMagic);
   std::vector<std::uint8_t> cbor;
   rd.getVector(cbor);
@@ -305,8 +306,8 @@ void unpackDesignPart(const std::string& bytes, DesignPart& part, Writer& out) {
     part.rows.push_back(std::move(row));
   }
   for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-    const std::string rel = rd.getString();
-    out.text(rel, rd.getString());
+    std::string rel = rd.getString();
+    files.emplace_back(std::move(rel), rd.getString());
   }
   ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
 }

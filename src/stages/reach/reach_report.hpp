@@ -136,7 +136,9 @@ struct DesignPart {
 };
 // The part and the files `w` lists (read back from its folder) as bytes (the entry as CBOR).
 std::string packDesignPart(const DesignPart& part, const Writer& w);
-// The inverse: fills `part` and writes the files into `out` (in the order they were written).
-void unpackDesignPart(const std::string& bytes, DesignPart& part, Writer& out);
+// The inverse: fills `part` and appends the files (path relative to the output folder, content)
+// to `files`, in the order they were written (for Writer::textLater).
+void unpackDesignPart(const std::string& bytes, DesignPart& part,
+                      std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace armstudy::reach_report

@@ -141,6 +141,7 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
     md += report::markdownTable(header, rows) + "\n";
   }
   jr["pose_lists"] = jlists;
+  out.flush();  // the grids' files written in the background (Writer::textLater)
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
