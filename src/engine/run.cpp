@@ -123,11 +123,10 @@ struct ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
 };
 
-// How to open the scene (the report.html section of the scene files).
 // The runner the stages see: the run's runner, timed. Its seconds are the part of the run that a
 // distributed run shares among its ranks (unit batches and shared loops, their exchanges included);
 // the rest of the run's wall time every rank does alone (manifest timings "units_and_shared_loops_s"
-// and "run_s", docs/distributed.md "What does not shrink"). Nested runs (local()) are not timed again.
+// and "run_s", docs/distributed.md "Unit costs"). Nested runs (local()) are not timed again.
 class TimedUnitRunner final : public UnitRunner {
  public:
   explicit TimedUnitRunner(const UnitRunner& inner) : UnitRunner(storeOff(), 1, UnitTimeRecord{}), inner_(inner) {}
@@ -163,6 +162,7 @@ class TimedUnitRunner final : public UnitRunner {
   mutable double seconds_ = 0;
 };
 
+// How to open the scene (the report.html section of the scene files).
 std::string sceneReport(const Study& study) {
   std::string md = "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
                    "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "

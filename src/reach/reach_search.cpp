@@ -153,11 +153,11 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
       if (keep(i)) out.push_back(i);
     return out;
   };
-  // One step over the poses `active` (ascending), in chunks of `chunk` poses: body(solver, i, nb, a, b) computes pose i's
-  // candidate and counts into a and b (a: the starts it spent, which count into the pose's starts
-  // when `spends` is set). Returns the totals of a and b over all poses and the poses that adopted a
-  // candidate (ascending). The spent starts travel with the adopted rows, so that every process
-  // counts them whichever process computed a pose.
+  // One step over the poses `active` (ascending), in chunks of `chunk` poses: body(solver, i, nb,
+  // a, b) computes pose i's candidate and counts into a and b (a: the starts it spent, which count
+  // into the pose's starts when `spends` is set). Returns the totals of a and b over all poses and
+  // the poses that adopted a candidate (ascending). The spent starts travel with the adopted rows,
+  // so that every process counts them whichever process computed a pose.
   struct StepResult {
     long a = 0, b = 0;
     std::vector<long> adopted;
