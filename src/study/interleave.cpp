@@ -18,10 +18,13 @@ namespace {
 
 constexpr std::string_view kCombinedMagic = "armstudy-interleaved-1";
 
-// Where the programs meet: each program's pending loop, the step counter that releases them.
+// Where the programs meet: each program's pending loop, the step counter that releases them. The
+// programs wake the runner's thread (`arrived`) and it wakes each program it releases (`go[p]`):
+// one condition variable for all would wake every waiting program at every arrival.
 struct Meeting {
   std::mutex m;
-  std::condition_variable cv;
+  std::condition_variable arrived;
+  std::vector<std::unique_ptr<std::condition_variable>> go;  // per program
   std::vector<const SharedLoop*> pending;  // per program: the loop it waits in, or null
   std::vector<char> ended;                 // per program: returned or threw
   std::vector<long> released;              // per program: loops completed so far
@@ -42,8 +45,8 @@ class MeetingRunner final : public UnitRunner {
     if (meet_.stopping) throw Cancelled();
     const long before = meet_.released[index_];
     meet_.pending[index_] = &loop;
-    meet_.cv.notify_all();
-    meet_.cv.wait(lk, [&] { return meet_.released[index_] != before || meet_.stopping; });
+    meet_.arrived.notify_one();
+    meet_.go[index_]->wait(lk, [&] { return meet_.released[index_] != before || meet_.stopping; });
     if (meet_.released[index_] == before) throw Cancelled();
   }
   const UnitRunner& local() const override { return outer_ ? outer_->local() : *this; }
@@ -151,6 +154,7 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
   meet.pending.assign(n, nullptr);
   meet.ended.assign(n, 0);
   meet.released.assign(n, 0);
+  for (std::size_t p = 0; p < n; ++p) meet.go.push_back(std::make_unique<std::condition_variable>());
   std::vector<std::exception_ptr> errors(n);
   std::vector<std::unique_ptr<MeetingRunner>> runners;
   for (std::size_t p = 0; p < n; ++p) runners.push_back(std::make_unique<MeetingRunner>(meet, p, runner));
@@ -165,14 +169,14 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
       }
       std::lock_guard<std::mutex> g(meet.m);
       meet.ended[p] = 1;
-      meet.cv.notify_all();
+      meet.arrived.notify_one();
     });
   std::exception_ptr failure;
   for (;;) {
     std::vector<std::size_t> at;  // programs waiting in a loop, in program order
     {
       std::unique_lock<std::mutex> lk(meet.m);
-      meet.cv.wait(lk, [&] {
+      meet.arrived.wait(lk, [&] {
         for (std::size_t p = 0; p < n; ++p)
           if (!meet.ended[p] && !meet.pending[p]) return false;
         return true;
@@ -200,7 +204,11 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
     } else {
       for (std::size_t p : at) ++meet.released[p];
     }
-    meet.cv.notify_all();
+    if (failure) {
+      for (const auto& go : meet.go) go->notify_one();  // every program still running stops
+    } else {
+      for (std::size_t p : at) meet.go[p]->notify_one();
+    }
     if (failure) break;
   }
   for (std::thread& t : threads) t.join();
