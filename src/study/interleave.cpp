@@ -72,14 +72,20 @@ struct Piece {
 
 class Combined {
  public:
-  explicit Combined(std::vector<const SharedLoop*> loops) : loops_(std::move(loops)) {
+  // programs[j]: the index of the program whose loop loops[j] is (names its chunks' part).
+  Combined(std::vector<const SharedLoop*> loops, const std::vector<std::size_t>& programs)
+      : loops_(std::move(loops)) {
     // Each program's loop keeps its own chunks (a combined chunk never spans two programs).
     long off = 0;
-    for (const SharedLoop* l : loops_) {
+    for (std::size_t j = 0; j < loops_.size(); ++j) {
       offsets_.push_back(off);
-      for (const ItemRange& r : l->chunks()) loop_.ends.push_back(off + r.end);
-      off += l->items;
+      for (const ItemRange& r : loops_[j]->chunks()) {
+        loop_.ends.push_back(off + r.end);
+        part_.push_back(programs[j]);
+      }
+      off += loops_[j]->items;
     }
+    loop_.part = [this](std::size_t k) { return part_[k]; };
     loop_.id = "interleaved/" + std::to_string(loops_.size()) + "/" + loops_.front()->id;
     loop_.items = off;
     loop_.compute = [this](const std::vector<SharedLoop::Chunk>& mine) {
@@ -142,6 +148,7 @@ class Combined {
 
   std::vector<const SharedLoop*> loops_;
   std::vector<long> offsets_;
+  std::vector<std::size_t> part_;  // per combined chunk: its program
   SharedLoop loop_;
 };
 
@@ -188,10 +195,10 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
     std::vector<const SharedLoop*> loops;
     for (std::size_t p : at) loops.push_back(meet.pending[p]);
     try {
-      if (loops.size() == 1) {
+      if (n == 1) {  // (with several programs, a last one's loops stay combined: their chunks name it)
         runSharedLoop(runner, *loops.front());
       } else {
-        const Combined combined(loops);
+        const Combined combined(loops, at);
         runSharedLoop(runner, combined.loop());
       }
     } catch (...) {

@@ -44,11 +44,13 @@ void UnitTimeRecord::append(const std::vector<Line>& lines) const {
   const bool fresh = !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0;
   std::ofstream f(path, std::ios::app);
   if (!f) throw std::runtime_error("cannot write the unit-time record " + path);
-  if (fresh) f << "unit,seconds,cpu_seconds,threads,rank,bytes\n";
+  if (fresh) f << "unit,seconds,cpu_seconds,threads,rank,bytes,part\n";
   char buf[64];
   for (const Line& l : lines) {
     std::snprintf(buf, sizeof buf, "%.6f,%.6f", l.seconds, l.cpu_seconds);
-    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << ',' << l.bytes << '\n';
+    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << ',' << l.bytes << ',';
+    if (l.part >= 0) f << l.part;
+    f << '\n';
   }
 }
 
@@ -165,7 +167,8 @@ void UnitRunner::share(const SharedLoop& loop) const {
     const double c0 = UnitTimeRecord::processCpuSeconds();
     loop.compute({all.back()});
     lines.push_back({"share:" + loop.id, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, 0});
+                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, 0,
+                     loop.part ? static_cast<long>(loop.part(k)) : -1L});
   }
   if (loop.finish) loop.finish(all);
   if (loop.pack)

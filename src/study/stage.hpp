@@ -107,6 +107,9 @@ struct SharedLoop {
   // When not empty: the chunks' ends instead (ascending, the last one `items`), for chunks of
   // different sizes (e.g. interleave.cpp's combined loop keeps each program's own chunks).
   std::vector<long> ends;
+  // Optional: the part chunk k belongs to (interleave.cpp: the program whose loop it is), only
+  // written to a unit-cost record.
+  std::function<std::size_t(std::size_t k)> part;
   // The chunks, in order (chunk k is the k-th range).
   std::vector<ItemRange> chunks() const;
   std::function<void(const std::vector<Chunk>& mine)> compute;
@@ -121,9 +124,10 @@ struct SharedLoop {
 
 // Opt-in record of per-unit costs (docs/distributed.md, "Unit costs"): when the environment
 // variable ARMSTUDY_UNIT_TIMES names a CSV file, every computed unit is computed in a call of its
-// own and one line "unit,seconds,cpu_seconds,threads,rank,bytes" is appended per unit (wall and
-// process CPU seconds of its call, the threads and rank that computed it, the size of its result). Outside the result
-// files; tests/benchmarks/simulate_distribution.py reads it.
+// own and one line "unit,seconds,cpu_seconds,threads,rank,bytes,part" is appended per unit (wall
+// and process CPU seconds of its call, the threads and rank that computed it, the size of its
+// result, and for a shared loop's chunk the part it belongs to, SharedLoop::part, else empty).
+// Outside the result files; tests/benchmarks/simulate_distribution.py reads it.
 struct UnitTimeRecord {
   std::string path;  // empty: off
   static UnitTimeRecord fromEnvironment();
@@ -133,6 +137,7 @@ struct UnitTimeRecord {
     double seconds = 0, cpu_seconds = 0;
     int threads = 1, rank = 0;
     std::size_t bytes = 0;
+    long part = -1;  // SharedLoop::part of a chunk; -1: none
   };
   void append(const std::vector<Line>& lines) const;
   // CPU seconds of this process so far (all threads).

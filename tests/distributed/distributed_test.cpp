@@ -305,10 +305,11 @@ TEST_CASE("per-unit costs are recorded on request, one line per unit, outside th
   std::ifstream f(csv);
   std::string line;
   std::getline(f, line);
-  CHECK(line == "unit,seconds,cpu_seconds,threads,rank,bytes");
+  CHECK(line == "unit,seconds,cpu_seconds,threads,rank,bytes,part");
   int n = 0;
   while (std::getline(f, line)) {
     CHECK(line.rfind("reach/wall/final_prototype_7dof/units_", 0) == 0);
+    CHECK(line.back() == ',');  // a unit belongs to no part
     ++n;
   }
   CHECK(n == 13);  // one unit per grid line (25 x 2 orientations = 50 poses), 13 lines
