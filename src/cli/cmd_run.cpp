@@ -30,6 +30,12 @@ void addRunCommand(CLI::App* cmd, Action& action) {
                   "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
                   "defaults). Results do not depend on it")
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
+  cmd->add_option("--search-group-ranks", a->opt.search_group_ranks,
+                  "Under mpirun/srun: a grid's map searches run in groups of at least this many ranks, each "
+                  "group searching some of the designs (0 = every rank in every search). Results do not "
+                  "depend on it")
+      ->capture_default_str()
+      ->check(CLI::Range(0, defaults::kMaxSearchGroupRanks));
   cmd->add_flag("--json", a->json,
                 "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
   setAction(cmd, action, [a] {

@@ -48,6 +48,15 @@ inline constexpr long kReachUnitPoses = 4096;           // poses per reach unit 
 inline constexpr long kDexterityUnitCells = 128;        // map cells per dexterity unit (whole z rows)
 inline constexpr long kHarvestUnitFruits = 1;           // approaches per harvest unit
 inline constexpr long kHarvestUnitGridPoints = 1024;    // holding-grid points per harvest unit
+// Distributed runs (docs/distributed.md, "Rank groups"): a grid's map searches run in groups of at
+// least this many ranks (--search-group-ranks; 0 = every rank in every search). Chosen on the
+// replay of the million-pose sweep (docs/performance.md); results do not depend on it.
+inline constexpr int kSearchGroupRanks = 16;
+inline constexpr int kMaxSearchGroupRanks = 1 << 20;
+// A map search's predicted cost per reachable pose for an arm of at most six joints, relative to a
+// redundant one (groups' sizes only). Assumption from the million-pose sweep's record: the six-joint
+// arm's search cost 1/15 (canopy_wall) and 1/3 (workspace_position) of the others' per design.
+inline constexpr double kSearchWeightNonRedundant = 0.1;
 
 // Model versus measurement (calibration, docs/calibration.md).
 inline constexpr double kLeastSquaresRankTolerance = 1e-10;  // relative pivot threshold of QR

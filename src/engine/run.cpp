@@ -129,7 +129,9 @@ struct ScratchFolder {
 // and "run_s", docs/distributed.md "Unit costs"). Nested runs (local()) are not timed again.
 class TimedUnitRunner final : public UnitRunner {
  public:
-  explicit TimedUnitRunner(const UnitRunner& inner) : UnitRunner(storeOff(), 1, UnitTimeRecord{}), inner_(inner) {}
+  // `into`: the runner whose seconds this one's count into (a rank group's runner); null: its own.
+  explicit TimedUnitRunner(const UnitRunner& inner, const TimedUnitRunner* into = nullptr)
+      : UnitRunner(storeOff(), 1, UnitTimeRecord{}), inner_(inner), into_(into ? into : this) {}
   long run(const UnitBatch& batch) const override {
     const auto t = std::chrono::steady_clock::now();
     const long r = inner_.run(batch);
@@ -142,9 +144,18 @@ class TimedUnitRunner final : public UnitRunner {
     add(t);
   }
   const UnitRunner& local() const override { return inner_.local(); }
+  // The inner runner's groups, their shared loops and exchange timed alike.
+  std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const override;
   double seconds() const {
     std::lock_guard<std::mutex> g(m_);
     return seconds_;
+  }
+
+  // Counts the time since t.
+  void add(std::chrono::steady_clock::time_point t) const {
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    std::lock_guard<std::mutex> g(into_->m_);
+    into_->seconds_ += dt;
   }
 
  private:
@@ -152,15 +163,40 @@ class TimedUnitRunner final : public UnitRunner {
     static const CheckpointStore off;
     return off;
   }
-  void add(std::chrono::steady_clock::time_point t) const {
-    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    std::lock_guard<std::mutex> g(m_);
-    seconds_ += dt;
-  }
   const UnitRunner& inner_;
+  const TimedUnitRunner* into_;
   mutable std::mutex m_;
   mutable double seconds_ = 0;
 };
+
+// A rank group's runner and exchange, timed into the run's TimedUnitRunner.
+class TimedGroups final : public RankGroups {
+ public:
+  TimedGroups(std::unique_ptr<RankGroups> inner, const TimedUnitRunner& into)
+      : inner_(std::move(inner)), runner_(inner_->runner(), &into), into_(into) {
+    group_of = inner_->group_of;
+    mine = inner_->mine;
+    sends = inner_->sends;
+  }
+  const UnitRunner& runner() const override { return runner_; }
+  std::vector<std::string> exchange(const std::vector<std::string>& bytes) const override {
+    const auto t = std::chrono::steady_clock::now();
+    std::vector<std::string> all = inner_->exchange(bytes);
+    into_.add(t);
+    return all;
+  }
+
+ private:
+  std::unique_ptr<RankGroups> inner_;
+  TimedUnitRunner runner_;
+  const TimedUnitRunner& into_;
+};
+
+std::unique_ptr<RankGroups> TimedUnitRunner::groups(const std::vector<double>& weights) const {
+  std::unique_ptr<RankGroups> g = inner_.groups(weights);
+  if (!g) return nullptr;
+  return std::make_unique<TimedGroups>(std::move(g), *into_);
+}
 
 // How to open the scene (the report.html section of the scene files).
 std::string sceneReport(const Study& study) {
@@ -221,7 +257,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // reports the whole job instead (rank 0).
   RunOptions stage_options = options;
   if (ranks.distributed()) stage_options.progress = false;
-  const std::unique_ptr<UnitRunner> run_units = ranks.unitRunner(*store, sum.threads, options.progress);
+  const std::unique_ptr<UnitRunner> run_units = ranks.unitRunner(*store, sum.threads, options.progress, options.search_group_ranks);
   const TimedUnitRunner units(*run_units);
 
   if (root) {

@@ -127,6 +127,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
   std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
   std::vector<long> item_a(N, 0), item_b(N, 0);  // a step's counts per pose (summed per chunk)
   std::vector<std::uint8_t> mark(N, 0);  // scratch of `around`
+  std::vector<std::uint8_t> touched(N, 0);  // rows the search changed (summary.changed)
   // One pose solver per thread for the whole search, built on first use (a step's compute may be
   // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
   std::vector<std::unique_ptr<PoseSolver>> solvers(static_cast<std::size_t>(nt));
@@ -253,6 +254,7 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     };
     runSharedLoop(runner, loop);
     std::sort(res.adopted.begin(), res.adopted.end());
+    for (const long i : res.adopted) touched[i] = 1;
     return res;
   };
   auto unsettled = [&](long i) { return !settle(static_cast<ReachStatus>(s.status[i])); };
@@ -389,12 +391,61 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     }
   }
   // The starts the search spent (every process has every pose's count).
-  for (long i = 0; i < N; ++i) s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+  for (long i = 0; i < N; ++i) {
+    s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
+    if (touched[i] || extra[i] > 0) sum.changed.push_back(i);
+  }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }
 
+constexpr std::string_view kResultMagic = "armstudy-search-result-1";
+
 }  // namespace
+
+std::string packSearchResult(const PoseSweep& s, const SweepSearchSummary& sum) {
+  UnitWriter w(kResultMagic);
+  w.put<std::int64_t>(s.size);
+  w.put<std::int64_t>(sum.rounds);
+  for (const long v : {sum.neighbour_tries, sum.neighbour_updates, sum.multistart_poses, sum.multistart_tries,
+                       sum.multistart_freed, sum.box_tries, sum.box_freed})
+    w.put<std::int64_t>(v);
+  w.put<std::int64_t>(sum.best_rounds);
+  w.put<std::int64_t>(sum.best_tries);
+  w.put<std::int64_t>(sum.best_updates);
+  w.put<std::uint8_t>(sum.converged ? 1 : 0);
+  w.put(sum.seconds);
+  w.put<std::int64_t>(static_cast<std::int64_t>(sum.changed.size()));
+  for (const long i : sum.changed) {
+    w.put<std::int64_t>(i);
+    putPose(w, s, i);
+  }
+  return w.bytes();
+}
+
+void unpackSearchResult(const std::string& bytes, PoseSweep& s, SweepSearchSummary& sum) {
+  UnitReader rd(bytes, kResultMagic);
+  ARMSTUDY_CHECK(rd.get<std::int64_t>() == s.size, "a search result fits its sweep");
+  sum = SweepSearchSummary{};
+  sum.rounds = static_cast<int>(rd.get<std::int64_t>());
+  for (long* v : {&sum.neighbour_tries, &sum.neighbour_updates, &sum.multistart_poses, &sum.multistart_tries,
+                  &sum.multistart_freed, &sum.box_tries, &sum.box_freed})
+    *v = static_cast<long>(rd.get<std::int64_t>());
+  sum.best_rounds = static_cast<int>(rd.get<std::int64_t>());
+  sum.best_tries = static_cast<long>(rd.get<std::int64_t>());
+  sum.best_updates = static_cast<long>(rd.get<std::int64_t>());
+  sum.converged = rd.get<std::uint8_t>() != 0;
+  sum.seconds = rd.get<double>();
+  const auto n = rd.get<std::int64_t>();
+  ARMSTUDY_CHECK(rd.ok() && n >= 0 && n <= s.size, "a search result fits its sweep");
+  sum.changed.reserve(static_cast<std::size_t>(n));
+  for (std::int64_t k = 0; k < n; ++k) {
+    const long i = static_cast<long>(rd.get<std::int64_t>());
+    ARMSTUDY_CHECK(rd.ok() && i >= 0 && i < s.size && getPose(rd, s, i), "a search result's rows arrive whole");
+    sum.changed.push_back(i);
+  }
+  ARMSTUDY_CHECK(rd.finished(), "a search result arrives whole");
+}
 
 SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
                                    const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,

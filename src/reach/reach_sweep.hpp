@@ -160,7 +160,16 @@ struct SweepSearchSummary {
   long best_tries = 0, best_updates = 0;
   bool converged = true;
   double seconds = 0;
+  // The poses whose row the search changed (adopted a candidate, or spent starts on), ascending:
+  // what packSearchResult sends.
+  std::vector<long> changed;
 };
+// A finished search's results as bytes (its summary and the rows of the poses it changed), and
+// applying them to the sweep it started from, which then equals the searched sweep (for a
+// distributed run whose rank groups each search some of the designs: study/interleave.hpp).
+std::string packSearchResult(const PoseSweep& sweep, const SweepSearchSummary& summary);
+// Bytes that do not fit the sweep fail an internal check (they come from the same run).
+void unpackSearchResult(const std::string& bytes, PoseSweep& sweep, SweepSearchSummary& summary);
 // `runner`: the run's unit runner; a distributed run shares each step of the search among its
 // processes (the result does not depend on it). Null: this process alone.
 SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,

@@ -35,8 +35,8 @@ class SingleProcess final : public Ranks {
   int rank() const override { return 0; }
   int size() const override { return 1; }
   int firstFailure(bool failed) const override { return failed ? 0 : 1; }
-  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads,
-                                         bool) const override {
+  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads, bool,
+                                         int) const override {
     return std::make_unique<UnitRunner>(store, threads);
   }
   [[noreturn]] void abortJob(int exit_code) const override { std::exit(exit_code); }
@@ -168,10 +168,99 @@ std::string batchLabel(const UnitBatch& b) {
   return slash == std::string::npos ? id.substr(0, id.find('-')) : id.substr(0, slash);
 }
 
+// A shared loop among the processes of `comm` (this one is `rank` of `size`): the loop's chunks
+// (SharedLoop::chunks), owned round-robin (chunk k by rank k mod size); each rank computes its
+// chunks in one call and every rank applies the others' results.
+void shareOver(const SharedLoop& loop, MPI_Comm comm, int rank, int size) {
+  const std::vector<ItemRange> chunks = loop.chunks();
+  std::vector<SharedLoop::Chunk> mine;
+  for (std::size_t k = static_cast<std::size_t>(rank); k < chunks.size(); k += static_cast<std::size_t>(size))
+    mine.push_back({k, chunks[k]});
+  loop.computeAll(mine);
+  std::string blob;
+  for (const SharedLoop::Chunk& c : mine) {
+    std::string bytes = loop.pack(c.first, c.second);
+    if (!bytes.empty()) pack(blob, {c.first, 0.0, 0.0, std::move(bytes)});  // empty: nothing to apply
+  }
+  const std::vector<std::string> blobs = allGather(blob, rank, size, comm);
+  for (int r = 0; r < size; ++r)
+    if (r != rank)
+      for (const PackedUnit& u : unpack(blobs[r])) loop.unpack(u.k, chunks[u.k], u.bytes);
+}
+
+// The runner of one rank group (RankGroups::runner): shared loops among the group's ranks.
+class GroupRunner final : public UnitRunner {
+ public:
+  GroupRunner(const UnitRunner& outer, MPI_Comm comm, int rank, int size)
+      : UnitRunner(outer.store(), 1, UnitTimeRecord{}), outer_(outer), comm_(comm), rank_(rank), size_(size) {}
+  long run(const UnitBatch&) const override {
+    ARMSTUDY_CHECK(false, "a rank group runs shared loops only, no unit batches");
+    return 0;
+  }
+  void share(const SharedLoop& loop) const override {
+    if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
+    shareOver(loop, comm_, rank_, size_);
+  }
+  const UnitRunner& local() const override { return outer_.local(); }
+
+ private:
+  const UnitRunner& outer_;
+  MPI_Comm comm_;
+  int rank_, size_;
+};
+
+// Rank groups (UnitRunner::groups): consecutive ranks per group, one communicator each.
+class MpiRankGroups final : public RankGroups {
+ public:
+  MpiRankGroups(const UnitRunner& outer, const RankGroupPlan& plan, int rank, int size)
+      : rank_(rank), size_(size) {
+    group_of = plan.group_of;
+    int first = 0;
+    for (std::size_t j = 0; j < plan.ranks.size(); ++j) {
+      if (rank < first + plan.ranks[j]) {
+        mine = j;
+        break;
+      }
+      first += plan.ranks[j];
+    }
+    sends = rank == first;
+    MPI_Comm_split(MPI_COMM_WORLD, static_cast<int>(mine), rank, &comm_);
+    int grank = 0, gsize = 1;
+    MPI_Comm_rank(comm_, &grank);
+    MPI_Comm_size(comm_, &gsize);
+    runner_ = std::make_unique<GroupRunner>(outer, comm_, grank, gsize);
+  }
+  ~MpiRankGroups() override {
+    runner_.reset();
+    MPI_Comm_free(&comm_);
+  }
+  const UnitRunner& runner() const override { return *runner_; }
+  std::vector<std::string> exchange(const std::vector<std::string>& bytes) const override {
+    std::string blob;
+    if (sends)
+      for (std::size_t p = 0; p < bytes.size(); ++p)
+        if (group_of[p] == mine) pack(blob, {p, 0.0, 0.0, bytes[p]});
+    std::vector<std::string> all(bytes.size());
+    for (const std::string& b : allGather(blob, rank_, size_))
+      for (PackedUnit& u : unpack(b)) all[u.k] = std::move(u.bytes);
+    return all;
+  }
+
+ private:
+  int rank_, size_;
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::unique_ptr<GroupRunner> runner_;
+};
+
 class MpiUnitRunner final : public UnitRunner {
  public:
-  MpiUnitRunner(const CheckpointStore& store, int threads, bool progress, int rank, int size)
-      : UnitRunner(store, threads), progress_(progress), rank_(rank), size_(size), local_(store, threads) {}
+  MpiUnitRunner(const CheckpointStore& store, int threads, bool progress, int rank, int size, int group_ranks)
+      : UnitRunner(store, threads),
+        progress_(progress),
+        rank_(rank),
+        size_(size),
+        group_ranks_(group_ranks),
+        local_(store, threads) {}
 
   const UnitRunner& local() const override { return local_; }
 
@@ -301,23 +390,16 @@ class MpiUnitRunner final : public UnitRunner {
   }
 
  private:
-  // The loop's chunks (SharedLoop::chunks), owned round-robin: chunk k by rank k mod size.
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
-    const std::vector<ItemRange> chunks = loop.chunks();
-    std::vector<SharedLoop::Chunk> mine;
-    for (std::size_t k = static_cast<std::size_t>(rank_); k < chunks.size(); k += static_cast<std::size_t>(size_))
-      mine.push_back({k, chunks[k]});
-    loop.computeAll(mine);
-    std::string blob;
-    for (const SharedLoop::Chunk& c : mine) {
-      std::string bytes = loop.pack(c.first, c.second);
-      if (!bytes.empty()) pack(blob, {c.first, 0.0, 0.0, std::move(bytes)});  // empty: nothing to apply
-    }
-    const std::vector<std::string> blobs = allGather(blob, rank_, size_);
-    for (int r = 0; r < size_; ++r)
-      if (r != rank_)
-        for (const PackedUnit& u : unpack(blobs[r])) loop.unpack(u.k, chunks[u.k], u.bytes);
+    shareOver(loop, MPI_COMM_WORLD, rank_, size_);
+  }
+
+  std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const override {
+    if (group_ranks_ <= 0) return nullptr;
+    const RankGroupPlan plan = planRankGroups(weights, size_, group_ranks_);
+    if (plan.ranks.empty()) return nullptr;
+    return std::make_unique<MpiRankGroups>(*this, plan, rank_, size_);
   }
 
   // A batch whose units write files naming the output folder: every rank computes it all in its
@@ -350,6 +432,7 @@ class MpiUnitRunner final : public UnitRunner {
 
   bool progress_;
   int rank_, size_;
+  int group_ranks_;  // RunOptions::search_group_ranks
   UnitRunner local_;
 };
 
@@ -399,9 +482,9 @@ class MpiRanks final : public Ranks {
     waitQuietly(req);
     return first;
   }
-  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads,
-                                         bool progress) const override {
-    return std::make_unique<MpiUnitRunner>(store, threads, progress && rank_ == 0, rank_, size_);
+  std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads, bool progress,
+                                         int group_ranks) const override {
+    return std::make_unique<MpiUnitRunner>(store, threads, progress && rank_ == 0, rank_, size_, group_ranks);
   }
   [[noreturn]] void abortJob(int exit_code) const override {
     MPI_Abort(MPI_COMM_WORLD, exit_code);

@@ -32,9 +32,10 @@ class Ranks {
   // Collective (every rank calls it): the lowest rank that passed failed = true, or size() when
   // none did. Waits without spinning (idle ranks leave the cores to the busy ones).
   virtual int firstFailure(bool failed) const = 0;
-  // The unit runner of one study run over `store`; `progress`: rank 0 reports the job's units.
+  // The unit runner of one study run over `store`; `progress`: rank 0 reports the job's units;
+  // `group_ranks`: RunOptions::search_group_ranks.
   virtual std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads,
-                                                 bool progress) const = 0;
+                                                 bool progress, int group_ranks) const = 0;
   // Ends the whole job after an error on this rank (the other ranks would otherwise wait for it).
   [[noreturn]] virtual void abortJob(int exit_code) const = 0;
 };

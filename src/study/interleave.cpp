@@ -154,9 +154,28 @@ class Combined {
 
 }  // namespace
 
-void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgram>& programs) {
+void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgram>& programs,
+                    const ProgramResults* results) {
   const std::size_t n = programs.size();
   if (n == 0) return;
+  if (runner && results) {
+    std::vector<double> weights(n, 1.0);
+    if (results->weight)
+      for (std::size_t p = 0; p < n; ++p) weights[p] = results->weight(p);
+    if (const std::unique_ptr<RankGroups> groups = runner->groups(weights)) {
+      std::vector<InterleavedProgram> mine;
+      for (std::size_t p = 0; p < n; ++p)
+        if (groups->group_of[p] == groups->mine) mine.push_back(programs[p]);
+      runInterleaved(&groups->runner(), mine);
+      std::vector<std::string> bytes(n);
+      for (std::size_t p = 0; p < n; ++p)
+        if (groups->sends && groups->group_of[p] == groups->mine) bytes[p] = results->pack(p);
+      const std::vector<std::string> all = groups->exchange(bytes);
+      for (std::size_t p = 0; p < n; ++p)
+        if (groups->group_of[p] != groups->mine) results->unpack(p, all[p]);
+      return;
+    }
+  }
   Meeting meet;
   meet.pending.assign(n, nullptr);
   meet.ended.assign(n, 0);

@@ -46,21 +46,21 @@ MPI_Status probeQuietly(int source, int tag) {
 }
 
 // Broadcasts `bytes` (sized on `root` only) from `root`, in pieces of at most kBroadcastPiece.
-void broadcast(std::string& bytes, int root, std::uint64_t size) {
+void broadcast(std::string& bytes, int root, std::uint64_t size, MPI_Comm comm) {
   bytes.resize(size);
   for (std::size_t at = 0; at < size; at += kBroadcastPiece) {
     const int n = static_cast<int>(std::min<std::size_t>(kBroadcastPiece, size - at));
-    MPI_Bcast(bytes.data() + at, n, MPI_BYTE, root, MPI_COMM_WORLD);
+    MPI_Bcast(bytes.data() + at, n, MPI_BYTE, root, comm);
   }
 }
 
 // Every rank's `mine`, on every rank (sizes first: ranks still computing are waited for without
 // spinning).
-std::vector<std::string> allGather(const std::string& mine, int rank, int size) {
+std::vector<std::string> allGather(const std::string& mine, int rank, int size, MPI_Comm comm) {
   const std::uint64_t my_size = mine.size();
   std::vector<std::uint64_t> sizes(size);
   MPI_Request req;
-  MPI_Iallgather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &req);
+  MPI_Iallgather(&my_size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, comm, &req);
   waitQuietly(req);
   std::vector<std::string> all(size);
   std::uint64_t total = 0;
@@ -74,7 +74,7 @@ std::vector<std::string> allGather(const std::string& mine, int rank, int size) 
     }
     std::string joined(total, '\0');
     MPI_Iallgatherv(mine.data(), counts[rank], MPI_BYTE, joined.data(), counts.data(), displs.data(), MPI_BYTE,
-                    MPI_COMM_WORLD, &req);
+                    comm, &req);
     waitQuietly(req);
     for (int r = 0; r < size; ++r) all[r] = joined.substr(displs[r], counts[r]);
     return all;
@@ -82,7 +82,7 @@ std::vector<std::string> allGather(const std::string& mine, int rank, int size) 
   for (int r = 0; r < size; ++r) {  // more than an int counts: one broadcast per rank, in pieces
     if (sizes[r] == 0) continue;
     if (r == rank) all[r] = mine;
-    broadcast(all[r], r, sizes[r]);
+    broadcast(all[r], r, sizes[r], comm);
   }
   return all;
 }

@@ -18,10 +18,11 @@ void waitQuietly(MPI_Request& req);
 // Waits for a message with `tag` from `source` (MPI_ANY_SOURCE allowed), sleeping between probes.
 MPI_Status probeQuietly(int source, int tag);
 // Broadcasts `bytes` (sized on `root` only) from `root`, in pieces whose counts fit an int.
-void broadcast(std::string& bytes, int root, std::uint64_t size);
-// Every rank's `mine`, on every rank (sizes first: ranks still computing are waited for without
-// spinning; then one allgather, or a broadcast per rank when the total exceeds an int count).
-std::vector<std::string> allGather(const std::string& mine, int rank, int size);
+void broadcast(std::string& bytes, int root, std::uint64_t size, MPI_Comm comm = MPI_COMM_WORLD);
+// Every rank's `mine`, on every rank of `comm` (rank and size: this rank's in comm) (sizes first:
+// ranks still computing are waited for without spinning; then one allgather, or a broadcast per
+// rank when the total exceeds an int count).
+std::vector<std::string> allGather(const std::string& mine, int rank, int size, MPI_Comm comm = MPI_COMM_WORLD);
 
 // Packed units: (int64 index, double seconds, double CPU seconds, uint64 length, bytes)...
 struct PackedUnit {

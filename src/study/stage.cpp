@@ -31,6 +31,7 @@ std::string RunOptions::validate() const {
   if (output_root.empty()) return "output root is empty";
   if (threads < 0) return "thread count must not be negative";
   if (unit_items < 0) return "unit size must not be negative";
+  if (search_group_ranks < 0) return "search group ranks must not be negative";
   return "";
 }
 
@@ -174,6 +175,49 @@ void UnitRunner::share(const SharedLoop& loop) const {
   if (loop.pack)
     for (std::size_t k = 0; k < ranges.size(); ++k) lines[k].bytes = loop.pack(k, ranges[k]).size();
   times_.append(lines);
+}
+
+std::unique_ptr<RankGroups> UnitRunner::groups(const std::vector<double>&) const { return nullptr; }
+
+RankGroupPlan planRankGroups(const std::vector<double>& weights, int ranks, int min_ranks) {
+  RankGroupPlan plan;
+  const std::size_t programs = weights.size();
+  plan.group_of.assign(programs, 0);
+  const std::size_t g = std::min<std::size_t>(programs, static_cast<std::size_t>(ranks / std::max(1, min_ranks)));
+  if (g < 2) return plan;
+  std::vector<std::size_t> order(programs);
+  for (std::size_t p = 0; p < programs; ++p) order[p] = p;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return weights[a] > weights[b]; });
+  std::vector<double> load(g, 0.0);
+  for (const std::size_t p : order) {
+    const std::size_t j = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    plan.group_of[p] = j;
+    load[j] += weights[p];
+  }
+  double total = 0;
+  for (const double w : load) total += w;
+  std::vector<double> share(g);
+  plan.ranks.assign(g, 1);
+  int given = 0;
+  for (std::size_t j = 0; j < g; ++j) {
+    share[j] = total > 0 ? ranks * load[j] / total : double(ranks) / double(g);
+    plan.ranks[j] = std::max(1, static_cast<int>(share[j]));
+    given += plan.ranks[j];
+  }
+  // Too many (groups raised to one rank): take from the most over their share; too few: give to
+  // the most under it (lowest index on ties).
+  auto pick = [&](int sign) {
+    std::size_t best = g;
+    for (std::size_t j = 0; j < g; ++j) {
+      if (sign > 0 && plan.ranks[j] <= 1) continue;
+      const double d = sign * (plan.ranks[j] - share[j]);
+      if (best == g || d > sign * (plan.ranks[best] - share[best])) best = j;
+    }
+    return best;
+  };
+  for (; given > ranks; --given) --plan.ranks[pick(+1)];
+  for (; given < ranks; ++given) ++plan.ranks[pick(-1)];
+  return plan;
 }
 
 void runSharedLoop(const UnitRunner* runner, const SharedLoop& loop) {

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/defaults.hpp"
 #include "study/checkpoint.hpp"
 #include "study/metrics.hpp"
 #include "study/study.hpp"
@@ -28,6 +29,8 @@
 namespace armstudy {
 
 class CheckpointStore;
+class RankGroups;
+class UnitRunner;
 namespace io {
 class TableReader;
 }
@@ -42,6 +45,10 @@ struct RunOptions {
   // dexterity: map cells, rounded to whole rows; harvest: approaches and holding-grid points).
   // 0 = each stage's default (defaults::k*Unit*). Results do not depend on it.
   long unit_items = 0;
+  // A distributed run's rank groups (docs/distributed.md, "Rank groups"): a grid's map searches
+  // run in groups of at least this many ranks, each group searching some of the designs; 0 = every
+  // rank in every search. Results do not depend on it.
+  int search_group_ranks = defaults::kSearchGroupRanks;
   std::string validate() const;  // empty when valid, else the reason
 };
 
@@ -144,6 +151,33 @@ struct UnitTimeRecord {
   static double processCpuSeconds();
 };
 
+// How a distributed run's processes split into groups for independent programs
+// (UnitRunner::groups): the group of each program and the processes of each group, consecutive
+// ranks. planRankGroups makes it from the programs' predicted costs: min(programs, ranks /
+// min_ranks) groups; the programs dealt out costliest first, each to the group with the least
+// cost so far (lowest index on ties); the ranks shared out in proportion to the groups' costs
+// (at least one each; the largest remainders get the rest). Fewer than two groups: `ranks` empty.
+// tests/benchmarks/simulate_distribution.py (--groups) mirrors it.
+struct RankGroupPlan {
+  std::vector<std::size_t> group_of;  // per program
+  std::vector<int> ranks;             // per group
+};
+RankGroupPlan planRankGroups(const std::vector<double>& weights, int ranks, int min_ranks);
+
+// One process's view of rank groups (UnitRunner::groups).
+class RankGroups {
+ public:
+  virtual ~RankGroups() = default;
+  std::vector<std::size_t> group_of;  // per program
+  std::size_t mine = 0;               // this process's group
+  bool sends = true;                  // this process sends its group's results (one per group)
+  // The runner of this process's group: its shared loops span the group's processes only.
+  virtual const UnitRunner& runner() const = 0;
+  // Every program's result bytes on every process: `mine` holds those of this group's programs
+  // (one process of the group sends them; the other entries are ignored). Collective.
+  virtual std::vector<std::string> exchange(const std::vector<std::string>& mine) const = 0;
+};
+
 // Runs the units of batches: loads those an interrupted run saved (same fingerprint), computes
 // the rest and saves each as soon as it is done. One per study run; stages only see this. This
 // class is the single-process runner; a distributed run uses a subclass (study/distributed.hpp)
@@ -165,6 +199,12 @@ class UnitRunner {
   // candidate): this process alone, the same store. A distributed runner's run and share are
   // collective, so a unit that one rank computes must not call them.
   virtual const UnitRunner& local() const { return *this; }
+  // Rank groups for independent programs (study/interleave.hpp) of predicted costs `weights`:
+  // each group of processes runs some of the programs on its own, and the programs' results then
+  // travel to every process. Null when every process runs every program (a single process, or too
+  // few processes for two groups). Collective.
+  virtual std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const;
+  const CheckpointStore& store() const { return store_; }
 
  protected:
   const CheckpointStore& store_;

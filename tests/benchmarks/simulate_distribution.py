@@ -176,6 +176,139 @@ def simulate_batch(units, n, latency, service, poll, bandwidth, single, apply=0.
     return finish + exchange, master_busy, handouts
 
 
+def load_search_parts(path, scale):
+    """Per grid (in record order): the map searches' steps by program ("part" column of the combined
+    chunks: src/study/interleave.cpp) and the bytes of each program's initial sweep units (the size of
+    its final map, which a grouped run sends to every rank once its search has ended). Returns a list
+    of (programs, step lists, unit bytes): steps[p] = [[(cost, bytes)] per step of program p]."""
+    grids = OrderedDict()
+    with (gzip.open(path, "rt") if path.endswith(".gz") else open(path)) as f:
+        last_key = None
+        for row in csv.DictReader(f):
+            unit = row["unit"]
+            cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
+            b = int(row.get("bytes") or 0)
+            if not unit.startswith("share:"):
+                parts = unit.split("/")  # stage/grid/design/units_...
+                g = grids.setdefault(parts[1], {"steps": OrderedDict(), "unit_bytes": OrderedDict(), "designs": []})
+                if parts[2] not in g["unit_bytes"]:
+                    g["designs"].append(parts[2])
+                g["unit_bytes"][parts[2]] = g["unit_bytes"].get(parts[2], 0) + b
+                last_key = None
+                continue
+            if "/search/" not in unit or not row.get("part"):
+                last_key = None
+                continue
+            grid = list(grids)[-1]
+            g = grids[grid]
+            p = int(row["part"])
+            if unit != last_key:  # a new combined step: every program in it starts its next step
+                g["steps"].setdefault("_current", set()).clear()
+                last_key = unit
+            cur = g["steps"].setdefault("_current", set())
+            prog = g["steps"].setdefault(p, [])
+            if p not in cur:
+                prog.append([])
+                cur.add(p)
+            prog[-1].append((cost, b))
+    out = []
+    for g in grids.values():
+        steps = {p: v for p, v in g["steps"].items() if p != "_current"}
+        if not steps:
+            continue
+        ub = [g["unit_bytes"][d] for d in g["designs"]]
+        out.append((sorted(steps), steps, ub))
+    return out
+
+
+def assign_groups(weights, n, min_ranks):
+    """Rank groups for interleaved programs, as planRankGroups (src/study/stage.cpp) forms them:
+    G = min(programs, n // min_ranks) groups; programs dealt out costliest first to the group with
+    the least cost so far (lowest index on ties); ranks shared out in proportion to the groups' costs
+    (at least one each; too many: taken from the most over their share, too few: given to the most
+    under it). Returns (group per program, ranks per group), or None for fewer than two groups."""
+    progs = len(weights)
+    g = min(progs, n // max(1, min_ranks))
+    if g < 2:
+        return None
+    load = [0.0] * g
+    group_of = [0] * progs
+    for p in sorted(range(progs), key=lambda p: -weights[p]):  # stable: ties in program order
+        j = min(range(g), key=lambda j: (load[j], j))
+        group_of[p] = j
+        load[j] += weights[p]
+    total = sum(load)
+    share = [n * w / total if total > 0 else n / g for w in load]
+    ranks = [max(1, int(x)) for x in share]
+
+    def pick(sign):
+        best = None
+        for j in range(g):
+            if sign > 0 and ranks[j] <= 1:
+                continue
+            if best is None or sign * (ranks[j] - share[j]) > sign * (ranks[best] - share[best]):
+                best = j
+        return best
+    while sum(ranks) > n:
+        ranks[pick(+1)] -= 1
+    while sum(ranks) < n:
+        ranks[pick(-1)] += 1
+    return group_of, ranks
+
+
+def model_weights(run_dir, grids):
+    """The weights src/stages/reach/reach_grid.cpp gives the searches: reachable poses, a tenth for an
+    arm of at most six joints (defaults::kSearchWeightNonRedundant), from the recorded run's
+    summary.json and designs.json (its reachable poses after the search, close to the sweep's)."""
+    import json
+    import os
+    summary = json.load(open(os.path.join(run_dir, "summary.json")))
+    designs = json.load(open(os.path.join(run_dir, "designs.json")))
+    out = []
+    for (progs, _, _), g in zip(grids, summary["reach"]["grids"]):
+        out.append([g["designs"][p]["reachable"] * (1.0 if designs[p]["dof"] > 6 else 0.1) for p in progs])
+    return out
+
+
+def simulate_grouped_searches(grids, n, min_ranks, latency, bandwidth, apply, serial_search, weights_kind,
+                              model=None):
+    """Seconds of the grids' map searches on n ranks in rank groups (each group runs its programs'
+    steps among its own ranks, then every program's final map goes to every rank), and the same
+    searches with every rank in every step (the combined steps); serial_search: the searches' own
+    bookkeeping in the 1-process run, split evenly over the programs."""
+    grouped = flat = 0.0
+    nprog = sum(len(p) for p, _, _ in grids)
+    for gi, (progs, steps, unit_bytes) in enumerate(grids):
+        per_prog_serial = serial_search / max(1, nprog)
+        nsteps = max(len(steps[p]) for p in progs)
+        combined = [[c for p in progs if k < len(steps[p]) for c in steps[p][k]] for k in range(nsteps)]
+        flat_t = sum(simulate_step(st, n, latency, bandwidth, False, apply) for st in combined) + \
+            per_prog_serial * len(progs)
+        flat += flat_t
+        if weights_kind == "model":
+            w = model[gi]
+        else:
+            w = [sum(c for st in steps[p] for c, _ in st) if weights_kind == "oracle" else 1.0 for p in progs]
+        a = assign_groups(w, n, min_ranks)
+        if a is None:
+            grouped += flat_t
+            continue
+        group_of, ranks = a
+        times = []
+        for j, nj in enumerate(ranks):
+            mine = [p for i, p in enumerate(progs) if group_of[i] == j]
+            ks = max(len(steps[p]) for p in mine)
+            t = sum(simulate_step([c for p in mine if k < len(steps[p]) for c in steps[p][k]], nj, latency,
+                                  bandwidth, False, apply) for k in range(ks))
+            times.append(t + per_prog_serial * len(mine))
+        # Each program sends the rows its search changed: at most its whole map (its units' bytes) and
+        # at most what its steps sent.
+        total_bytes = sum(min(unit_bytes[i], sum(b for st in steps[p] for _, b in st)) for i, p in enumerate(progs))
+        exchange = math.log2(n) * latency * len(ranks) + total_bytes / bandwidth + total_bytes * apply
+        grouped += max(times) + exchange
+    return grouped, flat
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv")
@@ -206,6 +339,18 @@ def main():
                     help="also print, per rank count, the shared steps' ideal share (their work / N), the bound "
                          "set by their grain (sum over steps of max(costliest chunk, work / N)) and round-robin "
                          "placement (sum over steps of the busiest rank's chunks), no latency, no serial work")
+    ap.add_argument("--groups", type=int, default=0, metavar="R",
+                    help="also print the map searches alone in rank groups of at least R ranks (each group runs "
+                         "some designs' searches on its ranks, then the final maps go to every rank) against "
+                         "every rank in every step; needs a record with the part column")
+    ap.add_argument("--serial-search", type=float, default=0.0,
+                    help="seconds of the serial rest that are the searches' own bookkeeping (with --groups: "
+                         "a group repeats only its programs' share)")
+    ap.add_argument("--group-weights", choices=["model", "oracle", "equal"], default="model",
+                    help="programs dealt to groups by armstudy's prediction (model: needs --run-dir), by their "
+                         "recorded cost (oracle) or as equals")
+    ap.add_argument("--run-dir", help="the recorded run's output folder (summary.json, designs.json) for "
+                                      "--group-weights model")
     ap.add_argument("--pool-per-grid", action="store_true",
                     help="the unit batches of a grid's designs (and their replicas) handed out from one pool")
     a = ap.parse_args()
@@ -241,6 +386,20 @@ def main():
                     load[k % n] += c
                 rr += max(load)
             print(f"| {n} | {ideal:.2f} | {grain:.2f} | {rr:.2f} | {100 * ideal / grain:.0f} % | {100 * ideal / rr:.0f} % |")
+    if a.groups:
+        grids = load_search_parts(a.csv, a.scale)
+        model = model_weights(a.run_dir, grids) if a.group_weights == "model" else None
+        print(f"map searches of {sum(len(p) for p, _, _ in grids)} programs in {len(grids)} grids, rank groups of "
+              f">= {a.groups} ranks ({a.group_weights} weights), search bookkeeping {a.serial_search:.2f} s:")
+        print("| ranks | searches, every rank in every step [s] | in rank groups [s] |")
+        print("|---:|---:|---:|")
+        grouped = {}
+        for n in [int(x) for x in a.ranks.split(",")]:
+            g, fl = simulate_grouped_searches(grids, n, a.groups, a.latency, a.bandwidth, a.apply, a.serial_search,
+                                              a.group_weights, model)
+            grouped[n] = g - fl  # the makespan's change
+            print(f"| {n} | {fl:.2f} | {g:.2f} |")
+        print("The whole study (below) with the searches in rank groups:")
     print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | in shared steps |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for n in [int(x) for x in a.ranks.split(",")]:
@@ -262,6 +421,8 @@ def main():
             if t > 0:
                 peak = max(peak, h / t)
         total += step_time
+        if a.groups:
+            total += grouped[n]
         print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * busy / total:.2f} % | "
               f"{peak:.0f} | {100 * step_time / total:.0f} % |")
 

@@ -167,3 +167,40 @@ TEST_CASE("pose lists: poses in collision get the seeded starts, freed poses are
   INFO("poses freed by the seeded starts: " << freed);
   CHECK(freed > 0);
 }
+
+TEST_CASE("a search's packed result turns the sweep it started from into the searched sweep",
+          "[reach][map_search][distributed]") {
+  // What a rank that did not run a design's search applies (study/interleave.hpp, rank groups).
+  const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
+  const TaskGrid g = fig38Part();
+  const IkOptions o = ReachConfig::studyDefaults();
+  const SweepCollision sc{true, {}};
+  const PoseSweep before = sweepGrid(m, g, o, 2, nullptr, sc);
+  PoseSweep s = before;
+  const SweepSearchSummary sum = searchGridSweep(m, g, o, 2, sc, SweepSearch{}, s);
+  REQUIRE(!sum.changed.empty());
+  REQUIRE(static_cast<long>(sum.changed.size()) < s.size);  // only the changed rows travel
+  // Every row outside `changed` is the sweep's.
+  std::vector<char> in(s.size, 0);
+  for (const long i : sum.changed) in[i] = 1;
+  for (long i = 0; i < s.size; ++i)
+    if (!in[i]) {
+      CHECK(s.status[i] == before.status[i]);
+      CHECK(s.starts[i] == before.starts[i]);
+    }
+  PoseSweep other = before;
+  SweepSearchSummary got;
+  unpackSearchResult(packSearchResult(s, sum), other, got);
+  CHECK(other.status == s.status);
+  CHECK(other.starts == s.starts);
+  CHECK(std::memcmp(other.q.data(), s.q.data(), s.q.size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(other.manipulability.data(), s.manipulability.data(), s.size * sizeof(double)) == 0);
+  CHECK(std::memcmp(other.min_distance_m.data(), s.min_distance_m.data(), s.size * sizeof(double)) == 0);
+  CHECK(other.colliding_pair == s.colliding_pair);
+  CHECK(got.rounds == sum.rounds);
+  CHECK(got.neighbour_updates == sum.neighbour_updates);
+  CHECK(got.multistart_freed == sum.multistart_freed);
+  CHECK(got.best_updates == sum.best_updates);
+  CHECK(got.converged == sum.converged);
+  CHECK(got.changed == sum.changed);
+}

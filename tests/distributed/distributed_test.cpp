@@ -198,6 +198,10 @@ alpha = "0 deg"
 gamma = ["-40 deg", "40 deg"]
 )");
   requireSameAcrossRanks(dir, study, "cs", "--unit-size 400", {{2, 1}, {3, 1}});
+  // In rank groups (docs/distributed.md, "Rank groups"): on 2 ranks each searches one design; on 3,
+  // ranks 0 and 1 search the first design (their steps shared) and rank 2 the second; then the
+  // searches' summaries and changed rows go to every rank.
+  requireSameAcrossRanks(dir, study, "cs", "--unit-size 400 --search-group-ranks 1", {{2, 1}, {3, 1}});
   const auto sum = nlohmann::json::parse(readFileOrThrow((dir / "out/cs/summary.json").string()));
   const auto& search = sum["reach"]["grids"][0]["designs"][0]["search"];
   INFO(search.dump());

@@ -3,7 +3,10 @@
 // whatever chunks the runner cuts the combined loops into; the steps are the longest program's, not
 // the sum; a program's failure reaches the caller after the others ended.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -169,4 +172,116 @@ TEST_CASE("a loop that fails while combined stops every program and reaches the 
     FAIL("a program goes on after its loop failed");
   });
   CHECK_THROWS_WITH(runInterleaved(nullptr, progs), "compute failed");
+}
+
+TEST_CASE("rank groups: programs dealt out costliest first, ranks in proportion to the groups' cost",
+          "[interleave]") {
+  // Fewer than two groups of at least min_ranks ranks: every rank runs every program.
+  CHECK(planRankGroups({1, 1, 1}, 3, 2).ranks.empty());
+  CHECK(planRankGroups({1}, 64, 1).ranks.empty());
+  // One program per group, ranks in proportion 3:1:1:1.
+  RankGroupPlan a = planRankGroups({3, 1, 1, 1}, 12, 1);
+  CHECK(a.group_of == std::vector<std::size_t>{0, 1, 2, 3});
+  CHECK(a.ranks == std::vector<int>{6, 2, 2, 2});
+  // Two groups: the costly program alone, the five cheap ones together (a tie goes to the lower group
+  // index only after the second group caught up), two ranks each.
+  RankGroupPlan b = planRankGroups({5, 1, 1, 1, 1, 1}, 4, 2);
+  CHECK(b.group_of == std::vector<std::size_t>{0, 1, 1, 1, 1, 1});
+  CHECK(b.ranks == std::vector<int>{2, 2});
+  // Every group keeps at least one rank, and the ranks add up.
+  RankGroupPlan c = planRankGroups({100, 1, 1}, 3, 1);
+  CHECK(c.ranks == std::vector<int>{1, 1, 1});
+  for (int n : {8, 64, 256, 1000}) {
+    std::vector<double> w;
+    for (int p = 0; p < 35; ++p) w.push_back(1 + (p * 37) % 11);
+    const RankGroupPlan d = planRankGroups(w, n, 4);
+    int sum = 0;
+    for (int r : d.ranks) {
+      CHECK(r >= 1);
+      sum += r;
+    }
+    CHECK(sum == n);
+    CHECK(d.ranks.size() == static_cast<std::size_t>(std::min(35, n / 4)));
+  }
+}
+
+namespace {
+
+// A process of a run in two rank groups, played in one: it is in group 0 (whose two processes the
+// TwoProcesses runner plays), and the exchange brings the results of group 1's programs, computed
+// here by separate copies of those programs (the other group's processes).
+class GroupedProcess final : public UnitRunner {
+ public:
+  GroupedProcess() : UnitRunner(off_, 1, UnitTimeRecord{}) {}
+  mutable TwoProcesses group_runner;
+  mutable std::vector<std::string> sent;  // what this process sent in the exchange
+  std::function<std::string(std::size_t)> other_group;  // program p's result bytes, computed elsewhere
+  std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const override {
+    struct Fake final : RankGroups {
+      const GroupedProcess* self = nullptr;
+      const UnitRunner& runner() const override { return self->group_runner; }
+      std::vector<std::string> exchange(const std::vector<std::string>& mine) const override {
+        self->sent = mine;
+        std::vector<std::string> all(mine.size());
+        for (std::size_t p = 0; p < all.size(); ++p) all[p] = group_of[p] == 0 ? mine[p] : self->other_group(p);
+        return all;
+      }
+    };
+    auto g = std::make_unique<Fake>();
+    g->self = this;
+    g->group_of = planRankGroups(weights, 4, 2).group_of;
+    g->mine = 0;
+    return g;
+  }
+  void share(const SharedLoop&) const override { FAIL("the programs run in the group's runner"); }
+
+ private:
+  CheckpointStore off_;
+};
+
+std::string packValues(const std::vector<std::int64_t>& v) {
+  std::string b;
+  for (const std::int64_t x : v) b += std::to_string(x) + ",";
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("in rank groups, a process runs its group's programs and takes the others' results",
+          "[interleave]") {
+  std::vector<Jacobi> seq = programs();
+  for (Jacobi& j : seq) j.run(nullptr);
+  // Weights n x steps: 92, 63, 40, 72 -> group 0 runs programs 0 and 2, group 1 programs 1 and 3.
+  std::vector<Jacobi> il = programs();
+  std::vector<InterleavedProgram> progs;
+  for (Jacobi& j : il) progs.push_back([&j](const UnitRunner* r) { j.run(r); });
+  GroupedProcess runner;
+  runner.other_group = [](std::size_t p) {
+    Jacobi j = programs()[p];
+    j.run(nullptr);
+    return packValues(j.v);
+  };
+  ProgramResults results;
+  results.pack = [&](std::size_t p) { return packValues(il[p].v); };
+  results.unpack = [&](std::size_t p, const std::string& bytes) {
+    il[p].v.clear();
+    for (std::size_t pos = 0; pos < bytes.size();) {
+      const std::size_t comma = bytes.find(',', pos);
+      il[p].v.push_back(std::stoll(bytes.substr(pos, comma - pos)));
+      pos = comma + 1;
+    }
+  };
+  results.weight = [&](std::size_t p) { return double(il[p].n * il[p].steps); };
+  runInterleaved(&runner, progs, &results);
+  for (std::size_t p = 0; p < il.size(); ++p) CHECK(il[p].v == seq[p].v);
+  // The group ran only its programs (0: 23 items x 4 steps, 2: 40 items x 1 step), combined.
+  REQUIRE(runner.group_runner.loop_items.size() == 4);
+  CHECK(runner.group_runner.loop_items[0] == 23 + 40);
+  CHECK(runner.group_runner.loop_items[1] == 23);
+  // It sent its programs' results and nothing for the others'.
+  REQUIRE(runner.sent.size() == 4);
+  CHECK(runner.sent[0] == packValues(seq[0].v));
+  CHECK(runner.sent[2] == packValues(seq[2].v));
+  CHECK(runner.sent[1].empty());
+  CHECK(runner.sent[3].empty());
 }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "collision/reach_collision.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/vtk_io.hpp"
 #include "reach/boundary_surface.hpp"
@@ -70,7 +71,21 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   auto t0 = Clock::now();
-  runInterleaved(&ctx.units, programs);
+  // A distributed run may search the designs in rank groups: a design's search then travels as its
+  // summary and changed rows to the ranks that did not run it. A search's predicted cost: its
+  // reachable poses (the best-manipulability rounds visit them), a tenth as much for an arm of six
+  // joints or fewer (defaults::kSearchWeightNonRedundant; assumption, docs/distributed.md "Rank
+  // groups").
+  ProgramResults results;
+  results.weight = [&](std::size_t di) {
+    return double(sweeps[di].countReachable()) *
+           (study.designs[di].model.dof() > 6 ? 1.0 : defaults::kSearchWeightNonRedundant);
+  };
+  results.pack = [&](std::size_t di) { return packSearchResult(sweeps[di], searches[di]); };
+  results.unpack = [&](std::size_t di, const std::string& bytes) {
+    unpackSearchResult(bytes, sweeps[di], searches[di]);
+  };
+  runInterleaved(&ctx.units, programs, &results);
   // One wall time for the grid's searches (they ran together; each search's own wall time would
   // include the waits for the others).
   sum.timings.push_back({"reach/" + g.name + "/search", seconds(t0)});
