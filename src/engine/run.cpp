@@ -283,7 +283,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-  const StageContext ctx{study, stage_options, stage_dir, units, sum.threads};
+  const StageContext ctx{study, stage_options, stage_dir, units, sum.threads, root};
   try {
     for (const StudySection& section : study.sections) {
       StageResult r = section.stage->run(ctx, *section.settings);

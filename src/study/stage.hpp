@@ -230,6 +230,10 @@ struct StageContext {
   const std::string& output_dir;  // <output_root>/<study name>
   const UnitRunner& units;
   int threads = 1;                // resolved thread count (options.threads or the OpenMP default)
+  // False on the ranks of a distributed run other than 0, whose output folder is a private scratch
+  // folder nobody reads: a stage may list files there without writing them when it only passes on
+  // bytes that other ranks rendered (docs/distributed.md).
+  bool writes_results = true;
 };
 
 // What a stage's section reader gets from the study-file parser.

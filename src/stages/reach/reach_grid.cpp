@@ -108,8 +108,8 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   // process that owns it (a loop shared among the processes of a distributed run, one design or
   // pair per chunk): the files go to a
   // scratch folder inside the store (<output>/.partial/render/), their bytes travel with the
-  // design's summary entry (CBOR) and report lines, and every process then writes them in design
-  // order, so the files and their order are those of a single process.
+  // design's summary entry (CBOR) and report lines, and process 0 then writes them in design order
+  // (the others list them only), so the files and their order are those of a single process.
   t0 = Clock::now();
   const ImagePlane plane = imagePlane(g);
   auto renderDesign = [&](std::size_t di, Writer& out, DesignPart& part) {
@@ -370,6 +370,15 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     std::filesystem::remove(out.path(".partial/render"), ec);
     std::filesystem::remove(out.path(".partial"), ec);
   }
+  // Writes the rendered files (in the background), or on a rank other than 0 only lists them: its
+  // scratch copies would not be read.
+  auto writeRendered = [&](std::vector<std::pair<std::string, std::string>> files) {
+    if (ctx.writes_results) {
+      out.textLater(std::move(files));
+    } else {
+      for (const auto& f : files) out.add(f.first);
+    }
+  };
   std::vector<std::vector<std::string>> rows;
   ordered_json jdesigns = ordered_json::array();
   std::string images_md;
@@ -384,7 +393,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     images_md += part.images_md;
     for (auto& row : part.rows) rows.push_back(std::move(row));
   }
-  out.textLater(std::move(design_files));
+  writeRendered(std::move(design_files));
   sum.timings.push_back({"reach/" + g.name + "/files", seconds(t0)});
   jg["designs"] = jdesigns;
   std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
@@ -477,7 +486,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         pair_imgs += part.md;
       }
     }
-    out.textLater(std::move(pair_files));
+    writeRendered(std::move(pair_files));
     jcmp["pairs"] = jpairs;
     // Best design / variant per base design (e.g. the best base placement).
     ordered_json best = ordered_json::array();
