@@ -36,10 +36,17 @@ a run whose searches advance interleaved, "share:interleaved/..." steps: src/stu
 the R copies of a grid's designs join the same combined steps (a step's chunks R times), as the
 runner does with all the designs of a grid; without it the copies' steps follow one another.
 
+--groups R (a record with the part column): the grids' map searches also replayed in rank groups of
+at least R ranks as src/study/stage.cpp's planRankGroups forms them (weights: armstudy's prediction
+from the recorded run's summary.json and designs.json, --run-dir; or the recorded costs, or equal),
+each group's steps among its ranks, then every search's changed rows to every rank; the makespan
+table then includes them.
+
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--apply 1.1e-9] [--single] [--group G]
       [--one-pool] [--unshared] [--interleaved] [--pool-per-grid] [--bounds]
+      [--groups R --serial-search S --group-weights model|oracle|equal --run-dir DIR]
 """
 import argparse
 import csv
@@ -52,7 +59,7 @@ from collections import OrderedDict
 def load_phases(path, scale, group):
     """The record in file order as phases: ("units", [(cost, bytes)]) for a batch of units (`group`
     consecutive recorded units form one unit) and ("step", [(cost, bytes)]) for a shared step's
-    64-item chunks."""
+    chunks (("files", ...) for a grid's files loop)."""
     phases = []
     with (gzip.open(path, "rt") if path.endswith(".gz") else open(path)) as f:
         for row in csv.DictReader(f):
@@ -60,7 +67,8 @@ def load_phases(path, scale, group):
             cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
             item = (cost, int(row.get("bytes") or 0))
             if unit.startswith("share:"):
-                kind, key = "step", unit
+                # A grid's files loop: only rank 0 writes what the others rendered (the others list it).
+                kind, key = ("files" if unit.startswith("share:files/") else "step"), unit
             else:
                 kind, key = "units", unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
             if phases and phases[-1][0] == kind and phases[-1][1] == key:
@@ -100,10 +108,10 @@ def replicate(phases, r, interleaved):
         while j < len(phases) and phases[j][0] == "units":
             j += 1
         k = j
-        while k < len(phases) and phases[k][0] == "step":
+        while k < len(phases) and phases[k][0] != "units":
             k += 1
         out += phases[i:j] * r
-        out += [("step", items * r) for _, items in phases[j:k]]
+        out += [(kind, items * r) for kind, items in phases[j:k]]
         i = k
     return out
 
@@ -359,7 +367,10 @@ def main():
     if a.pool_per_grid:
         phases = pool_per_grid(phases)
     batches = [items for kind, items in phases if kind == "units"]
-    steps = [items for kind, items in phases if kind == "step"]
+    steps = [items for kind, items in phases if kind != "units"]
+    # Every rank applies a search or audit step's rows; a files loop's bytes only rank 0 writes (its
+    # cost here: none beyond the transfer, as the writes run on a background thread).
+    step_apply = [0.0 if kind == "files" else a.apply for kind, _ in phases if kind != "units"]
     serial = a.serial_total * a.replicate / max(1, len(batches))
     units = sum(len(b) for b in batches)
     work = sum(c for b in batches for c, _ in b)
@@ -403,7 +414,7 @@ def main():
     print("| ranks | makespan [s] | speed-up | efficiency | master load | hand-outs/s (peak batch) | in shared steps |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for n in [int(x) for x in a.ranks.split(",")]:
-        step_time = sum(simulate_step(st, n, a.latency, a.bandwidth, a.unshared, a.apply) for st in steps)
+        step_time = sum(simulate_step(st, n, a.latency, a.bandwidth, a.unshared, ap) for st, ap in zip(steps, step_apply))
         if a.one_pool:
             pool = [u for b in batches for u in b]
             t, mb, h = simulate_batch(pool, n, a.latency, a.service, a.poll, a.bandwidth, a.single, a.apply)
@@ -423,6 +434,7 @@ def main():
         total += step_time
         if a.groups:
             total += grouped[n]
+            step_time += grouped[n]
         print(f"| {n} | {total:.2f} | {t1 / total:.1f} | {100 * t1 / (n * total):.0f} % | {100 * busy / total:.2f} % | "
               f"{peak:.0f} | {100 * step_time / total:.0f} % |")
 
