@@ -5,6 +5,9 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <tuple>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -12,6 +15,7 @@
 #include <vector>
 
 #include "study/interleave.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 
@@ -284,4 +288,43 @@ TEST_CASE("in rank groups, a process runs its group's programs and takes the oth
   CHECK(runner.sent[2] == packValues(seq[2].v));
   CHECK(runner.sent[1].empty());
   CHECK(runner.sent[3].empty());
+}
+
+TEST_CASE("the distribution simulator forms rank groups as planRankGroups does", "[interleave][benchmarks]") {
+  // tests/benchmarks/simulate_distribution.py --groups replays the searches in the groups armstudy
+  // would form: its assign_groups must agree with planRankGroups.
+  if (std::system("python3 -c 'pass' > /dev/null 2>&1") != 0) {
+    WARN("python3 not found: skipped");
+    return;
+  }
+  const std::vector<std::tuple<std::vector<double>, int, int>> cases = {
+      {{1, 1, 1}, 3, 2},          {{3, 1, 1, 1}, 12, 1},  {{5, 1, 1, 1, 1, 1}, 4, 2},
+      {{100, 1, 1}, 3, 1},        {{2, 2, 2, 2}, 64, 16}, {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 256, 16},
+      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 37, 4}};
+  for (const auto& [w, n, r] : cases) {
+    const RankGroupPlan plan = planRankGroups(w, n, r);
+    std::string expected = "None";
+    if (!plan.ranks.empty()) {
+      expected = "([";
+      for (std::size_t p = 0; p < plan.group_of.size(); ++p) expected += (p ? ", " : "") + std::to_string(plan.group_of[p]);
+      expected += "], [";
+      for (std::size_t j = 0; j < plan.ranks.size(); ++j) expected += (j ? ", " : "") + std::to_string(plan.ranks[j]);
+      expected += "])";
+    }
+    std::string list;
+    for (const double x : w) list += (list.empty() ? "" : ", ") + std::to_string(x);
+    const std::string cmd = "python3 -c \"import sys; sys.path.insert(0, '" +
+                            test::sourcePath("tests/benchmarks") +
+                            "'); import simulate_distribution as sd; print(sd.assign_groups([" + list + "], " +
+                            std::to_string(n) + ", " + std::to_string(r) + "))\"";
+    std::string got;
+    FILE* f = popen(cmd.c_str(), "r");
+    REQUIRE(f);
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, f)) got += buf;
+    REQUIRE(pclose(f) == 0);
+    while (!got.empty() && got.back() == '\n') got.pop_back();
+    INFO("weights " << list << ", " << n << " ranks, groups of >= " << r);
+    CHECK(got == expected);
+  }
 }
