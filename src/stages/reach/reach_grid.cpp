@@ -112,9 +112,14 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   // (the others list them only), so the files and their order are those of a single process.
   t0 = Clock::now();
   const ImagePlane plane = imagePlane(g);
-  auto renderDesign = [&](std::size_t di, Writer& out, DesignPart& part) {
+  // A design's files come in pieces, each a chunk of the shared loop below, so that a costly
+  // design spreads over several ranks: piece 0 is its summary entry, report lines, VTK map and
+  // best robot; pieces 1..no the boundary surface of each orientation (3-D grids); pieces
+  // no+1..2no the figures of each orientation. Joined in piece order, their files are in the
+  // order one call would write them.
+  const int pieces = 1 + 2 * no;
+  auto renderMain = [&](std::size_t di, Writer& out, DesignPart& part) {
     std::string& md = part.md;
-    std::string& images_md = part.images_md;
     std::vector<std::vector<std::string>>& rows = part.rows;
     const PoseSweep& s = sweeps[di];
     const StudyDesign& sd = study.designs[di];
@@ -217,83 +222,84 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       jd["vti"] = rel;
       writeBestRobot(out, gdir + "/" + s.design + "_robot_best.vtp", sd.model, s);
     }
-    // Boundary surface of the reachable region (3-D grids).
-    if (cfg.outputs.surface && g.spatialDimension() == 3) {
-      ordered_json jsurf = ordered_json::array();
-      const double voxel = g.axes[0].step * g.axes[1].step * g.axes[2].step;
-      for (int k = 0; k < no; ++k) {
-        std::vector<Eigen::Vector3d> pts;
-        for (long p = 0; p < points; ++p)
-          if (s.reachable(k * points + p)) pts.push_back(g.position(p));
-        const BoundarySurface bs =
-            alphaShapeSurface(pts, gridAlphaRadius({g.axes[0].step, g.axes[1].step, g.axes[2].step}));
-        io::PolyDataSet poly;
-        poly.points = bs.vertices;
-        poly.triangles = bs.triangles;
-        poly.field_data = io::fieldData({"position: m"}, {"surface: boundary of the reachable grid points (" +
-                                                          orientationText(g, k) + ")"});
-        const std::string rel = gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
-        io::writeVtp(out.path(rel), poly);
-        out.add(rel);
-        jsurf.push_back({{"orientation", orientationText(g, k)},
-                         {"file", rel},
-                         {"alpha_shape_volume_m3", bs.volume_m3},
-                         {"voxel_volume_m3", voxel * static_cast<double>(pts.size())},
-                         {"triangles", bs.triangles.size()}});
-        md += "";
-      }
-      jd["surface"] = jsurf;
-    }
-    // Images.
-    if (cfg.outputs.images) {
-      const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
-      double mmax = 0;
-      for (long i = 0; i < g.size(); ++i)
-        if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
-      for (int k = 0; k < no; ++k) {
-        const long off = static_cast<long>(k) * points;
-        report::RasterImage status_img = report::renderCellMap(nu, nv, [&](int u, int v) {
-          if (plane.projected >= 0) {
-            long c = 0, n = 0;
-            forCell(g, plane, u, v, [&](long p) { c += s.reachable(off + p); ++n; });
-            return report::viridis(n ? double(c) / n : 0.0);
-          }
-          report::Rgb col;
-          forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
-          return col;
-        });
-        report::MapFigure fig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
-        if (plane.projected >= 0)
-          fig.scale = report::ColourScale{report::viridis, 0, 1,
-                                          "fraction of the cells along " + std::string(kAxis[plane.projected]) +
-                                              " that are reachable"};
-        else
-          fig.legend = statusLegend(per[k].status);
-        const std::string rel =
-            writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
-        images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
-                     orientationText(g, k) + ": " + report::percent(per[k].fraction()) + " reachable. " +
-                     imageCaptionAxes(g, plane) + ".*\n\n";
-        if (plane.projected < 0 && mmax > 0) {
-          report::RasterImage m_img = report::renderCellMap(nu, nv, [&](int u, int v) {
-            report::Rgb col{230, 230, 230};
-            forCell(g, plane, u, v, [&](long p) {
-              if (s.reachable(off + p)) col = report::viridis(s.manipulability[off + p] / mmax);
-            });
-            return col;
-          });
-          report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
-          mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability sqrt(det(J J^T)), eq. 5.59 [m^3]"};
-          mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
-          const std::string mrel = writeFigure(out, 
-              "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
-          images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
-                       s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
-                       report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
-        }
-      }
-    }
     part.jd = std::move(jd);
+  };
+  auto renderSurface = [&](std::size_t di, int k, Writer& out, DesignPart& part) {
+    if (!(cfg.outputs.surface && g.spatialDimension() == 3)) return;
+    const PoseSweep& s = sweeps[di];
+    const double voxel = g.axes[0].step * g.axes[1].step * g.axes[2].step;
+    std::vector<Eigen::Vector3d> pts;
+    for (long p = 0; p < points; ++p)
+      if (s.reachable(k * points + p)) pts.push_back(g.position(p));
+    const BoundarySurface bs =
+        alphaShapeSurface(pts, gridAlphaRadius({g.axes[0].step, g.axes[1].step, g.axes[2].step}));
+    io::PolyDataSet poly;
+    poly.points = bs.vertices;
+    poly.triangles = bs.triangles;
+    poly.field_data = io::fieldData({"position: m"}, {"surface: boundary of the reachable grid points (" +
+                                                      orientationText(g, k) + ")"});
+    const std::string rel = gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
+    io::writeVtp(out.path(rel), poly);
+    out.add(rel);
+    part.jd = {{"orientation", orientationText(g, k)},
+               {"file", rel},
+               {"alpha_shape_volume_m3", bs.volume_m3},
+               {"voxel_volume_m3", voxel * static_cast<double>(pts.size())},
+               {"triangles", bs.triangles.size()}};
+  };
+  auto renderImages = [&](std::size_t di, int k, Writer& out, DesignPart& part) {
+    if (!cfg.outputs.images) return;
+    const PoseSweep& s = sweeps[di];
+    std::string& images_md = part.images_md;
+    Stats per_k;  // the orientation's poses in index order, as the summary entry counts them
+    for (long p = 0; p < points; ++p) {
+      const long i = static_cast<long>(k) * points + p;
+      per_k.add(s, i, g.position(g.pointOf(i)));
+    }
+    const int nu = d[plane.a], nv = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
+    double mmax = 0;
+    for (long i = 0; i < g.size(); ++i)
+      if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+    const long off = static_cast<long>(k) * points;
+    report::RasterImage status_img = report::renderCellMap(nu, nv, [&](int u, int v) {
+      if (plane.projected >= 0) {
+        long c = 0, n = 0;
+        forCell(g, plane, u, v, [&](long p) { c += s.reachable(off + p); ++n; });
+        return report::viridis(n ? double(c) / n : 0.0);
+      }
+      report::Rgb col;
+      forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
+      return col;
+    });
+    report::MapFigure fig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+    if (plane.projected >= 0)
+      fig.scale = report::ColourScale{report::viridis, 0, 1,
+                                      "fraction of the cells along " + std::string(kAxis[plane.projected]) +
+                                          " that are reachable"};
+    else
+      fig.legend = statusLegend(per_k.status);
+    const std::string rel =
+        writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
+    images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
+                 orientationText(g, k) + ": " + report::percent(per_k.fraction()) + " reachable. " +
+                 imageCaptionAxes(g, plane) + ".*\n\n";
+    if (plane.projected < 0 && mmax > 0) {
+      report::RasterImage m_img = report::renderCellMap(nu, nv, [&](int u, int v) {
+        report::Rgb col{230, 230, 230};
+        forCell(g, plane, u, v, [&](long p) {
+          if (s.reachable(off + p)) col = report::viridis(s.manipulability[off + p] / mmax);
+        });
+        return col;
+      });
+      report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
+      mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability sqrt(det(J J^T)), eq. 5.59 [m^3]"};
+      mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
+      const std::string mrel = writeFigure(out, 
+          "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
+      images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
+                   s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
+                   report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
+    }
   };
   // The pairs of designs compared on this grid (many designs: the first against each other) and
   // their comparison images, rendered in the same shared loop as the designs' files (one pair per
@@ -331,27 +337,37 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                    sweeps[b].design + " (orange), neither (light grey). " + imageCaptionAxes(g, plane) + ".*\n\n";
     }
   };
-  const std::size_t n_items = nd + (pair_images ? pairs.size() : 0);
-  std::vector<std::string> parts(n_items);  // per design, then per pair: files, entry and lines as bytes
+  const std::size_t design_items = nd * static_cast<std::size_t>(pieces);
+  const std::size_t n_items = design_items + (pair_images ? pairs.size() : 0);
+  // Per design piece, then per pair: files, entry and lines as bytes.
+  std::vector<std::string> parts(n_items);
   SharedLoop render;
   render.id = "files/" + g.name;
   render.items = static_cast<long>(n_items);
   render.chunk = 1;
   render.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
-    for (const long di : SharedLoop::itemsOf(mine)) {
-      const std::string scratch = out.path(".partial/render/" + g.name + "-" + std::to_string(di));
+    for (const long item : SharedLoop::itemsOf(mine)) {
+      const auto it = static_cast<std::size_t>(item);
+      const std::string scratch = out.path(".partial/render/" + g.name + "-" + std::to_string(item));
       std::filesystem::remove_all(scratch);
       Writer w(scratch);
       DesignPart part;
-      if (static_cast<std::size_t>(di) < nd) {
-        renderDesign(static_cast<std::size_t>(di), w, part);
+      if (it < design_items) {
+        const std::size_t di = it / static_cast<std::size_t>(pieces);
+        const int piece = static_cast<int>(it % static_cast<std::size_t>(pieces));
+        if (piece == 0)
+          renderMain(di, w, part);
+        else if (piece <= no)
+          renderSurface(di, piece - 1, w, part);
+        else
+          renderImages(di, piece - 1 - no, w, part);
       } else {
-        const auto [a, b] = pairs[static_cast<std::size_t>(di) - nd];
+        const auto [a, b] = pairs[it - design_items];
         renderPair(a, b, w, part.md);
       }
       std::string bytes = packDesignPart(part, w);
       std::filesystem::remove_all(scratch);
-      parts[static_cast<std::size_t>(di)] = std::move(bytes);
+      parts[it] = std::move(bytes);
     }
   };
   render.pack = [&](std::size_t, const ItemRange& r) {
@@ -387,7 +403,20 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   std::vector<std::pair<std::string, std::string>> design_files;
   for (std::size_t di = 0; di < nd; ++di) {
     DesignPart part;
-    unpackDesignPart(parts[di], part, design_files);
+    const std::size_t first = di * static_cast<std::size_t>(pieces);
+    unpackDesignPart(parts[first], part, design_files);
+    ordered_json jsurf = ordered_json::array();
+    for (int k = 0; k < no; ++k) {
+      DesignPart surface;
+      unpackDesignPart(parts[first + 1 + static_cast<std::size_t>(k)], surface, design_files);
+      if (!surface.jd.is_null()) jsurf.push_back(std::move(surface.jd));
+    }
+    if (cfg.outputs.surface && g.spatialDimension() == 3) part.jd["surface"] = std::move(jsurf);
+    for (int k = 0; k < no; ++k) {
+      DesignPart figures;
+      unpackDesignPart(parts[first + 1 + static_cast<std::size_t>(no + k)], figures, design_files);
+      part.images_md += figures.images_md;
+    }
     jdesigns.push_back(std::move(part.jd));
     md += part.md;
     images_md += part.images_md;
@@ -482,7 +511,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                       report::percent(both / N), report::percent(neither / N)});
       if (pair_images) {  // the images the render loop made
         DesignPart part;
-        unpackDesignPart(parts[nd + p], part, pair_files);
+        unpackDesignPart(parts[design_items + p], part, pair_files);
         pair_imgs += part.md;
       }
     }
