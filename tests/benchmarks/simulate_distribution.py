@@ -265,8 +265,8 @@ def assign_groups(weights, n, min_ranks):
 
 
 def model_weights(run_dir, grids):
-    """The weights src/stages/reach/reach_grid.cpp gives the searches: reachable poses, a tenth for an
-    arm of at most six joints (defaults::kSearchWeightNonRedundant), from the recorded run's
+    """The weights src/stages/reach/reach_grid.cpp gives the searches: one plus the reachable poses, a
+    tenth of them for an arm of at most six joints (defaults::kSearchWeightNonRedundant), from the recorded run's
     summary.json and designs.json (its reachable poses after the search, close to the sweep's)."""
     import json
     import os
@@ -274,7 +274,7 @@ def model_weights(run_dir, grids):
     designs = json.load(open(os.path.join(run_dir, "designs.json")))
     out = []
     for (progs, _, _), g in zip(grids, summary["reach"]["grids"]):
-        out.append([g["designs"][p]["reachable"] * (1.0 if designs[p]["dof"] > 6 else 0.1) for p in progs])
+        out.append([1 + g["designs"][p]["reachable"] * (1.0 if designs[p]["dof"] > 6 else 0.1) for p in progs])
     return out
 
 

@@ -300,7 +300,7 @@ TEST_CASE("the distribution simulator forms rank groups as planRankGroups does",
   const std::vector<std::tuple<std::vector<double>, int, int>> cases = {
       {{1, 1, 1}, 3, 2},          {{3, 1, 1, 1}, 12, 1},  {{5, 1, 1, 1, 1, 1}, 4, 2},
       {{100, 1, 1}, 3, 1},        {{2, 2, 2, 2}, 64, 16}, {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 256, 16},
-      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 37, 4}};
+      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 37, 4}, {{0, 0, 0, 5}, 8, 2}};
   for (const auto& [w, n, r] : cases) {
     const RankGroupPlan plan = planRankGroups(w, n, r);
     std::string expected = "None";

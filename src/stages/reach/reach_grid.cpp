@@ -75,11 +75,12 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   // summary and changed rows to the ranks that did not run it. A search's predicted cost: its
   // reachable poses (the best-manipulability rounds visit them), a tenth as much for an arm of six
   // joints or fewer (defaults::kSearchWeightNonRedundant; assumption, docs/distributed.md "Rank
-  // groups").
+  // groups"), plus one (a design that reaches nothing still gets a group of its own when there are
+  // enough groups).
   ProgramResults results;
   results.weight = [&](std::size_t di) {
-    return double(sweeps[di].countReachable()) *
-           (study.designs[di].model.dof() > 6 ? 1.0 : defaults::kSearchWeightNonRedundant);
+    return 1.0 + double(sweeps[di].countReachable()) *
+                     (study.designs[di].model.dof() > 6 ? 1.0 : defaults::kSearchWeightNonRedundant);
   };
   results.pack = [&](std::size_t di) { return packSearchResult(sweeps[di], searches[di]); };
   results.unpack = [&](std::size_t di, const std::string& bytes) {
