@@ -2,7 +2,7 @@
 """Simulates the distributed unit runner (src/study/distributed.cpp) on many ranks.
 
 Input: a per-unit cost record of a real run (ARMSTUDY_UNIT_TIMES=units.csv armstudy run ...
---threads 1; columns unit,seconds,cpu_seconds,threads,rank,bytes). Units are grouped into batches
+--threads 1; columns unit,seconds,cpu_seconds,threads,rank,bytes,part). Units are grouped into batches
 by id (everything before the last '/'), in file order, as the stages run them. Lines whose unit is
 "share:<id>" are the chunks of a shared loop as the runner cut them (UnitRunner::share,
 SharedLoop::chunks: a reach map search step's 1 to 8 poses of its active set, an audit's or a
