@@ -131,7 +131,7 @@ class TimedUnitRunner final : public UnitRunner {
  public:
   // `into`: the runner whose seconds this one's count into (a rank group's runner); null: its own.
   explicit TimedUnitRunner(const UnitRunner& inner, const TimedUnitRunner* into = nullptr)
-      : UnitRunner(storeOff(), 1, UnitTimeRecord{}), inner_(inner), into_(into ? into : this) {}
+      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}), inner_(inner), into_(into ? into : this) {}
   long run(const UnitBatch& batch) const override {
     const auto t = std::chrono::steady_clock::now();
     const long r = inner_.run(batch);
@@ -159,10 +159,6 @@ class TimedUnitRunner final : public UnitRunner {
   }
 
  private:
-  static const CheckpointStore& storeOff() {
-    static const CheckpointStore off;
-    return off;
-  }
   const UnitRunner& inner_;
   const TimedUnitRunner* into_;
   mutable std::mutex m_;

@@ -20,6 +20,11 @@ bool CheckpointStore::hasPartialRun(const std::string& output_dir) {
 
 CheckpointStore::CheckpointStore() = default;
 
+const CheckpointStore& CheckpointStore::disabled() {
+  static const CheckpointStore off;
+  return off;
+}
+
 CheckpointStore::CheckpointStore(std::string output_dir, std::string fingerprint,
                                  std::string& message)
     : dir_(partialDir(output_dir)) {

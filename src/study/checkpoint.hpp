@@ -33,6 +33,9 @@ class CheckpointStore {
   CheckpointStore(std::string output_dir, std::string fingerprint, std::string& message);
   // Disabled store: never loads, never saves (for runs that must not touch disk, e.g. tests).
   CheckpointStore();
+  // One disabled store for the runners that wrap another and never save (a timed or an
+  // interleaved program's runner).
+  static const CheckpointStore& disabled();
 
   bool enabled() const { return !dir_.empty(); }
   // Loads a unit saved by an earlier run with the same fingerprint.

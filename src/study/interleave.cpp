@@ -35,7 +35,7 @@ struct Meeting {
 class MeetingRunner final : public UnitRunner {
  public:
   MeetingRunner(Meeting& meet, std::size_t index, const UnitRunner* outer)
-      : UnitRunner(storeOff(), 1, UnitTimeRecord{}), meet_(meet), index_(index), outer_(outer) {}
+      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}), meet_(meet), index_(index), outer_(outer) {}
   long run(const UnitBatch&) const override {
     ARMSTUDY_CHECK(false, "an interleaved program runs shared loops only, no unit batches");
     return 0;
@@ -55,10 +55,6 @@ class MeetingRunner final : public UnitRunner {
   struct Cancelled {};
 
  private:
-  static const CheckpointStore& storeOff() {
-    static const CheckpointStore off;
-    return off;
-  }
   Meeting& meet_;
   std::size_t index_;
   const UnitRunner* outer_;
