@@ -19,6 +19,7 @@
 #include "collision/collision.hpp"
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
+#include "common/escape.hpp"
 #include "io/files.hpp"
 #include "kinematics/kinematics.hpp"
 
@@ -41,22 +42,6 @@ std::string origin(const Isometry3d& T) {
   const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
   return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
          " " + fmt(ypr[0]) + "\"/>";
-}
-std::string xmlEscape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<')
-      o += "&lt;";
-    else if (c == '>')
-      o += "&gt;";
-    else if (c == '&')
-      o += "&amp;";
-    else if (c == '"')
-      o += "&quot;";
-    else
-      o += c;
-  }
-  return o;
 }
 std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
   return "    <inertial>\n      <origin xyz=\"" + vec(c) +

@@ -161,23 +161,36 @@ bool wholeItalic(const std::string& p) {
 // HTML text and attribute values need exactly what XML needs (& < > ").
 std::string htmlEscape(const std::string& s) { return xmlEscape(s); }
 
-std::string base64(const std::string& in) {
+namespace {
+// Appends the base64 (RFC 4648) of `in` to `o`, written in place (report.html inlines tens of MB of
+// figures on the one rank that writes the results: docs/performance.md, "The serial rest").
+void appendBase64(std::string& o, const std::string& in) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string o;
-  o.reserve((in.size() + 2) / 3 * 4);
+  const std::size_t at = o.size();
+  o.resize(at + (in.size() + 2) / 3 * 4);
+  char* w = o.data() + at;
+  const auto* b = reinterpret_cast<const unsigned char*>(in.data());
   std::size_t i = 0;
   for (; i + 2 < in.size(); i += 3) {
-    const unsigned v = (static_cast<unsigned char>(in[i]) << 16) | (static_cast<unsigned char>(in[i + 1]) << 8) |
-                       static_cast<unsigned char>(in[i + 2]);
-    o += t[v >> 18], o += t[(v >> 12) & 63], o += t[(v >> 6) & 63], o += t[v & 63];
+    const unsigned v = (unsigned{b[i]} << 16) | (unsigned{b[i + 1]} << 8) | unsigned{b[i + 2]};
+    *w++ = t[v >> 18];
+    *w++ = t[(v >> 12) & 63];
+    *w++ = t[(v >> 6) & 63];
+    *w++ = t[v & 63];
   }
   if (i < in.size()) {
-    const unsigned v = (static_cast<unsigned char>(in[i]) << 16) |
-                       (i + 1 < in.size() ? static_cast<unsigned char>(in[i + 1]) << 8 : 0);
-    o += t[v >> 18], o += t[(v >> 12) & 63];
-    o += i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
-    o += '=';
+    const unsigned v = (unsigned{b[i]} << 16) | (i + 1 < in.size() ? unsigned{b[i + 1]} << 8 : 0u);
+    *w++ = t[v >> 18];
+    *w++ = t[(v >> 12) & 63];
+    *w++ = i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
+    *w++ = '=';
   }
+}
+}  // namespace
+
+std::string base64(const std::string& in) {
+  std::string o;
+  appendBase64(o, in);
   return o;
 }
 
@@ -336,7 +349,12 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     else if (endsWith(rel, ".png")) mime = "image/png";
     if (mime.empty() || !fs::exists(p)) return rel;  // left as a link
     shown.insert(fs::path(rel).lexically_normal().generic_string());
-    return "data:" + mime + ";base64," + base64(readFileOrThrow(p.string()));
+    const std::string bytes = readFileOrThrow(p.string());
+    std::string uri;
+    uri.reserve(5 + mime.size() + 8 + (bytes.size() + 2) / 3 * 4);
+    uri.append("data:").append(mime).append(";base64,");
+    appendBase64(uri, bytes);
+    return uri;
   };
   std::ostringstream body, nav;
   nav << "<nav class=\"contents\"><strong>Contents</strong>\n<ul>\n";
@@ -405,14 +423,19 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     nav << "</ul></li>\n";
   }
   nav << "</ul></nav>\n";
-  std::ostringstream page;
-  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+  // One copy of the body into the page (it holds the inlined figures).
+  const std::string nav_html = std::move(nav).str(), body_html = std::move(body).str();
+  std::ostringstream head;
+  head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
        << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>armstudy: "
        << htmlEscape(study_name) << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n<header><h1>Study "
        << htmlEscape(study_name) << "</h1><p>armstudy results: one section per stage, figures inline; the "
-       << "Markdown reports beside this file hold the same text.</p></header>\n<main>\n"
-       << nav.str() << body.str() << "</main>\n</body>\n</html>\n";
-  return page.str();
+       << "Markdown reports beside this file hold the same text.</p></header>\n<main>\n";
+  const std::string tail = "</main>\n</body>\n</html>\n";
+  std::string page = std::move(head).str();
+  page.reserve(page.size() + nav_html.size() + body_html.size() + tail.size());
+  page.append(nav_html).append(body_html).append(tail);
+  return page;
 }
 
 }  // namespace armstudy::report

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "common/escape.hpp"  // xmlEscape, for SVG text
+
 namespace armstudy::report {
 
 struct Rgb {
@@ -46,7 +48,4 @@ void writePng(const std::string& path, const RasterImage& image);
 
 // "Nice" tick values (1, 2, 5 x 10^k steps) covering [lo, hi], about `target` of them.
 std::vector<double> niceTicks(double lo, double hi, int target = 5);
-// Text for SVG/XML: & < > " escaped.
-std::string xmlEscape(const std::string& s);
-
 }  // namespace armstudy::report
