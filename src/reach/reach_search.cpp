@@ -269,7 +269,8 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         sum.converged = false;
         return;
       }
-      const std::vector<long> active = first ? every(unsettled) : around(from, unsettled);
+      const std::vector<long> active =
+          first || search.every_pose_each_step ? every(unsettled) : around(from, unsettled);
       const StepResult r = step("propagate", 4, searchStepChunk(active.size()), true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         const auto cur = static_cast<ReachStatus>(s.status[i]);
         if (settle(cur)) return;
@@ -363,7 +364,8 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
     auto reachable = [&](long i) { return s.reachable(i); };
     std::vector<long> from;
     for (int round = 0; round < search.propagation_rounds; ++round) {
-      const std::vector<long> active = round == 0 ? every(reachable) : around(from, reachable);
+      const std::vector<long> active =
+          round == 0 || search.every_pose_each_step ? every(reachable) : around(from, reachable);
       const StepResult r = step("best", 4, searchStepChunk(active.size()), false, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
         if (!s.reachable(i)) return;
         double best = s.manipulability[i];

@@ -150,6 +150,11 @@ struct SweepSearch {
   int collision_starts = defaults::kReachCollisionStarts;    // 0: no multi-starts
   bool best_manipulability = true;  // 3. reachable poses keep the best-manipulability solution found
   std::uint64_t seed = defaults::kMapSearchSeed;
+  // The oracle of the active sets (tests/collision/reach_search_test.cpp): every step visits every
+  // pose its phase may change (every unsettled pose in a propagation round, every reachable one in
+  // a best-manipulability round), not only those next to a pose that changed in the step before.
+  // The map and the summary's counts must be the same; it only costs more.
+  bool every_pose_each_step = false;
 };
 struct SweepSearchSummary {
   int rounds = 0;

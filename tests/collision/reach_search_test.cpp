@@ -204,3 +204,42 @@ TEST_CASE("a search's packed result turns the sweep it started from into the sea
   CHECK(got.converged == sum.converged);
   CHECK(got.changed == sum.changed);
 }
+
+TEST_CASE("a search's steps over their active sets give the map of steps over every pose",
+          "[reach][map_search][oracle]") {
+  // The search's steps visit only the poses next to a change (issue 16's active sets); the oracle
+  // visits every pose its phase may change in every step (SweepSearch::every_pose_each_step). The
+  // two must give the same map, bit for bit, and the same counts: on the 6-DoF arm with
+  // self-collision (propagation, multi-starts, the box round) and on the 7-DoF arm (long
+  // best-manipulability rounds), 1 and 2 threads.
+  for (const char* design : {"designs/first_prototype_6dof.toml", "designs/final_prototype_7dof.toml"}) {
+    const Model m = loadDesign(test::sourcePath(design));
+    const TaskGrid g = fig38Part();
+    const IkOptions o = ReachConfig::studyDefaults();
+    const SweepCollision sc{true, {}};
+    const PoseSweep before = sweepGrid(m, g, o, 2, nullptr, sc);
+    PoseSweep fast = before, full = before;
+    const SweepSearchSummary a = searchGridSweep(m, g, o, 2, sc, SweepSearch{}, fast);
+    SweepSearch every;
+    every.every_pose_each_step = true;
+    const SweepSearchSummary b = searchGridSweep(m, g, o, 1, sc, every, full);
+    INFO(design << ": " << a.rounds << " propagation rounds, " << a.best_rounds << " best rounds, "
+                << a.best_updates << " best updates, " << a.changed.size() << " rows changed");
+    REQUIRE(a.changed.size() > 0);
+    if (m.dof() > 6) CHECK(a.best_rounds > 2);  // the comparison covers later rounds' active sets
+    CHECK(full.status == fast.status);
+    CHECK(full.starts == fast.starts);
+    CHECK(std::memcmp(full.q.data(), fast.q.data(), fast.q.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(full.manipulability.data(), fast.manipulability.data(), fast.size * sizeof(double)) == 0);
+    CHECK(std::memcmp(full.min_distance_m.data(), fast.min_distance_m.data(), fast.size * sizeof(double)) == 0);
+    CHECK(b.rounds == a.rounds);
+    CHECK(b.neighbour_tries == a.neighbour_tries);
+    CHECK(b.neighbour_updates == a.neighbour_updates);
+    CHECK(b.multistart_freed == a.multistart_freed);
+    CHECK(b.box_tries == a.box_tries);
+    CHECK(b.best_rounds == a.best_rounds);
+    CHECK(b.best_tries == a.best_tries);
+    CHECK(b.best_updates == a.best_updates);
+    CHECK(b.changed == a.changed);
+  }
+}
