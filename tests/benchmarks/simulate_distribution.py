@@ -45,7 +45,7 @@ table then includes them.
 Usage:
   simulate_distribution.py units.csv [--replicate R] [--serial-total S] [--ranks 16,64,256,1024]
       [--latency 5e-6] [--service 5e-6] [--poll 5e-4] [--bandwidth 5e9] [--apply 1.1e-9] [--single] [--group G]
-      [--one-pool] [--unshared] [--interleaved] [--pool-per-grid] [--bounds]
+      [--one-pool] [--unshared] [--interleaved] [--pool-per-grid] [--bounds] [--ceiling]
       [--groups R --serial-search S --group-weights model|oracle|equal --run-dir DIR]
 """
 import argparse
@@ -229,6 +229,77 @@ def load_search_parts(path, scale):
     return out
 
 
+def load_chains(path, scale):
+    """The longest chain of pieces that must run one after another, per grid and design: the
+    design's costliest unit (its sweep must be whole before its search starts), then in each of its
+    map search's and audit's steps the costliest chunk (a step waits for the one before), and, on its
+    own, a grid's costliest files piece. Returns (seconds of the longest chain, its name)."""
+    best = (0.0, "")
+    grid = None
+    unit_max = OrderedDict()   # (grid, design) -> costliest unit
+    steps = OrderedDict()      # (grid, kind, part) -> [max chunk per step]
+    last_key = None
+    seen = set()
+    with (gzip.open(path, "rt") if path.endswith(".gz") else open(path)) as f:
+        for row in csv.DictReader(f):
+            unit = row["unit"]
+            cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
+            if not unit.startswith("share:"):
+                parts = unit.split("/")
+                grid = parts[1]
+                key = (grid, parts[2])
+                unit_max[key] = max(unit_max.get(key, 0.0), cost)
+                last_key = None
+                continue
+            if unit.startswith("share:files/"):
+                best = max(best, (cost, "a files piece of " + unit[len("share:files/"):]))
+                last_key = None
+                continue
+            kind = "search" if "/search/" in unit else "audit" if "/audit/" in unit else None
+            if kind is None or not row.get("part"):
+                last_key = None
+                continue
+            if unit != last_key:
+                seen = set()
+                last_key = unit
+            k = (grid, kind, int(row["part"]))
+            lst = steps.setdefault(k, [])
+            if k not in seen:
+                lst.append(0.0)
+                seen.add(k)
+            lst[-1] = max(lst[-1], cost)
+    designs = OrderedDict()
+    for (g, d) in unit_max:
+        designs.setdefault(g, []).append(d)
+    for (g, d), u in unit_max.items():
+        p = designs[g].index(d)
+        chain = u + sum(steps.get((g, "search", p), [])) + sum(steps.get((g, "audit", p), []))
+        best = max(best, (chain, f"{g}/{d}: costliest unit, {len(steps.get((g, 'search', p), []))} search "
+                                 f"steps, {len(steps.get((g, 'audit', p), []))} audit steps"))
+    return best
+
+
+def replicate_grids(grids, model, r):
+    """R copies of every grid's searches (--replicate with --groups): the copies' designs join the
+    grid's programs, as the runner would interleave R times the variants."""
+    if r == 1:
+        return grids, model
+    out, out_model = [], []
+    for gi, (progs, steps, ub) in enumerate(grids):
+        top = max(progs) + 1
+        nprogs, nsteps, nub, w = [], {}, [], []
+        for k in range(r):
+            for i, p in enumerate(progs):
+                nprogs.append(p + k * top)
+                nsteps[p + k * top] = steps[p]
+                nub.append(ub[i])
+                if model is not None:
+                    w.append(model[gi][i])
+        out.append((nprogs, nsteps, nub))
+        out_model.append(w)
+    return out, (out_model if model is not None else None)
+
+
 def assign_groups(weights, n, min_ranks):
     """Rank groups for interleaved programs, as planRankGroups (src/study/stage.cpp) forms them:
     G = min(programs, n // min_ranks) groups; programs dealt out costliest first to the group with
@@ -347,6 +418,11 @@ def main():
                     help="also print, per rank count, the shared steps' ideal share (their work / N), the bound "
                          "set by their grain (sum over steps of max(costliest chunk, work / N)) and round-robin "
                          "placement (sum over steps of the busiest rank's chunks), no latency, no serial work")
+    ap.add_argument("--ceiling", action="store_true",
+                    help="also print, per rank count, a lower bound on the makespan of any schedule whatever: the "
+                         "serial rest (--serial-total; rank 0 runs it, it writes the files) plus the larger of the "
+                         "work / N and the longest chain of pieces that must run one after another; and the serial "
+                         "rest at most that 80 %% efficiency allows with a perfect schedule")
     ap.add_argument("--groups", type=int, default=0, metavar="R",
                     help="also print the map searches alone in rank groups of at least R ranks (each group runs "
                          "some designs' searches on its ranks, then the final maps go to every rank) against "
@@ -397,16 +473,32 @@ def main():
                     load[k % n] += c
                 rr += max(load)
             print(f"| {n} | {ideal:.2f} | {grain:.2f} | {rr:.2f} | {100 * ideal / grain:.0f} % | {100 * ideal / rr:.0f} % |")
+    if a.ceiling:
+        chain, name = load_chains(a.csv, a.scale)
+        w = work + step_work
+        print(f"Any schedule: longest chain {chain:.3f} s ({name}); work {w:.1f} s; serial rest {a.serial_total:.2f} s")
+        print("| ranks | work / N [s] | bound on the makespan [s] | bound on the efficiency | serial rest allowed for 80 % [s] |")
+        print("|---:|---:|---:|---:|---:|")
+        for n in [int(x) for x in a.ranks.split(",")]:
+            s_tot = a.serial_total * a.replicate
+            bound = s_tot + max(w / n, chain)
+            # (w + s) / (n (s + max(w / n, chain))) >= 0.8  <=>  s <= (w - 0.8 n max(..)) / (0.8 n - 1)
+            allowed = (w - 0.8 * n * max(w / n, chain)) / (0.8 * n - 1) if n > 1 else float("inf")
+            print(f"| {n} | {w / n:.3f} | {bound:.3f} | {100 * (w + s_tot) / (n * bound):.0f} % | "
+                  f"{allowed:.3f} |" if allowed > 0 else f"| {n} | {w / n:.3f} | {bound:.3f} | "
+                  f"{100 * (w + s_tot) / (n * bound):.0f} % | none |")
     if a.groups:
         grids = load_search_parts(a.csv, a.scale)
         model = model_weights(a.run_dir, grids) if a.group_weights == "model" else None
+        grids, model = replicate_grids(grids, model, a.replicate if a.interleaved else 1)
         print(f"map searches of {sum(len(p) for p, _, _ in grids)} programs in {len(grids)} grids, rank groups of "
               f">= {a.groups} ranks ({a.group_weights} weights), search bookkeeping {a.serial_search:.2f} s:")
         print("| ranks | searches, every rank in every step [s] | in rank groups [s] |")
         print("|---:|---:|---:|")
         grouped = {}
         for n in [int(x) for x in a.ranks.split(",")]:
-            g, fl = simulate_grouped_searches(grids, n, a.groups, a.latency, a.bandwidth, a.apply, a.serial_search,
+            g, fl = simulate_grouped_searches(grids, n, a.groups, a.latency, a.bandwidth, a.apply,
+                                              a.serial_search * (a.replicate if a.interleaved else 1),
                                               a.group_weights, model)
             grouped[n] = g - fl  # the makespan's change
             print(f"| {n} | {fl:.2f} | {g:.2f} |")

@@ -7,12 +7,16 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <tuple>
 #include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "study/interleave.hpp"
 #include "test_support.hpp"
@@ -318,13 +322,56 @@ TEST_CASE("the distribution simulator forms rank groups as planRankGroups does",
                             "'); import simulate_distribution as sd; print(sd.assign_groups([" + list + "], " +
                             std::to_string(n) + ", " + std::to_string(r) + "))\"";
     std::string got;
-    FILE* f = popen(cmd.c_str(), "r");
-    REQUIRE(f);
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, f)) got += buf;
-    REQUIRE(pclose(f) == 0);
+    REQUIRE(test::runCommand(cmd, got) == 0);
     while (!got.empty() && got.back() == '\n') got.pop_back();
     INFO("weights " << list << ", " << n << " ranks, groups of >= " << r);
     CHECK(got == expected);
   }
+}
+
+TEST_CASE("the distribution simulator's ceiling: the longest chain of a record, the bound of any schedule",
+          "[interleave][benchmarks]") {
+  // tests/benchmarks/simulate_distribution.py --ceiling: a lower bound on the makespan of any
+  // schedule, the serial rest plus the larger of work / N and the longest chain of pieces that must
+  // run one after another. A hand-made record: design a's costliest unit 0.03 s, its search steps'
+  // costliest chunks 0.05 and 0.04 s (design b's 0.01 s chunk in the same combined step does not
+  // count for a), its audit step 0.01 s: a chain of 0.13 s; b's: 0.10 + 0.01 s; the files' costliest
+  // piece 0.05 s. Work 0.34 s.
+  if (std::system("python3 -c 'pass' > /dev/null 2>&1") != 0) {
+    WARN("python3 not found: skipped");
+    return;
+  }
+  const std::string dir = std::filesystem::temp_directory_path().string() + "/armstudy-ceiling-" +
+                          std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/units.csv";
+  {
+    std::ofstream f(csv);
+    f << "unit,seconds,cpu_seconds,threads,rank,bytes,part\n"
+         "reach/g/a/units_0-1,0.01,0.01,1,0,10,\n"
+         "reach/g/a/units_1-2,0.03,0.03,1,0,10,\n"
+         "reach/g/b/units_0-1,0.10,0.10,1,0,10,\n"
+         "share:interleaved/2/search/a/0_propagate,0.02,0.02,1,0,5,0\n"
+         "share:interleaved/2/search/a/0_propagate,0.05,0.05,1,0,5,0\n"
+         "share:interleaved/2/search/a/0_propagate,0.01,0.01,1,0,5,1\n"
+         "share:interleaved/2/search/a/1_best,0.04,0.04,1,0,5,0\n"
+         "share:interleaved/2/audit/a,0.01,0.01,1,0,5,0\n"
+         "share:files/g,0.05,0.05,1,0,100,\n"
+         "share:files/g,0.02,0.02,1,0,100,\n";
+  }
+  const std::string script = test::sourcePath("tests/benchmarks/simulate_distribution.py");
+  std::string out;
+  REQUIRE(test::runCommand("python3 -c \"import sys; sys.path.insert(0, '" + test::sourcePath("tests/benchmarks") +
+                               "'); import simulate_distribution as sd; c, n = sd.load_chains('" + csv +
+                               "', 1.0); print('%.4f %s' % (c, n.split(':')[0]))\"",
+                           out) == 0);
+  CHECK(out == "0.1300 g/a\n");
+  // On 4 ranks the chain binds (0.34 / 4 < 0.13): bound 0.1 + 0.13 s, efficiency at most
+  // (0.34 + 0.1) / (4 x 0.23) = 48 %; with 80 % out of reach, no serial rest allows it.
+  REQUIRE(test::runCommand("python3 " + script + " " + csv + " --ceiling --serial-total 0.1 --ranks 4,2", out) == 0);
+  INFO(out);
+  CHECK(out.find("| 4 | 0.085 | 0.230 | 48 % | none |") != std::string::npos);
+  // On 2 ranks the work binds (0.17 s): 80 % allows a serial rest of (0.34 - 0.8 x 2 x 0.17) / (0.8 x 2 - 1).
+  CHECK(out.find("| 2 | 0.170 | 0.270 | 81 % | 0.113 |") != std::string::npos);
+  std::filesystem::remove_all(dir);
 }
