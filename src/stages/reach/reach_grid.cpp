@@ -387,6 +387,10 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     std::filesystem::remove(out.path(".partial/render"), ec);
     std::filesystem::remove(out.path(".partial"), ec);
   }
+  // A rank other than 0 is done with the grid here: what follows (the designs' summary entries,
+  // report lines and files, the comparison) only rank 0 writes, and nothing in it is shared. The
+  // other ranks go on to the next grid's units while rank 0 writes (docs/distributed.md "Files").
+  if (!ctx.writes_results) return jg;
   // Writes the rendered files (in the background), or on a rank other than 0 only lists them: its
   // scratch copies would not be read.
   auto writeRendered = [&](std::vector<std::pair<std::string, std::string>> files) {

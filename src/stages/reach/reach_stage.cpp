@@ -141,6 +141,10 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
     md += report::markdownTable(header, rows) + "\n";
   }
   jr["pose_lists"] = jlists;
+  if (!ctx.writes_results) {  // a rank other than 0: its summary and report nobody reads
+    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return sum;
+  }
   out.flush();  // the grids' files written in the background (Writer::textLater)
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   js["reach"] = jr;
