@@ -299,52 +299,58 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   }
   // Every rank is done (its units are saved) before rank 0 marks the run complete.
   agreed(ranks, [] {});
-  if (!root) return sum;
+  // Rank 0 writes the scene, report.html and, last, the manifest, which marks the run complete;
+  // the other ranks wait for it. Then every rank removes the unit files it saved (in parallel:
+  // one file per unit, docs/distributed.md "Checkpoints"), and rank 0 the rest of the store.
+  agreed(ranks, [&] {
+    if (!root) return;
+    // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
+    // spatial file of the run in one view.
+    Writer scene_out(sum.output_dir);
+    if (!study.obstacles.empty()) {
+      io::writeVtp(scene_out.path("scene/obstacles.vtp"), scene::obstaclePolyData(study.obstacles));
+      scene_out.add("scene/obstacles.vtp");
+    }
+    std::vector<std::string> spatial = sum.files_written;
+    spatial.insert(spatial.end(), scene_out.files().begin(), scene_out.files().end());
+    scene_out.text("scene.py", scene::sceneScript(study.name, spatial));
+    scene_out.text("scene/report.md", sceneReport(study));
+    pages.push_back({"ParaView scene", scene_out.files()});
+    sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
 
-  // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
-  // spatial file of the run in one view.
-  Writer scene_out(sum.output_dir);
-  if (!study.obstacles.empty()) {
-    io::writeVtp(scene_out.path("scene/obstacles.vtp"), scene::obstaclePolyData(study.obstacles));
-    scene_out.add("scene/obstacles.vtp");
-  }
-  std::vector<std::string> spatial = sum.files_written;
-  spatial.insert(spatial.end(), scene_out.files().begin(), scene_out.files().end());
-  scene_out.text("scene.py", scene::sceneScript(study.name, spatial));
-  scene_out.text("scene/report.md", sceneReport(study));
-  pages.push_back({"ParaView scene", scene_out.files()});
-  sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
+    writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
+    sum.files_written.push_back("report.html");
 
-  writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
-  sum.files_written.push_back("report.html");
-
-  // The manifest is written last: its presence marks a complete run.
-  ordered_json man;
-  man["armstudy_version"] = kVersion;
-  man["git_revision"] = kGitRevision;
-  man["study"] = study.name;
-  man["study_file"] = study.file;
-  ordered_json inputs = ordered_json::array();
-  for (const auto& in : study.inputs) inputs.push_back({{"path", in.path}, {"hash", in.hash}});
-  man["inputs"] = inputs;
-  man["threads"] = sum.threads;
-  if (ranks.distributed()) man["ranks"] = sum.ranks;
-  man["designs"] = ordered_json::array();
-  for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
-  if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
-  if (!sum.resume_message.empty()) man["units_resumed"] = sum.units_resumed;
-  sum.timings.push_back({"units_and_shared_loops", units.seconds()});
-  sum.timings.push_back({"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
-  ordered_json tim = ordered_json::object();
-  for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
-  man["timings"] = tim;
-  const std::time_t now = std::time(nullptr);
-  char date[64];
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  man["date"] = date;
-  man["files"] = sum.files_written;
-  writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
-  store->finish();
+    // The manifest is written last: its presence marks a complete run.
+    ordered_json man;
+    man["armstudy_version"] = kVersion;
+    man["git_revision"] = kGitRevision;
+    man["study"] = study.name;
+    man["study_file"] = study.file;
+    ordered_json inputs = ordered_json::array();
+    for (const auto& in : study.inputs) inputs.push_back({{"path", in.path}, {"hash", in.hash}});
+    man["inputs"] = inputs;
+    man["threads"] = sum.threads;
+    if (ranks.distributed()) man["ranks"] = sum.ranks;
+    man["designs"] = ordered_json::array();
+    for (const auto& d : study.designs) man["designs"].push_back(d.model.name);
+    if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
+    if (!sum.resume_message.empty()) man["units_resumed"] = sum.units_resumed;
+    sum.timings.push_back({"units_and_shared_loops", units.seconds()});
+    sum.timings.push_back({"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+    ordered_json tim = ordered_json::object();
+    for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
+    man["timings"] = tim;
+    const std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    man["date"] = date;
+    man["files"] = sum.files_written;
+    writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
+  });
+  store->removeSaved();
+  agreed(ranks, [] {});
+  if (root) store->finish();
   return sum;
 }
 

@@ -84,7 +84,16 @@ bool CheckpointStore::load(const std::string& id, std::string& bytes) const {
 
 void CheckpointStore::save(const std::string& id, const std::string& bytes) const {
   if (!enabled()) return;
-  writeFileAtomic(unitPath(id), bytes);
+  std::string p = unitPath(id);
+  writeFileAtomic(p, bytes);
+  const std::lock_guard<std::mutex> g(saved_mutex_);
+  saved_.push_back(std::move(p));
+}
+
+void CheckpointStore::removeSaved() {
+  std::error_code ec;  // a file already gone (e.g. removed by hand) is fine
+  for (const std::string& p : saved_) fs::remove(p, ec);
+  saved_.clear();
 }
 
 void CheckpointStore::finish() {

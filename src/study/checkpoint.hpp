@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -43,6 +44,11 @@ class CheckpointStore {
   // Saves a completed unit (atomic). Thread-safe: distinct units may be saved concurrently.
   void save(const std::string& unit_id, const std::string& bytes) const;
   int completedUnits() const { return completed_; }
+  // Removes the unit files this store saved. In a distributed run every rank removes its own once
+  // the manifest is written, so that the files (one per unit: 12 670 for the million-pose sweep
+  // with --unit-size 81, about 1.1 s on rank 0 alone here) go in parallel; finish() then takes the
+  // rest. Thread-safe with respect to nothing: call it after the stages.
+  void removeSaved();
   // Removes the store after the final result files and manifest are written.
   void finish();
 
@@ -52,6 +58,8 @@ class CheckpointStore {
   std::string unitPath(const std::string& unit_id) const;
   std::string dir_;
   int completed_ = 0;
+  mutable std::mutex saved_mutex_;
+  mutable std::vector<std::string> saved_;  // the unit files save() wrote
 };
 
 // A contiguous range [begin, end) of work items.

@@ -35,6 +35,42 @@ TEST_CASE("checkpoint store resumes with the same fingerprint", "[study][checkpo
   CHECK_FALSE(CheckpointStore::hasPartialRun(dir.string()));
 }
 
+TEST_CASE("each rank's store removes the units it saved; finish removes the rest", "[study][checkpoint]") {
+  // A distributed run: every rank opens the store in the same folder and saves the units it
+  // computes; at the end each removes its own (in parallel), rank 0 then the folder with what is
+  // left (units an interrupted run saved, which nobody of this run saved again).
+  const fs::path dir = fs::temp_directory_path() / "armstudy_ckpt_ranks";
+  fs::remove_all(dir);
+  std::string msg;
+  const std::string fp = "armstudy=1\n";
+  {
+    CheckpointStore earlier(dir.string(), fp, msg);
+    earlier.save("unit/old", "from an interrupted run");
+  }
+  CheckpointStore rank0(dir.string(), fp, msg), rank1(dir.string(), fp, msg);
+  rank0.save("unit/a", "a");
+  rank0.save("unit/b", "b");
+  rank1.save("unit/c", "c");
+  auto count = [&] {
+    long n = 0;
+    for (const auto& e : fs::directory_iterator(dir / ".partial/units")) n += e.path().extension() == ".unit";
+    return n;
+  };
+  REQUIRE(count() == 4);
+  rank0.removeSaved();
+  std::string b;
+  CHECK_FALSE(rank1.load("unit/a", b));
+  CHECK_FALSE(rank1.load("unit/b", b));
+  CHECK(rank1.load("unit/c", b));
+  CHECK(rank1.load("unit/old", b));
+  rank1.removeSaved();
+  CHECK(count() == 1);  // the interrupted run's unit
+  CHECK(rank0.load("unit/old", b));
+  rank0.finish();
+  CHECK_FALSE(fs::exists(dir / ".partial"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("checkpoint store starts fresh, saying why, when an input changed",
           "[study][checkpoint]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_ckpt_changed";
