@@ -35,7 +35,7 @@ TEST_CASE("checkpoint store resumes with the same fingerprint", "[study][checkpo
   CHECK_FALSE(CheckpointStore::hasPartialRun(dir.string()));
 }
 
-TEST_CASE("each rank's store removes the units it saved; finish removes the rest", "[study][checkpoint]") {
+TEST_CASE("each rank's store removes the units it saved, finish removes the rest", "[study][checkpoint]") {
   // A distributed run: every rank opens the store in the same folder and saves the units it
   // computes; at the end each removes its own (in parallel), rank 0 then the folder with what is
   // left (units an interrupted run saved, which nobody of this run saved again).
