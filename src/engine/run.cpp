@@ -318,8 +318,11 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
     pages.push_back({"ParaView scene", scene_out.files()});
     sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
 
+    const auto html0 = std::chrono::steady_clock::now();
     writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
     sum.files_written.push_back("report.html");
+    // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
+    sum.timings.push_back({"report_html", std::chrono::duration<double>(std::chrono::steady_clock::now() - html0).count()});
 
     // The manifest is written last: its presence marks a complete run.
     ordered_json man;
