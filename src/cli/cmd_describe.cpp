@@ -51,6 +51,8 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
     const double d = 180.0 / M_PI;
     std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)",
                 m.tcp.x, m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
+    std::printf("tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their targets)\n",
+                m.tool_axis_T.x(), m.tool_axis_T.y(), m.tool_axis_T.z());
     if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
     if (!m.inertias.empty()) std::printf("link inertias: given\n");
     if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());

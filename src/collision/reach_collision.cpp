@@ -57,12 +57,7 @@ bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarge
   out.p_WT = t.w_d.head<3>();
   if (t.tool_axis) {
     out.kind = ik::PoseTaskKind::PositionAxis;
-    // Any frame whose z column is the tool axis.
-    const Eigen::Vector3d z = t.z_d_W.normalized();
-    const Eigen::Vector3d x = z.unitOrthogonal();
-    out.R_WT.col(0) = x;
-    out.R_WT.col(1) = z.cross(x);
-    out.R_WT.col(2) = z;
+    out.axis_W = t.axis_d_W.normalized();
     return true;
   }
   if (s[3] && s[4] && s[5]) {

@@ -67,7 +67,7 @@ IkTarget reachTarget(const ik::PoseTarget& t) {
     case ik::PoseTaskKind::Position: break;
     case ik::PoseTaskKind::PositionAxis:
       r.tool_axis = true;
-      r.z_d_W = t.R_WT.col(2);
+      r.axis_d_W = t.axis_W;
       break;
     case ik::PoseTaskKind::FullPose: {
       r.task_space = TaskSpace::fullPose();

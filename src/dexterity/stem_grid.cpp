@@ -31,6 +31,7 @@ StemGrid::Cell StemGrid::cell(int i_gamma, int i_z) const {
   c.target.R_WT.col(0) = xt;
   c.target.R_WT.col(1) = zt.cross(xt);
   c.target.R_WT.col(2) = zt;
+  c.target.axis_W = zt;
   return c;
 }
 

@@ -46,6 +46,7 @@ static ordered_json modelJson(const Model& m) {
   }
   j["joints"] = joints;
   j["tcp"] = poseJson(m.tcp);
+  j["tool_axis"] = {m.tool_axis_T.x(), m.tool_axis_T.y(), m.tool_axis_T.z()};
   j["base"] = poseJson(m.base);
   return j;
 }

@@ -153,6 +153,7 @@ Study loadStudy(const std::string& path) {
           r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
       m.finalize();
     }
+    m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
     r.finish();
     if (by_name.count(m.name))
       r.fail("file", "design name '" + m.name + "' appears twice in this study");

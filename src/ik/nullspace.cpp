@@ -96,13 +96,13 @@ void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& targe
   if (target.kind == PoseTaskKind::PositionAxis) {
     // Constrained angular directions: perpendicular to the current tool axis (rotation about the
     // axis itself leaves it unchanged, so it belongs to the null space).
-    const Eigen::Vector3d a = ws.R_WT.col(2);
+    const Eigen::Vector3d a = ws.a_WT;
     Eigen::Vector3d b1, b2;
     perpendicularBasis(a, b1, b2);
     S.resize(3, 2);
     S.col(0) = b1;
     S.col(1) = b2;
-    const Eigen::Vector3d rv = rotationBetween(a, target.R_WT.col(2).normalized());
+    const Eigen::Vector3d rv = rotationBetween(a, target.axis_W.normalized());
     J.bottomRows<2>() = S.transpose() * ws.J_W_tcp.bottomRows<3>();
     e.tail<2>() = S.transpose() * rv;
   } else if (target.kind == PoseTaskKind::FullPose) {
@@ -119,7 +119,7 @@ PoseError poseError(const KinematicsWorkspace& ws, const PoseTarget& target) {
   PoseError pe;
   pe.position_m = (target.p_WT - ws.p_WT).norm();
   if (target.kind == PoseTaskKind::PositionAxis)
-    pe.orientation_rad = rotationBetween(ws.R_WT.col(2), target.R_WT.col(2).normalized()).norm();
+    pe.orientation_rad = rotationBetween(ws.a_WT, target.axis_W.normalized()).norm();
   else if (target.kind == PoseTaskKind::FullPose)
     pe.orientation_rad = Eigen::AngleAxisd(target.R_WT * ws.R_WT.transpose()).angle();
   return pe;

@@ -31,7 +31,8 @@ int taskDim(PoseTaskKind k);
 struct PoseTarget {
   PoseTaskKind kind = PoseTaskKind::FullPose;
   Eigen::Vector3d p_WT = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();  // PositionAxis uses only its z column
+  Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();  // FullPose: the TCP orientation
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();   // PositionAxis: the tool axis's direction (unit)
 };
 
 using TaskJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;

@@ -98,7 +98,7 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
     err.orientation_rad = std::abs(aa.angle());
   } else if (c.tool_axis) {
     double angle = 0;
-    e.segment<3>(r) = c.w_o * axisRotationVector(kin.R_WT.col(2), c.target.z_d_W, angle);
+    e.segment<3>(r) = c.w_o * axisRotationVector(kin.a_WT, c.target.axis_d_W, angle);
     err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
@@ -134,7 +134,7 @@ bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, J
     J.middleRows(r, 3) = c.w_o * kin.J_W_tcp.bottomRows<3>();
   } else if (c.tool_axis) {
     // Rotations about the tool axis do not change it: omega projected perpendicular to z.
-    const Eigen::Vector3d z = kin.R_WT.col(2);
+    const Eigen::Vector3d z = kin.a_WT;
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - z * z.transpose();
     J.middleRows(r, 3) = c.w_o * (P * kin.J_W_tcp.bottomRows<3>());
   } else if (c.any_orientation) {
@@ -149,23 +149,46 @@ bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, J
 
 namespace {
 
-// Manipulability (eq. 5.59) of the tool-axis task: the position rows and the two angular rows
-// perpendicular to the tool axis (5 x n for the full position).
-double toolAxisManipulability(const Context& c, const KinematicsWorkspace& kin) {
+using SmallSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+
+// sqrt(det(J J^T)) of `rows` rows of J starting at `first` (eq. 5.59); 1 for no rows.
+double rowsManipulability(const Jacobian6& J, int first, int rows) {
+  if (rows == 0) return 1.0;
+  const SmallSquare JJt = J.middleRows(first, rows) * J.middleRows(first, rows).transpose();
+  const double det = JJt.determinant();
+  return det > 0 ? std::sqrt(det) : 0.0;
+}
+
+// The geometric rows a target constrains (unweighted): the selected position rows, then the
+// angular rows (3 for the full pose, the 2 perpendicular to the tool axis for the tool-axis task,
+// none for position). Returns the number of position rows; `angular` the number of angular rows.
+int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J, int& angular) {
   const auto& sel = c.target.task_space.selected;
-  const int n = kin.n;
-  Jacobian6 J(6, n);
+  J.setZero(6, kin.n);
   int r = 0;
   for (int k = 0; k < 3; ++k)
     if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
-  const Eigen::Vector3d z = kin.R_WT.col(2);
-  const Eigen::Vector3d b1 = z.unitOrthogonal(), b2 = z.cross(b1);
-  J.row(r++) = b1.transpose() * kin.J_W_tcp.bottomRows<3>();
-  J.row(r++) = b2.transpose() * kin.J_W_tcp.bottomRows<3>();
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
-      J.topRows(r) * J.topRows(r).transpose();
-  const double det = JJt.determinant();
-  return det > 0 ? std::sqrt(det) : 0.0;
+  const int position_rows = r;
+  if (c.full_orientation) {
+    J.middleRows(r, 3) = kin.J_W_tcp.bottomRows<3>();
+    r += 3;
+  } else if (c.tool_axis) {
+    // Any orthonormal basis of the plane perpendicular to the tool axis gives the same determinant.
+    const Eigen::Vector3d& a = kin.a_WT;
+    const Eigen::Vector3d b1 = a.unitOrthogonal(), b2 = a.cross(b1);
+    J.row(r++) = b1.transpose() * kin.J_W_tcp.bottomRows<3>();
+    J.row(r++) = b2.transpose() * kin.J_W_tcp.bottomRows<3>();
+  }
+  angular = r - position_rows;
+  return position_rows;
+}
+
+bool cardanSelection(const Context& c) { return c.any_orientation && !c.full_orientation && !c.tool_axis; }
+
+double cardanValue(const Context& c, const KinematicsWorkspace& kin) {
+  Jacobian6 J(6, kin.n);
+  if (!taskJacobian(c, kin, J)) return 0.0;
+  return rowsManipulability(J, 0, c.m);  // eq. (5.59) of the analytic rows (eq. 5.11)
 }
 
 // Errors, manipulability and joint-limit margin of configuration q into r (r.q = q).
@@ -177,8 +200,7 @@ void fillSolution(const Model& model, IkWorkspace& ws, const Context& c, const J
   residual(c, ws.kin, e, err);
   r.position_error_m = err.position_m;
   r.orientation_error_rad = err.orientation_rad;
-  r.manipulability =
-      c.tool_axis ? toolAxisManipulability(c, ws.kin) : taskManipulability(ws.kin, c.target.task_space);
+  r.manipulability = taskManipulability(ws.kin, c.target);
   r.joint_limit_margin = jointLimitMargin(model, q);
 }
 
@@ -325,11 +347,11 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
       *grad += 0.5 * w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * v);
     }
   } else if (c.tool_axis) {
-    // w^2 (1 - z . z_d); d(z . z_d)/dq_i = omega_i . (z x z_d).
-    const Eigen::Vector3d z = kin.R_WT.col(2);
-    f += w_o * w_o * (1.0 - z.dot(target.z_d_W));
+    // w^2 (1 - a . a_d); d(a . a_d)/dq_i = omega_i . (a x a_d), a the tool axis in W.
+    const Eigen::Vector3d& a = kin.a_WT;
+    f += w_o * w_o * (1.0 - a.dot(target.axis_d_W));
     if (grad)
-      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * z.cross(target.z_d_W));
+      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * a.cross(target.axis_d_W));
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     const double cur[3] = {a.alpha, a.beta, a.gamma};
@@ -346,17 +368,50 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
   return f;
 }
 
-double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
+Eigen::Vector3d sprayDirection(double alpha, double gamma) {
+  return Eigen::Vector3d(-std::sin(gamma), std::cos(alpha) * std::cos(gamma), std::sin(alpha) * std::cos(gamma));
+}
+
+IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d) {
+  IkTarget t{task_space, w_d};
+  const auto& s = task_space.selected;
+  if (s[3] && !s[4] && s[5]) {  // spraying: position (as selected) + the spray axis, roll free
+    t.tool_axis = true;
+    t.axis_d_W = sprayDirection(w_d[3], w_d[5]);
+  }
+  return t;
+}
+
+bool usesCardanAngles(const TaskSpace& task_space) {
+  const auto& s = task_space.selected;
+  const bool any = s[3] || s[4] || s[5], full = s[3] && s[4] && s[5], spraying = s[3] && !s[4] && s[5];
+  return any && !full && !spraying;
+}
+
+double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target) {
+  const Context c = makeContext(nullptr, target, 1.0);
+  if (cardanSelection(c)) return cardanValue(c, kin);
+  Jacobian6 J;
+  int angular = 0;
+  const int position = geometricTaskRows(c, kin, J, angular);
+  return rowsManipulability(J, 0, position + angular);
+}
+
+double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
   IkTarget t;
   t.task_space = task_space;
-  const Context c = makeContext(nullptr, t, 1.0);
-  Jacobian6 J(6, kin.n);
-  if (!taskJacobian(c, kin, J)) return 0.0;
-  const int m = c.m;
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> JJt =
-      J.topRows(m) * J.topRows(m).transpose();
-  const double det = JJt.determinant();
-  return det > 0 ? std::sqrt(det) : 0.0;  // eq. (5.59)
+  return cardanValue(makeContext(nullptr, t, 1.0), kin);
+}
+
+ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin, const IkTarget& target) {
+  const Context c = makeContext(nullptr, target, 1.0);
+  Jacobian6 J;
+  int angular = 0;
+  const int position = geometricTaskRows(c, kin, J, angular);
+  ManipulabilityParts p;
+  if (position > 0) p.translation = rowsManipulability(J, 0, position);
+  if (angular > 0) p.rotation = rowsManipulability(J, position, angular);
+  return p;
 }
 
 IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,

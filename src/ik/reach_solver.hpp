@@ -13,15 +13,15 @@
 //  3. When every start misses narrowly, NLopt SLSQP with analytic gradients and the limits as
 //     bounds polishes the best configuration (the constrained fallback).
 //  4. For an unreachable pose, the reason: a re-solve without joint limits that succeeds means the
-//     limits block the pose; a best solution at cos(beta) = 0 means the Cardan representation is
-//     singular there; otherwise the pose is out of reach.
+//     limits block the pose; otherwise the pose is out of reach (for a Cardan selection, a best
+//     solution at cos(beta) = 0 is reported as the representation's singularity).
 //
 // Orientation error: for the full pose (eq. 5.3) the geodesic angle between R_d and R (the
-// solver uses the rotation vector of R_d R^T with the geometric Jacobian); for task spaces that
-// select only some Cardan angles (spraying, eq. 3.1) the Euclidean norm of the wrapped Cardan
-// angle differences of the selected components, with the analytic Jacobian (eq. 5.9-5.11); for
-// the tool-axis task the angle between the tool axis and its target (rotation vector z x z_d
-// scaled to the angle, with the angular Jacobian rows projected perpendicular to the tool axis).
+// solver uses the rotation vector of R_d R^T with the geometric Jacobian); for the tool-axis task
+// (spraying, stems) the angle between the design's tool axis and its target direction (rotation
+// vector a x a_d scaled to the angle, with the angular Jacobian rows projected perpendicular to
+// the tool axis); for a selection of Cardan angles (e.g. "x,y,z,gamma") the Euclidean norm of the
+// wrapped differences of the selected angles, with the analytic Jacobian (eq. 5.9-5.11).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -36,7 +36,8 @@ enum class ReachStatus : std::uint8_t {
   Reachable = 0,
   OutOfReach = 1,                 // no configuration reaches it, even without joint limits
   JointLimits = 2,                // reachable only if the joint limits were lifted
-  RepresentationSingularity = 3,  // best solution at cos(beta) = 0 (partial Cardan task spaces)
+  RepresentationSingularity = 3,  // best solution at cos(beta) = 0 (Cardan selections such as
+                                  // "x,y,z,gamma" only; never for tool-axis, full or position tasks)
   SelfCollision = 4,              // reachable only in self-collision (collision-aware sweeps)
   TorqueLimit = 5,                // reserved for the dynamics stage
   ObstacleCollision = 6,          // reachable only in collision with an environment obstacle
@@ -84,13 +85,28 @@ struct IkOptions {
 struct IkTarget {
   TaskSpace task_space = TaskSpace::fullPose();
   TaskVector6 w_d = TaskVector6::Zero();  // (x, y, z, alpha, beta, gamma) in W
-  // Tool-axis task (harvesting, thesis Fig. 3.4; the dexterity stage's "position_axis"): when set,
-  // the selected position rows of task_space are kept, its orientation rows are ignored, and the
-  // TCP z axis must point along z_d_W (unit) with the roll about it free: 5 task components. The
-  // orientation error is the angle between the axes; no representation singularity.
+  // Tool-axis task (spraying, eq. 3.1 as a physical task; harvesting, thesis Fig. 3.4; the
+  // dexterity stage's "position_axis"): when set, the selected position rows of task_space are
+  // kept, its orientation rows are ignored, and the design's tool axis (Model::tool_axis_T, in W
+  // KinematicsWorkspace::a_WT) must point along axis_d_W (unit) with the roll about it free: 5 task
+  // components. The orientation error is the angle between the axes; no representation is used.
   bool tool_axis = false;
-  Eigen::Vector3d z_d_W = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d axis_d_W = Eigen::Vector3d::UnitZ();
 };
+
+// The spray direction of the spraying task (thesis eq. 3.1, Fig. 3.7): d = Rx(alpha) Rz(gamma) e_y
+// in W, i.e. +y at alpha = gamma = 0, turned by gamma about the vertical, then tilted by alpha
+// about x: d = (-sin gamma, cos alpha cos gamma, sin alpha cos gamma).
+Eigen::Vector3d sprayDirection(double alpha, double gamma);
+
+// The target of a pose w_d of a task space: the spraying space (x, y, z, alpha, gamma) is the
+// tool-axis task along sprayDirection(alpha, gamma) (beta plays no part); any other space selects
+// components of w_d as given (full pose eq. 5.3, position, or a Cardan selection such as
+// "x,y,z,gamma").
+IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d);
+// True for a selection of Cardan angles other than spraying (e.g. "x,y,z,gamma"): the only task
+// spaces that use an angle representation (and can report RepresentationSingularity).
+bool usesCardanAngles(const TaskSpace& task_space);
 
 struct IkResult {
   ReachStatus status = ReachStatus::OutOfReach;
@@ -102,7 +118,8 @@ struct IkResult {
   int iterations = 0;                // LM iterations over all starts (incl. classification)
   bool polished = false;             // the SLSQP polish produced the solution
   bool bound_rejected = false;       // certainly unreachable by the reach bound (one local solve only)
-  double manipulability = 0;         // sqrt(det(J_w J_w^T)) of the task Jacobian (eq. 5.59)
+  double manipulability = 0;         // sqrt(det(J_t J_t^T)) of the task Jacobian (eq. 5.59): the
+                                     // geometric rows the task constrains (taskJacobianRows)
   double joint_limit_margin = 0;     // min over joints of distance to a limit / limit range
 };
 
@@ -139,10 +156,24 @@ PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target);
 double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target,
                    double orientation_weight_m, const Eigen::VectorXd& q, Eigen::VectorXd* grad);
 
-// Thesis eq. (5.59): Yoshikawa manipulability sqrt(det(J_w J_w^T)) of the task Jacobian at the
-// configuration in kin (requires tcpJacobian). Geometric rows for the full pose, analytic rows
-// (eq. 5.11) for partial orientation task spaces; 0 at the representation singularity.
-double taskManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space);
+// Thesis eq. (5.59): Yoshikawa manipulability sqrt(det(J_t J_t^T)) at the configuration in kin
+// (requires tcpJacobian) of the rows of the geometric Jacobian the target constrains: the selected
+// position rows, then 3 angular rows (full pose), the 2 angular rows perpendicular to the tool
+// axis (tool-axis tasks) or none (position). Units: m^k for k position rows (rad^-1 folded in);
+// the angular rows are dimensionless, so the value weighs them with a characteristic length of
+// 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's singularity.
+double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target);
+// The thesis' Cardan value of a task space (analytic rows eq. 5.11, e.g. spraying's alpha and
+// gamma rows): depends on the angle representation (it equals the tool-axis value divided by
+// |cos beta|), so it is only for reproducing the thesis' figures, never for comparisons.
+double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space);
+
+// The translational and rotational parts of the task manipulability: sqrt(det) of the position
+// rows alone (m^k) and of the angular rows alone (dimensionless); 0 for a part the task lacks.
+struct ManipulabilityParts {
+  double translation = 0, rotation = 0;
+};
+ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin, const IkTarget& target);
 
 // The result solvePose would report for configuration q (errors, manipulability, joint-limit
 // margin at q; status Reachable when q is within the joint limits and the tolerances, else

@@ -52,6 +52,33 @@ PoseXYZABG readPose(TableReader& r, bool all_required) {
   return p;
 }
 
+}  // namespace
+
+Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key, const Eigen::Vector3d& fallback) {
+  if (!r.has(key)) return fallback;
+  const toml::node* n = r.node(key);
+  if (n->is_string()) {
+    std::string t = n->value_or(std::string());
+    double sign = 1;
+    if (!t.empty() && (t[0] == '-' || t[0] == '+')) {
+      sign = t[0] == '-' ? -1 : 1;
+      t = t.substr(1);
+    }
+    if (t == "x") return sign * Eigen::Vector3d::UnitX();
+    if (t == "y") return sign * Eigen::Vector3d::UnitY();
+    if (t == "z") return sign * Eigen::Vector3d::UnitZ();
+    r.fail(key, "unknown tool axis '" + n->value_or(std::string()) +
+                    "': use \"x\", \"y\", \"z\" (optionally with a sign, e.g. \"-y\") or [x, y, z] in the TCP frame");
+  }
+  const auto v = r.numberArray(key);
+  if (v.size() != 3) r.fail(key, "expected a tool axis \"x\", \"y\", \"z\" or three numbers [x, y, z] in the TCP frame");
+  const Eigen::Vector3d a(v[0], v[1], v[2]);
+  if (!(a.norm() > 1e-9) || !a.allFinite()) r.fail(key, "the tool axis must be a non-zero direction");
+  return a.normalized();
+}
+
+namespace {
+
 Eigen::Vector3d readVec3(TableReader& r, const std::string& key, Eigen::Vector3d fallback) {
   if (!r.has(key)) return fallback;
   const auto v = r.numberArray(key);
@@ -188,6 +215,7 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
   {
     TableReader r = top.requiredTable("tcp", " (TCP offset from the last frame)");
     m.tcp = readPose(r, false);
+    m.tool_axis_T = readToolAxis(r, "tool_axis", Eigen::Vector3d::UnitZ());
     urdf.tcp_link = r.string("link", "");
     r.finish();
   }
@@ -362,6 +390,9 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   o << "\n[tcp]\n";
   if (!info.tcp_link.empty()) o << "link = " << quoted(info.tcp_link) << "\n";
   writePose(o, m.tcp, false);
+  if (m.tool_axis_T != Eigen::Vector3d::UnitZ())
+    o << "tool_axis = [" << num(m.tool_axis_T.x()) << ", " << num(m.tool_axis_T.y()) << ", " << num(m.tool_axis_T.z())
+      << "]\n";
   for (std::size_t i = 0; i < m.inertias.size(); ++i) {
     const LinkInertia& li = m.inertias[i];
     if (!li.given) continue;

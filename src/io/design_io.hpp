@@ -14,6 +14,13 @@ Model loadDesign(const std::string& path);
 // Same from text (for tests and generated designs); `file_label` names it in messages.
 Model parseDesign(const std::string& text, const std::string& file_label);
 
+namespace io {
+class TableReader;
+}
+// The tool axis at `key` (docs/design-format.md): "x", "y", "z" with an optional sign, or
+// [x, y, z] (normalised), in the TCP frame; `fallback` when absent. InputError otherwise.
+Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key, const Eigen::Vector3d& fallback);
+
 // Validates an assembled model (limits ordered and finite, unique names, ...). Used after a
 // variant overrides entries. Throws InputError naming `file` and the offending key.
 void validateModel(const Model& model, const std::string& file);

@@ -15,6 +15,7 @@ KinematicsWorkspace::KinematicsWorkspace(const Model& model) : n(model.dof()) {
   }
   R_WT.setIdentity();
   p_WT.setZero();
+  a_WT = model.tool_axis_T;
   J_W_tcp.setZero(6, n);
 }
 
@@ -48,6 +49,7 @@ void forwardKinematics(const Model& model, KinematicsWorkspace& ws,
   }
   ws.R_WT = R_Wp * model.T_NT.linear();
   ws.p_WT = p_Wp + R_Wp * model.T_NT.translation();
+  ws.a_WT = ws.R_WT * model.tool_axis_T;
 }
 
 void tcpJacobian(const Model& model, KinematicsWorkspace& ws) {

@@ -27,6 +27,7 @@ struct KinematicsWorkspace {
   std::array<Eigen::Vector3d, kMaxDof> p_WF;  // origin of frame i in W [m]
   Eigen::Matrix3d R_WT;                       // TCP orientation in W
   Eigen::Vector3d p_WT;                       // TCP position in W [m]
+  Eigen::Vector3d a_WT;                       // the design's tool axis in W (R_WT * tool_axis_T)
   Jacobian6 J_W_tcp;                          // geometric TCP Jacobian in W (valid after tcpJacobian)
 };
 

@@ -100,6 +100,10 @@ struct Model {
   std::vector<Joint> joints;
   PoseXYZABG tcp;                // TCP offset from the last joint frame
   Eigen::Isometry3d T_NT;        // precomputed from tcp
+  // The tool axis (unit, in the TCP frame T): the direction a tool-axis task points at its target
+  // (the spray axis of the spraying task, the approach axis of the stem tasks); the roll about it
+  // is free. `[tcp] tool_axis` in the design file, overridable per study design entry; default z.
+  Eigen::Vector3d tool_axis_T = Eigen::Vector3d::UnitZ();
   PoseXYZABG base;               // pose of the robot base frame B in the task/world frame W
   Eigen::Isometry3d T_WB;        // precomputed from base
 

@@ -454,7 +454,7 @@ SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, con
                                    const UnitRunner* runner) {
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the map search needs the whole sweep of the grid");
   return searchSweep(
-      model, [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; },
+      model, [&grid](long i) { return taskTarget(grid.task_space, grid.pose(i)); },
       [shape = GridShape(grid)](long i, long* out) { return gridNeighbours(shape, i, out); },
       [shape = GridShape(grid)](long i, long* out) { return gridBoxNeighbours(shape, i, out); }, options, threads,
       collision, search,
@@ -467,7 +467,7 @@ SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list,
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == static_cast<long>(list.poses.size()),
                  "the map search needs the whole sweep of the pose list");
   return searchSweep(
-      model, [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, [](long, long*) { return 0; },
+      model, [&list](long i) { return taskTarget(list.task_space, list.poses[i]); }, [](long, long*) { return 0; },
       Neighbours{}, options, threads, collision, search, runner, sweep);
 }
 

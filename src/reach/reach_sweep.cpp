@@ -218,7 +218,7 @@ std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid,
   ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
   return sweepRanges(
       model, grid.size(), sweepUnitLength(grid),
-      [&grid](long i) { return IkTarget{grid.task_space, grid.pose(i)}; }, ranges, options, threads, progress,
+      [&grid](long i) { return taskTarget(grid.task_space, grid.pose(i)); }, ranges, options, threads, progress,
       collision, on_done);
 }
 
@@ -228,7 +228,7 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
                                            const SweepChunkDone& on_done) {
   return sweepRanges(
       model, static_cast<long>(list.poses.size()), sweepUnitLength(list),
-      [&list](long i) { return IkTarget{list.task_space, list.poses[i]}; }, ranges, options, threads, progress,
+      [&list](long i) { return taskTarget(list.task_space, list.poses[i]); }, ranges, options, threads, progress,
       collision, on_done);
 }
 

@@ -24,6 +24,7 @@ PoseTarget targetAt(const KinematicsWorkspace& ws, PoseTaskKind kind) {
   t.kind = kind;
   t.p_WT = ws.p_WT;
   t.R_WT = ws.R_WT;
+  t.axis_W = ws.a_WT;
   return t;
 }
 }  // namespace

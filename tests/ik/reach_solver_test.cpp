@@ -155,10 +155,8 @@ TEST_CASE("the SLSQP objective gradient matches central finite differences", "[i
     KinematicsWorkspace kin(m);
     for (const TaskSpace& ts : {TaskSpace::fullPose(), TaskSpace::spraying(), TaskSpace::position()}) {
       for (int trial = 0; trial < 10; ++trial) {
-        IkTarget t;
-        t.task_space = ts;
         forwardKinematics(m, kin, randomConfiguration(m, rng));
-        t.w_d = tcpTaskVector(kin).w;
+        const IkTarget t = taskTarget(ts, tcpTaskVector(kin).w);
         const Eigen::VectorXd q = randomConfiguration(m, rng);
         Eigen::VectorXd g;
         ikObjective(m, kin, t, 0.3, q, &g);
@@ -192,7 +190,9 @@ TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference positio
       J.col(i) = (pp - k2.p_WT) / (2 * kFdStep);
     }
     const double expected = std::sqrt((J * J.transpose()).determinant());
-    CHECK(taskManipulability(kin, TaskSpace::position()) == Approx(expected).margin(kManipulabilityTolerance));
+    IkTarget position;
+    position.task_space = TaskSpace::position();
+    CHECK(taskManipulability(kin, position) == Approx(expected).margin(kManipulabilityTolerance));
   }
 }
 
@@ -232,13 +232,13 @@ TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target an
     t.task_space = TaskSpace::position();
     t.w_d.head<3>() = kin.p_WT;
     t.tool_axis = true;
-    t.z_d_W = kin.R_WT.col(2);
+    t.axis_d_W = kin.a_WT;
     const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(k));
     if (!r.reachable()) continue;
     ++solved;
     forwardKinematics(m, k2, r.q);
     CHECK((k2.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
-    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.z_d_W), -1.0, 1.0)) <= o.orientation_tolerance_rad);
+    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.axis_d_W), -1.0, 1.0)) <= o.orientation_tolerance_rad);
     CHECK(r.manipulability > 0);
     if (k < 5) {
       const Eigen::VectorXd q = randomConfiguration(m, rng);

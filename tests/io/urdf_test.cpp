@@ -828,12 +828,13 @@ TEST_CASE("URDF designs in the shipped studies load with their chain, placement,
   CHECK(ur5m.base.z == 1.1);
   CHECK(ur5m.T_WB.translation().z() == 1.1);
   CHECK(ur5m.collision.volumes.size() >= 7);  // one or more per UR5 collision mesh
-  // The study's tcp = {z = 100 mm, alpha = 90 deg} is an offset from the tip link frame tool0.
+  // The study's tcp = {z = 100 mm} is an offset from the tip link frame tool0, along its z axis,
+  // the tool axis (the nozzle along the flange axis).
   const Model& flange = s.designs[2].model;
   CHECK(flange.name == "ur5_flange");
-  const Eigen::Isometry3d expected = flange.T_NT * Eigen::Translation3d(0, 0, 0.1) *
-                                     Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX());
+  const Eigen::Isometry3d expected = flange.T_NT * Eigen::Translation3d(0, 0, 0.1);
   CHECK((ur5m.T_NT.matrix() - expected.matrix()).cwiseAbs().maxCoeff() < kUrdfOracleTolerance);
+  CHECK(ur5m.tool_axis_T == Eigen::Vector3d::UnitZ());
   const Study p = loadStudy(test::sourcePath("studies/stem_heatmap_panda.toml"));
   REQUIRE(p.designs.size() == 1);
   CHECK(p.designs[0].model.dof() == 7);

@@ -112,23 +112,19 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   cfg.ik.seed = static_cast<std::uint64_t>(seed);
   cfg.ik.classify_failures = r.boolean("classify", true);
   {
-    bool all_have_model = !models.empty();
-    std::string without;
-    for (const Model* m : models)
-      if (m->collision.empty()) {
-        all_have_model = false;
-        if (without.empty()) without = m->name;
-      }
-    cfg.collision.self = r.boolean("self_collision", all_have_model);
-    if (cfg.collision.self && !all_have_model)
-      r.fail("self_collision", "self_collision = true needs a collision model for every design, but design '" +
-                                   without + "' has none (add [[collision]] volumes or set self_collision = false)");
+    // Designs without collision volumes are evaluated without collisions (ReachConfig::collisionFor).
+    bool any_has_model = false;
+    for (const Model* m : models) any_has_model |= !m->collision.empty();
+    cfg.collision.self = r.boolean("self_collision", any_has_model);
+    if (cfg.collision.self && !any_has_model)
+      r.fail("self_collision", "self_collision = true needs a collision model, but no design of the study has one "
+                               "(add [[collision]] volumes or set self_collision = false)");
     const bool use_obstacles = r.boolean("obstacles", !obstacles.empty());
     if (use_obstacles && obstacles.empty())
       r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
-    if (use_obstacles && !all_have_model)
-      r.fail("obstacles", "obstacles are checked against the designs' collision volumes, but design '" + without +
-                              "' has none (add [[collision]] volumes or set obstacles = false)");
+    if (use_obstacles && !any_has_model)
+      r.fail("obstacles", "obstacles are checked against the designs' collision volumes, but no design of the "
+                          "study has any (add [[collision]] volumes or set obstacles = false)");
     if (use_obstacles) cfg.collision.obstacles = obstacles;
     cfg.collision.nullspace_escape = r.boolean("nullspace_escape", true);
   }

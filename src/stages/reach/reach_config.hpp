@@ -35,9 +35,15 @@ struct ReachConfig {
   // Collision-aware sweeps (docs/reachability.md): poses reachable only in self-collision get
   // status SelfCollision, those reachable only in contact with an obstacle ObstacleCollision,
   // and the smallest distance at the solution is stored. collision.self (key self_collision)
-  // defaults to on when every design of the study has a collision model; collision.obstacles
-  // (key obstacles = true, the default when the study declares [[obstacle]]s) are the study's.
+  // defaults to on when a design of the study has a collision model; collision.obstacles (key
+  // obstacles = true, the default when the study declares [[obstacle]]s) are the study's. Both
+  // apply per design (collisionFor): a design without collision volumes is evaluated without them
+  // and marked so, and never changes how the others are evaluated.
   SweepCollision collision;
+  // What a design's sweep checks: `collision`, or nothing for a design without collision volumes.
+  SweepCollision collisionFor(const Model& model) const {
+    return model.collision.empty() ? SweepCollision{false, {}, collision.nullspace_escape} : collision;
+  }
   SweepSearch search;                // [reach.search]: the map search after the sweeps of a grid
   // [reach.audit]: poses drawn per grid and design, searched from `audit_starts` random starts
   // each, independently of the sweep (reach_audit.hpp); 0 = no audit.

@@ -65,7 +65,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   std::vector<InterleavedProgram> programs;
   for (std::size_t di = 0; di < nd; ++di)
     programs.push_back([&, di](const UnitRunner* r) {
-      searches[di] = searchGridSweep(study.designs[di].model, g, cfg.ik, ctx.threads, cfg.collision, cfg.search,
+      searches[di] = searchGridSweep(study.designs[di].model, g, cfg.ik, ctx.threads, cfg.collisionFor(study.designs[di].model), cfg.search,
                                      sweeps[di], r);
     });
   using Clock = std::chrono::steady_clock;
@@ -98,7 +98,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     programs.clear();
     for (std::size_t di = 0; di < nd; ++di)
       programs.push_back([&, di](const UnitRunner* r) {
-        audits[di] = auditGridSweep(study.designs[di].model, g, cfg.ik, cfg.collision, sweeps[di], cfg.audit_poses,
+        audits[di] = auditGridSweep(study.designs[di].model, g, cfg.ik, cfg.collisionFor(study.designs[di].model), sweeps[di], cfg.audit_poses,
                                     cfg.audit_starts, cfg.audit_seed, ctx.threads, r);
       });
     t0 = Clock::now();
@@ -126,10 +126,15 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     const StudyDesign& sd = study.designs[di];
     Stats all;
     std::vector<Stats> per(no);
+    const std::vector<ManipulabilityParts> mparts = manipulabilityParts(sd.model, g, s);
     for (long i = 0; i < g.size(); ++i) {
       const Eigen::Vector3d p = g.position(g.pointOf(i));
       all.add(s, i, p);
       per[g.orientationOf(i)].add(s, i, p);
+      if (s.reachable(i)) {
+        all.addParts(mparts[static_cast<std::size_t>(i)]);
+        per[g.orientationOf(i)].addParts(mparts[static_cast<std::size_t>(i)]);
+      }
     }
     ordered_json jd;
     jd["design"] = s.design;
@@ -148,6 +153,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                       report::percent(per[k].n ? double(per[k].status[1]) / per[k].n : 0),
                       report::percent(per[k].n ? double(per[k].status[3]) / per[k].n : 0),
                       per[k].extent.text()});
+      if (!usesCardanAngles(g.task_space)) rows.back().erase(rows.back().begin() + 5);
       insertCollisionColumns(cfg, rows.back(), 3, per[k]);
     }
     jd["per_orientation"] = jper;
@@ -163,7 +169,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
                     {"converged", se.converged}};
     md += "Map search (" + s.design + "): " + std::to_string(se.rounds) + " neighbour-propagation rounds changed " +
           std::to_string(se.neighbour_updates) + " statuses";
-    if (cfg.collision.enabled())
+    if (s.collision)
       md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
             std::to_string(cfg.search.collision_starts) + " seeded starts each (" +
             std::to_string(se.multistart_freed) + " found collision-free). A pose is `self_collision` / "
@@ -193,7 +199,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
             std::to_string(au.seed) + "), " + std::to_string(au.starts) +
             " random starts each, without the sweep's warm starts or neighbours: " +
             std::to_string(au.contradictedTotal()) + " statuses contradicted (a solution" +
-            (cfg.collision.enabled() ? " clear of collisions" : "") + " found where the map has none; " +
+            (s.collision ? " clear of collisions" : "") + " found where the map has none; " +
             std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) +
             " self_collision, " + std::to_string(au.contradicted[oc]) + " of " + std::to_string(au.by_status[oc]) +
             " obstacle_collision), " + std::to_string(au.audit_missed) +
@@ -208,7 +214,10 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       img.dims = d;
       img.origin = {g.axes[0].from, g.axes[1].from, g.axes[2].from};
       img.spacing = {g.axes[0].step, g.axes[1].step, g.axes[2].step};
-      for (int k = 0; k < no; ++k) addPoseArrays(img.point_arrays, s, &g, points, k, suffix(g, k));
+      for (int k = 0; k < no; ++k) {
+        addPoseArrays(img.point_arrays, s, &g, points, k, suffix(g, k));
+        addPartArrays(img.point_arrays, s, mparts, g, points, k, suffix(g, k));
+      }
       if (no > 1)
         img.point_arrays.push_back(arrayOf("reachable_orientations", io::ArrayType::UInt8, nullptr, points, 0, 1,
                                            [&](long p, int) {
@@ -432,6 +441,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   jg["designs"] = jdesigns;
   std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
                                      ">repr. singular", "extent of the reachable poses"};
+  if (!usesCardanAngles(g.task_space)) header.erase(header.begin() + 5);
   insertCollisionColumns(cfg, header, 3);
   md += report::markdownTable(header, rows);
   md += "\n";
@@ -551,6 +561,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
     jg["comparison"] = jcmp;
     md += "Per pose, which designs reach it (all orientations together):\n\n" +
           report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n";
+    jcmp["dexterity"] = dexterityComparison(models, g, sweeps, pairs, md);
     if (!brow.empty())
       md += "Best variant per base design (the most reachable poses; with base.* overrides this is the best base placement):\n\n" +
             report::markdownTable({"base design", "best variant", ">reachable", "base placement varied"}, brow) + "\n";

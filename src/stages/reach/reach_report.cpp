@@ -42,8 +42,13 @@ ordered_json Stats::json() const {
   for (int k = 0; k < kReachStatusCount; ++k) sc[toString(static_cast<ReachStatus>(k))] = status[k];
   j["status_counts"] = sc;
   j["extent"] = extent.json();
-  if (reachable)
+  if (reachable) {
     j["manipulability"] = {{"mean", manip_sum / reachable}, {"min", manip_min}, {"max", manip_max}};
+    if (parts_n) {
+      j["manipulability"]["translation_mean"] = translation_sum / parts_n;
+      j["manipulability"]["rotation_mean"] = rotation_sum / parts_n;
+    }
+  }
   if (collision) {
     ordered_json cp = ordered_json::object();
     for (const auto& [name, count] : colliding_pairs) cp[name] = count;
@@ -132,6 +137,116 @@ io::NamedArray arrayOf(const std::string& name, io::ArrayType type, const TaskGr
   return a;
 }
 
+std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g, const PoseSweep& s) {
+  std::vector<ManipulabilityParts> parts(static_cast<std::size_t>(g.size()));
+  KinematicsWorkspace kin(model);
+  JointVector q(s.dof);
+  for (long i = 0; i < g.size(); ++i) {
+    if (!s.reachable(i)) continue;
+    for (int c = 0; c < s.dof; ++c) q[c] = s.q[static_cast<std::size_t>(i) * s.dof + c];
+    forwardKinematicsAndJacobian(model, kin, q);
+    parts[static_cast<std::size_t>(i)] = taskManipulabilityParts(kin, taskTarget(g.task_space, g.pose(i)));
+  }
+  return parts;
+}
+
+namespace {
+struct PairDexterity {
+  long both = 0;
+  double w[2] = {0, 0}, t[2] = {0, 0}, r[2] = {0, 0};  // means over the poses both reach
+};
+// +1 when every ratio b/a is above 1 (b better), -1 when every one is below, 0 otherwise.
+int agreement(const std::vector<double>& ratios) {
+  bool up = true, down = true;
+  for (double x : ratios) {
+    up &= x > 1;
+    down &= x < 1;
+  }
+  return up ? 1 : (down ? -1 : 0);
+}
+}  // namespace
+
+nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
+                                           const std::vector<PoseSweep>& sweeps,
+                                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                           std::string& md) {
+  std::vector<std::vector<ManipulabilityParts>> parts;
+  for (std::size_t d = 0; d < sweeps.size(); ++d) parts.push_back(manipulabilityParts(*models[d], g, sweeps[d]));
+  const bool rot = g.task_space.hasOrientation();
+  ordered_json out = ordered_json::array();
+  std::vector<std::vector<std::string>> rows;
+  std::string verdicts;
+  for (const auto& [a, b] : pairs) {
+    PairDexterity pd;
+    for (long i = 0; i < g.size(); ++i) {
+      if (!(sweeps[a].reachable(i) && sweeps[b].reachable(i))) continue;
+      ++pd.both;
+      const std::size_t u = static_cast<std::size_t>(i);
+      const std::size_t ab[2] = {a, b};
+      for (int s = 0; s < 2; ++s) {
+        pd.w[s] += sweeps[ab[s]].manipulability[u];
+        pd.t[s] += parts[ab[s]][u].translation;
+        pd.r[s] += parts[ab[s]][u].rotation;
+      }
+    }
+    const std::string &na = sweeps[a].design, &nb = sweeps[b].design;
+    ordered_json j = {{"a", na}, {"b", nb}, {"poses_both_reach", pd.both}};
+    if (pd.both == 0) {
+      out.push_back(j);
+      continue;
+    }
+    for (int s = 0; s < 2; ++s) {
+      pd.w[s] /= pd.both;
+      pd.t[s] /= pd.both;
+      pd.r[s] /= pd.both;
+    }
+    const double rw = pd.w[1] / pd.w[0], rt = pd.t[1] / pd.t[0], rr = rot ? pd.r[1] / pd.r[0] : rt;
+    const int agree = agreement({rw, rt, rr});
+    j["manipulability_mean"] = {pd.w[0], pd.w[1]};
+    j["translation_mean"] = {pd.t[0], pd.t[1]};
+    if (rot) j["rotation_mean"] = {pd.r[0], pd.r[1]};
+    j["better"] = agree > 0 ? ordered_json(nb) : (agree < 0 ? ordered_json(na) : ordered_json(nullptr));
+    out.push_back(j);
+    auto ratio = [](double x) { return x >= 1 ? report::fixed(x, 2) + "x" : "1/" + report::fixed(1 / x, 2) + "x"; };
+    std::vector<std::string> row{na, nb, std::to_string(pd.both), report::fixed(pd.w[0], 3) + " / " + report::fixed(pd.w[1], 3),
+                                 ratio(rw), ratio(rt)};
+    if (rot) row.push_back(ratio(rr));
+    rows.push_back(row);
+    if (agree != 0) {
+      const std::string& better = agree > 0 ? nb : na;
+      const std::string& worse = agree > 0 ? na : nb;
+      const double f = agree > 0 ? rw : 1 / rw;
+      verdicts += "- `" + better + "` is more dexterous than `" + worse + "` on the " + std::to_string(pd.both) +
+                  " poses both reach: " + report::fixed(f, 2) + "x the manipulability" +
+                  (rot ? ", and better in both its translational and rotational parts.\n" : ".\n");
+    } else {
+      verdicts += "- `" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" + (rw > 1 ? nb : na) +
+                  "` but the translational part favours `" + (rt > 1 ? nb : na) + "` and the rotational part `" +
+                  (rr > 1 ? nb : na) + "` (the combined value depends on the 1 m that weighs the angular rows).\n";
+    }
+  }
+  if (rows.empty()) return out;
+  std::vector<std::string> header{"A", "B", ">poses both reach", ">manipulability A / B", ">B/A", ">B/A translation"};
+  if (rot) header.push_back(">B/A rotation");
+  md += "Dexterity where both reach (means over the poses both designs reach; manipulability of the rows the task "
+        "constrains, " +
+        std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; translation: the 3 position "
+                          "rows alone [m^3]; rotation: the angular rows alone [1]"
+                        : "the 3 position rows [m^3]") +
+        "; a pair is ranked only when all agree):\n\n" + report::markdownTable(header, rows) + "\n" + verdicts + "\n";
+  return out;
+}
+
+void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const std::vector<ManipulabilityParts>& parts,
+                   const TaskGrid& g, long points, int k, const std::string& sfx) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  out.push_back(arrayOf("manipulability_translation" + sfx, io::ArrayType::Float64, &g, points, k, 1,
+                        [&](long i, int) { return s.reachable(i) ? parts[static_cast<std::size_t>(i)].translation : none; }));
+  if (g.task_space.hasOrientation())
+    out.push_back(arrayOf("manipulability_rotation" + sfx, io::ArrayType::Float64, &g, points, k, 1,
+                          [&](long i, int) { return s.reachable(i) ? parts[static_cast<std::size_t>(i)].rotation : none; }));
+}
+
 void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const TaskGrid* g,
                    long points, int k, const std::string& sfx) {
   using io::ArrayType;
@@ -204,9 +319,16 @@ std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatu
 
 std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g) {
   std::vector<std::string> units{"position: m", "reachable: 1", "status: 1", "position_error_m: m",
-                                 "orientation_error_rad: rad", "manipulability: m^3 (sqrt(det(J J^T)), eq. 5.59)",
+                                 "orientation_error_rad: rad",
+                                 "manipulability: m^3 (sqrt(det(J_t J_t^T)) of the rows the task constrains, eq. 5.59: "
+                                 "3 position rows, plus the 2 angular rows perpendicular to the tool axis or all 3 for "
+                                 "the full pose, weighed by a characteristic length of 1 m)",
                                  "joint_limit_margin: rad (m for prismatic joints)", "starts: 1",
                                  "q: rad (m for prismatic joints)"};
+  if (g) {
+    units.push_back("manipulability_translation: m^3 (the 3 position rows alone)");
+    if (g->task_space.hasOrientation()) units.push_back("manipulability_rotation: 1 (the angular rows alone)");
+  }
   if (s.obstacles) units.push_back("obstacle_distance: m");
   if (s.collision) units.insert(units.end(), {"min_distance: m", "colliding_pair: 1"});
   if (g && g->orientations.size() > 1) {
@@ -244,7 +366,10 @@ bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, con
 
 // The self-collision and obstacle-collision columns of the report tables (when checked).
 void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at, const Stats& st) {
-  auto share = [&](ReachStatus k) { return report::percent(st.n ? double(st.status[int(k)]) / st.n : 0); };
+  // A design evaluated without collisions (no volumes) shows "n/a": its share is not comparable.
+  auto share = [&](ReachStatus k) {
+    return st.collision ? report::percent(st.n ? double(st.status[int(k)]) / st.n : 0) : std::string("n/a (no volumes)");
+  };
   if (!cfg.collision.obstacles.empty()) row.insert(row.begin() + at, share(ReachStatus::ObstacleCollision));
   if (cfg.collision.self) row.insert(row.begin() + at, share(ReachStatus::SelfCollision));
 }

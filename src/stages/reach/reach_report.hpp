@@ -39,6 +39,8 @@ struct Stats {
   std::array<long, kReachStatusCount> status{};
   Extent extent;
   double manip_sum = 0, manip_min = INFINITY, manip_max = 0;
+  long parts_n = 0;                              // reachable poses whose parts were added
+  double translation_sum = 0, rotation_sum = 0;  // the manipulability's parts (ManipulabilityParts)
   bool collision = false, obstacles = false;
   std::map<std::string, long> colliding_pairs;  // poses reachable only in collision, per pair
   double min_distance = INFINITY;               // smallest distance over the reachable poses
@@ -63,6 +65,11 @@ struct Stats {
       manip_min = std::min(manip_min, s.manipulability[i]);
       manip_max = std::max(manip_max, s.manipulability[i]);
     }
+  }
+  void addParts(const ManipulabilityParts& mp) {
+    ++parts_n;
+    translation_sum += mp.translation;
+    rotation_sum += mp.rotation;
   }
   nlohmann::ordered_json json() const;  // the summary.json block of these poses
   double fraction() const { return n ? static_cast<double>(reachable) / n : 0.0; }
@@ -105,6 +112,19 @@ io::NamedArray arrayOf(const std::string& name, io::ArrayType type, const TaskGr
                        int k, int components, const std::function<double(long, int)>& value);
 void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const TaskGrid* g,
                    long points, int k, const std::string& sfx);
+// The translational and rotational parts of the manipulability of every pose of a grid's sweep at
+// its stored q (taskManipulabilityParts of the grid's task target; zero where unreachable).
+std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g, const PoseSweep& s);
+// The parts as VTK arrays manipulability_translation / manipulability_rotation (NaN where unreachable).
+void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const std::vector<ManipulabilityParts>& parts,
+                   const TaskGrid& g, long points, int k, const std::string& sfx);
+// Dexterity of design pairs on the poses both reach: mean manipulability and its translational and
+// rotational parts of each, and a verdict that ranks the pair only when the combined value and
+// both parts agree. Appends a table and sentences to md; returns the summary.json block.
+nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
+                                           const std::vector<PoseSweep>& sweeps,
+                                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                           std::string& md);
 // Field data of a sweep's VTK file (docs/paraview.md): units of the pose arrays, the status and
 // colliding-pair legends; with a grid `g` of several orientations, what each array suffix means.
 std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g);

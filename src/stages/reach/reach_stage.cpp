@@ -1,6 +1,7 @@
 #include "stages/reach/reach_stage.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "common/errors.hpp"
@@ -59,7 +60,34 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
         " deg of it (up to " + std::to_string(cfg.ik.max_starts) +
         " deterministic starts, seed " + std::to_string(cfg.ik.seed) +
         "). See docs/reachability.md for the solver, the failure reasons and the file formats.\n\n";
+  md += "Task: each design's tool axis (named in its design file or study entry) ";
+  for (std::size_t di = 0; di < study.designs.size(); ++di) {
+    const Eigen::Vector3d& a = study.designs[di].model.tool_axis_T;
+    md += std::string(di ? ", " : "") + "`" + study.designs[di].model.name + "` TCP (" + report::fixed(a.x(), 3) + ", " +
+          report::fixed(a.y(), 3) + ", " + report::fixed(a.z(), 3) + ")";
+  }
+  md += ". The spraying task (eq. 3.1) puts the TCP at the point with the tool axis along d = Rx(alpha) Rz(gamma) e_y "
+        "(+y at alpha = gamma = 0) and the roll about it free; manipulability is sqrt(det(J_t J_t^T)) of the 3 position "
+        "rows and the 2 angular rows perpendicular to the tool axis (eq. 5.59; the angular rows weighed by a "
+        "characteristic length of 1 m; summary.json and the .vti files give the translational and rotational parts "
+        "beside it).\n\n";
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
+  std::string without;
+  for (const StudyDesign& sd : study.designs)
+    if (sd.model.collision.empty()) without += std::string(without.empty() ? "" : ", ") + "`" + sd.model.name + "`";
+  if ((self_on || obst_on) && !without.empty()) {
+    md += "**Warning:** " + without +
+          " evaluated without self-collision and obstacles: no collision volumes (a design file without "
+          "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say \"n/a\" in "
+          "the collision columns and their reachable shares are not comparable with the others'.\n\n";
+    ordered_json jw = ordered_json::array();
+    for (const StudyDesign& sd : study.designs)
+      if (sd.model.collision.empty()) jw.push_back(sd.model.name);
+    jr["designs_without_collision_volumes"] = jw;
+    if (ctx.writes_results)
+      std::fprintf(stderr, "armstudy: warning: %s evaluated without self-collision and obstacles (no collision volumes)\n",
+                   without.c_str());
+  }
   md += "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
         report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
         " blocked by joint limits, " + report::hex(report::categorical(3)) +
@@ -102,7 +130,7 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
       PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
       // Poses in collision get the seeded starts too (issue 12; a list has no neighbours).
       const SweepSearchSummary ss =
-          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collision, cfg.search, s, &ctx.units);
+          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
       sum.timings.push_back({unit + "/search", ss.seconds});
       addUnitMetrics(sum.metrics, unit, s);
       Stats st;

@@ -114,7 +114,7 @@ class UnitSweepJob {
   std::string prefix_;
   const Model& model_;
   long len_, poses_;
-  const SweepCollision& collision_;
+  const SweepCollision collision_;  // a copy: ReachConfig::collisionFor returns it by value
   Progress& progress_;
   SweepRanges sweep_ranges_;
   std::vector<std::string> pair_names_;
@@ -127,7 +127,7 @@ std::unique_ptr<UnitSweepJob<Source, SweepRanges>> makeJob(const StageContext& c
                                                            const Model& model, const Source& source,
                                                            const ReachConfig& cfg, Progress& progress,
                                                            SweepRanges sweep_ranges) {
-  return std::make_unique<UnitSweepJob<Source, SweepRanges>>(ctx, prefix, model, source, cfg.collision, progress,
+  return std::make_unique<UnitSweepJob<Source, SweepRanges>>(ctx, prefix, model, source, cfg.collisionFor(model), progress,
                                                              std::move(sweep_ranges));
 }
 
@@ -135,7 +135,7 @@ auto gridJob(const StageContext& ctx, const std::string& prefix, const Model& mo
              const ReachConfig& cfg, Progress& progress) {
   return makeJob(ctx, prefix, model, g, cfg, progress,
                  [&ctx, &model, &g, &cfg, &progress](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
-                   return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collision, done);
+                   return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collisionFor(model), done);
                  });
 }
 
@@ -161,7 +161,7 @@ PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::st
                         const PoseList& l, const ReachConfig& cfg, Progress& progress) {
   auto job = makeJob(ctx, prefix, model, l, cfg, progress,
                      [&](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
-                       return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collision,
+                       return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collisionFor(model),
                                                   done);
                      });
   sum.units_resumed += ctx.units.run(job->batch());

@@ -32,6 +32,7 @@ ik::ReferencePoint LineReference::operator()(double t) const {
   const double s = std::clamp(t / duration_s, 0.0, 1.0);
   r.pose.p_WT = p0_W + (p1_W - p0_W) * s;
   r.pose.R_WT = R_WT;
+  r.pose.axis_W = axis_W;
   r.v_W = (p1_W - p0_W) / duration_s;  // constant speed; omega = 0 (orientation held)
   return r;
 }
@@ -43,6 +44,7 @@ LineReference lineReference(const Model& model, const TrackingEntry& entry) {
   l.p0_W = ws.p_WT;
   l.p1_W = entry.line_is_delta ? Eigen::Vector3d(ws.p_WT + entry.line) : entry.line;
   l.R_WT = ws.R_WT;
+  l.axis_W = ws.a_WT;
   l.duration_s = entry.duration_s;
   l.task = entry.task;
   return l;

@@ -79,6 +79,7 @@ std::vector<TrackingEntry> readTrackingEntries(const SectionInput& in);
 struct LineReference {
   Eigen::Vector3d p0_W = Eigen::Vector3d::Zero(), p1_W = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();  // the tool axis held by position_axis tasks
   double duration_s = 1;
   ik::PoseTaskKind task = ik::PoseTaskKind::Position;
   ik::ReferencePoint operator()(double t) const;
