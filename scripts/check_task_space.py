@@ -158,7 +158,7 @@ def main():
     a = ap.parse_args()
     designs = {d["name"]: d for d in json.load(open(os.path.join(a.output, "designs.json")))}
     for spec in a.axis:
-        name, _, xyz = spec.partition("=")
+        name, _, xyz = spec.rpartition("=")
         designs[name]["tool_axis"] = [float(v) for v in xyz.split(",")]
     summary = json.load(open(os.path.join(a.output, "summary.json")))
     ok = True

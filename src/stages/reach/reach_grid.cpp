@@ -558,10 +558,11 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       brow.push_back({base, sweeps[best_i].design, report::percent(best_f), base_sweep ? "yes" : "no"});
     }
     jcmp["best_variant"] = best;
+    std::string dexterity_md;
+    jcmp["dexterity"] = dexterityComparison(models, g, sweeps, pairs, dexterity_md);
     jg["comparison"] = jcmp;
     md += "Per pose, which designs reach it (all orientations together):\n\n" +
-          report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n";
-    jcmp["dexterity"] = dexterityComparison(models, g, sweeps, pairs, md);
+          report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n" + dexterity_md;
     if (!brow.empty())
       md += "Best variant per base design (the most reachable poses; with base.* overrides this is the best base placement):\n\n" +
             report::markdownTable({"base design", "best variant", ">reachable", "base placement varied"}, brow) + "\n";
