@@ -302,11 +302,11 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
         return col;
       });
       report::MapFigure mfig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
-      mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability sqrt(det(J J^T)), eq. 5.59 [m^3]"};
+      mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability of the task rows, eq. 5.59 [m^3]"};
       mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
       const std::string mrel = writeFigure(out, 
           "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
-      images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_w J_w^T)) (eq. 5.59) at the solution, " +
+      images_md += "![manipulability](" + mrel + ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
                    s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
                    report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
     }
