@@ -11,7 +11,7 @@
 // by region) use the linearised refit at the full-data optimum: a fold's parameter change solves
 // the bounded least-squares problem of the Jacobian on the training rows (exact for models linear
 // in their parameters, first order otherwise). 95 % intervals from the linearised covariance over
-// the fitted and the profiled parameters. The solver was measured against Ceres
+// the fitted and the profiled parameters. The solver is benchmarked against Ceres
 // (tests/benchmarks/calibration_solver_bench.cpp, docs/calibration.md "Solver").
 #include <Eigen/Core>
 #include <array>
