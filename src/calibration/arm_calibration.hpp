@@ -1,5 +1,5 @@
 #pragma once
-// The model-versus-measurement engine of every kind (issues 7 and 13; `drive`, `tcp`,
+// The model-versus-measurement engine of every kind (`drive`, `tcp`,
 // `trajectory`): a generic problem -- rows of measured channels, a prediction from the design plus
 // a set of effect instances with physical parameters -- so that compare, rank, add, the
 // diagnosis and the outputs are one code path. Each kind only builds its ArmProblem
@@ -11,7 +11,7 @@
 // by region) use the linearised refit at the full-data optimum: a fold's parameter change solves
 // the bounded least-squares problem of the Jacobian on the training rows (exact for models linear
 // in their parameters, first order otherwise). 95 % intervals from the linearised covariance over
-// the fitted and the profiled parameters. The solver was measured against Ceres
+// the fitted and the profiled parameters. The solver is benchmarked against Ceres
 // (tests/benchmarks/calibration_solver_bench.cpp, docs/calibration.md "Solver").
 #include <Eigen/Core>
 #include <array>
@@ -149,7 +149,7 @@ struct ArmFit {
   std::vector<FittedParameter> params;  // key = "<instance>.<param>"
   int n_params = 0;
   double train_rmse = 0, heldout_rmse = 0, region_heldout_rmse = 0;  // fit units
-  // Dimensionless (issue 13): RMS over all channels of residual / that channel's noise estimate.
+  // Dimensionless: RMS over all channels of residual / that channel's noise estimate.
   // The fit, the ranking and the significance use these per-channel weighted residuals.
   double train_score = 0, heldout_score = 0, region_heldout_score = 0;
   double aic = 0, bic = 0;
@@ -196,7 +196,7 @@ struct ArmResidualMap {
   int flagged() const;
 };
 
-// A pattern in the final model's residuals that no effect of the catalogue explains (issue 13):
+// A pattern in the final model's residuals that no effect of the catalogue explains:
 // binned means of one channel against one operating variable, or a periodic residual against a
 // joint position (periodogram). Significance is family-wise 5 % over all tests (Bonferroni).
 struct ArmPattern {

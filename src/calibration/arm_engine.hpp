@@ -1,5 +1,5 @@
 #pragma once
-// Private to calibration/arm_*.cpp: the fit engine every kind of measurement shares (issue 13):
+// Private to calibration/arm_*.cpp: the fit engine every kind of measurement shares:
 // bounded Gauss-Newton fits of effect sets, held-out residuals over folds, linearised confidence
 // intervals, candidate columns, residual maps.
 #include <Eigen/Core>
@@ -22,7 +22,7 @@ struct Solved {
   double ssr = 0;
 };
 
-// The problem with every channel weighted by 1 / its noise estimate (issue 13): fits, ranking and
+// The problem with every channel weighted by 1 / its noise estimate: fits, ranking and
 // significance then see dimensionless residuals, so channels of different units (N, N m, A, m)
 // count by their own noise, not by their unit. Forwards the prediction to the problem.
 class NoiseWeighted : public ArmProblem {

@@ -18,7 +18,7 @@ std::string fmt3(double v) { return formatG(v, 3); }
 
 }  // namespace
 
-// The unexplained-effect search (issue 13) on a model's residuals (native units): every channel,
+// The unexplained-effect search on a model's residuals (native units): every channel,
 // normalised by its noise, against every operating variable (joint positions and speeds, the
 // speed's sign, the channel's load, time or row order): binned means and, against joint
 // positions, a periodogram (least-squares sine fit over a frequency grid). Under the noise alone a
@@ -196,7 +196,7 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
   return out;
 }
 
-// A significant candidate must explain what is visibly there (issue 13): when the residuals of the
+// A significant candidate must explain what is visibly there: when the residuals of the
 // current model show significant patterns, its fit has to remove at least kPatternExplainedDrop of
 // the strongest one (or make it insignificant). A candidate that lowers the error without removing
 // the strongest pattern is fitting part of an effect outside the catalogue (e.g.

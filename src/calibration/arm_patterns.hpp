@@ -1,5 +1,5 @@
 #pragma once
-// Private to calibration/arm_*.cpp: the unexplained-effect search (issue 13): patterns left in a
+// Private to calibration/arm_*.cpp: the unexplained-effect search: patterns left in a
 // model's residuals against every operating variable, and the check that a significant catalogue
 // candidate explains what is visibly there.
 #include <Eigen/Core>

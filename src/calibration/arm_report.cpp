@@ -116,7 +116,7 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
     p.panels.push_back(panel);
     put("measured_vs_predicted_" + P.channel_names[c] + ".svg", report::plot(p).svg);
   }
-  // One panel per channel: channels of different units never share an axis (issue 18).
+  // One panel per channel: channels of different units never share an axis.
   for (const BinVariable& v : P.variables) {
     report::PlotSpec p;
     p.title = stage + ": residual vs " + v.name;
@@ -267,7 +267,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
                                 const std::string& calibrated_design_path) {
   ArmReportSummary s;
   // Validate first (the history in the folder must be of this kind), then write every file into a
-  // staging folder and move the complete result into place (issue 13).
+  // staging folder and move the complete result into place.
   StagedOutput stage(o.out_dir, o.lock);  // locks the folder first: the history read is the one appended to
   const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
   const std::string dir = stage.dir();

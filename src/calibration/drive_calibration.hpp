@@ -1,6 +1,6 @@
 #pragma once
-// Model versus measurement for one joint drive (issue 7, thesis chapter 4): the drive kind's data,
-// its problem for the one engine of arm_calibration.hpp (issue 13, "One engine") and its virtual
+// Model versus measurement for one joint drive (thesis chapter 4): the drive kind's data,
+// its problem for the one engine of arm_calibration.hpp and its virtual
 // test bed. docs/calibration.md describes formats, statistics and outputs.
 //
 // The measured quantity is the motor current I; the model predicts it from the drive chain

@@ -83,7 +83,7 @@ StagedOutput::~StagedOutput() {
 
 void StagedOutput::commit() {
   if (committed_) return;
-  publishFolder(staging_, out_);  // the whole folder at once (issue 19)
+  publishFolder(staging_, out_);  // the whole folder at once
   committed_ = true;
 }
 

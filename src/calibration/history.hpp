@@ -31,9 +31,9 @@ void writeHistory(const HistoryFile& h);
 // "%.6g" formatting used for the numeric cells.
 std::string historyNumber(double v);
 
-// The files of one compare/fit run (issue 13): nothing is written into the output folder until the
+// The files of one compare/fit run: nothing is written into the output folder until the
 // whole result exists. Every file goes to a staging folder beside it (`<out>.staging.<pid>`);
-// commit() swaps that folder in as a whole (io/files.hpp publishFolder, issue 19). A run that
+// commit() swaps that folder in as a whole (io/files.hpp publishFolder). A run that
 // fails before commit() (bad input, full disk) leaves the output folder exactly as it was: the
 // destructor removes the staging folder. While it exists, the output folder is locked (a lock file
 // beside it, `<out>.lock`, since the folder itself is swapped): a second compare/fit into the same

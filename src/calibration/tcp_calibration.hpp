@@ -1,5 +1,5 @@
 #pragma once
-// Model versus measurement, kind `tcp` (issue 7): measured TCP positions (optionally Cardan angles)
+// Model versus measurement, kind `tcp`: measured TCP positions (optionally Cardan angles)
 // at known joint positions against the design's forward kinematics. Candidate effects:
 // joint_offset.<joint>, link_length.<joint>.<x|y|z>, base_offset, joint_compliance.<joint>
 // (deflection = compliance * gravity torque of src/dynamics). docs/calibration.md, "Arms".

@@ -97,7 +97,7 @@ class TrajectoryProblem : public ArmProblem {
       e.pattern = "gravity and inertia torques of an extra body at the TCP: largest at the proximal joints with the "
                   "arm stretched out, grows with the TCP acceleration";
       // The standard linear inertial parameters of the extra body, in the TCP frame about the TCP
-      // origin: mass m, first moment m c, inertia I (issue 13): the efforts are linear in all ten,
+      // origin: mass m, first moment m c, inertia I: the efforts are linear in all ten,
       // so each is identifiable from a design without payload (m = 0). Typical values: 0.5 kg at
       // c = (0.02, -0.02, 0.06) m as a point mass, I = m (|c|^2 1 - c c^T).
       e.params = {{"mass", "kg", -model.payload_kg, kInfD, 0.5, 1e-4},

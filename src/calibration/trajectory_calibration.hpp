@@ -1,5 +1,5 @@
 #pragma once
-// Model versus measurement, kind `trajectory` (issue 7): joint efforts (or motor currents) measured
+// Model versus measurement, kind `trajectory`: joint efforts (or motor currents) measured
 // along a joint trajectory against inverse dynamics (src/dynamics RNEA) plus the drive chain
 // (src/drive). Candidate effects: payload, rotor_inertia, gravity_tilt, link_mass.<joint> and the
 // drive friction effects per joint <joint>.<coulomb|viscous|load_coulomb|load_viscous|stribeck|

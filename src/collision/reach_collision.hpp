@@ -1,5 +1,5 @@
 #pragma once
-// Collision-aware reachability of one pose (issue 5): reachable and collision-free, reachable
+// Collision-aware reachability of one pose: reachable and collision-free, reachable
 // only in collision (and which pair: self-collision or an environment obstacle), or unreachable.
 // The redundancy is used to escape a collision: when the first solution collides,
 //  1. (position, full-pose and tool-axis tasks) the collision potential H_c (eq. 5.53-5.57) is

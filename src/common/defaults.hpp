@@ -85,7 +85,7 @@ inline constexpr int kArmProfileRefineIterations = 12;        // golden-section 
 inline constexpr double kParsimonyTolerance = 0.02;           // simpler nested candidate ranks first within 2 %
 inline constexpr double kTcpAngleLength_m = 0.1;              // TCP angle residual [rad] -> fit units [m]
 inline constexpr int kComplianceFixedPointIterations = 3;     // sag q = q_m - C g(q): contraction steps
-// Unexplained-effect search (issue 13): residuals of the final model against every operating variable.
+// Unexplained-effect search: residuals of the final model against every operating variable.
 inline constexpr int kUnexplainedBins = 10;                   // equal-width bins of binned means per variable
 inline constexpr int kPeriodogramOversampling = 4;            // frequency grid step = 2 pi / (range * this)
 inline constexpr int kPeriodogramRowsPerCycle = 8;            // highest frequency: rows / this cycles over the range

@@ -226,7 +226,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   const fs::path out(sum.output_dir);
   const fs::path manifest_path = out / "manifest.json";
   // Rank 0 owns the output folder: one run per folder at a time, stale temporaries of a killed run
-  // go (issue 19), the checkpoint store is prepared. The other ranks attach to the store after it.
+  // go, the checkpoint store is prepared. The other ranks attach to the store after it.
   std::optional<OutputFolderLock> lock;
   std::optional<CheckpointStore> store;
   agreed(ranks, [&] {

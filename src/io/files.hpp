@@ -17,7 +17,7 @@ std::string fileHash(const std::string& path);
 // the target. An interrupted run never leaves a half-written file. Creates parent folders.
 void writeFileAtomic(const std::string& path, const std::string& content);
 
-// An output folder published as a whole (issue 19): a run writes its complete result into a
+// An output folder published as a whole: a run writes its complete result into a
 // staging folder beside the output folder, then publishFolder swaps it in, so a reader of the
 // output folder finds the previous complete result or the new one, never a mix.
 //
@@ -53,7 +53,7 @@ class FileLock {
   int fd_ = -1;
 };
 
-// Exclusive use of an output folder for one process (issue 19): creates the folder (an
+// Exclusive use of an output folder for one process: creates the folder (an
 // InputError naming it when that fails), takes an advisory lock on <folder>/.armstudy.lock
 // (InputError "another armstudy run is writing to <folder>" when another process holds it; the
 // kernel releases it when a process dies, even by SIGKILL), then removes the temporaries

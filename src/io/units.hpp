@@ -14,7 +14,7 @@ const char* toString(Dimension d);
 // the unit is unknown, or the unit does not fit `dim`.
 bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std::string& error);
 
-// Plausible magnitudes (issue 19; docs/design-format.md, "Plausible magnitudes"): the largest
+// Plausible magnitudes (docs/design-format.md, "Plausible magnitudes"): the largest
 // |value| in SI that an input may hold for a quantity of each dimension, and for a plain number
 // (masses, inertias, gear ratios, friction coefficients, currents, torques, measured samples).
 // They reject absurd values (1e308 as a link offset, a current of 1e308 A), not unusual designs.

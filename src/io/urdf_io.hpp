@@ -1,5 +1,5 @@
 #pragma once
-// URDF in and out (docs/design-format.md, "URDF"; issue 14).
+// URDF in and out (docs/design-format.md, "URDF").
 //
 // Import: urdfdom parses the file; the serial chain from `base_link` to `tip_link` becomes a
 // design. Joint values keep their URDF meaning (angle about / displacement along the URDF axis,

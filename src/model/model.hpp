@@ -40,7 +40,7 @@ struct Joint {
   int source_line = 0;           // line in the design file, for messages
 };
 
-// Optional per-link inertial data (filled by the dynamics issue; parsed now so designs can carry it).
+// Optional per-link inertial data (mass, centre of mass, inertia about the centre of mass).
 struct LinkInertia {
   double mass_kg = 0;
   Eigen::Vector3d p_com_m = Eigen::Vector3d::Zero();       // in the link frame
@@ -48,8 +48,8 @@ struct LinkInertia {
   bool given = false;
 };
 
-// One joint drive (thesis eq. 3.27, Tables A.1/A.2). Optional; the dynamics and calibration issues
-// consume it.
+// One joint drive (thesis eq. 3.27, Tables A.1/A.2). Optional; the dynamics and calibration code
+// read it.
 struct Drive {
   std::string joint;             // joint name it drives
   std::string module;            // e.g. "B.2" (Table A.2) — informative
@@ -111,7 +111,7 @@ struct Model {
   double payload_kg = 0;              // end-effector + payload at the TCP
   Eigen::Vector3d p_payload_com_T = Eigen::Vector3d::Zero();
   std::vector<Drive> drives;
-  std::vector<std::string> effects;   // enabled model effects (calibration issue)
+  std::vector<std::string> effects;   // enabled model effects (docs/calibration.md)
   CollisionModel collision;           // [[collision]] volumes; empty = no collision model
 
   int dof() const { return static_cast<int>(joints.size()); }

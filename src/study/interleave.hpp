@@ -1,5 +1,5 @@
 #pragma once
-// Interleaved programs (issue 16, docs/distributed.md "Interleaved searches"): several independent
+// Interleaved programs (docs/distributed.md "Interleaved searches"): several independent
 // sequences of shared loops, e.g. the reach map searches of every design of a grid, advance
 // together, one loop each per collective step, instead of one program after the other.
 //

@@ -52,8 +52,8 @@ Baseline parseBaseline(const std::string& text, const std::string& file, const s
   } catch (const std::exception& e) {
     throw InputError(file, 0, "", std::string("baseline is not valid JSON: ") + e.what());
   }
-  // A text field ("" when absent); another JSON type is an input error naming the key (issue 19:
-  // libFuzzer found `"format": {...}` escaping as a JSON type error).
+  // A text field ("" when absent); another JSON type is an input error naming the key
+  // (for example `"format": {...}`), never an escaping JSON type error.
   auto stringField = [&](const char* key) {
     if (!j.contains(key)) return std::string();
     if (!j[key].is_string()) throw InputError(file, 0, key, "expected a string");

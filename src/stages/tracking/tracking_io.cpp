@@ -134,7 +134,7 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
     r.fail("rate", "rate must lie in (0, 100000] Hz");
   if (e.duration_s * e.rate_Hz > defaults::kMaxTrajectorySamples)
     r.fail("duration", "duration x rate exceeds 1e6 samples");
-  // At least one Euler step (a rate so low that 1 / rate overflows was found by fuzzing).
+  // At least one Euler step (also rejects a rate so low that 1 / rate overflows).
   if (!(e.duration_s * e.rate_Hz >= 1))
     r.fail("rate", "rate x duration must give at least one step (rate >= 1 / duration)");
   e.stop_at_joint_limit = r.boolean("stop_at_joint_limit", e.stop_at_joint_limit);
