@@ -105,94 +105,161 @@ long searchStepChunk(std::size_t active) {
 // propagation round, the unsettled poses next to a pose that changed in the round before); the rule
 // does nothing at the others, so the map is the same as with a loop over every pose.
 using Neighbours = std::function<int(long, long*)>;
-SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
-                               const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
-                               const SweepCollision& collision, const SweepSearch& search, const UnitRunner* runner,
-                               PoseSweep& s) {
-  const auto t0 = std::chrono::steady_clock::now();
-  SweepSearchSummary sum;
-  const long N = s.size;
-  const int nt = threads > 0 ? threads : omp_get_max_threads();
-  IkOptions one = options;  // one start from the given configuration
-  one.max_starts = 1;
-  one.classify_failures = false;
-  auto settle = [](ReachStatus st) { return st == ReachStatus::Reachable; };
-  // Adopts a candidate: collision-free wins; an unreachable pose also takes a solution in collision.
-  auto improves = [](const PoseResult& pr, ReachStatus cur) {
-    return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
-  };
-  std::vector<std::uint8_t> changed(N, 0);
-  std::vector<int> extra(N, 0);  // starts spent on the pose by the search (every process counts all)
-  std::vector<PoseResult> found(N);  // per-step candidates (allocated once)
-  std::vector<std::uint8_t> now(N, 0);  // found[i] is this step's candidate where now[i]
-  std::vector<long> item_a(N, 0), item_b(N, 0);  // a step's counts per pose (summed per chunk)
-  std::vector<std::uint8_t> mark(N, 0);  // scratch of `around`
-  std::vector<std::uint8_t> touched(N, 0);  // rows the search changed (summary.changed)
-  // One pose solver per thread for the whole search, built on first use (a step's compute may be
-  // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
-  std::vector<std::unique_ptr<PoseSolver>> solvers(static_cast<std::size_t>(nt));
-  // The poses (ascending) next to any of `from` that pass `keep`.
-  auto around = [&](const std::vector<long>& from, auto&& keep) {
-    std::vector<long> out;
-    long nb[8];
-    for (const long j : from) {
-      const int count = neighbours(j, nb);
-      for (int k = 0; k < count; ++k)
-        if (!mark[nb[k]] && keep(nb[k])) {
-          mark[nb[k]] = 1;
-          out.push_back(nb[k]);
-        }
+
+class MapSearch {
+ public:
+  MapSearch(const Model& model, const std::function<IkTarget(long)>& target, const Neighbours& neighbours,
+            const Neighbours& box, const IkOptions& options, int threads, const SweepCollision& collision,
+            const SweepSearch& search, const UnitRunner* runner, PoseSweep& s)
+      : model_(model), target_(target), neighbours_(neighbours), box_(box), collision_(collision), search_(search),
+        runner_(runner), s_(s), N_(s.size), nt_(threads > 0 ? threads : omp_get_max_threads()), one_(options),
+        changed_(N_, 0), extra_(N_, 0), found_(N_), now_(N_, 0), item_a_(N_, 0), item_b_(N_, 0), mark_(N_, 0),
+        touched_(N_, 0), solvers_(static_cast<std::size_t>(nt_)) {
+    one_.max_starts = 1;  // one start from the given configuration
+    one_.classify_failures = false;
+  }
+
+  SweepSearchSummary run() {
+    const auto t0 = std::chrono::steady_clock::now();
+    propagate(true, {});
+    if (collision_.enabled() && search_.collision_starts > 0) multistart();
+    if (collision_.enabled() && box_) boxRound();
+    if (search_.best_manipulability) bestManipulability();
+    // The starts the search spent (every process has every pose's count).
+    for (long i = 0; i < N_; ++i) {
+      s_.starts[i] = static_cast<std::uint8_t>(std::min(255, s_.starts[i] + extra_[i]));
+      if (touched_[i] || extra_[i] > 0) sum_.changed.push_back(i);
     }
-    for (const long i : out) mark[i] = 0;
-    std::sort(out.begin(), out.end());
-    return out;
-  };
-  // The poses (ascending) that pass `keep`.
-  auto every = [&](auto&& keep) {
-    std::vector<long> out;
-    for (long i = 0; i < N; ++i)
-      if (keep(i)) out.push_back(i);
-    return out;
-  };
-  // One step over the poses `active` (ascending), in chunks of `chunk` poses: body(solver, i, nb,
-  // a, b) computes pose i's candidate and counts into a and b (a: the starts it spent, which count
-  // into the pose's starts when `spends` is set). Returns the totals of a and b over all poses and
-  // the poses that adopted a candidate (ascending). The spent starts travel with the adopted rows,
-  // so that every process counts them whichever process computed a pose.
+    sum_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return sum_;
+  }
+
+ private:
+  // A step's totals of its two counts and the poses that adopted a candidate (ascending).
   struct StepResult {
     long a = 0, b = 0;
     std::vector<long> adopted;
   };
-  int steps = 0;  // steps so far (names them in the unit-cost record)
-  auto step = [&](const char* phase, int grain, long chunk, bool spends, const std::vector<long>& active,
-                  auto&& body) {
-    std::fill(now.begin(), now.end(), 0);
+  using ChunkCounts = std::map<std::size_t, std::pair<long, long>>;  // per chunk computed here
+
+  static bool settle(ReachStatus st) { return st == ReachStatus::Reachable; }
+  // Adopts a candidate: collision-free wins; an unreachable pose also takes a solution in collision.
+  static bool improves(const PoseResult& pr, ReachStatus cur) {
+    return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
+  }
+  bool unsettled(long i) const { return !settle(static_cast<ReachStatus>(s_.status[i])); }
+  bool colliding(long i) const { return inCollision(static_cast<ReachStatus>(s_.status[i])); }
+
+  // The poses (ascending) next to any of `from` that pass `keep`.
+  template <class Keep>
+  std::vector<long> around(const std::vector<long>& from, Keep&& keep) {
+    std::vector<long> out;
+    long nb[8];
+    for (const long j : from) {
+      const int count = neighbours_(j, nb);
+      for (int k = 0; k < count; ++k)
+        if (!mark_[nb[k]] && keep(nb[k])) {
+          mark_[nb[k]] = 1;
+          out.push_back(nb[k]);
+        }
+    }
+    for (const long i : out) mark_[i] = 0;
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  // The poses (ascending) that pass `keep`.
+  template <class Keep>
+  std::vector<long> every(Keep&& keep) const {
+    std::vector<long> out;
+    for (long i = 0; i < N_; ++i)
+      if (keep(i)) out.push_back(i);
+    return out;
+  }
+
+  // Computes the candidates of the poses of `items` (indices into `active`) on the run's threads:
+  // body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b.
+  template <class Body>
+  void computeItems(const std::vector<long>& active, const std::vector<long>& items, int grain, Body& body) {
+    const long n = static_cast<long>(items.size());
+    for (const long t : items) item_a_[active[t]] = item_b_[active[t]] = 0;
+#pragma omp parallel num_threads(nt_)
+    {
+      std::unique_ptr<PoseSolver>& solver = solvers_[static_cast<std::size_t>(omp_get_thread_num())];
+      if (!solver) solver = std::make_unique<PoseSolver>(model_, collision_, target_);
+      long nb[28];
+#pragma omp for schedule(dynamic, grain)
+      for (long t = 0; t < n; ++t) {
+        const long i = active[items[t]];
+        body(*solver, i, nb, item_a_[i], item_b_[i]);
+      }
+    }
+  }
+
+  // A chunk's adopted rows and spent starts as bytes, by item index (its position in the active
+  // set); empty when nothing was tried there.
+  std::string packChunk(const std::vector<long>& active, const std::pair<long, long>& counts, const ItemRange& r,
+                        bool spends) const {
+    if (counts.first == 0 && counts.second == 0) return std::string();
+    UnitWriter w(kStepMagic);
+    w.put<std::int64_t>(counts.first);
+    w.put<std::int64_t>(counts.second);
+    for (long t = r.begin; t < r.end; ++t)
+      if (now_[active[t]]) {
+        w.put<std::int64_t>(t);
+        putPose(w, s_, active[t]);
+      }
+    w.put<std::int64_t>(-1);
+    if (spends)
+      for (long t = r.begin; t < r.end; ++t)
+        if (item_a_[active[t]] > 0) {
+          w.put<std::int64_t>(t);
+          w.put<std::int64_t>(item_a_[active[t]]);
+        }
+    return w.bytes();
+  }
+  // The inverse, on a process that did not compute the chunk: adopts its rows and counts.
+  void unpackChunk(const std::vector<long>& active, const ItemRange& r, const std::string& bytes, bool spends,
+                   StepResult& res) {
+    if (bytes.empty()) return;
+    UnitReader rd(bytes, kStepMagic);
+    res.a += static_cast<long>(rd.get<std::int64_t>());
+    res.b += static_cast<long>(rd.get<std::int64_t>());
+    for (long t = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && t >= 0;
+         t = static_cast<long>(rd.get<std::int64_t>())) {
+      ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s_, active[t]), "a search step's rows arrive whole");
+      now_[active[t]] = 1;
+      res.adopted.push_back(active[t]);
+    }
+    while (rd.ok() && !rd.finished()) {
+      const long t = static_cast<long>(rd.get<std::int64_t>());
+      const long spent = static_cast<long>(rd.get<std::int64_t>());
+      ARMSTUDY_CHECK(rd.ok() && spends && t >= r.begin && t < r.end, "a search step's start counts arrive whole");
+      extra_[active[t]] += static_cast<int>(spent);
+    }
+    ARMSTUDY_CHECK(rd.finished(), "a search step's rows arrive whole");
+  }
+
+  // One step over the poses `active` (ascending), in chunks of `chunk` poses (a loop shared among
+  // the processes of a distributed run): body computes each pose's candidate and counts into a and
+  // b (a: the starts it spent, which count into the pose's starts when `spends` is set). The spent
+  // starts travel with the adopted rows, so that every process counts them whichever process
+  // computed a pose.
+  template <class Body>
+  StepResult step(const char* phase, int grain, long chunk, bool spends, const std::vector<long>& active, Body&& body) {
+    std::fill(now_.begin(), now_.end(), 0);
     StepResult res;
-    std::map<std::size_t, std::pair<long, long>> counts;  // per chunk computed here
+    ChunkCounts counts;
     SharedLoop loop;
-    loop.id = "search/" + s.design + "/" + std::to_string(steps++) + "_" + phase;
+    loop.id = "search/" + s_.design + "/" + std::to_string(steps_++) + "_" + phase;
     loop.items = static_cast<long>(active.size());
     loop.chunk = chunk;
     loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
-      const std::vector<long> items = SharedLoop::itemsOf(mine);
-      const long n = static_cast<long>(items.size());
-      for (const long t : items) item_a[active[t]] = item_b[active[t]] = 0;
-#pragma omp parallel num_threads(nt)
-      {
-        std::unique_ptr<PoseSolver>& solver = solvers[static_cast<std::size_t>(omp_get_thread_num())];
-        if (!solver) solver = std::make_unique<PoseSolver>(model, collision, target);
-        long nb[28];
-#pragma omp for schedule(dynamic, grain)
-        for (long t = 0; t < n; ++t) {
-          const long i = active[items[t]];
-          body(*solver, i, nb, item_a[i], item_b[i]);
-        }
-      }
+      computeItems(active, SharedLoop::itemsOf(mine), grain, body);
       for (const SharedLoop::Chunk& c : mine) {
         std::pair<long, long>& ab = counts[c.first];
         for (long t = c.second.begin; t < c.second.end; ++t) {
-          ab.first += item_a[active[t]];
-          ab.second += item_b[active[t]];
+          ab.first += item_a_[active[t]];
+          ab.second += item_b_[active[t]];
         }
       }
     };
@@ -203,202 +270,201 @@ SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(
         res.b += counts.at(c.first).second;
         for (long t = c.second.begin; t < c.second.end; ++t) {
           const long i = active[t];
-          if (spends) extra[i] += static_cast<int>(item_a[i]);
-          if (now[i]) {
-            store(s, i, found[i].ik, s.starts[i]);
-            storeCollision(s, i, found[i]);
+          if (spends) extra_[i] += static_cast<int>(item_a_[i]);
+          if (now_[i]) {
+            store(s_, i, found_[i].ik, s_.starts[i]);
+            storeCollision(s_, i, found_[i]);
             res.adopted.push_back(i);
           }
         }
       }
     };
-    // A chunk's rows travel by item index (its position in the active set).
-    loop.pack = [&](std::size_t k, const ItemRange& r) {
-      // Nothing tried (so nothing adopted, no starts spent): nothing to send.
-      if (counts.at(k).first == 0 && counts.at(k).second == 0) return std::string();
-      UnitWriter w(kStepMagic);
-      w.put<std::int64_t>(counts.at(k).first);
-      w.put<std::int64_t>(counts.at(k).second);
-      for (long t = r.begin; t < r.end; ++t)
-        if (now[active[t]]) {
-          w.put<std::int64_t>(t);
-          putPose(w, s, active[t]);
-        }
-      w.put<std::int64_t>(-1);
-      if (spends)
-        for (long t = r.begin; t < r.end; ++t)
-          if (item_a[active[t]] > 0) {
-            w.put<std::int64_t>(t);
-            w.put<std::int64_t>(item_a[active[t]]);
-          }
-      return w.bytes();
-    };
+    loop.pack = [&](std::size_t k, const ItemRange& r) { return packChunk(active, counts.at(k), r, spends); };
     loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
-      if (bytes.empty()) return;
-      UnitReader rd(bytes, kStepMagic);
-      res.a += static_cast<long>(rd.get<std::int64_t>());
-      res.b += static_cast<long>(rd.get<std::int64_t>());
-      for (long t = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && t >= 0;
-           t = static_cast<long>(rd.get<std::int64_t>())) {
-        ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s, active[t]), "a search step's rows arrive whole");
-        now[active[t]] = 1;
-        res.adopted.push_back(active[t]);
-      }
-      while (rd.ok() && !rd.finished()) {
-        const long t = static_cast<long>(rd.get<std::int64_t>());
-        const long spent = static_cast<long>(rd.get<std::int64_t>());
-        ARMSTUDY_CHECK(rd.ok() && spends && t >= r.begin && t < r.end, "a search step's start counts arrive whole");
-        extra[active[t]] += static_cast<int>(spent);
-      }
-      ARMSTUDY_CHECK(rd.finished(), "a search step's rows arrive whole");
+      unpackChunk(active, r, bytes, spends, res);
     };
-    runSharedLoop(runner, loop);
+    runSharedLoop(runner_, loop);
     std::sort(res.adopted.begin(), res.adopted.end());
-    for (const long i : res.adopted) touched[i] = 1;
+    for (const long i : res.adopted) touched_[i] = 1;
     return res;
-  };
-  auto unsettled = [&](long i) { return !settle(static_cast<ReachStatus>(s.status[i])); };
-  auto colliding = [&](long i) { return inCollision(static_cast<ReachStatus>(s.status[i])); };
+  }
+
   // Neighbour propagation (Jacobi rounds: a round reads only the previous round's results). The
   // first round with all_sources visits every unsettled pose; a later round those next to a pose
   // that changed in the round before (`from`).
-  auto propagate = [&](bool all_sources, std::vector<long> from) {
+  void propagate(bool all_sources, std::vector<long> from) {
     bool first = all_sources;
+    const auto unsettled = [this](long i) { return this->unsettled(i); };
     for (;;) {
-      if (sum.rounds >= search.propagation_rounds) {
-        sum.converged = false;
+      if (sum_.rounds >= search_.propagation_rounds) {
+        sum_.converged = false;
         return;
       }
       const std::vector<long> active =
-          first || search.every_pose_each_step ? every(unsettled) : around(from, unsettled);
-      const StepResult r = step("propagate", 4, searchStepChunk(active.size()), true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
-        const auto cur = static_cast<ReachStatus>(s.status[i]);
-        if (settle(cur)) return;
-        const int count = neighbours(i, nb);
-        for (int k = 0; k < count; ++k) {
-          if (!s.reachable(nb[k]) || !(first || changed[nb[k]])) continue;
-          // The neighbour's solution, and in the first round also the other chain's (a second
-          // branch, which never changes).
-          const int seeds = first && hasAlternative(s, nb[k]) ? 2 : 1;
-          for (int a = 0; a < seeds; ++a) {
-            const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
-            PoseResult pr = solver.solve(i, one, &w, 0);
-            ++tries;
-            if (!improves(pr, now[i] ? found[i].ik.status : cur)) continue;
-            found[i] = std::move(pr);
-            now[i] = 1;
-            if (found[i].ik.reachable()) break;
-          }
-          if (now[i] && found[i].ik.reachable()) break;
-        }
-        updates += now[i];
-      });
-      ++sum.rounds;
-      sum.neighbour_tries += r.a;
-      sum.neighbour_updates += r.b;
-      changed.swap(now);
+          first || search_.every_pose_each_step ? every(unsettled) : around(from, unsettled);
+      const StepResult r = step("propagate", 4, searchStepChunk(active.size()), true, active,
+                                [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+                                  propagateFrom(solver, i, nb, first, tries);
+                                  updates += now_[i];
+                                });
+      ++sum_.rounds;
+      sum_.neighbour_tries += r.a;
+      sum_.neighbour_updates += r.b;
+      changed_.swap(now_);
       from = r.adopted;
       first = false;
       if (r.b == 0) return;
     }
-  };
-  propagate(true, {});
-  // Seeded multi-starts for every pose still reachable only in collision, then propagation
-  // from the poses they freed.
-  if (collision.enabled() && search.collision_starts > 0) {
-    const std::vector<long> active = every(colliding);
-    sum.multistart_poses += static_cast<long>(active.size());
+  }
+  // Pose i's candidate in a propagation round: one start from each collision-free neighbour that
+  // changed in the round before (every neighbour in the first round, then also its second branch).
+  void propagateFrom(PoseSolver& solver, long i, long* nb, bool first, long& tries) {
+    const auto cur = static_cast<ReachStatus>(s_.status[i]);
+    if (settle(cur)) return;
+    const int count = neighbours_(i, nb);
+    for (int k = 0; k < count; ++k) {
+      if (!s_.reachable(nb[k]) || !(first || changed_[nb[k]])) continue;
+      // The neighbour's solution, and in the first round also the other chain's (a second
+      // branch, which never changes).
+      const int seeds = first && hasAlternative(s_, nb[k]) ? 2 : 1;
+      for (int a = 0; a < seeds; ++a) {
+        const JointVector w = a == 0 ? solutionOf(s_, nb[k]) : alternativeOf(s_, nb[k]);
+        PoseResult pr = solver.solve(i, one_, &w, 0);
+        ++tries;
+        if (!improves(pr, now_[i] ? found_[i].ik.status : cur)) continue;
+        found_[i] = std::move(pr);
+        now_[i] = 1;
+        if (found_[i].ik.reachable()) break;
+      }
+      if (now_[i] && found_[i].ik.reachable()) break;
+    }
+  }
+
+  // Seeded multi-starts for every pose still reachable only in collision, then propagation from
+  // the poses they freed.
+  void multistart() {
+    const std::vector<long> active = every([this](long i) { return colliding(i); });
+    sum_.multistart_poses += static_cast<long>(active.size());
     const StepResult r = step("multistart", 1, 1, true, active, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
-      if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
-      JointVector q0(model.dof());
-      for (int k = 0; k < search.collision_starts; ++k) {
-        randomConfiguration(model, search.seed, static_cast<std::uint64_t>(i), k, q0);
-        PoseResult pr = solver.solve(i, one, &q0, 0);
+      if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
+      JointVector q0(model_.dof());
+      for (int k = 0; k < search_.collision_starts; ++k) {
+        randomConfiguration(model_, search_.seed, static_cast<std::uint64_t>(i), k, q0);
+        PoseResult pr = solver.solve(i, one_, &q0, 0);
         ++tries;
         if (!pr.ik.reachable()) continue;
-        found[i] = std::move(pr);
-        now[i] = 1;
+        found_[i] = std::move(pr);
+        now_[i] = 1;
         ++freed;
         break;
       }
     });
-    sum.multistart_tries = r.a;
-    sum.multistart_freed = r.b;
-    changed = now;
+    sum_.multistart_tries = r.a;
+    sum_.multistart_freed = r.b;
+    changed_ = now_;
     if (r.b > 0) propagate(false, r.adopted);
   }
+
   // Poses still in collision: one round from the solutions (and second branches) of every
   // collision-free pose in their wider neighbourhood (the 3 x 3 x 3 box), then propagation from
   // the poses it freed.
-  if (collision.enabled() && box) {
-    const std::vector<long> active = every(colliding);
+  void boxRound() {
+    const std::vector<long> active = every([this](long i) { return colliding(i); });
     const StepResult r = step("box", 1, 1, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
-      if (!inCollision(static_cast<ReachStatus>(s.status[i]))) return;
-      const int count = box(i, nb);
-      for (int k = 0; k < count && !now[i]; ++k) {
-        if (!s.reachable(nb[k])) continue;
-        for (int a = 0; a < (hasAlternative(s, nb[k]) ? 2 : 1) && !now[i]; ++a) {
-          const JointVector w = a == 0 ? solutionOf(s, nb[k]) : alternativeOf(s, nb[k]);
-          PoseResult pr = solver.solve(i, one, &w, 0);
+      if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
+      const int count = box_(i, nb);
+      for (int k = 0; k < count && !now_[i]; ++k) {
+        if (!s_.reachable(nb[k])) continue;
+        for (int a = 0; a < (hasAlternative(s_, nb[k]) ? 2 : 1) && !now_[i]; ++a) {
+          const JointVector w = a == 0 ? solutionOf(s_, nb[k]) : alternativeOf(s_, nb[k]);
+          PoseResult pr = solver.solve(i, one_, &w, 0);
           ++tries;
           if (!pr.ik.reachable()) continue;
-          found[i] = std::move(pr);
-          now[i] = 1;
+          found_[i] = std::move(pr);
+          now_[i] = 1;
           ++freed;
         }
       }
     });
-    sum.box_tries = r.a;
-    sum.box_freed = r.b;
-    changed = now;
+    sum_.box_tries = r.a;
+    sum_.box_freed = r.b;
+    changed_ = now_;
     if (r.b > 0) propagate(false, r.adopted);
   }
+
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
   // retries from every collision-free neighbour whose manipulability is higher and keeps a
   // collision-free solution that raises its own by more than defaults::kReachManipulabilityImprovement
   // (a step to a better posture, not a creep along a continuous family of solutions), until
   // nothing changes. The first round visits every reachable pose, a later one those next to a pose
   // that improved in the round before.
-  if (search.best_manipulability) {
-    std::vector<std::uint8_t> src(N, 1);
-    auto reachable = [&](long i) { return s.reachable(i); };
+  void bestManipulability() {
+    std::vector<std::uint8_t> src(N_, 1);
+    const auto reachable = [this](long i) { return s_.reachable(i); };
     std::vector<long> from;
-    for (int round = 0; round < search.propagation_rounds; ++round) {
+    for (int round = 0; round < search_.propagation_rounds; ++round) {
       const std::vector<long> active =
-          round == 0 || search.every_pose_each_step ? every(reachable) : around(from, reachable);
-      const StepResult r = step("best", 4, searchStepChunk(active.size()), false, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
-        if (!s.reachable(i)) return;
-        double best = s.manipulability[i];
-        const int count = neighbours(i, nb);
-        for (int k = 0; k < count; ++k) {
-          if (!src[nb[k]] || !s.reachable(nb[k]) || !(s.manipulability[nb[k]] > best)) continue;
-          const JointVector w = solutionOf(s, nb[k]);
-          PoseResult pr = solver.solve(i, one, &w, 0, false);
-          ++tries;
-          if (!pr.ik.reachable() ||
-              !(pr.ik.manipulability > best + defaults::kReachManipulabilityImprovement * std::abs(best)))
-            continue;
-          best = pr.ik.manipulability;
-          found[i] = std::move(pr);
-          now[i] = 1;
-        }
-        updates += now[i];
-      });
-      ++sum.best_rounds;
-      sum.best_tries += r.a;
-      sum.best_updates += r.b;
-      src.swap(now);
+          round == 0 || search_.every_pose_each_step ? every(reachable) : around(from, reachable);
+      const StepResult r = step("best", 4, searchStepChunk(active.size()), false, active,
+                                [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+                                  if (!s_.reachable(i)) return;
+                                  double best = s_.manipulability[i];
+                                  const int count = neighbours_(i, nb);
+                                  for (int k = 0; k < count; ++k) {
+                                    if (!src[nb[k]] || !s_.reachable(nb[k]) || !(s_.manipulability[nb[k]] > best))
+                                      continue;
+                                    const JointVector w = solutionOf(s_, nb[k]);
+                                    PoseResult pr = solver.solve(i, one_, &w, 0, false);
+                                    ++tries;
+                                    if (!pr.ik.reachable() ||
+                                        !(pr.ik.manipulability >
+                                          best + defaults::kReachManipulabilityImprovement * std::abs(best)))
+                                      continue;
+                                    best = pr.ik.manipulability;
+                                    found_[i] = std::move(pr);
+                                    now_[i] = 1;
+                                  }
+                                  updates += now_[i];
+                                });
+      ++sum_.best_rounds;
+      sum_.best_tries += r.a;
+      sum_.best_updates += r.b;
+      src.swap(now_);
       from = r.adopted;
       if (r.b == 0) break;
     }
   }
-  // The starts the search spent (every process has every pose's count).
-  for (long i = 0; i < N; ++i) {
-    s.starts[i] = static_cast<std::uint8_t>(std::min(255, s.starts[i] + extra[i]));
-    if (touched[i] || extra[i] > 0) sum.changed.push_back(i);
-  }
-  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return sum;
+
+  const Model& model_;
+  const std::function<IkTarget(long)>& target_;
+  const Neighbours& neighbours_;
+  const Neighbours& box_;
+  const SweepCollision& collision_;
+  const SweepSearch& search_;
+  const UnitRunner* runner_;
+  PoseSweep& s_;
+  const long N_;
+  const int nt_;
+  IkOptions one_;
+  SweepSearchSummary sum_;
+  std::vector<std::uint8_t> changed_;
+  std::vector<int> extra_;                       // starts spent on the pose by the search (every process counts all)
+  std::vector<PoseResult> found_;                // per-step candidates (allocated once)
+  std::vector<std::uint8_t> now_;                // found_[i] is this step's candidate where now_[i]
+  std::vector<long> item_a_, item_b_;            // a step's counts per pose (summed per chunk)
+  std::vector<std::uint8_t> mark_;               // scratch of `around`
+  std::vector<std::uint8_t> touched_;            // rows the search changed (summary.changed)
+  // One pose solver per thread for the whole search, built on first use (a step's compute may be
+  // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
+  std::vector<std::unique_ptr<PoseSolver>> solvers_;
+  int steps_ = 0;  // steps so far (names them in the unit-cost record)
+};
+
+SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
+                               const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
+                               const SweepCollision& collision, const SweepSearch& search, const UnitRunner* runner,
+                               PoseSweep& s) {
+  return MapSearch(model, target, neighbours, box, options, threads, collision, search, runner, s).run();
 }
 
 constexpr std::string_view kResultMagic = "armstudy-search-result-1";
