@@ -17,22 +17,11 @@ using nlohmann::ordered_json;
 using namespace reach_report;
 using namespace reach_units;
 
-StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
-  StageResult sum;
-  const Study& study = ctx.study;
-  if (!cfg.enabled) return sum;
-  ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
-  Writer out(ctx.output_dir);
-  long total = 0;
-  for (const TaskGrid& g : cfg.grids) total += g.size() * static_cast<long>(study.designs.size());
-  for (const PoseList& l : cfg.pose_lists) total += static_cast<long>(l.poses.size() * study.designs.size());
-  Progress progress(total, ctx.options.progress, "reachability " + study.name);
+namespace {
 
-  ordered_json js;
-  js["study"] = study.name;
-  ordered_json jr;
-  jr["settings"] = {{"position_tolerance_m", cfg.ik.position_tolerance_m},
+// The settings block of summary.json.
+ordered_json settingsJson(const ReachConfig& cfg) {
+  ordered_json j = {{"position_tolerance_m", cfg.ik.position_tolerance_m},
                     {"orientation_tolerance_rad", cfg.ik.orientation_tolerance_rad},
                     {"orientation_tolerance_deg", cfg.ik.orientation_tolerance_rad * kRadToDeg},
                     {"starts", cfg.ik.max_starts},
@@ -47,11 +36,14 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
                     {"search_best_manipulability", cfg.search.best_manipulability},
                     {"search_seed", cfg.search.seed},
                     {"sweep_order", cfg.ik.sweep_descending ? "descending" : "ascending"}};
-  {
-    ordered_json jobs = ordered_json::array();
-    for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
-    jr["settings"]["obstacles"] = jobs;
-  }
+  ordered_json jobs = ordered_json::array();
+  for (const collision::Obstacle& o : cfg.collision.obstacles) jobs.push_back(obstacleJson(o));
+  j["obstacles"] = jobs;
+  return j;
+}
+
+// The report's opening: the tolerances, the task and each design's tool axis.
+std::string taskText(const Study& study, const ReachConfig& cfg) {
   std::string md = "# Reachability: study `" + study.name + "`\n\n";
   if (!study.description.empty()) md += study.description + "\n\n";
   md += "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the TCP within " +
@@ -71,30 +63,40 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
         "rows and the 2 angular rows perpendicular to the tool axis (eq. 5.59; the angular rows weighed by a "
         "characteristic length of 1 m; summary.json and the .vti files give the translational and rotational parts "
         "beside it).\n\n";
+  return md;
+}
+
+// The designs evaluated without collisions (no volumes) while the study checks them: a warning at
+// the top of the report, in summary.json and on stderr.
+void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered_json& jr, std::string& md) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   std::string without;
-  for (const StudyDesign& sd : study.designs)
+  for (const StudyDesign& sd : ctx.study.designs)
     if (sd.model.collision.empty()) without += std::string(without.empty() ? "" : ", ") + "`" + sd.model.name + "`";
-  if ((self_on || obst_on) && !without.empty()) {
-    md += "**Warning:** " + without +
-          " evaluated without self-collision and obstacles: no collision volumes (a design file without "
-          "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say \"n/a\" in "
-          "the collision columns and their reachable shares are not comparable with the others'.\n\n";
-    ordered_json jw = ordered_json::array();
-    for (const StudyDesign& sd : study.designs)
-      if (sd.model.collision.empty()) jw.push_back(sd.model.name);
-    jr["designs_without_collision_volumes"] = jw;
-    if (ctx.writes_results)
-      std::fprintf(stderr, "armstudy: warning: %s evaluated without self-collision and obstacles (no collision volumes)\n",
-                   without.c_str());
-  }
-  md += "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
-        report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
-        " blocked by joint limits, " + report::hex(report::categorical(3)) +
-        " representation singularity" +
-        (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
-        (obst_on ? ", " + report::hex(report::categorical(6)) + " reachable only in contact with an obstacle" : "") +
-        " (green, light grey, orange, purple" + (self_on ? ", red" : "") + (obst_on ? ", brown" : "") + ").\n\n";
+  if (!(self_on || obst_on) || without.empty()) return;
+  md += "**Warning:** " + without +
+        " evaluated without self-collision and obstacles: no collision volumes (a design file without "
+        "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say \"n/a\" in "
+        "the collision columns and their reachable shares are not comparable with the others'.\n\n";
+  ordered_json jw = ordered_json::array();
+  for (const StudyDesign& sd : ctx.study.designs)
+    if (sd.model.collision.empty()) jw.push_back(sd.model.name);
+  jr["designs_without_collision_volumes"] = jw;
+  if (ctx.writes_results)
+    std::fprintf(stderr, "armstudy: warning: %s evaluated without self-collision and obstacles (no collision volumes)\n",
+                 without.c_str());
+}
+
+// The map colours, and what the collision and obstacle checks mean.
+std::string checksText(const ReachConfig& cfg) {
+  const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
+  std::string md = "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
+                   report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
+                   " blocked by joint limits, " + report::hex(report::categorical(3)) +
+                   " representation singularity" +
+                   (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
+                   (obst_on ? ", " + report::hex(report::categorical(6)) + " reachable only in contact with an obstacle" : "") +
+                   " (green, light grey, orange, purple" + (self_on ? ", red" : "") + (obst_on ? ", brown" : "") + ").\n\n";
   if (self_on)
     md += "Self-collision: on. A pose counts as reachable only with a collision-free solution (every self-collision "
           "distance of the design's swept-sphere volumes > 0, other postures tried through the redundancy); poses "
@@ -108,66 +110,97 @@ StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
     for (const collision::Obstacle& o : cfg.collision.obstacles) orows.push_back(obstacleRow(o));
     md += report::markdownTable({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"}, orows) + "\n";
   }
+  return md;
+}
 
+// One design on a pose list: its sweep and search, summary entry, .vtp and best robot, table row.
+ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l, const StudyDesign& sd,
+                            Progress& progress, StageResult& sum, Writer& out, std::vector<std::string>& row) {
+  const std::string unit = "reach/" + l.name + "/" + sd.model.name;
+  PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
+  // Poses in collision get the seeded starts too (a list has no neighbours).
+  const SweepSearchSummary ss =
+      searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
+  sum.timings.push_back({unit + "/search", ss.seconds});
+  addUnitMetrics(sum.metrics, unit, s);
+  Stats st;
+  for (long i = 0; i < s.size; ++i) st.add(s, i, l.poses[i].head<3>());
+  ordered_json jd;
+  jd["design"] = s.design;
+  jd.update(st.json());
+  jd["search"] = {{"collision_multistart_poses", ss.multistart_poses},
+                  {"collision_multistart_tries", ss.multistart_tries},
+                  {"collision_multistart_freed", ss.multistart_freed}};
+  if (cfg.outputs.vtk) {
+    io::PolyDataSet poly;
+    poly.vertices = true;
+    for (const auto& w : l.poses) poly.points.push_back(w.head<3>());
+    addPoseArrays(poly.point_arrays, s, nullptr, s.size, 0, "");
+    poly.point_arrays.push_back(arrayOf("line", io::ArrayType::Int32, nullptr, s.size, 0, 1,
+                                        [&](long i, int) { return double(l.lines[i]); }));
+    poly.field_data = poseFieldData(s, nullptr);
+    poly.field_data[1].values.push_back("line: 1");
+    const std::string rel = "reach/" + l.name + "/" + s.design + ".vtp";
+    io::writeVtp(out.path(rel), poly);
+    out.add(rel);
+    jd["vtp"] = rel;
+    writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
+  }
+  row = {s.design, report::percent(st.fraction()), report::percent(st.n ? double(st.status[2]) / st.n : 0),
+         report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()};
+  insertCollisionColumns(cfg, row, 2, st);
+  return jd;
+}
+
+// A pose list: every design on it, its summary block and report section.
+ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l, Progress& progress,
+                            StageResult& sum, Writer& out, std::string& md) {
+  ordered_json jl;
+  jl["name"] = l.name;
+  jl["file"] = l.file;
+  jl["task_space"] = l.task_space.toString();
+  jl["poses"] = l.poses.size();
+  md += "## Pose list `" + l.name + "`\n\n" + std::to_string(l.poses.size()) + " poses from `" + l.file +
+        "`, task space " + l.task_space.toString() + ".\n\n";
+  std::vector<std::vector<std::string>> rows;
+  ordered_json jdesigns = ordered_json::array();
+  for (const StudyDesign& sd : ctx.study.designs) {
+    rows.emplace_back();
+    jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back()));
+  }
+  jl["designs"] = jdesigns;
+  std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach", "extent"};
+  insertCollisionColumns(cfg, header, 2);
+  md += report::markdownTable(header, rows) + "\n";
+  return jl;
+}
+
+}  // namespace
+
+StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StageResult sum;
+  const Study& study = ctx.study;
+  if (!cfg.enabled) return sum;
+  ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
+  Writer out(ctx.output_dir);
+  long total = 0;
+  for (const TaskGrid& g : cfg.grids) total += g.size() * static_cast<long>(study.designs.size());
+  for (const PoseList& l : cfg.pose_lists) total += static_cast<long>(l.poses.size() * study.designs.size());
+  Progress progress(total, ctx.options.progress, "reachability " + study.name);
+
+  ordered_json js;
+  js["study"] = study.name;
+  ordered_json jr;
+  jr["settings"] = settingsJson(cfg);
+  std::string md = taskText(study, cfg);
+  warnWithoutVolumes(ctx, cfg, jr, md);
+  md += checksText(cfg);
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids) jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, md));
   jr["grids"] = jgrids;
-
-  // Pose lists.
   ordered_json jlists = ordered_json::array();
-  for (const PoseList& l : cfg.pose_lists) {
-    ordered_json jl;
-    jl["name"] = l.name;
-    jl["file"] = l.file;
-    jl["task_space"] = l.task_space.toString();
-    jl["poses"] = l.poses.size();
-    md += "## Pose list `" + l.name + "`\n\n" + std::to_string(l.poses.size()) + " poses from `" + l.file +
-          "`, task space " + l.task_space.toString() + ".\n\n";
-    std::vector<std::vector<std::string>> rows;
-    ordered_json jdesigns = ordered_json::array();
-    for (const StudyDesign& sd : study.designs) {
-      const std::string unit = "reach/" + l.name + "/" + sd.model.name;
-      PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
-      // Poses in collision get the seeded starts too (issue 12; a list has no neighbours).
-      const SweepSearchSummary ss =
-          searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
-      sum.timings.push_back({unit + "/search", ss.seconds});
-      addUnitMetrics(sum.metrics, unit, s);
-      Stats st;
-      for (long i = 0; i < s.size; ++i) st.add(s, i, l.poses[i].head<3>());
-      ordered_json jd;
-      jd["design"] = s.design;
-      jd.update(st.json());
-      jd["search"] = {{"collision_multistart_poses", ss.multistart_poses},
-                      {"collision_multistart_tries", ss.multistart_tries},
-                      {"collision_multistart_freed", ss.multistart_freed}};
-      if (cfg.outputs.vtk) {
-        io::PolyDataSet poly;
-        poly.vertices = true;
-        for (const auto& w : l.poses) poly.points.push_back(w.head<3>());
-        addPoseArrays(poly.point_arrays, s, nullptr, s.size, 0, "");
-        poly.point_arrays.push_back(arrayOf("line", io::ArrayType::Int32, nullptr, s.size, 0, 1,
-                                            [&](long i, int) { return double(l.lines[i]); }));
-        poly.field_data = poseFieldData(s, nullptr);
-        poly.field_data[1].values.push_back("line: 1");
-        const std::string rel = "reach/" + l.name + "/" + s.design + ".vtp";
-        io::writeVtp(out.path(rel), poly);
-        out.add(rel);
-        jd["vtp"] = rel;
-        writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
-      }
-      jdesigns.push_back(jd);
-      rows.push_back({s.design, report::percent(st.fraction()),
-                      report::percent(st.n ? double(st.status[2]) / st.n : 0),
-                      report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()});
-      insertCollisionColumns(cfg, rows.back(), 2, st);
-    }
-    jl["designs"] = jdesigns;
-    jlists.push_back(jl);
-    std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach", "extent"};
-    insertCollisionColumns(cfg, header, 2);
-    md += report::markdownTable(header, rows) + "\n";
-  }
+  for (const PoseList& l : cfg.pose_lists) jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
   jr["pose_lists"] = jlists;
   if (!ctx.writes_results) {  // a rank other than 0: its summary and report nobody reads
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
