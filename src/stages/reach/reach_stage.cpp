@@ -90,13 +90,18 @@ void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered
 // The map colours, and what the collision and obstacle checks mean.
 std::string checksText(const ReachConfig& cfg) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
+  // Only a literal selection of Cardan angles can be representation singular.
+  bool cardan = false;
+  for (const TaskGrid& g : cfg.grids) cardan |= usesCardanAngles(g.task_space);
+  for (const PoseList& l : cfg.pose_lists) cardan |= usesCardanAngles(l.task_space);
   std::string md = "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
                    report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
-                   " blocked by joint limits, " + report::hex(report::categorical(3)) +
-                   " representation singularity" +
+                   " blocked by joint limits" +
+                   (cardan ? ", " + report::hex(report::categorical(3)) + " representation singularity" : "") +
                    (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
                    (obst_on ? ", " + report::hex(report::categorical(6)) + " reachable only in contact with an obstacle" : "") +
-                   " (green, light grey, orange, purple" + (self_on ? ", red" : "") + (obst_on ? ", brown" : "") + ").\n\n";
+                   " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
+                   (obst_on ? ", brown" : "") + ").\n\n";
   if (self_on)
     md += "Self-collision: on. A pose counts as reachable only with a collision-free solution (every self-collision "
           "distance of the design's swept-sphere volumes > 0, other postures tried through the redundancy); poses "
