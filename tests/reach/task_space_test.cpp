@@ -21,7 +21,9 @@
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 
+#include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "ik/reach_solver.hpp"
@@ -200,4 +202,39 @@ TEST_CASE("at alpha = gamma = 0 the tool-axis manipulability is |cos beta| times
         ++checked;
       }
   CHECK(checked > 10);
+}
+
+TEST_CASE("the reach stage evaluates the designs its section names, and an unknown name lists the study designs",
+          "[reach][input]") {
+  const fs::path dir = fs::temp_directory_path() / "armstudy_reach_designs_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string head = "[study]\nname = \"pick\"\n[[design]]\nfile = \"" +
+                           sourcePath("designs/first_prototype_6dof.toml") + "\"\n[[design]]\nfile = \"" +
+                           sourcePath("designs/final_prototype_7dof.toml") + "\"\n";
+  const std::string grid = "[[reach.grid]]\nname = \"g\"\nx = 0\ny = 0.7\nz = { from = \"0.8 m\", to = \"1.2 m\", step "
+                           "= \"0.2 m\" }\nalpha = 0\ngamma = 0\n";
+  std::ofstream(dir / "s.toml") << head << "[reach]\ndesigns = [\"final_prototype_7dof\"]\n" << grid;
+  const Study study = loadStudy((dir / "s.toml").string());
+  RunOptions ro;
+  ro.output_root = (dir / "out").string();
+  ro.threads = 1;
+  ro.progress = false;
+  runStudy(study, ro);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "pick" / "summary.json"));
+  const auto& designs = summary["reach"]["grids"][0]["designs"];
+  REQUIRE(designs.size() == 1);
+  CHECK(designs[0]["design"] == "final_prototype_7dof");
+  CHECK_FALSE(fs::exists(dir / "out" / "pick" / "reach" / "g" / "first_prototype_6dof.vti"));
+
+  std::ofstream(dir / "bad.toml") << head << "[reach]\ndesigns = [\"ur10\"]\n" << grid;
+  try {
+    loadStudy((dir / "bad.toml").string());
+    FAIL("an unknown design name must be an input error");
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    CHECK(what.find("reach.designs") != std::string::npos);
+    CHECK(what.find("'ur10' is not part of the study (designs: first_prototype_6dof, final_prototype_7dof)") !=
+          std::string::npos);
+  }
 }

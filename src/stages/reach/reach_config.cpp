@@ -1,5 +1,6 @@
 #include "stages/reach/reach_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -95,6 +96,22 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (!t) return;
   cfg.enabled = true;
   TableReader r(*t, top.file(), "reach");
+  std::vector<const Model*> evaluated;  // the designs this stage evaluates (key designs; default all)
+  if (r.has("designs")) {
+    cfg.designs = r.stringArray("designs");
+    if (cfg.designs.empty()) r.fail("designs", "empty list of designs");
+    for (const auto& d : cfg.designs) {
+      const auto it = std::find_if(models.begin(), models.end(), [&](const Model* m) { return m->name == d; });
+      if (it == models.end()) {
+        std::string names;
+        for (const Model* m : models) names += (names.empty() ? "" : ", ") + m->name;
+        r.fail("designs", "design '" + d + "' is not part of the study (designs: " + names + ")");
+      }
+      evaluated.push_back(*it);
+    }
+  } else {
+    evaluated = models;
+  }
   const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
   cfg.ik.position_tolerance_m = r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);
   if (!(cfg.ik.position_tolerance_m > 0)) r.fail("position_tolerance", "tolerance must be positive");
@@ -114,7 +131,7 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   {
     // Designs without collision volumes are evaluated without collisions (ReachConfig::collisionFor).
     bool any_has_model = false;
-    for (const Model* m : models) any_has_model |= !m->collision.empty();
+    for (const Model* m : evaluated) any_has_model |= !m->collision.empty();
     cfg.collision.self = r.boolean("self_collision", any_has_model);
     if (cfg.collision.self && !any_has_model)
       r.fail("self_collision", "self_collision = true needs a collision model, but no design of the study has one "

@@ -23,6 +23,7 @@ struct ReachOutputs {
 
 struct ReachConfig {
   bool enabled = false;              // the study has a [reach] section
+  std::vector<std::string> designs;  // the designs the stage evaluates (key designs); empty: all
   IkOptions ik = studyDefaults();    // tolerances, starts, seed, classification
   static IkOptions studyDefaults() {
     IkOptions o;

@@ -1,5 +1,6 @@
 #include "stages/reach/reach_stage.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -182,11 +183,22 @@ ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, con
 
 }  // namespace
 
-StageResult runReachStage(const StageContext& ctx, const ReachConfig& cfg) {
+StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;
-  const Study& study = ctx.study;
   if (!cfg.enabled) return sum;
+  // The designs this stage evaluates ([reach] designs), in study order.
+  Study selected = all_ctx.study;
+  if (!cfg.designs.empty())
+    selected.designs.erase(std::remove_if(selected.designs.begin(), selected.designs.end(),
+                                          [&](const StudyDesign& sd) {
+                                            return std::find(cfg.designs.begin(), cfg.designs.end(), sd.model.name) ==
+                                                   cfg.designs.end();
+                                          }),
+                           selected.designs.end());
+  const StageContext ctx{selected, all_ctx.options, all_ctx.output_dir, all_ctx.units, all_ctx.threads,
+                         all_ctx.writes_results};
+  const Study& study = ctx.study;
   ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
   Writer out(ctx.output_dir);
   long total = 0;
