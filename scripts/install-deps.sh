@@ -10,7 +10,8 @@ PKGS=(build-essential cmake ninja-build ccache git pkg-config
       xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
       liborocos-kdl-dev libfcl-dev libceres-dev
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
-      libopenmpi-dev openmpi-bin)
+      libopenmpi-dev openmpi-bin
+      python3)  # the distribution simulator's tests (tests/study/interleave_test.cpp)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

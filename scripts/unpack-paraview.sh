@@ -3,7 +3,7 @@
 # build/paraview/pvpython, a wrapper that runs its pvpython. Not installed system-wide because on
 # Debian 12 python3-paraview conflicts with libvtk9-dev, which armstudy builds with (docs/paraview.md).
 # Used by tests/study/paraview_scene_test.cpp (the scenes rendered offscreen through xvfb-run).
-# Safe to run repeatedly; when apt cannot download, it warns and the render test warns too.
+# Safe to run repeatedly; when apt cannot download, it warns and the render test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 DEST=${1:-build/paraview}
@@ -12,7 +12,7 @@ if [ -x "$WRAPPER" ] && "$WRAPPER" -c "import paraview.simple" >/dev/null 2>&1; 
 rm -rf "$DEST.tmp"
 mkdir -p "$DEST.tmp/debs"
 if ! (cd "$DEST.tmp/debs" && apt-get download paraview python3-paraview >/dev/null 2>&1); then
-  echo "armstudy: could not download paraview/python3-paraview with apt-get; the ParaView render test will warn" >&2
+  echo "armstudy: could not download paraview/python3-paraview with apt-get; the ParaView render test will fail" >&2
   rm -rf "$DEST.tmp"
   exit 0
 fi
@@ -31,5 +31,5 @@ chmod +x "$DEST.tmp/pvpython"
 rm -rf "$DEST"
 mv "$DEST.tmp" "$DEST"
 if ! "$WRAPPER" -c "import paraview.simple" >/dev/null 2>&1; then
-  echo "armstudy: the unpacked ParaView does not start ($WRAPPER); the ParaView render test will warn" >&2
+  echo "armstudy: the unpacked ParaView does not start ($WRAPPER); the ParaView render test will fail" >&2
 fi

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <Eigen/Core>
+#include <csignal>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -18,7 +19,9 @@ inline constexpr double kFdTolerance = 1e-7;       // agreement of analytic vs c
 inline constexpr double kOracleTolerance = 1e-12;  // agreement with an independent library
 inline constexpr double kHandCheckTolerance = 1e-12;
 
-inline std::string sourcePath(const std::string& rel) { return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel; }
+inline std::string sourcePath(const std::string& rel) {
+  return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel;
+}
 inline std::string binaryPath() { return ARMSTUDY_BINARY; }
 
 inline const std::vector<std::string>& shippedDesigns() {
@@ -47,6 +50,18 @@ inline int runCommand(const std::string& cmd, std::string& out) {
   while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
   const int status = pclose(p);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The status a shell reports for a command killed with SIGKILL.
+inline constexpr int kKilledStatus = 128 + SIGKILL;
+
+// Runs `command` (an `armstudy run ...`) with the checkpoint store's test hook
+// (src/study/checkpoint.hpp), which kills it with SIGKILL right after it saved its `units`-th unit.
+// Returns the command's status: kKilledStatus when the hook killed it, 0 when the run ended first.
+inline int runKilledAfterUnits(const std::string& command, long units, std::string& out) {
+  return runCommand(
+      "ARMSTUDY_TEST_ABORT_AFTER_UNITS=" + std::to_string(units) + " " + command + " 2>&1; exit $?",
+      out);
 }
 
 }  // namespace armstudy::test

@@ -1,6 +1,8 @@
 #include "study/checkpoint.hpp"
 
 #include <algorithm>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 
 #include "common/errors.hpp"
@@ -29,6 +31,8 @@ CheckpointStore::CheckpointStore(std::string output_dir, std::string fingerprint
                                  std::string& message)
     : dir_(partialDir(output_dir)) {
   message.clear();
+  if (const char* n = std::getenv("ARMSTUDY_TEST_ABORT_AFTER_UNITS"))
+    abort_after_units_ = static_cast<std::size_t>(std::max(0L, std::atol(n)));
   const fs::path fp = fs::path(dir_) / "fingerprint";
   if (fs::exists(fp)) {
     const std::string old = readFileOrThrow(fp.string());
@@ -88,6 +92,8 @@ void CheckpointStore::save(const std::string& id, const std::string& bytes) cons
   writeFileAtomic(p, bytes);
   const std::lock_guard<std::mutex> g(saved_mutex_);
   saved_.push_back(std::move(p));
+  // The test hook (checkpoint.hpp): killed as abruptly as by `kill -9`, no handler, no clean-up.
+  if (saved_.size() == abort_after_units_) std::raise(SIGKILL);
 }
 
 void CheckpointStore::removeSaved() {

@@ -42,6 +42,9 @@ class CheckpointStore {
   // Loads a unit saved by an earlier run with the same fingerprint.
   bool load(const std::string& unit_id, std::string& bytes) const;
   // Saves a completed unit (atomic). Thread-safe: distinct units may be saved concurrently.
+  // Test hook, not a user option: with ARMSTUDY_TEST_ABORT_AFTER_UNITS=N in the environment, the
+  // process kills itself with SIGKILL right after this store saved its N-th unit, so the
+  // kill/resume tests interrupt a run at a chosen unit instead of racing a kill against it.
   void save(const std::string& unit_id, const std::string& bytes) const;
   int completedUnits() const { return completed_; }
   // Removes the unit files this store saved. In a distributed run every rank removes its own once
@@ -58,6 +61,7 @@ class CheckpointStore {
   std::string unitPath(const std::string& unit_id) const;
   std::string dir_;
   int completed_ = 0;
+  std::size_t abort_after_units_ = 0;  // the test hook of save(); 0: off
   mutable std::mutex saved_mutex_;
   mutable std::vector<std::string> saved_;  // the unit files save() wrote
 };
@@ -146,7 +150,8 @@ class UnitReader {
       return;
     }
     v.resize(n);
-    if (take(n * sizeof(T)) && n > 0) std::memcpy(v.data(), b_.data() + pos_ - n * sizeof(T), n * sizeof(T));
+    if (take(n * sizeof(T)) && n > 0)
+      std::memcpy(v.data(), b_.data() + pos_ - n * sizeof(T), n * sizeof(T));
   }
   std::string getString();
   // Into a fixed- or dynamic-size Eigen object; a fixed size must match.

@@ -1,19 +1,16 @@
-// Studies distributed with MPI (issue 16, docs/distributed.md): `mpirun -np 1/2/3 armstudy run`
+// Studies distributed with MPI (docs/distributed.md): `mpirun -np 1/2/3 armstudy run`
 // writes every result file byte for byte as a single process does (the oracle: the same study run
 // without mpirun, into the same output path), whatever the thread count per rank; a rank killed
 // mid-run ends the job with a clear message and a re-run with another rank count resumes from the
-// saved units into the same bytes. In a build without MPI (ARMSTUDY_MPI=OFF) these tests skip.
+// saved units into the same bytes. The README's commands install MPI (scripts/install-deps.sh): in
+// a build without it (ARMSTUDY_MPI=OFF) or without mpirun these tests fail.
 #include "study/distributed.hpp"
 
-#include <signal.h>
-
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "io/files.hpp"
 #include "test_support.hpp"
@@ -24,8 +21,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// True when this build runs MPI jobs; else the caller skips (a warning, not a failure).
-bool mpiBuild() { return mpiAvailable() && std::string(ARMSTUDY_MPIEXEC).size() > 0; }
+// Fails the calling test unless this build runs MPI jobs and its mpirun exists.
+void requireMpi() {
+  INFO(
+      "MPI is missing (scripts/install-deps.sh installs libopenmpi-dev and openmpi-bin; "
+      "ARMSTUDY_MPI=ON)");
+  REQUIRE(mpiAvailable());
+  INFO("mpirun: '" << ARMSTUDY_MPIEXEC << "'");
+  REQUIRE(fs::exists(ARMSTUDY_MPIEXEC));
+}
 
 fs::path freshDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("armstudy_distributed_" + name);
@@ -74,6 +78,16 @@ std::string mpirun(int ranks, const std::string& args) {
   return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
          std::string(ARMSTUDY_MPIEXEC) + " -np " + std::to_string(ranks) + " --oversubscribe " +
          binaryPath() + " run " + args;
+}
+
+// `armstudy run` on 2 ranks, rank 1 killed with SIGKILL right after it saved its `units`-th unit:
+// the checkpoint store's test hook, set for rank 1 alone (mpirun's form for one executable per
+// rank, the second started through env).
+std::string mpirunKillingRank1(const std::string& args, long units) {
+  const std::string run = binaryPath() + " run " + args;
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+         std::string(ARMSTUDY_MPIEXEC) + " --oversubscribe -np 1 " + run +
+         " : -np 1 env ARMSTUDY_TEST_ABORT_AFTER_UNITS=" + std::to_string(units) + " " + run;
 }
 
 const char* kReachSection = R"([reach]
@@ -157,10 +171,7 @@ TEST_CASE("a single process is rank 0 of 1", "[distributed]") {
 
 TEST_CASE("reach, dexterity and harvest on 1, 2 and 3 ranks write the bytes of a single process",
           "[distributed][e2e]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+  requireMpi();
   const fs::path dir = freshDir("stages");
   const std::string study =
       writeStudy(dir, "rdh", {"final_prototype_7dof", "final_prototype_9dof"},
@@ -170,19 +181,19 @@ TEST_CASE("reach, dexterity and harvest on 1, 2 and 3 ranks write the bytes of a
   fs::remove_all(dir);
 }
 
-TEST_CASE("the reach map search, its steps shared among 2 and 3 ranks, writes the bytes of a single process",
-          "[distributed][e2e]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+TEST_CASE(
+    "the reach map search, its steps shared among 2 and 3 ranks, writes the bytes of a single "
+    "process",
+    "[distributed][e2e]") {
+  requireMpi();
   // The Fig. 3.8 spraying row at 4 cm with self-collision: every phase of the search has work
   // (neighbour propagation, seeded multi-starts that free a pose and the propagation from it, the
   // wider-neighbourhood round, best-manipulability rounds), each step shared among the ranks, and
   // so are the audit's poses. Two designs: their searches (of different lengths) and audits advance
   // interleaved, one combined loop per step (study/interleave.hpp).
   const fs::path dir = freshDir("search");
-  const std::string study = writeStudy(dir, "cs", {"first_prototype_6dof", "first_prototype_9dof"}, R"([reach]
+  const std::string study =
+      writeStudy(dir, "cs", {"first_prototype_6dof", "first_prototype_9dof"}, R"([reach]
 task_space = "spraying"
 position_tolerance = "1 mm"
 orientation_tolerance = "0.5 deg"
@@ -201,7 +212,8 @@ gamma = ["-40 deg", "40 deg"]
   // In rank groups (docs/distributed.md, "Rank groups"): on 2 ranks each searches one design; on 3,
   // ranks 0 and 1 search the first design (their steps shared) and rank 2 the second; then the
   // searches' summaries and changed rows go to every rank.
-  requireSameAcrossRanks(dir, study, "cs", "--unit-size 400 --search-group-ranks 1", {{2, 1}, {3, 1}});
+  requireSameAcrossRanks(dir, study, "cs", "--unit-size 400 --search-group-ranks 1",
+                         {{2, 1}, {3, 1}});
   const auto sum = nlohmann::json::parse(readFileOrThrow((dir / "out/cs/summary.json").string()));
   const auto& search = sum["reach"]["grids"][0]["designs"][0]["search"];
   INFO(search.dump());
@@ -211,7 +223,8 @@ gamma = ["-40 deg", "40 deg"]
   CHECK(sum["reach"]["grids"][0]["designs"][0]["audit"]["poses"].get<int>() == 40);
   const auto& search9 = sum["reach"]["grids"][0]["designs"][1]["search"];
   INFO(search9.dump());
-  CHECK(search9["best_manipulability_rounds"].get<int>() != search["best_manipulability_rounds"].get<int>());
+  CHECK(search9["best_manipulability_rounds"].get<int>() !=
+        search["best_manipulability_rounds"].get<int>());
   CHECK(sum["reach"]["grids"][0]["designs"][1]["audit"]["poses"].get<int>() == 40);
   fs::remove_all(dir);
 }
@@ -237,15 +250,14 @@ metric = "cost/link_length"
 goal = "min"
 )";
 
-TEST_CASE("an exploration on 2 and 3 ranks writes the bytes of a single process", "[distributed][e2e][explore]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+TEST_CASE("an exploration on 2 and 3 ranks writes the bytes of a single process",
+          "[distributed][e2e][explore]") {
+  requireMpi();
   // Grid: candidates are the units (one rank evaluates each, its stages run there alone); the map
   // search of the front designs' outputs runs on every rank.
   const fs::path dir = freshDir("explore");
-  const std::string study = writeStudy(dir, "ex", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
+  const std::string study =
+      writeStudy(dir, "ex", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
 design = "first_prototype_6dof"
 front_designs = 1
 [[explore.parameter]]
@@ -260,7 +272,8 @@ values = ["0.3 m", "0.4 m", "0.5 m"]
   // The optimiser asks for one candidate at a time (each a unit one rank computes while NLopt
   // waits on every rank for its values): the same points, the same bytes on any rank count.
   const fs::path odir = freshDir("explore_optimise");
-  const std::string ostudy = writeStudy(odir, "exo", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
+  const std::string ostudy =
+      writeStudy(odir, "exo", {"first_prototype_6dof"}, std::string(kExploreRow) + R"([explore]
 design = "first_prototype_6dof"
 method = "optimise"
 budget = 10
@@ -282,10 +295,7 @@ step = "0.05 m"
 
 TEST_CASE("calibration entries on 1, 2 and 3 ranks write the bytes of a single process",
           "[distributed][e2e]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+  requireMpi();
   const fs::path dir = freshDir("calibration");
   requireSameAcrossRanks(dir, sourcePath("studies/thesis_drive_friction.toml"),
                          "thesis_drive_friction", "", {{1, 1}, {2, 1}, {3, 1}});
@@ -294,10 +304,7 @@ TEST_CASE("calibration entries on 1, 2 and 3 ranks write the bytes of a single p
 
 TEST_CASE("per-unit costs are recorded on request, one line per unit, outside the result files",
           "[distributed][e2e]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+  requireMpi();
   const fs::path dir = freshDir("times");
   const std::string study = writeStudy(dir, "r", {"final_prototype_7dof"}, kReachSection);
   const fs::path csv = dir / "units.csv";
@@ -325,10 +332,7 @@ TEST_CASE(
     "a rank killed mid-run ends the job with a clear message, and another rank count resumes into "
     "the same bytes",
     "[distributed][e2e][checkpoint]") {
-  if (!mpiBuild()) {
-    WARN("built without MPI (ARMSTUDY_MPI=OFF): skipped");
-    return;
-  }
+  requireMpi();
   const fs::path dir = freshDir("kill");
   const std::string study = writeStudy(
       dir, "k", {"final_prototype_7dof"},
@@ -343,58 +347,21 @@ TEST_CASE(
   const auto ref = resultFiles(dir / "ref/k");
   const fs::path out = dir / "out/k", units = out / ".partial/units";
   const std::string args = study + " --threads 1 --unit-size 1 --output " + (dir / "out").string();
-  const fs::path job_log = dir / "job.log", status = dir / "status";
-  REQUIRE(std::system(("(" + mpirun(2, args) + " > " + job_log.string() + " 2>&1; echo $? > " +
-                       status.string() + ") &")
-                          .c_str()) == 0);
-  // Once a few units are saved, SIGKILL rank 1 (found by its rank in the environment).
+  std::string job;
+  const int job_status = runCommand(mpirunKillingRank1(args, 5), job);
+  {
+    INFO(job);
+    REQUIRE(job_status != 0);
+    REQUIRE_FALSE(fs::exists(out / "manifest.json"));
+    CHECK(job.find("exited on signal 9") != std::string::npos);
+    CHECK(job.find("run the same command again, with any number of ranks, to resume") !=
+          std::string::npos);
+  }
   auto saved = [&] {
-    std::error_code ec;
     long n = 0;
-    for (auto it = fs::directory_iterator(units, ec); !ec && it != fs::directory_iterator();
-         it.increment(ec))
-      n += it->path().extension() == ".unit";  // not the temporary of a unit being written
+    for (const auto& e : fs::directory_iterator(units)) n += e.path().extension() == ".unit";
     return n;
   };
-  bool killed = false;
-  for (int i = 0; i < 5000 && !killed && !fs::exists(status); ++i) {
-    if (saved() >= 5) {
-      for (const auto& p : fs::directory_iterator("/proc")) {
-        std::string env;
-        try {
-          env = readFileOrThrow((p.path() / "environ").string());
-        } catch (const std::exception&) {
-          continue;
-        }
-        const std::string cmd = [&] {
-          try {
-            return readFileOrThrow((p.path() / "cmdline").string());
-          } catch (const std::exception&) {
-            return std::string();
-          }
-        }();
-        if (cmd.find(args.substr(0, args.find(' '))) == std::string::npos) continue;
-        if (env.find(std::string("OMPI_COMM_WORLD_RANK=1") + '\0') == std::string::npos) continue;
-        killed = ::kill(std::stoi(p.path().filename().string()), SIGKILL) == 0;
-      }
-    }
-    if (!killed) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  for (int i = 0; i < 3000 && !fs::exists(status); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  REQUIRE(fs::exists(status));
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  if (!killed || fs::exists(out / "manifest.json")) {
-    WARN("the job finished before rank 1 could be killed; nothing to resume");
-    fs::remove_all(dir);
-    return;
-  }
-  const std::string job = readFileOrThrow(job_log.string());
-  INFO(job);
-  CHECK(std::stoi(readFileOrThrow(status.string())) != 0);
-  CHECK(job.find("exited on signal 9") != std::string::npos);
-  CHECK(job.find("run the same command again, with any number of ranks, to resume") !=
-        std::string::npos);
   const long kept = saved();
   CHECK(kept >= 5);
   // The re-run, with 3 ranks: resumes every saved unit, ends in the single process's bytes.

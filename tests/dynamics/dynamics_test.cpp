@@ -12,10 +12,10 @@
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <new>
 
+#include "alloc_counter.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "kdl_support.hpp"
-#include "alloc_counter.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -25,12 +25,15 @@ using armstudy::test::g_allocations;  // tests/alloc_counter.hpp replaces the al
 
 namespace {
 
-constexpr double kKdlRelTolerance = 1e-9;       // relative agreement with orocos-kdl (issue 6)
+constexpr double kKdlRelTolerance = 1e-9;       // relative agreement with orocos-kdl
 constexpr double kAlgebraTolerance = 1e-10;     // two exact algorithms on the same data (relative)
 constexpr double kRoundTripTolerance = 1e-8;    // inverse then forward dynamics (relative)
 constexpr double kEnergyDriftTolerance = 1e-6;  // relative drift of RK4 over the swing
 constexpr double kFdGravityTolerance = 1e-6;    // dV/dq by central differences [N m] (relative)
 constexpr double kClosedFormTolerance = 1e-12;  // closed-form pendulum [N m]
+constexpr double kFdLagrangeTolerance = 1e-7;   // Lagrange's equations by differences (relative)
+constexpr double kFdTimeStep = 1e-4;            // d/dt along a path by central differences [s]
+constexpr double kFdVelocityStep = 1e-3;        // dT/dqd by central differences [rad/s or m/s]
 
 Eigen::VectorXd randomVector(int n, double scale, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-scale, scale);
@@ -41,6 +44,42 @@ Eigen::VectorXd randomVector(int n, double scale, std::mt19937_64& rng) {
 
 double relErr(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+// The joint torques of Lagrange's equations, tau_i = d/dt dT/dqd_i - dT/dq_i + dV/dq_i, from
+// central differences of the energies alone (mechanicalEnergy: the kinetic energy from the links'
+// velocities, the potential from their centres of mass), with d/dt taken along the path
+// q(t) = q + qd t + qdd t^2 / 2. An oracle for inverse dynamics that shares no force recursion with
+// Newton-Euler. T is quadratic in qd, so its qd-difference is exact up to rounding.
+Eigen::VectorXd lagrangeTorques(const RigidBodyModel& rbm, DynamicsWorkspace& ws,
+                                const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                const Eigen::VectorXd& qdd) {
+  const int n = static_cast<int>(q.size());
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  const auto kinetic = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv) {
+    return mechanicalEnergy(rbm, ws, qq, vv).kinetic_J;
+  };
+  // dT/dqd_i at time t on the path.
+  const auto momentum = [&](int i, double t) {
+    const Eigen::VectorXd qq = q + t * qd + 0.5 * t * t * qdd, vv = qd + t * qdd;
+    Eigen::VectorXd vp = vv, vm = vv;
+    vp[i] += kFdVelocityStep;
+    vm[i] -= kFdVelocityStep;
+    return (kinetic(qq, vp) - kinetic(qq, vm)) / (2 * kFdVelocityStep);
+  };
+  Eigen::VectorXd tau(n);
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[i] += kFdStep;
+    qm[i] -= kFdStep;
+    const double dp_dt = (momentum(i, kFdTimeStep) - momentum(i, -kFdTimeStep)) / (2 * kFdTimeStep);
+    const double dT_dq = (kinetic(qp, qd) - kinetic(qm, qd)) / (2 * kFdStep);
+    const double dV_dq = (mechanicalEnergy(rbm, ws, qp, zero).potential_J -
+                          mechanicalEnergy(rbm, ws, qm, zero).potential_J) /
+                         (2 * kFdStep);
+    tau[i] = dp_dt - dT_dq + dV_dq;
+  }
+  return tau;
 }
 
 // Every shipped design with rotor inertias attached (the drive issue ships the real [[drive]]
@@ -352,10 +391,14 @@ TEST_CASE("dynamics of a design without inertial data is an input error", "[dyna
   }
 }
 
-TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads",
-          "[dynamics][determinism]") {
-  const Model m = loadDesign(sourcePath("designs/final_prototype_9dof.toml"));
-  const RigidBodyModel rbm = makeRigidBodyModel(m);
+TEST_CASE("inverse dynamics on 2 threads satisfies Lagrange's equations and equals 1 thread's",
+          "[dynamics][determinism][fd]") {
+  Model m = withTestDrives(loadDesign(sourcePath("designs/final_prototype_9dof.toml")));
+  m.base = PoseXYZABG{0.1, -0.2, 0.3, -0.2, 0.15, 0.4};
+  m.finalize();
+  DynamicsOptions opt;
+  opt.include_rotor_inertia = true;
+  const RigidBodyModel rbm = makeRigidBodyModel(m, opt);
   std::mt19937_64 rng(3);
   const int n = m.dof(), N = 200;
   std::vector<Eigen::VectorXd> qs, qds, qdds;
@@ -364,7 +407,7 @@ TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads",
     qds.push_back(randomVector(n, 1.0, rng));
     qdds.push_back(randomVector(n, 1.0, rng));
   }
-  Eigen::MatrixXd serial(n, N), parallel(n, N);
+  Eigen::MatrixXd serial(n, N), parallel(n, N), lagrange(n, N);
   {
     DynamicsWorkspace ws(rbm);
     for (int k = 0; k < N; ++k) {
@@ -381,7 +424,13 @@ TEST_CASE("inverse dynamics gives identical results with 1 and 2 threads",
       Eigen::VectorXd t(n);
       inverseDynamics(rbm, ws, qs[k], qds[k], qdds[k], t);
       parallel.col(k) = t;
+      lagrange.col(k) = lagrangeTorques(rbm, ws, qs[k], qds[k], qdds[k]);
     }
+  }
+  for (int k = 0; k < N; ++k) {
+    INFO("sample " << k << ": Newton-Euler " << parallel.col(k).transpose() << ", Lagrange "
+                   << lagrange.col(k).transpose());
+    CHECK(relErr(parallel.col(k), lagrange.col(k)) < kFdLagrangeTolerance);
   }
   CHECK((serial - parallel).cwiseAbs().maxCoeff() == 0.0);
 }

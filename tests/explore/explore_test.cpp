@@ -1,5 +1,9 @@
 // Design-space exploration (docs/exploration.md): the geometry that follows a variant's link
 // lengths, the Pareto front against a brute force, determinism and resume.
+#include "stages/explore/explore.hpp"
+
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -8,9 +12,6 @@
 #include <map>
 #include <regex>
 #include <set>
-#include <signal.h>
-#include <thread>
-#include <chrono>
 
 #include "collision/distance.hpp"
 #include "common/errors.hpp"
@@ -20,7 +21,6 @@
 #include "io/files.hpp"
 #include "io/variant.hpp"
 #include "model/geometry_follows.hpp"
-#include "stages/explore/explore.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -37,10 +37,13 @@ constexpr int kSegmentSamples = 50;
 double distanceToCore(const CollisionVolume& v, const Eigen::Vector3d& p) {
   Eigen::Vector3d closest;
   switch (v.type) {
-    case SsvType::Point: return (p - v.p_L[0]).norm();
-    case SsvType::Line: return std::sqrt(collision::squaredDistancePointSegment(p, v.p_L[0], v.p_L[1], closest));
+    case SsvType::Point:
+      return (p - v.p_L[0]).norm();
+    case SsvType::Line:
+      return std::sqrt(collision::squaredDistancePointSegment(p, v.p_L[0], v.p_L[1], closest));
     case SsvType::Triangle:
-      return std::sqrt(collision::squaredDistancePointTriangle(p, v.p_L[0], v.p_L[1], v.p_L[2], closest));
+      return std::sqrt(
+          collision::squaredDistancePointTriangle(p, v.p_L[0], v.p_L[1], v.p_L[2], closest));
   }
   return 1e300;
 }
@@ -76,7 +79,8 @@ std::map<std::string, std::string> resultFiles(const fs::path& dir) {
 }
 
 fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_explore_test_" + std::to_string(::getpid()) + "_" + name);
+  const fs::path d = fs::temp_directory_path() /
+                     ("armstudy_explore_test_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -89,8 +93,8 @@ std::string write(const fs::path& p, const std::string& text) {
 
 // A small spraying row for the first prototype (6-DoF): cheap enough for a brute force.
 std::string reachStudy(const std::string& name, const std::string& extra) {
-  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" + sourcePath("designs/first_prototype_6dof.toml") +
-         "\"\n" + extra + R"(
+  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" +
+         sourcePath("designs/first_prototype_6dof.toml") + "\"\n" + extra + R"(
 [reach]
 task_space = "spraying"
 position_tolerance = "1 mm"
@@ -131,18 +135,23 @@ goal = "min"
 
 std::string exploreStudy(const fs::path& dir, const std::string& name) {
   return write(dir / (name + ".toml"),
-               reachStudy(name, "") + "[explore]\ndesign = \"first_prototype_6dof\"\nfront_designs = 1\n" + kParams +
+               reachStudy(name, "") +
+                   "[explore]\ndesign = \"first_prototype_6dof\"\nfront_designs = 1\n" + kParams +
                    kObjectives);
 }
 
 }  // namespace
 
-TEST_CASE("a variant's collision volumes move and stretch with its links and contain them", "[explore][collision]") {
+TEST_CASE("a variant's collision volumes move and stretch with its links and contain them",
+          "[explore][collision]") {
   const Model base = loadDesign(sourcePath("designs/final_prototype_7dof.toml"));
   // Upper arm and forearm longer, shoulder offset shorter, forearm offset changed on a second
   // axis, TCP further out: every kind of link end the rule handles.
-  const Overrides ov{{"joint.j4.x", 0.45}, {"joint.j7.x", 0.55}, {"joint.j7.y", -0.06},
-                     {"joint.j2.y", 0.40}, {"tcp.z", 0.18}};
+  const Overrides ov{{"joint.j4.x", 0.45},
+                     {"joint.j7.x", 0.55},
+                     {"joint.j7.y", -0.06},
+                     {"joint.j2.y", 0.40},
+                     {"tcp.z", 0.18}};
   const Model v = deriveVariant(base, ov, "test", 1);
   REQUIRE(v.collision.volumes.size() == base.collision.volumes.size());
   int checked = 0;
@@ -155,7 +164,8 @@ TEST_CASE("a variant's collision volumes move and stretch with its links and con
     CHECK(coveredFraction(base, link, a_old) == 1.0);  // the design's own volumes contain its links
     CHECK(coveredFraction(v, link, a_new) == 1.0);     // and the variant's contain the new ones
     if (a_new.norm() > a_old.norm() + 0.05) {
-      CHECK(coveredFraction(base, link, a_new) < 1.0);  // the old volumes would not (the test bites)
+      CHECK(coveredFraction(base, link, a_new) <
+            1.0);  // the old volumes would not (the test bites)
       ++checked;
     }
   }
@@ -169,7 +179,8 @@ TEST_CASE("a variant's collision volumes move and stretch with its links and con
       CHECK(v.collision.volumes[k].p_L == base.collision.volumes[k].p_L);
 }
 
-TEST_CASE("the stretch maps the link origin and end exactly and re-estimates inertias", "[explore]") {
+TEST_CASE("the stretch maps the link origin and end exactly and re-estimates inertias",
+          "[explore]") {
   const Eigen::Vector3d a_old(0.4, -0.0295, -0.043), a_new(0.5, -0.06, -0.043);
   CHECK((stretchPoint(Eigen::Vector3d::Zero(), a_old, a_new)).norm() == 0.0);
   CHECK((stretchPoint(a_old, a_old, a_new) - a_new).norm() < kHandCheckTolerance);
@@ -239,25 +250,25 @@ TEST_CASE("the non-dominated set of hand-made candidates", "[explore]") {
     return c;
   };
   const std::vector<explore::Candidate> c{
-      cand({1, 1, 0}),     // 0 front
-      cand({2, 2, 5}),     // 1 front
-      cand({1, 2, 0}),     // 2 dominated by 0 and 1
-      cand({2, 2, -5}),    // 3 equal to 1: both stay
-      cand({3, 0, 0}, false), // 4 would dominate all, but infeasible
-      cand({0.5, 0.5, 0}), // 5 front (best in the second goal)
+      cand({1, 1, 0}),         // 0 front
+      cand({2, 2, 5}),         // 1 front
+      cand({1, 2, 0}),         // 2 dominated by 0 and 1
+      cand({2, 2, -5}),        // 3 equal to 1: both stay
+      cand({3, 0, 0}, false),  // 4 would dominate all, but infeasible
+      cand({0.5, 0.5, 0}),     // 5 front (best in the second goal)
   };
   CHECK(explore::paretoFront(c, obj) == std::vector<std::size_t>{0, 1, 3, 5});
 }
 
-TEST_CASE("the explore front equals the brute-force front of the same variants", "[explore][slow]") {
+TEST_CASE("the explore front equals the brute-force front of the same variants",
+          "[explore][slow]") {
   const fs::path dir = freshDir("brute");
   // Explore: exhaustive over 3 x 3 values.
   const Study ex = loadStudy(exploreStudy(dir, "explore_small"));
   const StageResult er = runStage(ex, "explore", (dir / "ex").string());
   // Brute force: the same variants as an ordinary [[variant]] sweep through the reach stage, the
   // front computed here from the metrics.
-  const Study bf = loadStudy(write(dir / "brute.toml",
-                                   reachStudy("brute", R"(
+  const Study bf = loadStudy(write(dir / "brute.toml", reachStudy("brute", R"(
 [[variant]]
 of = "first_prototype_6dof"
 sweep = { "joint.j4.x" = ["0.13 m", "0.23 m", "0.33 m"], "joint.j5.x" = ["0.3 m", "0.4 m", "0.5 m"] }
@@ -267,7 +278,8 @@ sweep = { "joint.j4.x" = ["0.13 m", "0.23 m", "0.33 m"], "joint.j5.x" = ["0.3 m"
   std::vector<std::array<double, 3>> v;  // larger is better
   for (const StudyDesign& d : bf.designs) {
     const std::string p = "reach/row/" + d.model.name + "/";
-    v.push_back({br.metrics.scalars.at(p + "reachable_fraction"), br.metrics.scalars.at(p + "manipulability_mean"),
+    v.push_back({br.metrics.scalars.at(p + "reachable_fraction"),
+                 br.metrics.scalars.at(p + "manipulability_mean"),
                  -explore::totalLinkLength(d.model)});
   }
   std::set<std::string> expected;
@@ -297,11 +309,11 @@ sweep = { "joint.j4.x" = ["0.13 m", "0.23 m", "0.33 m"], "joint.j5.x" = ["0.3 m"
   fs::remove_all(dir);
 }
 
-TEST_CASE("an exploration is the same with 1 and 2 threads and resumes after losing units", "[explore][slow]") {
+TEST_CASE("an exploration is the same with 1 and 2 threads and resumes after losing units",
+          "[explore][slow]") {
   const fs::path dir = freshDir("det");
   // NLopt search (DIRECT_L then BOBYQA) within a small budget.
-  const std::string path = write(dir / "opt.toml",
-                                 reachStudy("opt", "") + R"([explore]
+  const std::string path = write(dir / "opt.toml", reachStudy("opt", "") + R"([explore]
 design = "first_prototype_6dof"
 method = "optimise"
 budget = 12
@@ -335,7 +347,8 @@ max = "0.8 m"
     const std::string& md = ref.at("explore/explore.md");
     const std::regex phase(R"(\((\d+) evaluations in (\d+) calls, ([^)]+)\))");
     std::vector<std::array<std::string, 3>> phases;
-    for (auto it = std::sregex_iterator(md.begin(), md.end(), phase); it != std::sregex_iterator(); ++it)
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), phase); it != std::sregex_iterator();
+         ++it)
       phases.push_back({(*it)[1], (*it)[2], (*it)[3]});
     REQUIRE(phases.size() == 2);  // DIRECT_L, then BOBYQA
     const int global = std::stoi(phases[0][0]), polish = std::stoi(phases[1][0]);
@@ -367,8 +380,9 @@ max = "0.8 m"
   fs::remove_all(dir);
 }
 
-TEST_CASE("the shipped exploration study, made fast, runs and places the thesis design against its front",
-          "[explore][slow]") {
+TEST_CASE(
+    "the shipped exploration study, made fast, runs and places the thesis design against its front",
+    "[explore][slow]") {
   // studies/explore_final_prototype.toml with a coarse stem map, 2 fruits, short approaches and a
   // budget of 6 calls; everything else (parameters, constraint, objectives, search) as shipped.
   std::string text = readFileOrThrow(sourcePath("studies/explore_final_prototype.toml"));
@@ -379,7 +393,8 @@ TEST_CASE("the shipped exploration study, made fast, runs and places the thesis 
   };
   replace("../designs/", sourcePath("designs/"));
   replace(R"(step = "10 deg")", R"(step = "30 deg")");
-  replace(R"(z = { min = "0 m", max = "1.5 m", step = "5 cm" })", R"(z = { min = "0.3 m", max = "1.3 m", step = "25 cm" })");
+  replace(R"(z = { min = "0 m", max = "1.5 m", step = "5 cm" })",
+          R"(z = { min = "0.3 m", max = "1.3 m", step = "25 cm" })");
   replace("stems = 4", "stems = 1");
   replace("duration = 2.0", "duration = 0.5");
   replace("rate = 500", "rate = 200");
@@ -416,10 +431,16 @@ TEST_CASE("explore sections with bad input are refused with file, line and key",
   const std::string head = "[explore]\ndesign = \"first_prototype_6dof\"\n";
   fails(head + kObjectives, "explore.parameter");
   fails(head + kParams, "explore.objective");
-  fails("[explore]\ndesign = \"nope\"\n" + std::string(kParams) + kObjectives, "not part of the study");
-  fails(head + "[[explore.parameter]]\nkey = \"joint.j9.x\"\nvalues = [1]\n" + kObjectives, "no joint named 'j9'");
-  fails(head + kParams + "[[explore.objective]]\nmetric = \"reach/row/reachable_fraction\"\ngoal = \"max\"\n", "{design}");
-  fails(head + kParams + kObjectives + "[[explore.constraint]]\nterms = { \"joint.j1.z\" = 1 }\nmax = 1\n", "is not a parameter");
+  fails("[explore]\ndesign = \"nope\"\n" + std::string(kParams) + kObjectives,
+        "not part of the study");
+  fails(head + "[[explore.parameter]]\nkey = \"joint.j9.x\"\nvalues = [1]\n" + kObjectives,
+        "no joint named 'j9'");
+  fails(head + kParams +
+            "[[explore.objective]]\nmetric = \"reach/row/reachable_fraction\"\ngoal = \"max\"\n",
+        "{design}");
+  fails(head + kParams + kObjectives +
+            "[[explore.constraint]]\nterms = { \"joint.j1.z\" = 1 }\nmax = 1\n",
+        "is not a parameter");
   fails(head + "stages = [\"harvest\"]\n" + kParams + kObjectives, "no [harvest] section");
   fs::remove_all(dir);
 }
@@ -429,38 +450,36 @@ TEST_CASE("an exploration killed midway (SIGKILL) resumes into the files of an u
   const fs::path dir = freshDir("kill");
   const std::string study = exploreStudy(dir, "k");
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(),
+                 log) == 0);
   const fs::path out = dir / "out/k";
   auto exploreUnits = [&] {
     long n = 0;
     std::error_code ec;
-    for (fs::directory_iterator it(out / ".partial/units", ec), end; !ec && it != end; it.increment(ec))
+    for (fs::directory_iterator it(out / ".partial/units", ec), end; !ec && it != end;
+         it.increment(ec))
       n += it->path().filename().string().rfind("explore_", 0) == 0;
     return n;
   };
-  const fs::path pidfile = dir / "pid";
-  REQUIRE(std::system((binaryPath() + " run " + study + " --threads 2 --output " + (dir / "out").string() +
-                       " > /dev/null 2>&1 & echo $! > " + pidfile.string())
-                          .c_str()) == 0);
-  const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
-  // Wait (up to 3 minutes: a loaded machine is slow) for three saved candidates.
-  bool hit = false;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
-  while (!hit && std::chrono::steady_clock::now() < deadline) {
-    hit = exploreUnits() >= 3 || fs::exists(out / "manifest.json");
-    if (!hit) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ::kill(pid, SIGKILL);
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  REQUIRE(hit);
-  if (fs::exists(out / "manifest.json")) {
-    WARN("the run finished before it could be killed; nothing to resume");
-  } else {
-    CHECK(exploreUnits() < 10);  // 9 grid candidates and the base: not all done
-    REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "out").string(), log) == 0);
+  // Killed with SIGKILL right after its sixth saved unit (the checkpoint store's test hook). Saved
+  // in order: the reach stage's unit, the base design's exploration unit, then for each candidate
+  // its reach unit and its exploration unit; so three of the 10 exploration units (the base and
+  // two of the 9 grid points) are saved.
+  const int killed = runKilledAfterUnits(
+      binaryPath() + " run " + study + " --threads 1 --output " + (dir / "out").string(), 6, log);
+  {
     INFO(log);
-    CHECK(log.find("resuming:") != std::string::npos);
-    CHECK(resultFiles(out) == resultFiles(dir / "ref/k"));
+    REQUIRE(killed == kKilledStatus);
   }
+  REQUIRE_FALSE(fs::exists(out / "manifest.json"));
+  CHECK(exploreUnits() == 3);
+  // Resumed with another thread count.
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 2 --output " + (dir / "out").string(),
+                 log) == 0);
+  INFO(log);
+  CHECK(log.find("resuming:") != std::string::npos);
+  CHECK(resultFiles(out) == resultFiles(dir / "ref/k"));
   fs::remove_all(dir);
 }

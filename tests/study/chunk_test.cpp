@@ -2,28 +2,24 @@
 // units, in any order and after any interruption, is bit for bit the result of one uninterrupted
 // run. Oracles: the whole-grid sweep / whole map / whole design evaluation of the same inputs (the
 // code path without units), and the result files of a run without checkpoints.
-#include <signal.h>
-
 #include <algorithm>
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
-#include <thread>
 
 #include "collision/collision.hpp"
-#include "stages/dexterity/dexterity_output.hpp"
-#include "stages/harvest/harvest_stage.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "engine/study_file.hpp"
-#include "stages/reach/reach_stage.hpp"
 #include "reach/reach_sweep.hpp"
-#include "engine/run.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
+#include "stages/harvest/harvest_stage.hpp"
+#include "stages/reach/reach_stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -249,17 +245,18 @@ TEST_CASE("collision-aware sweeps of pose-list chunks assemble into the whole sw
 TEST_CASE("the reach stage resumes from saved chunks into the files of an uninterrupted run",
           "[study][chunk][checkpoint]") {
   const fs::path dir = freshDir("reach_stage");
-  const Study s = loadStudy(
-      writeStudy(dir, "r", {"final_prototype_7dof", "first_prototype_6dof"},
-                 "[reach]\ntask_space = \"full\"\nself_collision = true\n[[reach.grid]]\nname = \"wall\"\n"
-                 "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.05 m\" }\ny = \"0.8 m\"\n"
-                 "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
-                 "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
+  const Study s = loadStudy(writeStudy(
+      dir, "r", {"final_prototype_7dof", "first_prototype_6dof"},
+      "[reach]\ntask_space = \"full\"\nself_collision = true\n[[reach.grid]]\nname = \"wall\"\n"
+      "x = { from = \"-0.6 m\", to = \"0.6 m\", step = \"0.05 m\" }\ny = \"0.8 m\"\n"
+      "z = { from = \"0.5 m\", to = \"1.5 m\", step = \"0.1 m\" }\n"
+      "alpha = \"-90 deg\"\nbeta = \"0 deg\"\ngamma = \"10 deg\"\n"));
   // Reference: no checkpoints, default unit size, one thread.
   const StageResult ref = runStage(s, "reach", (dir / "ref").string(), runOpts(1, 0));
   const auto ref_files = resultFiles(dir / "ref");
   REQUIRE(ref_files.size() >= 4);
-  REQUIRE(ref_files.at("summary.json").find("colliding_pairs") != std::string::npos);  // collision columns
+  REQUIRE(ref_files.at("summary.json").find("colliding_pairs") !=
+          std::string::npos);  // collision columns
 
   // One grid line per unit; the run "dies" before finish(), then loses some units.
   const fs::path out = dir / "out";
@@ -295,7 +292,8 @@ TEST_CASE(
   const Model& m = s.designs[0].model;
   const long rows = stageSettings<dexterity::DexterityOptions>(s, "dexterity")->grid.z_m.count;
   // The chained rows of the whole grid (the units hold these; the map search runs after them).
-  const dexterity::DexterityMap whole = dexterity::computeDexterityRows(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), {{0, rows}}, 1);
+  const dexterity::DexterityMap whole = dexterity::computeDexterityRows(
+      m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), {{0, rows}}, 1);
   REQUIRE(whole.reachable() > 0);
   REQUIRE(rows >= 5);
   const ItemRange all{0, rows};
@@ -304,7 +302,8 @@ TEST_CASE(
   const std::vector<ItemRange> ranges = splitRange(rows, 3);
   std::vector<std::string> units(ranges.size());
   const dexterity::DexterityMap parts = dexterity::computeDexterityRows(
-      m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), ranges, 2, [&](std::size_t k, const dexterity::DexterityMap& p) {
+      m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), ranges, 2,
+      [&](std::size_t k, const dexterity::DexterityMap& p) {
         units[k] = dexterity::serializeRows(p, ranges[k]);
       });
   CHECK(dexterity::serializeRows(parts, all) == whole_bytes);
@@ -325,9 +324,13 @@ TEST_CASE(
   CHECK(dexterity::serializeRows(joined, all) == whole_bytes);
   // The search over the joined units gives computeDexterityMap's map.
   dexterity::DexterityMap searched = joined;
-  dexterity::searchDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), searched, 2);
+  dexterity::searchDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"),
+                                searched, 2);
   CHECK(dexterity::serializeRows(searched, all) ==
-        dexterity::serializeRows(dexterity::computeDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1), all));
+        dexterity::serializeRows(
+            dexterity::computeDexterityMap(
+                m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1),
+            all));
   // Bytes of another kind or a map of another shape are refused, leaving the map unchanged.
   ItemRange got;
   CHECK_FALSE(dexterity::deserializeRows("armstudy-reach-unit-v4", joined, got));
@@ -361,7 +364,8 @@ TEST_CASE("the dexterity stage resumes from saved rows into the files of an unin
   CHECK(resultFiles(out) == ref_files);
 }
 
-TEST_CASE("tracking units: runs resume into the files of an uninterrupted run", "[study][chunk][checkpoint][tracking]") {
+TEST_CASE("tracking units: runs resume into the files of an uninterrupted run",
+          "[study][chunk][checkpoint][tracking]") {
   const fs::path dir = freshDir("tracking_stage");
   const Study s = loadStudy(test::sourcePath("studies/fig5_13_obstacle.toml"));
   runStage(s, "tracking", (dir / "ref").string(), runOpts(1, 0));
@@ -373,7 +377,8 @@ TEST_CASE("tracking units: runs resume into the files of an uninterrupted run", 
     CheckpointStore store(out.string(), "fp\n", msg);
     CHECK(runStage(s, "tracking", out.string(), runOpts(2, 0), &store).units_resumed == 0);
   }
-  REQUIRE(unitFiles(out, "tracking_").size() == 2);  // one entry: the plain run and the run with H_c
+  REQUIRE(unitFiles(out, "tracking_").size() ==
+          2);  // one entry: the plain run and the run with H_c
   const long intact = damageStore(out, "tracking_");
   REQUIRE(intact == 1);
   fs::remove_all(out / "tracking");
@@ -390,11 +395,13 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   const Study s = loadStudy(writeStudy(dir, "h", {"final_prototype_9dof"}, kHarvestSection));
   REQUIRE(stageSettings<harvest::HarvestOptions>(s, "harvest"));
   const Model& m = s.designs[0].model;
-  const GreenhouseRow row = sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
+  const GreenhouseRow row =
+      sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
   REQUIRE(row.fruits.size() == 6);
 
   // Units in shuffled order give the whole design result, profiles included.
-  const harvest::DesignResult whole = harvest::evaluateHarvestDesign(m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
+  const harvest::DesignResult whole = harvest::evaluateHarvestDesign(
+      m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
   int evaluated = 0;
   for (const auto& f : whole.fruits) evaluated += f.evaluated();
   REQUIRE(evaluated > 0);
@@ -409,7 +416,8 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
   work.grid_done = [&](std::size_t k, const harvest::DesignResult& d) {
     grid_units[k] = harvest::serializeGridPoints(d, work.grid[k]);
   };
-  const harvest::DesignResult parts = harvest::evaluateHarvestDesign(m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2, &work);
+  const harvest::DesignResult parts = harvest::evaluateHarvestDesign(
+      m, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2, &work);
   CHECK(harvest::serializeFruits(parts, all_fruits) == harvest::serializeFruits(whole, all_fruits));
   CHECK(harvest::serializeGridPoints(parts, all_points) ==
         harvest::serializeGridPoints(whole, all_points));
@@ -450,25 +458,14 @@ TEST_CASE("harvest units: fruits and grid points resume into the files of an uni
 
 namespace {
 
-// Starts `armstudy run` in the background and SIGKILLs it as soon as `ready` holds for its
-// checkpoint folder. Returns true when it was killed before it finished.
-template <class Ready>
-bool runAndKill(const std::string& args, const fs::path& dir, const fs::path& study_out,
-                Ready&& ready) {
-  const fs::path pidfile = dir / "pid";
-  REQUIRE(std::system(
-              (binaryPath() + " run " + args + " > /dev/null 2>&1 & echo $! > " + pidfile.string())
-                  .c_str()) == 0);
-  const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
-  bool hit = false;
-  for (int i = 0; i < 4000 && !hit; ++i) {
-    hit = ready() || fs::exists(study_out / "manifest.json");
-    if (!hit) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  ::kill(pid, SIGKILL);
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  REQUIRE(hit);
-  return !fs::exists(study_out / "manifest.json");
+// Runs `armstudy run args` with the checkpoint store's test hook: killed with SIGKILL right after
+// its `units`-th saved unit. Requires that the hook killed it, i.e. that the run was interrupted.
+void runKilledAfter(const std::string& args, long units, const fs::path& study_out) {
+  std::string log;
+  const int st = runKilledAfterUnits(binaryPath() + " run " + args, units, log);
+  INFO(log);
+  REQUIRE(st == kKilledStatus);
+  REQUIRE_FALSE(fs::exists(study_out / "manifest.json"));
 }
 
 // Resumes, checks that every saved unit was used, and compares with the reference files.
@@ -502,16 +499,11 @@ TEST_CASE("a run killed in the middle of a grid resumes from the saved chunks",
                  log) == 0);
   const fs::path out = dir / "out/g";
   const std::string args = study + " --threads 1 --unit-size 1 --output " + (dir / "out").string();
-  // One grid line per unit: 50 units; kill once a few are saved.
-  if (runAndKill(args, dir, out, [&] { return unitFiles(out).size() >= 3; })) {
-    const auto saved = unitFiles(out).size();
-    CHECK(saved >= 3);
-    CHECK(saved < 50);
-    resumeAndCompare(study + " --threads 2 --unit-size 1 --output " + (dir / "out").string(), out,
-                     dir / "ref/g");
-  } else {
-    WARN("the run finished before it could be killed; nothing to resume");
-  }
+  // One grid line per unit: 50 units; killed right after the third is saved.
+  runKilledAfter(args, 3, out);
+  CHECK(unitFiles(out).size() == 3);
+  resumeAndCompare(study + " --threads 2 --unit-size 1 --output " + (dir / "out").string(), out,
+                   dir / "ref/g");
 }
 
 TEST_CASE("a run killed in its harvest stage resumes its dexterity and harvest units",
@@ -525,11 +517,12 @@ TEST_CASE("a run killed in its harvest stage resumes its dexterity and harvest u
                  log) == 0);
   const fs::path out = dir / "out/dh";
   const std::string args = study + " --threads 1 --unit-size 2 --output " + (dir / "out").string();
-  if (runAndKill(args, dir, out, [&] { return !unitFiles(out, "harvest_").empty(); })) {
-    CHECK_FALSE(unitFiles(out, "dexterity_").empty());
-    resumeAndCompare(study + " --threads 2 --unit-size 2 --output " + (dir / "out").string(), out,
-                     dir / "ref/dh");
-  } else {
-    WARN("the run finished before it could be killed; nothing to resume");
-  }
+  // The dexterity stage saves one unit per height (9), then the harvest stage its units: killed
+  // right after the first harvest unit.
+  const long dexterity_units = 9;
+  runKilledAfter(args, dexterity_units + 1, out);
+  CHECK(static_cast<long>(unitFiles(out, "dexterity_").size()) == dexterity_units);
+  CHECK(unitFiles(out, "harvest_").size() == 1);
+  resumeAndCompare(study + " --threads 2 --unit-size 2 --output " + (dir / "out").string(), out,
+                   dir / "ref/dh");
 }

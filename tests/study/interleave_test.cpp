@@ -1,24 +1,25 @@
-// Interleaved programs (study/interleave.hpp, issue 16): programs whose shared loops are grouped
+// Interleaved programs (study/interleave.hpp): programs whose shared loops are grouped
 // into combined loops give the results of the same programs run one after another (the oracle),
 // whatever chunks the runner cuts the combined loops into; the steps are the longest program's, not
 // the sum; a program's failure reaches the caller after the others ended.
-#include <catch2/catch.hpp>
+#include "study/interleave.hpp"
+
+#include <unistd.h>
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <tuple>
 #include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
-#include <unistd.h>
-
-#include "study/interleave.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -107,11 +108,14 @@ class TwoProcesses final : public UnitRunner {
   CheckpointStore off_;
 };
 
-std::vector<Jacobi> programs() { return {{23, 4, 5, {}}, {7, 9, 2, {}}, {40, 1, 16, {}}, {12, 6, 5, {}}}; }
+std::vector<Jacobi> programs() {
+  return {{23, 4, 5, {}}, {7, 9, 2, {}}, {40, 1, 16, {}}, {12, 6, 5, {}}};
+}
 
 }  // namespace
 
-TEST_CASE("interleaved programs give the results of the same programs run one after another", "[interleave]") {
+TEST_CASE("interleaved programs give the results of the same programs run one after another",
+          "[interleave]") {
   std::vector<Jacobi> seq = programs();
   for (Jacobi& j : seq) j.run(nullptr);
 
@@ -136,7 +140,8 @@ TEST_CASE("interleaved programs give the results of the same programs run one af
       std::vector<ItemRange> expected;
       long off = 0;
       for (const Jacobi& j : il) {
-        for (const ItemRange& r : splitRange(j.n, j.chunk)) expected.push_back({off + r.begin, off + r.end});
+        for (const ItemRange& r : splitRange(j.n, j.chunk))
+          expected.push_back({off + r.begin, off + r.end});
         off += j.n;
       }
       REQUIRE(runner.loop_chunks[0].size() == expected.size());
@@ -168,22 +173,26 @@ TEST_CASE("a failing interleaved program fails the call after the others ended",
   for (std::size_t p = 0; p < il.size(); ++p) CHECK(il[p].v == seq[p].v);
 }
 
-TEST_CASE("a loop that fails while combined stops every program and reaches the caller", "[interleave]") {
+TEST_CASE("a loop that fails while combined stops every program and reaches the caller",
+          "[interleave]") {
   std::vector<Jacobi> il = programs();
   std::vector<InterleavedProgram> progs;
   for (Jacobi& j : il) progs.push_back([&j](const UnitRunner* r) { j.run(r); });
   progs.push_back([](const UnitRunner* r) {
     SharedLoop loop;
     loop.items = 4;
-    loop.compute = [](const std::vector<SharedLoop::Chunk>&) { throw std::runtime_error("compute failed"); };
+    loop.compute = [](const std::vector<SharedLoop::Chunk>&) {
+      throw std::runtime_error("compute failed");
+    };
     runSharedLoop(r, loop);
     FAIL("a program goes on after its loop failed");
   });
   CHECK_THROWS_WITH(runInterleaved(nullptr, progs), "compute failed");
 }
 
-TEST_CASE("rank groups: programs dealt out costliest first, ranks in proportion to the groups' cost",
-          "[interleave]") {
+TEST_CASE(
+    "rank groups: programs dealt out costliest first, ranks in proportion to the groups' cost",
+    "[interleave]") {
   // Fewer than two groups of at least min_ranks ranks: every rank runs every program.
   CHECK(planRankGroups({1, 1, 1}, 3, 2).ranks.empty());
   CHECK(planRankGroups({1}, 64, 1).ranks.empty());
@@ -191,8 +200,8 @@ TEST_CASE("rank groups: programs dealt out costliest first, ranks in proportion 
   RankGroupPlan a = planRankGroups({3, 1, 1, 1}, 12, 1);
   CHECK(a.group_of == std::vector<std::size_t>{0, 1, 2, 3});
   CHECK(a.ranks == std::vector<int>{6, 2, 2, 2});
-  // Two groups: the costly program alone, the five cheap ones together (a tie goes to the lower group
-  // index only after the second group caught up), two ranks each.
+  // Two groups: the costly program alone, the five cheap ones together (a tie goes to the lower
+  // group index only after the second group caught up), two ranks each.
   RankGroupPlan b = planRankGroups({5, 1, 1, 1, 1, 1}, 4, 2);
   CHECK(b.group_of == std::vector<std::size_t>{0, 1, 1, 1, 1, 1});
   CHECK(b.ranks == std::vector<int>{2, 2});
@@ -223,7 +232,8 @@ class GroupedProcess final : public UnitRunner {
   GroupedProcess() : UnitRunner(off_, 1, UnitTimeRecord{}) {}
   mutable TwoProcesses group_runner;
   mutable std::vector<std::string> sent;  // what this process sent in the exchange
-  std::function<std::string(std::size_t)> other_group;  // program p's result bytes, computed elsewhere
+  std::function<std::string(std::size_t)>
+      other_group;  // program p's result bytes, computed elsewhere
   std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const override {
     struct Fake final : RankGroups {
       const GroupedProcess* self = nullptr;
@@ -231,7 +241,8 @@ class GroupedProcess final : public UnitRunner {
       std::vector<std::string> exchange(const std::vector<std::string>& mine) const override {
         self->sent = mine;
         std::vector<std::string> all(mine.size());
-        for (std::size_t p = 0; p < all.size(); ++p) all[p] = group_of[p] == 0 ? mine[p] : self->other_group(p);
+        for (std::size_t p = 0; p < all.size(); ++p)
+          all[p] = group_of[p] == 0 ? mine[p] : self->other_group(p);
         return all;
       }
     };
@@ -294,33 +305,49 @@ TEST_CASE("in rank groups, a process runs its group's programs and takes the oth
   CHECK(runner.sent[3].empty());
 }
 
-TEST_CASE("the distribution simulator forms rank groups as planRankGroups does", "[interleave][benchmarks]") {
+namespace {
+
+// The distribution simulator runs on python3, which scripts/install-deps.sh installs: missing, the
+// calling test fails.
+void requirePython3() {
+  INFO("python3 is missing (scripts/install-deps.sh installs it)");
+  REQUIRE(std::system("python3 -c 'pass' > /dev/null 2>&1") == 0);
+}
+
+}  // namespace
+
+TEST_CASE("the distribution simulator forms rank groups as planRankGroups does",
+          "[interleave][benchmarks]") {
   // tests/benchmarks/simulate_distribution.py --groups replays the searches in the groups armstudy
   // would form: its assign_groups must agree with planRankGroups.
-  if (std::system("python3 -c 'pass' > /dev/null 2>&1") != 0) {
-    WARN("python3 not found: skipped");
-    return;
-  }
+  requirePython3();
   const std::vector<std::tuple<std::vector<double>, int, int>> cases = {
-      {{1, 1, 1}, 3, 2},          {{3, 1, 1, 1}, 12, 1},  {{5, 1, 1, 1, 1, 1}, 4, 2},
-      {{100, 1, 1}, 3, 1},        {{2, 2, 2, 2}, 64, 16}, {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 256, 16},
-      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 37, 4}, {{0, 0, 0, 5}, 8, 2}};
+      {{1, 1, 1}, 3, 2},
+      {{3, 1, 1, 1}, 12, 1},
+      {{5, 1, 1, 1, 1, 1}, 4, 2},
+      {{100, 1, 1}, 3, 1},
+      {{2, 2, 2, 2}, 64, 16},
+      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 256, 16},
+      {{0.5, 8, 8.2, 0.6, 11, 10.4, 9}, 37, 4},
+      {{0, 0, 0, 5}, 8, 2}};
   for (const auto& [w, n, r] : cases) {
     const RankGroupPlan plan = planRankGroups(w, n, r);
     std::string expected = "None";
     if (!plan.ranks.empty()) {
       expected = "([";
-      for (std::size_t p = 0; p < plan.group_of.size(); ++p) expected += (p ? ", " : "") + std::to_string(plan.group_of[p]);
+      for (std::size_t p = 0; p < plan.group_of.size(); ++p)
+        expected += (p ? ", " : "") + std::to_string(plan.group_of[p]);
       expected += "], [";
-      for (std::size_t j = 0; j < plan.ranks.size(); ++j) expected += (j ? ", " : "") + std::to_string(plan.ranks[j]);
+      for (std::size_t j = 0; j < plan.ranks.size(); ++j)
+        expected += (j ? ", " : "") + std::to_string(plan.ranks[j]);
       expected += "])";
     }
     std::string list;
     for (const double x : w) list += (list.empty() ? "" : ", ") + std::to_string(x);
     const std::string cmd = "python3 -c \"import sys; sys.path.insert(0, '" +
                             test::sourcePath("tests/benchmarks") +
-                            "'); import simulate_distribution as sd; print(sd.assign_groups([" + list + "], " +
-                            std::to_string(n) + ", " + std::to_string(r) + "))\"";
+                            "'); import simulate_distribution as sd; print(sd.assign_groups([" +
+                            list + "], " + std::to_string(n) + ", " + std::to_string(r) + "))\"";
     std::string got;
     REQUIRE(test::runCommand(cmd, got) == 0);
     while (!got.empty() && got.back() == '\n') got.pop_back();
@@ -329,18 +356,17 @@ TEST_CASE("the distribution simulator forms rank groups as planRankGroups does",
   }
 }
 
-TEST_CASE("the distribution simulator's ceiling: the longest chain of a record, the bound of any schedule",
-          "[interleave][benchmarks]") {
+TEST_CASE(
+    "the distribution simulator's ceiling: the longest chain of a record, the bound of any "
+    "schedule",
+    "[interleave][benchmarks]") {
   // tests/benchmarks/simulate_distribution.py --ceiling: a lower bound on the makespan of any
   // schedule, the serial rest plus the larger of work / N and the longest chain of pieces that must
   // run one after another. A hand-made record: design a's costliest unit 0.03 s, its search steps'
   // costliest chunks 0.05 and 0.04 s (design b's 0.01 s chunk in the same combined step does not
-  // count for a), its audit step 0.01 s: a chain of 0.13 s; b's: 0.10 + 0.01 s; the files' costliest
-  // piece 0.05 s. Work 0.34 s.
-  if (std::system("python3 -c 'pass' > /dev/null 2>&1") != 0) {
-    WARN("python3 not found: skipped");
-    return;
-  }
+  // count for a), its audit step 0.01 s: a chain of 0.13 s; b's: 0.10 + 0.01 s; the files'
+  // costliest piece 0.05 s. Work 0.34 s.
+  requirePython3();
   const std::string dir = std::filesystem::temp_directory_path().string() + "/armstudy-ceiling-" +
                           std::to_string(::getpid());
   std::filesystem::create_directories(dir);
@@ -361,17 +387,21 @@ TEST_CASE("the distribution simulator's ceiling: the longest chain of a record, 
   }
   const std::string script = test::sourcePath("tests/benchmarks/simulate_distribution.py");
   std::string out;
-  REQUIRE(test::runCommand("python3 -c \"import sys; sys.path.insert(0, '" + test::sourcePath("tests/benchmarks") +
-                               "'); import simulate_distribution as sd; c, n = sd.load_chains('" + csv +
-                               "', 1.0); print('%.4f %s' % (c, n.split(':')[0]))\"",
+  REQUIRE(test::runCommand("python3 -c \"import sys; sys.path.insert(0, '" +
+                               test::sourcePath("tests/benchmarks") +
+                               "'); import simulate_distribution as sd; c, n = sd.load_chains('" +
+                               csv + "', 1.0); print('%.4f %s' % (c, n.split(':')[0]))\"",
                            out) == 0);
   CHECK(out == "0.1300 g/a\n");
   // On 4 ranks the chain binds (0.34 / 4 < 0.13): bound 0.1 + 0.13 s, efficiency at most
   // (0.34 + 0.1) / (4 x 0.23) = 48 %; with 80 % out of reach, no serial rest allows it.
-  REQUIRE(test::runCommand("python3 " + script + " " + csv + " --ceiling --serial-total 0.1 --ranks 4,2", out) == 0);
+  REQUIRE(test::runCommand(
+              "python3 " + script + " " + csv + " --ceiling --serial-total 0.1 --ranks 4,2", out) ==
+          0);
   INFO(out);
   CHECK(out.find("| 4 | 0.085 | 0.230 | 48 % | none |") != std::string::npos);
-  // On 2 ranks the work binds (0.17 s): 80 % allows a serial rest of (0.34 - 0.8 x 2 x 0.17) / (0.8 x 2 - 1).
+  // On 2 ranks the work binds (0.17 s): 80 % allows a serial rest of (0.34 - 0.8 x 2 x 0.17) / (0.8
+  // x 2 - 1).
   CHECK(out.find("| 2 | 0.170 | 0.270 | 81 % | 0.113 |") != std::string::npos);
   std::filesystem::remove_all(dir);
 }

@@ -1,15 +1,11 @@
-// Issue 8 end to end through the CLI: the shipped regression study passes its recorded baseline;
+// End to end through the CLI: the shipped regression study passes its recorded baseline;
 // a changed design fails the check with the moved metrics; an interrupted run resumes into
 // exactly the files an uninterrupted run writes; results do not depend on the thread count.
-#include <signal.h>
-
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
-#include <thread>
 
 #include "io/files.hpp"
 #include "test_support.hpp"
@@ -58,9 +54,10 @@ TEST_CASE("the shipped regression study passes `armstudy check` against its base
           "[study][regression][e2e]") {
   const fs::path out = freshDir("check");
   std::string log;
-  const int st = runCommand(binaryPath() + " check " + sourcePath("studies/regression.toml") + " --output " +
-                                out.string() + " --json " + (out / "check.json").string(),
-                            log);
+  const int st =
+      runCommand(binaryPath() + " check " + sourcePath("studies/regression.toml") + " --output " +
+                     out.string() + " --json " + (out / "check.json").string(),
+                 log);
   INFO(log);
   CHECK(st == 0);
   const auto j = nlohmann::json::parse(readFileOrThrow((out / "check.json").string()));
@@ -68,7 +65,8 @@ TEST_CASE("the shipped regression study passes `armstudy check` against its base
   CHECK(j["rows"].size() > 20);
 }
 
-TEST_CASE("a changed design table fails the check and names what moved", "[study][regression][e2e]") {
+TEST_CASE("a changed design table fails the check and names what moved",
+          "[study][regression][e2e]") {
   const fs::path dir = freshDir("moved");
   // Copy the regression study with a shortened link 4 of the final 7-DoF prototype.
   std::string design = readFileOrThrow(sourcePath("designs/final_prototype_7dof.toml"));
@@ -80,12 +78,13 @@ TEST_CASE("a changed design table fails the check and names what moved", "[study
   study = std::regex_replace(study, std::regex("\\.\\./designs/final_prototype_7dof\\.toml"),
                              (dir / "final_prototype_7dof.toml").string());
   study = std::regex_replace(study, std::regex("\\.\\./designs/"), sourcePath("designs/"));
-  study = std::regex_replace(study, std::regex("\\[regression\\]"),
-                             "[regression]\nbaseline = \"" + sourcePath("studies/regression.baseline.json") + "\"");
+  study = std::regex_replace(
+      study, std::regex("\\[regression\\]"),
+      "[regression]\nbaseline = \"" + sourcePath("studies/regression.baseline.json") + "\"");
   std::ofstream(dir / "regression.toml") << study;
   std::string log;
-  const int st = runCommand(binaryPath() + " check " + (dir / "regression.toml").string() + " --output " +
-                                (dir / "out").string(),
+  const int st = runCommand(binaryPath() + " check " + (dir / "regression.toml").string() +
+                                " --output " + (dir / "out").string(),
                             log);
   INFO(log);
   CHECK(st == 3);
@@ -98,8 +97,12 @@ TEST_CASE("results are byte-identical with 1 and 2 threads and from run to run",
   const fs::path dir = freshDir("threads");
   const std::string study = writeResumeStudy(dir);
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "t1").string(), log) == 0);
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 2 --output " + (dir / "t2").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "t1").string(),
+                 log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 2 --output " + (dir / "t2").string(),
+                 log) == 0);
   const auto a = resultFiles(dir / "t1/resume"), b = resultFiles(dir / "t2/resume");
   REQUIRE(a.size() > 5);
   CHECK(a == b);
@@ -110,34 +113,25 @@ TEST_CASE("a run killed midway resumes into exactly the files of an uninterrupte
   const fs::path dir = freshDir("resume");
   const std::string study = writeResumeStudy(dir);
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(), log) == 0);
+  REQUIRE(
+      runCommand(binaryPath() + " run " + study + " --threads 1 --output " + (dir / "ref").string(),
+                 log) == 0);
 
-  // Start the same run in the background and kill it (SIGKILL: no chance to clean up) as soon as
-  // its first unit is saved.
+  // The same run killed with SIGKILL (no chance to clean up) right after its first unit was saved
+  // (the checkpoint store's test hook), then resumed with another thread count.
   const fs::path out = dir / "killed";
-  const fs::path pidfile = dir / "pid";
-  REQUIRE(std::system((binaryPath() + " run " + study + " --threads 1 --output " + out.string() +
-                       " > /dev/null 2>&1 & echo $! > " + pidfile.string())
-                          .c_str()) == 0);
-  const pid_t pid = std::stoi(readFileOrThrow(pidfile.string()));
-  const fs::path units = out / "resume/.partial/units";
-  bool saw_unit = false;
-  for (int i = 0; i < 2000 && !saw_unit; ++i) {
-    if (fs::exists(units))
-      for (const auto& e : fs::directory_iterator(units))
-        if (e.path().extension() == ".unit") saw_unit = true;
-    if (!saw_unit) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  ::kill(pid, SIGKILL);
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  REQUIRE(saw_unit);
-  const bool finished_anyway = fs::exists(out / "resume/manifest.json");
-  if (!finished_anyway) {
-    const int st = runCommand(binaryPath() + " run " + study + " --threads 2 --output " + out.string(), log);
+  const int killed = runKilledAfterUnits(
+      binaryPath() + " run " + study + " --threads 1 --output " + out.string(), 1, log);
+  {
     INFO(log);
-    REQUIRE(st == 0);
-    CHECK(log.find("resuming:") != std::string::npos);
+    REQUIRE(killed == kKilledStatus);
   }
+  REQUIRE_FALSE(fs::exists(out / "resume/manifest.json"));
+  const int st =
+      runCommand(binaryPath() + " run " + study + " --threads 2 --output " + out.string(), log);
+  INFO(log);
+  REQUIRE(st == 0);
+  CHECK(log.find("resuming: 1 completed unit(s)") != std::string::npos);
   CHECK_FALSE(fs::exists(out / "resume/.partial"));
   CHECK(resultFiles(out / "resume") == resultFiles(dir / "ref/resume"));
   for (const auto& e : fs::recursive_directory_iterator(out))
@@ -148,14 +142,18 @@ TEST_CASE("a resume after a design changed starts fresh and says why", "[study][
   const fs::path dir = freshDir("changed");
   fs::copy_file(sourcePath("designs/final_prototype_7dof.toml"), dir / "d.toml");
   const fs::path study = dir / "s.toml";
-  std::ofstream(study) << "[study]\nname = \"s\"\n[[design]]\nfile = \"d.toml\"\n[reach]\ntask_space = \"position\"\n"
-                          "[[reach.grid]]\nname = \"g\"\nx = { from = -0.5, to = 0.5, step = 0.25 }\ny = 0.7\nz = 1.0\n";
+  std::ofstream(study) << "[study]\nname = \"s\"\n[[design]]\nfile = "
+                          "\"d.toml\"\n[reach]\ntask_space = \"position\"\n"
+                          "[[reach.grid]]\nname = \"g\"\nx = { from = -0.5, to = 0.5, step = 0.25 "
+                          "}\ny = 0.7\nz = 1.0\n";
   // Fake an interrupted run of the old inputs: a checkpoint folder with another fingerprint.
   fs::create_directories(dir / "out/s/.partial/units");
-  std::ofstream(dir / "out/s/.partial/fingerprint") << "armstudy=old\ninput:" << study.string() << "=x\n";
+  std::ofstream(dir / "out/s/.partial/fingerprint")
+      << "armstudy=old\ninput:" << study.string() << "=x\n";
   std::ofstream(dir / "out/s/.partial/units/reach_g_d.00000000.unit") << "stale";
   std::string log;
-  const int st = runCommand(binaryPath() + " run " + study.string() + " --output " + (dir / "out").string(), log);
+  const int st = runCommand(
+      binaryPath() + " run " + study.string() + " --output " + (dir / "out").string(), log);
   INFO(log);
   CHECK(st == 0);
   CHECK(log.find("starting fresh because 'armstudy' changed") != std::string::npos);
