@@ -173,82 +173,90 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
 
 namespace {
 
-std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const EffectValues& current,
-                               const ArmFit& base, const Solved& base_solved, double noise_rho, const ArmFitOptions& o) {
-  std::vector<ArmCandidate> out;
-  const int N = P.rows() * P.channels();
-  const Eigen::MatrixXd basis = base_solved.J.cols() > 0 ? base_solved.J : Eigen::MatrixXd(N, 0);
-  std::map<int, Eigen::MatrixXd> resid_cols;
-  for (std::size_t ei = 0; ei < P.catalogue.size(); ++ei) {
-    const int e = static_cast<int>(ei);
-    if (findValue(current, e)) continue;
-    const ArmEffect& info = P.catalogue[e];
-    ArmCandidate cand;
-    cand.effect = e;
-    cand.name = info.name;
-    const Eigen::MatrixXd cols = candidateColumns(P, current, e);
-    bool dead = true;
-    for (int j = 0; j < cols.cols(); ++j) {
-      const double r2 = r2OnBasis(cols.col(j), basis);
-      if (cols.col(j).norm() == 0) {
-        cand.warnings.push_back("parameter '" + info.params[j].key +
-                                "' has no effect on the predicted channels with this data (an operating variable it "
-                                "needs is constant or zero)");
-        continue;
-      }
-      if (r2 > defaults::kCollinearR2)
-        cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from the terms already in "
-                                "the model (R^2 = " + fmt(r2) + ") with this data");
-      if (r2 <= defaults::kUnidentifiableR2) dead = false;
-    }
-    if (dead) {
-      cand.status = "unidentifiable";
-      out.push_back(cand);
+// Whether a candidate's columns add anything to the model's basis; warns on the columns that
+// have no effect or cannot be told apart from the basis.
+bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, const ArmEffect& info,
+                  ArmCandidate& cand) {
+  bool dead = true;
+  for (int j = 0; j < cols.cols(); ++j) {
+    const double r2 = r2OnBasis(cols.col(j), basis);
+    if (cols.col(j).norm() == 0) {
+      cand.warnings.push_back("parameter '" + info.params[j].key +
+                              "' has no effect on the predicted channels with this data (an operating variable it "
+                              "needs is constant or zero)");
       continue;
     }
-    Eigen::MatrixXd rc = cols;
-    if (basis.cols() > 0) rc = cols - basis * basis.colPivHouseholderQr().solve(cols);
-    resid_cols[e] = rc;
-    const int p = static_cast<int>(packX(current).size() + info.params.size());
-    if (N * (o.folds - 1) / o.folds < p + defaults::kMinResidualDof) {
-      cand.status = "too_few_rows";
-      cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
-      out.push_back(cand);
-      continue;
-    }
-    EffectValues v = current;
-    v.push_back(zeroValue(P, e, true));
-    bool ok = false;
-    cand.fit = eng.make(fitSet(P, v), "+" + info.name, ok);
-    if (!ok) {
-      cand.status = "too_few_rows";
-      cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
-      out.push_back(cand);
-      continue;
-    }
-    cand.improvement = (base.heldout_score - cand.fit.heldout_score) / base.heldout_score;
-    // Paired held-out squared-error differences per row (all channels of a row together, each
-    // weighted by 1 / its noise: P is the noise-weighted problem).
-    std::vector<double> dd(P.rows());
-    for (int i = 0; i < P.rows(); ++i) {
-      double s = 0;
-      for (int c = 0; c < P.channels(); ++c) {
-        const double a = base.heldout_residual(i, c) * P.weight[c], b = cand.fit.heldout_residual(i, c) * P.weight[c];
-        s += a * a - b * b;
-      }
-      dd[i] = s;
-    }
-    const double md = mean(dd);
-    double var = 0;
-    for (double x : dd) var += (x - md) * (x - md);
-    var /= std::max(1, P.rows() - 1);
-    const double neff = effectiveSampleSize(P.rows(), noise_rho);
-    cand.t_statistic = var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
-    cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
-    out.push_back(cand);
+    if (r2 > defaults::kCollinearR2)
+      cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from the terms already in "
+                              "the model (R^2 = " + fmt(r2) + ") with this data");
+    if (r2 <= defaults::kUnidentifiableR2) dead = false;
   }
-  // Candidates that cannot be told apart from each other: a parameter column of one lies in the
-  // span of another candidate's columns (after removing what the model already explains).
+  return !dead;
+}
+
+// The t statistic of the paired held-out squared-error differences per row (all channels of a
+// row together, each weighted by 1 / its noise: P is the noise-weighted problem).
+double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& fit, double noise_rho) {
+  std::vector<double> dd(P.rows());
+  for (int i = 0; i < P.rows(); ++i) {
+    double s = 0;
+    for (int c = 0; c < P.channels(); ++c) {
+      const double a = base.heldout_residual(i, c) * P.weight[c], b = fit.heldout_residual(i, c) * P.weight[c];
+      s += a * a - b * b;
+    }
+    dd[i] = s;
+  }
+  const double md = mean(dd);
+  double var = 0;
+  for (double x : dd) var += (x - md) * (x - md);
+  var /= std::max(1, P.rows() - 1);
+  const double neff = effectiveSampleSize(P.rows(), noise_rho);
+  return var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
+}
+
+// Catalogue effect e added to the current model: identifiability, fit, improvement and
+// significance; its columns outside the basis go into resid_cols when identifiable.
+ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current, const ArmFit& base,
+                            const Eigen::MatrixXd& basis, int e, double noise_rho, const ArmFitOptions& o,
+                            std::map<int, Eigen::MatrixXd>& resid_cols) {
+  const int N = P.rows() * P.channels();
+  const ArmEffect& info = P.catalogue[e];
+  ArmCandidate cand;
+  cand.effect = e;
+  cand.name = info.name;
+  const Eigen::MatrixXd cols = candidateColumns(P, current, e);
+  if (!identifiable(cols, basis, info, cand)) {
+    cand.status = "unidentifiable";
+    return cand;
+  }
+  Eigen::MatrixXd rc = cols;
+  if (basis.cols() > 0) rc = cols - basis * basis.colPivHouseholderQr().solve(cols);
+  resid_cols[e] = rc;
+  const int p = static_cast<int>(packX(current).size() + info.params.size());
+  if (N * (o.folds - 1) / o.folds < p + defaults::kMinResidualDof) {
+    cand.status = "too_few_rows";
+    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+    return cand;
+  }
+  EffectValues v = current;
+  v.push_back(zeroValue(P, e, true));
+  bool ok = false;
+  cand.fit = eng.make(fitSet(P, v), "+" + info.name, ok);
+  if (!ok) {
+    cand.status = "too_few_rows";
+    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+    return cand;
+  }
+  cand.improvement = (base.heldout_score - cand.fit.heldout_score) / base.heldout_score;
+  cand.t_statistic = pairedTStatistic(P, base, cand.fit, noise_rho);
+  cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
+  return cand;
+}
+
+// Candidates that cannot be told apart from each other: a parameter column of one lies in the
+// span of another candidate's columns (after removing what the model already explains).
+void markIndistinguishable(const ArmProblem& P, std::vector<ArmCandidate>& out,
+                           std::map<int, Eigen::MatrixXd>& resid_cols) {
   for (auto& a : out) {
     if (!resid_cols.count(a.effect)) continue;
     const Eigen::MatrixXd& A = resid_cols[a.effect];
@@ -274,6 +282,10 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
       if (all_in) a.contained_in.push_back(b.name);
     }
   }
+}
+
+// Fitted candidates first, by held-out score; then the parsimony moves.
+void sortCandidates(std::vector<ArmCandidate>& out) {
   std::stable_sort(out.begin(), out.end(), [](const ArmCandidate& a, const ArmCandidate& b) {
     const bool ao = a.status == "ok", bo = b.status == "ok";
     if (ao != bo) return ao;
@@ -297,6 +309,22 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
       --k;
     }
   }
+}
+
+// Every catalogue effect not yet in the model, scored against `base`, then ranked.
+std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const EffectValues& current,
+                               const ArmFit& base, const Solved& base_solved, double noise_rho, const ArmFitOptions& o) {
+  std::vector<ArmCandidate> out;
+  const int N = P.rows() * P.channels();
+  const Eigen::MatrixXd basis = base_solved.J.cols() > 0 ? base_solved.J : Eigen::MatrixXd(N, 0);
+  std::map<int, Eigen::MatrixXd> resid_cols;
+  for (std::size_t ei = 0; ei < P.catalogue.size(); ++ei) {
+    const int e = static_cast<int>(ei);
+    if (findValue(current, e)) continue;
+    out.push_back(scoreCandidate(P, eng, current, base, basis, e, noise_rho, o, resid_cols));
+  }
+  markIndistinguishable(P, out, resid_cols);
+  sortCandidates(out);
   return out;
 }
 

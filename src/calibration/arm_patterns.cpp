@@ -16,24 +16,23 @@ namespace {
 
 std::string fmt3(double v) { return formatG(v, 3); }
 
-}  // namespace
+// An operating variable: its samples per row and how the search treats it.
+struct Var {
+  std::string name, unit;
+  std::vector<double> x;
+  bool position = false, sign = false;
+  int channel = -1;  // a per-channel variable (the load) applies to that channel only
+};
 
-// The unexplained-effect search on a model's residuals (native units): every channel,
-// normalised by its noise, against every operating variable (joint positions and speeds, the
-// speed's sign, the channel's load, time or row order): binned means and, against joint
-// positions, a periodogram (least-squares sine fit over a frequency grid). Under the noise alone a
-// standardised bin mean is N(0, 1) and a sine fit's SSR reduction chi^2(2) (both inflated for
-// AR(1) residuals); the 5 % family-wise false-alarm rate is split between the two families and
-// Bonferroni-corrected over all their tests.
-std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
-                                       const std::vector<double>& sigma, double rho) {
+struct Bin {
+  double lo, hi;
+  std::vector<int> rows;
+};
+
+// The variables to search against: the problem's, the sign of each joint speed, time (or row
+// order), and each channel's load.
+std::vector<Var> operatingVariables(const ArmProblem& P, const Eigen::MatrixXd& predicted) {
   const int R = P.rows(), C = P.channels();
-  struct Var {
-    std::string name, unit;
-    std::vector<double> x;
-    bool position = false, sign = false;
-    int channel = -1;  // a per-channel variable (the load) applies to that channel only
-  };
   std::vector<Var> vars;
   for (const BinVariable& v : P.variables) {
     vars.push_back({v.name, v.unit, v.values, v.position, false, -1});
@@ -55,138 +54,181 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
       for (int i = 0; i < R; ++i) l.x.push_back(predicted(i, c));
       vars.push_back(l);
     }
-  const double inflate = (1 + std::clamp(rho, 0.0, 0.95)) / (1 - std::clamp(rho, 0.0, 0.95));
-  // Normalised residuals and their sums of squares per channel.
-  Eigen::MatrixXd e(R, C);
-  std::vector<double> ss(C, 0.0);
-  for (int c = 0; c < C; ++c)
-    for (int i = 0; i < R; ++i) {
-      e(i, c) = sigma[c] > 0 ? residual(i, c) / sigma[c] : 0.0;
-      ss[c] += e(i, c) * e(i, c);
+  return vars;
+}
+
+// Equal-width bins of v over its range (two for a sign), with the rows (of R) in each.
+std::vector<Bin> binsOf(const Var& v, int R) {
+  std::vector<Bin> bins;
+  const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
+  if (!(*mx > *mn)) return bins;
+  const int nb = v.sign ? 2 : defaults::kUnexplainedBins;
+  for (int b = 0; b < nb; ++b) bins.push_back({*mn + (*mx - *mn) * b / nb, *mn + (*mx - *mn) * (b + 1) / nb, {}});
+  for (int i = 0; i < R; ++i)
+    bins[std::clamp(static_cast<int>((v.x[i] - *mn) / (*mx - *mn) * nb), 0, nb - 1)].rows.push_back(i);
+  return bins;
+}
+
+// The periodogram's angular frequencies for a joint position v over R rows (none otherwise).
+std::vector<double> frequencies(const Var& v, int R) {
+  std::vector<double> w;
+  if (!v.position) return w;
+  const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
+  const double range = *mx - *mn;
+  if (!(range > 0)) return w;
+  const int kmax = defaults::kPeriodogramOversampling * R / defaults::kPeriodogramRowsPerCycle;
+  for (int k = defaults::kPeriodogramOversampling / 2; k <= kmax; ++k)
+    w.push_back(2 * M_PI * k / (range * defaults::kPeriodogramOversampling));
+  return w;
+}
+
+// One search: the normalised residuals and the thresholds shared by every test.
+struct PatternSearch {
+  const ArmProblem& P;
+  const std::vector<double>& sigma;
+  double rho;
+  int R, C;
+  std::vector<Var> vars;
+  double inflate = 1;
+  Eigen::MatrixXd e;           // residuals normalised by the channels' noise
+  std::vector<double> ss;      // their sums of squares per channel
+  double z_bin = 0, chi_freq = 0;
+
+  PatternSearch(const ArmProblem& p, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
+                const std::vector<double>& s, double r)
+      : P(p), sigma(s), rho(r), R(p.rows()), C(p.channels()), vars(operatingVariables(p, predicted)) {
+    inflate = (1 + std::clamp(rho, 0.0, 0.95)) / (1 - std::clamp(rho, 0.0, 0.95));
+    // Normalised residuals and their sums of squares per channel.
+    e.resize(R, C);
+    ss.assign(C, 0.0);
+    for (int c = 0; c < C; ++c)
+      for (int i = 0; i < R; ++i) {
+        e(i, c) = sigma[c] > 0 ? residual(i, c) / sigma[c] : 0.0;
+        ss[c] += e(i, c) * e(i, c);
+      }
+    thresholds();
+  }
+
+  // Count the tests of both families first (Bonferroni), then their thresholds.
+  void thresholds() {
+    long bin_tests = 0, freq_tests = 0;
+    for (int c = 0; c < C; ++c)
+      for (const Var& v : vars) {
+        if (v.channel >= 0 && v.channel != c) continue;
+        for (const Bin& b : binsOf(v, R)) bin_tests += static_cast<int>(b.rows.size()) >= defaults::kMinBinSamples;
+        freq_tests += static_cast<long>(frequencies(v, R).size());
+      }
+    const double alpha = defaults::kBinFalseAlarm / 2;
+    z_bin = normalQuantile(1.0 - alpha / (2.0 * std::max(1L, bin_tests)));
+    chi_freq = -2.0 * std::log(alpha / std::max(1L, freq_tests));  // chi^2(2) tail exp(-x/2)
+  }
+
+  // A pattern of channel c against v, of `kind`, significant above `threshold`.
+  ArmPattern pattern(int c, const Var& v, const char* kind, double threshold) const {
+    ArmPattern p;
+    p.channel = P.channel_names[c];
+    p.variable = v.name;
+    p.unit = v.unit;
+    p.kind = kind;
+    p.threshold = threshold;
+    return p;
+  }
+
+  // Binned means of channel c against v: the largest standardised bin mean.
+  void binnedMeans(int c, const Var& v, std::vector<ArmPattern>& out) const {
+    const std::vector<Bin> bins = binsOf(v, R);
+    if (bins.empty()) return;
+    ArmPattern p = pattern(c, v, "binned_means", z_bin);
+    double explained = 0;
+    for (const Bin& b : bins) {
+      const int n = static_cast<int>(b.rows.size());
+      if (n == 0) continue;
+      double m = 0;
+      for (int i : b.rows) m += e(i, c);
+      m /= n;
+      explained += n * m * m;
+      if (n < defaults::kMinBinSamples) continue;
+      const double z = std::abs(m) * std::sqrt(effectiveSampleSize(n, rho));
+      if (z > p.statistic) {
+        p.statistic = z;
+        p.peak_mean = m * sigma[c];
+        p.peak_lo = b.lo;
+        p.peak_hi = b.hi;
+      }
     }
-  struct Bin {
-    double lo, hi;
-    std::vector<int> rows;
-  };
-  auto binsOf = [&](const Var& v) {
-    std::vector<Bin> bins;
-    const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
-    if (!(*mx > *mn)) return bins;
-    const int nb = v.sign ? 2 : defaults::kUnexplainedBins;
-    for (int b = 0; b < nb; ++b) bins.push_back({*mn + (*mx - *mn) * b / nb, *mn + (*mx - *mn) * (b + 1) / nb, {}});
-    for (int i = 0; i < R; ++i)
-      bins[std::clamp(static_cast<int>((v.x[i] - *mn) / (*mx - *mn) * nb), 0, nb - 1)].rows.push_back(i);
-    return bins;
-  };
-  auto frequencies = [&](const Var& v) {
-    std::vector<double> w;
-    if (!v.position) return w;
-    const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
-    const double range = *mx - *mn;
-    if (!(range > 0)) return w;
-    const int kmax = defaults::kPeriodogramOversampling * R / defaults::kPeriodogramRowsPerCycle;
-    for (int k = defaults::kPeriodogramOversampling / 2; k <= kmax; ++k)
-      w.push_back(2 * M_PI * k / (range * defaults::kPeriodogramOversampling));
-    return w;
-  };
-  // Count the tests of both families first (Bonferroni).
-  long bin_tests = 0, freq_tests = 0;
-  for (int c = 0; c < C; ++c)
-    for (const Var& v : vars) {
-      if (v.channel >= 0 && v.channel != c) continue;
-      for (const Bin& b : binsOf(v)) bin_tests += static_cast<int>(b.rows.size()) >= defaults::kMinBinSamples;
-      freq_tests += static_cast<long>(frequencies(v).size());
+    p.explained = explained / ss[c];
+    p.sum_squares = explained;
+    p.significant = p.statistic > z_bin;
+    p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
+                    P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
+                    v.unit + " (" + fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
+    out.push_back(p);
+  }
+
+  // Periodogram of channel c against a joint position v: the best centred sine fit.
+  void periodogram(int c, const Var& v, std::vector<ArmPattern>& out) const {
+    const std::vector<double> ws = frequencies(v, R);
+    if (ws.empty()) return;
+    ArmPattern p = pattern(c, v, "periodic", chi_freq);
+    double best = -1;
+    for (double w : ws) {
+      double ms = 0, mc = 0, me = 0;
+      for (int i = 0; i < R; ++i) {
+        ms += std::sin(w * v.x[i]);
+        mc += std::cos(w * v.x[i]);
+        me += e(i, c);
+      }
+      ms /= R;
+      mc /= R;
+      me /= R;
+      Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d b = Eigen::Vector2d::Zero();
+      for (int i = 0; i < R; ++i) {
+        const Eigen::Vector2d f(std::sin(w * v.x[i]) - ms, std::cos(w * v.x[i]) - mc);
+        A += f * f.transpose();
+        b += f * (e(i, c) - me);
+      }
+      if (std::abs(A.determinant()) <= 1e-12 * A.squaredNorm()) continue;
+      const Eigen::Vector2d ab = A.ldlt().solve(b);
+      const double red = ab.dot(b);  // SSR reduction of the centred sine fit
+      if (red > best) {
+        best = red;
+        p.period = 2 * M_PI / w;
+        p.amplitude = ab.norm() * sigma[c];
+      }
     }
-  const double alpha = defaults::kBinFalseAlarm / 2;
-  const double z_bin = normalQuantile(1.0 - alpha / (2.0 * std::max(1L, bin_tests)));
-  const double chi_freq = -2.0 * std::log(alpha / std::max(1L, freq_tests));  // chi^2(2) tail exp(-x/2)
+    if (best < 0) return;
+    p.statistic = best / inflate;
+    p.explained = best / ss[c];
+    p.sum_squares = best;
+    p.significant = p.statistic > chi_freq;
+    p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
+                    (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
+                    ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
+                    ", threshold " + fmt3(chi_freq) + ")";
+    out.push_back(p);
+  }
+};
+
+}  // namespace
+
+// The unexplained-effect search on a model's residuals (native units): every channel,
+// normalised by its noise, against every operating variable (joint positions and speeds, the
+// speed's sign, the channel's load, time or row order): binned means and, against joint
+// positions, a periodogram (least-squares sine fit over a frequency grid). Under the noise alone a
+// standardised bin mean is N(0, 1) and a sine fit's SSR reduction chi^2(2) (both inflated for
+// AR(1) residuals); the 5 % family-wise false-alarm rate is split between the two families and
+// Bonferroni-corrected over all their tests.
+std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
+                                       const std::vector<double>& sigma, double rho) {
+  const PatternSearch S(P, residual, predicted, sigma, rho);
   std::vector<ArmPattern> out;
-  for (int c = 0; c < C; ++c) {
-    if (!(sigma[c] > 0) || !(ss[c] > 0)) continue;
-    for (const Var& v : vars) {
+  for (int c = 0; c < S.C; ++c) {
+    if (!(sigma[c] > 0) || !(S.ss[c] > 0)) continue;
+    for (const Var& v : S.vars) {
       if (v.channel >= 0 && v.channel != c) continue;
-      // A pattern of channel c against v, of `kind`, significant above `threshold`.
-      auto pattern = [&](const char* kind, double threshold) {
-        ArmPattern p;
-        p.channel = P.channel_names[c];
-        p.variable = v.name;
-        p.unit = v.unit;
-        p.kind = kind;
-        p.threshold = threshold;
-        return p;
-      };
-      // Binned means.
-      const std::vector<Bin> bins = binsOf(v);
-      if (!bins.empty()) {
-        ArmPattern p = pattern("binned_means", z_bin);
-        double explained = 0;
-        for (const Bin& b : bins) {
-          const int n = static_cast<int>(b.rows.size());
-          if (n == 0) continue;
-          double m = 0;
-          for (int i : b.rows) m += e(i, c);
-          m /= n;
-          explained += n * m * m;
-          if (n < defaults::kMinBinSamples) continue;
-          const double z = std::abs(m) * std::sqrt(effectiveSampleSize(n, rho));
-          if (z > p.statistic) {
-            p.statistic = z;
-            p.peak_mean = m * sigma[c];
-            p.peak_lo = b.lo;
-            p.peak_hi = b.hi;
-          }
-        }
-        p.explained = explained / ss[c];
-        p.sum_squares = explained;
-        p.significant = p.statistic > z_bin;
-        p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
-                        P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
-                        v.unit + " (" + fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
-        out.push_back(p);
-      }
-      // Periodogram against a joint position.
-      const std::vector<double> ws = frequencies(v);
-      if (!ws.empty()) {
-        ArmPattern p = pattern("periodic", chi_freq);
-        double best = -1;
-        for (double w : ws) {
-          double ms = 0, mc = 0, me = 0;
-          for (int i = 0; i < R; ++i) {
-            ms += std::sin(w * v.x[i]);
-            mc += std::cos(w * v.x[i]);
-            me += e(i, c);
-          }
-          ms /= R;
-          mc /= R;
-          me /= R;
-          Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-          Eigen::Vector2d b = Eigen::Vector2d::Zero();
-          for (int i = 0; i < R; ++i) {
-            const Eigen::Vector2d f(std::sin(w * v.x[i]) - ms, std::cos(w * v.x[i]) - mc);
-            A += f * f.transpose();
-            b += f * (e(i, c) - me);
-          }
-          if (std::abs(A.determinant()) <= 1e-12 * A.squaredNorm()) continue;
-          const Eigen::Vector2d ab = A.ldlt().solve(b);
-          const double red = ab.dot(b);  // SSR reduction of the centred sine fit
-          if (red > best) {
-            best = red;
-            p.period = 2 * M_PI / w;
-            p.amplitude = ab.norm() * sigma[c];
-          }
-        }
-        if (best >= 0) {
-          p.statistic = best / inflate;
-          p.explained = best / ss[c];
-          p.sum_squares = best;
-          p.significant = p.statistic > chi_freq;
-          p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
-                          (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
-                          ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
-                          ", threshold " + fmt3(chi_freq) + ")";
-          out.push_back(p);
-        }
-      }
+      S.binnedMeans(c, v, out);
+      S.periodogram(c, v, out);
     }
   }
   std::stable_sort(out.begin(), out.end(), [](const ArmPattern& a, const ArmPattern& b) {

@@ -261,73 +261,80 @@ std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::st
   return h.rows;
 }
 
-}  // namespace
+// residuals.csv: operating variables, measured, predicted, residual (final model).
+void writeResidualsCsv(const std::string& dir, const ArmProblem& P, const ArmDiagnosis& d,
+                       std::vector<std::string>& files) {
+  std::vector<std::string> h;
+  std::vector<std::vector<double>> cols;
+  for (const auto& v : P.variables) {
+    h.push_back(v.name);
+    cols.push_back(v.values);
+  }
+  for (int c = 0; c < P.channels(); ++c) {
+    const std::string& n = P.channel_names[c];
+    h.insert(h.end(), {"measured_" + n, "predicted_" + n, "residual_" + n});
+    std::vector<double> m, p, r;
+    for (int i = 0; i < P.rows(); ++i) {
+      m.push_back(P.measured(i, c));
+      p.push_back(d.final_fit.predicted(i, c));
+      r.push_back(d.final_fit.residual(i, c));
+    }
+    cols.push_back(m);
+    cols.push_back(p);
+    cols.push_back(r);
+  }
+  writeFileAtomic((fs::path(dir) / "residuals.csv").string(), io::formatCsv(h, cols));
+  files.push_back("residuals.csv");
+}
 
-ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
-                                const std::string& calibrated_design_path) {
-  ArmReportSummary s;
-  // Validate first (the history in the folder must be of this kind), then write every file into a
-  // staging folder and move the complete result into place.
-  StagedOutput stage(o.out_dir, o.lock);  // locks the folder first: the history read is the one appended to
-  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
-  const std::string dir = stage.dir();
-  writePlots(dir, "before", P, d.as_designed, s.files_written);
-  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
-  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
-  const bool after = o.command == "fit" && !d.added.empty();
-  if (after) {
-    writePlots(dir, "after", P, d.final_fit, s.files_written);
-    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
-    writeGridMap(dir, "after", P, d.final_fit, d.final_map, s.files_written);
+// error_ladder.svg: training and held-out RMSE of every history row, with the noise estimate.
+void writeErrorLadder(const std::string& dir, const ArmDiagnosis& d, const ArmProblem& P,
+                      const std::vector<std::vector<std::string>>& rows, std::vector<std::string>& files) {
+  report::PlotSpec p;
+  p.title = "error ladder (" + d.design + ", " + d.kind + ")";
+  report::PlotPanel panel;
+  panel.y_label = "RMSE [" + P.fit_unit + "]";
+  report::PlotSeries tr, ho;
+  tr.label = "training";
+  ho.label = "held-out";
+  tr.markers = ho.markers = true;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    p.x_categories.push_back(rows[i][0] + ":" + rows[i][5]);
+    tr.x.push_back(static_cast<double>(i));
+    ho.x.push_back(static_cast<double>(i));
+    tr.y.push_back(std::atof(rows[i][9].c_str()));
+    ho.y.push_back(std::atof(rows[i][10].c_str()));
   }
-  // residuals.csv: operating variables, measured, predicted, residual (final model).
-  {
-    std::vector<std::string> h;
-    std::vector<std::vector<double>> cols;
-    for (const auto& v : P.variables) {
-      h.push_back(v.name);
-      cols.push_back(v.values);
-    }
-    for (int c = 0; c < P.channels(); ++c) {
-      const std::string& n = P.channel_names[c];
-      h.insert(h.end(), {"measured_" + n, "predicted_" + n, "residual_" + n});
-      std::vector<double> m, p, r;
-      for (int i = 0; i < P.rows(); ++i) {
-        m.push_back(P.measured(i, c));
-        p.push_back(d.final_fit.predicted(i, c));
-        r.push_back(d.final_fit.residual(i, c));
-      }
-      cols.push_back(m);
-      cols.push_back(p);
-      cols.push_back(r);
-    }
-    writeFileAtomic((fs::path(dir) / "residuals.csv").string(), io::formatCsv(h, cols));
-    s.files_written.push_back("residuals.csv");
-  }
-  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
-  s.files_written.push_back("history.csv");
-  {
-    report::PlotSpec p;
-    p.title = "error ladder (" + d.design + ", " + d.kind + ")";
-    report::PlotPanel panel;
-    panel.y_label = "RMSE [" + P.fit_unit + "]";
-    report::PlotSeries tr, ho;
-    tr.label = "training";
-    ho.label = "held-out";
-    tr.markers = ho.markers = true;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      p.x_categories.push_back(rows[i][0] + ":" + rows[i][5]);
-      tr.x.push_back(static_cast<double>(i));
-      ho.x.push_back(static_cast<double>(i));
-      tr.y.push_back(std::atof(rows[i][9].c_str()));
-      ho.y.push_back(std::atof(rows[i][10].c_str()));
-    }
-    panel.series = {tr, ho};
-    panel.lines.push_back(report::RefLine{d.noise_estimate, "noise estimate", true, report::Rgb{90, 90, 90}});
-    p.panels.push_back(panel);
-    writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), report::plot(p).svg);
-    s.files_written.push_back("error_ladder.svg");
-  }
+  panel.series = {tr, ho};
+  panel.lines.push_back(report::RefLine{d.noise_estimate, "noise estimate", true, report::Rgb{90, 90, 90}});
+  p.panels.push_back(panel);
+  writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), report::plot(p).svg);
+  files.push_back("error_ladder.svg");
+}
+
+// The ranking of result.json: each candidate effect, its fit and its verdict.
+json rankingJson(const ArmDiagnosis& d, const ArmProblem& P) {
+  json rk = json::array();
+  for (const auto& c : d.ranking)
+    rk.push_back({{"effect", c.name},
+                  {"catalogue", P.catalogue[c.effect].effect},
+                  {"pattern", P.catalogue[c.effect].pattern},
+                  {"status", c.status},
+                  {"heldout_rmse", c.status == "ok" ? finite(c.fit.heldout_rmse) : json(nullptr)},
+                  {"region_heldout_rmse", c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
+                  {"heldout_score", c.status == "ok" ? finite(c.fit.heldout_score) : json(nullptr)},
+                  {"improvement", finite(c.improvement)},
+                  {"t_statistic", finite(c.t_statistic)},
+                  {"significant", c.significant},
+                  {"params", paramsJson(c.fit.params)},
+                  {"warnings", c.warnings},
+                  {"indistinguishable_from", c.indistinguishable}});
+  return rk;
+}
+
+// result.json: data, errors before and after, noise, ranking, regions, ladder and files.
+json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
+                const std::string& calibrated_design_path, const std::vector<std::string>& files) {
   json j;
   j["kind"] = d.kind;
   j["command"] = o.command;
@@ -347,22 +354,7 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   j["noise_estimate"] = finite(d.noise_estimate);
   j["channel_noise"] = d.channel_noise;
   j["noise_autocorrelation"] = finite(d.noise_rho);
-  json rk = json::array();
-  for (const auto& c : d.ranking)
-    rk.push_back({{"effect", c.name},
-                  {"catalogue", P.catalogue[c.effect].effect},
-                  {"pattern", P.catalogue[c.effect].pattern},
-                  {"status", c.status},
-                  {"heldout_rmse", c.status == "ok" ? finite(c.fit.heldout_rmse) : json(nullptr)},
-                  {"region_heldout_rmse", c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
-                  {"heldout_score", c.status == "ok" ? finite(c.fit.heldout_score) : json(nullptr)},
-                  {"improvement", finite(c.improvement)},
-                  {"t_statistic", finite(c.t_statistic)},
-                  {"significant", c.significant},
-                  {"params", paramsJson(c.fit.params)},
-                  {"warnings", c.warnings},
-                  {"indistinguishable_from", c.indistinguishable}});
-  j["ranking"] = rk;
+  j["ranking"] = rankingJson(d, P);
   j["verdict"] = o.command == "compare" ? "compare only (run fit to rank candidate effects)"
                                           : d.verdict;
   j["regions"] = regionsJson(d.final_map, true);
@@ -383,8 +375,36 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
     j["rmse_after"] = finite(d.rmse_after);
     j["calibrated_design"] = calibrated_design_path;
   }
-  j["files"] = s.files_written;
-  s.json = j.dump(2);
+  j["files"] = files;
+  return j;
+}
+
+}  // namespace
+
+// Writes plots, maps, residuals, history, the error ladder and result.json into a staging folder,
+// then moves the complete result into place.
+ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
+                                const std::string& calibrated_design_path) {
+  ArmReportSummary s;
+  // Validate first (the history in the folder must be of this kind), then write every file into a
+  // staging folder and move the complete result into place.
+  StagedOutput stage(o.out_dir, o.lock);  // locks the folder first: the history read is the one appended to
+  const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
+  const std::string dir = stage.dir();
+  writePlots(dir, "before", P, d.as_designed, s.files_written);
+  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
+  const bool after = o.command == "fit" && !d.added.empty();
+  if (after) {
+    writePlots(dir, "after", P, d.final_fit, s.files_written);
+    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
+    writeGridMap(dir, "after", P, d.final_fit, d.final_map, s.files_written);
+  }
+  writeResidualsCsv(dir, P, d, s.files_written);
+  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
+  s.files_written.push_back("history.csv");
+  writeErrorLadder(dir, d, P, rows, s.files_written);
+  s.json = resultJson(d, P, o, calibrated_design_path, s.files_written).dump(2);
   for (const auto& [name, text] : o.extra_files)
     writeFileAtomic((fs::path(dir) / name).string(), text);
   writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");

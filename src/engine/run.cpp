@@ -208,105 +208,107 @@ std::string sceneReport(const Study& study) {
   return md;
 }
 
-}  // namespace
+namespace fs = std::filesystem;
 
-RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& ranks) {
-  namespace fs = std::filesystem;
-  const std::string why = options.validate();
-  ARMSTUDY_CHECK(why.empty(), why);
-  const auto t0 = std::chrono::steady_clock::now();
-  const bool root = ranks.root();
+// One run of a study on this rank: its summary, output folder, lock, checkpoint store and pages.
+struct StudyRun {
+  const Study& study;
+  const RunOptions& options;
+  const Ranks& ranks;
+  const std::chrono::steady_clock::time_point t0;
+  const bool root;
   RunSummary sum;
-  sum.output_dir = (fs::path(options.output_root) / study.name).string();
-  sum.designs = static_cast<int>(study.designs.size());
-  sum.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  sum.ranks = ranks.size();
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-
-  const fs::path out(sum.output_dir);
-  const fs::path manifest_path = out / "manifest.json";
-  // Rank 0 owns the output folder: one run per folder at a time, stale temporaries of a killed run
-  // go, the checkpoint store is prepared. The other ranks attach to the store after it.
+  fs::path out;
+  fs::path manifest_path;
   std::optional<OutputFolderLock> lock;
   std::optional<CheckpointStore> store;
-  agreed(ranks, [&] {
-    if (!root) return;
-    lock.emplace(sum.output_dir);
-    if (options.overwrite) {
-      removePreviousResults(out);
-      fs::remove_all(out / ".partial");
-    } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
-      throw InputError(sum.output_dir, 0, "",
-                       "output folder already holds the results of a complete run; pass --overwrite to "
-                       "replace them");
-    }
-    store.emplace(sum.output_dir, studyFingerprint(study), sum.resume_message);
-  });
   ScratchFolder scratch;
-  agreed(ranks, [&] {
-    if (root) return;
-    std::string ignored;
-    store.emplace(sum.output_dir, studyFingerprint(study), ignored);
-    ScratchFolder(ranks.rank()).path.swap(scratch.path);
-  });
-  if (root && !sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
-  // In a distributed run the stages' own progress bars would show one rank's share: the runner
-  // reports the whole job instead (rank 0).
-  RunOptions stage_options = options;
-  if (ranks.distributed()) stage_options.progress = false;
-  const std::unique_ptr<UnitRunner> run_units = ranks.unitRunner(*store, sum.threads, options.progress, options.search_group_ranks);
-  const TimedUnitRunner units(*run_units);
+  std::vector<report::HtmlStage> pages;  // report.html: one section per stage
 
-  if (root) {
-    ordered_json designs = ordered_json::array();
-    for (const auto& d : study.designs) {
-      ordered_json j = modelJson(d.model);
-      j["variant_of"] = d.base_name;
-      ordered_json ov = ordered_json::object();
-      for (const auto& [k, v] : d.overrides) ov[k] = v;
-      j["overrides"] = ov;
-      designs.push_back(j);
-    }
-    writeFileAtomic((out / "designs.json").string(), designs.dump(2) + "\n");
+  StudyRun(const Study& s, const RunOptions& o, const Ranks& r, std::chrono::steady_clock::time_point t)
+      : study(s), options(o), ranks(r), t0(t), root(r.root()) {}
+
+  // The summary's output folder, design count, threads and ranks; sets the OpenMP threads.
+  void setUp() {
+    sum.output_dir = (fs::path(options.output_root) / study.name).string();
+    sum.designs = static_cast<int>(study.designs.size());
+    sum.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    sum.ranks = ranks.size();
+    if (options.threads > 0) omp_set_num_threads(options.threads);
+    out = fs::path(sum.output_dir);
+    manifest_path = out / "manifest.json";
   }
-  sum.files_written.push_back("designs.json");
-  auto lap = [&, t = t0](const std::string& stage) mutable {
-    const auto now = std::chrono::steady_clock::now();
-    sum.timings.push_back({stage, std::chrono::duration<double>(now - t).count()});
-    t = now;
-  };
-  lap("load_and_resolve");
+
+  // Rank 0 owns the output folder: one run per folder at a time, stale temporaries of a killed run
+  // go, the checkpoint store is prepared. The other ranks attach to the store after it.
+  void openOutput() {
+    agreed(ranks, [&] {
+      if (!root) return;
+      lock.emplace(sum.output_dir);
+      if (options.overwrite) {
+        removePreviousResults(out);
+        fs::remove_all(out / ".partial");
+      } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
+        throw InputError(sum.output_dir, 0, "",
+                         "output folder already holds the results of a complete run; pass --overwrite to "
+                         "replace them");
+      }
+      store.emplace(sum.output_dir, studyFingerprint(study), sum.resume_message);
+    });
+    agreed(ranks, [&] {
+      if (root) return;
+      std::string ignored;
+      store.emplace(sum.output_dir, studyFingerprint(study), ignored);
+      ScratchFolder(ranks.rank()).path.swap(scratch.path);
+    });
+    if (root && !sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
+  }
+
+  // designs.json (rank 0): every design with its base and overrides; then the load timing.
+  void writeDesigns() {
+    if (root) {
+      ordered_json designs = ordered_json::array();
+      for (const auto& d : study.designs) {
+        ordered_json j = modelJson(d.model);
+        j["variant_of"] = d.base_name;
+        ordered_json ov = ordered_json::object();
+        for (const auto& [k, v] : d.overrides) ov[k] = v;
+        j["overrides"] = ov;
+        designs.push_back(j);
+      }
+      writeFileAtomic((out / "designs.json").string(), designs.dump(2) + "\n");
+    }
+    sum.files_written.push_back("designs.json");
+    sum.timings.push_back(
+        {"load_and_resolve", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+  }
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
-  std::vector<report::HtmlStage> pages;  // report.html: one section per stage
-  const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-  const StageContext ctx{study, stage_options, stage_dir, units, sum.threads, root};
-  try {
-    for (const StudySection& section : study.sections) {
-      StageResult r = section.stage->run(ctx, *section.settings);
-      pages.push_back({section.stage->name(), r.files});
-      sum.units_resumed += r.units_resumed;
-      sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
-      sum.timings.push_back({section.stage->timingName(), r.seconds});
-      sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
-      sum.metrics.merge(r.metrics);
+  void runStages(const RunOptions& stage_options, const TimedUnitRunner& units) {
+    const std::string& stage_dir = root ? sum.output_dir : scratch.path;
+    const StageContext ctx{study, stage_options, stage_dir, units, sum.threads, root};
+    try {
+      for (const StudySection& section : study.sections) {
+        StageResult r = section.stage->run(ctx, *section.settings);
+        pages.push_back({section.stage->name(), r.files});
+        sum.units_resumed += r.units_resumed;
+        sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
+        sum.timings.push_back({section.stage->timingName(), r.seconds});
+        sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
+        sum.metrics.merge(r.metrics);
+      }
+    } catch (const std::exception& e) {
+      if (!ranks.distributed()) throw;
+      // The other ranks may be waiting for this one: say which rank failed and end the whole job.
+      std::fprintf(stderr, "armstudy: error on rank %d of %d: %s\n", ranks.rank(), ranks.size(), e.what());
+      std::fflush(stderr);
+      ranks.abortJob(dynamic_cast<const InputError*>(&e) ? 2 : 1);
     }
-  } catch (const std::exception& e) {
-    if (!ranks.distributed()) throw;
-    // The other ranks may be waiting for this one: say which rank failed and end the whole job.
-    std::fprintf(stderr, "armstudy: error on rank %d of %d: %s\n", ranks.rank(), ranks.size(), e.what());
-    std::fflush(stderr);
-    ranks.abortJob(dynamic_cast<const InputError*>(&e) ? 2 : 1);
   }
-  // Every rank is done (its units are saved) before rank 0 marks the run complete.
-  agreed(ranks, [] {});
-  // Rank 0 writes the scene, report.html and, last, the manifest, which marks the run complete;
-  // the other ranks wait for it. Then every rank removes the unit files it saved (in parallel:
-  // one file per unit, docs/distributed.md "Checkpoints"), and rank 0 the rest of the store.
-  agreed(ranks, [&] {
-    if (!root) return;
-    // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
-    // spatial file of the run in one view.
+
+  // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
+  // spatial file of the run in one view.
+  void writeScene() {
     Writer scene_out(sum.output_dir);
     if (!study.obstacles.empty()) {
       io::writeVtp(scene_out.path("scene/obstacles.vtp"), scene::obstaclePolyData(study.obstacles));
@@ -318,14 +320,19 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
     scene_out.text("scene/report.md", sceneReport(study));
     pages.push_back({"ParaView scene", scene_out.files()});
     sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
+  }
 
+  // report.html from the stages' pages, timed.
+  void writeHtml() {
     const auto html0 = std::chrono::steady_clock::now();
     writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
     sum.files_written.push_back("report.html");
     // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
     sum.timings.push_back({"report_html", std::chrono::duration<double>(std::chrono::steady_clock::now() - html0).count()});
+  }
 
-    // The manifest is written last: its presence marks a complete run.
+  // The manifest is written last: its presence marks a complete run.
+  void writeManifest(const TimedUnitRunner& units) {
     ordered_json man;
     man["armstudy_version"] = kVersion;
     man["git_revision"] = kGitRevision;
@@ -351,11 +358,43 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
     man["date"] = date;
     man["files"] = sum.files_written;
     writeFileAtomic(manifest_path.string(), man.dump(2) + "\n");
-  });
-  store->removeSaved();
+  }
+};
+
+}  // namespace
+
+// Opens the output folder, writes designs.json, runs the stages, then (rank 0) the scene,
+// report.html and the manifest; the ranks agree at each step.
+RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& ranks) {
+  const std::string why = options.validate();
+  ARMSTUDY_CHECK(why.empty(), why);
+  StudyRun run(study, options, ranks, std::chrono::steady_clock::now());
+  run.setUp();
+  run.openOutput();
+  // In a distributed run the stages' own progress bars would show one rank's share: the runner
+  // reports the whole job instead (rank 0).
+  RunOptions stage_options = options;
+  if (ranks.distributed()) stage_options.progress = false;
+  const std::unique_ptr<UnitRunner> run_units =
+      ranks.unitRunner(*run.store, run.sum.threads, options.progress, options.search_group_ranks);
+  const TimedUnitRunner units(*run_units);
+  run.writeDesigns();
+  run.runStages(stage_options, units);
+  // Every rank is done (its units are saved) before rank 0 marks the run complete.
   agreed(ranks, [] {});
-  if (root) store->finish();
-  return sum;
+  // Rank 0 writes the scene, report.html and, last, the manifest, which marks the run complete;
+  // the other ranks wait for it. Then every rank removes the unit files it saved (in parallel:
+  // one file per unit, docs/distributed.md "Checkpoints"), and rank 0 the rest of the store.
+  agreed(ranks, [&] {
+    if (!run.root) return;
+    run.writeScene();
+    run.writeHtml();
+    run.writeManifest(units);
+  });
+  run.store->removeSaved();
+  agreed(ranks, [] {});
+  if (run.root) run.store->finish();
+  return std::move(run.sum);
 }
 
 StageResult runStage(const Study& study, const std::string& name, const std::string& output_dir,

@@ -75,30 +75,91 @@ std::vector<collision::Obstacle> readObstacles(TableReader& top) {
   return out;
 }
 
-}  // namespace
+namespace fs = std::filesystem;
 
-Study loadStudy(const std::string& path) {
-  namespace fs = std::filesystem;
-  Study s;
-  s.file = path;
-  const std::string text = readFileOrThrow(path);
-  s.file_hash = contentHash(text);
-  s.inputs.push_back({path, s.file_hash});
-  const toml::table root = io::parseTomlText(text, path);
-  TableReader top(root, path, "");
-  {
-    TableReader r = top.requiredTable("study");
-    s.name =
-        r.name("name", "study", "_-",
-               "study names use letters, digits, '_' and '-' only (they name the output folder)");
-    s.description = r.string("description", "");
-    r.finish();
+// [study]: the study's name and description.
+void readStudyHeader(TableReader& top, Study& s) {
+  TableReader r = top.requiredTable("study");
+  s.name =
+      r.name("name", "study", "_-",
+             "study names use letters, digits, '_' and '-' only (they name the output folder)");
+  s.description = r.string("description", "");
+  r.finish();
+}
+
+// A [[design]]'s URDF options: base and tip links, package folders relative to the study.
+UrdfOptions readUrdfOptions(TableReader& r, const std::string& path, const fs::path& dir) {
+  UrdfOptions uo;  // URDF designs (docs/study-format.md): chain and package folders
+  uo.base_link = r.string("base_link", "");
+  uo.tip_link = r.string("tip_link", "");
+  if (const toml::table* pk = r.table("packages")) {
+    TableReader pr(*pk, path, r.path() + ".packages");
+    for (auto&& [k, v] : *pk) {
+      const std::string dir_text = pr.string(std::string(k.str()));
+      const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
+      uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
+    }
+    pr.finish();
   }
+  return uo;
+}
 
-  const fs::path dir = fs::path(path).parent_path();
-  std::map<std::string, const Model*> by_name;
+// A URDF design's base placement, TCP offset and name from its [[design]] entry.
+void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
+  // a URDF has no task-frame placement, TCP offset or design name of ours
+  auto pose = [&](const char* key, PoseXYZABG& p) {
+    const toml::table* t = r.table(key);
+    if (!t) return;
+    TableReader pr(*t, path, r.path() + "." + key);
+    p.x = pr.quantity("x", Dimension::Length, 0.0);
+    p.y = pr.quantity("y", Dimension::Length, 0.0);
+    p.z = pr.quantity("z", Dimension::Length, 0.0);
+    p.alpha = pr.quantity("alpha", Dimension::Angle, 0.0);
+    p.beta = pr.quantity("beta", Dimension::Angle, 0.0);
+    p.gamma = pr.quantity("gamma", Dimension::Angle, 0.0);
+    pr.finish();
+  };
+  pose("base", m.base);
+  PoseXYZABG offset;  // the TCP offset is given in the tip link frame: T_NT = T_N,tip * offset
+  pose("tcp", offset);
+  const Eigen::Isometry3d T_NT = m.tcp.toIsometry() * offset.toIsometry();
+  const Eigen::Vector3d abg = T_NT.linear().eulerAngles(0, 1, 2);  // R = Rx Ry Rz
+  m.tcp = {T_NT.translation().x(), T_NT.translation().y(), T_NT.translation().z(), abg[0], abg[1], abg[2]};
+  m.name = r.string("name", m.name);
+  for (char c : m.name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+  m.finalize();
+}
+
+// One [[design]] entry: its file (relative to the study), loaded, with the entry's settings.
+Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
+  const std::string file = r.string("file");
+  const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
+  if (!fs::exists(resolved))
+    r.fail("file", "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
+  const UrdfOptions uo = readUrdfOptions(r, path, dir);
+  const bool urdf = isUrdfPath(resolved.string());
+  if (!urdf)
+    for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
+      if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
+  Model m = loadAnyDesign(resolved.lexically_normal().string(), uo);
+  if (urdf) readUrdfPlacement(r, path, m);
+  m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
+  r.finish();
+  return m;
+}
+
+// The designs of a study: bases owns them, by_name points into bases.
+struct BaseDesigns {
   std::vector<Model> bases;
-  bases.reserve(64);
+  std::map<std::string, const Model*> by_name;
+};
+
+// Every [[design]] entry, in order, into s.designs and s.inputs; names must be unique.
+void readDesigns(TableReader& top, const std::string& path, const fs::path& dir, Study& s,
+                 BaseDesigns& d) {
+  d.bases.reserve(64);
   const toml::array* designs = top.array("design");
   if (!designs || designs->empty())
     throw InputError(path, 1, "design", "a study needs at least one [[design]] entry");
@@ -107,144 +168,133 @@ Study loadStudy(const std::string& path) {
     if (!e.is_table())
       throw InputError(path, static_cast<int>(e.source().begin.line), "design", "expected [[design]] tables");
     TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
-    const std::string file = r.string("file");
-    const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
-    if (!fs::exists(resolved))
-      r.fail("file", "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
-    UrdfOptions uo;  // URDF designs (docs/study-format.md): chain and package folders
-    uo.base_link = r.string("base_link", "");
-    uo.tip_link = r.string("tip_link", "");
-    if (const toml::table* pk = r.table("packages")) {
-      TableReader pr(*pk, path, r.path() + ".packages");
-      for (auto&& [k, v] : *pk) {
-        const std::string dir_text = pr.string(std::string(k.str()));
-        const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
-        uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
-      }
-      pr.finish();
-    }
-    const bool urdf = isUrdfPath(resolved.string());
-    if (!urdf)
-      for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
-        if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
-    Model m = loadAnyDesign(resolved.lexically_normal().string(), uo);
-    if (urdf) {  // a URDF has no task-frame placement, TCP offset or design name of ours
-      auto pose = [&](const char* key, PoseXYZABG& p) {
-        const toml::table* t = r.table(key);
-        if (!t) return;
-        TableReader pr(*t, path, r.path() + "." + key);
-        p.x = pr.quantity("x", Dimension::Length, 0.0);
-        p.y = pr.quantity("y", Dimension::Length, 0.0);
-        p.z = pr.quantity("z", Dimension::Length, 0.0);
-        p.alpha = pr.quantity("alpha", Dimension::Angle, 0.0);
-        p.beta = pr.quantity("beta", Dimension::Angle, 0.0);
-        p.gamma = pr.quantity("gamma", Dimension::Angle, 0.0);
-        pr.finish();
-      };
-      pose("base", m.base);
-      PoseXYZABG offset;  // the TCP offset is given in the tip link frame: T_NT = T_N,tip * offset
-      pose("tcp", offset);
-      const Eigen::Isometry3d T_NT = m.tcp.toIsometry() * offset.toIsometry();
-      const Eigen::Vector3d abg = T_NT.linear().eulerAngles(0, 1, 2);  // R = Rx Ry Rz
-      m.tcp = {T_NT.translation().x(), T_NT.translation().y(), T_NT.translation().z(), abg[0], abg[1], abg[2]};
-      m.name = r.string("name", m.name);
-      for (char c : m.name)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
-          r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
-      m.finalize();
-    }
-    m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
-    r.finish();
-    if (by_name.count(m.name))
+    Model m = readDesign(r, path, dir);
+    if (d.by_name.count(m.name))
       r.fail("file", "design name '" + m.name + "' appears twice in this study");
     s.inputs.push_back({m.file, m.file_hash});
-    bases.push_back(std::move(m));
-    by_name[bases.back().name] = &bases.back();
-    s.designs.push_back({bases.back(), bases.back().name, {}});
+    d.bases.push_back(std::move(m));
+    d.by_name[d.bases.back().name] = &d.bases.back();
+    s.designs.push_back({d.bases.back(), d.bases.back().name, {}});
   }
+}
 
-  idx = 0;
-  if (const toml::array* variants = top.array("variant")) {
-    for (const auto& e : *variants) {
-      if (!e.is_table())
-        throw InputError(path, static_cast<int>(e.source().begin.line), "variant", "expected [[variant]] tables");
-      TableReader r(*e.as_table(), path, "variant[" + std::to_string(idx++) + "]");
-      const std::string of = r.string("of");
-      auto it = by_name.find(of);
-      if (it == by_name.end())
-        r.fail("of", "variant of unknown design '" + of + "' (list it in a [[design]] entry first)");
-      const Model& base = *it->second;
-      std::vector<Override> sets = readOverrides(r, "set", base, false);
-      std::vector<Override> sweeps = readOverrides(r, "sweep", base, true);
-      // Collision volumes and inertias follow moved link ends unless the variant is the same arm.
-      const std::string geometry_text = r.string("geometry", "follows");
-      if (geometry_text != "follows" && geometry_text != "fixed")
-        r.fail("geometry", "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or \"fixed\" (kept from the base design)");
-      const VariantGeometry geometry = geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
-      r.finish();
-      if (sets.empty() && sweeps.empty())
-        throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
-      // Cartesian product of the sweeps; keys in sorted order (TOML tables are unordered), the
-      // first key varies slowest, so variant names and order are stable.
-      std::vector<std::size_t> counter(sweeps.size(), 0);
-      for (bool done = false; !done;) {
-        std::vector<std::pair<std::string, double>> ov;
-        for (const auto& o : sets) ov.emplace_back(o.key, o.values[0]);
-        for (std::size_t k = 0; k < sweeps.size(); ++k)
-          ov.emplace_back(sweeps[k].key, sweeps[k].values[counter[k]]);
-        // Overrides, the geometry that follows (collision volumes, inertias), validation.
-        Model m = deriveVariant(base, ov, path, r.line(), geometry);
-        for (const auto& d : s.designs)
-          if (d.model.name == m.name)
-            throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");
-        s.designs.push_back({m, base.name, ov});
-        // Advance the odometer; the last sweep key varies fastest.
-        int k = static_cast<int>(sweeps.size()) - 1;
-        for (; k >= 0; --k) {
-          if (++counter[k] < sweeps[k].values.size()) break;
-          counter[k] = 0;
-        }
-        done = k < 0;
-      }
+// The variants of one [[variant]] entry: the Cartesian product of its sweeps, each with its sets.
+void addVariantProduct(TableReader& r, const std::string& path, const Model& base,
+                       const std::vector<Override>& sets, const std::vector<Override>& sweeps,
+                       VariantGeometry geometry, Study& s) {
+  // Cartesian product of the sweeps; keys in sorted order (TOML tables are unordered), the
+  // first key varies slowest, so variant names and order are stable.
+  std::vector<std::size_t> counter(sweeps.size(), 0);
+  for (bool done = false; !done;) {
+    std::vector<std::pair<std::string, double>> ov;
+    for (const auto& o : sets) ov.emplace_back(o.key, o.values[0]);
+    for (std::size_t k = 0; k < sweeps.size(); ++k)
+      ov.emplace_back(sweeps[k].key, sweeps[k].values[counter[k]]);
+    // Overrides, the geometry that follows (collision volumes, inertias), validation.
+    Model m = deriveVariant(base, ov, path, r.line(), geometry);
+    for (const auto& d : s.designs)
+      if (d.model.name == m.name)
+        throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");
+    s.designs.push_back({m, base.name, ov});
+    // Advance the odometer; the last sweep key varies fastest.
+    int k = static_cast<int>(sweeps.size()) - 1;
+    for (; k >= 0; --k) {
+      if (++counter[k] < sweeps[k].values.size()) break;
+      counter[k] = 0;
     }
+    done = k < 0;
   }
-  s.obstacles = readObstacles(top);
-  // [regression]: where the baseline lives and how far each metric may move.
-  s.regression.baseline_path = (dir / (fs::path(path).stem().string() + ".baseline.json")).string();
-  if (const toml::table* t = top.table("regression")) {
-    TableReader r(*t, path, "regression");
-    if (r.has("baseline")) s.regression.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
-    if (const toml::array* rules = r.array("tolerance")) {
-      int k = 0;
-      for (const auto& e : *rules) {
-        if (!e.is_table())
-          throw InputError(path, static_cast<int>(e.source().begin.line), "regression.tolerance",
-                           "expected [[regression.tolerance]] tables");
-        TableReader tr(*e.as_table(), path, "regression.tolerance[" + std::to_string(k++) + "]");
-        ToleranceRule rule;
-        rule.line = tr.line();
-        rule.metric = tr.string("metric");
-        if (rule.metric.empty()) tr.fail("metric", "empty metric pattern");
-        rule.abs = tr.number("abs", 0.0);
-        rule.rel = tr.number("rel", 0.0);
-        rule.flips = static_cast<int>(tr.integer("flips", 0));
-        if (rule.abs < 0) tr.fail("abs", "tolerance must not be negative");
-        if (rule.rel < 0) tr.fail("rel", "tolerance must not be negative");
-        if (rule.flips < 0) tr.fail("flips", "allowed flips must not be negative");
-        tr.finish();
-        s.regression.rules.push_back(rule);
-      }
-    }
+}
+
+// Every [[variant]] entry: of which design, its sets and sweeps, its geometry; into s.designs.
+void readVariants(TableReader& top, const std::string& path, const BaseDesigns& d, Study& s) {
+  int idx = 0;
+  const toml::array* variants = top.array("variant");
+  if (!variants) return;
+  for (const auto& e : *variants) {
+    if (!e.is_table())
+      throw InputError(path, static_cast<int>(e.source().begin.line), "variant", "expected [[variant]] tables");
+    TableReader r(*e.as_table(), path, "variant[" + std::to_string(idx++) + "]");
+    const std::string of = r.string("of");
+    auto it = d.by_name.find(of);
+    if (it == d.by_name.end())
+      r.fail("of", "variant of unknown design '" + of + "' (list it in a [[design]] entry first)");
+    const Model& base = *it->second;
+    std::vector<Override> sets = readOverrides(r, "set", base, false);
+    std::vector<Override> sweeps = readOverrides(r, "sweep", base, true);
+    // Collision volumes and inertias follow moved link ends unless the variant is the same arm.
+    const std::string geometry_text = r.string("geometry", "follows");
+    if (geometry_text != "follows" && geometry_text != "fixed")
+      r.fail("geometry", "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or \"fixed\" (kept from the base design)");
+    const VariantGeometry geometry = geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
     r.finish();
+    if (sets.empty() && sweeps.empty())
+      throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
+    addVariantProduct(r, path, base, sets, sweeps, geometry, s);
   }
-  // Every stage reads its own section(s); the registry says which stages exist, in run order.
-  {
-    const std::vector<const Model*> models = s.models();
-    const std::string study_dir = dir.string();
-    SectionInput in{top, study_dir, models, s.obstacles, s.inputs};
-    for (const Stage* stage : stageRegistry())
-      if (auto settings = stage->read(in)) s.sections.push_back({stage, std::move(settings)});
+}
+
+// [regression]: where the baseline lives and how far each metric may move.
+RegressionSpec readRegression(TableReader& top, const std::string& path, const fs::path& dir) {
+  RegressionSpec spec;
+  spec.baseline_path = (dir / (fs::path(path).stem().string() + ".baseline.json")).string();
+  const toml::table* t = top.table("regression");
+  if (!t) return spec;
+  TableReader r(*t, path, "regression");
+  if (r.has("baseline")) spec.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
+  if (const toml::array* rules = r.array("tolerance")) {
+    int k = 0;
+    for (const auto& e : *rules) {
+      if (!e.is_table())
+        throw InputError(path, static_cast<int>(e.source().begin.line), "regression.tolerance",
+                         "expected [[regression.tolerance]] tables");
+      TableReader tr(*e.as_table(), path, "regression.tolerance[" + std::to_string(k++) + "]");
+      ToleranceRule rule;
+      rule.line = tr.line();
+      rule.metric = tr.string("metric");
+      if (rule.metric.empty()) tr.fail("metric", "empty metric pattern");
+      rule.abs = tr.number("abs", 0.0);
+      rule.rel = tr.number("rel", 0.0);
+      rule.flips = static_cast<int>(tr.integer("flips", 0));
+      if (rule.abs < 0) tr.fail("abs", "tolerance must not be negative");
+      if (rule.rel < 0) tr.fail("rel", "tolerance must not be negative");
+      if (rule.flips < 0) tr.fail("flips", "allowed flips must not be negative");
+      tr.finish();
+      spec.rules.push_back(rule);
+    }
   }
+  r.finish();
+  return spec;
+}
+
+// Every stage reads its own section(s); the registry says which stages exist, in run order.
+void readStageSections(TableReader& top, const fs::path& dir, Study& s) {
+  const std::vector<const Model*> models = s.models();
+  const std::string study_dir = dir.string();
+  SectionInput in{top, study_dir, models, s.obstacles, s.inputs};
+  for (const Stage* stage : stageRegistry())
+    if (auto settings = stage->read(in)) s.sections.push_back({stage, std::move(settings)});
+}
+
+}  // namespace
+
+// Reads the study file: header, designs, variants, obstacles, regression, stage sections.
+Study loadStudy(const std::string& path) {
+  Study s;
+  s.file = path;
+  const std::string text = readFileOrThrow(path);
+  s.file_hash = contentHash(text);
+  s.inputs.push_back({path, s.file_hash});
+  const toml::table root = io::parseTomlText(text, path);
+  TableReader top(root, path, "");
+  readStudyHeader(top, s);
+  const fs::path dir = fs::path(path).parent_path();
+  BaseDesigns bases;
+  readDesigns(top, path, dir, s, bases);
+  readVariants(top, path, bases, s);
+  s.obstacles = readObstacles(top);
+  s.regression = readRegression(top, path, dir);
+  readStageSections(top, dir, s);
   top.finish();
   return s;
 }

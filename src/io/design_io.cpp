@@ -150,68 +150,71 @@ void validateDriveEffects(const Model& m, const std::string& file, int effects_l
   }
 }
 
-Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* info) {
-  UrdfInfo urdf;
-  Model m;
-  m.file = file;
-  TableReader top(root, file, "");
+// [design]: the design's name, description, source and assumptions.
+void readDesignHeader(TableReader& top, Model& m) {
+  TableReader r = top.requiredTable("design");
+  m.name = r.name("name", "design", "_-.",
+                  "design names use letters, digits, '_', '-' and '.' only (they name files)");
+  m.description = r.string("description", "");
+  m.source = r.string("source", "");
+  m.assumptions = r.stringArray("assumptions");
+  r.finish();
+}
 
-  {
-    TableReader r = top.requiredTable("design");
-    m.name = r.name("name", "design", "_-.",
-                    "design names use letters, digits, '_', '-' and '.' only (they name files)");
-    m.description = r.string("description", "");
-    m.source = r.string("source", "");
-    m.assumptions = r.stringArray("assumptions");
-    r.finish();
+// One [[joint]] row: name (unique in `names`), type, offset, limits; its URDF facts into urdf.
+Joint readJoint(TableReader& r, std::set<std::string>& names, UrdfInfo& urdf) {
+  Joint j;
+  j.source_line = r.line();
+  j.name = r.string("name");
+  if (j.name.empty()) r.fail("name", "joint name is empty");
+  if (!names.insert(j.name).second) r.fail("name", "duplicate joint name '" + j.name + "'");
+  const std::string type = r.string("type");
+  if (type == "revolute")
+    j.type = JointType::Revolute;
+  else if (type == "prismatic")
+    j.type = JointType::Prismatic;
+  else
+    r.fail("type", "unknown joint type '" + type + "' (expected revolute or prismatic)");
+  j.offset = readPose(r, true);
+  UrdfJointInfo ji;  // URDF facts (io/urdf_io.hpp), optional
+  ji.link = r.string("link", "");
+  ji.continuous = r.boolean("continuous", false);
+  if (ji.continuous && j.type != JointType::Revolute)
+    r.fail("continuous", "only a revolute joint can be continuous");
+  const Dimension qd = j.type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
+  const Dimension vd =
+      j.type == JointType::Revolute ? Dimension::AngularVelocity : Dimension::LinearVelocity;
+  if (ji.continuous) {  // no position limits: the documented stand-in range unless given
+    j.limits.q_min = r.quantity("min", qd, -defaults::kContinuousJointRange_rad);
+    j.limits.q_max = r.quantity("max", qd, defaults::kContinuousJointRange_rad);
+  } else {
+    j.limits.q_min = r.quantity("min", qd);
+    j.limits.q_max = r.quantity("max", qd);
   }
+  j.limits.qd_max = r.quantity("max_velocity", vd, 0.0);
+  ji.effort_max = r.number("max_effort", 0.0);
+  if (!(ji.effort_max >= 0) || !std::isfinite(ji.effort_max))
+    r.fail("max_effort", "effort limit must be finite and not negative (N m or N; 0 = not given)");
+  urdf.joints.push_back(ji);
+  if (!(j.limits.q_min < j.limits.q_max))
+    r.fail("max", "joint limits are inverted or empty (min must be below max)");
+  if (j.limits.qd_max < 0) r.fail("max_velocity", "velocity limit must not be negative");
+  return j;
+}
 
+// The [[joint]] table, then its size checks (not empty, at most defaults::kMaxDof).
+void readJoints(TableReader& top, const std::string& file, Model& m, UrdfInfo& urdf) {
   std::set<std::string> names;
-  top.forEachTable("joint", [&](TableReader& r) {
-    Joint j;
-    j.source_line = r.line();
-    j.name = r.string("name");
-    if (j.name.empty()) r.fail("name", "joint name is empty");
-    if (!names.insert(j.name).second) r.fail("name", "duplicate joint name '" + j.name + "'");
-    const std::string type = r.string("type");
-    if (type == "revolute")
-      j.type = JointType::Revolute;
-    else if (type == "prismatic")
-      j.type = JointType::Prismatic;
-    else
-      r.fail("type", "unknown joint type '" + type + "' (expected revolute or prismatic)");
-    j.offset = readPose(r, true);
-    UrdfJointInfo ji;  // URDF facts (io/urdf_io.hpp), optional
-    ji.link = r.string("link", "");
-    ji.continuous = r.boolean("continuous", false);
-    if (ji.continuous && j.type != JointType::Revolute)
-      r.fail("continuous", "only a revolute joint can be continuous");
-    const Dimension qd = j.type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
-    const Dimension vd =
-        j.type == JointType::Revolute ? Dimension::AngularVelocity : Dimension::LinearVelocity;
-    if (ji.continuous) {  // no position limits: the documented stand-in range unless given
-      j.limits.q_min = r.quantity("min", qd, -defaults::kContinuousJointRange_rad);
-      j.limits.q_max = r.quantity("max", qd, defaults::kContinuousJointRange_rad);
-    } else {
-      j.limits.q_min = r.quantity("min", qd);
-      j.limits.q_max = r.quantity("max", qd);
-    }
-    j.limits.qd_max = r.quantity("max_velocity", vd, 0.0);
-    ji.effort_max = r.number("max_effort", 0.0);
-    if (!(ji.effort_max >= 0) || !std::isfinite(ji.effort_max))
-      r.fail("max_effort", "effort limit must be finite and not negative (N m or N; 0 = not given)");
-    urdf.joints.push_back(ji);
-    if (!(j.limits.q_min < j.limits.q_max))
-      r.fail("max", "joint limits are inverted or empty (min must be below max)");
-    if (j.limits.qd_max < 0) r.fail("max_velocity", "velocity limit must not be negative");
-    m.joints.push_back(j);
-  });
+  top.forEachTable("joint", [&](TableReader& r) { m.joints.push_back(readJoint(r, names, urdf)); });
   if (m.joints.empty())
     throw InputError(file, top.line(), "joint", "the kinematic table is empty: add [[joint]] rows");
   if (m.dof() > defaults::kMaxDof)
     throw InputError(file, m.joints.back().source_line, "joint",
                      "more than " + std::to_string(defaults::kMaxDof) + " joints are not supported");
+}
 
+// [tcp] (offset, tool axis, URDF link) and the optional [base] (placement, URDF link).
+void readTcpAndBase(TableReader& top, const std::string& file, Model& m, UrdfInfo& urdf) {
   {
     TableReader r = top.requiredTable("tcp", " (TCP offset from the last frame)");
     m.tcp = readPose(r, false);
@@ -225,7 +228,10 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     urdf.base_link = r.string("link", "");
     r.finish();
   }
+}
 
+// [[inertia]] rows: mass, COM and a physical inertia tensor per link, each given once.
+void readInertias(TableReader& top, Model& m) {
   top.forEachTable("inertia", [&](TableReader& r) {
     const std::string link = r.string("link");
     const int idx = m.jointIndex(link);
@@ -248,7 +254,45 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     if (ev[0] + ev[1] < ev[2] - tol || ev[0] + ev[2] < ev[1] - tol || ev[1] + ev[2] < ev[0] - tol)
       r.fail("inertia", "principal moments break the triangle inequality (not a physical body)");
   });
+}
 
+// One [[drive]] row: joint (one drive each), gear, torque constant, optional values, friction.
+Drive readDrive(TableReader& r, const std::string& file, const Model& m) {
+  Drive d;
+  d.source_line = r.line();
+  d.joint = r.string("joint");
+  if (m.jointIndex(d.joint) < 0)
+    r.fail("joint", "no joint named '" + d.joint + "' in this design");
+  for (const auto& other : m.drives)
+    if (other.joint == d.joint) r.fail("joint", "two drives for joint '" + d.joint + "'");
+  d.module = r.string("module", "");
+  d.gear_ratio = r.number("gear_ratio");
+  if (!(d.gear_ratio > 0)) r.fail("gear_ratio", "gear ratio must be positive");
+  d.torque_constant_NmpA = r.number("torque_constant");
+  if (!(d.torque_constant_NmpA > 0))
+    r.fail("torque_constant", "torque constant must be positive");
+  for (const OptionalDriveValue& v : kOptionalDriveValues)
+    d.*v.value = v.angular_velocity ? r.quantity(v.key, Dimension::AngularVelocity, 0.0)
+                                    : r.number(v.key, 0.0);
+  for (const OptionalDriveValue& v : kOptionalDriveValues)
+    if (d.*v.value < 0) r.fail(v.key, "must not be negative");
+  if (d.peak_current_A > 0 && d.continuous_current_A > d.peak_current_A)
+    r.fail("peak_current", "peak current is below the continuous current");
+  if (const toml::table* f = r.table("friction")) {
+    TableReader fr(*f, file, r.path() + ".friction");
+    d.friction_law = fr.string("law");
+    for (auto&& [k, v] : *f) {
+      const std::string key(k.str());
+      if (key == "law") continue;
+      d.friction[key] = fr.number(key);
+    }
+    fr.finish();
+  }
+  return d;
+}
+
+// [payload], [[drive]] rows and [model].effects, the drives' effects validated.
+void readPayloadDrivesEffects(TableReader& top, const std::string& file, Model& m) {
   if (const toml::table* t = top.table("payload")) {
     TableReader r(*t, file, "payload");
     m.payload_kg = r.number("mass");
@@ -256,41 +300,7 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     m.p_payload_com_T = readVec3(r, "com", Eigen::Vector3d::Zero());
     r.finish();
   }
-
-  top.forEachTable("drive", [&](TableReader& r) {
-    Drive d;
-    d.source_line = r.line();
-    d.joint = r.string("joint");
-    if (m.jointIndex(d.joint) < 0)
-      r.fail("joint", "no joint named '" + d.joint + "' in this design");
-    for (const auto& other : m.drives)
-      if (other.joint == d.joint) r.fail("joint", "two drives for joint '" + d.joint + "'");
-    d.module = r.string("module", "");
-    d.gear_ratio = r.number("gear_ratio");
-    if (!(d.gear_ratio > 0)) r.fail("gear_ratio", "gear ratio must be positive");
-    d.torque_constant_NmpA = r.number("torque_constant");
-    if (!(d.torque_constant_NmpA > 0))
-      r.fail("torque_constant", "torque constant must be positive");
-    for (const OptionalDriveValue& v : kOptionalDriveValues)
-      d.*v.value = v.angular_velocity ? r.quantity(v.key, Dimension::AngularVelocity, 0.0)
-                                      : r.number(v.key, 0.0);
-    for (const OptionalDriveValue& v : kOptionalDriveValues)
-      if (d.*v.value < 0) r.fail(v.key, "must not be negative");
-    if (d.peak_current_A > 0 && d.continuous_current_A > d.peak_current_A)
-      r.fail("peak_current", "peak current is below the continuous current");
-    if (const toml::table* f = r.table("friction")) {
-      TableReader fr(*f, file, r.path() + ".friction");
-      d.friction_law = fr.string("law");
-      for (auto&& [k, v] : *f) {
-        const std::string key(k.str());
-        if (key == "law") continue;
-        d.friction[key] = fr.number(key);
-      }
-      fr.finish();
-    }
-    m.drives.push_back(d);
-  });
-
+  top.forEachTable("drive", [&](TableReader& r) { m.drives.push_back(readDrive(r, file, m)); });
   int effects_line = top.line();
   if (const toml::table* t = top.table("model")) {
     TableReader r(*t, file, "model");
@@ -299,9 +309,20 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
     r.finish();
   }
   validateDriveEffects(m, file, effects_line);
+}
 
+// A design file's tables, in reading order, into a finalised and validated model.
+Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* info) {
+  UrdfInfo urdf;
+  Model m;
+  m.file = file;
+  TableReader top(root, file, "");
+  readDesignHeader(top, m);
+  readJoints(top, file, m, urdf);
+  readTcpAndBase(top, file, m, urdf);
+  readInertias(top, m);
+  readPayloadDrivesEffects(top, file, m);
   readCollisionModel(top, m);
-
   top.finish();
   m.finalize();
   validateModel(m, file);

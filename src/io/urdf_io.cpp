@@ -225,12 +225,10 @@ LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
   return out;
 }
 
-}  // namespace
-
-Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
-                     UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
-  UrdfInfo info;
-  const XmlIndex xml = indexAndCheck(text, file);
+// The URDF as urdfdom reads it; its complaints (console_bridge) become one InputError at the
+// element they name.
+urdf::ModelInterfaceSharedPtr parseWithUrdfdom(const std::string& text, const std::string& file,
+                                               const XmlIndex& xml) {
   CaptureHandler capture;
   console_bridge::OutputHandler* previous = console_bridge::getOutputHandler();
   console_bridge::useOutputHandler(&capture);
@@ -259,31 +257,59 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
       }
     throw InputError(file, line, key, msg);
   }
-  auto jointLine = [&](const std::string& n) {
-    return xml.joints.count(n) ? xml.joints.at(n) : xml.robot_line;
-  };
-  auto linkLine = [&](const std::string& n) {
-    return xml.links.count(n) ? xml.links.at(n) : xml.robot_line;
-  };
+  return urdf;
+}
 
-  // --- the chain ---
-  const urdf::LinkConstSharedPtr root = urdf->getRoot();
-  urdf::LinkConstSharedPtr base = root;
-  if (!o.base_link.empty()) {
-    base = urdf->getLink(o.base_link);
-    if (!base)
-      throw InputError(file, xml.robot_line, "base_link",
-                       "no link named '" + o.base_link + "' (--base)");
+// One import: the parsed URDF, the chain from base to tip, and the model built along it.
+struct UrdfImport {
+  const std::string& text;
+  const std::string& file;
+  const UrdfOptions& o;
+  const XmlIndex& xml;
+  urdf::ModelInterfaceSharedPtr robot;
+  urdf::LinkConstSharedPtr base, tip;
+  std::vector<urdf::JointConstSharedPtr> chain;
+  Model m;
+  UrdfInfo info;
+  std::vector<std::string> warnings;
+  std::vector<std::vector<LinkInBody>> bodies;  // bodies[0] = base, bodies[i + 1] = after joint i
+  std::set<std::string> on_chain;
+  Isometry3d T_acc = Isometry3d::Identity();  // current body frame F -> current link frame L
+
+  UrdfImport(const std::string& t, const std::string& f, const UrdfOptions& opt,
+             const XmlIndex& x, urdf::ModelInterfaceSharedPtr r)
+      : text(t), file(f), o(opt), xml(x), robot(std::move(r)) {}
+
+  // Line of a joint (link) element, or of <robot> when the name is unknown.
+  int jointLine(const std::string& n) const {
+    return xml.joints.count(n) ? xml.joints.at(n) : xml.robot_line;
   }
-  auto isMovable = [](const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; };
-  urdf::LinkConstSharedPtr tip;
-  if (!o.tip_link.empty()) {
-    tip = urdf->getLink(o.tip_link);
-    if (!tip)
-      throw InputError(file, xml.robot_line, "tip_link",
-                       "no link named '" + o.tip_link + "' (--tip)");
-  } else {
-    // The end of the longest chain of movable joints below the base, when unique.
+  int linkLine(const std::string& n) const {
+    return xml.links.count(n) ? xml.links.at(n) : xml.robot_line;
+  }
+
+  // The base link (--base or the URDF root) and the tip link (--tip or the longest chain's end).
+  void chooseBaseAndTip() {
+    base = robot->getRoot();
+    if (!o.base_link.empty()) {
+      base = robot->getLink(o.base_link);
+      if (!base)
+        throw InputError(file, xml.robot_line, "base_link",
+                         "no link named '" + o.base_link + "' (--base)");
+    }
+    if (!o.tip_link.empty()) {
+      tip = robot->getLink(o.tip_link);
+      if (!tip)
+        throw InputError(file, xml.robot_line, "tip_link",
+                         "no link named '" + o.tip_link + "' (--tip)");
+    } else {
+      tip = longestChainTip();
+    }
+  }
+
+  // The end of the longest chain of movable joints below the base, when unique.
+  urdf::LinkConstSharedPtr longestChainTip() const {
+    auto isMovable = [](const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; };
     int best = 0;
     std::vector<std::string> candidates;
     std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{base, 0}};
@@ -297,7 +323,7 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
           best = nn;
           candidates.push_back(j->child_link_name);
         }
-        stack.push_back({urdf->getLink(j->child_link_name), nn});
+        stack.push_back({robot->getLink(j->child_link_name), nn});
       }
     }
     if (candidates.empty())
@@ -312,129 +338,146 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
                            ") end in several links: " + list +
                            "; choose one with --tip (tip_link in a study)");
     }
-    tip = urdf->getLink(candidates.front());
+    return robot->getLink(candidates.front());
   }
-  std::vector<urdf::JointConstSharedPtr> chain;
-  for (urdf::LinkConstSharedPtr l = tip; l != base;) {
-    if (!l->parent_joint)
-      throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
-                       "tip link '" + tip->name + "' is not below base link '" + base->name + "'");
-    chain.push_back(l->parent_joint);
-    l = urdf->getLink(l->parent_joint->parent_link_name);
-  }
-  std::reverse(chain.begin(), chain.end());
 
-  Model m;
-  m.name = sanitizeName(urdf->getName());
-  m.file = file;
-  m.source =
-      "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
-  m.description = "Imported from " + file + " (robot '" + urdf->getName() + "')";
-  info.base_link = base->name;
-  info.tcp_link = tip->name;
-  std::vector<std::string> warnings;
-
-  std::vector<std::vector<LinkInBody>> bodies(
-      1);  // bodies[0] = base, bodies[i + 1] = after joint i
-  bodies[0].push_back({base, Isometry3d::Identity()});
-  std::set<std::string> on_chain{base->name};
-  Isometry3d T_acc = Isometry3d::Identity();  // current body frame F -> current link frame L
-  for (const auto& j : chain) {
-    const std::string jl = "joint '" + j->name + "'";
-    const Isometry3d T_o = toIso(j->parent_to_joint_origin_transform);
-    on_chain.insert(j->child_link_name);
-    if (j->type == urdf::Joint::FIXED) {
-      T_acc = T_acc * T_o;
-      bodies.back().push_back({urdf->getLink(j->child_link_name), T_acc});
-      continue;
+  // The joints from base to tip, in order; then the model's names and the info's links.
+  void collectChain() {
+    for (urdf::LinkConstSharedPtr l = tip; l != base;) {
+      if (!l->parent_joint)
+        throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
+                         "tip link '" + tip->name + "' is not below base link '" + base->name +
+                             "'");
+      chain.push_back(l->parent_joint);
+      l = robot->getLink(l->parent_joint->parent_link_name);
     }
-    if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS &&
-        j->type != urdf::Joint::PRISMATIC)
-      throw InputError(file, jointLine(j->name), jl,
+    std::reverse(chain.begin(), chain.end());
+    m.name = sanitizeName(robot->getName());
+    m.file = file;
+    m.source =
+        "URDF " + fs::path(file).filename().string() + ", chain " + base->name + " -> " + tip->name;
+    m.description = "Imported from " + file + " (robot '" + robot->getName() + "')";
+    info.base_link = base->name;
+    info.tcp_link = tip->name;
+  }
+
+  // Walks the chain: fixed joints fold their link onto the current body, movable ones start a
+  // body and become model joints; then the joint count checks and the TCP.
+  void buildJoints() {
+    bodies.assign(1, {});
+    bodies[0].push_back({base, Isometry3d::Identity()});
+    on_chain.insert(base->name);
+    for (const auto& j : chain) {
+      const Isometry3d T_o = toIso(j->parent_to_joint_origin_transform);
+      on_chain.insert(j->child_link_name);
+      if (j->type == urdf::Joint::FIXED) {
+        T_acc = T_acc * T_o;
+        bodies.back().push_back({robot->getLink(j->child_link_name), T_acc});
+        continue;
+      }
+      addMovableJoint(*j, T_o);
+    }
+    if (m.joints.empty())
+      throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
+                       "no movable joint between '" + base->name + "' and '" + tip->name + "'");
+    if (m.dof() > defaults::kMaxDof)
+      throw InputError(
+          file, linkLine(tip->name), "link '" + tip->name + "'",
+          "more than " + std::to_string(defaults::kMaxDof) + " movable joints are not supported");
+    m.tcp = poseFromIso(T_acc);
+  }
+
+  // One revolute, continuous or prismatic joint with origin T_o: its model joint, info and body.
+  void addMovableJoint(const urdf::Joint& j, const Isometry3d& T_o) {
+    const std::string jl = "joint '" + j.name + "'";
+    if (j.type != urdf::Joint::REVOLUTE && j.type != urdf::Joint::CONTINUOUS &&
+        j.type != urdf::Joint::PRISMATIC)
+      throw InputError(file, jointLine(j.name), jl,
                        "joint type on the chain is not supported (floating and planar joints are "
                        "not serial-arm joints)");
-    if (j->mimic)
+    if (j.mimic)
       throw InputError(
-          file, jointLine(j->name), jl + "/mimic",
+          file, jointLine(j.name), jl + "/mimic",
           "mimic joints on the chain are not supported (the joint would not be independent); "
           "choose another --tip");
-    Vector3d a(j->axis.x, j->axis.y, j->axis.z);
+    Vector3d a(j.axis.x, j.axis.y, j.axis.z);
     if (!(a.norm() > 1e-12))
-      throw InputError(file, jointLine(j->name), jl + "/axis", "joint axis is zero");
+      throw InputError(file, jointLine(j.name), jl + "/axis", "joint axis is zero");
     a.normalize();
     Isometry3d R_a = Isometry3d::Identity();
     R_a.linear() = axisFrame(a);
     Joint J;
     UrdfJointInfo ji;
-    J.name = j->name;
-    ji.link = j->child_link_name;
-    J.source_line = jointLine(j->name);
-    J.type = j->type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
+    J.name = j.name;
+    ji.link = j.child_link_name;
+    J.source_line = jointLine(j.name);
+    J.type = j.type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
     J.offset = poseFromIso(T_acc * T_o * R_a);
-    if (j->type == urdf::Joint::CONTINUOUS) {
+    if (j.type == urdf::Joint::CONTINUOUS) {
       ji.continuous = true;
       J.limits.q_min = -defaults::kContinuousJointRange_rad;
       J.limits.q_max = defaults::kContinuousJointRange_rad;
     } else {
-      if (!j->limits)
-        throw InputError(file, jointLine(j->name), jl + "/limit",
+      if (!j.limits)
+        throw InputError(file, jointLine(j.name), jl + "/limit",
                          "revolute and prismatic joints need <limit>");
-      J.limits.q_min = j->limits->lower;
-      J.limits.q_max = j->limits->upper;
+      J.limits.q_min = j.limits->lower;
+      J.limits.q_max = j.limits->upper;
       if (!(J.limits.q_min < J.limits.q_max))
-        throw InputError(file, jointLine(j->name), jl + "/limit",
+        throw InputError(file, jointLine(j.name), jl + "/limit",
                          "lower limit must be below upper limit (armstudy sweeps the joint range)");
     }
-    if (j->limits) {
-      J.limits.qd_max = std::max(0.0, j->limits->velocity);
-      ji.effort_max = std::max(0.0, j->limits->effort);
+    if (j.limits) {
+      J.limits.qd_max = std::max(0.0, j.limits->velocity);
+      ji.effort_max = std::max(0.0, j.limits->effort);
     }
     ji.R_FL = R_a.linear().transpose();
     m.joints.push_back(J);
     info.joints.push_back(ji);
     T_acc = R_a.inverse();  // F_i = L_i R_a, so L_i = F_i R_a^T
-    bodies.push_back({{urdf->getLink(j->child_link_name), T_acc}});
+    bodies.push_back({{robot->getLink(j.child_link_name), T_acc}});
   }
-  if (m.joints.empty())
-    throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
-                     "no movable joint between '" + base->name + "' and '" + tip->name + "'");
-  if (m.dof() > defaults::kMaxDof)
-    throw InputError(
-        file, linkLine(tip->name), "link '" + tip->name + "'",
-        "more than " + std::to_string(defaults::kMaxDof) + " movable joints are not supported");
-  m.tcp = poseFromIso(T_acc);
 
-  // Branches off the chain are ignored (fingers, sensors, tool frames).
-  for (const auto& [name, link] : urdf->links_)
-    if (!on_chain.count(name) && link->parent_joint &&
-        on_chain.count(link->parent_joint->parent_link_name))
-      warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
-                         link->parent_joint->name + "') is off the chain " + base->name + " -> " +
-                         tip->name + " and ignored");
+  // A warning for each branch off the chain (fingers, sensors, tool frames): they are ignored.
+  void warnBranches() {
+    for (const auto& [name, link] : robot->links_)
+      if (!on_chain.count(name) && link->parent_joint &&
+          on_chain.count(link->parent_joint->parent_link_name))
+        warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
+                           link->parent_joint->name + "') is off the chain " + base->name +
+                           " -> " + tip->name + " and ignored");
+  }
 
   // Inertias: the body after joint i carries its link and the links folded onto it.
-  bool any_inertia = false;
-  std::vector<LinkInertia> inertias;
-  for (std::size_t b = 1; b < bodies.size(); ++b) {
-    inertias.push_back(mergeInertials(bodies[b]));
-    any_inertia = any_inertia || inertias.back().given;
+  void mergeBodyInertias() {
+    bool any_inertia = false;
+    std::vector<LinkInertia> inertias;
+    for (std::size_t b = 1; b < bodies.size(); ++b) {
+      inertias.push_back(mergeInertials(bodies[b]));
+      any_inertia = any_inertia || inertias.back().given;
+    }
+    if (any_inertia) m.inertias = inertias;
   }
-  if (any_inertia) m.inertias = inertias;
 
-  std::string mesh_hashes;
-  if (o.collision)
-    for (std::size_t b = 0; b < bodies.size(); ++b)
-      for (const auto& lb : bodies[b])
-        addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
-  // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
-  m.file_hash = contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
-  if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
-    throw InputError(
-        file, xml.robot_line, "collision",
-        "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");
+  // The collision volumes of every body (when asked for) and the design hash over text, chain
+  // and meshes.
+  void addCollisionAndHash() {
+    std::string mesh_hashes;
+    if (o.collision)
+      for (std::size_t b = 0; b < bodies.size(); ++b)
+        for (const auto& lb : bodies[b])
+          addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
+    // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
+    m.file_hash =
+        contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
+    if (static_cast<int>(m.collision.volumes.size()) > defaults::kMaxCollisionVolumes)
+      throw InputError(
+          file, xml.robot_line, "collision",
+          "more than " + std::to_string(defaults::kMaxCollisionVolumes) + " collision volumes");
+  }
 
-  m.finalize();
-  if (!m.collision.empty()) {
+  // Body pairs whose volumes touch at the reference configuration become allowed pairs.
+  void allowTouchingPairs() {
     // Assumption (like MoveIt's "adjacent/default" pairs): bodies whose volumes touch at the
     // reference configuration (q = 0 clamped into the limits) touch by construction; they become
     // [[collision_allowed]] pairs, so a self-collision check reports real contacts only.
@@ -462,19 +505,41 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
           list);
     }
   }
-  m.assumptions.push_back(
-      "URDF import: joint values are the URDF's (about/along each URDF axis); body frame i "
-      "is the URDF child link frame rotated so that its z axis is the joint axis");
-  m.assumptions.push_back(
-      "URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
-  m.assumptions.push_back("URDF import: collision meshes and boxes are fitted with at most " +
-                          std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
-                          " swept-sphere volumes each, cylinders become capsules, spheres points");
-  for (const auto& w : warnings) m.assumptions.push_back(w);
-  if (warnings_out) *warnings_out = warnings;
-  if (info_out) *info_out = info;
-  m.finalize();
-  return m;
+
+  // The import's assumptions, then its warnings, into the model.
+  void addAssumptions() {
+    m.assumptions.push_back(
+        "URDF import: joint values are the URDF's (about/along each URDF axis); body frame i "
+        "is the URDF child link frame rotated so that its z axis is the joint axis");
+    m.assumptions.push_back(
+        "URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
+    m.assumptions.push_back("URDF import: collision meshes and boxes are fitted with at most " +
+                            std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
+                            " swept-sphere volumes each, cylinders become capsules, spheres points");
+    for (const auto& w : warnings) m.assumptions.push_back(w);
+  }
+};
+
+}  // namespace
+
+// Checks the XML, parses it with urdfdom, then builds the model along the chain base -> tip.
+Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
+                     UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
+  const XmlIndex xml = indexAndCheck(text, file);
+  UrdfImport im(text, file, o, xml, parseWithUrdfdom(text, file, xml));
+  im.chooseBaseAndTip();
+  im.collectChain();
+  im.buildJoints();
+  im.warnBranches();
+  im.mergeBodyInertias();
+  im.addCollisionAndHash();
+  im.m.finalize();
+  if (!im.m.collision.empty()) im.allowTouchingPairs();
+  im.addAssumptions();
+  if (warnings_out) *warnings_out = im.warnings;
+  if (info_out) *info_out = im.info;
+  im.m.finalize();
+  return im.m;
 }
 
 Model importUrdf(const std::string& path, const UrdfOptions& o, UrdfInfo* info,

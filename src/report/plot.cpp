@@ -189,14 +189,8 @@ double widestTick(const Meter& m, const std::vector<double>& t) {
   return w;
 }
 
-}  // namespace
-
-Drawing plot(const PlotSpec& spec, Format format) {
-  ARMSTUDY_CHECK(!spec.panels.empty(), "a plot needs at least one panel");
-  const Meter m;
-  Scene s(m);
-  const double lh = m.height(kLabelSize), ph = spec.panel_height;
-  // Shared x range.
+// The x range shared by all panels: the categories, or the finite data and vertical lines.
+Range sharedXRange(const PlotSpec& spec) {
   Range xr;
   if (!spec.x_categories.empty()) {
     xr.lo = -0.5, xr.hi = spec.x_categories.size() - 0.5;
@@ -210,17 +204,30 @@ Drawing plot(const PlotSpec& spec, Format format) {
     }
     if (!(xr.hi > xr.lo)) xr.pad(0.05);
   }
-  // Per panel: y range, ticks, legend.
-  struct P {
-    Range yr;
-    std::vector<double> yt;
-    std::vector<std::string> ylines, legend;
-  };
-  std::vector<P> ps(spec.panels.size());
+  return xr;
+}
+
+// One panel's y range, ticks, wrapped y label and legend entries.
+struct PanelPlan {
+  Range yr;
+  std::vector<double> yt;
+  std::vector<std::string> ylines, legend;
+};
+
+// Every panel's plan, and the widest y ticks, y label lines and legend among them.
+struct PanelPlans {
+  std::vector<PanelPlan> ps;
   double ytw = 0, yl_cols = 0, legend_w = 0;
+};
+
+// Plans the panels; a single diagonal panel gets one range for both axes (xr included).
+PanelPlans planPanels(const PlotSpec& spec, const Meter& m, Range& xr) {
+  const double ph = spec.panel_height;
+  PanelPlans pl;
+  pl.ps.resize(spec.panels.size());
   for (std::size_t k = 0; k < spec.panels.size(); ++k) {
     const PlotPanel& pan = spec.panels[k];
-    P& p = ps[k];
+    PanelPlan& p = pl.ps[k];
     for (const auto& se : pan.series)
       for (std::size_t i = 0; i < se.x.size() && i < se.y.size(); ++i)
         if (std::isfinite(se.x[i])) p.yr.add(se.y[i]);
@@ -231,80 +238,109 @@ Drawing plot(const PlotSpec& spec, Format format) {
     }
     p.yr.pad(0.06);
     p.yt = yTicks(m, p.yr, ph);
-    ytw = std::max(ytw, widestTick(m, p.yt));
+    pl.ytw = std::max(pl.ytw, widestTick(m, p.yt));
     p.ylines = m.wrap(pan.y_label, kLabelSize, ph);
-    yl_cols = std::max(yl_cols, static_cast<double>(p.ylines.size()));
+    pl.yl_cols = std::max(pl.yl_cols, static_cast<double>(p.ylines.size()));
     for (const auto& se : pan.series)
       if (!se.label.empty()) p.legend.push_back(se.label);
     for (const auto& l : pan.lines)
       if (!l.label.empty()) p.legend.push_back(l.label);
-    legend_w = std::max(legend_w, legendWidth(m, p.legend));
+    pl.legend_w = std::max(pl.legend_w, legendWidth(m, p.legend));
   }
   if (spec.panels.size() == 1 && spec.panels[0].diagonal) {
     Range both = xr;
-    both.add(ps[0].yr.lo), both.add(ps[0].yr.hi);
-    xr = ps[0].yr = both;
-    ps[0].yt = yTicks(m, ps[0].yr, ph);
+    both.add(pl.ps[0].yr.lo), both.add(pl.ps[0].yr.hi);
+    xr = pl.ps[0].yr = both;
+    pl.ps[0].yt = yTicks(m, pl.ps[0].yr, ph);
   }
-  const double ml = kPad + lh * yl_cols + kGap + ytw + 2 + kTickLen;
-  const double mr = kPad + (legend_w > 0 ? legend_w + 2 * kGap : 0);
+  return pl;
+}
+
+// A panel's series in frame f: lines broken at non-finite points, and markers.
+void drawSeries(Scene& s, const Frame& f, const PlotPanel& pan, const std::array<double, 4>& clip) {
+  for (std::size_t i = 0; i < pan.series.size(); ++i) {
+    const PlotSeries& se = pan.series[i];
+    const Rgb c = se.colour.value_or(seriesColour(static_cast<int>(i)));
+    std::vector<std::pair<double, double>> pts, run;
+    auto flush = [&] {
+      if (se.lines) s.polyline(run, c, 1.6, se.dashed, clip);
+      run.clear();
+    };
+    for (std::size_t j = 0; j < se.x.size() && j < se.y.size(); ++j) {
+      if (!std::isfinite(se.x[j]) || !std::isfinite(se.y[j])) {
+        flush();
+        continue;
+      }
+      run.emplace_back(f.px(se.x[j]), f.py(se.y[j]));
+      pts.push_back(run.back());
+    }
+    flush();
+    if (se.markers) s.dots(pts, c, 2.6);
+  }
+}
+
+// The legend of a panel at x = lx from y down; returns the bottom of its entries.
+double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx, double y) {
+  const double lh = m.height(kLabelSize);
+  double ly = y;
+  const double row = lh + 6;
+  auto entry = [&](const std::string& label, Rgb c, bool dashed, bool marker, bool line) {
+    if (line) s.line(lx, ly + row / 2, lx + kSwatch, ly + row / 2, c, 2, dashed);
+    if (marker) s.dots({{lx + kSwatch / 2, ly + row / 2}}, c, 3);
+    s.text(label, lx + kSwatch + kGap, ly + row / 2, kLabelSize, HAlign::left, VAlign::middle);
+    ly += row;
+  };
+  for (std::size_t i = 0; i < pan.series.size(); ++i)
+    if (!pan.series[i].label.empty())
+      entry(pan.series[i].label, pan.series[i].colour.value_or(seriesColour(static_cast<int>(i))),
+            pan.series[i].dashed, pan.series[i].markers, pan.series[i].lines);
+  for (const auto& l : pan.lines)
+    if (!l.label.empty()) entry(l.label, l.colour, true, false, true);
+  return ly;
+}
+
+// One panel from y down, its plot area at x = ml, pw wide: title, frame, y label, diagonal,
+// reference lines, series and legend. Returns the y below it.
+double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel& pan, const PanelPlan& p,
+                 const Range& xr, const XAxisPlan& xp, double ml, double pw, double y) {
+  const double lh = m.height(kLabelSize), ph = spec.panel_height;
+  if (!pan.title.empty()) y = titleBlock(s, m, pan.title, ml, ml + pw, y, kLabelSize);
+  else y += m.height(kTickSize) / 2;  // room for the top y tick label
+  const Frame f{ml, y, pw, ph, xr, p.yr};
+  drawFrame(s, f, xp, p.yt, spec.x_categories);
+  for (std::size_t c = 0; c < p.ylines.size(); ++c)
+    s.vtext(p.ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
+  const std::array<double, 4> clip{ml, y, pw, ph};
+  if (pan.diagonal) s.polyline({{f.px(xr.lo), f.py(xr.lo)}, {f.px(xr.hi), f.py(xr.hi)}}, {136, 136, 136}, 1, true, clip);
+  for (const auto& l : pan.lines) {
+    if (l.horizontal) s.polyline({{ml, f.py(l.value)}, {ml + pw, f.py(l.value)}}, l.colour, 1.5, true, clip);
+    else s.polyline({{f.px(l.value), y}, {f.px(l.value), y + ph}}, l.colour, 1.5, true, clip);
+  }
+  drawSeries(s, f, pan, clip);
+  // Legend right of the panel.
+  const double ly = drawPanelLegend(s, m, pan, ml + pw + 2 * kGap, y);
+  return std::max(y + ph + xp.below, ly) + kGap;
+}
+
+}  // namespace
+
+// Panels stacked under a title, sharing the x axis and its label; legends right of the panels.
+Drawing plot(const PlotSpec& spec, Format format) {
+  ARMSTUDY_CHECK(!spec.panels.empty(), "a plot needs at least one panel");
+  const Meter m;
+  Scene s(m);
+  const double lh = m.height(kLabelSize);
+  Range xr = sharedXRange(spec);
+  const PanelPlans pl = planPanels(spec, m, xr);
+  const double ml = kPad + lh * pl.yl_cols + kGap + pl.ytw + 2 + kTickLen;
+  const double mr = kPad + (pl.legend_w > 0 ? pl.legend_w + 2 * kGap : 0);
   double W = std::max(spec.width, ml + 240 + mr);
   const XAxisPlan xp = planXAxis(m, xr, W - ml - mr, spec.x_categories);
   for (const auto& word : m.wrap(spec.title, kTitleSize, 0)) W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
   const double pw = W - ml - mr;
   double y = titleBlock(s, m, spec.title, kPad, W - kPad, kPad);
-  for (std::size_t k = 0; k < spec.panels.size(); ++k) {
-    const PlotPanel& pan = spec.panels[k];
-    P& p = ps[k];
-    if (!pan.title.empty()) y = titleBlock(s, m, pan.title, ml, ml + pw, y, kLabelSize);
-    else y += m.height(kTickSize) / 2;  // room for the top y tick label
-    const Frame f{ml, y, pw, ph, xr, p.yr};
-    drawFrame(s, f, xp, p.yt, spec.x_categories);
-    for (std::size_t c = 0; c < p.ylines.size(); ++c)
-      s.vtext(p.ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
-    const std::array<double, 4> clip{ml, y, pw, ph};
-    if (pan.diagonal) s.polyline({{f.px(xr.lo), f.py(xr.lo)}, {f.px(xr.hi), f.py(xr.hi)}}, {136, 136, 136}, 1, true, clip);
-    for (const auto& l : pan.lines) {
-      if (l.horizontal) s.polyline({{ml, f.py(l.value)}, {ml + pw, f.py(l.value)}}, l.colour, 1.5, true, clip);
-      else s.polyline({{f.px(l.value), y}, {f.px(l.value), y + ph}}, l.colour, 1.5, true, clip);
-    }
-    for (std::size_t i = 0; i < pan.series.size(); ++i) {
-      const PlotSeries& se = pan.series[i];
-      const Rgb c = se.colour.value_or(seriesColour(static_cast<int>(i)));
-      std::vector<std::pair<double, double>> pts, run;
-      auto flush = [&] {
-        if (se.lines) s.polyline(run, c, 1.6, se.dashed, clip);
-        run.clear();
-      };
-      for (std::size_t j = 0; j < se.x.size() && j < se.y.size(); ++j) {
-        if (!std::isfinite(se.x[j]) || !std::isfinite(se.y[j])) {
-          flush();
-          continue;
-        }
-        run.emplace_back(f.px(se.x[j]), f.py(se.y[j]));
-        pts.push_back(run.back());
-      }
-      flush();
-      if (se.markers) s.dots(pts, c, 2.6);
-    }
-    // Legend right of the panel.
-    const double lx = ml + pw + 2 * kGap;
-    double ly = y;
-    const double row = lh + 6;
-    auto entry = [&](const std::string& label, Rgb c, bool dashed, bool marker, bool line) {
-      if (line) s.line(lx, ly + row / 2, lx + kSwatch, ly + row / 2, c, 2, dashed);
-      if (marker) s.dots({{lx + kSwatch / 2, ly + row / 2}}, c, 3);
-      s.text(label, lx + kSwatch + kGap, ly + row / 2, kLabelSize, HAlign::left, VAlign::middle);
-      ly += row;
-    };
-    for (std::size_t i = 0; i < pan.series.size(); ++i)
-      if (!pan.series[i].label.empty())
-        entry(pan.series[i].label, pan.series[i].colour.value_or(seriesColour(static_cast<int>(i))),
-              pan.series[i].dashed, pan.series[i].markers, pan.series[i].lines);
-    for (const auto& l : pan.lines)
-      if (!l.label.empty()) entry(l.label, l.colour, true, false, true);
-    y = std::max(y + ph + xp.below, ly) + kGap;
-  }
+  for (std::size_t k = 0; k < spec.panels.size(); ++k)
+    y = drawPanel(s, m, spec, spec.panels[k], pl.ps[k], xr, xp, ml, pw, y);
   for (const auto& l : m.wrap(spec.x_label, kLabelSize, pw)) {
     s.text(l, ml + pw / 2, y, kLabelSize, HAlign::centre, VAlign::top);
     y += lh;
