@@ -186,18 +186,10 @@ void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
   dm.flags[prefix + "/reachable"] = flags;
 }
 
-}  // namespace
+const char* const kSub = "dexterity";  // the stage's output folder
 
-StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
-                              std::vector<DexterityMap>* maps) {
-  namespace fs = std::filesystem;
-  const auto t0 = std::chrono::steady_clock::now();
-  StageResult sum;
-  const int threads = ctx.threads;
-  const std::string& output_dir = ctx.output_dir;
-  const std::string sub = "dexterity";
-  const std::string dir = (fs::path(output_dir) / sub).string();
-  Writer out(output_dir);
+// The study-wide fields of summary.json (grid and settings) with an empty design list.
+nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
   nlohmann::ordered_json js;
   const StemGrid& g = options.grid;
   js["grid"] = {{"stem_x_m", g.stem_x_m},
@@ -223,7 +215,13 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
                     {"search_seed", options.search_seed},
                     {"chain_order", options.descending ? "descending" : "ascending"}};
   js["designs"] = nlohmann::ordered_json::array();
-  std::ostringstream md, cmp;
+  return js;
+}
+
+// The report's title and opening paragraphs: the grid, the objective and how to read the images.
+std::string reportIntro(const DexterityOptions& options) {
+  const StemGrid& g = options.grid;
+  std::ostringstream md;
   md << "# Dexterity maps\n\n"
      << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m) << ") m, TCP on a circle of radius "
      << fmt(g.radius_m) << " m, gamma " << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".."
@@ -236,6 +234,186 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
      << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
      << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
      << "grey = not reachable.\n\n";
+  return md.str();
+}
+
+// What the report and summary.json say about one design's map: field statistics, reachable cells
+// by the sign of gamma, and means over the reachable cells.
+struct MapSummary {
+  FieldStats mo, mp, beta_s, bp;  // manipulability optimised/plain (normalised), transmission opt./plain
+  int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
+  int R = 0;                      // reachable cells
+  double mean_p = 0, mean_o = 0;  // mean normalised manipulability, plain and optimised
+};
+
+// Computes the statistics, counts and means of one design's map.
+MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid& g) {
+  MapSummary s;
+  const int G = g.gamma_rad.count;
+  s.beta_s = fieldStats(map, f.beta_opt);
+  s.mo = fieldStats(map, f.manip_opt_norm), s.mp = fieldStats(map, f.manip_plain_norm);
+  s.bp = fieldStats(map, f.beta_plain);
+  for (int i = 0; i < static_cast<int>(map.cells.size()); ++i) {
+    const bool neg = g.gamma_rad.value(i % G) < 0;
+    (neg ? s.n_neg : s.n_pos)++;
+    if (map.cells[i].reachable) {
+      (neg ? s.reach_neg : s.reach_pos)++;
+      s.mean_p += f.manip_plain_norm[i];
+      s.mean_o += f.manip_opt_norm[i];
+      s.iters += map.cells[i].nullspace_iterations;
+    }
+  }
+  s.R = map.reachable();
+  if (s.R > 0) s.mean_p /= s.R, s.mean_o /= s.R;
+  return s;
+}
+
+// "a/b" as a percentage with one decimal, "-" when b is 0.
+std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
+
+// Writes the heatmap figures (.svg and the same as .png) of normalised manipulability (plain and
+// optimised), transmission (optimised, scaled to its max) and reachability; returns the .svg
+// name per image key.
+std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const MapFields& f,
+                                                 const FieldStats& beta_s, Writer& out) {
+  struct Img { const char* key; const std::vector<double>* v; double hi; const char* label; };
+  const Img imgs[] = {
+      {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised [1]"},
+      {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain [1]"},
+      {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised [m/rad]"},
+      {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
+  std::map<std::string, std::string> png;  // what the report shows: the .svg figures
+  for (const Img& im : imgs) {
+    // <design>_<key>.svg: the figure with axes and colour bar; .png: the same figure.
+    const std::string name = map.design + "_" + im.key;
+    const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
+    const report::Drawing fig = heatmapFigure(map, cells, im.hi, map.design, im.label);
+    out.text(std::string(kSub) + "/" + name + ".svg", fig.svg);
+    out.text(std::string(kSub) + "/" + name + ".png", fig.png);
+    png[im.key] = name + ".svg";
+  }
+  return png;
+}
+
+// The design's row of the side-by-side table.
+std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
+                          const MapSummary& s) {
+  std::ostringstream cmp;
+  cmp << "| " << m.name << " | " << m.dof() << " | " << frac(s.R, static_cast<int>(map.cells.size())) << " | "
+      << frac(s.reach_neg, s.n_neg) << " | " << frac(s.reach_pos, s.n_pos) << " | " << fmt(f.best_manipulability, 4)
+      << " | " << fmt(s.mean_p) << " | " << fmt(s.mean_o) << " |\n";
+  return cmp.str();
+}
+
+// The design's report section: reachability, field statistics, the images and the map search.
+std::string designMarkdown(const Model& m, const DexterityOptions& options, const DexterityMap& map,
+                           const MapFields& f, const MapSummary& s,
+                           std::map<std::string, std::string>& png) {
+  std::ostringstream md;
+  md << "## " << m.name << "\n\n"
+     << "Reachable: " << s.R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
+     << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos) << "). Best manipulability (normalisation value): "
+     << fmt(f.best_manipulability, 5) << ". Mean null-space iterations: "
+     << fmt(s.R ? double(s.iters) / s.R : 0.0, 1) << " (timings: manifest.json).\n\n"
+     << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
+     << statsRow("manipulability, optimised (normalised)", s.mo)
+     << statsRow("manipulability, plain (normalised)", s.mp)
+     << statsRow("transmission beta along u, optimised", s.beta_s)
+     << statsRow("transmission beta along u, plain", s.bp) << "\n"
+     << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable |\n"
+     << "|---|---|---|---|\n"
+     << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![](" << png["manipulability_plain_normalised"]
+     << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["reachable"] << ") |\n\n";
+  const MapSearchSummary& se = map.search;
+  md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells << " cells got "
+     << options.seed_starts << " seeded starts each (" << se.multistart_improved << " improved), then "
+     << se.rounds << " neighbour-propagation rounds improved " << se.neighbour_improved << " cell values"
+     << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
+     << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
+  return md.str();
+}
+
+// The design's entry of summary.json, without the audit.
+nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& options,
+                                  const DexterityMap& map, const MapFields& f, const MapSummary& s) {
+  nlohmann::ordered_json d;
+  d["design"] = m.name;
+  d["dof"] = m.dof();
+  d["cells"] = map.cells.size();
+  d["reachable"] = s.R;
+  d["reachable_gamma_negative"] = s.reach_neg;
+  d["reachable_gamma_non_negative"] = s.reach_pos;
+  d["best_manipulability"] = f.best_manipulability;
+  d["manipulability_optimised_normalised"] = statsJson(s.mo);
+  d["manipulability_plain_normalised"] = statsJson(s.mp);
+  d["transmission_optimised"] = statsJson(s.beta_s);
+  d["transmission_plain"] = statsJson(s.bp);
+  d["mean_normalised_plain"] = s.mean_p;
+  d["mean_normalised_optimised"] = s.mean_o;
+  const MapSearchSummary& se = map.search;
+  d["search"] = {{"seeding_cells", se.seeding_cells},         {"seed_starts", options.seed_starts},
+                 {"multistart_tries", se.multistart_tries},   {"multistart_improved", se.multistart_improved},
+                 {"propagation_rounds", se.rounds},           {"neighbour_tries", se.neighbour_tries},
+                 {"neighbour_improved", se.neighbour_improved}, {"converged", se.converged}};
+  return d;
+}
+
+// Audits the map against an independent search: writes <design>_audit.csv, sets d["audit"] and
+// returns the report paragraph.
+std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
+                       int threads, Writer& out, nlohmann::ordered_json& d) {
+  const StemGrid& g = options.grid;
+  const int G = g.gamma_rad.count;
+  const DexterityAudit a = auditDexterityMap(m, options, map, threads);
+  nlohmann::ordered_json aj;
+  aj["cells"] = a.cells;
+  aj["starts_per_cell"] = a.starts;
+  aj["seed"] = a.seed;
+  aj["both_reachable"] = a.both_reachable;
+  aj["share_within_1pct"] = a.shareWithin1Percent();
+  aj["share_within_5pct"] = a.both_reachable ? double(a.within_5pct) / a.both_reachable : 1.0;
+  aj["reachability_contradicted"] = a.reach_contradicted;
+  aj["audit_found_no_solution"] = a.audit_missed;
+  aj["worst_gap"] = a.worst_gap;
+  if (a.worst_index >= 0)
+    aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)}, {"z_m", g.z_m.value(a.worst_index / G)}};
+  d["audit"] = aj;
+  std::ostringstream csv;
+  csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
+         "manipulability_audit,audit_solutions\n";
+  csv.precision(17);
+  for (const AuditCell& r : a.rows)
+    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << "," << r.audit_reachable
+        << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
+        << r.manipulability_audit << "," << r.solutions << "\n";
+  const std::string csv_name = m.name + "_audit.csv";
+  out.text(std::string(kSub) + "/" + csv_name, csv.str());
+  std::ostringstream md;
+  md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
+     << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
+     << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
+     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1) << " % are within 1 % of the audit's best "
+     << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
+     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2) << " %). Reachability verdicts contradicted "
+     << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `" << csv_name << "`.\n\n";
+  return md.str();
+}
+
+}  // namespace
+
+// Computes each design's map through the work units and writes its files, report section and
+// summary entry, then the comparison table, summary.json and report.md.
+StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
+                              std::vector<DexterityMap>* maps) {
+  namespace fs = std::filesystem;
+  const auto t0 = std::chrono::steady_clock::now();
+  StageResult sum;
+  const std::string sub = kSub;
+  const std::string dir = (fs::path(ctx.output_dir) / sub).string();
+  Writer out(ctx.output_dir);
+  nlohmann::ordered_json js = settingsJson(options);
+  std::ostringstream md, cmp;
+  md << reportIntro(options);
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
          "mean normalised (plain) | mean normalised (optimised) |\n|---|---|---|---|---|---|---|---|\n";
   for (const StudyDesign& sd : ctx.study.designs) {
@@ -246,117 +424,12 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     const MapFields f = mapFields(map);
     for (const std::string& name : writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
       out.add(sub + "/" + name);
-    const int G = g.gamma_rad.count;
-    // Images: normalised manipulability (plain/optimised), transmission (optimised, scaled to its
-    // max), reachable.
-    const FieldStats beta_s = fieldStats(map, f.beta_opt);
-    struct Img { const char* key; const std::vector<double>* v; double hi; const char* label; };
-    const Img imgs[] = {
-        {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised [1]"},
-        {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain [1]"},
-        {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised [m/rad]"},
-        {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
-    std::map<std::string, std::string> png;  // what the report shows: the .svg figures
-    for (const Img& im : imgs) {
-      // <design>_<key>.svg: the figure with axes and colour bar; .png: the same figure.
-      const std::string name = map.design + "_" + im.key;
-      const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
-      const report::Drawing fig = heatmapFigure(map, cells, im.hi, map.design, im.label);
-      out.text(sub + "/" + name + ".svg", fig.svg);
-      out.text(sub + "/" + name + ".png", fig.png);
-      png[im.key] = name + ".svg";
-    }
-    const FieldStats mo = fieldStats(map, f.manip_opt_norm), mp = fieldStats(map, f.manip_plain_norm);
-    const FieldStats bp = fieldStats(map, f.beta_plain);
-    int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
-    double mean_p = 0, mean_o = 0;
-    for (int i = 0; i < static_cast<int>(map.cells.size()); ++i) {
-      const bool neg = g.gamma_rad.value(i % G) < 0;
-      (neg ? n_neg : n_pos)++;
-      if (map.cells[i].reachable) {
-        (neg ? reach_neg : reach_pos)++;
-        mean_p += f.manip_plain_norm[i];
-        mean_o += f.manip_opt_norm[i];
-        iters += map.cells[i].nullspace_iterations;
-      }
-    }
-    const int R = map.reachable();
-    if (R > 0) mean_p /= R, mean_o /= R;
-    auto frac = [](int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); };
-    cmp << "| " << m.name << " | " << m.dof() << " | " << frac(R, static_cast<int>(map.cells.size())) << " | "
-        << frac(reach_neg, n_neg) << " | " << frac(reach_pos, n_pos) << " | " << fmt(f.best_manipulability, 4)
-        << " | " << fmt(mean_p) << " | " << fmt(mean_o) << " |\n";
-    md << "## " << m.name << "\n\n"
-       << "Reachable: " << R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(reach_neg, n_neg)
-       << ", gamma >= 0: " << frac(reach_pos, n_pos) << "). Best manipulability (normalisation value): "
-       << fmt(f.best_manipulability, 5) << ". Mean null-space iterations: "
-       << fmt(R ? double(iters) / R : 0.0, 1) << " (timings: manifest.json).\n\n"
-       << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
-       << statsRow("manipulability, optimised (normalised)", mo)
-       << statsRow("manipulability, plain (normalised)", mp)
-       << statsRow("transmission beta along u, optimised", beta_s)
-       << statsRow("transmission beta along u, plain", bp) << "\n"
-       << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable |\n"
-       << "|---|---|---|---|\n"
-       << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![](" << png["manipulability_plain_normalised"]
-       << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["reachable"] << ") |\n\n";
-    nlohmann::ordered_json d;
-    d["design"] = m.name;
-    d["dof"] = m.dof();
-    d["cells"] = map.cells.size();
-    d["reachable"] = R;
-    d["reachable_gamma_negative"] = reach_neg;
-    d["reachable_gamma_non_negative"] = reach_pos;
-    d["best_manipulability"] = f.best_manipulability;
-    d["manipulability_optimised_normalised"] = statsJson(mo);
-    d["manipulability_plain_normalised"] = statsJson(mp);
-    d["transmission_optimised"] = statsJson(beta_s);
-    d["transmission_plain"] = statsJson(bp);
-    d["mean_normalised_plain"] = mean_p;
-    d["mean_normalised_optimised"] = mean_o;
-    const MapSearchSummary& se = map.search;
-    d["search"] = {{"seeding_cells", se.seeding_cells},         {"seed_starts", options.seed_starts},
-                   {"multistart_tries", se.multistart_tries},   {"multistart_improved", se.multistart_improved},
-                   {"propagation_rounds", se.rounds},           {"neighbour_tries", se.neighbour_tries},
-                   {"neighbour_improved", se.neighbour_improved}, {"converged", se.converged}};
-    md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells << " cells got "
-       << options.seed_starts << " seeded starts each (" << se.multistart_improved << " improved), then "
-       << se.rounds << " neighbour-propagation rounds improved " << se.neighbour_improved << " cell values"
-       << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
-       << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
-    if (options.audit_cells > 0) {
-      const DexterityAudit a = auditDexterityMap(m, options, map, threads);
-      nlohmann::ordered_json aj;
-      aj["cells"] = a.cells;
-      aj["starts_per_cell"] = a.starts;
-      aj["seed"] = a.seed;
-      aj["both_reachable"] = a.both_reachable;
-      aj["share_within_1pct"] = a.shareWithin1Percent();
-      aj["share_within_5pct"] = a.both_reachable ? double(a.within_5pct) / a.both_reachable : 1.0;
-      aj["reachability_contradicted"] = a.reach_contradicted;
-      aj["audit_found_no_solution"] = a.audit_missed;
-      aj["worst_gap"] = a.worst_gap;
-      if (a.worst_index >= 0)
-        aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)}, {"z_m", g.z_m.value(a.worst_index / G)}};
-      d["audit"] = aj;
-      std::ostringstream csv;
-      csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
-             "manipulability_audit,audit_solutions\n";
-      csv.precision(17);
-      for (const AuditCell& r : a.rows)
-        csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << "," << r.audit_reachable
-            << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
-            << r.manipulability_audit << "," << r.solutions << "\n";
-      const std::string csv_name = m.name + "_audit.csv";
-      out.text(sub + "/" + csv_name, csv.str());
-      md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
-         << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
-         << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-         << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1) << " % are within 1 % of the audit's best "
-         << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-         << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2) << " %). Reachability verdicts contradicted "
-         << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `" << csv_name << "`.\n\n";
-    }
+    const MapSummary s = summarise(map, f, options.grid);
+    std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
+    cmp << comparisonRow(m, map, f, s);
+    md << designMarkdown(m, options, map, f, s, png);
+    nlohmann::ordered_json d = designJson(m, options, map, f, s);
+    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, out, d);
     js["designs"].push_back(d);
     if (maps) maps->push_back(std::move(map));
   }

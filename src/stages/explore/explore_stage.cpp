@@ -29,6 +29,208 @@ std::string fileSafeName(const std::string& candidate) {
   return s;
 }
 
+namespace {
+
+// The search's outcome that every output reads: candidates, the sorted front, the base design.
+struct Outcome {
+  const ExploreOptions& o;
+  const std::vector<Candidate>& c;
+  std::vector<std::size_t> front;  // best first by the first objective with a goal, then by name
+  std::size_t base_index = 0;
+  std::vector<std::size_t> goals;  // the objectives with a goal
+  bool base_on_front = false;
+};
+
+// The Pareto front of the candidates, best first by the first objective with a goal, then by name
+// (stable).
+std::vector<std::size_t> sortedFront(const ExploreOptions& o, const std::vector<Candidate>& c) {
+  std::vector<std::size_t> front = paretoFront(c, o.objectives);
+  std::size_t k0 = 0;
+  while (o.objectives[k0].goal == Goal::None) ++k0;
+  std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
+    const double va = oriented(o.objectives[k0], c[a].values[k0]), vb = oriented(o.objectives[k0], c[b].values[k0]);
+    return va != vb ? va > vb : c[a].name < c[b].name;
+  });
+  return front;
+}
+
+// The indices of the objectives with a goal (the others are constraints only).
+std::vector<std::size_t> goalObjectives(const ExploreOptions& o) {
+  std::vector<std::size_t> goals;
+  for (std::size_t k = 0; k < o.objectives.size(); ++k)
+    if (o.objectives[k].goal != Goal::None) goals.push_back(k);
+  return goals;
+}
+
+// candidates.csv: every evaluated candidate with its parameters, values and front/base flags.
+std::string candidatesCsv(const Outcome& r) {
+  const ExploreOptions& o = r.o;
+  const std::vector<Candidate>& c = r.c;
+  std::ostringstream s;
+  s << "name";
+  for (const Parameter& p : o.parameters) s << "," << p.key;
+  for (const Objective& ob : o.objectives) s << "," << ob.label;
+  s << ",feasible,on_front,is_base\n";
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    s << c[i].name;
+    for (std::size_t p = 0; p < o.parameters.size(); ++p) s << "," << (c[i].params.empty() ? "" : num(c[i].params[p]));
+    for (double v : c[i].values) s << "," << num(v);
+    s << "," << (c[i].feasible ? 1 : 0) << "," << (std::count(r.front.begin(), r.front.end(), i) ? 1 : 0) << ","
+      << (i == r.base_index ? 1 : 0) << "\n";
+  }
+  return s.str();
+}
+
+// Writes the first front_designs front designs (the base design excepted): design file plus the
+// stages' own outputs (maps), from the checkpointed units; returns their file-safe names.
+std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evaluator& ev,
+                                           const Outcome& r, Writer& out) {
+  const ExploreOptions& o = r.o;
+  std::vector<std::string> written;
+  for (std::size_t f = 0; f < r.front.size() && static_cast<int>(f) < o.front_designs; ++f) {
+    const Candidate& cand = r.c[r.front[f]];
+    if (r.front[f] == r.base_index) continue;  // the base design's own outputs are the study's
+    const Model m = deriveVariant(o.base, cand.overrides, o.file, o.line);
+    const std::string safe = fileSafeName(cand.name);
+    const std::string rel = "explore/front/" + safe;
+    Model file_model = m;  // as a design file: a valid design name, the variant named in the description
+    file_model.name = safe;
+    file_model.description = "Variant " + cand.name + " of " + o.base.name + " (Pareto front of study " +
+                             ctx.study.name + "). " + m.description;
+    out.text(rel + "/" + safe + ".toml", designToToml(file_model));
+    const StageResult sr = ev.runStages(m, cand.overrides, out.path(rel));
+    for (const std::string& file : sr.files) out.add(rel + "/" + file);
+    written.push_back(safe);
+  }
+  return written;
+}
+
+// The report's title, the search status and the parameter and objective tables.
+std::string introMarkdown(const StageContext& ctx, const Evaluator& ev, const Outcome& r) {
+  const ExploreOptions& o = r.o;
+  std::string md = "# Design-space exploration: study `" + ctx.study.name + "`\n\n";
+  md += "Candidates are variants of `" + o.base.name + "` (docs/exploration.md); each is evaluated by the stages " ;
+  for (std::size_t s = 0; s < o.stages.size(); ++s) md += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
+  md += " run on it alone.\n\nSearch: " + ev.status() + ". Evaluated: " + std::to_string(r.c.size()) +
+        " candidate(s) including the base design; " + std::to_string(r.front.size()) + " on the Pareto front.\n\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const Parameter& p : o.parameters)
+    rows.push_back({p.key, num(p.lo), num(p.hi), p.step > 0 ? num(p.step) : p.values.empty() ? "continuous" : std::to_string(p.values.size()) + " values"});
+  md += "## Parameters (SI)\n\n" + report::markdownTable({"key", ">from", ">to", ">step"}, rows) + "\n";
+  rows.clear();
+  for (const Objective& ob : o.objectives)
+    rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal), ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
+  md += "## Objectives and constraints\n\n" + report::markdownTable({"label", "metric", "goal", ">min", ">max"}, rows) + "\n";
+  return md;
+}
+
+// The header of the candidate tables: design, parameters, objectives.
+std::vector<std::string> candidateHeader(const ExploreOptions& o) {
+  std::vector<std::string> header{"design"};
+  for (const Parameter& p : o.parameters) header.push_back(">" + p.key);
+  for (const Objective& ob : o.objectives) header.push_back(">" + ob.label);
+  return header;
+}
+
+// Candidate i as a table row: name, parameter values ("(base)" for the base design), values.
+std::vector<std::string> candidateRow(const Outcome& r, std::size_t i) {
+  const std::vector<Candidate>& c = r.c;
+  std::vector<std::string> row{c[i].name + (i == r.base_index ? " (base design)" : "")};
+  for (std::size_t p = 0; p < r.o.parameters.size(); ++p) row.push_back(c[i].params.empty() ? "(base)" : num(c[i].params[p]));
+  for (double v : c[i].values) row.push_back(num(v));
+  return row;
+}
+
+// The front designs that dominate the base design: at least as good in every objective with a
+// goal and better in one.
+std::vector<std::string> dominatingBase(const Outcome& r) {
+  std::vector<std::string> by;
+  for (std::size_t i : r.front) {
+    bool dom = true, strict = false;
+    for (std::size_t k : r.goals) {
+      const double a = oriented(r.o.objectives[k], r.c[i].values[k]), b = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
+      dom &= a >= b;
+      strict |= a > b;
+    }
+    if (dom && strict) by.push_back("`" + r.c[i].name + "`");
+  }
+  return by;
+}
+
+// The base design against the front: its row, whether it is dominated (and by whom), and per
+// objective its value beside the best on the front.
+std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& header) {
+  const ExploreOptions& o = r.o;
+  const std::vector<Candidate>& c = r.c;
+  const std::size_t base_index = r.base_index;
+  std::string md = "## The base design relative to the front\n\n";
+  std::vector<std::vector<std::string>> rows{candidateRow(r, base_index)};
+  md += report::markdownTable(header, rows) + "\n";
+  if (!c[base_index].feasible) md += "The base design breaks a constraint.\n\n";
+  if (r.base_on_front) {
+    md += "The base design is on the front: no candidate is at least as good in every objective and better in one.\n\n";
+  } else {
+    const std::vector<std::string> by = dominatingBase(r);
+    md += "The base design is dominated by " + std::to_string(by.size()) + " front design(s)";
+    if (!by.empty()) {
+      md += ": ";
+      for (std::size_t k = 0; k < by.size() && k < 5; ++k) md += (k ? ", " : "") + by[k];
+      if (by.size() > 5) md += ", ...";
+    }
+    md += ".\n\n";
+  }
+  for (std::size_t k : r.goals) {
+    double best = oriented(o.objectives[k], c[base_index].values[k]);
+    for (std::size_t i : r.front) best = std::max(best, oriented(o.objectives[k], c[i].values[k]));
+    md += "- " + o.objectives[k].label + ": base " + num(c[base_index].values[k]) + ", best on the front " +
+          num(o.objectives[k].goal == Goal::Minimise ? -best : best) + "\n";
+  }
+  md += "\n";
+  return md;
+}
+
+// The adapted geometry of the front designs and the list of files written.
+std::string geometryAndFilesMarkdown(const Outcome& r, const std::vector<std::string>& written) {
+  std::string md = "## Geometry that follows\n\nWhat deriving the front designs adapted (docs/exploration.md, \"Geometry that follows\"):\n\n";
+  for (std::size_t i : r.front) {
+    if (r.c[i].adapted.empty()) continue;
+    md += "- `" + r.c[i].name + "`:\n";
+    for (const std::string& a : r.c[i].adapted) md += "  - " + a + "\n";
+  }
+  md += "\n## Files\n\n- `candidates.csv`: every evaluated candidate\n";
+  if (r.goals.size() >= 2) md += "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
+  md += "- `parallel.svg`: parallel coordinates of parameters and objectives\n";
+  for (const std::string& n : written) md += "- `front/" + n + "/`: design file and the stages' outputs\n";
+  return md;
+}
+
+// explore.md: intro and tables, the front, the base design against it, geometry and files.
+std::string exploreMarkdown(const StageContext& ctx, const Evaluator& ev, const Outcome& r,
+                            const std::vector<std::string>& written) {
+  std::string md = introMarkdown(ctx, ev, r);
+  const std::vector<std::string> header = candidateHeader(r.o);
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i : r.front) rows.push_back(candidateRow(r, i));
+  md += "## Pareto front (non-dominated feasible candidates)\n\n" + report::markdownTable(header, rows) + "\n";
+  md += baseMarkdown(r, header);
+  md += geometryAndFilesMarkdown(r, written);
+  return md;
+}
+
+// The exploration's metrics: evaluations, front size, whether the base is on it, front values.
+void addExploreMetrics(const Outcome& r, StudyMetrics& M) {
+  M.scalars["explore/evaluations"] = static_cast<double>(r.c.size());
+  M.scalars["explore/front_size"] = static_cast<double>(r.front.size());
+  M.scalars["explore/base_on_front"] = r.base_on_front ? 1.0 : 0.0;
+  for (std::size_t f = 0; f < r.front.size(); ++f)
+    for (std::size_t k = 0; k < r.o.objectives.size(); ++k)
+      M.scalars["explore/front/" + r.c[r.front[f]].name + "/" + std::to_string(k)] = r.c[r.front[f]].values[k];
+}
+
+}  // namespace
+
+// Evaluates the base design and runs the search, then writes candidates.csv, the plots, the front
+// designs and explore.md.
 StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   StageResult res;
@@ -38,140 +240,16 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   if (o.method == Method::Grid) ev.searchGrid();
   else ev.searchOptimise();
   const std::vector<Candidate>& c = ev.candidates();
-  std::vector<std::size_t> front = paretoFront(c, o.objectives);
-  // Front order: best first by the first objective with a goal, then by name (stable).
-  std::size_t k0 = 0;
-  while (o.objectives[k0].goal == Goal::None) ++k0;
-  std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
-    const double va = oriented(o.objectives[k0], c[a].values[k0]), vb = oriented(o.objectives[k0], c[b].values[k0]);
-    return va != vb ? va > vb : c[a].name < c[b].name;
-  });
+  std::vector<std::size_t> front = sortedFront(o, c);
   const bool base_on_front = std::find(front.begin(), front.end(), base_index) != front.end();
-
-  // candidates.csv: every evaluated candidate.
-  {
-    std::ostringstream s;
-    s << "name";
-    for (const Parameter& p : o.parameters) s << "," << p.key;
-    for (const Objective& ob : o.objectives) s << "," << ob.label;
-    s << ",feasible,on_front,is_base\n";
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      s << c[i].name;
-      for (std::size_t p = 0; p < o.parameters.size(); ++p) s << "," << (c[i].params.empty() ? "" : num(c[i].params[p]));
-      for (double v : c[i].values) s << "," << num(v);
-      s << "," << (c[i].feasible ? 1 : 0) << "," << (std::count(front.begin(), front.end(), i) ? 1 : 0) << ","
-        << (i == base_index ? 1 : 0) << "\n";
-    }
-    out.text("explore/candidates.csv", s.str());
-  }
-
+  const Outcome r{o, c, std::move(front), base_index, goalObjectives(o), base_on_front};
+  out.text("explore/candidates.csv", candidatesCsv(r));
   // Plots (explore_plots.hpp: minimal SVG kept in this folder).
-  std::vector<std::size_t> goals;
-  for (std::size_t k = 0; k < o.objectives.size(); ++k)
-    if (o.objectives[k].goal != Goal::None) goals.push_back(k);
-  if (goals.size() >= 2) out.text("explore/front_scatter.svg", scatterSvg(c, front, base_index, o, goals[0], goals[1]));
-  out.text("explore/parallel.svg", parallelSvg(c, front, base_index, o));
-
-  // Front designs: design file plus the stages' own outputs (maps), from the checkpointed units.
-  std::vector<std::string> written;
-  for (std::size_t f = 0; f < front.size() && static_cast<int>(f) < o.front_designs; ++f) {
-    const Candidate& cand = c[front[f]];
-    if (front[f] == base_index) continue;  // the base design's own outputs are the study's
-    const Model m = deriveVariant(o.base, cand.overrides, o.file, o.line);
-    const std::string safe = fileSafeName(cand.name);
-    const std::string rel = "explore/front/" + safe;
-    Model file_model = m;  // as a design file: a valid design name, the variant named in the description
-    file_model.name = safe;
-    file_model.description = "Variant " + cand.name + " of " + o.base.name + " (Pareto front of study " +
-                             ctx.study.name + "). " + m.description;
-    out.text(rel + "/" + safe + ".toml", designToToml(file_model));
-    const StageResult r = ev.runStages(m, cand.overrides, out.path(rel));
-    for (const std::string& file : r.files) out.add(rel + "/" + file);
-    written.push_back(safe);
-  }
-
-  // Report.
-  std::string md = "# Design-space exploration: study `" + ctx.study.name + "`\n\n";
-  md += "Candidates are variants of `" + o.base.name + "` (docs/exploration.md); each is evaluated by the stages " ;
-  for (std::size_t s = 0; s < o.stages.size(); ++s) md += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
-  md += " run on it alone.\n\nSearch: " + ev.status() + ". Evaluated: " + std::to_string(c.size()) +
-        " candidate(s) including the base design; " + std::to_string(front.size()) + " on the Pareto front.\n\n";
-  {
-    std::vector<std::vector<std::string>> rows;
-    for (const Parameter& p : o.parameters)
-      rows.push_back({p.key, num(p.lo), num(p.hi), p.step > 0 ? num(p.step) : p.values.empty() ? "continuous" : std::to_string(p.values.size()) + " values"});
-    md += "## Parameters (SI)\n\n" + report::markdownTable({"key", ">from", ">to", ">step"}, rows) + "\n";
-    rows.clear();
-    for (const Objective& ob : o.objectives)
-      rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal), ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
-    md += "## Objectives and constraints\n\n" + report::markdownTable({"label", "metric", "goal", ">min", ">max"}, rows) + "\n";
-  }
-  auto row = [&](std::size_t i) {
-    std::vector<std::string> r{c[i].name + (i == base_index ? " (base design)" : "")};
-    for (std::size_t p = 0; p < o.parameters.size(); ++p) r.push_back(c[i].params.empty() ? "(base)" : num(c[i].params[p]));
-    for (double v : c[i].values) r.push_back(num(v));
-    return r;
-  };
-  std::vector<std::string> header{"design"};
-  for (const Parameter& p : o.parameters) header.push_back(">" + p.key);
-  for (const Objective& ob : o.objectives) header.push_back(">" + ob.label);
-  {
-    std::vector<std::vector<std::string>> rows;
-    for (std::size_t i : front) rows.push_back(row(i));
-    md += "## Pareto front (non-dominated feasible candidates)\n\n" + report::markdownTable(header, rows) + "\n";
-  }
-  md += "## The base design relative to the front\n\n";
-  {
-    std::vector<std::vector<std::string>> rows{row(base_index)};
-    md += report::markdownTable(header, rows) + "\n";
-    if (!c[base_index].feasible) md += "The base design breaks a constraint.\n\n";
-    if (base_on_front) {
-      md += "The base design is on the front: no candidate is at least as good in every objective and better in one.\n\n";
-    } else {
-      std::vector<std::string> by;
-      for (std::size_t i : front) {
-        bool dom = true, strict = false;
-        for (std::size_t k : goals) {
-          const double a = oriented(o.objectives[k], c[i].values[k]), b = oriented(o.objectives[k], c[base_index].values[k]);
-          dom &= a >= b;
-          strict |= a > b;
-        }
-        if (dom && strict) by.push_back("`" + c[i].name + "`");
-      }
-      md += "The base design is dominated by " + std::to_string(by.size()) + " front design(s)";
-      if (!by.empty()) {
-        md += ": ";
-        for (std::size_t k = 0; k < by.size() && k < 5; ++k) md += (k ? ", " : "") + by[k];
-        if (by.size() > 5) md += ", ...";
-      }
-      md += ".\n\n";
-    }
-    for (std::size_t k : goals) {
-      double best = oriented(o.objectives[k], c[base_index].values[k]);
-      for (std::size_t i : front) best = std::max(best, oriented(o.objectives[k], c[i].values[k]));
-      md += "- " + o.objectives[k].label + ": base " + num(c[base_index].values[k]) + ", best on the front " +
-            num(o.objectives[k].goal == Goal::Minimise ? -best : best) + "\n";
-    }
-    md += "\n";
-  }
-  md += "## Geometry that follows\n\nWhat deriving the front designs adapted (docs/exploration.md, \"Geometry that follows\"):\n\n";
-  for (std::size_t i : front) {
-    if (c[i].adapted.empty()) continue;
-    md += "- `" + c[i].name + "`:\n";
-    for (const std::string& a : c[i].adapted) md += "  - " + a + "\n";
-  }
-  md += "\n## Files\n\n- `candidates.csv`: every evaluated candidate\n";
-  if (goals.size() >= 2) md += "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
-  md += "- `parallel.svg`: parallel coordinates of parameters and objectives\n";
-  for (const std::string& n : written) md += "- `front/" + n + "/`: design file and the stages' outputs\n";
-  out.text("explore/explore.md", md);
-
-  res.metrics.scalars["explore/evaluations"] = static_cast<double>(c.size());
-  res.metrics.scalars["explore/front_size"] = static_cast<double>(front.size());
-  res.metrics.scalars["explore/base_on_front"] = base_on_front ? 1.0 : 0.0;
-  for (std::size_t f = 0; f < front.size(); ++f)
-    for (std::size_t k = 0; k < o.objectives.size(); ++k)
-      res.metrics.scalars["explore/front/" + c[front[f]].name + "/" + std::to_string(k)] = c[front[f]].values[k];
+  if (r.goals.size() >= 2) out.text("explore/front_scatter.svg", scatterSvg(r.c, r.front, base_index, o, r.goals[0], r.goals[1]));
+  out.text("explore/parallel.svg", parallelSvg(r.c, r.front, base_index, o));
+  const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out);
+  out.text("explore/explore.md", exploreMarkdown(ctx, ev, r, written));
+  addExploreMetrics(r, res.metrics);
   res.files = out.files();
   res.units_resumed = ev.unitsResumed();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

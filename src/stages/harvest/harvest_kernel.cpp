@@ -57,8 +57,129 @@ ApproachTrackingOptions trackingOptions(const HarvestOptions& o) {
   return t;
 }
 
+// Tells `done` (may be empty) that range k of `res` is complete; `failure` keeps the first exception.
+void tellRangeDone(FirstException& failure, const RangeDone& done, std::size_t k,
+                   const DesignResult& res) {
+  if (done) failure.call([&] { done(k, res); });
+}
+
+// One approach: planned, tracked, through the drive chain with and without friction.
+void evaluateFruit(const Model& model, const RigidBodyModel& rbm, const HarvestOptions& options,
+                   const GreenhouseRow& row, const ik::WeightedObjective& objective,
+                   const ApproachTrackingOptions& topt, IkWorkspace& ws, ik::ObjectiveContext& ctx,
+                   DynamicsWorkspace& dws, int f, FruitResult& out) {
+  const SampledFruit& fr = row.fruits[f];
+  out.fruit = f;
+  out.p_fruit_W = fr.p_W;
+  const Eigen::Vector2d stem = row.stems_xy[fr.stem];
+  ApproachProblem pb;
+  pb.p_start_W =
+      Eigen::Vector3d(stem.x() + options.start_offset.x(), stem.y() + options.start_offset.y(),
+                      fr.p_W.z() + options.start_offset.z());
+  const Eigen::Vector2d to_stem = stem - pb.p_start_W.head<2>();
+  pb.cardan_start = Eigen::Vector3d(0, 0, std::atan2(to_stem.y(), to_stem.x()));
+  pb.stem_xy_W = stem;
+  pb.fruit_W = fr.p_W;
+  pb.reference_xy_W = Eigen::Vector2d::Zero();
+  const ApproachTrajectory appr = planApproach(pb, options.approach);
+  if (appr.status() != ApproachStatus::Ok) {
+    out.status = toString(appr.status());
+    return;
+  }
+  const TrackedApproach tr =
+      trackApproach(model, ws, ctx, appr, objective, topt, static_cast<std::uint64_t>(f));
+  out.max_position_error_m = tr.max_position_error_m;
+  out.max_orientation_error_rad = tr.max_orientation_error_rad;
+  if (tr.status != ApproachTrackingStatus::Ok) {
+    out.status = tr.status == ApproachTrackingStatus::TrackingFailed
+                     ? std::string("tracking_") + ik::toString(tr.tracking_status)
+                     : std::string(toString(tr.status));
+    return;
+  }
+  out.status = "ok";
+  DriveFeasibilityOptions fo;
+  fo.temperature_C = options.temperature_C;
+  fo.keep_profiles = true;  // friction share and plots need them (a few MB at most)
+  fo.friction = true;
+  out.with_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
+  fo.friction = false;
+  out.without_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
+}
+
+// Evaluates the fruits of the work's ranges (all fruits without work) in parallel into res.fruits.
+void evaluateFruits(const Model& model, const RigidBodyModel& rbm, const HarvestOptions& options,
+                    const GreenhouseRow& row, const ik::WeightedObjective& objective,
+                    const ApproachTrackingOptions& topt, int nthreads, const HarvestWork* work,
+                    DesignResult& res, FirstException& failure) {
+  const int nf = static_cast<int>(row.fruits.size());
+  res.fruits.resize(nf);
+  std::vector<ItemRange> all_fruits;
+  if (nf > 0) all_fruits.push_back({0, nf});
+  const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
+  std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
+  RangeCountdown fruit_countdown(fruit_ranges);
+  const long n_fruit_work = static_cast<long>(fruit_work.size());
+#pragma omp parallel num_threads(nthreads)
+  {
+    IkWorkspace ws(model);
+    ik::ObjectiveContext ctx(model, ws.kin);
+    DynamicsWorkspace dws(rbm);
+#pragma omp for schedule(dynamic)
+    for (long w = 0; w < n_fruit_work; ++w) {
+      const auto [k, f] = fruit_work[w];
+      evaluateFruit(model, rbm, options, row, objective, topt, ws, ctx, dws, static_cast<int>(f),
+                    res.fruits[f]);
+      if (fruit_countdown.itemDone(k))
+        tellRangeDone(failure, work ? work->fruits_done : RangeDone{}, k, res);
+    }
+  }
+}
+
+// Solves the pose and the static holding load of the grid points of the work's ranges (all
+// points without work) in parallel into res.grid.
+void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOptions& options,
+                  int nthreads, const HarvestWork* work, DesignResult& res,
+                  FirstException& failure) {
+  const HarvestGrid& g = *options.grid;
+  const long nx = g.axes[0].count(), ny = g.axes[1].count(), nz = g.axes[2].count();
+  const long np = nx * ny * nz;
+  res.grid.resize(np);
+  const Eigen::Matrix3d R_WT =
+      Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+      toolRotation(options.tool_beta_rad);
+  const CardanAngles c = cardanFromRotation(R_WT);
+  IkOptions iko;
+  iko.classify_failures = false;
+  std::vector<ItemRange> all_points{{0, np}};
+  const std::vector<ItemRange>& grid_ranges = work ? work->grid : all_points;
+  std::vector<std::pair<std::size_t, long>> grid_work = workItems(grid_ranges, np);
+  RangeCountdown grid_countdown(grid_ranges);
+  const long n_grid_work = static_cast<long>(grid_work.size());
+#pragma omp parallel num_threads(nthreads)
+  {
+    IkWorkspace ws(model);
+    DynamicsWorkspace dws(rbm);
+#pragma omp for schedule(dynamic, 8)
+    for (long w = 0; w < n_grid_work; ++w) {
+      const auto [range, p] = grid_work[w];
+      const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
+      IkTarget target;
+      target.task_space = TaskSpace::fullPose();
+      target.w_d << g.axes[0].value(static_cast<int>(i)), g.axes[1].value(static_cast<int>(j)),
+          g.axes[2].value(static_cast<int>(k)), c.alpha, c.beta, c.gamma;
+      const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
+      GridPointResult& gp = res.grid[p];
+      gp.reachable = r.reachable();
+      if (gp.reachable) gp.holding = holdingLoad(model, rbm, dws, r.q);
+      if (grid_countdown.itemDone(range))
+        tellRangeDone(failure, work ? work->grid_done : RangeDone{}, range, res);
+    }
+  }
+}
+
 }  // namespace
 
+// Sets up the design's dynamics and tracking objective, then evaluates the fruits and the grid.
 DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& options,
                                    const GreenhouseRow& row, int threads, const HarvestWork* work) {
   ARMSTUDY_CHECK(options.validate().empty(), "harvest options must validate");
@@ -76,109 +197,11 @@ DesignResult evaluateHarvestDesign(const Model& model, const HarvestOptions& opt
                   std::make_shared<ik::ManipulabilityTerm>(metrics::MeasureSpace::Translational));
   const ApproachTrackingOptions topt = trackingOptions(options);
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
-
-  const int nf = static_cast<int>(row.fruits.size());
-  res.fruits.resize(nf);
-  std::vector<ItemRange> all_fruits;
-  if (nf > 0) all_fruits.push_back({0, nf});
-  const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
-  std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
-  RangeCountdown fruit_countdown(fruit_ranges);
   FirstException failure;
-  // Tells `done` (may be empty) that range k is complete; keeps the first exception.
-  auto report = [&](const RangeDone& done, std::size_t k) {
-    if (done) failure.call([&] { done(k, res); });
-  };
-  const long n_fruit_work = static_cast<long>(fruit_work.size());
-#pragma omp parallel num_threads(nthreads)
-  {
-    IkWorkspace ws(model);
-    ik::ObjectiveContext ctx(model, ws.kin);
-    DynamicsWorkspace dws(rbm);
-    // One approach: planned, tracked, through the drive chain with and without friction.
-    auto evaluateFruit = [&](int f) {
-      const SampledFruit& fr = row.fruits[f];
-      FruitResult& out = res.fruits[f];
-      out.fruit = f;
-      out.p_fruit_W = fr.p_W;
-      const Eigen::Vector2d stem = row.stems_xy[fr.stem];
-      ApproachProblem pb;
-      pb.p_start_W =
-          Eigen::Vector3d(stem.x() + options.start_offset.x(), stem.y() + options.start_offset.y(),
-                          fr.p_W.z() + options.start_offset.z());
-      const Eigen::Vector2d to_stem = stem - pb.p_start_W.head<2>();
-      pb.cardan_start = Eigen::Vector3d(0, 0, std::atan2(to_stem.y(), to_stem.x()));
-      pb.stem_xy_W = stem;
-      pb.fruit_W = fr.p_W;
-      pb.reference_xy_W = Eigen::Vector2d::Zero();
-      const ApproachTrajectory appr = planApproach(pb, options.approach);
-      if (appr.status() != ApproachStatus::Ok) {
-        out.status = toString(appr.status());
-        return;
-      }
-      const TrackedApproach tr =
-          trackApproach(model, ws, ctx, appr, objective, topt, static_cast<std::uint64_t>(f));
-      out.max_position_error_m = tr.max_position_error_m;
-      out.max_orientation_error_rad = tr.max_orientation_error_rad;
-      if (tr.status != ApproachTrackingStatus::Ok) {
-        out.status = tr.status == ApproachTrackingStatus::TrackingFailed
-                         ? std::string("tracking_") + ik::toString(tr.tracking_status)
-                         : std::string(toString(tr.status));
-        return;
-      }
-      out.status = "ok";
-      DriveFeasibilityOptions fo;
-      fo.temperature_C = options.temperature_C;
-      fo.keep_profiles = true;  // friction share and plots need them (a few MB at most)
-      fo.friction = true;
-      out.with_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
-      fo.friction = false;
-      out.without_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
-    };
-#pragma omp for schedule(dynamic)
-    for (long w = 0; w < n_fruit_work; ++w) {
-      const auto [k, f] = fruit_work[w];
-      evaluateFruit(static_cast<int>(f));
-      if (fruit_countdown.itemDone(k)) report(work ? work->fruits_done : RangeDone{}, k);
-    }
-  }
+  evaluateFruits(model, rbm, options, row, objective, topt, nthreads, work, res, failure);
   failure.rethrow();
-
   if (options.grid) {
-    const HarvestGrid& g = *options.grid;
-    const long nx = g.axes[0].count(), ny = g.axes[1].count(), nz = g.axes[2].count();
-    const long np = nx * ny * nz;
-    res.grid.resize(np);
-    const Eigen::Matrix3d R_WT =
-        Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-        toolRotation(options.tool_beta_rad);
-    const CardanAngles c = cardanFromRotation(R_WT);
-    IkOptions iko;
-    iko.classify_failures = false;
-    std::vector<ItemRange> all_points{{0, np}};
-    const std::vector<ItemRange>& grid_ranges = work ? work->grid : all_points;
-    std::vector<std::pair<std::size_t, long>> grid_work = workItems(grid_ranges, np);
-    RangeCountdown grid_countdown(grid_ranges);
-    const long n_grid_work = static_cast<long>(grid_work.size());
-#pragma omp parallel num_threads(nthreads)
-    {
-      IkWorkspace ws(model);
-      DynamicsWorkspace dws(rbm);
-#pragma omp for schedule(dynamic, 8)
-      for (long w = 0; w < n_grid_work; ++w) {
-        const auto [range, p] = grid_work[w];
-        const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
-        IkTarget target;
-        target.task_space = TaskSpace::fullPose();
-        target.w_d << g.axes[0].value(static_cast<int>(i)), g.axes[1].value(static_cast<int>(j)),
-            g.axes[2].value(static_cast<int>(k)), c.alpha, c.beta, c.gamma;
-        const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
-        GridPointResult& gp = res.grid[p];
-        gp.reachable = r.reachable();
-        if (gp.reachable) gp.holding = holdingLoad(model, rbm, dws, r.q);
-        if (grid_countdown.itemDone(range)) report(work ? work->grid_done : RangeDone{}, range);
-      }
-    }
+    evaluateGrid(model, rbm, options, nthreads, work, res, failure);
     failure.rethrow();
   }
   return res;

@@ -149,14 +149,38 @@ std::vector<report::PlotSeries> profileSeries(const Model& model, const std::vec
   return out;
 }
 
-HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
-                                StudyMetrics& M) {
-  HoldingSummary h;
-  std::ostringstream md;
+namespace {
+
+// The holding load sampled over a grid: the VTK image with its point arrays, and its counts.
+struct HoldingImage {
+  io::ImageGrid img;  // status, max_current_ratio, max_current_ratio_revolute, limiting_joint, holding_<joint>
+  int reachable = 0, limited = 0;
+  double max_ratio = 0;
+  int max_ratio_joint = -1;
+  std::vector<int> limiting_count;  // drive-limited grid points per limiting joint
+};
+
+// The units and legend lines of the holding image's field data.
+std::vector<io::FieldStrings> holdingFieldData(const Model& model) {
   const int n = model.dof();
-  const std::string base = model.name;
-  const std::string mprefix = "dynamics/" + model.name + "/";
-  io::ImageGrid img;
+  std::vector<std::string> units{"position: m", "status: 1", "max_current_ratio: 1", "max_current_ratio_revolute: 1",
+                                 "limiting_joint: 1"};
+  std::vector<std::string> legend{"status 0: unreachable (every other quantity NaN, limiting_joint -1)",
+                                  "status 1: the drives hold the pose", "status 2: a drive over its limit",
+                                  "limiting_joint -1: none"};
+  for (int i = 0; i < n; ++i) {
+    units.push_back("holding_" + model.joints[i].name + (isRevolute(model, i) ? ": N m" : ": N"));
+    legend.push_back("limiting_joint " + std::to_string(i) + ": " + model.joints[i].name);
+  }
+  return io::fieldData(units, legend);
+}
+
+// Fills the holding image from the grid points of a design result and counts the reachable,
+// drive-limited points and the largest current ratio.
+HoldingImage holdingImage(const Model& model, const HarvestGrid& g, const DesignResult& d) {
+  HoldingImage hi;
+  io::ImageGrid& img = hi.img;
+  const int n = model.dof();
   img.dims = {g.axes[0].count(), g.axes[1].count(), g.axes[2].count()};
   for (int a = 0; a < 3; ++a) {
     img.origin[a] = g.axes[a].from;
@@ -174,10 +198,7 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   for (int i = 0; i < n; ++i)
     hold.push_back({"holding_" + model.joints[i].name, io::ArrayType::Float64, 1,
                     std::vector<double>(np)});
-  int reachable = 0, limited = 0;
-  double max_ratio = 0;
-  int max_ratio_joint = -1;
-  std::vector<int> limiting_count(n, 0);
+  hi.limiting_count.assign(n, 0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (long p = 0; p < np; ++p) {
     const GridPointResult& gp = d.grid[p];
@@ -189,15 +210,15 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
       for (auto& h : hold) h.values[p] = nan;
       continue;
     }
-    ++reachable;
+    ++hi.reachable;
     const bool ok = gp.holding.feasible;
     if (!ok) {
-      ++limited;
-      ++limiting_count[gp.holding.limiting_joint];
+      ++hi.limited;
+      ++hi.limiting_count[gp.holding.limiting_joint];
     }
-    if (gp.holding.limiting_joint >= 0 && gp.holding.max_ratio > max_ratio) {
-      max_ratio = gp.holding.max_ratio;
-      max_ratio_joint = gp.holding.limiting_joint;
+    if (gp.holding.limiting_joint >= 0 && gp.holding.max_ratio > hi.max_ratio) {
+      hi.max_ratio = gp.holding.max_ratio;
+      hi.max_ratio_joint = gp.holding.limiting_joint;
     }
     status.values[p] = ok ? 1 : 2;
     ratio.values[p] = gp.holding.max_ratio;
@@ -210,98 +231,118 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   }
   img.point_arrays = {status, ratio, ratio_rev, limj};
   for (auto& h : hold) img.point_arrays.push_back(std::move(h));
-  std::vector<std::string> units{"position: m", "status: 1", "max_current_ratio: 1", "max_current_ratio_revolute: 1",
-                                 "limiting_joint: 1"};
-  std::vector<std::string> legend{"status 0: unreachable (every other quantity NaN, limiting_joint -1)",
-                                  "status 1: the drives hold the pose", "status 2: a drive over its limit",
-                                  "limiting_joint -1: none"};
-  for (int i = 0; i < n; ++i) {
-    units.push_back("holding_" + model.joints[i].name + (isRevolute(model, i) ? ": N m" : ": N"));
-    legend.push_back("limiting_joint " + std::to_string(i) + ": " + model.joints[i].name);
-  }
-  img.field_data = io::fieldData(units, legend);
-  io::writeVti(out.path("harvest/" + base + "_holding.vti"), img);
-  out.add("harvest/" + base + "_holding.vti");
-  M.scalars[mprefix + "holding_reachable_fraction"] = reachable / static_cast<double>(np);
-  M.scalars[mprefix + "holding_drive_limited_fraction"] =
-      reachable > 0 ? limited / static_cast<double>(reachable) : 0.0;
-  M.scalars[mprefix + "holding_max_current_ratio"] = max_ratio;
-  md << "Largest static holding current over the reachable grid points: "
-     << report::percent(max_ratio, 1) << " of the continuous limit"
-     << (max_ratio_joint >= 0 ? " (" + model.joints[max_ratio_joint].name + ")" : std::string())
-     << ".\n\n";
+  img.field_data = holdingFieldData(model);
+  return hi;
+}
 
-  // Maps over the first two axes with more than one value (the first slice of a 3-D grid).
+// Writes the status and revolute current-ratio maps over the first two axes with more than one
+// value (the first slice of a 3-D grid) and returns their report paragraph; without two such
+// axes, only the paragraph with the counts.
+std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const HoldingImage& hi,
+                             Writer& out) {
+  const io::ImageGrid& img = hi.img;
+  const std::string base = model.name;
+  const long np = img.points();
+  const std::vector<double>& status = img.point_arrays[0].values;
+  const std::vector<double>& ratio_rev = img.point_arrays[2].values;
+  std::ostringstream md;
   std::vector<int> axes;
   for (int a = 0; a < 3; ++a)
     if (img.dims[a] > 1) axes.push_back(a);
-  if (axes.size() >= 2) {
-    const int a0 = axes[0], a1 = axes[1];
-    auto index = [&](int u, int v) {
-      std::array<long, 3> ijk{0, 0, 0};
-      ijk[a0] = u;
-      ijk[a1] = v;
-      return ijk[0] + img.dims[0] * (ijk[1] + static_cast<long>(img.dims[1]) * ijk[2]);
-    };
-    const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
-      const int s = static_cast<int>(status.values[index(u, v)]);
-      return s == 0   ? report::Rgb{200, 200, 200}
-             : s == 1 ? report::Rgb{60, 170, 90}
-                      : report::Rgb{215, 50, 40};
-    });
-    // Figures with axes and legends (.svg, shown in the report; the same as .png).
-    const char* an[3] = {"x", "y", "z"};
-    auto figure = [&](const std::string& title) {
-      report::MapFigure f;
-      f.title = title;
-      f.x = report::cellAxis(std::string(an[a0]) + " [m]", img.origin[a0],
-                             img.origin[a0] + img.spacing[a0] * (img.dims[a0] - 1), img.spacing[a0]);
-      f.y = report::cellAxis(std::string(an[a1]) + " [m]", img.origin[a1],
-                             img.origin[a1] + img.spacing[a1] * (img.dims[a1] - 1), img.spacing[a1]);
-      return f;
-    };
-    report::MapFigure status_fig = figure(model.name + ": static holding");
-    status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
-                         {report::Rgb{215, 50, 40}, "drive limit"},
-                         {report::Rgb{200, 200, 200}, "unreachable"}};
-    const report::Drawing status_d = report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
-    out.text("harvest/" + base + "_holding_map.png", status_d.png);
-    out.text("harvest/" + base + "_holding_map.svg", status_d.svg);
-    const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
-      const double r = ratio_rev.values[index(u, v)];
-      return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
-    });
-    report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
-    ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous [1]"};
-    ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
-    const report::Drawing ratio_d = report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
-    out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
-    out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
-    md << "Static holding (gravity + payload) over the grid, tool heading "
-       << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << reachable << " of " << np
-       << " points reachable, " << limited
-       << " of them drive-limited (|I| > continuous current). "
-       << "Map axes: " << an[a0] << " to the right, " << an[a1]
-       << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
-          "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
-          "ratio is "
-          "nearly constant, it carries the whole arm).\n\n"
-       << "![holding map](" << base << "_holding_map.svg) ![ratio](" << base
-       << "_holding_ratio.svg)\n\n";
-  } else {
-    md << "Static holding over the grid: " << reachable << " of " << np << " points reachable, "
-       << limited << " drive-limited.\n\n";
+  if (axes.size() < 2) {
+    md << "Static holding over the grid: " << hi.reachable << " of " << np
+       << " points reachable, " << hi.limited << " drive-limited.\n\n";
+    return md.str();
   }
+  const int a0 = axes[0], a1 = axes[1];
+  auto index = [&](int u, int v) {
+    std::array<long, 3> ijk{0, 0, 0};
+    ijk[a0] = u;
+    ijk[a1] = v;
+    return ijk[0] + img.dims[0] * (ijk[1] + static_cast<long>(img.dims[1]) * ijk[2]);
+  };
+  const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
+    const int s = static_cast<int>(status[index(u, v)]);
+    return s == 0   ? report::Rgb{200, 200, 200}
+           : s == 1 ? report::Rgb{60, 170, 90}
+                    : report::Rgb{215, 50, 40};
+  });
+  // Figures with axes and legends (.svg, shown in the report; the same as .png).
+  const char* an[3] = {"x", "y", "z"};
+  auto figure = [&](const std::string& title) {
+    report::MapFigure f;
+    f.title = title;
+    f.x = report::cellAxis(std::string(an[a0]) + " [m]", img.origin[a0],
+                           img.origin[a0] + img.spacing[a0] * (img.dims[a0] - 1), img.spacing[a0]);
+    f.y = report::cellAxis(std::string(an[a1]) + " [m]", img.origin[a1],
+                           img.origin[a1] + img.spacing[a1] * (img.dims[a1] - 1), img.spacing[a1]);
+    return f;
+  };
+  report::MapFigure status_fig = figure(model.name + ": static holding");
+  status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
+                       {report::Rgb{215, 50, 40}, "drive limit"},
+                       {report::Rgb{200, 200, 200}, "unreachable"}};
+  const report::Drawing status_d = report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
+  out.text("harvest/" + base + "_holding_map.png", status_d.png);
+  out.text("harvest/" + base + "_holding_map.svg", status_d.svg);
+  const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
+    const double r = ratio_rev[index(u, v)];
+    return std::isfinite(r) ? report::viridis(r / 1.5) : report::Rgb{200, 200, 200};
+  });
+  report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
+  ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous [1]"};
+  ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
+  const report::Drawing ratio_d = report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
+  out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
+  out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
+  md << "Static holding (gravity + payload) over the grid, tool heading "
+     << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << hi.reachable << " of " << np
+     << " points reachable, " << hi.limited
+     << " of them drive-limited (|I| > continuous current). "
+     << "Map axes: " << an[a0] << " to the right, " << an[a1]
+     << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
+        "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
+        "ratio is "
+        "nearly constant, it carries the whole arm).\n\n"
+     << "![holding map](" << base << "_holding_map.svg) ![ratio](" << base
+     << "_holding_ratio.svg)\n\n";
+  return md.str();
+}
+
+}  // namespace
+
+// Writes the holding image, adds the holding metrics, writes the maps and assembles the report
+// paragraph with the limiting-joint table.
+HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
+                                StudyMetrics& M) {
+  HoldingSummary h;
+  std::ostringstream md;
+  const int n = model.dof();
+  const std::string base = model.name;
+  const std::string mprefix = "dynamics/" + model.name + "/";
+  const HoldingImage hi = holdingImage(model, g, d);
+  const long np = hi.img.points();
+  io::writeVti(out.path("harvest/" + base + "_holding.vti"), hi.img);
+  out.add("harvest/" + base + "_holding.vti");
+  M.scalars[mprefix + "holding_reachable_fraction"] = hi.reachable / static_cast<double>(np);
+  M.scalars[mprefix + "holding_drive_limited_fraction"] =
+      hi.reachable > 0 ? hi.limited / static_cast<double>(hi.reachable) : 0.0;
+  M.scalars[mprefix + "holding_max_current_ratio"] = hi.max_ratio;
+  md << "Largest static holding current over the reachable grid points: "
+     << report::percent(hi.max_ratio, 1) << " of the continuous limit"
+     << (hi.max_ratio_joint >= 0 ? " (" + model.joints[hi.max_ratio_joint].name + ")" : std::string())
+     << ".\n\n";
+  md << writeHoldingMaps(model, g, hi, out);
   std::vector<std::vector<std::string>> lrows;
   for (int i = 0; i < n; ++i)
-    if (limiting_count[i] > 0)
-      lrows.push_back({model.joints[i].name, std::to_string(limiting_count[i])});
+    if (hi.limiting_count[i] > 0)
+      lrows.push_back({model.joints[i].name, std::to_string(hi.limiting_count[i])});
   if (!lrows.empty())
     md << report::markdownTable({"limiting joint", ">grid points"}, lrows) << "\n";
   h.points = np;
-  h.reachable = reachable;
-  h.limited = limited;
-  h.max_ratio = max_ratio;
+  h.reachable = hi.reachable;
+  h.limited = hi.limited;
+  h.max_ratio = hi.max_ratio;
   h.markdown = md.str();
   return h;
 }

@@ -213,13 +213,9 @@ ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult
   return j;
 }
 
-}  // namespace
-
-StageResult runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
-                             std::vector<EntryResult>* results) {
-  const auto t0 = std::chrono::steady_clock::now();
-  StageResult sum;
-  std::vector<EntryResult> entry_results;
+// The design model of every entry, in entry order.
+std::vector<const Model*> entryModels(const StageContext& ctx,
+                                      const std::vector<TrackingEntry>& entries) {
   std::vector<const Model*> models;
   for (const TrackingEntry& e : entries) {
     const Model* m = nullptr;
@@ -228,16 +224,14 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     ARMSTUDY_CHECK(m, "tracking entry '" + e.name + "' names a design the study does not have");
     models.push_back(m);
   }
+  return models;
+}
 
-  // Units of work: (entry, run), each sequential and independent of the others.
-  const int ne = static_cast<int>(entries.size());
-  entry_results.resize(ne);
-  std::vector<LineReference> lines(ne);
-  for (int i = 0; i < ne; ++i) {
-    lines[i] = lineReference(*models[i], entries[i]);
-    entry_results[i].name = entries[i].name;
-    entry_results[i].line = lines[i];
-  }
+// Runs (or loads from the checkpoint store) the plain and H_c runs of every entry as work units
+// into entry_results; returns the number of units loaded instead of computed.
+long runUnits(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
+              const std::vector<const Model*>& models, const std::vector<LineReference>& lines,
+              std::vector<EntryResult>& entry_results) {
   // Work units: (entry, run), each sequential and independent of the others.
   auto runOf = [&](std::size_t u) -> RunResult& {
     return u % 2 == 0 ? entry_results[u / 2].plain : entry_results[u / 2].with_hc;
@@ -268,7 +262,175 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     for (const auto& e : errors)
       if (e) std::rethrow_exception(e);
   };
-  sum.units_resumed = ctx.units.run(batch);
+  return ctx.units.run(batch);
+}
+
+// Writes one run's CSV, ParaView scene and robot motion series, and adds its metrics to M.
+void writeRunFiles(const Model& model, const TrackingEntry& e, const EntryResult& er,
+                   const RunResult& r, Writer& out, StudyMetrics& M) {
+  const std::string rb = e.name + "_" + toString(r.kind);
+  writeRunCsv(model, e, r, out.path("tracking/" + rb + ".csv"));
+  out.add("tracking/" + rb + ".csv");
+  writeRunVtp(model, e, er.line, r, out.path("tracking/" + rb + ".vtp"));
+  out.add("tracking/" + rb + ".vtp");
+  std::vector<scene::MotionStep> steps;
+  for (int k : scene::evenSamples(static_cast<int>(r.samples.size()), kMotionSteps))
+    steps.push_back({r.samples[k].t, r.samples[k].q});
+  scene::writeMotion(out, "tracking/" + rb, model, steps);
+  const std::string mp = "tracking/" + e.name + "/" + toString(r.kind) + "/";
+  M.scalars[mp + "completed"] = r.completed() ? 1.0 : 0.0;
+  M.scalars[mp + "collision_free"] = r.collisionFree() ? 1.0 : 0.0;
+  if (!e.obstacles.empty()) M.scalars[mp + "min_obstacle_distance_m"] = r.min_obstacle_distance_m;
+  if (std::isfinite(r.min_self_distance_m))
+    M.scalars[mp + "min_self_distance_m"] = r.min_self_distance_m;
+  M.scalars[mp + "max_tcp_error_m"] = r.max_position_error_m;
+  M.scalars[mp + "final_tcp_error_m"] = r.final_position_error_m;
+  M.scalars[mp + "max_joint_speed_ratio"] = r.max_speed_ratio;
+}
+
+// What the distance plot of an entry shows: the obstacle distance, or without obstacles the self
+// distance.
+std::string distanceWhat(const TrackingEntry& e) {
+  return e.obstacles.empty() ? "self-collision distance" : "obstacle distance";
+}
+
+// Writes an entry's plots: obstacle (or self) distance and TCP error of both runs over time.
+void writeEntryPlots(const TrackingEntry& e, const EntryResult& er, Writer& out) {
+  const bool obst = !e.obstacles.empty();
+  double RunSample::*dist = obst ? &RunSample::obstacle_distance_m : &RunSample::self_distance_m;
+  const std::string what = distanceWhat(e);
+  report::PlotSpec dplot;
+  dplot.title = e.name + ": " + what;
+  dplot.x_label = "t [s]";
+  dplot.panels.resize(1);
+  dplot.panels[0].y_label = what + " [mm]";
+  for (const RunResult* r : {&er.plain, &er.with_hc})
+    dplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
+  dplot.panels[0].lines.push_back({0.0, "contact (d = 0)", true, report::Rgb{214, 39, 40}});
+  out.text("tracking/" + e.name + "_distance.svg", report::plot(dplot).svg);
+  report::PlotSpec eplot;
+  eplot.title = e.name + ": TCP position error";
+  eplot.x_label = "t [s]";
+  eplot.panels.resize(1);
+  eplot.panels[0].y_label = "TCP position error [mm]";
+  for (const RunResult* r : {&er.plain, &er.with_hc})
+    eplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
+  out.text("tracking/" + e.name + "_tcp_error.svg", report::plot(eplot).svg);
+}
+
+// An entry's report section: its settings, the table of both runs, the plots and file names.
+std::string entryMarkdown(const Model& model, const TrackingEntry& e, const EntryResult& er) {
+  const bool obst = !e.obstacles.empty();
+  const std::string& base = e.name;
+  std::ostringstream md;
+  std::string obstacle_list;
+  for (const auto& o : e.obstacles)
+    obstacle_list += (obstacle_list.empty() ? "" : ", ") + o.name + " (" + toString(o.type) +
+                     ", r = " + report::fixed(o.radius_m, 3) + " m)";
+  const Eigen::Vector3d& p0 = er.line.p0_W;
+  const Eigen::Vector3d& p1 = er.line.p1_W;
+  md << "## " << e.name << "\n\n"
+     << "Design `" << e.design << "`, " << ik::toString(e.task) << " task, TCP from ("
+     << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
+     << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
+     << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
+     << report::fixed(e.duration_s, 2) << " s at " << report::fixed(e.rate_Hz, 0)
+     << " Hz; null-space gain alpha = " << e.redundancy.alpha
+     << "/s, drift gain K = " << e.redundancy.drift_gain << "/s"
+     << (e.w_joint_limits > 0 ? ", H_j weight " + report::fixed(e.w_joint_limits, 3)
+                              : std::string())
+     << (e.w_manipulability > 0 ? ", H_m1 weight " + report::fixed(e.w_manipulability, 3)
+                                : std::string())
+     << ". Obstacles: " << (obstacle_list.empty() ? "none" : obstacle_list)
+     << ". H_c: d_a = " << report::fixed(e.avoidance.potential.safety_distance_m, 3)
+     << " m, t = " << e.avoidance.potential.blend_t << ", H_0 = " << e.avoidance.potential.h0
+     << ", weight " << e.avoidance.weight << ", "
+     << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".\n\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const RunResult* r : {&er.plain, &er.with_hc}) {
+    const std::string contact = r->first_contact_s
+                                    ? report::fixed(*r->first_contact_s, 3) + " s (" +
+                                          pairText(*r, r->first_contact_pair) + ")"
+                                    : "none";
+    rows.push_back({runLabel(r->kind), r->statusText(model),
+                    obst ? mm(r->min_obstacle_distance_m) + " (" +
+                               pairText(*r, r->min_obstacle_pair) +
+                               ", t = " + report::fixed(r->min_obstacle_time_s, 2) + " s)"
+                         : "-",
+                    mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")",
+                    contact, report::scientific(r->max_position_error_m, 2),
+                    report::scientific(r->final_position_error_m, 2),
+                    r->max_speed_joint >= 0 ? report::percent(r->max_speed_ratio, 0) + " (" +
+                                                  model.joints[r->max_speed_joint].name + ")"
+                                            : "-"});
+  }
+  md << report::markdownTable({"run", "status", ">min obstacle distance [mm]",
+                               ">min self distance [mm]", "first contact", ">max TCP error [m]",
+                               ">final TCP error [m]", ">peak joint speed / limit"},
+                              rows)
+     << "\nThe IK is kinematic: joint speeds are not limited; the last column is the largest "
+        "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
+        "not follow).\n\n!["
+     << distanceWhat(e) << "](" << base << "_distance.svg) ![TCP error](" << base
+     << "_tcp_error.svg)\n\n"
+     << "Per-sample data: `" << base << "_plain.csv`, `" << base
+     << "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, obstacles; "
+        "colour by `in_contact` or `time`): `"
+     << base << "_plain.vtp`, `" << base << "_with_hc.vtp`.\n\n";
+  return md.str();
+}
+
+// An entry's record in summary.json: its settings and both runs.
+ordered_json entryJson(const Model& model, const TrackingEntry& e, const EntryResult& er) {
+  const Eigen::Vector3d& p0 = er.line.p0_W;
+  const Eigen::Vector3d& p1 = er.line.p1_W;
+  ordered_json ej;
+  ej["name"] = e.name;
+  ej["design"] = e.design;
+  ej["task_space"] = ik::toString(e.task);
+  ej["q0"] = std::vector<double>(e.q0.data(), e.q0.data() + e.q0.size());
+  ej["p0_W"] = {p0.x(), p0.y(), p0.z()};
+  ej["p1_W"] = {p1.x(), p1.y(), p1.z()};
+  ej["duration_s"] = e.duration_s;
+  ej["rate_Hz"] = e.rate_Hz;
+  ej["obstacles"] = ordered_json::array();
+  for (const auto& o : e.obstacles) ej["obstacles"].push_back(o.name);
+  ej["nullspace"] = {{"gain_per_s", e.redundancy.alpha},
+                     {"drift_gain_per_s", e.redundancy.drift_gain},
+                     {"joint_weights", e.redundancy.joint_weights},
+                     {"damping_lambda0", e.redundancy.damping_lambda0},
+                     {"damping_m0", e.redundancy.damping_m0},
+                     {"joint_limits", e.w_joint_limits},
+                     {"joint_limit_activation", e.joint_limit_activation},
+                     {"manipulability", e.w_manipulability}};
+  ej["avoidance"] = {{"safety_distance_m", e.avoidance.potential.safety_distance_m},
+                     {"weight", e.avoidance.weight},
+                     {"blend", e.avoidance.potential.blend_t},
+                     {"h0", e.avoidance.potential.h0},
+                     {"self", e.avoidance.potential.self},
+                     {"environment", e.avoidance.potential.environment}};
+  ej["runs"] = {runJson(model, e, er.plain), runJson(model, e, er.with_hc)};
+  return ej;
+}
+
+}  // namespace
+
+// Runs both runs of every entry as work units, then writes the per-run files, the per-entry
+// plots, report.md and summary.json.
+StageResult runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
+                             std::vector<EntryResult>* results) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StageResult sum;
+  const std::vector<const Model*> models = entryModels(ctx, entries);
+  const int ne = static_cast<int>(entries.size());
+  std::vector<EntryResult> entry_results(ne);
+  std::vector<LineReference> lines(ne);
+  for (int i = 0; i < ne; ++i) {
+    lines[i] = lineReference(*models[i], entries[i]);
+    entry_results[i].name = entries[i].name;
+    entry_results[i].line = lines[i];
+  }
+  sum.units_resumed = runUnits(ctx, entries, models, lines, entry_results);
 
   fs::create_directories(fs::path(ctx.output_dir) / "tracking");
   Writer out(ctx.output_dir);  // files under tracking/
@@ -283,139 +445,15 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
   ordered_json js;
   js["study"] = ctx.study.name;
   js["entries"] = ordered_json::array();
-  auto& M = sum.metrics;
-
   for (int i = 0; i < ne; ++i) {
     const TrackingEntry& e = entries[i];
     const Model& model = *models[i];
     const EntryResult& er = entry_results[i];
-    const std::string base = e.name;
-    for (const RunResult* r : {&er.plain, &er.with_hc}) {
-      const std::string rb = base + "_" + toString(r->kind);
-      writeRunCsv(model, e, *r, out.path("tracking/" + rb + ".csv"));
-      out.add("tracking/" + rb + ".csv");
-      writeRunVtp(model, e, er.line, *r, out.path("tracking/" + rb + ".vtp"));
-      out.add("tracking/" + rb + ".vtp");
-      std::vector<scene::MotionStep> steps;
-      for (int k : scene::evenSamples(static_cast<int>(r->samples.size()), kMotionSteps))
-        steps.push_back({r->samples[k].t, r->samples[k].q});
-      scene::writeMotion(out, "tracking/" + rb, model, steps);
-      const std::string mp = "tracking/" + e.name + "/" + toString(r->kind) + "/";
-      M.scalars[mp + "completed"] = r->completed() ? 1.0 : 0.0;
-      M.scalars[mp + "collision_free"] = r->collisionFree() ? 1.0 : 0.0;
-      if (!e.obstacles.empty())
-        M.scalars[mp + "min_obstacle_distance_m"] = r->min_obstacle_distance_m;
-      if (std::isfinite(r->min_self_distance_m))
-        M.scalars[mp + "min_self_distance_m"] = r->min_self_distance_m;
-      M.scalars[mp + "max_tcp_error_m"] = r->max_position_error_m;
-      M.scalars[mp + "final_tcp_error_m"] = r->final_position_error_m;
-      M.scalars[mp + "max_joint_speed_ratio"] = r->max_speed_ratio;
-    }
-
-    // Plots: obstacle (or, without obstacles, self) distance and TCP error over time.
-    const bool obst = !e.obstacles.empty();
-    double RunSample::*dist = obst ? &RunSample::obstacle_distance_m : &RunSample::self_distance_m;
-    const std::string what = obst ? "obstacle distance" : "self-collision distance";
-    report::PlotSpec dplot;
-    dplot.title = e.name + ": " + what;
-    dplot.x_label = "t [s]";
-    dplot.panels.resize(1);
-    dplot.panels[0].y_label = what + " [mm]";
     for (const RunResult* r : {&er.plain, &er.with_hc})
-      dplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), dist, 1e3));
-    dplot.panels[0].lines.push_back({0.0, "contact (d = 0)", true, report::Rgb{214, 39, 40}});
-    out.text("tracking/" + base + "_distance.svg", report::plot(dplot).svg);
-    report::PlotSpec eplot;
-    eplot.title = e.name + ": TCP position error";
-    eplot.x_label = "t [s]";
-    eplot.panels.resize(1);
-    eplot.panels[0].y_label = "TCP position error [mm]";
-    for (const RunResult* r : {&er.plain, &er.with_hc})
-      eplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
-    out.text("tracking/" + base + "_tcp_error.svg", report::plot(eplot).svg);
-
-    // Report section.
-    std::string obstacle_list;
-    for (const auto& o : e.obstacles)
-      obstacle_list += (obstacle_list.empty() ? "" : ", ") + o.name + " (" + toString(o.type) +
-                       ", r = " + report::fixed(o.radius_m, 3) + " m)";
-    const Eigen::Vector3d& p0 = er.line.p0_W;
-    const Eigen::Vector3d& p1 = er.line.p1_W;
-    md << "## " << e.name << "\n\n"
-       << "Design `" << e.design << "`, " << ik::toString(e.task) << " task, TCP from ("
-       << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
-       << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
-       << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
-       << report::fixed(e.duration_s, 2) << " s at " << report::fixed(e.rate_Hz, 0)
-       << " Hz; null-space gain alpha = " << e.redundancy.alpha
-       << "/s, drift gain K = " << e.redundancy.drift_gain << "/s"
-       << (e.w_joint_limits > 0 ? ", H_j weight " + report::fixed(e.w_joint_limits, 3)
-                                : std::string())
-       << (e.w_manipulability > 0 ? ", H_m1 weight " + report::fixed(e.w_manipulability, 3)
-                                  : std::string())
-       << ". Obstacles: " << (obstacle_list.empty() ? "none" : obstacle_list)
-       << ". H_c: d_a = " << report::fixed(e.avoidance.potential.safety_distance_m, 3)
-       << " m, t = " << e.avoidance.potential.blend_t << ", H_0 = " << e.avoidance.potential.h0
-       << ", weight " << e.avoidance.weight << ", "
-       << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".\n\n";
-    std::vector<std::vector<std::string>> rows;
-    for (const RunResult* r : {&er.plain, &er.with_hc}) {
-      const std::string contact = r->first_contact_s
-                                      ? report::fixed(*r->first_contact_s, 3) + " s (" +
-                                            pairText(*r, r->first_contact_pair) + ")"
-                                      : "none";
-      rows.push_back({runLabel(r->kind), r->statusText(model),
-                      obst ? mm(r->min_obstacle_distance_m) + " (" +
-                                 pairText(*r, r->min_obstacle_pair) +
-                                 ", t = " + report::fixed(r->min_obstacle_time_s, 2) + " s)"
-                           : "-",
-                      mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")",
-                      contact, report::scientific(r->max_position_error_m, 2),
-                      report::scientific(r->final_position_error_m, 2),
-                      r->max_speed_joint >= 0 ? report::percent(r->max_speed_ratio, 0) + " (" +
-                                                    model.joints[r->max_speed_joint].name + ")"
-                                              : "-"});
-    }
-    md << report::markdownTable({"run", "status", ">min obstacle distance [mm]",
-                                 ">min self distance [mm]", "first contact", ">max TCP error [m]",
-                                 ">final TCP error [m]", ">peak joint speed / limit"},
-                                rows)
-       << "\nThe IK is kinematic: joint speeds are not limited; the last column is the largest "
-          "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
-          "not follow).\n\n!["
-       << what << "](" << base << "_distance.svg) ![TCP error](" << base << "_tcp_error.svg)\n\n"
-       << "Per-sample data: `" << base << "_plain.csv`, `" << base
-       << "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, obstacles; "
-          "colour by `in_contact` or `time`): `"
-       << base << "_plain.vtp`, `" << base << "_with_hc.vtp`.\n\n";
-
-    ordered_json ej;
-    ej["name"] = e.name;
-    ej["design"] = e.design;
-    ej["task_space"] = ik::toString(e.task);
-    ej["q0"] = std::vector<double>(e.q0.data(), e.q0.data() + e.q0.size());
-    ej["p0_W"] = {p0.x(), p0.y(), p0.z()};
-    ej["p1_W"] = {p1.x(), p1.y(), p1.z()};
-    ej["duration_s"] = e.duration_s;
-    ej["rate_Hz"] = e.rate_Hz;
-    ej["obstacles"] = ordered_json::array();
-    for (const auto& o : e.obstacles) ej["obstacles"].push_back(o.name);
-    ej["nullspace"] = {{"gain_per_s", e.redundancy.alpha},
-                       {"drift_gain_per_s", e.redundancy.drift_gain},
-                       {"joint_weights", e.redundancy.joint_weights},
-                       {"damping_lambda0", e.redundancy.damping_lambda0},
-                       {"damping_m0", e.redundancy.damping_m0},
-                       {"joint_limits", e.w_joint_limits},
-                       {"joint_limit_activation", e.joint_limit_activation},
-                       {"manipulability", e.w_manipulability}};
-    ej["avoidance"] = {{"safety_distance_m", e.avoidance.potential.safety_distance_m},
-                       {"weight", e.avoidance.weight},
-                       {"blend", e.avoidance.potential.blend_t},
-                       {"h0", e.avoidance.potential.h0},
-                       {"self", e.avoidance.potential.self},
-                       {"environment", e.avoidance.potential.environment}};
-    ej["runs"] = {runJson(model, e, er.plain), runJson(model, e, er.with_hc)};
-    js["entries"].push_back(ej);
+      writeRunFiles(model, e, er, *r, out, sum.metrics);
+    writeEntryPlots(e, er, out);
+    md << entryMarkdown(model, e, er);
+    js["entries"].push_back(entryJson(model, e, er));
   }
   out.text("tracking/report.md", md.str());
   out.text("tracking/summary.json", js.dump(2) + "\n");
