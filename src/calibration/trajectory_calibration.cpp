@@ -90,7 +90,15 @@ class TrajectoryProblem : public ArmProblem {
     }
     weight = Eigen::VectorXd::Ones(n);
     makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
-    // ---- catalogue ----
+    addBodyEffects(model);
+    addFrictionEffects(model, data);
+    addOperatingData(model, data);
+  }
+
+ private:
+  // The catalogue's body effects: payload, rotor inertia, gravity tilt, extra link masses.
+  void addBodyEffects(const Model& model) {
+    const int n = model.dof();
     {
       ArmEffect e;
       e.name = e.effect = "payload";
@@ -141,6 +149,12 @@ class TrajectoryProblem : public ArmProblem {
       e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4}};
       add(e, {TrajEffect::LinkMass, j});
     }
+  }
+
+  // The catalogue's friction effects of every driven joint (no temperature effects: trajectories
+  // carry no temperature column), Stribeck with its velocity profile grid.
+  void addFrictionEffects(const Model& model, const TrajectoryData& data) {
+    const int n = model.dof();
     for (int j = 0; j < n; ++j) {
       if (!drive_[j]) continue;
       const double N = drive_[j]->gear_ratio;
@@ -172,7 +186,11 @@ class TrajectoryProblem : public ArmProblem {
         add(e, t);
       }
     }
-    // Operating variables, workspace positions (design FK), held-out regions (time blocks).
+  }
+
+  // Operating variables, workspace positions (design FK), held-out regions (time blocks).
+  void addOperatingData(const Model& model, const TrajectoryData& data) {
+    const int n = model.dof();
     for (int j = 0; j < n; ++j) {
       const bool rev = model.joints[j].type == JointType::Revolute;
       BinVariable v{"q" + std::to_string(j + 1), rev ? "rad" : "m", {}, true};
@@ -200,6 +218,7 @@ class TrajectoryProblem : public ArmProblem {
     load_name = "load";  // the predicted joint effort (or current) of the channel
   }
 
+ public:
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     Model m = model_;
     const int n = m.dof();

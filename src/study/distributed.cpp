@@ -302,6 +302,18 @@ class MpiUnitRunner final : public UnitRunner {
     // B: the units, handed out by rank 0 on demand; each rank saves what it computes.
     std::vector<PackedUnit> mine;
     std::vector<std::size_t> last_call;
+    computeHandedOut(batch, todo, mine, last_call);
+    // C and D: every rank receives the units computed elsewhere, the stage takes them.
+    takeComputed(batch, todo, mine, last_call, refused);
+    return resumed;
+  }
+
+ private:
+  // B: computes the units rank 0 hands out on demand (rank 0 serves the others from a thread while
+  // it computes too); each rank saves what it computes and keeps it in `mine` with its timings;
+  // `last_call` is the stage's latest compute call.
+  void computeHandedOut(const UnitBatch& batch, const std::vector<std::size_t>& todo, std::vector<PackedUnit>& mine,
+                        std::vector<std::size_t>& last_call) const {
     std::mutex mine_m;
     const UnitBatch::Done done = [&](std::size_t k, const std::string& bytes) {
       store_.save(batch.ids[k], bytes);
@@ -349,8 +361,16 @@ class MpiUnitRunner final : public UnitRunner {
       }
     }
 
-    // C: every rank receives the units computed elsewhere (sizes first: the ranks still computing
-    // are waited for without spinning).
+  }
+
+  // C: every rank receives the units computed elsewhere (sizes first: the ranks still computing
+  // are waited for without spinning). D: the stage takes every unit it did not compute in its
+  // latest call (UnitBatch); a unit it refuses (never expected for portable units) is computed
+  // here once more.
+  void takeComputed(const UnitBatch& batch, const std::vector<std::size_t>& todo, const std::vector<PackedUnit>& mine,
+                    const std::vector<std::size_t>& last_call, std::vector<std::size_t>& refused) const {
+    const std::size_t n = batch.ids.size();
+    std::string blob;
     for (const PackedUnit& u : mine) pack(blob, u);
     std::vector<std::string> all(n);
     std::vector<double> seconds(n, 0.0), cpu_seconds(n, 0.0);
@@ -365,8 +385,6 @@ class MpiUnitRunner final : public UnitRunner {
       }
     }
 
-    // D: the stage takes every unit it did not compute in its latest call (UnitBatch); a unit it
-    // refuses (never expected for portable units) is computed here once more.
     std::vector<char> in_last(n, 0);
     for (std::size_t k : last_call) in_last[k] = 1;
     for (std::size_t k : todo) {
@@ -386,10 +404,8 @@ class MpiUnitRunner final : public UnitRunner {
             {batch.ids[k], seconds[k], cpu_seconds[k], threads_, where[k], all[k].size()});
       times_.append(lines);
     }
-    return resumed;
   }
 
- private:
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
     shareOver(loop, MPI_COMM_WORLD, rank_, size_);
