@@ -44,12 +44,12 @@ struct Check {
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
 
-// The reach target as a pose task of the null-space IK: position, full pose or tool axis. Task
-// spaces that select only some Cardan angles (spraying: beta free) have no exact null space of
-// their own; there the full pose of the colliding solution q is held (its orientation already
-// meets the selected angles), so the descent explores the redundancy that remains with the free
-// angle fixed (for the 6-DoF first prototype: the lift against the arm's plane). False when the
-// position is not fully selected.
+// The reach target as a pose task of the null-space IK: position, full pose or tool axis (the
+// spraying task: the roll about the tool axis is free). Literal selections of Cardan angles (e.g.
+// "x,y,z,gamma") have no exact null space of their own; there the full pose of the colliding
+// solution q is held (its orientation already meets the selected angles), so the descent explores
+// the redundancy that remains with the free angle fixed. False when the position is not fully
+// selected.
 bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarget& t, const JointVector& q,
                      ik::PoseTarget& out) {
   const auto& s = t.task_space.selected;
