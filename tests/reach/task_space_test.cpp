@@ -20,6 +20,7 @@
 #include <fstream>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -226,6 +227,19 @@ TEST_CASE("the reach stage evaluates the designs its section names, and an unkno
   REQUIRE(designs.size() == 1);
   CHECK(designs[0]["design"] == "final_prototype_7dof");
   CHECK_FALSE(fs::exists(dir / "out" / "pick" / "reach" / "g" / "first_prototype_6dof.vti"));
+
+  // [reach.tool_axis] turns a design's tool axis for this stage only (the report states it).
+  std::ofstream(dir / "axis.toml") << head << "[reach]\ndesigns = [\"final_prototype_7dof\"]\n"
+                                   << "[reach.tool_axis]\nfinal_prototype_7dof = \"y\"\n" << grid;
+  ro.output_root = (dir / "out_axis").string();
+  runStudy(loadStudy((dir / "axis.toml").string()), ro);
+  std::ifstream axis_report(dir / "out_axis" / "pick" / "report.md");
+  const std::string axis_text((std::istreambuf_iterator<char>(axis_report)), std::istreambuf_iterator<char>());
+  CHECK(axis_text.find("`final_prototype_7dof` TCP (0.000, 1.000, 0.000)") != std::string::npos);
+  std::ofstream(dir / "bad_axis.toml") << head << "[reach]\ndesigns = [\"final_prototype_7dof\"]\n"
+                                       << "[reach.tool_axis]\nfirst_prototype_6dof = \"y\"\n" << grid;
+  CHECK_THROWS_WITH(loadStudy((dir / "bad_axis.toml").string()),
+                    Catch::Contains("'first_prototype_6dof' is not evaluated by this stage (designs: final_prototype_7dof)"));
 
   std::ofstream(dir / "bad.toml") << head << "[reach]\ndesigns = [\"ur10\"]\n" << grid;
   try {

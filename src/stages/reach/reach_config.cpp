@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <set>
 
+#include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
 #include "io/pose_list_io.hpp"
@@ -111,6 +112,20 @@ void readReachSection(TableReader& top, const std::string& study_dir,
     }
   } else {
     evaluated = models;
+  }
+  if (const toml::table* ta = r.table("tool_axis")) {  // per design: name = "y" | [x, y, z]
+    TableReader tr(*ta, top.file(), r.keyPath("tool_axis"));
+    for (auto&& [key, value] : *ta) {
+      const std::string name(key.str());
+      if (std::find_if(evaluated.begin(), evaluated.end(), [&](const Model* m) { return m->name == name; }) ==
+          evaluated.end()) {
+        std::string names;
+        for (const Model* m : evaluated) names += (names.empty() ? "" : ", ") + m->name;
+        tr.fail(name, "design '" + name + "' is not evaluated by this stage (designs: " + names + ")");
+      }
+      cfg.tool_axes.emplace_back(name, readToolAxis(tr, name, Eigen::Vector3d::UnitZ()));
+    }
+    tr.finish();
   }
   const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
   cfg.ik.position_tolerance_m = r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);

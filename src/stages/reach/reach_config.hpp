@@ -24,6 +24,8 @@ struct ReachOutputs {
 struct ReachConfig {
   bool enabled = false;              // the study has a [reach] section
   std::vector<std::string> designs;  // the designs the stage evaluates (key designs); empty: all
+  // [reach.tool_axis]: a design's tool axis for this stage (TCP frame, unit), overriding its own.
+  std::vector<std::pair<std::string, Eigen::Vector3d>> tool_axes;
   IkOptions ik = studyDefaults();    // tolerances, starts, seed, classification
   static IkOptions studyDefaults() {
     IkOptions o;

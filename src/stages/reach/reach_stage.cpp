@@ -196,6 +196,9 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
                                                    cfg.designs.end();
                                           }),
                            selected.designs.end());
+  for (StudyDesign& sd : selected.designs)
+    for (const auto& [name, axis] : cfg.tool_axes)
+      if (sd.model.name == name) sd.model.tool_axis_T = axis;
   const StageContext ctx{selected, all_ctx.options, all_ctx.output_dir, all_ctx.units, all_ctx.threads,
                          all_ctx.writes_results};
   const Study& study = ctx.study;
