@@ -74,7 +74,7 @@ struct IkOptions {
                                    // seeded configurations
   // Sweeps (src/reach/reach_sweep): chain each line from both ends and keep the better result per
   // pose (results then do not depend on the traversal direction); false: one chain per line,
-  // in the direction below (the sweep before issue 12; benchmarks and tests only).
+  // in the direction below (without the map search's symmetry; benchmarks and tests only).
   bool sweep_both_directions = true;
   // Traverse each line from its last pose first (a check that results do not depend on the
   // traversal order; not a solver setting).

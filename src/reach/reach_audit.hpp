@@ -1,5 +1,5 @@
 #pragma once
-// The reach map audit (docs/reachability.md, "The audit"; issue 12): poses drawn at random
+// The reach map audit (docs/reachability.md, "The audit"): poses drawn at random
 // (seeded) from a grid, each searched from many random configurations within the joint limits,
 // independently of the sweep (no warm starts, no neighbours): every start is one solve of the
 // reachability solver from that configuration, and a solution counts when it is within the

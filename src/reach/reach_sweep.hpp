@@ -128,7 +128,7 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
                                            int threads, Progress* progress, const SweepCollision& collision = {},
                                            const SweepChunkDone& on_done = {});
 
-// The map search after the unit sweeps of a grid (issue 12; docs/reachability.md, "What a status
+// The map search after the unit sweeps of a grid (docs/reachability.md, "What a status
 // claims"): a status must not depend on the order the grid was traversed in.
 //  1. Neighbour propagation: every pose not reachable collision-free retries from the solution of
 //     each collision-free neighbour (+-1 along x, y, z; the previous and next orientation), one
