@@ -5,7 +5,8 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build ccache git pkg-config
       libeigen3-dev libnlopt-cxx-dev libcgal-dev libgmp-dev libmpfr-dev libvtk9-dev
       libtomlplusplus-dev libcli11-dev nlohmann-json3-dev catch2
-      libcairo2-dev fonts-dejavu-core
+      libcairo2-dev libfreetype-dev fonts-dejavu-core  # figures: cairo, the font read with FreeType
+      fontconfig  # fc-match: the test that a rank with another font configuration writes the same bytes
       chromium chromium-driver  # the browser test of report.html (tests/browser)
       xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
       liborocos-kdl-dev libfcl-dev libceres-dev

@@ -55,7 +55,8 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   if (f.scale)
     for (const auto& l : m.wrap(f.scale->label, kLabelSize, vlen)) vext = std::max(vext, m.width(l, kLabelSize));
   const double vextra = std::max(0.0, (vext - h) / 2);
-  const double ml = kPad + lh * ylines.size() + kGap + ytw + 2 + kTickLen;
+  // The map's corner on whole pixels, so that its cells stay sharp squares in the PNG.
+  const double ml = std::ceil(kPad + lh * ylines.size() + kGap + ytw + 2 + kTickLen);
   // Right side: colour bar, then legend.
   double right = ml + w;
   if (f.scale) right = colourBar(s, m, *f.scale, right + 2 * kGap + 6, 0, h, false, vlen);
@@ -73,7 +74,7 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
                        ml + widestLine(m, f.x.label, kLabelSize, w) + kPad});
   // A title wider than everything else wraps; a single word longer than the canvas widens it.
   for (const auto& word : m.wrap(f.title, kTitleSize, 0)) W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
-  const double mt = titleBlock(s, m, f.title, kPad, W - kPad, kPad) + vextra;
+  const double mt = std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + vextra);
   const double iy0 = mt + bp, iy1 = mt + h - bp, ix0 = ml + bp, ix1 = ml + w - bp;
   s.image(map, ml, mt);
   for (double t : xt) {

@@ -1,9 +1,10 @@
 #pragma once
 // The one plotting module of the engine: map figures (a cell raster with axes, colour bar and
 // legend), x-y plots (one panel per unit, categories, reference lines, a diagonal) and binned
-// heatmaps. Drawn with cairo (in plot.cpp only) to SVG and, when asked, PNG; every piece of text
-// is placed from its measured extents (cairo_text_extents), so labels never overprint each other
-// and never leave the canvas. Each Drawing lists the boxes of the text it drew, for checks.
+// heatmaps. Laid out into a display list (plot_layout.hpp), written as SVG (text as <text>) and,
+// when asked, drawn with cairo as PNG; every piece of text is placed from its measured extents in
+// the figures' font (DejaVu Sans from its file), so labels never overprint each other and never
+// leave the canvas. Each Drawing lists the boxes of the text it drew, for checks.
 #include <functional>
 #include <optional>
 #include <string>

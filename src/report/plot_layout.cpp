@@ -1,6 +1,215 @@
 #include "report/plot_layout.hpp"
 
+#include <cairo-ft.h>
+#include <ft2build.h>
+#include FT_FREETYPE_H
+
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+
+#include "report/html_report.hpp"  // base64
+
 namespace armstudy::report::plot_detail {
+
+cairo_font_face_t* figureFont() {
+  static cairo_font_face_t* face = [] {
+    const char* file = ARMSTUDY_FONT_FILE;
+    FT_Library lib = nullptr;
+    FT_Face ft = nullptr;
+    if (std::filesystem::exists(file) && FT_Init_FreeType(&lib) == 0 && FT_New_Face(lib, file, 0, &ft) == 0)
+      return cairo_ft_font_face_create_for_ft_face(ft, FT_LOAD_NO_HINTING);  // lives as long as the process
+    std::cerr << "armstudy: warning: the figures' font " << file
+              << " is missing (Debian: fonts-dejavu-core); figures use fontconfig's \"DejaVu Sans\" and may "
+                 "differ between machines and environments\n";
+    return cairo_toy_font_face_create(kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  }();
+  return face;
+}
+
+void useFigureFont(cairo_t* cr) {
+  cairo_set_font_face(cr, figureFont());
+  cairo_font_options_t* o = cairo_font_options_create();
+  cairo_font_options_set_hint_style(o, CAIRO_HINT_STYLE_NONE);
+  cairo_font_options_set_hint_metrics(o, CAIRO_HINT_METRICS_OFF);
+  cairo_font_options_set_antialias(o, CAIRO_ANTIALIAS_GRAY);
+  cairo_set_font_options(cr, o);
+  cairo_font_options_destroy(o);
+}
+
+namespace {
+
+// SVG numbers: two decimals, no trailing zeros ("12.5", "3", "-0.25").
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", std::abs(v) < 0.005 ? 0.0 : v);
+  std::string t = buf;
+  while (t.back() == '0') t.pop_back();
+  if (t.back() == '.') t.pop_back();
+  return t;
+}
+
+}  // namespace
+
+void TextOp::svg(std::string& o, int) const {
+  const TextOp& t = *this;
+  o += "<text x=\"" + num(t.upward ? 0 : t.x) + "\" y=\"" + num(t.upward ? 0 : t.y) + "\" font-size=\"" + num(t.size) +
+       "\"";
+  if (t.upward) o += " transform=\"translate(" + num(t.x) + "," + num(t.y) + ") rotate(-90)\"";
+  if (!(t.c == Rgb{0, 0, 0})) o += " fill=\"" + hex(t.c) + "\"";
+  o += ">" + xmlEscape(t.s) + "</text>\n";
+}
+void RectOp::svg(std::string& o, int) const {
+  const RectOp& r = *this;
+  o += "<rect x=\"" + num(r.x) + "\" y=\"" + num(r.y) + "\" width=\"" + num(r.w) + "\" height=\"" + num(r.h) +
+       "\" fill=\"" + (r.fill ? hex(*r.fill) : "none") + "\"";
+  if (r.stroke) o += " stroke=\"" + hex(*r.stroke) + "\" stroke-width=\"" + num(r.lw) + "\"";
+  o += "/>\n";
+}
+void PolylineOp::svg(std::string& o, int id) const {
+  const PolylineOp& p = *this;
+  if (p.clip)
+    o += "<clipPath id=\"clip" + std::to_string(id) + "\"><rect x=\"" + num((*p.clip)[0]) + "\" y=\"" +
+         num((*p.clip)[1]) + "\" width=\"" + num((*p.clip)[2]) + "\" height=\"" + num((*p.clip)[3]) +
+         "\"/></clipPath>\n";
+  o += "<polyline fill=\"none\" stroke=\"" + hex(p.c) + "\" stroke-width=\"" + num(p.lw) +
+       "\" stroke-linejoin=\"round\"";
+  if (p.dashed) o += " stroke-dasharray=\"6,4\"";
+  if (p.clip) o += " clip-path=\"url(#clip" + std::to_string(id) + ")\"";
+  o += " points=\"";
+  for (std::size_t i = 0; i < p.pts.size(); ++i) o += (i ? " " : "") + num(p.pts[i].first) + "," + num(p.pts[i].second);
+  o += "\"/>\n";
+}
+void DotsOp::svg(std::string& o, int) const {
+  const DotsOp& d = *this;
+  o += "<g fill=\"" + hex(d.c) + "\" fill-opacity=\"0.75\">";
+  for (const auto& [x, y] : d.pts)
+    o += "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(d.r) + "\"/>";
+  o += "</g>\n";
+}
+void ImageOp::svg(std::string& o, int) const {
+  const ImageOp& im = *this;
+  o += "<image x=\"" + num(im.x) + "\" y=\"" + num(im.y) + "\" width=\"" + std::to_string(im.img.width()) +
+       "\" height=\"" + std::to_string(im.img.height()) +
+       "\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" xlink:href=\"data:image/png;base64," +
+       base64(encodePng(im.img)) + "\"/>\n";
+}
+
+namespace {
+void setColour(cairo_t* cr, Rgb c, double alpha = 1) {
+  cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, alpha);
+}
+}  // namespace
+
+void TextOp::draw(cairo_t* cr) const {
+  const TextOp& t = *this;
+  cairo_save(cr);
+  setColour(cr, t.c);
+  cairo_set_font_size(cr, t.size);
+  cairo_translate(cr, t.x, t.y);
+  if (t.upward) cairo_rotate(cr, -kPi / 2);
+  cairo_move_to(cr, 0, 0);
+  cairo_show_text(cr, t.s.c_str());
+  cairo_restore(cr);
+}
+void RectOp::draw(cairo_t* cr) const {
+  const RectOp& r = *this;
+  cairo_rectangle(cr, r.x, r.y, r.w, r.h);
+  if (r.fill) {
+    setColour(cr, *r.fill);
+    if (r.stroke) cairo_fill_preserve(cr);
+    else cairo_fill(cr);
+  }
+  if (r.stroke) {
+    setColour(cr, *r.stroke);
+    cairo_set_line_width(cr, r.lw);
+    cairo_stroke(cr);
+  }
+}
+void PolylineOp::draw(cairo_t* cr) const {
+  const PolylineOp& p = *this;
+  cairo_save(cr);
+  if (p.clip) {
+    cairo_rectangle(cr, (*p.clip)[0], (*p.clip)[1], (*p.clip)[2], (*p.clip)[3]);
+    cairo_clip(cr);
+  }
+  setColour(cr, p.c);
+  cairo_set_line_width(cr, p.lw);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  if (p.dashed) {
+    const double d[2] = {6, 4};
+    cairo_set_dash(cr, d, 2, 0);
+  }
+  cairo_move_to(cr, p.pts[0].first, p.pts[0].second);
+  for (std::size_t i = 1; i < p.pts.size(); ++i) cairo_line_to(cr, p.pts[i].first, p.pts[i].second);
+  cairo_stroke(cr);
+  cairo_restore(cr);
+}
+void DotsOp::draw(cairo_t* cr) const {
+  const DotsOp& d = *this;
+  setColour(cr, d.c, 0.75);
+  for (const auto& [x, y] : d.pts) {
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, x, y, d.r, 0, 2 * kPi);
+  }
+  cairo_fill(cr);
+}
+void ImageOp::draw(cairo_t* cr) const {
+  const ImageOp& im = *this;
+  const RasterImage& img = im.img;
+  const int w = img.width(), h = img.height();
+  const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, w);
+  std::vector<unsigned char> data(static_cast<std::size_t>(stride) * h, 0);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const Rgb p = img.at(c, r);
+      auto* px = reinterpret_cast<std::uint32_t*>(data.data() + static_cast<std::size_t>(r) * stride) + c;
+      *px = (std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b;
+    }
+  cairo_surface_t* s = cairo_image_surface_create_for_data(data.data(), CAIRO_FORMAT_RGB24, w, h, stride);
+  cairo_save(cr);
+  cairo_set_source_surface(cr, s, im.x, im.y);
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+  cairo_rectangle(cr, im.x, im.y, w, h);
+  cairo_fill(cr);
+  cairo_restore(cr);
+  cairo_surface_destroy(s);
+}
+
+Drawing Scene::render(Format format) const {
+  Drawing d;
+  d.width = std::ceil(W);
+  d.height = std::ceil(H);
+  d.texts = texts;
+  const std::string w = std::to_string(static_cast<long>(d.width)), h = std::to_string(static_cast<long>(d.height));
+  d.svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+          "xmlns:xlink=\"http://www.w3.org/1999/xlink\" version=\"1.1\" width=\"" + w + "\" height=\"" + h +
+          "\" viewBox=\"0 0 " + w + " " + h + "\" font-family=\"'" + std::string(kFont) +
+          "', Verdana, sans-serif\" style=\"white-space:pre\">\n<rect width=\"" + w + "\" height=\"" + h +
+          "\" fill=\"#ffffff\"/>\n";
+  int id = 0;
+  for (const auto& op : ops_) op->svg(d.svg, id++);
+  d.svg += "</svg>\n";
+  if (format == Format::svg_and_png) {
+    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(d.width),
+                                                    static_cast<int>(d.height));
+    cairo_t* cr = cairo_create(s);
+    useFigureFont(cr);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    for (const auto& op : ops_) op->draw(cr);
+    cairo_destroy(cr);
+    cairo_surface_flush(s);
+    auto append = [](void* closure, const unsigned char* data, unsigned int length) {
+      static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+      return CAIRO_STATUS_SUCCESS;
+    };
+    ARMSTUDY_CHECK(cairo_surface_write_to_png_stream(s, append, &d.png) == CAIRO_STATUS_SUCCESS,
+                   "cairo could not write the PNG figure");
+    cairo_surface_destroy(s);
+  }
+  return d;
+}
 
 std::vector<double> fittingTicks(double lo, double hi, double length_px, double per_tick_px,
                                  const std::function<double(const std::string&)>& extent) {

@@ -1,8 +1,7 @@
 #pragma once
 // Private to the plotting module (report/plot.cpp, report/plot_layout.cpp): text measured with
-// cairo (Meter), the display list every figure is laid out into (Scene), the layout constants and
+// cairo in the figures' font (Meter), the display list every figure is laid out into (Scene), the layout constants and
 // the pieces several figure kinds share (ticks that fit, titles, colour bars, legends).
-#include <cairo-svg.h>
 #include <cairo.h>
 
 #include <algorithm>
@@ -43,11 +42,18 @@ inline std::string valueText(double v, int digits) {
   return buf;
 }
 
-// Measures text with cairo's toy font API (the same font the drawing uses).
+// The figures' font: DejaVu Sans read from its file (ARMSTUDY_FONT_FILE, fonts-dejavu-core) with
+// FreeType and drawn without hinting, so text is measured and drawn the same in every process,
+// whatever fontconfig, the environment or earlier drawing would choose. Without that file: cairo's
+// "DejaVu Sans" through fontconfig, with a warning on stderr once.
+cairo_font_face_t* figureFont();
+void useFigureFont(cairo_t* cr);  // selects figureFont() and its fixed font options
+
+// Measures text in the figures' font.
 class Meter {
  public:
   Meter() : surface_(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 4, 4)), cr_(cairo_create(surface_)) {
-    cairo_select_font_face(cr_, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    useFigureFont(cr_);
   }
   ~Meter() {
     cairo_destroy(cr_);
@@ -105,27 +111,74 @@ class Meter {
 enum class HAlign { left, centre, right };
 enum class VAlign { top, middle, bottom };
 
-// A display list: the layout computes every position first, then the list is replayed on an SVG
-// and, when asked, an image surface.
+// What a figure draws, in drawing order (the display list's items): each writes itself as SVG
+// (`id` numbers what it defines, in order) and draws itself with cairo (plot_layout.cpp).
+struct DrawOp {
+  virtual ~DrawOp() = default;
+  virtual void svg(std::string& out, int id) const = 0;
+  virtual void draw(cairo_t* cr) const = 0;
+};
+struct TextOp final : DrawOp {  // at (x, y) baseline-left; upright, or rotated -90 deg about (x, y)
+  TextOp(std::string s_, double x_, double y_, double size_, Rgb c_, bool upward_)
+      : s(std::move(s_)), x(x_), y(y_), size(size_), c(c_), upward(upward_) {}
+  std::string s;
+  double x, y, size;
+  Rgb c;
+  bool upward;
+  void svg(std::string& out, int id) const override;
+  void draw(cairo_t* cr) const override;
+};
+struct RectOp final : DrawOp {
+  RectOp(double x_, double y_, double w_, double h_, double lw_, std::optional<Rgb> fill_, std::optional<Rgb> stroke_)
+      : x(x_), y(y_), w(w_), h(h_), lw(lw_), fill(fill_), stroke(stroke_) {}
+  double x, y, w, h, lw;
+  std::optional<Rgb> fill, stroke;
+  void svg(std::string& out, int id) const override;
+  void draw(cairo_t* cr) const override;
+};
+struct PolylineOp final : DrawOp {
+  PolylineOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double lw_, bool dashed_,
+             std::optional<std::array<double, 4>> clip_)
+      : pts(std::move(pts_)), c(c_), lw(lw_), dashed(dashed_), clip(clip_) {}
+  std::vector<std::pair<double, double>> pts;
+  Rgb c;
+  double lw;
+  bool dashed;
+  std::optional<std::array<double, 4>> clip;  // x, y, w, h
+  void svg(std::string& out, int id) const override;
+  void draw(cairo_t* cr) const override;
+};
+struct DotsOp final : DrawOp {  // filled circles at 75 % opacity
+  DotsOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double r_) : pts(std::move(pts_)), c(c_), r(r_) {}
+  std::vector<std::pair<double, double>> pts;
+  Rgb c;
+  double r;
+  void svg(std::string& out, int id) const override;
+  void draw(cairo_t* cr) const override;
+};
+struct ImageOp final : DrawOp {
+  ImageOp(RasterImage img_, double x_, double y_) : img(std::move(img_)), x(x_), y(y_) {}
+  RasterImage img;
+  double x, y;
+  void svg(std::string& out, int id) const override;
+  void draw(cairo_t* cr) const override;
+};
+
+// A display list: the layout computes every position first, then the list is written as SVG (text
+// as <text> elements in the figures' font family, so it can be searched and copied; no glyph
+// outlines) and, when asked, replayed on a cairo image surface for the PNG.
 class Scene {
  public:
   explicit Scene(const Meter& m) : m_(m) {}
   double W = 0, H = 0;
   std::vector<TextBox> texts;
 
-  void op(std::function<void(cairo_t*)> f) { ops_.push_back(std::move(f)); }
-
   // Horizontal text anchored at (x, y) by its measured box.
   TextBox text(const std::string& s, double x, double y, double size, HAlign h, VAlign v, Rgb c = {0, 0, 0}) {
     const double w = m_.width(s, size), hh = m_.height(size), asc = m_.ascent(size);
     const double x0 = x - w * (h == HAlign::left ? 0 : h == HAlign::centre ? 0.5 : 1);
     const double y0 = y - hh * (v == VAlign::top ? 0 : v == VAlign::middle ? 0.5 : 1);
-    op([=](cairo_t* cr) {
-      cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0);
-      cairo_set_font_size(cr, size);
-      cairo_move_to(cr, x0, y0 + asc);
-      cairo_show_text(cr, s.c_str());
-    });
+    ops_.push_back(std::make_unique<TextOp>(s, x0, y0 + asc, size, c, false));
     TextBox b{s, x0, y0, x0 + w, y0 + hh};
     if (!s.empty()) texts.push_back(b);
     return b;
@@ -133,184 +186,47 @@ class Scene {
   // Text reading bottom to top, its box centred at (x, y).
   void vtext(const std::string& s, double x, double y, double size) {
     const double w = m_.width(s, size);
-    upward(s, x, size, y, -w / 2, y - w / 2, y + w / 2);
+    upward(s, x, size, y + w / 2, y - w / 2, y + w / 2);
   }
   // Text reading bottom to top, centred on x, its end (top) at y.
   void hanging(const std::string& s, double x, double y, double size) {
     const double w = m_.width(s, size);
-    upward(s, x, size, y + w, 0, y, y + w);
+    upward(s, x, size, y + w, y, y + w);
   }
-  // Text reading bottom to top, centred on x: drawn rotated about (x, pivot_y), starting `start`
-  // from there along the text; its box spans top .. bottom in y.
-  void upward(const std::string& s, double x, double size, double pivot_y, double start, double top,
-              double bottom) {
+  // Text reading bottom to top, centred on x, starting at y = start_y; its box spans top .. bottom.
+  void upward(const std::string& s, double x, double size, double start_y, double top, double bottom) {
     const double hh = m_.height(size), asc = m_.ascent(size);
-    op([=](cairo_t* cr) {
-      cairo_save(cr);
-      cairo_set_source_rgb(cr, 0, 0, 0);
-      cairo_set_font_size(cr, size);
-      cairo_translate(cr, x, pivot_y);
-      cairo_rotate(cr, -kPi / 2);
-      cairo_move_to(cr, start, -hh / 2 + asc);
-      cairo_show_text(cr, s.c_str());
-      cairo_restore(cr);
-    });
+    ops_.push_back(std::make_unique<TextOp>(s, x - hh / 2 + asc, start_y, size, kBlackText, true));
     if (!s.empty()) texts.push_back({s, x - hh / 2, top, x + hh / 2, bottom});
   }
   void rect(double x, double y, double w, double h, std::optional<Rgb> fill, std::optional<Rgb> stroke,
             double lw = 1) {
-    op([=](cairo_t* cr) {
-      cairo_rectangle(cr, x, y, w, h);
-      if (fill) {
-        cairo_set_source_rgb(cr, fill->r / 255.0, fill->g / 255.0, fill->b / 255.0);
-        if (stroke) cairo_fill_preserve(cr);
-        else cairo_fill(cr);
-      }
-      if (stroke) {
-        cairo_set_source_rgb(cr, stroke->r / 255.0, stroke->g / 255.0, stroke->b / 255.0);
-        cairo_set_line_width(cr, lw);
-        cairo_stroke(cr);
-      }
-    });
+    ops_.push_back(std::make_unique<RectOp>(x, y, w, h, lw, fill, stroke));
   }
   void line(double x0, double y0, double x1, double y1, Rgb c, double lw = 1, bool dashed = false) {
     polyline({{x0, y0}, {x1, y1}}, c, lw, dashed);
   }
   void polyline(std::vector<std::pair<double, double>> pts, Rgb c, double lw, bool dashed,
                 std::optional<std::array<double, 4>> clip = std::nullopt) {
-    if (pts.size() < 2) return;
-    op([=](cairo_t* cr) {
-      cairo_save(cr);
-      if (clip) {
-        cairo_rectangle(cr, (*clip)[0], (*clip)[1], (*clip)[2], (*clip)[3]);
-        cairo_clip(cr);
-      }
-      cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0);
-      cairo_set_line_width(cr, lw);
-      cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-      if (dashed) {
-        const double d[2] = {6, 4};
-        cairo_set_dash(cr, d, 2, 0);
-      }
-      cairo_move_to(cr, pts[0].first, pts[0].second);
-      for (std::size_t i = 1; i < pts.size(); ++i) cairo_line_to(cr, pts[i].first, pts[i].second);
-      cairo_stroke(cr);
-      cairo_restore(cr);
-    });
+    if (pts.size() >= 2) ops_.push_back(std::make_unique<PolylineOp>(std::move(pts), c, lw, dashed, clip));
   }
   void dots(std::vector<std::pair<double, double>> pts, Rgb c, double r) {
-    if (pts.empty()) return;
-    op([=](cairo_t* cr) {
-      cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, 0.75);
-      for (const auto& [x, y] : pts) {
-        cairo_new_sub_path(cr);
-        cairo_arc(cr, x, y, r, 0, 2 * kPi);
-      }
-      cairo_fill(cr);
-    });
+    if (!pts.empty()) ops_.push_back(std::make_unique<DotsOp>(std::move(pts), c, r));
   }
   void image(const RasterImage& img, double x, double y) {
-    auto data = std::make_shared<std::vector<unsigned char>>();
-    const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, img.width());
-    data->assign(static_cast<std::size_t>(stride) * img.height(), 0);
-    for (int r = 0; r < img.height(); ++r)
-      for (int c = 0; c < img.width(); ++c) {
-        const Rgb p = img.at(c, r);
-        auto* px = reinterpret_cast<std::uint32_t*>(data->data() + static_cast<std::size_t>(r) * stride) + c;
-        *px = (std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b;
-      }
-    const int w = img.width(), h = img.height();
-    op([=](cairo_t* cr) {
-      cairo_surface_t* s = cairo_image_surface_create_for_data(data->data(), CAIRO_FORMAT_RGB24, w, h, stride);
-      cairo_save(cr);
-      cairo_set_source_surface(cr, s, x, y);
-      cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
-      cairo_rectangle(cr, x, y, w, h);
-      cairo_fill(cr);
-      cairo_restore(cr);
-      cairo_surface_destroy(s);
-    });
+    ops_.push_back(std::make_unique<ImageOp>(img, x, y));
   }
   void fit(double x, double y) {
     W = std::max(W, x);
     H = std::max(H, y);
   }
 
-  Drawing render(Format format) const {
-    Drawing d;
-    d.width = std::ceil(W);
-    d.height = std::ceil(H);
-    d.texts = texts;
-    auto append = [](void* closure, const unsigned char* data, unsigned int length) {
-      static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-      return CAIRO_STATUS_SUCCESS;
-    };
-    {
-      cairo_surface_t* s = cairo_svg_surface_create_for_stream(append, &d.svg, d.width, d.height);
-      cairo_svg_surface_restrict_to_version(s, CAIRO_SVG_VERSION_1_1);
-      play(s);
-      cairo_surface_finish(s);
-      ARMSTUDY_CHECK(cairo_surface_status(s) == CAIRO_STATUS_SUCCESS, "cairo could not write the SVG figure");
-      cairo_surface_destroy(s);
-    }
-    d.svg = numberIds(d.svg);
-    if (format == Format::svg_and_png) {
-      cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(d.width),
-                                                      static_cast<int>(d.height));
-      play(s);
-      cairo_surface_flush(s);
-      ARMSTUDY_CHECK(cairo_surface_write_to_png_stream(s, append, &d.png) == CAIRO_STATUS_SUCCESS,
-                     "cairo could not write the PNG figure");
-      cairo_surface_destroy(s);
-    }
-    return d;
-  }
+  Drawing render(Format format) const;  // plot_layout.cpp
 
  private:
-  void play(cairo_surface_t* s) const {
-    cairo_t* cr = cairo_create(s);
-    cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    for (const auto& f : ops_) f(cr);
-    cairo_destroy(cr);
-  }
-  // cairo names SVG elements from process-wide counters ("surface12", "image7"): the same figure
-  // would differ with what was drawn before it. Numbers them in order of first appearance.
-  static std::string numberIds(const std::string& svg) {
-    std::map<std::string, std::string> renamed;
-    std::map<std::string, int> next;
-    std::string out;
-    out.reserve(svg.size());
-    std::size_t i = 0;
-    while (i < svg.size()) {
-      const std::size_t p = svg.find("id=\"", i);
-      const std::size_t q = svg.find("#", i);
-      const std::size_t at = std::min(p, q);
-      if (at == std::string::npos) break;
-      const std::size_t start = at + (at == p ? 4 : 1);
-      out.append(svg, i, start - i);
-      std::size_t e = start;
-      while (e < svg.size() && (std::isalpha(static_cast<unsigned char>(svg[e])) || svg[e] == '-')) ++e;
-      std::size_t d = e;
-      while (d < svg.size() && std::isdigit(static_cast<unsigned char>(svg[d]))) ++d;
-      const std::string prefix = svg.substr(start, e - start);
-      if ((prefix == "surface" || prefix == "image" || prefix == "source-") && d > e) {
-        const std::string old = svg.substr(start, d - start);
-        auto it = renamed.find(old);
-        if (it == renamed.end()) it = renamed.emplace(old, prefix + std::to_string(next[prefix]++)).first;
-        out += it->second;
-        i = d;
-      } else {
-        i = start;
-      }
-    }
-    out.append(svg, i, std::string::npos);
-    return out;
-  }
-
+  static constexpr Rgb kBlackText{0, 0, 0};
   const Meter& m_;
-  std::vector<std::function<void(cairo_t*)>> ops_;
+  std::vector<std::unique_ptr<const DrawOp>> ops_;
 };
 
 inline const Rgb kBlack{0, 0, 0}, kGrid{225, 225, 225}, kFrame{60, 60, 60};

@@ -196,3 +196,18 @@ TEST_CASE("the same figure gives the same SVG bytes whatever was drawn before", 
   (void)mapFigure(map, mapOf10x4("other", "w [1]"), Format::svg_and_png);
   CHECK(mapFigure(map, mapOf10x4("t", "v [1]")).svg == first);
 }
+
+TEST_CASE("SVG text is text a reader can search and copy, in the figures' font, with no glyph outlines",
+          "[report][plot]") {
+  const RasterImage map = renderCellMap(10, 4, cellColour, 100, 2);
+  const Drawing d = mapFigure(map, mapOf10x4("a < b & \"c\"", "manipulability [m^3]"));
+  CHECK(d.svg.find(">a &lt; b &amp; &quot;c&quot;</text>") != std::string::npos);
+  CHECK(d.svg.find(">manipulability [m^3]</text>") != std::string::npos);
+  CHECK(d.svg.find("font-family=\"'DejaVu Sans'") != std::string::npos);
+  CHECK(d.svg.find("<symbol") == std::string::npos);
+  CHECK(d.svg.find("glyph") == std::string::npos);
+  // Every text the layout placed is in the SVG once per placement.
+  std::size_t texts = 0;
+  for (std::size_t at = d.svg.find("<text "); at != std::string::npos; at = d.svg.find("<text ", at + 1)) ++texts;
+  CHECK(texts == d.texts.size());
+}
