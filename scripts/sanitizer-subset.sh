@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The sanitizer subset (issue 19; README "Sanitizers", docs/hardening.md): AddressSanitizer +
+# The sanitizer subset (README "Sanitizers", docs/hardening.md): AddressSanitizer +
 # UndefinedBehaviorSanitizer (leak detection on) over the parsers, their fuzz replays, the
 # kinematics and dynamics kernels, the checkpoint store and one SIGKILL/resume run of the sanitized
 # armstudy (tests/CMakeLists.txt, sanitizer_subset), in build-asan/. CI runs it after the suite;

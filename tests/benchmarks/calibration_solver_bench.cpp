@@ -1,4 +1,4 @@
-// Bounded nonlinear least squares of the calibration engine (issue 13, "One engine"): the in-house
+// Bounded nonlinear least squares of the calibration engine ("One engine"): the in-house
 // solver (Gauss-Newton, each step the bounded linear least squares of least_squares.hpp) against
 // Ceres (Levenberg-Marquardt trust region, dense QR, parameter bounds, central-difference
 // Jacobians of the same prediction), and the engine's linearised covariance against

@@ -1,4 +1,4 @@
-// Distributed runs on one machine (issue 16, docs/performance.md "Distributed runs"): the same
+// Distributed runs on one machine (docs/performance.md "Distributed runs"): the same
 // study as 1 process x 1 thread, as 2 MPI ranks x 1 thread and as 1 process x 2 threads, wall time,
 // CPU time of the processes, parallel efficiency T1 / (2 T) and a byte comparison of the results.
 // Optionally records per-unit costs (ARMSTUDY_UNIT_TIMES) of the 1 x 1 run for

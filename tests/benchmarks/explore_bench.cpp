@@ -1,4 +1,4 @@
-// Design-space exploration benchmark (issue 17, docs/performance.md "Design-space exploration"):
+// Design-space exploration benchmark (docs/performance.md "Design-space exploration"):
 // 200 variants of the first prototype (6-DoF) on a spraying row plus a stem map, exhaustive grid,
 // 2 threads. Peer: the same kind of variants as an ordinary [[variant]] sweep through the reach
 // and dexterity stages (no exploration around them), on the first 20 variants, per variant.

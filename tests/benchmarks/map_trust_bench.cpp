@@ -1,4 +1,4 @@
-// Map trust benchmark (docs/performance.md, "## Map trust"; issue 12): how far the shipped maps are
+// Map trust benchmark (docs/performance.md, "## Map trust"): how far the shipped maps are
 // from searches that do not share the solver's path, and what the map search costs.
 //  - Dexterity (studies/stem_heatmap.toml, thesis Fig. 3.6): the map with and without the map
 //    search (seeded multi-starts + neighbour propagation), each against the audit (500 random

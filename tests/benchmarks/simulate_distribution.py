@@ -26,7 +26,7 @@ Model, per batch (batches run one after another, as every rank runs the stages i
     round-robin (as src/study/distributed.cpp does, each rank computing its chunks in one call); it
     takes the busiest rank's chunks plus one allgather of the adopted rows (2 log2(N) latencies,
     the bytes at `bandwidth`, and every rank applies the others' bytes at `apply` seconds per byte);
-    --unshared: every rank computes every step (as before issue 16's
+    --unshared: every rank computes every step (as before the
     shared loops), i.e. the step costs its whole work on every rank.
 Makespan = sum over batches; efficiency = T1 / (N x makespan) with T1 = the single process
 (sum of unit costs + shared steps + serial work); master load = busy time of rank 0's hand-out thread / makespan.

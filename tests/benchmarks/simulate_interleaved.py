@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What-if for issue 16 (not the runner as built): the search steps of all design x grid batches
+"""What-if (not the runner as built): the search steps of all design x grid batches
 interleaved (global step j = step j of every batch), chunks round-robin, LPT on the actual costs,
 LPT on the previous step's costs, and on-demand hand-out; units in one pool; serial work spread.
 Usage: simulate_interleaved.py [record.csv.gz]"""

@@ -23,7 +23,7 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoiseRatio = 1.2;        // issue 7: held-out RMSE after the fix <= 1.2 x noise
+constexpr double kNoiseRatio = 1.2;        // held-out RMSE after the fix <= 1.2 x noise
 constexpr double kTcpNoise_m = 2e-4;       // injected TCP position noise
 constexpr double kTauNoise = 0.05;         // injected effort noise [N m | N]
 constexpr double kSgTolerance = 2e-3;      // relative error of the SG derivative of a slow sine
@@ -102,7 +102,7 @@ TEST_CASE("tcp: every hidden effect ranks first - its values lie in the interval
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTcpNoise_m);
-    for (int c = 0; c < P->channels(); ++c)  // issue 13: at the noise in every channel
+    for (int c = 0; c < P->channels(); ++c)  // at the noise in every channel
       CHECK(r.d.final_fit.channel_heldout[c].rmse <= kNoiseRatio * kTcpNoise_m);
     CHECK(r.d.as_designed_map.flagged() > 0);
     // The hidden (typical) values lie inside the reported 95 % intervals.
@@ -227,7 +227,7 @@ TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the 
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTauNoise);
-    for (int c = 0; c < P->channels(); ++c) {  // issue 13: at the noise in every channel
+    for (int c = 0; c < P->channels(); ++c) {  // at the noise in every channel
       INFO("channel " << P->channel_names[c] << " held-out " << r.d.final_fit.channel_heldout[c].rmse);
       CHECK(r.d.final_fit.channel_heldout[c].rmse <= kNoiseRatio * kTauNoise);
     }

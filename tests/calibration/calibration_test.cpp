@@ -23,7 +23,7 @@ using drive::Effect;
 namespace {
 
 constexpr double kNoise_A = 0.01;              // injected current noise
-constexpr double kNoiseRatio = 1.2;            // issue 7: held-out RMSE after the fix <= 1.2 x noise
+constexpr double kNoiseRatio = 1.2;            // held-out RMSE after the fix <= 1.2 x noise
 constexpr double kLsqTolerance = 1e-9;         // bounded vs reduced least squares
 constexpr double kTableTolerance = 0.10;       // relative agreement with thesis Table 4.4
 

@@ -1,4 +1,4 @@
-// Issue 13, "Model versus measurement: verdicts that never mislead": each failure class with its
+// Model versus measurement, verdicts that never mislead: each failure class with its
 // effect hidden in synthetic data made by a forward model that does not share the engine's
 // prediction (an energy minimum, a closed form, a noise per channel), fitted from a design that
 // does not carry it.
@@ -28,7 +28,7 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoiseRatio = 1.2;           // issue 13: held-out RMSE <= 1.2 x the injected noise
+constexpr double kNoiseRatio = 1.2;           // held-out RMSE <= 1.2 x the injected noise
 constexpr double kTcpNoise_m = 2e-4;          // injected TCP position noise
 constexpr double kGoldenTolerance_rad = 1e-13;  // equilibrium search of the sag oracle
 constexpr double kRecoveredRelative = 0.05;   // a recovered parameter within 5 % of the hidden one
@@ -85,7 +85,7 @@ Eigen::VectorXd saggedConfiguration(const Model& m, const Eigen::VectorXd& q_m, 
 
 }  // namespace
 
-TEST_CASE("issue 13: a compliant joint sags with gravity - the hidden compliance is recovered at the noise") {
+TEST_CASE("a compliant joint sags with gravity - the hidden compliance is recovered at the noise") {
   const Model& m = design7();
   const int j = m.jointIndex("j3");
   const double compliance = 2e-4;  // rad/(N m)
@@ -149,7 +149,7 @@ double channelHeldout(const ArmDiagnosis& d, int c) { return d.final_fit.channel
 
 }  // namespace
 
-TEST_CASE("issue 13: channels of different units count by their own noise - a small wrist-only effect is found") {
+TEST_CASE("channels of different units count by their own noise - a small wrist-only effect is found") {
   const Model& m = design7();
   const int j8 = m.jointIndex("j8");
   // Lift force noise 2 N, arm joints 0.05 N m, wrists 0.02 N m. Hidden: joint-side viscous
@@ -187,7 +187,7 @@ TEST_CASE("issue 13: channels of different units count by their own noise - a sm
   CHECK(d.verdict == "missing effect: j8.viscous");
 }
 
-TEST_CASE("issue 13: a position-periodic torque ripple on one joint is an unexplained effect, named by channel and variable") {
+TEST_CASE("a position-periodic torque ripple on one joint is an unexplained effect, named by channel and variable") {
   const Model& m = design7();
   const int j3 = m.jointIndex("j3");
   const double amplitude = 0.3, per_rev = 12;  // cogging: 12 periods per revolution of j3
@@ -222,7 +222,7 @@ TEST_CASE("issue 13: a position-periodic torque ripple on one joint is an unexpl
     if (q.significant) CHECK(q.channel == "tau3");
 }
 
-TEST_CASE("issue 13: a slow ripple that rotor_inertia could partly absorb is still no catalogue effect") {
+TEST_CASE("a slow ripple that rotor_inertia could partly absorb is still no catalogue effect") {
   // For sinusoidal joint motion q - c is proportional to -qdd, so rotor_inertia soaks up part of a
   // torque that varies slowly with position; it must not be called significant for it.
   const Model& m = design7();
@@ -241,7 +241,7 @@ TEST_CASE("issue 13: a slow ripple that rotor_inertia could partly absorb is sti
   CHECK(d.verdict.rfind("unexplained effect in channel tau2 against q2", 0) == 0);
 }
 
-TEST_CASE("issue 13: a slow ripple on a wrist (4 periods per rad on j8) is no catalogue effect either") {
+TEST_CASE("a slow ripple on a wrist (4 periods per rad on j8) is no catalogue effect either") {
   // The case docs/calibration.md listed as a known limit: rotor_inertia (linear in qdd, which is
   // proportional to -(q - c) for sinusoidal motion) absorbed part of the slow ripple and was named.
   const Model& m = design7();
@@ -263,7 +263,7 @@ TEST_CASE("issue 13: a slow ripple on a wrist (4 periods per rad on j8) is no ca
   CHECK(d.verdict.rfind("unexplained effect in channel tau6 against q6", 0) == 0);  // j8 is the 6th joint
 }
 
-TEST_CASE("issue 13: nothing hidden - no significant missing effect and no unexplained pattern (trajectory and tcp)") {
+TEST_CASE("nothing hidden - no significant missing effect and no unexplained pattern (trajectory and tcp)") {
   const Model& m = design7();
   const std::vector<double> noise = {2.0, kTauNoise, kTauNoise, kTauNoise, 0.02, 0.02, 0.02};
   for (std::uint64_t seed : {45u, 47u}) {
@@ -288,7 +288,7 @@ TEST_CASE("issue 13: nothing hidden - no significant missing effect and no unexp
   CHECK_FALSE(d.unexplained_found);
 }
 
-TEST_CASE("issue 13: a payload with an offset centre of mass is learned from a design without payload") {
+TEST_CASE("a payload with an offset centre of mass is learned from a design without payload") {
   Model truth = design7();
   truth.payload_kg = 1.0;
   truth.p_payload_com_T = Eigen::Vector3d(0.04, -0.03, 0.08);  // a point mass, offset from the tool axis
@@ -341,7 +341,7 @@ std::string freshDir(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("issue 13: nothing is written before the inputs are validated - a failed run leaves the output folder as it was") {
+TEST_CASE("nothing is written before the inputs are validated - a failed run leaves the output folder as it was") {
   const std::string dir = freshDir("i13_out");
   const std::string bin = test::binaryPath();
   const std::string d7 = test::sourcePath("designs/final_prototype_7dof.toml");
@@ -371,7 +371,7 @@ TEST_CASE("issue 13: nothing is written before the inputs are validated - a fail
   CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 1 + 1);  // header, one row per run (no effect added)
 }
 
-TEST_CASE("issue 13: a run that fails before its result is complete leaves no file in the output folder") {
+TEST_CASE("a run that fails before its result is complete leaves no file in the output folder") {
   const std::string dir = freshDir("i13_staged");
   const std::string res = dir + "/res";
   fs::create_directories(res);
@@ -398,7 +398,7 @@ TEST_CASE("issue 13: a run that fails before its result is complete leaves no fi
   CHECK(fs::exists(res + "/result.json"));
 }
 
-TEST_CASE("issue 13: fit --help shows the defaults of folds, seed and bins") {
+TEST_CASE("fit --help shows the defaults of folds, seed and bins") {
   std::string out;
   REQUIRE(test::runCommand(test::binaryPath() + " fit --help", out) == 0);
   auto line = [&](const std::string& opt) {
@@ -414,7 +414,7 @@ TEST_CASE("issue 13: fit --help shows the defaults of folds, seed and bins") {
   CHECK(line("--speed-bins").find("=" + std::to_string(defaults::kSpeedBins)) != std::string::npos);
 }
 
-TEST_CASE("issue 13: a viscous term that changes with temperature is found by the temperature_viscous candidate") {
+TEST_CASE("a viscous term that changes with temperature is found by the temperature_viscous candidate") {
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
   const Drive& dr = requireDrive(m, "j6");
   const double noise_A = 0.01, k_b = -1e-6, theta_ref = 20.0;  // N m s/(rad K): the lubricant thins as it warms
@@ -449,7 +449,7 @@ TEST_CASE("issue 13: a viscous term that changes with temperature is found by th
           Approx(d.final_fit.predicted(i, 0)).epsilon(1e-9));
 }
 
-TEST_CASE("issue 13: the verdict names every effect --auto added (tcp and drive)") {
+TEST_CASE("the verdict names every effect --auto added (tcp and drive)") {
   {
     TcpSynthOptions so;
     so.rows = 60;

@@ -1,4 +1,4 @@
-// Issue 19: the catalogue of bad inputs (tests/cli/bad_inputs.toml, 100+ cases: design files,
+// The catalogue of bad inputs (tests/cli/bad_inputs.toml, 100+ cases: design files,
 // study files, measurement data and command lines). Every case must end with the expected exit
 // code (2: input error), a message holding every expected part (the file, the key or element, the
 // reason), and nothing written to the output folder. The catalogue is data, read here with toml++.

@@ -34,7 +34,7 @@ TEST_CASE("--help teaches the commands", "[cli]") {
   CHECK(st == 0);
   CHECK(fk.find("--q") != std::string::npos);
   CHECK(fk.find("Example") != std::string::npos);
-  // Every default is shown (issue 18); empty lists and required options show none.
+  // Every default is shown; empty lists and required options show none.
   const std::string run = cli("run --help", st);
   CHECK(run.find("--threads INT:INT in [0 - 256]=0") != std::string::npos);
   CHECK(run.find("--output TEXT=output") != std::string::npos);

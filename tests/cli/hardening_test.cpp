@@ -1,4 +1,4 @@
-// Issue 19 (part): crashes, hangs and deletions outside the output folder found by hand-made bad
+// Crashes, hangs and deletions outside the output folder found by hand-made bad
 // inputs, each kept as a regression test. Every case: exit 2 (input error), a message naming what
 // is wrong, and nothing written.
 #include <fcntl.h>

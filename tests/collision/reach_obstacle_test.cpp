@@ -1,4 +1,4 @@
-// Environment obstacles in reachability studies (issue 5: "Environment obstacles given in the task
+// Environment obstacles in reachability studies ("Environment obstacles given in the task
 // frame ... checked against the arm's volumes the same way"): [[obstacle]] entries of a study file
 // are parsed with units, the sweep classifies poses reachable only in contact with an obstacle,
 // and every stored classification is re-checked with the collision module on the joint solution

@@ -1,4 +1,4 @@
-// Issue 12: reach statuses describe the design, not the sweep's path. On a part of the thesis
+// Reach statuses describe the design, not the sweep's path. On a part of the thesis
 // Fig. 3.8 grid (6-DoF first prototype, spraying task, self-collision checked), the searched
 // sweep is compared with (a) the grid swept in the other direction, (b) this file's own
 // many-start search (std::mt19937_64 starts, no warm starts, no neighbours) on every pose the map
@@ -15,9 +15,9 @@
 
 using namespace armstudy;
 namespace {
-constexpr int kBruteStarts = 500;            // issue 12: the independent search's starts per pose
+constexpr int kBruteStarts = 500;            // the independent search's starts per pose
 constexpr double kMaxAuditMissed = 0.02;     // reachable poses 500 random starts do not find
-constexpr double kMaxContradicted = 0.01;    // issue 12: at most 1 % of self_collision verdicts
+constexpr double kMaxContradicted = 0.01;    // at most 1 % of self_collision verdicts
 
 // Close to the base, where the sweep alone called poses self_collision that have collision-free
 // solutions: x -0.36..0.24 m (3 cm), y 0.30..0.50 m (2 cm), z 1.2 m, gamma +-40 deg: 21 x 11 x 2
@@ -226,7 +226,7 @@ TEST_CASE("a search's packed result turns the sweep it started from into the sea
 
 TEST_CASE("a search's steps over their active sets give the map of steps over every pose",
           "[reach][map_search][oracle]") {
-  // The search's steps visit only the poses next to a change (issue 16's active sets); the oracle
+  // The search's steps visit only the poses next to a change (active sets); the oracle
   // visits every pose its phase may change in every step (SweepSearch::every_pose_each_step). The
   // two must give the same map, bit for bit, and the same counts: on the 6-DoF arm with
   // self-collision (propagation, multi-starts, the box round) and on the 7-DoF arm (long

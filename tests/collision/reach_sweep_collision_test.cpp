@@ -1,4 +1,4 @@
-// Self-collision reachability sweeps (issue 5, "In the engine"): a grid of full poses for a variant
+// Self-collision reachability sweeps ("In the engine"): a grid of full poses for a variant
 // of the first prototype whose collision volumes are inflated, so that some poses are reachable
 // only in self-collision. Every classification is re-checked with the collision module on the
 // joint solution read back from the .vti with VTK's own reader, and the sweep is bit-identical for
@@ -99,7 +99,7 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   CHECK(sameBits(b.min_distance_m, a.min_distance_m));
   CHECK(b.colliding_pair == a.colliding_pair);
   CHECK(b.pair_names == a.pair_names);
-  // The stage searches the whole grid after the sweep (issue 12): compare the stage with that.
+  // The stage searches the whole grid after the sweep: compare the stage with that.
   searchGridSweep(m, g, o, 2, SweepCollision{true, {}}, SweepSearch{}, a);
 
   // The stage writes the fields; read them back with VTK's reader.

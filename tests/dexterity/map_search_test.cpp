@@ -1,4 +1,4 @@
-// Issue 12: a dexterity map value describes the design, not the solver's path. Oracles: this
+// A dexterity map value describes the design, not the solver's path. Oracles: this
 // file's own many-start search (its own random generator, no chaining, no neighbours), the grid
 // traversed in the other gamma order, and a sub-range of the grid.
 #include <catch2/catch.hpp>
@@ -16,16 +16,16 @@ using namespace armstudy::dexterity;
 using namespace armstudy::test;
 
 namespace {
-constexpr double kAgreement = 0.01;       // issue 12: a cell agrees when within 1 % of the oracle
-constexpr double kRequiredShare = 0.995;  // issue 12: share of cells that must agree
-constexpr int kOracleStarts = 200;        // issue 12: the independent search's starts per cell
+constexpr double kAgreement = 0.01;       // a cell agrees when within 1 % of the oracle
+constexpr double kRequiredShare = 0.995;  // share of cells that must agree
+constexpr int kOracleStarts = 200;        // the independent search's starts per cell
 // A sub-range lacks the neighbours beyond its edge, from which the full grid may continue into a
 // basin random starts rarely find: on this 70-cell sub-range at most one cell may differ (the
 // full-resolution figure, >= 99.5 %, is measured by tests/benchmarks/map_trust_bench).
 constexpr double kRequiredShareSubRange = 0.98;
 
 // The region of thesis Fig. 3.6 where the chained rows stayed on the worse solution branch
-// (issue 12: z 0.40-0.90 m), first prototype 9-DoF, the objective of studies/stem_heatmap.toml.
+// (z 0.40-0.90 m), first prototype 9-DoF, the objective of studies/stem_heatmap.toml.
 DexterityOptions regionOptions() {
   DexterityOptions o;
   o.grid.stem_x_m = 0.225;

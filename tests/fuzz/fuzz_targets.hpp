@@ -1,5 +1,5 @@
 #pragma once
-// Fuzz targets of the readers (issue 19): each takes arbitrary bytes as the content of one input
+// Fuzz targets of the readers: each takes arbitrary bytes as the content of one input
 // file and must either accept it or throw InputError naming the file. Anything else (another
 // exception, a failed ARMSTUDY_CHECK, a crash, a sanitizer report) is a finding.
 //

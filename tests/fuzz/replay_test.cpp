@@ -1,4 +1,4 @@
-// Issue 19: the readers' fuzz targets (fuzz_targets.hpp) in every test run: each seed of the
+// The readers' fuzz targets (fuzz_targets.hpp) in every test run: each seed of the
 // corpus (the shipped files plus tests/fuzz/corpus/<target>/, where findings are kept as
 // regression inputs) and a fixed number of seeded mutations of them (byte flips, deletions,
 // duplications, dictionary tokens such as nan, 1e308, quotes and brackets). A reader must accept

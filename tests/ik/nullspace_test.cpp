@@ -15,7 +15,7 @@ using namespace armstudy::ik;
 using namespace armstudy::test;
 
 namespace {
-constexpr double kNullspaceDriftTolerance = 1e-6;  // [m and rad] tool drift over a long run (issue 4)
+constexpr double kNullspaceDriftTolerance = 1e-6;  // [m and rad] tool drift over a long run
 constexpr double kLinearAlgebraTolerance = 1e-9;   // Algorithm 5.3 vs explicit inverse
 constexpr double kTrackingTolerance_m = 1e-4;      // tracking error far from singularities
 

@@ -1,4 +1,4 @@
-// Issue 19: an output folder published as a whole (io/files.hpp makeStagingFolder, publishFolder).
+// An output folder published as a whole (io/files.hpp makeStagingFolder, publishFolder).
 #include "common/errors.hpp"
 #include "io/files.hpp"
 

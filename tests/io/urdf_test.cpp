@@ -1,4 +1,4 @@
-// URDF in and out (issue 14). Oracle: orocos-kdl built from the same URDF by kdl_parser (an
+// URDF in and out. Oracle: orocos-kdl built from the same URDF by kdl_parser (an
 // independent URDF implementation), never armstudy's own reading of the file.
 #include <unistd.h>
 
@@ -32,7 +32,7 @@ using namespace armstudy;
 
 namespace {
 
-// Agreement with kdl_parser + KDL (issue 14: "to 1e-9 m/rad").
+// Agreement with kdl_parser + KDL ("to 1e-9 m/rad").
 constexpr double kUrdfOracleTolerance = 1e-9;
 constexpr double kKdlGravity = 9.81;
 constexpr int kRandomConfigurations = 20;

@@ -1,5 +1,5 @@
 // Regression checks: tolerance rules, flips of per-pose flags, baseline round trip and the bad
-// inputs of issue 8 (baseline of another study, unknown format version, negative tolerance).
+// inputs (baseline of another study, unknown format version, negative tolerance).
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
