@@ -224,6 +224,8 @@ struct StudyRun {
   std::optional<CheckpointStore> store;
   ScratchFolder scratch;
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
+  std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
+  std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r, std::chrono::steady_clock::time_point t)
       : study(s), options(o), ranks(r), t0(t), root(r.root()) {}
@@ -291,6 +293,11 @@ struct StudyRun {
       for (const StudySection& section : study.sections) {
         StageResult r = section.stage->run(ctx, *section.settings);
         pages.push_back({section.stage->name(), r.files});
+        StageResult a;
+        a.files = r.files;
+        a.answer = r.answer;
+        a.warnings = r.warnings;
+        answers.emplace_back(section.stage->name(), std::move(a));
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -322,10 +329,41 @@ struct StudyRun {
     sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
   }
 
+  // report.md: the answer first, then the warnings, then where the details are (each stage's report).
+  void writeAnswer() {
+    answer_md = "## Answer\n\n";
+    bool any = false;
+    for (const auto& [stage, r] : answers)
+      for (const std::string& a : r.answer) {
+        answer_md += "- **" + stage + ":** " + a + "\n";
+        any = true;
+      }
+    if (!any) answer_md += "No stage of this study states a comparison; the details are below.\n";
+    answer_md += "\n## Warnings\n\n";
+    any = false;
+    for (const auto& [stage, r] : answers)
+      for (const std::string& w : r.warnings) {
+        answer_md += "- **" + stage + ":** " + w + "\n";
+        any = true;
+      }
+    if (!any) answer_md += "None.\n";
+    std::string md = "# Study `" + study.name + "`\n\n";
+    if (!study.description.empty()) md += study.description + "\n\n";
+    md += answer_md + "\n## Details\n\n";
+    for (const auto& [stage, r] : answers)
+      for (const std::string& f : r.files)  // the stage's own reports, one folder down
+        if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 && std::count(f.begin(), f.end(), '/') == 1)
+          md += "- " + stage + ": [" + f + "](" + f + ")\n";
+    md += "- the ParaView scene: [scene/report.md](scene/report.md)\n";
+    writeFileAtomic((out / "report.md").string(), md);
+    sum.files_written.push_back("report.md");
+  }
+
   // report.html from the stages' pages, timed.
   void writeHtml() {
     const auto html0 = std::chrono::steady_clock::now();
-    writeFileAtomic((out / "report.html").string(), report::htmlReport(sum.output_dir, study.name, pages));
+    writeFileAtomic((out / "report.html").string(),
+                    report::htmlReport(sum.output_dir, study.name, pages, answer_md));
     sum.files_written.push_back("report.html");
     // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
     sum.timings.push_back({"report_html", std::chrono::duration<double>(std::chrono::steady_clock::now() - html0).count()});
@@ -388,6 +426,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   agreed(ranks, [&] {
     if (!run.root) return;
     run.writeScene();
+    run.writeAnswer();
     run.writeHtml();
     run.writeManifest(units);
   });

@@ -22,6 +22,9 @@ header { background: var(--band); border-bottom: 1px solid var(--line); padding:
 header h1 { margin: 0; font-size: 24px; }
 header p { margin: 4px 0 0; color: var(--muted); }
 main { max-width: 1180px; margin: 0 auto; padding: 8px 28px 40px; }
+section.answer { border: 2px solid var(--accent); padding: 4px 18px 10px; margin: 18px 0; }
+section.answer h2 { font-size: 20px; color: var(--accent); margin: 10px 0 4px; }
+p.method { color: var(--muted); }
 nav.contents { border: 1px solid var(--line); background: var(--band); padding: 10px 18px; margin: 18px 0; }
 nav.contents ul { margin: 4px 0; padding-left: 20px; }
 nav.contents li.l3 { margin-left: 18px; font-size: 14px; }
@@ -339,7 +342,7 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
 }
 
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
-                       const std::vector<HtmlStage>& stages) {
+                       const std::vector<HtmlStage>& stages, const std::string& answer_md) {
   const fs::path root(output_dir);
   std::set<std::string> shown;  // figures a report already shows (relative to the output folder)
   auto dataUri = [&](const std::string& rel) -> std::string {
@@ -429,8 +432,12 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
        << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>armstudy: "
        << htmlEscape(study_name) << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n<header><h1>Study "
-       << htmlEscape(study_name) << "</h1><p>armstudy results: one section per stage, figures inline; the "
-       << "Markdown reports beside this file hold the same text.</p></header>\n<main>\n";
+       << htmlEscape(study_name) << "</h1></header>\n<main>\n";
+  if (!answer_md.empty())
+    head << "<section class=\"answer\" id=\"answer\">\n"
+         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; }) << "</section>\n";
+  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold the same "
+          "text).</p>\n";
   const std::string tail = "</main>\n</body>\n</html>\n";
   std::string page = std::move(head).str();
   page.reserve(page.size() + nav_html.size() + body_html.size() + tail.size());

@@ -16,9 +16,10 @@ struct HtmlStage {
 };
 
 // The page for a study whose results are in `output_dir`. Reads the listed Markdown and figure
-// files from there.
+// files from there. `answer_md` (the study's answer and warnings, Markdown) opens the page, above
+// the contents.
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
-                       const std::vector<HtmlStage>& stages);
+                       const std::vector<HtmlStage>& stages, const std::string& answer_md = "");
 
 // Markdown (the subset above) to HTML. Images are resolved with `image` (returns the src to use,
 // e.g. a data URI); headings get ids "<id_prefix><n>" and are listed in `headings` as

@@ -65,6 +65,9 @@ struct StageResult {
   double seconds = 0;              // the stage's wall time
   std::vector<StageTiming> timings;  // finer timings (per grid, per map, ...)
   long units_resumed = 0;          // work units loaded from the checkpoint store instead of computed
+  // The answer to the stage's question, with its numbers (Markdown sentences, one per item), and
+  // what a reader must know before trusting it: report.md and report.html open with them.
+  std::vector<std::string> answer, warnings;
 };
 
 // A stage's work, cut into units: the grain of checkpointing and of distribution. Ids are stable

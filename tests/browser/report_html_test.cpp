@@ -58,6 +58,9 @@ window.addEventListener('load', () => {
     if (!c || !c.textContent.trim()) r.uncaptioned.push(name);
   }
   r.pageOverflow = document.documentElement.scrollWidth > window.innerWidth + 1;
+  const a = document.getElementById('answer');
+  r.answerTop = a ? a.getBoundingClientRect().top + window.scrollY : -1;
+  r.answer = a ? a.textContent : '';
   const p = document.createElement('pre');
   p.id = 'armstudy-check';
   p.textContent = JSON.stringify(r);
@@ -208,6 +211,32 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
       INFO(study.filename().string() + ": " + faults(c));
       CHECK(faults(c).empty());
       CHECK(c.result.value("figures", 0) + c.result.value("images", 0) > 0);
+      // The answer opens the page: within the first 1,000 px, and it names, for every reach grid,
+      // the design summary.json ranks first by reachable share, with that share as printed.
+      INFO("answer block at " << c.result.value("answerTop", -1.0) << " px: " << c.result.value("answer", ""));
+      CHECK(c.result.value("answerTop", -1.0) >= 0);
+      CHECK(c.result.value("answerTop", -1.0) < 1000);
+      const fs::path summary = report.parent_path() / "summary.json";
+      if (fs::exists(summary)) {
+        const auto js = nlohmann::json::parse(readFileOrThrow(summary.string()));
+        for (const auto& g : js["reach"]["grids"]) {
+          std::string first;
+          double best = -1;
+          for (const auto& d : g["designs"])
+            if (d["fraction"].get<double>() > best) best = d["fraction"].get<double>(), first = d["design"];
+          char pct[32];
+          std::snprintf(pct, sizeof pct, "%.1f %%", 100 * best);
+          const std::string grid = "grid " + g["name"].get<std::string>();
+          const std::string answer = c.result.value("answer", "");
+          const std::size_t at = answer.find(grid);
+          INFO(grid << ": " << first << " " << pct);
+          REQUIRE(at != std::string::npos);
+          const std::size_t line_start = answer.rfind("reach:", at), line_end = answer.find("reach:", at);
+          const std::string line = answer.substr(line_start, line_end == std::string::npos ? line_end : line_end - line_start);
+          CHECK(line.find(first) != std::string::npos);
+          CHECK(line.find(pct) != std::string::npos);
+        }
+      }
       // A screenshot of the report as a laptop shows it, kept beside the report.
       const fs::path shot = report.parent_path() / "report_screenshot.png";
       runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kScreenshotHeight) +

@@ -897,7 +897,7 @@ TEST_CASE("URDF studies run end to end and the largest reach found matches the d
   for (const auto& g : ur5s["reach"]["grids"])
     if (g["name"] == "fig3_8")
       for (const auto& d : g["designs"]) CHECK(d["fraction"].get<double>() > 0.3);
-  std::ifstream report(out_dir + "/ur5_vs_first_prototype/report.md");
+  std::ifstream report(out_dir + "/ur5_vs_first_prototype/reach/report.md");
   const std::string md((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
   CHECK_THAT(
       md, Catch::Contains("Self-collision: on") && Catch::Contains("UR5 datasheet: reach 850 mm"));

@@ -158,6 +158,7 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
   const fs::path out = dir / "out" / "e2e";
   nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   REQUIRE(fs::exists(out / "report.md"));
+  REQUIRE(fs::exists(out / "reach" / "report.md"));
   int vti = 0, vtp = 0;
   for (const std::string& rel : rs.files_written) {
     const fs::path p = out / rel;

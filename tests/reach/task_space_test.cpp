@@ -233,7 +233,7 @@ TEST_CASE("the reach stage evaluates the designs its section names, and an unkno
                                    << "[reach.tool_axis]\nfinal_prototype_7dof = \"y\"\n" << grid;
   ro.output_root = (dir / "out_axis").string();
   runStudy(loadStudy((dir / "axis.toml").string()), ro);
-  std::ifstream axis_report(dir / "out_axis" / "pick" / "report.md");
+  std::ifstream axis_report(dir / "out_axis" / "pick" / "reach" / "report.md");
   const std::string axis_text((std::istreambuf_iterator<char>(axis_report)), std::istreambuf_iterator<char>());
   CHECK(axis_text.find("`final_prototype_7dof` TCP (0.000, 1.000, 0.000)") != std::string::npos);
   std::ofstream(dir / "bad_axis.toml") << head << "[reach]\ndesigns = [\"final_prototype_7dof\"]\n"

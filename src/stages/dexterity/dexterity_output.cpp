@@ -11,9 +11,11 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "dexterity/dexterity_audit.hpp"
 #include "io/files.hpp"
 #include "report/image.hpp"
+#include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "study/writer.hpp"
 
@@ -187,6 +189,36 @@ void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
 }
 
 const char* const kSub = "dexterity";  // the stage's output folder
+
+// The stage's answer (StageResult::answer) from its metrics: the designs ranked by the mean
+// optimised manipulability over the cells each reaches, with their reachable shares; a design
+// that reaches no cell is a warning.
+void dexterityAnswer(const Study& study, const DexterityOptions& options, StageResult& sum) {
+  struct Row {
+    std::string design;
+    double mean, reach;
+  };
+  std::vector<Row> rows;
+  for (const StudyDesign& sd : study.designs) {
+    const std::string p = "dexterity/" + sd.model.name;
+    rows.push_back({sd.model.name, sum.metrics.scalars.at(p + "/manipulability_mean_optimised"),
+                    sum.metrics.scalars.at(p + "/reachable_fraction")});
+    if (rows.back().reach == 0)
+      sum.warnings.push_back("`" + sd.model.name + "` reaches none of the " + std::to_string(options.grid.size()) +
+                             " cells around the stem.");
+  }
+  rows.erase(std::remove_if(rows.begin(), rows.end(), [](const Row& r) { return r.reach == 0; }), rows.end());
+  if (rows.empty()) return;
+  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.mean > b.mean; });
+  auto item = [](const Row& r) {
+    return "`" + r.design + "` " + formatG(r.mean, 3) + " (reaching " + report::percent(r.reach) + " of the cells)";
+  };
+  std::string a = "Around the stem (" + std::to_string(options.grid.size()) + " cells, " +
+                  metrics::toString(options.measure_space) + " manipulability, optimised in the null space): " +
+                  (rows.size() > 1 ? "highest mean " : "mean ") + item(rows[0]);
+  for (std::size_t k = 1; k < rows.size(); ++k) a += (k == 1 ? "; then " : ", ") + item(rows[k]);
+  sum.answer.push_back(a + ".");
+}
 
 // The study-wide fields of summary.json (grid and settings) with an empty design list.
 nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
@@ -433,6 +465,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     js["designs"].push_back(d);
     if (maps) maps->push_back(std::move(map));
   }
+  dexterityAnswer(ctx.study, options, sum);
   if (ctx.study.designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
   else md << "## Summary\n\n" << cmp.str() << "\n";
   out.text(sub + "/summary.json", js.dump(2) + "\n");

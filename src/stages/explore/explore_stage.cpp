@@ -157,6 +157,27 @@ std::vector<std::string> dominatingBase(const Outcome& r) {
   return by;
 }
 
+// The stage's answer (StageResult::answer): how many candidates, the front's size, whether the base
+// design is dominated (and by how many), and per objective the base value beside the front's best.
+std::string exploreAnswer(const Outcome& r) {
+  long feasible = 0;
+  for (const Candidate& x : r.c) feasible += x.feasible;
+  std::string a = std::to_string(r.front.size()) + " of the " + std::to_string(r.c.size()) + " candidates (" +
+                  std::to_string(feasible) + " feasible) are on the Pareto front; the base design is ";
+  if (r.base_on_front) a += "on it";
+  else {
+    const std::vector<std::string> by = dominatingBase(r);
+    a += "dominated by " + std::to_string(by.size()) + " of them" + (by.empty() ? "" : " (e.g. " + by[0] + ")");
+  }
+  for (std::size_t k : r.goals) {
+    double best = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
+    for (std::size_t i : r.front) best = std::max(best, oriented(r.o.objectives[k], r.c[i].values[k]));
+    a += "; " + r.o.objectives[k].label + ": base " + num(r.c[r.base_index].values[k]) + ", best on the front " +
+         num(r.o.objectives[k].goal == Goal::Minimise ? -best : best);
+  }
+  return a + ".";
+}
+
 // The base design against the front: its row, whether it is dominated (and by whom), and per
 // objective its value beside the best on the front.
 std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& header) {
@@ -250,6 +271,8 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out);
   out.text("explore/explore.md", exploreMarkdown(ctx, ev, r, written));
   addExploreMetrics(r, res.metrics);
+  res.answer.push_back(exploreAnswer(r));
+  if (!c[base_index].feasible) res.warnings.push_back("The base design breaks a constraint.");
   res.files = out.files();
   res.units_resumed = ev.unitsResumed();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

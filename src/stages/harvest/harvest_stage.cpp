@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "stages/harvest/harvest_report.hpp"
@@ -304,6 +305,36 @@ ordered_json designJson(const Model& model, const DesignResult& d, const FruitCo
 
 }  // namespace
 
+// The stage's answer (StageResult::answer) from its summary: per design, the fruits it picks
+// within its drives' limits and why each other fruit fails (first failing joint and quantity, or
+// the approach's status); a design that picks none is a warning.
+void harvestAnswer(const ordered_json& js, StageResult& sum) {
+  auto words = [](std::string id) {  // "rms_current" -> "rms current"
+    std::replace(id.begin(), id.end(), '_', ' ');
+    return id;
+  };
+  const long fruits = js["row"].value("fruits", 0L);
+  for (const auto& d : js["designs"]) {
+    const std::string name = d.value("design", "");
+    const long feasible = d.value("feasible", 0L);
+    std::string why;
+    for (const auto& f : d["fruits"]) {
+      if (f.value("feasible", false)) continue;
+      why += std::string(why.empty() ? "" : "; ") + "fruit " + std::to_string(f.value("fruit", 0)) + ": ";
+      if (f.contains("failing_joint"))
+        why += f["failing_joint"].get<std::string>() + " " + words(f.value("failing_quantity", "")) + " at " +
+               formatG(f.value("failure_time_s", 0.0), 3) + " s";
+      else
+        why += words(f.value("status", ""));
+    }
+    sum.answer.push_back("`" + name + "` picks " + std::to_string(feasible) + " of the " + std::to_string(fruits) +
+                         " fruits within its drives' limits (" + std::to_string(d.value("evaluated", 0L)) +
+                         " approached)" + (why.empty() ? "." : "; misses " + why + "."));
+    if (feasible == 0)
+      sum.warnings.push_back("`" + name + "` picks none of the " + std::to_string(fruits) + " fruits.");
+  }
+}
+
 // Evaluates each selected design through the work units, writes its files and report sections,
 // then report.md and summary.json.
 StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& options,
@@ -345,6 +376,7 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
     js["designs"].push_back(dj);
     if (results) results->push_back(std::move(d));
   }
+  harvestAnswer(js, sum);
   out.text("harvest/report.md", md.str());
   out.text("harvest/summary.json", js.dump(2) + "\n");
   sum.files = out.files();

@@ -1,5 +1,7 @@
 #include "stages/reach/reach_report.hpp"
 
+#include "common/format.hpp"
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -166,6 +168,70 @@ int agreement(const std::vector<double>& ratios) {
 }
 }  // namespace
 
+namespace {
+// "`a` reaches the most, 95.6 % (`b` 81.8 %, `c` 0.0 %)" over one grid's or list's designs.
+std::string coverageSentence(const ordered_json& designs, long poses, const std::string& what,
+                             std::vector<std::string>& warnings) {
+  std::vector<std::pair<double, std::string>> f;
+  for (const auto& d : designs) {
+    const double x = d.value("fraction", 0.0);
+    f.push_back({x, d.value("design", std::string())});
+    if (d.value("reachable", 0L) == 0)
+      warnings.push_back("`" + f.back().second + "` reaches none of the " + std::to_string(poses) + " poses of " +
+                         what + ".");
+  }
+  std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (f.empty()) return "";
+  if (f.size() == 1) return "`" + f[0].second + "` reaches " + report::percent(f[0].first) + " of the " +
+                            std::to_string(poses) + " poses of " + what + ".";
+  std::string top, rest;
+  std::size_t k = 0;
+  for (; k < f.size() && report::percent(f[k].first) == report::percent(f[0].first); ++k)
+    top += std::string(k ? ", " : "") + "`" + f[k].second + "`";
+  for (std::size_t j = k; j < f.size(); ++j)
+    rest += std::string(j > k ? ", " : "") + "`" + f[j].second + "` " + report::percent(f[j].first);
+  if (k == f.size()) return "every design (" + top + ") reaches " + report::percent(f[0].first) + " of the " +
+                            std::to_string(poses) + " poses of " + what + ".";
+  return top + (k > 1 ? " reach" : " reaches") + " the most of the " + std::to_string(poses) + " poses of " + what +
+         ", " + report::percent(f[0].first) + " (then " + rest + ").";
+}
+}  // namespace
+
+void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer, std::vector<std::string>& warnings) {
+  for (const char* kind : {"grids", "pose_lists"}) {
+    if (!summary.contains(kind)) continue;
+    for (const auto& g : summary[kind]) {
+      const std::string what = std::string(kind[0] == 'g' ? "grid `" : "pose list `") + g.value("name", "") + "`";
+      const long poses = g.value("poses", 0L);
+      std::string a = coverageSentence(g.value("designs", ordered_json::array()), poses, what, warnings);
+      if (a.empty()) continue;
+      a[0] = a[0] == '`' ? a[0] : static_cast<char>(std::toupper(static_cast<unsigned char>(a[0])));
+      std::string verdicts;
+      if (g.contains("comparison") && g["comparison"].contains("dexterity"))
+        for (const auto& v : g["comparison"]["dexterity"]) {
+          if (!v.contains("better") || v["better"].is_null()) continue;
+          const bool a_better = v.value("a", "") == v["better"].get<std::string>();
+          const auto& m = v["manipulability_mean"];
+          const double ratio = a_better ? m[0].get<double>() / m[1].get<double>() : m[1].get<double>() / m[0].get<double>();
+          verdicts += std::string(verdicts.empty() ? "" : "; ") + "`" + v.value(a_better ? "a" : "b", "") + "` " +
+                      formatG(ratio, 3) + "x `" + v.value(a_better ? "b" : "a", "") + "` (" +
+                      std::to_string(v.value("poses_both_reach", 0L)) + " poses)";
+        }
+      if (!verdicts.empty())
+        a += " More dexterous where both reach (manipulability of the task's rows, ranked only where its translational "
+             "and rotational parts agree): " + verdicts + ".";
+      answer.push_back(a);
+    }
+  }
+  if (summary.contains("designs_without_collision_volumes") && !summary["designs_without_collision_volumes"].empty()) {
+    std::string names;
+    for (const auto& n : summary["designs_without_collision_volumes"])
+      names += std::string(names.empty() ? "" : ", ") + "`" + n.get<std::string>() + "`";
+    warnings.push_back(names + " evaluated without self-collision and obstacles (no collision volumes): their "
+                               "reachable shares are not comparable with the others'.");
+  }
+}
+
 nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
                                            const std::vector<PoseSweep>& sweeps,
                                            const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
@@ -284,7 +350,8 @@ std::string writeFigure(Writer& out, const std::string& stem, const report::Rast
   const report::Drawing d = report::mapFigure(img, fig, report::Format::svg_and_png);
   out.text(stem + ".svg", d.svg);
   out.text(stem + ".png", d.png);
-  return stem + ".svg";
+  const std::string prefix = "reach/";
+  return stem.compare(0, prefix.size(), prefix) == 0 ? stem.substr(prefix.size()) + ".svg" : stem + ".svg";
 }
 
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).

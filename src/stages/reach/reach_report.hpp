@@ -121,6 +121,12 @@ void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const s
 // Dexterity of design pairs on the poses both reach: mean manipulability and its translational and
 // rotational parts of each, and a verdict that ranks the pair only when the combined value and
 // both parts agree. Appends a table and sentences to md; returns the summary.json block.
+// The stage's answer and warnings (StageResult::answer/warnings) from its summary: per grid and
+// pose list, which design reaches most and by how much, and the dexterity verdicts where both
+// reach; a design that reaches nothing is a warning.
+void reachAnswer(const nlohmann::ordered_json& summary, std::vector<std::string>& answer,
+                 std::vector<std::string>& warnings);
+
 nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
                                            const std::vector<PoseSweep>& sweeps,
                                            const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
@@ -131,8 +137,8 @@ std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* 
 // Writes the arm at the sweep's reachable pose of the largest manipulability to out.path(rel)
 // (scene::robotPolyData) and lists it; false (nothing written) when no pose is reachable.
 bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, const PoseSweep& s);
-// The raw map as <stem>.png and the figure with axes and legend as <stem>.svg; returns the .svg
-// path (what the report shows).
+// The raw map as <stem>.png and the figure with axes and legend as <stem>.svg (stem relative to
+// the study folder, under reach/); returns the .svg path relative to reach/report.md (its link).
 std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,
                         const report::MapFigure& fig);
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).

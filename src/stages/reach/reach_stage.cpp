@@ -228,9 +228,10 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   }
   out.flush();  // the grids' files written in the background (Writer::textLater)
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  reachAnswer(jr, sum.answer, sum.warnings);
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
-  out.text("report.md", md);
+  out.text("reach/report.md", md);
   sum.files = out.files();
   return sum;
 }

@@ -380,6 +380,19 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
   return md.str();
 }
 
+// The entry's answer (StageResult::answer): each run's status, first contact and closest approach.
+std::string entryAnswer(const Model& model, const TrackingEntry& e, const EntryResult& er) {
+  std::string a = "`" + e.name + "` (`" + e.design + "`):";
+  for (const RunResult* r : {&er.plain, &er.with_hc}) {
+    a += std::string(r == &er.plain ? " " : "; ") + runLabel(r->kind) + ": " + r->statusText(model) + ", " +
+         (r->first_contact_s ? "first contact at " + report::fixed(*r->first_contact_s, 3) + " s (" +
+                                   pairText(*r, r->first_contact_pair) + ")"
+                             : "no contact");
+    if (!e.obstacles.empty()) a += ", closest to the obstacles " + mm(r->min_obstacle_distance_m) + " mm";
+  }
+  return a + ".";
+}
+
 // An entry's record in summary.json: its settings and both runs.
 ordered_json entryJson(const Model& model, const TrackingEntry& e, const EntryResult& er) {
   const Eigen::Vector3d& p0 = er.line.p0_W;
@@ -454,6 +467,7 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     writeEntryPlots(e, er, out);
     md << entryMarkdown(model, e, er);
     js["entries"].push_back(entryJson(model, e, er));
+    sum.answer.push_back(entryAnswer(model, e, er));
   }
   out.text("tracking/report.md", md.str());
   out.text("tracking/summary.json", js.dump(2) + "\n");
