@@ -119,11 +119,12 @@ inline constexpr double kNullspacePoseTolerance = 1e-9;   // [m and rad] tool mu
 // Map search (docs/dexterity.md, "How a map value is found"): after the chained row sweeps, seeded
 // multi-starts on a sub-grid and neighbour propagation make a cell's value independent of the
 // order the grid was traversed in. (study) = [dexterity.search] may override.
-inline constexpr int kMapSeedStarts = 48;                 // (study) random starts per seeding cell
+inline constexpr int kMapSeedStarts = 24;                 // (study) random starts per seeding cell
 inline constexpr int kMapSeedStride = 4;                  // (study) seeding cells: every n-th gamma and z value
 inline constexpr int kMapPropagationRounds = 1000;        // (study) cap on neighbour-propagation rounds
 inline constexpr double kMapImprovementRelative = 1e-7;   // a candidate replaces a cell's value when H drops by more (relative)
 inline constexpr unsigned long long kMapSearchSeed = 2;   // (study) seed of the multi-starts
+inline constexpr double kMapSameBasin = 0.05;             // [rad | m] a neighbour's optimum this close to a cell's (every joint) is not tried there
 inline constexpr double kReachManipulabilityImprovement = 0.01;  // a neighbour's solution replaces a reachable pose's when 1 % better
 inline constexpr int kReachCollisionStarts = 32;         // (study) seeded starts per pose still in collision after propagation
 // Map audit (docs/dexterity.md, docs/reachability.md): an independent many-start search on cells

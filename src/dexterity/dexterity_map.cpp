@@ -326,6 +326,9 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
           const CellResult& src = cells[nb[k]];
           if (!src.reachable || !(first || changed[nb[k]])) continue;
           if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
+          // A neighbour whose optimum is this cell's posture (every joint within kMapSameBasin)
+          // would descend to this cell's optimum again.
+          if (cur.reachable && (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin) continue;
           CellResult cand;
           ++round_tries;
           if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt, cand) ||
