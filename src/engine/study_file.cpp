@@ -97,6 +97,9 @@ UrdfOptions readUrdfOptions(TableReader& r, const std::string& path, const fs::p
     for (auto&& [k, v] : *pk) {
       const std::string dir_text = pr.string(std::string(k.str()));
       const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
+      if (!fs::is_directory(d))
+        pr.fail(std::string(k.str()), "package folder '" + dir_text + "' does not exist (looked for " +
+                                          d.lexically_normal().string() + ")");
       uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
     }
     pr.finish();
@@ -132,6 +135,23 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
   m.finalize();
 }
 
+// The design file of a [[design]] entry. A URDF's input error names the study's line too: the
+// entry's tip_link or base_link when the URDF error is about them, else its file key.
+Model loadDesignOfEntry(TableReader& r, const std::string& file, const UrdfOptions& uo,
+                        bool urdf) {
+  try {
+    return loadAnyDesign(file, uo);
+  } catch (const InputError& e) {
+    if (!urdf) throw;
+    const std::string key = (e.key() == "tip_link" || e.key() == "base_link") && r.has(e.key())
+                                ? e.key()
+                                : std::string("file");
+    const std::string where =
+        e.file() + (e.line() > 0 ? ":" + std::to_string(e.line()) : "") + ": key '" + e.key() + "'";
+    r.fail(key, "in the URDF design " + where + ": " + e.message());
+  }
+}
+
 // One [[design]] entry: its file (relative to the study), loaded, with the entry's settings.
 Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
   const std::string file = r.string("file");
@@ -143,7 +163,7 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
   if (!urdf)
     for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
       if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
-  Model m = loadAnyDesign(resolved.lexically_normal().string(), uo);
+  Model m = loadDesignOfEntry(r, resolved.lexically_normal().string(), uo, urdf);
   if (urdf) readUrdfPlacement(r, path, m);
   m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
   r.finish();

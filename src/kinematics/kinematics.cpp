@@ -148,6 +148,15 @@ CardanAngles cardanFromRotation(const Eigen::Matrix3d& R) {
   return c;
 }
 
+CardanAngles cardanForDisplay(const Eigen::Matrix3d& R) {
+  CardanAngles c = cardanFromRotation(R);
+  if (c.singular && std::hypot(R(0, 0), R(0, 1)) > 0) {  // defined, if ill-conditioned
+    c.alpha = std::atan2(-R(1, 2), R(2, 2));
+    c.gamma = std::atan2(-R(0, 1), R(0, 0));
+  }
+  return c;
+}
+
 bool cardanRateMatrix(double alpha, double beta, Eigen::Matrix3d& T) {
   const double cb = std::cos(beta);
   if (std::abs(cb) < defaults::kCardanSingularCosBeta) return false;

@@ -312,3 +312,30 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("a design that reaches nothing in a grid is a warning in the report and summary",
+          "[reach][io]") {
+  const fs::path dir = tempDir("nothing");
+  writeText(dir / "s.toml", studyText("nothing", R"(
+[reach]
+task_space = "position"
+[[reach.grid]]
+name = "far"
+x = { from = "50 m", to = "50.1 m", step = "0.1 m" }
+y = 0.5
+z = 1
+)"));
+  std::string out;
+  REQUIRE(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --threads 2 --output " +
+                         (dir / "out").string(),
+                     out) == 0);
+  const std::string text = "`first_prototype_6dof`, `final_prototype_7dof` reach none of the 2 poses of grid `far`";
+  CHECK_THAT(out, Catch::Contains("warning: " + text));
+  const fs::path o = dir / "out" / "nothing";
+  std::ifstream in(o / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK_THAT(md, Catch::Contains("**Warning:** " + text));
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(o / "summary.json"));
+  CHECK(summary["reach"]["grids"][0]["designs_reaching_nothing"].size() == 2);
+  fs::remove_all(dir);
+}

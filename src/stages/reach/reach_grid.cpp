@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string_view>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "collision/reach_collision.hpp"
@@ -526,6 +527,23 @@ void gridTables(const GridRun& r, const ordered_json& jdesigns, const std::vecto
   }
 }
 
+// Designs that reach none of the grid's poses: a warning in the report, in summary.json and on
+// stderr (a base placed in the wrong unit, a grid beside the arm).
+void warnUnreached(const GridRun& r, const ordered_json& jdesigns, ordered_json& jg, std::string& md) {
+  ordered_json none = ordered_json::array();
+  for (const auto& jd : jdesigns)
+    if (jd["reachable"].get<long>() == 0) none.push_back(jd["design"]);
+  if (none.empty()) return;
+  std::string names;
+  for (const auto& n : none) names += (names.empty() ? "`" : ", `") + n.get<std::string>() + "`";
+  const std::string text = names + (none.size() > 1 ? " reach" : " reaches") + " none of the " +
+                           std::to_string(r.g.size()) + " poses of grid `" + r.g.name +
+                           "`: check the design's base placement and its units against the grid";
+  md += "**Warning:** " + text + ".\n\n";
+  jg["designs_reaching_nothing"] = none;
+  std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
+}
+
 // comparison.vti: which designs reach each pose (bit mask and count per orientation).
 void writeComparisonVti(const GridRun& r, ordered_json& jcmp) {
   const TaskGrid& g = r.g;
@@ -656,6 +674,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   const ordered_json jdesigns = joinDesignParts(r, md, images_md, rows);
   sum.timings.push_back({r.gdir + "/files", secondsSince(t0)});
   jg["designs"] = jdesigns;
+  warnUnreached(r, jdesigns, jg, md);
   gridTables(r, jdesigns, rows, md);
   md += images_md;
   if (r.sweeps.size() >= 2) jg["comparison"] = compareDesigns(r, jdesigns, md);
