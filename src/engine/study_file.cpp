@@ -153,7 +153,8 @@ Model loadDesignOfEntry(TableReader& r, const std::string& file, const UrdfOptio
 }
 
 // One [[design]] entry: its file (relative to the study), loaded, with the entry's settings.
-Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
+Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
+                 double& reference_reach_m) {
   const std::string file = r.string("file");
   const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
   if (!fs::exists(resolved))
@@ -166,6 +167,9 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
   Model m = loadDesignOfEntry(r, resolved.lexically_normal().string(), uo, urdf);
   if (urdf) readUrdfPlacement(r, path, m);
   m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
+  reference_reach_m = r.quantity("reference_reach_m", Dimension::Length, 0.0);
+  if (r.has("reference_reach_m") && !(reference_reach_m > 0))
+    r.fail("reference_reach_m", "a reference reach must be above 0 (m, or a string with its unit)");
   r.finish();
   return m;
 }
@@ -188,13 +192,14 @@ void readDesigns(TableReader& top, const std::string& path, const fs::path& dir,
     if (!e.is_table())
       throw InputError(path, static_cast<int>(e.source().begin.line), "design", "expected [[design]] tables");
     TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
-    Model m = readDesign(r, path, dir);
+    double reference_reach_m = 0;
+    Model m = readDesign(r, path, dir, reference_reach_m);
     if (d.by_name.count(m.name))
       r.fail("file", "design name '" + m.name + "' appears twice in this study");
     s.inputs.push_back({m.file, m.file_hash});
     d.bases.push_back(std::move(m));
     d.by_name[d.bases.back().name] = &d.bases.back();
-    s.designs.push_back({d.bases.back(), d.bases.back().name, {}});
+    s.designs.push_back({d.bases.back(), d.bases.back().name, {}, reference_reach_m});
   }
 }
 
@@ -215,7 +220,7 @@ void addVariantProduct(TableReader& r, const std::string& path, const Model& bas
     for (const auto& d : s.designs)
       if (d.model.name == m.name)
         throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");
-    s.designs.push_back({m, base.name, ov});
+    s.designs.push_back({m, base.name, ov, 0.0});
     // Advance the odometer; the last sweep key varies fastest.
     int k = static_cast<int>(sweeps.size()) - 1;
     for (; k >= 0; --k) {
