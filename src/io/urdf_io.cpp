@@ -272,6 +272,16 @@ LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
   return out;
 }
 
+// "no link named ..." with what the file has: its links.
+std::string linkNotFoundMessage(const XmlIndex& xml, const std::string& file,
+                                const std::string& name, const std::string& option) {
+  std::string list;
+  for (const auto& [n, line] : xml.links) list += (list.empty() ? "" : ", ") + n;
+  return "no link named '" + name + "' (" + option + ") in " + file + "; its " +
+         std::to_string(xml.links.size()) + " links: " + list +
+         " (armstudy describe FILE lists the chains)";
+}
+
 // The URDF as urdfdom reads it; its complaints (console_bridge) become one InputError at the
 // element they name.
 urdf::ModelInterfaceSharedPtr parseWithUrdfdom(const std::string& text, const std::string& file,
@@ -361,13 +371,8 @@ struct UrdfImport {
     tip = robot->getLink(c.chosen);
   }
 
-  // "no link named ..." with what the file has: its links.
   std::string linkNotFound(const std::string& name, const std::string& option) const {
-    std::string list;
-    for (const auto& [n, line] : xml.links) list += (list.empty() ? "" : ", ") + n;
-    return "no link named '" + name + "' (" + option + ") in " + file + "; its " +
-           std::to_string(xml.links.size()) + " links: " + list +
-           " (armstudy describe FILE lists the chains)";
+    return linkNotFoundMessage(xml, file, name, option);
   }
 
   // The joints from base to tip, in order; then the model's names and the info's links.
@@ -562,7 +567,7 @@ UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& o) {
   urdf::LinkConstSharedPtr base = robot->getRoot();
   if (!o.base_link.empty() && !(base = robot->getLink(o.base_link)))
     throw InputError(path, xml.robot_line, "base_link",
-                     "no link named '" + o.base_link + "' (--base)");
+                     linkNotFoundMessage(xml, path, o.base_link, "--base; base_link in a study"));
   return findChains(*robot, base);
 }
 

@@ -1259,6 +1259,10 @@ TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the o
   REQUIRE(test::runCommand(test::binaryPath() + " describe " + two, out) == 2);
   CHECK_THAT(out, Catch::Contains("tip      none by default") &&
                       Catch::Contains("other tips: --tip a, --tip b"));
+  // a base that is not there: what was looked for, in which file, and the links it has
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + arm6() + " --base nosuch", out) == 2);
+  CHECK_THAT(out, Catch::Contains("no link named 'nosuch' (--base; base_link in a study) in " +
+                                  arm6() + "; its 11 links: base_link, finger_left, finger_right"));
 }
 
 TEST_CASE("URDF CLI convert both ways keeps the tip and every frame fk prints", "[urdf][cli]") {
@@ -1370,4 +1374,19 @@ TEST_CASE("URDF placement in a study: a length string needs its unit and is rang
   }
   writeText(f, urdfStudy("base = { gamma = \"pi/2\" }\n"));  // angles keep their meaning
   CHECK(loadStudy(f).designs[0].model.base.gamma == Approx(M_PI / 2).epsilon(1e-15));
+}
+
+TEST_CASE("URDF CLI draw writes the arm as an SVG at q = 0 or a given q", "[urdf][cli]") {
+  const std::string svg = tempPath("arm6.svg");
+  std::string out;
+  REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() +
+                               " --deg --q 0,30,-60,0,45,0 --out " + svg,
+                           out) == 0);
+  CHECK_THAT(out, Catch::Contains("wrote " + svg + " (arm6_gripper, 6 joints)"));
+  const std::string text = readText(svg);
+  CHECK_THAT(text, Catch::Contains("<svg"));
+  CHECK(text.size() > 1000);
+  REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() + " --out " + svg, out) == 0);
+  CHECK(test::runCommand(test::binaryPath() + " draw " + arm6() + " --q 0,1 --out " + svg, out) == 2);
+  CHECK_THAT(out, Catch::Contains("got 2 joint values, design 'arm6_gripper' has 6 joints"));
 }
