@@ -2,9 +2,8 @@
 // (docs/design-format.md, "URDF designs": the default chain).
 #include <algorithm>
 #include <cctype>
-#include <deque>
-#include <functional>
-#include <set>
+#include <string>
+#include <vector>
 
 #include "io/urdf_internal.hpp"
 
@@ -45,37 +44,42 @@ std::string notArmJointReason(const urdf::Joint& j) {
   return "";
 }
 
-// Walks the tree below `base`: fixed joints keep the count, arm joints add one, any other movable
-// joint ends the chain there (it and its subtree are left out).
+// Walks the tree below `base` (an explicit stack: a file may hold very long chains): fixed joints
+// keep the count, arm joints add one, any other movable joint ends the chain there (it and its
+// subtree are left out). An arm joint's child link is an end unless another arm joint follows.
 UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base) {
   UrdfChains out;
   out.base = base->name;
-  std::deque<UrdfChainEnd> ends;  // stable references while the walk appends
-  // Returns whether an arm joint follows `l` (so `l` is no chain end).
-  std::function<bool(const urdf::LinkConstSharedPtr&, int, UrdfChainEnd*)> walk =
-      [&](const urdf::LinkConstSharedPtr& l, int n, UrdfChainEnd* end) -> bool {
-    bool arm_below = false;
-    for (const auto& j : l->child_joints) {
-      const auto child = robot.getLink(j->child_link_name);
-      if (j->type == urdf::Joint::FIXED) {
-        if (end) end->fixed_frames.push_back(child->name);
-        arm_below = walk(child, n, end) || arm_below;
-        continue;
-      }
-      if (const std::string why = notArmJointReason(*j); !why.empty()) {
-        if (end) end->left_out.push_back(j->name + " (" + why + ")");
-        continue;
-      }
-      arm_below = true;
-      UrdfChainEnd& e = ends.emplace_back(UrdfChainEnd{child->name, n + 1, {}, {}});
-      if (walk(child, n + 1, &e)) e.joints = -1;  // an arm joint follows: not an end
-    }
-    return arm_below;
+  struct Item {
+    urdf::LinkConstSharedPtr link;
+    int joints;  // arm joints from the base to `link`
+    int end;     // the chain end `link` belongs to (index into ends; -1: the base, root)
   };
   UrdfChainEnd root{base->name, 0, {}, {}};
-  walk(base, 0, &root);
-  for (const auto& e : ends)
-    if (e.joints > 0) out.ends.push_back(e);
+  std::vector<UrdfChainEnd> ends;
+  std::vector<bool> followed;  // an arm joint follows ends[i]: no end
+  std::vector<Item> stack{{base, 0, -1}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    for (const auto& j : it.link->child_joints) {
+      const auto child = robot.getLink(j->child_link_name);
+      UrdfChainEnd& at = it.end < 0 ? root : ends[it.end];
+      if (j->type == urdf::Joint::FIXED) {
+        at.fixed_frames.push_back(child->name);
+        stack.push_back({child, it.joints, it.end});
+      } else if (const std::string why = notArmJointReason(*j); !why.empty()) {
+        at.left_out.push_back(j->name + " (" + why + ")");
+      } else {
+        if (it.end >= 0) followed[it.end] = true;
+        ends.push_back({child->name, it.joints + 1, {}, {}});
+        followed.push_back(false);
+        stack.push_back({child, it.joints + 1, static_cast<int>(ends.size()) - 1});
+      }
+    }
+  }
+  for (std::size_t i = 0; i < ends.size(); ++i)
+    if (!followed[i]) out.ends.push_back(ends[i]);
   std::stable_sort(out.ends.begin(), out.ends.end(),
                    [](const UrdfChainEnd& a, const UrdfChainEnd& b) { return a.joints > b.joints; });
   if (out.ends.empty()) {
