@@ -1390,3 +1390,25 @@ TEST_CASE("URDF CLI draw writes the arm as an SVG at q = 0 or a given q", "[urdf
   CHECK(test::runCommand(test::binaryPath() + " draw " + arm6() + " --q 0,1 --out " + svg, out) == 2);
   CHECK_THAT(out, Catch::Contains("got 2 joint values, design 'arm6_gripper' has 6 joints"));
 }
+
+TEST_CASE("URDF the shipped robots keep their default tip and link frames through convert",
+          "[urdf]") {
+  for (const std::string& file : {ur5(), panda()}) {
+    INFO(file);
+    UrdfInfo info, info_back, again;
+    const Model m = importUrdf(file, chain("", ""), &info);
+    const Model back = parseDesignWithUrdfInfo(designToToml(m, info), "r.toml", &info_back);
+    const std::string urdf = exportUrdf(back, info_back);
+    importUrdfText(urdf, "r.urdf", chain("", ""), &again);
+    CHECK(again.base_link == info.base_link);
+    CHECK(again.tcp_link == info.tcp_link);
+    std::vector<std::string> links{info.tcp_link};
+    for (const auto& j : info.joints) links.push_back(j.link);
+    KDL::Tree exported;
+    REQUIRE(kdl_parser::treeFromString(urdf, exported));
+    const double d =
+        largestFrameDifference(kdlTreeFromFile(file), exported, info.base_link, links, m);
+    INFO("largest frame difference " << d);
+    CHECK(d < kUrdfOracleTolerance);
+  }
+}
