@@ -2,8 +2,10 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "cli/design_options.hpp"
+#include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "engine/run.hpp"
 
@@ -18,6 +20,40 @@ static std::string fmtQ(const Joint& j, double v) {
   return buf;
 }
 
+static std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+// The chains of a URDF design, the tip chosen and why, and the --tip for the others.
+static void printChains(const UrdfChains& c, const std::string& tip_given) {
+  std::printf("\nchains below '%s' (a chain runs over arm joints; gripper, finger, mimic, "
+              "floating and planar joints end it):\n",
+              c.base.c_str());
+  for (const auto& e : c.ends) {
+    std::printf("  %-24s %2d joints", e.link.c_str(), e.joints);
+    if (!e.fixed_frames.empty())
+      std::printf("   fixed frames after it: %s", joined(e.fixed_frames).c_str());
+    if (!e.left_out.empty()) std::printf("   left out: %s", joined(e.left_out).c_str());
+    std::printf("\n");
+  }
+  if (!tip_given.empty())
+    std::printf("tip      '%s' (--tip)\n", tip_given.c_str());
+  else if (!c.chosen.empty())
+    std::printf("tip      '%s' (default: %s)\n", c.chosen.c_str(), c.reason.c_str());
+  else
+    std::printf("tip      none by default: %s\n", c.reason.c_str());
+  const std::string& tip = tip_given.empty() ? c.chosen : tip_given;
+  std::vector<std::string> others;
+  for (const auto& e : c.ends) {
+    if (e.link != tip) others.push_back("--tip " + e.link);
+    for (const auto& f : e.fixed_frames)
+      if (f != tip) others.push_back("--tip " + f);
+  }
+  if (!others.empty()) std::printf("other tips: %s\n", joined(others).c_str());
+}
+
 void addDescribeCommand(CLI::App* cmd, Action& action) {
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
@@ -27,7 +63,15 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
   addDesignSourceOptions(cmd, *src);
   cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
   setAction(cmd, action, [path, json, src] {
-    const Model m = loadAnyDesign(*path, src->urdf());
+    std::optional<UrdfChains> chains;
+    if (isUrdfPath(*path) && !*json) chains = findUrdfChains(*path, src->urdf());
+    Model m;
+    try {
+      m = loadAnyDesign(*path, src->urdf());
+    } catch (const InputError&) {
+      if (chains) printChains(*chains, src->tip);  // the way out of an ambiguous or bad chain
+      throw;
+    }
     if (*json) {
       std::cout << modelToJson(m) << "\n";
       return 0;
@@ -60,6 +104,7 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
       std::printf("\nassumptions (values the thesis does not give):\n");
       for (const auto& a : m.assumptions) std::printf("  - %s\n", a.c_str());
     }
+    if (chains) printChains(*chains, src->tip);
     return 0;
   });
 }

@@ -12,6 +12,27 @@
 
 namespace armstudy::cli {
 
+// A warning for each joint value outside the joint's limits.
+static std::vector<std::string> limitWarnings(const Model& m, const Eigen::VectorXd& q) {
+  std::vector<std::string> warn;
+  for (int i = 0; i < m.dof(); ++i) {
+    const auto& L = m.joints[i].limits;
+    if (q[i] < L.q_min || q[i] > L.q_max) warn.push_back(m.joints[i].name + " outside its limits");
+  }
+  return warn;
+}
+
+// Radian values beyond a full turn on revolute joints look like degrees: say so, with --deg.
+static std::string degreesHint(const Model& m, const Eigen::VectorXd& q) {
+  std::string names;
+  for (int i = 0; i < m.dof(); ++i)
+    if (m.joints[i].type == JointType::Revolute && std::abs(q[i]) > 2 * M_PI)
+      names += (names.empty() ? "" : ", ") + m.joints[i].name;
+  if (names.empty()) return "";
+  return "values of " + names +
+         " are beyond a full turn in radians: if they are degrees, add --deg";
+}
+
 void addFkCommand(CLI::App* cmd, Action& action) {
   struct Args {
     std::string path;
@@ -63,15 +84,12 @@ void addFkCommand(CLI::App* cmd, Action& action) {
     for (int i = 0; i < m.dof(); ++i)
       rows.push_back(
           {m.joints[i].name, ws.p_WF[i],
-           cardanFromRotation(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
-                                        : Eigen::Matrix3d(ws.R_WF[i]))});
-    rows.push_back({"tcp", ws.p_WT, cardanFromRotation(ws.R_WT)});
-    std::vector<std::string> warn;
-    for (int i = 0; i < m.dof(); ++i) {
-      const auto& L = m.joints[i].limits;
-      if (q[i] < L.q_min || q[i] > L.q_max)
-        warn.push_back(m.joints[i].name + " outside its limits");
-    }
+           cardanForDisplay(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
+                                      : Eigen::Matrix3d(ws.R_WF[i]))});
+    rows.push_back({"tcp", ws.p_WT, cardanForDisplay(ws.R_WT)});
+    std::vector<std::string> warn = limitWarnings(m, q);
+    if (!a->deg)
+      if (const std::string hint = degreesHint(m, q); !hint.empty()) warn.push_back(hint);
     if (a->json) {
       nlohmann::ordered_json j;
       j["design"] = m.name;

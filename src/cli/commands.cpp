@@ -15,6 +15,10 @@ const Command kCommands[] = {
      "Positions in metres, orientation as Cardan angles alpha, beta, gamma (R = Rx Ry Rz).\n"
      "Example: armstudy fk designs/first_prototype_6dof.toml --q 0.3,0,0,0,0,0\n"
      "         armstudy fk ur5_robot.urdf --base base_link --tip tool0 --q 0,-1.57,0,0,0,0 --json"},
+    {"draw", addDrawCommand,
+     "Draw a design's arm at q = 0 (clamped into the limits) or at --q as an SVG: side (x-z) and\n"
+     "top (x-y) view of the links, every body frame (x red, y green, z blue) and joint axis (dashed).\n"
+     "Example: armstudy draw ur5_robot.urdf --tip tool0 --deg --q 0,-90,90,0,90,0 --out ur5.svg"},
     {"run", addRunCommand,
      "Load, validate and run a study. Results go to <output>/<study name>/ with a manifest\n"
      "(version, git revision, input hashes, settings, timings). Nothing is written when the\n"

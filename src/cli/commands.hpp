@@ -30,6 +30,7 @@ std::span<const Command> commands();
 
 void addDescribeCommand(CLI::App* cmd, Action& action);
 void addFkCommand(CLI::App* cmd, Action& action);
+void addDrawCommand(CLI::App* cmd, Action& action);
 void addRunCommand(CLI::App* cmd, Action& action);
 void addBaselineCommand(CLI::App* cmd, Action& action);  // cmd_regression.cpp
 void addCheckCommand(CLI::App* cmd, Action& action);

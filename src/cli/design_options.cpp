@@ -1,5 +1,9 @@
 #include "cli/design_options.hpp"
 
+#include <filesystem>
+
+#include "common/errors.hpp"
+
 namespace armstudy::cli {
 
 void addDesignSourceOptions(CLI::App* cmd, DesignSourceOptions& o) {
@@ -20,7 +24,14 @@ UrdfOptions DesignSourceOptions::urdf() const {
   UrdfOptions u;
   u.base_link = base;
   u.tip_link = tip;
-  for (const auto& p : packages) u.packages.push_back(parsePackageOption(p, "--package"));
+  for (const auto& p : packages) {
+    u.packages.push_back(parsePackageOption(p, "--package"));
+    const auto& [name, dir] = u.packages.back();
+    if (!std::filesystem::is_directory(dir))
+      throw InputError("--package", 0, "package",
+                       "folder '" + dir + "' for package '" + name + "' does not exist (" +
+                           std::filesystem::absolute(dir).string() + ")");
+  }
   u.collision = !no_collision;
   return u;
 }

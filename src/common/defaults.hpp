@@ -13,6 +13,9 @@ inline constexpr double kMaxTrajectorySamples = 1e6;  // duration x rate of one 
 // Kinematics
 inline constexpr int kMaxDof = 12;                     // largest chain the fixed-size workspace holds
 inline constexpr double kCardanSingularCosBeta = 1e-6;  // |cos(beta)| below: representation singular
+// |cos(beta)| below: at the rounding of a rotation matrix's entries, where only alpha +- gamma is
+// defined by R (printed angles choose gamma = 0 there; kinematics.hpp, cardanForDisplay).
+inline constexpr double kCardanRoundingCosBeta = 1e-12;
 
 // Reachability (study): thesis eq. (3.2) acceptance thresholds.
 inline constexpr double kPositionTolerance_m = 1e-3;

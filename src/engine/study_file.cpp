@@ -97,6 +97,9 @@ UrdfOptions readUrdfOptions(TableReader& r, const std::string& path, const fs::p
     for (auto&& [k, v] : *pk) {
       const std::string dir_text = pr.string(std::string(k.str()));
       const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
+      if (!fs::is_directory(d))
+        pr.fail(std::string(k.str()), "package folder '" + dir_text + "' does not exist (looked for " +
+                                          d.lexically_normal().string() + ")");
       uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
     }
     pr.finish();
@@ -132,8 +135,26 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
   m.finalize();
 }
 
+// The design file of a [[design]] entry. A URDF's input error names the study's line too: the
+// entry's tip_link or base_link when the URDF error is about them, else its file key.
+Model loadDesignOfEntry(TableReader& r, const std::string& file, const UrdfOptions& uo,
+                        bool urdf) {
+  try {
+    return loadAnyDesign(file, uo);
+  } catch (const InputError& e) {
+    if (!urdf) throw;
+    const std::string key = (e.key() == "tip_link" || e.key() == "base_link") && r.has(e.key())
+                                ? e.key()
+                                : std::string("file");
+    const std::string where =
+        e.file() + (e.line() > 0 ? ":" + std::to_string(e.line()) : "") + ": key '" + e.key() + "'";
+    r.fail(key, "in the URDF design " + where + ": " + e.message());
+  }
+}
+
 // One [[design]] entry: its file (relative to the study), loaded, with the entry's settings.
-Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
+Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
+                 double& reference_reach_m) {
   const std::string file = r.string("file");
   const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
   if (!fs::exists(resolved))
@@ -143,9 +164,12 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir) {
   if (!urdf)
     for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
       if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
-  Model m = loadAnyDesign(resolved.lexically_normal().string(), uo);
+  Model m = loadDesignOfEntry(r, resolved.lexically_normal().string(), uo, urdf);
   if (urdf) readUrdfPlacement(r, path, m);
   m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
+  reference_reach_m = r.quantity("reference_reach_m", Dimension::Length, 0.0);
+  if (r.has("reference_reach_m") && !(reference_reach_m > 0))
+    r.fail("reference_reach_m", "a reference reach must be above 0 (m, or a string with its unit)");
   r.finish();
   return m;
 }
@@ -168,13 +192,14 @@ void readDesigns(TableReader& top, const std::string& path, const fs::path& dir,
     if (!e.is_table())
       throw InputError(path, static_cast<int>(e.source().begin.line), "design", "expected [[design]] tables");
     TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
-    Model m = readDesign(r, path, dir);
+    double reference_reach_m = 0;
+    Model m = readDesign(r, path, dir, reference_reach_m);
     if (d.by_name.count(m.name))
       r.fail("file", "design name '" + m.name + "' appears twice in this study");
     s.inputs.push_back({m.file, m.file_hash});
     d.bases.push_back(std::move(m));
     d.by_name[d.bases.back().name] = &d.bases.back();
-    s.designs.push_back({d.bases.back(), d.bases.back().name, {}});
+    s.designs.push_back({d.bases.back(), d.bases.back().name, {}, reference_reach_m});
   }
 }
 
@@ -195,7 +220,7 @@ void addVariantProduct(TableReader& r, const std::string& path, const Model& bas
     for (const auto& d : s.designs)
       if (d.model.name == m.name)
         throw InputError(path, r.line(), r.path(), "variant '" + m.name + "' is defined twice");
-    s.designs.push_back({m, base.name, ov});
+    s.designs.push_back({m, base.name, ov, 0.0});
     // Advance the odometer; the last sweep key varies fastest.
     int k = static_cast<int>(sweeps.size()) - 1;
     for (; k >= 0; --k) {

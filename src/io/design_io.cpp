@@ -178,6 +178,13 @@ Joint readJoint(TableReader& r, std::set<std::string>& names, UrdfInfo& urdf) {
   j.offset = readPose(r, true);
   UrdfJointInfo ji;  // URDF facts (io/urdf_io.hpp), optional
   ji.link = r.string("link", "");
+  if (r.has("link_axis")) {  // the URDF axis in its child link frame: R_FL = urdfAxisFrame(a)^T
+    const auto v = r.numberArray("link_axis");
+    const Eigen::Vector3d a = v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
+    if (!(a.norm() > 0.5 && a.norm() < 2))
+      r.fail("link_axis", "expected a unit vector [x, y, z]: the joint axis in the URDF link frame");
+    ji.R_FL = urdfAxisFrame(a.normalized()).transpose();
+  }
   ji.continuous = r.boolean("continuous", false);
   if (ji.continuous && j.type != JointType::Revolute)
     r.fail("continuous", "only a revolute joint can be continuous");
@@ -402,6 +409,10 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
     const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
     o << "\n[[joint]]\nname = " << quoted(j.name) << "\ntype = " << quoted(toString(j.type)) << "\n";
     if (!ji.link.empty()) o << "link = " << quoted(ji.link) << "\n";
+    if (!ji.R_FL.isIdentity(0)) {
+      const Eigen::Vector3d a = ji.R_FL.transpose() * Eigen::Vector3d::UnitZ();
+      o << "link_axis = [" << num(a.x()) << ", " << num(a.y()) << ", " << num(a.z()) << "]\n";
+    }
     writePose(o, j.offset, true);
     if (ji.continuous) o << "continuous = true\n";
     o << "min = " << num(j.limits.q_min) << "\nmax = " << num(j.limits.q_max) << "\n";

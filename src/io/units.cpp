@@ -148,6 +148,12 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
   ExprParser p(body);
   if (!p.parse(v, error)) return false;
   double scale = 1.0;
+  if (unit.empty() && (dim == Dimension::Length || dim == Dimension::LinearVelocity)) {
+    error = std::string("a ") + toString(dim) + " written as a string needs its unit ('" + text +
+            (dim == Dimension::Length ? " mm' or '" + text + " m'" : " mm/s' or '" + text + " m/s'") +
+            "); a bare number is SI";
+    return false;
+  }
   if (!unit.empty()) {
     const Unit* u = nullptr;
     for (const auto& cand : kUnits)

@@ -2,7 +2,9 @@
 // Quantities as written in design and study files. A bare number is in SI (m, rad, m/s, rad/s).
 // A string holds an arithmetic expression (numbers, pi, + - * / and parentheses) with an optional
 // unit suffix, so table entries read as in the thesis: "pi/2", "-pi/2", "90 deg", "230 mm".
-// The unit is checked against the quantity's dimension: "90 deg" for a length is an error.
+// The unit is checked against the quantity's dimension: "90 deg" for a length is an error. A length
+// or linear velocity written as a string must carry its unit ("924.5" is an error, "924.5 mm" is
+// read); an angle without a unit is in radians ("pi/2").
 #include <string>
 
 namespace armstudy {

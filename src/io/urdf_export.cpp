@@ -31,6 +31,15 @@ using Eigen::Vector3d;
 
 namespace {
 bool isIdentity(const Isometry3d& T) { return T.isApprox(Isometry3d::Identity(), 1e-15); }
+// A TCP frame this close to the last link frame is that frame (rounding of the Cardan angles that
+// carry it through the design table).
+constexpr double kSameFrameTolerance = 1e-12;
+
+Isometry3d rotation(const Matrix3d& R) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = R;
+  return T;
+}
 
 std::string fmt(double v) {
   char b[40];
@@ -66,7 +75,12 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
     const std::string& l = has_joint_info ? info.joints[i].link : std::string();
     links.push_back(unique(l.empty() ? m.joints[i].name + "_link" : l));
   }
-  const bool tcp_is_last = isIdentity(m.T_NT) && m.payload_kg == 0 &&
+  // R_FL[i]: the URDF link frame L_i in the body frame F_i (R_FL[0]: the base, identity).
+  std::vector<Matrix3d> R_FL(m.dof() + 1, Matrix3d::Identity());
+  for (int i = 0; i < m.dof() && has_joint_info; ++i) R_FL[i + 1] = info.joints[i].R_FL;
+  const Isometry3d T_LT = rotation(R_FL.back()).inverse() * m.T_NT;  // TCP in the last link frame
+  const bool tcp_is_last = T_LT.isApprox(Isometry3d::Identity(), kSameFrameTolerance) &&
+                           m.payload_kg == 0 &&
                            (info.tcp_link.empty() || info.tcp_link == links.back());
   const std::string tcp =
       tcp_is_last ? links.back() : unique(info.tcp_link.empty() ? "tcp" : info.tcp_link);
@@ -87,23 +101,31 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
     const char* type = j.type == JointType::Prismatic ? "prismatic"
                        : ji.continuous                ? "continuous"
                                                       : "revolute";
+    // L_{i-1}^-1 L_i = R_FL[i-1]^T T_PJ0 M_z(q) R_FL[i] = (R_FL[i-1]^T T_PJ0 R_FL[i]) M_a(q),
+    // a motion about (along) a = R_FL[i]^T e_z in L_i.
+    const Isometry3d T_origin = rotation(R_FL[i]).inverse() * j.T_PJ0 * rotation(R_FL[i + 1]);
+    const Vector3d axis = R_FL[i + 1].transpose() * Vector3d::UnitZ();
     o << "  <joint name=\"" << xmlEscape(j.name) << "\" type=\"" << type
       << "\">\n    <parent link=\"" << xmlEscape(i == 0 ? base : links[i - 1])
-      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(j.T_PJ0)
-      << "\n    <axis xyz=\"0 0 1\"/>\n    <limit";
+      << "\"/>\n    <child link=\"" << xmlEscape(links[i]) << "\"/>\n    " << origin(T_origin)
+      << "\n    <axis xyz=\"" << (R_FL[i + 1].isIdentity(0) ? "0 0 1" : vec(axis))
+      << "\"/>\n    <limit";
     if (!ji.continuous)
       o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
     o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
       << "\"/>\n  </joint>\n";
     o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
-    if (!m.inertias.empty() && m.inertias[i].given)
-      o << inertial(m.inertias[i].mass_kg, m.inertias[i].p_com_m, m.inertias[i].I_com_kgm2);
+    if (!m.inertias.empty() && m.inertias[i].given) {
+      const Matrix3d R_LF = R_FL[i + 1].transpose();
+      o << inertial(m.inertias[i].mass_kg, R_LF * m.inertias[i].p_com_m,
+                    R_LF * m.inertias[i].I_com_kgm2 * R_LF.transpose());
+    }
     o << "  </link>\n";
   }
   if (!tcp_is_last) {
     o << "  <joint name=\"" << unique(tcp + "_joint") << "\" type=\"fixed\">\n    <parent link=\""
       << xmlEscape(links.back()) << "\"/>\n    <child link=\"" << xmlEscape(tcp) << "\"/>\n    "
-      << origin(m.T_NT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
+      << origin(T_LT) << "\n  </joint>\n  <link name=\"" << xmlEscape(tcp) << "\">\n";
     if (m.payload_kg > 0) o << inertial(m.payload_kg, m.p_payload_com_T, Matrix3d::Zero());
     o << "  </link>\n";
   }

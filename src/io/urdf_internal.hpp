@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@ namespace armstudy::urdf_detail {
 struct XmlIndex {
   int robot_line = 1;
   std::map<std::string, int> links, joints;  // element name -> line
+  std::set<std::string> joints_without_bounds;  // <limit> without lower or upper
 };
 
 Eigen::Isometry3d toIso(const urdf::Pose& p);
@@ -33,5 +35,17 @@ struct LinkInBody {
 void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
                   const UrdfOptions& o, const XmlIndex& xml, std::vector<std::string>& warnings,
                   std::string& mesh_hashes);
+
+// Why a movable joint is no arm joint ("" when it is one, or when it is fixed): floating and
+// planar joints, mimic joints, and gripper or finger joints (named so: finger, gripper, jaw,
+// thumb, knuckle, hand in the joint's or its child link's name).
+std::string notArmJointReason(const urdf::Joint& j);
+
+// The chains of arm joints below `base` and the default tip: the end of the longest chain, carried
+// on along the fixed joints after it while they form one path (a flange, then tool0).
+UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base);
+
+// The last link of the fixed joints after `link` when they form one path, else `link`.
+std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link);
 
 }  // namespace armstudy::urdf_detail

@@ -34,6 +34,10 @@ std::pair<std::string, std::string> parsePackageOption(const std::string& text,
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), a).toRotationMatrix();
+}
+
 bool isUrdfPath(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -57,39 +61,85 @@ class CaptureHandler : public console_bridge::OutputHandler {
 };
 
 
-const char* kNumericAttributes[] = {
-    "xyz", "rpy", "value", "lower",  "upper",  "effort", "velocity", "ixx",        "ixy",   "ixz",
-    "iyy", "iyz", "izz",   "radius", "length", "size",   "scale",    "multiplier", "offset"};
-
 std::string elementLabel(const TiXmlElement* e) {
   const char* name = e->Attribute("name");
   return std::string(e->Value()) + (name ? " '" + std::string(name) + "'" : std::string());
 }
 
-// Every number in the elements we read must be finite: report the exact element and its line.
-void checkNumbers(const TiXmlElement* e, const std::string& owner, const std::string& file) {
-  for (const char* attr : kNumericAttributes) {
-    const char* v = e->Attribute(attr);
-    if (!v) continue;
-    std::istringstream in(v);
-    in.imbue(std::locale::classic());
-    std::string tok;
-    while (in >> tok) {
-      bool ok = true;
-      try {
-        std::size_t used = 0;
-        const double d = std::stod(tok, &used);
-        ok = used == tok.size() && std::isfinite(d);
-      } catch (const std::exception&) {
-        ok = false;
-      }
-      if (!ok)
-        throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr,
-                         "'" + tok + "' is not a finite number");
+// Where URDF defines numbers: element paths below <joint> and <link>, with their numeric
+// attributes. Other elements (vendor extensions such as <verbose>, <selfCollide>) are not URDF's
+// and are ignored, as urdfdom does.
+using NumberSchema = std::vector<std::pair<const char*, std::vector<const char*>>>;
+const NumberSchema kJointNumbers = {
+    {"origin", {"xyz", "rpy"}},
+    {"axis", {"xyz"}},
+    {"limit", {"lower", "upper", "effort", "velocity"}},
+    {"dynamics", {"damping", "friction"}},
+    {"mimic", {"multiplier", "offset"}},
+    {"calibration", {"rising", "falling"}},
+    {"safety_controller", {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}}};
+const NumberSchema kLinkNumbers = {
+    {"inertial/origin", {"xyz", "rpy"}},
+    {"inertial/mass", {"value"}},
+    {"inertial/inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
+    {"visual/origin", {"xyz", "rpy"}},
+    {"visual/geometry/box", {"size"}},
+    {"visual/geometry/cylinder", {"radius", "length"}},
+    {"visual/geometry/sphere", {"radius"}},
+    {"visual/geometry/mesh", {"scale"}},
+    {"collision/origin", {"xyz", "rpy"}},
+    {"collision/geometry/box", {"size"}},
+    {"collision/geometry/cylinder", {"radius", "length"}},
+    {"collision/geometry/sphere", {"radius"}},
+    {"collision/geometry/mesh", {"scale"}}};
+
+// Every number of attribute `attr` of element `e` must be finite: report the element and its line.
+void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& owner,
+                    const std::string& file) {
+  const char* v = e->Attribute(attr);
+  if (!v) return;
+  std::istringstream in(v);
+  in.imbue(std::locale::classic());
+  std::string tok;
+  while (in >> tok) {
+    bool ok = true;
+    try {
+      std::size_t used = 0;
+      const double d = std::stod(tok, &used);
+      ok = used == tok.size() && std::isfinite(d);
+    } catch (const std::exception&) {
+      ok = false;
     }
+    if (!ok)
+      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr,
+                       "'" + tok + "' is not a finite number");
   }
-  for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
-    checkNumbers(c, owner, file);
+}
+
+// The elements at `path` ("a/b/c") below `e`, each checked for the attributes `attrs`.
+void checkAt(const TiXmlElement* e, const std::string& path, const std::vector<const char*>& attrs,
+             const std::string& owner, const std::string& file) {
+  const auto slash = path.find('/');
+  const std::string head = path.substr(0, slash);
+  for (const TiXmlElement* c = e->FirstChildElement(head.c_str()); c;
+       c = c->NextSiblingElement(head.c_str())) {
+    if (slash != std::string::npos) {
+      checkAt(c, path.substr(slash + 1), attrs, owner, file);
+      continue;
+    }
+    for (const char* a : attrs) checkAttribute(c, a, owner, file);
+  }
+}
+
+void checkNumbers(const TiXmlElement* e, const NumberSchema& schema, const std::string& owner,
+                  const std::string& file) {
+  for (const auto& [path, attrs] : schema) checkAt(e, path, attrs, owner, file);
+}
+
+// Joints whose <limit> lacks lower or upper (URDF reads them as 0).
+bool limitWithoutBounds(const TiXmlElement* joint) {
+  const TiXmlElement* l = joint->FirstChildElement("limit");
+  return l && (!l->Attribute("lower") || !l->Attribute("upper"));
 }
 
 XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
@@ -134,9 +184,10 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
         throw InputError(file, r->Row(), label + "/" + role,
                          std::string(role) + " link '" + link + "' is not defined in this file");
     }
-    checkNumbers(e, label, file);
+    checkNumbers(e, kJointNumbers, label, file);
+    if (limitWithoutBounds(e)) out.joints_without_bounds.insert(name);
   }
-  for (const auto& [name, e] : idx.links) checkNumbers(e, elementLabel(e), file);
+  for (const auto& [name, e] : idx.links) checkNumbers(e, kLinkNumbers, elementLabel(e), file);
   // Each link has at most one parent joint; following parents from any link must reach a root.
   std::map<std::string, std::string> parent_of;  // child link -> joint
   for (const auto& [name, e] : idx.joints) {
@@ -177,10 +228,6 @@ PoseXYZABG poseFromIso(const Isometry3d& T) {
 }
 
 
-// Rotation R_a with R_a e_z = a (unit): the joint frame of armstudy, whose z axis is the URDF axis.
-Matrix3d axisFrame(const Vector3d& a) {
-  return Eigen::Quaterniond::FromTwoVectors(Vector3d::UnitZ(), a).toRotationMatrix();
-}
 
 std::string sanitizeName(const std::string& s) {
   std::string o;
@@ -223,6 +270,16 @@ LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
   }
   out.I_com_kgm2 = I;
   return out;
+}
+
+// "no link named ..." with what the file has: its links.
+std::string linkNotFoundMessage(const XmlIndex& xml, const std::string& file,
+                                const std::string& name, const std::string& option) {
+  std::string list;
+  for (const auto& [n, line] : xml.links) list += (list.empty() ? "" : ", ") + n;
+  return "no link named '" + name + "' (" + option + ") in " + file + "; its " +
+         std::to_string(xml.links.size()) + " links: " + list +
+         " (armstudy describe FILE lists the chains)";
 }
 
 // The URDF as urdfdom reads it; its complaints (console_bridge) become one InputError at the
@@ -288,57 +345,34 @@ struct UrdfImport {
     return xml.links.count(n) ? xml.links.at(n) : xml.robot_line;
   }
 
-  // The base link (--base or the URDF root) and the tip link (--tip or the longest chain's end).
+  // The base link (--base or the URDF root) and the tip link (--tip or the default tip).
   void chooseBaseAndTip() {
     base = robot->getRoot();
     if (!o.base_link.empty()) {
       base = robot->getLink(o.base_link);
       if (!base)
         throw InputError(file, xml.robot_line, "base_link",
-                         "no link named '" + o.base_link + "' (--base)");
+                         linkNotFound(o.base_link, "--base; base_link in a study"));
     }
     if (!o.tip_link.empty()) {
       tip = robot->getLink(o.tip_link);
       if (!tip)
         throw InputError(file, xml.robot_line, "tip_link",
-                         "no link named '" + o.tip_link + "' (--tip)");
-    } else {
-      tip = longestChainTip();
+                         linkNotFound(o.tip_link, "--tip; tip_link in a study"));
+      return;
     }
+    const UrdfChains c = findChains(*robot, base);
+    if (c.ends.empty())
+      throw InputError(file, linkLine(base->name), "link '" + base->name + "'",
+                       c.reason + "; choose the arm's base link with --base (base_link in a study)");
+    if (c.chosen.empty())
+      throw InputError(file, xml.robot_line, "tip_link",
+                       c.reason + "; choose one with --tip (tip_link in a study)");
+    tip = robot->getLink(c.chosen);
   }
 
-  // The end of the longest chain of movable joints below the base, when unique.
-  urdf::LinkConstSharedPtr longestChainTip() const {
-    auto isMovable = [](const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; };
-    int best = 0;
-    std::vector<std::string> candidates;
-    std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{base, 0}};
-    while (!stack.empty()) {
-      auto [l, n] = stack.back();
-      stack.pop_back();
-      for (const auto& j : l->child_joints) {
-        const int nn = n + (isMovable(*j) ? 1 : 0);
-        if (isMovable(*j) && nn >= best) {
-          if (nn > best) candidates.clear();
-          best = nn;
-          candidates.push_back(j->child_link_name);
-        }
-        stack.push_back({robot->getLink(j->child_link_name), nn});
-      }
-    }
-    if (candidates.empty())
-      throw InputError(file, linkLine(base->name), "link '" + base->name + "'",
-                       "no movable joint below the base link '" + base->name + "'");
-    if (candidates.size() > 1) {
-      std::sort(candidates.begin(), candidates.end());
-      std::string list;
-      for (const auto& c : candidates) list += (list.empty() ? "" : ", ") + c;
-      throw InputError(file, xml.robot_line, "tip_link",
-                       "the longest chains of movable joints (" + std::to_string(best) +
-                           ") end in several links: " + list +
-                           "; choose one with --tip (tip_link in a study)");
-    }
-    return robot->getLink(candidates.front());
+  std::string linkNotFound(const std::string& name, const std::string& option) const {
+    return linkNotFoundMessage(xml, file, name, option);
   }
 
   // The joints from base to tip, in order; then the model's names and the info's links.
@@ -405,7 +439,7 @@ struct UrdfImport {
       throw InputError(file, jointLine(j.name), jl + "/axis", "joint axis is zero");
     a.normalize();
     Isometry3d R_a = Isometry3d::Identity();
-    R_a.linear() = axisFrame(a);
+    R_a.linear() = urdfAxisFrame(a);
     Joint J;
     UrdfJointInfo ji;
     J.name = j.name;
@@ -421,6 +455,10 @@ struct UrdfImport {
       if (!j.limits)
         throw InputError(file, jointLine(j.name), jl + "/limit",
                          "revolute and prismatic joints need <limit>");
+      if (xml.joints_without_bounds.count(j.name))
+        throw InputError(file, jointLine(j.name), jl + "/limit",
+                         "<limit> has no lower or upper attribute (URDF then reads 0): give both, "
+                         "or make a revolute joint without stops type=\"continuous\"");
       J.limits.q_min = j.limits->lower;
       J.limits.q_max = j.limits->upper;
       if (!(J.limits.q_min < J.limits.q_max))
@@ -521,6 +559,17 @@ struct UrdfImport {
 };
 
 }  // namespace
+
+UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& o) {
+  const std::string text = readFileOrThrow(path);
+  const XmlIndex xml = indexAndCheck(text, path);
+  const auto robot = parseWithUrdfdom(text, path, xml);
+  urdf::LinkConstSharedPtr base = robot->getRoot();
+  if (!o.base_link.empty() && !(base = robot->getLink(o.base_link)))
+    throw InputError(path, xml.robot_line, "base_link",
+                     linkNotFoundMessage(xml, path, o.base_link, "--base; base_link in a study"));
+  return findChains(*robot, base);
+}
 
 // Checks the XML, parses it with urdfdom, then builds the model along the chain base -> tip.
 Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,

@@ -9,8 +9,10 @@
 // F_i. Fixed joints on the chain are folded into the neighbouring transforms; branches off the
 // chain are ignored with a note in the design's assumptions.
 //
-// Export: one URDF link per body (base, the body after each joint, the TCP frame), joint origins
-// from the table rows, axis 0 0 1, inertials at the COM, limits with velocity and effort.
+// Export: one URDF link per body (base, the body after each joint, the TCP frame), inertials at
+// the COM, limits with velocity and effort. A link named after an imported URDF link is that
+// link's frame L_i = F_i R_FL (position and orientation), so joint origins and axes are the table
+// rows re-expressed in those frames; without URDF facts L_i = F_i and every axis is 0 0 1.
 #include <Eigen/Core>
 #include <string>
 #include <utility>
@@ -30,7 +32,7 @@ inline constexpr int kUrdfSsvMaxVolumesPerMesh = 3;
 
 struct UrdfOptions {
   std::string base_link;  // "" = the root link
-  std::string tip_link;   // "" = the end of the longest chain of movable joints, when unique
+  std::string tip_link;   // "" = the default tip (UrdfChains::chosen)
   // package://NAME/... resolves to DIR/... ; searched before the folders above the URDF file.
   std::vector<std::pair<std::string, std::string>> packages;
   bool collision = true;  // fit swept-sphere volumes to the links' collision geometry
@@ -43,13 +45,36 @@ struct UrdfJointInfo {
   bool continuous = false;  // URDF `continuous`: limits are defaults::kContinuousJointRange_rad
   double effort_max = 0;    // <limit effort>: N m (revolute) or N (prismatic); 0 = not given
   // Orientation of the URDF child link frame L_i in the body frame F_i (R_a^T; identity for
-  // designs read from TOML, whose body frames are the link frames of their URDF export).
+  // designs written without URDF links; a design TOML carries it as [[joint]] link_axis, the
+  // URDF axis in L_i).
   Eigen::Matrix3d R_FL = Eigen::Matrix3d::Identity();
 };
 struct UrdfInfo {
   std::string base_link, tcp_link;
   std::vector<UrdfJointInfo> joints;  // one per joint (empty = none given)
 };
+
+// The chains of a URDF below its base link (describe; the default tip). A chain runs over arm
+// joints (revolute, continuous, prismatic; not mimic, not named as a gripper or finger joint)
+// and fixed joints; it ends where no arm joint follows.
+struct UrdfChainEnd {
+  std::string link;                       // the child link of the chain's last arm joint
+  int joints = 0;                         // arm joints from the base to `link`
+  std::vector<std::string> fixed_frames;  // links after `link` over fixed joints (tool0, flange)
+  std::vector<std::string> left_out;      // joints after `link` that are no arm joints, with why
+};
+struct UrdfChains {
+  std::string base;
+  std::vector<UrdfChainEnd> ends;  // longest first
+  std::string chosen;              // the default tip link; "" when there is none
+  std::string reason;              // why `chosen` (or why none)
+};
+// The chains of the URDF file at `path` below options.base_link (or the root link).
+UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& options);
+
+// The rotation R_a with R_a e_z = a (a unit): the body frame of a URDF joint is its child link
+// frame rotated by R_a, so that its z axis is the URDF axis (UrdfJointInfo::R_FL = R_a^T).
+Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a);
 
 // Parses "NAME=DIR" (the --package option). Throws InputError naming `option` when malformed.
 std::pair<std::string, std::string> parsePackageOption(const std::string& text,

@@ -41,8 +41,9 @@ namespace {
 
 // package://NAME/rest: --package NAME=DIR first, then the folders above the URDF file (the first
 // A with A/rest or A/NAME/rest). file:// URIs are absolute, plain names relative to the URDF.
-std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
-                        const UrdfOptions& o) {
+// Unresolved: "" with the reason in `error` (the package, the packages given, the folders tried).
+std::string resolveMesh(const std::string& uri, const std::string& urdf_file, const UrdfOptions& o,
+                        std::string& error) {
   const fs::path urdf_dir = fs::absolute(fs::path(urdf_file)).parent_path();
   const std::string pkg = "package://", file = "file://";
   if (uri.rfind(pkg, 0) == 0) {
@@ -50,14 +51,23 @@ std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
     const auto slash = s.find('/');
     const std::string name = s.substr(0, slash),
                       rest = slash == std::string::npos ? "" : s.substr(slash + 1);
-    for (const auto& [n, dir] : o.packages)
+    std::string given;
+    for (const auto& [n, dir] : o.packages) {
       if (n == name) return (fs::path(dir) / rest).string();
+      given += (given.empty() ? "" : ", ") + n;
+    }
+    fs::path top = urdf_dir;
     for (fs::path a = urdf_dir; !a.empty(); a = a.parent_path()) {
       if (fs::exists(a / rest)) return (a / rest).string();
       if (fs::exists(a / name / rest)) return (a / name / rest).string();
+      top = a;
       if (a == a.parent_path()) break;
     }
-    return "";  // unresolved
+    error = "package '" + name + "' not found: no --package " + name + "=DIR (packages given: " +
+            (given.empty() ? "none" : given) + "), and no folder A from " + urdf_dir.string() +
+            " up to " + top.string() + " has A/" + rest + " or A/" + name + "/" + rest +
+            " (give --package " + name + "=DIR; packages in a study)";
+    return "";
   }
   if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
   const fs::path p(uri);
@@ -67,7 +77,7 @@ std::string resolveMesh(const std::string& uri, const std::string& urdf_file,
 // All triangles of a mesh file (STL, DAE, OBJ, ... through assimp), node transforms applied.
 bool loadMesh(const std::string& path, collision::TriangleMesh& out, std::string& error) {
   if (!fs::is_regular_file(path)) {
-    error = "mesh file not found";
+    error = "mesh file not found (tried " + path + ")";
     return false;
   }
   Assimp::Importer imp;
@@ -173,8 +183,8 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
       }
       case urdf::Geometry::MESH: {
         const auto& me = static_cast<const urdf::Mesh&>(*c->geometry);
-        const std::string path = resolveMesh(me.filename, file, o);
-        std::string err = path.empty() ? "package not found (give --package NAME=DIR)" : "";
+        std::string err;
+        const std::string path = resolveMesh(me.filename, file, o, err);
         collision::TriangleMesh raw;
         if (path.empty() || !loadMesh(path, raw, err)) {
           warnings.push_back("URDF import: link '" + lb.link->name +

@@ -148,6 +148,18 @@ CardanAngles cardanFromRotation(const Eigen::Matrix3d& R) {
   return c;
 }
 
+CardanAngles cardanForDisplay(const Eigen::Matrix3d& R) {
+  CardanAngles c = cardanFromRotation(R);
+  if (!c.singular || std::hypot(R(0, 0), R(0, 1)) < defaults::kCardanRoundingCosBeta) return c;
+  // Within the band: alpha + gamma (sin beta > 0) or alpha - gamma (sin beta < 0) from the large
+  // entries R(1,1) = cos, R(2,1) = sin of it (up to terms of order 1 - sin|beta|), gamma from the
+  // small ones; its error only scales terms of the size of cos(beta), so R is reproduced.
+  c.gamma = std::atan2(-R(0, 1), R(0, 0));
+  const double s = std::atan2(R(2, 1), R(1, 1));
+  c.alpha = std::remainder(R(0, 2) > 0 ? s - c.gamma : s + c.gamma, 2 * M_PI);
+  return c;
+}
+
 bool cardanRateMatrix(double alpha, double beta, Eigen::Matrix3d& T) {
   const double cb = std::cos(beta);
   if (std::abs(cb) < defaults::kCardanSingularCosBeta) return false;

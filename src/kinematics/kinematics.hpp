@@ -60,6 +60,10 @@ struct CardanAngles {
   bool singular = false;  // |cos(beta)| < defaults::kCardanSingularCosBeta (eq. 5.10)
 };
 CardanAngles cardanFromRotation(const Eigen::Matrix3d& R);
+// The same angles for printing: exact (rotationFromCardan gives R back to rounding) also within the
+// singular band where cardanFromRotation sets gamma = 0, down to |cos(beta)| of
+// defaults::kCardanRoundingCosBeta (below it, gamma = 0 too); `singular` as there.
+CardanAngles cardanForDisplay(const Eigen::Matrix3d& R);
 Eigen::Matrix3d rotationFromCardan(double alpha, double beta, double gamma);
 
 // Thesis eq. (5.10): T_A^{-1}, mapping angular velocity omega to Cardan rates. Returns false (and

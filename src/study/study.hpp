@@ -20,6 +20,9 @@ struct StudyDesign {
   Model model;                 // model.name is the stable name used in every output
   std::string base_name;       // the design it derives from (== model.name for plain designs)
   std::vector<std::pair<std::string, double>> overrides;  // (entry key, SI value) applied
+  // [[design]] reference_reach_m: a reach to compare the largest reach found with (a datasheet's;
+  // 0 = none; variants have none).
+  double reference_reach_m = 0;
 };
 
 struct InputFile {

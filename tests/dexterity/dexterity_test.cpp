@@ -438,3 +438,24 @@ z = { min = 0.5, max = 1.1, count = 4 }
   CHECK(runCommand(binaryPath() + " run " + path + " --output " + dir + "/out", out) == 2);
   CHECK(!std::filesystem::exists(dir + "/out/t"));
 }
+
+TEST_CASE("a stem out of reach is a warning in the report, with - for the means of nothing",
+          "[dexterity][io]") {
+  const std::string dir = tempDir("far");
+  const std::string study = writeStudy(dir, R"(
+[dexterity]
+stem_x = "20 m"
+stem_y = 0.7
+radius = "0.15 m"
+gamma = { min = "-30 deg", max = "30 deg", step = "30 deg" }
+z = { min = 0.8, max = 1.0, count = 2 }
+)");
+  std::string out;
+  REQUIRE(runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2", out) == 0);
+  CHECK_THAT(out, Catch::Contains("warning: first_prototype_9dof reaches none of the 6 stem cells"));
+  const std::string md = readFileOrThrow(dir + "/out/t/dexterity/report.md");
+  CHECK_THAT(md, Catch::Contains("**Warning:** first_prototype_9dof reaches none of the 6 stem cells"));
+  CHECK_THAT(md, Catch::Contains("| first_prototype_9dof | 9 | 0.0 % | 0.0 % | 0.0 % | - | - | - |"));
+  CHECK_THAT(md, Catch::Contains("Best manipulability (normalisation value): -. Mean null-space iterations: - ("));
+  CHECK_THAT(md, Catch::Contains("| manipulability, optimised (normalised) | - | - | - | - |"));
+}

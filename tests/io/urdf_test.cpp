@@ -285,17 +285,43 @@ TEST_CASE("URDF small arm with oblique axes, rotated inertial origin and fixed t
   checkAgainstKdl(f, "base", "tool", 2);
   UrdfInfo info;
   importUrdf(f, chain("", ""), &info);
-  CHECK(info.tcp_link == "l2");  // default tip: end of the longest movable chain
+  // default tip: the end of the longest chain (l2), on along its one path of fixed joints
+  CHECK(info.tcp_link == "tool");
 }
 
-TEST_CASE("URDF Panda default tip is ambiguous: the error lists both fingers", "[urdf]") {
+TEST_CASE("URDF Panda default tip is the hand TCP, the fingers are left out", "[urdf]") {
   UrdfOptions o;
   o.collision = false;
-  const InputError e = expectInputError([&] { importUrdf(panda(), o); });
-  CHECK(e.file() == panda());
+  UrdfInfo info;
+  const Model m = importUrdf(panda(), o, &info);
+  CHECK(m.dof() == 7);
+  CHECK(info.tcp_link == "panda_hand_tcp");
+  const UrdfChains c = findUrdfChains(panda(), o);
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.ends[0].link == "panda_link7");
+  CHECK(c.ends[0].joints == 7);
+  CHECK(c.ends[0].left_out ==
+        std::vector<std::string>{"panda_finger_joint1 (gripper or finger joint)",
+                                 "panda_finger_joint2 (mimic joint)"});
+  CHECK_THAT(c.reason, Catch::Contains("panda_hand_tcp"));
+}
+
+namespace {
+const char* kTwoArms = R"(<robot name="two">
+  <link name="base"/><link name="a"/><link name="b"/>
+  <joint name="ja" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="jb" type="revolute"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>)";
+}  // namespace
+
+TEST_CASE("URDF two arms of equal length: the error lists both tips and asks for --tip",
+          "[urdf][bad]") {
+  const InputError e =
+      expectInputError([&] { importUrdfText(kTwoArms, "two.urdf", chain("", "")); });
   CHECK(e.key() == "tip_link");
-  CHECK_THAT(e.message(),
-             Catch::Contains("panda_leftfinger") && Catch::Contains("panda_rightfinger"));
+  CHECK_THAT(e.message(), Catch::Contains("a, b") && Catch::Contains("--tip"));
 }
 
 TEST_CASE("URDF import notes the branches off the chain", "[urdf]") {
@@ -638,6 +664,10 @@ TEST_CASE("URDF missing mesh is a warning and that link gets no volume", "[urdf]
   for (const auto& v : m.collision.volumes) CHECK(v.link != 0);
   REQUIRE(warnings.size() >= 1);
   CHECK_THAT(warnings.front(), Catch::Contains("l1") && Catch::Contains("package://nowhere"));
+  // what was looked for and where: the package, the packages given, the folders searched
+  CHECK_THAT(warnings.front(), Catch::Contains("package 'nowhere' not found") &&
+                                   Catch::Contains("packages given: none") &&
+                                   Catch::Contains("nowhere/meshes/l1.stl"));
 }
 
 // ---- bad files: one test per case, each naming the file, line and element ----
@@ -648,6 +678,8 @@ TEST_CASE("URDF bad: unknown tip link", "[urdf][bad]") {
   CHECK(e.file() == "bad.urdf");
   CHECK(e.key() == "tip_link");
   CHECK_THAT(e.message(), Catch::Contains("nosuch"));
+  // what exists: the file's links
+  CHECK_THAT(e.message(), Catch::Contains("in bad.urdf; its 4 links: base, l1, l2, tool"));
 }
 
 TEST_CASE("URDF bad: unknown base link", "[urdf][bad]") {
@@ -979,6 +1011,8 @@ TEST_CASE("URDF package:// resolution: --package first, then the folders above t
   for (const auto& w : warnings)
     mesh_warnings += w.find("mesh file not found") != std::string::npos ? 1 : 0;
   CHECK(mesh_warnings == 7);
+  // each names the path it tried
+  CHECK_THAT(warnings.back(), Catch::Contains("tried " + tempPath("no_meshes_here")));
   // The kinematics do not depend on the meshes.
   CHECK(missing.dof() == found.dof());
   CHECK((missing.joints[3].T_PJ0.matrix() - found.joints[3].T_PJ0.matrix()).norm() == 0.0);
@@ -1068,5 +1102,313 @@ TEST_CASE("Design TOML writer: every shipped design written and read back is the
       CHECK(b.collision.volumes[i].p_L == a.collision.volumes[i].p_L);
     }
     CHECK(b.collision.allowed_pairs == a.collision.allowed_pairs);
+  }
+}
+
+// ---- URDF arms as people bring them (tests/io/urdf/arm6_gripper.urdf) ----
+
+namespace {
+std::string arm6() { return test::sourcePath("tests/io/urdf/arm6_gripper.urdf"); }
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+// `text` with the first `from` replaced by `to` (which must be there).
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+// Largest difference (position [m] and rotation-matrix entry) between the frames that the link
+// names `links` denote in two KDL trees (each from `base`), at random joint values.
+double largestFrameDifference(const KDL::Tree& a, const KDL::Tree& b, const std::string& base,
+                              const std::vector<std::string>& links, const Model& m) {
+  std::mt19937_64 rng(38);
+  double worst = 0;
+  for (int k = 0; k < kRandomConfigurations; ++k) {
+    const Eigen::VectorXd q = test::randomConfiguration(m, rng);
+    for (const std::string& link : links) {
+      KDL::Chain ca, cb;
+      INFO("link " << link);
+      REQUIRE(a.getChain(base, link, ca));
+      REQUIRE(b.getChain(base, link, cb));
+      REQUIRE(ca.getNrOfJoints() == cb.getNrOfJoints());
+      KDL::Frame Fa, Fb;
+      KDL::ChainFkSolverPos_recursive(ca).JntToCart(toJnt(q.head(ca.getNrOfJoints())), Fa);
+      KDL::ChainFkSolverPos_recursive(cb).JntToCart(toJnt(q.head(cb.getNrOfJoints())), Fb);
+      const Eigen::Isometry3d Ta = fromKdl(Fa), Tb = fromKdl(Fb);
+      worst = std::max({worst, (Ta.translation() - Tb.translation()).cwiseAbs().maxCoeff(),
+                        (Ta.linear() - Tb.linear()).cwiseAbs().maxCoeff()});
+    }
+  }
+  return worst;
+}
+
+const std::vector<std::string> kArm6Links = {"link1", "link2", "link3", "link4", "link5", "link6"};
+}  // namespace
+
+TEST_CASE("URDF vendor elements inside links and joints are ignored, as urdfdom does", "[urdf]") {
+  // <verbose value="Yes"/> (PR2), <selfCollide value="true"/> (ABB), <provideFeedback> in a joint
+  const std::string text = readText(arm6());
+  REQUIRE(text.find("<verbose value=\"Yes\"/>") != std::string::npos);
+  REQUIRE(text.find("<selfCollide value=\"true\"/>") != std::string::npos);
+  UrdfInfo info;
+  const Model m = importUrdf(arm6(), chain("", ""), &info);
+  CHECK(m.dof() == 6);
+  checkAgainstKdl(arm6(), "base_link", "tool0", 6);
+}
+
+TEST_CASE("URDF numbers are still checked where URDF defines them", "[urdf][bad]") {
+  const std::string text = edited(readText(arm6()), "<mass value=\"3\"/>", "<mass value=\"Yes\"/>");
+  const InputError e =
+      expectInputError([&] { importUrdfText(text, "arm6.urdf", chain("", "")); });
+  CHECK(e.key() == "link 'link2'/mass@value");
+  CHECK_THAT(e.message(), Catch::Contains("'Yes' is not a finite number"));
+}
+
+TEST_CASE("URDF default chain leaves the gripper out and ends in the one path of fixed frames",
+          "[urdf]") {
+  UrdfInfo info;
+  const Model m = importUrdf(arm6(), chain("", ""), &info);
+  CHECK(m.dof() == 6);
+  CHECK(info.base_link == "base_link");
+  CHECK(info.tcp_link == "tool0");
+  const UrdfChains c = findUrdfChains(arm6(), chain("", ""));
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.ends[0].link == "link6");
+  CHECK(c.ends[0].joints == 6);
+  CHECK(c.ends[0].fixed_frames == std::vector<std::string>{"flange", "tool0"});
+  CHECK(c.ends[0].left_out ==
+        std::vector<std::string>{"gripper_finger_joint_left (gripper or finger joint)",
+                                 "gripper_finger_joint_right (mimic joint)"});
+  CHECK(c.chosen == "tool0");
+}
+
+TEST_CASE("URDF default chain stops before a mimic joint inside the arm", "[urdf]") {
+  // A parallel linkage joint that follows joint 5 (as the ABB IRB 5400's joint_5b): not an arm
+  // joint, so the default chain ends at link5 instead of refusing the chain it chose.
+  const std::string text =
+      edited(readText(arm6()), "<limit lower=\"-2.7\" upper=\"2.7\" effort=\"10\" velocity=\"3\"/>",
+             "<limit lower=\"-2.7\" upper=\"2.7\" effort=\"10\" velocity=\"3\"/>"
+             "<mimic joint=\"joint5\"/>");
+  UrdfInfo info;
+  const Model m = importUrdfText(text, "mimic.urdf", chain("", ""), &info);
+  CHECK(m.dof() == 5);
+  CHECK(info.tcp_link == "link5");
+}
+
+TEST_CASE("URDF a floating joint below the root ends the chain and asks for --base",
+          "[urdf][bad]") {
+  const std::string text =
+      edited(readText(arm6()), "<link name=\"base_link\"/>",
+             "<link name=\"world\"/><link name=\"base_link\"/><joint name=\"float\" "
+             "type=\"floating\"><parent link=\"world\"/><child link=\"base_link\"/></joint>");
+  const InputError e = expectInputError([&] { importUrdfText(text, "f.urdf", chain("", "")); });
+  CHECK_THAT(e.message(), Catch::Contains("float (floating joint)") && Catch::Contains("--base"));
+  CHECK(importUrdfText(text, "f.urdf", chain("base_link", "")).dof() == 6);
+}
+
+TEST_CASE("URDF a joint without lower and upper gets its own message", "[urdf][bad]") {
+  const std::string text =
+      edited(readText(arm6()), "<limit lower=\"-2.8\" upper=\"0\" effort=\"20\" velocity=\"3\"/>",
+             "<limit effort=\"20\" velocity=\"3\"/>");
+  const InputError e = expectInputError([&] { importUrdfText(text, "nl.urdf", chain("", "")); });
+  CHECK(e.key() == "joint 'joint3'/limit");
+  CHECK_THAT(e.message(), Catch::Contains("no lower or upper") && Catch::Contains("continuous"));
+}
+
+TEST_CASE("URDF round trip: every link name of the export denotes the original frame", "[urdf]") {
+  const KDL::Tree original = kdlTreeFromFile(arm6());
+  for (const std::string tip : {"tool0", "link6"}) {
+    INFO("tip " << tip);
+    UrdfInfo info;
+    const Model m = importUrdf(arm6(), chain("", tip), &info);
+    std::vector<std::string> links = kArm6Links;
+    if (tip == "tool0") links.push_back("tool0");
+    // URDF -> URDF, and URDF -> TOML -> URDF
+    UrdfInfo info_back;
+    const Model back = parseDesignWithUrdfInfo(designToToml(m, info), "arm6.toml", &info_back);
+    for (const std::string& urdf : {exportUrdf(m, info), exportUrdf(back, info_back)}) {
+      KDL::Tree exported;
+      REQUIRE(kdl_parser::treeFromString(urdf, exported));
+      const double d = largestFrameDifference(original, exported, "base_link", links, m);
+      INFO("largest frame difference " << d);
+      CHECK(d < kUrdfOracleTolerance);
+      // read back with the default chain: the same tip
+      UrdfInfo again;
+      importUrdfText(urdf, "back.urdf", chain("", ""), &again);
+      CHECK(again.tcp_link == tip);
+    }
+  }
+}
+
+TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the other tips",
+          "[urdf][cli]") {
+  std::string out;
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + arm6(), out) == 0);
+  CHECK_THAT(out, Catch::Contains("chains below 'base_link'"));
+  CHECK_THAT(out, Catch::Contains("link6") && Catch::Contains(" 6 joints"));
+  CHECK_THAT(out, Catch::Contains("fixed frames after it: flange, tool0"));
+  CHECK_THAT(out, Catch::Contains("left out: gripper_finger_joint_left (gripper or finger joint)"));
+  CHECK_THAT(out, Catch::Contains("tip      'tool0' (default: the longest chain of arm joints (6)"));
+  CHECK_THAT(out, Catch::Contains("other tips: --tip link6, --tip flange"));
+  // an ambiguous default: describe still lists the chains, then fails with exit 2
+  const std::string two = tempPath("two_arms.urdf");
+  writeText(two, kTwoArms);
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + two, out) == 2);
+  CHECK_THAT(out, Catch::Contains("tip      none by default") &&
+                      Catch::Contains("other tips: --tip a, --tip b"));
+  // a base that is not there: what was looked for, in which file, and the links it has
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + arm6() + " --base nosuch", out) == 2);
+  CHECK_THAT(out, Catch::Contains("no link named 'nosuch' (--base; base_link in a study) in " +
+                                  arm6() + "; its 11 links: base_link, finger_left, finger_right"));
+}
+
+TEST_CASE("URDF CLI convert both ways keeps the tip and every frame fk prints", "[urdf][cli]") {
+  const std::string toml = tempPath("arm6.toml"), urdf = tempPath("arm6_back.urdf");
+  std::string out, fk_a, fk_b;
+  REQUIRE(test::runCommand(test::binaryPath() + " convert " + arm6() + " " + toml, out) == 0);
+  REQUIRE(test::runCommand(test::binaryPath() + " convert " + toml + " " + urdf, out) == 0);
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + urdf, out) == 0);
+  CHECK_THAT(out, Catch::Contains("tip      'tool0' (default"));
+  const std::string q = " --q 0.3,-0.7,-1.1,0.9,0.4,-1.3 --json";
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + arm6() + q, fk_a) == 0);
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + urdf + q, fk_b) == 0);
+  const auto ja = nlohmann::json::parse(fk_a)["frames"], jb = nlohmann::json::parse(fk_b)["frames"];
+  REQUIRE(ja.size() == jb.size());
+  for (std::size_t r = 0; r < ja.size(); ++r)
+    for (const char* k : {"x_m", "y_m", "z_m", "alpha", "beta", "gamma"}) {
+      INFO(ja[r]["frame"] << " " << k);
+      CHECK(std::abs(ja[r][k].get<double>() - jb[r][k].get<double>()) < kUrdfOracleTolerance);
+    }
+}
+
+TEST_CASE("URDF CLI --package to a missing folder is exit 2 naming the folder", "[urdf][cli][bad]") {
+  std::string out;
+  CHECK(test::runCommand(test::binaryPath() + " describe " + arm6() +
+                             " --package arm=/nonexistent/armstudy_dir",
+                         out) == 2);
+  CHECK_THAT(out, Catch::Contains("/nonexistent/armstudy_dir") &&
+                      Catch::Contains("package 'arm'") && Catch::Contains("does not exist"));
+}
+
+TEST_CASE("URDF CLI fk values that look like degrees without --deg get a hint", "[urdf][cli]") {
+  std::string out;
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + arm6() + " --q 0,90,-90,0,45,0", out) ==
+          0);
+  CHECK_THAT(out, Catch::Contains("joint2, joint3, joint5 are beyond a full turn") &&
+                      Catch::Contains("add --deg"));
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + arm6() + " --q 0,1,-1,0,0.5,0", out) == 0);
+  CHECK_THAT(out, !Catch::Contains("--deg"));
+}
+
+TEST_CASE("URDF CLI fk --json angles are exact in the Cardan band short of the singularity",
+          "[urdf][cli]") {
+  // R = Rx(q) Ry(1.5707965) Rz(0.4), cos(beta) = -1.7e-7: inside the band |cos beta| < 1e-6 the reach solver treats as singular,
+  // yet the angles are defined (a URDF rpy written as 1.5707965).
+  const std::string f = tempPath("near_singular.urdf");
+  writeText(f, R"(<robot name="ns">
+  <link name="base"/><link name="l1"/><link name="tip"/>
+  <link name="mid"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="1 0 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="t1" type="fixed"><parent link="l1"/><child link="mid"/>
+    <origin xyz="0.1 0 0" rpy="0 1.5707965 0"/></joint>
+  <joint name="t2" type="fixed"><parent link="mid"/><child link="tip"/>
+    <origin xyz="0 0 0" rpy="0 0 0.4"/></joint>
+</robot>)");
+  std::string out;
+  REQUIRE(test::runCommand(test::binaryPath() + " fk " + f + " --q 0.3 --json", out) == 0);
+  const auto tcp = nlohmann::json::parse(out)["frames"].back();
+  CHECK(tcp["cardan_singular"].get<bool>());
+  const Eigen::Matrix3d R =
+      rotationFromCardan(tcp["alpha"].get<double>(), tcp["beta"].get<double>(),
+                         tcp["gamma"].get<double>());
+  KDL::Chain c;
+  REQUIRE(kdlTreeFromFile(f).getChain("base", "tip", c));
+  KDL::Frame F;
+  Eigen::VectorXd q(1);
+  q << 0.3;
+  KDL::ChainFkSolverPos_recursive(c).JntToCart(toJnt(q), F);
+  CHECK((R - fromKdl(F).linear()).cwiseAbs().maxCoeff() < kUrdfOracleTolerance);
+}
+
+// ---- URDF designs in studies ----
+
+namespace {
+std::string urdfStudy(const std::string& entry) {
+  return "[study]\nname = \"s\"\n[[design]]\nfile = \"" + arm6() + "\"\n" + entry;
+}
+}  // namespace
+
+TEST_CASE("URDF error in a study names the study's line and the URDF's", "[urdf][study][bad]") {
+  const std::string f = tempPath("study_tip.toml");
+  writeText(f, urdfStudy("tip_link = \"end_effector\"\n"));
+  const InputError e = expectInputError([&] { loadStudy(f); });
+  CHECK(e.file() == f);
+  CHECK(e.line() == 5);
+  CHECK_THAT(e.key(), Catch::Contains("tip_link"));
+  CHECK_THAT(e.message(), Catch::Contains(arm6()) && Catch::Contains("'end_effector'") &&
+                              Catch::Contains("link6"));
+  writeText(f, urdfStudy("packages = { arm = \"no_such_folder\" }\n"));
+  const InputError p = expectInputError([&] { loadStudy(f); });
+  CHECK(p.line() == 5);
+  CHECK_THAT(p.message(), Catch::Contains("no_such_folder") && Catch::Contains("does not exist"));
+}
+
+TEST_CASE("URDF placement in a study: a length string needs its unit and is range-checked",
+          "[urdf][study][bad]") {
+  const std::string f = tempPath("study_units.toml");
+  writeText(f, urdfStudy("base = { z = \"924.5\" }\n"));
+  const InputError e = expectInputError([&] { loadStudy(f); });
+  CHECK(e.file() == f);
+  CHECK(e.line() == 5);
+  CHECK_THAT(e.message(), Catch::Contains("needs its unit") && Catch::Contains("'924.5 mm'"));
+  writeText(f, urdfStudy("base = { z = \"924.5 mm\" }\n"));
+  CHECK(loadStudy(f).designs[0].model.base.z == Approx(0.9245).epsilon(1e-15));
+  for (const char* z : {"2000", "\"2000 m\""}) {
+    writeText(f, urdfStudy(std::string("base = { z = ") + z + " }\n"));
+    const InputError big = expectInputError([&] { loadStudy(f); });
+    CHECK_THAT(big.message(), Catch::Contains("not plausible"));
+  }
+  writeText(f, urdfStudy("base = { gamma = \"pi/2\" }\n"));  // angles keep their meaning
+  CHECK(loadStudy(f).designs[0].model.base.gamma == Approx(M_PI / 2).epsilon(1e-15));
+}
+
+TEST_CASE("URDF CLI draw writes the arm as an SVG at q = 0 or a given q", "[urdf][cli]") {
+  const std::string svg = tempPath("arm6.svg");
+  std::string out;
+  REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() +
+                               " --deg --q 0,30,-60,0,45,0 --out " + svg,
+                           out) == 0);
+  CHECK_THAT(out, Catch::Contains("wrote " + svg + " (arm6_gripper, 6 joints)"));
+  const std::string text = readText(svg);
+  CHECK_THAT(text, Catch::Contains("<svg"));
+  CHECK(text.size() > 1000);
+  REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() + " --out " + svg, out) == 0);
+  CHECK(test::runCommand(test::binaryPath() + " draw " + arm6() + " --q 0,1 --out " + svg, out) == 2);
+  CHECK_THAT(out, Catch::Contains("got 2 joint values, design 'arm6_gripper' has 6 joints"));
+}
+
+TEST_CASE("URDF the shipped robots keep their default tip and link frames through convert",
+          "[urdf]") {
+  for (const std::string& file : {ur5(), panda()}) {
+    INFO(file);
+    UrdfInfo info, info_back, again;
+    const Model m = importUrdf(file, chain("", ""), &info);
+    const Model back = parseDesignWithUrdfInfo(designToToml(m, info), "r.toml", &info_back);
+    const std::string urdf = exportUrdf(back, info_back);
+    importUrdfText(urdf, "r.urdf", chain("", ""), &again);
+    CHECK(again.base_link == info.base_link);
+    CHECK(again.tcp_link == info.tcp_link);
+    std::vector<std::string> links{info.tcp_link};
+    for (const auto& j : info.joints) links.push_back(j.link);
+    KDL::Tree exported;
+    REQUIRE(kdl_parser::treeFromString(urdf, exported));
+    const double d =
+        largestFrameDifference(kdlTreeFromFile(file), exported, info.base_link, links, m);
+    INFO("largest frame difference " << d);
+    CHECK(d < kUrdfOracleTolerance);
   }
 }

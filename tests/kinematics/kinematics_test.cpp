@@ -184,6 +184,26 @@ TEST_CASE("hand-checked poses of the first prototype (Table 3.1)", "[kinematics]
   CHECK((ws.p_WT - Eigen::Vector3d(-0.93, 0.1, 1.2)).norm() < kHandCheckTolerance);
 }
 
+TEST_CASE("printed Cardan angles give the rotation back inside the singular band", "[kinematics]") {
+  // |cos(beta)| from just inside the band (1e-6) down to the rounding of the entries, both signs
+  // of beta: cardanForDisplay reproduces R to rounding; cardanFromRotation's gamma = 0 is off by
+  // about |cos(beta)|.
+  for (const double sign : {1.0, -1.0})
+    for (const double cb : {5e-7, 4.4e-8, 1e-9, 1e-11, 1e-13, 0.0}) {
+      const double a = 0.7, g = -1.1, b = sign * (M_PI / 2 - cb);
+      const Eigen::Matrix3d R = rotationFromCardan(a, b, g);
+      const CardanAngles c = cardanForDisplay(R);
+      INFO("beta " << b << ", |cos beta| about " << cb);
+      CHECK(c.singular);
+      CHECK((rotationFromCardan(c.alpha, c.beta, c.gamma) - R).cwiseAbs().maxCoeff() <
+            kHandCheckTolerance);
+      if (cb >= 1e-9) {
+        CHECK(std::abs(c.alpha - a) < 1e-6);  // the split of R's own angles, to cond. 1/cos(beta)
+        CHECK(std::abs(c.gamma - g) < 1e-6);
+      }
+    }
+}
+
 TEST_CASE("Cardan angles round-trip and report the representation singularity", "[kinematics]") {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-3.0, 3.0), ub(-1.5, 1.5);

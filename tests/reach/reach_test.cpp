@@ -313,3 +313,72 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("a design that reaches nothing in a grid is a warning in the report and summary",
+          "[reach][io]") {
+  const fs::path dir = tempDir("nothing");
+  writeText(dir / "s.toml", studyText("nothing", R"(
+[reach]
+task_space = "position"
+[[reach.grid]]
+name = "far"
+x = { from = "50 m", to = "50.1 m", step = "0.1 m" }
+y = 0.5
+z = 1
+)"));
+  std::string out;
+  REQUIRE(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --threads 2 --output " +
+                         (dir / "out").string(),
+                     out) == 0);
+  const std::string text = "`first_prototype_6dof`, `final_prototype_7dof` reach none of the 2 poses of grid `far`";
+  CHECK_THAT(out, Catch::Contains("warning: " + text));
+  const fs::path o = dir / "out" / "nothing";
+  std::ifstream in(o / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK_THAT(md, Catch::Contains("**Warning:** " + text));
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(o / "summary.json"));
+  CHECK(summary["reach"]["grids"][0]["designs_reaching_nothing"].size() == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a design's reference_reach_m is compared with the largest reach found on each grid",
+          "[reach][io]") {
+  const fs::path dir = tempDir("reference");
+  const std::string design = "[study]\nname = \"ref\"\n[[design]]\nfile = \"" +
+                             sourcePath("designs/first_prototype_6dof.toml") + "\"\n";
+  const std::string reach = R"(
+[reach]
+task_space = "position"
+[[reach.grid]]
+name = "line"
+x = { from = "0.2 m", to = "1.6 m", step = "0.05 m" }
+y = 0
+z = 1
+)";
+  writeText(dir / "s.toml", design + "reference_reach_m = \"850 mm\"\n" + reach);
+  std::string out;
+  REQUIRE(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --threads 2 --output " +
+                         (dir / "out").string(),
+                     out) == 0);
+  const fs::path o = dir / "out" / "ref";
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(o / "summary.json"));
+  const auto& g = summary["reach"]["grids"][0];
+  // Oracle: the base stands at the origin (the design has no [base]), the line runs along +x
+  // through its z axis, so the largest reach found is the largest reachable x.
+  const double largest_x = g["designs"][0]["extent"]["x_m"][1].get<double>();
+  REQUIRE(g["reference_reach"].size() == 1);
+  CHECK(g["reference_reach"][0]["reference_reach_m"].get<double>() == Approx(0.85).epsilon(1e-15));
+  CHECK(g["reference_reach"][0]["largest_reach_found_m"].get<double>() ==
+        Approx(largest_x).epsilon(1e-12));
+  CHECK(g["reference_reach"][0]["difference_m"].get<double>() ==
+        Approx(largest_x - 0.85).epsilon(1e-12));
+  std::ifstream in(o / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK_THAT(md, Catch::Contains("against the design's `reference_reach_m`") &&
+                     Catch::Contains("| first_prototype_6dof | 0.850 |"));
+  // a reference of 0 is refused at its line
+  writeText(dir / "bad.toml", design + "reference_reach_m = 0\n" + reach);
+  CHECK(runCommand(binaryPath() + " check " + (dir / "bad.toml").string(), out) == 2);
+  CHECK_THAT(out, Catch::Contains("bad.toml:5") && Catch::Contains("reference_reach_m"));
+  fs::remove_all(dir);
+}

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -332,8 +333,9 @@ std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFiel
                           const MapSummary& s) {
   std::ostringstream cmp;
   cmp << "| " << m.name << " | " << m.dof() << " | " << frac(s.R, static_cast<int>(map.cells.size())) << " | "
-      << frac(s.reach_neg, s.n_neg) << " | " << frac(s.reach_pos, s.n_pos) << " | " << fmt(f.best_manipulability, 4)
-      << " | " << fmt(s.mean_p) << " | " << fmt(s.mean_o) << " |\n";
+      << frac(s.reach_neg, s.n_neg) << " | " << frac(s.reach_pos, s.n_pos) << " | "
+      << (s.R ? fmt(f.best_manipulability, 4) : "-") << " | " << (s.R ? fmt(s.mean_p) : "-") << " | "
+      << (s.R ? fmt(s.mean_o) : "-") << " |\n";
   return cmp.str();
 }
 
@@ -342,11 +344,17 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
                            const MapFields& f, const MapSummary& s,
                            std::map<std::string, std::string>& png) {
   std::ostringstream md;
-  md << "## " << m.name << "\n\n"
-     << "Reachable: " << s.R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
+  md << "## " << m.name << "\n\n";
+  if (s.R == 0) {  // a stem out of reach: say so, rather than means of nothing
+    const std::string text = m.name + " reaches none of the " + std::to_string(map.cells.size()) +
+                             " stem cells: check its base placement and units against the stem";
+    md << "**Warning:** " << text << ".\n\n";
+    std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
+  }
+  md << "Reachable: " << s.R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
      << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos) << "). Best manipulability (normalisation value): "
-     << fmt(f.best_manipulability, 5) << ". Mean null-space iterations: "
-     << fmt(s.R ? double(s.iters) / s.R : 0.0, 1) << " (timings: manifest.json).\n\n"
+     << (s.R ? fmt(f.best_manipulability, 5) : "-") << ". Mean null-space iterations: "
+     << (s.R ? fmt(double(s.iters) / s.R, 1) : "-") << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
@@ -375,13 +383,15 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["reachable"] = s.R;
   d["reachable_gamma_negative"] = s.reach_neg;
   d["reachable_gamma_non_negative"] = s.reach_pos;
-  d["best_manipulability"] = f.best_manipulability;
+  const auto orNull = [&](double v) { return s.R ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  d["best_manipulability"] = orNull(f.best_manipulability);
   d["manipulability_optimised_normalised"] = statsJson(s.mo);
   d["manipulability_plain_normalised"] = statsJson(s.mp);
   d["transmission_optimised"] = statsJson(s.beta_s);
   d["transmission_plain"] = statsJson(s.bp);
-  d["mean_normalised_plain"] = s.mean_p;
-  d["mean_normalised_optimised"] = s.mean_o;
+  d["mean_normalised_plain"] = orNull(s.mean_p);
+  d["mean_normalised_optimised"] = orNull(s.mean_o);
+  if (s.R == 0) d["warnings"] = {"reaches none of the stem cells"};
   const MapSearchSummary& se = map.search;
   d["search"] = {{"seeding_cells", se.seeding_cells},         {"seed_starts", options.seed_starts},
                  {"multistart_tries", se.multistart_tries},   {"multistart_improved", se.multistart_improved},

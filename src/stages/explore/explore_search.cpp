@@ -76,7 +76,7 @@ std::string Evaluator::stageName(const StudySection& s) { return s.stage->name()
 Study Evaluator::candidateStudy(const Model& m, const Overrides& ov) const {
   // The study with the candidate as its one design and the explored stages as its sections.
   Study sub = ctx_.study;
-  sub.designs = {StudyDesign{m, o_.base.name, ov}};
+  sub.designs = {StudyDesign{m, o_.base.name, ov, 0.0}};
   sub.sections = sections_;
   return sub;
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string_view>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "collision/reach_collision.hpp"
@@ -526,6 +527,56 @@ void gridTables(const GridRun& r, const ordered_json& jdesigns, const std::vecto
   }
 }
 
+// Designs that reach none of the grid's poses: a warning in the report, in summary.json and on
+// stderr (a base placed in the wrong unit, a grid beside the arm).
+void warnUnreached(const GridRun& r, const ordered_json& jdesigns, ordered_json& jg, std::string& md) {
+  ordered_json none = ordered_json::array();
+  for (const auto& jd : jdesigns)
+    if (jd["reachable"].get<long>() == 0) none.push_back(jd["design"]);
+  if (none.empty()) return;
+  std::string names;
+  for (const auto& n : none) names += (names.empty() ? "`" : ", `") + n.get<std::string>() + "`";
+  const std::string text = names + (none.size() > 1 ? " reach" : " reaches") + " none of the " +
+                           std::to_string(r.g.size()) + " poses of grid `" + r.g.name +
+                           "`: check the design's base placement and its units against the grid";
+  md += "**Warning:** " + text + ".\n\n";
+  jg["designs_reaching_nothing"] = none;
+  std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
+}
+
+// The largest reach found on the grid (the farthest reachable pose from the design's base z axis)
+// against each design's reference_reach_m: a table in the report and summary.json.
+void compareReferenceReach(const GridRun& r, ordered_json& jg, std::string& md) {
+  std::vector<std::vector<std::string>> rows;
+  ordered_json jr = ordered_json::array();
+  for (std::size_t di = 0; di < r.nd; ++di) {
+    const StudyDesign& sd = r.study.designs[di];
+    if (!(sd.reference_reach_m > 0)) continue;
+    const Eigen::Isometry3d T_BW = sd.model.T_WB.inverse();
+    double found = -1;
+    for (long i = 0; i < r.g.size(); ++i)
+      if (r.sweeps[di].reachable(i)) {
+        const Eigen::Vector3d p_B = T_BW * r.g.position(r.g.pointOf(i));
+        found = std::max(found, std::hypot(p_B.x(), p_B.y()));
+      }
+    const double ref = sd.reference_reach_m, diff = found - ref;
+    rows.push_back({sd.model.name, report::fixed(ref, 3), found < 0 ? "-" : report::fixed(found, 3),
+                    found < 0 ? "-"
+                              : (diff >= 0 ? "+" : "") + report::fixed(diff * 1e3, 0) + " mm (" +
+                                    (diff >= 0 ? "+" : "") + report::fixed(100 * diff / ref, 1) + " %)"});
+    jr.push_back({{"design", sd.model.name},
+                  {"reference_reach_m", ref},
+                  {"largest_reach_found_m", found < 0 ? ordered_json(nullptr) : ordered_json(found)},
+                  {"difference_m", found < 0 ? ordered_json(nullptr) : ordered_json(diff)}});
+  }
+  if (rows.empty()) return;
+  md += "Largest reach found (the farthest reachable pose of this grid from the design's base z axis) "
+        "against the design's `reference_reach_m`:\n\n" +
+        report::markdownTable({"design", ">reference [m]", ">largest found [m]", ">difference"}, rows) +
+        "\n";
+  jg["reference_reach"] = jr;
+}
+
 // comparison.vti: which designs reach each pose (bit mask and count per orientation).
 void writeComparisonVti(const GridRun& r, ordered_json& jcmp) {
   const TaskGrid& g = r.g;
@@ -656,7 +707,9 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   const ordered_json jdesigns = joinDesignParts(r, md, images_md, rows);
   sum.timings.push_back({r.gdir + "/files", secondsSince(t0)});
   jg["designs"] = jdesigns;
+  warnUnreached(r, jdesigns, jg, md);
   gridTables(r, jdesigns, rows, md);
+  compareReferenceReach(r, jg, md);
   md += images_md;
   if (r.sweeps.size() >= 2) jg["comparison"] = compareDesigns(r, jdesigns, md);
   return jg;

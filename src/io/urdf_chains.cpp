@@ -1,0 +1,123 @@
+// The chains of arm joints below a URDF base link, and the default tip chosen among them
+// (docs/design-format.md, "URDF designs": the default chain).
+#include <algorithm>
+#include <cctype>
+#include <string>
+#include <vector>
+
+#include "io/urdf_internal.hpp"
+
+namespace armstudy::urdf_detail {
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Words that mark a gripper or hand joint in a joint's or its child link's name.
+bool namesAGripper(const std::string& name) {
+  const std::string n = lower(name);
+  for (const char* w : {"finger", "gripper", "jaw", "thumb", "knuckle", "hand"})
+    if (n.find(w) != std::string::npos) return true;
+  return false;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+}  // namespace
+
+std::string notArmJointReason(const urdf::Joint& j) {
+  switch (j.type) {
+    case urdf::Joint::FLOATING: return "floating joint";
+    case urdf::Joint::PLANAR: return "planar joint";
+    case urdf::Joint::FIXED: return "";
+    default: break;
+  }
+  if (j.mimic) return "mimic joint";
+  if (namesAGripper(j.name) || namesAGripper(j.child_link_name)) return "gripper or finger joint";
+  return "";
+}
+
+// Walks the tree below `base` (an explicit stack: a file may hold very long chains): fixed joints
+// keep the count, arm joints add one, any other movable joint ends the chain there (it and its
+// subtree are left out). An arm joint's child link is an end unless another arm joint follows.
+UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base) {
+  UrdfChains out;
+  out.base = base->name;
+  struct Item {
+    urdf::LinkConstSharedPtr link;
+    int joints;  // arm joints from the base to `link`
+    int end;     // the chain end `link` belongs to (index into ends; -1: the base, root)
+  };
+  UrdfChainEnd root{base->name, 0, {}, {}};
+  std::vector<UrdfChainEnd> ends;
+  std::vector<bool> followed;  // an arm joint follows ends[i]: no end
+  std::vector<Item> stack{{base, 0, -1}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    for (const auto& j : it.link->child_joints) {
+      const auto child = robot.getLink(j->child_link_name);
+      UrdfChainEnd& at = it.end < 0 ? root : ends[it.end];
+      if (j->type == urdf::Joint::FIXED) {
+        at.fixed_frames.push_back(child->name);
+        stack.push_back({child, it.joints, it.end});
+      } else if (const std::string why = notArmJointReason(*j); !why.empty()) {
+        at.left_out.push_back(j->name + " (" + why + ")");
+      } else {
+        if (it.end >= 0) followed[it.end] = true;
+        ends.push_back({child->name, it.joints + 1, {}, {}});
+        followed.push_back(false);
+        stack.push_back({child, it.joints + 1, static_cast<int>(ends.size()) - 1});
+      }
+    }
+  }
+  for (std::size_t i = 0; i < ends.size(); ++i)
+    if (!followed[i]) out.ends.push_back(ends[i]);
+  std::stable_sort(out.ends.begin(), out.ends.end(),
+                   [](const UrdfChainEnd& a, const UrdfChainEnd& b) { return a.joints > b.joints; });
+  if (out.ends.empty()) {
+    out.reason = "no arm joint below '" + base->name + "'";
+    if (!root.left_out.empty()) out.reason += " (left out: " + joinNames(root.left_out) + ")";
+    return out;
+  }
+  std::vector<std::string> longest;
+  for (const auto& e : out.ends)
+    if (e.joints == out.ends.front().joints) longest.push_back(e.link);
+  if (longest.size() > 1) {
+    std::sort(longest.begin(), longest.end());
+    out.reason = "the longest chains of arm joints (" + std::to_string(out.ends.front().joints) +
+                 ") end in several links: " + joinNames(longest);
+    return out;
+  }
+  const UrdfChainEnd& e = out.ends.front();
+  out.chosen = fixedPathEnd(robot, e.link);
+  out.reason = "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" +
+               e.link + "'";
+  if (out.chosen != e.link)
+    out.reason += "; the fixed frames after it form one path, ending in '" + out.chosen + "'";
+  if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);
+  return out;
+}
+
+// The last link of the fixed joints after `link` when they form one path, else `link`.
+std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link) {
+  std::string cur = link;
+  for (;;) {
+    const auto l = robot.getLink(cur);
+    std::vector<std::string> fixed;
+    for (const auto& j : l->child_joints)
+      if (j->type == urdf::Joint::FIXED) fixed.push_back(j->child_link_name);
+    if (fixed.size() > 1) return link;
+    if (fixed.empty()) return cur;
+    cur = fixed.front();
+  }
+}
+
+}  // namespace armstudy::urdf_detail
