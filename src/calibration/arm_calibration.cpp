@@ -214,6 +214,21 @@ double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& f
   return var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
 }
 
+// Relative held-out improvement (noise-weighted RMS) in the channels whose prediction the candidate
+// changes: an effect of one joint is judged on that joint's channel, not diluted by channels it
+// cannot touch (whose residuals may hold patterns no candidate explains).
+double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit& fit) {
+  double b = 0, f = 0;
+  for (int c = 0; c < P.channels(); ++c) {
+    const double scale = base.predicted.col(c).cwiseAbs().maxCoeff() + fit.predicted.col(c).cwiseAbs().maxCoeff();
+    if ((fit.predicted.col(c) - base.predicted.col(c)).cwiseAbs().maxCoeff() <= 1e-12 * (1 + scale)) continue;
+    const double w = P.weight[c] * P.weight[c];
+    b += base.heldout_residual.col(c).squaredNorm() * w;
+    f += fit.heldout_residual.col(c).squaredNorm() * w;
+  }
+  return b > 0 ? (std::sqrt(b) - std::sqrt(f)) / std::sqrt(b) : 0.0;
+}
+
 // Catalogue effect e added to the current model: identifiability, fit, improvement and
 // significance; its columns outside the basis go into resid_cols when identifiable.
 ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current, const ArmFit& base,
@@ -247,7 +262,7 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
     cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
     return cand;
   }
-  cand.improvement = (base.heldout_score - cand.fit.heldout_score) / base.heldout_score;
+  cand.improvement = touchedImprovement(P, base, cand.fit);
   cand.t_statistic = pairedTStatistic(P, base, cand.fit, noise_rho);
   cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
   return cand;
@@ -328,6 +343,12 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
   return out;
 }
 
+// A candidate that scores best but is not significant (many parameters fitting part of a pattern
+// no catalogue effect explains) does not hide the significant ones behind it.
+void significantFirst(std::vector<ArmCandidate>& ranking) {
+  std::stable_partition(ranking.begin(), ranking.end(), [](const ArmCandidate& c) { return c.significant; });
+}
+
 }  // namespace
 
 
@@ -381,6 +402,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
                                   : std::vector<ArmPattern>{};
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
   confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+  significantFirst(ranking);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
@@ -392,6 +414,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
       confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+      significantFirst(ranking);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);

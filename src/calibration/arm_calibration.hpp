@@ -155,6 +155,7 @@ struct ArmFit {
   double aic = 0, bic = 0;
   std::vector<ChannelStats> channel_heldout;  // native units
   std::vector<ChannelStats> channel_train;
+  std::vector<ChannelStats> channel_region_heldout;  // held out by region (time blocks); empty if none
   Eigen::MatrixXd predicted, residual, heldout_residual;  // rows x channels, native units
 };
 
@@ -238,6 +239,9 @@ struct ArmDiagnosis {
   std::vector<ArmPattern> patterns;
   bool unexplained_found = false;
   double rmse_before = 0, rmse_after = 0;
+  // Empty when the data can identify the model; otherwise why not (every row the same operating
+  // point, a joint that never moves, nothing to fit): said plainly, and no calibrated design.
+  std::string identifiable;
 };
 
 // Compare only: the design as is, noise estimate, residual map.

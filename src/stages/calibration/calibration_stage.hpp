@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "calibration/calibration_run.hpp"
+#include "calibration/joint_log.hpp"
 #include "model/model.hpp"
 #include "study/stage.hpp"
 
@@ -40,6 +41,14 @@ class TableReader;
 }
 
 namespace calibration {
+
+// Values another identification found (the study's [calibration.reference]), keyed by effect
+// instance ("joint_1.viscous"), shown next to the fitted ones.
+struct ReferenceValues {
+  std::string source;
+  int line = 0;
+  std::vector<std::pair<std::string, double>> values;
+};
 
 struct CalibrationEntry {
   std::string name;
@@ -52,6 +61,8 @@ struct CalibrationEntry {
   ArmFitOptions arm_options;      // tcp and trajectory kinds
   std::shared_ptr<const DriveData> drive_data;  // drive kind, read when the study loads
   ArmData arm_data;                             // tcp and trajectory kinds
+  std::shared_ptr<const JointLogSpec> log;      // trajectory data from [calibration.measured]
+  ReferenceValues reference;
   const std::string& dataHash() const { return drive_data ? drive_data->hash : arm_data.hash(); }
 };
 
@@ -87,6 +98,8 @@ struct EntrySummary {
   double calibrated_rmse = 0;     // all rows
   int calibrated_flagged = 0;
   std::vector<std::string> files;  // relative to the study output folder
+  // Measured logs: the identification report's numbers (per-joint ladder, fitted values, width sweep).
+  std::vector<std::pair<std::string, double>> extra_metrics;
 };
 
 std::string entrySummaryToJson(const EntrySummary& s);
