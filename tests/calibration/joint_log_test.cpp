@@ -246,7 +246,7 @@ struct BadLog {
 
 }  // namespace
 
-TEST_CASE("bad joint logs are named by file, line and column") {
+TEST_CASE("bad joint logs are named by file line and column") {
   SECTION("files of different lengths") {
     BadLog b("lengths");
     std::ifstream in(b.dir / "eff.csv");
@@ -364,7 +364,7 @@ int lineOf(const fs::path& p, const std::string& needle) {
 
 }  // namespace
 
-TEST_CASE("a study's measured-log section: columns by name or number, and bad settings named") {
+TEST_CASE("a study measured-log section takes columns by name or number and names bad settings") {
   const fs::path dir = tmp("study");
   writeSyntheticLogs(dir, Planted{}, 1e-3, 400);
   REQUIRE(design6().joints[0].name == "j1");
