@@ -132,7 +132,7 @@ class TrajectoryProblem : public ArmProblem {
       addMotorEffects(model, data);
     }
     addOperatingData(model, data);
-    linearBodyBasis(model);
+    if (data.friction_width_fraction > 0) linearBodyBasis(model);
   }
 
  private:
@@ -285,7 +285,9 @@ class TrajectoryProblem : public ArmProblem {
   // The rigid-body efforts are linear in the standard inertial parameters of every body
   // (Q = Y(q, qd, qdd) pi), hence in the payload's ten parameters and in each link's mass (its
   // centre and inertia about it fixed): the nominal efforts and one difference column per
-  // parameter, computed once, give every prediction without a gravity tilt exactly.
+  // parameter, computed once, give every prediction without a gravity tilt (to rounding). Used for
+  // measured logs (thousands of rows); trajectory CSV files keep one inverse-dynamics pass per
+  // prediction, so their results stay those of the committed baselines to the last digit.
   void linearBodyBasis(const Model& model) {
     Q0_ = rigidBodyEfforts(model, nullptr);
     for (int k = 0; k < 10; ++k) {
@@ -352,7 +354,7 @@ class TrajectoryProblem : public ArmProblem {
     bool tilt = false;
     const Eigen::VectorXd* payload = nullptr;
     Eigen::MatrixXd side = Eigen::MatrixXd::Zero(data_.rows(), n);  // joint-side and motor terms
-    Eigen::VectorXd dmass = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mass_basis_.size()));
+    Eigen::VectorXd dmass = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.inertias.size()));
     for (const auto& v : values) {
       const Tag& t = tags_[v.effect];
       switch (t.type) {
@@ -388,7 +390,7 @@ class TrajectoryProblem : public ArmProblem {
       }
     }
     Eigen::MatrixXd Q;
-    if (tilt) {
+    if (tilt || Q0_.size() == 0) {
       Model m = model_;
       for (const auto& v : values) {
         const Tag& t = tags_[v.effect];
@@ -396,7 +398,7 @@ class TrajectoryProblem : public ArmProblem {
           m.base.alpha += v.x[0];
           m.base.beta += v.x[1];
         }
-        if (t.type == TrajEffect::LinkMass) m.inertias[t.joint].mass_kg += dmass[t.joint];
+        if (t.type == TrajEffect::LinkMass) m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]);
       }
       m.finalize();
       Q = rigidBodyEfforts(m, payload);
@@ -404,8 +406,8 @@ class TrajectoryProblem : public ArmProblem {
       Q = Q0_;
       if (payload)
         for (int k = 0; k < 10; ++k) Q += (*payload)[k] * payload_basis_[k];
-      for (Eigen::Index j = 0; j < dmass.size(); ++j)
-        if (dmass[j] != 0) Q += dmass[j] * mass_basis_[j];
+      for (std::size_t j = 0; j < mass_basis_.size(); ++j)
+        if (dmass[static_cast<Eigen::Index>(j)] != 0) Q += dmass[static_cast<Eigen::Index>(j)] * mass_basis_[j];
     }
     Eigen::MatrixXd out(data_.rows(), n);
     for (int i = 0; i < data_.rows(); ++i) {
