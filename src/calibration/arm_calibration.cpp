@@ -81,6 +81,24 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
   return rank;
 }
 
+// Why the data cannot identify the model ("" when they can): every row the same operating point
+// (each operating variable constant), or the kind's own reasons (a joint that never moves).
+std::string identifiability(const ArmProblem& P) {
+  std::vector<std::string> why = P.unidentifiable;
+  bool one_point = !P.variables.empty();
+  std::string point;
+  for (const BinVariable& v : P.variables) {
+    for (double x : v.values) one_point = one_point && x == v.values.front();
+    if (!v.values.empty()) point += (point.empty() ? "" : ", ") + v.name + " = " + fmt(v.values.front()) + " " + v.unit;
+  }
+  if (one_point)
+    why.insert(why.begin(), "all " + std::to_string(P.rows()) + " rows are the same operating point (" + point +
+                                "): such data cannot tell any effect from another");
+  std::string out;
+  for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
+  return out;
+}
+
 }  // namespace
 
 ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
@@ -96,6 +114,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   d.design = P.design;
   d.file = P.file;
   d.warnings = P.warnings;
+  d.identifiable = identifiability(P);
   const int C = P.channels();
 
   // Noise: one linearised step of the most flexible model (every candidate at once); residual
@@ -354,6 +373,10 @@ void significantFirst(std::vector<ArmCandidate>& ranking) {
 
 ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   ArmDiagnosis d = compareArm(P0, o);
+  if (!d.identifiable.empty()) {  // nothing is ranked or added: no effect can be told apart
+    d.verdict = "not identifiable: " + d.identifiable;
+    return d;
+  }
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
   Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
   EffectValues current;

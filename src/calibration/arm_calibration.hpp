@@ -97,6 +97,9 @@ class ArmProblem {
   std::vector<int> regions;     // held-out-by-region partition (ids 0..region_count-1)
   int region_count = 0;
   std::vector<std::string> warnings;
+  // Why this data cannot identify the model, as the kind sees it (a joint that never moves); the
+  // engine adds "every row is the same operating point" itself (ArmDiagnosis::identifiable).
+  std::vector<std::string> unidentifiable;
   std::string fit_unit;         // unit of the overall RMSE
   // Unexplained-effect search: the time of each row (empty: the row order is used) and, when not
   // empty, the name under which the predicted channel value counts as the channel's load.

@@ -331,9 +331,11 @@ class TrajectoryProblem : public ArmProblem {
       variables.push_back(w);
       bool moves = false;
       for (int i = 0; i < data.rows(); ++i) moves = moves || data.qd(i, j) != 0;
-      if (!moves)
+      if (!moves) {
         warnings.push_back("joint " + model.joints[j].name + " does not move in the data: its friction effects cannot "
                            "be identified");
+        unidentifiable.push_back("joint " + model.joints[j].name + " never moves (its speed is 0 in every row)");
+      }
     }
     KinematicsWorkspace ks(model);
     for (int i = 0; i < data.rows(); ++i) {

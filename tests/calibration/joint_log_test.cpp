@@ -10,11 +10,13 @@
 #include <sstream>
 
 #include "calibration/arm_calibration.hpp"
+#include "calibration/calibration_run.hpp"
 #include "calibration/joint_log.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
+#include "io/files.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -397,4 +399,57 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
   CHECK(test::runCommand(test::binaryPath() + " run " + p.string() + " --output " + (dir / "out").string(), out) == 2);
   CHECK_THAT(out, Catch::Contains("unit"));
   CHECK(!fs::exists(dir / "out"));
+}
+
+TEST_CASE("one operating point repeated is not identifiable and gets no calibrated design") {
+  const fs::path dir = tmp("onepoint");
+  const std::string bed = readFileOrThrow(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
+  const std::string header = bed.substr(0, bed.find('\n') + 1);
+  const std::size_t second = bed.find('\n', header.size());
+  const std::string row = bed.substr(header.size(), second - header.size() + 1);
+  std::string text = header;
+  for (int i = 0; i < 12; ++i) text += row;
+  writeText(dir / "same.csv", text);
+  std::string out;
+  const int rc = test::runCommand(test::binaryPath() + " fit " + test::sourcePath("designs/final_prototype_9dof.toml") +
+                                      " --drive j6 --auto --data " + (dir / "same.csv").string() + " --out " +
+                                      (dir / "out").string(),
+                                  out);
+  INFO(out);
+  CHECK(rc == 0);
+  CHECK_THAT(out, Catch::Contains("not identifiable: all 12 rows are the same operating point"));
+  CHECK_THAT(out, Catch::Contains("calibrated design: none"));
+  CHECK_THAT(out, !Catch::Contains("lower)"));  // no "x inf lower"
+  CHECK(fs::exists(dir / "out" / "result.json"));
+  CHECK(!fs::exists(dir / "out" / "final_prototype_9dof_calibrated.toml"));
+}
+
+TEST_CASE("a joint that never moves in a log is not identifiable and gets no calibrated design") {
+  const fs::path dir = tmp("still");
+  JointLogSpec s = writeSyntheticLogs(dir, Planted{}, 1e-3, 3000);
+  // Joint j4 held at zero: its motor column constant.
+  std::ifstream in(dir / "pos.csv");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::ofstream o(dir / "pos.csv");
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::vector<std::string> cells;
+    std::stringstream ss(lines[i]);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (i > 0) cells[3] = "0";
+    for (std::size_t c = 0; c < cells.size(); ++c) o << (c ? "," : "") << cells[c];
+    o << "\n";
+  }
+  o.close();
+  const TrajectoryData d = readJointLog(s, design6());
+  const auto P = makeTrajectoryProblem(design6(), d);
+  ArmFitOptions opt;
+  opt.auto_add = true;
+  const ArmDiagnosis diag = diagnoseArm(*P, opt);
+  CHECK_THAT(diag.identifiable, Catch::Contains("joint j4 never moves"));
+  CHECK_THAT(diag.verdict, Catch::StartsWith("not identifiable"));
+  CHECK(diag.added.empty());
+  const ArmFitFiles f = writeArmFit(diag, *P, design6(), (dir / "out").string(), "", true);
+  CHECK(f.calibrated_design_path.empty());
+  CHECK(!fs::exists(dir / "out" / "first_prototype_6dof_calibrated.toml"));
 }

@@ -349,10 +349,16 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
       for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + a;
       md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added) << ". Held-out RMSE "
          << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
-      if (s.rmse_after > 0) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
-      md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
-         << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
-         << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+      if (s.rmse_after > 0 && !s.added.empty()) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
+      if (s.calibrated_design.empty()) {
+        md << ". No calibrated copy";
+        for (const auto& n : s.notes) md << "; " << n;
+        md << ".\n\n";
+      } else {
+        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
+           << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
+           << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+      }
       std::vector<std::vector<std::string>> prow;
       for (const FittedParameter& f : s.final_params)
         prow.push_back({f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
