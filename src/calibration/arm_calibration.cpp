@@ -373,10 +373,7 @@ void significantFirst(std::vector<ArmCandidate>& ranking) {
 
 ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   ArmDiagnosis d = compareArm(P0, o);
-  if (!d.identifiable.empty()) {  // nothing is ranked or added: no effect can be told apart
-    d.verdict = "not identifiable: " + d.identifiable;
-    return d;
-  }
+  const bool identifiable = d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
   Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
   EffectValues current;
@@ -410,7 +407,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     d.ladder.push_back(f);
     return true;
   };
-  for (const std::string& name : o.add) {
+  for (const std::string& name : identifiable ? o.add : std::vector<std::string>{}) {
     const int e = P.findEffect(name);
     if (e < 0) {
       std::string names;
@@ -430,7 +427,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
   if (d.missing_effect_found) named.push_back(candidateVerdictName(ranking.front()));
-  if (o.auto_add)
+  if (o.auto_add && identifiable)
     for (bool first = true; !ranking.empty() && ranking.front().significant; first = false) {
       const std::string name = candidateVerdictName(ranking.front());
       if (!addEffect(ranking.front().effect, true)) break;
@@ -458,6 +455,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     verdict = verdict.empty() ? u : verdict + "; then " + u;
   }
   d.verdict = verdict.empty() ? "no significant missing effect" : verdict;
+  if (!identifiable) d.verdict = "not identifiable: " + d.identifiable;
   d.rmse_before = d.as_designed.heldout_rmse;
   d.rmse_after = cur.heldout_rmse;
   return d;
