@@ -21,6 +21,9 @@
 //   load_bins = 4
 //   variable_bins = 4                # tcp/trajectory: --variable-bins, --workspace-bins
 //   workspace_bins = 4
+//   [calibration.measured]           # trajectory kind, instead of data: a robot's own logs
+//   [calibration.reference]          # values of another identification, shown beside the fit
+//                                    # (docs/calibration.md, "Bring your own robot's logs")
 //
 // The data file is read (and every option checked, effect names against the kind's catalogue for
 // this design and data) when the study loads, so a study that loads runs without input errors.
