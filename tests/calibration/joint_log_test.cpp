@@ -399,6 +399,19 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
   CHECK(test::runCommand(test::binaryPath() + " run " + p.string() + " --output " + (dir / "out").string(), out) == 2);
   CHECK_THAT(out, Catch::Contains("unit"));
   CHECK(!fs::exists(dir / "out"));
+  // A bad log cell: exit 2 naming the log file and its line, no output folder.
+  {
+    std::ifstream in(dir / "eff.csv");
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    lines[41] = "1,2,3,nan,5,6";
+    std::ofstream o(dir / "eff.csv");
+    for (const auto& l : lines) o << l << "\n";
+  }
+  const fs::path good = measuredStudy(dir, "", "");
+  CHECK(test::runCommand(test::binaryPath() + " run " + good.string() + " --output " + (dir / "out").string(), out) == 2);
+  CHECK_THAT(out, Catch::Contains("eff.csv") && Catch::Contains("42") && Catch::Contains("e4"));
+  CHECK(!fs::exists(dir / "out"));
 }
 
 TEST_CASE("one operating point repeated is not identifiable and gets no calibrated design") {

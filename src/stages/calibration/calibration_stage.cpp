@@ -359,6 +359,10 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
            << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
            << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
       }
+      if (!s.extra_metrics.empty())
+        md << "Per joint (held out by time block), the fitted values beside the reference and the friction "
+              "coefficients over the smooth-sign width: `" << s.name << "/identification.md`; residuals before and "
+              "after on one scale: `" << s.name << "/residuals_before_after.svg`.\n\n";
       std::vector<std::vector<std::string>> prow;
       for (const FittedParameter& f : s.final_params)
         prow.push_back({f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
