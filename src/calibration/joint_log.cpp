@@ -42,16 +42,33 @@ LogTable readLogFile(const LogFile& f, const std::string& time_column) {
   return out;
 }
 
-// The sample period of a time column: strictly increasing, uniform within the tolerance.
-double samplePeriod(const LogTable& t, const std::string& file, const std::string& column) {
+// The sample period of a time column (its median step): time must increase strictly, and a step
+// over twice the median is a gap (missing samples); a spread of the steps beyond the sampling
+// tolerance (controller jitter) is a warning: differences then use the actual times.
+double samplePeriod(const LogTable& t, const std::string& file, const std::string& column,
+                    std::vector<std::string>& warnings) {
   const int R = static_cast<int>(t.time.size());
-  for (int i = 1; i < R; ++i)
+  std::vector<double> steps;
+  for (int i = 1; i < R; ++i) {
     if (!(t.time[i] > t.time[i - 1]))
       throw InputError(file, t.lines[i], column, "time must increase strictly from row to row");
-  const double h = (t.time[R - 1] - t.time[0]) / std::max(1, R - 1);
-  for (int i = 1; i < R; ++i)
-    if (std::abs(t.time[i] - t.time[i - 1] - h) > defaults::kUniformSamplingTolerance * h)
-      throw InputError(file, t.lines[i], column, "time steps must be uniform (the filter assumes one sample period)");
+    steps.push_back(t.time[i] - t.time[i - 1]);
+  }
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+  const double h = sorted[sorted.size() / 2];
+  double lo = h, hi = h;
+  for (int i = 1; i < R; ++i) {
+    if (steps[i - 1] > defaults::kMaxLogStepRatio * h)
+      throw InputError(file, t.lines[i], column,
+                       "a gap of " + std::to_string(steps[i - 1]) + " s in the log (the median step is " +
+                           std::to_string(h) + " s): samples are missing");
+    lo = std::min(lo, steps[i - 1]);
+    hi = std::max(hi, steps[i - 1]);
+  }
+  if (hi - lo > defaults::kUniformSamplingTolerance * h)
+    warnings.push_back(file + ": time steps vary from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                       " s; the filter assumes the median step, the differences use the actual times");
   return h;
 }
 
@@ -137,6 +154,16 @@ std::vector<double> zeroPhaseLowPass(const std::vector<double>& x, double h, dou
   return std::vector<double>(y.begin() + pad, y.begin() + pad + n);
 }
 
+std::vector<double> centralDifference(const std::vector<double>& x, const std::vector<double>& t) {
+  const int n = static_cast<int>(x.size());
+  std::vector<double> d(n, 0.0);
+  if (n < 2) return d;
+  d[0] = (x[1] - x[0]) / (t[1] - t[0]);
+  d[n - 1] = (x[n - 1] - x[n - 2]) / (t[n - 1] - t[n - 2]);
+  for (int i = 1; i + 1 < n; ++i) d[i] = (x[i + 1] - x[i - 1]) / (t[i + 1] - t[i - 1]);
+  return d;
+}
+
 std::vector<double> centralDifference(const std::vector<double>& x, double h) {
   const int n = static_cast<int>(x.size());
   std::vector<double> d(n, 0.0);
@@ -161,7 +188,12 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
                      "the positions have " + std::to_string(R) + " rows and the efforts " +
                          std::to_string(eff.lines.size()) + ": the two files must have one row per sample each");
   }
-  const double h = s.time_column.empty() ? s.sample_period_s : samplePeriod(pos, s.positions.path, s.time_column);
+  std::vector<std::string> warnings;
+  const double h =
+      s.time_column.empty() ? s.sample_period_s : samplePeriod(pos, s.positions.path, s.time_column, warnings);
+  std::vector<double> time = pos.time;
+  if (time.empty())
+    for (int i = 0; i < R; ++i) time.push_back(i * h);
   if (!(s.cutoff_Hz > 0 && s.cutoff_Hz * h * s.decimate < 0.5))
     throw InputError(s.study_file, s.study_line, keyOf(s, "filter.cutoff"),
                      "the cut-off must lie below half the sample rate after decimation (" +
@@ -198,7 +230,7 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
                                                     s.cutoff_Hz, s.filter_order);
     const std::vector<double> tf = zeroPhaseLowPass(std::vector<double>(tau.col(j).data(), tau.col(j).data() + R), h,
                                                     s.cutoff_Hz, s.filter_order);
-    const std::vector<double> v = centralDifference(qf, h), a = centralDifference(v, h);
+    const std::vector<double> v = centralDifference(qf, time), a = centralDifference(v, time);
     for (int k = 0; k < K; ++k) {
       d.q(k, j) = qf[keep[k]];
       d.qd(k, j) = v[keep[k]];
@@ -206,8 +238,9 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
       d.measured(k, j) = tf[keep[k]];
     }
   }
+  d.warnings = warnings;
   for (int k = 0; k < K; ++k) {
-    d.t.push_back(keep[k] * h);
+    d.t.push_back(time[keep[k]]);
     d.lines.push_back(pos.lines[keep[k]]);
   }
   d.friction_width_fraction = s.friction_width_fraction > 0 ? s.friction_width_fraction : defaults::kFrictionWidthFraction;

@@ -13,7 +13,8 @@
 // low-pass (a Butterworth filter of even order run forward and backward, so no delay and gain
 // |H(f)|^2, 1/2 at the cut-off), then qd and qdd are central differences of the filtered position,
 // the samples are decimated (every k-th) and `trim` is cut from both ends, where the filter and the
-// differences see the border.
+// differences see the border. A time column may jitter (warned; differences use the actual times);
+// a step over twice the median one is a gap, an input error.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -57,8 +58,9 @@ TrajectoryData readJointLog(const JointLogSpec& spec, const Model& model);
 // every h seconds: forward, then backward; odd reflections at both ends start the filter.
 std::vector<double> zeroPhaseLowPass(const std::vector<double>& x, double h, double fc, int order);
 
-// Central differences (one-sided at the two ends) of samples every h seconds.
+// Central differences (one-sided at the two ends) of samples every h seconds, or at times t.
 std::vector<double> centralDifference(const std::vector<double>& x, double h);
+std::vector<double> centralDifference(const std::vector<double>& x, const std::vector<double>& t);
 
 // Motor side to joint side for one sample: q = R^-1 theta_m, tau = R^T tau_m.
 void motorToJoint(const Eigen::MatrixXd& R, const Eigen::VectorXd& theta_m, const Eigen::VectorXd& tau_m,

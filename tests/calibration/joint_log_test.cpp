@@ -281,6 +281,24 @@ TEST_CASE("bad joint logs are named by file line and column") {
     CHECK(e.line() == 101);
     CHECK(e.key() == "t");
   }
+  SECTION("a gap in the time column") {
+    BadLog b("gap");
+    std::ifstream in(b.dir / "pos.csv");
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    std::ofstream out(b.dir / "pos.csv");
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const double t = 1e-3 * (static_cast<double>(i) - 1) + (i >= 200 ? 0.01 : 0.0);  // 10 ms missing before line 201
+      out << lines[i] << (i == 0 ? std::string(",t") : "," + std::to_string(t)) << "\n";
+    }
+    out.close();
+    b.spec.time_column = "t";
+    const InputError e = b.error();
+    CHECK(e.file() == (b.dir / "pos.csv").string());
+    CHECK(e.line() == 201);
+    CHECK(e.key() == "t");
+    CHECK_THAT(e.message(), Catch::Contains("samples are missing"));
+  }
   SECTION("a NaN cell") {
     BadLog b("nan");
     b.setLine("eff.csv", 50, "1,2,nan,4,5,6");
@@ -465,4 +483,29 @@ TEST_CASE("a joint that never moves in a log is not identifiable and gets no cal
   const ArmFitFiles f = writeArmFit(diag, *P, design6(), (dir / "out").string(), "", true);
   CHECK(f.calibrated_design_path.empty());
   CHECK(!fs::exists(dir / "out" / "first_prototype_6dof_calibrated.toml"));
+}
+
+TEST_CASE("a time column with controller jitter is read with the actual times and a warning") {
+  const fs::path dir = tmp("jitter");
+  JointLogSpec s = writeSyntheticLogs(dir, Planted{}, 1e-3, 4000);
+  std::ifstream in(dir / "pos.csv");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::ofstream out(dir / "pos.csv");
+  out.precision(17);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    // Samples taken at their nominal instants, stamped with +-5 % jitter of the 1 ms period.
+    const double t = 1e-3 * (static_cast<double>(i) - 1) + (i % 2 ? 5e-5 : -5e-5);
+    out << lines[i];
+    if (i == 0) out << ",t";
+    else out << "," << t;
+    out << "\n";
+  }
+  out.close();
+  s.time_column = "t";
+  const TrajectoryData d = readJointLog(s, design6());
+  bool warned = false;
+  for (const auto& w : d.warnings) warned = warned || w.find("time steps vary") != std::string::npos;
+  CHECK(warned);
+  CHECK(d.rows() > 100);
 }

@@ -104,7 +104,7 @@ LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& 
   const std::string unit = r.string("unit");
   const std::vector<std::pair<std::string, double>> units =
       positions ? std::vector<std::pair<std::string, double>>{{"rad", 1.0}, {"deg", M_PI / 180}, {"m", 1.0}, {"mm", 1e-3}}
-                : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"N", 1.0}};
+                : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}};
   bool known = false;
   for (const auto& u : units)
     if (u.first == unit) {
