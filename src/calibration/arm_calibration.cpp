@@ -81,6 +81,24 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
   return rank;
 }
 
+// Why the data cannot identify the model ("" when they can): every row the same operating point
+// (each operating variable constant), or the kind's own reasons (a joint that never moves).
+std::string identifiability(const ArmProblem& P) {
+  std::vector<std::string> why = P.unidentifiable;
+  bool one_point = !P.variables.empty();
+  std::string point;
+  for (const BinVariable& v : P.variables) {
+    for (double x : v.values) one_point = one_point && x == v.values.front();
+    if (!v.values.empty()) point += (point.empty() ? "" : ", ") + v.name + " = " + fmt(v.values.front()) + " " + v.unit;
+  }
+  if (one_point)
+    why.insert(why.begin(), "all " + std::to_string(P.rows()) + " rows are the same operating point (" + point +
+                                "): such data cannot tell any effect from another");
+  std::string out;
+  for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
+  return out;
+}
+
 }  // namespace
 
 ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
@@ -96,6 +114,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   d.design = P.design;
   d.file = P.file;
   d.warnings = P.warnings;
+  d.identifiable = identifiability(P);
   const int C = P.channels();
 
   // Noise: one linearised step of the most flexible model (every candidate at once); residual
@@ -214,6 +233,21 @@ double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& f
   return var > 0 ? md / std::sqrt(var / neff) : (md > 0 ? kInf : 0.0);
 }
 
+// Relative held-out improvement (noise-weighted RMS) in the channels whose prediction the candidate
+// changes: an effect of one joint is judged on that joint's channel, not diluted by channels it
+// cannot touch (whose residuals may hold patterns no candidate explains).
+double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit& fit) {
+  double b = 0, f = 0;
+  for (int c = 0; c < P.channels(); ++c) {
+    const double scale = base.predicted.col(c).cwiseAbs().maxCoeff() + fit.predicted.col(c).cwiseAbs().maxCoeff();
+    if ((fit.predicted.col(c) - base.predicted.col(c)).cwiseAbs().maxCoeff() <= 1e-12 * (1 + scale)) continue;
+    const double w = P.weight[c] * P.weight[c];
+    b += base.heldout_residual.col(c).squaredNorm() * w;
+    f += fit.heldout_residual.col(c).squaredNorm() * w;
+  }
+  return b > 0 ? (std::sqrt(b) - std::sqrt(f)) / std::sqrt(b) : 0.0;
+}
+
 // Catalogue effect e added to the current model: identifiability, fit, improvement and
 // significance; its columns outside the basis go into resid_cols when identifiable.
 ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current, const ArmFit& base,
@@ -247,7 +281,7 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
     cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
     return cand;
   }
-  cand.improvement = (base.heldout_score - cand.fit.heldout_score) / base.heldout_score;
+  cand.improvement = touchedImprovement(P, base, cand.fit);
   cand.t_statistic = pairedTStatistic(P, base, cand.fit, noise_rho);
   cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
   return cand;
@@ -328,11 +362,18 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
   return out;
 }
 
+// A candidate that scores best but is not significant (many parameters fitting part of a pattern
+// no catalogue effect explains) does not hide the significant ones behind it.
+void significantFirst(std::vector<ArmCandidate>& ranking) {
+  std::stable_partition(ranking.begin(), ranking.end(), [](const ArmCandidate& c) { return c.significant; });
+}
+
 }  // namespace
 
 
 ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   ArmDiagnosis d = compareArm(P0, o);
+  const bool identifiable = d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
   Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
   EffectValues current;
@@ -366,7 +407,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     d.ladder.push_back(f);
     return true;
   };
-  for (const std::string& name : o.add) {
+  for (const std::string& name : identifiable ? o.add : std::vector<std::string>{}) {
     const int e = P.findEffect(name);
     if (e < 0) {
       std::string names;
@@ -381,17 +422,19 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
                                   : std::vector<ArmPattern>{};
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
   confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+  significantFirst(ranking);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
   std::vector<std::string> named;
   if (d.missing_effect_found) named.push_back(candidateVerdictName(ranking.front()));
-  if (o.auto_add)
+  if (o.auto_add && identifiable)
     for (bool first = true; !ranking.empty() && ranking.front().significant; first = false) {
       const std::string name = candidateVerdictName(ranking.front());
       if (!addEffect(ranking.front().effect, true)) break;
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
       confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+      significantFirst(ranking);
     }
   d.final_fit = cur;
   d.final_map = residualMap(P, cur.residual, d.channel_noise, d.noise_rho, o);
@@ -412,6 +455,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     verdict = verdict.empty() ? u : verdict + "; then " + u;
   }
   d.verdict = verdict.empty() ? "no significant missing effect" : verdict;
+  if (!identifiable) d.verdict = "not identifiable: " + d.identifiable;
   d.rmse_before = d.as_designed.heldout_rmse;
   d.rmse_after = cur.heldout_rmse;
   return d;

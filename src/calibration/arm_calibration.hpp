@@ -97,6 +97,9 @@ class ArmProblem {
   std::vector<int> regions;     // held-out-by-region partition (ids 0..region_count-1)
   int region_count = 0;
   std::vector<std::string> warnings;
+  // Why this data cannot identify the model, as the kind sees it (a joint that never moves); the
+  // engine adds "every row is the same operating point" itself (ArmDiagnosis::identifiable).
+  std::vector<std::string> unidentifiable;
   std::string fit_unit;         // unit of the overall RMSE
   // Unexplained-effect search: the time of each row (empty: the row order is used) and, when not
   // empty, the name under which the predicted channel value counts as the channel's load.
@@ -155,6 +158,7 @@ struct ArmFit {
   double aic = 0, bic = 0;
   std::vector<ChannelStats> channel_heldout;  // native units
   std::vector<ChannelStats> channel_train;
+  std::vector<ChannelStats> channel_region_heldout;  // held out by region (time blocks); empty if none
   Eigen::MatrixXd predicted, residual, heldout_residual;  // rows x channels, native units
 };
 
@@ -238,6 +242,9 @@ struct ArmDiagnosis {
   std::vector<ArmPattern> patterns;
   bool unexplained_found = false;
   double rmse_before = 0, rmse_after = 0;
+  // Empty when the data can identify the model; otherwise why not (every row the same operating
+  // point, a joint that never moves, nothing to fit): said plainly, and no calibrated design.
+  std::string identifiable;
 };
 
 // Compare only: the design as is, noise estimate, residual map.

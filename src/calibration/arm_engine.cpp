@@ -472,6 +472,7 @@ ArmFit Engine::make(const Solved& s, const std::string& label, bool& ok) const {
   if (P.region_count > 1 && heldOut(P, s, P.regions, P.region_count, hr)) {
     f.region_heldout_score = rms(hr);
     f.region_heldout_rmse = rmsFitUnits(unflatten(P, hr), report_weight);
+    f.channel_region_heldout = channelStatsOf(P, unflatten(P, hr));
   }
   const double n = static_cast<double>(s.r.size());
   const double ll = n * std::log(std::max(s.ssr, 1e-300) / n);

@@ -166,47 +166,66 @@ struct PatternSearch {
   }
 
   // Periodogram of channel c against a joint position v: the best centred sine fit.
-  void periodogram(int c, const Var& v, std::vector<ArmPattern>& out) const {
+  // Periodograms of every channel against a joint position v: per channel the best centred sine
+  // fit (empty `found[c]` when none). The sines and their 2x2 normal matrix are shared by the channels.
+  void periodograms(const Var& v, std::vector<std::vector<ArmPattern>>& found) const {
+    found.assign(C, {});
     const std::vector<double> ws = frequencies(v, R);
     if (ws.empty()) return;
-    ArmPattern p = pattern(c, v, "periodic", chi_freq);
-    double best = -1;
-    for (double w : ws) {
-      double ms = 0, mc = 0, me = 0;
-      for (int i = 0; i < R; ++i) {
-        ms += std::sin(w * v.x[i]);
-        mc += std::cos(w * v.x[i]);
-        me += e(i, c);
+    std::vector<double> best(C, -1.0), period(C, 0.0), amplitude(C, 0.0);
+    // The grid is uniform (w_k = w_0 + k dw): sin and cos of w_k x advance by a rotation through dw x,
+    // re-seeded exactly every kReseed steps so rounding cannot drift.
+    constexpr std::size_t kReseed = 32;
+    const Eigen::Map<const Eigen::VectorXd> x(v.x.data(), R);
+    const double dw = ws.size() > 1 ? ws[1] - ws[0] : 0.0;
+    const Eigen::ArrayXd cd = (dw * x.array()).cos(), sd = (dw * x.array()).sin();
+    Eigen::ArrayXd sn(R), cs(R);
+    const Eigen::MatrixXd ec = e.rowwise() - e.colwise().mean();  // centred residuals, R x C
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      const double w = ws[k];
+      if (k % kReseed == 0) {
+        sn = (w * x.array()).sin();
+        cs = (w * x.array()).cos();
+      } else {
+        const Eigen::ArrayXd s0 = sn;
+        sn = s0 * cd + cs * sd;
+        cs = cs * cd - s0 * sd;
       }
-      ms /= R;
-      mc /= R;
-      me /= R;
-      Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-      Eigen::Vector2d b = Eigen::Vector2d::Zero();
-      for (int i = 0; i < R; ++i) {
-        const Eigen::Vector2d f(std::sin(w * v.x[i]) - ms, std::cos(w * v.x[i]) - mc);
-        A += f * f.transpose();
-        b += f * (e(i, c) - me);
-      }
+      const Eigen::VectorXd fs = (sn - sn.mean()).matrix(), fc = (cs - cs.mean()).matrix();
+      Eigen::Matrix2d A;
+      A(0, 0) = fs.squaredNorm();
+      A(1, 1) = fc.squaredNorm();
+      A(0, 1) = A(1, 0) = fs.dot(fc);
       if (std::abs(A.determinant()) <= 1e-12 * A.squaredNorm()) continue;
-      const Eigen::Vector2d ab = A.ldlt().solve(b);
-      const double red = ab.dot(b);  // SSR reduction of the centred sine fit
-      if (red > best) {
-        best = red;
-        p.period = 2 * M_PI / w;
-        p.amplitude = ab.norm() * sigma[c];
+      const auto ldlt = A.ldlt();
+      const Eigen::VectorXd bs = ec.transpose() * fs, bc = ec.transpose() * fc;
+      for (int c = 0; c < C; ++c) {
+        if (v.channel >= 0 && v.channel != c) continue;
+        const Eigen::Vector2d b(bs[c], bc[c]);
+        const Eigen::Vector2d ab = ldlt.solve(b);
+        const double red = ab.dot(b);  // SSR reduction of the centred sine fit
+        if (red > best[c]) {
+          best[c] = red;
+          period[c] = 2 * M_PI / w;
+          amplitude[c] = ab.norm() * sigma[c];
+        }
       }
     }
-    if (best < 0) return;
-    p.statistic = best / inflate;
-    p.explained = best / ss[c];
-    p.sum_squares = best;
-    p.significant = p.statistic > chi_freq;
-    p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
-                    (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
-                    ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
-                    ", threshold " + fmt3(chi_freq) + ")";
-    out.push_back(p);
+    for (int c = 0; c < C; ++c) {
+      if (best[c] < 0 || !(sigma[c] > 0) || !(ss[c] > 0)) continue;
+      ArmPattern p = pattern(c, v, "periodic", chi_freq);
+      p.period = period[c];
+      p.amplitude = amplitude[c];
+      p.statistic = best[c] / inflate;
+      p.explained = best[c] / ss[c];
+      p.sum_squares = best[c];
+      p.significant = p.statistic > chi_freq;
+      p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
+                      (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
+                      ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
+                      ", threshold " + fmt3(chi_freq) + ")";
+      found[c].push_back(p);
+    }
   }
 };
 
@@ -223,12 +242,15 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
                                        const std::vector<double>& sigma, double rho) {
   const PatternSearch S(P, residual, predicted, sigma, rho);
   std::vector<ArmPattern> out;
+  std::vector<std::vector<std::vector<ArmPattern>>> periodic(S.vars.size());  // [variable][channel]
+  for (std::size_t k = 0; k < S.vars.size(); ++k) S.periodograms(S.vars[k], periodic[k]);
   for (int c = 0; c < S.C; ++c) {
     if (!(sigma[c] > 0) || !(S.ss[c] > 0)) continue;
-    for (const Var& v : S.vars) {
+    for (std::size_t k = 0; k < S.vars.size(); ++k) {
+      const Var& v = S.vars[k];
       if (v.channel >= 0 && v.channel != c) continue;
       S.binnedMeans(c, v, out);
-      S.periodogram(c, v, out);
+      out.insert(out.end(), periodic[k][c].begin(), periodic[k][c].end());
     }
   }
   std::stable_sort(out.begin(), out.end(), [](const ArmPattern& a, const ArmPattern& b) {
@@ -264,9 +286,26 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, 
         x.kind == seen.front()->kind)
       outside = true;
   const double drop = outside ? 1.0 : kPatternExplainedDrop;
+  // A pattern no combination of catalogue effects explains does not hold back a candidate whose
+  // held-out gain lies mostly in the other channels (it explains something else, such as the
+  // friction of another joint); one that gains mostly in the pattern's channel only absorbs part of it.
+  int pc = -1;
+  for (int c = 0; c < P.channels(); ++c)
+    if (P.channel_names[c] == seen.front()->channel) pc = c;
+  auto elsewhere = [&](const ArmCandidate& c) {
+    if (!outside || pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
+    double in = 0, out = 0;
+    for (int i = 0; i < P.rows(); ++i)
+      for (int k = 0; k < P.channels(); ++k) {
+        const double g = (std::pow(current.heldout_residual(i, k), 2) - std::pow(c.fit.heldout_residual(i, k), 2)) /
+                         (sigma[k] * sigma[k]);
+        (k == pc ? in : out) += g;
+      }
+    return out > in;
+  };
   std::vector<std::string> demoted;
   for (ArmCandidate& c : ranking) {
-    if (!c.significant) continue;
+    if (!c.significant || elsewhere(c)) continue;
     const std::vector<ArmPattern> after = searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
     bool explains = false;
     for (const ArmPattern* b : seen) {

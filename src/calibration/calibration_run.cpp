@@ -1,5 +1,7 @@
 #include "calibration/calibration_run.hpp"
 
+#include <filesystem>
+
 #include "calibration/drive_report.hpp"
 
 #include "common/errors.hpp"
@@ -35,16 +37,31 @@ std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& da
   return makeTrajectoryProblem(model, *data.trajectory);
 }
 
+std::string noCalibratedDesign(const ArmDiagnosis& d, const Model& m) {
+  if (!d.identifiable.empty()) return d.identifiable;
+  const std::string ext = std::filesystem::path(m.file).extension().string();
+  if (ext != ".toml")
+    return "design '" + m.name + "' comes from " + m.file + ", not a design TOML file: no calibrated copy is written; "
+           "the fitted values are in result.json";
+  return "";
+}
+
 ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m, const std::string& out_dir,
-                        const std::string& design_path, bool lock) {
+                        const std::string& design_path, bool lock,
+                        const std::vector<std::pair<std::string, std::string>>& extra_files) {
   ArmFitFiles f;
+  if (const std::string why = noCalibratedDesign(d, m); !why.empty()) {
+    f.notes.push_back(why);
+    f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit", extra_files, lock}, "");
+    return f;
+  }
   f.calibrated_design_path = design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
   std::string text = P.kind == "drive" ? calibratedDriveToml(m, P, d.final_fit.values, f.notes)
                      : P.kind == "tcp"   ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
                                          : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
-  ArmReportOptions o{out_dir, "fit", {}, lock};
+  ArmReportOptions o{out_dir, "fit", extra_files, lock};
   if (design_path.empty())  // in the output folder: published with the report as one folder
     o.extra_files.emplace_back(m.name + "_calibrated.toml", text);
   f.report = writeArmReport(d, P, o, f.calibrated_design_path);

@@ -4,6 +4,7 @@
 // (report plus calibrated design copy). The CLI and calibration_stage.cpp both call these.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "calibration/arm_calibration.hpp"
@@ -39,7 +40,12 @@ struct ArmFitFiles {
   std::vector<std::string> notes;  // what the design format cannot carry
 };
 // `lock`: ArmReportOptions::lock (false inside a study run).
+// No calibrated copy (calibrated_design_path empty, the reason in notes) when the data cannot
+// identify the model (ArmDiagnosis::identifiable) or the design is not a design TOML file (URDF).
 ArmFitFiles writeArmFit(const ArmDiagnosis& diagnosis, const ArmProblem& problem, const Model& model,
-                        const std::string& out_dir, const std::string& design_path, bool lock = true);
+                        const std::string& out_dir, const std::string& design_path, bool lock = true,
+                        const std::vector<std::pair<std::string, std::string>>& extra_files = {});
+// Why no calibrated design copy is written ("" when one is).
+std::string noCalibratedDesign(const ArmDiagnosis& diagnosis, const Model& model);
 
 }  // namespace armstudy::calibration

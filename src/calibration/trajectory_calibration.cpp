@@ -21,7 +21,27 @@ namespace {
 
 constexpr double kInfD = std::numeric_limits<double>::infinity();
 
-enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction };
+enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction, JointSide, Motor };
+// Terms of the joint-side catalogue of measured logs (joints without a [[drive]]) and of a coupled
+// motor (a row of the coupling matrix with more than one joint).
+enum class SideTerm { Coulomb, Viscous, Offset, Inertia };
+struct SideInfo {
+  SideTerm term;
+  const char* name;
+  const char* key;
+  const char* unit_rev;
+  const char* unit_pri;
+  double typical;
+  const char* pattern;
+};
+constexpr SideInfo kJointTerms[] = {
+    {SideTerm::Coulomb, "coulomb", "coulomb", "N m", "N", 2.0,
+     "a step with the sign of the joint's speed (smooth over the width w = fraction x peak speed)"},
+    {SideTerm::Viscous, "viscous", "viscous", "N m s/rad", "N s/m", 1.0, "a residual proportional to the joint's speed"},
+    {SideTerm::Offset, "offset", "offset", "N m", "N", 0.5, "a constant residual of the joint's effort"},
+    {SideTerm::Inertia, "armature", "armature", "kg m^2", "kg", 0.05,
+     "a residual proportional to the joint's own acceleration (rotor inertia reflected through the ratio)"}};
+
 
 // Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to fields).
 void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
@@ -61,9 +81,24 @@ void addPayloadParameters(const Model& m, const Eigen::VectorXd& x, RigidBodyMod
 
 struct Tag {
   TrajEffect type;
-  int joint = -1;
+  int joint = -1;  // the motor (row of the coupling matrix) for TrajEffect::Motor
   drive::Effect friction = drive::Effect::Coulomb;
+  SideTerm term = SideTerm::Coulomb;
 };
+
+// Smooth sign of the Coulomb terms: tanh(v / w) (w = 0: the joint never moves, no force).
+double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
+
+// One joint-side or motor term at one row: the force law times its coefficient 1.
+double sideTerm(SideTerm t, double v, double a, double w) {
+  switch (t) {
+    case SideTerm::Coulomb: return smoothSign(v, w);
+    case SideTerm::Viscous: return v;
+    case SideTerm::Offset: return 1.0;
+    case SideTerm::Inertia: return a;
+  }
+  return 0.0;
+}
 
 class TrajectoryProblem : public ArmProblem {
  public:
@@ -90,14 +125,20 @@ class TrajectoryProblem : public ArmProblem {
     }
     weight = Eigen::VectorXd::Ones(n);
     makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
-    addBodyEffects(model);
+    addBodyEffects(model, data.friction_width_fraction > 0);
     addFrictionEffects(model, data);
+    if (data.friction_width_fraction > 0) {
+      addJointSideEffects(model, data);
+      addMotorEffects(model, data);
+    }
     addOperatingData(model, data);
+    if (data.friction_width_fraction > 0) linearBodyBasis(model);
   }
 
  private:
   // The catalogue's body effects: payload, rotor inertia, gravity tilt, extra link masses.
-  void addBodyEffects(const Model& model) {
+  // `per_joint_armature`: the rotor inertia is a per-joint term of the joint-side catalogue instead.
+  void addBodyEffects(const Model& model, bool per_joint_armature) {
     const int n = model.dof();
     {
       ArmEffect e;
@@ -120,7 +161,7 @@ class TrajectoryProblem : public ArmProblem {
                   {"inertia_yz", "kg m^2", -kInfD, kInfD, 0.0006, 1e-6}};
       add(e, {TrajEffect::Payload});
     }
-    {
+    if (!per_joint_armature) {
       ArmEffect e;
       e.name = e.effect = "rotor_inertia";
       e.pattern = "residual of joint j proportional to its own acceleration qdd_j";
@@ -188,6 +229,93 @@ class TrajectoryProblem : public ArmProblem {
     }
   }
 
+  // Joint-side friction, effort offset and armature of every joint without a [[drive]] (measured
+  // logs hold joint-side efforts): <joint>.coulomb|viscous|offset|armature.
+  void addJointSideEffects(const Model& model, const TrajectoryData& data) {
+    const int n = model.dof();
+    joint_width_.assign(n, 0.0);
+    for (int j = 0; j < n; ++j) {
+      if (drive_[j]) continue;
+      joint_width_[j] = data.friction_width_fraction * data.qd.col(j).cwiseAbs().maxCoeff();
+      const bool rev = model.joints[j].type == JointType::Revolute;
+      for (const SideInfo& si : kJointTerms) {
+        ArmEffect e;
+        e.name = model.joints[j].name + "." + si.name;
+        e.effect = si.name;
+        e.joint = model.joints[j].name;
+        e.pattern = std::string(si.pattern) + " (joint " + model.joints[j].name + ")";
+        e.params = {{si.key, rev ? si.unit_rev : si.unit_pri, -kInfD, kInfD, si.typical, 1e-4}};
+        add(e, {TrajEffect::JointSide, j, drive::Effect::Coulomb, si.term});
+      }
+    }
+  }
+
+  // A motor that turns with several joints (a row k of the coupling matrix R with more than one
+  // entry, such as a coupled wrist): its own friction and inertia act at the motor speed
+  // theta_m_k = R_k qd and reach every joint j it drives as R_kj times the motor torque (tau = R^T
+  // tau_m): motor_<joint>.coulomb|viscous|inertia. Reflected through the motor's own ratio R_kk
+  // (speed R_k qd / R_kk, torque R_kj / R_kk times the term) they are in joint-side units.
+  void addMotorEffects(const Model& model, const TrajectoryData& data) {
+    const int n = model.dof();
+    if (data.coupling.rows() != n) return;
+    motor_ratio_ = data.coupling;
+    for (int k = 0; k < n; ++k)
+      if (data.coupling(k, k) != 0) motor_ratio_.row(k) /= data.coupling(k, k);
+    motor_v_ = data.qd * motor_ratio_.transpose();
+    motor_a_ = data.qdd * motor_ratio_.transpose();
+    motor_width_.assign(n, 0.0);
+    for (int k = 0; k < n; ++k) {
+      if ((data.coupling.row(k).array() != 0).count() < 2 || data.coupling(k, k) == 0) continue;
+      motor_width_[k] = data.friction_width_fraction * motor_v_.col(k).cwiseAbs().maxCoeff();
+      for (const SideInfo& si : kJointTerms) {
+        if (si.term == SideTerm::Offset) continue;  // a motor torque offset is a joint offset per joint
+        ArmEffect e;
+        e.name = "motor_" + model.joints[k].name + "." + (si.term == SideTerm::Inertia ? "inertia" : si.name);
+        e.effect = std::string("motor_") + (si.term == SideTerm::Inertia ? "inertia" : si.name);
+        e.joint = model.joints[k].name;
+        e.pattern = std::string("coupled motor of ") + model.joints[k].name + ": " + si.pattern +
+                    " at the motor's speed, in every joint the motor drives";
+        const char* unit = si.term == SideTerm::Coulomb ? "N m" : si.term == SideTerm::Viscous ? "N m s/rad" : "kg m^2";
+        e.params = {{si.key, unit, -kInfD, kInfD, si.typical, 1e-4}};
+        add(e, {TrajEffect::Motor, k, drive::Effect::Coulomb, si.term});
+      }
+    }
+  }
+
+  // The rigid-body efforts are linear in the standard inertial parameters of every body
+  // (Q = Y(q, qd, qdd) pi), hence in the payload's ten parameters and in each link's mass (its
+  // centre and inertia about it fixed): the nominal efforts and one difference column per
+  // parameter, computed once, give every prediction without a gravity tilt (to rounding). Used for
+  // measured logs (thousands of rows); trajectory CSV files keep one inverse-dynamics pass per
+  // prediction, so their results stay those of the committed baselines to the last digit.
+  void linearBodyBasis(const Model& model) {
+    Q0_ = rigidBodyEfforts(model, nullptr);
+    for (int k = 0; k < 10; ++k) {
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(10);
+      x[k] = 1;
+      payload_basis_.push_back(rigidBodyEfforts(model, &x) - Q0_);
+    }
+    for (std::size_t j = 0; j < model.inertias.size() && static_cast<int>(j) < model.dof(); ++j) {
+      Model m = model;
+      m.inertias[j].mass_kg += 1.0;
+      mass_basis_.push_back(rigidBodyEfforts(m, nullptr) - Q0_);
+    }
+  }
+
+  // Inverse dynamics (RNEA) of every row for a design, optionally with the payload parameters.
+  Eigen::MatrixXd rigidBodyEfforts(const Model& m, const Eigen::VectorXd* payload) const {
+    RigidBodyModel rbm = makeRigidBodyModel(m);
+    if (payload) addPayloadParameters(m, *payload, rbm);
+    DynamicsWorkspace ws(rbm);
+    Eigen::MatrixXd out(data_.rows(), m.dof());
+    Eigen::VectorXd Q(m.dof());
+    for (int i = 0; i < data_.rows(); ++i) {
+      inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(), data_.qdd.row(i).transpose(), Q);
+      out.row(i) = Q.transpose();
+    }
+    return out;
+  }
+
   // Operating variables, workspace positions (design FK), held-out regions (time blocks).
   void addOperatingData(const Model& model, const TrajectoryData& data) {
     const int n = model.dof();
@@ -203,9 +331,11 @@ class TrajectoryProblem : public ArmProblem {
       variables.push_back(w);
       bool moves = false;
       for (int i = 0; i < data.rows(); ++i) moves = moves || data.qd(i, j) != 0;
-      if (!moves)
+      if (!moves) {
         warnings.push_back("joint " + model.joints[j].name + " does not move in the data: its friction effects cannot "
                            "be identified");
+        unidentifiable.push_back("joint " + model.joints[j].name + " never moves (its speed is 0 in every row)");
+      }
     }
     KinematicsWorkspace ks(model);
     for (int i = 0; i < data.rows(); ++i) {
@@ -220,23 +350,24 @@ class TrajectoryProblem : public ArmProblem {
 
  public:
   Eigen::MatrixXd predict(const EffectValues& values) const override {
-    Model m = model_;
-    const int n = m.dof();
+    const int n = model_.dof();
     std::vector<drive::FrictionParams> fp = fp_;
     Eigen::VectorXd arm = Eigen::VectorXd::Zero(n);
     bool tilt = false;
     const Eigen::VectorXd* payload = nullptr;
+    Eigen::MatrixXd side = Eigen::MatrixXd::Zero(data_.rows(), n);  // joint-side and motor terms
+    Eigen::VectorXd dmass = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.inertias.size()));
     for (const auto& v : values) {
       const Tag& t = tags_[v.effect];
       switch (t.type) {
         case TrajEffect::Payload: payload = &v.x; break;
         case TrajEffect::RotorInertia: arm += v.x; break;
         case TrajEffect::GravityTilt:
-          m.base.alpha += v.x[0];
-          m.base.beta += v.x[1];
           tilt = true;
           break;
-        case TrajEffect::LinkMass: m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]); break;
+        case TrajEffect::LinkMass:
+          dmass[t.joint] = std::max(0.0, model_.inertias[t.joint].mass_kg + v.x[0]) - model_.inertias[t.joint].mass_kg;
+          break;
         case TrajEffect::Friction: {
           drive::FrictionParams& p = fp[t.joint];
           const std::string& key = catalogue[v.effect].params[0].key;
@@ -248,18 +379,42 @@ class TrajectoryProblem : public ArmProblem {
           addFriction(p, key, v.x[0]);
           break;
         }
+        case TrajEffect::JointSide:
+          for (int i = 0; i < data_.rows(); ++i)
+            side(i, t.joint) += v.x[0] * sideTerm(t.term, data_.qd(i, t.joint), data_.qdd(i, t.joint), joint_width_[t.joint]);
+          break;
+        case TrajEffect::Motor:
+          for (int i = 0; i < data_.rows(); ++i) {
+            const double f = v.x[0] * sideTerm(t.term, motor_v_(i, t.joint), motor_a_(i, t.joint), motor_width_[t.joint]);
+            for (int j = 0; j < n; ++j) side(i, j) += motor_ratio_(t.joint, j) * f;
+          }
+          break;
       }
     }
-    if (tilt) m.finalize();
-    RigidBodyModel rbm = makeRigidBodyModel(m);
-    if (payload) addPayloadParameters(m, *payload, rbm);
-    DynamicsWorkspace ws(rbm);
+    Eigen::MatrixXd Q;
+    if (tilt || Q0_.size() == 0) {
+      Model m = model_;
+      for (const auto& v : values) {
+        const Tag& t = tags_[v.effect];
+        if (t.type == TrajEffect::GravityTilt) {
+          m.base.alpha += v.x[0];
+          m.base.beta += v.x[1];
+        }
+        if (t.type == TrajEffect::LinkMass) m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]);
+      }
+      m.finalize();
+      Q = rigidBodyEfforts(m, payload);
+    } else {
+      Q = Q0_;
+      if (payload)
+        for (int k = 0; k < 10; ++k) Q += (*payload)[k] * payload_basis_[k];
+      for (std::size_t j = 0; j < mass_basis_.size(); ++j)
+        if (dmass[static_cast<Eigen::Index>(j)] != 0) Q += dmass[static_cast<Eigen::Index>(j)] * mass_basis_[j];
+    }
     Eigen::MatrixXd out(data_.rows(), n);
-    Eigen::VectorXd Q(n);
     for (int i = 0; i < data_.rows(); ++i) {
-      inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(), data_.qdd.row(i).transpose(), Q);
       for (int j = 0; j < n; ++j) {
-        const double Qj = Q[j] + arm[j] * data_.qdd(i, j);
+        const double Qj = Q(i, j) + arm[j] * data_.qdd(i, j) + side(i, j);
         if (!drive_[j]) {
           out(i, j) = Qj;
           continue;
@@ -275,6 +430,11 @@ class TrajectoryProblem : public ArmProblem {
   std::vector<Tag> tags_;
   std::vector<const Drive*> drive_;
   std::vector<drive::FrictionParams> fp_;
+  std::vector<double> joint_width_, motor_width_;  // smooth-sign widths of the Coulomb terms
+  Eigen::MatrixXd motor_ratio_;                     // R with each row divided by its diagonal
+  Eigen::MatrixXd motor_v_, motor_a_;               // rows x motors: reflected motor speed, acceleration
+  Eigen::MatrixXd Q0_;                              // nominal rigid-body efforts, rows x joints
+  std::vector<Eigen::MatrixXd> payload_basis_, mass_basis_;
 
  private:
   void add(const ArmEffect& e, Tag t) {
@@ -435,6 +595,12 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
       case TrajEffect::LinkMass:
         text = setDesignEntry(text, "[[inertia]]", "link", model.joints[t.joint].name, "mass",
                               num(std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0])));
+        break;
+      case TrajEffect::JointSide:
+      case TrajEffect::Motor:
+        notes.push_back(problem.catalogue[v.effect].name + " = " + num(v.x[0]) + " " +
+                        problem.catalogue[v.effect].params[0].unit +
+                        " is not stored: the design format has no joint-side friction, offset or coupled-motor terms");
         break;
       case TrajEffect::Friction: {
         drive::FrictionParams& p = fp[t.joint];

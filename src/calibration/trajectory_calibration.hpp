@@ -32,6 +32,12 @@ struct TrajectoryData {
   Eigen::MatrixXd measured;    // rows x n
   std::vector<int> lines;
   std::vector<std::string> warnings;
+  // Measured logs (joint_log.hpp): the width w of the smooth sign tanh(v / w) of joint-side and
+  // coupled-motor Coulomb friction as a fraction of the peak speed v in the data (0: no joint-side
+  // effects, only the drive effects of joints with a [[drive]]), and the coupling matrix R
+  // (theta_m = R q, rows motors, design joint order) of motor-side logs (empty when none).
+  double friction_width_fraction = 0;
+  Eigen::MatrixXd coupling;
   int rows() const { return static_cast<int>(t.size()); }
 };
 

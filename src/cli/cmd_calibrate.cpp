@@ -176,7 +176,8 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
                   100 * d.patterns[k].explained);
   }
   printChannels(d, *P);
-  if (!d.added.empty()) {
+  if (!d.identifiable.empty()) std::printf("not identifiable: %s\n", d.identifiable.c_str());
+  if (!d.added.empty() && d.identifiable.empty()) {
     std::printf("added (in this order):");
     for (const auto& e : d.added) std::printf(" %s", e.c_str());
     std::printf("\nheld-out RMSE before %.4g -> after %.4g %s (x%.2f lower); noise estimate %.4g\n", d.rmse_before,
@@ -187,7 +188,7 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
     std::printf("  %-36s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value, p.unit.c_str(), p.ci_low,
                 p.ci_high, p.at_bound ? "  (at bound)" : "");
   for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
-  std::printf("calibrated design: %s\nresults in %s/\n", path.c_str(), out.c_str());
+  std::printf("calibrated design: %s\nresults in %s/\n", path.empty() ? "none" : path.c_str(), out.c_str());
   return 0;
 }
 

@@ -95,6 +95,10 @@ inline constexpr int kPeriodogramRowsPerCycle = 8;            // highest frequen
 inline constexpr int kSavitzkyGolayHalfWindow = 4;            // qdd from qd: 9-sample window
 inline constexpr int kSavitzkyGolayDegree = 2;                // local quadratic
 inline constexpr double kUniformSamplingTolerance = 0.01;     // relative spread of time steps allowed
+// Joint-side friction of measured logs: Coulomb term F_c tanh(qd / w) with the width w this
+// fraction of the joint's peak speed in the data (rule fixed before any data set was fitted).
+inline constexpr double kFrictionWidthFraction = 0.01;
+inline constexpr double kMaxLogStepRatio = 2.0;               // a log's time step over this x median: a gap
 // Dynamics
 inline constexpr double kStandardGravity_mps2 = 9.81;    // |g|, default gravity (0, 0, -g) in W (study)
 

@@ -3,8 +3,12 @@
 // (except a data file too short for the fit, which the engine reports when the stage runs).
 #include <cctype>
 #include <filesystem>
+#include <cmath>
+#include <fstream>
+#include <optional>
 
 #include "stages/calibration/calibration_stage.hpp"
+#include "io/csv_io.hpp"
 #include "io/toml_reader.hpp"
 
 namespace armstudy::calibration {
@@ -34,6 +38,193 @@ int readCount(TableReader& r, const std::string& key, int fallback, long long lo
 // Keys that belong to another kind or mode are errors, not silently ignored options.
 void rejectKey(TableReader& r, const std::string& key, const std::string& why) {
   if (r.has(key)) r.fail(key, why);
+}
+
+
+// "<number> <unit>" with the unit one of `units` (name, factor to SI); the unit is required.
+double quantityIn(TableReader& r, const std::string& key, const std::vector<std::pair<std::string, double>>& units) {
+  std::string names;
+  for (const auto& u : units) names += (names.empty() ? "" : ", ") + u.first;
+  const toml::node* n = r.node(key);
+  if (!n) r.fail(key, "missing '" + key + "' (a number with a unit: " + names + ")");
+  if (!n->is_string()) r.fail(key, "give '" + key + "' as a string with a unit (" + names + ")");
+  const std::string text = n->as_string()->get();
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    r.fail(key, "'" + text + "' is not a number with a unit (" + names + ")");
+  }
+  std::string unit = text.substr(used);
+  unit.erase(0, unit.find_first_not_of(' '));
+  for (const auto& u : units)
+    if (u.first == unit && std::isfinite(v)) return v * u.second;
+  r.fail(key, "'" + text + "': the unit must be one of " + names);
+}
+
+// A column list: header names, or 1-based column numbers looked up in the file's header line.
+std::vector<std::string> readColumns(TableReader& r, const std::string& key, const std::string& path) {
+  const toml::array* a = r.array(key);
+  if (!a) r.fail(key, "missing '" + key + "' (the column names or 1-based numbers, one per joint)");
+  std::vector<std::string> header;
+  std::vector<std::string> out;
+  for (const toml::node& n : *a) {
+    if (n.is_string()) {
+      out.push_back(n.as_string()->get());
+      continue;
+    }
+    if (!n.is_integer()) r.fail(key, "columns are names (strings) or 1-based numbers");
+    if (header.empty()) {
+      std::ifstream in(path);
+      std::string line;
+      while (std::getline(in, line) && (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#')) {
+      }
+      const auto lines = io::splitCsvLines(line);
+      if (!lines.empty()) header = lines.front().cells;
+    }
+    const long long c = n.as_integer()->get();
+    if (c < 1 || c > static_cast<long long>(header.size()))
+      r.fail(key, "column " + std::to_string(c) + " does not exist (" + path + " has " + std::to_string(header.size()) +
+                      " columns)");
+    out.push_back(header[static_cast<std::size_t>(c - 1)]);
+  }
+  return out;
+}
+
+LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& dir, bool positions) {
+  TableReader r = m.requiredTable(key, " (file, columns and unit of the logged " + key + ")");
+  LogFile f;
+  const std::string file = r.string("file");
+  f.path = (fs::path(file).is_absolute() ? fs::path(file) : dir / file).lexically_normal().string();
+  if (!fs::is_regular_file(f.path)) r.fail("file", "log file '" + file + "' does not exist (looked for " + f.path + ")");
+  f.columns = readColumns(r, "columns", f.path);
+  if (!r.has("unit")) r.fail("unit", std::string("missing 'unit' of the logged ") + key +
+                                        (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  const std::string unit = r.string("unit");
+  const std::vector<std::pair<std::string, double>> units =
+      positions ? std::vector<std::pair<std::string, double>>{{"rad", 1.0}, {"deg", M_PI / 180}, {"m", 1.0}, {"mm", 1e-3}}
+                : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}};
+  bool known = false;
+  for (const auto& u : units)
+    if (u.first == unit) {
+      f.scale = u.second;
+      known = true;
+    }
+  if (!known) r.fail("unit", "unknown unit '" + unit + "'" + (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  r.finish();
+  return f;
+}
+
+// R of a motor-side log: `coupling_matrix` (rows = motors) or diag(`ratios`) plus `coupling`
+// entries { motor = joint name, joint = joint name, ratio = R[motor, joint] }.
+Eigen::MatrixXd readCoupling(TableReader& r, const std::vector<std::string>& joints) {
+  const auto n = static_cast<Eigen::Index>(joints.size());
+  if (r.has("coupling_matrix")) {
+    if (r.has("ratios") || r.has("coupling")) r.fail("coupling_matrix", "give either coupling_matrix or ratios (+ coupling)");
+    const toml::array* rows = r.array("coupling_matrix");
+    Eigen::MatrixXd R(n, n);
+    if (!rows || static_cast<Eigen::Index>(rows->size()) != n) r.fail("coupling_matrix", "one row per joint");
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const toml::array* row = (*rows)[static_cast<std::size_t>(i)].as_array();
+      if (!row || static_cast<Eigen::Index>(row->size()) != n) r.fail("coupling_matrix", "one column per joint");
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const auto v = (*row)[static_cast<std::size_t>(j)].value<double>();
+        if (!v || !std::isfinite(*v)) r.fail("coupling_matrix", "entries are numbers");
+        R(i, j) = *v;
+      }
+    }
+    return R;
+  }
+  const std::vector<double> ratios = r.numberArray("ratios");
+  if (static_cast<Eigen::Index>(ratios.size()) != n) r.fail("ratios", "one reduction ratio per joint");
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) R(i, i) = ratios[static_cast<std::size_t>(i)];
+  auto index = [&](TableReader& c, const std::string& key) {
+    const std::string name = c.string(key);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (joints[static_cast<std::size_t>(i)] == name) return i;
+    c.fail(key, "'" + name + "' is not one of the logged joints");
+  };
+  r.forEachTable("coupling", [&](TableReader& c) {
+    const Eigen::Index k = index(c, "motor"), j = index(c, "joint");
+    R(k, j) = c.number("ratio");
+  });
+  return R;
+}
+
+JointLogSpec readMeasured(TableReader& e, const fs::path& dir) {
+  TableReader r = e.requiredTable("measured");
+  JointLogSpec s;
+  s.study_file = r.file();
+  s.study_line = r.line();
+  s.study_key = r.path();
+  s.joints = r.stringArray("joints");
+  const auto n = static_cast<Eigen::Index>(s.joints.size());
+  s.positions = readLogFileSpec(r, "positions", dir, true);
+  s.efforts = readLogFileSpec(r, "efforts", dir, false);
+  if (r.has("time_column")) {
+    if (r.has("sample_period")) r.fail("sample_period", "give either sample_period or time_column");
+    s.time_column = r.string("time_column");
+  } else {
+    s.sample_period_s = quantityIn(r, "sample_period", {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}});
+    if (!(s.sample_period_s > 0)) r.fail("sample_period", "the sample period must be positive");
+  }
+  const std::string side = r.string("side");
+  if (side != "motor" && side != "joint") r.fail("side", "side is \"motor\" or \"joint\"");
+  s.motor_side = side == "motor";
+  if (s.motor_side) {
+    s.coupling = readCoupling(r, s.joints);
+  } else {
+    for (const char* k : {"ratios", "coupling", "coupling_matrix"})
+      rejectKey(r, k, std::string("'") + k + "' belongs to side = \"motor\"");
+    s.coupling = Eigen::MatrixXd::Identity(n, n);
+  }
+  s.offsets = Eigen::VectorXd::Zero(n);
+  if (const toml::array* a = r.array("offsets")) {
+    if (static_cast<Eigen::Index>(a->size()) != n) r.fail("offsets", "one offset per joint");
+    for (Eigen::Index j = 0; j < n; ++j)
+      s.offsets[j] = io::nodeQuantity((*a)[static_cast<std::size_t>(j)], Dimension::Angle, r.file(), r.keyPath("offsets"));
+  }
+  s.friction_width_fraction = r.number("friction_width", defaults::kFrictionWidthFraction);
+  if (!(s.friction_width_fraction > 0)) r.fail("friction_width", "the friction width fraction must be positive");
+  TableReader f = r.requiredTable("filter", " (cutoff, and optionally order, decimate, trim)");
+  s.cutoff_Hz = quantityIn(f, "cutoff", {{"Hz", 1.0}, {"kHz", 1e3}});
+  s.filter_order = f.integerIn("order", 2, 2, 8);
+  s.decimate = f.integerIn("decimate", 1, 1, 100000);
+  s.trim_s = f.has("trim") ? quantityIn(f, "trim", {{"s", 1.0}, {"ms", 1e-3}}) : 0.0;
+  f.finish();
+  r.finish();
+  return s;
+}
+
+// [calibration.reference]: another identification's values, shown next to the fitted ones.
+// Arrays are per logged joint (`<joint>.<key>`), numbers name one effect instance.
+ReferenceValues readReference(TableReader& e, const std::vector<std::string>& joints) {
+  ReferenceValues ref;
+  if (!e.has("reference")) return ref;
+  TableReader r = e.requiredTable("reference");
+  ref.source = r.string("source");
+  ref.line = r.line();
+  for (const auto& [k, node] : *e.table("reference")) {
+    const std::string key(k.str());
+    if (key == "source") continue;
+    r.markRead(key);
+    if (const toml::array* a = node.as_array()) {
+      if (a->size() != joints.size()) r.fail(key, "one reference value per logged joint");
+      for (std::size_t j = 0; j < joints.size(); ++j) {
+        const auto v = (*a)[j].value<double>();
+        if (!v) r.fail(key, "reference values are numbers");
+        ref.values.emplace_back(joints[j] + "." + key, *v);
+      }
+    } else if (const auto v = node.value<double>()) {
+      ref.values.emplace_back(key, *v);
+    } else {
+      r.fail(key, "a number or an array of numbers (one per logged joint)");
+    }
+  }
+  r.finish();
+  return ref;
 }
 
 CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vector<const Model*>& designs) {
@@ -100,11 +291,20 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
     ARMSTUDY_CHECK(o.validate().empty(), "calibration arm options were checked one by one");
   }
 
-  const std::string data = r.string("data");
-  const fs::path resolved = (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
-  if (!fs::is_regular_file(resolved))
-    r.fail("data", "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
-  e.data_file = resolved.string();
+  std::optional<JointLogSpec> log;
+  if (r.has("measured")) {
+    if (e.kind != "trajectory") r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
+    if (r.has("data")) r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
+    log = readMeasured(r, dir);
+    e.reference = readReference(r, log->joints);
+    e.data_file = log->positions.path;
+  } else {
+    const std::string data = r.string("data");
+    const fs::path resolved = (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
+    if (!fs::is_regular_file(resolved))
+      r.fail("data", "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
+    e.data_file = resolved.string();
+  }
   r.finish();
 
   // The data (InputErrors name the data file, line and column), then the effect names of the arm
@@ -112,8 +312,14 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
   if (e.kind == "drive") {
     e.drive_data = std::make_shared<const DriveData>(readDriveData(e.data_file));
   } else {
-    e.arm_data = readArmData(e.kind, e.data_file, *model);
-    if (!add.empty()) {
+    if (log) {
+      e.arm_data.kind = e.kind;
+      e.arm_data.trajectory = std::make_shared<const TrajectoryData>(readJointLog(*log, *model));
+      e.log = std::make_shared<const JointLogSpec>(*log);
+    } else {
+      e.arm_data = readArmData(e.kind, e.data_file, *model);
+    }
+    if (!add.empty() || !e.reference.values.empty()) {
       const auto P = makeArmProblem(*model, e.arm_data);
       for (const std::string& n : add)
         if (P->findEffect(n) < 0) {
@@ -121,6 +327,10 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
           for (const ArmEffect& c : P->catalogue) names += (names.empty() ? "" : ", ") + c.name;
           r.fail("add", "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
         }
+      for (const auto& [key, v] : e.reference.values)
+        if (P->findEffect(key) < 0)
+          throw InputError(r.file(), e.reference.line, key,
+                           "reference value for '" + key + "', which is no candidate effect of this design and data");
     }
   }
   return e;

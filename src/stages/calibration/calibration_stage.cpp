@@ -1,5 +1,7 @@
 #include "stages/calibration/calibration_stage.hpp"
 
+#include "calibration/identification_report.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -184,6 +186,9 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       s.rmse_after = d.rmse_after;
       s.final_params = d.final_fit.params;
       cal_path = rs.calibrated_design_path;
+      if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty()) s.notes.push_back(why);
+    }
+    if (e.fit && !cal_path.empty()) {
       // The calibrated copy as written, read back and compared with the same data.
       const Model cal = loadDesign(cal_path);
       const DriveDiagnosis c = compareDrive(cal, e.joint, *e.drive_data, e.drive_options);
@@ -194,14 +199,22 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       writeDriveReport(c, cal, *e.drive_data, co);
       s.calibrated_rmse = c.as_designed_cmp.current.rmse;
       s.calibrated_flagged = c.as_designed_cmp.map.flagged();
-    } else {
-      s.verdict = "compare only";
     }
+    if (!e.fit) s.verdict = "compare only";
   } else {
     const ArmDiagnosis& d = *w.arm;
     const ArmProblem& P = *w.problem;
     if (e.fit) {
-      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false);
+      std::vector<std::pair<std::string, std::string>> extra;
+      if (e.log) {
+        IdentificationInput in;
+        in.reference_source = e.reference.source;
+        in.reference = e.reference.values;
+        const IdentificationReport ir = identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
+        extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
+        s.extra_metrics = ir.metrics;
+      }
+      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false, extra);
       cal_path = f.calibrated_design_path;
       s.notes = f.notes;
     } else {
@@ -226,6 +239,8 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       s.rmse_before = d.rmse_before;
       s.rmse_after = d.rmse_after;
       s.final_params = d.final_fit.params;
+    }
+    if (e.fit && !cal_path.empty()) {
       const Model cal = loadDesign(cal_path);
       const auto Pc = makeArmProblem(cal, e.arm_data);
       const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
@@ -297,6 +312,7 @@ void addMetrics(const EntrySummary& s, StudyMetrics& M) {
     M.scalars[p + "ladder/" + std::to_string(k) + "/heldout_rmse"] = s.ladder[k].heldout_rmse;
   for (std::size_t k = 0; k < s.added.size(); ++k) M.scalars[p + "added/" + s.added[k]] = static_cast<double>(k + 1);
   for (const FittedParameter& f : s.final_params) M.scalars[p + "param/" + f.key] = f.value;
+  for (const auto& [k, v] : s.extra_metrics) M.scalars[p + k] = v;
   std::vector<std::uint8_t> added(s.catalogue.size(), 0);
   for (std::size_t k = 0; k < s.catalogue.size(); ++k)
     added[k] = std::find(s.added.begin(), s.added.end(), s.catalogue[k]) != s.added.end();
@@ -333,10 +349,20 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
       for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + a;
       md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added) << ". Held-out RMSE "
          << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
-      if (s.rmse_after > 0) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
-      md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
-         << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
-         << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+      if (s.rmse_after > 0 && !s.added.empty()) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
+      if (s.calibrated_design.empty()) {
+        md << ". No calibrated copy";
+        for (const auto& n : s.notes) md << "; " << n;
+        md << ".\n\n";
+      } else {
+        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
+           << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
+           << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+      }
+      if (!s.extra_metrics.empty())
+        md << "Per joint (held out by time block), the fitted values beside the reference and the friction "
+              "coefficients over the smooth-sign width: `" << s.name << "/identification.md`; residuals before and "
+              "after on one scale: `" << s.name << "/residuals_before_after.svg`.\n\n";
       std::vector<std::vector<std::string>> prow;
       for (const FittedParameter& f : s.final_params)
         prow.push_back({f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});

@@ -21,6 +21,9 @@
 //   load_bins = 4
 //   variable_bins = 4                # tcp/trajectory: --variable-bins, --workspace-bins
 //   workspace_bins = 4
+//   [calibration.measured]           # trajectory kind, instead of data: a robot's own logs
+//   [calibration.reference]          # values of another identification, shown beside the fit
+//                                    # (docs/calibration.md, "Bring your own robot's logs")
 //
 // The data file is read (and every option checked, effect names against the kind's catalogue for
 // this design and data) when the study loads, so a study that loads runs without input errors.
@@ -31,6 +34,7 @@
 #include <vector>
 
 #include "calibration/calibration_run.hpp"
+#include "calibration/joint_log.hpp"
 #include "model/model.hpp"
 #include "study/stage.hpp"
 
@@ -40,6 +44,14 @@ class TableReader;
 }
 
 namespace calibration {
+
+// Values another identification found (the study's [calibration.reference]), keyed by effect
+// instance ("joint_1.viscous"), shown next to the fitted ones.
+struct ReferenceValues {
+  std::string source;
+  int line = 0;
+  std::vector<std::pair<std::string, double>> values;
+};
 
 struct CalibrationEntry {
   std::string name;
@@ -52,6 +64,8 @@ struct CalibrationEntry {
   ArmFitOptions arm_options;      // tcp and trajectory kinds
   std::shared_ptr<const DriveData> drive_data;  // drive kind, read when the study loads
   ArmData arm_data;                             // tcp and trajectory kinds
+  std::shared_ptr<const JointLogSpec> log;      // trajectory data from [calibration.measured]
+  ReferenceValues reference;
   const std::string& dataHash() const { return drive_data ? drive_data->hash : arm_data.hash(); }
 };
 
@@ -87,6 +101,8 @@ struct EntrySummary {
   double calibrated_rmse = 0;     // all rows
   int calibrated_flagged = 0;
   std::vector<std::string> files;  // relative to the study output folder
+  // Measured logs: the identification report's numbers (per-joint ladder, fitted values, width sweep).
+  std::vector<std::pair<std::string, double>> extra_metrics;
 };
 
 std::string entrySummaryToJson(const EntrySummary& s);

@@ -59,6 +59,11 @@ std::string entrySummaryToJson(const EntrySummary& s) {
   j["notes"] = s.notes;
   j["warnings"] = s.warnings;
   j["files"] = s.files;
+  if (!s.extra_metrics.empty()) {
+    ordered_json m = ordered_json::object();
+    for (const auto& [k, v] : s.extra_metrics) m[k] = finite(v);
+    j["identification"] = m;
+  }
   return j.dump(2) + "\n";
 }
 
@@ -104,6 +109,8 @@ EntrySummary entrySummaryFromJson(const std::string& text) {
   s.notes = j.at("notes").get<std::vector<std::string>>();
   s.warnings = j.at("warnings").get<std::vector<std::string>>();
   s.files = j.at("files").get<std::vector<std::string>>();
+  if (j.contains("identification"))
+    for (const auto& [k, v] : j.at("identification").items()) s.extra_metrics.emplace_back(k, number(v));
   return s;
 }
 
