@@ -21,6 +21,7 @@
 
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
+#include "io/files.hpp"
 #include "engine/study_file.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_sweep.hpp"
@@ -333,9 +334,16 @@ z = 1
   const std::string text = "`first_prototype_6dof`, `final_prototype_7dof` reach none of the 2 poses of grid `far`";
   CHECK_THAT(out, Catch::Contains("warning: " + text));
   const fs::path o = dir / "out" / "nothing";
-  std::ifstream in(o / "report.md");
+  std::ifstream in(o / "reach" / "report.md");
   const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   CHECK_THAT(md, Catch::Contains("**Warning:** " + text));
+  // The study's report lists it under its warnings, above the details.
+  const std::string top = readFileOrThrow((o / "report.md").string());
+  const std::size_t warnings = top.find("## Warnings"), details = top.find("## Details");
+  REQUIRE(warnings != std::string::npos);
+  const std::size_t at = top.find("`first_prototype_6dof` reaches none of the 2 poses of grid `far`");
+  CHECK(at > warnings);
+  CHECK(at < details);
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(o / "summary.json"));
   CHECK(summary["reach"]["grids"][0]["designs_reaching_nothing"].size() == 2);
   fs::remove_all(dir);
@@ -372,7 +380,7 @@ z = 1
         Approx(largest_x).epsilon(1e-12));
   CHECK(g["reference_reach"][0]["difference_m"].get<double>() ==
         Approx(largest_x - 0.85).epsilon(1e-12));
-  std::ifstream in(o / "report.md");
+  std::ifstream in(o / "reach" / "report.md");
   const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   CHECK_THAT(md, Catch::Contains("against the design's `reference_reach_m`") &&
                      Catch::Contains("| first_prototype_6dof | 0.850 |"));
