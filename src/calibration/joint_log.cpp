@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
 
@@ -249,7 +250,7 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
     for (std::size_t b = 0; b < map.size(); ++b)
       d.coupling(map[a], map[b]) = s.coupling(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
   d.warnings.push_back(s.positions.path + ": " + std::to_string(R) + " samples, zero-phase Butterworth low-pass at " +
-                       std::to_string(s.cutoff_Hz) + " Hz (order " + std::to_string(s.filter_order) +
+                       formatG(s.cutoff_Hz, 6) + " Hz (order " + std::to_string(s.filter_order) +
                        " forward and backward), " + std::to_string(K) + " rows after decimation by " +
                        std::to_string(s.decimate) + " and " + std::to_string(trim) + " samples trimmed at each end");
   return d;

@@ -378,7 +378,20 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
   return md.str();
 }
 
+// An entry's answer (StageResult::answer): the effects the measurements named, in the order they
+// were added, and how far the held-out error fell; or its verdict when nothing was added.
+std::string entryAnswer(const EntrySummary& e) {
+  std::string a = "`" + e.name + "` (" + e.kind + ", `" + e.design + "`): ";
+  if (e.added.empty() || !std::isfinite(e.rmse_before) || !std::isfinite(e.rmse_after)) return a + e.verdict;
+  for (std::size_t k = 0; k < e.added.size() && k < 4; ++k) a += (k ? ", " : "adding ") + e.added[k];
+  if (e.added.size() > 4) a += " and " + std::to_string(e.added.size() - 4) + " more";
+  a += " lowers the held-out RMSE from " + formatG(e.rmse_before, 3) + " to " + formatG(e.rmse_after, 3) + " " + e.unit;
+  if (e.rmse_after > 0) a += " (" + formatG(e.rmse_before / e.rmse_after, 3) + "x lower)";
+  return a + ".";
+}
+
 }  // namespace
+
 
 StageResult runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries,
                                 std::vector<EntrySummary>* results) {
@@ -450,6 +463,7 @@ StageResult runCalibrationStage(const StageContext& ctx, const std::vector<Calib
     sum.files.insert(sum.files.end(), done[i]->files.begin(), done[i]->files.end());
     js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
     addMetrics(*done[i], sum.metrics);
+    sum.answer.push_back(entryAnswer(*done[i]));
   }
   writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries));
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");
