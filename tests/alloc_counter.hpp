@@ -24,8 +24,12 @@ void* operator new[](std::size_t n) {
   if (void* p = armstudy::test::countedAlloc(n)) return p;
   throw std::bad_alloc();
 }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return armstudy::test::countedAlloc(n); }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return armstudy::test::countedAlloc(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return armstudy::test::countedAlloc(n);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  return armstudy::test::countedAlloc(n);
+}
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }

@@ -14,7 +14,8 @@
 int main(int argc, char* argv[]) {
   namespace fs = std::filesystem;
   const char* base = std::getenv("TMPDIR");
-  const fs::path dir = fs::path(base && *base ? base : "/tmp") / ("armstudy_test_" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::path(base && *base ? base : "/tmp") / ("armstudy_test_" + std::to_string(getpid()));
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!ec) setenv("TMPDIR", dir.c_str(), 1);

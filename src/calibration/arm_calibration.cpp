@@ -70,7 +70,8 @@ int saturatedResidual(const Eigen::MatrixXd& all, const Eigen::VectorXd& r0, Eig
   leverage = Eigen::VectorXd::Zero(r0.size());
   if (all.cols() == 0) return 0;
   Eigen::VectorXd sc(all.cols());
-  for (int j = 0; j < all.cols(); ++j) sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
+  for (int j = 0; j < all.cols(); ++j)
+    sc[j] = all.col(j).norm() > 0 ? 1.0 / all.col(j).norm() : 0.0;
   const Eigen::MatrixXd As = all * sc.asDiagonal();
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
   qr.setThreshold(1e-9);
@@ -89,10 +90,12 @@ std::string identifiability(const ArmProblem& P) {
   std::string point;
   for (const BinVariable& v : P.variables) {
     for (double x : v.values) one_point = one_point && x == v.values.front();
-    if (!v.values.empty()) point += (point.empty() ? "" : ", ") + v.name + " = " + fmt(v.values.front()) + " " + v.unit;
+    if (!v.values.empty())
+      point += (point.empty() ? "" : ", ") + v.name + " = " + fmt(v.values.front()) + " " + v.unit;
   }
   if (one_point)
-    why.insert(why.begin(), "all " + std::to_string(P.rows()) + " rows are the same operating point (" + point +
+    why.insert(why.begin(), "all " + std::to_string(P.rows()) +
+                                " rows are the same operating point (" + point +
                                 "): such data cannot tell any effect from another");
   std::string out;
   for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
@@ -105,10 +108,11 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const int min_rows = std::max(2 * o.folds, defaults::kMinResidualDof + 1);
   if (P.rows() < min_rows)
-    throw InputError(P.file, 0, 2 * o.folds >= min_rows ? "folds" : "",
-                     std::to_string(P.rows()) + " rows are too few to compare and cross-validate with " +
-                         std::to_string(o.folds) + " folds (need at least " + std::to_string(min_rows) +
-                         (2 * o.folds >= min_rows ? ", two per fold; use fewer folds)" : ")"));
+    throw InputError(
+        P.file, 0, 2 * o.folds >= min_rows ? "folds" : "",
+        std::to_string(P.rows()) + " rows are too few to compare and cross-validate with " +
+            std::to_string(o.folds) + " folds (need at least " + std::to_string(min_rows) +
+            (2 * o.folds >= min_rows ? ", two per fold; use fewer folds)" : ")"));
   ArmDiagnosis d;
   d.kind = P.kind;
   d.design = P.design;
@@ -151,8 +155,9 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     d.noise_estimate = std::sqrt(sat_r.squaredNorm() / dof);
   } else {
     d.noise_estimate = rms(r0);
-    d.warnings.push_back("too few rows for the noise estimate (" + std::to_string(rank) +
-                         " independent candidate parameters); the RMSE of the design is used instead");
+    d.warnings.push_back(
+        "too few rows for the noise estimate (" + std::to_string(rank) +
+        " independent candidate parameters); the RMSE of the design is used instead");
   }
   Eigen::MatrixXd sat = unflatten(P, enough ? sat_r : r0);
   std::vector<double> sigma = channelNoise(sat, lev);
@@ -200,14 +205,17 @@ bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, con
   for (int j = 0; j < cols.cols(); ++j) {
     const double r2 = r2OnBasis(cols.col(j), basis);
     if (cols.col(j).norm() == 0) {
-      cand.warnings.push_back("parameter '" + info.params[j].key +
-                              "' has no effect on the predicted channels with this data (an operating variable it "
-                              "needs is constant or zero)");
+      cand.warnings.push_back(
+          "parameter '" + info.params[j].key +
+          "' has no effect on the predicted channels with this data (an operating variable it "
+          "needs is constant or zero)");
       continue;
     }
     if (r2 > defaults::kCollinearR2)
-      cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from the terms already in "
-                              "the model (R^2 = " + fmt(r2) + ") with this data");
+      cand.warnings.push_back("parameter '" + info.params[j].key +
+                              "' cannot be told apart from the terms already in "
+                              "the model (R^2 = " +
+                              fmt(r2) + ") with this data");
     if (r2 <= defaults::kUnidentifiableR2) dead = false;
   }
   return !dead;
@@ -215,12 +223,14 @@ bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, con
 
 // The t statistic of the paired held-out squared-error differences per row (all channels of a
 // row together, each weighted by 1 / its noise: P is the noise-weighted problem).
-double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& fit, double noise_rho) {
+double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& fit,
+                        double noise_rho) {
   std::vector<double> dd(P.rows());
   for (int i = 0; i < P.rows(); ++i) {
     double s = 0;
     for (int c = 0; c < P.channels(); ++c) {
-      const double a = base.heldout_residual(i, c) * P.weight[c], b = fit.heldout_residual(i, c) * P.weight[c];
+      const double a = base.heldout_residual(i, c) * P.weight[c],
+                   b = fit.heldout_residual(i, c) * P.weight[c];
       s += a * a - b * b;
     }
     dd[i] = s;
@@ -239,8 +249,10 @@ double pairedTStatistic(const ArmProblem& P, const ArmFit& base, const ArmFit& f
 double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit& fit) {
   double b = 0, f = 0;
   for (int c = 0; c < P.channels(); ++c) {
-    const double scale = base.predicted.col(c).cwiseAbs().maxCoeff() + fit.predicted.col(c).cwiseAbs().maxCoeff();
-    if ((fit.predicted.col(c) - base.predicted.col(c)).cwiseAbs().maxCoeff() <= 1e-12 * (1 + scale)) continue;
+    const double scale =
+        base.predicted.col(c).cwiseAbs().maxCoeff() + fit.predicted.col(c).cwiseAbs().maxCoeff();
+    if ((fit.predicted.col(c) - base.predicted.col(c)).cwiseAbs().maxCoeff() <= 1e-12 * (1 + scale))
+      continue;
     const double w = P.weight[c] * P.weight[c];
     b += base.heldout_residual.col(c).squaredNorm() * w;
     f += fit.heldout_residual.col(c).squaredNorm() * w;
@@ -250,8 +262,9 @@ double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit&
 
 // Catalogue effect e added to the current model: identifiability, fit, improvement and
 // significance; its columns outside the basis go into resid_cols when identifiable.
-ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current, const ArmFit& base,
-                            const Eigen::MatrixXd& basis, int e, double noise_rho, const ArmFitOptions& o,
+ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current,
+                            const ArmFit& base, const Eigen::MatrixXd& basis, int e,
+                            double noise_rho, const ArmFitOptions& o,
                             std::map<int, Eigen::MatrixXd>& resid_cols) {
   const int N = P.rows() * P.channels();
   const ArmEffect& info = P.catalogue[e];
@@ -269,7 +282,8 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
   const int p = static_cast<int>(packX(current).size() + info.params.size());
   if (N * (o.folds - 1) / o.folds < p + defaults::kMinResidualDof) {
     cand.status = "too_few_rows";
-    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) +
+                            " parameters");
     return cand;
   }
   EffectValues v = current;
@@ -278,12 +292,14 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
   cand.fit = eng.make(fitSet(P, v), "+" + info.name, ok);
   if (!ok) {
     cand.status = "too_few_rows";
-    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) + " parameters");
+    cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) +
+                            " parameters");
     return cand;
   }
   cand.improvement = touchedImprovement(P, base, cand.fit);
   cand.t_statistic = pairedTStatistic(P, base, cand.fit, noise_rho);
-  cand.significant = cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
+  cand.significant =
+      cand.t_statistic > o.significance_z && cand.improvement >= o.min_relative_improvement;
   return cand;
 }
 
@@ -307,8 +323,8 @@ void markIndistinguishable(const ArmProblem& P, std::vector<ArmCandidate>& out,
         }
         if (!warned) {
           a.warnings.push_back("parameter '" + P.catalogue[a.effect].params[j].key +
-                               "' cannot be told apart from the candidate '" + b.name + "' (R^2 = " + fmt(r2) +
-                               ") with this data");
+                               "' cannot be told apart from the candidate '" + b.name +
+                               "' (R^2 = " + fmt(r2) + ") with this data");
           a.indistinguishable.push_back(b.name);
           warned = true;
         }
@@ -335,7 +351,8 @@ void sortCandidates(std::vector<ArmCandidate>& out) {
     while (k > 0) {
       const ArmCandidate& b = out[k - 1];
       const ArmCandidate& a = out[k];
-      const bool inside = std::find(a.contained_in.begin(), a.contained_in.end(), b.name) != a.contained_in.end();
+      const bool inside =
+          std::find(a.contained_in.begin(), a.contained_in.end(), b.name) != a.contained_in.end();
       if (!inside || a.fit.n_params >= b.fit.n_params ||
           a.fit.heldout_score > b.fit.heldout_score * (1 + defaults::kParsimonyTolerance))
         break;
@@ -347,7 +364,8 @@ void sortCandidates(std::vector<ArmCandidate>& out) {
 
 // Every catalogue effect not yet in the model, scored against `base`, then ranked.
 std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const EffectValues& current,
-                               const ArmFit& base, const Solved& base_solved, double noise_rho, const ArmFitOptions& o) {
+                               const ArmFit& base, const Solved& base_solved, double noise_rho,
+                               const ArmFitOptions& o) {
   std::vector<ArmCandidate> out;
   const int N = P.rows() * P.channels();
   const Eigen::MatrixXd basis = base_solved.J.cols() > 0 ? base_solved.J : Eigen::MatrixXd(N, 0);
@@ -365,15 +383,16 @@ std::vector<ArmCandidate> rank(const ArmProblem& P, const Engine& eng, const Eff
 // A candidate that scores best but is not significant (many parameters fitting part of a pattern
 // no catalogue effect explains) does not hide the significant ones behind it.
 void significantFirst(std::vector<ArmCandidate>& ranking) {
-  std::stable_partition(ranking.begin(), ranking.end(), [](const ArmCandidate& c) { return c.significant; });
+  std::stable_partition(ranking.begin(), ranking.end(),
+                        [](const ArmCandidate& c) { return c.significant; });
 }
 
 }  // namespace
 
-
 ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   ArmDiagnosis d = compareArm(P0, o);
-  const bool identifiable = d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
+  const bool identifiable =
+      d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
   Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
   EffectValues current;
@@ -412,13 +431,16 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     if (e < 0) {
       std::string names;
       for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
-      throw InputError("", 0, "--add", "unknown effect '" + name + "' for this design and data (candidates: " + names + ")");
+      throw InputError(
+          "", 0, "--add",
+          "unknown effect '" + name + "' for this design and data (candidates: " + names + ")");
     }
     addEffect(e, false);
   }
   // Patterns the most flexible model leaves: what no combination of catalogue effects explains.
   const std::vector<ArmPattern> saturated =
-      d.saturated_residual.size() ? searchPatterns(P, d.saturated_residual, d.as_designed.predicted, d.channel_noise, d.noise_rho)
+      d.saturated_residual.size() ? searchPatterns(P, d.saturated_residual, d.as_designed.predicted,
+                                                   d.channel_noise, d.noise_rho)
                                   : std::vector<ArmPattern>{};
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
   confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
@@ -450,8 +472,8 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   }
   if (d.unexplained_found) {
     const ArmPattern& p = d.patterns.front();
-    const std::string u = "unexplained effect in channel " + p.channel + " against " + p.variable + " (" + p.description +
-                          "): no catalogue effect explains it";
+    const std::string u = "unexplained effect in channel " + p.channel + " against " + p.variable +
+                          " (" + p.description + "): no catalogue effect explains it";
     verdict = verdict.empty() ? u : verdict + "; then " + u;
   }
   d.verdict = verdict.empty() ? "no significant missing effect" : verdict;
@@ -468,7 +490,8 @@ EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
   if (e < 0) {
     std::string names;
     for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
-    throw InputError("", 0, "--hide", "unknown effect '" + name + "' for this design (candidates: " + names + ")");
+    throw InputError("", 0, "--hide",
+                     "unknown effect '" + name + "' for this design (candidates: " + names + ")");
   }
   const ArmEffect& info = P.catalogue[e];
   EffectValue v;
@@ -480,7 +503,8 @@ EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
   std::stringstream ss(spec.substr(colon + 1));
   for (std::string item; std::getline(ss, item, ',');) {
     const auto eq = item.find('=');
-    if (eq == std::string::npos) throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
+    if (eq == std::string::npos)
+      throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
     const std::string key = item.substr(0, eq);
     double val = 0;
     try {
@@ -501,13 +525,15 @@ EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
       v.profile = val;
       found = true;
     }
-    if (!found) throw InputError("", 0, "--hide", "parameter '" + key + "' does not belong to the effect '" + name + "'");
+    if (!found)
+      throw InputError("", 0, "--hide",
+                       "parameter '" + key + "' does not belong to the effect '" + name + "'");
   }
   return v;
 }
 
-std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const std::vector<double>& y, int m,
-                                            int degree) {
+std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
+                                            const std::vector<double>& y, int m, int degree) {
   const int n = static_cast<int>(t.size());
   ARMSTUDY_CHECK(n == static_cast<int>(y.size()), "same length");
   const int w = std::min(2 * m + 1, n);

@@ -50,10 +50,10 @@ struct ArmParam {
 
 // One candidate effect instance, e.g. "joint_offset.j3", "payload", "j5.stribeck".
 struct ArmEffect {
-  std::string name;     // instance name (what --add/--hide take)
-  std::string effect;   // catalogue name, e.g. "joint_offset"
-  std::string joint;    // joint it belongs to ("" for global effects)
-  std::string pattern;  // the residual pattern it explains
+  std::string name;              // instance name (what --add/--hide take)
+  std::string effect;            // catalogue name, e.g. "joint_offset"
+  std::string joint;             // joint it belongs to ("" for global effects)
+  std::string pattern;           // the residual pattern it explains
   std::vector<ArmParam> params;  // fitted linearly (Gauss-Newton)
   ArmParam profile;              // a nonlinear parameter profiled on profile_grid (if not empty)
   std::vector<double> profile_grid;
@@ -83,24 +83,24 @@ class ArmProblem {
   std::string kind;  // "drive" | "tcp" | "trajectory"
   std::string design, file, hash;
   std::vector<std::string> channel_names, channel_units;
-  Eigen::VectorXd weight;       // per channel: residual -> fit units (1 unless documented)
-  Eigen::MatrixXd measured;     // rows x channels
-  std::vector<int> lines;       // file line of each row
-  std::vector<ArmEffect> catalogue;     // candidate instances applicable to this design/data
-  std::vector<BinVariable> variables;   // operating variables (plots, joint-space bins)
+  Eigen::VectorXd weight;              // per channel: residual -> fit units (1 unless documented)
+  Eigen::MatrixXd measured;            // rows x channels
+  std::vector<int> lines;              // file line of each row
+  std::vector<ArmEffect> catalogue;    // candidate instances applicable to this design/data
+  std::vector<BinVariable> variables;  // operating variables (plots, joint-space bins)
   std::vector<Eigen::Vector3d> workspace;  // TCP position of each row in W (workspace cells)
   // A 2-D grid map over two operating variables (the drive kind: signed motor speed x |load|),
   // grid_bins[a] bins on axis a, besides or instead of the 1-D bins of `variables`.
   std::vector<BinVariable> grid;
   std::array<int, 2> grid_bins{0, 0};
   bool bin_variables = true;  // 1-D bins over each operating variable in the residual map
-  std::vector<int> regions;     // held-out-by-region partition (ids 0..region_count-1)
+  std::vector<int> regions;   // held-out-by-region partition (ids 0..region_count-1)
   int region_count = 0;
   std::vector<std::string> warnings;
   // Why this data cannot identify the model, as the kind sees it (a joint that never moves); the
   // engine adds "every row is the same operating point" itself (ArmDiagnosis::identifiable).
   std::vector<std::string> unidentifiable;
-  std::string fit_unit;         // unit of the overall RMSE
+  std::string fit_unit;  // unit of the overall RMSE
   // Unexplained-effect search: the time of each row (empty: the row order is used) and, when not
   // empty, the name under which the predicted channel value counts as the channel's load.
   std::vector<double> time;
@@ -148,7 +148,7 @@ struct ArmFitOptions : CvSettings {
 struct ArmFit {
   std::string label;
   EffectValues values;
-  std::vector<std::string> effects;  // instance names
+  std::vector<std::string> effects;     // instance names
   std::vector<FittedParameter> params;  // key = "<instance>.<param>"
   int n_params = 0;
   double train_rmse = 0, heldout_rmse = 0, region_heldout_rmse = 0;  // fit units
@@ -158,7 +158,8 @@ struct ArmFit {
   double aic = 0, bic = 0;
   std::vector<ChannelStats> channel_heldout;  // native units
   std::vector<ChannelStats> channel_train;
-  std::vector<ChannelStats> channel_region_heldout;  // held out by region (time blocks); empty if none
+  std::vector<ChannelStats>
+      channel_region_heldout;  // held out by region (time blocks); empty if none
   Eigen::MatrixXd predicted, residual, heldout_residual;  // rows x channels, native units
 };
 
@@ -181,8 +182,9 @@ struct ArmCandidate : CandidateScore {
 };
 
 struct ArmBin {
-  std::string space;     // "joint" (a 1-D bin of one operating variable) | "workspace" | "grid"
-  std::string variable;  // variable name for joint bins, "x,y,z" for workspace cells, "a,b" for grid cells
+  std::string space;  // "joint" (a 1-D bin of one operating variable) | "workspace" | "grid"
+  std::string
+      variable;  // variable name for joint bins, "x,y,z" for workspace cells, "a,b" for grid cells
   std::array<int, 3> index{0, 0, 0};
   std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
   int n = 0;
@@ -208,11 +210,13 @@ struct ArmPattern {
   std::string variable;  // "q3", "qd3", "sign(qd3)", "t", "row", the load name
   std::string unit;      // unit of the variable
   std::string kind;      // "binned_means" | "periodic"
-  double statistic = 0;  // binned: largest |bin mean| / its standard error; periodic: chi^2(2) power
+  double statistic =
+      0;  // binned: largest |bin mean| / its standard error; periodic: chi^2(2) power
   double threshold = 0;  // of the statistic (Bonferroni)
   bool significant = false;
   double explained = 0;  // fraction of the channel's residual sum of squares it explains
-  double sum_squares = 0;  // the part it explains, in squared noise units (comparable between models)
+  double sum_squares =
+      0;  // the part it explains, in squared noise units (comparable between models)
   double period = 0, amplitude = 0;  // periodic: period [variable unit], amplitude [channel unit]
   double peak_mean = 0, peak_lo = 0, peak_hi = 0;  // binned: largest bin mean and its range
   std::string description;
@@ -221,17 +225,19 @@ struct ArmPattern {
 struct ArmDiagnosis {
   std::string kind, design, file;
   std::vector<std::string> warnings;
-  double noise_estimate = 0;           // fit units
-  std::vector<double> channel_noise;   // native units; residual weights are 1 / channel_noise
-  Eigen::MatrixXd saturated_residual;  // of the most flexible model (noise estimate); empty if too few rows
+  double noise_estimate = 0;          // fit units
+  std::vector<double> channel_noise;  // native units; residual weights are 1 / channel_noise
+  Eigen::MatrixXd
+      saturated_residual;  // of the most flexible model (noise estimate); empty if too few rows
   double noise_rho = 0;
   ArmFit as_designed;
   ArmResidualMap as_designed_map;
-  std::vector<ArmCandidate> ranking;   // for the design as is (plus effects added by --add before it)
+  std::vector<ArmCandidate>
+      ranking;  // for the design as is (plus effects added by --add before it)
   bool missing_effect_found = false;
-  std::string verdict;                 // "missing effect: X [(cannot be told apart from ...)]",
-                                       // "missing effects: X, Y" (--auto added several),
-                                       // "unexplained effect: ..." or "no significant missing effect"
+  std::string verdict;  // "missing effect: X [(cannot be told apart from ...)]",
+                        // "missing effects: X, Y" (--auto added several),
+                        // "unexplained effect: ..." or "no significant missing effect"
   std::vector<ArmFit> ladder;
   std::vector<std::string> added;
   ArmFit final_fit;
@@ -270,8 +276,9 @@ EffectValue parseHiddenEffect(const ArmProblem& problem, const std::string& spec
 // Savitzky-Golay derivative (docs/calibration.md): local least-squares polynomial of `degree` over
 // 2*half_window+1 samples (shifted inside the series at its ends) differentiated at each sample.
 // Precondition: t strictly increasing; samples need not be exactly uniform.
-std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t, const std::vector<double>& y,
-                                            int half_window, int degree);
+std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
+                                            const std::vector<double>& y, int half_window,
+                                            int degree);
 
 // ---- outputs (compare/fit): result.json, residuals.csv, plots/*.svg, history.csv,
 // error_ladder.svg, workspace_cells.vti + residual_points.vtp ----
@@ -288,7 +295,8 @@ struct ArmReportSummary {
   std::vector<std::string> files_written;
   std::string json;
 };
-ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem, const ArmReportOptions& o,
+ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem,
+                                const ArmReportOptions& o,
                                 const std::string& calibrated_design_path);
 
 // Line-level edit of TOML design text (keeps comments and layout): sets `key = value_text` in the
@@ -296,7 +304,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem
 // empty, contains `match_key = "match_value"`. For header "[drive.friction]" the block is the
 // friction sub-table of the [[drive]] whose joint is match_value. A missing single block is
 // appended; a missing matched block is an InputError.
-std::string setDesignEntry(const std::string& text, const std::string& header, const std::string& match_key,
-                           const std::string& match_value, const std::string& key, const std::string& value_text);
+std::string setDesignEntry(const std::string& text, const std::string& header,
+                           const std::string& match_key, const std::string& match_value,
+                           const std::string& key, const std::string& value_text);
 
 }  // namespace armstudy::calibration

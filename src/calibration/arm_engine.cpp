@@ -13,7 +13,8 @@
 
 namespace armstudy::calibration::arm_detail {
 
-constexpr double kProfileRelativeStep = 1e-4;  // central-difference step of a profiled parameter, relative
+constexpr double kProfileRelativeStep =
+    1e-4;  // central-difference step of a profiled parameter, relative
 
 // Flattened weighted residual vector (row-major: row * C + channel).
 Eigen::VectorXd flatten(const ArmProblem& P, const Eigen::MatrixXd& m) {
@@ -84,7 +85,6 @@ Eigen::MatrixXd jacobian(const ArmProblem& P, const EffectValues& v, int first =
   return J;
 }
 
-
 void bounds(const ArmProblem& P, const EffectValues& v, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
   const Eigen::VectorXd x = packX(v);
   lo.resize(x.size());
@@ -96,8 +96,8 @@ void bounds(const ArmProblem& P, const EffectValues& v, Eigen::VectorXd& lo, Eig
 }
 
 // Bounded solve that leaves parameters with all-zero columns untouched.
-Eigen::VectorXd solveStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, const Eigen::VectorXd& lo,
-                          const Eigen::VectorXd& hi) {
+Eigen::VectorXd solveStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,
+                          const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   std::vector<int> live;
   for (int j = 0; j < J.cols(); ++j)
     if (J.col(j).norm() > 0) live.push_back(j);
@@ -149,7 +149,8 @@ Solved gaussNewton(const ArmProblem& P, EffectValues v) {
   return s;
 }
 
-// Fit of a set: the effects in `start` (a profiled effect whose value is NaN is profiled on its grid).
+// Fit of a set: the effects in `start` (a profiled effect whose value is NaN is profiled on its
+// grid).
 Solved fitSet(const ArmProblem& P, const EffectValues& start) {
   int prof = -1;
   for (std::size_t k = 0; k < start.size(); ++k)
@@ -172,7 +173,8 @@ Solved fitSet(const ArmProblem& P, const EffectValues& start) {
     }
   }
   // Golden-section refinement in log space between the neighbours of the best grid point.
-  double lo = std::log(grid[bi > 0 ? bi - 1 : 0]), hi = std::log(grid[std::min(grid.size() - 1, bi + 1)]);
+  double lo = std::log(grid[bi > 0 ? bi - 1 : 0]),
+         hi = std::log(grid[std::min(grid.size() - 1, bi + 1)]);
   if (hi <= lo) return best;
   const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
   double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
@@ -197,11 +199,14 @@ Solved fitSet(const ArmProblem& P, const EffectValues& start) {
   return best;
 }
 
-double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / r.size()) : kNaN; }
+double rms(const Eigen::VectorXd& r) {
+  return r.size() ? std::sqrt(r.squaredNorm() / r.size()) : kNaN;
+}
 
 // Linearised held-out residuals for a partition of the rows. Returns false when a training set is
 // too small.
-bool heldOut(const ArmProblem& P, const Solved& s, const std::vector<int>& part, int parts, Eigen::VectorXd& out) {
+bool heldOut(const ArmProblem& P, const Solved& s, const std::vector<int>& part, int parts,
+             Eigen::VectorXd& out) {
   const int C = P.channels(), p = static_cast<int>(packX(s.v).size());
   out = s.r;
   if (p == 0) return true;
@@ -264,7 +269,8 @@ void confidence(const ArmProblem& P, const Solved& s, ArmFit& f) {
   if (p > 0) J.leftCols(p) = s.J;
   J.rightCols(Jp.cols()) = Jp;
   const int dof = static_cast<int>(s.r.size()) - q;
-  const double rho = std::clamp(lag1Autocorrelation(std::vector<double>(s.r.data(), s.r.data() + s.r.size())), 0.0, 0.95);
+  const double rho = std::clamp(
+      lag1Autocorrelation(std::vector<double>(s.r.data(), s.r.data() + s.r.size())), 0.0, 0.95);
   const double s2 = dof > 0 ? s.ssr / dof * (1 + rho) / (1 - rho) : kInf;
   Eigen::VectorXd sd = Eigen::VectorXd::Constant(q, kInf);
   if (q > 0) {
@@ -314,8 +320,6 @@ double rmsFitUnits(const Eigen::MatrixXd& m, const Eigen::VectorXd& w) {
   return std::sqrt((m * w.asDiagonal()).squaredNorm() / static_cast<double>(m.size()));
 }
 
-
-
 double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis) {
   const double tot = col.squaredNorm();
   if (tot == 0) return 1.0;
@@ -342,8 +346,8 @@ Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& curren
   return jacobian(P, v, static_cast<int>(packX(current).size()));
 }
 
-ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, const std::vector<double>& sigma,
-                           double rho, const ArmFitOptions& o) {
+ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res,
+                           const std::vector<double>& sigma, double rho, const ArmFitOptions& o) {
   ArmResidualMap map;
   map.rho = rho;
   const int C = P.channels();
@@ -360,7 +364,8 @@ ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, cons
   };
   auto binOf = [](const std::vector<double>& e, double x) {
     const int nb = static_cast<int>(e.size()) - 1;
-    return std::clamp(static_cast<int>(std::upper_bound(e.begin(), e.end(), x) - e.begin()) - 1, 0, nb - 1);
+    return std::clamp(static_cast<int>(std::upper_bound(e.begin(), e.end(), x) - e.begin()) - 1, 0,
+                      nb - 1);
   };
   for (const BinVariable& var : P.variables) {
     if (!P.bin_variables) break;
@@ -429,7 +434,8 @@ ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, cons
     for (auto& [key, pr] : cells) protos.push_back(std::move(pr));
   }
   int tested = 0;
-  for (const auto& p : protos) tested += static_cast<int>(p.rows.size()) >= defaults::kMinBinSamples;
+  for (const auto& p : protos)
+    tested += static_cast<int>(p.rows.size()) >= defaults::kMinBinSamples;
   map.z = normalQuantile(1.0 - defaults::kBinFalseAlarm / (2.0 * std::max(1, tested * C)));
   for (auto& pr : protos) {
     ArmBin& b = pr.bin;

@@ -27,8 +27,12 @@ struct Solved {
 // count by their own noise, not by their unit. Forwards the prediction to the problem.
 class NoiseWeighted : public ArmProblem {
  public:
-  NoiseWeighted(const ArmProblem& p, const Eigen::VectorXd& w) : ArmProblem(p), inner_(p) { weight = w; }
-  Eigen::MatrixXd predict(const EffectValues& values) const override { return inner_.predict(values); }
+  NoiseWeighted(const ArmProblem& p, const Eigen::VectorXd& w) : ArmProblem(p), inner_(p) {
+    weight = w;
+  }
+  Eigen::MatrixXd predict(const EffectValues& values) const override {
+    return inner_.predict(values);
+  }
 
  private:
   const ArmProblem& inner_;
@@ -50,7 +54,8 @@ Eigen::VectorXd packX(const EffectValues& v);
 double rms(const Eigen::VectorXd& r);
 // Gauss-Newton from the given start values (all parameters of v are free).
 Solved gaussNewton(const ArmProblem& P, EffectValues v);
-// Fit of a set: the effects in `start` (a profiled effect whose value is NaN is profiled on its grid).
+// Fit of a set: the effects in `start` (a profiled effect whose value is NaN is profiled on its
+// grid).
 Solved fitSet(const ArmProblem& P, const EffectValues& start);
 // R^2 of a column on a basis (1: fully explained).
 double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis);
@@ -58,7 +63,7 @@ std::string fmt(double v);  // %.4g
 // Candidate columns at the current values (a profiled effect at the middle of its grid).
 EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan);
 Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& current, int e);
-ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res, const std::vector<double>& sigma,
-                           double rho, const ArmFitOptions& o);
+ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res,
+                           const std::vector<double>& sigma, double rho, const ArmFitOptions& o);
 
 }  // namespace armstudy::calibration::arm_detail

@@ -63,9 +63,11 @@ std::vector<Bin> binsOf(const Var& v, int R) {
   const auto [mn, mx] = std::minmax_element(v.x.begin(), v.x.end());
   if (!(*mx > *mn)) return bins;
   const int nb = v.sign ? 2 : defaults::kUnexplainedBins;
-  for (int b = 0; b < nb; ++b) bins.push_back({*mn + (*mx - *mn) * b / nb, *mn + (*mx - *mn) * (b + 1) / nb, {}});
+  for (int b = 0; b < nb; ++b)
+    bins.push_back({*mn + (*mx - *mn) * b / nb, *mn + (*mx - *mn) * (b + 1) / nb, {}});
   for (int i = 0; i < R; ++i)
-    bins[std::clamp(static_cast<int>((v.x[i] - *mn) / (*mx - *mn) * nb), 0, nb - 1)].rows.push_back(i);
+    bins[std::clamp(static_cast<int>((v.x[i] - *mn) / (*mx - *mn) * nb), 0, nb - 1)].rows.push_back(
+        i);
   return bins;
 }
 
@@ -90,13 +92,18 @@ struct PatternSearch {
   int R, C;
   std::vector<Var> vars;
   double inflate = 1;
-  Eigen::MatrixXd e;           // residuals normalised by the channels' noise
-  std::vector<double> ss;      // their sums of squares per channel
+  Eigen::MatrixXd e;       // residuals normalised by the channels' noise
+  std::vector<double> ss;  // their sums of squares per channel
   double z_bin = 0, chi_freq = 0;
 
-  PatternSearch(const ArmProblem& p, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
-                const std::vector<double>& s, double r)
-      : P(p), sigma(s), rho(r), R(p.rows()), C(p.channels()), vars(operatingVariables(p, predicted)) {
+  PatternSearch(const ArmProblem& p, const Eigen::MatrixXd& residual,
+                const Eigen::MatrixXd& predicted, const std::vector<double>& s, double r)
+      : P(p),
+        sigma(s),
+        rho(r),
+        R(p.rows()),
+        C(p.channels()),
+        vars(operatingVariables(p, predicted)) {
     inflate = (1 + std::clamp(rho, 0.0, 0.95)) / (1 - std::clamp(rho, 0.0, 0.95));
     // Normalised residuals and their sums of squares per channel.
     e.resize(R, C);
@@ -115,7 +122,8 @@ struct PatternSearch {
     for (int c = 0; c < C; ++c)
       for (const Var& v : vars) {
         if (v.channel >= 0 && v.channel != c) continue;
-        for (const Bin& b : binsOf(v, R)) bin_tests += static_cast<int>(b.rows.size()) >= defaults::kMinBinSamples;
+        for (const Bin& b : binsOf(v, R))
+          bin_tests += static_cast<int>(b.rows.size()) >= defaults::kMinBinSamples;
         freq_tests += static_cast<long>(frequencies(v, R).size());
       }
     const double alpha = defaults::kBinFalseAlarm / 2;
@@ -159,22 +167,24 @@ struct PatternSearch {
     p.explained = explained / ss[c];
     p.sum_squares = explained;
     p.significant = p.statistic > z_bin;
-    p.description = "binned means of " + p.channel + " against " + v.name + ": largest " + fmt3(p.peak_mean) + " " +
-                    P.channel_units[c] + " for " + v.name + " in [" + fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " +
-                    v.unit + " (" + fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
+    p.description = "binned means of " + p.channel + " against " + v.name + ": largest " +
+                    fmt3(p.peak_mean) + " " + P.channel_units[c] + " for " + v.name + " in [" +
+                    fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " + v.unit + " (" +
+                    fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
     out.push_back(p);
   }
 
   // Periodogram of channel c against a joint position v: the best centred sine fit.
   // Periodograms of every channel against a joint position v: per channel the best centred sine
-  // fit (empty `found[c]` when none). The sines and their 2x2 normal matrix are shared by the channels.
+  // fit (empty `found[c]` when none). The sines and their 2x2 normal matrix are shared by the
+  // channels.
   void periodograms(const Var& v, std::vector<std::vector<ArmPattern>>& found) const {
     found.assign(C, {});
     const std::vector<double> ws = frequencies(v, R);
     if (ws.empty()) return;
     std::vector<double> best(C, -1.0), period(C, 0.0), amplitude(C, 0.0);
-    // The grid is uniform (w_k = w_0 + k dw): sin and cos of w_k x advance by a rotation through dw x,
-    // re-seeded exactly every kReseed steps so rounding cannot drift.
+    // The grid is uniform (w_k = w_0 + k dw): sin and cos of w_k x advance by a rotation through dw
+    // x, re-seeded exactly every kReseed steps so rounding cannot drift.
     constexpr std::size_t kReseed = 32;
     const Eigen::Map<const Eigen::VectorXd> x(v.x.data(), R);
     const double dw = ws.size() > 1 ? ws[1] - ws[0] : 0.0;
@@ -221,9 +231,10 @@ struct PatternSearch {
       p.sum_squares = best[c];
       p.significant = p.statistic > chi_freq;
       p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
-                      (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)" : std::string()) +
-                      ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " + fmt3(p.statistic) +
-                      ", threshold " + fmt3(chi_freq) + ")";
+                      (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)"
+                                       : std::string()) +
+                      ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " +
+                      fmt3(p.statistic) + ", threshold " + fmt3(chi_freq) + ")";
       found[c].push_back(p);
     }
   }
@@ -238,7 +249,8 @@ struct PatternSearch {
 // standardised bin mean is N(0, 1) and a sine fit's SSR reduction chi^2(2) (both inflated for
 // AR(1) residuals); the 5 % family-wise false-alarm rate is split between the two families and
 // Bonferroni-corrected over all their tests.
-std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
+std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual,
+                                       const Eigen::MatrixXd& predicted,
                                        const std::vector<double>& sigma, double rho) {
   const PatternSearch S(P, residual, predicted, sigma, rho);
   std::vector<ArmPattern> out;
@@ -270,34 +282,41 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
 // (every candidate at once, `saturated`), no combination of catalogue effects explains it: a
 // candidate then has to make it insignificant, a partial absorption never counts (a slow ripple,
 // nearly linear in the position over the motion, is absorbed by rotor_inertia to 89 %).
-constexpr double kPatternExplainedDrop = 0.5;  // share of a pattern's sum of squares a candidate must remove
+constexpr double kPatternExplainedDrop =
+    0.5;  // share of a pattern's sum of squares a candidate must remove
 
-void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, const ArmFit& current,
-                       const std::vector<double>& sigma, double rho, const std::vector<ArmPattern>& saturated) {
-  const std::vector<ArmPattern> before = searchPatterns(P, current.residual, current.predicted, sigma, rho);
+void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
+                       const ArmFit& current, const std::vector<double>& sigma, double rho,
+                       const std::vector<ArmPattern>& saturated) {
+  const std::vector<ArmPattern> before =
+      searchPatterns(P, current.residual, current.predicted, sigma, rho);
   // The strongest significant pattern (largest explained sum of squares in noise units).
   std::vector<const ArmPattern*> seen;
   for (const ArmPattern& p : before)
-    if (p.significant && (seen.empty() || p.sum_squares > seen.front()->sum_squares)) seen.assign(1, &p);
+    if (p.significant && (seen.empty() || p.sum_squares > seen.front()->sum_squares))
+      seen.assign(1, &p);
   if (seen.empty()) return;
   bool outside = false;  // the catalogue as a whole leaves it significant
   for (const ArmPattern& x : saturated)
-    if (x.significant && x.channel == seen.front()->channel && x.variable == seen.front()->variable &&
-        x.kind == seen.front()->kind)
+    if (x.significant && x.channel == seen.front()->channel &&
+        x.variable == seen.front()->variable && x.kind == seen.front()->kind)
       outside = true;
   const double drop = outside ? 1.0 : kPatternExplainedDrop;
   // A pattern no combination of catalogue effects explains does not hold back a candidate whose
   // held-out gain lies mostly in the other channels (it explains something else, such as the
-  // friction of another joint); one that gains mostly in the pattern's channel only absorbs part of it.
+  // friction of another joint); one that gains mostly in the pattern's channel only absorbs part of
+  // it.
   int pc = -1;
   for (int c = 0; c < P.channels(); ++c)
     if (P.channel_names[c] == seen.front()->channel) pc = c;
   auto elsewhere = [&](const ArmCandidate& c) {
-    if (!outside || pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
+    if (!outside || pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows())
+      return false;
     double in = 0, out = 0;
     for (int i = 0; i < P.rows(); ++i)
       for (int k = 0; k < P.channels(); ++k) {
-        const double g = (std::pow(current.heldout_residual(i, k), 2) - std::pow(c.fit.heldout_residual(i, k), 2)) /
+        const double g = (std::pow(current.heldout_residual(i, k), 2) -
+                          std::pow(c.fit.heldout_residual(i, k), 2)) /
                          (sigma[k] * sigma[k]);
         (k == pc ? in : out) += g;
       }
@@ -306,7 +325,8 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, 
   std::vector<std::string> demoted;
   for (ArmCandidate& c : ranking) {
     if (!c.significant || elsewhere(c)) continue;
-    const std::vector<ArmPattern> after = searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
+    const std::vector<ArmPattern> after =
+        searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
     bool explains = false;
     for (const ArmPattern* b : seen) {
       const ArmPattern* a = nullptr;
@@ -327,7 +347,8 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, 
   // The demoted ones go right behind the last candidate that is still significant.
   std::vector<ArmCandidate> keep, moved;
   for (ArmCandidate& c : ranking)
-    (std::find(demoted.begin(), demoted.end(), c.name) != demoted.end() ? moved : keep).push_back(std::move(c));
+    (std::find(demoted.begin(), demoted.end(), c.name) != demoted.end() ? moved : keep)
+        .push_back(std::move(c));
   std::size_t pos = 0;
   for (std::size_t k = 0; k < keep.size(); ++k)
     if (keep[k].significant) pos = k + 1;
@@ -338,7 +359,8 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, 
 std::string candidateVerdictName(const ArmCandidate& c) {
   std::string others;
   for (const auto& o2 : c.indistinguishable) others += (others.empty() ? "" : ", ") + o2;
-  return others.empty() ? c.name : c.name + " (cannot be told apart from " + others + " with this data)";
+  return others.empty() ? c.name
+                        : c.name + " (cannot be told apart from " + others + " with this data)";
 }
 
 }  // namespace armstudy::calibration

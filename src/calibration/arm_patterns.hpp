@@ -12,12 +12,14 @@ namespace armstudy::calibration {
 
 // Patterns of the residual (native units) of every channel against every variable, ranked; `sigma`
 // the channels' noise, `rho` the residuals' lag-1 correlation.
-std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual, const Eigen::MatrixXd& predicted,
+std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixXd& residual,
+                                       const Eigen::MatrixXd& predicted,
                                        const std::vector<double>& sigma, double rho);
 // Demotes significant candidates that do not remove the strongest pattern (`saturated`: the
 // patterns left by every candidate at once).
-void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking, const ArmFit& current,
-                       const std::vector<double>& sigma, double rho, const std::vector<ArmPattern>& saturated);
+void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
+                       const ArmFit& current, const std::vector<double>& sigma, double rho,
+                       const std::vector<ArmPattern>& saturated);
 std::string candidateVerdictName(const ArmCandidate& c);
 
 }  // namespace armstudy::calibration

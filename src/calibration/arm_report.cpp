@@ -9,11 +9,11 @@
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/history.hpp"
-#include "report/plot.hpp"
 #include "common/errors.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
+#include "report/plot.hpp"
 
 namespace armstudy::calibration {
 
@@ -24,14 +24,18 @@ using json = nlohmann::json;
 
 json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json statsJson(const ArmProblem& P, const std::vector<ChannelStats>& s, const std::vector<double>& noise = {}) {
+json statsJson(const ArmProblem& P, const std::vector<ChannelStats>& s,
+               const std::vector<double>& noise = {}) {
   json j = json::object();
   for (std::size_t c = 0; c < s.size(); ++c) {
-    j[P.channel_names[c]] = {{"rmse", finite(s[c].rmse)}, {"bias", finite(s[c].bias)}, {"max", finite(s[c].max_abs)},
+    j[P.channel_names[c]] = {{"rmse", finite(s[c].rmse)},
+                             {"bias", finite(s[c].bias)},
+                             {"max", finite(s[c].max_abs)},
                              {"unit", P.channel_units[c]}};
     if (c < noise.size()) {  // the channel's noise estimate and the RMSE in units of it
       j[P.channel_names[c]]["noise"] = finite(noise[c]);
-      j[P.channel_names[c]]["rmse_over_noise"] = noise[c] > 0 ? finite(s[c].rmse / noise[c]) : json(nullptr);
+      j[P.channel_names[c]]["rmse_over_noise"] =
+          noise[c] > 0 ? finite(s[c].rmse / noise[c]) : json(nullptr);
     }
   }
   return j;
@@ -41,9 +45,15 @@ json patternsJson(const std::vector<ArmPattern>& ps) {
   json a = json::array();
   for (std::size_t k = 0; k < ps.size() && k < 20; ++k) {  // the 20 strongest
     const ArmPattern& p = ps[k];
-    json j = {{"channel", p.channel},         {"variable", p.variable},   {"unit", p.unit},
-              {"kind", p.kind},               {"statistic", finite(p.statistic)}, {"threshold", finite(p.threshold)},
-              {"significant", p.significant}, {"explained", finite(p.explained)}, {"description", p.description}};
+    json j = {{"channel", p.channel},
+              {"variable", p.variable},
+              {"unit", p.unit},
+              {"kind", p.kind},
+              {"statistic", finite(p.statistic)},
+              {"threshold", finite(p.threshold)},
+              {"significant", p.significant},
+              {"explained", finite(p.explained)},
+              {"description", p.description}};
     if (p.kind == "periodic") {
       j["period"] = finite(p.period);
       j["amplitude"] = finite(p.amplitude);
@@ -59,8 +69,12 @@ json patternsJson(const std::vector<ArmPattern>& ps) {
 json paramsJson(const std::vector<FittedParameter>& ps) {
   json a = json::array();
   for (const auto& p : ps)
-    a.push_back({{"key", p.key}, {"unit", p.unit}, {"value", finite(p.value)}, {"ci_low", finite(p.ci_low)},
-                 {"ci_high", finite(p.ci_high)}, {"at_bound", p.at_bound}});
+    a.push_back({{"key", p.key},
+                 {"unit", p.unit},
+                 {"value", finite(p.value)},
+                 {"ci_low", finite(p.ci_low)},
+                 {"ci_high", finite(p.ci_high)},
+                 {"at_bound", p.at_bound}});
   return a;
 }
 
@@ -83,15 +97,22 @@ json regionsJson(const ArmResidualMap& m, bool flagged_only) {
   json a = json::array();
   for (const auto& b : m.bins) {
     if (flagged_only && !b.flagged) continue;
-    a.push_back({{"space", b.space}, {"variable", b.variable}, {"index", b.index}, {"lo", b.lo}, {"hi", b.hi},
-                 {"n", b.n}, {"n_eff", b.n_eff}, {"mean", b.mean}, {"threshold", b.threshold}, {"flagged", b.flagged}});
+    a.push_back({{"space", b.space},
+                 {"variable", b.variable},
+                 {"index", b.index},
+                 {"lo", b.lo},
+                 {"hi", b.hi},
+                 {"n", b.n},
+                 {"n_eff", b.n_eff},
+                 {"mean", b.mean},
+                 {"threshold", b.threshold},
+                 {"flagged", b.flagged}});
   }
   return a;
 }
 
-
-void writePlots(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
-                std::vector<std::string>& files) {
+void writePlots(const std::string& dir, const std::string& stage, const ArmProblem& P,
+                const ArmFit& f, std::vector<std::string>& files) {
   fs::create_directories(fs::path(dir) / "plots");
   auto put = [&](const std::string& name, const std::string& svg) {
     writeFileAtomic((fs::path(dir) / "plots" / (stage + "_" + name)).string(), svg);
@@ -141,19 +162,21 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
 }
 
 // The 2-D grid map (drive kind: signed speed x |load|): mean residual per cell, flagged outlined.
-void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
-                  const ArmResidualMap& m, std::vector<std::string>& files) {
+void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P,
+                  const ArmFit& f, const ArmResidualMap& m, std::vector<std::string>& files) {
   if (P.grid.size() != 2) return;
   report::HeatmapSpec h;
   h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
   h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
   h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
-  h.value_label = P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]" : "max |mean residual|";
+  h.value_label =
+      P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]" : "max |mean residual|";
   bool first = true;
   for (const auto& b : m.bins) {
     if (b.space != "grid") continue;
     double v = 0;
-    if (P.channels() == 1) v = b.mean[0];
+    if (P.channels() == 1)
+      v = b.mean[0];
     else
       for (double x : b.mean) v = std::max(v, std::abs(x));
     h.cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.flagged});
@@ -165,13 +188,15 @@ void writeGridMap(const std::string& dir, const std::string& stage, const ArmPro
   }
   if (first) return;
   fs::create_directories(fs::path(dir) / "plots");
-  h.diverging = P.channels() == 1;  // a signed mean residual; several channels: max |mean| (absolute)
-  writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(), report::heatmap(h).svg);
+  h.diverging =
+      P.channels() == 1;  // a signed mean residual; several channels: max |mean| (absolute)
+  writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(),
+                  report::heatmap(h).svg);
   files.push_back("plots/" + stage + "_residual_map.svg");
 }
 
-void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P, const ArmFit& f,
-                       const ArmResidualMap& m, std::vector<std::string>& files) {
+void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P,
+                       const ArmFit& f, const ArmResidualMap& m, std::vector<std::string>& files) {
   if (P.workspace.empty() || m.ws_dims[0] == 0) return;
   io::ImageGrid g;
   g.dims = m.ws_dims;
@@ -182,26 +207,33 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
   const long np = g.points();
   io::NamedArray n{"n", io::ArrayType::Int32, 1, std::vector<double>(np, 0.0)};
   io::NamedArray fl{"flagged", io::ArrayType::UInt8, 1, std::vector<double>(np, 0.0)};
-  io::NamedArray mr{"mean_residual_max_abs", io::ArrayType::Float64, 1, std::vector<double>(np, 0.0)};
-  io::NamedArray ratio{"mean_over_threshold_max", io::ArrayType::Float64, 1, std::vector<double>(np, 0.0)};
+  io::NamedArray mr{"mean_residual_max_abs", io::ArrayType::Float64, 1,
+                    std::vector<double>(np, 0.0)};
+  io::NamedArray ratio{"mean_over_threshold_max", io::ArrayType::Float64, 1,
+                       std::vector<double>(np, 0.0)};
   for (const auto& b : m.bins) {
     if (b.space != "workspace") continue;
-    const long id = (static_cast<long>(b.index[2]) * g.dims[1] + b.index[1]) * g.dims[0] + b.index[0];
+    const long id =
+        (static_cast<long>(b.index[2]) * g.dims[1] + b.index[1]) * g.dims[0] + b.index[0];
     n.values[id] = b.n;
     fl.values[id] = b.flagged;
     for (std::size_t c = 0; c < b.mean.size(); ++c) {
       mr.values[id] = std::max(mr.values[id], std::abs(b.mean[c]));
-      if (b.threshold[c] > 0) ratio.values[id] = std::max(ratio.values[id], std::abs(b.mean[c]) / b.threshold[c]);
+      if (b.threshold[c] > 0)
+        ratio.values[id] = std::max(ratio.values[id], std::abs(b.mean[c]) / b.threshold[c]);
     }
   }
   // A cell without samples has no residual: NaN (ParaView leaves it uncoloured).
   for (long id = 0; id < np; ++id)
-    if (n.values[id] == 0) mr.values[id] = ratio.values[id] = std::numeric_limits<double>::quiet_NaN();
+    if (n.values[id] == 0)
+      mr.values[id] = ratio.values[id] = std::numeric_limits<double>::quiet_NaN();
   g.point_arrays = {n, fl, mr, ratio};
-  g.field_data = io::fieldData({"position: m (cell centres)", "n: 1 (samples in the cell)", "flagged: 1",
-                                "mean_residual_max_abs: the channels' units (largest |mean| over them)", "mean_over_threshold_max: 1"},
-                               {"flagged 0: no", "flagged 1: a channel's mean residual over its threshold",
-                                "mean_residual_max_abs, mean_over_threshold_max: NaN where n = 0"});
+  g.field_data =
+      io::fieldData({"position: m (cell centres)", "n: 1 (samples in the cell)", "flagged: 1",
+                     "mean_residual_max_abs: the channels' units (largest |mean| over them)",
+                     "mean_over_threshold_max: 1"},
+                    {"flagged 0: no", "flagged 1: a channel's mean residual over its threshold",
+                     "mean_residual_max_abs, mean_over_threshold_max: NaN where n = 0"});
   {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
     report::HeatmapSpec h;  // absolute values: a sequential scale
     h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
@@ -218,13 +250,15 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
       const int key = b.index[1] * m.ws_dims[0] + b.index[0];
       auto it = cells.find(key);
       if (it == cells.end())
-        it = cells.emplace(key, report::HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, false}).first;
+        it = cells.emplace(key, report::HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, false})
+                 .first;
       for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
       it->second.flagged = it->second.flagged || b.flagged;
     }
     for (const auto& [k, c] : cells) h.cells.push_back(c);
     fs::create_directories(fs::path(dir) / "plots");
-    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(), report::heatmap(h).svg);
+    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(),
+                    report::heatmap(h).svg);
     files.push_back("plots/" + stage + "_workspace_map.svg");
   }
   io::writeVti((fs::path(dir) / (stage + "_workspace_cells.vti")).string(), g);
@@ -238,7 +272,8 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
     poly.point_arrays.push_back(a);
   }
   std::vector<std::string> units{"position: m (TCP position of each data row in W)"};
-  for (int c = 0; c < P.channels(); ++c) units.push_back("residual_" + P.channel_names[c] + ": " + P.channel_units[c]);
+  for (int c = 0; c < P.channels(); ++c)
+    units.push_back("residual_" + P.channel_names[c] + ": " + P.channel_units[c]);
   poly.field_data = io::fieldData(units);
   io::writeVtp((fs::path(dir) / (stage + "_residual_points.vtp")).string(), poly);
   files.push_back(stage + "_residual_points.vtp");
@@ -246,16 +281,18 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
 
 // The rows of this run appended to the output folder's history (read before anything is written:
 // a history of another kind is an InputError), written to `to` (the staging folder).
-std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to, const ArmDiagnosis& d,
-                                                    const ArmProblem& P, const std::string& command) {
+std::vector<std::vector<std::string>> appendHistory(HistoryFile h, const std::string& to,
+                                                    const ArmDiagnosis& d, const ArmProblem& P,
+                                                    const std::string& command) {
   h.path = to;
   const auto g = historyNumber;
   for (const ArmFit& f : d.ladder) {
     std::string eff;
     for (const auto& e : f.effects) eff += (eff.empty() ? "" : "+") + e;
-    appendHistoryRow(h, {std::to_string(h.next_run), command, d.kind, d.design, P.hash.empty() ? "-" : P.hash,
-                         f.label, eff.empty() ? "-" : eff, std::to_string(f.n_params), std::to_string(P.rows()),
-                         g(f.train_rmse), g(f.heldout_rmse), P.fit_unit, g(f.aic), g(f.bic)});
+    appendHistoryRow(
+        h, {std::to_string(h.next_run), command, d.kind, d.design, P.hash.empty() ? "-" : P.hash,
+            f.label, eff.empty() ? "-" : eff, std::to_string(f.n_params), std::to_string(P.rows()),
+            g(f.train_rmse), g(f.heldout_rmse), P.fit_unit, g(f.aic), g(f.bic)});
   }
   writeHistory(h);
   return h.rows;
@@ -289,7 +326,8 @@ void writeResidualsCsv(const std::string& dir, const ArmProblem& P, const ArmDia
 
 // error_ladder.svg: training and held-out RMSE of every history row, with the noise estimate.
 void writeErrorLadder(const std::string& dir, const ArmDiagnosis& d, const ArmProblem& P,
-                      const std::vector<std::vector<std::string>>& rows, std::vector<std::string>& files) {
+                      const std::vector<std::vector<std::string>>& rows,
+                      std::vector<std::string>& files) {
   report::PlotSpec p;
   p.title = "error ladder (" + d.design + ", " + d.kind + ")";
   report::PlotPanel panel;
@@ -306,7 +344,8 @@ void writeErrorLadder(const std::string& dir, const ArmDiagnosis& d, const ArmPr
     ho.y.push_back(std::atof(rows[i][10].c_str()));
   }
   panel.series = {tr, ho};
-  panel.lines.push_back(report::RefLine{d.noise_estimate, "noise estimate", true, report::Rgb{90, 90, 90}});
+  panel.lines.push_back(
+      report::RefLine{d.noise_estimate, "noise estimate", true, report::Rgb{90, 90, 90}});
   p.panels.push_back(panel);
   writeFileAtomic((fs::path(dir) / "error_ladder.svg").string(), report::plot(p).svg);
   files.push_back("error_ladder.svg");
@@ -321,7 +360,8 @@ json rankingJson(const ArmDiagnosis& d, const ArmProblem& P) {
                   {"pattern", P.catalogue[c.effect].pattern},
                   {"status", c.status},
                   {"heldout_rmse", c.status == "ok" ? finite(c.fit.heldout_rmse) : json(nullptr)},
-                  {"region_heldout_rmse", c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
+                  {"region_heldout_rmse",
+                   c.status == "ok" ? finite(c.fit.region_heldout_rmse) : json(nullptr)},
                   {"heldout_score", c.status == "ok" ? finite(c.fit.heldout_score) : json(nullptr)},
                   {"improvement", finite(c.improvement)},
                   {"t_statistic", finite(c.t_statistic)},
@@ -339,7 +379,8 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
   j["kind"] = d.kind;
   j["command"] = o.command;
   j["design"] = d.design;
-  j["data"] = {{"file", P.file}, {"hash", P.hash}, {"rows", P.rows()}, {"channels", P.channel_names}};
+  j["data"] = {
+      {"file", P.file}, {"hash", P.hash}, {"rows", P.rows()}, {"channels", P.channel_names}};
   j["unit"] = P.fit_unit;
   j["warnings"] = d.warnings;
   j["rmse"] = {{"overall", finite(d.final_fit.heldout_rmse)},
@@ -355,8 +396,8 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
   j["channel_noise"] = d.channel_noise;
   j["noise_autocorrelation"] = finite(d.noise_rho);
   j["ranking"] = rankingJson(d, P);
-  j["verdict"] = o.command == "compare" ? "compare only (run fit to rank candidate effects)"
-                                          : d.verdict;
+  j["verdict"] =
+      o.command == "compare" ? "compare only (run fit to rank candidate effects)" : d.verdict;
   j["regions"] = regionsJson(d.final_map, true);
   j["regions_before"] = regionsJson(d.as_designed_map, true);
   j["flagged_before"] = d.as_designed_map.flagged();
@@ -383,12 +424,14 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
 
 // Writes plots, maps, residuals, history, the error ladder and result.json into a staging folder,
 // then moves the complete result into place.
-ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
+ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
+                                const ArmReportOptions& o,
                                 const std::string& calibrated_design_path) {
   ArmReportSummary s;
   // Validate first (the history in the folder must be of this kind), then write every file into a
   // staging folder and move the complete result into place.
-  StagedOutput stage(o.out_dir, o.lock);  // locks the folder first: the history read is the one appended to
+  StagedOutput stage(o.out_dir,
+                     o.lock);  // locks the folder first: the history read is the one appended to
   const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
   const std::string dir = stage.dir();
   writePlots(dir, "before", P, d.as_designed, s.files_written);
@@ -401,7 +444,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
     writeGridMap(dir, "after", P, d.final_fit, d.final_map, s.files_written);
   }
   writeResidualsCsv(dir, P, d, s.files_written);
-  const auto rows = appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
+  const auto rows =
+      appendHistory(history, (fs::path(dir) / "history.csv").string(), d, P, o.command);
   s.files_written.push_back("history.csv");
   writeErrorLadder(dir, d, P, rows, s.files_written);
   s.json = resultJson(d, P, o, calibrated_design_path, s.files_written).dump(2);
@@ -412,8 +456,9 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P, cons
   return s;
 }
 
-std::string setDesignEntry(const std::string& text, const std::string& header, const std::string& match_key,
-                           const std::string& match_value, const std::string& key, const std::string& value_text) {
+std::string setDesignEntry(const std::string& text, const std::string& header,
+                           const std::string& match_key, const std::string& match_value,
+                           const std::string& key, const std::string& value_text) {
   std::vector<std::string> lines;
   {
     std::istringstream is(text);
@@ -421,10 +466,13 @@ std::string setDesignEntry(const std::string& text, const std::string& header, c
   }
   auto trim = [](const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r");
-    return b == std::string::npos ? std::string() : s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+    return b == std::string::npos ? std::string()
+                                  : s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
   };
   auto isHeader = [&](const std::string& l) { return !trim(l).empty() && trim(l)[0] == '['; };
-  auto headerIs = [&](const std::string& l, const std::string& h) { return trim(l).rfind(h, 0) == 0; };
+  auto headerIs = [&](const std::string& l, const std::string& h) {
+    return trim(l).rfind(h, 0) == 0;
+  };
   auto keyOf = [&](const std::string& l) {
     const std::string t = trim(l);
     const auto eq = t.find('=');
@@ -448,7 +496,8 @@ std::string setDesignEntry(const std::string& text, const std::string& header, c
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (!headerIs(lines[i], outer)) continue;
     bool ok = match_key.empty();
-    for (std::size_t k = i + 1; k < blockEnd(i) && !ok; ++k) ok = keyOf(lines[k]) == match_key && valueOf(lines[k]) == match_value;
+    for (std::size_t k = i + 1; k < blockEnd(i) && !ok; ++k)
+      ok = keyOf(lines[k]) == match_key && valueOf(lines[k]) == match_value;
     if (ok) {
       start = i;
       break;
@@ -456,7 +505,9 @@ std::string setDesignEntry(const std::string& text, const std::string& header, c
   }
   if (start == lines.size()) {
     if (!match_key.empty())
-      throw InputError("", 0, key, "the design has no " + outer + " with " + match_key + " = \"" + match_value + "\"");
+      throw InputError(
+          "", 0, key,
+          "the design has no " + outer + " with " + match_key + " = \"" + match_value + "\"");
     lines.push_back("");
     lines.push_back(header);
     start = lines.size() - 1;

@@ -3,20 +3,23 @@
 #include <filesystem>
 
 #include "calibration/drive_report.hpp"
-
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 
 namespace armstudy::calibration {
 
-bool isKind(const std::string& kind) { return kind == "drive" || kind == "tcp" || kind == "trajectory"; }
+bool isKind(const std::string& kind) {
+  return kind == "drive" || kind == "tcp" || kind == "trajectory";
+}
 
-drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line, const std::string& key) {
+drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line,
+                               const std::string& key) {
   drive::Effect e;
   if (drive::parseEffect(name, e)) return e;
   std::string names;
-  for (const EffectInfo& info : driveEffectCatalogue()) names += (names.empty() ? "" : ", ") + info.name;
+  for (const EffectInfo& info : driveEffectCatalogue())
+    names += (names.empty() ? "" : ", ") + info.name;
   throw InputError(file, line, key, "unknown effect '" + name + "' (expected " + names + ")");
 }
 
@@ -41,13 +44,14 @@ std::string noCalibratedDesign(const ArmDiagnosis& d, const Model& m) {
   if (!d.identifiable.empty()) return d.identifiable;
   const std::string ext = std::filesystem::path(m.file).extension().string();
   if (ext != ".toml")
-    return "design '" + m.name + "' comes from " + m.file + ", not a design TOML file: no calibrated copy is written; "
+    return "design '" + m.name + "' comes from " + m.file +
+           ", not a design TOML file: no calibrated copy is written; "
            "the fitted values are in result.json";
   return "";
 }
 
-ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m, const std::string& out_dir,
-                        const std::string& design_path, bool lock,
+ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m,
+                        const std::string& out_dir, const std::string& design_path, bool lock,
                         const std::vector<std::pair<std::string, std::string>>& extra_files) {
   ArmFitFiles f;
   if (const std::string why = noCalibratedDesign(d, m); !why.empty()) {
@@ -55,10 +59,12 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
     f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit", extra_files, lock}, "");
     return f;
   }
-  f.calibrated_design_path = design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
+  f.calibrated_design_path =
+      design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
   std::string text = P.kind == "drive" ? calibratedDriveToml(m, P, d.final_fit.values, f.notes)
-                     : P.kind == "tcp"   ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
-                                         : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
+                     : P.kind == "tcp"
+                         ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
+                         : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
   ArmReportOptions o{out_dir, "fit", extra_files, lock};
@@ -69,18 +75,21 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
   return f;
 }
 
-DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model, const DriveData& data,
-                                    const DriveReportOptions& o) {
-  ARMSTUDY_CHECK(d.problem != nullptr && d.problem->file == data.file, "the diagnosis of this data");
+DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
+                                    const DriveData& data, const DriveReportOptions& o) {
+  ARMSTUDY_CHECK(d.problem != nullptr && d.problem->file == data.file,
+                 "the diagnosis of this data");
   DriveReportSummary s;
   if (o.command == "fit" && o.write_calibrated_design) {
-    const ArmFitFiles f = writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path, o.lock);
+    const ArmFitFiles f =
+        writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path, o.lock);
     s.files_written = f.report.files_written;
     s.json = f.report.json;
     s.calibrated_design_path = f.calibrated_design_path;
     return s;
   }
-  const ArmReportSummary r = writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock}, "");
+  const ArmReportSummary r =
+      writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock}, "");
   s.files_written = r.files_written;
   s.json = r.json;
   return s;

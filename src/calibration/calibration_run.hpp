@@ -19,7 +19,8 @@ namespace armstudy::calibration {
 bool isKind(const std::string& kind);
 
 // A drive effect by name; InputError(file, line, key) listing the names for an unknown one.
-drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line, const std::string& key);
+drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line,
+                               const std::string& key);
 
 // A tcp or trajectory data file, read for one design (the readers check the joint columns).
 struct ArmData {
@@ -42,8 +43,9 @@ struct ArmFitFiles {
 // `lock`: ArmReportOptions::lock (false inside a study run).
 // No calibrated copy (calibrated_design_path empty, the reason in notes) when the data cannot
 // identify the model (ArmDiagnosis::identifiable) or the design is not a design TOML file (URDF).
-ArmFitFiles writeArmFit(const ArmDiagnosis& diagnosis, const ArmProblem& problem, const Model& model,
-                        const std::string& out_dir, const std::string& design_path, bool lock = true,
+ArmFitFiles writeArmFit(const ArmDiagnosis& diagnosis, const ArmProblem& problem,
+                        const Model& model, const std::string& out_dir,
+                        const std::string& design_path, bool lock = true,
                         const std::vector<std::pair<std::string, std::string>>& extra_files = {});
 // Why no calibrated design copy is written ("" when one is).
 std::string noCalibratedDesign(const ArmDiagnosis& diagnosis, const Model& model);

@@ -26,14 +26,18 @@ int idx(Effect e) { return static_cast<int>(e); }
 // One catalogue instance: the refit of the design's terms, or one effect the design lacks.
 struct DriveTag {
   bool refit = false;
-  Effect effect = Effect::Coulomb;     // the added effect (refit: unused)
-  std::vector<std::string> keys;       // [drive.friction] key of each fitted parameter
+  Effect effect = Effect::Coulomb;  // the added effect (refit: unused)
+  std::vector<std::string> keys;    // [drive.friction] key of each fitted parameter
 };
 
 class DriveProblem : public ArmProblem {
  public:
-  DriveProblem(const Model& model, const std::string& joint, const DriveData& data, int speed_bins, int load_bins)
-      : joint_(joint), drive_(requireDrive(model, joint)), design_(drive::frictionParams(model, drive_)), data_(data) {
+  DriveProblem(const Model& model, const std::string& joint, const DriveData& data, int speed_bins,
+               int load_bins)
+      : joint_(joint),
+        drive_(requireDrive(model, joint)),
+        design_(drive::frictionParams(model, drive_)),
+        data_(data) {
     setSource("drive", model.name, data);
     channel_names = {"current"};
     channel_units = {"A"};
@@ -43,16 +47,22 @@ class DriveProblem : public ArmProblem {
     measured.resize(n, 1);
     for (int i = 0; i < n; ++i) measured(i, 0) = data.current[i];
     theta_.resize(n);
-    for (int i = 0; i < n; ++i) theta_[i] = data.hasTemperature() ? data.temperature[i] : design_.reference_temperature_C;
-    if ((design_.has(Effect::Temperature) || design_.has(Effect::TemperatureViscous)) && !data.hasTemperature())
-      warnings.push_back("the design has a temperature term but the data has no temperature column; "
-                         "evaluated at the reference temperature");
+    for (int i = 0; i < n; ++i)
+      theta_[i] = data.hasTemperature() ? data.temperature[i] : design_.reference_temperature_C;
+    if ((design_.has(Effect::Temperature) || design_.has(Effect::TemperatureViscous)) &&
+        !data.hasTemperature())
+      warnings.push_back(
+          "the design has a temperature term but the data has no temperature column; "
+          "evaluated at the reference temperature");
     const bool joint_side = design_.joint_side;
-    const double side = joint_side ? 1.0 / drive_.gear_ratio : 1.0;  // motor speed -> law-side speed
+    const double side =
+        joint_side ? 1.0 / drive_.gear_ratio : 1.0;  // motor speed -> law-side speed
     // Operating variables, the speed x |load| grid map and the held-out regions (quadrants).
-    BinVariable speed{"speed", "rad/s", data.speed, false}, load{"load", joint_side ? "N" : "N m", data.load, false};
+    BinVariable speed{"speed", "rad/s", data.speed, false},
+        load{"load", joint_side ? "N" : "N m", data.load, false};
     variables = {speed, load};
-    if (data.hasTemperature()) variables.push_back({"temperature", "deg C", data.temperature, false});
+    if (data.hasTemperature())
+      variables.push_back({"temperature", "deg C", data.temperature, false});
     BinVariable abs_load{"|load|", load.unit, {}, false};
     for (double l : data.load) abs_load.values.push_back(std::abs(l));
     grid = {speed, abs_load};
@@ -66,7 +76,8 @@ class DriveProblem : public ArmProblem {
     for (double v : data.speed) av.push_back(std::abs(v));
     if (n > 0) {
       const double mv = median(av), ml = median(abs_load.values);
-      for (int i = 0; i < n; ++i) regions.push_back((av[i] > mv ? 2 : 0) + (abs_load.values[i] > ml ? 1 : 0));
+      for (int i = 0; i < n; ++i)
+        regions.push_back((av[i] > mv ? 2 : 0) + (abs_load.values[i] > ml ? 1 : 0));
       region_count = 4;
     }
     // The Stribeck velocity is identifiable only inside the measured speed range (law side).
@@ -81,12 +92,16 @@ class DriveProblem : public ArmProblem {
       const double a = std::log(0.5 * vmin), b = std::log(vmax);
       for (int g = 0; g < G; ++g) stribeck_grid.push_back(std::exp(a + (b - a) * g / (G - 1)));
     }
-    auto unitOf = [&](const EffectParameter& ep) { return joint_side ? ep.unit_joint : ep.unit_motor; };
-    // Catalogue typical values are motor side; joint-side laws see them scaled (typical values only).
+    auto unitOf = [&](const EffectParameter& ep) {
+      return joint_side ? ep.unit_joint : ep.unit_motor;
+    };
+    // Catalogue typical values are motor side; joint-side laws see them scaled (typical values
+    // only).
     auto typicalOf = [&](const EffectParameter& ep) {
       const double N = drive_.gear_ratio;
       if (!joint_side || ep.key == "load_coulomb") return ep.typical;
-      return ep.key == "viscous" || ep.key == "temperature_viscous_coefficient" ? ep.typical * N * N : ep.typical * N;
+      return ep.key == "viscous" || ep.key == "temperature_viscous_coefficient" ? ep.typical * N * N
+                                                                                : ep.typical * N;
     };
     auto param = [&](const EffectParameter& ep, double design_value) {
       ArmParam p;
@@ -101,7 +116,9 @@ class DriveProblem : public ArmProblem {
     };
     auto stribeckProfile = [&](ArmEffect& e) {
       const EffectParameter& ev = effectInfo(Effect::Stribeck).params[1];
-      e.profile = {ev.key, unitOf(ev), 0, kInf, joint_side ? ev.typical / drive_.gear_ratio : ev.typical, 0, 0};
+      e.profile = {
+          ev.key, unitOf(ev), 0, kInf, joint_side ? ev.typical / drive_.gear_ratio : ev.typical,
+          0,      0};
       e.profile_grid = stribeck_grid;
     };
     // The refit of the design's own terms (thesis Table 4.5: eq. 3.30 refitted to the test bed).
@@ -117,7 +134,8 @@ class DriveProblem : public ArmProblem {
         if (!design_.has(fe)) continue;
         terms += (terms.empty() ? "" : "+") + std::string(drive::toString(fe));
         const EffectInfo& info = effectInfo(fe);
-        e.params.push_back(param(info.params[0], drive::parameter(std::as_const(design_), info.params[0].key)));
+        e.params.push_back(
+            param(info.params[0], drive::parameter(std::as_const(design_), info.params[0].key)));
         t.keys.push_back(info.params[0].key);
         if (fe == Effect::Stribeck) stribeckProfile(e);
       }
@@ -126,7 +144,8 @@ class DriveProblem : public ArmProblem {
     }
     for (Effect fe : drive::kAllEffects) {
       if (design_.has(fe)) continue;
-      if (drive::isTemperatureEffect(fe) && !data.hasTemperature()) continue;  // needs a temperature column
+      if (drive::isTemperatureEffect(fe) && !data.hasTemperature())
+        continue;  // needs a temperature column
       const EffectInfo& info = effectInfo(fe);
       ArmEffect e;
       e.name = e.effect = info.name;
@@ -139,7 +158,8 @@ class DriveProblem : public ArmProblem {
       add(e, DriveTag{false, fe, {info.params[0].key}});
     }
     if (data.hasTemperature()) {
-      const auto [tmin, tmax] = std::minmax_element(data.temperature.begin(), data.temperature.end());
+      const auto [tmin, tmax] =
+          std::minmax_element(data.temperature.begin(), data.temperature.end());
       const double span = *tmax - *tmin;
       if (span > 0 && span < defaults::kMinTemperatureSpan_K)
         warnings.push_back("temperature varies by only " + std::to_string(span) +
@@ -153,7 +173,8 @@ class DriveProblem : public ArmProblem {
       const DriveTag& t = tags_[v.effect];
       const ArmEffect& info = catalogue[v.effect];
       if (!t.refit) p.on[idx(t.effect)] = true;
-      for (std::size_t j = 0; j < t.keys.size(); ++j) *drive::parameter(p, t.keys[j]) = info.params[j].design + v.x[j];
+      for (std::size_t j = 0; j < t.keys.size(); ++j)
+        *drive::parameter(p, t.keys[j]) = info.params[j].design + v.x[j];
       if (info.hasProfile()) p.stribeck_velocity = v.profile;
     }
     return p;
@@ -244,8 +265,8 @@ DriveDiagnosis view(std::shared_ptr<const ArmProblem> P, ArmDiagnosis a, const s
 
 }  // namespace
 
-std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint, const DriveData& data,
-                                             int speed_bins, int load_bins) {
+std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint,
+                                             const DriveData& data, int speed_bins, int load_bins) {
   return std::make_unique<DriveProblem>(model, joint, data, speed_bins, load_bins);
 }
 
@@ -253,8 +274,8 @@ FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& valu
   return asDrive(problem).friction(values);
 }
 
-std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                                std::vector<std::string>& notes) {
+std::string calibratedDriveToml(const Model& model, const ArmProblem& problem,
+                                const EffectValues& values, std::vector<std::string>& notes) {
   const DriveProblem& D = asDrive(problem);
   const FrictionParams p = D.friction(values);
   std::string text = readFileOrThrow(model.file);
@@ -264,15 +285,18 @@ std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, c
     return std::string(b);
   };
   const std::string& j = D.joint_;
-  if (D.drive_.friction_law.empty()) text = setDesignEntry(text, "[drive.friction]", "joint", j, "law", "\"none\"");
+  if (D.drive_.friction_law.empty())
+    text = setDesignEntry(text, "[drive.friction]", "joint", j, "law", "\"none\"");
   std::vector<std::string> effects = model.effects;
   const std::vector<Effect> law = drive::lawEffects(p.law);
   for (Effect e : drive::kAllEffects) {
     if (!p.has(e)) continue;
     for (const std::string& key : drive::effectKeys(e))
-      text = setDesignEntry(text, "[drive.friction]", "joint", j, key, num(drive::parameter(p, key)));
+      text =
+          setDesignEntry(text, "[drive.friction]", "joint", j, key, num(drive::parameter(p, key)));
     if (drive::isTemperatureEffect(e))
-      text = setDesignEntry(text, "[drive.friction]", "joint", j, "reference_temperature", num(p.reference_temperature_C));
+      text = setDesignEntry(text, "[drive.friction]", "joint", j, "reference_temperature",
+                            num(p.reference_temperature_C));
     const std::string entry = j + "." + drive::toString(e);
     if (std::find(law.begin(), law.end(), e) == law.end() &&
         std::find(effects.begin(), effects.end(), entry) == effects.end())
@@ -290,14 +314,16 @@ std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, c
 DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const DriveData& data,
                             const DriveFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
-  std::shared_ptr<const ArmProblem> P = makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
+  std::shared_ptr<const ArmProblem> P =
+      makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
   return view(P, compareArm(*P, armOptions(o)), joint);
 }
 
 DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const DriveData& data,
                              const DriveFitOptions& o) {
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
-  std::shared_ptr<const ArmProblem> P = makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
+  std::shared_ptr<const ArmProblem> P =
+      makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
   ArmFitOptions a = armOptions(o);
   const bool refit = P->findEffect(kRefitEffect) >= 0;
   if (refit) a.add.push_back(kRefitEffect);
@@ -305,7 +331,8 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
   ArmDiagnosis d = diagnoseArm(*P, a);
   if (refit && (d.added.empty() || d.added.front() != kRefitEffect))
     throw InputError(data.file, 0, "",
-                     std::to_string(data.rows()) + " rows are too few to fit and cross-validate the " +
+                     std::to_string(data.rows()) +
+                         " rows are too few to fit and cross-validate the " +
                          std::to_string(P->catalogue[P->findEffect(kRefitEffect)].params.size()) +
                          " parameters of the design's friction model");
   return view(P, std::move(d), joint);
@@ -313,28 +340,45 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
 
 const std::vector<EffectInfo>& driveEffectCatalogue() {
   static const std::vector<EffectInfo> cat = {
-      {Effect::Coulomb, "coulomb", "eq. (3.30) T_f0",
-       "a step at zero speed: residual of constant magnitude, sign of the speed, independent of load",
+      {Effect::Coulomb,
+       "coulomb",
+       "eq. (3.30) T_f0",
+       "a step at zero speed: residual of constant magnitude, sign of the speed, independent of "
+       "load",
        {{"coulomb", "N m", "N", 0, kInf, 0.08}}},
-      {Effect::Viscous, "viscous", "eq. (3.30) b",
+      {Effect::Viscous,
+       "viscous",
+       "eq. (3.30) b",
        "a straight line through the origin in speed, independent of load",
        {{"viscous", "N m s/rad", "N s/m", 0, kInf, 1.5e-4}}},
-      {Effect::LoadCoulomb, "load_coulomb", "eq. (3.30) mu",
+      {Effect::LoadCoulomb,
+       "load_coulomb",
+       "eq. (3.30) mu",
        "grows with |load|, sign of the speed, the same at every speed",
        {{"load_coulomb", "-", "-", 0, kInf, 4e-3}}},
-      {Effect::LoadViscous, "load_viscous", "eq. (3.30) gamma",
+      {Effect::LoadViscous,
+       "load_viscous",
+       "eq. (3.30) gamma",
        "fan of lines through the origin in speed whose slope grows with |load|",
        {{"load_viscous", "s/rad", "s/m", 0, kInf, 7e-6}}},
-      {Effect::Stribeck, "stribeck", "eq. (3.33) T_fS, phi_S",
+      {Effect::Stribeck,
+       "stribeck",
+       "eq. (3.33) T_fS, phi_S",
        "a bend at low speed: residual largest near standstill, fading above the Stribeck velocity",
-       {{"stribeck_torque", "N m", "N", 0, kInf, 0.04}, {"stribeck_velocity", "rad/s", "m/s", 0, kInf, 60}}},
-      {Effect::Asymmetry, "asymmetry", "direction-dependent friction (not in the thesis laws)",
+       {{"stribeck_torque", "N m", "N", 0, kInf, 0.04},
+        {"stribeck_velocity", "rad/s", "m/s", 0, kInf, 60}}},
+      {Effect::Asymmetry,
+       "asymmetry",
+       "direction-dependent friction (not in the thesis laws)",
        "an offset of the same sign in both directions: friction larger one way than the other",
        {{"asymmetry", "N m", "N", -kInf, kInf, 0.02}}},
-      {Effect::Temperature, "temperature", "temperature dependence (thesis section 4.4.1, 4.6.2)",
+      {Effect::Temperature,
+       "temperature",
+       "temperature dependence (thesis section 4.4.1, 4.6.2)",
        "residual drifts with temperature, sign of the speed",
        {{"temperature_coefficient", "N m/K", "N/K", -kInf, kInf, -2e-3}}},
-      {Effect::TemperatureViscous, "temperature_viscous",
+      {Effect::TemperatureViscous,
+       "temperature_viscous",
        "temperature dependence of the viscous term (lubricant viscosity; thesis section 4.4.1)",
        "a fan of lines through the origin in speed whose slope drifts with temperature",
        {{"temperature_viscous_coefficient", "N m s/(rad K)", "N s/(m K)", -kInf, kInf, -3e-6}}},
@@ -348,7 +392,8 @@ const Drive& requireDrive(const Model& model, const std::string& joint) {
   std::string names;
   for (const Drive& d : model.drives) {
     if (d.joint == joint) return d;
-    names += names.empty() ? "" : ", "; names += d.joint;
+    names += names.empty() ? "" : ", ";
+    names += d.joint;
   }
   throw InputError(model.file, 0, "drive",
                    "design '" + model.name + "' has no [[drive]] for joint '" + joint + "'" +
@@ -368,12 +413,12 @@ DriveData readDriveData(const std::string& path) {
   d.warnings = t.extraColumnWarnings();
   for (int i = 0; i < d.rows(); ++i)
     if (d.speed[i] == 0)
-      throw InputError(path, d.lines[i], "speed",
-                       "standstill row (speed 0): the friction laws do not predict static friction; "
-                       "remove the row");
+      throw InputError(
+          path, d.lines[i], "speed",
+          "standstill row (speed 0): the friction laws do not predict static friction; "
+          "remove the row");
   return d;
 }
-
 
 namespace {
 
@@ -397,7 +442,8 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
       bool belongs = k == "reference_temperature" && drive::isTemperatureEffect(e);
       for (const auto& ep : info.params) belongs = belongs || ep.key == k;
       if (!belongs)
-        throw InputError("", 0, k, "parameter '" + k + "' does not belong to the effect '" + info.name + "'");
+        throw InputError("", 0, k,
+                         "parameter '" + k + "' does not belong to the effect '" + info.name + "'");
       setParam(truth, k, v);
     }
   }
@@ -405,12 +451,14 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
     throw InputError("", 0, "stribeck_velocity", "Stribeck velocity must be positive");
   std::vector<double> speeds = o.speeds_radps;
   if (speeds.empty())
-    for (double rpm : {100, 250, 500, 1000, 1500, 2000, 2500, 3000, 3500}) speeds.push_back(rpm * M_PI / 30.0);
+    for (double rpm : {100, 250, 500, 1000, 1500, 2000, 2500, 3000, 3500})
+      speeds.push_back(rpm * M_PI / 30.0);
   std::vector<double> loads = o.loads;
   if (loads.empty()) loads = {1.3, 4.0, 6.5, 9.0, 11.7, 14.5, 17.0};
   std::vector<double> levels;
   for (double s : speeds) {
-    if (!(s > 0)) throw InputError("", 0, "speeds", "speed levels must be positive (both directions are run)");
+    if (!(s > 0))
+      throw InputError("", 0, "speeds", "speed levels must be positive (both directions are run)");
     levels.push_back(s);
     levels.push_back(-s);
   }
@@ -433,9 +481,11 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
       for (double l : loads) {
         // Warm-up: the housing temperature approaches its end value over the run.
         const double t = total > 1 ? double(row) / (total - 1) : 0.0;
-        const double theta = o.temperature_end_C - (o.temperature_end_C - o.temperature_start_C) * std::exp(-3.0 * t);
+        const double theta = o.temperature_end_C -
+                             (o.temperature_end_C - o.temperature_start_C) * std::exp(-3.0 * t);
         const double load = v > 0 ? l : -l;  // the load opposes the motion
-        const double e = o.noise_rho * e_prev + std::sqrt(1 - o.noise_rho * o.noise_rho) * o.noise_A * rng.normal();
+        const double e = o.noise_rho * e_prev +
+                         std::sqrt(1 - o.noise_rho * o.noise_rho) * o.noise_A * rng.normal();
         e_prev = e;
         out.speed.push_back(v);
         out.load.push_back(load);

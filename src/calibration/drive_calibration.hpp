@@ -5,8 +5,8 @@
 //
 // The measured quantity is the motor current I; the model predicts it from the drive chain
 // I = (T_l / N + T_loss(speed, T_l, theta)) / k_m (thesis eq. 4.3, 4.5), with the friction law of
-// src/drive/friction.hpp. Residual = measured - predicted [A]. Friction-torque figures [N m] are the
-// same residuals times k_m (thesis eq. 4.6).
+// src/drive/friction.hpp. Residual = measured - predicted [A]. Friction-torque figures [N m] are
+// the same residuals times k_m (thesis eq. 4.6).
 //
 // The problem's catalogue: "refit" (the design's own friction terms, thesis Table 4.5's refit of
 // eq. 3.30) and one instance per drive effect the design does not have (drive::Effect names;
@@ -29,11 +29,11 @@ namespace armstudy::calibration {
 struct DriveData {
   std::string file;
   std::string hash;
-  std::vector<double> speed;        // motor side [rad/s], signed
-  std::vector<double> load;         // output side load torque [N m] (force [N] for prismatic)
-  std::vector<double> current;      // [A]
-  std::vector<double> temperature;  // [deg C]; empty when the file has no temperature column
-  std::vector<int> lines;           // file line of each row
+  std::vector<double> speed;          // motor side [rad/s], signed
+  std::vector<double> load;           // output side load torque [N m] (force [N] for prismatic)
+  std::vector<double> current;        // [A]
+  std::vector<double> temperature;    // [deg C]; empty when the file has no temperature column
+  std::vector<int> lines;             // file line of each row
   std::vector<std::string> warnings;  // extra columns, ...
   int rows() const { return static_cast<int>(speed.size()); }
   bool hasTemperature() const { return !temperature.empty(); }
@@ -43,19 +43,20 @@ struct DriveData {
 // the friction laws do not predict static friction.
 DriveData readDriveData(const std::string& path);
 
-// The catalogue of drive effects: SI parameters with bounds, and the residual pattern each explains.
+// The catalogue of drive effects: SI parameters with bounds, and the residual pattern each
+// explains.
 struct EffectParameter {
-  std::string key;            // key in [drive.friction]
-  std::string unit_motor;     // unit for motor-side laws
-  std::string unit_joint;     // unit for joint-side (prismatic) laws
+  std::string key;              // key in [drive.friction]
+  std::string unit_motor;       // unit for motor-side laws
+  std::string unit_joint;       // unit for joint-side (prismatic) laws
   double lower = 0, upper = 0;  // fit bounds (law side, SI); +-inf when unbounded
-  double typical = 0;         // magnitude `armstudy synth` hides by default (motor-side laws)
+  double typical = 0;           // magnitude `armstudy synth` hides by default (motor-side laws)
 };
 struct EffectInfo {
   drive::Effect effect;
   std::string name;
-  std::string thesis;         // where the term comes from
-  std::string pattern;        // the residual pattern it explains
+  std::string thesis;                   // where the term comes from
+  std::string pattern;                  // the residual pattern it explains
   std::vector<EffectParameter> params;  // stribeck: [stribeck_torque, stribeck_velocity]
 };
 const std::vector<EffectInfo>& driveEffectCatalogue();
@@ -70,21 +71,25 @@ inline constexpr const char* kRefitEffect = "refit";
 // The drive kind's problem for the engine: one channel "current" [A]; operating variables speed,
 // load (and temperature); the residual map is the speed x |load| grid (speed_bins x load_bins);
 // held-out-by-region uses the four speed x load quadrants split at the medians.
-std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint, const DriveData& data,
-                                             int speed_bins = defaults::kSpeedBins, int load_bins = defaults::kLoadBins);
-// The resolved friction of the problem's drive with the given effects switched on (what predict uses).
+std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint,
+                                             const DriveData& data,
+                                             int speed_bins = defaults::kSpeedBins,
+                                             int load_bins = defaults::kLoadBins);
+// The resolved friction of the problem's drive with the given effects switched on (what predict
+// uses).
 drive::FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& values);
 // TOML text of the design with the fitted friction in the drive's [drive.friction] and the added
 // effects in [model].effects (line edits that keep comments; setDesignEntry).
-std::string calibratedDriveToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                                std::vector<std::string>& notes);
+std::string calibratedDriveToml(const Model& model, const ArmProblem& problem,
+                                const EffectValues& values, std::vector<std::string>& notes);
 
 // ---- the drive kind through the engine, for callers written against the drive kind's own API ----
 // (the [[calibration]] stage; once it reads ArmDiagnosis directly these views can go.)
 struct DriveFitOptions : CvSettings {
   int speed_bins = defaults::kSpeedBins;
   int load_bins = defaults::kLoadBins;
-  std::vector<drive::Effect> add;  // effects to add (in this order, after the refit), significant or not
+  std::vector<drive::Effect>
+      add;  // effects to add (in this order, after the refit), significant or not
   std::string validate() const { return CvSettings::validate(speed_bins >= 1 && load_bins >= 1); }
 };
 
@@ -109,12 +114,12 @@ struct DriveDiagnosis {
   double noise_estimate = 0, noise_rho = 0;  // [A]
   ModelFit as_designed, base, final_fit;     // base: the refit of the design's terms
   Comparison as_designed_cmp, base_cmp, final_cmp;
-  std::vector<Candidate> ranking;            // for the refit model, best first
+  std::vector<Candidate> ranking;  // for the refit model, best first
   bool missing_effect_found = false;
   std::string verdict;
-  std::vector<ModelFit> ladder;              // as designed, refit, then one per added effect
-  std::vector<drive::Effect> added;          // after the refit
-  double rmse_before = 0, rmse_after = 0;    // held-out [A]: refit, final model
+  std::vector<ModelFit> ladder;            // as designed, refit, then one per added effect
+  std::vector<drive::Effect> added;        // after the refit
+  double rmse_before = 0, rmse_after = 0;  // held-out [A]: refit, final model
 };
 
 // Compare only: the design's model as is (no fitting), residual map with the noise estimate.
@@ -138,7 +143,8 @@ struct SynthOptions {
 };
 // Test-bed rows (speed, load_torque, current, temperature) from the design's drive plus hidden
 // effects (parameters not given take the catalogue's typical values).
-DriveData synthesizeDrive(const Model& model, const std::string& joint, const SynthOptions& options);
+DriveData synthesizeDrive(const Model& model, const std::string& joint,
+                          const SynthOptions& options);
 std::string driveDataToCsv(const DriveData& data);
 
 }  // namespace armstudy::calibration

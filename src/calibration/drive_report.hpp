@@ -11,7 +11,7 @@ namespace armstudy::calibration {
 
 struct DriveReportOptions {
   std::string out_dir;
-  std::string command;              // "compare" or "fit"
+  std::string command;  // "compare" or "fit"
   bool write_calibrated_design = false;
   std::string calibrated_design_path;  // default <out_dir>/<design>_calibrated.toml
   bool lock = true;                    // ArmReportOptions::lock
@@ -23,7 +23,7 @@ struct DriveReportSummary {
   std::string calibrated_design_path;
 };
 
-DriveReportSummary writeDriveReport(const DriveDiagnosis& diagnosis, const Model& model, const DriveData& data,
-                                    const DriveReportOptions& options);
+DriveReportSummary writeDriveReport(const DriveDiagnosis& diagnosis, const Model& model,
+                                    const DriveData& data, const DriveReportOptions& options);
 
 }  // namespace armstudy::calibration

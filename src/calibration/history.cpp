@@ -24,17 +24,20 @@ HistoryFile readHistory(const std::string& path, const std::string& kind) {
   const std::vector<io::CsvLine> header = io::splitCsvLines(kHistoryHeader);
   if (lines.empty() || lines.front().cells != header.front().cells)
     throw InputError(path, lines.empty() ? 1 : lines.front().line, "",
-                     "history file has an unexpected header (written by another armstudy version?); move it away "
+                     "history file has an unexpected header (written by another armstudy "
+                     "version?); move it away "
                      "or use another output folder");
   for (std::size_t k = 1; k < lines.size(); ++k) {
     const io::CsvLine& l = lines[k];
     if (l.cells.size() != header.front().cells.size())
-      throw InputError(path, l.line, "", "history row has " + std::to_string(l.cells.size()) + " cells, expected " +
-                                            std::to_string(header.front().cells.size()));
+      throw InputError(path, l.line, "",
+                       "history row has " + std::to_string(l.cells.size()) + " cells, expected " +
+                           std::to_string(header.front().cells.size()));
     if (l.cells[kHistoryKindColumn] != kind)
       throw InputError(path, l.line, "kind",
-                       "history of kind '" + l.cells[kHistoryKindColumn] + "' in this output folder, this run is of kind '" +
-                           kind + "'; move it away or use another output folder");
+                       "history of kind '" + l.cells[kHistoryKindColumn] +
+                           "' in this output folder, this run is of kind '" + kind +
+                           "'; move it away or use another output folder");
     h.rows.push_back(l.cells);
     h.next_run = std::max(h.next_run, std::atoi(l.cells[0].c_str()) + 1);
   }

@@ -12,13 +12,14 @@ namespace armstudy::calibration {
 
 struct HistoryFile {
   std::string path;
-  std::string text;                              // whole file content, header first
-  std::vector<std::vector<std::string>> rows;    // data rows, split at commas
-  int next_run = 1;                              // run number for the rows appended now
+  std::string text;                            // whole file content, header first
+  std::vector<std::vector<std::string>> rows;  // data rows, split at commas
+  int next_run = 1;                            // run number for the rows appended now
 };
 
 inline constexpr const char* kHistoryHeader =
-    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,aic,bic";
+    "run,command,kind,design,data_hash,model,effects,n_params,n_rows,train_rmse,heldout_rmse,unit,"
+    "aic,bic";
 inline constexpr int kHistoryKindColumn = 2;
 
 // Reads `path` (or starts a new file) and checks it: another header or a row of another kind is an

@@ -15,15 +15,19 @@ namespace {
 std::string g4(double v) { return std::isfinite(v) ? formatG(v, 4) : "-"; }
 
 // Time-block held-out RMSE of every channel along the ladder, and the factor first / last.
-std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P, std::vector<std::pair<std::string, double>>& M) {
+std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P,
+                          std::vector<std::pair<std::string, double>>& M) {
   std::vector<std::string> head = {"model", ">params"};
-  for (int c = 0; c < P.channels(); ++c) head.push_back(">" + P.channel_names[c] + " [" + P.channel_units[c] + "]");
+  for (int c = 0; c < P.channels(); ++c)
+    head.push_back(">" + P.channel_names[c] + " [" + P.channel_units[c] + "]");
   std::vector<std::vector<std::string>> rows;
   for (std::size_t k = 0; k < d.ladder.size(); ++k) {
     const ArmFit& f = d.ladder[k];
     std::vector<std::string> row = {f.label, std::to_string(f.n_params)};
     for (int c = 0; c < P.channels(); ++c) {
-      const double v = c < static_cast<int>(f.channel_region_heldout.size()) ? f.channel_region_heldout[c].rmse : NAN;
+      const double v = c < static_cast<int>(f.channel_region_heldout.size())
+                           ? f.channel_region_heldout[c].rmse
+                           : NAN;
       row.push_back(g4(v));
       M.emplace_back("ladder/" + std::to_string(k) + "/" + P.channel_names[c], v);
     }
@@ -32,15 +36,18 @@ std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P, std::vecto
   std::vector<std::string> factor = {"factor first / last", ""};
   const ArmFit &a = d.ladder.front(), &b = d.ladder.back();
   for (int c = 0; c < P.channels(); ++c) {
-    const bool ok = c < static_cast<int>(a.channel_region_heldout.size()) && c < static_cast<int>(b.channel_region_heldout.size());
+    const bool ok = c < static_cast<int>(a.channel_region_heldout.size()) &&
+                    c < static_cast<int>(b.channel_region_heldout.size());
     const double f = ok ? a.channel_region_heldout[c].rmse / b.channel_region_heldout[c].rmse : NAN;
     factor.push_back(g4(f));
     M.emplace_back("factor/" + P.channel_names[c], f);
   }
   rows.push_back(factor);
   std::ostringstream md;
-  md << "## Error ladder per joint\n\nRMSE of each joint's effort, held out by time block (the fit on the other "
-     << P.region_count << " - 1 blocks predicts the block left out), for every step of the ladder.\n\n"
+  md << "## Error ladder per joint\n\nRMSE of each joint's effort, held out by time block (the fit "
+        "on the other "
+     << P.region_count
+     << " - 1 blocks predicts the block left out), for every step of the ladder.\n\n"
      << report::markdownTable(head, rows) << "\n";
   return md.str();
 }
@@ -51,19 +58,24 @@ bool ofJoint(const std::string& effect, const std::string& joint) {
 
 // Per joint: its candidates in the order of the first ranking (the design as is), and the effects
 // the ladder added, in that order.
-std::string orderSection(const ArmDiagnosis& d, const Model& model, std::vector<std::pair<std::string, double>>& M) {
+std::string orderSection(const ArmDiagnosis& d, const Model& model,
+                         std::vector<std::pair<std::string, double>>& M) {
   std::ostringstream md;
-  md << "## Missing effects per joint\n\nRanked: the joint's candidates in the order of the first ranking (the "
-        "design as is; held-out improvement in its channel, * significant). Added: the order the ladder added them.\n\n";
+  md << "## Missing effects per joint\n\nRanked: the joint's candidates in the order of the first "
+        "ranking (the "
+        "design as is; held-out improvement in its channel, * significant). Added: the order the "
+        "ladder added them.\n\n";
   std::vector<std::vector<std::string>> rows;
   for (const auto& j : model.joints) {
     std::string ranked, added;
     int k = 0;
     for (const ArmCandidate& c : d.ranking) {
       if (!ofJoint(c.name, j.name) || c.status != "ok") continue;
-      const std::string shown = c.name.rfind("motor_", 0) == 0 ? c.name : c.name.substr(c.name.find('.') + 1);
-      if (k < 4) ranked += (ranked.empty() ? "" : ", ") + shown + " (" +
-                           report::fixed(100 * c.improvement, 1) + " %" + (c.significant ? "*" : "") + ")";
+      const std::string shown =
+          c.name.rfind("motor_", 0) == 0 ? c.name : c.name.substr(c.name.find('.') + 1);
+      if (k < 4)
+        ranked += (ranked.empty() ? "" : ", ") + shown + " (" +
+                  report::fixed(100 * c.improvement, 1) + " %" + (c.significant ? "*" : "") + ")";
       M.emplace_back("first_ranking/" + j.name + "/" + shown, ++k);
     }
     for (const std::string& a : d.added)
@@ -75,7 +87,8 @@ std::string orderSection(const ArmDiagnosis& d, const Model& model, std::vector<
 }
 
 // The final effects plus every effect with a reference value (fitted together).
-EffectValues withReferenced(const ArmProblem& P, const EffectValues& final_values, const IdentificationInput& in) {
+EffectValues withReferenced(const ArmProblem& P, const EffectValues& final_values,
+                            const IdentificationInput& in) {
   EffectValues v = final_values;
   for (const auto& [name, value] : in.reference) {
     const int e = P.findEffect(name);
@@ -93,8 +106,9 @@ double firstParam(const EffectValues& v, int e) {
   return x ? x->x[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P, const IdentificationInput& in,
-                             const EffectValues& all, std::vector<std::pair<std::string, double>>& M) {
+std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P,
+                             const IdentificationInput& in, const EffectValues& all,
+                             std::vector<std::pair<std::string, double>>& M) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& [name, ref] : in.reference) {
     const int e = P.findEffect(name);
@@ -111,17 +125,22 @@ std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P, const I
   }
   std::ostringstream md;
   md << "## Fitted values next to the reference\n\nReference: " << in.reference_source
-     << ". \"Final\" is the model the ladder ended with (95 % interval); \"with all referenced\" refits that "
-        "model with every referenced effect switched on, so each reference value has a fitted counterpart; "
+     << ". \"Final\" is the model the ladder ended with (95 % interval); \"with all referenced\" "
+        "refits that "
+        "model with every referenced effect switched on, so each reference value has a fitted "
+        "counterpart; "
         "the difference is of that column.\n\n"
-     << report::markdownTable({"effect", "unit", ">final", ">95 % interval", ">with all referenced", ">reference", ">difference"}, rows)
+     << report::markdownTable({"effect", "unit", ">final", ">95 % interval", ">with all referenced",
+                               ">reference", ">difference"},
+                              rows)
      << "\n";
   return md.str();
 }
 
 // Coulomb and viscous coefficients of every joint for the smooth-sign width times each factor.
 std::string widthSection(const Model& model, const TrajectoryData& data, const EffectValues& all,
-                         const IdentificationInput& in, std::vector<std::pair<std::string, double>>& M) {
+                         const IdentificationInput& in,
+                         std::vector<std::pair<std::string, double>>& M) {
   std::vector<std::string> head = {"coefficient"};
   std::vector<std::vector<double>> cols;
   std::vector<std::string> names;
@@ -135,7 +154,8 @@ std::string widthSection(const Model& model, const TrajectoryData& data, const E
     names.clear();
     for (const EffectValue& v : fit.values) {
       const std::string& eff = P2->catalogue[v.effect].effect;
-      if (eff != "coulomb" && eff != "viscous" && eff != "motor_coulomb" && eff != "motor_viscous") continue;
+      if (eff != "coulomb" && eff != "viscous" && eff != "motor_coulomb" && eff != "motor_viscous")
+        continue;
       names.push_back(P2->catalogue[v.effect].name);
       col.push_back(v.x[0]);
       M.emplace_back("width_sweep/" + g4(f) + "/" + names.back(), v.x[0]);
@@ -149,9 +169,12 @@ std::string widthSection(const Model& model, const TrajectoryData& data, const E
     rows.push_back(row);
   }
   std::ostringstream md;
-  md << "## Friction coefficients over the smooth-sign width\n\nThe Coulomb term is F_c tanh(v / w) with w = "
-     << g4(data.friction_width_fraction) << " x the joint's (or motor's) peak speed in the data (the rule of "
-     << "docs/calibration.md, fixed before fitting). The model \"with all referenced\" refitted for w times each "
+  md << "## Friction coefficients over the smooth-sign width\n\nThe Coulomb term is F_c tanh(v / "
+        "w) with w = "
+     << g4(data.friction_width_fraction)
+     << " x the joint's (or motor's) peak speed in the data (the rule of "
+     << "docs/calibration.md, fixed before fitting). The model \"with all referenced\" refitted "
+        "for w times each "
         "factor (a range of 10):\n\n"
      << report::markdownTable(head, rows) << "\n";
   return md.str();
@@ -170,7 +193,8 @@ std::string residualSvg(const ArmDiagnosis& d, const ArmProblem& P) {
     for (int k = 0; k < 2; ++k) {
       const ArmFit& f = k == 0 ? d.as_designed : d.final_fit;
       report::PlotSeries s;
-      s.label = k == 0 ? "before (as designed)" : "after (" + std::to_string(d.added.size()) + " effects added)";
+      s.label = k == 0 ? "before (as designed)"
+                       : "after (" + std::to_string(d.added.size()) + " effects added)";
       s.x = P.time;
       for (int i = 0; i < P.rows(); ++i) s.y.push_back(f.residual(i, c));
       panel.series.push_back(s);
@@ -182,12 +206,14 @@ std::string residualSvg(const ArmDiagnosis& d, const ArmProblem& P) {
 
 }  // namespace
 
-IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProblem& P, const Model& model,
-                                          const TrajectoryData& data, const IdentificationInput& in) {
+IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProblem& P,
+                                          const Model& model, const TrajectoryData& data,
+                                          const IdentificationInput& in) {
   IdentificationReport r;
   const EffectValues all = withReferenced(P, d.final_fit.values, in);
   std::ostringstream md;
-  md << "# Identification: " << model.name << " on " << data.file << "\n\nVerdict: " << d.verdict << ".\n\n"
+  md << "# Identification: " << model.name << " on " << data.file << "\n\nVerdict: " << d.verdict
+     << ".\n\n"
      << ladderSection(d, P, r.metrics) << orderSection(d, model, r.metrics);
   const SetFit both = fitEffects(P, all);
   if (!in.reference.empty()) md << referenceSection(d, P, in, both.values, r.metrics);

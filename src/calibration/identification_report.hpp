@@ -23,10 +23,12 @@ struct IdentificationInput {
 struct IdentificationReport {
   std::string markdown;  // identification.md
   std::string svg;       // residuals_before_after.svg
-  std::vector<std::pair<std::string, double>> metrics;  // name -> value (per-joint ladder, fits, sweep)
+  std::vector<std::pair<std::string, double>>
+      metrics;  // name -> value (per-joint ladder, fits, sweep)
 };
 
-IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProblem& P, const Model& model,
-                                          const TrajectoryData& data, const IdentificationInput& in);
+IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProblem& P,
+                                          const Model& model, const TrajectoryData& data,
+                                          const IdentificationInput& in);
 
 }  // namespace armstudy::calibration

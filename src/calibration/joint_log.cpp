@@ -13,7 +13,9 @@ namespace armstudy::calibration {
 
 namespace {
 
-std::string keyOf(const JointLogSpec& s, const std::string& key) { return s.study_key.empty() ? key : s.study_key + "." + key; }
+std::string keyOf(const JointLogSpec& s, const std::string& key) {
+  return s.study_key.empty() ? key : s.study_key + "." + key;
+}
 
 struct LogTable {
   Eigen::MatrixXd values;  // rows x columns
@@ -56,20 +58,23 @@ double samplePeriod(const LogTable& t, const std::string& file, const std::strin
     steps.push_back(t.time[i] - t.time[i - 1]);
   }
   std::vector<double> sorted = steps;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                   sorted.end());
   const double h = sorted[sorted.size() / 2];
   double lo = h, hi = h;
   for (int i = 1; i < R; ++i) {
     if (steps[i - 1] > defaults::kMaxLogStepRatio * h)
       throw InputError(file, t.lines[i], column,
-                       "a gap of " + std::to_string(steps[i - 1]) + " s in the log (the median step is " +
-                           std::to_string(h) + " s): samples are missing");
+                       "a gap of " + std::to_string(steps[i - 1]) +
+                           " s in the log (the median step is " + std::to_string(h) +
+                           " s): samples are missing");
     lo = std::min(lo, steps[i - 1]);
     hi = std::max(hi, steps[i - 1]);
   }
   if (hi - lo > defaults::kUniformSamplingTolerance * h)
-    warnings.push_back(file + ": time steps vary from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                       " s; the filter assumes the median step, the differences use the actual times");
+    warnings.push_back(
+        file + ": time steps vary from " + std::to_string(lo) + " to " + std::to_string(hi) +
+        " s; the filter assumes the median step, the differences use the actual times");
   return h;
 }
 
@@ -82,17 +87,21 @@ std::vector<int> jointMap(const JointLogSpec& s, const Model& model) {
     if (j < 0) {
       std::string names;
       for (const auto& jt : model.joints) names += (names.empty() ? "" : ", ") + jt.name;
-      throw InputError(s.study_file, s.study_line, keyOf(s, "joints"),
-                       "design '" + model.name + "' has no joint '" + name + "' (it has: " + names + ")");
+      throw InputError(
+          s.study_file, s.study_line, keyOf(s, "joints"),
+          "design '" + model.name + "' has no joint '" + name + "' (it has: " + names + ")");
     }
-    if (seen[j]) throw InputError(s.study_file, s.study_line, keyOf(s, "joints"), "joint '" + name + "' is named twice");
+    if (seen[j])
+      throw InputError(s.study_file, s.study_line, keyOf(s, "joints"),
+                       "joint '" + name + "' is named twice");
     seen[j] = true;
     map.push_back(j);
   }
   for (int j = 0; j < model.dof(); ++j)
     if (!seen[j])
-      throw InputError(s.study_file, s.study_line, keyOf(s, "joints"),
-                       "joint '" + model.joints[j].name + "' of design '" + model.name + "' is not in the log");
+      throw InputError(
+          s.study_file, s.study_line, keyOf(s, "joints"),
+          "joint '" + model.joints[j].name + "' of design '" + model.name + "' is not in the log");
   return map;
 }
 
@@ -101,29 +110,36 @@ void checkSpec(const JointLogSpec& s) {
   auto fail = [&](const std::string& key, const std::string& msg) {
     throw InputError(s.study_file, s.study_line, keyOf(s, key), msg);
   };
-  if (static_cast<Eigen::Index>(s.positions.columns.size()) != n) fail("positions.columns", "one column per joint");
-  if (static_cast<Eigen::Index>(s.efforts.columns.size()) != n) fail("efforts.columns", "one column per joint");
-  if (s.coupling.rows() != n || s.coupling.cols() != n) fail("coupling", "the coupling matrix is joints x joints");
+  if (static_cast<Eigen::Index>(s.positions.columns.size()) != n)
+    fail("positions.columns", "one column per joint");
+  if (static_cast<Eigen::Index>(s.efforts.columns.size()) != n)
+    fail("efforts.columns", "one column per joint");
+  if (s.coupling.rows() != n || s.coupling.cols() != n)
+    fail("coupling", "the coupling matrix is joints x joints");
   if (s.offsets.size() != n) fail("offsets", "one offset per joint");
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(s.coupling);
-  if (lu.rank() < n) fail("coupling", "the coupling matrix is singular (rank " + std::to_string(lu.rank()) + " of " +
-                                          std::to_string(n) + "): motor positions do not determine the joints");
-  if (!(s.time_column.empty() ? s.sample_period_s > 0 : true)) fail("sample_period", "sample period must be positive");
-  if (s.filter_order < 2 || s.filter_order % 2) fail("filter.order", "the filter order must be even and at least 2");
+  if (lu.rank() < n)
+    fail("coupling", "the coupling matrix is singular (rank " + std::to_string(lu.rank()) + " of " +
+                         std::to_string(n) + "): motor positions do not determine the joints");
+  if (!(s.time_column.empty() ? s.sample_period_s > 0 : true))
+    fail("sample_period", "sample period must be positive");
+  if (s.filter_order < 2 || s.filter_order % 2)
+    fail("filter.order", "the filter order must be even and at least 2");
   if (s.decimate < 1) fail("filter.decimate", "decimation must be at least 1");
   if (!(s.trim_s >= 0)) fail("filter.trim", "trim must not be negative");
 }
 
 }  // namespace
 
-void motorToJoint(const Eigen::MatrixXd& R, const Eigen::VectorXd& theta_m, const Eigen::VectorXd& tau_m,
-                  Eigen::VectorXd& q, Eigen::VectorXd& tau) {
+void motorToJoint(const Eigen::MatrixXd& R, const Eigen::VectorXd& theta_m,
+                  const Eigen::VectorXd& tau_m, Eigen::VectorXd& q, Eigen::VectorXd& tau) {
   q = R.fullPivLu().solve(theta_m);
   tau = R.transpose() * tau_m;
 }
 
 std::vector<double> zeroPhaseLowPass(const std::vector<double>& x, double h, double fc, int order) {
-  ARMSTUDY_CHECK(order >= 2 && order % 2 == 0 && h > 0 && fc > 0 && fc * h < 0.5, "low-pass settings");
+  ARMSTUDY_CHECK(order >= 2 && order % 2 == 0 && h > 0 && fc > 0 && fc * h < 0.5,
+                 "low-pass settings");
   const int n = static_cast<int>(x.size());
   if (n < 2) return x;
   // Odd reflection at both ends (continues value and slope), then biquad sections forward and back.
@@ -187,11 +203,13 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
     throw InputError(pos_short ? s.positions.path : s.efforts.path, shorter.lines.back() + 1,
                      (pos_short ? s.positions : s.efforts).columns.front(),
                      "the positions have " + std::to_string(R) + " rows and the efforts " +
-                         std::to_string(eff.lines.size()) + ": the two files must have one row per sample each");
+                         std::to_string(eff.lines.size()) +
+                         ": the two files must have one row per sample each");
   }
   std::vector<std::string> warnings;
-  const double h =
-      s.time_column.empty() ? s.sample_period_s : samplePeriod(pos, s.positions.path, s.time_column, warnings);
+  const double h = s.time_column.empty()
+                       ? s.sample_period_s
+                       : samplePeriod(pos, s.positions.path, s.time_column, warnings);
   std::vector<double> time = pos.time;
   if (time.empty())
     for (int i = 0; i < R; ++i) time.push_back(i * h);
@@ -215,7 +233,8 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   for (int i = trim; i < R - trim; i += s.decimate) keep.push_back(i);
   if (keep.size() < 3)
     throw InputError(s.positions.path, pos.lines.back(), s.positions.columns.front(),
-                     std::to_string(R) + " rows leave " + std::to_string(keep.size()) + " after trimming and decimation");
+                     std::to_string(R) + " rows leave " + std::to_string(keep.size()) +
+                         " after trimming and decimation");
   TrajectoryData d;
   d.file = s.positions.path;
   d.hash = fileHash(s.positions.path) + "+" + fileHash(s.efforts.path);
@@ -227,10 +246,11 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   d.qdd.resize(K, n);
   d.measured.resize(K, n);
   for (int j = 0; j < n; ++j) {
-    const std::vector<double> qf = zeroPhaseLowPass(std::vector<double>(q.col(j).data(), q.col(j).data() + R), h,
-                                                    s.cutoff_Hz, s.filter_order);
-    const std::vector<double> tf = zeroPhaseLowPass(std::vector<double>(tau.col(j).data(), tau.col(j).data() + R), h,
-                                                    s.cutoff_Hz, s.filter_order);
+    const std::vector<double> qf = zeroPhaseLowPass(
+        std::vector<double>(q.col(j).data(), q.col(j).data() + R), h, s.cutoff_Hz, s.filter_order);
+    const std::vector<double> tf =
+        zeroPhaseLowPass(std::vector<double>(tau.col(j).data(), tau.col(j).data() + R), h,
+                         s.cutoff_Hz, s.filter_order);
     const std::vector<double> v = centralDifference(qf, time), a = centralDifference(v, time);
     for (int k = 0; k < K; ++k) {
       d.q(k, j) = qf[keep[k]];
@@ -244,15 +264,19 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
     d.t.push_back(time[keep[k]]);
     d.lines.push_back(pos.lines[keep[k]]);
   }
-  d.friction_width_fraction = s.friction_width_fraction > 0 ? s.friction_width_fraction : defaults::kFrictionWidthFraction;
+  d.friction_width_fraction =
+      s.friction_width_fraction > 0 ? s.friction_width_fraction : defaults::kFrictionWidthFraction;
   d.coupling = Eigen::MatrixXd::Zero(n, n);  // in design joint order
   for (std::size_t a = 0; a < map.size(); ++a)
     for (std::size_t b = 0; b < map.size(); ++b)
-      d.coupling(map[a], map[b]) = s.coupling(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
-  d.warnings.push_back(s.positions.path + ": " + std::to_string(R) + " samples, zero-phase Butterworth low-pass at " +
-                       formatG(s.cutoff_Hz, 6) + " Hz (order " + std::to_string(s.filter_order) +
-                       " forward and backward), " + std::to_string(K) + " rows after decimation by " +
-                       std::to_string(s.decimate) + " and " + std::to_string(trim) + " samples trimmed at each end");
+      d.coupling(map[a], map[b]) =
+          s.coupling(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  d.warnings.push_back(s.positions.path + ": " + std::to_string(R) +
+                       " samples, zero-phase Butterworth low-pass at " + formatG(s.cutoff_Hz, 6) +
+                       " Hz (order " + std::to_string(s.filter_order) + " forward and backward), " +
+                       std::to_string(K) + " rows after decimation by " +
+                       std::to_string(s.decimate) + " and " + std::to_string(trim) +
+                       " samples trimmed at each end");
   return d;
 }
 

@@ -34,18 +34,18 @@ struct LogFile {
 struct JointLogSpec {
   std::string study_file;  // where the spec was written (errors about settings name it)
   int study_line = 0;
-  std::string study_key;   // key path of the spec's table (errors: <study_key>.<key>)
+  std::string study_key;            // key path of the spec's table (errors: <study_key>.<key>)
   std::vector<std::string> joints;  // design joint names, one per logged column
   LogFile positions, efforts;
-  std::string time_column;     // in the positions file; empty: sample_period_s
+  std::string time_column;  // in the positions file; empty: sample_period_s
   double sample_period_s = 0;
   bool motor_side = false;
-  Eigen::MatrixXd coupling;    // R (joints x joints), theta_m = R q; identity for joint side
-  Eigen::VectorXd offsets;     // added to the joint positions [rad | m]
-  double cutoff_Hz = 0;        // zero-phase low-pass cut-off
-  int filter_order = 2;        // per pass, even
-  int decimate = 1;            // keep every k-th sample after filtering
-  double trim_s = 0;           // cut from both ends after filtering
+  Eigen::MatrixXd coupling;  // R (joints x joints), theta_m = R q; identity for joint side
+  Eigen::VectorXd offsets;   // added to the joint positions [rad | m]
+  double cutoff_Hz = 0;      // zero-phase low-pass cut-off
+  int filter_order = 2;      // per pass, even
+  int decimate = 1;          // keep every k-th sample after filtering
+  double trim_s = 0;         // cut from both ends after filtering
   double friction_width_fraction = 0;  // smooth sign width / the joint's peak speed (0: default)
 };
 
@@ -63,7 +63,7 @@ std::vector<double> centralDifference(const std::vector<double>& x, double h);
 std::vector<double> centralDifference(const std::vector<double>& x, const std::vector<double>& t);
 
 // Motor side to joint side for one sample: q = R^-1 theta_m, tau = R^T tau_m.
-void motorToJoint(const Eigen::MatrixXd& R, const Eigen::VectorXd& theta_m, const Eigen::VectorXd& tau_m,
-                  Eigen::VectorXd& q, Eigen::VectorXd& tau);
+void motorToJoint(const Eigen::MatrixXd& R, const Eigen::VectorXd& theta_m,
+                  const Eigen::VectorXd& tau_m, Eigen::VectorXd& q, Eigen::VectorXd& tau);
 
 }  // namespace armstudy::calibration

@@ -6,9 +6,9 @@ namespace armstudy::calibration {
 
 struct LeastSquaresResult {
   Eigen::VectorXd x;
-  double ssr = 0;                // sum of squared residuals at x
-  bool constrained = false;      // some bound is active
-  bool rank_deficient = false;   // A has (numerically) dependent columns
+  double ssr = 0;               // sum of squared residuals at x
+  bool constrained = false;     // some bound is active
+  bool rank_deficient = false;  // A has (numerically) dependent columns
 };
 
 // Columns are scaled to unit norm; the unconstrained solution (column-pivoting QR) is taken when it

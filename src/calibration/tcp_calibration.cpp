@@ -54,7 +54,9 @@ class TcpProblem : public ArmProblem {
       e.name = "joint_offset." + jt.name;
       e.effect = "joint_offset";
       e.joint = jt.name;
-      e.pattern = "residual grows with the distance of the TCP from the joint axis, direction perpendicular to it";
+      e.pattern =
+          "residual grows with the distance of the TCP from the joint axis, direction "
+          "perpendicular to it";
       e.params = {{"offset", rev ? "rad" : "m", -kInfD, kInfD, rev ? 0.01 : 0.005, 1e-6}};
       add(e, TcpEffect::JointOffset, j, 0);
     }
@@ -65,7 +67,8 @@ class TcpProblem : public ArmProblem {
         e.name = "link_length." + model.joints[j].name + "." + ax;
         e.effect = "link_length";
         e.joint = model.joints[j].name;
-        e.pattern = "a constant vector in the frame before the joint, rotating with the links before it";
+        e.pattern =
+            "a constant vector in the frame before the joint, rotating with the links before it";
         e.params = {{std::string("d") + ax, "m", -kInfD, kInfD, 0.005, 1e-6}};
         add(e, TcpEffect::LinkLength, j, a);
       }
@@ -73,9 +76,12 @@ class TcpProblem : public ArmProblem {
       ArmEffect e;
       e.name = "base_offset";
       e.effect = "base_offset";
-      e.pattern = "a rigid displacement of every measured TCP position (translation plus a small rotation)";
-      for (const char* k : {"x", "y", "z"}) e.params.push_back({k, "m", -kInfD, kInfD, 0.004, 1e-6});
-      for (const char* k : {"alpha", "beta", "gamma"}) e.params.push_back({k, "rad", -kInfD, kInfD, 0.004, 1e-6});
+      e.pattern =
+          "a rigid displacement of every measured TCP position (translation plus a small rotation)";
+      for (const char* k : {"x", "y", "z"})
+        e.params.push_back({k, "m", -kInfD, kInfD, 0.004, 1e-6});
+      for (const char* k : {"alpha", "beta", "gamma"})
+        e.params.push_back({k, "rad", -kInfD, kInfD, 0.004, 1e-6});
       add(e, TcpEffect::BaseOffset, -1, 0);
     }
     if (has_inertia) {
@@ -85,15 +91,19 @@ class TcpProblem : public ArmProblem {
         e.name = "joint_compliance." + model.joints[j].name;
         e.effect = "joint_compliance";
         e.joint = model.joints[j].name;
-        e.pattern = "the arm sags with gravity: like a joint offset against the holding torque, proportional to the "
-                    "gravity torque at the joint (largest with the arm stretched out horizontally)";
+        e.pattern =
+            "the arm sags with gravity: like a joint offset against the holding torque, "
+            "proportional to the "
+            "gravity torque at the joint (largest with the arm stretched out horizontally)";
         const double typ = rev ? 2e-4 : 1e-6;
         e.params = {{"compliance", rev ? "rad/(N m)" : "m/N", 0.0, kInfD, typ, typ * 1e-3}};
         add(e, TcpEffect::Compliance, j, 0);
       }
     } else {
-      warnings.push_back("the design has no [[inertia]] data: joint_compliance candidates need gravity torques and are "
-                         "left out");
+      warnings.push_back(
+          "the design has no [[inertia]] data: joint_compliance candidates need gravity torques "
+          "and are "
+          "left out");
     }
     // Gravity torques at the measured configurations (for compliance) and operating variables.
     if (rbm_) {
@@ -106,11 +116,15 @@ class TcpProblem : public ArmProblem {
       }
     }
     for (int j = 0; j < n; ++j) {
-      BinVariable v{"q" + std::to_string(j + 1), model.joints[j].type == JointType::Revolute ? "rad" : "m", {}, true};
+      BinVariable v{"q" + std::to_string(j + 1),
+                    model.joints[j].type == JointType::Revolute ? "rad" : "m",
+                    {},
+                    true};
       for (int i = 0; i < q_.rows(); ++i) v.values.push_back(q_(i, j));
       variables.push_back(v);
     }
-    for (int i = 0; i < measured.rows(); ++i) workspace.push_back(measured.row(i).head<3>().transpose());
+    for (int i = 0; i < measured.rows(); ++i)
+      workspace.push_back(measured.row(i).head<3>().transpose());
     // Held-out by region: quadrants of the workspace split at the median x and y.
     auto median = [&](int c) {
       std::vector<double> v(measured.rows());
@@ -120,7 +134,8 @@ class TcpProblem : public ArmProblem {
     };
     const double mx = median(0), my = median(1);
     region_count = 4;
-    for (int i = 0; i < measured.rows(); ++i) regions.push_back((measured(i, 0) > mx ? 2 : 0) + (measured(i, 1) > my ? 1 : 0));
+    for (int i = 0; i < measured.rows(); ++i)
+      regions.push_back((measured(i, 0) > mx ? 2 : 0) + (measured(i, 1) > my ? 1 : 0));
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -131,7 +146,9 @@ class TcpProblem : public ArmProblem {
     for (const auto& v : values) {
       const Tag& t = tags_[v.effect];
       switch (t.type) {
-        case TcpEffect::JointOffset: dq[t.joint] += v.x[0]; break;
+        case TcpEffect::JointOffset:
+          dq[t.joint] += v.x[0];
+          break;
         case TcpEffect::LinkLength: {
           PoseXYZABG& o = m.joints[t.joint].offset;
           (t.axis == 0 ? o.x : t.axis == 1 ? o.y : o.z) += v.x[0];
@@ -235,8 +252,8 @@ TcpData readTcpData(const std::string& path, const Model& model) {
     for (int j = 0; j < n; ++j) {
       const JointLimits& l = model.joints[j].limits;
       if (d.q(i, j) < l.q_min - 1e-9 || d.q(i, j) > l.q_max + 1e-9)
-        d.warnings.push_back(path + ":" + std::to_string(d.lines[i]) + ": q" + std::to_string(j + 1) +
-                             " outside the design's joint limits");
+        d.warnings.push_back(path + ":" + std::to_string(d.lines[i]) + ": q" +
+                             std::to_string(j + 1) + " outside the design's joint limits");
     }
   return d;
 }
@@ -264,8 +281,10 @@ std::unique_ptr<ArmProblem> makeTcpProblem(const Model& model, const TcpData& da
 
 TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& o) {
   if (o.rows < 1) throw InputError("", 0, "rows", "at least one row");
-  if (!(o.noise_m >= 0) || !(o.noise_rad >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
-  if (!(o.range_fraction > 0 && o.range_fraction <= 1)) throw InputError("", 0, "range", "range fraction in (0, 1]");
+  if (!(o.noise_m >= 0) || !(o.noise_rad >= 0))
+    throw InputError("", 0, "noise", "noise must not be negative");
+  if (!(o.range_fraction > 0 && o.range_fraction <= 1))
+    throw InputError("", 0, "range", "range fraction in (0, 1]");
   rng::SplitMix64 rng{o.seed};
   TcpData d;
   const int n = model.dof();
@@ -285,7 +304,8 @@ TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& o) {
   d.pose = P->predict(hidden);
   for (int i = 0; i < o.rows; ++i) {
     for (int c = 0; c < 3; ++c) d.pose(i, c) += o.noise_m * rng.normal();
-    for (int c = 3; c < d.pose.cols(); ++c) d.pose(i, c) = wrapAngle(d.pose(i, c) + o.noise_rad * rng.normal());
+    for (int c = 3; c < d.pose.cols(); ++c)
+      d.pose(i, c) = wrapAngle(d.pose(i, c) + o.noise_rad * rng.normal());
   }
   return d;
 }
@@ -319,8 +339,11 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
         break;
       case TcpEffect::Compliance: {
         char b[160];
-        std::snprintf(b, sizeof b, "joint_compliance of %s = %.6g %s is not stored in the design file (no design key yet)",
-                      m.joints[t.joint].name.c_str(), v.x[0], problem.catalogue[v.effect].params[0].unit.c_str());
+        std::snprintf(
+            b, sizeof b,
+            "joint_compliance of %s = %.6g %s is not stored in the design file (no design key yet)",
+            m.joints[t.joint].name.c_str(), v.x[0],
+            problem.catalogue[v.effect].params[0].unit.c_str());
         notes.push_back(b);
         break;
       }
@@ -330,8 +353,8 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
   return m;
 }
 
-std::string calibratedTcpToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                              std::vector<std::string>& notes) {
+std::string calibratedTcpToml(const Model& model, const ArmProblem& problem,
+                              const EffectValues& values, std::vector<std::string>& notes) {
   const Model cal = calibratedTcpModel(model, problem, values, notes);
   std::string text = readFileOrThrow(model.file);
   auto num = [](double v) {
@@ -344,22 +367,27 @@ std::string calibratedTcpToml(const Model& model, const ArmProblem& problem, con
     const std::pair<const char*, std::pair<double, double>> keys[] = {
         {"x", {a.x, b.x}}, {"y", {a.y, b.y}}, {"z", {a.z, b.z}}, {"gamma", {a.gamma, b.gamma}}};
     for (const auto& [k, ab] : keys)
-      if (ab.first != ab.second) text = setDesignEntry(text, "[[joint]]", "name", cal.joints[j].name, k, num(ab.second));
+      if (ab.first != ab.second)
+        text = setDesignEntry(text, "[[joint]]", "name", cal.joints[j].name, k, num(ab.second));
   }
   const PoseXYZABG &a = model.base, &b = cal.base;
-  const std::pair<const char*, std::pair<double, double>> bk[] = {{"x", {a.x, b.x}},         {"y", {a.y, b.y}},
-                                                                  {"z", {a.z, b.z}},         {"alpha", {a.alpha, b.alpha}},
-                                                                  {"beta", {a.beta, b.beta}}, {"gamma", {a.gamma, b.gamma}}};
+  const std::pair<const char*, std::pair<double, double>> bk[] = {
+      {"x", {a.x, b.x}},          {"y", {a.y, b.y}},
+      {"z", {a.z, b.z}},          {"alpha", {a.alpha, b.alpha}},
+      {"beta", {a.beta, b.beta}}, {"gamma", {a.gamma, b.gamma}}};
   for (const auto& [k, ab] : bk)
     if (ab.first != ab.second) text = setDesignEntry(text, "[base]", "", "", k, num(ab.second));
   // Round trip: the edited text must parse to the calibrated table.
   const Model back = parseDesign(text, model.file + " (calibrated)");
   for (int j = 0; j < cal.dof(); ++j) {
     const PoseXYZABG &x = back.joints[j].offset, &y = cal.joints[j].offset;
-    ARMSTUDY_CHECK(std::abs(x.x - y.x) + std::abs(x.y - y.y) + std::abs(x.z - y.z) + std::abs(x.gamma - y.gamma) < 1e-12,
+    ARMSTUDY_CHECK(std::abs(x.x - y.x) + std::abs(x.y - y.y) + std::abs(x.z - y.z) +
+                           std::abs(x.gamma - y.gamma) <
+                       1e-12,
                    "calibrated design round trip (joint table)");
   }
-  ARMSTUDY_CHECK((back.T_WB.matrix() - cal.T_WB.matrix()).norm() < 1e-12, "calibrated design round trip (base)");
+  ARMSTUDY_CHECK((back.T_WB.matrix() - cal.T_WB.matrix()).norm() < 1e-12,
+                 "calibrated design round trip (base)");
   return text;
 }
 

@@ -33,10 +33,10 @@ std::unique_ptr<ArmProblem> makeTcpProblem(const Model& model, const TcpData& da
 
 struct TcpSynthOptions {
   int rows = 60;
-  double noise_m = 1e-4;          // position noise standard deviation per axis
-  double noise_rad = 1e-4;        // angle noise (with orientation)
+  double noise_m = 1e-4;    // position noise standard deviation per axis
+  double noise_rad = 1e-4;  // angle noise (with orientation)
   bool orientation = false;
-  double range_fraction = 0.6;    // joint positions uniform in this central fraction of the limits
+  double range_fraction = 0.6;  // joint positions uniform in this central fraction of the limits
   std::uint64_t seed = 1;
   std::vector<std::string> hidden;  // "effect" or "effect:key=value,..."
 };
@@ -47,7 +47,7 @@ TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& options);
 Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const EffectValues& values,
                          std::vector<std::string>& notes);
 // TOML text of that design (original file edited line by line, re-parsed and checked).
-std::string calibratedTcpToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                              std::vector<std::string>& notes);
+std::string calibratedTcpToml(const Model& model, const ArmProblem& problem,
+                              const EffectValues& values, std::vector<std::string>& notes);
 
 }  // namespace armstudy::calibration

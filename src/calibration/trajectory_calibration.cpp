@@ -6,8 +6,8 @@
 #include <set>
 
 #include "calibration/drive_calibration.hpp"
-#include "common/rng.hpp"
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
@@ -37,20 +37,25 @@ struct SideInfo {
 constexpr SideInfo kJointTerms[] = {
     {SideTerm::Coulomb, "coulomb", "coulomb", "N m", "N", 2.0,
      "a step with the sign of the joint's speed (smooth over the width w = fraction x peak speed)"},
-    {SideTerm::Viscous, "viscous", "viscous", "N m s/rad", "N s/m", 1.0, "a residual proportional to the joint's speed"},
-    {SideTerm::Offset, "offset", "offset", "N m", "N", 0.5, "a constant residual of the joint's effort"},
+    {SideTerm::Viscous, "viscous", "viscous", "N m s/rad", "N s/m", 1.0,
+     "a residual proportional to the joint's speed"},
+    {SideTerm::Offset, "offset", "offset", "N m", "N", 0.5,
+     "a constant residual of the joint's effort"},
     {SideTerm::Inertia, "armature", "armature", "kg m^2", "kg", 0.05,
-     "a residual proportional to the joint's own acceleration (rotor inertia reflected through the ratio)"}};
+     "a residual proportional to the joint's own acceleration (rotor inertia reflected through the "
+     "ratio)"}};
 
-
-// Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to fields).
+// Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
+// fields).
 void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
   double* x = drive::parameter(p, key);
   ARMSTUDY_CHECK(x != nullptr, "known friction key " + key);
   *x += d;
 }
 
-double frictionValue(const drive::FrictionParams& p, const std::string& key) { return drive::parameter(p, key); }
+double frictionValue(const drive::FrictionParams& p, const std::string& key) {
+  return drive::parameter(p, key);
+}
 
 // Scale of a motor-side catalogue value for a joint-side (prismatic) law: torque-like x N,
 // viscous x N^2 (assumption for typical values only).
@@ -75,8 +80,8 @@ void addPayloadParameters(const Model& m, const Eigen::VectorXd& x, RigidBodyMod
   const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
   rbm.mass[L] += x[0];
   rbm.h[L] += h + x[0] * p;
-  rbm.I_O[L] += R * I_T * R.transpose() + x[0] * (p.squaredNorm() * one - p * p.transpose()) + 2 * p.dot(h) * one -
-                p * h.transpose() - h * p.transpose();
+  rbm.I_O[L] += R * I_T * R.transpose() + x[0] * (p.squaredNorm() * one - p * p.transpose()) +
+                2 * p.dot(h) * one - p * h.transpose() - h * p.transpose();
 }
 
 struct Tag {
@@ -92,10 +97,14 @@ double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
 // One joint-side or motor term at one row: the force law times its coefficient 1.
 double sideTerm(SideTerm t, double v, double a, double w) {
   switch (t) {
-    case SideTerm::Coulomb: return smoothSign(v, w);
-    case SideTerm::Viscous: return v;
-    case SideTerm::Offset: return 1.0;
-    case SideTerm::Inertia: return a;
+    case SideTerm::Coulomb:
+      return smoothSign(v, w);
+    case SideTerm::Viscous:
+      return v;
+    case SideTerm::Offset:
+      return 1.0;
+    case SideTerm::Inertia:
+      return a;
   }
   return 0.0;
 }
@@ -120,8 +129,10 @@ class TrajectoryProblem : public ArmProblem {
         throw InputError(model.file, model.joints[j].source_line, "drive",
                          "the data has motor currents but joint '" + model.joints[j].name +
                              "' has no [[drive]] with gear ratio and torque constant");
-      if (drive_[j]) fp_.push_back(drive::frictionParams(model, *drive_[j]));
-      else fp_.emplace_back();
+      if (drive_[j])
+        fp_.push_back(drive::frictionParams(model, *drive_[j]));
+      else
+        fp_.emplace_back();
     }
     weight = Eigen::VectorXd::Ones(n);
     makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
@@ -137,14 +148,17 @@ class TrajectoryProblem : public ArmProblem {
 
  private:
   // The catalogue's body effects: payload, rotor inertia, gravity tilt, extra link masses.
-  // `per_joint_armature`: the rotor inertia is a per-joint term of the joint-side catalogue instead.
+  // `per_joint_armature`: the rotor inertia is a per-joint term of the joint-side catalogue
+  // instead.
   void addBodyEffects(const Model& model, bool per_joint_armature) {
     const int n = model.dof();
     {
       ArmEffect e;
       e.name = e.effect = "payload";
-      e.pattern = "gravity and inertia torques of an extra body at the TCP: largest at the proximal joints with the "
-                  "arm stretched out, grows with the TCP acceleration";
+      e.pattern =
+          "gravity and inertia torques of an extra body at the TCP: largest at the proximal joints "
+          "with the "
+          "arm stretched out, grows with the TCP acceleration";
       // The standard linear inertial parameters of the extra body, in the TCP frame about the TCP
       // origin: mass m, first moment m c, inertia I: the efforts are linear in all ten,
       // so each is identifiable from a design without payload (m = 0). Typical values: 0.5 kg at
@@ -167,17 +181,23 @@ class TrajectoryProblem : public ArmProblem {
       e.pattern = "residual of joint j proportional to its own acceleration qdd_j";
       for (int j = 0; j < n; ++j) {
         const bool rev = model.joints[j].type == JointType::Revolute;
-        const double a0 = drive_[j] ? drive_[j]->gear_ratio * drive_[j]->gear_ratio * drive_[j]->rotor_inertia_kgm2 : 0.0;
-        e.params.push_back({"armature_" + model.joints[j].name, rev ? "kg m^2" : "kg", -a0, kInfD, rev ? 0.05 : 0.5, 1e-4});
+        const double a0 = drive_[j] ? drive_[j]->gear_ratio * drive_[j]->gear_ratio *
+                                          drive_[j]->rotor_inertia_kgm2
+                                    : 0.0;
+        e.params.push_back({"armature_" + model.joints[j].name, rev ? "kg m^2" : "kg", -a0, kInfD,
+                            rev ? 0.05 : 0.5, 1e-4});
       }
       add(e, {TrajEffect::RotorInertia});
     }
     {
       ArmEffect e;
       e.name = e.effect = "gravity_tilt";
-      e.pattern = "gravity torques turned about a horizontal axis: a residual like the gravity torque of a 90 deg "
-                  "rotated arm, scaled by the tilt";
-      e.params = {{"alpha", "rad", -kInfD, kInfD, 0.02, 1e-6}, {"beta", "rad", -kInfD, kInfD, -0.015, 1e-6}};
+      e.pattern =
+          "gravity torques turned about a horizontal axis: a residual like the gravity torque of a "
+          "90 deg "
+          "rotated arm, scaled by the tilt";
+      e.params = {{"alpha", "rad", -kInfD, kInfD, 0.02, 1e-6},
+                  {"beta", "rad", -kInfD, kInfD, -0.015, 1e-6}};
       add(e, {TrajEffect::GravityTilt});
     }
     for (int j = 0; j < n; ++j) {
@@ -186,7 +206,9 @@ class TrajectoryProblem : public ArmProblem {
       e.name = "link_mass." + model.joints[j].name;
       e.effect = "link_mass";
       e.joint = model.joints[j].name;
-      e.pattern = "gravity and inertia torques of extra mass at the link's centre of mass (joints up to this one)";
+      e.pattern =
+          "gravity and inertia torques of extra mass at the link's centre of mass (joints up to "
+          "this one)";
       e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4}};
       add(e, {TrajEffect::LinkMass, j});
     }
@@ -201,7 +223,8 @@ class TrajectoryProblem : public ArmProblem {
       const double N = drive_[j]->gear_ratio;
       const bool js = fp_[j].joint_side;
       double vmax = 0;
-      for (int i = 0; i < data.rows(); ++i) vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
+      for (int i = 0; i < data.rows(); ++i)
+        vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
       for (drive::Effect fe : drive::kAllEffects) {
         if (drive::isTemperatureEffect(fe)) continue;  // trajectories carry no temperature column
         const EffectInfo& info = effectInfo(fe);
@@ -212,8 +235,14 @@ class TrajectoryProblem : public ArmProblem {
         e.pattern = info.pattern + " (joint " + model.joints[j].name + ", over its speed)";
         const EffectParameter& ep = info.params[0];
         const double scale = js ? jointSideScale(ep.key, N) : 1.0;
-        const double cur = fe == drive::Effect::Stribeck && !fp_[j].has(fe) ? fp_[j].coulomb : frictionValue(fp_[j], ep.key);
-        ArmParam ap{ep.key, js ? ep.unit_joint : ep.unit_motor, ep.lower - cur, ep.upper - cur, ep.typical * scale,
+        const double cur = fe == drive::Effect::Stribeck && !fp_[j].has(fe)
+                               ? fp_[j].coulomb
+                               : frictionValue(fp_[j], ep.key);
+        ArmParam ap{ep.key,
+                    js ? ep.unit_joint : ep.unit_motor,
+                    ep.lower - cur,
+                    ep.upper - cur,
+                    ep.typical * scale,
                     std::max(1e-9, std::abs(ep.typical * scale) * 1e-3)};
         e.params = {ap};
         if (fe == drive::Effect::Stribeck) {
@@ -221,7 +250,8 @@ class TrajectoryProblem : public ArmProblem {
           e.profile = {pv.key, js ? pv.unit_joint : pv.unit_motor, 0, kInfD, 0.3 * vmax, 0};
           const double lo = std::max(vmax * 0.01, 1e-6), hi = std::max(vmax, 2e-6);
           for (int g = 0; g < defaults::kArmProfileGridPoints; ++g)
-            e.profile_grid.push_back(lo * std::pow(hi / lo, g / double(defaults::kArmProfileGridPoints - 1)));
+            e.profile_grid.push_back(
+                lo * std::pow(hi / lo, g / double(defaults::kArmProfileGridPoints - 1)));
         }
         Tag t{TrajEffect::Friction, j, fe};
         add(e, t);
@@ -268,14 +298,18 @@ class TrajectoryProblem : public ArmProblem {
       if ((data.coupling.row(k).array() != 0).count() < 2 || data.coupling(k, k) == 0) continue;
       motor_width_[k] = data.friction_width_fraction * motor_v_.col(k).cwiseAbs().maxCoeff();
       for (const SideInfo& si : kJointTerms) {
-        if (si.term == SideTerm::Offset) continue;  // a motor torque offset is a joint offset per joint
+        if (si.term == SideTerm::Offset)
+          continue;  // a motor torque offset is a joint offset per joint
         ArmEffect e;
-        e.name = "motor_" + model.joints[k].name + "." + (si.term == SideTerm::Inertia ? "inertia" : si.name);
+        e.name = "motor_" + model.joints[k].name + "." +
+                 (si.term == SideTerm::Inertia ? "inertia" : si.name);
         e.effect = std::string("motor_") + (si.term == SideTerm::Inertia ? "inertia" : si.name);
         e.joint = model.joints[k].name;
         e.pattern = std::string("coupled motor of ") + model.joints[k].name + ": " + si.pattern +
                     " at the motor's speed, in every joint the motor drives";
-        const char* unit = si.term == SideTerm::Coulomb ? "N m" : si.term == SideTerm::Viscous ? "N m s/rad" : "kg m^2";
+        const char* unit = si.term == SideTerm::Coulomb   ? "N m"
+                           : si.term == SideTerm::Viscous ? "N m s/rad"
+                                                          : "kg m^2";
         e.params = {{si.key, unit, -kInfD, kInfD, si.typical, 1e-4}};
         add(e, {TrajEffect::Motor, k, drive::Effect::Coulomb, si.term});
       }
@@ -310,7 +344,8 @@ class TrajectoryProblem : public ArmProblem {
     Eigen::MatrixXd out(data_.rows(), m.dof());
     Eigen::VectorXd Q(m.dof());
     for (int i = 0; i < data_.rows(); ++i) {
-      inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(), data_.qdd.row(i).transpose(), Q);
+      inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(),
+                      data_.qdd.row(i).transpose(), Q);
       out.row(i) = Q.transpose();
     }
     return out;
@@ -332,9 +367,11 @@ class TrajectoryProblem : public ArmProblem {
       bool moves = false;
       for (int i = 0; i < data.rows(); ++i) moves = moves || data.qd(i, j) != 0;
       if (!moves) {
-        warnings.push_back("joint " + model.joints[j].name + " does not move in the data: its friction effects cannot "
+        warnings.push_back("joint " + model.joints[j].name +
+                           " does not move in the data: its friction effects cannot "
                            "be identified");
-        unidentifiable.push_back("joint " + model.joints[j].name + " never moves (its speed is 0 in every row)");
+        unidentifiable.push_back("joint " + model.joints[j].name +
+                                 " never moves (its speed is 0 in every row)");
       }
     }
     KinematicsWorkspace ks(model);
@@ -343,7 +380,8 @@ class TrajectoryProblem : public ArmProblem {
       workspace.push_back(ks.p_WT);
     }
     region_count = 4;
-    for (int i = 0; i < data.rows(); ++i) regions.push_back(std::min(3, i * 4 / std::max(1, data.rows())));
+    for (int i = 0; i < data.rows(); ++i)
+      regions.push_back(std::min(3, i * 4 / std::max(1, data.rows())));
     time = data.t;
     load_name = "load";  // the predicted joint effort (or current) of the channel
   }
@@ -356,23 +394,30 @@ class TrajectoryProblem : public ArmProblem {
     bool tilt = false;
     const Eigen::VectorXd* payload = nullptr;
     Eigen::MatrixXd side = Eigen::MatrixXd::Zero(data_.rows(), n);  // joint-side and motor terms
-    Eigen::VectorXd dmass = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.inertias.size()));
+    Eigen::VectorXd dmass =
+        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.inertias.size()));
     for (const auto& v : values) {
       const Tag& t = tags_[v.effect];
       switch (t.type) {
-        case TrajEffect::Payload: payload = &v.x; break;
-        case TrajEffect::RotorInertia: arm += v.x; break;
+        case TrajEffect::Payload:
+          payload = &v.x;
+          break;
+        case TrajEffect::RotorInertia:
+          arm += v.x;
+          break;
         case TrajEffect::GravityTilt:
           tilt = true;
           break;
         case TrajEffect::LinkMass:
-          dmass[t.joint] = std::max(0.0, model_.inertias[t.joint].mass_kg + v.x[0]) - model_.inertias[t.joint].mass_kg;
+          dmass[t.joint] = std::max(0.0, model_.inertias[t.joint].mass_kg + v.x[0]) -
+                           model_.inertias[t.joint].mass_kg;
           break;
         case TrajEffect::Friction: {
           drive::FrictionParams& p = fp[t.joint];
           const std::string& key = catalogue[v.effect].params[0].key;
           if (t.friction == drive::Effect::Stribeck) {
-            if (!p.has(t.friction)) p.stribeck_torque = p.coulomb;  // T_S = T_f0: no change at zero delta
+            if (!p.has(t.friction))
+              p.stribeck_torque = p.coulomb;  // T_S = T_f0: no change at zero delta
             p.stribeck_velocity = v.profile;
           }
           p.on[static_cast<int>(t.friction)] = true;
@@ -381,11 +426,13 @@ class TrajectoryProblem : public ArmProblem {
         }
         case TrajEffect::JointSide:
           for (int i = 0; i < data_.rows(); ++i)
-            side(i, t.joint) += v.x[0] * sideTerm(t.term, data_.qd(i, t.joint), data_.qdd(i, t.joint), joint_width_[t.joint]);
+            side(i, t.joint) += v.x[0] * sideTerm(t.term, data_.qd(i, t.joint),
+                                                  data_.qdd(i, t.joint), joint_width_[t.joint]);
           break;
         case TrajEffect::Motor:
           for (int i = 0; i < data_.rows(); ++i) {
-            const double f = v.x[0] * sideTerm(t.term, motor_v_(i, t.joint), motor_a_(i, t.joint), motor_width_[t.joint]);
+            const double f = v.x[0] * sideTerm(t.term, motor_v_(i, t.joint), motor_a_(i, t.joint),
+                                               motor_width_[t.joint]);
             for (int j = 0; j < n; ++j) side(i, j) += motor_ratio_(t.joint, j) * f;
           }
           break;
@@ -400,7 +447,8 @@ class TrajectoryProblem : public ArmProblem {
           m.base.alpha += v.x[0];
           m.base.beta += v.x[1];
         }
-        if (t.type == TrajEffect::LinkMass) m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]);
+        if (t.type == TrajEffect::LinkMass)
+          m.inertias[t.joint].mass_kg = std::max(0.0, m.inertias[t.joint].mass_kg + v.x[0]);
       }
       m.finalize();
       Q = rigidBodyEfforts(m, payload);
@@ -409,7 +457,8 @@ class TrajectoryProblem : public ArmProblem {
       if (payload)
         for (int k = 0; k < 10; ++k) Q += (*payload)[k] * payload_basis_[k];
       for (std::size_t j = 0; j < mass_basis_.size(); ++j)
-        if (dmass[static_cast<Eigen::Index>(j)] != 0) Q += dmass[static_cast<Eigen::Index>(j)] * mass_basis_[j];
+        if (dmass[static_cast<Eigen::Index>(j)] != 0)
+          Q += dmass[static_cast<Eigen::Index>(j)] * mass_basis_[j];
     }
     Eigen::MatrixXd out(data_.rows(), n);
     for (int i = 0; i < data_.rows(); ++i) {
@@ -419,8 +468,8 @@ class TrajectoryProblem : public ArmProblem {
           out(i, j) = Qj;
           continue;
         }
-        const drive::MotorState s = drive::motorState(*drive_[j], fp[j], data_.qd(i, j), data_.qdd(i, j), Qj,
-                                                      fp[j].reference_temperature_C);
+        const drive::MotorState s = drive::motorState(
+            *drive_[j], fp[j], data_.qd(i, j), data_.qdd(i, j), Qj, fp[j].reference_temperature_C);
         out(i, j) = data_.currents ? s.current_A : s.motor_torque_Nm * drive_[j]->gear_ratio;
       }
     }
@@ -431,9 +480,9 @@ class TrajectoryProblem : public ArmProblem {
   std::vector<const Drive*> drive_;
   std::vector<drive::FrictionParams> fp_;
   std::vector<double> joint_width_, motor_width_;  // smooth-sign widths of the Coulomb terms
-  Eigen::MatrixXd motor_ratio_;                     // R with each row divided by its diagonal
-  Eigen::MatrixXd motor_v_, motor_a_;               // rows x motors: reflected motor speed, acceleration
-  Eigen::MatrixXd Q0_;                              // nominal rigid-body efforts, rows x joints
+  Eigen::MatrixXd motor_ratio_;                    // R with each row divided by its diagonal
+  Eigen::MatrixXd motor_v_, motor_a_;  // rows x motors: reflected motor speed, acceleration
+  Eigen::MatrixXd Q0_;                 // nominal rigid-body efforts, rows x joints
   std::vector<Eigen::MatrixXd> payload_basis_, mass_basis_;
 
  private:
@@ -453,14 +502,16 @@ std::unique_ptr<ArmProblem> makeTrajectoryProblem(const Model& model, const Traj
 }
 
 TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& o) {
-  if (!(o.duration_s > 0) || !(o.rate_Hz > 0)) throw InputError("", 0, "duration", "duration and rate must be positive");
+  if (!(o.duration_s > 0) || !(o.rate_Hz > 0))
+    throw InputError("", 0, "duration", "duration and rate must be positive");
   if (!(o.noise >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
   if (o.harmonics < 1) throw InputError("", 0, "harmonics", "at least one harmonic");
   const int n = model.dof();
   std::set<int> still;
   for (const auto& s : o.still_joints) {
     const int j = model.jointIndex(s);
-    if (j < 0) throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
+    if (j < 0)
+      throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
     still.insert(j);
   }
   rng::SplitMix64 rng{o.seed};
@@ -514,8 +565,8 @@ TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOpt
   return d;
 }
 
-std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                                     std::vector<std::string>& notes) {
+std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem,
+                                     const EffectValues& values, std::vector<std::string>& notes) {
   const auto& P = dynamic_cast<const TrajectoryProblem&>(problem);
   std::string text = readFileOrThrow(model.file);
   auto num = [](double v) {
@@ -535,12 +586,13 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
         const double m = std::max(0.0, model.payload_kg + v.x[0]);
         const Eigen::Vector3d c = m > 1e-9 ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
         text = setDesignEntry(text, "[payload]", "", "", "mass", num(m));
-        text = setDesignEntry(text, "[payload]", "", "", "com", "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
+        text = setDesignEntry(text, "[payload]", "", "", "com",
+                              "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
         expect.payload_kg = m;
-        // The fitted body (the design's payload plus the extra one) has mass m and centre c, which the
-        // [payload] point mass carries, and an inertia about c, which it cannot: that part goes into
-        // the last link's [[inertia]] (rigid-body parameters of one link add), so the calibrated
-        // copy predicts what the fit predicted. All in frame N about its origin.
+        // The fitted body (the design's payload plus the extra one) has mass m and centre c, which
+        // the [payload] point mass carries, and an inertia about c, which it cannot: that part goes
+        // into the last link's [[inertia]] (rigid-body parameters of one link add), so the
+        // calibrated copy predicts what the fit predicted. All in frame N about its origin.
         const int L = model.dof() - 1;
         const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
         auto pointI = [&](double mm, const Eigen::Vector3d& cc) {
@@ -552,24 +604,34 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
         delta.I_O[L].setZero();
         addPayloadParameters(model, v.x, delta);
         const double m0 = model.payload_kg > 0 ? model.payload_kg : 0.0;
-        const Eigen::Matrix3d dI = pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
-                                   (m > 0 ? pointI(m, model.T_NT * c) : Eigen::Matrix3d::Zero().eval());
-        const bool has_link = L < static_cast<int>(model.inertias.size()) && model.inertias[L].given;
+        const Eigen::Matrix3d dI =
+            pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
+            (m > 0 ? pointI(m, model.T_NT * c) : Eigen::Matrix3d::Zero().eval());
+        const bool has_link =
+            L < static_cast<int>(model.inertias.size()) && model.inertias[L].given;
         if (dI.norm() > 1e-15) {
-          const Eigen::Matrix3d I = has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
-                                             : Eigen::Matrix3d::Zero();
+          const Eigen::Matrix3d I =
+              has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
+                       : Eigen::Matrix3d::Zero();
           Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
           const Eigen::Vector3d ev = es.eigenvalues();  // ascending
           const std::string link = model.joints[L].name;
           if (has_link && ev[0] > 0 && ev[2] <= ev[0] + ev[1]) {
             text = setDesignEntry(text, "[[inertia]]", "link", link, "inertia",
-                                  "[" + num(I(0, 0)) + ", " + num(I(1, 1)) + ", " + num(I(2, 2)) + ", " + num(I(0, 1)) + ", " +
-                                      num(I(0, 2)) + ", " + num(I(1, 2)) + "]");
-            notes.push_back("the fitted payload's inertia about its centre of mass, which the [payload] point mass cannot "
-                            "carry, is added to the [[inertia]] of link " + link);
+                                  "[" + num(I(0, 0)) + ", " + num(I(1, 1)) + ", " + num(I(2, 2)) +
+                                      ", " + num(I(0, 1)) + ", " + num(I(0, 2)) + ", " +
+                                      num(I(1, 2)) + "]");
+            notes.push_back(
+                "the fitted payload's inertia about its centre of mass, which the [payload] point "
+                "mass cannot "
+                "carry, is added to the [[inertia]] of link " +
+                link);
           } else {
-            notes.push_back("the fitted payload's inertia about its centre of mass is not stored (the [payload] is a point "
-                            "mass and link " + link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
+            notes.push_back(
+                "the fitted payload's inertia about its centre of mass is not stored (the "
+                "[payload] is a point "
+                "mass and link " +
+                link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
           }
         }
         break;
@@ -590,7 +652,9 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
       case TrajEffect::GravityTilt:
         text = setDesignEntry(text, "[base]", "", "", "alpha", num(model.base.alpha + v.x[0]));
         text = setDesignEntry(text, "[base]", "", "", "beta", num(model.base.beta + v.x[1]));
-        notes.push_back("gravity_tilt is stored as the base orientation (alpha, beta): a tilted base is a tilted gravity vector");
+        notes.push_back(
+            "gravity_tilt is stored as the base orientation (alpha, beta): a tilted base is a "
+            "tilted gravity vector");
         break;
       case TrajEffect::LinkMass:
         text = setDesignEntry(text, "[[inertia]]", "link", model.joints[t.joint].name, "mass",
@@ -600,7 +664,8 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
       case TrajEffect::Motor:
         notes.push_back(problem.catalogue[v.effect].name + " = " + num(v.x[0]) + " " +
                         problem.catalogue[v.effect].params[0].unit +
-                        " is not stored: the design format has no joint-side friction, offset or coupled-motor terms");
+                        " is not stored: the design format has no joint-side friction, offset or "
+                        "coupled-motor terms");
         break;
       case TrajEffect::Friction: {
         drive::FrictionParams& p = fp[t.joint];
@@ -608,13 +673,14 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
         if (t.friction == drive::Effect::Stribeck) {
           if (!p.has(t.friction)) p.stribeck_torque = p.coulomb;
           p.stribeck_velocity = v.profile;
-          text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[t.joint].name, "stribeck_velocity",
-                                num(v.profile));
+          text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[t.joint].name,
+                                "stribeck_velocity", num(v.profile));
         }
         if (!p.has(t.friction)) {
           bool in_law = false;
           for (auto e : drive::lawEffects(p.law)) in_law = in_law || e == t.friction;
-          if (!in_law) effects.push_back(model.joints[t.joint].name + "." + drive::toString(t.friction));
+          if (!in_law)
+            effects.push_back(model.joints[t.joint].name + "." + drive::toString(t.friction));
         }
         p.on[static_cast<int>(t.friction)] = true;
         addFriction(p, key, v.x[0]);
@@ -630,7 +696,8 @@ std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& probl
     text = setDesignEntry(text, "[model]", "", "", "effects", "[" + list + "]");
   }
   const Model back = parseDesign(text, model.file + " (calibrated)");  // must stay a valid design
-  ARMSTUDY_CHECK(std::abs(back.payload_kg - expect.payload_kg) < 1e-9, "calibrated design round trip (payload)");
+  ARMSTUDY_CHECK(std::abs(back.payload_kg - expect.payload_kg) < 1e-9,
+                 "calibrated design round trip (payload)");
   return text;
 }
 

@@ -28,8 +28,8 @@ struct TrajectoryData {
   std::vector<double> t;
   Eigen::MatrixXd q, qd, qdd;  // rows x n
   bool qdd_given = true;
-  bool currents = false;       // measured holds currents [A], else joint efforts
-  Eigen::MatrixXd measured;    // rows x n
+  bool currents = false;     // measured holds currents [A], else joint efforts
+  Eigen::MatrixXd measured;  // rows x n
   std::vector<int> lines;
   std::vector<std::string> warnings;
   // Measured logs (joint_log.hpp): the width w of the smooth sign tanh(v / w) of joint-side and
@@ -49,11 +49,11 @@ std::unique_ptr<ArmProblem> makeTrajectoryProblem(const Model& model, const Traj
 struct TrajectorySynthOptions {
   double duration_s = 4.0;
   double rate_Hz = 50.0;
-  int harmonics = 3;              // sum of sines per joint
+  int harmonics = 3;  // sum of sines per joint
   double max_frequency_Hz = 0.8;
-  double range_fraction = 0.35;   // total amplitude as a fraction of the joint range
-  double max_amplitude_rad = 1.0; // revolute joints
-  double noise = 0.05;            // effort noise [N m | N] or current noise [A]
+  double range_fraction = 0.35;    // total amplitude as a fraction of the joint range
+  double max_amplitude_rad = 1.0;  // revolute joints
+  double noise = 0.05;             // effort noise [N m | N] or current noise [A]
   bool currents = false;
   bool write_qdd = true;
   std::vector<std::string> still_joints;  // joints held at their centre (tests, bad input)
@@ -64,7 +64,7 @@ TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOpt
 
 // TOML text of the design with the fitted trajectory effects ([payload], [[inertia]] masses,
 // [[drive]] rotor_inertia and [drive.friction], [base] alpha/beta for the tilt, [model].effects).
-std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem, const EffectValues& values,
-                                     std::vector<std::string>& notes);
+std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem,
+                                     const EffectValues& values, std::vector<std::string>& notes);
 
 }  // namespace armstudy::calibration

@@ -32,18 +32,24 @@ TrajectoryData readTrajectoryData(const std::string& path, const Model& model) {
     int c = 0;
     std::string missing;
     for (int j = 1; j <= n; ++j) {
-      if (t.has(p + std::to_string(j))) ++c;
-      else if (missing.empty()) missing = p + std::to_string(j);
+      if (t.has(p + std::to_string(j)))
+        ++c;
+      else if (missing.empty())
+        missing = p + std::to_string(j);
     }
     if (c != 0 && c != n)
-      throw InputError(path, 1, missing, "missing column '" + missing + "' (give " + p + "1.." + p + std::to_string(n) +
-                                             " for all joints or none)");
+      throw InputError(path, 1, missing,
+                       "missing column '" + missing + "' (give " + p + "1.." + p +
+                           std::to_string(n) + " for all joints or none)");
     return c == n;
   };
   const bool has_qdd = group("qdd"), has_tau = group("tau"), has_cur = group("current");
-  if (has_tau && has_cur) throw InputError(path, 1, "current1", "give either tau1..taun or current1..currentn, not both");
+  if (has_tau && has_cur)
+    throw InputError(path, 1, "current1", "give either tau1..taun or current1..currentn, not both");
   if (!has_tau && !has_cur)
-    throw InputError(path, 1, "tau1", "missing column 'tau1' (or 'current1'): the measured joint efforts or motor currents");
+    throw InputError(
+        path, 1, "tau1",
+        "missing column 'tau1' (or 'current1'): the measured joint efforts or motor currents");
   d.t = t.column("t");
   d.lines = t.row_lines;
   const int R = t.rows();
@@ -68,22 +74,27 @@ TrajectoryData readTrajectoryData(const std::string& path, const Model& model) {
   if (!has_qdd) {
     const int w = 2 * defaults::kSavitzkyGolayHalfWindow + 1;
     if (R < w)
-      throw InputError(path, 0, "qdd1", "no qdd columns and only " + std::to_string(R) + " rows: differentiating qd needs at least " +
-                                            std::to_string(w));
+      throw InputError(path, 0, "qdd1",
+                       "no qdd columns and only " + std::to_string(R) +
+                           " rows: differentiating qd needs at least " + std::to_string(w));
     double hmin = std::numeric_limits<double>::infinity(), hmax = 0;
     for (int i = 1; i < R; ++i) {
       hmin = std::min(hmin, d.t[i] - d.t[i - 1]);
       hmax = std::max(hmax, d.t[i] - d.t[i - 1]);
     }
     if (hmax > hmin * (1 + defaults::kUniformSamplingTolerance))
-      d.warnings.push_back(path + ": time steps are not uniform (" + std::to_string(hmin) + " .. " + std::to_string(hmax) +
+      d.warnings.push_back(path + ": time steps are not uniform (" + std::to_string(hmin) + " .. " +
+                           std::to_string(hmax) +
                            " s); the Savitzky-Golay fit uses the actual times");
     for (int j = 0; j < n; ++j) {
       const std::vector<double> qd(d.qd.col(j).data(), d.qd.col(j).data() + R);
-      const auto a = savitzkyGolayDerivative(d.t, qd, defaults::kSavitzkyGolayHalfWindow, defaults::kSavitzkyGolayDegree);
+      const auto a = savitzkyGolayDerivative(d.t, qd, defaults::kSavitzkyGolayHalfWindow,
+                                             defaults::kSavitzkyGolayDegree);
       for (int i = 0; i < R; ++i) d.qdd(i, j) = a[i];
     }
-    d.warnings.push_back(path + ": no qdd columns; accelerations are the Savitzky-Golay derivative of qd (local quadratic, " +
+    d.warnings.push_back(path +
+                         ": no qdd columns; accelerations are the Savitzky-Golay derivative of qd "
+                         "(local quadratic, " +
                          std::to_string(2 * defaults::kSavitzkyGolayHalfWindow + 1) + " samples)");
   }
   return d;

@@ -1,5 +1,6 @@
 // CLI for model versus measurement (docs/calibration.md): compare, fit, synth for the kinds drive
-// (one joint drive on a test bed), tcp (measured TCP poses) and trajectory (joint efforts/currents).
+// (one joint drive on a test bed), tcp (measured TCP poses) and trajectory (joint
+// efforts/currents).
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -55,24 +56,33 @@ struct CommonArgs {
 };
 
 const char* kKindHelp =
-    "Kind of measurement data: drive (CSV speed, load_torque, current[, temperature]; needs --drive),\n"
-    "tcp (CSV q1..qn, x, y, z[, alpha, beta, gamma]: measured TCP in the design's world/base frame),\n"
+    "Kind of measurement data: drive (CSV speed, load_torque, current[, temperature]; needs "
+    "--drive),\n"
+    "tcp (CSV q1..qn, x, y, z[, alpha, beta, gamma]: measured TCP in the design's world/base "
+    "frame),\n"
     "trajectory (CSV t, q1..qn, qd1..qdn[, qdd1..qddn], tau1..taun or current1..currentn)";
 
 void checkKind(const CommonArgs& a) {
   if (a.kind == "drive" && a.joint.empty())
-    throw InputError("", 0, "--drive", "the drive kind needs --drive <joint> (the joint whose drive was measured)");
+    throw InputError("", 0, "--drive",
+                     "the drive kind needs --drive <joint> (the joint whose drive was measured)");
   if (a.kind != "drive" && !a.joint.empty())
-    throw InputError("", 0, "--drive", "--drive belongs to --kind drive; the " + a.kind + " kind uses every joint");
+    throw InputError("", 0, "--drive",
+                     "--drive belongs to --kind drive; the " + a.kind + " kind uses every joint");
 }
 
 void addCommon(CLI::App* cmd, CommonArgs& a) {
-  cmd->add_option("design", a.design, "Design file (TOML or URDF); drive kind: with a [[drive]] for the joint")->required();
+  cmd->add_option("design", a.design,
+                  "Design file (TOML or URDF); drive kind: with a [[drive]] for the joint")
+      ->required();
   addDesignSourceOptions(cmd, a.src);
-  cmd->add_option("--kind", a.kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
+  cmd->add_option("--kind", a.kind, kKindHelp)
+      ->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
   cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
-  cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")->required();
-  cmd->add_option("--out", a.out, "Output folder (default output/calibration/<design>-<joint or kind>)");
+  cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")
+      ->required();
+  cmd->add_option("--out", a.out,
+                  "Output folder (default output/calibration/<design>-<joint or kind>)");
   const std::tuple<const char*, int CommonArgs::*, const char*> bin_options[] = {
       {"--speed-bins", &CommonArgs::speed_bins,
        "drive kind, residual map: bins over signed motor speed"},
@@ -88,42 +98,50 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
 }
 
 std::string outDir(const CommonArgs& a, const Model& m) {
-  return a.out.empty() ? "output/calibration/" + m.name + "-" + (a.kind == "drive" ? a.joint : a.kind) : a.out;
+  return a.out.empty()
+             ? "output/calibration/" + m.name + "-" + (a.kind == "drive" ? a.joint : a.kind)
+             : a.out;
 }
 
 // The problem of any kind for the one engine (drive: the measured drive's test-bed data).
 std::unique_ptr<calibration::ArmProblem> armProblem(const CommonArgs& a, const Model& m) {
   if (a.kind == "drive") {
     calibration::requireDrive(m, a.joint);
-    return calibration::makeDriveProblem(m, a.joint, calibration::readDriveData(a.data), a.speed_bins, a.load_bins);
+    return calibration::makeDriveProblem(m, a.joint, calibration::readDriveData(a.data),
+                                         a.speed_bins, a.load_bins);
   }
   return calibration::makeArmProblem(m, calibration::readArmData(a.kind, a.data, m));
 }
 
 void printArm(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
-  std::printf("%s data of %s vs %s (%d rows, %d channels)\n", d.kind.c_str(), d.design.c_str(), P.file.c_str(), P.rows(),
-              P.channels());
+  std::printf("%s data of %s vs %s (%d rows, %d channels)\n", d.kind.c_str(), d.design.c_str(),
+              P.file.c_str(), P.rows(), P.channels());
   for (const auto& w : d.warnings) std::printf("warning: %s\n", w.c_str());
-  std::printf("as designed: RMSE %.4g %s; per channel:\n", d.as_designed.train_rmse, P.fit_unit.c_str());
+  std::printf("as designed: RMSE %.4g %s; per channel:\n", d.as_designed.train_rmse,
+              P.fit_unit.c_str());
   for (int c = 0; c < P.channels(); ++c) {
     const auto& s = d.as_designed.channel_train[c];
-    std::printf("  %-10s RMSE %.4g  bias %+.4g  max %.4g %s\n", P.channel_names[c].c_str(), s.rmse, s.bias, s.max_abs,
-                P.channel_units[c].c_str());
+    std::printf("  %-10s RMSE %.4g  bias %+.4g  max %.4g %s\n", P.channel_names[c].c_str(), s.rmse,
+                s.bias, s.max_abs, P.channel_units[c].c_str());
   }
-  std::printf("noise estimate %.4g %s (lag-1 autocorrelation %.2f); flagged bins: %d of %zu\n", d.noise_estimate,
-              P.fit_unit.c_str(), d.noise_rho, d.as_designed_map.flagged(), d.as_designed_map.bins.size());
-  std::printf("residuals are weighted per channel by the channel's noise estimate; as designed %.3g x the noise "
-              "(RMS over all channels of residual / noise)\n",
-              d.as_designed.train_score);
+  std::printf("noise estimate %.4g %s (lag-1 autocorrelation %.2f); flagged bins: %d of %zu\n",
+              d.noise_estimate, P.fit_unit.c_str(), d.noise_rho, d.as_designed_map.flagged(),
+              d.as_designed_map.bins.size());
+  std::printf(
+      "residuals are weighted per channel by the channel's noise estimate; as designed %.3g x the "
+      "noise "
+      "(RMS over all channels of residual / noise)\n",
+      d.as_designed.train_score);
 }
 
 // Held-out RMSE per channel in its own unit and in units of its noise, plus the overall figure.
 void printChannels(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
   std::printf("final model, held-out RMSE per channel (noise estimate; ratio):\n");
-  for (int c = 0; c < P.channels() && c < static_cast<int>(d.final_fit.channel_heldout.size()); ++c) {
+  for (int c = 0; c < P.channels() && c < static_cast<int>(d.final_fit.channel_heldout.size());
+       ++c) {
     const double r = d.final_fit.channel_heldout[c].rmse, s = d.channel_noise[c];
-    std::printf("  %-10s %.4g %s (noise %.4g; %.2f x)\n", P.channel_names[c].c_str(), r, P.channel_units[c].c_str(), s,
-                s > 0 ? r / s : 0.0);
+    std::printf("  %-10s %.4g %s (noise %.4g; %.2f x)\n", P.channel_names[c].c_str(), r,
+                P.channel_units[c].c_str(), s, s > 0 ? r / s : 0.0);
   }
   std::printf("  overall: %.3g x the noise (dimensionless, held-out)\n", d.final_fit.heldout_score);
 }
@@ -138,7 +156,8 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
   o.auto_add = autoAdd;
   const auto P = armProblem(a, m);
   // The drive kind refits the design's own friction terms first (thesis Table 4.5), then ranks.
-  if (a.kind == "drive" && P->findEffect(calibration::kRefitEffect) >= 0) o.add.push_back(calibration::kRefitEffect);
+  if (a.kind == "drive" && P->findEffect(calibration::kRefitEffect) >= 0)
+    o.add.push_back(calibration::kRefitEffect);
   for (const auto& e : splitList(add)) o.add.push_back(e);
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const auto d = calibration::diagnoseArm(*P, o);
@@ -147,48 +166,56 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
   const std::vector<std::string>& notes = files.notes;
   const std::string& path = files.calibrated_design_path;
   printArm(d, *P);
-  std::printf("\nmodels (RMSE [%s]; held-out = %d-fold cross-validation, linearised refit):\n", P->fit_unit.c_str(), o.folds);
+  std::printf("\nmodels (RMSE [%s]; held-out = %d-fold cross-validation, linearised refit):\n",
+              P->fit_unit.c_str(), o.folds);
   for (const auto& f : d.ladder)
-    std::printf("  %-40s params %2d  train %.4g  held-out %.4g  by region %.4g  AIC %.1f\n", f.label.c_str(), f.n_params,
-                f.train_rmse, f.heldout_rmse, f.region_heldout_rmse, f.aic);
+    std::printf("  %-40s params %2d  train %.4g  held-out %.4g  by region %.4g  AIC %.1f\n",
+                f.label.c_str(), f.n_params, f.train_rmse, f.heldout_rmse, f.region_heldout_rmse,
+                f.aic);
   std::printf("\ncandidates (best first; first 12 and any with warnings):\n");
-  std::printf("  %-26s %-15s %12s %11s %8s  %s\n", "effect", "status", "held-out", "improvement", "t", "significant");
+  std::printf("  %-26s %-15s %12s %11s %8s  %s\n", "effect", "status", "held-out", "improvement",
+              "t", "significant");
   int shown = 0;
   for (const auto& c : d.ranking) {
     const bool show = shown < 12 || !c.warnings.empty();
     if (!show) continue;
     ++shown;
     if (c.status == "ok")
-      std::printf("  %-26s %-15s %12.4g %10.1f%% %8.1f  %s\n", c.name.c_str(), c.status.c_str(), c.fit.heldout_rmse,
-                  100 * c.improvement, c.t_statistic, c.significant ? "yes" : "no");
+      std::printf("  %-26s %-15s %12.4g %10.1f%% %8.1f  %s\n", c.name.c_str(), c.status.c_str(),
+                  c.fit.heldout_rmse, 100 * c.improvement, c.t_statistic,
+                  c.significant ? "yes" : "no");
     else
       std::printf("  %-26s %-15s\n", c.name.c_str(), c.status.c_str());
-    for (std::size_t k = 0; k < c.warnings.size() && k < 3; ++k) std::printf("      warning: %s\n", c.warnings[k].c_str());
-    if (c.warnings.size() > 3) std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
+    for (std::size_t k = 0; k < c.warnings.size() && k < 3; ++k)
+      std::printf("      warning: %s\n", c.warnings[k].c_str());
+    if (c.warnings.size() > 3)
+      std::printf("      (%zu more warnings in result.json)\n", c.warnings.size() - 3);
   }
   std::printf("\nverdict: %s\n", d.verdict.c_str());
-  std::printf("bins still flagged after the fit: %d of %zu (as designed: %d)\n", d.final_map.flagged(),
-              d.final_map.bins.size(), d.as_designed_map.flagged());
+  std::printf("bins still flagged after the fit: %d of %zu (as designed: %d)\n",
+              d.final_map.flagged(), d.final_map.bins.size(), d.as_designed_map.flagged());
   if (d.unexplained_found) {
     std::printf("residual patterns no catalogue effect explains (strongest first):\n");
     for (std::size_t k = 0; k < d.patterns.size() && k < 5 && d.patterns[k].significant; ++k)
-      std::printf("  %s: %s (%.0f %% of its residual)\n", d.patterns[k].channel.c_str(), d.patterns[k].description.c_str(),
-                  100 * d.patterns[k].explained);
+      std::printf("  %s: %s (%.0f %% of its residual)\n", d.patterns[k].channel.c_str(),
+                  d.patterns[k].description.c_str(), 100 * d.patterns[k].explained);
   }
   printChannels(d, *P);
   if (!d.identifiable.empty()) std::printf("not identifiable: %s\n", d.identifiable.c_str());
   if (!d.added.empty() && d.identifiable.empty()) {
     std::printf("added (in this order):");
     for (const auto& e : d.added) std::printf(" %s", e.c_str());
-    std::printf("\nheld-out RMSE before %.4g -> after %.4g %s (x%.2f lower); noise estimate %.4g\n", d.rmse_before,
-                d.rmse_after, P->fit_unit.c_str(), d.rmse_before / d.rmse_after, d.noise_estimate);
+    std::printf("\nheld-out RMSE before %.4g -> after %.4g %s (x%.2f lower); noise estimate %.4g\n",
+                d.rmse_before, d.rmse_after, P->fit_unit.c_str(), d.rmse_before / d.rmse_after,
+                d.noise_estimate);
   }
   std::printf("final parameters:\n");
   for (const auto& p : d.final_fit.params)
-    std::printf("  %-36s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value, p.unit.c_str(), p.ci_low,
-                p.ci_high, p.at_bound ? "  (at bound)" : "");
+    std::printf("  %-36s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value,
+                p.unit.c_str(), p.ci_low, p.ci_high, p.at_bound ? "  (at bound)" : "");
   for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
-  std::printf("calibrated design: %s\nresults in %s/\n", path.empty() ? "none" : path.c_str(), out.c_str());
+  std::printf("calibrated design: %s\nresults in %s/\n", path.empty() ? "none" : path.c_str(),
+              out.c_str());
   return 0;
 }
 
@@ -222,13 +249,16 @@ void addFitCommand(CLI::App* cmd, Action& action) {
   auto folds = std::make_shared<int>(defaults::kCvFolds);
   auto seed = std::make_shared<unsigned long long>(defaults::kCvSeed);
   auto designOut = std::make_shared<std::string>();
-  cmd->add_option("--add", *add, "Effects to add (comma list, in order), e.g. stribeck,asymmetry or joint_offset.j3");
+  cmd->add_option(
+      "--add", *add,
+      "Effects to add (comma list, in order), e.g. stribeck,asymmetry or joint_offset.j3");
   cmd->add_flag("--auto", *autoAdd, "Add the best significant effect until none is left");
   cmd->add_option("--folds", *folds, "k of k-fold cross-validation (2 to the number of data rows)")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
   cmd->add_option("--seed", *seed, "Seed of the fold assignment")->capture_default_str();
-  cmd->add_option("--write-design", *designOut, "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
+  cmd->add_option("--write-design", *designOut,
+                  "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
   setAction(cmd, action, [a, add, autoAdd, folds, seed, designOut] {
     checkKind(*a);
     const Model m = loadAnyDesign(a->design, a->src.urdf());
@@ -254,24 +284,33 @@ void addSynthCommand(CLI::App* cmd, Action& action) {
   cmd->add_option("--kind", *kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
   cmd->add_option("--drive", *joint, "drive kind: joint whose drive is simulated");
   cmd->add_option("--rows", arm->tcp.rows, "tcp: number of poses");
-  cmd->add_option("--noise-angle", arm->tcp.noise_rad, "tcp: angle noise [rad] (with --orientation)");
+  cmd->add_option("--noise-angle", arm->tcp.noise_rad,
+                  "tcp: angle noise [rad] (with --orientation)");
   cmd->add_flag("--orientation", arm->tcp.orientation, "tcp: also write alpha, beta, gamma");
   cmd->add_option("--duration", arm->traj.duration_s, "trajectory: duration [s]");
   cmd->add_option("--rate", arm->traj.rate_Hz, "trajectory: sample rate [Hz]");
-  cmd->add_flag("--currents", arm->traj.currents, "trajectory: write motor currents instead of joint efforts");
-  cmd->add_flag("--no-qdd", arm->no_qdd, "trajectory: omit the qdd columns (the reader differentiates qd)");
+  cmd->add_flag("--currents", arm->traj.currents,
+                "trajectory: write motor currents instead of joint efforts");
+  cmd->add_flag("--no-qdd", arm->no_qdd,
+                "trajectory: omit the qdd columns (the reader differentiates qd)");
   cmd->add_option("--still", arm->traj.still_joints, "trajectory: joint held still (repeatable)");
   cmd->add_option("--out", *out, "CSV file to write")->required();
-  cmd->add_option("--hide", *hide,
-                  "Hidden effect, repeatable: name[:key=value,...], e.g. stribeck:stribeck_torque=0.03,stribeck_velocity=60,\n"
-                  "joint_offset.j3:offset=0.01, payload:mass=0.4 (see fit --help for the names per kind)");
+  cmd->add_option(
+      "--hide", *hide,
+      "Hidden effect, repeatable: name[:key=value,...], e.g. "
+      "stribeck:stribeck_torque=0.03,stribeck_velocity=60,\n"
+      "joint_offset.j3:offset=0.01, payload:mass=0.4 (see fit --help for the names per kind)");
   auto noise = std::make_shared<double>(std::nan(""));
   cmd->add_option("--noise", *noise,
-                  "Noise standard deviation: drive [A] (default 0.01), tcp [m] (1e-4), trajectory [N m|N or A] (0.05)");
-  cmd->add_option("--noise-correlation", o->noise_rho, "AR(1) correlation of successive noise samples");
+                  "Noise standard deviation: drive [A] (default 0.01), tcp [m] (1e-4), trajectory "
+                  "[N m|N or A] (0.05)");
+  cmd->add_option("--noise-correlation", o->noise_rho,
+                  "AR(1) correlation of successive noise samples");
   cmd->add_option("--seed", o->seed, "Random seed");
-  cmd->add_option("--series", o->series, "Number of test series (each visits the speeds in a new order)");
-  cmd->add_option("--speeds", *speeds, "Motor speed levels [rad/s], comma list (both directions are run)");
+  cmd->add_option("--series", o->series,
+                  "Number of test series (each visits the speeds in a new order)");
+  cmd->add_option("--speeds", *speeds,
+                  "Motor speed levels [rad/s], comma list (both directions are run)");
   cmd->add_option("--loads", *loads, "Load torque levels [N m], comma list");
   cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
   cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");

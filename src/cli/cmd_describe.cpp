@@ -6,8 +6,8 @@
 
 #include "cli/design_options.hpp"
 #include "common/errors.hpp"
-#include "io/design_io.hpp"
 #include "engine/run.hpp"
+#include "io/design_io.hpp"
 
 namespace armstudy::cli {
 
@@ -28,9 +28,10 @@ static std::string joined(const std::vector<std::string>& v) {
 
 // The chains of a URDF design, the tip chosen and why, and the --tip for the others.
 static void printChains(const UrdfChains& c, const std::string& tip_given) {
-  std::printf("\nchains below '%s' (a chain runs over arm joints; gripper, finger, mimic, "
-              "floating and planar joints end it):\n",
-              c.base.c_str());
+  std::printf(
+      "\nchains below '%s' (a chain runs over arm joints; gripper, finger, mimic, "
+      "floating and planar joints end it):\n",
+      c.base.c_str());
   for (const auto& e : c.ends) {
     std::printf("  %-24s %2d joints", e.link.c_str(), e.joints);
     if (!e.fixed_frames.empty())
@@ -58,7 +59,8 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto src = std::make_shared<DesignSourceOptions>();
-  cmd->add_option("design", *path, "Design file (TOML or URDF), e.g. designs/final_prototype_9dof.toml")
+  cmd->add_option("design", *path,
+                  "Design file (TOML or URDF), e.g. designs/final_prototype_9dof.toml")
       ->required();
   addDesignSourceOptions(cmd, *src);
   cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
@@ -95,8 +97,10 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
     const double d = 180.0 / M_PI;
     std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)",
                 m.tcp.x, m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
-    std::printf("tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their targets)\n",
-                m.tool_axis_T.x(), m.tool_axis_T.y(), m.tool_axis_T.z());
+    std::printf(
+        "tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their "
+        "targets)\n",
+        m.tool_axis_T.x(), m.tool_axis_T.y(), m.tool_axis_T.z());
     if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
     if (!m.inertias.empty()) std::printf("link inertias: given\n");
     if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());

@@ -15,8 +15,9 @@ namespace armstudy::cli {
 
 namespace {
 
-constexpr double kFrameLengthShare = 0.08;  // frame axes and joint axes: this share of the arm's size
-constexpr double kPanelHeight_px = 400;     // about the plot area's width: equal scale on both axes
+constexpr double kFrameLengthShare =
+    0.08;                                // frame axes and joint axes: this share of the arm's size
+constexpr double kPanelHeight_px = 400;  // about the plot area's width: equal scale on both axes
 
 // The joint vector of --q (degrees with --deg), or q = 0 clamped into the limits.
 Eigen::VectorXd jointVector(const Model& m, const std::vector<double>& given, bool deg) {
@@ -117,15 +118,18 @@ void addDrawCommand(CLI::App* cmd, Action& action) {
     KinematicsWorkspace ws(m);
     forwardKinematics(m, ws, q);
     double size = (ws.p_WT - m.T_WB.translation()).norm();
-    for (int i = 0; i < m.dof(); ++i) size = std::max(size, (ws.p_WF[i] - m.T_WB.translation()).norm());
+    for (int i = 0; i < m.dof(); ++i)
+      size = std::max(size, (ws.p_WF[i] - m.T_WB.translation()).norm());
     const double len = kFrameLengthShare * std::max(size, 0.1);
     report::PlotSpec spec;
     spec.title = m.name + (a->q.empty() ? " at q = 0" : " at the given q");
     spec.x_label = "x [m] (world)";
-    spec.panels = {view(m, ws, 0, 2, "side view (x-z)", len), view(m, ws, 0, 1, "top view (x-y)", len)};
+    spec.panels = {view(m, ws, 0, 2, "side view (x-z)", len),
+                   view(m, ws, 0, 1, "top view (x-y)", len)};
     spec.panel_height = kPanelHeight_px;
     const bool png = a->out.size() > 4 && a->out.substr(a->out.size() - 4) == ".png";
-    const report::Drawing d = report::plot(spec, png ? report::Format::svg_and_png : report::Format::svg);
+    const report::Drawing d =
+        report::plot(spec, png ? report::Format::svg_and_png : report::Format::svg);
     writeFileAtomic(a->out, png ? d.png : d.svg);
     std::printf("wrote %s (%s, %d joints)\n", a->out.c_str(), m.name.c_str(), m.dof());
     return 0;

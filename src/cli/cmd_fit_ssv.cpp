@@ -20,14 +20,18 @@ void addFitSsvCommand(CLI::App* cmd, Action& action) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("design", a->design, "Design file (TOML)")->required();
-  cmd->add_option("--link", a->link, "Link the mesh belongs to: a joint name or \"base\"")->required();
-  cmd->add_option("--mesh", a->mesh, "Closed triangle mesh of the link, .stl or .off, in the link frame")
+  cmd->add_option("--link", a->link, "Link the mesh belongs to: a joint name or \"base\"")
+      ->required();
+  cmd->add_option("--mesh", a->mesh,
+                  "Closed triangle mesh of the link, .stl or .off, in the link frame")
       ->required();
   cmd->add_option("--out", a->out, "Output design file (default: <design>.fitted.toml beside it)");
   cmd->add_flag("--in-place", a->in_place, "Rewrite the design file itself (atomically)");
-  cmd->add_option("--scale", a->scale, "Mesh units to metres, e.g. 0.001 for millimetres (default 1)");
+  cmd->add_option("--scale", a->scale,
+                  "Mesh units to metres, e.g. 0.001 for millimetres (default 1)");
   cmd->add_option("--max-volumes", a->max_volumes, "Most SSVs to use for the link (default 4)");
-  cmd->add_option("--margin-mm", a->margin_mm, "Extra clearance added to every radius [mm] (default 0)");
+  cmd->add_option("--margin-mm", a->margin_mm,
+                  "Extra clearance added to every radius [mm] (default 0)");
   setAction(cmd, action, [a] {
     if (a->in_place && !a->out.empty())
       throw InputError("--out", 0, "out", "use either --out or --in-place, not both");

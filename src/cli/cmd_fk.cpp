@@ -82,10 +82,9 @@ void addFkCommand(CLI::App* cmd, Action& action) {
     // Joint rows: the body frame after each joint; for a URDF design its child link frame
     // (L_i = F_i R_FL), so every row agrees with URDF tools.
     for (int i = 0; i < m.dof(); ++i)
-      rows.push_back(
-          {m.joints[i].name, ws.p_WF[i],
-           cardanForDisplay(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
-                                      : Eigen::Matrix3d(ws.R_WF[i]))});
+      rows.push_back({m.joints[i].name, ws.p_WF[i],
+                      cardanForDisplay(has_links ? Eigen::Matrix3d(ws.R_WF[i] * info.joints[i].R_FL)
+                                                 : Eigen::Matrix3d(ws.R_WF[i]))});
     rows.push_back({"tcp", ws.p_WT, cardanForDisplay(ws.R_WT)});
     std::vector<std::string> warn = limitWarnings(m, q);
     if (!a->deg)

@@ -3,14 +3,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "common/defaults.hpp"
 #include "armstudy/version.hpp"
 #include "cli/commands.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
-#include "io/files.hpp"
-#include "engine/study_file.hpp"
-#include "study/regression.hpp"
 #include "engine/run.hpp"
+#include "engine/study_file.hpp"
+#include "io/files.hpp"
+#include "study/regression.hpp"
 
 namespace armstudy::cli {
 
@@ -24,9 +24,11 @@ struct Args {
 
 void addRunOptions(CLI::App* cmd, Args& a) {
   cmd->add_option("study", a.path, "Study file (TOML)")->required();
-  cmd->add_option("--output", a.opt.output_root, "Folder that receives <study name>/")->capture_default_str();
-  cmd->add_option("--threads", a.opt.threads,
-                  "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
+  cmd->add_option("--output", a.opt.output_root, "Folder that receives <study name>/")
+      ->capture_default_str();
+  cmd->add_option(
+         "--threads", a.opt.threads,
+         "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
       ->check(CLI::Range(0, defaults::kMaxThreads));
 }
 }  // namespace

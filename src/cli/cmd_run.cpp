@@ -1,13 +1,13 @@
 #include <cstdio>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
-#include "common/defaults.hpp"
 #include "cli/commands.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
-#include "engine/study_file.hpp"
 #include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "study/distributed.hpp"
 
 namespace armstudy::cli {
@@ -19,25 +19,30 @@ void addRunCommand(CLI::App* cmd, Action& action) {
     bool json = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")->required();
+  cmd->add_option("study", a->path, "Study file (TOML), e.g. studies/spraying_row.toml")
+      ->required();
   cmd->add_option("--output", a->opt.output_root, "Folder that receives <study name>/")
       ->capture_default_str();
-  cmd->add_option("--threads", a->opt.threads,
-                  "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
+  cmd->add_option(
+         "--threads", a->opt.threads,
+         "OpenMP threads (0 = all cores, at most " + std::to_string(defaults::kMaxThreads) + ")")
       ->check(CLI::Range(0, defaults::kMaxThreads));
   cmd->add_flag("--overwrite", a->opt.overwrite, "Replace results already in the output folder");
-  cmd->add_option("--unit-size", a->opt.unit_items,
-                  "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
-                  "defaults). Results do not depend on it")
+  cmd->add_option(
+         "--unit-size", a->opt.unit_items,
+         "Work items per checkpoint unit (poses, map cells, approaches, grid points; 0 = stage "
+         "defaults). Results do not depend on it")
       ->check(CLI::Range(0L, defaults::kMaxUnitItems));
-  cmd->add_option("--search-group-ranks", a->opt.search_group_ranks,
-                  "Under mpirun/srun: a grid's map searches run in groups of at least this many ranks, each "
-                  "group searching some of the designs (0 = every rank in every search). Results do not "
-                  "depend on it")
+  cmd->add_option(
+         "--search-group-ranks", a->opt.search_group_ranks,
+         "Under mpirun/srun: a grid's map searches run in groups of at least this many ranks, each "
+         "group searching some of the designs (0 = every rank in every search). Results do not "
+         "depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, defaults::kMaxSearchGroupRanks));
-  cmd->add_flag("--json", a->json,
-                "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
+  cmd->add_flag(
+      "--json", a->json,
+      "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
   setAction(cmd, action, [a] {
     // Under mpirun/srun every rank runs this; a plain run is the single process
     // (docs/distributed.md). Errors before the stages are reported once, by the lowest rank that

@@ -17,14 +17,16 @@ int main(int argc, char** argv) {
       "  armstudy describe designs/final_prototype_9dof.toml\n"
       "  armstudy fk designs/final_prototype_7dof.toml --q 0.2,0,0,0,0,0,0 --deg\n"
       "  armstudy run studies/spraying_row.toml\n"};
-  app.set_version_flag("--version", std::string(armstudy::kVersion) + " (" + armstudy::kGitRevision + ")");
+  app.set_version_flag("--version",
+                       std::string(armstudy::kVersion) + " (" + armstudy::kGitRevision + ")");
   app.require_subcommand(1);
   // Every option's default value is shown in --help (subcommands inherit this setting).
   app.option_defaults()->always_capture_default();
   armstudy::cli::Action action;
   for (const armstudy::cli::Command& c : armstudy::cli::commands())
     c.add(app.add_subcommand(c.name, c.help), action);
-  // Defaults that say nothing (an empty list, NaN = "chosen per kind", a required value) are not shown.
+  // Defaults that say nothing (an empty list, NaN = "chosen per kind", a required value) are not
+  // shown.
   for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     for (CLI::Option* opt : sub->get_options()) {
       const std::string& d = opt->get_default_str();
@@ -39,8 +41,9 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
     if (!known) {
-      std::fprintf(stderr, "armstudy: error: unknown command '%s' (commands: %s; armstudy --help)\n", argv[1],
-                   names.c_str());
+      std::fprintf(stderr,
+                   "armstudy: error: unknown command '%s' (commands: %s; armstudy --help)\n",
+                   argv[1], names.c_str());
       return 2;
     }
   }

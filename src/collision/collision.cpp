@@ -23,7 +23,8 @@ Obstacle sphereObstacle(std::string name, const Vector3d& c_W, double radius_m) 
   return o;
 }
 
-Obstacle capsuleObstacle(std::string name, const Vector3d& a_W, const Vector3d& b_W, double radius_m) {
+Obstacle capsuleObstacle(std::string name, const Vector3d& a_W, const Vector3d& b_W,
+                         double radius_m) {
   Obstacle o;
   o.name = std::move(name);
   o.type = SsvType::Line;
@@ -77,13 +78,16 @@ CollisionWorkspace::CollisionWorkspace(const Model& model) {
       for (int k = 0; k < 3; ++k) core_L[slot].p[k] = vols[i].p_L[k];
       radius[slot] = vols[i].radius_m;
       // Points act as zero-length segments in the kernel (length and inverse 0).
-      seg_len2[slot] = core_L[slot].n == 2 ? (core_L[slot].p[1] - core_L[slot].p[0]).squaredNorm() : 0.0;
-      seg_inv_len2[slot] = seg_len2[slot] > 0 ? 1.0 / seg_len2[slot] : 0.0;  // > 0 for validated lines
+      seg_len2[slot] =
+          core_L[slot].n == 2 ? (core_L[slot].p[1] - core_L[slot].p[0]).squaredNorm() : 0.0;
+      seg_inv_len2[slot] =
+          seg_len2[slot] > 0 ? 1.0 / seg_len2[slot] : 0.0;  // > 0 for validated lines
       boundCore(core_L[slot], radius[slot], centre_L[slot], bound_r[slot]);
       ++slot;
     }
   }
-  ARMSTUDY_CHECK(slot == num_volumes, "collision: a volume is attached to a body outside the chain");
+  ARMSTUDY_CHECK(slot == num_volumes,
+                 "collision: a volume is attached to a body outside the chain");
   for (int b = n + 1; b <= kMaxBodies; ++b) body_begin[b] = slot;
   for (int b = 0; b <= n; ++b) {
     body_centre_L[b].setZero();
@@ -97,14 +101,16 @@ CollisionWorkspace::CollisionWorkspace(const Model& model) {
     c /= count;
     double r = 0;
     for (int k = k0; k < k1; ++k)
-      for (int i = 0; i < core_L[k].n; ++i) r = std::max(r, (core_L[k].p[i] - c).norm() + radius[k]);
+      for (int i = 0; i < core_L[k].n; ++i)
+        r = std::max(r, (core_L[k].p[i] - c).norm() + radius[k]);
     body_centre_L[b] = c;
     body_bound_r[b] = r;
   }
   for (int a = -1; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
       if (!isCollisionPair(model, a, b)) continue;
-      if (body_begin[a + 1] == body_begin[a + 2] || body_begin[b + 1] == body_begin[b + 2]) continue;
+      if (body_begin[a + 1] == body_begin[a + 2] || body_begin[b + 1] == body_begin[b + 2])
+        continue;
       PairDistance& p = self[num_self++];
       p.link_a = a;
       p.link_b = b;
@@ -169,7 +175,8 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
       const int A0 = pa[k0], A1 = pa[k1], B0 = pb[k0], B1 = pb[k1];
       auto gA = [&](const double* v) { return _mm_set_pd(v[A1], v[A0]); };
       auto gB = [&](const double* v) { return _mm_set_pd(v[B1], v[B0]); };
-      const __m128d uxA = gA(ux), uyA = gA(uy), uzA = gA(uz), uxB = gB(ux), uyB = gB(uy), uzB = gB(uz);
+      const __m128d uxA = gA(ux), uyA = gA(uy), uzA = gA(uz), uxB = gB(ux), uyB = gB(uy),
+                    uzB = gB(uz);
       const __m128d rx = _mm_sub_pd(gA(sx), gB(sx)), ry = _mm_sub_pd(gA(sy), gB(sy)),
                     rz = _mm_sub_pd(gA(sz), gB(sz));
       const __m128d a = gA(len2), e = gB(len2);
@@ -188,15 +195,17 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
       const __m128d wx = _mm_sub_pd(_mm_add_pd(rx, _mm_mul_pd(sv, uxA)), _mm_mul_pd(t, uxB));
       const __m128d wy = _mm_sub_pd(_mm_add_pd(ry, _mm_mul_pd(sv, uyA)), _mm_mul_pd(t, uyB));
       const __m128d wz = _mm_sub_pd(_mm_add_pd(rz, _mm_mul_pd(sv, uzA)), _mm_mul_pd(t, uzB));
-      const __m128d d = _mm_sub_pd(_mm_sub_pd(_mm_sqrt_pd(dot(wx, wy, wz, wx, wy, wz)), gA(rad)), gB(rad));
+      const __m128d d =
+          _mm_sub_pd(_mm_sub_pd(_mm_sqrt_pd(dot(wx, wy, wz, wx, wy, wz)), gA(rad)), gB(rad));
       _mm_storel_pd(&out_d[k0], d);
       _mm_storeh_pd(&out_d[k1], d);
       _mm_storel_pd(&out_s[k0], sv);
       _mm_storeh_pd(&out_s[k1], sv);
       _mm_storel_pd(&out_t[k0], t);
       _mm_storeh_pd(&out_t[k1], t);
-      const int near_parallel = _mm_movemask_pd(_mm_and_pd(
-          _mm_and_pd(_mm_cmpgt_pd(a, zero), _mm_cmpgt_pd(e, zero)), _mm_cmpngt_pd(den, _mm_mul_pd(par, ae))));
+      const int near_parallel =
+          _mm_movemask_pd(_mm_and_pd(_mm_and_pd(_mm_cmpgt_pd(a, zero), _mm_cmpgt_pd(e, zero)),
+                                     _mm_cmpngt_pd(den, _mm_mul_pd(par, ae))));
       general[k0] |= static_cast<unsigned char>((near_parallel & 1) << 1);
       general[k1] |= static_cast<unsigned char>(near_parallel & 2);
     }
@@ -214,7 +223,8 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
     const double s0 = clampUnit((b * f - c * e) / maxNoBranch(den, 1e-300));
     const double t = clampUnit((b * s0 + f) * inv2[B]);
     const double s = clampUnit((b * t - c) * inv2[A]);
-    const double wx = rx + s * ux[A] - t * ux[B], wy = ry + s * uy[A] - t * uy[B], wz = rz + s * uz[A] - t * uz[B];
+    const double wx = rx + s * ux[A] - t * ux[B], wy = ry + s * uy[A] - t * uy[B],
+                 wz = rz + s * uz[A] - t * uz[B];
     out_d[k] = sqrtNonNegative(wx * wx + wy * wy + wz * wz) - rad[A] - rad[B];
     out_s[k] = s;
     out_t[k] = t;
@@ -225,8 +235,9 @@ void evaluatePairs(CollisionWorkspace& ws, int n) {
     const int k = act[i];
     if (!general[k]) continue;
     const int A = pa[k], B = pb[k];
-    out_d[k] = std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ws.pair_ca[k], ws.pair_cb[k])) -
-               rad[A] - rad[B];
+    out_d[k] =
+        std::sqrt(squaredDistanceCores(ws.core_W[A], ws.core_W[B], ws.pair_ca[k], ws.pair_cb[k])) -
+        rad[A] - rad[B];
     out_s[k] = -1;  // witnesses in pair_ca / pair_cb
     general[k] &= 1;
   }
@@ -281,7 +292,8 @@ void finishPair(CollisionWorkspace& ws, int k0, int k1, double near_below, PairD
 void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
                         std::span<const Obstacle> obstacles, CollisionWorkspace& ws,
                         const CollisionQueryOptions& options) {
-  ARMSTUDY_CHECK(static_cast<int>(obstacles.size()) <= kMaxObstacles, "collision: too many obstacles");
+  ARMSTUDY_CHECK(static_cast<int>(obstacles.size()) <= kMaxObstacles,
+                 "collision: too many obstacles");
   ARMSTUDY_CHECK(kin.n == model.dof(), "collision: kinematics workspace of another model");
   const int n = model.dof();
   const double cutoff = options.cutoff_m;
@@ -322,9 +334,10 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
   }
 
   // Environment: the exact minimum over one body's volumes against one obstacle core. Volumes
-  // whose bounding spheres lie beyond the cutoff are skipped (their bound is kept as a lower bound).
-  auto obstaclePair = [&](int k0, int k1, const Core& oc, const Vector3d& oc_centre, double oc_bound,
-                          double oc_radius, int obstacle, PairDistance& out) {
+  // whose bounding spheres lie beyond the cutoff are skipped (their bound is kept as a lower
+  // bound).
+  auto obstaclePair = [&](int k0, int k1, const Core& oc, const Vector3d& oc_centre,
+                          double oc_bound, double oc_radius, int obstacle, PairDistance& out) {
     double best = std::numeric_limits<double>::infinity();
     double lower = std::numeric_limits<double>::infinity();
     int win = -1;
@@ -336,7 +349,8 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
         continue;
       }
       Vector3d ca, cb;
-      const double d = std::sqrt(squaredDistanceCores(ws.core_W[k], oc, ca, cb)) - ws.radius[k] - oc_radius;
+      const double d =
+          std::sqrt(squaredDistanceCores(ws.core_W[k], oc, ca, cb)) - ws.radius[k] - oc_radius;
       if (d < near_below) {
         PairDistance& v = ws.near_env[ws.num_near_env++];
         v.link_a = out.link_a;
@@ -420,7 +434,8 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
           pr.distance_m = lb;
           pr.exact = false;
         } else {
-          obstaclePair(ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre, oc_bound, ob.radius_m, o, pr);
+          obstaclePair(ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre, oc_bound, ob.radius_m,
+                       o, pr);
           pr.volume_b = o;
         }
         if (pr.distance_m < min_d) {

@@ -44,13 +44,13 @@ Obstacle capsuleObstacle(std::string name, const Eigen::Vector3d& a_W, const Eig
 
 // The distance of one collision pair and where it is attained.
 struct PairDistance {
-  int link_a = -1;           // body A: joint index, -1 = base
-  int link_b = -1;           // body B: joint index (self pairs) or obstacle index (environment)
-  int volume_a = -1;         // model.collision.volumes index of the closest volume on A
-  int volume_b = -1;         // volume index on B, or the obstacle index
+  int link_a = -1;    // body A: joint index, -1 = base
+  int link_b = -1;    // body B: joint index (self pairs) or obstacle index (environment)
+  int volume_a = -1;  // model.collision.volumes index of the closest volume on A
+  int volume_b = -1;  // volume index on B, or the obstacle index
   double distance_m = std::numeric_limits<double>::infinity();
-  bool exact = false;        // false: the pair lies beyond the cutoff; distance_m is a lower bound
-  SsvDistance w;             // witness points (core c_a/c_b, surface p_a/p_b) and normal, in W
+  bool exact = false;  // false: the pair lies beyond the cutoff; distance_m is a lower bound
+  SsvDistance w;       // witness points (core c_a/c_b, surface p_a/p_b) and normal, in W
 };
 
 struct CollisionQueryOptions {
@@ -59,21 +59,21 @@ struct CollisionQueryOptions {
   // distances below its safety distance d_a only. A finite cutoff also lists every volume pair
   // closer than it (CollisionWorkspace::near_self / near_env): the terms of H_c.
   double cutoff_m = std::numeric_limits<double>::infinity();
-  bool self = true;          // body-body pairs
-  bool environment = true;   // body-obstacle pairs
+  bool self = true;         // body-body pairs
+  bool environment = true;  // body-obstacle pairs
 };
 
 struct CollisionWorkspace {
   explicit CollisionWorkspace(const Model& model);
 
   // --- fixed after construction (derived from the model) ---
-  int num_volumes = 0;                          // volumes sorted by body
-  std::array<int, kMaxVolumes> model_index{};   // sorted slot -> model.collision.volumes index
-  std::array<Core, kMaxVolumes> core_L;         // core points in the link frame
+  int num_volumes = 0;                         // volumes sorted by body
+  std::array<int, kMaxVolumes> model_index{};  // sorted slot -> model.collision.volumes index
+  std::array<Core, kMaxVolumes> core_L;        // core points in the link frame
   std::array<double, kMaxVolumes> radius{};
-  std::array<Eigen::Vector3d, kMaxVolumes> centre_L;  // bounding sphere of each volume
-  std::array<double, kMaxVolumes> bound_r{};          //   (radius included)
-  std::array<int, kMaxBodies + 1> body_begin{};       // volumes of body b = link + 1
+  std::array<Eigen::Vector3d, kMaxVolumes> centre_L;      // bounding sphere of each volume
+  std::array<double, kMaxVolumes> bound_r{};              //   (radius included)
+  std::array<int, kMaxBodies + 1> body_begin{};           // volumes of body b = link + 1
   std::array<Eigen::Vector3d, kMaxBodies> body_centre_L;  // bounding sphere of each body's volumes
   std::array<double, kMaxBodies> body_bound_r{};
   int num_self = 0;                              // collision pairs with volumes on both bodies
@@ -81,25 +81,25 @@ struct CollisionWorkspace {
   // Flat list of the volume pairs of the self pairs: those of self[i] are
   // [pair_begin[i], pair_begin[i + 1]). Sized once here (no allocation per query).
   std::array<int, kMaxBodyPairs + 1> pair_begin{};
-  std::vector<int> pair_a, pair_b;               // volume slots
-  std::vector<unsigned char> pair_general;       // 1: a triangle is involved (general routine)
-  std::vector<double> pair_d, pair_s, pair_t;    // per query: SSV distance, segment parameters
-  std::vector<Eigen::Vector3d> pair_ca, pair_cb; // per query: core witnesses where pair_s < 0
-  std::vector<int> active;                       // per query: pairs to evaluate (capacity: all)
+  std::vector<int> pair_a, pair_b;                // volume slots
+  std::vector<unsigned char> pair_general;        // 1: a triangle is involved (general routine)
+  std::vector<double> pair_d, pair_s, pair_t;     // per query: SSV distance, segment parameters
+  std::vector<Eigen::Vector3d> pair_ca, pair_cb;  // per query: core witnesses where pair_s < 0
+  std::vector<int> active;                        // per query: pairs to evaluate (capacity: all)
 
   // --- per query ---
-  std::array<Core, kMaxVolumes> core_W;         // core points in W
+  std::array<Core, kMaxVolumes> core_W;  // core points in W
   std::array<Eigen::Vector3d, kMaxVolumes> centre_W;
-  std::array<Eigen::Vector3d, kMaxVolumes> seg_d_W;   // line volumes: p1 - p0 in W (0 for points)
-  std::array<double, kMaxVolumes> seg_len2{};         //   |p1 - p0|^2 and its inverse (fixed:
-  std::array<double, kMaxVolumes> seg_inv_len2{};     //   set at construction; 0 for points)
+  std::array<Eigen::Vector3d, kMaxVolumes> seg_d_W;  // line volumes: p1 - p0 in W (0 for points)
+  std::array<double, kMaxVolumes> seg_len2{};        //   |p1 - p0|^2 and its inverse (fixed:
+  std::array<double, kMaxVolumes> seg_inv_len2{};    //   set at construction; 0 for points)
   // Structure-of-arrays copy of p0 and p1 - p0 in W for the segment kernel.
   std::array<double, kMaxVolumes> sx{}, sy{}, sz{}, ux{}, uy{}, uz{};
   std::array<Eigen::Vector3d, kMaxBodies> body_centre_W;
-  int num_env = 0;                              // body-obstacle pairs evaluated
+  int num_env = 0;  // body-obstacle pairs evaluated
   std::array<PairDistance, kMaxBodies * kMaxObstacles> env;
-  int closest_self = -1;                        // index into self of the smallest distance
-  int closest_env = -1;                         // index into env of the smallest distance
+  int closest_self = -1;  // index into self of the smallest distance
+  int closest_env = -1;   // index into env of the smallest distance
   double cutoff_used_m = 0;
   // Queries with a finite cutoff only: every volume pair (SSV pair) closer than the cutoff, each
   // with its own exact distance and witnesses (PairDistance with volume_a/volume_b set and

@@ -7,7 +7,8 @@ namespace armstudy::collision {
 CollisionTerm::CollisionTerm(CollisionPotentialOptions options, std::vector<Obstacle> obstacles)
     : options_(options), obstacles_(std::move(obstacles)) {
   ARMSTUDY_CHECK(options_.validate().empty(), "CollisionTerm: " + options_.validate());
-  ARMSTUDY_CHECK(static_cast<int>(obstacles_.size()) <= kMaxObstacles, "CollisionTerm: too many obstacles");
+  ARMSTUDY_CHECK(static_cast<int>(obstacles_.size()) <= kMaxObstacles,
+                 "CollisionTerm: too many obstacles");
 }
 
 double CollisionTerm::evaluate(ik::ObjectiveContext& ctx, JointVector* grad) const {

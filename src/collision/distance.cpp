@@ -82,7 +82,8 @@ double squaredDistanceSegmentSegment(const Vector3d& p0, const Vector3d& p1, con
   const double a = d1.squaredNorm(), e = d2.squaredNorm();
   if (a > 0 && e > 0) {
     double s = 0, t = 0;
-    const double sq = squaredDistanceSegmentSegmentFast(p0, d1, a, 1.0 / a, q0, d2, e, 1.0 / e, s, t);
+    const double sq =
+        squaredDistanceSegmentSegmentFast(p0, d1, a, 1.0 / a, q0, d2, e, 1.0 / e, s, t);
     c_p = p0 + s * d1;
     c_q = q0 + t * d2;
     return sq;
@@ -175,8 +176,9 @@ double squaredDistanceTriangleTriangle(const Vector3d& a0, const Vector3d& a1, c
   Best best;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      best.offer(squaredDistanceSegmentSegment(*A[i], *A[(i + 1) % 3], *B[j], *B[(j + 1) % 3], x, y),
-                 x, y);
+      best.offer(
+          squaredDistanceSegmentSegment(*A[i], *A[(i + 1) % 3], *B[j], *B[(j + 1) % 3], x, y), x,
+          y);
   for (int i = 0; i < 3; ++i) {
     best.offer(squaredDistancePointTriangle(*A[i], b0, b1, b2, y), *A[i], y);
     best.offer(squaredDistancePointTriangle(*B[i], a0, a1, a2, x), x, *B[i]);
@@ -205,7 +207,8 @@ double squaredDistanceCores(const Core& a, const Core& b, Vector3d& c_a, Vector3
     case 9:  // segment-triangle
       return squaredDistanceSegmentTriangle(a.p[0], a.p[1], b.p[0], b.p[1], b.p[2], c_a, c_b);
     case 12:  // triangle-triangle
-      return squaredDistanceTriangleTriangle(a.p[0], a.p[1], a.p[2], b.p[0], b.p[1], b.p[2], c_a, c_b);
+      return squaredDistanceTriangleTriangle(a.p[0], a.p[1], a.p[2], b.p[0], b.p[1], b.p[2], c_a,
+                                             c_b);
     default:
       break;
   }

@@ -53,20 +53,21 @@ struct Core {
 };
 
 // Dispatch on the two core types (any order); witness c_a lies on `a`, c_b on `b`.
-double squaredDistanceCores(const Core& a, const Core& b, Eigen::Vector3d& c_a, Eigen::Vector3d& c_b);
+double squaredDistanceCores(const Core& a, const Core& b, Eigen::Vector3d& c_a,
+                            Eigen::Vector3d& c_b);
 
 // Distance between two swept-sphere volumes with radii r_a, r_b: core distance minus the radii,
 // negative when the volumes overlap (the penetration depth along the core witness direction).
 struct SsvDistance {
-  double distance_m = 0;       // |c_b - c_a| - r_a - r_b
-  Eigen::Vector3d c_a, c_b;    // witness points on the cores
-  Eigen::Vector3d p_a, p_b;    // witness points on the SSV surfaces: c_a + r_a n, c_b - r_b n
-  Eigen::Vector3d n;           // unit vector from c_a to c_b; zero when the cores touch
+  double distance_m = 0;     // |c_b - c_a| - r_a - r_b
+  Eigen::Vector3d c_a, c_b;  // witness points on the cores
+  Eigen::Vector3d p_a, p_b;  // witness points on the SSV surfaces: c_a + r_a n, c_b - r_b n
+  Eigen::Vector3d n;         // unit vector from c_a to c_b; zero when the cores touch
 };
 void ssvDistance(const Core& a, double r_a, const Core& b, double r_b, SsvDistance& out);
 // The same from known core witness points (c_a on a, c_b on b closest to each other).
-inline void ssvDistanceFromWitnesses(const Eigen::Vector3d& c_a, double r_a, const Eigen::Vector3d& c_b,
-                                     double r_b, SsvDistance& out) {
+inline void ssvDistanceFromWitnesses(const Eigen::Vector3d& c_a, double r_a,
+                                     const Eigen::Vector3d& c_b, double r_b, SsvDistance& out) {
   out.c_a = c_a;
   out.c_b = c_b;
   const Eigen::Vector3d diff = c_b - c_a;
@@ -121,8 +122,9 @@ inline double maxNoBranch(double x, double y) {
 // is recomputed from the clamped t), and for near-parallel pairs (sin^2 of the angle <=
 // kCollisionParallelSin2, e.g. housings on parallel joint axes) also the four endpoint-to-segment
 // candidates, one of which is a minimiser of parallel segments. One division, no heap.
-inline double squaredDistanceSegmentSegmentFast(const Eigen::Vector3d& p0, const Eigen::Vector3d& d1,
-                                                double a, double inv_a, const Eigen::Vector3d& q0,
+inline double squaredDistanceSegmentSegmentFast(const Eigen::Vector3d& p0,
+                                                const Eigen::Vector3d& d1, double a, double inv_a,
+                                                const Eigen::Vector3d& q0,
                                                 const Eigen::Vector3d& d2, double e, double inv_e,
                                                 double& s, double& t) {
   auto clamp01 = clampUnit;
@@ -143,10 +145,10 @@ inline double squaredDistanceSegmentSegmentFast(const Eigen::Vector3d& p0, const
       t = ti;
     }
   };
-  offer(0.0, clamp01(f * inv_e));         // p0 against segment q
-  offer(1.0, clamp01((f + b) * inv_e));   // p1
-  offer(clamp01(-c * inv_a), 0.0);        // q0 against segment p
-  offer(clamp01((b - c) * inv_a), 1.0);   // q1
+  offer(0.0, clamp01(f * inv_e));        // p0 against segment q
+  offer(1.0, clamp01((f + b) * inv_e));  // p1
+  offer(clamp01(-c * inv_a), 0.0);       // q0 against segment p
+  offer(clamp01((b - c) * inv_a), 1.0);  // q1
   return best;
 }
 

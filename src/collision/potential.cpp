@@ -23,8 +23,8 @@ double pairPotential(double d, const CollisionPotentialOptions& o, double* dH_dd
     return 0;
   }
   // Cubic a s^3 with s = d_a - d; at d1 = t d_a: s0 = (1 - t) d_a. The quadratic below d1 is the
-  // second-order Taylor polynomial of the cubic at d1: a s0^3 + 3 a s0^2 (d1 - d) + 3 a s0 (d1 - d)^2.
-  // H(0) = H_0 fixes a.
+  // second-order Taylor polynomial of the cubic at d1: a s0^3 + 3 a s0^2 (d1 - d) + 3 a s0 (d1 -
+  // d)^2. H(0) = H_0 fixes a.
   const double d1 = o.blend_t * da;
   const double s0 = da - d1;
   const double a = o.h0 / (s0 * s0 * s0 + 3 * s0 * s0 * d1 + 3 * s0 * d1 * d1);
@@ -38,8 +38,9 @@ double pairPotential(double d, const CollisionPotentialOptions& o, double* dH_dd
   return a * s0 * s0 * s0 + 3 * a * s0 * s0 * e + 3 * a * s0 * e * e;
 }
 
-double collisionPotential(const Model& model, const KinematicsWorkspace& kin, CollisionWorkspace& ws,
-                          const CollisionPotentialOptions& o, Eigen::Ref<Eigen::VectorXd> grad) {
+double collisionPotential(const Model& model, const KinematicsWorkspace& kin,
+                          CollisionWorkspace& ws, const CollisionPotentialOptions& o,
+                          Eigen::Ref<Eigen::VectorXd> grad) {
   ARMSTUDY_CHECK(grad.size() == model.dof(), "collisionPotential: gradient size must be the DoF");
   ARMSTUDY_CHECK(ws.cutoff_used_m >= o.safety_distance_m &&
                      ws.cutoff_used_m < std::numeric_limits<double>::infinity(),
@@ -62,7 +63,7 @@ double collisionPotential(const Model& model, const KinematicsWorkspace& kin, Co
     if (p.distance_m >= o.safety_distance_m) return;
     double dH = 0;
     H += pairPotential(p.distance_m, o, &dH);  // eq. (5.53)
-    if (p.w.n.isZero()) return;                 // cores touch: direction undefined
+    if (p.w.n.isZero()) return;                // cores touch: direction undefined
     const Eigen::Vector3d f = dH * p.w.n;
     push(p.link_a, p.w.c_a, -f);
     if (!environment) push(p.link_b, p.w.c_b, f);

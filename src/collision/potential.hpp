@@ -36,8 +36,8 @@ double pairPotential(double d, const CollisionPotentialOptions& options, double*
 // d > 0 and still defined for overlapping volumes as long as the cores are apart).
 // Requires that the last collisionDistances query used a finite cutoff_m >= d_a (it lists the
 // volume pairs below the cutoff). grad_out has size n.
-double collisionPotential(const Model& model, const KinematicsWorkspace& kin, CollisionWorkspace& ws,
-                          const CollisionPotentialOptions& options,
+double collisionPotential(const Model& model, const KinematicsWorkspace& kin,
+                          CollisionWorkspace& ws, const CollisionPotentialOptions& options,
                           Eigen::Ref<Eigen::VectorXd> grad_out);
 
 }  // namespace armstudy::collision

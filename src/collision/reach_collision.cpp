@@ -10,14 +10,16 @@
 namespace armstudy::collision {
 
 std::string CollisionReachOptions::validate() const {
-  if (!(clearance_m >= 0) || !std::isfinite(clearance_m)) return "clearance must be a finite length >= 0";
+  if (!(clearance_m >= 0) || !std::isfinite(clearance_m))
+    return "clearance must be a finite length >= 0";
   if (escape_attempts < 0 || escape_attempts > 1000) return "escape_attempts must lie in 0..1000";
   if (!(escape_safety_distance_m >= 0) || !std::isfinite(escape_safety_distance_m))
     return "escape safety distance must be a finite length >= 0";
   return "";
 }
 
-std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles, bool self) {
+std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles,
+                                            bool self) {
   const CollisionWorkspace cws(model);
   std::vector<std::string> names;
   if (self)
@@ -39,7 +41,7 @@ namespace {
 // The smallest checked distance at a configuration and the pair attaining it.
 struct Check {
   double d_min = 0, d_obstacle = 0;
-  PairDistance pair;      // the closest pair (named only when the pose ends in collision)
+  PairDistance pair;  // the closest pair (named only when the pose ends in collision)
   int pair_index = -1;
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
@@ -50,8 +52,8 @@ struct Check {
 // solution q is held (its orientation already meets the selected angles), so the descent explores
 // the redundancy that remains with the free angle fixed. False when the position is not fully
 // selected.
-bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarget& t, const JointVector& q,
-                     ik::PoseTarget& out) {
+bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarget& t,
+                     const JointVector& q, ik::PoseTarget& out) {
   const auto& s = t.task_space.selected;
   if (!(s[0] && s[1] && s[2])) return false;
   out.p_WT = t.w_d.head<3>();
@@ -79,22 +81,26 @@ bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarge
 // distance escape_safety_distance_m + clearance) in the null space of the task with the tool held
 // there (ik::optimiseAtPose). The result judged by the reach solver's tolerances and limits
 // (status Reachable or OutOfReach; its collision distances are the caller's to check).
-IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, const IkTarget& target, const ik::PoseTarget& pose_task,
-                         const IkOptions& ik_options, const CollisionReachOptions& options,
-                         std::span<const Obstacle> obstacles, const JointVector& q) {
+IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, const IkTarget& target,
+                         const ik::PoseTarget& pose_task, const IkOptions& ik_options,
+                         const CollisionReachOptions& options, std::span<const Obstacle> obstacles,
+                         const JointVector& q) {
   CollisionPotentialOptions po;
   po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
   po.self = options.self;
   po.environment = !obstacles.empty();
   ik::WeightedObjective h_c;
-  h_c.add(1.0, std::make_shared<CollisionTerm>(po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
+  h_c.add(1.0, std::make_shared<CollisionTerm>(
+                   po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
   ik::ObjectiveContext ctx(model, ws.kin);
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
   // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
-  const ik::PoseSolveResult on = ik::solvePose(model, ws.kin, pose_task, q, w_inv, ik::PoseSolveOptions{});
+  const ik::PoseSolveResult on =
+      ik::solvePose(model, ws.kin, pose_task, q, w_inv, ik::PoseSolveOptions{});
   ik::NullspaceOptions no;
   no.max_iterations = defaults::kCollisionEscapeIterations;
-  const ik::NullspaceResult r = ik::optimiseAtPose(model, ws.kin, ctx, pose_task, on.q, h_c, w_inv, no);
+  const ik::NullspaceResult r =
+      ik::optimiseAtPose(model, ws.kin, ctx, pose_task, on.q, h_c, w_inv, no);
   if (r.status == ik::NullspaceStatus::NotOnPose) return IkResult{};
   IkResult found = evaluateSolution(model, ws, target, ik_options, r.q, ReachStatus::OutOfReach);
   found.starts = 0;
@@ -103,11 +109,10 @@ IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, const IkTarget& ta
 
 }  // namespace
 
-CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
-                                             const IkTarget& target, const IkOptions& ik_options,
-                                             const CollisionReachOptions& options, std::uint64_t pose_id,
-                                             std::span<const Obstacle> obstacles,
-                                             const JointVector* warm_start) {
+CollisionReachResult solvePoseCollisionAware(
+    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
+    const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
+    std::span<const Obstacle> obstacles, const JointVector* warm_start) {
   CollisionReachResult out;
   CollisionQueryOptions query;
   query.self = options.self;
@@ -148,8 +153,10 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
   };
   // Step 1: descend H_c in the null space from the colliding solution (thesis section 5.4.3).
   ik::PoseTarget pose_task;
-  if (options.escape_safety_distance_m > 0 && nullspaceTarget(model, ws.kin, target, first.q, pose_task)) {
-    const IkResult found = nullspaceEscape(model, ws, target, pose_task, ik_options, options, obstacles, first.q);
+  if (options.escape_safety_distance_m > 0 &&
+      nullspaceTarget(model, ws.kin, target, first.q, pose_task)) {
+    const IkResult found =
+        nullspaceEscape(model, ws, target, pose_task, ik_options, options, obstacles, first.q);
     if (found.reachable()) {
       const Check c = check(found.q);
       if (c.d_min > options.clearance_m) return accept(found, c, true);
@@ -173,7 +180,8 @@ CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws
     if (c.d_min > options.clearance_m) return accept(r, c, false);
   }
   out.ik = first;
-  out.ik.status = first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;
+  out.ik.status =
+      first_check.obstacle ? ReachStatus::ObstacleCollision : ReachStatus::SelfCollision;
   out.colliding_pair = pairName(model, first_check.pair, first_check.obstacle, obstacles);
   out.colliding_pair_index = first_check.pair_index;
   return out;

@@ -18,36 +18,37 @@
 namespace armstudy::collision {
 
 struct CollisionReachOptions {
-  double clearance_m = 0;   // a configuration is collision-free when every distance > clearance
+  double clearance_m = 0;  // a configuration is collision-free when every distance > clearance
   int escape_attempts = defaults::kCollisionEscapeAttempts;  // extra IK solves after a collision
-  bool self = true;         // check the design's self-collision pairs (obstacles: when given)
+  bool self = true;  // check the design's self-collision pairs (obstacles: when given)
   // Null-space escape: H_c with this safety distance d_a (eq. 5.57); 0 disables step 1.
   double escape_safety_distance_m = defaults::kCollisionEscapeSafetyDistance_m;
   std::string validate() const;
 };
 
 struct CollisionReachResult {
-  IkResult ik;                     // status SelfCollision / ObstacleCollision when reachable only in collision
-  double min_distance_m = 0;       // smallest checked distance at ik.q (reachable poses)
-  double obstacle_distance_m = 0;  // smallest body-obstacle distance at ik.q (+inf without obstacles)
-  std::string colliding_pair;      // e.g. "j3-j7" or "j4-obstacle:stem" (in collision)
+  IkResult ik;  // status SelfCollision / ObstacleCollision when reachable only in collision
+  double min_distance_m = 0;  // smallest checked distance at ik.q (reachable poses)
+  double obstacle_distance_m =
+      0;                       // smallest body-obstacle distance at ik.q (+inf without obstacles)
+  std::string colliding_pair;  // e.g. "j3-j7" or "j4-obstacle:stem" (in collision)
   // Index of the colliding pair in collisionPairNames(model, obstacles): self pairs first
   // (cws.self order), then body-obstacle pairs (cws.env order); -1 when not in collision.
   int colliding_pair_index = -1;
-  int attempts = 0;                // IK solves used (1 + escapes)
-  bool nullspace_escape = false;   // the collision-free solution came from the null-space descent
+  int attempts = 0;               // IK solves used (1 + escapes)
+  bool nullspace_escape = false;  // the collision-free solution came from the null-space descent
 };
 
 // Requires cws built from the same model. Deterministic for a given pose_id.
-CollisionReachResult solvePoseCollisionAware(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
-                                             const IkTarget& target, const IkOptions& ik_options,
-                                             const CollisionReachOptions& options, std::uint64_t pose_id,
-                                             std::span<const Obstacle> obstacles = {},
-                                             const JointVector* warm_start = nullptr);
+CollisionReachResult solvePoseCollisionAware(
+    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
+    const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
+    std::span<const Obstacle> obstacles = {}, const JointVector* warm_start = nullptr);
 
 // Names of every pair a collision-aware solve can report, indexed like
 // CollisionReachResult::colliding_pair_index: the self pairs (when `self`) then, for each
 // obstacle, every body with volumes ("j4-obstacle:stem").
-std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles, bool self);
+std::vector<std::string> collisionPairNames(const Model& model, std::span<const Obstacle> obstacles,
+                                            bool self);
 
 }  // namespace armstudy::collision

@@ -145,8 +145,8 @@ Candidate plateCandidate(const std::vector<Vector3d>& pts, double margin) {
   if (hull.size() < 3) return out;
   // Minimum-area enclosing rectangle: one side is flush with a hull edge.
   double best_area = std::numeric_limits<double>::infinity();
-  Eigen::Vector2d bu = Eigen::Vector2d::UnitX(), bv = Eigen::Vector2d::UnitY(), lo = Eigen::Vector2d::Zero(),
-                  hi = Eigen::Vector2d::Zero();
+  Eigen::Vector2d bu = Eigen::Vector2d::UnitX(), bv = Eigen::Vector2d::UnitY(),
+                  lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
   for (std::size_t i = 0; i < hull.size(); ++i) {
     const K::Point_2& a = hull[i];
     const K::Point_2& b = hull[(i + 1) % hull.size()];
@@ -192,8 +192,8 @@ Candidate plateCandidate(const std::vector<Vector3d>& pts, double margin) {
 }
 
 // Points whose convex hull contains the part of the solid between the planes t0 <= (x - c).u <= t1.
-std::vector<Vector3d> slabPoints(const TriangleMesh& m, const Vector3d& c, const Vector3d& u, double t0,
-                                 double t1) {
+std::vector<Vector3d> slabPoints(const TriangleMesh& m, const Vector3d& c, const Vector3d& u,
+                                 double t0, double t1) {
   std::vector<Vector3d> pts;
   std::vector<double> t(m.vertices.size());
   for (std::size_t i = 0; i < m.vertices.size(); ++i) {
@@ -239,11 +239,14 @@ double ssvVolume(const FittedSsv& v) {
   if (v.type == SsvType::Point) return ball;
   if (v.type == SsvType::Line) return kPi * r * r * (v.p[1] - v.p[0]).norm() + ball;
   const double area = 0.5 * (v.p[1] - v.p[0]).cross(v.p[2] - v.p[0]).norm();
-  const double perim = (v.p[1] - v.p[0]).norm() + (v.p[2] - v.p[1]).norm() + (v.p[0] - v.p[2]).norm();
+  const double perim =
+      (v.p[1] - v.p[0]).norm() + (v.p[2] - v.p[1]).norm() + (v.p[0] - v.p[2]).norm();
   return 2 * area * r + 0.5 * kPi * perim * r * r + ball;
 }
 
-double ssvSignedDistance(const FittedSsv& v, const Vector3d& x) { return coreDistance(v, x) - v.radius_m; }
+double ssvSignedDistance(const FittedSsv& v, const Vector3d& x) {
+  return coreDistance(v, x) - v.radius_m;
+}
 
 std::string SsvFitOptions::validate() const {
   if (max_volumes < 1 || max_volumes > 32) return "max_volumes must lie in 1..32";
@@ -259,8 +262,10 @@ TriangleMesh loadTriangleMesh(const std::string& path, double scale) {
   if (!fs::is_regular_file(path, ec)) fail("cannot open mesh file (missing or not a file)");
   if (fs::file_size(path, ec) == 0) fail("mesh file is empty");
   std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  if (ext != ".stl" && ext != ".off") fail("unsupported mesh format '" + ext + "' (expected .stl or .off)");
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
+  if (ext != ".stl" && ext != ".off")
+    fail("unsupported mesh format '" + ext + "' (expected .stl or .off)");
   SurfaceMesh sm;
   bool ok = false;
   try {
@@ -306,7 +311,8 @@ SsvFitSummary fitSsvs(const TriangleMesh& mesh, const SsvFitOptions& o) {
   if (cp.size() >= 2) {
     K::Line_3 line;
     K::Point_3 centroid;
-    CGAL::linear_least_squares_fitting_3(cp.begin(), cp.end(), line, centroid, CGAL::Dimension_tag<0>());
+    CGAL::linear_least_squares_fitting_3(cp.begin(), cp.end(), line, centroid,
+                                         CGAL::Dimension_tag<0>());
     c = toEigen(centroid);
     u = toEigen(line.to_vector()).normalized();
   }
@@ -344,7 +350,8 @@ SsvFitSummary fitSsvs(const TriangleMesh& mesh, const SsvFitOptions& o) {
     };
     for (std::size_t k = 0; k < chosen.size() && count() > o.max_volumes; ++k)
       if (chosen[k].volumes.size() > 1) {
-        Candidate s = sphereCandidate(slab_pts[k], o.margin_m), l = capsuleCandidate(slab_pts[k], o.margin_m);
+        Candidate s = sphereCandidate(slab_pts[k], o.margin_m),
+                  l = capsuleCandidate(slab_pts[k], o.margin_m);
         chosen[k] = (!l.volumes.empty() && l.volume_m3 < s.volume_m3) ? l : s;
       }
     if (count() > o.max_volumes) continue;
@@ -371,7 +378,8 @@ SsvFitSummary fitSsvs(const TriangleMesh& mesh, const SsvFitOptions& o) {
     for (const auto& v : best.volumes) d = std::min(d, ssvSignedDistance(v, x));
     best.max_vertex_excess_m = std::max(best.max_vertex_excess_m, d);
   }
-  ARMSTUDY_CHECK(best.max_vertex_excess_m <= 0, "fitSsvs: a mesh vertex is outside the fitted volumes");
+  ARMSTUDY_CHECK(best.max_vertex_excess_m <= 0,
+                 "fitSsvs: a mesh vertex is outside the fitted volumes");
   return best;
 }
 
@@ -394,7 +402,8 @@ std::string replaceLinkVolumesInDesignText(const std::string& text, const std::s
   std::vector<std::string> out;
   for (std::size_t i = 0; i < lines.size();) {
     if (lines[i].rfind(ours_comment, 0) == 0) {  // the comment of an earlier fit of this link
-      i += (i + 1 < lines.size() && lines[i + 1].rfind("# (every mesh vertex inside", 0) == 0) ? 2 : 1;
+      i += (i + 1 < lines.size() && lines[i + 1].rfind("# (every mesh vertex inside", 0) == 0) ? 2
+                                                                                               : 1;
       continue;
     }
     if (trimmed(lines[i]).rfind("[[collision]]", 0) == 0) {
@@ -402,8 +411,10 @@ std::string replaceLinkVolumesInDesignText(const std::string& text, const std::s
       bool ours = false;
       while (j < lines.size() && !isHeader(lines[j])) {
         std::string t = trimmed(lines[j]);
-        t.erase(std::remove_if(t.begin(), t.end(), [](char ch) { return ch == ' ' || ch == '\t'; }), t.end());
-        if (t.rfind("link=\"" + link + "\"", 0) == 0 || t.rfind("link='" + link + "'", 0) == 0) ours = true;
+        t.erase(std::remove_if(t.begin(), t.end(), [](char ch) { return ch == ' ' || ch == '\t'; }),
+                t.end());
+        if (t.rfind("link=\"" + link + "\"", 0) == 0 || t.rfind("link='" + link + "'", 0) == 0)
+          ours = true;
         ++j;
       }
       if (ours) {
@@ -416,8 +427,8 @@ std::string replaceLinkVolumesInDesignText(const std::string& text, const std::s
   while (!out.empty() && trimmed(out.back()).empty()) out.pop_back();
   std::ostringstream os;
   for (const auto& l : out) os << l << "\n";
-  os << "\n# [[collision]] volumes of link \"" << link << "\" fitted by `armstudy fit-ssv` to " << mesh_label
-     << "\n# (every mesh vertex inside; docs/collision.md).\n";
+  os << "\n# [[collision]] volumes of link \"" << link << "\" fitted by `armstudy fit-ssv` to "
+     << mesh_label << "\n# (every mesh vertex inside; docs/collision.md).\n";
   os.precision(17);
   int idx = 0;
   for (const auto& v : volumes) {

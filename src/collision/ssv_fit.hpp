@@ -21,7 +21,7 @@
 namespace armstudy::collision {
 
 struct TriangleMesh {
-  std::vector<Eigen::Vector3d> vertices;       // [m] after scaling, in the link frame
+  std::vector<Eigen::Vector3d> vertices;  // [m] after scaling, in the link frame
   std::vector<std::array<int, 3>> triangles;
 };
 
@@ -32,8 +32,8 @@ struct TriangleMesh {
 TriangleMesh loadTriangleMesh(const std::string& path, double scale = 1.0);
 
 struct SsvFitOptions {
-  int max_volumes = 4;        // upper bound on the number of SSVs (a plate counts as two)
-  double margin_m = 0;        // extra radius on every volume (clearance)
+  int max_volumes = 4;           // upper bound on the number of SSVs (a plate counts as two)
+  double margin_m = 0;           // extra radius on every volume (clearance)
   std::string validate() const;  // "" when valid
 };
 
@@ -46,12 +46,12 @@ struct FittedSsv {
 
 struct SsvFitSummary {
   std::vector<FittedSsv> volumes;
-  int slabs = 0;                  // slab count chosen
+  int slabs = 0;  // slab count chosen
   int mesh_vertices = 0;
-  int hull_vertices = 0;          // summed over the slabs
-  double swept_volume_m3 = 0;     // summed SSV volumes (overlaps counted twice)
-  double mesh_volume_m3 = 0;      // enclosed volume of the mesh, for comparison
-  double max_vertex_excess_m = 0; // max over vertices of (distance to nearest SSV surface); <= 0
+  int hull_vertices = 0;           // summed over the slabs
+  double swept_volume_m3 = 0;      // summed SSV volumes (overlaps counted twice)
+  double mesh_volume_m3 = 0;       // enclosed volume of the mesh, for comparison
+  double max_vertex_excess_m = 0;  // max over vertices of (distance to nearest SSV surface); <= 0
 };
 
 SsvFitSummary fitSsvs(const TriangleMesh& mesh, const SsvFitOptions& options);

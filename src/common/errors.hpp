@@ -29,7 +29,7 @@ class InputError : public std::runtime_error {
 
 }  // namespace armstudy
 
-#define ARMSTUDY_CHECK(cond, msg)                                        \
-  do {                                                                   \
+#define ARMSTUDY_CHECK(cond, msg)                                         \
+  do {                                                                    \
     if (!(cond)) ::armstudy::checkFailed(#cond, __FILE__, __LINE__, msg); \
   } while (0)

@@ -19,10 +19,14 @@ constexpr std::uint64_t splitmix64Mix(std::uint64_t z) {
 }
 
 // Counter-based use: the splitmix64 output for state x (advance by one increment, then mix).
-constexpr std::uint64_t splitmix64(std::uint64_t x) { return splitmix64Mix(x + kSplitMixIncrement); }
+constexpr std::uint64_t splitmix64(std::uint64_t x) {
+  return splitmix64Mix(x + kSplitMixIncrement);
+}
 
 // Sequential use: advances `state` and returns the next output.
-inline std::uint64_t splitmix64Next(std::uint64_t& state) { return splitmix64Mix(state += kSplitMixIncrement); }
+inline std::uint64_t splitmix64Next(std::uint64_t& state) {
+  return splitmix64Mix(state += kSplitMixIncrement);
+}
 
 // Top 53 bits of x as a double in [0, 1).
 constexpr double unitDouble(std::uint64_t x) { return static_cast<double>(x >> 11) * 0x1.0p-53; }

@@ -17,11 +17,13 @@ std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
   return std::vector<int>(d.begin(), d.end());
 }
 
-DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options, const DexterityMap& map,
-                                   const std::vector<int>& cells, int starts, std::uint64_t seed, int threads) {
+DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options,
+                                   const DexterityMap& map, const std::vector<int>& cells,
+                                   int starts, std::uint64_t seed, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const StemGrid& g = options.grid;
-  ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == g.size(), "dexterity map does not match its grid");
+  ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == g.size(),
+                 "dexterity map does not match its grid");
   DexterityAudit a;
   a.cells = static_cast<int>(cells.size());
   a.starts = starts;
@@ -83,10 +85,11 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
   return a;
 }
 
-DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options, const DexterityMap& map,
-                                 int threads) {
-  return auditDexterityCells(model, options, map, drawCells(options.grid.size(), options.audit_cells, options.audit_seed),
-                             options.audit_starts, options.audit_seed, threads);
+DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options,
+                                 const DexterityMap& map, int threads) {
+  return auditDexterityCells(
+      model, options, map, drawCells(options.grid.size(), options.audit_cells, options.audit_seed),
+      options.audit_starts, options.audit_seed, threads);
 }
 
 }  // namespace armstudy::dexterity

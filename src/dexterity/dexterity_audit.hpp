@@ -13,13 +13,13 @@
 namespace armstudy::dexterity {
 
 struct AuditCell {
-  int index = 0;                 // grid.index(i_gamma, i_z)
+  int index = 0;  // grid.index(i_gamma, i_z)
   double gamma_rad = 0, z_m = 0;
   bool map_reachable = false, audit_reachable = false;
-  double H_map = 0, H_audit = 0;                        // objective (eq. 5.51, lower is better)
+  double H_map = 0, H_audit = 0;                            // objective (eq. 5.51, lower is better)
   double manipulability_map = 0, manipulability_audit = 0;  // at the optimised configurations
-  double gap = 0;                // (H_map - H_audit) / |H_audit|: > 0 where the audit found better
-  int solutions = 0;             // starts that reached the pose
+  double gap = 0;     // (H_map - H_audit) / |H_audit|: > 0 where the audit found better
+  int solutions = 0;  // starts that reached the pose
 };
 
 struct DexterityAudit {
@@ -27,14 +27,16 @@ struct DexterityAudit {
   std::uint64_t seed = 0;
   int both_reachable = 0;
   int within_1pct = 0, within_5pct = 0;  // of both_reachable: gap <= 1 % / 5 %
-  int reach_contradicted = 0;  // map: unreachable, audit: a solution (a wrong verdict)
-  int audit_missed = 0;        // map: reachable, audit: none (the map's solution is a witness)
+  int reach_contradicted = 0;            // map: unreachable, audit: a solution (a wrong verdict)
+  int audit_missed = 0;  // map: reachable, audit: none (the map's solution is a witness)
   double worst_gap = 0;
   int worst_index = -1;
   double seconds = 0;
   std::vector<AuditCell> rows;  // in cell index order
   // Share of the cells the map and audit both reach that are within `tol` (1 when none).
-  double shareWithin1Percent() const { return both_reachable ? double(within_1pct) / both_reachable : 1.0; }
+  double shareWithin1Percent() const {
+    return both_reachable ? double(within_1pct) / both_reachable : 1.0;
+  }
 };
 
 // `cells` distinct cell indices of [0, n) drawn with `seed`, ascending (all when cells >= n).
@@ -42,11 +44,12 @@ std::vector<int> drawCells(int n, int cells, std::uint64_t seed);
 
 // Audits `map` (computed with `options`) on options.audit_cells cells with options.audit_starts
 // starts each (seed options.audit_seed). Deterministic for any thread count.
-DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options, const DexterityMap& map,
-                                 int threads);
+DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options,
+                                 const DexterityMap& map, int threads);
 
 // The cells given explicitly (tests: every cell of a small grid).
-DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options, const DexterityMap& map,
-                                   const std::vector<int>& cells, int starts, std::uint64_t seed, int threads);
+DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options,
+                                   const DexterityMap& map, const std::vector<int>& cells,
+                                   int starts, std::uint64_t seed, int threads);
 
 }  // namespace armstudy::dexterity

@@ -64,7 +64,8 @@ IkTarget reachTarget(const ik::PoseTarget& t) {
   r.task_space = TaskSpace::position();
   r.w_d.head<3>() = t.p_WT;
   switch (t.kind) {
-    case ik::PoseTaskKind::Position: break;
+    case ik::PoseTaskKind::Position:
+      break;
     case ik::PoseTaskKind::PositionAxis:
       r.tool_axis = true;
       r.axis_d_W = t.axis_W;
@@ -88,7 +89,8 @@ JointVector weightInverse(const DexterityOptions& options, int n) {
 }
 
 bool onPose(const ik::PoseSolveResult& s, const DexterityOptions& options) {
-  return s.error.position_m <= options.position_tolerance_m && s.error.orientation_rad <= options.orientation_tolerance_rad;
+  return s.error.position_m <= options.position_tolerance_m &&
+         s.error.orientation_rad <= options.orientation_tolerance_rad;
 }
 
 // The cell's results once r.q_plain (and its errors) hold a reachable plain solution: plain
@@ -96,8 +98,9 @@ bool onPose(const ik::PoseSolveResult& s, const DexterityOptions& options) {
 // configuration when null), retried from the plain configuration when `start` led to a worse
 // optimum, so the optimised configuration is never worse than the plain one.
 void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
-                const ik::WeightedObjective& objective, const DexterityOptions& options, const StemGrid::Cell& cell,
-                const JointVector& w_inv, const JointVector* start, CellResult& r) {
+                const ik::WeightedObjective& objective, const DexterityOptions& options,
+                const StemGrid::Cell& cell, const JointVector& w_inv, const JointVector* start,
+                CellResult& r) {
   const Eigen::Vector3d u = options.fixed_direction ? options.direction_W : cell.u_W;
   ctx.u_W = u;
   forwardKinematicsAndJacobian(model, ws, r.q_plain);
@@ -111,9 +114,11 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.H_opt = r.H_plain;
   if (model.dof() <= ik::taskDim(cell.target.kind) || objective.empty()) return;
   const JointVector& from = start ? *start : r.q_plain;
-  ik::NullspaceResult o = ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
+  ik::NullspaceResult o =
+      ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
   if (from != r.q_plain && !(o.H_final <= r.H_plain))
-    o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv, options.nullspace);
+    o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv,
+                           options.nullspace);
   r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
   r.nullspace_status = o.status;
   r.nullspace_iterations = o.iterations;
@@ -129,7 +134,8 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
 bool better(const CellResult& cand, const CellResult& cur) {
   if (!cand.reachable) return false;
   if (!cur.reachable) return true;
-  return cand.H_opt < cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
+  return cand.H_opt <
+         cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
 }
 
 // Replaces the optimised part of `cur` by the candidate's (the plain part stays the chained
@@ -214,8 +220,10 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   JointVector start;
   bool chained = false;
   if (warm_opt && n > ik::taskDim(cell.target.kind) && !objective.empty()) {
-    const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
-    if (s.error.position_m <= options.nullspace.pose_tolerance && s.error.orientation_rad <= options.nullspace.pose_tolerance) {
+    const ik::PoseSolveResult s =
+        ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
+    if (s.error.position_m <= options.nullspace.pose_tolerance &&
+        s.error.orientation_rad <= options.nullspace.pose_tolerance) {
       start = s.q;
       chained = true;
     }
@@ -255,7 +263,8 @@ int neighbours(const StemGrid& g, int idx, int out[8]) {
 
 }  // namespace
 
-void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map, int threads) {
+void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
+                        int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const StemGrid& g = options.grid;
   const int N = g.size(), G = g.gamma_rad.count;
@@ -292,7 +301,8 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
         randomConfiguration(model, options.search_seed, static_cast<std::uint64_t>(idx), s, q0);
         CellResult cand;
         ++tries;
-        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand) || !better(cand, cur)) continue;
+        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand) || !better(cand, cur))
+          continue;
         if (cur.found_by != CellResult::Source::MultiStart) ++improved;
         adopt(cur, cand, CellResult::Source::MultiStart);
         changed[idx] = 1;
@@ -328,10 +338,13 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
           if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
           // A neighbour whose optimum is this cell's posture (every joint within kMapSameBasin)
           // would descend to this cell's optimum again.
-          if (cur.reachable && (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin) continue;
+          if (cur.reachable &&
+              (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin)
+            continue;
           CellResult cand;
           ++round_tries;
-          if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt, cand) ||
+          if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt,
+                            cand) ||
               !better(cand, best))
             continue;
           adopt(best, cand, CellResult::Source::Neighbour);
@@ -398,9 +411,10 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
       for (int step = 0; step < cols; ++step) {
         const int ig = options.descending ? cols - 1 - step : step;
         const StemGrid::Cell cell = options.grid.cell(ig, iz);
-        CellResult r = solveCell(model, ws, ik_ws, ctx, objective, options, cell,
-                                 static_cast<std::uint64_t>(options.grid.index(ig, iz)),
-                                 have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr);
+        CellResult r =
+            solveCell(model, ws, ik_ws, ctx, objective, options, cell,
+                      static_cast<std::uint64_t>(options.grid.index(ig, iz)),
+                      have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr);
         have_prev = r.reachable;
         if (r.reachable) {
           prev_plain = r.q_plain;

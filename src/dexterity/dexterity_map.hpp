@@ -11,8 +11,8 @@
 // A map value describes the design, not the solver's path (docs/dexterity.md, "How a map value is
 // found"): the chained rows alone stay on the solution branch they started in, so after them
 // searchDexterityMap (1) runs seeded multi-starts on a sub-grid of cells and (2) propagates
-// better solutions to neighbouring cells (all eight directions, Jacobi rounds: every cell of a round
-// reads only the previous round) until no cell improves. Both steps are order-independent and
+// better solutions to neighbouring cells (all eight directions, Jacobi rounds: every cell of a
+// round reads only the previous round) until no cell improves. Both steps are order-independent and
 // bit-identical for any thread count.
 #include <cstdint>
 #include <functional>
@@ -21,8 +21,8 @@
 
 #include "dexterity/stem_grid.hpp"
 #include "ik/nullspace.hpp"
-#include "ik/reach_solver.hpp"
 #include "ik/objectives.hpp"
+#include "ik/reach_solver.hpp"
 #include "metrics/dexterity_measures.hpp"
 #include "study/checkpoint.hpp"
 
@@ -36,9 +36,9 @@ struct DexterityOptions {
   double w_manipulability = 1.0;  // H_m1
   double w_transmission = 0.0;    // H_m2 along u
   double joint_limit_activation = defaults::kJointLimitActivation;
-  bool fixed_direction = false;                         // u from the study instead of TCP -> stem
+  bool fixed_direction = false;  // u from the study instead of TCP -> stem
   Eigen::Vector3d direction_W = Eigen::Vector3d::UnitY();
-  std::vector<double> joint_weights;                    // W of eq. (5.45a), empty = identity
+  std::vector<double> joint_weights;  // W of eq. (5.45a), empty = identity
   double position_tolerance_m = defaults::kPositionTolerance_m;
   double orientation_tolerance_rad = defaults::kOrientationTolerance_rad;
   int cold_starts = defaults::kColdStarts;
@@ -51,7 +51,8 @@ struct DexterityOptions {
   int seed_stride = defaults::kMapSeedStride;
   int propagation_rounds = defaults::kMapPropagationRounds;
   std::uint64_t search_seed = defaults::kMapSearchSeed;
-  bool descending = false;  // chained rows from the largest gamma down (a check of path independence)
+  bool descending =
+      false;  // chained rows from the largest gamma down (a check of path independence)
   // The audit (dexterity_audit.hpp): cells drawn at random, each searched from audit_starts
   // random configurations independently of the map's path; audit_cells = 0: no audit.
   int audit_cells = 0;
@@ -71,7 +72,7 @@ struct CellResult {
   metrics::Ellipsoid ellipsoid_plain, ellipsoid_opt;
   double H_plain = 0, H_opt = 0;
   double position_error_m = 0, orientation_error_rad = 0;  // of the plain solution
-  int starts = 0;                // starts tried (1 = the warm start sufficed)
+  int starts = 0;  // starts tried (1 = the warm start sufficed)
   int nullspace_iterations = 0;
   ik::NullspaceStatus nullspace_status = ik::NullspaceStatus::Converged;
   // Where the optimised configuration came from (values written into the .vti field found_by).
@@ -81,13 +82,14 @@ struct CellResult {
 
 // What the map search did (searchDexterityMap).
 struct MapSearchSummary {
-  int seeding_cells = 0;         // cells that got seeded multi-starts
-  long multistart_tries = 0;     // random starts solved onto a pose
-  int multistart_improved = 0;   // cells the multi-starts improved (or made reachable)
-  int rounds = 0;                // neighbour-propagation rounds until no cell changed
-  long neighbour_tries = 0;      // neighbour seeds tried
-  int neighbour_improved = 0;    // cell updates by neighbour seeds (a cell may improve in several rounds)
-  bool converged = true;         // false when the round cap stopped the propagation
+  int seeding_cells = 0;        // cells that got seeded multi-starts
+  long multistart_tries = 0;    // random starts solved onto a pose
+  int multistart_improved = 0;  // cells the multi-starts improved (or made reachable)
+  int rounds = 0;               // neighbour-propagation rounds until no cell changed
+  long neighbour_tries = 0;     // neighbour seeds tried
+  int neighbour_improved =
+      0;                  // cell updates by neighbour seeds (a cell may improve in several rounds)
+  bool converged = true;  // false when the round cap stopped the propagation
   double seconds = 0;
 };
 
@@ -124,7 +126,8 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
 // (lower H) or reachable where it is not, keeping a candidate that lowers H by more than
 // defaults::kMapImprovementRelative; rounds repeat, retrying only from neighbours that changed,
 // until no cell changes (at most options.propagation_rounds). Updates map.cells and map.search.
-void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map, int threads);
+void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
+                        int threads);
 
 // One candidate for a cell from the configuration `seed`: solved onto the cell's pose by the
 // local solve, then optimised in the null space (redundant designs). False when the seed does not

@@ -2,9 +2,9 @@
 // The drive chain from joint to motor (thesis eq. 3.27, 3.29, 4.1a, 4.5): gear ratio, friction,
 // rotor inertia, torque constant, winding. Joint quantities in, motor quantities out.
 //
-//   motor speed      phi_dot  = N * q_dot                               (N = gear_ratio, incl. belt)
-//   motor torque     T_a      = Q / N + T_loss(phi_dot, Q, theta) + J_m * N * q_ddot   (eq. 3.27a, 4.1a)
-//   current          I        = T_a / k_m                               (eq. 4.5)
+//   motor speed      phi_dot  = N * q_dot                               (N = gear_ratio, incl.
+//   belt) motor torque     T_a      = Q / N + T_loss(phi_dot, Q, theta) + J_m * N * q_ddot
+//   (eq. 3.27a, 4.1a) current          I        = T_a / k_m                               (eq. 4.5)
 //   voltage          U        = R * I + L * dI/dt + k_m * phi_dot       (eq. 3.29)
 //
 // Q is the joint torque [N m] (force [N] for a prismatic joint) the drive must deliver to the
@@ -23,7 +23,8 @@ struct DriveChainOptions {
 // Which drive limits an operating point exceeds (limits that are 0 in the design are not checked).
 struct DriveLimitFlags {
   bool peak_current = false;
-  bool continuous_current = false;  // meaningful for RMS currents; flagged for the instantaneous value
+  bool continuous_current =
+      false;  // meaningful for RMS currents; flagged for the instantaneous value
   bool motor_speed = false;
   bool voltage = false;
   bool any() const { return peak_current || continuous_current || motor_speed || voltage; }

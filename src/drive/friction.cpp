@@ -47,12 +47,14 @@ bool parseEffect(std::string_view name, Effect& out) {
 
 std::vector<Effect> lawEffects(FrictionLaw law) {
   switch (law) {
-    case FrictionLaw::None: return {};
+    case FrictionLaw::None:
+      return {};
     case FrictionLaw::HarmonicDrive:
       return {Effect::Coulomb, Effect::LoadCoulomb, Effect::Viscous, Effect::LoadViscous};
     case FrictionLaw::Stribeck:
       return {Effect::Coulomb, Effect::LoadCoulomb, Effect::Viscous, Effect::Stribeck};
-    case FrictionLaw::Prismatic: return {Effect::Coulomb, Effect::Viscous};
+    case FrictionLaw::Prismatic:
+      return {Effect::Coulomb, Effect::Viscous};
   }
   return {};
 }
@@ -61,14 +63,22 @@ bool lawIsJointSide(FrictionLaw law) { return law == FrictionLaw::Prismatic; }
 
 std::vector<std::string> effectKeys(Effect e) {
   switch (e) {
-    case Effect::Coulomb: return {kCoulomb};
-    case Effect::Viscous: return {kViscous};
-    case Effect::LoadCoulomb: return {kLoadCoulomb};
-    case Effect::LoadViscous: return {kLoadViscous};
-    case Effect::Stribeck: return {kStribeckTorque, kStribeckVelocity};
-    case Effect::Asymmetry: return {kAsymmetry};
-    case Effect::Temperature: return {kTemperatureCoefficient};
-    case Effect::TemperatureViscous: return {kTemperatureViscousCoefficient};
+    case Effect::Coulomb:
+      return {kCoulomb};
+    case Effect::Viscous:
+      return {kViscous};
+    case Effect::LoadCoulomb:
+      return {kLoadCoulomb};
+    case Effect::LoadViscous:
+      return {kLoadViscous};
+    case Effect::Stribeck:
+      return {kStribeckTorque, kStribeckVelocity};
+    case Effect::Asymmetry:
+      return {kAsymmetry};
+    case Effect::Temperature:
+      return {kTemperatureCoefficient};
+    case Effect::TemperatureViscous:
+      return {kTemperatureViscousCoefficient};
   }
   return {};
 }
@@ -104,9 +114,12 @@ std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, s
     key = "friction." + k;
     if (!std::isfinite(v)) return "friction parameter must be finite";
     if (k == kReferenceTemperature) {
-      if (!on[static_cast<int>(Effect::Temperature)] && !on[static_cast<int>(Effect::TemperatureViscous)])
+      if (!on[static_cast<int>(Effect::Temperature)] &&
+          !on[static_cast<int>(Effect::TemperatureViscous)])
         return "reference_temperature belongs to the temperature effects, which are not enabled "
-               "(add \"" + d.joint + ".temperature\" or \"" + d.joint + ".temperature_viscous\" to [model].effects)";
+               "(add \"" +
+               d.joint + ".temperature\" or \"" + d.joint +
+               ".temperature_viscous\" to [model].effects)";
       continue;
     }
     bool known = false;
@@ -193,17 +206,27 @@ double effectTorque(const FrictionParams& p, Effect e, double motor_speed, doubl
   const double L = std::abs(load);
   double t = 0;
   switch (e) {
-    case Effect::Coulomb: t = p.coulomb * s; break;                // eq. (3.30) T_f0
-    case Effect::Viscous: t = p.viscous * v; break;                // eq. (3.30) b
-    case Effect::LoadCoulomb: t = p.load_coulomb * L * s; break;   // eq. (3.30) mu |T_l|
-    case Effect::LoadViscous: t = p.load_viscous * L * v; break;   // eq. (3.30) gamma |T_l|
-    case Effect::Stribeck: {                                       // eq. (3.33), odd in v
+    case Effect::Coulomb:
+      t = p.coulomb * s;
+      break;  // eq. (3.30) T_f0
+    case Effect::Viscous:
+      t = p.viscous * v;
+      break;  // eq. (3.30) b
+    case Effect::LoadCoulomb:
+      t = p.load_coulomb * L * s;
+      break;  // eq. (3.30) mu |T_l|
+    case Effect::LoadViscous:
+      t = p.load_viscous * L * v;
+      break;                  // eq. (3.30) gamma |T_l|
+    case Effect::Stribeck: {  // eq. (3.33), odd in v
       const double x = v / p.stribeck_velocity;
       const double c = p.has(Effect::Coulomb) ? p.coulomb : 0.0;
       t = (p.stribeck_torque - c) * s / (1.0 + x * x);
       break;
     }
-    case Effect::Asymmetry: t = p.asymmetry * s * s; break;
+    case Effect::Asymmetry:
+      t = p.asymmetry * s * s;
+      break;
     case Effect::Temperature:
       t = p.temperature_coefficient * (temperature_C - p.reference_temperature_C) * s;
       break;
@@ -214,7 +237,8 @@ double effectTorque(const FrictionParams& p, Effect e, double motor_speed, doubl
   return t * side;
 }
 
-double frictionTorque(const FrictionParams& p, double motor_speed, double load, double temperature_C) {
+double frictionTorque(const FrictionParams& p, double motor_speed, double load,
+                      double temperature_C) {
   double t = 0;
   for (Effect e : kAllEffects)
     if (p.has(e)) t += effectTorque(p, e, motor_speed, load, temperature_C);

@@ -43,13 +43,24 @@ namespace armstudy::drive {
 
 enum class FrictionLaw { None, HarmonicDrive, Stribeck, Prismatic };
 
-enum class Effect { Coulomb, Viscous, LoadCoulomb, LoadViscous, Stribeck, Asymmetry, Temperature, TemperatureViscous };
+enum class Effect {
+  Coulomb,
+  Viscous,
+  LoadCoulomb,
+  LoadViscous,
+  Stribeck,
+  Asymmetry,
+  Temperature,
+  TemperatureViscous
+};
 inline constexpr int kEffectCount = 8;
 inline constexpr std::array<Effect, kEffectCount> kAllEffects = {
     Effect::Coulomb,  Effect::Viscous,   Effect::LoadCoulomb, Effect::LoadViscous,
     Effect::Stribeck, Effect::Asymmetry, Effect::Temperature, Effect::TemperatureViscous};
 // The effects that need a temperature (data column or operating temperature).
-inline bool isTemperatureEffect(Effect e) { return e == Effect::Temperature || e == Effect::TemperatureViscous; }
+inline bool isTemperatureEffect(Effect e) {
+  return e == Effect::Temperature || e == Effect::TemperatureViscous;
+}
 
 const char* toString(FrictionLaw law);
 const char* toString(Effect effect);
@@ -74,8 +85,8 @@ struct FrictionParams {
   double asymmetry = 0;                 // d
   double temperature_coefficient = 0;   // k
   double temperature_viscous_coefficient = 0;  // k_b
-  double reference_temperature_C = 20;  // theta_ref
-  double gear_ratio = 1;                // N (maps motor to law side for joint-side laws)
+  double reference_temperature_C = 20;         // theta_ref
+  double gear_ratio = 1;                       // N (maps motor to law side for joint-side laws)
   bool joint_side = false;
 
   bool has(Effect e) const { return on[static_cast<int>(e)]; }
@@ -108,17 +119,19 @@ std::string validateFriction(const Drive& drive, const std::vector<Effect>& extr
 // Friction loss at the motor shaft [N m] for motor speed phi_dot [rad/s], output load T_l [N m or N
 // for prismatic], temperature [deg C] (ignored unless the temperature term is on).
 // Thesis eq. (3.30), (3.33), (3.35) with T_loss = -T_f.
-double frictionTorque(const FrictionParams& p, double motor_speed_radps, double load, double temperature_C);
+double frictionTorque(const FrictionParams& p, double motor_speed_radps, double load,
+                      double temperature_C);
 // Convenience: resolves the drive (law terms only, no extra effects) on every call.
-double frictionTorque(const Drive& drive, double motor_speed_radps, double load, double temperature_C);
+double frictionTorque(const Drive& drive, double motor_speed_radps, double load,
+                      double temperature_C);
 
 // Partial derivatives of frictionTorque (away from speed 0, where the sgn terms jump, and load 0).
 struct FrictionDerivatives {
-  double d_speed = 0;   // d T_loss / d phi_dot   [N m s/rad]
-  double d_load = 0;    // d T_loss / d T_l       [-] (or [m] for prismatic)
+  double d_speed = 0;  // d T_loss / d phi_dot   [N m s/rad]
+  double d_load = 0;   // d T_loss / d T_l       [-] (or [m] for prismatic)
 };
-FrictionDerivatives frictionDerivatives(const FrictionParams& p, double motor_speed_radps, double load,
-                                        double temperature_C);
+FrictionDerivatives frictionDerivatives(const FrictionParams& p, double motor_speed_radps,
+                                        double load, double temperature_C);
 
 // The contribution of a single effect term to the loss at the motor shaft [N m]. Summing over the
 // switched-on effects gives frictionTorque. Used by calibration to attribute residual patterns.

@@ -23,7 +23,7 @@ namespace armstudy {
 using nlohmann::ordered_json;
 
 static ordered_json poseJson(const PoseXYZABG& p) {
-  return ordered_json{{"x_m", p.x},         {"y_m", p.y},        {"z_m", p.z},
+  return ordered_json{{"x_m", p.x},           {"y_m", p.y},         {"z_m", p.z},
                       {"alpha_rad", p.alpha}, {"beta_rad", p.beta}, {"gamma_rad", p.gamma}};
 }
 
@@ -126,13 +126,16 @@ struct ScratchFolder {
 
 // The runner the stages see: the run's runner, timed. Its seconds are the part of the run that a
 // distributed run shares among its ranks (unit batches and shared loops, their exchanges included);
-// the rest of the run's wall time every rank does alone (manifest timings "units_and_shared_loops_s"
-// and "run_s", docs/distributed.md "Unit costs"). Nested runs (local()) are not timed again.
+// the rest of the run's wall time every rank does alone (manifest timings
+// "units_and_shared_loops_s" and "run_s", docs/distributed.md "Unit costs"). Nested runs (local())
+// are not timed again.
 class TimedUnitRunner final : public UnitRunner {
  public:
   // `into`: the runner whose seconds this one's count into (a rank group's runner); null: its own.
   explicit TimedUnitRunner(const UnitRunner& inner, const TimedUnitRunner* into = nullptr)
-      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}), inner_(inner), into_(into ? into : this) {}
+      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}),
+        inner_(inner),
+        into_(into ? into : this) {}
   long run(const UnitBatch& batch) const override {
     const auto t = std::chrono::steady_clock::now();
     const long r = inner_.run(batch);
@@ -197,11 +200,12 @@ std::unique_ptr<RankGroups> TimedUnitRunner::groups(const std::vector<double>& w
 
 // How to open the scene (the report.html section of the scene files).
 std::string sceneReport(const Study& study) {
-  std::string md = "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
-                   "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
-                   "obstacles grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` "
-                   "(a picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
-                   "`units` and, for enumerations, `legend` (docs/paraview.md).\n\n";
+  std::string md =
+      "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
+      "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
+      "obstacles grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` "
+      "(a picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
+      "`units` and, for enumerations, `legend` (docs/paraview.md).\n\n";
   if (!study.obstacles.empty())
     md += "`scene/obstacles.vtp`: the study's " + std::to_string(study.obstacles.size()) +
           " obstacles as surfaces (array `obstacle`, named in the field data `legend`).\n\n";
@@ -227,7 +231,8 @@ struct StudyRun {
   std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
 
-  StudyRun(const Study& s, const RunOptions& o, const Ranks& r, std::chrono::steady_clock::time_point t)
+  StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
+           std::chrono::steady_clock::time_point t)
       : study(s), options(o), ranks(r), t0(t), root(r.root()) {}
 
   // The summary's output folder, design count, threads and ranks; sets the OpenMP threads.
@@ -251,9 +256,10 @@ struct StudyRun {
         removePreviousResults(out);
         fs::remove_all(out / ".partial");
       } else if (fs::exists(manifest_path) && !CheckpointStore::hasPartialRun(sum.output_dir)) {
-        throw InputError(sum.output_dir, 0, "",
-                         "output folder already holds the results of a complete run; pass --overwrite to "
-                         "replace them");
+        throw InputError(
+            sum.output_dir, 0, "",
+            "output folder already holds the results of a complete run; pass --overwrite to "
+            "replace them");
       }
       store.emplace(sum.output_dir, studyFingerprint(study), sum.resume_message);
     });
@@ -263,7 +269,8 @@ struct StudyRun {
       store.emplace(sum.output_dir, studyFingerprint(study), ignored);
       ScratchFolder(ranks.rank()).path.swap(scratch.path);
     });
-    if (root && !sum.resume_message.empty()) std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
+    if (root && !sum.resume_message.empty())
+      std::fprintf(stderr, "armstudy: %s\n", sum.resume_message.c_str());
   }
 
   // designs.json (rank 0): every design with its base and overrides; then the load timing.
@@ -282,7 +289,8 @@ struct StudyRun {
     }
     sum.files_written.push_back("designs.json");
     sum.timings.push_back(
-        {"load_and_resolve", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+        {"load_and_resolve",
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
   }
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
@@ -307,7 +315,8 @@ struct StudyRun {
     } catch (const std::exception& e) {
       if (!ranks.distributed()) throw;
       // The other ranks may be waiting for this one: say which rank failed and end the whole job.
-      std::fprintf(stderr, "armstudy: error on rank %d of %d: %s\n", ranks.rank(), ranks.size(), e.what());
+      std::fprintf(stderr, "armstudy: error on rank %d of %d: %s\n", ranks.rank(), ranks.size(),
+                   e.what());
       std::fflush(stderr);
       ranks.abortJob(dynamic_cast<const InputError*>(&e) ? 2 : 1);
     }
@@ -326,10 +335,12 @@ struct StudyRun {
     scene_out.text("scene.py", scene::sceneScript(study.name, spatial));
     scene_out.text("scene/report.md", sceneReport(study));
     pages.push_back({"ParaView scene", scene_out.files()});
-    sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(), scene_out.files().end());
+    sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(),
+                             scene_out.files().end());
   }
 
-  // report.md: the answer first, then the warnings, then where the details are (each stage's report).
+  // report.md: the answer first, then the warnings, then where the details are (each stage's
+  // report).
   void writeAnswer() {
     answer_md = "## Answer\n\n";
     bool any = false;
@@ -352,7 +363,8 @@ struct StudyRun {
     md += answer_md + "\n## Details\n\n";
     for (const auto& [stage, r] : answers)
       for (const std::string& f : r.files)  // the stage's own reports, one folder down
-        if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 && std::count(f.begin(), f.end(), '/') == 1)
+        if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 &&
+            std::count(f.begin(), f.end(), '/') == 1)
           md += "- " + stage + ": [" + f + "](" + f + ")\n";
     md += "- the ParaView scene: [scene/report.md](scene/report.md)\n";
     writeFileAtomic((out / "report.md").string(), md);
@@ -366,7 +378,9 @@ struct StudyRun {
                     report::htmlReport(sum.output_dir, study.name, pages, answer_md));
     sum.files_written.push_back("report.html");
     // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
-    sum.timings.push_back({"report_html", std::chrono::duration<double>(std::chrono::steady_clock::now() - html0).count()});
+    sum.timings.push_back(
+        {"report_html",
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - html0).count()});
   }
 
   // The manifest is written last: its presence marks a complete run.
@@ -386,7 +400,8 @@ struct StudyRun {
     if (!sum.resume_message.empty()) man["resume"] = sum.resume_message;
     if (!sum.resume_message.empty()) man["units_resumed"] = sum.units_resumed;
     sum.timings.push_back({"units_and_shared_loops", units.seconds()});
-    sum.timings.push_back({"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+    sum.timings.push_back(
+        {"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
     ordered_json tim = ordered_json::object();
     for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
     man["timings"] = tim;
@@ -439,7 +454,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
 StageResult runStage(const Study& study, const std::string& name, const std::string& output_dir,
                      const RunOptions& options, const CheckpointStore* store) {
   const CheckpointStore none;
-  const UnitRunner units(store ? *store : none, options.threads > 0 ? options.threads : omp_get_max_threads());
+  const UnitRunner units(store ? *store : none,
+                         options.threads > 0 ? options.threads : omp_get_max_threads());
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const StageContext ctx{study, options, output_dir, units, threads};
   for (const StudySection& section : study.sections)

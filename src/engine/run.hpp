@@ -21,8 +21,8 @@ struct RunSummary {
   std::vector<std::string> files_written;  // relative to output_dir
   StudyMetrics metrics;                    // summary metrics (baselines, checks)
   std::string resume_message;              // "resuming: ..." / "starting fresh because ..."
-  long units_resumed = 0;                  // checkpoint units loaded instead of computed (all stages)
-  int ranks = 1;                           // processes of a distributed run (docs/distributed.md)
+  long units_resumed = 0;  // checkpoint units loaded instead of computed (all stages)
+  int ranks = 1;           // processes of a distributed run (docs/distributed.md)
 };
 
 // Fingerprint of everything a study's results depend on (engine version and revision, study and
@@ -30,8 +30,8 @@ struct RunSummary {
 std::string studyFingerprint(const Study& study);
 
 RunSummary runStudy(const Study& study, const RunOptions& options);
-// The same run by every rank of a distributed job (every rank calls it; docs/distributed.md): rank 0
-// takes the output-folder lock, prepares the checkpoint store and writes every file; the other
+// The same run by every rank of a distributed job (every rank calls it; docs/distributed.md): rank
+// 0 takes the output-folder lock, prepares the checkpoint store and writes every file; the other
 // ranks compute their share of the units, save them into the store and merge in a private scratch
 // folder that is removed at the end. Errors before the stages are reported once, by the lowest
 // failing rank (the others throw OtherRankFailed).

@@ -69,7 +69,8 @@ std::vector<collision::Obstacle> readObstacles(TableReader& top) {
     o.radius_m = g.radius_m;
     r.finish();
     if (static_cast<int>(out.size()) == collision::kMaxObstacles)
-      r.fail("name", "more than " + std::to_string(collision::kMaxObstacles) + " obstacles are not supported");
+      r.fail("name", "more than " + std::to_string(collision::kMaxObstacles) +
+                         " obstacles are not supported");
     out.push_back(std::move(o));
   });
   return out;
@@ -98,7 +99,8 @@ UrdfOptions readUrdfOptions(TableReader& r, const std::string& path, const fs::p
       const std::string dir_text = pr.string(std::string(k.str()));
       const fs::path d = fs::path(dir_text).is_absolute() ? fs::path(dir_text) : dir / dir_text;
       if (!fs::is_directory(d))
-        pr.fail(std::string(k.str()), "package folder '" + dir_text + "' does not exist (looked for " +
+        pr.fail(std::string(k.str()), "package folder '" + dir_text +
+                                          "' does not exist (looked for " +
                                           d.lexically_normal().string() + ")");
       uo.packages.emplace_back(std::string(k.str()), d.lexically_normal().string());
     }
@@ -127,7 +129,12 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
   pose("tcp", offset);
   const Eigen::Isometry3d T_NT = m.tcp.toIsometry() * offset.toIsometry();
   const Eigen::Vector3d abg = T_NT.linear().eulerAngles(0, 1, 2);  // R = Rx Ry Rz
-  m.tcp = {T_NT.translation().x(), T_NT.translation().y(), T_NT.translation().z(), abg[0], abg[1], abg[2]};
+  m.tcp = {T_NT.translation().x(),
+           T_NT.translation().y(),
+           T_NT.translation().z(),
+           abg[0],
+           abg[1],
+           abg[2]};
   m.name = r.string("name", m.name);
   for (char c : m.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
@@ -137,8 +144,7 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
 
 // The design file of a [[design]] entry. A URDF's input error names the study's line too: the
 // entry's tip_link or base_link when the URDF error is about them, else its file key.
-Model loadDesignOfEntry(TableReader& r, const std::string& file, const UrdfOptions& uo,
-                        bool urdf) {
+Model loadDesignOfEntry(TableReader& r, const std::string& file, const UrdfOptions& uo, bool urdf) {
   try {
     return loadAnyDesign(file, uo);
   } catch (const InputError& e) {
@@ -158,15 +164,18 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
   const std::string file = r.string("file");
   const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
   if (!fs::exists(resolved))
-    r.fail("file", "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
+    r.fail("file",
+           "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
   const UrdfOptions uo = readUrdfOptions(r, path, dir);
   const bool urdf = isUrdfPath(resolved.string());
   if (!urdf)
     for (const char* k : {"base_link", "tip_link", "packages", "base", "tcp", "name"})
-      if (r.has(k)) r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
+      if (r.has(k))
+        r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
   Model m = loadDesignOfEntry(r, resolved.lexically_normal().string(), uo, urdf);
   if (urdf) readUrdfPlacement(r, path, m);
-  m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
+  m.tool_axis_T =
+      readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
   reference_reach_m = r.quantity("reference_reach_m", Dimension::Length, 0.0);
   if (r.has("reference_reach_m") && !(reference_reach_m > 0))
     r.fail("reference_reach_m", "a reference reach must be above 0 (m, or a string with its unit)");
@@ -190,7 +199,8 @@ void readDesigns(TableReader& top, const std::string& path, const fs::path& dir,
   int idx = 0;
   for (const auto& e : *designs) {
     if (!e.is_table())
-      throw InputError(path, static_cast<int>(e.source().begin.line), "design", "expected [[design]] tables");
+      throw InputError(path, static_cast<int>(e.source().begin.line), "design",
+                       "expected [[design]] tables");
     TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
     double reference_reach_m = 0;
     Model m = readDesign(r, path, dir, reference_reach_m);
@@ -238,7 +248,8 @@ void readVariants(TableReader& top, const std::string& path, const BaseDesigns& 
   if (!variants) return;
   for (const auto& e : *variants) {
     if (!e.is_table())
-      throw InputError(path, static_cast<int>(e.source().begin.line), "variant", "expected [[variant]] tables");
+      throw InputError(path, static_cast<int>(e.source().begin.line), "variant",
+                       "expected [[variant]] tables");
     TableReader r(*e.as_table(), path, "variant[" + std::to_string(idx++) + "]");
     const std::string of = r.string("of");
     auto it = d.by_name.find(of);
@@ -250,8 +261,11 @@ void readVariants(TableReader& top, const std::string& path, const BaseDesigns& 
     // Collision volumes and inertias follow moved link ends unless the variant is the same arm.
     const std::string geometry_text = r.string("geometry", "follows");
     if (geometry_text != "follows" && geometry_text != "fixed")
-      r.fail("geometry", "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or \"fixed\" (kept from the base design)");
-    const VariantGeometry geometry = geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
+      r.fail("geometry",
+             "geometry is \"follows\" (volumes and inertias adapt to the new link lengths) or "
+             "\"fixed\" (kept from the base design)");
+    const VariantGeometry geometry =
+        geometry_text == "fixed" ? VariantGeometry::Fixed : VariantGeometry::Follows;
     r.finish();
     if (sets.empty() && sweeps.empty())
       throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
@@ -266,7 +280,8 @@ RegressionSpec readRegression(TableReader& top, const std::string& path, const f
   const toml::table* t = top.table("regression");
   if (!t) return spec;
   TableReader r(*t, path, "regression");
-  if (r.has("baseline")) spec.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
+  if (r.has("baseline"))
+    spec.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
   if (const toml::array* rules = r.array("tolerance")) {
     int k = 0;
     for (const auto& e : *rules) {

@@ -67,7 +67,8 @@ double nloptObjective(unsigned n, const double* x, double* grad, void* data) {
   auto* d = static_cast<NloptData*>(data);
   ++d->evaluations;
   d->q = Eigen::Map<const Eigen::VectorXd>(x, n);
-  const double f = ikObjective(*d->model, *d->kin, *d->target, d->w_o, d->q, grad ? &d->g : nullptr);
+  const double f =
+      ikObjective(*d->model, *d->kin, *d->target, d->w_o, d->q, grad ? &d->g : nullptr);
   if (grad) Eigen::Map<Eigen::VectorXd>(grad, n) = d->g;
   return f;
 }
@@ -124,7 +125,8 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
       q_new = q + dq;
       if (limits)
         for (int i = 0; i < n; ++i)
-          q_new[i] = std::clamp(q_new[i], model.joints[i].limits.q_min, model.joints[i].limits.q_max);
+          q_new[i] =
+              std::clamp(q_new[i], model.joints[i].limits.q_min, model.joints[i].limits.q_max);
       forwardKinematics(model, kin, q_new);
       kin_current = false;
       residual(c, kin, e_new, err_new);

@@ -134,8 +134,8 @@ double adaptiveDamping(double manipulability, double lambda0, double m0) {
 bool redundancyResolution(const Eigen::Ref<const Eigen::MatrixXd>& J,
                           const Eigen::Ref<const Eigen::VectorXd>& w_inv,
                           const Eigen::Ref<const Eigen::VectorXd>& wdot,
-                          const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha, double lambda,
-                          Eigen::Ref<Eigen::VectorXd> qdot) {
+                          const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha,
+                          double lambda, Eigen::Ref<Eigen::VectorXd> qdot) {
   const int m = static_cast<int>(J.rows()), n = static_cast<int>(J.cols());
   ARMSTUDY_CHECK(w_inv.size() == n && wdot.size() == m && qdot.size() == n,
                  "redundancyResolution: size mismatch");
@@ -167,14 +167,16 @@ std::string RedundancyOptions::validate(int dof) const {
   }
   if (!std::isfinite(alpha) || alpha < 0) return "null-space gain alpha must be finite and >= 0";
   if (!std::isfinite(drift_gain) || drift_gain < 0) return "drift gain must be finite and >= 0";
-  if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0) return "damping lambda0 must be finite and >= 0";
+  if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0)
+    return "damping lambda0 must be finite and >= 0";
   if (!std::isfinite(damping_m0) || damping_m0 < 0) return "damping m0 must be finite and >= 0";
   return "";
 }
 
 JointVector RedundancyOptions::weightInverse(int dof) const {
   JointVector w_inv = JointVector::Ones(dof);
-  for (int i = 0; i < static_cast<int>(joint_weights.size()) && i < dof; ++i) w_inv[i] = 1.0 / joint_weights[i];
+  for (int i = 0; i < static_cast<int>(joint_weights.size()) && i < dof; ++i)
+    w_inv[i] = 1.0 / joint_weights[i];
   return w_inv;
 }
 
@@ -219,7 +221,7 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
       objective->evaluate(*ctx, &grad);
       have_grad = true;
     }
-    const bool ok = redundancyResolution(J, w_inv, wdot, have_grad ? grad : JointVector(), 
+    const bool ok = redundancyResolution(J, w_inv, wdot, have_grad ? grad : JointVector(),
                                          options.redundancy.alpha, lambda, qdot);
     TrackingSample smp;
     smp.t = t;
@@ -298,7 +300,7 @@ PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const Pos
     } else {
       mu *= 10;
       forwardKinematicsAndJacobian(model, ws, q);  // restore the workspace at the current iterate
-      if (mu > 1e3) break;  // stalled: no descent even with heavy damping
+      if (mu > 1e3) break;                         // stalled: no descent even with heavy damping
     }
   }
   res.q = q;
@@ -314,7 +316,8 @@ std::string NullspaceOptions::validate() const {
   if (!std::isfinite(max_step) || max_step <= 0) return "max_step must be finite and > 0";
   if (correction_iterations < 0) return "correction_iterations must be >= 0";
   if (!std::isfinite(pose_tolerance) || pose_tolerance <= 0) return "pose tolerance must be > 0";
-  if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0) return "damping lambda0 must be finite and >= 0";
+  if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0)
+    return "damping lambda0 must be finite and >= 0";
   if (!std::isfinite(damping_m0) || damping_m0 < 0) return "damping m0 must be finite and >= 0";
   return "";
 }
@@ -335,7 +338,8 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   // The tool may not drift further from the pose than where it started (or the tolerance).
   const double tol_p = std::max(options.pose_tolerance, res.error.position_m);
   const double tol_o = std::max(options.pose_tolerance, res.error.orientation_rad);
-  if (res.error.position_m > 1e-3 || res.error.orientation_rad > 1e-2 || !withinLimits(model, res.q)) {
+  if (res.error.position_m > 1e-3 || res.error.orientation_rad > 1e-2 ||
+      !withinLimits(model, res.q)) {
     res.status = NullspaceStatus::NotOnPose;
     return res;
   }

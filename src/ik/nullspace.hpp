@@ -32,7 +32,8 @@ struct PoseTarget {
   PoseTaskKind kind = PoseTaskKind::FullPose;
   Eigen::Vector3d p_WT = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();  // FullPose: the TCP orientation
-  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();   // PositionAxis: the tool axis's direction (unit)
+  Eigen::Vector3d axis_W =
+      Eigen::Vector3d::UnitZ();  // PositionAxis: the tool axis's direction (unit)
 };
 
 using TaskJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
@@ -43,7 +44,8 @@ using TaskVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 // an orthonormal basis S of the constrained angular directions. Requires tcpJacobian. S (3 x m_rot)
 // is returned so desired angular velocities can be mapped the same way.
 void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
-                          TaskVec& e, Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr);
+                          TaskVec& e,
+                          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr);
 
 struct PoseError {
   double position_m = 0;
@@ -63,13 +65,13 @@ double adaptiveDamping(double manipulability, double lambda0, double m0);
 bool redundancyResolution(const Eigen::Ref<const Eigen::MatrixXd>& J,
                           const Eigen::Ref<const Eigen::VectorXd>& w_inv,
                           const Eigen::Ref<const Eigen::VectorXd>& wdot,
-                          const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha, double lambda,
-                          Eigen::Ref<Eigen::VectorXd> qdot);
+                          const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha,
+                          double lambda, Eigen::Ref<Eigen::VectorXd> qdot);
 
 struct RedundancyOptions {
-  std::vector<double> joint_weights;  // diagonal of W (eq. 5.45a); empty = identity
-  double alpha = defaults::kNullspaceGain_per_s;       // null-space gain of eq. (5.46) [1/s]
-  double drift_gain = defaults::kDriftGain_per_s;      // K of eq. (5.50a) [1/s]
+  std::vector<double> joint_weights;               // diagonal of W (eq. 5.45a); empty = identity
+  double alpha = defaults::kNullspaceGain_per_s;   // null-space gain of eq. (5.46) [1/s]
+  double drift_gain = defaults::kDriftGain_per_s;  // K of eq. (5.50a) [1/s]
   double damping_lambda0 = 0;  // eq. (5.67); 0 = undamped generalised inverse (eq. 5.47)
   double damping_m0 = 0;       // manipulability of the task Jacobian below which damping starts
   std::string validate(int dof) const;  // empty when valid
@@ -87,7 +89,7 @@ using Reference = std::function<ReferencePoint(double t)>;
 struct TrackingOptions {
   RedundancyOptions redundancy;
   double dt = defaults::kTrackingStep_s;  // Euler step of eq. (5.49) [s]
-  bool stop_at_joint_limit = true;        // abort the motion when a joint leaves its limits (Fig. 5.12b)
+  bool stop_at_joint_limit = true;  // abort the motion when a joint leaves its limits (Fig. 5.12b)
   std::string validate(int dof) const;
 };
 
@@ -104,8 +106,8 @@ const char* toString(TrackingStatus s);
 struct TrackingSummary {
   TrackingStatus status = TrackingStatus::Completed;
   int steps = 0;
-  int limit_joint = -1;        // first joint that left its limits
-  double max_joint_speed = 0;  // max |qdot_i| over the run
+  int limit_joint = -1;                 // first joint that left its limits
+  double max_joint_speed = 0;           // max |qdot_i| over the run
   std::vector<TrackingSample> samples;  // one per step
   TrackingOptions options_used;
 };
@@ -121,7 +123,7 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
 // ---- Position level: one pose ----
 struct PoseSolveOptions {
   int max_iterations = defaults::kPoseSolveMaxIterations;
-  double position_tolerance_m = defaults::kPoseSolveTolerance_m;      // stop early below both
+  double position_tolerance_m = defaults::kPoseSolveTolerance_m;  // stop early below both
   double orientation_tolerance_rad = defaults::kPoseSolveTolerance_rad;
   double max_step = defaults::kPoseSolveMaxStep;
 };
@@ -162,9 +164,9 @@ struct NullspaceResult {
   NullspaceStatus status = NullspaceStatus::Converged;
   JointVector q;
   double H_start = 0, H_final = 0;
-  int iterations = 0;       // accepted descent steps
-  int evaluations = 0;      // objective evaluations (incl. rejected trials)
-  PoseError error;          // at q
+  int iterations = 0;   // accepted descent steps
+  int evaluations = 0;  // objective evaluations (incl. rejected trials)
+  PoseError error;      // at q
 };
 
 // Moves q_start (on the pose) along the projected descent direction -N W^-1 grad H (Algorithm 5.3

@@ -29,7 +29,8 @@ const Jacobian6& ObjectiveContext::jacobianDerivative(int i) {
 }
 
 JointLimitTerm::JointLimitTerm(const Model& model, double activation) {
-  ARMSTUDY_CHECK(activation > 0 && activation < 0.5, "JointLimitTerm: activation must be in (0, 0.5)");
+  ARMSTUDY_CHECK(activation > 0 && activation < 0.5,
+                 "JointLimitTerm: activation must be in (0, 0.5)");
   for (const Joint& j : model.joints) {
     const double range = j.limits.q_max - j.limits.q_min;
     q_min_.push_back(j.limits.q_min);
@@ -101,7 +102,7 @@ double TransmissionTerm::evaluate(ObjectiveContext& ctx, JointVector* grad) cons
   u.head<3>() = ctx.u_W;
   if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
   const SmallVec v = llt.solve(u);  // v = A^-1 u
-  const double h = u.dot(v);       // eq. (5.61)
+  const double h = u.dot(v);        // eq. (5.61)
   if (grad) {
     // eq. (5.64): dH/dq_i = -v^T (dJ_i J^T + J dJ_i^T) v = -2 (dJ_i^T v) . (J^T v).
     const JointVector Jtv = J.transpose() * v;

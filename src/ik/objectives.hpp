@@ -1,7 +1,8 @@
 #pragma once
 // Secondary objective functions for null-space optimisation (thesis section 5.4.3), each with its
 // analytic gradient, combined as the weighted sum H = sum_k w_k H_k (eq. 5.51). The objective is a
-// list of terms, so further terms (self-collision H_c, eq. 5.53) plug in without touching the solver.
+// list of terms, so further terms (self-collision H_c, eq. 5.53) plug in without touching the
+// solver.
 //
 // Terms are immutable and shared between threads; everything that changes per evaluation lives in
 // the per-thread ObjectiveContext.

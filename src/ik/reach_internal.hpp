@@ -40,8 +40,8 @@ struct LocalResult {
 
 // Levenberg-Marquardt on |W e|^2 projected onto the joint-limit box (active set). q is updated
 // in place to the best configuration of this start; ws.kin holds its forward kinematics on return.
-LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q, bool limits,
-                  double lambda_initial, int& iterations);
+LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q,
+                  bool limits, double lambda_initial, int& iterations);
 // Minimises ikObjective from q (in place) with NLopt SLSQP; returns the local result.
 LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q);
 

@@ -51,15 +51,22 @@ constexpr double kPi = 3.14159265358979323846;
 
 inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
 
-
 Context makeContext(const Model* model, const IkTarget& t, double w_o) {
   const auto& s = t.task_space.selected;
   const bool axis = t.tool_axis;
-  Context c{model, t, w_o, !axis && s[3] && s[4] && s[5], !axis && (s[3] || s[4] || s[5]), axis,
-            Eigen::Matrix3d::Identity(), 0};
+  Context c{model,
+            t,
+            w_o,
+            !axis && s[3] && s[4] && s[5],
+            !axis && (s[3] || s[4] || s[5]),
+            axis,
+            Eigen::Matrix3d::Identity(),
+            0};
   c.m = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
-  if (axis) c.m += 3;
-  else c.m = t.task_space.dim();
+  if (axis)
+    c.m += 3;
+  else
+    c.m = t.task_space.dim();
   if (c.full_orientation) c.R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
   return c;
 }
@@ -77,7 +84,8 @@ inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen:
 
 // Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
 // zero), and the unweighted errors.
-void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e, PoseError& err) {
+void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e,
+                         PoseError& err) {
   const auto& sel = c.target.task_space.selected;
   const TaskVector6& w_d = c.target.w_d;
   e.setZero();
@@ -142,7 +150,8 @@ bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, J
     Eigen::Matrix3d T_A_inv;
     if (a.singular || !cardanRateMatrix(a.alpha, a.beta, T_A_inv)) return false;
     for (int k = 0; k < 3; ++k)
-      if (sel[3 + k]) J.row(r++) = c.w_o * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>());  // eq. (5.9)
+      if (sel[3 + k])
+        J.row(r++) = c.w_o * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>());  // eq. (5.9)
   }
   return true;
 }
@@ -162,7 +171,8 @@ double rowsManipulability(const Jacobian6& J, int first, int rows) {
 // The geometric rows a target constrains (unweighted): the selected position rows, then the
 // angular rows (3 for the full pose, the 2 perpendicular to the tool axis for the tool-axis task,
 // none for position). Returns the number of position rows; `angular` the number of angular rows.
-int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J, int& angular) {
+int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J,
+                      int& angular) {
   const auto& sel = c.target.task_space.selected;
   J.setZero(6, kin.n);
   int r = 0;
@@ -183,7 +193,9 @@ int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian
   return position_rows;
 }
 
-bool cardanSelection(const Context& c) { return c.any_orientation && !c.full_orientation && !c.tool_axis; }
+bool cardanSelection(const Context& c) {
+  return c.any_orientation && !c.full_orientation && !c.tool_axis;
+}
 
 double cardanValue(const Context& c, const KinematicsWorkspace& kin) {
   Jacobian6 J(6, kin.n);
@@ -192,7 +204,8 @@ double cardanValue(const Context& c, const KinematicsWorkspace& kin) {
 }
 
 // Errors, manipulability and joint-limit margin of configuration q into r (r.q = q).
-void fillSolution(const Model& model, IkWorkspace& ws, const Context& c, const JointVector& q, IkResult& r) {
+void fillSolution(const Model& model, IkWorkspace& ws, const Context& c, const JointVector& q,
+                  IkResult& r) {
   r.q = q;
   forwardKinematicsAndJacobian(model, ws.kin, q);
   Vec6 e;
@@ -213,7 +226,8 @@ bool ik_detail::withinTolerance(const PoseError& e, const IkOptions& o, double f
 
 double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k) {
   // Counter-based (splitmix64): the k-th draw of `id` is the same on any thread.
-  const std::uint64_t s = rng::splitmix64(rng::splitmix64(seed ^ rng::splitmix64(id * 0x100000001B3ull + k)));
+  const std::uint64_t s =
+      rng::splitmix64(rng::splitmix64(seed ^ rng::splitmix64(id * 0x100000001B3ull + k)));
   return rng::unitDouble(s);
 }
 
@@ -231,9 +245,11 @@ std::vector<long> drawIndices(long n, long count, std::uint64_t seed) {
   return all;
 }
 
-void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k, JointVector& q) {
+void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t pose_id, int k,
+                         JointVector& q) {
   q.resize(model.dof());
-  std::uint64_t s = rng::splitmix64(seed ^ rng::splitmix64(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
+  std::uint64_t s = rng::splitmix64(
+      seed ^ rng::splitmix64(pose_id * 0x100000001B3ull + static_cast<std::uint64_t>(k)));
   for (int i = 0; i < model.dof(); ++i) {
     s = rng::splitmix64(s);
     const double u = rng::unitDouble(s);
@@ -306,7 +322,8 @@ IkWorkspace::IkWorkspace(const Model& model) : kin(model) {
   for (int i = r + 1; i < model.dof(); ++i) {
     radius += model.joints[i].T_PJ0.translation().norm();
     if (model.joints[i].type == JointType::Prismatic)
-      radius += std::max(std::abs(model.joints[i].limits.q_min), std::abs(model.joints[i].limits.q_max));
+      radius +=
+          std::max(std::abs(model.joints[i].limits.q_min), std::abs(model.joints[i].limits.q_max));
   }
   reach_radius = radius;
   has_bound = true;
@@ -321,8 +338,8 @@ PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
   return err;
 }
 
-double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target,
-                   double w_o, const Eigen::VectorXd& q, Eigen::VectorXd* grad) {
+double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target, double w_o,
+                   const Eigen::VectorXd& q, Eigen::VectorXd* grad) {
   const Context c = makeContext(&model, target, w_o);
   const auto& sel = target.task_space.selected;
   const int n = model.dof();
@@ -339,7 +356,8 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
       if (grad) *grad -= d * kin.J_W_tcp.row(k).transpose();
     }
   if (c.full_orientation) {
-    // w^2 (1 - cos(angle)), cos(angle) = (tr(A) - 1) / 2 with A = R R_d^T; d tr(A)/dq_i = -omega_i . v.
+    // w^2 (1 - cos(angle)), cos(angle) = (tr(A) - 1) / 2 with A = R R_d^T; d tr(A)/dq_i = -omega_i
+    // . v.
     const Eigen::Matrix3d A = kin.R_WT * c.R_d.transpose();
     f += w_o * w_o * (1.0 - 0.5 * (A.trace() - 1.0));
     if (grad) {
@@ -369,7 +387,8 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
 }
 
 Eigen::Vector3d sprayDirection(double alpha, double gamma) {
-  return Eigen::Vector3d(-std::sin(gamma), std::cos(alpha) * std::cos(gamma), std::sin(alpha) * std::cos(gamma));
+  return Eigen::Vector3d(-std::sin(gamma), std::cos(alpha) * std::cos(gamma),
+                         std::sin(alpha) * std::cos(gamma));
 }
 
 IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d) {
@@ -384,7 +403,8 @@ IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d) {
 
 bool usesCardanAngles(const TaskSpace& task_space) {
   const auto& s = task_space.selected;
-  const bool any = s[3] || s[4] || s[5], full = s[3] && s[4] && s[5], spraying = s[3] && !s[4] && s[5];
+  const bool any = s[3] || s[4] || s[5], full = s[3] && s[4] && s[5],
+             spraying = s[3] && !s[4] && s[5];
   return any && !full && !spraying;
 }
 
@@ -403,7 +423,8 @@ double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& tas
   return cardanValue(makeContext(nullptr, t, 1.0), kin);
 }
 
-ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin, const IkTarget& target) {
+ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin,
+                                            const IkTarget& target) {
   const Context c = makeContext(nullptr, target, 1.0);
   Jacobian6 J;
   int angular = 0;
@@ -425,7 +446,8 @@ IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& t
   PoseError err;
   err.position_m = r.position_error_m;
   err.orientation_rad = r.orientation_error_rad;
-  r.status = within_limits && withinTolerance(err, options, 1.0) ? ReachStatus::Reachable : otherwise;
+  r.status =
+      within_limits && withinTolerance(err, options, 1.0) ? ReachStatus::Reachable : otherwise;
   return r;
 }
 
@@ -440,8 +462,8 @@ double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::Vector
   return std::max(margin, 0.0);
 }
 
-IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
-                   const IkOptions& o, std::uint64_t pose_id, const JointVector* warm_start) {
+IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target, const IkOptions& o,
+                   std::uint64_t pose_id, const JointVector* warm_start) {
   const int n = model.dof();
   ARMSTUDY_CHECK(ws.kin.n == n, "IkWorkspace was built for another model");
   const Context c = makeContext(&model, target, o.orientation_weight_m);
@@ -472,11 +494,11 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
         seededStart(c, ws, o, pose_id, k, q);
       }
       ++r.starts;
-      const LocalResult lr = o.algorithm == IkAlgorithm::SlsqpOnly
-                                 ? runSlsqp(c, ws, o, q)
-                                 : runLm(c, ws, o, q, true, k == 0 && warm_start ? o.lambda_warm_m2
-                                                                        : o.lambda_initial_m2,
-                                         r.iterations);
+      const LocalResult lr =
+          o.algorithm == IkAlgorithm::SlsqpOnly
+              ? runSlsqp(c, ws, o, q)
+              : runLm(c, ws, o, q, true,
+                      k == 0 && warm_start ? o.lambda_warm_m2 : o.lambda_initial_m2, r.iterations);
       if (lr.success || lr.cost < best.cost) {
         best = lr;
         best_q = q;
@@ -509,15 +531,20 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
   bool free_success = false;
   if (o.classify_failures && !beyondReachBound(ws, target, false)) {
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
-      if (k == 0) q = best_q;
-      else randomConfiguration(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
+      if (k == 0)
+        q = best_q;
+      else
+        randomConfiguration(model, o.seed ^ 0x5A5A5A5A5A5A5A5Aull, pose_id, k, q);
       const double lambda0 = k == 0 ? o.lambda_warm_m2 : o.lambda_initial_m2;
       free_success = runLm(c, ws, o, q, false, lambda0, r.iterations).success;
     }
   }
-  if (free_success) r.status = ReachStatus::JointLimits;
-  else if (best.singular) r.status = ReachStatus::RepresentationSingularity;
-  else r.status = ReachStatus::OutOfReach;
+  if (free_success)
+    r.status = ReachStatus::JointLimits;
+  else if (best.singular)
+    r.status = ReachStatus::RepresentationSingularity;
+  else
+    r.status = ReachStatus::OutOfReach;
   return r;
 }
 

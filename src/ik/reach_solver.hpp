@@ -34,13 +34,14 @@ namespace armstudy {
 // Why a pose is (not) reachable. Values are stable: they are written into maps and summaries.
 enum class ReachStatus : std::uint8_t {
   Reachable = 0,
-  OutOfReach = 1,                 // no configuration reaches it, even without joint limits
-  JointLimits = 2,                // reachable only if the joint limits were lifted
-  RepresentationSingularity = 3,  // best solution at cos(beta) = 0 (Cardan selections such as
-                                  // "x,y,z,gamma" only; never for tool-axis, full or position tasks)
-  SelfCollision = 4,              // reachable only in self-collision (collision-aware sweeps)
-  TorqueLimit = 5,                // reserved for the dynamics stage
-  ObstacleCollision = 6,          // reachable only in collision with an environment obstacle
+  OutOfReach = 1,   // no configuration reaches it, even without joint limits
+  JointLimits = 2,  // reachable only if the joint limits were lifted
+  RepresentationSingularity =
+      3,                  // best solution at cos(beta) = 0 (Cardan selections such as
+                          // "x,y,z,gamma" only; never for tool-axis, full or position tasks)
+  SelfCollision = 4,      // reachable only in self-collision (collision-aware sweeps)
+  TorqueLimit = 5,        // reserved for the dynamics stage
+  ObstacleCollision = 6,  // reachable only in collision with an environment obstacle
 };
 inline constexpr int kReachStatusCount = 7;
 const char* toString(ReachStatus s);
@@ -48,30 +49,32 @@ const char* toString(ReachStatus s);
 enum class IkAlgorithm {
   LmThenSlsqp,  // default: LM starts, SLSQP polish of near misses
   LmOnly,
-  SlsqpOnly,    // every start solved by NLopt SLSQP (benchmark comparison)
+  SlsqpOnly,  // every start solved by NLopt SLSQP (benchmark comparison)
 };
 const char* toString(IkAlgorithm a);
 
 struct IkOptions {
   double position_tolerance_m = defaults::kPositionTolerance_m;
   double orientation_tolerance_rad = defaults::kOrientationTolerance_rad;
-  int max_starts = defaults::kIkMaxStarts;         // including the warm start
+  int max_starts = defaults::kIkMaxStarts;          // including the warm start
   int max_iterations = defaults::kIkMaxIterations;  // LM iterations per start
   std::uint64_t seed = defaults::kIkSeed;
-  bool classify_failures = true;                    // tell out_of_reach from joint_limits
+  bool classify_failures = true;  // tell out_of_reach from joint_limits
   int classify_starts = defaults::kIkClassifyStarts;
   bool use_reach_bound = true;
   IkAlgorithm algorithm = IkAlgorithm::LmThenSlsqp;
   double orientation_weight_m = defaults::kIkOrientationWeight_m;
   // Levenberg-Marquardt tuning, chosen with tests/benchmarks/ik_bench (docs/performance.md).
-  double lambda_initial_m2 = defaults::kIkLambdaCold_m2;  // damping (m^2, on J J^T) at a cold start:
-                                                          // short first steps keep LM in its basin
+  double lambda_initial_m2 =
+      defaults::kIkLambdaCold_m2;                      // damping (m^2, on J J^T) at a cold start:
+                                                       // short first steps keep LM in its basin
   double lambda_warm_m2 = defaults::kIkLambdaWarm_m2;  // ... at a warm start (already close)
-  double stagnation_ratio = defaults::kIkStagnationRatio;  // accepted steps reducing the cost by less (relative), ...
-                                   // defaults::kIkStagnationSteps times in a row, end a start
-  int max_rejected_steps = 5;      // rejected LM steps in a row end a start
-  int seed_candidates = 8;         // a random start is the best (lowest task error) of this many
-                                   // seeded configurations
+  double stagnation_ratio =
+      defaults::kIkStagnationRatio;  // accepted steps reducing the cost by less (relative), ...
+                                     // defaults::kIkStagnationSteps times in a row, end a start
+  int max_rejected_steps = 5;        // rejected LM steps in a row end a start
+  int seed_candidates = 8;           // a random start is the best (lowest task error) of this many
+                                     // seeded configurations
   // Sweeps (src/reach/reach_sweep): chain each line from both ends and keep the better result per
   // pose (results then do not depend on the traversal direction); false: one chain per line,
   // in the direction below (without the map search's symmetry; benchmarks and tests only).
@@ -79,7 +82,7 @@ struct IkOptions {
   // Traverse each line from its last pose first (a check that results do not depend on the
   // traversal order; not a solver setting).
   bool sweep_descending = false;
-  std::string validate() const;                     // empty when valid
+  std::string validate() const;  // empty when valid
 };
 
 struct IkTarget {
@@ -111,16 +114,16 @@ bool usesCardanAngles(const TaskSpace& task_space);
 struct IkResult {
   ReachStatus status = ReachStatus::OutOfReach;
   bool reachable() const { return status == ReachStatus::Reachable; }
-  double position_error_m = 0;       // of the best configuration found (within the limits)
+  double position_error_m = 0;  // of the best configuration found (within the limits)
   double orientation_error_rad = 0;
-  JointVector q;                     // best configuration found (the solution when reachable)
-  int starts = 0;                    // starts used (within limits)
-  int iterations = 0;                // LM iterations over all starts (incl. classification)
-  bool polished = false;             // the SLSQP polish produced the solution
-  bool bound_rejected = false;       // certainly unreachable by the reach bound (one local solve only)
-  double manipulability = 0;         // sqrt(det(J_t J_t^T)) of the task Jacobian (eq. 5.59): the
-                                     // geometric rows the task constrains (taskJacobianRows)
-  double joint_limit_margin = 0;     // min over joints of distance to a limit / limit range
+  JointVector q;                  // best configuration found (the solution when reachable)
+  int starts = 0;                 // starts used (within limits)
+  int iterations = 0;             // LM iterations over all starts (incl. classification)
+  bool polished = false;          // the SLSQP polish produced the solution
+  bool bound_rejected = false;    // certainly unreachable by the reach bound (one local solve only)
+  double manipulability = 0;      // sqrt(det(J_t J_t^T)) of the task Jacobian (eq. 5.59): the
+                                  // geometric rows the task constrains (taskJacobianRows)
+  double joint_limit_margin = 0;  // min over joints of distance to a limit / limit range
 };
 
 // Per-thread scratch; constructed once per thread from the model. The hot path does not allocate
@@ -161,7 +164,8 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
 // position rows, then 3 angular rows (full pose), the 2 angular rows perpendicular to the tool
 // axis (tool-axis tasks) or none (position). Units: m^k for k position rows (rad^-1 folded in);
 // the angular rows are dimensionless, so the value weighs them with a characteristic length of
-// 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's singularity.
+// 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's
+// singularity.
 double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target);
 // The thesis' Cardan value of a task space (analytic rows eq. 5.11, e.g. spraying's alpha and
 // gamma rows): depends on the angle representation (it equals the tool-axis value divided by
@@ -184,7 +188,8 @@ IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& t
 // The k-th seeded random configuration of `id`, uniform within the joint limits (counter-based
 // splitmix64: the same on any thread and platform). The solver's random starts and every
 // multi-start search (dexterity refinement, map audits) draw from it.
-void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t id, int k, JointVector& q);
+void randomConfiguration(const Model& model, std::uint64_t seed, std::uint64_t id, int k,
+                         JointVector& q);
 // The k-th uniform number in [0, 1) of stream `id` from the same generator.
 double uniformDraw(std::uint64_t seed, std::uint64_t id, std::uint64_t k);
 // `count` distinct indices of [0, n) drawn with `seed` from the same generator (partial

@@ -25,7 +25,8 @@ std::vector<std::string> splitCells(const std::string& line) {
   std::size_t start = 0;
   for (;;) {
     const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    cells.push_back(
+        trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
@@ -56,7 +57,8 @@ std::vector<CsvLine> splitCsvLines(const std::string& text) {
   int line_no = 0;
   for (std::size_t pos = 0; pos <= text.size();) {
     const std::size_t nl = text.find('\n', pos);
-    const std::string line = text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
+    const std::string line =
+        text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
     ++line_no;
     if (!skippable(line)) out.push_back({line_no, splitCells(line)});
     if (nl == std::string::npos) break;
@@ -69,26 +71,34 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
   CsvTable t;
   t.file = file;
   const std::vector<CsvLine> lines = splitCsvLines(text);
-  if (lines.empty()) throw InputError(file, 0, "", "the CSV file is empty (expected a header line)");
+  if (lines.empty())
+    throw InputError(file, 0, "", "the CSV file is empty (expected a header line)");
   const int header_line = lines[0].line;
   const std::vector<std::string>& header = lines[0].cells;
   std::set<std::string> seen;
   for (const std::string& h : header) {
     if (h.empty()) throw InputError(file, header_line, "", "empty column name in the header");
-    if (!seen.insert(h).second) throw InputError(file, header_line, h, "duplicate column '" + h + "'");
+    if (!seen.insert(h).second)
+      throw InputError(file, header_line, h, "duplicate column '" + h + "'");
   }
   std::set<std::string> wanted(schema.required.begin(), schema.required.end());
   wanted.insert(schema.optional.begin(), schema.optional.end());
   std::string missing;
   for (const std::string& r : schema.required)
-    if (!seen.count(r)) { missing += missing.empty() ? "'" : ", '"; missing += r + "'"; }
+    if (!seen.count(r)) {
+      missing += missing.empty() ? "'" : ", '";
+      missing += r + "'";
+    }
   if (!missing.empty())
-    throw InputError(file, header_line, "", "missing required column(s) " + missing + " (header has: " +
-                                                [&] {
-                                                  std::string s;
-                                                  for (const auto& h : header) { s += s.empty() ? "" : ","; s += h; }
-                                                  return s;
-                                                }() + ")");
+    throw InputError(
+        file, header_line, "", "missing required column(s) " + missing + " (header has: " + [&] {
+          std::string s;
+          for (const auto& h : header) {
+            s += s.empty() ? "" : ",";
+            s += h;
+          }
+          return s;
+        }() + ")");
   std::vector<int> header_to_column(header.size(), -1);
   for (std::size_t i = 0; i < header.size(); ++i) {
     if (wanted.count(header[i])) {
@@ -103,8 +113,9 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
     const int line_no = lines[li].line;
     const std::vector<std::string>& cells = lines[li].cells;
     if (cells.size() != header.size())
-      throw InputError(file, line_no, "", "row has " + std::to_string(cells.size()) + " cells, the header has " +
-                                              std::to_string(header.size()));
+      throw InputError(file, line_no, "",
+                       "row has " + std::to_string(cells.size()) + " cells, the header has " +
+                           std::to_string(header.size()));
     for (std::size_t i = 0; i < cells.size(); ++i) {
       if (header_to_column[i] < 0) continue;
       const std::string& c = cells[i];
@@ -115,13 +126,16 @@ CsvTable parseCsv(const std::string& text, const std::string& file, const CsvSch
       const auto res = std::from_chars(b, e, v);
       if (c.empty() || res.ec != std::errc() || res.ptr != e)
         throw InputError(file, line_no, header[i], "cell '" + c + "' is not a number");
-      if (!std::isfinite(v)) throw InputError(file, line_no, header[i], "cell '" + c + "' is not finite (NaN or Inf)");
-      if (const std::string bad = implausible(v, nullptr); !bad.empty()) throw InputError(file, line_no, header[i], bad);
+      if (!std::isfinite(v))
+        throw InputError(file, line_no, header[i], "cell '" + c + "' is not finite (NaN or Inf)");
+      if (const std::string bad = implausible(v, nullptr); !bad.empty())
+        throw InputError(file, line_no, header[i], bad);
       t.values[header_to_column[i]].push_back(v);
     }
     t.row_lines.push_back(line_no);
   }
-  if (t.row_lines.empty()) throw InputError(file, header_line, "", "the CSV file has a header but no data rows");
+  if (t.row_lines.empty())
+    throw InputError(file, header_line, "", "the CSV file has a header but no data rows");
   return t;
 }
 
@@ -145,10 +159,14 @@ CsvTable readCsv(const std::string& path, const CsvSchema& schema) {
   return parseCsv(readFileOrThrow(path), path, schema);
 }
 
-std::string formatCsv(const std::vector<std::string>& header, const std::vector<std::vector<double>>& columns) {
+std::string formatCsv(const std::vector<std::string>& header,
+                      const std::vector<std::vector<double>>& columns) {
   ARMSTUDY_CHECK(header.size() == columns.size(), "one header name per column");
   std::string out;
-  for (std::size_t i = 0; i < header.size(); ++i) { out += i ? "," : ""; out += header[i]; }
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    out += i ? "," : "";
+    out += header[i];
+  }
   out += "\n";
   const std::size_t n = columns.empty() ? 0 : columns[0].size();
   char buf[64];
@@ -156,7 +174,8 @@ std::string formatCsv(const std::vector<std::string>& header, const std::vector<
     for (std::size_t i = 0; i < columns.size(); ++i) {
       ARMSTUDY_CHECK(columns[i].size() == n, "columns of equal length");
       std::snprintf(buf, sizeof buf, "%.17g", columns[i][r]);
-      out += i ? "," : ""; out += std::string(buf);
+      out += i ? "," : "";
+      out += std::string(buf);
     }
     out += "\n";
   }

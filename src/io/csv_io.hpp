@@ -28,14 +28,14 @@ struct CsvSchema {
 
 struct CsvTable {
   std::string file;
-  std::vector<std::string> columns;           // the schema columns present, in header order
-  std::vector<std::vector<double>> values;    // values[column][row]
-  std::vector<int> row_lines;                 // 1-based line of each data row in the file
-  std::vector<std::string> extra_columns;     // header columns outside the schema
+  std::vector<std::string> columns;         // the schema columns present, in header order
+  std::vector<std::vector<double>> values;  // values[column][row]
+  std::vector<int> row_lines;               // 1-based line of each data row in the file
+  std::vector<std::string> extra_columns;   // header columns outside the schema
 
   int rows() const { return static_cast<int>(row_lines.size()); }
   bool has(const std::string& name) const { return index(name) >= 0; }
-  int index(const std::string& name) const;   // -1 when absent
+  int index(const std::string& name) const;  // -1 when absent
   // The values of a schema column; precondition: has(name).
   const std::vector<double>& column(const std::string& name) const;
   // The extra columns as warnings ("<file>: extra column 'x' is not used"). A column matching

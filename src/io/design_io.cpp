@@ -54,7 +54,8 @@ PoseXYZABG readPose(TableReader& r, bool all_required) {
 
 }  // namespace
 
-Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key, const Eigen::Vector3d& fallback) {
+Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key,
+                             const Eigen::Vector3d& fallback) {
   if (!r.has(key)) return fallback;
   const toml::node* n = r.node(key);
   if (n->is_string()) {
@@ -68,12 +69,16 @@ Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key, const E
     if (t == "y") return sign * Eigen::Vector3d::UnitY();
     if (t == "z") return sign * Eigen::Vector3d::UnitZ();
     r.fail(key, "unknown tool axis '" + n->value_or(std::string()) +
-                    "': use \"x\", \"y\", \"z\" (optionally with a sign, e.g. \"-y\") or [x, y, z] in the TCP frame");
+                    "': use \"x\", \"y\", \"z\" (optionally with a sign, e.g. \"-y\") or [x, y, z] "
+                    "in the TCP frame");
   }
   const auto v = r.numberArray(key);
-  if (v.size() != 3) r.fail(key, "expected a tool axis \"x\", \"y\", \"z\" or three numbers [x, y, z] in the TCP frame");
+  if (v.size() != 3)
+    r.fail(key,
+           "expected a tool axis \"x\", \"y\", \"z\" or three numbers [x, y, z] in the TCP frame");
   const Eigen::Vector3d a(v[0], v[1], v[2]);
-  if (!(a.norm() > 1e-9) || !a.allFinite()) r.fail(key, "the tool axis must be a non-zero direction");
+  if (!(a.norm() > 1e-9) || !a.allFinite())
+    r.fail(key, "the tool axis must be a non-zero direction");
   return a.normalized();
 }
 
@@ -123,7 +128,8 @@ void readCollisionModel(TableReader& top, Model& m) {
   });
 }
 
-// Drive friction laws and the "<joint>.<effect>" entries of [model].effects (src/drive/friction.hpp).
+// Drive friction laws and the "<joint>.<effect>" entries of [model].effects
+// (src/drive/friction.hpp).
 void validateDriveEffects(const Model& m, const std::string& file, int effects_line) {
   for (const std::string& entry : m.effects) {
     const auto dot = entry.find('.');
@@ -134,19 +140,21 @@ void validateDriveEffects(const Model& m, const std::string& file, int effects_l
     bool has_drive = false;
     for (const Drive& d : m.drives) has_drive = has_drive || d.joint == joint;
     if (is_drive_effect && !has_drive)
-      throw InputError(file, effects_line, "model.effects",
-                       "effect '" + entry + "': the design has no [[drive]] for joint '" + joint + "'");
+      throw InputError(
+          file, effects_line, "model.effects",
+          "effect '" + entry + "': the design has no [[drive]] for joint '" + joint + "'");
     if (has_drive && !is_drive_effect)
       throw InputError(file, effects_line, "model.effects",
-                       "effect '" + entry + "': unknown drive effect (expected coulomb, viscous, "
-                       "load_coulomb, load_viscous, stribeck, asymmetry or temperature)");
+                       "effect '" + entry +
+                           "': unknown drive effect (expected coulomb, viscous, "
+                           "load_coulomb, load_viscous, stribeck, asymmetry or temperature)");
   }
   for (const Drive& d : m.drives) {
     std::string key;
     const std::string msg = drive::validateFriction(d, drive::extraEffects(m, d.joint), key);
     if (!msg.empty())
-      throw InputError(file, d.source_line, key == "effects" ? "model.effects" : "drive." + d.joint + "." + key,
-                       msg);
+      throw InputError(file, d.source_line,
+                       key == "effects" ? "model.effects" : "drive." + d.joint + "." + key, msg);
   }
 }
 
@@ -180,9 +188,11 @@ Joint readJoint(TableReader& r, std::set<std::string>& names, UrdfInfo& urdf) {
   ji.link = r.string("link", "");
   if (r.has("link_axis")) {  // the URDF axis in its child link frame: R_FL = urdfAxisFrame(a)^T
     const auto v = r.numberArray("link_axis");
-    const Eigen::Vector3d a = v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d a =
+        v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
     if (!(a.norm() > 0.5 && a.norm() < 2))
-      r.fail("link_axis", "expected a unit vector [x, y, z]: the joint axis in the URDF link frame");
+      r.fail("link_axis",
+             "expected a unit vector [x, y, z]: the joint axis in the URDF link frame");
     ji.R_FL = urdfAxisFrame(a.normalized()).transpose();
   }
   ji.continuous = r.boolean("continuous", false);
@@ -216,8 +226,9 @@ void readJoints(TableReader& top, const std::string& file, Model& m, UrdfInfo& u
   if (m.joints.empty())
     throw InputError(file, top.line(), "joint", "the kinematic table is empty: add [[joint]] rows");
   if (m.dof() > defaults::kMaxDof)
-    throw InputError(file, m.joints.back().source_line, "joint",
-                     "more than " + std::to_string(defaults::kMaxDof) + " joints are not supported");
+    throw InputError(
+        file, m.joints.back().source_line, "joint",
+        "more than " + std::to_string(defaults::kMaxDof) + " joints are not supported");
 }
 
 // [tcp] (offset, tool axis, URDF link) and the optional [base] (placement, URDF link).
@@ -268,16 +279,14 @@ Drive readDrive(TableReader& r, const std::string& file, const Model& m) {
   Drive d;
   d.source_line = r.line();
   d.joint = r.string("joint");
-  if (m.jointIndex(d.joint) < 0)
-    r.fail("joint", "no joint named '" + d.joint + "' in this design");
+  if (m.jointIndex(d.joint) < 0) r.fail("joint", "no joint named '" + d.joint + "' in this design");
   for (const auto& other : m.drives)
     if (other.joint == d.joint) r.fail("joint", "two drives for joint '" + d.joint + "'");
   d.module = r.string("module", "");
   d.gear_ratio = r.number("gear_ratio");
   if (!(d.gear_ratio > 0)) r.fail("gear_ratio", "gear ratio must be positive");
   d.torque_constant_NmpA = r.number("torque_constant");
-  if (!(d.torque_constant_NmpA > 0))
-    r.fail("torque_constant", "torque constant must be positive");
+  if (!(d.torque_constant_NmpA > 0)) r.fail("torque_constant", "torque constant must be positive");
   for (const OptionalDriveValue& v : kOptionalDriveValues)
     d.*v.value = v.angular_velocity ? r.quantity(v.key, Dimension::AngularVelocity, 0.0)
                                     : r.number(v.key, 0.0);
@@ -339,12 +348,12 @@ Model buildModel(const toml::table& root, const std::string& file, UrdfInfo* inf
 
 }  // namespace
 
-
 Model parseDesign(const std::string& text, const std::string& file_label) {
   return parseDesignWithUrdfInfo(text, file_label, nullptr);
 }
 
-Model parseDesignWithUrdfInfo(const std::string& text, const std::string& file_label, UrdfInfo* info) {
+Model parseDesignWithUrdfInfo(const std::string& text, const std::string& file_label,
+                              UrdfInfo* info) {
   const toml::table root = io::parseTomlText(text, file_label);
   Model m = buildModel(root, file_label, info);
   m.file_hash = contentHash(text);
@@ -381,12 +390,14 @@ std::string quoted(const std::string& s) {
   return o + "\"";
 }
 void writePose(std::ostringstream& o, const PoseXYZABG& p, bool all) {
-  const std::pair<const char*, double> f[] = {{"x", p.x},         {"y", p.y},        {"z", p.z},
-                                              {"alpha", p.alpha}, {"beta", p.beta}, {"gamma", p.gamma}};
+  const std::pair<const char*, double> f[] = {
+      {"x", p.x}, {"y", p.y}, {"z", p.z}, {"alpha", p.alpha}, {"beta", p.beta}, {"gamma", p.gamma}};
   for (const auto& [k, v] : f)
     if (all || v != 0) o << k << " = " << num(v) << "\n";
 }
-std::string vec3(const Eigen::Vector3d& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+std::string vec3(const Eigen::Vector3d& v) {
+  return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]";
+}
 }  // namespace
 
 std::string designToToml(const Model& m, const UrdfInfo& info) {
@@ -407,7 +418,8 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   for (std::size_t i = 0; i < m.joints.size(); ++i) {
     const Joint& j = m.joints[i];
     const UrdfJointInfo ji = has_joint_info ? info.joints[i] : UrdfJointInfo{};
-    o << "\n[[joint]]\nname = " << quoted(j.name) << "\ntype = " << quoted(toString(j.type)) << "\n";
+    o << "\n[[joint]]\nname = " << quoted(j.name) << "\ntype = " << quoted(toString(j.type))
+      << "\n";
     if (!ji.link.empty()) o << "link = " << quoted(ji.link) << "\n";
     if (!ji.R_FL.isIdentity(0)) {
       const Eigen::Vector3d a = ji.R_FL.transpose() * Eigen::Vector3d::UnitZ();
@@ -423,22 +435,25 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   if (!info.tcp_link.empty()) o << "link = " << quoted(info.tcp_link) << "\n";
   writePose(o, m.tcp, false);
   if (m.tool_axis_T != Eigen::Vector3d::UnitZ())
-    o << "tool_axis = [" << num(m.tool_axis_T.x()) << ", " << num(m.tool_axis_T.y()) << ", " << num(m.tool_axis_T.z())
-      << "]\n";
+    o << "tool_axis = [" << num(m.tool_axis_T.x()) << ", " << num(m.tool_axis_T.y()) << ", "
+      << num(m.tool_axis_T.z()) << "]\n";
   for (std::size_t i = 0; i < m.inertias.size(); ++i) {
     const LinkInertia& li = m.inertias[i];
     if (!li.given) continue;
     const Eigen::Matrix3d& I = li.I_com_kgm2;
     o << "\n[[inertia]]\nlink = " << quoted(m.joints[i].name) << "\nmass = " << num(li.mass_kg)
-      << "\ncom = " << vec3(li.p_com_m) << "\ninertia = [" << num(I(0, 0)) << ", " << num(I(1, 1)) << ", "
-      << num(I(2, 2)) << ", " << num(I(0, 1)) << ", " << num(I(0, 2)) << ", " << num(I(1, 2)) << "]\n";
+      << "\ncom = " << vec3(li.p_com_m) << "\ninertia = [" << num(I(0, 0)) << ", " << num(I(1, 1))
+      << ", " << num(I(2, 2)) << ", " << num(I(0, 1)) << ", " << num(I(0, 2)) << ", "
+      << num(I(1, 2)) << "]\n";
   }
   if (m.payload_kg > 0)
-    o << "\n[payload]\nmass = " << num(m.payload_kg) << "\ncom = " << vec3(m.p_payload_com_T) << "\n";
+    o << "\n[payload]\nmass = " << num(m.payload_kg) << "\ncom = " << vec3(m.p_payload_com_T)
+      << "\n";
   for (const Drive& d : m.drives) {
     o << "\n[[drive]]\njoint = " << quoted(d.joint) << "\n";
     if (!d.module.empty()) o << "module = " << quoted(d.module) << "\n";
-    o << "gear_ratio = " << num(d.gear_ratio) << "\ntorque_constant = " << num(d.torque_constant_NmpA) << "\n";
+    o << "gear_ratio = " << num(d.gear_ratio)
+      << "\ntorque_constant = " << num(d.torque_constant_NmpA) << "\n";
     for (const OptionalDriveValue& v : kOptionalDriveValues)
       if (d.*v.value != 0) o << v.key << " = " << num(d.*v.value) << "\n";
     if (!d.friction_law.empty()) {
@@ -455,12 +470,14 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   for (const CollisionVolume& v : m.collision.volumes) {
     o << "\n[[collision]]\n";
     if (!v.name.empty()) o << "name = " << quoted(v.name) << "\n";
-    o << "link = " << quoted(linkName(v.link)) << "\ntype = " << quoted(toString(v.type)) << "\npoints = [";
+    o << "link = " << quoted(linkName(v.link)) << "\ntype = " << quoted(toString(v.type))
+      << "\npoints = [";
     for (int k = 0; k < static_cast<int>(v.type); ++k) o << (k ? ", " : "") << vec3(v.p_L[k]);
     o << "]\nradius = " << num(v.radius_m) << "\n";
   }
   for (const auto& p : m.collision.allowed_pairs)
-    o << "\n[[collision_allowed]]\nlinks = [" << quoted(linkName(p[0])) << ", " << quoted(linkName(p[1])) << "]\n";
+    o << "\n[[collision_allowed]]\nlinks = [" << quoted(linkName(p[0])) << ", "
+      << quoted(linkName(p[1])) << "]\n";
   return o.str();
 }
 
@@ -531,7 +548,8 @@ bool setModelEntry(Model& m, const std::string& key, double value_si, std::strin
   return true;
 }
 
-bool modelEntryDimension(const Model& m, const std::string& key, Dimension& dim, std::string& error) {
+bool modelEntryDimension(const Model& m, const std::string& key, Dimension& dim,
+                         std::string& error) {
   Model copy = m;
   return entryPointer(copy, key, dim, error) != nullptr;
 }

@@ -19,7 +19,8 @@ class TableReader;
 }
 // The tool axis at `key` (docs/design-format.md): "x", "y", "z" with an optional sign, or
 // [x, y, z] (normalised), in the TCP frame; `fallback` when absent. InputError otherwise.
-Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key, const Eigen::Vector3d& fallback);
+Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key,
+                             const Eigen::Vector3d& fallback);
 
 // Validates an assembled model (limits ordered and finite, unique names, ...). Used after a
 // variant overrides entries. Throws InputError naming `file` and the offending key.
@@ -30,7 +31,8 @@ void validateModel(const Model& model, const std::string& file);
 //   payload.mass. `value_si` is already in SI. Returns false with a message for an unknown key.
 bool setModelEntry(Model& model, const std::string& key, double value_si, std::string& error);
 // The current value (SI) of an entry key; false with a message for an unknown key.
-bool modelEntryValue(const Model& model, const std::string& key, double& value_si, std::string& error);
+bool modelEntryValue(const Model& model, const std::string& key, double& value_si,
+                     std::string& error);
 // The physical dimension of an entry key (for unit checking of override values).
 bool modelEntryDimension(const Model& model, const std::string& key, Dimension& dimension_out,
                          std::string& error);

@@ -22,13 +22,17 @@ std::string readFileOrThrow(const std::string& path) {
   // Only regular files of bounded size: a FIFO would block forever, /dev/zero never ends.
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) throw InputError(path, 0, "", "cannot open file (it does not exist)");
+  if (ec || !std::filesystem::exists(st))
+    throw InputError(path, 0, "", "cannot open file (it does not exist)");
   if (!std::filesystem::is_regular_file(st))
-    throw InputError(path, 0, "", "not a regular file (a directory, FIFO or device); armstudy reads only regular files");
+    throw InputError(
+        path, 0, "",
+        "not a regular file (a directory, FIFO or device); armstudy reads only regular files");
   const auto size = std::filesystem::file_size(path, ec);
   if (!ec && size > defaults::kMaxInputFileBytes)
-    throw InputError(path, 0, "", "file of " + std::to_string(size) + " bytes exceeds the input limit of " +
-                                      std::to_string(defaults::kMaxInputFileBytes) + " bytes");
+    throw InputError(path, 0, "",
+                     "file of " + std::to_string(size) + " bytes exceeds the input limit of " +
+                         std::to_string(defaults::kMaxInputFileBytes) + " bytes");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open file");
   std::ostringstream ss;
@@ -185,8 +189,9 @@ FileLock::FileLock(const std::string& path, const std::string& subject) {
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(fd_);
     fd_ = -1;
-    throw InputError(subject, 0, "", "another armstudy run is writing to this output folder; wait for it or choose "
-                                     "another --output");
+    throw InputError(subject, 0, "",
+                     "another armstudy run is writing to this output folder; wait for it or choose "
+                     "another --output");
   }
 }
 
@@ -201,12 +206,14 @@ OutputFolderLock::OutputFolderLock(const std::string& folder) {
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec || !fs::is_directory(folder))
-    throw InputError(folder, 0, "", "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
+    throw InputError(
+        folder, 0, "",
+        "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
   lock_.emplace((fs::path(folder) / ".armstudy.lock").string(), folder);
   // Temporaries of writeFileAtomic ("<name>.tmp.<pid>") left by a killed run: no other run can be
   // writing here now.
-  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec)) {
+  for (auto it = fs::recursive_directory_iterator(folder, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
     const auto dot = name.rfind(".tmp.");
     if (dot == std::string::npos || dot + 5 >= name.size() || !it->is_regular_file()) continue;

@@ -46,9 +46,10 @@ PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
                          "give all three orientation columns alpha,beta,gamma or none");
       list.has_orientation = ori == 3;
       if (task_space.hasOrientation() && !list.has_orientation)
-        throw InputError(file_label, line_no, "",
-                         "task space " + task_space.toString() +
-                             " constrains orientation but the file has no alpha,beta,gamma columns");
+        throw InputError(
+            file_label, line_no, "",
+            "task space " + task_space.toString() +
+                " constrains orientation but the file has no alpha,beta,gamma columns");
       have_header = true;
       continue;
     }
@@ -67,7 +68,8 @@ PoseList parsePoseCsv(const std::string& text, const std::string& file_label,
         throw InputError(file_label, line_no, kNames[n],
                          "'" + cell + "' is not a finite number (metres and radians, no units)");
       const Dimension dim = n < 3 ? Dimension::Length : Dimension::Angle;
-      if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file_label, line_no, kNames[n], bad);
+      if (const std::string bad = implausible(v, &dim); !bad.empty())
+        throw InputError(file_label, line_no, kNames[n], bad);
       w[n] = v;
     }
     list.poses.push_back(w);

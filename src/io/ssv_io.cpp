@@ -16,7 +16,9 @@ SsvGeometry readSsvGeometry(TableReader& r, bool allow_obstacle_names, const std
     g.type = SsvType::Triangle;
   else
     r.fail("type", "unknown SSV type '" + type + "' (expected point, line or triangle" +
-                       (allow_obstacle_names ? std::string("; sphere and capsule are aliases of point and line") : "") +
+                       (allow_obstacle_names
+                            ? std::string("; sphere and capsule are aliases of point and line")
+                            : "") +
                        ")");
   const int n = static_cast<int>(g.type);
   const toml::node* pts = r.node("points");

@@ -16,7 +16,8 @@ class TableReader;
 
 struct SsvGeometry {
   SsvType type = SsvType::Point;
-  std::array<Eigen::Vector3d, 3> p{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 3> p{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                   Eigen::Vector3d::Zero()};
   double radius_m = 0;
 };
 

@@ -24,7 +24,8 @@ std::vector<std::string> linesOf(const std::string& text) {
 std::string cleanKey(const std::string& v) {
   std::string k;
   for (unsigned char c : v)
-    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\'' && c != '[' && c != ']') k += static_cast<char>(c);
+    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\'' && c != '[' && c != ']')
+      k += static_cast<char>(c);
   const std::size_t b = k.find_first_not_of(" \t"), e = k.find_last_not_of(" \t");
   k = b == std::string::npos ? std::string() : k.substr(b, e - b + 1);
   return k.size() > 60 ? k.substr(0, 60) : k;
@@ -36,12 +37,16 @@ std::string keyOfLine(const std::string& text, int line) {
   const std::vector<std::string> lines = linesOf(text);
   if (line < 1 || line > static_cast<int>(lines.size())) return "document";
   std::string s = lines[line - 1];
-  if (const std::size_t hash = s.find('#'); hash != std::string::npos && s.find('"') == std::string::npos) s.resize(hash);
+  if (const std::size_t hash = s.find('#');
+      hash != std::string::npos && s.find('"') == std::string::npos)
+    s.resize(hash);
   std::string key = cleanKey(s.substr(0, s.find('=')));
   for (int l = line - 1; key.empty() && l >= 1; --l) {
     const std::string& h = lines[l - 1];
     const std::size_t b = h.find_first_not_of(" \t");
-    if (b != std::string::npos && h[b] == '[') key = cleanKey(h.substr(b, h.find('#') == std::string::npos ? std::string::npos : h.find('#') - b));
+    if (b != std::string::npos && h[b] == '[')
+      key = cleanKey(
+          h.substr(b, h.find('#') == std::string::npos ? std::string::npos : h.find('#') - b));
   }
   return key.empty() ? "document" : key;
 }
@@ -52,11 +57,14 @@ toml::table parseTomlText(const std::string& text, const std::string& file) {
     return toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     const int line = static_cast<int>(e.source().begin.line);
-    throw InputError(file, line, keyOfLine(text, line), "TOML syntax error: " + std::string(e.description()));
+    throw InputError(file, line, keyOfLine(text, line),
+                     "TOML syntax error: " + std::string(e.description()));
   }
 }
 
-toml::table parseTomlFile(const std::string& path) { return parseTomlText(readFileOrThrow(path), path); }
+toml::table parseTomlFile(const std::string& path) {
+  return parseTomlText(readFileOrThrow(path), path);
+}
 
 TableReader::TableReader(const toml::table& table, std::string file, std::string path)
     : table_(table), file_(std::move(file)), path_(std::move(path)) {}
@@ -110,18 +118,21 @@ double nodeQuantity(const toml::node& n, Dimension dim, const std::string& file,
   const int line = static_cast<int>(n.source().begin.line);
   if (n.is_number()) {
     const double v = numberOf(n);
-    if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file, line, key, bad);
+    if (const std::string bad = implausible(v, &dim); !bad.empty())
+      throw InputError(file, line, key, bad);
     return v;
   }
   if (n.is_string()) {
     double v = 0;
     std::string err;
     if (!parseQuantity(n.as_string()->get(), dim, v, err)) throw InputError(file, line, key, err);
-    if (const std::string bad = implausible(v, &dim); !bad.empty()) throw InputError(file, line, key, bad);
+    if (const std::string bad = implausible(v, &dim); !bad.empty())
+      throw InputError(file, line, key, bad);
     return v;
   }
-  throw InputError(file, line, key,
-                   std::string("expected a number or a string with unit (a ") + toString(dim) + ")");
+  throw InputError(
+      file, line, key,
+      std::string("expected a number or a string with unit (a ") + toString(dim) + ")");
 }
 
 double TableReader::quantity(const std::string& key, Dimension dim) {
@@ -151,7 +162,8 @@ long long TableReader::integer(const std::string& key, long long fallback) {
 
 int TableReader::integerIn(const std::string& key, int fallback, int lo, int hi) {
   const long long v = integer(key, fallback);
-  if (v < lo || v > hi) fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+  if (v < lo || v > hi)
+    fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
   return static_cast<int>(v);
 }
 

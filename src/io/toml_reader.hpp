@@ -27,8 +27,8 @@ class TableReader {
   TableReader(const toml::table& table, std::string file, std::string path);
 
   bool has(const std::string& key) const { return table_.contains(key); }
-  int line() const;                          // line where this table starts
-  int line(const std::string& key) const;    // line of a key (or of the table when absent)
+  int line() const;                        // line where this table starts
+  int line(const std::string& key) const;  // line of a key (or of the table when absent)
   std::string keyPath(const std::string& key) const;
   const std::string& file() const { return file_; }
   const std::string& path() const { return path_; }
@@ -53,14 +53,14 @@ class TableReader {
   bool boolean(const std::string& key, bool fallback);
   std::vector<std::string> stringArray(const std::string& key);
   std::vector<double> numberArray(const std::string& key);
-  const toml::table* table(const std::string& key);       // nullptr when absent
+  const toml::table* table(const std::string& key);  // nullptr when absent
   // A reader of the table `key`, which must be present ("missing required table [key]<why>").
   TableReader requiredTable(const std::string& key, const std::string& why = "");
-  const toml::array* array(const std::string& key);       // nullptr when absent
+  const toml::array* array(const std::string& key);  // nullptr when absent
   // Calls fn with a reader of each table of the array of tables `key` (path key[i]; none when
   // absent), then finishes that reader. An element that is not a table is an input error.
   void forEachTable(const std::string& key, const std::function<void(TableReader&)>& fn);
-  const toml::node* node(const std::string& key);         // raw, marks the key as read
+  const toml::node* node(const std::string& key);  // raw, marks the key as read
   void markRead(const std::string& key) { read_.insert(key); }
 
   // Throws for every key present but never read.

@@ -22,10 +22,14 @@ struct Unit {
 };
 constexpr double kPi = std::numbers::pi;
 const Unit kUnits[] = {
-    {"m", Dimension::Length, 1.0},          {"cm", Dimension::Length, 1e-2},
-    {"mm", Dimension::Length, 1e-3},        {"rad", Dimension::Angle, 1.0},
-    {"deg", Dimension::Angle, kPi / 180.0}, {"m/s", Dimension::LinearVelocity, 1.0},
-    {"mm/s", Dimension::LinearVelocity, 1e-3}, {"rad/s", Dimension::AngularVelocity, 1.0},
+    {"m", Dimension::Length, 1.0},
+    {"cm", Dimension::Length, 1e-2},
+    {"mm", Dimension::Length, 1e-3},
+    {"rad", Dimension::Angle, 1.0},
+    {"deg", Dimension::Angle, kPi / 180.0},
+    {"m/s", Dimension::LinearVelocity, 1.0},
+    {"mm/s", Dimension::LinearVelocity, 1e-3},
+    {"rad/s", Dimension::AngularVelocity, 1.0},
     {"deg/s", Dimension::AngularVelocity, kPi / 180.0},
     {"rpm", Dimension::AngularVelocity, 2.0 * kPi / 60.0},
 };
@@ -140,7 +144,8 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
   auto start = text.find_last_of(" \t", last);
   start = start == std::string::npos ? 0 : start + 1;
   const std::string tail = text.substr(start, last - start + 1);
-  if (!tail.empty() && std::isalpha(static_cast<unsigned char>(tail[0])) && tail.rfind("pi", 0) != 0) {
+  if (!tail.empty() && std::isalpha(static_cast<unsigned char>(tail[0])) &&
+      tail.rfind("pi", 0) != 0) {
     unit = tail;
     body = text.substr(0, start);
   }
@@ -149,9 +154,10 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
   if (!p.parse(v, error)) return false;
   double scale = 1.0;
   if (unit.empty() && (dim == Dimension::Length || dim == Dimension::LinearVelocity)) {
-    error = std::string("a ") + toString(dim) + " written as a string needs its unit ('" + text +
-            (dim == Dimension::Length ? " mm' or '" + text + " m'" : " mm/s' or '" + text + " m/s'") +
-            "); a bare number is SI";
+    error =
+        std::string("a ") + toString(dim) + " written as a string needs its unit ('" + text +
+        (dim == Dimension::Length ? " mm' or '" + text + " m'" : " mm/s' or '" + text + " m/s'") +
+        "); a bare number is SI";
     return false;
   }
   if (!unit.empty()) {
@@ -169,8 +175,8 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
       return false;
     }
     if (u->dim != dim) {
-      error = std::string("unit '") + unit + "' is a " + toString(u->dim) + ", but this value is a " +
-              toString(dim);
+      error = std::string("unit '") + unit + "' is a " + toString(u->dim) +
+              ", but this value is a " + toString(dim);
       return false;
     }
     scale = u->to_si;
@@ -185,11 +191,16 @@ bool parseQuantity(const std::string& text, Dimension dim, double& value_si, std
 
 double plausibleMagnitude(Dimension dim) {
   switch (dim) {
-    case Dimension::Length: return kMaxLength_m;
-    case Dimension::Angle: return kMaxAngle_rad;
-    case Dimension::LinearVelocity: return kMaxLinearVelocity_mps;
-    case Dimension::AngularVelocity: return kMaxAngularVelocity_radps;
-    case Dimension::Dimensionless: return kMaxDimensionless;
+    case Dimension::Length:
+      return kMaxLength_m;
+    case Dimension::Angle:
+      return kMaxAngle_rad;
+    case Dimension::LinearVelocity:
+      return kMaxLinearVelocity_mps;
+    case Dimension::AngularVelocity:
+      return kMaxAngularVelocity_radps;
+    case Dimension::Dimensionless:
+      return kMaxDimensionless;
   }
   return kMaxPlainNumber;
 }
@@ -199,8 +210,8 @@ std::string implausible(double value_si, const Dimension* dim) {
   const double limit = dim ? plausibleMagnitude(*dim) : kMaxPlainNumber;
   if (std::abs(value_si) <= limit) return {};
   char buf[160];
-  std::snprintf(buf, sizeof buf, "value %.6g is not plausible: |value| must be at most %.0e%s", value_si, limit,
-                dim ? (std::string(" (SI, ") + toString(*dim) + ")").c_str() : "");
+  std::snprintf(buf, sizeof buf, "value %.6g is not plausible: |value| must be at most %.0e%s",
+                value_si, limit, dim ? (std::string(" (SI, ") + toString(*dim) + ")").c_str() : "");
   return buf;
 }
 

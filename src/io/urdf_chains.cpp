@@ -34,10 +34,14 @@ std::string joinNames(const std::vector<std::string>& names) {
 
 std::string notArmJointReason(const urdf::Joint& j) {
   switch (j.type) {
-    case urdf::Joint::FLOATING: return "floating joint";
-    case urdf::Joint::PLANAR: return "planar joint";
-    case urdf::Joint::FIXED: return "";
-    default: break;
+    case urdf::Joint::FLOATING:
+      return "floating joint";
+    case urdf::Joint::PLANAR:
+      return "planar joint";
+    case urdf::Joint::FIXED:
+      return "";
+    default:
+      break;
   }
   if (j.mimic) return "mimic joint";
   if (namesAGripper(j.name) || namesAGripper(j.child_link_name)) return "gripper or finger joint";
@@ -80,8 +84,9 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
   }
   for (std::size_t i = 0; i < ends.size(); ++i)
     if (!followed[i]) out.ends.push_back(ends[i]);
-  std::stable_sort(out.ends.begin(), out.ends.end(),
-                   [](const UrdfChainEnd& a, const UrdfChainEnd& b) { return a.joints > b.joints; });
+  std::stable_sort(
+      out.ends.begin(), out.ends.end(),
+      [](const UrdfChainEnd& a, const UrdfChainEnd& b) { return a.joints > b.joints; });
   if (out.ends.empty()) {
     out.reason = "no arm joint below '" + base->name + "'";
     if (!root.left_out.empty()) out.reason += " (left out: " + joinNames(root.left_out) + ")";
@@ -98,8 +103,8 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
   }
   const UrdfChainEnd& e = out.ends.front();
   out.chosen = fixedPathEnd(robot, e.link);
-  out.reason = "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" +
-               e.link + "'";
+  out.reason =
+      "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" + e.link + "'";
   if (out.chosen != e.link)
     out.reason += "; the fixed frames after it form one path, ending in '" + out.chosen + "'";
   if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);

@@ -1,5 +1,3 @@
-#include "io/urdf_io.hpp"
-
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <console_bridge/console.h>
@@ -21,6 +19,7 @@
 #include "common/errors.hpp"
 #include "common/escape.hpp"
 #include "io/files.hpp"
+#include "io/urdf_io.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy {

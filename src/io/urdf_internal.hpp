@@ -17,7 +17,7 @@ namespace armstudy::urdf_detail {
 // Lines of the URDF's elements (urdfdom keeps none), found with tinyxml, the parser urdfdom uses.
 struct XmlIndex {
   int robot_line = 1;
-  std::map<std::string, int> links, joints;  // element name -> line
+  std::map<std::string, int> links, joints;     // element name -> line
   std::set<std::string> joints_without_bounds;  // <limit> without lower or upper
 };
 

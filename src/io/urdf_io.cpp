@@ -60,7 +60,6 @@ class CaptureHandler : public console_bridge::OutputHandler {
   std::vector<std::string> messages;
 };
 
-
 std::string elementLabel(const TiXmlElement* e) {
   const char* name = e->Attribute("name");
   return std::string(e->Value()) + (name ? " '" + std::string(name) + "'" : std::string());
@@ -78,20 +77,19 @@ const NumberSchema kJointNumbers = {
     {"mimic", {"multiplier", "offset"}},
     {"calibration", {"rising", "falling"}},
     {"safety_controller", {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}}};
-const NumberSchema kLinkNumbers = {
-    {"inertial/origin", {"xyz", "rpy"}},
-    {"inertial/mass", {"value"}},
-    {"inertial/inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
-    {"visual/origin", {"xyz", "rpy"}},
-    {"visual/geometry/box", {"size"}},
-    {"visual/geometry/cylinder", {"radius", "length"}},
-    {"visual/geometry/sphere", {"radius"}},
-    {"visual/geometry/mesh", {"scale"}},
-    {"collision/origin", {"xyz", "rpy"}},
-    {"collision/geometry/box", {"size"}},
-    {"collision/geometry/cylinder", {"radius", "length"}},
-    {"collision/geometry/sphere", {"radius"}},
-    {"collision/geometry/mesh", {"scale"}}};
+const NumberSchema kLinkNumbers = {{"inertial/origin", {"xyz", "rpy"}},
+                                   {"inertial/mass", {"value"}},
+                                   {"inertial/inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
+                                   {"visual/origin", {"xyz", "rpy"}},
+                                   {"visual/geometry/box", {"size"}},
+                                   {"visual/geometry/cylinder", {"radius", "length"}},
+                                   {"visual/geometry/sphere", {"radius"}},
+                                   {"visual/geometry/mesh", {"scale"}},
+                                   {"collision/origin", {"xyz", "rpy"}},
+                                   {"collision/geometry/box", {"size"}},
+                                   {"collision/geometry/cylinder", {"radius", "length"}},
+                                   {"collision/geometry/sphere", {"radius"}},
+                                   {"collision/geometry/mesh", {"scale"}}};
 
 // Every number of attribute `attr` of element `e` must be finite: report the element and its line.
 void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& owner,
@@ -214,7 +212,6 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
   return out;  // the document dies here: keep lines, not elements
 }
 
-
 PoseXYZABG poseFromIso(const Isometry3d& T) {
   PoseXYZABG p;
   p.x = T.translation().x();
@@ -226,8 +223,6 @@ PoseXYZABG poseFromIso(const Isometry3d& T) {
   p.gamma = a[2];
   return p;
 }
-
-
 
 std::string sanitizeName(const std::string& s) {
   std::string o;
@@ -333,8 +328,8 @@ struct UrdfImport {
   std::set<std::string> on_chain;
   Isometry3d T_acc = Isometry3d::Identity();  // current body frame F -> current link frame L
 
-  UrdfImport(const std::string& t, const std::string& f, const UrdfOptions& opt,
-             const XmlIndex& x, urdf::ModelInterfaceSharedPtr r)
+  UrdfImport(const std::string& t, const std::string& f, const UrdfOptions& opt, const XmlIndex& x,
+             urdf::ModelInterfaceSharedPtr r)
       : text(t), file(f), o(opt), xml(x), robot(std::move(r)) {}
 
   // Line of a joint (link) element, or of <robot> when the name is unknown.
@@ -363,8 +358,9 @@ struct UrdfImport {
     }
     const UrdfChains c = findChains(*robot, base);
     if (c.ends.empty())
-      throw InputError(file, linkLine(base->name), "link '" + base->name + "'",
-                       c.reason + "; choose the arm's base link with --base (base_link in a study)");
+      throw InputError(
+          file, linkLine(base->name), "link '" + base->name + "'",
+          c.reason + "; choose the arm's base link with --base (base_link in a study)");
     if (c.chosen.empty())
       throw InputError(file, xml.robot_line, "tip_link",
                        c.reason + "; choose one with --tip (tip_link in a study)");
@@ -379,9 +375,9 @@ struct UrdfImport {
   void collectChain() {
     for (urdf::LinkConstSharedPtr l = tip; l != base;) {
       if (!l->parent_joint)
-        throw InputError(file, linkLine(tip->name), "link '" + tip->name + "'",
-                         "tip link '" + tip->name + "' is not below base link '" + base->name +
-                             "'");
+        throw InputError(
+            file, linkLine(tip->name), "link '" + tip->name + "'",
+            "tip link '" + tip->name + "' is not below base link '" + base->name + "'");
       chain.push_back(l->parent_joint);
       l = robot->getLink(l->parent_joint->parent_link_name);
     }
@@ -482,8 +478,8 @@ struct UrdfImport {
       if (!on_chain.count(name) && link->parent_joint &&
           on_chain.count(link->parent_joint->parent_link_name))
         warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
-                           link->parent_joint->name + "') is off the chain " + base->name +
-                           " -> " + tip->name + " and ignored");
+                           link->parent_joint->name + "') is off the chain " + base->name + " -> " +
+                           tip->name + " and ignored");
   }
 
   // Inertias: the body after joint i carries its link and the links folded onto it.
@@ -551,9 +547,10 @@ struct UrdfImport {
         "is the URDF child link frame rotated so that its z axis is the joint axis");
     m.assumptions.push_back(
         "URDF import: a continuous joint sweeps +-2 pi (defaults::kContinuousJointRange_rad)");
-    m.assumptions.push_back("URDF import: collision meshes and boxes are fitted with at most " +
-                            std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
-                            " swept-sphere volumes each, cylinders become capsules, spheres points");
+    m.assumptions.push_back(
+        "URDF import: collision meshes and boxes are fitted with at most " +
+        std::to_string(defaults::kUrdfSsvMaxVolumesPerMesh) +
+        " swept-sphere volumes each, cylinders become capsules, spheres points");
     for (const auto& w : warnings) m.assumptions.push_back(w);
   }
 };

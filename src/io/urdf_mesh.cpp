@@ -1,5 +1,3 @@
-#include "io/urdf_internal.hpp"
-
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <console_bridge/console.h>
@@ -20,6 +18,7 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy::urdf_detail {
@@ -63,10 +62,11 @@ std::string resolveMesh(const std::string& uri, const std::string& urdf_file, co
       top = a;
       if (a == a.parent_path()) break;
     }
-    error = "package '" + name + "' not found: no --package " + name + "=DIR (packages given: " +
-            (given.empty() ? "none" : given) + "), and no folder A from " + urdf_dir.string() +
-            " up to " + top.string() + " has A/" + rest + " or A/" + name + "/" + rest +
-            " (give --package " + name + "=DIR; packages in a study)";
+    error = "package '" + name + "' not found: no --package " + name +
+            "=DIR (packages given: " + (given.empty() ? "none" : given) +
+            "), and no folder A from " + urdf_dir.string() + " up to " + top.string() + " has A/" +
+            rest + " or A/" + name + "/" + rest + " (give --package " + name +
+            "=DIR; packages in a study)";
     return "";
   }
   if (uri.rfind(file, 0) == 0) return uri.substr(file.size());

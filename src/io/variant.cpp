@@ -18,8 +18,8 @@ std::string variantName(const std::string& base, const Overrides& overrides) {
   return s;
 }
 
-Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line,
-                    VariantGeometry geometry) {
+Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file,
+                    int line, VariantGeometry geometry) {
   Model m = base;
   for (const auto& [key, value] : overrides) {
     std::string err;

@@ -25,7 +25,7 @@ enum class VariantGeometry { Follows, Fixed };
 
 // The variant of `base` with `overrides` applied, named variantName(base.name, overrides).
 // Throws InputError naming `file`, `line` and the key on an unknown key or an invalid result.
-Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file, int line,
-                    VariantGeometry geometry = VariantGeometry::Follows);
+Model deriveVariant(const Model& base, const Overrides& overrides, const std::string& file,
+                    int line, VariantGeometry geometry = VariantGeometry::Follows);
 
 }  // namespace armstudy

@@ -35,10 +35,18 @@ vtkSmartPointer<vtkDataArray> makeArray(const NamedArray& a, long tuples) {
                  "array '" + a.name + "' has the wrong number of values");
   vtkSmartPointer<vtkDataArray> arr;
   switch (a.type) {
-    case ArrayType::Float64: arr = vtkSmartPointer<vtkDoubleArray>::New(); break;
-    case ArrayType::Float32: arr = vtkSmartPointer<vtkFloatArray>::New(); break;
-    case ArrayType::Int32: arr = vtkSmartPointer<vtkIntArray>::New(); break;
-    case ArrayType::UInt8: arr = vtkSmartPointer<vtkUnsignedCharArray>::New(); break;
+    case ArrayType::Float64:
+      arr = vtkSmartPointer<vtkDoubleArray>::New();
+      break;
+    case ArrayType::Float32:
+      arr = vtkSmartPointer<vtkFloatArray>::New();
+      break;
+    case ArrayType::Int32:
+      arr = vtkSmartPointer<vtkIntArray>::New();
+      break;
+    case ArrayType::UInt8:
+      arr = vtkSmartPointer<vtkUnsignedCharArray>::New();
+      break;
   }
   arr->SetName(a.name.c_str());
   arr->SetNumberOfComponents(a.components);
@@ -54,7 +62,8 @@ void addFieldData(vtkDataSet* data, const std::vector<FieldStrings>& fields) {
     vtkNew<vtkStringArray> a;
     a->SetName(f.name.c_str());
     a->SetNumberOfValues(static_cast<vtkIdType>(f.values.size()));
-    for (std::size_t i = 0; i < f.values.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), f.values[i]);
+    for (std::size_t i = 0; i < f.values.size(); ++i)
+      a->SetValue(static_cast<vtkIdType>(i), f.values[i]);
     data->GetFieldData()->AddArray(a);
   }
 }
@@ -63,7 +72,8 @@ vtkSmartPointer<vtkPoints> makePoints(const std::vector<Eigen::Vector3d>& p) {
   auto pts = vtkSmartPointer<vtkPoints>::New();
   pts->SetDataTypeToDouble();
   pts->SetNumberOfPoints(static_cast<vtkIdType>(p.size()));
-  for (std::size_t i = 0; i < p.size(); ++i) pts->SetPoint(static_cast<vtkIdType>(i), p[i].x(), p[i].y(), p[i].z());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    pts->SetPoint(static_cast<vtkIdType>(i), p[i].x(), p[i].y(), p[i].z());
   return pts;
 }
 
@@ -80,7 +90,8 @@ void writeAtomic(Writer* w, const std::string& path) {
 
 std::vector<FieldStrings> fieldData(std::vector<std::string> units, std::vector<std::string> legend,
                                     std::string coordinates) {
-  std::vector<FieldStrings> f{{"coordinates", {std::move(coordinates)}}, {"units", std::move(units)}};
+  std::vector<FieldStrings> f{{"coordinates", {std::move(coordinates)}},
+                              {"units", std::move(units)}};
   if (!legend.empty()) f.push_back({"legend", std::move(legend)});
   return f;
 }
@@ -90,7 +101,8 @@ void writeVti(const std::string& path, const ImageGrid& g) {
   img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   img->SetOrigin(g.origin[0], g.origin[1], g.origin[2]);
   img->SetSpacing(g.spacing[0], g.spacing[1], g.spacing[2]);
-  for (const NamedArray& a : g.point_arrays) img->GetPointData()->AddArray(makeArray(a, g.points()));
+  for (const NamedArray& a : g.point_arrays)
+    img->GetPointData()->AddArray(makeArray(a, g.points()));
   addFieldData(img, g.field_data);
   vtkNew<vtkXMLImageDataWriter> w;
   w->SetInputData(img);
@@ -101,7 +113,9 @@ void writeVtp(const std::string& path, const PolyDataSet& p) {
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(makePoints(p.points));
   const long n = static_cast<long>(p.points.size());
-  auto checkIndex = [n](int i) { ARMSTUDY_CHECK(i >= 0 && i < n, "poly data cell index out of range"); };
+  auto checkIndex = [n](int i) {
+    ARMSTUDY_CHECK(i >= 0 && i < n, "poly data cell index out of range");
+  };
   if (p.vertices) {
     vtkNew<vtkCellArray> verts;
     for (vtkIdType i = 0; i < n; ++i) verts->InsertNextCell(1, &i);
@@ -141,7 +155,8 @@ void writeVtp(const std::string& path, const PolyDataSet& p) {
 
 void writeVts(const std::string& path, const StructuredGridSet& g) {
   const long n = static_cast<long>(g.dims[0]) * g.dims[1] * g.dims[2];
-  ARMSTUDY_CHECK(static_cast<long>(g.points.size()) == n, "structured grid: points do not match its dimensions");
+  ARMSTUDY_CHECK(static_cast<long>(g.points.size()) == n,
+                 "structured grid: points do not match its dimensions");
   vtkNew<vtkStructuredGrid> grid;
   grid->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   grid->SetPoints(makePoints(g.points));
@@ -154,12 +169,14 @@ void writeVts(const std::string& path, const StructuredGridSet& g) {
 
 void writePvd(const std::string& path, const std::vector<PvdStep>& steps) {
   std::ostringstream s;
-  s << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+  s << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
+       "byte_order=\"LittleEndian\">\n"
     << "  <Collection>\n";
   for (const PvdStep& st : steps) {
     char t[32];
     std::snprintf(t, sizeof t, "%.9g", st.time);
-    s << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << st.file << "\"/>\n";
+    s << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << st.file
+      << "\"/>\n";
   }
   s << "  </Collection>\n</VTKFile>\n";
   writeFileAtomic(path, s.str());

@@ -36,26 +36,27 @@ struct FieldStrings {
 // dimensionless or counts) and, when some array holds an enumeration, "legend" ("<array> <value>:
 // <meaning>").
 inline constexpr const char* kWorldMetres = "world frame W [m]";
-std::vector<FieldStrings> fieldData(std::vector<std::string> units, std::vector<std::string> legend = {},
+std::vector<FieldStrings> fieldData(std::vector<std::string> units,
+                                    std::vector<std::string> legend = {},
                                     std::string coordinates = kWorldMetres);
 
 struct ImageGrid {
-  std::array<int, 3> dims{1, 1, 1};          // points per axis (x fastest)
-  std::array<double, 3> origin{0, 0, 0};     // m
-  std::array<double, 3> spacing{1, 1, 1};    // m
-  std::vector<NamedArray> point_arrays;      // each with dims[0]*dims[1]*dims[2] tuples
+  std::array<int, 3> dims{1, 1, 1};        // points per axis (x fastest)
+  std::array<double, 3> origin{0, 0, 0};   // m
+  std::array<double, 3> spacing{1, 1, 1};  // m
+  std::vector<NamedArray> point_arrays;    // each with dims[0]*dims[1]*dims[2] tuples
   std::vector<FieldStrings> field_data;
   long points() const { return static_cast<long>(dims[0]) * dims[1] * dims[2]; }
 };
 
 struct PolyDataSet {
-  std::vector<Eigen::Vector3d> points;            // m
-  std::vector<NamedArray> point_arrays;           // each with points.size() tuples
-  bool vertices = false;                          // one vertex cell per point (point clouds)
-  std::vector<std::vector<int>> lines;            // polylines as point indices
-  std::vector<std::array<int, 3>> triangles;      // surface triangles
-  std::string active_tensors;                     // name of a 9-component array made the active
-                                                  // tensors (ParaView's Tensor Glyph), or empty
+  std::vector<Eigen::Vector3d> points;        // m
+  std::vector<NamedArray> point_arrays;       // each with points.size() tuples
+  bool vertices = false;                      // one vertex cell per point (point clouds)
+  std::vector<std::vector<int>> lines;        // polylines as point indices
+  std::vector<std::array<int, 3>> triangles;  // surface triangles
+  std::string active_tensors;                 // name of a 9-component array made the active
+                                              // tensors (ParaView's Tensor Glyph), or empty
   std::vector<FieldStrings> field_data;
 };
 

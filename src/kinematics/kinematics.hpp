@@ -1,5 +1,6 @@
 #pragma once
-// Forward kinematics, Jacobians and their derivatives (thesis section 3.4.1, Appendix B, eq. 5.3-5.11).
+// Forward kinematics, Jacobians and their derivatives (thesis section 3.4.1, Appendix B,
+// eq. 5.3-5.11).
 //
 // All quantities are expressed in the world/task frame W. The robot base frame B sits at
 // model.T_WB in W (identity unless a design or study places the base), so with the default base
@@ -28,7 +29,7 @@ struct KinematicsWorkspace {
   Eigen::Matrix3d R_WT;                       // TCP orientation in W
   Eigen::Vector3d p_WT;                       // TCP position in W [m]
   Eigen::Vector3d a_WT;                       // the design's tool axis in W (R_WT * tool_axis_T)
-  Jacobian6 J_W_tcp;                          // geometric TCP Jacobian in W (valid after tcpJacobian)
+  Jacobian6 J_W_tcp;  // geometric TCP Jacobian in W (valid after tcpJacobian)
 };
 
 // Pose of every joint frame and the TCP (Appendix B, eq. B.2 and B.16 in closed recursive form).
@@ -54,7 +55,8 @@ void pointJacobian(const Model& model, const KinematicsWorkspace& ws, int link,
 void tcpJacobianDerivative(const Model& model, const KinematicsWorkspace& ws, int i,
                            Eigen::Ref<Eigen::MatrixXd> dJ_out);
 
-// ---- Orientation representation: Cardan (fixed x-y-z) angles, R = Rx(alpha) Ry(beta) Rz(gamma) ----
+// ---- Orientation representation: Cardan (fixed x-y-z) angles, R = Rx(alpha) Ry(beta) Rz(gamma)
+// ----
 struct CardanAngles {
   double alpha = 0, beta = 0, gamma = 0;
   bool singular = false;  // |cos(beta)| < defaults::kCardanSingularCosBeta (eq. 5.10)
@@ -70,17 +72,18 @@ Eigen::Matrix3d rotationFromCardan(double alpha, double beta, double gamma);
 // leaves out untouched) at the representation singularity cos(beta) = 0; never NaN or Inf.
 bool cardanRateMatrix(double alpha, double beta, Eigen::Matrix3d& T_A_inv);
 
-// ---- Task spaces: a selection of the components of w = (x, y, z, alpha, beta, gamma) (eq. 5.3) ----
+// ---- Task spaces: a selection of the components of w = (x, y, z, alpha, beta, gamma) (eq. 5.3)
+// ----
 enum class TaskComponent : int { X = 0, Y, Z, Alpha, Beta, Gamma };
 
 struct TaskSpace {
   std::array<bool, 6> selected{};  // which of x, y, z, alpha, beta, gamma are constrained
   int dim() const;
   bool hasOrientation() const { return selected[3] || selected[4] || selected[5]; }
-  static TaskSpace fullPose();     // eq. 5.3
-  static TaskSpace spraying();     // eq. 3.1: (x, y, z, alpha, gamma)
-  static TaskSpace position();     // (x, y, z)
-  std::string toString() const;    // e.g. "x,y,z,alpha,gamma"
+  static TaskSpace fullPose();   // eq. 5.3
+  static TaskSpace spraying();   // eq. 3.1: (x, y, z, alpha, gamma)
+  static TaskSpace position();   // (x, y, z)
+  std::string toString() const;  // e.g. "x,y,z,alpha,gamma"
 };
 // Parses "full", "spraying", "position" or a comma list such as "x,y,z,alpha,gamma".
 // Returns false (and sets `error`) for unknown components.

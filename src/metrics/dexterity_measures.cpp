@@ -23,7 +23,8 @@ DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
                                   const Eigen::Ref<const Eigen::VectorXd>& u) {
   using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
   const int m = static_cast<int>(J.rows());
-  ARMSTUDY_CHECK(m >= 1 && m <= 6 && m <= J.cols(), "computeMeasures: J must be m x n with m <= min(6, n)");
+  ARMSTUDY_CHECK(m >= 1 && m <= 6 && m <= J.cols(),
+                 "computeMeasures: J must be m x n with m <= min(6, n)");
   ARMSTUDY_CHECK(u.size() == 0 || u.size() == m, "computeMeasures: u must be empty or of size m");
   const Mat Jm = J;
   const Eigen::JacobiSVD<Mat> svd(Jm, Eigen::ComputeFullU);
@@ -36,7 +37,8 @@ DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
   for (int k = 0; k < m; ++k) prod *= s[k];
   d.manipulability = d.sigma_min <= floor ? 0.0 : prod;  // eq. (5.59) without the minus sign
   d.inverse_condition = d.sigma_max > 0 ? d.sigma_min / d.sigma_max : 0.0;
-  d.condition = d.sigma_min <= floor ? std::numeric_limits<double>::infinity() : d.sigma_max / d.sigma_min;
+  d.condition =
+      d.sigma_min <= floor ? std::numeric_limits<double>::infinity() : d.sigma_max / d.sigma_min;
   if (u.size() == m) {
     // Thesis eq. (5.60): beta = (u^T (J J^T)^-1 u)^(-1/2), with J J^T = U S^2 U^T.
     const Eigen::VectorXd c = svd.matrixU().transpose() * u;

@@ -20,11 +20,12 @@ bool parseMeasureSpace(const std::string& text, MeasureSpace& out);
 inline int measureRows(MeasureSpace s) { return s == MeasureSpace::Translational ? 3 : 6; }
 
 struct DexterityMeasures {
-  double manipulability = 0;       // Yoshikawa sqrt(det(J J^T)) = product of singular values (eq. 5.59)
-  double transmission = 0;         // beta along u (eq. 5.60); 0 when no direction was given or J is singular along u
-  double condition = 0;            // sigma_max / sigma_min (+inf when singular)
-  double inverse_condition = 0;    // sigma_min / sigma_max in [0, 1], finite everywhere (for maps)
-  double sigma_min = 0;            // smallest singular value
+  double manipulability = 0;  // Yoshikawa sqrt(det(J J^T)) = product of singular values (eq. 5.59)
+  double transmission =
+      0;  // beta along u (eq. 5.60); 0 when no direction was given or J is singular along u
+  double condition = 0;          // sigma_max / sigma_min (+inf when singular)
+  double inverse_condition = 0;  // sigma_min / sigma_max in [0, 1], finite everywhere (for maps)
+  double sigma_min = 0;          // smallest singular value
   double sigma_max = 0;
 };
 

@@ -40,8 +40,9 @@ BoundarySurface alphaShapeSurface(const std::vector<Eigen::Vector3d>& points, do
   std::vector<double> cell_volumes;
   for (auto c = as.finite_cells_begin(); c != as.finite_cells_end(); ++c) {
     if (as.classify(c) != AlphaShape::INTERIOR) continue;
-    cell_volumes.push_back(std::abs(CGAL::to_double(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
-                                                                 c->vertex(2)->point(), c->vertex(3)->point()))));
+    cell_volumes.push_back(
+        std::abs(CGAL::to_double(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
+                                              c->vertex(2)->point(), c->vertex(3)->point()))));
   }
   std::sort(cell_volumes.begin(), cell_volumes.end());
   for (double v : cell_volumes) out.volume_m3 += v;
@@ -67,7 +68,8 @@ BoundarySurface alphaShapeSurface(const std::vector<Eigen::Vector3d>& points, do
     const K::Point_3 &pa = f.first->vertex(a)->point(), &pb = f.first->vertex(b)->point(),
                      &pc = f.first->vertex(c)->point(), &pi = f.first->vertex(i)->point();
     if (CGAL::orientation(pa, pb, pc, pi) == CGAL::POSITIVE) std::swap(b, c);
-    out.triangles.push_back({vid(f.first->vertex(a)), vid(f.first->vertex(b)), vid(f.first->vertex(c))});
+    out.triangles.push_back(
+        {vid(f.first->vertex(a)), vid(f.first->vertex(b)), vid(f.first->vertex(c))});
   }
   // Canonical order: vertices lexicographically by coordinates, each triangle rotated to start at
   // its smallest index (orientation kept), triangles sorted.

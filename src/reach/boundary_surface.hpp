@@ -9,10 +9,10 @@
 namespace armstudy {
 
 struct BoundarySurface {
-  std::vector<Eigen::Vector3d> vertices;        // m
-  std::vector<std::array<int, 3>> triangles;    // outward-facing boundary facets
-  double volume_m3 = 0;                          // volume of the alpha shape's solid part
-  int components = 0;                            // solid cells present (0 = empty shape)
+  std::vector<Eigen::Vector3d> vertices;      // m
+  std::vector<std::array<int, 3>> triangles;  // outward-facing boundary facets
+  double volume_m3 = 0;                       // volume of the alpha shape's solid part
+  int components = 0;                         // solid cells present (0 = empty shape)
 };
 
 // Regularized alpha shape of `points` with alpha = alpha_radius^2 (CGAL Alpha_shape_3). For

@@ -17,13 +17,16 @@ namespace {
 constexpr std::string_view kAuditMagic = "armstudy-audit-rows-1";
 }  // namespace
 
-int ReachAudit::contradictedTotal() const { return std::accumulate(contradicted.begin(), contradicted.end(), 0); }
+int ReachAudit::contradictedTotal() const {
+  return std::accumulate(contradicted.begin(), contradicted.end(), 0);
+}
 
 ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                          const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
-                          std::uint64_t seed, int threads, const UnitRunner* runner) {
+                          const SweepCollision& collision, const PoseSweep& sweep, int poses,
+                          int starts, std::uint64_t seed, int threads, const UnitRunner* runner) {
   const auto t0 = std::chrono::steady_clock::now();
-  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the audit needs the whole sweep of the grid");
+  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(),
+                 "the audit needs the whole sweep of the grid");
   ReachAudit a;
   a.starts = starts;
   a.seed = seed;

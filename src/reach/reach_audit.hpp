@@ -24,11 +24,12 @@ struct ReachAuditPose {
 struct ReachAudit {
   int poses = 0, starts = 0;
   std::uint64_t seed = 0;
-  std::array<int, kReachStatusCount> by_status{};      // audited poses per map status
-  std::array<int, kReachStatusCount> contradicted{};   // ... of which the audit found a solution
-  int audit_missed = 0;   // map reachable, audit found none (the map's solution is the witness)
-  int manipulability_compared = 0;   // reachable poses where the audit found solutions too
-  int manipulability_within_5pct = 0;  // ... whose map manipulability is >= 95 % of the audit's best
+  std::array<int, kReachStatusCount> by_status{};     // audited poses per map status
+  std::array<int, kReachStatusCount> contradicted{};  // ... of which the audit found a solution
+  int audit_missed = 0;  // map reachable, audit found none (the map's solution is the witness)
+  int manipulability_compared = 0;  // reachable poses where the audit found solutions too
+  int manipulability_within_5pct =
+      0;  // ... whose map manipulability is >= 95 % of the audit's best
   double seconds = 0;
   std::vector<ReachAuditPose> rows;  // ascending pose index
   int contradictedTotal() const;
@@ -40,7 +41,8 @@ struct ReachAudit {
 // Deterministic for any thread count. `runner`: the run's unit runner, which shares the audited
 // poses among the processes of a distributed run (null: this process alone).
 ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                          const SweepCollision& collision, const PoseSweep& sweep, int poses, int starts,
-                          std::uint64_t seed, int threads, const UnitRunner* runner = nullptr);
+                          const SweepCollision& collision, const PoseSweep& sweep, int poses,
+                          int starts, std::uint64_t seed, int threads,
+                          const UnitRunner* runner = nullptr);
 
 }  // namespace armstudy

@@ -1,6 +1,3 @@
-#include "reach/reach_sweep.hpp"
-#include "reach/sweep_internal.hpp"
-
 #include <omp.h>
 #include <unistd.h>
 
@@ -8,9 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <functional>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <memory>
@@ -18,8 +15,10 @@
 #include <string_view>
 
 #include "collision/reach_collision.hpp"
-#include "common/errors.hpp"
 #include "common/defaults.hpp"
+#include "common/errors.hpp"
+#include "reach/reach_sweep.hpp"
+#include "reach/sweep_internal.hpp"
 #include "study/stage.hpp"
 
 namespace armstudy {
@@ -72,7 +71,9 @@ int gridBoxNeighbours(const GridShape& g, long i, long out[28]) {
     for (long dy = -1; dy <= 1; ++dy)
       for (long dx = -1; dx <= 1; ++dx) {
         const long x = ix + dx, y = iy + dy, z = iz + dz;
-        if ((dx == 0 && dy == 0 && dz == 0) || x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2]) continue;
+        if ((dx == 0 && dy == 0 && dz == 0) || x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] ||
+            z >= d[2])
+          continue;
         out[n++] = o * P + x + d[0] * (y + d[1] * z);
       }
   if (o > 0) out[n++] = i - P;
@@ -108,13 +109,30 @@ using Neighbours = std::function<int(long, long*)>;
 
 class MapSearch {
  public:
-  MapSearch(const Model& model, const std::function<IkTarget(long)>& target, const Neighbours& neighbours,
-            const Neighbours& box, const IkOptions& options, int threads, const SweepCollision& collision,
-            const SweepSearch& search, const UnitRunner* runner, PoseSweep& s)
-      : model_(model), target_(target), neighbours_(neighbours), box_(box), collision_(collision), search_(search),
-        runner_(runner), s_(s), N_(s.size), nt_(threads > 0 ? threads : omp_get_max_threads()), one_(options),
-        changed_(N_, 0), extra_(N_, 0), found_(N_), now_(N_, 0), item_a_(N_, 0), item_b_(N_, 0), mark_(N_, 0),
-        touched_(N_, 0), solvers_(static_cast<std::size_t>(nt_)) {
+  MapSearch(const Model& model, const std::function<IkTarget(long)>& target,
+            const Neighbours& neighbours, const Neighbours& box, const IkOptions& options,
+            int threads, const SweepCollision& collision, const SweepSearch& search,
+            const UnitRunner* runner, PoseSweep& s)
+      : model_(model),
+        target_(target),
+        neighbours_(neighbours),
+        box_(box),
+        collision_(collision),
+        search_(search),
+        runner_(runner),
+        s_(s),
+        N_(s.size),
+        nt_(threads > 0 ? threads : omp_get_max_threads()),
+        one_(options),
+        changed_(N_, 0),
+        extra_(N_, 0),
+        found_(N_),
+        now_(N_, 0),
+        item_a_(N_, 0),
+        item_b_(N_, 0),
+        mark_(N_, 0),
+        touched_(N_, 0),
+        solvers_(static_cast<std::size_t>(nt_)) {
     one_.max_starts = 1;  // one start from the given configuration
     one_.classify_failures = false;
   }
@@ -143,9 +161,11 @@ class MapSearch {
   using ChunkCounts = std::map<std::size_t, std::pair<long, long>>;  // per chunk computed here
 
   static bool settle(ReachStatus st) { return st == ReachStatus::Reachable; }
-  // Adopts a candidate: collision-free wins; an unreachable pose also takes a solution in collision.
+  // Adopts a candidate: collision-free wins; an unreachable pose also takes a solution in
+  // collision.
   static bool improves(const PoseResult& pr, ReachStatus cur) {
-    return pr.ik.reachable() || (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
+    return pr.ik.reachable() ||
+           (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
   }
   bool unsettled(long i) const { return !settle(static_cast<ReachStatus>(s_.status[i])); }
   bool colliding(long i) const { return inCollision(static_cast<ReachStatus>(s_.status[i])); }
@@ -179,12 +199,14 @@ class MapSearch {
   // Computes the candidates of the poses of `items` (indices into `active`) on the run's threads:
   // body(solver, i, nb, a, b) computes pose i's candidate and counts into a and b.
   template <class Body>
-  void computeItems(const std::vector<long>& active, const std::vector<long>& items, int grain, Body& body) {
+  void computeItems(const std::vector<long>& active, const std::vector<long>& items, int grain,
+                    Body& body) {
     const long n = static_cast<long>(items.size());
     for (const long t : items) item_a_[active[t]] = item_b_[active[t]] = 0;
 #pragma omp parallel num_threads(nt_)
     {
-      std::unique_ptr<PoseSolver>& solver = solvers_[static_cast<std::size_t>(omp_get_thread_num())];
+      std::unique_ptr<PoseSolver>& solver =
+          solvers_[static_cast<std::size_t>(omp_get_thread_num())];
       if (!solver) solver = std::make_unique<PoseSolver>(model_, collision_, target_);
       long nb[28];
 #pragma omp for schedule(dynamic, grain)
@@ -197,8 +219,8 @@ class MapSearch {
 
   // A chunk's adopted rows and spent starts as bytes, by item index (its position in the active
   // set); empty when nothing was tried there.
-  std::string packChunk(const std::vector<long>& active, const std::pair<long, long>& counts, const ItemRange& r,
-                        bool spends) const {
+  std::string packChunk(const std::vector<long>& active, const std::pair<long, long>& counts,
+                        const ItemRange& r, bool spends) const {
     if (counts.first == 0 && counts.second == 0) return std::string();
     UnitWriter w(kStepMagic);
     w.put<std::int64_t>(counts.first);
@@ -218,22 +240,24 @@ class MapSearch {
     return w.bytes();
   }
   // The inverse, on a process that did not compute the chunk: adopts its rows and counts.
-  void unpackChunk(const std::vector<long>& active, const ItemRange& r, const std::string& bytes, bool spends,
-                   StepResult& res) {
+  void unpackChunk(const std::vector<long>& active, const ItemRange& r, const std::string& bytes,
+                   bool spends, StepResult& res) {
     if (bytes.empty()) return;
     UnitReader rd(bytes, kStepMagic);
     res.a += static_cast<long>(rd.get<std::int64_t>());
     res.b += static_cast<long>(rd.get<std::int64_t>());
     for (long t = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && t >= 0;
          t = static_cast<long>(rd.get<std::int64_t>())) {
-      ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s_, active[t]), "a search step's rows arrive whole");
+      ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s_, active[t]),
+                     "a search step's rows arrive whole");
       now_[active[t]] = 1;
       res.adopted.push_back(active[t]);
     }
     while (rd.ok() && !rd.finished()) {
       const long t = static_cast<long>(rd.get<std::int64_t>());
       const long spent = static_cast<long>(rd.get<std::int64_t>());
-      ARMSTUDY_CHECK(rd.ok() && spends && t >= r.begin && t < r.end, "a search step's start counts arrive whole");
+      ARMSTUDY_CHECK(rd.ok() && spends && t >= r.begin && t < r.end,
+                     "a search step's start counts arrive whole");
       extra_[active[t]] += static_cast<int>(spent);
     }
     ARMSTUDY_CHECK(rd.finished(), "a search step's rows arrive whole");
@@ -245,7 +269,8 @@ class MapSearch {
   // starts travel with the adopted rows, so that every process counts them whichever process
   // computed a pose.
   template <class Body>
-  StepResult step(const char* phase, int grain, long chunk, bool spends, const std::vector<long>& active, Body&& body) {
+  StepResult step(const char* phase, int grain, long chunk, bool spends,
+                  const std::vector<long>& active, Body&& body) {
     std::fill(now_.begin(), now_.end(), 0);
     StepResult res;
     ChunkCounts counts;
@@ -279,7 +304,9 @@ class MapSearch {
         }
       }
     };
-    loop.pack = [&](std::size_t k, const ItemRange& r) { return packChunk(active, counts.at(k), r, spends); };
+    loop.pack = [&](std::size_t k, const ItemRange& r) {
+      return packChunk(active, counts.at(k), r, spends);
+    };
     loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
       unpackChunk(active, r, bytes, spends, res);
     };
@@ -302,11 +329,12 @@ class MapSearch {
       }
       const std::vector<long> active =
           first || search_.every_pose_each_step ? every(unsettled) : around(from, unsettled);
-      const StepResult r = step("propagate", 4, searchStepChunk(active.size()), true, active,
-                                [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
-                                  propagateFrom(solver, i, nb, first, tries);
-                                  updates += now_[i];
-                                });
+      const StepResult r =
+          step("propagate", 4, searchStepChunk(active.size()), true, active,
+               [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+                 propagateFrom(solver, i, nb, first, tries);
+                 updates += now_[i];
+               });
       ++sum_.rounds;
       sum_.neighbour_tries += r.a;
       sum_.neighbour_updates += r.b;
@@ -345,20 +373,22 @@ class MapSearch {
   void multistart() {
     const std::vector<long> active = every([this](long i) { return colliding(i); });
     sum_.multistart_poses += static_cast<long>(active.size());
-    const StepResult r = step("multistart", 1, 1, true, active, [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
-      if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
-      JointVector q0(model_.dof());
-      for (int k = 0; k < search_.collision_starts; ++k) {
-        randomConfiguration(model_, search_.seed, static_cast<std::uint64_t>(i), k, q0);
-        PoseResult pr = solver.solve(i, one_, &q0, 0);
-        ++tries;
-        if (!pr.ik.reachable()) continue;
-        found_[i] = std::move(pr);
-        now_[i] = 1;
-        ++freed;
-        break;
-      }
-    });
+    const StepResult r =
+        step("multistart", 1, 1, true, active,
+             [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
+               if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
+               JointVector q0(model_.dof());
+               for (int k = 0; k < search_.collision_starts; ++k) {
+                 randomConfiguration(model_, search_.seed, static_cast<std::uint64_t>(i), k, q0);
+                 PoseResult pr = solver.solve(i, one_, &q0, 0);
+                 ++tries;
+                 if (!pr.ik.reachable()) continue;
+                 found_[i] = std::move(pr);
+                 now_[i] = 1;
+                 ++freed;
+                 break;
+               }
+             });
     sum_.multistart_tries = r.a;
     sum_.multistart_freed = r.b;
     changed_ = now_;
@@ -370,22 +400,24 @@ class MapSearch {
   // the poses it freed.
   void boxRound() {
     const std::vector<long> active = every([this](long i) { return colliding(i); });
-    const StepResult r = step("box", 1, 1, true, active, [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
-      if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
-      const int count = box_(i, nb);
-      for (int k = 0; k < count && !now_[i]; ++k) {
-        if (!s_.reachable(nb[k])) continue;
-        for (int a = 0; a < (hasAlternative(s_, nb[k]) ? 2 : 1) && !now_[i]; ++a) {
-          const JointVector w = a == 0 ? solutionOf(s_, nb[k]) : alternativeOf(s_, nb[k]);
-          PoseResult pr = solver.solve(i, one_, &w, 0);
-          ++tries;
-          if (!pr.ik.reachable()) continue;
-          found_[i] = std::move(pr);
-          now_[i] = 1;
-          ++freed;
-        }
-      }
-    });
+    const StepResult r =
+        step("box", 1, 1, true, active,
+             [&](PoseSolver& solver, long i, long* nb, long& tries, long& freed) {
+               if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
+               const int count = box_(i, nb);
+               for (int k = 0; k < count && !now_[i]; ++k) {
+                 if (!s_.reachable(nb[k])) continue;
+                 for (int a = 0; a < (hasAlternative(s_, nb[k]) ? 2 : 1) && !now_[i]; ++a) {
+                   const JointVector w = a == 0 ? solutionOf(s_, nb[k]) : alternativeOf(s_, nb[k]);
+                   PoseResult pr = solver.solve(i, one_, &w, 0);
+                   ++tries;
+                   if (!pr.ik.reachable()) continue;
+                   found_[i] = std::move(pr);
+                   now_[i] = 1;
+                   ++freed;
+                 }
+               }
+             });
     sum_.box_tries = r.a;
     sum_.box_freed = r.b;
     changed_ = now_;
@@ -394,10 +426,10 @@ class MapSearch {
 
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
   // retries from every collision-free neighbour whose manipulability is higher and keeps a
-  // collision-free solution that raises its own by more than defaults::kReachManipulabilityImprovement
-  // (a step to a better posture, not a creep along a continuous family of solutions), until
-  // nothing changes. The first round visits every reachable pose, a later one those next to a pose
-  // that improved in the round before.
+  // collision-free solution that raises its own by more than
+  // defaults::kReachManipulabilityImprovement (a step to a better posture, not a creep along a
+  // continuous family of solutions), until nothing changes. The first round visits every reachable
+  // pose, a later one those next to a pose that improved in the round before.
   void bestManipulability() {
     std::vector<std::uint8_t> src(N_, 1);
     const auto reachable = [this](long i) { return s_.reachable(i); };
@@ -405,27 +437,28 @@ class MapSearch {
     for (int round = 0; round < search_.propagation_rounds; ++round) {
       const std::vector<long> active =
           round == 0 || search_.every_pose_each_step ? every(reachable) : around(from, reachable);
-      const StepResult r = step("best", 4, searchStepChunk(active.size()), false, active,
-                                [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
-                                  if (!s_.reachable(i)) return;
-                                  double best = s_.manipulability[i];
-                                  const int count = neighbours_(i, nb);
-                                  for (int k = 0; k < count; ++k) {
-                                    if (!src[nb[k]] || !s_.reachable(nb[k]) || !(s_.manipulability[nb[k]] > best))
-                                      continue;
-                                    const JointVector w = solutionOf(s_, nb[k]);
-                                    PoseResult pr = solver.solve(i, one_, &w, 0, false);
-                                    ++tries;
-                                    if (!pr.ik.reachable() ||
-                                        !(pr.ik.manipulability >
-                                          best + defaults::kReachManipulabilityImprovement * std::abs(best)))
-                                      continue;
-                                    best = pr.ik.manipulability;
-                                    found_[i] = std::move(pr);
-                                    now_[i] = 1;
-                                  }
-                                  updates += now_[i];
-                                });
+      const StepResult r =
+          step("best", 4, searchStepChunk(active.size()), false, active,
+               [&](PoseSolver& solver, long i, long* nb, long& tries, long& updates) {
+                 if (!s_.reachable(i)) return;
+                 double best = s_.manipulability[i];
+                 const int count = neighbours_(i, nb);
+                 for (int k = 0; k < count; ++k) {
+                   if (!src[nb[k]] || !s_.reachable(nb[k]) || !(s_.manipulability[nb[k]] > best))
+                     continue;
+                   const JointVector w = solutionOf(s_, nb[k]);
+                   PoseResult pr = solver.solve(i, one_, &w, 0, false);
+                   ++tries;
+                   if (!pr.ik.reachable() ||
+                       !(pr.ik.manipulability >
+                         best + defaults::kReachManipulabilityImprovement * std::abs(best)))
+                     continue;
+                   best = pr.ik.manipulability;
+                   found_[i] = std::move(pr);
+                   now_[i] = 1;
+                 }
+                 updates += now_[i];
+               });
       ++sum_.best_rounds;
       sum_.best_tries += r.a;
       sum_.best_updates += r.b;
@@ -448,12 +481,12 @@ class MapSearch {
   IkOptions one_;
   SweepSearchSummary sum_;
   std::vector<std::uint8_t> changed_;
-  std::vector<int> extra_;                       // starts spent on the pose by the search (every process counts all)
-  std::vector<PoseResult> found_;                // per-step candidates (allocated once)
-  std::vector<std::uint8_t> now_;                // found_[i] is this step's candidate where now_[i]
-  std::vector<long> item_a_, item_b_;            // a step's counts per pose (summed per chunk)
-  std::vector<std::uint8_t> mark_;               // scratch of `around`
-  std::vector<std::uint8_t> touched_;            // rows the search changed (summary.changed)
+  std::vector<int> extra_;  // starts spent on the pose by the search (every process counts all)
+  std::vector<PoseResult> found_;      // per-step candidates (allocated once)
+  std::vector<std::uint8_t> now_;      // found_[i] is this step's candidate where now_[i]
+  std::vector<long> item_a_, item_b_;  // a step's counts per pose (summed per chunk)
+  std::vector<std::uint8_t> mark_;     // scratch of `around`
+  std::vector<std::uint8_t> touched_;  // rows the search changed (summary.changed)
   // One pose solver per thread for the whole search, built on first use (a step's compute may be
   // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
   std::vector<std::unique_ptr<PoseSolver>> solvers_;
@@ -461,10 +494,12 @@ class MapSearch {
 };
 
 SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
-                               const Neighbours& neighbours, const Neighbours& box, const IkOptions& options, int threads,
-                               const SweepCollision& collision, const SweepSearch& search, const UnitRunner* runner,
-                               PoseSweep& s) {
-  return MapSearch(model, target, neighbours, box, options, threads, collision, search, runner, s).run();
+                               const Neighbours& neighbours, const Neighbours& box,
+                               const IkOptions& options, int threads,
+                               const SweepCollision& collision, const SweepSearch& search,
+                               const UnitRunner* runner, PoseSweep& s) {
+  return MapSearch(model, target, neighbours, box, options, threads, collision, search, runner, s)
+      .run();
 }
 
 constexpr std::string_view kResultMagic = "armstudy-search-result-1";
@@ -475,8 +510,8 @@ std::string packSearchResult(const PoseSweep& s, const SweepSearchSummary& sum) 
   UnitWriter w(kResultMagic);
   w.put<std::int64_t>(s.size);
   w.put<std::int64_t>(sum.rounds);
-  for (const long v : {sum.neighbour_tries, sum.neighbour_updates, sum.multistart_poses, sum.multistart_tries,
-                       sum.multistart_freed, sum.box_tries, sum.box_freed})
+  for (const long v : {sum.neighbour_tries, sum.neighbour_updates, sum.multistart_poses,
+                       sum.multistart_tries, sum.multistart_freed, sum.box_tries, sum.box_freed})
     w.put<std::int64_t>(v);
   w.put<std::int64_t>(sum.best_rounds);
   w.put<std::int64_t>(sum.best_tries);
@@ -496,8 +531,8 @@ void unpackSearchResult(const std::string& bytes, PoseSweep& s, SweepSearchSumma
   ARMSTUDY_CHECK(rd.get<std::int64_t>() == s.size, "a search result fits its sweep");
   sum = SweepSearchSummary{};
   sum.rounds = static_cast<int>(rd.get<std::int64_t>());
-  for (long* v : {&sum.neighbour_tries, &sum.neighbour_updates, &sum.multistart_poses, &sum.multistart_tries,
-                  &sum.multistart_freed, &sum.box_tries, &sum.box_freed})
+  for (long* v : {&sum.neighbour_tries, &sum.neighbour_updates, &sum.multistart_poses,
+                  &sum.multistart_tries, &sum.multistart_freed, &sum.box_tries, &sum.box_freed})
     *v = static_cast<long>(rd.get<std::int64_t>());
   sum.best_rounds = static_cast<int>(rd.get<std::int64_t>());
   sum.best_tries = static_cast<long>(rd.get<std::int64_t>());
@@ -509,32 +544,36 @@ void unpackSearchResult(const std::string& bytes, PoseSweep& s, SweepSearchSumma
   sum.changed.reserve(static_cast<std::size_t>(n));
   for (std::int64_t k = 0; k < n; ++k) {
     const long i = static_cast<long>(rd.get<std::int64_t>());
-    ARMSTUDY_CHECK(rd.ok() && i >= 0 && i < s.size && getPose(rd, s, i), "a search result's rows arrive whole");
+    ARMSTUDY_CHECK(rd.ok() && i >= 0 && i < s.size && getPose(rd, s, i),
+                   "a search result's rows arrive whole");
     sum.changed.push_back(i);
   }
   ARMSTUDY_CHECK(rd.finished(), "a search result arrives whole");
 }
 
-SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
-                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
-                                   const UnitRunner* runner) {
-  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(), "the map search needs the whole sweep of the grid");
+SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid,
+                                   const IkOptions& options, int threads,
+                                   const SweepCollision& collision, const SweepSearch& search,
+                                   PoseSweep& sweep, const UnitRunner* runner) {
+  ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == grid.size(),
+                 "the map search needs the whole sweep of the grid");
   return searchSweep(
       model, [&grid](long i) { return taskTarget(grid.task_space, grid.pose(i)); },
       [shape = GridShape(grid)](long i, long* out) { return gridNeighbours(shape, i, out); },
-      [shape = GridShape(grid)](long i, long* out) { return gridBoxNeighbours(shape, i, out); }, options, threads,
-      collision, search,
-      runner, sweep);
+      [shape = GridShape(grid)](long i, long* out) { return gridBoxNeighbours(shape, i, out); },
+      options, threads, collision, search, runner, sweep);
 }
 
-SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
-                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
-                                       const UnitRunner* runner) {
+SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list,
+                                       const IkOptions& options, int threads,
+                                       const SweepCollision& collision, const SweepSearch& search,
+                                       PoseSweep& sweep, const UnitRunner* runner) {
   ARMSTUDY_CHECK(sweep.offset == 0 && sweep.size == static_cast<long>(list.poses.size()),
                  "the map search needs the whole sweep of the pose list");
   return searchSweep(
-      model, [&list](long i) { return taskTarget(list.task_space, list.poses[i]); }, [](long, long*) { return 0; },
-      Neighbours{}, options, threads, collision, search, runner, sweep);
+      model, [&list](long i) { return taskTarget(list.task_space, list.poses[i]); },
+      [](long, long*) { return 0; }, Neighbours{}, options, threads, collision, search, runner,
+      sweep);
 }
 
 }  // namespace armstudy

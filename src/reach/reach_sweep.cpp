@@ -43,7 +43,9 @@ std::string formatDuration(double seconds) {
 }  // namespace
 
 Progress::Progress(long total, bool enabled, std::string label)
-    : total_(std::max(1L, total)), enabled_(enabled && isatty(STDERR_FILENO)), label_(std::move(label)) {}
+    : total_(std::max(1L, total)),
+      enabled_(enabled && isatty(STDERR_FILENO)),
+      label_(std::move(label)) {}
 
 Progress::~Progress() {
   if (enabled_ && last_permille_ >= 0) std::fprintf(stderr, "\n");
@@ -59,12 +61,14 @@ void Progress::advance(long n) {
   const int width = 40, fill = permille * width / 1000;
   // Elapsed time and the remaining time extrapolated from the rate so far (the first 2 % are too
   // few to extrapolate from: no ETA yet).
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   char eta[32] = "";
   if (done >= total_)
     std::snprintf(eta, sizeof eta, "done");
   else if (permille >= 20)
-    std::snprintf(eta, sizeof eta, "ETA %s", formatDuration(elapsed * double(total_ - done) / double(done)).c_str());
+    std::snprintf(eta, sizeof eta, "ETA %s",
+                  formatDuration(elapsed * double(total_ - done) / double(done)).c_str());
   std::fprintf(stderr, "\r%-32.32s [%.*s%*s] %5.1f %% %8s %-12s", label_.c_str(), fill,
                "########################################", width - fill, "", permille / 10.0,
                formatDuration(elapsed).c_str(), eta);
@@ -78,20 +82,22 @@ namespace {
 // one chunk per range; see sweepGridRanges.
 std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
                                    const std::function<IkTarget(long)>& target,
-                                   const std::vector<ItemRange>& ranges, const IkOptions& options, int threads,
-                                   Progress* progress, const SweepCollision& collision,
+                                   const std::vector<ItemRange>& ranges, const IkOptions& options,
+                                   int threads, Progress* progress, const SweepCollision& collision,
                                    const SweepChunkDone& on_done) {
   ARMSTUDY_CHECK(options.validate().empty(), options.validate());
   ARMSTUDY_CHECK(!collision.enabled() || !model.collision.empty(),
                  "collision-aware sweep of design '" + model.name + "' without a collision model");
-  ARMSTUDY_CHECK(static_cast<int>(collision.obstacles.size()) <= collision::kMaxObstacles, "too many obstacles");
+  ARMSTUDY_CHECK(static_cast<int>(collision.obstacles.size()) <= collision::kMaxObstacles,
+                 "too many obstacles");
   const long units = (size + len - 1) / len;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
   std::vector<PoseSweep> chunks;
   std::vector<std::pair<std::size_t, long>> work;  // (range, unit), in order
   for (std::size_t k = 0; k < ranges.size(); ++k) {
     const ItemRange& r = ranges[k];
-    ARMSTUDY_CHECK(0 <= r.begin && r.begin < r.end && r.end <= units, "sweep unit range out of bounds");
+    ARMSTUDY_CHECK(0 <= r.begin && r.begin < r.end && r.end <= units,
+                   "sweep unit range out of bounds");
     const long first = r.begin * len, last = std::min(size, r.end * len);
     chunks.push_back(makeSweep(model, last - first, collision));
     chunks.back().offset = first;
@@ -108,11 +114,13 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
 #pragma omp parallel num_threads(nt)
   {
     PoseSolver solver(model, collision, target);
-    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) { return solver.solve(i, o, warm_start); };
+    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
+      return solver.solve(i, o, warm_start);
+    };
     PoseSweep first_chain = makeSweep(model, len, collision), second_chain = first_chain;
     // One chain along poses [begin, end) in direction dir, into out (entry i - out_off).
-    auto chainLine = [&](long begin, long end, long dir, PoseSweep& out, long out_off, double& t_reach,
-                         double& t_unreach) {
+    auto chainLine = [&](long begin, long end, long dir, PoseSweep& out, long out_off,
+                         double& t_reach, double& t_unreach) {
       JointVector warm(model.dof());
       bool have_warm = false;
       const long first = dir > 0 ? begin : end - 1, past = dir > 0 ? end : begin - 1;
@@ -120,7 +128,8 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, options, have_warm ? &warm : nullptr);
         const IkResult& r = pr.ik;
-        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        const double dt =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
         store(out, i - out_off, r, 0);
         storeCollision(out, i - out_off, pr);
@@ -140,9 +149,11 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
         const auto p0 = std::chrono::steady_clock::now();
         const PoseResult pr = solve(i, retry, &w);
         const IkResult& r = pr.ik;
-        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        const double dt =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
         (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable() || (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(out.status[li])))) {
+        if (r.reachable() ||
+            (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(out.status[li])))) {
           store(out, li, r, out.starts[li]);
           storeCollision(out, li, pr);
         }
@@ -170,12 +181,17 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
       }
       for (long li = 0; li < n; ++li) {
         const bool second = passes == 2 && betterPose(second_chain, first_chain, li);
-        const PoseSweep &kept = second ? second_chain : first_chain, &other = second ? first_chain : second_chain;
-        copyPose(kept, li, s, begin - off + li, first_chain.starts[li] + (passes == 2 ? second_chain.starts[li] : 0));
-        // The other chain's collision-free solution, where it differs: a second seed for the search.
-        const std::size_t to = static_cast<std::size_t>(begin - off + li) * s.dof, from = static_cast<std::size_t>(li) * s.dof;
+        const PoseSweep &kept = second ? second_chain : first_chain,
+                        &other = second ? first_chain : second_chain;
+        copyPose(kept, li, s, begin - off + li,
+                 first_chain.starts[li] + (passes == 2 ? second_chain.starts[li] : 0));
+        // The other chain's collision-free solution, where it differs: a second seed for the
+        // search.
+        const std::size_t to = static_cast<std::size_t>(begin - off + li) * s.dof,
+                          from = static_cast<std::size_t>(li) * s.dof;
         const bool distinct = passes == 2 && other.reachable(li) &&
-                              !std::equal(other.q.begin() + from, other.q.begin() + from + s.dof, kept.q.begin() + from);
+                              !std::equal(other.q.begin() + from, other.q.begin() + from + s.dof,
+                                          kept.q.begin() + from);
         for (int j = 0; j < s.dof; ++j)
           s.q_alt[to + j] = distinct ? other.q[from + j] : std::numeric_limits<double>::quiet_NaN();
       }
@@ -185,7 +201,8 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
       s.solve_seconds_unreachable += t_unreach;
       if (progress) progress->advance(end - begin);
       if (countdown.itemDone(k)) {
-        s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        s.wall_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (on_done) failure.call([&] { on_done(k, s); });
       }
     }
@@ -194,7 +211,8 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
   return chunks;
 }
 
-PoseSweep wholeSweep(std::vector<PoseSweep> chunks, long size, const Model& model, const SweepCollision& collision) {
+PoseSweep wholeSweep(std::vector<PoseSweep> chunks, long size, const Model& model,
+                     const SweepCollision& collision) {
   if (chunks.empty()) {  // an empty grid or list
     PoseSweep s = makeSweep(model, size, collision);
     s.threads = 1;
@@ -207,38 +225,44 @@ PoseSweep wholeSweep(std::vector<PoseSweep> chunks, long size, const Model& mode
 
 long sweepUnitLength(const TaskGrid& grid) { return grid.lineLength(); }
 long sweepUnitLength(const PoseList&) { return defaults::kPoseListChunk; }
-long sweepUnitCount(const TaskGrid& grid) { return (grid.size() + grid.lineLength() - 1) / grid.lineLength(); }
+long sweepUnitCount(const TaskGrid& grid) {
+  return (grid.size() + grid.lineLength() - 1) / grid.lineLength();
+}
 long sweepUnitCount(const PoseList& list) {
-  return (static_cast<long>(list.poses.size()) + defaults::kPoseListChunk - 1) / defaults::kPoseListChunk;
+  return (static_cast<long>(list.poses.size()) + defaults::kPoseListChunk - 1) /
+         defaults::kPoseListChunk;
 }
 
-std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid, const std::vector<ItemRange>& ranges,
+std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid,
+                                       const std::vector<ItemRange>& ranges,
                                        const IkOptions& options, int threads, Progress* progress,
-                                       const SweepCollision& collision, const SweepChunkDone& on_done) {
+                                       const SweepCollision& collision,
+                                       const SweepChunkDone& on_done) {
   ARMSTUDY_CHECK(grid.validate().empty(), grid.validate());
   return sweepRanges(
       model, grid.size(), sweepUnitLength(grid),
-      [&grid](long i) { return taskTarget(grid.task_space, grid.pose(i)); }, ranges, options, threads, progress,
-      collision, on_done);
+      [&grid](long i) { return taskTarget(grid.task_space, grid.pose(i)); }, ranges, options,
+      threads, progress, collision, on_done);
 }
 
 std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& list,
-                                           const std::vector<ItemRange>& ranges, const IkOptions& options,
-                                           int threads, Progress* progress, const SweepCollision& collision,
+                                           const std::vector<ItemRange>& ranges,
+                                           const IkOptions& options, int threads,
+                                           Progress* progress, const SweepCollision& collision,
                                            const SweepChunkDone& on_done) {
   return sweepRanges(
       model, static_cast<long>(list.poses.size()), sweepUnitLength(list),
-      [&list](long i) { return taskTarget(list.task_space, list.poses[i]); }, ranges, options, threads, progress,
-      collision, on_done);
+      [&list](long i) { return taskTarget(list.task_space, list.poses[i]); }, ranges, options,
+      threads, progress, collision, on_done);
 }
 
-PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress, const SweepCollision& collision) {
+PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
+                    Progress* progress, const SweepCollision& collision) {
   const long units = sweepUnitCount(grid);
   std::vector<ItemRange> all;
   if (units > 0) all.push_back({0, units});
-  return wholeSweep(sweepGridRanges(model, grid, all, options, threads, progress, collision), grid.size(), model,
-                    collision);
+  return wholeSweep(sweepGridRanges(model, grid, all, options, threads, progress, collision),
+                    grid.size(), model, collision);
 }
 
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
@@ -252,14 +276,16 @@ PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOption
 
 PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
   ARMSTUDY_CHECK(!chunks.empty(), "no chunks to assemble");
-  std::sort(chunks.begin(), chunks.end(), [](const PoseSweep& a, const PoseSweep& b) { return a.offset < b.offset; });
+  std::sort(chunks.begin(), chunks.end(),
+            [](const PoseSweep& a, const PoseSweep& b) { return a.offset < b.offset; });
   // The first chunk, with the others' poses appended.
   PoseSweep s = std::move(chunks.front());
   long next = s.size;
   ARMSTUDY_CHECK(s.offset == 0,
                  "sweep chunks of '" + s.design + "' leave a gap or overlap at pose 0");
   for (const PoseSweep& c : std::span(chunks).subspan(1)) {
-    ARMSTUDY_CHECK(c.offset == next, "sweep chunks of '" + s.design + "' leave a gap or overlap at pose " +
+    ARMSTUDY_CHECK(c.offset == next, "sweep chunks of '" + s.design +
+                                         "' leave a gap or overlap at pose " +
                                          std::to_string(next));
     ARMSTUDY_CHECK(c.dof == s.dof && c.collision == s.collision && c.obstacles == s.obstacles &&
                        c.pair_names == s.pair_names,
@@ -272,8 +298,8 @@ PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
     s.solve_seconds_reachable += c.solve_seconds_reachable;
     s.solve_seconds_unreachable += c.solve_seconds_unreachable;
   }
-  ARMSTUDY_CHECK(next == size, "sweep chunks of '" + s.design + "' cover " + std::to_string(next) + " of " +
-                                   std::to_string(size) + " poses");
+  ARMSTUDY_CHECK(next == size, "sweep chunks of '" + s.design + "' cover " + std::to_string(next) +
+                                   " of " + std::to_string(size) + " poses");
   s.size = size;
   return s;
 }

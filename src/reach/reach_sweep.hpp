@@ -29,7 +29,8 @@ class UnitRunner;
 struct SweepCollision {
   bool self = false;
   std::vector<collision::Obstacle> obstacles;
-  bool nullspace_escape = true;  // descend H_c in the null space before restarts (reach_collision.hpp)
+  bool nullspace_escape =
+      true;  // descend H_c in the null space before restarts (reach_collision.hpp)
   bool enabled() const { return self || !obstacles.empty(); }
 };
 
@@ -37,15 +38,15 @@ struct SweepCollision {
 struct PoseSweep {
   std::string design;
   int dof = 0;
-  long offset = 0;                           // index of the first pose (chunks; 0 for a whole sweep)
-  long size = 0;                             // poses held; entry i is pose offset + i
-  std::vector<std::uint8_t> status;          // ReachStatus
-  std::vector<std::uint8_t> starts;          // starts used (saturated at 255)
+  long offset = 0;                   // index of the first pose (chunks; 0 for a whole sweep)
+  long size = 0;                     // poses held; entry i is pose offset + i
+  std::vector<std::uint8_t> status;  // ReachStatus
+  std::vector<std::uint8_t> starts;  // starts used (saturated at 255)
   std::vector<double> position_error_m, orientation_error_rad, manipulability, joint_limit_margin;
-  std::vector<double> q;                     // size * dof, pose-major
+  std::vector<double> q;  // size * dof, pose-major
   // The other chain's collision-free solution where it differs from q (each line is chained both
   // ways), NaN otherwise: a second branch the map search starts from; not an output.
-  std::vector<double> q_alt;                 // size * dof, pose-major
+  std::vector<double> q_alt;  // size * dof, pose-major
   // Collision-aware sweeps only (empty otherwise): the smallest checked distance at the solution
   // (self pairs and obstacles; negative: penetration; NaN when unreachable) and, for poses
   // reachable only in collision (SelfCollision / ObstacleCollision), the colliding pair as an
@@ -53,16 +54,20 @@ struct PoseSweep {
   bool collision = false;
   std::vector<double> min_distance_m;
   std::vector<std::int16_t> colliding_pair;
-  std::vector<std::string> pair_names;       // collision::collisionPairNames: "j2-j5", "j4-obstacle:stem"
+  std::vector<std::string>
+      pair_names;  // collision::collisionPairNames: "j2-j5", "j4-obstacle:stem"
   // Sweeps with obstacles only: the smallest body-obstacle distance at the solution (NaN when
   // unreachable), the clearance of the arm from its environment.
   bool obstacles = false;
   std::vector<double> obstacle_distance_m;
   double wall_seconds = 0;
   int threads = 1;
-  double solve_seconds_reachable = 0;    // summed per-pose solve time of reachable poses (all threads)
+  double solve_seconds_reachable =
+      0;  // summed per-pose solve time of reachable poses (all threads)
   double solve_seconds_unreachable = 0;  // ... of unreachable poses (timings only, not results)
-  bool reachable(long i) const { return status[i] == static_cast<std::uint8_t>(ReachStatus::Reachable); }
+  bool reachable(long i) const {
+    return status[i] == static_cast<std::uint8_t>(ReachStatus::Reachable);
+  }
   long countReachable() const;
 };
 
@@ -83,7 +88,8 @@ void forEachPoseArray(F&& f, Sweep&... s) {
   f(s.obstacle_distance_m...);
 }
 
-// Progress on stderr: a bar with elapsed time and ETA redrawn in place, only when enabled and stderr is a terminal.
+// Progress on stderr: a bar with elapsed time and ETA redrawn in place, only when enabled and
+// stderr is a terminal.
 class Progress {
  public:
   Progress(long total, bool enabled, std::string label);
@@ -100,8 +106,8 @@ class Progress {
 
 // threads <= 0: OpenMP default. `progress` may be null. With collision.enabled() every pose is
 // solved collision-aware (collision::solvePoseCollisionAware); that needs a collision model.
-PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options,
-                    int threads, Progress* progress, const SweepCollision& collision = {});
+PoseSweep sweepGrid(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
+                    Progress* progress, const SweepCollision& collision = {});
 PoseSweep sweepPoseList(const Model& model, const PoseList& list, const IkOptions& options,
                         int threads, Progress* progress, const SweepCollision& collision = {});
 
@@ -120,12 +126,15 @@ long sweepUnitCount(const PoseList& list);
 // the chunk's wall_seconds then holds the time from the start of the call. An exception thrown by
 // on_done is rethrown after the loop.
 using SweepChunkDone = std::function<void(std::size_t range, const PoseSweep& chunk)>;
-std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid, const std::vector<ItemRange>& ranges,
+std::vector<PoseSweep> sweepGridRanges(const Model& model, const TaskGrid& grid,
+                                       const std::vector<ItemRange>& ranges,
                                        const IkOptions& options, int threads, Progress* progress,
-                                       const SweepCollision& collision = {}, const SweepChunkDone& on_done = {});
+                                       const SweepCollision& collision = {},
+                                       const SweepChunkDone& on_done = {});
 std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& list,
-                                           const std::vector<ItemRange>& ranges, const IkOptions& options,
-                                           int threads, Progress* progress, const SweepCollision& collision = {},
+                                           const std::vector<ItemRange>& ranges,
+                                           const IkOptions& options, int threads,
+                                           Progress* progress, const SweepCollision& collision = {},
                                            const SweepChunkDone& on_done = {});
 
 // The map search after the unit sweeps of a grid (docs/reachability.md, "What a status
@@ -148,7 +157,8 @@ std::vector<PoseSweep> sweepPoseListRanges(const Model& model, const PoseList& l
 struct SweepSearch {
   int propagation_rounds = defaults::kMapPropagationRounds;  // 0: no propagation
   int collision_starts = defaults::kReachCollisionStarts;    // 0: no multi-starts
-  bool best_manipulability = true;  // 3. reachable poses keep the best-manipulability solution found
+  bool best_manipulability =
+      true;  // 3. reachable poses keep the best-manipulability solution found
   std::uint64_t seed = defaults::kMapSearchSeed;
   // The oracle of the active sets (tests/collision/reach_search_test.cpp): every step visits every
   // pose its phase may change (every unsettled pose in a propagation round, every reachable one in
@@ -177,14 +187,16 @@ std::string packSearchResult(const PoseSweep& sweep, const SweepSearchSummary& s
 void unpackSearchResult(const std::string& bytes, PoseSweep& sweep, SweepSearchSummary& summary);
 // `runner`: the run's unit runner; a distributed run shares each step of the search among its
 // processes (the result does not depend on it). Null: this process alone.
-SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid, const IkOptions& options, int threads,
-                                   const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
-                                   const UnitRunner* runner = nullptr);
+SweepSearchSummary searchGridSweep(const Model& model, const TaskGrid& grid,
+                                   const IkOptions& options, int threads,
+                                   const SweepCollision& collision, const SweepSearch& search,
+                                   PoseSweep& sweep, const UnitRunner* runner = nullptr);
 // The same for a pose list (fruit lists): its poses need not be neighbours, so no propagation;
 // steps 2 and 3 run without neighbour seeds (the seeded starts for poses in collision).
-SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list, const IkOptions& options, int threads,
-                                       const SweepCollision& collision, const SweepSearch& search, PoseSweep& sweep,
-                                       const UnitRunner* runner = nullptr);
+SweepSearchSummary searchPoseListSweep(const Model& model, const PoseList& list,
+                                       const IkOptions& options, int threads,
+                                       const SweepCollision& collision, const SweepSearch& search,
+                                       PoseSweep& sweep, const UnitRunner* runner = nullptr);
 
 // Joins chunks of one design's sweep, given in any order, into the whole sweep of `size` poses:
 // ordered by offset, they must tile [0, size) without gap or overlap and agree on dof and the

@@ -84,7 +84,8 @@ inline JointVector alternativeOf(const PoseSweep& s, long i) {
 // its place in a chunk.
 class PoseSolver {
  public:
-  PoseSolver(const Model& model, const SweepCollision& collision, const std::function<IkTarget(long)>& target)
+  PoseSolver(const Model& model, const SweepCollision& collision,
+             const std::function<IkTarget(long)>& target)
       : model_(model), collision_(collision), target_(target), ws_(model) {
     if (collision.enabled()) cws_.emplace(model);
     copts_.self = collision.self;
@@ -92,8 +93,8 @@ class PoseSolver {
   }
   // escape_attempts < 0: the default number of random escapes after a colliding solution.
   // escape = false: no H_c descent either (a colliding solution stays in collision).
-  PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start, int escape_attempts = -1,
-                   bool escape = true) {
+  PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start,
+                   int escape_attempts = -1, bool escape = true) {
     PoseResult r;
     if (!collision_.enabled()) {
       r.ik = solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
@@ -103,7 +104,8 @@ class PoseSolver {
     if (escape_attempts >= 0) copts.escape_attempts = escape_attempts;
     if (!escape) copts.escape_safety_distance_m = 0;
     collision::CollisionReachResult c = collision::solvePoseCollisionAware(
-        model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i), collision_.obstacles, warm_start);
+        model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i),
+        collision_.obstacles, warm_start);
     r.ik = std::move(c.ik);
     if (r.ik.reachable() || inCollision(r.ik.status)) {
       r.min_distance_m = c.min_distance_m;
@@ -139,12 +141,15 @@ inline bool betterPose(const PoseSweep& a, const PoseSweep& b, long i) {
     if (ca == 1 && s.collision) return -s.min_distance_m[i];
     return s.position_error_m[i];
   };
-  auto finite = [](double v) { return std::isnan(v) ? std::numeric_limits<double>::infinity() : v; };
+  auto finite = [](double v) {
+    return std::isnan(v) ? std::numeric_limits<double>::infinity() : v;
+  };
   const double ka = finite(key(a)), kb = finite(key(b));
   if (ka != kb) return ka < kb;
   if (a.status[i] != b.status[i]) return a.status[i] < b.status[i];
   for (int k = 0; k < a.dof; ++k) {
-    const double qa = a.q[static_cast<std::size_t>(i) * a.dof + k], qb = b.q[static_cast<std::size_t>(i) * b.dof + k];
+    const double qa = a.q[static_cast<std::size_t>(i) * a.dof + k],
+                 qb = b.q[static_cast<std::size_t>(i) * b.dof + k];
     if (qa != qb) return qa < qb;
   }
   return false;
@@ -158,7 +163,9 @@ inline void copyPose(const PoseSweep& from, long i, PoseSweep& to, long j, int s
   to.orientation_error_rad[j] = from.orientation_error_rad[i];
   to.manipulability[j] = from.manipulability[i];
   to.joint_limit_margin[j] = from.joint_limit_margin[i];
-  for (int k = 0; k < from.dof; ++k) to.q[static_cast<std::size_t>(j) * to.dof + k] = from.q[static_cast<std::size_t>(i) * from.dof + k];
+  for (int k = 0; k < from.dof; ++k)
+    to.q[static_cast<std::size_t>(j) * to.dof + k] =
+        from.q[static_cast<std::size_t>(i) * from.dof + k];
   if (to.collision) {
     to.min_distance_m[j] = from.min_distance_m[i];
     to.colliding_pair[j] = from.colliding_pair[i];
@@ -166,8 +173,8 @@ inline void copyPose(const PoseSweep& from, long i, PoseSweep& to, long j, int s
   if (to.obstacles) to.obstacle_distance_m[j] = from.obstacle_distance_m[i];
 }
 
-// One pose's row (what store / storeCollision write; not q_alt, which the search never changes), for
-// the rows a distributed search step sends.
+// One pose's row (what store / storeCollision write; not q_alt, which the search never changes),
+// for the rows a distributed search step sends.
 inline void putPose(UnitWriter& w, const PoseSweep& s, long i) {
   w.put(s.status[i]);
   w.put(s.starts[i]);

@@ -69,13 +69,15 @@ bool endsWith(const std::string& s, const std::string& e) {
 }
 
 // ---- inline Markdown ----
-std::string inlineMd(const std::string& s, const std::function<std::string(const std::string&)>& image) {
+std::string inlineMd(const std::string& s,
+                     const std::function<std::string(const std::string&)>& image) {
   std::string o;
   std::size_t i = 0;
   auto closing = [&](std::size_t from, const std::string& what) { return s.find(what, from); };
   while (i < s.size()) {
     const char c = s[i];
-    if (c == '\\' && i + 1 < s.size() && std::string("\\`*_[]()#|!<>-").find(s[i + 1]) != std::string::npos) {
+    if (c == '\\' && i + 1 < s.size() &&
+        std::string("\\`*_[]()#|!<>-").find(s[i + 1]) != std::string::npos) {
       o += htmlEscape(std::string(1, s[i + 1]));
       i += 2;
       continue;
@@ -95,8 +97,10 @@ std::string inlineMd(const std::string& s, const std::function<std::string(const
       const std::size_t rp = rb == std::string::npos ? rb : closing(rb + 2, ")");
       if (rb != std::string::npos && rp != std::string::npos) {
         const std::string text = s.substr(lb + 1, rb - lb - 1), url = s.substr(rb + 2, rp - rb - 2);
-        if (img) o += "<img src=\"" + htmlEscape(image(url)) + "\" alt=\"" + htmlEscape(text) + "\">";
-        else o += "<a href=\"" + htmlEscape(url) + "\">" + inlineMd(text, image) + "</a>";
+        if (img)
+          o += "<img src=\"" + htmlEscape(image(url)) + "\" alt=\"" + htmlEscape(text) + "\">";
+        else
+          o += "<a href=\"" + htmlEscape(url) + "\">" + inlineMd(text, image) + "</a>";
         i = rp + 1;
         continue;
       }
@@ -111,7 +115,8 @@ std::string inlineMd(const std::string& s, const std::function<std::string(const
     }
     if (c == '*' && i + 1 < s.size() && s[i + 1] != ' ') {
       std::size_t e = i + 1;
-      while ((e = closing(e, "*")) != std::string::npos && e + 1 < s.size() && s[e + 1] == '*') e += 2;
+      while ((e = closing(e, "*")) != std::string::npos && e + 1 < s.size() && s[e + 1] == '*')
+        e += 2;
       if (e != std::string::npos && e > i + 1 && s[e - 1] != ' ') {
         o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), image) + "</em>";
         i = e + 1;
@@ -212,7 +217,9 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
   std::ostringstream o;
   std::vector<std::string> para;
   int n_heading = 0;
-  auto isBlank = [](const std::string& l) { return l.find_first_not_of(" \t") == std::string::npos; };
+  auto isBlank = [](const std::string& l) {
+    return l.find_first_not_of(" \t") == std::string::npos;
+  };
   std::size_t i = 0;
   // A paragraph that is only an image becomes a figure; an italic paragraph right after it is its
   // caption (the reports write "![alt](file)" then "*caption*").
@@ -225,7 +232,8 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
     std::size_t k = from;
     while (k < lines.size() && isBlank(lines[k])) ++k;
     std::vector<std::string> p;
-    while (k < lines.size() && !isBlank(lines[k]) && lines[k][0] != '#' && lines[k][0] != '|') p.push_back(lines[k++]);
+    while (k < lines.size() && !isBlank(lines[k]) && lines[k][0] != '#' && lines[k][0] != '|')
+      p.push_back(lines[k++]);
     end = k;
     return paragraphText(p);
   };
@@ -264,7 +272,8 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
         const std::size_t rb = im.find("](");
         const std::string alt = im.substr(2, rb - 2);
         o << "<figure>" << inlineMd(im, image) << "<figcaption>"
-          << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image) : caption) << "</figcaption></figure>\n";
+          << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image) : caption)
+          << "</figcaption></figure>\n";
       }
       if (imgs.size() > 1 && !caption.empty()) o << "<p class=\"caption\">" << caption << "</p>\n";
       o << (imgs.size() > 1 ? "</div>\n" : "");
@@ -294,7 +303,8 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
       if (level != std::string::npos && level <= 6 && l[level] == ' ') {
         const std::string text = l.substr(level + 1);
         const std::string id = id_prefix + std::to_string(n_heading++);
-        o << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image) << "</h" << level + 1 << ">\n";
+        o << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image) << "</h"
+          << level + 1 << ">\n";
         if (headings) headings->push_back({static_cast<int>(level), id, text});
         ++i;
         continue;
@@ -309,7 +319,8 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
         right[c] = !seps[c].empty() && seps[c].back() == ':';
       o << "<div class=\"table-wrap\"><table>\n<thead><tr>";
       for (std::size_t c = 0; c < head.size(); ++c)
-        o << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image) << "</th>";
+        o << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image)
+          << "</th>";
       o << "</tr></thead>\n<tbody>\n";
       for (i += 2; i < lines.size() && !lines[i].empty() && lines[i][0] == '|'; ++i) {
         const auto cells = tableCells(lines[i]);
@@ -325,7 +336,8 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
     if (l.rfind("- ", 0) == 0 || l.rfind("* ", 0) == 0) {
       flush();
       o << "<ul>\n";
-      for (; i < lines.size() && (lines[i].rfind("- ", 0) == 0 || lines[i].rfind("* ", 0) == 0); ++i) {
+      for (; i < lines.size() && (lines[i].rfind("- ", 0) == 0 || lines[i].rfind("* ", 0) == 0);
+           ++i) {
         std::string item = lines[i].substr(2);
         while (i + 1 < lines.size() && lines[i + 1].rfind("  ", 0) == 0 && !isBlank(lines[i + 1]))
           item += " " + lines[++i].substr(2);
@@ -348,8 +360,10 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   auto dataUri = [&](const std::string& rel) -> std::string {
     const fs::path p = root / rel;
     std::string mime;
-    if (endsWith(rel, ".svg")) mime = "image/svg+xml";
-    else if (endsWith(rel, ".png")) mime = "image/png";
+    if (endsWith(rel, ".svg"))
+      mime = "image/svg+xml";
+    else if (endsWith(rel, ".png"))
+      mime = "image/png";
     if (mime.empty() || !fs::exists(p)) return rel;  // left as a link
     shown.insert(fs::path(rel).lexically_normal().generic_string());
     const std::string bytes = readFileOrThrow(p.string());
@@ -364,8 +378,8 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   int sec = 0;
   for (const HtmlStage& st : stages) {
     const std::string sid = "s" + std::to_string(sec++);
-    body << "<section class=\"stage\" id=\"" << sid << "\">\n<h2 class=\"stage-title\">" << htmlEscape(st.name)
-         << "</h2>\n";
+    body << "<section class=\"stage\" id=\"" << sid << "\">\n<h2 class=\"stage-title\">"
+         << htmlEscape(st.name) << "</h2>\n";
     nav << "<li><a href=\"#" << sid << "\">" << htmlEscape(st.name) << "</a>\n<ul>\n";
     int md_count = 0;
     for (const std::string& f : st.files) {
@@ -374,12 +388,13 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       if (!fs::exists(p)) continue;
       const fs::path dir = fs::path(f).parent_path();
       std::vector<Heading> hs;
-      body << markdownToHtml(readFileOrThrow(p.string()), sid + "-" + std::to_string(md_count++) + "-",
-                             [&](const std::string& url) {
-                               if (url.find("://") != std::string::npos) return url;
-                               return dataUri((dir / url).lexically_normal().generic_string());
-                             },
-                             &hs);
+      body << markdownToHtml(
+          readFileOrThrow(p.string()), sid + "-" + std::to_string(md_count++) + "-",
+          [&](const std::string& url) {
+            if (url.find("://") != std::string::npos) return url;
+            return dataUri((dir / url).lexically_normal().generic_string());
+          },
+          &hs);
       for (const Heading& h : hs)
         if (h.level <= 3)
           nav << "<li class=\"l" << h.level << "\"><a href=\"#" << h.id << "\">"
@@ -393,7 +408,8 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     for (const std::string& f : st.files) {
       const std::string n = fs::path(f).lexically_normal().generic_string();
       if (shown.count(n)) continue;
-      if (endsWith(f, ".svg")) more.push_back(f);
+      if (endsWith(f, ".svg"))
+        more.push_back(f);
       else if (endsWith(f, ".png") && !stems_with_svg.count(f.substr(0, f.size() - 4)) &&
                !shown.count(n.substr(0, n.size() - 4) + ".svg"))
         more.push_back(f);
@@ -411,15 +427,19 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     // (The steps of a .pvd time series are listed by the .pvd, not here.)
     std::vector<std::string> data;
     for (const std::string& f : st.files)
-      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md") && f.find("/step_") == std::string::npos)
+      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md") &&
+          f.find("/step_") == std::string::npos)
         data.push_back(f);
     if (!data.empty()) {
-      body << "<h3 id=\"" << sid << "-files\">Data files</h3>\n<p>Open the <code>.vti</code>, <code>.vts</code>, "
+      body << "<h3 id=\"" << sid
+           << "-files\">Data files</h3>\n<p>Open the <code>.vti</code>, <code>.vts</code>, "
               "<code>.vtp</code> and <code>.pvd</code> files in ParaView (all of them in one view: "
-              "<code>pvpython scene.py</code>); the tables are CSV and JSON.</p>\n<ul class=\"files\">\n";
+              "<code>pvpython scene.py</code>); the tables are CSV and JSON.</p>\n<ul "
+              "class=\"files\">\n";
       nav << "<li class=\"l3\"><a href=\"#" << sid << "-files\">Data files</a></li>\n";
       for (const std::string& f : data)
-        body << "<li><a href=\"" << htmlEscape(f) << "\"><code>" << htmlEscape(f) << "</code></a></li>\n";
+        body << "<li><a href=\"" << htmlEscape(f) << "\"><code>" << htmlEscape(f)
+             << "</code></a></li>\n";
       body << "</ul>\n";
     }
     body << "</section>\n";
@@ -430,13 +450,17 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   const std::string nav_html = std::move(nav).str(), body_html = std::move(body).str();
   std::ostringstream head;
   head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>armstudy: "
-       << htmlEscape(study_name) << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n<header><h1>Study "
-       << htmlEscape(study_name) << "</h1></header>\n<main>\n";
+       << "<meta name=\"viewport\" content=\"width=device-width, "
+          "initial-scale=1\">\n<title>armstudy: "
+       << htmlEscape(study_name) << "</title>\n<style>" << kCss
+       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name)
+       << "</h1></header>\n<main>\n";
   if (!answer_md.empty())
     head << "<section class=\"answer\" id=\"answer\">\n"
-         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; }) << "</section>\n";
-  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold the same "
+         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; })
+         << "</section>\n";
+  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
+          "the same "
           "text).</p>\n";
   const std::string tail = "</main>\n</body>\n</html>\n";
   std::string page = std::move(head).str();

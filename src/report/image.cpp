@@ -67,13 +67,15 @@ Rgb viridis(double t) {
   t = std::clamp(t, 0.0, 1.0) * 8.0;
   const int i = std::min(7, static_cast<int>(t));
   const double f = t - i;
-  auto mix = [&](int c) { return static_cast<std::uint8_t>(std::lround(k[i][c] + f * (k[i + 1][c] - k[i][c]))); };
+  auto mix = [&](int c) {
+    return static_cast<std::uint8_t>(std::lround(k[i][c] + f * (k[i + 1][c] - k[i][c])));
+  };
   return {mix(0), mix(1), mix(2)};
 }
 
 Rgb categorical(int k) {
-  static const Rgb c[8] = {{44, 160, 44},   {230, 230, 230}, {255, 127, 14}, {148, 103, 189},
-                           {214, 39, 40},   {31, 119, 180},  {140, 86, 75},  {188, 189, 34}};
+  static const Rgb c[8] = {{44, 160, 44}, {230, 230, 230}, {255, 127, 14}, {148, 103, 189},
+                           {214, 39, 40}, {31, 119, 180},  {140, 86, 75},  {188, 189, 34}};
   return c[((k % 8) + 8) % 8];
 }
 
@@ -105,8 +107,9 @@ std::string encodePng(const RasterImage& image) {
   w->Write();
   vtkUnsignedCharArray* out = w->GetResult();
   ARMSTUDY_CHECK(out && out->GetNumberOfTuples() > 0, "PNG encoding failed");
-  return std::string(reinterpret_cast<const char*>(out->GetPointer(0)),
-                     static_cast<std::size_t>(out->GetNumberOfTuples() * out->GetNumberOfComponents()));
+  return std::string(
+      reinterpret_cast<const char*>(out->GetPointer(0)),
+      static_cast<std::size_t>(out->GetNumberOfTuples() * out->GetNumberOfComponents()));
 }
 
 void writePng(const std::string& path, const RasterImage& image) {

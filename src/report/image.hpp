@@ -21,7 +21,7 @@ class RasterImage {
   RasterImage(int width, int height, Rgb fill = {255, 255, 255});
   int width() const { return w_; }
   int height() const { return h_; }
-  void set(int x, int y, Rgb c);          // (0, 0) = top-left pixel
+  void set(int x, int y, Rgb c);  // (0, 0) = top-left pixel
   Rgb at(int x, int y) const;
   const std::vector<std::uint8_t>& rgb() const { return rgb_; }
 

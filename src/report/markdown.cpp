@@ -10,9 +10,12 @@ std::string markdownTable(const std::vector<std::string>& header,
   auto esc = [](const std::string& s) {
     std::string o;
     for (char c : s) {
-      if (c == '|') o += "\\|";
-      else if (c == '\n') o += ' ';
-      else o += c;
+      if (c == '|')
+        o += "\\|";
+      else if (c == '\n')
+        o += ' ';
+      else
+        o += c;
     }
     return o;
   };
@@ -25,7 +28,8 @@ std::string markdownTable(const std::vector<std::string>& header,
   out.append("\n").append(sep).append("\n");
   for (const auto& r : rows) {
     out += "|";
-    for (std::size_t c = 0; c < header.size(); ++c) out.append(" ").append(c < r.size() ? esc(r[c]) : std::string()).append(" |");
+    for (std::size_t c = 0; c < header.size(); ++c)
+      out.append(" ").append(c < r.size() ? esc(r[c]) : std::string()).append(" |");
     out.append("\n");
   }
   return out;
@@ -38,7 +42,9 @@ std::string fixed(double value, int decimals) {
   return buf;
 }
 
-std::string percent(double fraction, int decimals) { return fixed(100.0 * fraction, decimals).append(" %"); }
+std::string percent(double fraction, int decimals) {
+  return fixed(100.0 * fraction, decimals).append(" %");
+}
 
 std::string scientific(double value, int digits) {
   if (!std::isfinite(value)) return "n/a";

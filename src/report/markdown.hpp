@@ -10,7 +10,7 @@ namespace armstudy::report {
 std::string markdownTable(const std::vector<std::string>& header,
                           const std::vector<std::vector<std::string>>& rows);
 
-std::string fixed(double value, int decimals);   // "0.125"
+std::string fixed(double value, int decimals);           // "0.125"
 std::string percent(double fraction, int decimals = 1);  // 0.5 -> "50.0 %"
 std::string scientific(double value, int digits = 3);
 

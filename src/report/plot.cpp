@@ -17,17 +17,21 @@ MapAxis cellAxis(std::string label, double from, double to, double step) {
 }
 
 Rgb seriesColour(int k) {
-  static const Rgb c[10] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44},  {214, 39, 40},  {148, 103, 189},
-                            {140, 86, 75},  {227, 119, 194}, {80, 80, 80}, {188, 189, 34}, {23, 190, 207}};
+  static const Rgb c[10] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
+                            {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {80, 80, 80},
+                            {188, 189, 34},  {23, 190, 207}};
   return c[((k % 10) + 10) % 10];
 }
 
 Rgb diverging(double t) {
   if (!std::isfinite(t)) t = 0.5;
   t = std::clamp(2 * t - 1, -1.0, 1.0);
-  const auto ch = [](double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); };
+  const auto ch = [](double v) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0)));
+  };
   // White at 0, towards (33, 102, 172) below and (178, 24, 43) above.
-  if (t < 0) return {ch(255 + t * (255 - 33)), ch(255 + t * (255 - 102)), ch(255 + t * (255 - 172))};
+  if (t < 0)
+    return {ch(255 + t * (255 - 33)), ch(255 + t * (255 - 102)), ch(255 + t * (255 - 172))};
   return {ch(255 - t * (255 - 178)), ch(255 - t * (255 - 24)), ch(255 - t * (255 - 43))};
 }
 
@@ -38,11 +42,12 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   const double th = m.height(kTickSize), lh = m.height(kLabelSize);
   // Ticks first (their labels set the margins).
   const double inner_w = w - 2 * bp, inner_h = h - 2 * bp;
-  const auto xt = f.x.hi > f.x.lo ? fittingTicks(f.x.lo, f.x.hi, inner_w, 80, [&](const std::string& t) {
-    return m.width(t, kTickSize);
-  })
-                                  : std::vector<double>{};
-  const auto yt = f.y.hi > f.y.lo ? fittingTicks(f.y.lo, f.y.hi, inner_h, 60, [&](const std::string&) { return th; })
+  const auto xt = f.x.hi > f.x.lo
+                      ? fittingTicks(f.x.lo, f.x.hi, inner_w, 80,
+                                     [&](const std::string& t) { return m.width(t, kTickSize); })
+                      : std::vector<double>{};
+  const auto yt = f.y.hi > f.y.lo ? fittingTicks(f.y.lo, f.y.hi, inner_h, 60,
+                                                 [&](const std::string&) { return th; })
                                   : std::vector<double>{};
   double ytw = 0;
   for (double t : yt) ytw = std::max(ytw, m.width(tickText(t), kTickSize));
@@ -53,7 +58,8 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   double vext = 0;
   for (const auto& l : ylines) vext = std::max(vext, m.width(l, kLabelSize));
   if (f.scale)
-    for (const auto& l : m.wrap(f.scale->label, kLabelSize, vlen)) vext = std::max(vext, m.width(l, kLabelSize));
+    for (const auto& l : m.wrap(f.scale->label, kLabelSize, vlen))
+      vext = std::max(vext, m.width(l, kLabelSize));
   const double vextra = std::max(0.0, (vext - h) / 2);
   // The map's corner on whole pixels, so that its cells stay sharp squares in the PNG.
   const double ml = std::ceil(kPad + lh * ylines.size() + kGap + ytw + 2 + kTickLen);
@@ -73,7 +79,8 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   double W = std::max({right + std::max(0.0, x_over) + kPad, 320.0,
                        ml + widestLine(m, f.x.label, kLabelSize, w) + kPad});
   // A title wider than everything else wraps; a single word longer than the canvas widens it.
-  for (const auto& word : m.wrap(f.title, kTitleSize, 0)) W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
+  for (const auto& word : m.wrap(f.title, kTitleSize, 0))
+    W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
   const double mt = std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + vextra);
   const double iy0 = mt + bp, iy1 = mt + h - bp, ix0 = ml + bp, ix1 = ml + w - bp;
   s.image(map, ml, mt);
@@ -92,13 +99,15 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
     s.text(l, ml + w / 2, y, kLabelSize, HAlign::centre, VAlign::top);
     y += lh;
   }
-  for (std::size_t k = 0; k < ylines.size(); ++k) s.vtext(ylines[k], kPad + lh * (k + 0.5), mt + h / 2, kLabelSize);
+  for (std::size_t k = 0; k < ylines.size(); ++k)
+    s.vtext(ylines[k], kPad + lh * (k + 0.5), mt + h / 2, kLabelSize);
   if (f.scale) colourBar(s, m, *f.scale, ml + w + 2 * kGap + 6, mt, mt + h, true, vlen);
   double ly = mt;
   const double row = std::max(lh, 14.0) + 6;
   for (const auto& e : f.legend) {
     s.rect(legend_x, ly + (row - 14) / 2, 14, 14, e.colour, Rgb{85, 85, 85});
-    s.text(e.label, legend_x + kSwatch + kGap, ly + row / 2, kLabelSize, HAlign::left, VAlign::middle);
+    s.text(e.label, legend_x + kSwatch + kGap, ly + row / 2, kLabelSize, HAlign::left,
+           VAlign::middle);
     ly += row;
   }
   s.fit(W, std::max({y, ly, mt + h + vextra}) + kPad);
@@ -108,7 +117,8 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
 namespace {
 
 struct Range {
-  double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+  double lo = std::numeric_limits<double>::infinity(),
+         hi = -std::numeric_limits<double>::infinity();
   void add(double v) {
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   }
@@ -138,11 +148,13 @@ struct XAxisPlan {
   double below = 0;       // height of the tick labels below the plot area
 };
 
-XAxisPlan planXAxis(const Meter& m, const Range& xr, double w, const std::vector<std::string>& cats) {
+XAxisPlan planXAxis(const Meter& m, const Range& xr, double w,
+                    const std::vector<std::string>& cats) {
   XAxisPlan p;
   const double th = m.height(kTickSize);
   if (cats.empty()) {
-    p.ticks = fittingTicks(xr.lo, xr.hi, w, 80, [&](const std::string& t) { return m.width(t, kTickSize); });
+    p.ticks = fittingTicks(xr.lo, xr.hi, w, 80,
+                           [&](const std::string& t) { return m.width(t, kTickSize); });
     p.below = kTickLen + 2 + th;
     return p;
   }
@@ -170,8 +182,10 @@ void drawFrame(Scene& s, const Frame& f, const XAxisPlan& xp, const std::vector<
     for (std::size_t i = 0; i < cats.size(); ++i) {
       const double px = f.px(static_cast<double>(i));
       s.line(px, yb, px, yb + kTickLen, kBlack);
-      if (xp.vertical) s.hanging(cats[i], px, yb + kTickLen + 2, kTickSize);
-      else s.text(cats[i], px, yb + kTickLen + 2, kTickSize, HAlign::centre, VAlign::top);
+      if (xp.vertical)
+        s.hanging(cats[i], px, yb + kTickLen + 2, kTickSize);
+      else
+        s.text(cats[i], px, yb + kTickLen + 2, kTickSize, HAlign::centre, VAlign::top);
     }
   }
   for (double t : yt) {
@@ -302,20 +316,27 @@ double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx
 
 // One panel from y down, its plot area at x = ml, pw wide: title, frame, y label, diagonal,
 // reference lines, series and legend. Returns the y below it.
-double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel& pan, const PanelPlan& p,
-                 const Range& xr, const XAxisPlan& xp, double ml, double pw, double y) {
+double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel& pan,
+                 const PanelPlan& p, const Range& xr, const XAxisPlan& xp, double ml, double pw,
+                 double y) {
   const double lh = m.height(kLabelSize), ph = spec.panel_height;
-  if (!pan.title.empty()) y = titleBlock(s, m, pan.title, ml, ml + pw, y, kLabelSize);
-  else y += m.height(kTickSize) / 2;  // room for the top y tick label
+  if (!pan.title.empty())
+    y = titleBlock(s, m, pan.title, ml, ml + pw, y, kLabelSize);
+  else
+    y += m.height(kTickSize) / 2;  // room for the top y tick label
   const Frame f{ml, y, pw, ph, xr, p.yr};
   drawFrame(s, f, xp, p.yt, spec.x_categories);
   for (std::size_t c = 0; c < p.ylines.size(); ++c)
     s.vtext(p.ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
   const std::array<double, 4> clip{ml, y, pw, ph};
-  if (pan.diagonal) s.polyline({{f.px(xr.lo), f.py(xr.lo)}, {f.px(xr.hi), f.py(xr.hi)}}, {136, 136, 136}, 1, true, clip);
+  if (pan.diagonal)
+    s.polyline({{f.px(xr.lo), f.py(xr.lo)}, {f.px(xr.hi), f.py(xr.hi)}}, {136, 136, 136}, 1, true,
+               clip);
   for (const auto& l : pan.lines) {
-    if (l.horizontal) s.polyline({{ml, f.py(l.value)}, {ml + pw, f.py(l.value)}}, l.colour, 1.5, true, clip);
-    else s.polyline({{f.px(l.value), y}, {f.px(l.value), y + ph}}, l.colour, 1.5, true, clip);
+    if (l.horizontal)
+      s.polyline({{ml, f.py(l.value)}, {ml + pw, f.py(l.value)}}, l.colour, 1.5, true, clip);
+    else
+      s.polyline({{f.px(l.value), y}, {f.px(l.value), y + ph}}, l.colour, 1.5, true, clip);
   }
   drawSeries(s, f, pan, clip);
   // Legend right of the panel.
@@ -337,7 +358,8 @@ Drawing plot(const PlotSpec& spec, Format format) {
   const double mr = kPad + (pl.legend_w > 0 ? pl.legend_w + 2 * kGap : 0);
   double W = std::max(spec.width, ml + 240 + mr);
   const XAxisPlan xp = planXAxis(m, xr, W - ml - mr, spec.x_categories);
-  for (const auto& word : m.wrap(spec.title, kTitleSize, 0)) W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
+  for (const auto& word : m.wrap(spec.title, kTitleSize, 0))
+    W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
   const double pw = W - ml - mr;
   double y = titleBlock(s, m, spec.title, kPad, W - kPad, kPad);
   for (std::size_t k = 0; k < spec.panels.size(); ++k)
@@ -366,7 +388,8 @@ Drawing heatmap(const HeatmapSpec& h, Format format) {
     if (!(a > 0) || !std::isfinite(a)) a = 1;
     sc = ColourScale{diverging, -a, a, h.value_label};
   } else {
-    double lo = std::isfinite(vr.lo) ? std::min(0.0, vr.lo) : 0, hi = std::isfinite(vr.hi) ? vr.hi : 1;
+    double lo = std::isfinite(vr.lo) ? std::min(0.0, vr.lo) : 0,
+           hi = std::isfinite(vr.hi) ? vr.hi : 1;
     if (h.scale > 0) hi = h.scale;
     if (!(hi > lo)) hi = lo + 1;
     sc = ColourScale{viridis, lo, hi, h.value_label};
@@ -379,7 +402,8 @@ Drawing heatmap(const HeatmapSpec& h, Format format) {
   const double note_w = h.flagged_note.empty() ? 0 : m.width(h.flagged_note, kTickSize);
   const double mr = kPad + 2 * kGap + std::max(bar_w, note_w);
   double W = std::max(720.0, ml + 300 + mr);
-  for (const auto& word : m.wrap(h.title, kTitleSize, 0)) W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
+  for (const auto& word : m.wrap(h.title, kTitleSize, 0))
+    W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
   const double pw = W - ml - mr;
   double y = titleBlock(s, m, h.title, kPad, W - kPad, kPad) + th / 2;
   const Frame f{ml, y, pw, ph, xr, yr};
@@ -401,12 +425,16 @@ Drawing heatmap(const HeatmapSpec& h, Format format) {
       }
   }
   for (const auto& c : h.cells)
-    if (c.flagged) s.rect(f.px(c.x_lo), f.py(c.y_hi), f.px(c.x_hi) - f.px(c.x_lo), f.py(c.y_lo) - f.py(c.y_hi), std::nullopt, kBlack, 3);
+    if (c.flagged)
+      s.rect(f.px(c.x_lo), f.py(c.y_hi), f.px(c.x_hi) - f.px(c.x_lo), f.py(c.y_lo) - f.py(c.y_hi),
+             std::nullopt, kBlack, 3);
   drawFrame(s, f, xp, yt, {});
-  for (std::size_t c = 0; c < ylines.size(); ++c) s.vtext(ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
+  for (std::size_t c = 0; c < ylines.size(); ++c)
+    s.vtext(ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
   colourBar(s, m, sc, ml + pw + 2 * kGap, y, y + ph);
   double yb = y + ph + xp.below + kGap;
-  if (!h.flagged_note.empty()) s.text(h.flagged_note, ml + pw + 2 * kGap, yb, kTickSize, HAlign::left, VAlign::top);
+  if (!h.flagged_note.empty())
+    s.text(h.flagged_note, ml + pw + 2 * kGap, yb, kTickSize, HAlign::left, VAlign::top);
   for (const auto& l : m.wrap(h.x_label, kLabelSize, pw)) {
     s.text(l, ml + pw / 2, yb, kLabelSize, HAlign::centre, VAlign::top);
     yb += lh;

@@ -56,7 +56,7 @@ MapAxis cellAxis(std::string label, double from, double to, double step);
 
 // ---- X-y plots ----
 struct PlotSeries {
-  std::string label;       // legend text; empty = not in the legend
+  std::string label;  // legend text; empty = not in the legend
   std::vector<double> x, y;
   std::optional<Rgb> colour;  // default: seriesColour(index of the series in its panel)
   bool lines = true;          // connect the points
@@ -98,7 +98,8 @@ struct HeatmapSpec {
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
   std::vector<HeatCell> cells;
   // Sequential (viridis from 0 or the minimum to the maximum) for absolute values; diverging
-  // (blue - white - red, symmetric about 0, saturating at +-scale; 0 = max |value|) for signed ones.
+  // (blue - white - red, symmetric about 0, saturating at +-scale; 0 = max |value|) for signed
+  // ones.
   bool diverging = false;
   double scale = 0;
   std::string flagged_note = "* / thick frame: flagged";

@@ -17,10 +17,13 @@ cairo_font_face_t* figureFont() {
     const char* file = ARMSTUDY_FONT_FILE;
     FT_Library lib = nullptr;
     FT_Face ft = nullptr;
-    if (std::filesystem::exists(file) && FT_Init_FreeType(&lib) == 0 && FT_New_Face(lib, file, 0, &ft) == 0)
-      return cairo_ft_font_face_create_for_ft_face(ft, FT_LOAD_NO_HINTING);  // lives as long as the process
+    if (std::filesystem::exists(file) && FT_Init_FreeType(&lib) == 0 &&
+        FT_New_Face(lib, file, 0, &ft) == 0)
+      return cairo_ft_font_face_create_for_ft_face(
+          ft, FT_LOAD_NO_HINTING);  // lives as long as the process
     std::cerr << "armstudy: warning: the figures' font " << file
-              << " is missing (Debian: fonts-dejavu-core); figures use fontconfig's \"DejaVu Sans\" and may "
+              << " is missing (Debian: fonts-dejavu-core); figures use fontconfig's \"DejaVu "
+                 "Sans\" and may "
                  "differ between machines and environments\n";
     return cairo_toy_font_face_create(kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   }();
@@ -53,31 +56,32 @@ std::string num(double v) {
 
 void TextOp::svg(std::string& o, int) const {
   const TextOp& t = *this;
-  o += "<text x=\"" + num(t.upward ? 0 : t.x) + "\" y=\"" + num(t.upward ? 0 : t.y) + "\" font-size=\"" + num(t.size) +
-       "\"";
+  o += "<text x=\"" + num(t.upward ? 0 : t.x) + "\" y=\"" + num(t.upward ? 0 : t.y) +
+       "\" font-size=\"" + num(t.size) + "\"";
   if (t.upward) o += " transform=\"translate(" + num(t.x) + "," + num(t.y) + ") rotate(-90)\"";
   if (!(t.c == Rgb{0, 0, 0})) o += " fill=\"" + hex(t.c) + "\"";
   o += ">" + xmlEscape(t.s) + "</text>\n";
 }
 void RectOp::svg(std::string& o, int) const {
   const RectOp& r = *this;
-  o += "<rect x=\"" + num(r.x) + "\" y=\"" + num(r.y) + "\" width=\"" + num(r.w) + "\" height=\"" + num(r.h) +
-       "\" fill=\"" + (r.fill ? hex(*r.fill) : "none") + "\"";
+  o += "<rect x=\"" + num(r.x) + "\" y=\"" + num(r.y) + "\" width=\"" + num(r.w) + "\" height=\"" +
+       num(r.h) + "\" fill=\"" + (r.fill ? hex(*r.fill) : "none") + "\"";
   if (r.stroke) o += " stroke=\"" + hex(*r.stroke) + "\" stroke-width=\"" + num(r.lw) + "\"";
   o += "/>\n";
 }
 void PolylineOp::svg(std::string& o, int id) const {
   const PolylineOp& p = *this;
   if (p.clip)
-    o += "<clipPath id=\"clip" + std::to_string(id) + "\"><rect x=\"" + num((*p.clip)[0]) + "\" y=\"" +
-         num((*p.clip)[1]) + "\" width=\"" + num((*p.clip)[2]) + "\" height=\"" + num((*p.clip)[3]) +
-         "\"/></clipPath>\n";
+    o += "<clipPath id=\"clip" + std::to_string(id) + "\"><rect x=\"" + num((*p.clip)[0]) +
+         "\" y=\"" + num((*p.clip)[1]) + "\" width=\"" + num((*p.clip)[2]) + "\" height=\"" +
+         num((*p.clip)[3]) + "\"/></clipPath>\n";
   o += "<polyline fill=\"none\" stroke=\"" + hex(p.c) + "\" stroke-width=\"" + num(p.lw) +
        "\" stroke-linejoin=\"round\"";
   if (p.dashed) o += " stroke-dasharray=\"6,4\"";
   if (p.clip) o += " clip-path=\"url(#clip" + std::to_string(id) + ")\"";
   o += " points=\"";
-  for (std::size_t i = 0; i < p.pts.size(); ++i) o += (i ? " " : "") + num(p.pts[i].first) + "," + num(p.pts[i].second);
+  for (std::size_t i = 0; i < p.pts.size(); ++i)
+    o += (i ? " " : "") + num(p.pts[i].first) + "," + num(p.pts[i].second);
   o += "\"/>\n";
 }
 void DotsOp::svg(std::string& o, int) const {
@@ -89,9 +93,10 @@ void DotsOp::svg(std::string& o, int) const {
 }
 void ImageOp::svg(std::string& o, int) const {
   const ImageOp& im = *this;
-  o += "<image x=\"" + num(im.x) + "\" y=\"" + num(im.y) + "\" width=\"" + std::to_string(im.img.width()) +
-       "\" height=\"" + std::to_string(im.img.height()) +
-       "\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" xlink:href=\"data:image/png;base64," +
+  o += "<image x=\"" + num(im.x) + "\" y=\"" + num(im.y) + "\" width=\"" +
+       std::to_string(im.img.width()) + "\" height=\"" + std::to_string(im.img.height()) +
+       "\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" "
+       "xlink:href=\"data:image/png;base64," +
        base64(encodePng(im.img)) + "\"/>\n";
 }
 
@@ -117,8 +122,10 @@ void RectOp::draw(cairo_t* cr) const {
   cairo_rectangle(cr, r.x, r.y, r.w, r.h);
   if (r.fill) {
     setColour(cr, *r.fill);
-    if (r.stroke) cairo_fill_preserve(cr);
-    else cairo_fill(cr);
+    if (r.stroke)
+      cairo_fill_preserve(cr);
+    else
+      cairo_fill(cr);
   }
   if (r.stroke) {
     setColour(cr, *r.stroke);
@@ -163,10 +170,12 @@ void ImageOp::draw(cairo_t* cr) const {
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       const Rgb p = img.at(c, r);
-      auto* px = reinterpret_cast<std::uint32_t*>(data.data() + static_cast<std::size_t>(r) * stride) + c;
+      auto* px =
+          reinterpret_cast<std::uint32_t*>(data.data() + static_cast<std::size_t>(r) * stride) + c;
       *px = (std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b;
     }
-  cairo_surface_t* s = cairo_image_surface_create_for_data(data.data(), CAIRO_FORMAT_RGB24, w, h, stride);
+  cairo_surface_t* s =
+      cairo_image_surface_create_for_data(data.data(), CAIRO_FORMAT_RGB24, w, h, stride);
   cairo_save(cr);
   cairo_set_source_surface(cr, s, im.x, im.y);
   cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
@@ -181,12 +190,14 @@ Drawing Scene::render(Format format) const {
   d.width = std::ceil(W);
   d.height = std::ceil(H);
   d.texts = texts;
-  const std::string w = std::to_string(static_cast<long>(d.width)), h = std::to_string(static_cast<long>(d.height));
-  d.svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
-          "xmlns:xlink=\"http://www.w3.org/1999/xlink\" version=\"1.1\" width=\"" + w + "\" height=\"" + h +
-          "\" viewBox=\"0 0 " + w + " " + h + "\" font-family=\"'" + std::string(kFont) +
-          "', Verdana, sans-serif\" style=\"white-space:pre\">\n<rect width=\"" + w + "\" height=\"" + h +
-          "\" fill=\"#ffffff\"/>\n";
+  const std::string w = std::to_string(static_cast<long>(d.width)),
+                    h = std::to_string(static_cast<long>(d.height));
+  d.svg =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+      "xmlns:xlink=\"http://www.w3.org/1999/xlink\" version=\"1.1\" width=\"" +
+      w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + " " + h + "\" font-family=\"'" +
+      std::string(kFont) + "', Verdana, sans-serif\" style=\"white-space:pre\">\n<rect width=\"" +
+      w + "\" height=\"" + h + "\" fill=\"#ffffff\"/>\n";
   int id = 0;
   for (const auto& op : ops_) op->svg(d.svg, id++);
   d.svg += "</svg>\n";
@@ -215,7 +226,8 @@ std::vector<double> fittingTicks(double lo, double hi, double length_px, double 
                                  const std::function<double(const std::string&)>& extent) {
   std::vector<double> fallback;
   const int base = std::max(3, static_cast<int>(length_px / per_tick_px));
-  std::vector<int> targets;  // fewer ticks first down to 1, then more (a range just over a 1-2-5 step)
+  std::vector<int>
+      targets;  // fewer ticks first down to 1, then more (a range just over a 1-2-5 step)
   for (int t = base; t >= 1; --t) targets.push_back(t);
   for (int t = base + 1; t <= base + 6; ++t) targets.push_back(t);
   for (const int target : targets) {
@@ -233,8 +245,8 @@ std::vector<double> fittingTicks(double lo, double hi, double length_px, double 
   return fallback;
 }
 
-double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1, double y,
-                  double size) {
+double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1,
+                  double y, double size) {
   if (title.empty()) return y;
   for (const std::string& line : m.wrap(title, size, x1 - x0)) {
     s.text(line, (x0 + x1) / 2, y, size, HAlign::centre, VAlign::top);
@@ -255,19 +267,21 @@ double colourBar(Scene& s, const Meter& m, const ColourScale& sc, double x, doub
   const int steps = 128;
   if (draw)
     for (int k = 0; k < steps; ++k)
-      s.rect(x, y1 - h * (k + 1.0) / steps, kBarWidth, h / steps + 0.6, sc.map((k + 0.5) / steps), std::nullopt);
+      s.rect(x, y1 - h * (k + 1.0) / steps, kBarWidth, h / steps + 0.6, sc.map((k + 0.5) / steps),
+             std::nullopt);
   if (draw) s.rect(x, y0, kBarWidth, h, std::nullopt, kFrame);
   double widest = 0;
-  const auto ticks = sc.hi > sc.lo ? fittingTicks(sc.lo, sc.hi, h, 40, [&](const std::string&) {
-    return m.height(kTickSize);
-  })
-                                   : std::vector<double>{sc.lo};
+  const auto ticks = sc.hi > sc.lo
+                         ? fittingTicks(sc.lo, sc.hi, h, 40,
+                                        [&](const std::string&) { return m.height(kTickSize); })
+                         : std::vector<double>{sc.lo};
   for (double t : ticks) {
     const double py = sc.hi > sc.lo ? y1 - (t - sc.lo) / (sc.hi - sc.lo) * h : (y0 + y1) / 2;
     widest = std::max(widest, m.width(tickText(t), kTickSize));
     if (draw) {
       s.line(x + kBarWidth, py, x + kBarWidth + kTickLen - 1, py, kBlack);
-      s.text(tickText(t), x + kBarWidth + kTickLen + 2, py, kTickSize, HAlign::left, VAlign::middle);
+      s.text(tickText(t), x + kBarWidth + kTickLen + 2, py, kTickSize, HAlign::left,
+             VAlign::middle);
     }
   }
   double cx = x + kBarWidth + kTickLen + 2 + widest + kGap;

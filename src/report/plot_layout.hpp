@@ -1,7 +1,8 @@
 #pragma once
 // Private to the plotting module (report/plot.cpp, report/plot_layout.cpp): text measured with
-// cairo in the figures' font (Meter), the display list every figure is laid out into (Scene), the layout constants and
-// the pieces several figure kinds share (ticks that fit, titles, colour bars, legends).
+// cairo in the figures' font (Meter), the display list every figure is laid out into (Scene), the
+// layout constants and the pieces several figure kinds share (ticks that fit, titles, colour bars,
+// legends).
 #include <cairo.h>
 
 #include <algorithm>
@@ -23,14 +24,14 @@
 namespace armstudy::report::plot_detail {
 
 // Layout constants [px, font sizes in px].
-constexpr double kPad = 10;          // canvas edge to anything
+constexpr double kPad = 10;  // canvas edge to anything
 constexpr double kTitleSize = 15;
-constexpr double kLabelSize = 13;    // axis and colour-bar labels, legend
-constexpr double kTickSize = 11;     // tick labels
+constexpr double kLabelSize = 13;  // axis and colour-bar labels, legend
+constexpr double kTickSize = 11;   // tick labels
 constexpr double kTickLen = 5;
-constexpr double kGap = 6;           // between neighbouring pieces of text
-constexpr double kBarWidth = 16;     // colour bar
-constexpr double kSwatch = 22;       // legend sample
+constexpr double kGap = 6;        // between neighbouring pieces of text
+constexpr double kBarWidth = 16;  // colour bar
+constexpr double kSwatch = 22;    // legend sample
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kPi = 3.14159265358979323846;
 
@@ -52,7 +53,9 @@ void useFigureFont(cairo_t* cr);  // selects figureFont() and its fixed font opt
 // Measures text in the figures' font.
 class Meter {
  public:
-  Meter() : surface_(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 4, 4)), cr_(cairo_create(surface_)) {
+  Meter()
+      : surface_(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 4, 4)),
+        cr_(cairo_create(surface_)) {
     useFigureFont(cr_);
   }
   ~Meter() {
@@ -95,8 +98,10 @@ class Meter {
       word.clear();
     };
     for (char c : s) {
-      if (c == ' ') flush_word();
-      else word += c;
+      if (c == ' ')
+        flush_word();
+      else
+        word += c;
     }
     flush_word();
     if (!line.empty() || lines.empty()) lines.push_back(line);
@@ -129,7 +134,8 @@ struct TextOp final : DrawOp {  // at (x, y) baseline-left; upright, or rotated 
   void draw(cairo_t* cr) const override;
 };
 struct RectOp final : DrawOp {
-  RectOp(double x_, double y_, double w_, double h_, double lw_, std::optional<Rgb> fill_, std::optional<Rgb> stroke_)
+  RectOp(double x_, double y_, double w_, double h_, double lw_, std::optional<Rgb> fill_,
+         std::optional<Rgb> stroke_)
       : x(x_), y(y_), w(w_), h(h_), lw(lw_), fill(fill_), stroke(stroke_) {}
   double x, y, w, h, lw;
   std::optional<Rgb> fill, stroke;
@@ -149,7 +155,8 @@ struct PolylineOp final : DrawOp {
   void draw(cairo_t* cr) const override;
 };
 struct DotsOp final : DrawOp {  // filled circles at 75 % opacity
-  DotsOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double r_) : pts(std::move(pts_)), c(c_), r(r_) {}
+  DotsOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double r_)
+      : pts(std::move(pts_)), c(c_), r(r_) {}
   std::vector<std::pair<double, double>> pts;
   Rgb c;
   double r;
@@ -174,7 +181,8 @@ class Scene {
   std::vector<TextBox> texts;
 
   // Horizontal text anchored at (x, y) by its measured box.
-  TextBox text(const std::string& s, double x, double y, double size, HAlign h, VAlign v, Rgb c = {0, 0, 0}) {
+  TextBox text(const std::string& s, double x, double y, double size, HAlign h, VAlign v,
+               Rgb c = {0, 0, 0}) {
     const double w = m_.width(s, size), hh = m_.height(size), asc = m_.ascent(size);
     const double x0 = x - w * (h == HAlign::left ? 0 : h == HAlign::centre ? 0.5 : 1);
     const double y0 = y - hh * (v == VAlign::top ? 0 : v == VAlign::middle ? 0.5 : 1);
@@ -194,13 +202,14 @@ class Scene {
     upward(s, x, size, y + w, y, y + w);
   }
   // Text reading bottom to top, centred on x, starting at y = start_y; its box spans top .. bottom.
-  void upward(const std::string& s, double x, double size, double start_y, double top, double bottom) {
+  void upward(const std::string& s, double x, double size, double start_y, double top,
+              double bottom) {
     const double hh = m_.height(size), asc = m_.ascent(size);
     ops_.push_back(std::make_unique<TextOp>(s, x - hh / 2 + asc, start_y, size, kBlackText, true));
     if (!s.empty()) texts.push_back({s, x - hh / 2, top, x + hh / 2, bottom});
   }
-  void rect(double x, double y, double w, double h, std::optional<Rgb> fill, std::optional<Rgb> stroke,
-            double lw = 1) {
+  void rect(double x, double y, double w, double h, std::optional<Rgb> fill,
+            std::optional<Rgb> stroke, double lw = 1) {
     ops_.push_back(std::make_unique<RectOp>(x, y, w, h, lw, fill, stroke));
   }
   void line(double x0, double y0, double x1, double y1, Rgb c, double lw = 1, bool dashed = false) {
@@ -208,7 +217,8 @@ class Scene {
   }
   void polyline(std::vector<std::pair<double, double>> pts, Rgb c, double lw, bool dashed,
                 std::optional<std::array<double, 4>> clip = std::nullopt) {
-    if (pts.size() >= 2) ops_.push_back(std::make_unique<PolylineOp>(std::move(pts), c, lw, dashed, clip));
+    if (pts.size() >= 2)
+      ops_.push_back(std::make_unique<PolylineOp>(std::move(pts), c, lw, dashed, clip));
   }
   void dots(std::vector<std::pair<double, double>> pts, Rgb c, double r) {
     if (!pts.empty()) ops_.push_back(std::make_unique<DotsOp>(std::move(pts), c, r));
@@ -236,8 +246,8 @@ inline const Rgb kBlack{0, 0, 0}, kGrid{225, 225, 225}, kFrame{60, 60, 60};
 std::vector<double> fittingTicks(double lo, double hi, double length_px, double per_tick_px,
                                  const std::function<double(const std::string&)>& extent);
 // Title lines centred over [x0, x1] from y; returns the y below them.
-double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1, double y,
-                  double size = kTitleSize);
+double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1,
+                  double y, double size = kTitleSize);
 double widestLine(const Meter& m, const std::string& s, double size, double max_w);
 // A vertical colour bar: bar at (x, y0..y1), ticks and labels to its right, then the scale's label
 // reading upwards (wrapped to the bar's height). Returns the right edge of what it drew.

@@ -11,8 +11,6 @@
 #define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 #include <signal.h>
-
-#include "study/mpi_transport.hpp"
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +22,8 @@
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include "study/mpi_transport.hpp"
 #endif
 
 namespace armstudy {
@@ -174,13 +174,15 @@ std::string batchLabel(const UnitBatch& b) {
 void shareOver(const SharedLoop& loop, MPI_Comm comm, int rank, int size) {
   const std::vector<ItemRange> chunks = loop.chunks();
   std::vector<SharedLoop::Chunk> mine;
-  for (std::size_t k = static_cast<std::size_t>(rank); k < chunks.size(); k += static_cast<std::size_t>(size))
+  for (std::size_t k = static_cast<std::size_t>(rank); k < chunks.size();
+       k += static_cast<std::size_t>(size))
     mine.push_back({k, chunks[k]});
   loop.computeAll(mine);
   std::string blob;
   for (const SharedLoop::Chunk& c : mine) {
     std::string bytes = loop.pack(c.first, c.second);
-    if (!bytes.empty()) pack(blob, {c.first, 0.0, 0.0, std::move(bytes)});  // empty: nothing to apply
+    if (!bytes.empty())
+      pack(blob, {c.first, 0.0, 0.0, std::move(bytes)});  // empty: nothing to apply
   }
   const std::vector<std::string> blobs = allGather(blob, rank, size, comm);
   for (int r = 0; r < size; ++r)
@@ -192,7 +194,11 @@ void shareOver(const SharedLoop& loop, MPI_Comm comm, int rank, int size) {
 class GroupRunner final : public UnitRunner {
  public:
   GroupRunner(const UnitRunner& outer, MPI_Comm comm, int rank, int size)
-      : UnitRunner(outer.store(), 1, UnitTimeRecord{}), outer_(outer), comm_(comm), rank_(rank), size_(size) {}
+      : UnitRunner(outer.store(), 1, UnitTimeRecord{}),
+        outer_(outer),
+        comm_(comm),
+        rank_(rank),
+        size_(size) {}
   long run(const UnitBatch&) const override {
     ARMSTUDY_CHECK(false, "a rank group runs shared loops only, no unit batches");
     return 0;
@@ -254,7 +260,8 @@ class MpiRankGroups final : public RankGroups {
 
 class MpiUnitRunner final : public UnitRunner {
  public:
-  MpiUnitRunner(const CheckpointStore& store, int threads, bool progress, int rank, int size, int group_ranks)
+  MpiUnitRunner(const CheckpointStore& store, int threads, bool progress, int rank, int size,
+                int group_ranks)
       : UnitRunner(store, threads),
         progress_(progress),
         rank_(rank),
@@ -312,8 +319,8 @@ class MpiUnitRunner final : public UnitRunner {
   // B: computes the units rank 0 hands out on demand (rank 0 serves the others from a thread while
   // it computes too); each rank saves what it computes and keeps it in `mine` with its timings;
   // `last_call` is the stage's latest compute call.
-  void computeHandedOut(const UnitBatch& batch, const std::vector<std::size_t>& todo, std::vector<PackedUnit>& mine,
-                        std::vector<std::size_t>& last_call) const {
+  void computeHandedOut(const UnitBatch& batch, const std::vector<std::size_t>& todo,
+                        std::vector<PackedUnit>& mine, std::vector<std::size_t>& last_call) const {
     std::mutex mine_m;
     const UnitBatch::Done done = [&](std::size_t k, const std::string& bytes) {
       store_.save(batch.ids[k], bytes);
@@ -360,15 +367,15 @@ class MpiUnitRunner final : public UnitRunner {
         }
       }
     }
-
   }
 
   // C: every rank receives the units computed elsewhere (sizes first: the ranks still computing
   // are waited for without spinning). D: the stage takes every unit it did not compute in its
   // latest call (UnitBatch); a unit it refuses (never expected for portable units) is computed
   // here once more.
-  void takeComputed(const UnitBatch& batch, const std::vector<std::size_t>& todo, const std::vector<PackedUnit>& mine,
-                    const std::vector<std::size_t>& last_call, std::vector<std::size_t>& refused) const {
+  void takeComputed(const UnitBatch& batch, const std::vector<std::size_t>& todo,
+                    const std::vector<PackedUnit>& mine, const std::vector<std::size_t>& last_call,
+                    std::vector<std::size_t>& refused) const {
     const std::size_t n = batch.ids.size();
     std::string blob;
     for (const PackedUnit& u : mine) pack(blob, u);
@@ -500,7 +507,8 @@ class MpiRanks final : public Ranks {
   }
   std::unique_ptr<UnitRunner> unitRunner(const CheckpointStore& store, int threads, bool progress,
                                          int group_ranks) const override {
-    return std::make_unique<MpiUnitRunner>(store, threads, progress && rank_ == 0, rank_, size_, group_ranks);
+    return std::make_unique<MpiUnitRunner>(store, threads, progress && rank_ == 0, rank_, size_,
+                                           group_ranks);
   }
   [[noreturn]] void abortJob(int exit_code) const override {
     MPI_Abort(MPI_COMM_WORLD, exit_code);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <condition_variable>
-#include <memory>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string_view>
 #include <thread>
@@ -35,7 +35,10 @@ struct Meeting {
 class MeetingRunner final : public UnitRunner {
  public:
   MeetingRunner(Meeting& meet, std::size_t index, const UnitRunner* outer)
-      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}), meet_(meet), index_(index), outer_(outer) {}
+      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}),
+        meet_(meet),
+        index_(index),
+        outer_(outer) {}
   long run(const UnitBatch&) const override {
     ARMSTUDY_CHECK(false, "an interleaved program runs shared loops only, no unit batches");
     return 0;
@@ -116,7 +119,8 @@ class Combined {
         const auto j = rd.get<std::uint64_t>();
         const std::string part = rd.getString();
         while (next < pieces.size() && pieces[next].loop != j) ++next;
-        ARMSTUDY_CHECK(rd.ok() && next < pieces.size(), "an interleaved step's chunk arrives whole");
+        ARMSTUDY_CHECK(rd.ok() && next < pieces.size(),
+                       "an interleaved step's chunk arrives whole");
         loops_[j]->unpack(pieces[next].chunk.first, pieces[next].chunk.second, part);
         ++next;
       }
@@ -130,12 +134,14 @@ class Combined {
   std::vector<Piece> piecesOf(std::size_t k, const ItemRange& r) const {
     std::vector<Piece> out;
     for (std::size_t j = 0; j < loops_.size(); ++j) {
-      const long b = std::max(r.begin, offsets_[j]), e = std::min(r.end, offsets_[j] + loops_[j]->items);
+      const long b = std::max(r.begin, offsets_[j]),
+                 e = std::min(r.end, offsets_[j] + loops_[j]->items);
       if (b < e) out.push_back({j, {k, ItemRange{b - offsets_[j], e - offsets_[j]}}});
     }
     return out;
   }
-  std::vector<std::vector<SharedLoop::Chunk>> pieces(const std::vector<SharedLoop::Chunk>& mine) const {
+  std::vector<std::vector<SharedLoop::Chunk>> pieces(
+      const std::vector<SharedLoop::Chunk>& mine) const {
     std::vector<std::vector<SharedLoop::Chunk>> split(loops_.size());
     for (const SharedLoop::Chunk& c : mine)
       for (const Piece& p : piecesOf(c.first, c.second)) split[p.loop].push_back(p.chunk);
@@ -176,10 +182,12 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
   meet.pending.assign(n, nullptr);
   meet.ended.assign(n, 0);
   meet.released.assign(n, 0);
-  for (std::size_t p = 0; p < n; ++p) meet.go.push_back(std::make_unique<std::condition_variable>());
+  for (std::size_t p = 0; p < n; ++p)
+    meet.go.push_back(std::make_unique<std::condition_variable>());
   std::vector<std::exception_ptr> errors(n);
   std::vector<std::unique_ptr<MeetingRunner>> runners;
-  for (std::size_t p = 0; p < n; ++p) runners.push_back(std::make_unique<MeetingRunner>(meet, p, runner));
+  for (std::size_t p = 0; p < n; ++p)
+    runners.push_back(std::make_unique<MeetingRunner>(meet, p, runner));
   std::vector<std::thread> threads;
   for (std::size_t p = 0; p < n; ++p)
     threads.emplace_back([&, p] {
@@ -210,7 +218,8 @@ void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgr
     std::vector<const SharedLoop*> loops;
     for (std::size_t p : at) loops.push_back(meet.pending[p]);
     try {
-      if (n == 1) {  // (with several programs, a last one's loops stay combined: their chunks name it)
+      if (n ==
+          1) {  // (with several programs, a last one's loops stay combined: their chunks name it)
         runSharedLoop(runner, *loops.front());
       } else {
         const Combined combined(loops, at);

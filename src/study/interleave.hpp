@@ -6,10 +6,10 @@
 // Each program runs in a thread of its own and gets a runner whose `share(loop)` waits until every
 // program still running has reached its next shared loop (or ended); those loops are then run as
 // one combined loop through the real runner (their items concatenated in program order), and the
-// programs go on. A distributed run therefore pays one barrier per combined step rather than one per
-// program step, and a step's cost, concentrated in a few chunks of each program, spreads over all
-// ranks. The programs' own work between loops runs concurrently; a loop's compute, finish, pack and
-// unpack run on the calling thread while every program waits, so results do not depend on the
+// programs go on. A distributed run therefore pays one barrier per combined step rather than one
+// per program step, and a step's cost, concentrated in a few chunks of each program, spreads over
+// all ranks. The programs' own work between loops runs concurrently; a loop's compute, finish, pack
+// and unpack run on the calling thread while every program waits, so results do not depend on the
 // interleaving: a program's loops are the same loops, only grouped (every rank groups alike, since
 // which loops a program reaches depends only on the loops' results).
 #include <cstddef>
@@ -36,13 +36,14 @@ struct ProgramResults {
   std::function<double(std::size_t program)> weight;
 };
 
-// Runs `programs` interleaved through `runner` (null: this process alone, as runSharedLoop). Returns
-// when all have ended; rethrows the first (by program index) exception a program threw, after every
-// program has ended, and a failure of the combined loop itself after telling every program to stop.
-// With `results`, the runner may split its processes into groups (UnitRunner::groups): each group
-// runs its programs interleaved among its own processes, then every program's results go to every
-// process. This spares each process the bookkeeping of the other groups' programs and the applying
-// of their every step's rows (docs/distributed.md, "Rank groups").
+// Runs `programs` interleaved through `runner` (null: this process alone, as runSharedLoop).
+// Returns when all have ended; rethrows the first (by program index) exception a program threw,
+// after every program has ended, and a failure of the combined loop itself after telling every
+// program to stop. With `results`, the runner may split its processes into groups
+// (UnitRunner::groups): each group runs its programs interleaved among its own processes, then
+// every program's results go to every process. This spares each process the bookkeeping of the
+// other groups' programs and the applying of their every step's rows (docs/distributed.md, "Rank
+// groups").
 void runInterleaved(const UnitRunner* runner, const std::vector<InterleavedProgram>& programs,
                     const ProgramResults* results = nullptr);
 

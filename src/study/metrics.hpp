@@ -9,7 +9,7 @@
 namespace armstudy {
 
 struct StudyMetrics {
-  std::map<std::string, double> scalars;                   // e.g. reach/<design>/<grid>/reachable_fraction
+  std::map<std::string, double> scalars;  // e.g. reach/<design>/<grid>/reachable_fraction
   std::map<std::string, std::vector<std::uint8_t>> flags;  // per-pose booleans, e.g. .../reachable
   void merge(const StudyMetrics& other);                   // ARMSTUDY_CHECKs that names are unique
 };

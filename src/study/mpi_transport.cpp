@@ -73,8 +73,8 @@ std::vector<std::string> allGather(const std::string& mine, int rank, int size, 
       displs[r] = at;
     }
     std::string joined(total, '\0');
-    MPI_Iallgatherv(mine.data(), counts[rank], MPI_BYTE, joined.data(), counts.data(), displs.data(), MPI_BYTE,
-                    comm, &req);
+    MPI_Iallgatherv(mine.data(), counts[rank], MPI_BYTE, joined.data(), counts.data(),
+                    displs.data(), MPI_BYTE, comm, &req);
     waitQuietly(req);
     for (int r = 0; r < size; ++r) all[r] = joined.substr(displs[r], counts[r]);
     return all;
@@ -112,7 +112,6 @@ std::vector<PackedUnit> unpack(const std::string& in) {
   }
   return out;
 }
-
 
 }  // namespace armstudy::mpi
 

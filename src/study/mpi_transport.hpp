@@ -22,7 +22,8 @@ void broadcast(std::string& bytes, int root, std::uint64_t size, MPI_Comm comm =
 // Every rank's `mine`, on every rank of `comm` (rank and size: this rank's in comm) (sizes first:
 // ranks still computing are waited for without spinning; then one allgather, or a broadcast per
 // rank when the total exceeds an int count).
-std::vector<std::string> allGather(const std::string& mine, int rank, int size, MPI_Comm comm = MPI_COMM_WORLD);
+std::vector<std::string> allGather(const std::string& mine, int rank, int size,
+                                   MPI_Comm comm = MPI_COMM_WORLD);
 
 // Packed units: (int64 index, double seconds, double CPU seconds, uint64 length, bytes)...
 struct PackedUnit {

@@ -45,7 +45,8 @@ std::string baselineToJson(const Baseline& b) {
   return j.dump(2) + "\n";
 }
 
-Baseline parseBaseline(const std::string& text, const std::string& file, const std::string& expected_study) {
+Baseline parseBaseline(const std::string& text, const std::string& file,
+                       const std::string& expected_study) {
   ordered_json j;
   try {
     j = ordered_json::parse(text);
@@ -82,7 +83,8 @@ Baseline parseBaseline(const std::string& text, const std::string& file, const s
       const std::string s = v.get<std::string>();
       std::vector<std::uint8_t> f(s.size());
       for (std::size_t i = 0; i < s.size(); ++i) {
-        if (s[i] != '0' && s[i] != '1') throw std::runtime_error("flag string of '" + k + "' holds '" + s[i] + "'");
+        if (s[i] != '0' && s[i] != '1')
+          throw std::runtime_error("flag string of '" + k + "' holds '" + s[i] + "'");
         f[i] = s[i] == '1';
       }
       b.metrics.flags[k] = f;
@@ -93,7 +95,8 @@ Baseline parseBaseline(const std::string& text, const std::string& file, const s
   return b;
 }
 
-CheckResult compareToBaseline(const Baseline& base, const StudyMetrics& now, const RegressionSpec& spec) {
+CheckResult compareToBaseline(const Baseline& base, const StudyMetrics& now,
+                              const RegressionSpec& spec) {
   CheckResult r;
   std::set<std::string> names;
   for (const auto& [k, v] : base.metrics.scalars) names.insert(k);
@@ -117,7 +120,8 @@ CheckResult compareToBaseline(const Baseline& base, const StudyMetrics& now, con
       row.now = n->second;
       const double allowed = rule.abs + rule.rel * std::abs(row.baseline);
       const bool same_nan = std::isnan(row.baseline) && std::isnan(row.now);
-      row.verdict = (same_nan || std::abs(row.now - row.baseline) <= allowed) ? Verdict::Pass : Verdict::Fail;
+      row.verdict =
+          (same_nan || std::abs(row.now - row.baseline) <= allowed) ? Verdict::Pass : Verdict::Fail;
     }
     r.rows.push_back(row);
   }
@@ -172,8 +176,8 @@ int CheckResult::failures() const {
 std::string checkTable(const CheckResult& r, bool only_moved) {
   std::string out;
   char buf[1024];
-  std::snprintf(buf, sizeof buf, "%-64s %16s %16s %22s %8s\n", "metric", "baseline", "now", "tolerance",
-                "verdict");
+  std::snprintf(buf, sizeof buf, "%-64s %16s %16s %22s %8s\n", "metric", "baseline", "now",
+                "tolerance", "verdict");
   out += buf;
   int shown = 0;
   for (const auto& row : r.rows) {
@@ -184,14 +188,15 @@ std::string checkTable(const CheckResult& r, bool only_moved) {
     if (row.is_flags)
       std::snprintf(tol, sizeof tol, "%d flip(s) of %d", row.flips, row.flips_allowed);
     else
-      std::snprintf(tol, sizeof tol, "+/-%.3g%s", row.abs_tol + row.rel_tol * std::abs(row.baseline),
+      std::snprintf(tol, sizeof tol, "+/-%.3g%s",
+                    row.abs_tol + row.rel_tol * std::abs(row.baseline),
                     row.rel_tol > 0 ? " (rel)" : "");
-    std::snprintf(buf, sizeof buf, "%-64s %16.9g %16.9g %22s %8s\n", row.metric.c_str(), row.baseline, row.now,
-                  tol, toString(row.verdict));
+    std::snprintf(buf, sizeof buf, "%-64s %16.9g %16.9g %22s %8s\n", row.metric.c_str(),
+                  row.baseline, row.now, tol, toString(row.verdict));
     out += buf;
   }
-  std::snprintf(buf, sizeof buf, "%zu metric(s) compared, %d shown, %d outside tolerance\n", r.rows.size(),
-                shown, r.failures());
+  std::snprintf(buf, sizeof buf, "%zu metric(s) compared, %d shown, %d outside tolerance\n",
+                r.rows.size(), shown, r.failures());
   out += buf;
   return out;
 }
@@ -202,8 +207,11 @@ std::string checkJson(const CheckResult& r) {
   j["failures"] = r.failures();
   ordered_json rows = ordered_json::array();
   for (const auto& row : r.rows) {
-    ordered_json o{{"metric", row.metric}, {"kind", row.is_flags ? "flags" : "scalar"},
-                   {"baseline", row.baseline}, {"now", row.now}, {"verdict", toString(row.verdict)}};
+    ordered_json o{{"metric", row.metric},
+                   {"kind", row.is_flags ? "flags" : "scalar"},
+                   {"baseline", row.baseline},
+                   {"now", row.now},
+                   {"verdict", toString(row.verdict)}};
     if (row.is_flags) {
       o["flips"] = row.flips;
       o["flips_allowed"] = row.flips_allowed;

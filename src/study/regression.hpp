@@ -14,22 +14,22 @@ inline constexpr int kBaselineFormatVersion = 1;
 // matches any run of characters, including '/'); the first matching rule wins.
 struct ToleranceRule {
   std::string metric;
-  double abs = 0;   // |now - baseline| <= abs + rel * |baseline| passes (scalars)
+  double abs = 0;  // |now - baseline| <= abs + rel * |baseline| passes (scalars)
   double rel = 0;
-  int flips = 0;    // per-pose flag metrics: number of entries allowed to change
-  int line = 0;     // where it was declared, for messages
+  int flips = 0;  // per-pose flag metrics: number of entries allowed to change
+  int line = 0;   // where it was declared, for messages
 };
 
 struct RegressionSpec {
-  std::string baseline_path;          // resolved path of the baseline file
-  std::vector<ToleranceRule> rules;   // in declaration order
+  std::string baseline_path;                       // resolved path of the baseline file
+  std::vector<ToleranceRule> rules;                // in declaration order
   ToleranceRule fallback{"*", 1e-12, 1e-9, 0, 0};  // for metrics no rule matches
   const ToleranceRule& ruleFor(const std::string& metric) const;
 };
 
 struct Baseline {
   int format_version = kBaselineFormatVersion;
-  std::string study;             // study name it belongs to
+  std::string study;  // study name it belongs to
   std::string armstudy_version;
   std::string git_revision;
   StudyMetrics metrics;
@@ -38,7 +38,8 @@ struct Baseline {
 std::string baselineToJson(const Baseline& b);
 // Parses a baseline; throws InputError(file, ...) for malformed JSON, an unknown format version,
 // or a baseline of another study (`expected_study`).
-Baseline parseBaseline(const std::string& text, const std::string& file, const std::string& expected_study);
+Baseline parseBaseline(const std::string& text, const std::string& file,
+                       const std::string& expected_study);
 
 enum class Verdict { Pass, Fail, Missing, New };
 const char* toString(Verdict v);
@@ -46,7 +47,7 @@ const char* toString(Verdict v);
 struct CheckRow {
   std::string metric;
   bool is_flags = false;
-  double baseline = 0, now = 0;   // scalars; for flags: counts of set entries
+  double baseline = 0, now = 0;  // scalars; for flags: counts of set entries
   double abs_tol = 0, rel_tol = 0;
   int flips = 0, flips_allowed = 0;
   std::vector<std::size_t> flipped;  // indices of flipped entries (first few)
@@ -54,12 +55,13 @@ struct CheckRow {
 };
 
 struct CheckResult {
-  std::vector<CheckRow> rows;   // sorted by metric name
+  std::vector<CheckRow> rows;  // sorted by metric name
   bool passed() const;
   int failures() const;
 };
 
-CheckResult compareToBaseline(const Baseline& baseline, const StudyMetrics& now, const RegressionSpec& spec);
+CheckResult compareToBaseline(const Baseline& baseline, const StudyMetrics& now,
+                              const RegressionSpec& spec);
 std::string checkTable(const CheckResult& r, bool only_moved);  // human-readable table
 std::string checkJson(const CheckResult& r);                    // for CI
 

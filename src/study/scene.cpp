@@ -37,7 +37,8 @@ struct MeshBuilder {
         const double th = M_PI * i / kRings;
         for (int k = 0; k < kSegments; ++k) {
           const double ph = 2 * M_PI * k / kSegments;
-          ring[k] = add(c + r * Eigen::Vector3d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+          ring[k] = add(c + r * Eigen::Vector3d(std::sin(th) * std::cos(ph),
+                                                std::sin(th) * std::sin(ph), std::cos(th)));
         }
       }
       for (int k = 0; k < kSegments; ++k) {
@@ -104,14 +105,16 @@ io::PolyDataSet robotPolyData(const Model& model, const Eigen::Ref<const Eigen::
   body.front() = -1;
   for (const CollisionVolume& v : model.collision.volumes) {
     const Eigen::Matrix3d R = v.link < 0 ? Eigen::Matrix3d(model.T_WB.linear()) : ws.R_WF[v.link];
-    const Eigen::Vector3d p = v.link < 0 ? Eigen::Vector3d(model.T_WB.translation()) : ws.p_WF[v.link];
+    const Eigen::Vector3d p =
+        v.link < 0 ? Eigen::Vector3d(model.T_WB.translation()) : ws.p_WF[v.link];
     std::array<Eigen::Vector3d, 3> p_W;
     for (int k = 0; k < 3; ++k) p_W[k] = p + R * v.p_L[k];
     mesh.value = v.link;
     mesh.ssv(v.type, p_W, v.radius_m);
   }
   part.resize(poly.points.size(), 1.0);
-  poly.point_arrays = {{"part", io::ArrayType::UInt8, 1, part}, {"body", io::ArrayType::Int32, 1, body}};
+  poly.point_arrays = {{"part", io::ArrayType::UInt8, 1, part},
+                       {"body", io::ArrayType::Int32, 1, body}};
   std::vector<std::string> legend{"part 0: skeleton (base origin, joint frame origins, TCP)",
                                   "part 1: collision volume surface", "body -1: base"};
   for (int i = 0; i < model.dof(); ++i)
@@ -133,8 +136,8 @@ io::PolyDataSet obstaclePolyData(const std::vector<collision::Obstacle>& obstacl
     const collision::Obstacle& o = obstacles[i];
     mesh.value = static_cast<double>(i);
     mesh.ssv(o.type, o.p_W, o.radius_m);
-    legend.push_back("obstacle " + std::to_string(i) + ": " + o.name + " (" + toString(o.type) + ", r = " +
-                     fixed(o.radius_m) + " m)");
+    legend.push_back("obstacle " + std::to_string(i) + ": " + o.name + " (" + toString(o.type) +
+                     ", r = " + fixed(o.radius_m) + " m)");
   }
   poly.point_arrays = {{"obstacle", io::ArrayType::Int32, 1, index}};
   poly.field_data = io::fieldData({"position: m", "obstacle: 1"}, legend);

@@ -300,16 +300,19 @@ main()
 }  // namespace
 
 bool isSpatialFile(const std::string& rel) {
-  return endsWith(rel, ".vti") || endsWith(rel, ".vts") || endsWith(rel, ".vtp") || endsWith(rel, ".pvd");
+  return endsWith(rel, ".vti") || endsWith(rel, ".vts") || endsWith(rel, ".vtp") ||
+         endsWith(rel, ".pvd");
 }
 
 std::string sceneScript(const std::string& study_name, const std::vector<std::string>& files) {
   std::string s = "# ParaView scene of the armstudy study \"" + study_name +
                   "\" (docs/paraview.md), written by `armstudy run`.\n"
                   "#   pvpython scene.py                         an interactive window\n"
-                  "#   pvpython scene.py --screenshot scene.png  renders offscreen into a PNG (--no-bars: without colour bars)\n"
+                  "#   pvpython scene.py --screenshot scene.png  renders offscreen into a PNG "
+                  "(--no-bars: without colour bars)\n"
                   "#   paraview --script=scene.py                in the ParaView GUI\n"
-                  "WORLD = \"" + std::string(io::kWorldMetres) + "\"\nFILES = [\n";
+                  "WORLD = \"" +
+                  std::string(io::kWorldMetres) + "\"\nFILES = [\n";
   for (const std::string& f : files)
     if (isSpatialFile(f) && f.find("/step_") == std::string::npos) s += "    \"" + f + "\",\n";
   s += "]\n";

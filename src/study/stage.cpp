@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <fstream>
-#include <exception>
 #include <stdexcept>
 
 #include "common/errors.hpp"
@@ -72,7 +72,9 @@ long UnitRunner::run(const UnitBatch& batch) const {
       todo.push_back(k);
   }
   if (todo.empty()) return resumed;
-  const auto save = [&](std::size_t k, const std::string& bytes) { store_.save(batch.ids[k], bytes); };
+  const auto save = [&](std::size_t k, const std::string& bytes) {
+    store_.save(batch.ids[k], bytes);
+  };
   if (!times_.enabled()) {
     batch.compute(todo, save);
     return resumed;
@@ -88,17 +90,20 @@ long UnitRunner::run(const UnitBatch& batch) const {
       save(j, bytes);
       kept[j] = bytes;
     });
-    lines.push_back({batch.ids[k], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+    lines.push_back({batch.ids[k],
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                      UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, kept[k].size()});
   }
   for (std::size_t i = 0; i + 1 < todo.size(); ++i)
-    ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]), "a unit computed by this run loads back: " + batch.ids[todo[i]]);
+    ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]),
+                   "a unit computed by this run loads back: " + batch.ids[todo[i]]);
   times_.append(lines);
   return resumed;
 }
 
 long runUnitBatches(const UnitRunner& runner, const std::vector<UnitBatch>& batches) {
-  if (batches.size() == 1 || !std::all_of(batches.begin(), batches.end(), [](const UnitBatch& b) { return b.portable; })) {
+  if (batches.size() == 1 ||
+      !std::all_of(batches.begin(), batches.end(), [](const UnitBatch& b) { return b.portable; })) {
     long loaded = 0;
     for (const UnitBatch& b : batches) loaded += runner.run(b);
     return loaded;
@@ -111,7 +116,9 @@ long runUnitBatches(const UnitRunner& runner, const std::vector<UnitBatch>& batc
     all.ids.insert(all.ids.end(), b.ids.begin(), b.ids.end());
   }
   const auto owner = [&](std::size_t k) {
-    return static_cast<std::size_t>(std::upper_bound(offset.begin(), offset.end(), k) - offset.begin()) - 1;
+    return static_cast<std::size_t>(std::upper_bound(offset.begin(), offset.end(), k) -
+                                    offset.begin()) -
+           1;
   };
   all.load = [&](std::size_t k, const std::string& bytes) {
     const std::size_t b = owner(k);
@@ -124,7 +131,8 @@ long runUnitBatches(const UnitRunner& runner, const std::vector<UnitBatch>& batc
       mine[b].push_back(k - offset[b]);
     }
     for (std::size_t b = 0; b < batches.size(); ++b)
-      batches[b].compute(mine[b], [&, b](std::size_t j, const std::string& bytes) { done(j + offset[b], bytes); });
+      batches[b].compute(
+          mine[b], [&, b](std::size_t j, const std::string& bytes) { done(j + offset[b], bytes); });
   };
   return runner.run(all);
 }
@@ -167,7 +175,8 @@ void UnitRunner::share(const SharedLoop& loop) const {
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = UnitTimeRecord::processCpuSeconds();
     loop.compute({all.back()});
-    lines.push_back({"share:" + loop.id, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+    lines.push_back({"share:" + loop.id,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                      UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, 0,
                      loop.part ? static_cast<long>(loop.part(k)) : -1L});
   }
@@ -183,14 +192,17 @@ RankGroupPlan planRankGroups(const std::vector<double>& weights, int ranks, int 
   RankGroupPlan plan;
   const std::size_t programs = weights.size();
   plan.group_of.assign(programs, 0);
-  const std::size_t g = std::min<std::size_t>(programs, static_cast<std::size_t>(ranks / std::max(1, min_ranks)));
+  const std::size_t g =
+      std::min<std::size_t>(programs, static_cast<std::size_t>(ranks / std::max(1, min_ranks)));
   if (g < 2) return plan;
   std::vector<std::size_t> order(programs);
   for (std::size_t p = 0; p < programs; ++p) order[p] = p;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return weights[a] > weights[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return weights[a] > weights[b]; });
   std::vector<double> load(g, 0.0);
   for (const std::size_t p : order) {
-    const std::size_t j = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    const std::size_t j =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
     plan.group_of[p] = j;
     load[j] += weights[p];
   }

@@ -60,11 +60,11 @@ struct StageTiming {
 // What one stage run gives back to the runner. Timings go to the manifest only, so result files
 // stay byte-identical across runs.
 struct StageResult {
-  std::vector<std::string> files;  // relative to the study output folder, in writing order
-  StudyMetrics metrics;            // "<stage>/<design>/..." for baselines and checks
-  double seconds = 0;              // the stage's wall time
+  std::vector<std::string> files;    // relative to the study output folder, in writing order
+  StudyMetrics metrics;              // "<stage>/<design>/..." for baselines and checks
+  double seconds = 0;                // the stage's wall time
   std::vector<StageTiming> timings;  // finer timings (per grid, per map, ...)
-  long units_resumed = 0;          // work units loaded from the checkpoint store instead of computed
+  long units_resumed = 0;  // work units loaded from the checkpoint store instead of computed
   // The answer to the stage's question, with its numbers (Markdown sentences, one per item), and
   // what a reader must know before trusting it: report.md and report.html open with them.
   std::vector<std::string> answer, warnings;
@@ -232,7 +232,7 @@ struct StageContext {
   const RunOptions& options;
   const std::string& output_dir;  // <output_root>/<study name>
   const UnitRunner& units;
-  int threads = 1;                // resolved thread count (options.threads or the OpenMP default)
+  int threads = 1;  // resolved thread count (options.threads or the OpenMP default)
   // False on the ranks of a distributed run other than 0, whose output folder is a private scratch
   // folder nobody reads: a stage may list files there without writing them when it only passes on
   // bytes that other ranks rendered (docs/distributed.md).
@@ -291,8 +291,10 @@ class FunctionStage final : public Stage {
   using Read = std::function<std::optional<Settings>(const SectionInput&)>;
   using Run = std::function<StageResult(const StageContext&, const Settings&)>;
   FunctionStage(std::string name, Read read, Run run, std::string timing_name = "")
-      : name_(std::move(name)), timing_(timing_name.empty() ? name_ : std::move(timing_name)),
-        read_(std::move(read)), run_(std::move(run)) {}
+      : name_(std::move(name)),
+        timing_(timing_name.empty() ? name_ : std::move(timing_name)),
+        read_(std::move(read)),
+        run_(std::move(run)) {}
   // A run function with a last results pointer (tests pass one to see the results): the stage
   // passes none.
   template <class Results>

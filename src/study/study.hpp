@@ -17,8 +17,8 @@ class Stage;
 
 // One design as a study evaluates it: a design file as written, or a variant derived from one.
 struct StudyDesign {
-  Model model;                 // model.name is the stable name used in every output
-  std::string base_name;       // the design it derives from (== model.name for plain designs)
+  Model model;            // model.name is the stable name used in every output
+  std::string base_name;  // the design it derives from (== model.name for plain designs)
   std::vector<std::pair<std::string, double>> overrides;  // (entry key, SI value) applied
   // [[design]] reference_reach_m: a reach to compare the largest reach found with (a datasheet's;
   // 0 = none; variants have none).

@@ -13,16 +13,19 @@ namespace armstudy {
 int AxisRange::count() const {
   if (!(step > 0) || !(to >= from)) return 0;
   const double n = std::floor((to - from) / step * (1.0 + defaults::kGridRangeSlack) +
-                              defaults::kGridRangeSlack) + 1.0;
+                              defaults::kGridRangeSlack) +
+                   1.0;
   return n > defaults::kMaxGridAxisValues ? 0 : static_cast<int>(n);
 }
 
 std::string AxisRange::validate() const {
-  if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step)) return "range values must be finite";
+  if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step))
+    return "range values must be finite";
   if (!(step > 0)) return "step must be positive";
   if (to < from) return "empty range: 'to' is below 'from'";
   if ((to - from) / step + 1.0 > defaults::kMaxGridAxisValues)
-    return "too many values on one axis (more than " + std::to_string(defaults::kMaxGridAxisValues) + ")";
+    return "too many values on one axis (more than " +
+           std::to_string(defaults::kMaxGridAxisValues) + ")";
   return "";
 }
 
@@ -72,7 +75,8 @@ std::string TaskGrid::validate() const {
   if (orientations.empty()) return "a grid needs at least one orientation";
   if (task_space.dim() == 0) return "empty task space";
   if (static_cast<double>(points()) * orientations.size() > defaults::kMaxGridPoses)
-    return "grid too large (more than " + std::to_string(static_cast<long>(defaults::kMaxGridPoses)) + " poses)";
+    return "grid too large (more than " +
+           std::to_string(static_cast<long>(defaults::kMaxGridPoses)) + " poses)";
   return "";
 }
 

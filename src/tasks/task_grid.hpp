@@ -38,15 +38,15 @@ TaskVector6 makeTaskVector(const Eigen::Vector3d& p_W, const Orientation& o);
 struct TaskGrid {
   std::string name;
   TaskSpace task_space = TaskSpace::spraying();
-  std::array<AxisRange, 3> axes;         // x, y, z [m]
+  std::array<AxisRange, 3> axes;          // x, y, z [m]
   std::vector<Orientation> orientations;  // at least one (ignored for position-only tasks)
-  std::string reference;                  // optional statement to compare against (shown in reports)
+  std::string reference;  // optional statement to compare against (shown in reports)
 
   std::array<int, 3> dims() const { return {axes[0].count(), axes[1].count(), axes[2].count()}; }
-  long points() const;                    // nx * ny * nz
+  long points() const;  // nx * ny * nz
   long size() const { return points() * static_cast<long>(orientations.size()); }
-  int spatialDimension() const;           // number of axes with more than one value
-  Eigen::Vector3d position(long point) const;     // point = (k * ny + j) * nx + i
+  int spatialDimension() const;                // number of axes with more than one value
+  Eigen::Vector3d position(long point) const;  // point = (k * ny + j) * nx + i
   TaskVector6 pose(long index) const;
   long pointOf(long index) const { return index % points(); }
   int orientationOf(long index) const { return static_cast<int>(index / points()); }
@@ -54,18 +54,17 @@ struct TaskGrid {
   // processes each line in order and warm-starts only from the same line (deterministic).
   long lineLength() const;
   long lines() const { return size() / lineLength(); }
-  std::string validate() const;           // empty when valid
+  std::string validate() const;  // empty when valid
 };
 
 // An explicit list of poses, e.g. read from CSV.
 struct PoseList {
   std::string name;
-  std::string file;                       // source file (for messages and manifests)
+  std::string file;  // source file (for messages and manifests)
   TaskSpace task_space = TaskSpace::position();
   std::vector<TaskVector6> poses;
-  std::vector<int> lines;                 // source line of each pose (1-based)
-  bool has_orientation = false;           // the CSV carried alpha, beta, gamma columns
+  std::vector<int> lines;        // source line of each pose (1-based)
+  bool has_orientation = false;  // the CSV carried alpha, beta, gamma columns
 };
-
 
 }  // namespace armstudy

@@ -15,7 +15,8 @@ double timePerCall(Fn&& fn, int iters, int batches = 7) {
   for (int b = 0; b < batches; ++b) {
     const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < iters; ++i) fn(i);
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / iters);
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
+                iters);
   }
   std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
   return t[t.size() / 2];

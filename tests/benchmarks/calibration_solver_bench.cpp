@@ -3,7 +3,8 @@
 // Ceres (Levenberg-Marquardt trust region, dense QR, parameter bounds, central-difference
 // Jacobians of the same prediction), and the engine's linearised covariance against
 // ceres::Covariance. Same problems, same start (zero change to the design), same residuals.
-//   cmake --build build --target calibration_solver_bench && ./build/tests/benchmarks/calibration_solver_bench
+//   cmake --build build --target calibration_solver_bench &&
+//   ./build/tests/benchmarks/calibration_solver_bench
 // Prints, per problem: final SSR of both, the largest parameter difference relative to the
 // parameter's 95 % interval half-width, the time per fit and the ratio Ceres / in-house.
 #include <ceres/ceres.h>
@@ -75,14 +76,16 @@ struct CeresFit {
 };
 
 // Solves from `start` (solve) or only evaluates the covariance at `start` (covariance, no solve).
-CeresFit ceresFit(const ArmProblem& P, const EffectValues& start, bool covariance, bool solve = true) {
+CeresFit ceresFit(const ArmProblem& P, const EffectValues& start, bool covariance,
+                  bool solve = true) {
   Residuals f{&P, start, 0};
   for (const auto& e : start) f.n += static_cast<int>(e.x.size());
   CeresFit out;
   out.x.assign(f.n, 0.0);
   for (int k = 0, a = 0; a < static_cast<int>(start.size()); ++a)
     for (int j = 0; j < start[a].x.size(); ++j) out.x[k++] = start[a].x[j];
-  auto* cost = new ceres::DynamicNumericDiffCostFunction<Residuals, ceres::CENTRAL>(new Residuals(f));
+  auto* cost =
+      new ceres::DynamicNumericDiffCostFunction<Residuals, ceres::CENTRAL>(new Residuals(f));
   cost->AddParameterBlock(f.n);
   cost->SetNumResiduals(P.rows() * P.channels());
   ceres::Problem problem;
@@ -172,20 +175,25 @@ void run(const Case& c) {
   const double t_ceres = cpuPerCall([&](int) { theirs = ceresFit(P, c.start, false); }, c.iters);
   // Parameter agreement in units of the engine's standard deviation (noise-free: sd of J^T J).
   const std::vector<double> sd = engineSd(P, mine.values);
-  const double s = std::sqrt(mine.ssr / std::max(1, P.rows() * P.channels() - static_cast<int>(sd.size())));
+  const double s =
+      std::sqrt(mine.ssr / std::max(1, P.rows() * P.channels() - static_cast<int>(sd.size())));
   double worst = 0;
   int k = 0;
   for (const auto& e : mine.values)
-    for (int j = 0; j < e.x.size(); ++j, ++k) worst = std::max(worst, std::abs(e.x[j] - theirs.x[k]) / (s * sd[k]));
+    for (int j = 0; j < e.x.size(); ++j, ++k)
+      worst = std::max(worst, std::abs(e.x[j] - theirs.x[k]) / (s * sd[k]));
   // Covariance at the engine's optimum: the engine's (J^T J)^-1 against ceres::Covariance.
-  const double t_cov_mine = cpuPerCall([&](int) { bench::doNotOptimize(engineSd(P, mine.values)[0]); }, c.iters);
+  const double t_cov_mine =
+      cpuPerCall([&](int) { bench::doNotOptimize(engineSd(P, mine.values)[0]); }, c.iters);
   CeresFit withCov;
-  const double t_cov_ceres = cpuPerCall([&](int) { withCov = ceresFit(P, mine.values, true, false); }, c.iters);
+  const double t_cov_ceres =
+      cpuPerCall([&](int) { withCov = ceresFit(P, mine.values, true, false); }, c.iters);
   double cov_rel = 0;
   for (std::size_t j = 0; j < sd.size() && j < withCov.sd.size(); ++j)
     cov_rel = std::max(cov_rel, std::abs(withCov.sd[j] - sd[j]) / sd[j]);
-  std::printf("%-48s %3d %11.6g %11.6g %9.2e %9.3g %9.3g %6.1f %9.2e %6.1f\n", c.name.c_str(), k, mine.ssr, theirs.ssr,
-              worst, 1e3 * t_mine, 1e3 * t_ceres, t_ceres / t_mine, cov_rel, t_cov_ceres / t_cov_mine);
+  std::printf("%-48s %3d %11.6g %11.6g %9.2e %9.3g %9.3g %6.1f %9.2e %6.1f\n", c.name.c_str(), k,
+              mine.ssr, theirs.ssr, worst, 1e3 * t_mine, 1e3 * t_ceres, t_ceres / t_mine, cov_rel,
+              t_cov_ceres / t_cov_mine);
 }
 
 }  // namespace
@@ -197,14 +205,18 @@ int main() {
   {  // Thesis chapter 4: refit eq. 3.30 + Stribeck at the fitted v_S, the B.2 sample (linear).
     const DriveData data = readDriveData(src("studies/data/drive_testbed_module_b2.csv"));
     std::shared_ptr<ArmProblem> P = makeDriveProblem(d9, "j6", data);
-    cases.push_back({"drive B.2: refit + stribeck (v_S 64.1)", P,
-                     {zeroOf(*P, kRefitEffect), zeroOf(*P, "stribeck", 64.12)}, 50});
+    cases.push_back({"drive B.2: refit + stribeck (v_S 64.1)",
+                     P,
+                     {zeroOf(*P, kRefitEffect), zeroOf(*P, "stribeck", 64.12)},
+                     50});
     // The same with an active bound: Coulomb friction capped at 0.12 N m (fit: 0.135).
     std::shared_ptr<ArmProblem> Q = makeDriveProblem(d9, "j6", data);
     ArmParam& c = Q->catalogue[Q->findEffect(kRefitEffect)].params[0];
     c.upper = 0.12 - c.design;
-    cases.push_back({"drive B.2: same, coulomb <= 0.12 (bound active)", Q,
-                     {zeroOf(*Q, kRefitEffect), zeroOf(*Q, "stribeck", 64.12)}, 50});
+    cases.push_back({"drive B.2: same, coulomb <= 0.12 (bound active)",
+                     Q,
+                     {zeroOf(*Q, kRefitEffect), zeroOf(*Q, "stribeck", 64.12)},
+                     50});
   }
   {  // tcp: a joint offset and a link length from zero (nonlinear kinematics), 60 poses.
     TcpSynthOptions so;
@@ -213,8 +225,10 @@ int main() {
     so.seed = 1;
     so.hidden = {"joint_offset.j3:offset=0.01", "link_length.j4.x:dx=0.005"};
     std::shared_ptr<ArmProblem> P = makeTcpProblem(d7, synthesizeTcp(d7, so));
-    cases.push_back({"tcp 7-DoF: joint_offset.j3 + link_length.j4.x", P,
-                     {zeroOf(*P, "joint_offset.j3"), zeroOf(*P, "link_length.j4.x")}, 20});
+    cases.push_back({"tcp 7-DoF: joint_offset.j3 + link_length.j4.x",
+                     P,
+                     {zeroOf(*P, "joint_offset.j3"), zeroOf(*P, "link_length.j4.x")},
+                     20});
   }
   {  // trajectory: a payload from zero (10 linear inertial parameters), 3 s at 40 Hz.
     TrajectorySynthOptions so;
@@ -226,11 +240,13 @@ int main() {
     std::shared_ptr<ArmProblem> P = makeTrajectoryProblem(d7, synthesizeTrajectory(d7, so));
     cases.push_back({"trajectory 7-DoF: payload (10 parameters)", P, {zeroOf(*P, "payload")}, 3});
   }
-  std::printf("CPU time per fit (this thread), median of 5 batches; |dx|/sd: largest parameter difference in\n"
-              "standard deviations; cov rel: largest relative difference of the standard deviations;\n"
-              "ratios are Ceres / engine (fit, covariance).\n");
-  std::printf("%-48s %3s %11s %11s %9s %9s %9s %6s %9s %6s\n", "problem", "p", "SSR engine", "SSR Ceres", "|dx|/sd",
-              "engine ms", "Ceres ms", "ratio", "cov rel", "cov r.");
+  std::printf(
+      "CPU time per fit (this thread), median of 5 batches; |dx|/sd: largest parameter difference "
+      "in\n"
+      "standard deviations; cov rel: largest relative difference of the standard deviations;\n"
+      "ratios are Ceres / engine (fit, covariance).\n");
+  std::printf("%-48s %3s %11s %11s %9s %9s %9s %6s %9s %6s\n", "problem", "p", "SSR engine",
+              "SSR Ceres", "|dx|/sd", "engine ms", "Ceres ms", "ratio", "cov rel", "cov r.");
   for (const Case& c : cases) run(c);
   return 0;
 }

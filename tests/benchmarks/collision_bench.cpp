@@ -12,8 +12,8 @@
 #include <fcl/fcl.h>
 
 #include <algorithm>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <random>
 #include <vector>
@@ -36,7 +36,8 @@ std::vector<Eigen::VectorXd> configurations(const Model& m, int count) {
   for (int s = 0; s < count; ++s) {
     Eigen::VectorXd q(m.dof());
     for (int i = 0; i < m.dof(); ++i)
-      q[i] = std::uniform_real_distribution<double>(m.joints[i].limits.q_min, m.joints[i].limits.q_max)(rng);
+      q[i] = std::uniform_real_distribution<double>(m.joints[i].limits.q_min,
+                                                    m.joints[i].limits.q_max)(rng);
     qs.push_back(q);
   }
   return qs;
@@ -115,7 +116,8 @@ FclVolume toFcl(const CollisionVolume& v) {
     const Eigen::Vector3d d = v.p_L[1] - v.p_L[0];
     f.geom = std::make_shared<fcl::Capsuled>(v.radius_m, d.norm());
     f.T_LG.translation() = 0.5 * (v.p_L[0] + v.p_L[1]);
-    f.T_LG.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d).toRotationMatrix();
+    f.T_LG.linear() =
+        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d).toRotationMatrix();
   }
   return f;
 }
@@ -146,8 +148,8 @@ void benchModel(const char* path) {
       }
   }
   std::printf("\n%s: %d SSVs (%d triangles), %d collision pairs of bodies, %d SSV pairs\n",
-              full.name.c_str(), ws_full.num_volumes,
-              ws_full.num_volumes - ws.num_volumes, ws_full.num_self, full_pairs);
+              full.name.c_str(), ws_full.num_volumes, ws_full.num_volumes - ws.num_volumes,
+              ws_full.num_self, full_pairs);
 
   // --- 1. full model, per configuration ---
   const double t_fk = bestNs(kConfigurations, [&](int b, int e) {
@@ -218,15 +220,19 @@ void benchModel(const char* path) {
                                           bodyPairPotential(full, kin, ws_full, po1, g_old));
   }
   std::printf("  %-62s %9.0f ns\n", "forward kinematics alone", t_fk);
-  std::printf("  %-62s %9.0f ns\n", "FK + exact distance of every collision pair (all SSVs)", t_exact);
-  std::printf("  %-62s %9.0f ns\n", "FK + distances below d_a = 0.05 m + H_c and its gradient", t_cut);
+  std::printf("  %-62s %9.0f ns\n", "FK + exact distance of every collision pair (all SSVs)",
+              t_exact);
+  std::printf("  %-62s %9.0f ns\n", "FK + distances below d_a = 0.05 m + H_c and its gradient",
+              t_cut);
   std::printf("  %-62s %9.0f ns\n", "FK + distances with cutoff d_a = 0.1 m (no potential)", t_q1);
-  std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, one term per body pair (before)", t_body);
+  std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, one term per body pair (before)",
+              t_body);
   std::printf("  %-62s %9.0f ns\n", "  + H_c and gradient, collisionPotential", t_ssv);
-  std::printf("  mean terms below d_a = 0.1 m per configuration: %.2f body pairs, %.2f SSV pairs"
-              " (largest H_c(SSV pairs) - H_c(body pairs) %.3f)\n",
-              static_cast<double>(body_terms) / kConfigurations,
-              static_cast<double>(ssv_terms) / kConfigurations, max_h_diff);
+  std::printf(
+      "  mean terms below d_a = 0.1 m per configuration: %.2f body pairs, %.2f SSV pairs"
+      " (largest H_c(SSV pairs) - H_c(body pairs) %.3f)\n",
+      static_cast<double>(body_terms) / kConfigurations,
+      static_cast<double>(ssv_terms) / kConfigurations, max_h_diff);
 
   // --- 2. FCL on the same capsule/sphere pairs ---
   std::vector<FclVolume> fv;
@@ -235,7 +241,8 @@ void benchModel(const char* path) {
   for (int i = 0; i < ws.num_self; ++i)
     for (int a = 0; a < static_cast<int>(fv.size()); ++a)
       for (int b = 0; b < static_cast<int>(fv.size()); ++b)
-        if (fv[a].link == ws.self[i].link_a && fv[b].link == ws.self[i].link_b) pairs.push_back({a, b});
+        if (fv[a].link == ws.self[i].link_a && fv[b].link == ws.self[i].link_b)
+          pairs.push_back({a, b});
   std::printf("  capsule/sphere subset: %d volumes, %zu SSV pairs\n", ws.num_volumes, pairs.size());
 
   // Narrow phase on identical world-frame pairs from a subset of the configurations.
@@ -293,11 +300,15 @@ void benchModel(const char* path) {
       ++overlapping;  // FCL without signed distance reports overlap differently
     }
   }
-  std::printf("  %-62s %9.1f ns\n", "narrow phase per SSV pair, armstudy (with witness points)", t_pair_arm);
-  std::printf("  %-62s %9.1f ns\n", "narrow phase per SSV pair, FCL 0.7 (with nearest points)", t_pair_fcl);
+  std::printf("  %-62s %9.1f ns\n", "narrow phase per SSV pair, armstudy (with witness points)",
+              t_pair_arm);
+  std::printf("  %-62s %9.1f ns\n", "narrow phase per SSV pair, FCL 0.7 (with nearest points)",
+              t_pair_fcl);
   std::printf("  %-62s %9.1fx\n", "ratio FCL / armstudy", t_pair_fcl / t_pair_arm);
-  std::printf("  distances compared on %d separated pairs: max |armstudy - FCL| = %.2e m (%d overlapping pairs skipped)\n",
-              compared, max_diff, overlapping);
+  std::printf(
+      "  distances compared on %d separated pairs: max |armstudy - FCL| = %.2e m (%d overlapping "
+      "pairs skipped)\n",
+      compared, max_diff, overlapping);
 
   // Per configuration, capsule/sphere subset: FCL updates poses and checks every SSV pair.
   std::vector<fcl::CollisionObjectd> objs;
@@ -306,7 +317,8 @@ void benchModel(const char* path) {
     for (int s = b; s < e; ++s) {
       const auto& q = qs[s];
       forwardKinematics(m, kin, q);
-      for (std::size_t k = 0; k < fv.size(); ++k) objs[k].setTransform(linkPose(m, kin, fv[k].link) * fv[k].T_LG);
+      for (std::size_t k = 0; k < fv.size(); ++k)
+        objs[k].setTransform(linkPose(m, kin, fv[k].link) * fv[k].T_LG);
       double best = 1e300;
       for (const auto& p : pairs) {
         fcl::DistanceRequestd r;
@@ -325,16 +337,20 @@ void benchModel(const char* path) {
       g_sink = g_sink + minSelfDistance(ws);
     }
   });
-  std::printf("  %-62s %9.0f ns\n", "per configuration (capsules/spheres), armstudy FK + all pairs", t_cfg_arm);
-  std::printf("  %-62s %9.0f ns\n", "per configuration (capsules/spheres), FK + FCL all pairs", t_cfg_fcl);
+  std::printf("  %-62s %9.0f ns\n", "per configuration (capsules/spheres), armstudy FK + all pairs",
+              t_cfg_arm);
+  std::printf("  %-62s %9.0f ns\n", "per configuration (capsules/spheres), FK + FCL all pairs",
+              t_cfg_fcl);
   std::printf("  %-62s %9.1fx\n", "ratio FCL / armstudy", t_cfg_fcl / t_cfg_arm);
 }
 
 }  // namespace
 
 int main() {
-  std::printf("armstudy self-collision distance benchmark (%d configurations, best of %d per chunk, thread CPU time)\n", kConfigurations,
-              kRepetitions);
+  std::printf(
+      "armstudy self-collision distance benchmark (%d configurations, best of %d per chunk, thread "
+      "CPU time)\n",
+      kConfigurations, kRepetitions);
   benchModel(ARMSTUDY_SOURCE_DIR "/designs/final_prototype_9dof.toml");
   benchModel(ARMSTUDY_SOURCE_DIR "/designs/first_prototype_9dof.toml");
   return 0;

@@ -5,17 +5,16 @@
 // damped Newton solve and the reachability solver (src/ik/reach_solver, which the map uses for its
 // starting solutions) with one start and with the map's starts (same warm starts, roll fixed so all
 // solve the same 6-D task).
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainiksolverpos_lma.hpp>
 
-#include <chrono>
-#include <cstdint>
-#include <cstdio>
-
 #include "dexterity/dexterity_map.hpp"
-#include "io/design_io.hpp"
 #include "engine/study_file.hpp"
+#include "io/design_io.hpp"
 #include "kdl_support.hpp"
 
 using namespace armstudy;
@@ -34,9 +33,12 @@ int main() {
   const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
   const Model& m = study.designs.at(0).model;
   const DexterityOptions& opt = *stageSettings<DexterityOptions>(study, "dexterity");
-  std::printf("Dexterity map benchmark: %s, grid %d x %d = %d cells (studies/stem_heatmap.toml)\n\n",
-              m.name.c_str(), opt.grid.z_m.count, opt.grid.gamma_rad.count, opt.grid.size());
-  std::printf("| run | threads | wall [s] | per cell [us] | reachable | mean null-space iterations | ratio |\n");
+  std::printf(
+      "Dexterity map benchmark: %s, grid %d x %d = %d cells (studies/stem_heatmap.toml)\n\n",
+      m.name.c_str(), opt.grid.z_m.count, opt.grid.gamma_rad.count, opt.grid.size());
+  std::printf(
+      "| run | threads | wall [s] | per cell [us] | reachable | mean null-space iterations | ratio "
+      "|\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   double base = 0;
   for (int threads : {1, 2}) {
@@ -45,15 +47,16 @@ int main() {
     for (const auto& c : map.cells) its += c.nullspace_iterations;
     if (threads == 1) base = map.seconds;
     std::printf("| optimised map | %d | %.3f | %.1f | %d | %.2f | %.2f |\n", threads, map.seconds,
-                1e6 * map.seconds / map.cells.size(), map.reachable(), double(its) / std::max(1, map.reachable()),
-                map.seconds / base);
+                1e6 * map.seconds / map.cells.size(), map.reachable(),
+                double(its) / std::max(1, map.reachable()), map.seconds / base);
   }
   DexterityOptions plain = opt;
   plain.w_joint_limits = plain.w_manipulability = plain.w_transmission = 0;  // no optimisation
   for (int threads : {1, 2}) {
     const DexterityMap map = computeDexterityMap(m, plain, threads);
-    std::printf("| plain map (no optimisation) | %d | %.3f | %.1f | %d | - | %.2f |\n", threads, map.seconds,
-                1e6 * map.seconds / map.cells.size(), map.reachable(), map.seconds / base);
+    std::printf("| plain map (no optimisation) | %d | %.3f | %.1f | %d | - | %.2f |\n", threads,
+                map.seconds, 1e6 * map.seconds / map.cells.size(), map.reachable(),
+                map.seconds / base);
   }
 
   // Peer: full-pose plain solves along each row with warm starts, armstudy vs KDL LMA (1 thread).
@@ -65,7 +68,8 @@ int main() {
   KDL::ChainIkSolverPos_LMA lma(chain, 1e-10, 500, 1e-15);
   IkWorkspace ik_ws(m);
   IkOptions ro1, ro;  // the reach solver with the warm start only, and with the map's starts
-  const double tol = kSolvedTolerance / defaults::kIkConvergenceFraction;  // converges below kSolved
+  const double tol =
+      kSolvedTolerance / defaults::kIkConvergenceFraction;  // converges below kSolved
   ro1.position_tolerance_m = ro.position_tolerance_m = tol;
   ro1.orientation_tolerance_rad = ro.orientation_tolerance_rad = tol;
   ro1.max_starts = 1;
@@ -99,7 +103,8 @@ int main() {
       t0 = now();
       const auto r = ik::solvePose(m, ws, cell.target, qa, w_inv, {});
       ta += now() - t0;
-      if (r.error.position_m < kSolvedTolerance && r.error.orientation_rad < kSolvedTolerance) ++ok_a, qa = r.q;
+      if (r.error.position_m < kSolvedTolerance && r.error.orientation_rad < kSolvedTolerance)
+        ++ok_a, qa = r.q;
       const Eigen::Isometry3d T = [&] {
         Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
         X.linear() = cell.target.R_WT;
@@ -116,18 +121,24 @@ int main() {
         KDL::ChainFkSolverPos_recursive fk(chain);
         KDL::Frame F;
         fk.JntToCart(qout, F);
-        if ((Eigen::Vector3d(F.p.x(), F.p.y(), F.p.z()) - cell.target.p_WT).norm() < kSolvedTolerance) ++ok_k, qk = qout;
+        if ((Eigen::Vector3d(F.p.x(), F.p.y(), F.p.z()) - cell.target.p_WT).norm() <
+            kSolvedTolerance)
+          ++ok_k, qk = qout;
       }
     }
   }
   const int n = ((g.z_m.count + 9) / 10) * g.gamma_rad.count;
-  std::printf("\nPeer, plain full-pose solves (every 10th row, %d poses, warm starts along the row, 1 thread):\n\n", n);
+  std::printf(
+      "\nPeer, plain full-pose solves (every 10th row, %d poses, warm starts along the row, 1 "
+      "thread):\n\n",
+      n);
   std::printf("| solver | solved within limits | per pose [us] | ratio |\n|---|---|---|---|\n");
   std::printf("| armstudy damped Newton (solvePose) | %d | %.1f | 1.00 |\n", ok_a, 1e6 * ta / n);
-  std::printf("| orocos-kdl ChainIkSolverPos_LMA | %d | %.1f | %.2f |\n", ok_k, 1e6 * tk / n, tk / ta);
+  std::printf("| orocos-kdl ChainIkSolverPos_LMA | %d | %.1f | %.2f |\n", ok_k, 1e6 * tk / n,
+              tk / ta);
   std::printf("| armstudy reach solver, warm start only | %d | %.1f | %.2f |\n", ok_r1,
               1e6 * tr1 / n, tr1 / ta);
-  std::printf("| armstudy reach solver, %d starts (as in the map) | %d | %.1f | %.2f |\n", ro.max_starts, ok_r,
-              1e6 * tr / n, tr / ta);
+  std::printf("| armstudy reach solver, %d starts (as in the map) | %d | %.1f | %.2f |\n",
+              ro.max_starts, ok_r, 1e6 * tr / n, tr / ta);
   return 0;
 }

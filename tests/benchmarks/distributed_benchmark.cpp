@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
   const std::string mpi =
       std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + ARMSTUDY_MPIEXEC +
       " --oversubscribe -np ";
-  std::printf("study %s%s, load average before: %s\n", study.c_str(), more.c_str(), loadAverage().c_str());
+  std::printf("study %s%s, load average before: %s\n", study.c_str(), more.c_str(),
+              loadAverage().c_str());
   const std::string env1 = times.empty() ? "" : "ARMSTUDY_UNIT_TIMES=" + times + " ";
   if (!times.empty()) fs::remove(times);
   const Timing t1 = run(env1 + bin + args + " --threads 1");

@@ -11,8 +11,8 @@
 
 #include "bench_util.hpp"
 #include "dynamics/dynamics.hpp"
-#include "kdl_support.hpp"
 #include "io/design_io.hpp"
+#include "kdl_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;

@@ -2,17 +2,19 @@
 // 200 variants of the first prototype (6-DoF) on a spraying row plus a stem map, exhaustive grid,
 // 2 threads. Peer: the same kind of variants as an ordinary [[variant]] sweep through the reach
 // and dexterity stages (no exploration around them), on the first 20 variants, per variant.
-//   cmake -S . -B build -DARMSTUDY_BUILD_BENCHMARKS=ON && cmake --build build --target explore_bench
+//   cmake -S . -B build -DARMSTUDY_BUILD_BENCHMARKS=ON && cmake --build build --target
+//   explore_bench
 //   ./build/tests/benchmarks/explore_bench [threads=2] [j4 values=10]
 // The explore grid is (j4 values) x 10 (j5.x) x 2 (tcp.x): 200 variants by default. Wall time and
 // process CPU time are both printed (on a loaded shared machine the CPU time is the stable part).
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <sys/resource.h>
 
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
@@ -69,10 +71,12 @@ int main(int argc, char** argv) {
   const int n_j4 = argc > 2 ? std::atoi(argv[2]) : 10;
   std::string j4_values;  // 0.14, 0.16, ... m
   for (int k = 0; k < n_j4; ++k) j4_values += (k ? ", " : "") + std::to_string(0.14 + 0.02 * k);
-  const fs::path dir = fs::temp_directory_path() / ("armstudy_explore_bench_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("armstudy_explore_bench_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string design = std::string(ARMSTUDY_SOURCE_DIR) + "/designs/first_prototype_6dof.toml";
+  const std::string design =
+      std::string(ARMSTUDY_SOURCE_DIR) + "/designs/first_prototype_6dof.toml";
   const std::string head = "[study]\nname = \"bench\"\n[[design]]\nfile = \"" + design + "\"\n";
   {
     std::ofstream f(dir / "explore.toml");
@@ -132,16 +136,25 @@ sweep = { "joint.j4.x" = [0.14], "joint.j5.x" = [0.30, 0.34, 0.38, 0.42, 0.46], 
   const double t_sweep = seconds(t0), c_sweep = cpuSeconds() - c0;
   const double n_sweep = static_cast<double>(sw.designs.size());
 
-  std::printf("explore_bench: %d thread(s); spraying row 40 x 23 x 2 poses + stem map 19 x 25 cells per variant\n", threads);
-  std::printf("| run | variants | wall [s] | CPU [s] | wall per variant [s] | CPU per variant [s] | CPU ratio |\n");
+  std::printf(
+      "explore_bench: %d thread(s); spraying row 40 x 23 x 2 poses + stem map 19 x 25 cells per "
+      "variant\n",
+      threads);
+  std::printf(
+      "| run | variants | wall [s] | CPU [s] | wall per variant [s] | CPU per variant [s] | CPU "
+      "ratio |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
-  std::printf("| explore (grid + base) | %.0f | %.1f | %.1f | %.3f | %.3f | %.2f |\n", n, t_explore, c_explore,
-              t_explore / n, c_explore / n, (c_explore / n) / (c_sweep / n_sweep));
-  std::printf("| [[variant]] sweep, reach + dexterity stages (peer) | %.0f | %.1f | %.1f | %.3f | %.3f | 1.00 |\n",
-              n_sweep, t_sweep, c_sweep, t_sweep / n_sweep, c_sweep / n_sweep);
-  std::printf("front size: %.0f; 200 variants at the measured CPU per variant on %d fully available cores: %.0f s "
-              "(target 600 s)\n",
-              r.metrics.scalars.at("explore/front_size"), threads, 200 * (c_explore / n) / threads);
+  std::printf("| explore (grid + base) | %.0f | %.1f | %.1f | %.3f | %.3f | %.2f |\n", n, t_explore,
+              c_explore, t_explore / n, c_explore / n, (c_explore / n) / (c_sweep / n_sweep));
+  std::printf(
+      "| [[variant]] sweep, reach + dexterity stages (peer) | %.0f | %.1f | %.1f | %.3f | %.3f | "
+      "1.00 |\n",
+      n_sweep, t_sweep, c_sweep, t_sweep / n_sweep, c_sweep / n_sweep);
+  std::printf(
+      "front size: %.0f; 200 variants at the measured CPU per variant on %d fully available cores: "
+      "%.0f s "
+      "(target 600 s)\n",
+      r.metrics.scalars.at("explore/front_size"), threads, 200 * (c_explore / n) / threads);
   fs::remove_all(dir);
   return 0;
 }

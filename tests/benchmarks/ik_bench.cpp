@@ -5,27 +5,28 @@
 // For each shipped design: 10,000 full poses made by forward kinematics from random joint
 // configurations within the limits (known reachable) and 1,000 poses beyond the arm's reach
 // (horizontal distance from the lift axis 1.05-1.5 x the summed link lengths; known unreachable).
-// Times are per-thread CPU time (the machine is shared). KDL gets the same start sequence (middle of the limits, then random configurations, up to the
-// same number of starts); its solution counts only when it is within the joint limits (revolute
-// angles wrapped to (-pi, pi]) and meets the same tolerances, checked with armstudy's FK.
+// Times are per-thread CPU time (the machine is shared). KDL gets the same start sequence (middle
+// of the limits, then random configurations, up to the same number of starts); its solution counts
+// only when it is within the joint limits (revolute angles wrapped to (-pi, pi]) and meets the same
+// tolerances, checked with armstudy's FK.
 //
-//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses] [design filter] [quick]
-#include <kdl/chain.hpp>
-#include <kdl/chainiksolverpos_lma.hpp>
-
-#include <ctime>
+//   cmake --build build --target ik_bench && ./build/tests/benchmarks/ik_bench [poses] [design
+//   filter] [quick]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <kdl/chain.hpp>
+#include <kdl/chainiksolverpos_lma.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "io/design_io.hpp"
 #include "ik/reach_solver.hpp"
+#include "io/design_io.hpp"
+#include "kdl_support.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"
-#include "kdl_support.hpp"
 
 using armstudy::test::toKdl;
 using armstudy::test::toKdlChain;
@@ -62,10 +63,14 @@ int main(int argc, char** argv) {
   // instead of the KDL ratio (for profiling).
   const bool quick = argc > 3 && std::string(argv[3]) == "quick";
   const double kPi = 3.14159265358979323846;
-  std::printf("# ik_bench: %d reachable (FK of random q) + %d beyond-reach full poses per design, 1 thread\n",
-              n_reach, n_unreach);
-  std::printf("# tolerances 1 mm / 0.5 deg; armstudy max %d starts; KDL LMA same start sequence; CPU time per thread\n",
-              defaults::kIkMaxStarts);
+  std::printf(
+      "# ik_bench: %d reachable (FK of random q) + %d beyond-reach full poses per design, 1 "
+      "thread\n",
+      n_reach, n_unreach);
+  std::printf(
+      "# tolerances 1 mm / 0.5 deg; armstudy max %d starts; KDL LMA same start sequence; CPU time "
+      "per thread\n",
+      defaults::kIkMaxStarts);
   std::printf("%-22s %-22s %9s %10s %12s %12s %9s %10s\n", "design", "solver", "solved%",
               "unreach_ok", "us/reachable", "us/unreach", "starts", "speedup");
   for (const auto& rel : test::shippedDesigns()) {
@@ -83,7 +88,8 @@ int main(int argc, char** argv) {
       IkTarget t;
       t.task_space = TaskSpace::fullPose();
       t.w_d = tv.w;
-      if (tv.singular) {  // keep the exact pose: rebuild angles from R via a tiny perturbation-free path
+      if (tv.singular) {  // keep the exact pose: rebuild angles from R via a tiny perturbation-free
+                          // path
         const CardanAngles c = cardanFromRotation(kin.R_WT);
         t.w_d << kin.p_WT, c.alpha, c.beta, c.gamma;
       }
@@ -167,7 +173,8 @@ int main(int argc, char** argv) {
       }
       auto t1 = Clock::now();
       for (int k = 0; k < row.unreach_total; ++k)
-        row.false_reach += solvePose(m, ws, unreach[k], sq, static_cast<std::uint64_t>(n_reach + k)).reachable();
+        row.false_reach +=
+            solvePose(m, ws, unreach[k], sq, static_cast<std::uint64_t>(n_reach + k)).reachable();
       auto t2 = Clock::now();
       row.us_reach = 1e6 * seconds(t0, t1) / n_sq;
       row.us_unreach = 1e6 * seconds(t1, t2) / row.unreach_total;
@@ -210,7 +217,8 @@ int main(int argc, char** argv) {
           if (!in_limits) continue;
           forwardKinematics(m, kin, qs);
           const PoseError e = poseError(kin, t);
-          if (e.position_m <= def.position_tolerance_m && e.orientation_rad <= def.orientation_tolerance_rad)
+          if (e.position_m <= def.position_tolerance_m &&
+              e.orientation_rad <= def.orientation_tolerance_rad)
             return true;
         }
         return false;
@@ -219,7 +227,8 @@ int main(int argc, char** argv) {
       auto t0 = Clock::now();
       for (int k = 0; k < n_reach; ++k) row.solved += attempt(reach[k], k, starts);
       auto t1 = Clock::now();
-      for (int k = 0; k < row.unreach_total; ++k) row.false_reach += attempt(unreach[k], n_reach + k, ustarts);
+      for (int k = 0; k < row.unreach_total; ++k)
+        row.false_reach += attempt(unreach[k], n_reach + k, ustarts);
       auto t2 = Clock::now();
       row.us_reach = 1e6 * seconds(t0, t1) / n_reach;
       row.us_unreach = 1e6 * seconds(t1, t2) / row.unreach_total;

@@ -8,9 +8,9 @@
 
 #include "bench_util.hpp"
 #include "io/design_io.hpp"
+#include "kdl_support.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"
-#include "kdl_support.hpp"
 
 using armstudy::test::toKdl;
 
@@ -18,7 +18,8 @@ using namespace armstudy;
 
 int main() {
   std::printf("Forward kinematics + full TCP Jacobian, time per call (median of 7 batches)\n\n");
-  std::printf("%-24s %5s %14s %14s %10s\n", "design", "DoF", "armstudy [us]", "KDL [us]", "KDL/armstudy");
+  std::printf("%-24s %5s %14s %14s %10s\n", "design", "DoF", "armstudy [us]", "KDL [us]",
+              "KDL/armstudy");
   for (const auto& rel : test::shippedDesigns()) {
     const Model m = loadDesign(test::sourcePath(rel));
     std::mt19937_64 rng(1);
@@ -58,8 +59,8 @@ int main() {
           bench::doNotOptimize(J(0, 0) + F.p.x());
         },
         50000);
-    std::printf("%-24s %5d %14.3f %14.3f %10.1f\n", m.name.c_str(), m.dof(), t_ours * 1e6, t_kdl * 1e6,
-                t_kdl / t_ours);
+    std::printf("%-24s %5d %14.3f %14.3f %10.1f\n", m.name.c_str(), m.dof(), t_ours * 1e6,
+                t_kdl * 1e6, t_kdl / t_ours);
   }
   return 0;
 }

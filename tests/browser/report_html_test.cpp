@@ -1,7 +1,8 @@
 // Every shipped study's report.html in a real browser (headless Chromium, Debian `chromium`): runs
-// a quick copy of each study (coarser grids, smaller audits) through the CLI, loads its report with a small check script added, and fails on a
-// console error, a broken image, an element overflowing its figure, a figure without caption or a
-// page wider than a laptop screen. Saves a screenshot of each report beside it.
+// a quick copy of each study (coarser grids, smaller audits) through the CLI, loads its report with
+// a small check script added, and fails on a console error, a broken image, an element overflowing
+// its figure, a figure without caption or a page wider than a laptop screen. Saves a screenshot of
+// each report beside it.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -74,14 +75,17 @@ struct Check {
 };
 
 std::string chromium(const fs::path& profile) {
-  return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" + profile.string() +
-         " --window-size=" + std::to_string(kLaptopWidth) + ",";
+  return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
+         profile.string() + " --window-size=" + std::to_string(kLaptopWidth) + ",";
 }
 
 std::string unescapeText(std::string s) {
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""},
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"},
+                                 {"&gt;", ">"},
+                                 {"&quot;", "\""},
                                  {"&amp;", "&"}}) {
-    for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
+    for (std::size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+      s.replace(p, from.size(), to);
   }
   return s;
 }
@@ -104,7 +108,9 @@ Check checkPage(const fs::path& page, const fs::path& work) {
   const std::string open = "<pre id=\"armstudy-check\">";
   const std::size_t a = c.log.find(open);
   const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
-  if (b != std::string::npos) c.result = nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
+  if (b != std::string::npos)
+    c.result =
+        nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
   return c;
 }
 
@@ -114,7 +120,8 @@ std::string faults(const Check& c) {
   std::string f;
   for (const char* key : {"errors", "broken", "overflow", "uncaptioned"})
     for (const auto& e : c.result[key]) f += std::string(key) + ": " + e.get<std::string>() + "\n";
-  if (c.result["pageOverflow"].get<bool>()) f += "the page is wider than " + std::to_string(kLaptopWidth) + " px\n";
+  if (c.result["pageOverflow"].get<bool>())
+    f += "the page is wider than " + std::to_string(kLaptopWidth) + " px\n";
   return f;
 }
 
@@ -123,24 +130,28 @@ std::string faults(const Check& c) {
 // the same sections, figures and files as the real study's, only coarser.
 constexpr int kValues = 5;
 std::string quickStudy(const std::string& toml, const fs::path& study_dir) {
-  static const std::map<std::string, double> unit = {{"m", 1}, {"cm", 1e-2}, {"mm", 1e-3}, {"deg", 1}, {"rad", 180 / M_PI}};
+  static const std::map<std::string, double> unit = {
+      {"m", 1}, {"cm", 1e-2}, {"mm", 1e-3}, {"deg", 1}, {"rad", 180 / M_PI}};
   static const std::regex range(
       R"#(((?:from|min)\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)("\s*,\s*(?:to|max)\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)("\s*,\s*step\s*=\s*")([-+0-9.eE]+)\s*([a-z]+)")#");
-  static const std::regex audit_count(R"(^(\s*)(poses|cells)\s*=\s*\d+)"), audit_starts(R"(^(\s*)starts\s*=\s*\d+)");
+  static const std::regex audit_count(R"(^(\s*)(poses|cells)\s*=\s*\d+)"),
+      audit_starts(R"(^(\s*)starts\s*=\s*\d+)");
   static const std::regex relative(R"#("((?:\.\./|data/)[^"]*)")#");
   std::istringstream in(toml);
   std::string line, out, section;
   while (std::getline(in, line)) {
     if (!line.empty() && line[0] == '[') section = line.substr(0, line.find(']') + 1);
     std::smatch m;
-    if (std::regex_search(line, m, range) && unit.count(m[3]) && unit.count(m[6]) && unit.count(m[9])) {
+    if (std::regex_search(line, m, range) && unit.count(m[3]) && unit.count(m[6]) &&
+        unit.count(m[9])) {
       const double a = std::stod(m[2]) * unit.at(m[3]), b = std::stod(m[5]) * unit.at(m[6]);
       const double step = std::stod(m[8]) * unit.at(m[9]);
       if (step > 0 && (b - a) / step > kValues - 1) {
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%.9g %s", (b - a) / (kValues - 1) / unit.at(m[6]), m[6].str().c_str());
-        line = m.prefix().str() + m[1].str() + m[2].str() + " " + m[3].str() + m[4].str() + m[5].str() + " " +
-               m[6].str() + m[7].str() + buf + "\"" + m.suffix().str();
+        std::snprintf(buf, sizeof buf, "%.9g %s", (b - a) / (kValues - 1) / unit.at(m[6]),
+                      m[6].str().c_str());
+        line = m.prefix().str() + m[1].str() + m[2].str() + " " + m[3].str() + m[4].str() +
+               m[5].str() + " " + m[6].str() + m[7].str() + buf + "\"" + m.suffix().str();
       }
     }
     if (section.find("audit") != std::string::npos) {
@@ -166,12 +177,13 @@ TEST_CASE("the browser check finds a broken image, an overflowing figure and a c
   // The check itself must be able to fail: a page with each fault.
   const fs::path work = workDir();
   const fs::path page = work / "faulty.html";
-  writeFileAtomic(page.string(),
-                  "<!DOCTYPE html><html><head><style>figure{width:300px;margin:0}</style></head><body>"
-                  "<figure><img src=\"missing.png\" alt=\"missing\"><figcaption>a</figcaption></figure>"
-                  "<figure><div style=\"width:900px;height:10px\"></div><figcaption>b</figcaption></figure>"
-                  "<figure><img alt=\"x\" src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"></figure>"
-                  "<script>console.error('boom')</script></body></html>\n");
+  writeFileAtomic(
+      page.string(),
+      "<!DOCTYPE html><html><head><style>figure{width:300px;margin:0}</style></head><body>"
+      "<figure><img src=\"missing.png\" alt=\"missing\"><figcaption>a</figcaption></figure>"
+      "<figure><div style=\"width:900px;height:10px\"></div><figcaption>b</figcaption></figure>"
+      "<figure><img alt=\"x\" src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"></figure>"
+      "<script>console.error('boom')</script></body></html>\n");
   const Check c = checkPage(page, work);
   REQUIRE_FALSE(c.result.is_null());
   CHECK(c.result["broken"].size() >= 1);
@@ -183,8 +195,9 @@ TEST_CASE("the browser check finds a broken image, an overflowing figure and a c
   fs::remove_all(work);
 }
 
-TEST_CASE("every shipped study's report.html loads in Chromium without errors, broken images or overflow",
-          "[browser][report][cli]") {
+TEST_CASE(
+    "every shipped study's report.html loads in Chromium without errors, broken images or overflow",
+    "[browser][report][cli]") {
   const fs::path work = workDir();
   const fs::path out = work / "output";
   std::vector<fs::path> studies;
@@ -196,9 +209,11 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
     SECTION(study.filename().string()) {
       std::string log;
       const fs::path quick = work / study.filename();
-      writeFileAtomic(quick.string(), quickStudy(readFileOrThrow(study.string()), study.parent_path()));
+      writeFileAtomic(quick.string(),
+                      quickStudy(readFileOrThrow(study.string()), study.parent_path()));
       INFO(readFileOrThrow(quick.string()));
-      REQUIRE(runCommand(binaryPath() + " run " + quick.string() + " --overwrite --threads 2 --output " + out.string(),
+      REQUIRE(runCommand(binaryPath() + " run " + quick.string() +
+                             " --overwrite --threads 2 --output " + out.string(),
                          log) == 0);
       // The study's name is its output folder; the run's report is the newest report.html.
       fs::path report;
@@ -213,7 +228,8 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
       CHECK(c.result.value("figures", 0) + c.result.value("images", 0) > 0);
       // The answer opens the page: within the first 1,000 px, and it names, for every reach grid,
       // the design summary.json ranks first by reachable share, with that share as printed.
-      INFO("answer block at " << c.result.value("answerTop", -1.0) << " px: " << c.result.value("answer", ""));
+      INFO("answer block at " << c.result.value("answerTop", -1.0)
+                              << " px: " << c.result.value("answer", ""));
       CHECK(c.result.value("answerTop", -1.0) >= 0);
       CHECK(c.result.value("answerTop", -1.0) < 1000);
       const fs::path summary = report.parent_path() / "summary.json";
@@ -223,7 +239,8 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
           std::string first;
           double best = -1;
           for (const auto& d : g["designs"])
-            if (d["fraction"].get<double>() > best) best = d["fraction"].get<double>(), first = d["design"];
+            if (d["fraction"].get<double>() > best)
+              best = d["fraction"].get<double>(), first = d["design"];
           char pct[32];
           std::snprintf(pct, sizeof pct, "%.1f %%", 100 * best);
           const std::string grid = "grid " + g["name"].get<std::string>();
@@ -231,8 +248,10 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
           const std::size_t at = answer.find(grid);
           INFO(grid << ": " << first << " " << pct);
           REQUIRE(at != std::string::npos);
-          const std::size_t line_start = answer.rfind("reach:", at), line_end = answer.find("reach:", at);
-          const std::string line = answer.substr(line_start, line_end == std::string::npos ? line_end : line_end - line_start);
+          const std::size_t line_start = answer.rfind("reach:", at),
+                            line_end = answer.find("reach:", at);
+          const std::string line = answer.substr(
+              line_start, line_end == std::string::npos ? line_end : line_end - line_start);
           CHECK(line.find(first) != std::string::npos);
           CHECK(line.find(pct) != std::string::npos);
         }
@@ -240,7 +259,8 @@ TEST_CASE("every shipped study's report.html loads in Chromium without errors, b
       // A screenshot of the report as a laptop shows it, kept beside the report.
       const fs::path shot = report.parent_path() / "report_screenshot.png";
       runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kScreenshotHeight) +
-                     " --virtual-time-budget=10000 --screenshot=" + shot.string() + " file://" + report.string(),
+                     " --virtual-time-budget=10000 --screenshot=" + shot.string() + " file://" +
+                     report.string(),
                  log);
       CHECK(fs::exists(shot));
       CHECK(fs::file_size(shot) > 1000);

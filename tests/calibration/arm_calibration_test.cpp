@@ -2,13 +2,14 @@
 // catalogues must rank first in synthetic data and bring the held-out RMSE to the injected noise,
 // nothing hidden must give "no significant missing effect", identifiability and bad input are
 // reported, and the Savitzky-Golay derivative matches a closed form.
+#include "calibration/arm_calibration.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "calibration/arm_calibration.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "common/errors.hpp"
@@ -23,11 +24,11 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoiseRatio = 1.2;        // held-out RMSE after the fix <= 1.2 x noise
-constexpr double kTcpNoise_m = 2e-4;       // injected TCP position noise
-constexpr double kTauNoise = 0.05;         // injected effort noise [N m | N]
-constexpr double kSgTolerance = 2e-3;      // relative error of the SG derivative of a slow sine
-constexpr double kSgEndTolerance = 1e-2;   // at the ends, where the window is shifted inside
+constexpr double kNoiseRatio = 1.2;       // held-out RMSE after the fix <= 1.2 x noise
+constexpr double kTcpNoise_m = 2e-4;      // injected TCP position noise
+constexpr double kTauNoise = 0.05;        // injected effort noise [N m | N]
+constexpr double kSgTolerance = 2e-3;     // relative error of the SG derivative of a slow sine
+constexpr double kSgEndTolerance = 1e-2;  // at the ends, where the window is shifted inside
 constexpr int kTcpRows = 50;
 
 const Model& design7() {
@@ -36,8 +37,8 @@ const Model& design7() {
 }
 
 struct Outcome {
-  ArmDiagnosis d;       // after adding the effect
-  std::string first;    // best candidate of the design as is
+  ArmDiagnosis d;     // after adding the effect
+  std::string first;  // best candidate of the design as is
   bool significant = false;
 };
 
@@ -46,7 +47,8 @@ Outcome fitWith(const ArmProblem& P, const std::string& add_first_ranked) {
   Outcome r;
   r.d = diagnoseArm(P, o);
   r.first = r.d.ranking.empty() ? "" : r.d.ranking.front().name;
-  r.significant = !r.d.ranking.empty() && r.d.ranking.front().significant && r.d.missing_effect_found;
+  r.significant =
+      !r.d.ranking.empty() && r.d.ranking.front().significant && r.d.missing_effect_found;
   if (!add_first_ranked.empty()) {
     o.add = {add_first_ranked};
     r.d = diagnoseArm(P, o);
@@ -85,9 +87,12 @@ TEST_CASE("Savitzky-Golay derivative of a sine equals the closed form (interior 
   for (std::size_t i = 0; i < tu.size(); ++i) CHECK(du[i] == Approx(2 - tu[i]).margin(1e-9));
 }
 
-TEST_CASE("tcp: every hidden effect ranks first - its values lie in the intervals - adding it brings the held-out RMSE to the noise") {
+TEST_CASE(
+    "tcp: every hidden effect ranks first - its values lie in the intervals - adding it brings the "
+    "held-out RMSE to the noise") {
   const Model& m = design7();
-  const char* hidden[] = {"joint_offset.j3", "link_length.j4.x", "base_offset", "joint_compliance.j3"};
+  const char* hidden[] = {"joint_offset.j3", "link_length.j4.x", "base_offset",
+                          "joint_compliance.j3"};
   for (const char* h : hidden) {
     TcpSynthOptions so;
     so.rows = kTcpRows;
@@ -97,7 +102,8 @@ TEST_CASE("tcp: every hidden effect ranks first - its values lie in the interval
     const TcpData data = synthesizeTcp(m, so);
     const auto P = makeTcpProblem(m, data);
     const Outcome r = fitWith(*P, h);
-    INFO("hidden " << h << ", first " << r.first << ", before " << r.d.rmse_before << ", after " << r.d.rmse_after);
+    INFO("hidden " << h << ", first " << r.first << ", before " << r.d.rmse_before << ", after "
+                   << r.d.rmse_after);
     CHECK(r.first == h);
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
@@ -110,14 +116,16 @@ TEST_CASE("tcp: every hidden effect ranks first - its values lie in the interval
     REQUIRE(r.d.final_fit.params.size() == info.params.size());
     for (std::size_t k = 0; k < info.params.size(); ++k) {
       const auto& fp = r.d.final_fit.params[k];
-      INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden " << info.params[k].typical);
+      INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden "
+                  << info.params[k].typical);
       CHECK(fp.ci_low <= info.params[k].typical);
       CHECK(fp.ci_high >= info.params[k].typical);
     }
   }
 }
 
-TEST_CASE("tcp with orientation: angles wrap and count in the fit - a hidden base rotation is found") {
+TEST_CASE(
+    "tcp with orientation: angles wrap and count in the fit - a hidden base rotation is found") {
   const Model& m = design7();
   TcpSynthOptions so;
   so.rows = kTcpRows;
@@ -137,7 +145,9 @@ TEST_CASE("tcp with orientation: angles wrap and count in the fit - a hidden bas
   for (int c = 3; c < 6; ++c) CHECK(r.d.final_fit.channel_train[c].max_abs < 10 * so.noise_rad);
 }
 
-TEST_CASE("tcp: nothing hidden gives no significant missing effect - noise estimate near the injected noise") {
+TEST_CASE(
+    "tcp: nothing hidden gives no significant missing effect - noise estimate near the injected "
+    "noise") {
   TcpSynthOptions so;
   so.rows = kTcpRows;
   so.noise_m = kTcpNoise_m;
@@ -150,7 +160,8 @@ TEST_CASE("tcp: nothing hidden gives no significant missing effect - noise estim
   CHECK(d.as_designed_map.flagged() == 0);
 }
 
-TEST_CASE("tcp: identifiability warnings (lift offset vs base z, compliance of the lift vs its offset)") {
+TEST_CASE(
+    "tcp: identifiability warnings (lift offset vs base z, compliance of the lift vs its offset)") {
   TcpSynthOptions so;
   so.rows = kTcpRows;
   so.noise_m = kTcpNoise_m;
@@ -178,7 +189,9 @@ TEST_CASE("tcp: identifiability warnings (lift offset vs base z, compliance of t
   CHECK(some_dead);
 }
 
-TEST_CASE("tcp: a hidden effect that other candidates mimic exactly is named with them (parsimony first)") {
+TEST_CASE(
+    "tcp: a hidden effect that other candidates mimic exactly is named with them (parsimony "
+    "first)") {
   const Model& m = design7();
   // j2 turns about the base z axis: its offset is a base rotation gamma. The 1-parameter offset
   // ranks ahead of the 6-parameter base_offset, and the verdict names base_offset.
@@ -208,10 +221,13 @@ TEST_CASE("tcp: a hidden effect that other candidates mimic exactly is named wit
   }
 }
 
-TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the held-out RMSE to the noise") {
+TEST_CASE(
+    "trajectory: every hidden effect ranks first and adding it brings the held-out RMSE to the "
+    "noise") {
   const Model& m = design7();
-  const char* hidden[] = {"payload",      "rotor_inertia", "gravity_tilt", "link_mass.j3",    "j3.coulomb",
-                          "j3.viscous",   "j4.load_coulomb", "j4.load_viscous", "j3.stribeck", "j3.asymmetry"};
+  const char* hidden[] = {"payload",     "rotor_inertia", "gravity_tilt",    "link_mass.j3",
+                          "j3.coulomb",  "j3.viscous",    "j4.load_coulomb", "j4.load_viscous",
+                          "j3.stribeck", "j3.asymmetry"};
   for (const char* h : hidden) {
     TrajectorySynthOptions so;
     so.duration_s = 3.0;
@@ -222,13 +238,15 @@ TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the 
     const TrajectoryData data = synthesizeTrajectory(m, so);
     const auto P = makeTrajectoryProblem(m, data);
     const Outcome r = fitWith(*P, h);
-    INFO("hidden " << h << ", first " << r.first << ", before " << r.d.rmse_before << ", after " << r.d.rmse_after);
+    INFO("hidden " << h << ", first " << r.first << ", before " << r.d.rmse_before << ", after "
+                   << r.d.rmse_after);
     CHECK(r.first == h);
     CHECK(r.significant);
     CHECK(r.d.added == std::vector<std::string>{h});
     CHECK(r.d.rmse_after <= kNoiseRatio * kTauNoise);
     for (int c = 0; c < P->channels(); ++c) {  // at the noise in every channel
-      INFO("channel " << P->channel_names[c] << " held-out " << r.d.final_fit.channel_heldout[c].rmse);
+      INFO("channel " << P->channel_names[c] << " held-out "
+                      << r.d.final_fit.channel_heldout[c].rmse);
       CHECK(r.d.final_fit.channel_heldout[c].rmse <= kNoiseRatio * kTauNoise);
     }
     // Single-parameter effects (and the payload mass): the hidden value lies in the 95 % interval
@@ -236,7 +254,8 @@ TEST_CASE("trajectory: every hidden effect ranks first and adding it brings the 
     const ArmEffect& info = P->catalogue[P->findEffect(h)];
     if (info.hasProfile()) continue;
     const auto& fp = r.d.final_fit.params.front();
-    INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden " << info.params[0].typical);
+    INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden "
+                << info.params[0].typical);
     CHECK(fp.ci_low <= info.params[0].typical);
     CHECK(fp.ci_high >= info.params[0].typical);
   }
@@ -254,7 +273,9 @@ TEST_CASE("trajectory: nothing hidden gives no significant missing effect") {
   CHECK(d.noise_estimate == Approx(kTauNoise).epsilon(0.35));
 }
 
-TEST_CASE("bad input: missing column / NaN cell / too few rows / joints the design lacks / unknown effect") {
+TEST_CASE(
+    "bad input: missing column / NaN cell / too few rows / joints the design lacks / unknown "
+    "effect") {
   const Model& m = design7();
   const std::string dir = tmpDir("arm_bad");
   TcpSynthOptions so;
@@ -336,7 +357,8 @@ TEST_CASE("bad input: missing column / NaN cell / too few rows / joints the desi
   }
 }
 
-TEST_CASE("trajectory: a joint that does not move makes its friction effects unidentifiable (warned)") {
+TEST_CASE(
+    "trajectory: a joint that does not move makes its friction effects unidentifiable (warned)") {
   TrajectorySynthOptions so;
   so.duration_s = 2.0;
   so.rate_Hz = 40;
@@ -345,7 +367,8 @@ TEST_CASE("trajectory: a joint that does not move makes its friction effects uni
   const auto P = makeTrajectoryProblem(design7(), synthesizeTrajectory(design7(), so));
   const ArmDiagnosis d = diagnoseArm(*P, {});
   bool warned = false;
-  for (const auto& w : d.warnings) warned = warned || w.find("j4 does not move") != std::string::npos;
+  for (const auto& w : d.warnings)
+    warned = warned || w.find("j4 does not move") != std::string::npos;
   CHECK(warned);
   int dead = 0;
   for (const auto& c : d.ranking)
@@ -357,7 +380,8 @@ TEST_CASE("trajectory: a joint that does not move makes its friction effects uni
   CHECK(dead == 6);
 }
 
-TEST_CASE("trajectory: accelerations from the Savitzky-Golay filter still find the hidden payload") {
+TEST_CASE(
+    "trajectory: accelerations from the Savitzky-Golay filter still find the hidden payload") {
   TrajectorySynthOptions so;
   so.duration_s = 3.0;
   so.rate_Hz = 100;
@@ -374,38 +398,52 @@ TEST_CASE("trajectory: accelerations from the Savitzky-Golay filter still find t
   CHECK(d.ranking.front().name == "payload");
 }
 
-TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare (tcp and trajectory) - bad input exits 2") {
+TEST_CASE(
+    "CLI: synth -> fit --auto -> calibrated design -> compare (tcp and trajectory) - bad input "
+    "exits 2") {
   namespace fs = std::filesystem;
   const std::string dir = tmpDir("arm_cli");
   const std::string bin = test::binaryPath();
   const std::string design = test::sourcePath("designs/final_prototype_7dof.toml");
   std::string out;
   // tcp
-  REQUIRE(test::runCommand(bin + " synth " + design + " --kind tcp --rows 50 --hide joint_offset.j3:offset=0.01 --noise 2e-4 --seed 3 --out " +
+  REQUIRE(test::runCommand(bin + " synth " + design +
+                               " --kind tcp --rows 50 --hide joint_offset.j3:offset=0.01 --noise "
+                               "2e-4 --seed 3 --out " +
                                dir + "/tcp.csv",
                            out) == 0);
-  REQUIRE(test::runCommand(bin + " fit " + design + " --kind tcp --data " + dir + "/tcp.csv --auto --out " + dir + "/tcp", out) == 0);
+  REQUIRE(test::runCommand(bin + " fit " + design + " --kind tcp --data " + dir +
+                               "/tcp.csv --auto --out " + dir + "/tcp",
+                           out) == 0);
   INFO(out);
   auto j = nlohmann::json::parse(readFileOrThrow(dir + "/tcp/result.json"));
   CHECK(j["kind"] == "tcp");
   CHECK(j["ranking"][0]["effect"] == "joint_offset.j3");
   CHECK(j["ranking"][0]["significant"] == true);
-  for (const char* k : {"rmse", "noise_estimate", "regions", "rmse_before", "rmse_after"}) CHECK(j.contains(k));
+  for (const char* k : {"rmse", "noise_estimate", "regions", "rmse_before", "rmse_after"})
+    CHECK(j.contains(k));
   CHECK(j["rmse_after"].get<double>() <= kNoiseRatio * 2e-4);
   CHECK(fs::exists(dir + "/tcp/before_workspace_cells.vti"));
   CHECK(fs::exists(dir + "/tcp/after_residual_points.vtp"));
   // The calibrated copy has the offset in its joint table: compared as is, it meets the noise.
   const std::string cal = j["calibrated_design"];
-  REQUIRE(test::runCommand(bin + " compare " + cal + " --kind tcp --data " + dir + "/tcp.csv --out " + dir + "/tcp", out) == 0);
+  REQUIRE(test::runCommand(bin + " compare " + cal + " --kind tcp --data " + dir +
+                               "/tcp.csv --out " + dir + "/tcp",
+                           out) == 0);
   j = nlohmann::json::parse(readFileOrThrow(dir + "/tcp/result.json"));
   CHECK(j["as_designed"]["rmse"].get<double>() <= kNoiseRatio * 2e-4);
   const std::string hist = readFileOrThrow(dir + "/tcp/history.csv");
-  CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 2 + 1);  // header, fit ladder (2), compare
+  CHECK(std::count(hist.begin(), hist.end(), '\n') ==
+        1 + 2 + 1);  // header, fit ladder (2), compare
   // trajectory with currents
-  REQUIRE(test::runCommand(bin + " synth " + design + " --kind trajectory --duration 2 --rate 40 --currents --noise 0.01 --hide payload --out " +
+  REQUIRE(test::runCommand(bin + " synth " + design +
+                               " --kind trajectory --duration 2 --rate 40 --currents --noise 0.01 "
+                               "--hide payload --out " +
                                dir + "/run.csv",
                            out) == 0);
-  REQUIRE(test::runCommand(bin + " fit " + design + " --kind trajectory --data " + dir + "/run.csv --add payload --out " + dir + "/traj", out) == 0);
+  REQUIRE(test::runCommand(bin + " fit " + design + " --kind trajectory --data " + dir +
+                               "/run.csv --add payload --out " + dir + "/traj",
+                           out) == 0);
   j = nlohmann::json::parse(readFileOrThrow(dir + "/traj/result.json"));
   CHECK(j["kind"] == "trajectory");
   CHECK(j["added"][0] == "payload");
@@ -414,7 +452,11 @@ TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare (tcp and tra
   CHECK(cm.payload_kg == Approx(design7().payload_kg + 0.5).margin(0.01));
   // Bad input: exit code 2 with a message.
   writeFileAtomic(dir + "/bad.csv", "q1,q2,x,y,z\n0,0,0,0,0\n");
-  CHECK(test::runCommand(bin + " compare " + design + " --kind tcp --data " + dir + "/bad.csv --out " + dir + "/bad", out) == 2);
+  CHECK(test::runCommand(bin + " compare " + design + " --kind tcp --data " + dir +
+                             "/bad.csv --out " + dir + "/bad",
+                         out) == 2);
   CHECK(out.find("q3") != std::string::npos);
-  CHECK(test::runCommand(bin + " compare " + design + " --kind tcp --drive j3 --data " + dir + "/tcp.csv", out) == 2);
+  CHECK(test::runCommand(
+            bin + " compare " + design + " --kind tcp --drive j3 --data " + dir + "/tcp.csv",
+            out) == 2);
 }

@@ -1,9 +1,11 @@
 // The [[calibration]] study stage (docs/calibration.md, "As a study stage"): the shipped thesis
 // study reproduces thesis Tables 4.4/4.5 and the documented ladder; the shipped arm study finds the
-// effects its data were synthesized with (the synth hidden values are the oracle, and the data files
-// are checked to be what `armstudy synth` writes); result files are byte-identical for 1 and 2
-// threads; a checkpointed entry is reused only while its files are intact; `armstudy check` passes
-// against the committed baselines; bad input is an InputError with file, line and key.
+// effects its data were synthesized with (the synth hidden values are the oracle, and the data
+// files are checked to be what `armstudy synth` writes); result files are byte-identical for 1 and
+// 2 threads; a checkpointed entry is reused only while its files are intact; `armstudy check`
+// passes against the committed baselines; bad input is an InputError with file, line and key.
+#include "stages/calibration/calibration_stage.hpp"
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,12 +15,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "stages/calibration/calibration_stage.hpp"
 #include "common/errors.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "engine/study_file.hpp"
-#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -27,9 +28,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kTableTolerance = 0.10;     // relative agreement with thesis Tables 4.4/4.5
-constexpr double kRoundTripTolerance = 1e-9;  // calibrated copy read from disk vs the fit (relative)
-constexpr double kProfileTolerance = 0.05;   // profiled Stribeck velocity vs the hidden one (relative)
+constexpr double kTableTolerance = 0.10;  // relative agreement with thesis Tables 4.4/4.5
+constexpr double kRoundTripTolerance =
+    1e-9;  // calibrated copy read from disk vs the fit (relative)
+constexpr double kProfileTolerance =
+    0.05;  // profiled Stribeck velocity vs the hidden one (relative)
 // Thesis section 4.6.1: adding the missing effect lowers the RMSE by a factor of two to five.
 constexpr double kThesisFactorMin = 2.0, kThesisFactorMax = 5.0;
 
@@ -98,26 +101,30 @@ StageRun runStage(const Study& s, const fs::path& root, RunSummary& rs, int thre
   const UnitRunner units(store);
   StageRun r;
   r.result = runCalibrationStage(StageContext{s, ro, out, units, threads},
-                                 *stageSettings<std::vector<CalibrationEntry>>(s, "calibration"), &r.entries);
+                                 *stageSettings<std::vector<CalibrationEntry>>(s, "calibration"),
+                                 &r.entries);
   rs.metrics = r.result.metrics;
   return r;
 }
 
 }  // namespace
 
-TEST_CASE("thesis study: catalog law vs the B.2 sample reproduces Tables 4.4/4.5 and the documented ladder",
-          "[calibration][study][thesis]") {
+TEST_CASE(
+    "thesis study: catalog law vs the B.2 sample reproduces Tables 4.4/4.5 and the documented "
+    "ladder",
+    "[calibration][study][thesis]") {
   const Study s = loadStudy(test::sourcePath(kThesisStudy));
   // The data file is an input of the run, with its content hash.
   const std::string data = test::sourcePath("studies/data/drive_testbed_module_b2.csv");
   bool hashed = false;
-  for (const auto& in : s.inputs) hashed = hashed || (fs::equivalent(in.path, data) && in.hash == fileHash(data));
+  for (const auto& in : s.inputs)
+    hashed = hashed || (fs::equivalent(in.path, data) && in.hash == fileHash(data));
   CHECK(hashed);
 
   const fs::path root = freshDir("thesis");
   const RunSummary rs = runStudy(s, runOptions(root, 1));
-  const EntrySummary e =
-      entrySummaryFromJson(readFileOrThrow((root / s.name / "calibration/b2_friction/summary.json").string()));
+  const EntrySummary e = entrySummaryFromJson(
+      readFileOrThrow((root / s.name / "calibration/b2_friction/summary.json").string()));
   REQUIRE(e.ladder.size() == 3);  // as designed, refit eq. 3.30, + stribeck
   CHECK(e.added == std::vector<std::string>{"stribeck"});
   CHECK(e.verdict == "missing effect: stribeck");
@@ -151,25 +158,33 @@ TEST_CASE("thesis study: catalog law vs the B.2 sample reproduces Tables 4.4/4.5
   CHECK(e.calibrated_rmse == Approx(e.ladder[2].train_rmse).epsilon(kRoundTripTolerance));
   CHECK(e.as_designed_flagged > 0);
   CHECK(e.calibrated_flagged == 0);
-  const Model cal = loadDesign((root / s.name / "calibration/b2_friction" / e.calibrated_design).string());
+  const Model cal =
+      loadDesign((root / s.name / "calibration/b2_friction" / e.calibrated_design).string());
   for (const Drive& d : cal.drives)
-    if (d.joint == "j6") CHECK(d.friction.at("stribeck_velocity") == Approx(p["stribeck.stribeck_velocity"].value));
+    if (d.joint == "j6")
+      CHECK(d.friction.at("stribeck_velocity") == Approx(p["stribeck.stribeck_velocity"].value));
   // Metrics for baselines, and the manifest lists the stage's files.
   CHECK(rs.metrics.scalars.at("calibration/b2_friction/rmse_after") == e.rmse_after);
   CHECK(rs.metrics.scalars.at("calibration/b2_friction/added/stribeck") == 1.0);
-  CHECK(rs.metrics.flags.at("calibration/b2_friction/added") == std::vector<std::uint8_t>{0, 0, 0, 0, 1, 0, 0, 0});
-  const auto man = nlohmann::json::parse(readFileOrThrow((root / s.name / "manifest.json").string()));
+  CHECK(rs.metrics.flags.at("calibration/b2_friction/added") ==
+        std::vector<std::uint8_t>{0, 0, 0, 0, 1, 0, 0, 0});
+  const auto man =
+      nlohmann::json::parse(readFileOrThrow((root / s.name / "manifest.json").string()));
   const auto files = man["files"].get<std::vector<std::string>>();
-  CHECK(std::find(files.begin(), files.end(), "calibration/b2_friction/calibrated/result.json") != files.end());
-  // The study's output folder is locked as a whole: its fits leave no `<folder>.lock` among the results.
+  CHECK(std::find(files.begin(), files.end(), "calibration/b2_friction/calibrated/result.json") !=
+        files.end());
+  // The study's output folder is locked as a whole: its fits leave no `<folder>.lock` among the
+  // results.
   for (const auto& f : fs::recursive_directory_iterator(root / s.name))
     if (f.path().extension() == ".lock") CHECK(f.path().filename() == ".armstudy.lock");
   for (const std::string& f : files) CHECK(fs::path(f).extension() != ".lock");
   fs::remove_all(root);
 }
 
-TEST_CASE("arm study: the effects the data were synthesized with are found - 1 and 2 threads write the same bytes",
-          "[calibration][study]") {
+TEST_CASE(
+    "arm study: the effects the data were synthesized with are found - 1 and 2 threads write the "
+    "same bytes",
+    "[calibration][study]") {
   const Study s = loadStudy(test::sourcePath(kArmStudy));
   const Model& m = studyModel(s, "final_prototype_7dof");
   // The committed data are what the `armstudy synth` commands in the study's header write.
@@ -188,7 +203,8 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
   yo.seed = 1;
   yo.hidden = {"payload", "j3.stribeck"};
   const TrajectoryData traj = synthesizeTrajectory(m, yo);
-  CHECK(trajectoryDataToCsv(traj, true) == readFileOrThrow(test::sourcePath("studies/data/arm_trajectory_synth.csv")));
+  CHECK(trajectoryDataToCsv(traj, true) ==
+        readFileOrThrow(test::sourcePath("studies/data/arm_trajectory_synth.csv")));
 
   const fs::path root = freshDir("arm");
   RunSummary rs1;
@@ -201,7 +217,7 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
         std::set<std::string>{"joint_offset.j3", "link_length.j4.x"});
   auto tp = params(t);
   for (const auto& [key, hidden] : std::map<std::string, double>{{"joint_offset.j3.offset", 0.01},
-                                                                  {"link_length.j4.x.dx", 0.005}}) {
+                                                                 {"link_length.j4.x.dx", 0.005}}) {
     INFO(key);
     CHECK(tp[key].ci_low <= hidden);
     CHECK(hidden <= tp[key].ci_high);
@@ -216,16 +232,20 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
   auto vp = params(v);
   CHECK(vp["joint_offset.j3.offset"].ci_low <= 0.01);
   CHECK(0.01 <= vp["joint_offset.j3.offset"].ci_high);
-  const Model vcal = loadDesign((root / s.name / "calibration/tcp_variant" / v.calibrated_design).string());
+  const Model vcal =
+      loadDesign((root / s.name / "calibration/tcp_variant" / v.calibrated_design).string());
   const Model& variant = studyModel(s, "final_prototype_7dof+j4.x=0.355");
-  CHECK(vcal.joints[vcal.jointIndex("j4")].offset.x == variant.joints[variant.jointIndex("j4")].offset.x);
+  CHECK(vcal.joints[vcal.jointIndex("j4")].offset.x ==
+        variant.joints[variant.jointIndex("j4")].offset.x);
   CHECK(vcal.joints[vcal.jointIndex("j3")].offset.gamma ==
-        Approx(variant.joints[variant.jointIndex("j3")].offset.gamma + vp["joint_offset.j3.offset"].value));
+        Approx(variant.joints[variant.jointIndex("j3")].offset.gamma +
+               vp["joint_offset.j3.offset"].value));
   CHECK(v.calibrated_rmse == Approx(v.ladder.back().train_rmse).epsilon(kRoundTripTolerance));
 
   // trajectory: payload and the j3 Stribeck term, against the hidden values `synth` used.
   const EntrySummary& y = entry(c, "trajectory");
-  CHECK(std::set<std::string>(y.added.begin(), y.added.end()) == std::set<std::string>{"payload", "j3.stribeck"});
+  CHECK(std::set<std::string>(y.added.begin(), y.added.end()) ==
+        std::set<std::string>{"payload", "j3.stribeck"});
   const auto P = makeTrajectoryProblem(m, traj);
   auto yp = params(y);
   for (const std::string name : {"payload", "j3.stribeck"}) {
@@ -238,7 +258,8 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
       CHECK(hidden.x[k] <= f.ci_high);
     }
     if (info.hasProfile())
-      CHECK(yp[name + "." + info.profile.key].value == Approx(hidden.profile).epsilon(kProfileTolerance));
+      CHECK(yp[name + "." + info.profile.key].value ==
+            Approx(hidden.profile).epsilon(kProfileTolerance));
   }
   CHECK(y.calibrated_flagged == 0);
 
@@ -257,8 +278,9 @@ TEST_CASE("arm study: the effects the data were synthesized with are found - 1 a
   fs::remove_all(root);
 }
 
-TEST_CASE("checkpoint: a saved entry is reused while its files are intact, run again when one changed",
-          "[calibration][study][checkpoint]") {
+TEST_CASE(
+    "checkpoint: a saved entry is reused while its files are intact, run again when one changed",
+    "[calibration][study][checkpoint]") {
   const Study s = loadStudy(test::sourcePath(kThesisStudy));
   const fs::path root = freshDir("resume");
   RunSummary r1, r2, r3;
@@ -285,7 +307,8 @@ TEST_CASE("the shipped calibration studies pass `armstudy check` against their c
     const fs::path root = freshDir("check");
     std::string out;
     const int rc = test::runCommand(
-        test::binaryPath() + " check " + test::sourcePath(study) + " --output " + root.string(), out);
+        test::binaryPath() + " check " + test::sourcePath(study) + " --output " + root.string(),
+        out);
     INFO(study << "\n" << out);
     CHECK(rc == 0);
     fs::remove_all(root);
@@ -302,11 +325,13 @@ int lineOf(const std::string& text, const std::string& needle) {
 
 }  // namespace
 
-TEST_CASE("bad [[calibration]] input is an InputError with file, line and key, and nothing is written",
-          "[calibration][study][input]") {
+TEST_CASE(
+    "bad [[calibration]] input is an InputError with file, line and key, and nothing is written",
+    "[calibration][study][input]") {
   const fs::path dir = freshDir("bad");
   const std::string head = "[study]\nname = \"bad\"\n[[design]]\nfile = \"" +
-                           test::sourcePath("designs/final_prototype_9dof.toml") + "\"\n[[design]]\nfile = \"" +
+                           test::sourcePath("designs/final_prototype_9dof.toml") +
+                           "\"\n[[design]]\nfile = \"" +
                            test::sourcePath("designs/final_prototype_7dof.toml") + "\"\n";
   const std::string good = R"(
 [[calibration]]
@@ -328,7 +353,8 @@ variable_bins = 4
 )";
   auto withData = [](std::string body) {
     if (body.find("DRIVE") != std::string::npos)
-      body.replace(body.find("DRIVE"), 5, test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
+      body.replace(body.find("DRIVE"), 5,
+                   test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
     body.replace(body.find("TCP"), 3, test::sourcePath("studies/data/arm_tcp_synth.csv"));
     return body;
   };
@@ -339,7 +365,8 @@ variable_bins = 4
     std::string from, to, key, line_of;  // the error's line is the line holding `line_of`
   };
   const Case cases[] = {
-      {"design = \"final_prototype_9dof\"", "design = \"nope\"", "calibration[0].design", "\"nope\""},
+      {"design = \"final_prototype_9dof\"", "design = \"nope\"", "calibration[0].design",
+       "\"nope\""},
       {"data = \"DRIVE\"", "data = \"missing.csv\"", "calibration[0].data", "missing.csv"},
       {"kind = \"drive\"", "kind = \"motor\"", "calibration[0].kind", "\"motor\""},
       {"add = [\"stribeck\"]", "add = [\"striback\"]", "calibration[0].add", "striback"},
@@ -347,12 +374,14 @@ variable_bins = 4
       {"drive = \"j6\"", "drive = \"j99\"", "calibration[0].drive", "j99"},
       {"drive = \"j6\"", "drive = \"j6\"\ndrvie = 1", "calibration[0].drvie", "drvie"},
       {"variable_bins = 4", "variable_bins = 4\ndrive = \"j3\"", "calibration[1].drive", "\"j3\""},
-      {"variable_bins = 4", "variable_bins = 4\nspeed_bins = 3", "calibration[1].speed_bins", "speed_bins = 3"},
+      {"variable_bins = 4", "variable_bins = 4\nspeed_bins = 3", "calibration[1].speed_bins",
+       "speed_bins = 3"},
       {"speed_bins = 8", "speed_bins = 0", "calibration[0].speed_bins", "speed_bins = 0"},
       {"speed_bins = 8", "speed_bins = 8\nfolds = 1", "calibration[0].folds", "folds = 1"},
       {"speed_bins = 8", "speed_bins = 8\nmode = \"compare\"", "calibration[0].add", "add = "},
       {"speed_bins = 8", "speed_bins = 8\nmode = \"refit\"", "calibration[0].mode", "refit"},
-      {"name = \"arm\"", "name = \"drive\"", "calibration[1].name", "name = \"drive\"\nkind = \"tcp\""},
+      {"name = \"arm\"", "name = \"drive\"", "calibration[1].name",
+       "name = \"drive\"\nkind = \"tcp\""},
       {"name = \"arm\"", "name = \"an arm\"", "calibration[1].name", "an arm"},
   };
   for (const Case& c : cases) {
@@ -377,7 +406,9 @@ variable_bins = 4
   body.replace(body.find("drive = \"j6\""), 12, "drive = \"j99\"");
   std::ofstream(path) << head << withData(body);
   std::string out;
-  CHECK(test::runCommand(test::binaryPath() + " run " + path.string() + " --output " + (dir / "out").string(), out) == 2);
+  CHECK(test::runCommand(
+            test::binaryPath() + " run " + path.string() + " --output " + (dir / "out").string(),
+            out) == 2);
   CHECK(!fs::exists(dir / "out"));
   // A malformed data file names the data file and its line.
   const fs::path csv = dir / "bed.csv";

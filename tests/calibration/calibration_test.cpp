@@ -22,10 +22,10 @@ using drive::Effect;
 
 namespace {
 
-constexpr double kNoise_A = 0.01;              // injected current noise
-constexpr double kNoiseRatio = 1.2;            // held-out RMSE after the fix <= 1.2 x noise
-constexpr double kLsqTolerance = 1e-9;         // bounded vs reduced least squares
-constexpr double kTableTolerance = 0.10;       // relative agreement with thesis Table 4.4
+constexpr double kNoise_A = 0.01;         // injected current noise
+constexpr double kNoiseRatio = 1.2;       // held-out RMSE after the fix <= 1.2 x noise
+constexpr double kLsqTolerance = 1e-9;    // bounded vs reduced least squares
+constexpr double kTableTolerance = 0.10;  // relative agreement with thesis Table 4.4
 
 std::string design(const std::string& law, const std::string& params, const std::string& effects) {
   return R"([design]
@@ -48,22 +48,26 @@ joint = "j1"
 gear_ratio = 100
 torque_constant = 0.075
 [drive.friction]
-law = ")" + law + "\"\n" + params + "\n[model]\neffects = [" + effects + "]\n";
+law = ")" +
+         law + "\"\n" + params + "\n[model]\neffects = [" + effects + "]\n";
 }
 
 // Eq. (3.30) with the Table C.1 CSD-20-100 catalog parameters (mu = 0 there; a small mu is used so
 // that every base term is active).
 std::string catalogDesign() {
-  return design("harmonic_drive", "coulomb = 0.0802\nload_coulomb = 0.002\nviscous = 1.51e-4\nload_viscous = 7.23e-6", "");
+  return design("harmonic_drive",
+                "coulomb = 0.0802\nload_coulomb = 0.002\nviscous = 1.51e-4\nload_viscous = 7.23e-6",
+                "");
 }
 
 // The three other classic terms with typical values, for hiding one of the four classic terms.
 std::string withoutDesign(Effect hidden) {
   std::string params, effects;
-  const std::vector<std::pair<Effect, std::string>> terms = {{Effect::Coulomb, "coulomb = 0.08"},
-                                                             {Effect::Viscous, "viscous = 1.5e-4"},
-                                                             {Effect::LoadCoulomb, "load_coulomb = 0.004"},
-                                                             {Effect::LoadViscous, "load_viscous = 7e-6"}};
+  const std::vector<std::pair<Effect, std::string>> terms = {
+      {Effect::Coulomb, "coulomb = 0.08"},
+      {Effect::Viscous, "viscous = 1.5e-4"},
+      {Effect::LoadCoulomb, "load_coulomb = 0.004"},
+      {Effect::LoadViscous, "load_viscous = 7e-6"}};
   for (const auto& [e, p] : terms) {
     if (e == hidden) continue;
     params += p + "\n";
@@ -90,7 +94,9 @@ DriveData synth(const Model& m, std::vector<Effect> hidden, std::uint64_t seed) 
 
 }  // namespace
 
-TEST_CASE("bounded least squares: interior solution equals QR - active bound equals the reduced problem") {
+TEST_CASE(
+    "bounded least squares: interior solution equals QR - active bound equals the reduced "
+    "problem") {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> nd;
   Eigen::MatrixXd A(40, 3);
@@ -100,7 +106,8 @@ TEST_CASE("bounded least squares: interior solution equals QR - active bound equ
   const Eigen::VectorXd inf = Eigen::VectorXd::Constant(3, std::numeric_limits<double>::infinity());
   const LeastSquaresResult free = boundedLeastSquares(A, y, -inf, inf);
   CHECK((free.x - xt).norm() < kLsqTolerance);
-  // x2 >= 0 is violated by the truth: the optimum has x2 = 0 and the others solve the reduced problem.
+  // x2 >= 0 is violated by the truth: the optimum has x2 = 0 and the others solve the reduced
+  // problem.
   Eigen::VectorXd lo = -inf;
   lo[1] = 0;
   const LeastSquaresResult b = boundedLeastSquares(A, y, lo, inf);
@@ -133,17 +140,18 @@ TEST_CASE("statistics helpers: normal quantile / effective sample size / folds")
   CHECK(lag1Autocorrelation(x) == Approx(0.6).margin(0.02));
 }
 
-TEST_CASE("every hidden drive effect ranks first / and adding it brings the held-out RMSE to the noise") {
+TEST_CASE(
+    "every hidden drive effect ranks first / and adding it brings the held-out RMSE to the noise") {
   for (Effect hidden : drive::kAllEffects) {
-    const bool classic = hidden == Effect::Coulomb || hidden == Effect::Viscous || hidden == Effect::LoadCoulomb ||
-                         hidden == Effect::LoadViscous;
+    const bool classic = hidden == Effect::Coulomb || hidden == Effect::Viscous ||
+                         hidden == Effect::LoadCoulomb || hidden == Effect::LoadViscous;
     const Model m = parseDesign(classic ? withoutDesign(hidden) : catalogDesign(), "bed.toml");
     const DriveData data = synth(m, {hidden}, 11);
     DriveFitOptions o;
     o.auto_add = true;
     const DriveDiagnosis d = diagnoseDrive(m, "j1", data, o);
-    INFO("hidden " << drive::toString(hidden) << ", ranked first: " << drive::toString(d.ranking.front().effect)
-                   << ", verdict: " << d.verdict);
+    INFO("hidden " << drive::toString(hidden) << ", ranked first: "
+                   << drive::toString(d.ranking.front().effect) << ", verdict: " << d.verdict);
     REQUIRE(d.ranking.front().effect == hidden);
     CHECK(d.ranking.front().significant);
     CHECK(d.missing_effect_found);
@@ -157,7 +165,8 @@ TEST_CASE("every hidden drive effect ranks first / and adding it brings the held
   }
 }
 
-TEST_CASE("hidden values are recovered within their confidence intervals (Stribeck / profiled v_S)") {
+TEST_CASE(
+    "hidden values are recovered within their confidence intervals (Stribeck / profiled v_S)") {
   const Model m = designFile(catalogDesign(), "bed_ci");
   SynthOptions so;
   so.noise_A = kNoise_A;
@@ -169,18 +178,21 @@ TEST_CASE("hidden values are recovered within their confidence intervals (Stribe
   REQUIRE(d.added == std::vector<Effect>{Effect::Stribeck});
   std::map<std::string, FittedParameter> p;
   for (const auto& x : d.final_fit.params) p[x.key] = x;
-  for (const auto& [key, truth] : std::vector<std::pair<std::string, double>>{{"stribeck.stribeck_torque", 0.03},
-                                                                             {"stribeck.stribeck_velocity", 45.0},
-                                                                             {"refit.coulomb", 0.0802},
-                                                                             {"refit.viscous", 1.51e-4}}) {
-    INFO(key << " = " << p[key].value << " [" << p[key].ci_low << ", " << p[key].ci_high << "], truth " << truth);
+  for (const auto& [key, truth] :
+       std::vector<std::pair<std::string, double>>{{"stribeck.stribeck_torque", 0.03},
+                                                   {"stribeck.stribeck_velocity", 45.0},
+                                                   {"refit.coulomb", 0.0802},
+                                                   {"refit.viscous", 1.51e-4}}) {
+    INFO(key << " = " << p[key].value << " [" << p[key].ci_low << ", " << p[key].ci_high
+             << "], truth " << truth);
     CHECK(p[key].ci_low <= truth);
     CHECK(truth <= p[key].ci_high);
   }
   // The calibrated design copy, read back and evaluated through the friction law of src/drive,
   // reproduces the fit's own prediction.
   std::vector<std::string> notes;
-  const Model cal = parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+  const Model cal =
+      parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
   const Drive& dr = requireDrive(cal, "j1");
   const auto fp = drive::frictionParams(cal, dr);
   for (int i = 0; i < data.rows(); i += 17)
@@ -213,9 +225,12 @@ TEST_CASE("nothing hidden: no significant missing effect") {
   }
 }
 
-TEST_CASE("thesis story: catalog law (eq. 3.30 / Table C.1) vs the B.2 test bed sample - Stribeck found") {
+TEST_CASE(
+    "thesis story: catalog law (eq. 3.30 / Table C.1) vs the B.2 test bed sample - Stribeck "
+    "found") {
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
-  const DriveData data = readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
+  const DriveData data =
+      readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
   DriveFitOptions o;
   o.auto_add = true;
   const DriveDiagnosis d = diagnoseDrive(m, "j6", data, o);
@@ -238,27 +253,35 @@ TEST_CASE("thesis story: catalog law (eq. 3.30 / Table C.1) vs the B.2 test bed 
   CHECK(p["stribeck.stribeck_velocity"] == Approx(65.2).epsilon(kTableTolerance));
   // The temperature barely varies in the sample: the effect is flagged as hard to identify.
   bool warned = false;
-  for (const std::string& w : d.warnings) warned = warned || w.find("weakly identifiable") != std::string::npos;
+  for (const std::string& w : d.warnings)
+    warned = warned || w.find("weakly identifiable") != std::string::npos;
   for (const Candidate& c : d.ranking)
     if (c.effect == Effect::Temperature) warned = warned || !c.warnings.empty();
   CHECK(warned);
 }
 
-TEST_CASE("sign conventions of the sample: Table 4.4 B.2 (eq. 3.33) predicts it to the noise level") {
+TEST_CASE(
+    "sign conventions of the sample: Table 4.4 B.2 (eq. 3.33) predicts it to the noise level") {
   Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
   for (Drive& d : m.drives)
     if (d.joint == "j6") {
       d.friction_law = "stribeck";
-      d.friction = {{"coulomb", 1.36e-1}, {"load_coulomb", 4.4e-3}, {"viscous", 1.95e-5},
-                    {"stribeck_torque", 4.77e-2}, {"stribeck_velocity", 65.2}};
+      d.friction = {{"coulomb", 1.36e-1},
+                    {"load_coulomb", 4.4e-3},
+                    {"viscous", 1.95e-5},
+                    {"stribeck_torque", 4.77e-2},
+                    {"stribeck_velocity", 65.2}};
     }
-  const DriveData data = readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
+  const DriveData data =
+      readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
   const DriveDiagnosis d = compareDrive(m, "j6", data, {});
   CHECK(d.as_designed_cmp.friction_torque.rmse < 2 * 3.2e-3);
   CHECK(std::abs(d.as_designed_cmp.current.bias) < 0.02);
 }
 
-TEST_CASE("bad input: missing drive / too few rows / standstill row / constant or missing temperature / one direction") {
+TEST_CASE(
+    "bad input: missing drive / too few rows / standstill row / constant or missing temperature / "
+    "one direction") {
   const Model m = parseDesign(catalogDesign(), "bed.toml");
   CHECK_THROWS_AS(requireDrive(m, "j7"), InputError);
   DriveData data = synth(m, {}, 5);
@@ -290,7 +313,8 @@ TEST_CASE("bad input: missing drive / too few rows / standstill row / constant o
       CHECK(c.status == "unidentifiable");
       CHECK_FALSE(c.warnings.empty());
     }
-  for (const Candidate& c : d2.ranking) CHECK_FALSE(drive::isTemperatureEffect(c.effect));  // not a candidate
+  for (const Candidate& c : d2.ranking)
+    CHECK_FALSE(drive::isTemperatureEffect(c.effect));  // not a candidate
 
   SynthOptions one;
   one.speeds_radps = {50, 100, 200, 300};
@@ -312,7 +336,8 @@ TEST_CASE("bad input: missing drive / too few rows / standstill row / constant o
     }
 }
 
-TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare - history grows - bad CSV exits 2") {
+TEST_CASE(
+    "CLI: synth -> fit --auto -> calibrated design -> compare - history grows - bad CSV exits 2") {
   namespace fs = std::filesystem;
   const std::string dir = test::binaryPath() + "_cli_tmp";
   fs::remove_all(dir);
@@ -320,35 +345,45 @@ TEST_CASE("CLI: synth -> fit --auto -> calibrated design -> compare - history gr
   const std::string bin = test::binaryPath();
   const std::string design = test::sourcePath("designs/final_prototype_9dof.toml");
   std::string out;
-  REQUIRE(test::runCommand(bin + " synth " + design + " --drive j5 --hide stribeck --noise 0.01 --seed 3 --out " + dir +
+  REQUIRE(test::runCommand(bin + " synth " + design +
+                               " --drive j5 --hide stribeck --noise 0.01 --seed 3 --out " + dir +
                                "/bed.csv",
                            out) == 0);
-  REQUIRE(test::runCommand(bin + " fit " + design + " --drive j5 --data " + dir + "/bed.csv --auto --out " + dir + "/fit",
+  REQUIRE(test::runCommand(bin + " fit " + design + " --drive j5 --data " + dir +
+                               "/bed.csv --auto --out " + dir + "/fit",
                            out) == 0);
   INFO(out);
   const auto j = nlohmann::json::parse(readFileOrThrow(dir + "/fit/result.json"));
   CHECK(j["kind"] == "drive");
   CHECK(j["ranking"][0]["effect"] == "stribeck");
   CHECK(j["ranking"][0]["significant"] == true);
-  for (const char* k : {"rmse", "noise_estimate", "regions", "rmse_before", "rmse_after"}) CHECK(j.contains(k));
+  for (const char* k : {"rmse", "noise_estimate", "regions", "rmse_before", "rmse_after"})
+    CHECK(j.contains(k));
   CHECK(j["rmse_after"].get<double>() < j["rmse_before"].get<double>());
   const std::string cal = j["calibrated_design"];
   const Model cm = loadDesign(cal);
   CHECK(cm.effects == std::vector<std::string>{"j5.stribeck"});
-  REQUIRE(test::runCommand(bin + " compare " + cal + " --drive j5 --data " + dir + "/bed.csv --out " + dir + "/fit", out) == 0);
+  REQUIRE(test::runCommand(bin + " compare " + cal + " --drive j5 --data " + dir +
+                               "/bed.csv --out " + dir + "/fit",
+                           out) == 0);
   const std::string hist = readFileOrThrow(dir + "/fit/history.csv");
   CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 3 + 1);  // header, fit ladder, compare
   CHECK(fs::exists(dir + "/fit/error_ladder.svg"));
   CHECK(fs::exists(dir + "/fit/plots/after_residual_map.svg"));
 
   writeFileAtomic(dir + "/bad.csv", "speed,load_torque,current\n10,1,0.5\n20,1,NaN\n");
-  CHECK(test::runCommand(bin + " compare " + design + " --drive j5 --data " + dir + "/bad.csv --out " + dir + "/bad", out) == 2);
+  CHECK(test::runCommand(bin + " compare " + design + " --drive j5 --data " + dir +
+                             "/bad.csv --out " + dir + "/bad",
+                         out) == 2);
   CHECK(out.find("bad.csv:3") != std::string::npos);
   CHECK(out.find("current") != std::string::npos);
   writeFileAtomic(dir + "/nocol.csv", "speed,current\n10,0.5\n");
-  CHECK(test::runCommand(bin + " compare " + design + " --drive j5 --data " + dir + "/nocol.csv", out) == 2);
+  CHECK(test::runCommand(bin + " compare " + design + " --drive j5 --data " + dir + "/nocol.csv",
+                         out) == 2);
   CHECK(out.find("'load_torque'") != std::string::npos);
-  CHECK(test::runCommand(bin + " fit " + design + " --drive j42 --data " + dir + "/bed.csv --out " + dir + "/x", out) == 2);
+  CHECK(test::runCommand(
+            bin + " fit " + design + " --drive j42 --data " + dir + "/bed.csv --out " + dir + "/x",
+            out) == 2);
   CHECK(out.find("j42") != std::string::npos);
   CHECK_FALSE(fs::exists(dir + "/bad/result.json"));
   fs::remove_all(dir);

@@ -2,6 +2,8 @@
 // gain and delay against the Butterworth closed form, the motor-to-joint conversion against a hand
 // computation, a synthetic arm with planted joint friction through the whole path (files, coupling,
 // filter, fit), and every kind of bad input named by file, line and column.
+#include "calibration/joint_log.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -11,7 +13,6 @@
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/calibration_run.hpp"
-#include "calibration/joint_log.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "engine/study_file.hpp"
@@ -26,7 +27,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // Amplitude and phase of a sine of frequency f fitted to y over the samples [a, b).
-void sineFit(const std::vector<double>& y, double h, double f, int a, int b, double& amp, double& phase) {
+void sineFit(const std::vector<double>& y, double h, double f, int a, int b, double& amp,
+             double& phase) {
   Eigen::MatrixXd A(b - a, 2);
   Eigen::VectorXd r(b - a);
   for (int i = a; i < b; ++i) {
@@ -103,10 +105,12 @@ JointLogSpec writeSyntheticLogs(const fs::path& dir, const Planted& pl, double h
       const double w1 = 2 * M_PI * (0.3 + 0.07 * j), w2 = 2 * M_PI * (0.71 + 0.05 * j);
       q[j] = c + a * (0.7 * std::sin(w1 * t + j) + 0.3 * std::sin(w2 * t + 2 * j));
       qd[j] = a * (0.7 * w1 * std::cos(w1 * t + j) + 0.3 * w2 * std::cos(w2 * t + 2 * j));
-      qdd[j] = -a * (0.7 * w1 * w1 * std::sin(w1 * t + j) + 0.3 * w2 * w2 * std::sin(w2 * t + 2 * j));
+      qdd[j] =
+          -a * (0.7 * w1 * w1 * std::sin(w1 * t + j) + 0.3 * w2 * w2 * std::sin(w2 * t + 2 * j));
     }
     inverseDynamics(rbm, ws, q, qd, qdd, Q);
-    for (int j = 0; j < 6; ++j) Q[j] += pl.coulomb[j] * (qd[j] > 0 ? 1 : -1) + pl.viscous[j] * qd[j] + pl.offset[j];
+    for (int j = 0; j < 6; ++j)
+      Q[j] += pl.coulomb[j] * (qd[j] > 0 ? 1 : -1) + pl.viscous[j] * qd[j] + pl.offset[j];
     pos.row(i) = (R * q).transpose();
     eff.row(i) = R.transpose().fullPivLu().solve(Q).transpose();
   }
@@ -201,7 +205,9 @@ TEST_CASE("a synthetic arm with planted joint friction through the log path reco
   for (const EffectValue& v : fit.values) {
     const ArmEffect& e = P->catalogue[v.effect];
     const int j = design6().jointIndex(e.joint);
-    const double planted = e.effect == "coulomb" ? pl.coulomb[j] : e.effect == "viscous" ? pl.viscous[j] : pl.offset[j];
+    const double planted = e.effect == "coulomb"   ? pl.coulomb[j]
+                           : e.effect == "viscous" ? pl.viscous[j]
+                                                   : pl.offset[j];
     INFO(e.name);
     // The smooth sign (1 % of the peak speed) against the planted pure sign: within 3 %.
     CHECK(v.x[0] == Approx(planted).epsilon(0.03).margin(0.02));
@@ -211,7 +217,8 @@ TEST_CASE("a synthetic arm with planted joint friction through the log path reco
   const ArmDiagnosis diag = diagnoseArm(*P, o);
   REQUIRE(!diag.ranking.empty());
   const std::string first = diag.ranking.front().name;
-  CHECK((first.find(".coulomb") != std::string::npos || first.find(".viscous") != std::string::npos));
+  CHECK(
+      (first.find(".coulomb") != std::string::npos || first.find(".viscous") != std::string::npos));
 }
 
 namespace {
@@ -271,7 +278,8 @@ TEST_CASE("bad joint logs are named by file line and column") {
     for (std::string l; std::getline(in, l);) lines.push_back(l);
     std::ofstream out(b.dir / "pos.csv");
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      const double t = i == 0 ? 0 : (i == 100 ? 0.05 : 1e-3 * (i - 1));  // row of line 101 goes back
+      const double t =
+          i == 0 ? 0 : (i == 100 ? 0.05 : 1e-3 * (i - 1));  // row of line 101 goes back
       out << lines[i] << (i == 0 ? std::string(",t") : "," + std::to_string(t)) << "\n";
     }
     out.close();
@@ -288,7 +296,8 @@ TEST_CASE("bad joint logs are named by file line and column") {
     for (std::string l; std::getline(in, l);) lines.push_back(l);
     std::ofstream out(b.dir / "pos.csv");
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      const double t = 1e-3 * (static_cast<double>(i) - 1) + (i >= 200 ? 0.01 : 0.0);  // 10 ms missing before line 201
+      const double t = 1e-3 * (static_cast<double>(i) - 1) +
+                       (i >= 200 ? 0.01 : 0.0);  // 10 ms missing before line 201
       out << lines[i] << (i == 0 ? std::string(",t") : "," + std::to_string(t)) << "\n";
     }
     out.close();
@@ -355,14 +364,19 @@ namespace {
 
 // A study with a [calibration.measured] section on the synthetic logs; `edit` replaces text.
 fs::path measuredStudy(const fs::path& dir, const std::string& from, const std::string& to) {
-  std::string text = "[study]\nname = \"logs\"\n\n[[design]]\nfile = \"" + test::sourcePath("designs/first_prototype_6dof.toml") +
-                     "\"\n\n[[calibration]]\nname = \"logs\"\nkind = \"trajectory\"\ndesign = \"first_prototype_6dof\"\n\n"
-                     "[calibration.measured]\njoints = [\"j1\", \"j2\", \"j3\", \"j4\", \"j5\", \"j6\"]\nside = \"motor\"\n"
-                     "sample_period = \"1 ms\"\nratios = [30, 30, 40, -50, 40, 25]\n"
-                     "coupling = [{ motor = \"j6\", joint = \"j5\", ratio = 25 }]\n"
-                     "positions = { file = \"pos.csv\", columns = [1, 2, 3, 4, 5, 6], unit = \"rad\" }\n"
-                     "efforts = { file = \"eff.csv\", columns = [\"e1\", \"e2\", \"e3\", \"e4\", \"e5\", \"e6\"], unit = \"N m\" }\n"
-                     "filter = { cutoff = \"50 Hz\" }\n";
+  std::string text =
+      "[study]\nname = \"logs\"\n\n[[design]]\nfile = \"" +
+      test::sourcePath("designs/first_prototype_6dof.toml") +
+      "\"\n\n[[calibration]]\nname = \"logs\"\nkind = \"trajectory\"\ndesign = "
+      "\"first_prototype_6dof\"\n\n"
+      "[calibration.measured]\njoints = [\"j1\", \"j2\", \"j3\", \"j4\", \"j5\", \"j6\"]\nside = "
+      "\"motor\"\n"
+      "sample_period = \"1 ms\"\nratios = [30, 30, 40, -50, 40, 25]\n"
+      "coupling = [{ motor = \"j6\", joint = \"j5\", ratio = 25 }]\n"
+      "positions = { file = \"pos.csv\", columns = [1, 2, 3, 4, 5, 6], unit = \"rad\" }\n"
+      "efforts = { file = \"eff.csv\", columns = [\"e1\", \"e2\", \"e3\", \"e4\", \"e5\", \"e6\"], "
+      "unit = \"N m\" }\n"
+      "filter = { cutoff = \"50 Hz\" }\n";
   if (!from.empty()) {
     REQUIRE(text.find(from) != std::string::npos);
     text.replace(text.find(from), from.size(), to);
@@ -394,9 +408,12 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
   };
   const Case cases[] = {
       {", unit = \"N m\"", "", "calibration[0].measured.efforts.unit", "efforts ="},
-      {"ratios = [30, 30, 40, -50, 40, 25]", "ratios = [30, 30, 40, -50, 40, 0]", "calibration[0].measured.coupling", "[calibration.measured]"},
-      {"\"j3\", \"j4\"", "\"elbow\", \"j4\"", "calibration[0].measured.joints", "[calibration.measured]"},
-      {"sample_period = \"1 ms\"", "sample_period = \"1\"", "calibration[0].measured.sample_period", "sample_period"},
+      {"ratios = [30, 30, 40, -50, 40, 25]", "ratios = [30, 30, 40, -50, 40, 0]",
+       "calibration[0].measured.coupling", "[calibration.measured]"},
+      {"\"j3\", \"j4\"", "\"elbow\", \"j4\"", "calibration[0].measured.joints",
+       "[calibration.measured]"},
+      {"sample_period = \"1 ms\"", "sample_period = \"1\"", "calibration[0].measured.sample_period",
+       "sample_period"},
   };
   for (const Case& c : cases) {
     const fs::path p = measuredStudy(dir, c.from, c.to);
@@ -414,7 +431,9 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
   // Through the CLI: exit code 2, the file and key named, no output folder.
   const fs::path p = measuredStudy(dir, ", unit = \"N m\"", "");
   std::string out;
-  CHECK(test::runCommand(test::binaryPath() + " run " + p.string() + " --output " + (dir / "out").string(), out) == 2);
+  CHECK(test::runCommand(
+            test::binaryPath() + " run " + p.string() + " --output " + (dir / "out").string(),
+            out) == 2);
   CHECK_THAT(out, Catch::Contains("unit"));
   CHECK(!fs::exists(dir / "out"));
   // A bad log cell: exit 2 naming the log file and its line, no output folder.
@@ -427,14 +446,17 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
     for (const auto& l : lines) o << l << "\n";
   }
   const fs::path good = measuredStudy(dir, "", "");
-  CHECK(test::runCommand(test::binaryPath() + " run " + good.string() + " --output " + (dir / "out").string(), out) == 2);
+  CHECK(test::runCommand(
+            test::binaryPath() + " run " + good.string() + " --output " + (dir / "out").string(),
+            out) == 2);
   CHECK_THAT(out, Catch::Contains("eff.csv") && Catch::Contains("42") && Catch::Contains("e4"));
   CHECK(!fs::exists(dir / "out"));
 }
 
 TEST_CASE("one operating point repeated is not identifiable and gets no calibrated design") {
   const fs::path dir = tmp("onepoint");
-  const std::string bed = readFileOrThrow(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
+  const std::string bed =
+      readFileOrThrow(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
   const std::string header = bed.substr(0, bed.find('\n') + 1);
   const std::size_t second = bed.find('\n', header.size());
   const std::string row = bed.substr(header.size(), second - header.size() + 1);
@@ -442,9 +464,10 @@ TEST_CASE("one operating point repeated is not identifiable and gets no calibrat
   for (int i = 0; i < 12; ++i) text += row;
   writeText(dir / "same.csv", text);
   std::string out;
-  const int rc = test::runCommand(test::binaryPath() + " fit " + test::sourcePath("designs/final_prototype_9dof.toml") +
-                                      " --drive j6 --auto --data " + (dir / "same.csv").string() + " --out " +
-                                      (dir / "out").string(),
+  const int rc = test::runCommand(test::binaryPath() + " fit " +
+                                      test::sourcePath("designs/final_prototype_9dof.toml") +
+                                      " --drive j6 --auto --data " + (dir / "same.csv").string() +
+                                      " --out " + (dir / "out").string(),
                                   out);
   INFO(out);
   CHECK(rc == 0);
@@ -497,15 +520,18 @@ TEST_CASE("a time column with controller jitter is read with the actual times an
     // Samples taken at their nominal instants, stamped with +-5 % jitter of the 1 ms period.
     const double t = 1e-3 * (static_cast<double>(i) - 1) + (i % 2 ? 5e-5 : -5e-5);
     out << lines[i];
-    if (i == 0) out << ",t";
-    else out << "," << t;
+    if (i == 0)
+      out << ",t";
+    else
+      out << "," << t;
     out << "\n";
   }
   out.close();
   s.time_column = "t";
   const TrajectoryData d = readJointLog(s, design6());
   bool warned = false;
-  for (const auto& w : d.warnings) warned = warned || w.find("time steps vary") != std::string::npos;
+  for (const auto& w : d.warnings)
+    warned = warned || w.find("time steps vary") != std::string::npos;
   CHECK(warned);
   CHECK(d.rows() > 100);
 }

@@ -2,8 +2,8 @@
 // effect hidden in synthetic data made by a forward model that does not share the engine's
 // prediction (an energy minimum, a closed form, a noise per channel), fitted from a design that
 // does not carry it.
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -13,10 +13,10 @@
 #include "calibration/arm_calibration.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/history.hpp"
-#include "common/rng.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "common/errors.hpp"
+#include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -28,10 +28,10 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoiseRatio = 1.2;           // held-out RMSE <= 1.2 x the injected noise
-constexpr double kTcpNoise_m = 2e-4;          // injected TCP position noise
+constexpr double kNoiseRatio = 1.2;             // held-out RMSE <= 1.2 x the injected noise
+constexpr double kTcpNoise_m = 2e-4;            // injected TCP position noise
 constexpr double kGoldenTolerance_rad = 1e-13;  // equilibrium search of the sag oracle
-constexpr double kRecoveredRelative = 0.05;   // a recovered parameter within 5 % of the hidden one
+constexpr double kRecoveredRelative = 0.05;  // a recovered parameter within 5 % of the hidden one
 
 const Model& design7() {
   static const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
@@ -53,7 +53,8 @@ double gravityPotential(const Model& m, KinematicsWorkspace& ws, const Eigen::Ve
 
 // The link position of joint j at rest: minimum of gravity potential plus the spring energy
 // (q_j - q_m,j)^2 / (2 C) of a joint whose motor side sits at q_m (golden section).
-Eigen::VectorXd saggedConfiguration(const Model& m, const Eigen::VectorXd& q_m, int j, double compliance) {
+Eigen::VectorXd saggedConfiguration(const Model& m, const Eigen::VectorXd& q_m, int j,
+                                    double compliance) {
   KinematicsWorkspace ws(m);
   auto energy = [&](double x) {
     Eigen::VectorXd q = q_m;
@@ -118,7 +119,8 @@ TEST_CASE("a compliant joint sags with gravity - the hidden compliance is recove
   CHECK(d.rmse_after <= kNoiseRatio * kTcpNoise_m);
   REQUIRE(d.final_fit.params.size() == 1);
   const FittedParameter& c = d.final_fit.params.front();
-  INFO(c.key << " = " << c.value << " [" << c.ci_low << ", " << c.ci_high << "], hidden " << compliance);
+  INFO(c.key << " = " << c.value << " [" << c.ci_low << ", " << c.ci_high << "], hidden "
+             << compliance);
   CHECK_FALSE(c.at_bound);
   CHECK(c.value == Approx(compliance).epsilon(kRecoveredRelative));
   CHECK(c.ci_low <= compliance);
@@ -132,7 +134,8 @@ constexpr double kTauNoise = 0.05;  // N m, joints j2..j4 (and every joint where
 // A trajectory of the 7-DoF design (3 s at 40 Hz) whose efforts are the design's prediction plus
 // `extra(row, joint)` plus Gaussian noise of `noise[joint]`: the hidden effect in closed form.
 template <class Extra>
-TrajectoryData trajectoryWith(const Model& truth, const std::vector<double>& noise, std::uint64_t seed, Extra extra) {
+TrajectoryData trajectoryWith(const Model& truth, const std::vector<double>& noise,
+                              std::uint64_t seed, Extra extra) {
   TrajectorySynthOptions so;
   so.duration_s = 3.0;
   so.rate_Hz = 40;
@@ -141,7 +144,8 @@ TrajectoryData trajectoryWith(const Model& truth, const std::vector<double>& noi
   TrajectoryData d = synthesizeTrajectory(truth, so);
   rng::SplitMix64 rng{seed + 1000};
   for (int i = 0; i < d.rows(); ++i)
-    for (int j = 0; j < truth.dof(); ++j) d.measured(i, j) += extra(d, i, j) + noise[j] * rng.normal();
+    for (int j = 0; j < truth.dof(); ++j)
+      d.measured(i, j) += extra(d, i, j) + noise[j] * rng.normal();
   return d;
 }
 
@@ -149,7 +153,8 @@ double channelHeldout(const ArmDiagnosis& d, int c) { return d.final_fit.channel
 
 }  // namespace
 
-TEST_CASE("channels of different units count by their own noise - a small wrist-only effect is found") {
+TEST_CASE(
+    "channels of different units count by their own noise - a small wrist-only effect is found") {
   const Model& m = design7();
   const int j8 = m.jointIndex("j8");
   // Lift force noise 2 N, arm joints 0.05 N m, wrists 0.02 N m. Hidden: joint-side viscous
@@ -160,8 +165,9 @@ TEST_CASE("channels of different units count by their own noise - a small wrist-
   for (const Drive& dr : m.drives)
     if (dr.joint == "j8") N = dr.gear_ratio;
   REQUIRE(N > 0);
-  const TrajectoryData data =
-      trajectoryWith(m, noise, 41, [&](const TrajectoryData& d, int i, int j) { return j == j8 ? b_joint * d.qd(i, j) : 0.0; });
+  const TrajectoryData data = trajectoryWith(
+      m, noise, 41,
+      [&](const TrajectoryData& d, int i, int j) { return j == j8 ? b_joint * d.qd(i, j) : 0.0; });
   const auto P = makeTrajectoryProblem(m, data);
   ArmFitOptions o;
   o.auto_add = true;
@@ -176,25 +182,30 @@ TEST_CASE("channels of different units count by their own noise - a small wrist-
   CHECK(wrist_before.rmse > 2 * noise[j8]);
   REQUIRE(d.added == std::vector<std::string>{"j8.viscous"});
   for (int c = 0; c < P->channels(); ++c) {
-    INFO("channel " << P->channel_names[c] << " held-out " << channelHeldout(d, c) << ", noise " << noise[c]);
+    INFO("channel " << P->channel_names[c] << " held-out " << channelHeldout(d, c) << ", noise "
+                    << noise[c]);
     CHECK(channelHeldout(d, c) <= kNoiseRatio * noise[c]);
     CHECK(d.channel_noise[c] == Approx(noise[c]).epsilon(0.35));
   }
   CHECK(d.final_fit.heldout_score <= kNoiseRatio);
   const FittedParameter& b = d.final_fit.params.front();
-  INFO(b.key << " = " << b.value << " [" << b.ci_low << ", " << b.ci_high << "], hidden " << b_joint / (N * N));
+  INFO(b.key << " = " << b.value << " [" << b.ci_low << ", " << b.ci_high << "], hidden "
+             << b_joint / (N * N));
   CHECK(b.value * N * N == Approx(b_joint).epsilon(kRecoveredRelative));
   CHECK(d.verdict == "missing effect: j8.viscous");
 }
 
-TEST_CASE("a position-periodic torque ripple on one joint is an unexplained effect, named by channel and variable") {
+TEST_CASE(
+    "a position-periodic torque ripple on one joint is an unexplained effect, named by channel and "
+    "variable") {
   const Model& m = design7();
   const int j3 = m.jointIndex("j3");
   const double amplitude = 0.3, per_rev = 12;  // cogging: 12 periods per revolution of j3
   const std::vector<double> noise(m.dof(), kTauNoise);
-  const TrajectoryData data = trajectoryWith(m, noise, 43, [&](const TrajectoryData& d, int i, int j) {
-    return j == j3 ? amplitude * std::sin(per_rev * d.q(i, j)) : 0.0;
-  });
+  const TrajectoryData data =
+      trajectoryWith(m, noise, 43, [&](const TrajectoryData& d, int i, int j) {
+        return j == j3 ? amplitude * std::sin(per_rev * d.q(i, j)) : 0.0;
+      });
   const auto P = makeTrajectoryProblem(m, data);
   ArmFitOptions o;
   o.auto_add = true;
@@ -260,14 +271,18 @@ TEST_CASE("a slow ripple on a wrist (4 periods per rad on j8) is no catalogue ef
     CHECK_FALSE(c.significant);
   }
   CHECK(d.added.empty());
-  CHECK(d.verdict.rfind("unexplained effect in channel tau6 against q6", 0) == 0);  // j8 is the 6th joint
+  CHECK(d.verdict.rfind("unexplained effect in channel tau6 against q6", 0) ==
+        0);  // j8 is the 6th joint
 }
 
-TEST_CASE("nothing hidden - no significant missing effect and no unexplained pattern (trajectory and tcp)") {
+TEST_CASE(
+    "nothing hidden - no significant missing effect and no unexplained pattern (trajectory and "
+    "tcp)") {
   const Model& m = design7();
   const std::vector<double> noise = {2.0, kTauNoise, kTauNoise, kTauNoise, 0.02, 0.02, 0.02};
   for (std::uint64_t seed : {45u, 47u}) {
-    const auto P = makeTrajectoryProblem(m, trajectoryWith(m, noise, seed, [](const TrajectoryData&, int, int) { return 0.0; }));
+    const auto P = makeTrajectoryProblem(
+        m, trajectoryWith(m, noise, seed, [](const TrajectoryData&, int, int) { return 0.0; }));
     ArmFitOptions o;
     o.auto_add = true;
     const ArmDiagnosis d = diagnoseArm(*P, o);
@@ -291,12 +306,14 @@ TEST_CASE("nothing hidden - no significant missing effect and no unexplained pat
 TEST_CASE("a payload with an offset centre of mass is learned from a design without payload") {
   Model truth = design7();
   truth.payload_kg = 1.0;
-  truth.p_payload_com_T = Eigen::Vector3d(0.04, -0.03, 0.08);  // a point mass, offset from the tool axis
+  truth.p_payload_com_T =
+      Eigen::Vector3d(0.04, -0.03, 0.08);  // a point mass, offset from the tool axis
   Model design = design7();
   design.payload_kg = 0;
   design.p_payload_com_T.setZero();
   const std::vector<double> noise(design.dof(), kTauNoise);
-  const TrajectoryData data = trajectoryWith(truth, noise, 51, [](const TrajectoryData&, int, int) { return 0.0; });
+  const TrajectoryData data =
+      trajectoryWith(truth, noise, 51, [](const TrajectoryData&, int, int) { return 0.0; });
   const auto P = makeTrajectoryProblem(design, data);
   ArmFitOptions o;
   o.auto_add = true;
@@ -307,13 +324,16 @@ TEST_CASE("a payload with an offset centre of mass is learned from a design with
   CHECK(d.ranking.front().significant);
   REQUIRE(d.added == std::vector<std::string>{"payload"});
   CHECK(d.rmse_after <= kNoiseRatio * kTauNoise);
-  // Mass and first moments m c (the first four parameters) are recovered; their intervals hold them.
+  // Mass and first moments m c (the first four parameters) are recovered; their intervals hold
+  // them.
   const double expect[4] = {truth.payload_kg, truth.payload_kg * truth.p_payload_com_T.x(),
-                            truth.payload_kg * truth.p_payload_com_T.y(), truth.payload_kg * truth.p_payload_com_T.z()};
+                            truth.payload_kg * truth.p_payload_com_T.y(),
+                            truth.payload_kg * truth.p_payload_com_T.z()};
   REQUIRE(d.final_fit.params.size() >= 4);
   for (int k = 0; k < 4; ++k) {
     const FittedParameter& fp = d.final_fit.params[k];
-    INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden " << expect[k]);
+    INFO(fp.key << " = " << fp.value << " [" << fp.ci_low << ", " << fp.ci_high << "], hidden "
+                << expect[k]);
     CHECK(fp.ci_low <= expect[k]);
     CHECK(fp.ci_high >= expect[k]);
   }
@@ -328,7 +348,8 @@ namespace fs = std::filesystem;
 std::map<std::string, std::string> snapshot(const std::string& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) out[fs::relative(e.path(), dir).generic_string()] = fileHash(e.path().string());
+    if (e.is_regular_file())
+      out[fs::relative(e.path(), dir).generic_string()] = fileHash(e.path().string());
   return out;
 }
 
@@ -341,34 +362,47 @@ std::string freshDir(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("nothing is written before the inputs are validated - a failed run leaves the output folder as it was") {
+TEST_CASE(
+    "nothing is written before the inputs are validated - a failed run leaves the output folder as "
+    "it was") {
   const std::string dir = freshDir("i13_out");
   const std::string bin = test::binaryPath();
   const std::string d7 = test::sourcePath("designs/final_prototype_7dof.toml");
   const std::string d9 = test::sourcePath("designs/final_prototype_9dof.toml");
   std::string out;
-  REQUIRE(test::runCommand(bin + " synth " + d7 + " --kind tcp --rows 30 --noise 2e-4 --out " + dir + "/tcp.csv", out) == 0);
-  REQUIRE(test::runCommand(bin + " synth " + d9 + " --drive j6 --out " + dir + "/bed.csv", out) == 0);
+  REQUIRE(test::runCommand(
+              bin + " synth " + d7 + " --kind tcp --rows 30 --noise 2e-4 --out " + dir + "/tcp.csv",
+              out) == 0);
+  REQUIRE(test::runCommand(bin + " synth " + d9 + " --drive j6 --out " + dir + "/bed.csv", out) ==
+          0);
   const std::string res = dir + "/res";
-  REQUIRE(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) == 0);
+  REQUIRE(test::runCommand(
+              bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) ==
+          0);
   const auto before = snapshot(res);
   REQUIRE(before.count("result.json"));
   REQUIRE(before.count("history.csv"));
   // The folder holds tcp results: a drive fit into it is an input error (exit 2), and not one of
   // the residuals, plots or history rows of the tcp run is touched.
-  CHECK(test::runCommand(bin + " fit " + d9 + " --drive j6 --data " + dir + "/bed.csv --out " + res, out) == 2);
+  CHECK(test::runCommand(bin + " fit " + d9 + " --drive j6 --data " + dir + "/bed.csv --out " + res,
+                         out) == 2);
   CHECK(out.find("history") != std::string::npos);
   CHECK(snapshot(res) == before);
   // A bad data file: the same.
   writeFileAtomic(dir + "/bad.csv", "q1,q2,x,y,z\n0,0,0,0,0\n");
-  CHECK(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/bad.csv --out " + res, out) == 2);
+  CHECK(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/bad.csv --out " + res,
+                         out) == 2);
   CHECK(snapshot(res) == before);
   // No staging folder is left beside the output folder.
-  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find(".staging.") == std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir))
+    CHECK(e.path().filename().string().find(".staging.") == std::string::npos);
   // A complete second run replaces the result and appends its rows to the history.
-  REQUIRE(test::runCommand(bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) == 0);
+  REQUIRE(test::runCommand(
+              bin + " fit " + d7 + " --kind tcp --data " + dir + "/tcp.csv --out " + res, out) ==
+          0);
   const std::string hist = readFileOrThrow(res + "/history.csv");
-  CHECK(std::count(hist.begin(), hist.end(), '\n') == 1 + 1 + 1);  // header, one row per run (no effect added)
+  CHECK(std::count(hist.begin(), hist.end(), '\n') ==
+        1 + 1 + 1);  // header, one row per run (no effect added)
 }
 
 TEST_CASE("a run that fails before its result is complete leaves no file in the output folder") {
@@ -410,25 +444,30 @@ TEST_CASE("fit --help shows the defaults of folds, seed and bins") {
   // CLI11 prints a default as "TYPE=value" after the option name.
   CHECK(line("--folds").find("=" + std::to_string(defaults::kCvFolds)) != std::string::npos);
   CHECK(line("--seed").find("=" + std::to_string(defaults::kCvSeed)) != std::string::npos);
-  CHECK(line("--variable-bins").find("=" + std::to_string(defaults::kArmVariableBins)) != std::string::npos);
+  CHECK(line("--variable-bins").find("=" + std::to_string(defaults::kArmVariableBins)) !=
+        std::string::npos);
   CHECK(line("--speed-bins").find("=" + std::to_string(defaults::kSpeedBins)) != std::string::npos);
 }
 
-TEST_CASE("a viscous term that changes with temperature is found by the temperature_viscous candidate") {
+TEST_CASE(
+    "a viscous term that changes with temperature is found by the temperature_viscous candidate") {
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
   const Drive& dr = requireDrive(m, "j6");
-  const double noise_A = 0.01, k_b = -1e-6, theta_ref = 20.0;  // N m s/(rad K): the lubricant thins as it warms
+  const double noise_A = 0.01, k_b = -1e-6,
+               theta_ref = 20.0;  // N m s/(rad K): the lubricant thins as it warms
   SynthOptions so;
   so.noise_A = noise_A;
   so.seed = 53;
   DriveData data = synthesizeDrive(m, "j6", so);  // warms up from 25 to 45 deg C over the run
   // The hidden effect in closed form: T_loss += k_b (theta - theta_ref) phi_dot, I = T / k_m.
   for (int i = 0; i < data.rows(); ++i)
-    data.current[i] += k_b * (data.temperature[i] - theta_ref) * data.speed[i] / dr.torque_constant_NmpA;
+    data.current[i] +=
+        k_b * (data.temperature[i] - theta_ref) * data.speed[i] / dr.torque_constant_NmpA;
   DriveFitOptions o;
   o.auto_add = true;
   const DriveDiagnosis d = diagnoseDrive(m, "j6", data, o);
-  INFO("first " << drive::toString(d.ranking.front().effect) << ", before " << d.rmse_before << ", after " << d.rmse_after);
+  INFO("first " << drive::toString(d.ranking.front().effect) << ", before " << d.rmse_before
+                << ", after " << d.rmse_after);
   CHECK(d.ranking.front().effect == drive::Effect::TemperatureViscous);
   CHECK(d.ranking.front().significant);
   REQUIRE_FALSE(d.added.empty());
@@ -441,7 +480,8 @@ TEST_CASE("a viscous term that changes with temperature is found by the temperat
   CHECK(fitted == Approx(k_b).epsilon(kRecoveredRelative));
   // The calibrated design copy, read back and evaluated through src/drive, reproduces the fit.
   std::vector<std::string> notes;
-  const Model cal = parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+  const Model cal =
+      parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
   const Drive& cd = requireDrive(cal, "j6");
   const auto fp = drive::frictionParams(cal, cd);
   for (int i = 0; i < data.rows(); i += 29)
@@ -474,7 +514,8 @@ TEST_CASE("the verdict names every effect --auto added (tcp and drive)") {
     const DriveDiagnosis d = diagnoseDrive(m, "j6", synthesizeDrive(m, "j6", so), o);
     REQUIRE(d.added.size() == 2);
     INFO(d.verdict);
-    CHECK(d.verdict == std::string("missing effects: ") + drive::toString(d.added[0]) + ", " + drive::toString(d.added[1]));
+    CHECK(d.verdict == std::string("missing effects: ") + drive::toString(d.added[0]) + ", " +
+                           drive::toString(d.added[1]));
     CHECK(d.verdict.find("stribeck") != std::string::npos);
     CHECK(d.verdict.find("asymmetry") != std::string::npos);
   }

@@ -14,28 +14,33 @@
 using namespace armstudy;
 namespace fs = std::filesystem;
 
-TEST_CASE("TX40 logs: friction ranks first on joints 1-3 and the fitted values meet the source's table",
-          "[calibration][study][dataset]") {
-  const fs::path data = fs::path(test::sourcePath("../shared/datasets/staubli_tx40/data/pos_read_data.csv"));
+TEST_CASE(
+    "TX40 logs: friction ranks first on joints 1-3 and the fitted values meet the source's table",
+    "[calibration][study][dataset]") {
+  const fs::path data =
+      fs::path(test::sourcePath("../shared/datasets/staubli_tx40/data/pos_read_data.csv"));
   INFO("the TX40 dataset is required: " << data.string());
   REQUIRE(fs::exists(data));
   const fs::path out = fs::temp_directory_path() / "armstudy_tx40_identification";
   fs::remove_all(out);
   std::string log;
-  REQUIRE(test::runCommand(test::binaryPath() + " run " + test::sourcePath("studies/staubli_tx40_identification.toml") +
+  REQUIRE(test::runCommand(test::binaryPath() + " run " +
+                               test::sourcePath("studies/staubli_tx40_identification.toml") +
                                " --output " + out.string(),
                            log) == 0);
-  const auto s = nlohmann::json::parse(
-      armstudy::readFileOrThrow((out / "staubli_tx40_identification/calibration/tx40/summary.json").string()));
+  const auto s = nlohmann::json::parse(armstudy::readFileOrThrow(
+      (out / "staubli_tx40_identification/calibration/tx40/summary.json").string()));
   const auto& m = s.at("identification");
   for (const std::string j : {"1", "2", "3"}) {
     const std::string joint = "joint_" + j;
     INFO(joint);
     // Coulomb and viscous friction are the joint's two first-ranked missing effects.
-    const int c = m.at("first_ranking/" + joint + "/coulomb").get<int>(), v = m.at("first_ranking/" + joint + "/viscous").get<int>();
+    const int c = m.at("first_ranking/" + joint + "/coulomb").get<int>(),
+              v = m.at("first_ranking/" + joint + "/viscous").get<int>();
     CHECK(std::min(c, v) == 1);
     CHECK(std::max(c, v) == 2);
-    // The held-out (time block) torque RMSE falls at least 4x from the rigid-body model to the final one.
+    // The held-out (time block) torque RMSE falls at least 4x from the rigid-body model to the
+    // final one.
     CHECK(m.at("factor/tau" + j).get<double>() >= 4.0);
     // Fitted vs the source's table: viscous within 15 %, Coulomb within 20 %.
     CHECK(std::abs(m.at("reference_difference/" + joint + ".viscous").get<double>()) <= 0.15);
@@ -49,6 +54,7 @@ TEST_CASE("TX40 logs: friction ranks first on joints 1-3 and the fitted values m
   CHECK(m.at("ladder/0/tau2").get<double>() == Approx(18.6).epsilon(0.1));
   CHECK(m.at("ladder/0/tau3").get<double>() == Approx(10.4).epsilon(0.1));
   CHECK(fs::exists(out / "staubli_tx40_identification/calibration/tx40/identification.md"));
-  CHECK(fs::exists(out / "staubli_tx40_identification/calibration/tx40/residuals_before_after.svg"));
+  CHECK(
+      fs::exists(out / "staubli_tx40_identification/calibration/tx40/residuals_before_after.svg"));
   fs::remove_all(out);
 }

@@ -4,14 +4,14 @@
 // reason), and nothing written to the output folder. The catalogue is data, read here with toml++.
 // In expected message parts, {name} is the edited file's name, {line} the line of the edit and
 // {next_line} the line after it.
-#include <catch2/catch.hpp>
+#include <toml++/toml.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "test_support.hpp"
 
@@ -21,12 +21,14 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
 std::string replaceAll(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+    s.replace(at, from.size(), to);
   return s;
 }
 
@@ -56,7 +58,8 @@ std::vector<Case> catalogue() {
     if (auto f = c["find"].value<std::string>()) k.find = *f;
     if (auto r = c["replace"].value<std::string>()) k.replace = *r;
     k.exit = c["exit"].value_or(2);
-    for (const toml::node& m : *c["message"].as_array()) k.message.push_back(m.value_or(std::string()));
+    for (const toml::node& m : *c["message"].as_array())
+      k.message.push_back(m.value_or(std::string()));
     out.push_back(k);
   }
   return out;
@@ -75,7 +78,8 @@ fs::path scratch() {
 
 }  // namespace
 
-TEST_CASE("the catalogue of bad inputs: exit code, message parts, nothing written", "[cli][hardening][catalogue]") {
+TEST_CASE("the catalogue of bad inputs: exit code, message parts, nothing written",
+          "[cli][hardening][catalogue]") {
   const std::vector<Case> cases = catalogue();
   REQUIRE(cases.size() >= 100);
   const fs::path root = scratch();
@@ -93,19 +97,22 @@ TEST_CASE("the catalogue of bad inputs: exit code, message parts, nothing writte
         INFO(c.name << ": `find` text not in " << c.base);
         REQUIRE(at != std::string::npos);  // the catalogue follows the shipped files
         text.replace(at, c.find->size(), c.replace.value_or(""));
-        line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+        line = 1 + static_cast<int>(
+                       std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
       } else {
         text = c.replace.value_or("");
       }
       const fs::path rel = fs::path(c.base).filename();
-      const fs::path where = c.base.rfind("studies/", 0) == 0 && c.base.find("/data/") == std::string::npos
-                                 ? root / "studies" / rel
-                                 : root / rel;
+      const fs::path where =
+          c.base.rfind("studies/", 0) == 0 && c.base.find("/data/") == std::string::npos
+              ? root / "studies" / rel
+              : root / rel;
       std::ofstream(where, std::ios::binary) << text;
       file = where.string();
     }
-    std::string cmd = replaceAll(replaceAll(replaceAll(c.command, "{file}", file), "{out}", out.string()), "{src}",
-                                 sourcePath(""));
+    std::string cmd =
+        replaceAll(replaceAll(replaceAll(c.command, "{file}", file), "{out}", out.string()),
+                   "{src}", sourcePath(""));
     std::string log;
     const int code = runCommand(binaryPath() + " " + cmd, log);
     std::vector<std::string> missing;

@@ -1,7 +1,7 @@
 // End-to-end: the armstudy executable as a user runs it.
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -50,9 +50,9 @@ TEST_CASE("the progress bar on a terminal shows elapsed time and an ETA", "[cli]
   REQUIRE(std::system("command -v script >/dev/null 2>&1") == 0);  // bsdutils: essential in Debian
   const fs::path out = freshDir("progress_eta");
   const fs::path log = out / "tty.log";
-  const std::string cmd = "script -qec \"" + binaryPath() + " run " + sourcePath("studies/spraying_row.toml") +
-                          " --threads 2 --output " + (out / "o").string() + "\" " + log.string() +
-                          " >/dev/null 2>&1";
+  const std::string cmd = "script -qec \"" + binaryPath() + " run " +
+                          sourcePath("studies/spraying_row.toml") + " --threads 2 --output " +
+                          (out / "o").string() + "\" " + log.string() + " >/dev/null 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);
   std::ifstream in(log);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -84,17 +84,20 @@ TEST_CASE("fk --json reports every frame and the TCP", "[cli]") {
   CHECK(j["frames"][6]["y_m"].get<double>() == Approx(1.03));
   CHECK(j["frames"][6]["z_m"].get<double>() == Approx(1.0));
   // Wrong number of joint values: error, non-zero exit, names the key.
-  const std::string bad = cli("fk " + sourcePath("designs/first_prototype_6dof.toml") + " --q 0,0", st);
+  const std::string bad =
+      cli("fk " + sourcePath("designs/first_prototype_6dof.toml") + " --q 0,0", st);
   CHECK(st != 0);
   CHECK(bad.find("joint values") != std::string::npos);
 }
 
-TEST_CASE("run writes manifest and resolved designs, refuses to overwrite silently", "[cli][study]") {
+TEST_CASE("run writes manifest and resolved designs, refuses to overwrite silently",
+          "[cli][study]") {
   const fs::path dir = freshDir("run");
   const fs::path study = dir / "mini.toml";
-  std::ofstream(study) << "[study]\nname = \"mini\"\n[[design]]\nfile = \""
-                       << sourcePath("designs/final_prototype_7dof.toml")
-                       << "\"\n[[variant]]\nof = \"final_prototype_7dof\"\nsweep = { \"base.x\" = [0.0, 0.1] }\n";
+  std::ofstream(study)
+      << "[study]\nname = \"mini\"\n[[design]]\nfile = \""
+      << sourcePath("designs/final_prototype_7dof.toml")
+      << "\"\n[[variant]]\nof = \"final_prototype_7dof\"\nsweep = { \"base.x\" = [0.0, 0.1] }\n";
   int st = 0;
   std::string out = cli("run " + study.string() + " --output " + (dir / "out").string(), st);
   INFO(out);

@@ -29,7 +29,8 @@ fs::path freshDir(const std::string& name) {
 }
 }  // namespace
 
-TEST_CASE("out-of-range command-line values are input errors and write nothing", "[cli][hardening]") {
+TEST_CASE("out-of-range command-line values are input errors and write nothing",
+          "[cli][hardening]") {
   const fs::path d = freshDir("cli");
   const std::string study = sourcePath("studies/regression.toml"), out = (d / "out").string();
   struct Case {
@@ -42,8 +43,8 @@ TEST_CASE("out-of-range command-line values are input errors and write nothing",
       {"run " + study + " --unit-size 99999999999 --output " + out, "--unit-size"},
       {"check " + study + " --threads 100000 --output " + out, "--threads"},
       {"fit " + sourcePath("designs/final_prototype_9dof.toml") + " --drive j6 --data " +
-           sourcePath("studies/data/drive_testbed_module_b2.csv") + " --speed-bins 100000000 --load-bins 100000000 --out " +
-           out,
+           sourcePath("studies/data/drive_testbed_module_b2.csv") +
+           " --speed-bins 100000000 --load-bins 100000000 --out " + out,
        "--speed-bins"},
       {"fit " + sourcePath("designs/final_prototype_9dof.toml") + " --drive j6 --data " +
            sourcePath("studies/data/drive_testbed_module_b2.csv") + " --folds 127 --out " + out,
@@ -70,7 +71,8 @@ TEST_CASE("special and oversized files are refused instead of read forever", "[c
   for (const std::string& path : {std::string("/dev/zero"), fifo, d.string()}) {
     INFO(path);
     std::string log;
-    // `timeout` turns a blocking read (the old behaviour on a FIFO) into a failure, not a hung suite.
+    // `timeout` turns a blocking read (the old behaviour on a FIFO) into a failure, not a hung
+    // suite.
     CHECK(runCommand("timeout 20 " + binaryPath() + " describe " + path, log) == 2);
     CHECK(log.find("not a regular file") != std::string::npos);
     CHECK(runCommand("timeout 20 " + binaryPath() + " run " + path + " --output " + out, log) == 2);
@@ -84,7 +86,8 @@ TEST_CASE("special and oversized files are refused instead of read forever", "[c
   CHECK(log.find("exceeds the input limit") != std::string::npos);
 }
 
-TEST_CASE("overwriting never removes files outside the output folder a manifest lists", "[cli][hardening]") {
+TEST_CASE("overwriting never removes files outside the output folder a manifest lists",
+          "[cli][hardening]") {
   const fs::path d = freshDir("overwrite");
   // The study `regression` writes into <out>/regression; a sibling folder that shares its prefix.
   const fs::path out = d / "out", mine = out / "regression", other = out / "regression_other";
@@ -96,15 +99,16 @@ TEST_CASE("overwriting never removes files outside the output folder a manifest 
   std::ofstream(mine / "manifest.json")
       << R"({"files": ["../regression_other/keep.txt", "../../outside.txt", "link/keep.txt", "/etc/hostname"]})";
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") + " --overwrite --threads 2 --output " +
-                         out.string(),
+  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                         " --overwrite --threads 2 --output " + out.string(),
                      log) == 0);
   CHECK(fs::exists(other / "keep.txt"));
   CHECK(fs::exists(d / "outside.txt"));
   CHECK(fs::exists(mine / "manifest.json"));  // the new run's
 }
 
-TEST_CASE("the tick generator ends on ranges narrower than the values' resolution", "[report][hardening]") {
+TEST_CASE("the tick generator ends on ranges narrower than the values' resolution",
+          "[report][hardening]") {
   // Constant data plus rounding: a step below one ulp of the values made `v += step` loop forever.
   const double lo = 1e6, hi = std::nextafter(1e6, 2e6);
   const std::vector<double> t = armstudy::report::niceTicks(lo, hi, 5);
@@ -115,12 +119,15 @@ TEST_CASE("the tick generator ends on ranges narrower than the values' resolutio
   CHECK(u.back() == Approx(1.0));
 }
 
-TEST_CASE("one run per output folder, stale temporaries of a killed run removed, uncreatable folders named",
-          "[cli][hardening]") {
+TEST_CASE(
+    "one run per output folder, stale temporaries of a killed run removed, uncreatable folders "
+    "named",
+    "[cli][hardening]") {
   const fs::path d = freshDir("lock");
   const fs::path out = d / "out", mine = out / "regression";
   fs::create_directories(mine / "reach");
-  // A killed run's temporaries (writeFileAtomic: <name>.tmp.<pid>) and a file that only looks alike.
+  // A killed run's temporaries (writeFileAtomic: <name>.tmp.<pid>) and a file that only looks
+  // alike.
   std::ofstream(mine / "reach" / "summary.json.tmp.4242") << "half";
   std::ofstream(mine / "notes.tmp.txt") << "a user's file";
   // Another process holds the folder's lock: this test process, like a concurrent run.
@@ -128,8 +135,8 @@ TEST_CASE("one run per output folder, stale temporaries of a killed run removed,
   const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT, 0644);
   REQUIRE(fd >= 0);
   REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);
-  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") + " --threads 2 --output " +
-                          out.string();
+  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                          " --threads 2 --output " + out.string();
   std::string log;
   CHECK(runCommand(run, log) == 2);
   CHECK(log.find("another armstudy run is writing") != std::string::npos);
@@ -139,7 +146,8 @@ TEST_CASE("one run per output folder, stale temporaries of a killed run removed,
   CHECK_FALSE(fs::exists(mine / "reach" / "summary.json.tmp.4242"));
   CHECK(fs::exists(mine / "notes.tmp.txt"));
   CHECK(fs::exists(mine / "manifest.json"));
-  // An output root below a regular file: an input error naming the path, not a raw filesystem error.
+  // An output root below a regular file: an input error naming the path, not a raw filesystem
+  // error.
   std::ofstream(d / "file.txt") << "x";
   CHECK(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") + " --output " +
                        (d / "file.txt" / "sub").string(),
@@ -191,7 +199,7 @@ TEST_CASE(
                    log) == 1);
   INFO(log);
   CHECK(log.find("res.staging.") != std::string::npos);  // failed while writing the new result
-  CHECK(files(res) == before);  // history.csv included
+  CHECK(files(res) == before);                           // history.csv included
   for (const auto& e : fs::directory_iterator(d))
     CHECK(e.path().filename().string().find(".staging.") == std::string::npos);
 

@@ -18,12 +18,13 @@ TEST_CASE("armstudy run --json prints the run summary, agreeing with the manifes
   fs::remove_all(d);
   std::string out;
   // stdout only: progress and messages go to stderr.
-  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") + " --overwrite --threads 2 --json --output " +
-                         d.string() + " 2>/dev/null",
+  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                         " --overwrite --threads 2 --json --output " + d.string() + " 2>/dev/null",
                      out) == 0);
   const auto j = nlohmann::json::parse(out);
   CHECK(j["study"] == "regression");
-  const auto man = nlohmann::json::parse(readFileOrThrow(j["output_dir"].get<std::string>() + "/manifest.json"));
+  const auto man =
+      nlohmann::json::parse(readFileOrThrow(j["output_dir"].get<std::string>() + "/manifest.json"));
   CHECK(j["files"] == man["files"]);
   const auto files = j["files"].get<std::vector<std::string>>();
   CHECK(std::find(files.begin(), files.end(), "report.html") != files.end());

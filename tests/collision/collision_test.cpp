@@ -1,17 +1,18 @@
 // Collision pairs and distances of whole arm models: against a brute-force evaluation over all
 // volume pairs, the shipped models' enclosure of the kinematic skeleton, obstacles, cutoff bounds
 // and the no-heap guarantee of the per-configuration path.
+#include "collision/collision.hpp"
+
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <new>
 #include <random>
 
-#include "collision/collision.hpp"
+#include "alloc_counter.hpp"
 #include "collision/collision_model.hpp"
 #include "collision/potential.hpp"
 #include "io/design_io.hpp"
-#include "alloc_counter.hpp"
 #include "test_support.hpp"
 
 using armstudy::test::g_allocations;  // tests/alloc_counter.hpp replaces the allocation functions
@@ -94,7 +95,8 @@ TEST_CASE("pair distances equal a brute-force minimum over all volume pairs") {
       for (int i = 0; i < ws.num_self; ++i) {
         const PairDistance& p = ws.self[i];
         REQUIRE(p.exact);
-        REQUIRE(p.distance_m == Approx(bruteForce(m, kin, p.link_a, p.link_b)).margin(kSameFormula_m));
+        REQUIRE(p.distance_m ==
+                Approx(bruteForce(m, kin, p.link_a, p.link_b)).margin(kSameFormula_m));
         min_d = std::min(min_d, p.distance_m);
         // Witnesses lie on the surfaces of the reported volumes.
         const auto& va = m.collision.volumes[p.volume_a];
@@ -102,8 +104,10 @@ TEST_CASE("pair distances equal a brute-force minimum over all volume pairs") {
         REQUIRE(va.link == p.link_a);
         REQUIRE(vb.link == p.link_b);
         if (!p.w.n.isZero()) {
-          REQUIRE(std::abs(pointToCore(p.w.p_a, worldCore(m, kin, va)) - va.radius_m) <= kOnSurface_m);
-          REQUIRE(std::abs(pointToCore(p.w.p_b, worldCore(m, kin, vb)) - vb.radius_m) <= kOnSurface_m);
+          REQUIRE(std::abs(pointToCore(p.w.p_a, worldCore(m, kin, va)) - va.radius_m) <=
+                  kOnSurface_m);
+          REQUIRE(std::abs(pointToCore(p.w.p_b, worldCore(m, kin, vb)) - vb.radius_m) <=
+                  kOnSurface_m);
           REQUIRE((p.w.p_b - p.w.p_a).dot(p.w.n) == Approx(p.distance_m).margin(kSameFormula_m));
         }
       }
@@ -141,7 +145,8 @@ TEST_CASE("a cutoff reports exact distances below it and valid lower bounds abov
   CHECK(bounded > 0);
 }
 
-TEST_CASE("the shipped collision models enclose the kinematic skeleton and have no permanent contacts") {
+TEST_CASE(
+    "the shipped collision models enclose the kinematic skeleton and have no permanent contacts") {
   std::mt19937_64 rng(3);
   for (const auto& path : test::shippedDesigns()) {
     const Model m = loadDesign(test::sourcePath(path));
@@ -187,7 +192,8 @@ TEST_CASE("the shipped collision models enclose the kinematic skeleton and have 
     CollisionWorkspace ws(m);
     std::vector<bool> free(ws.num_self, false);
     for (int s = 0; s < 2000; ++s) {
-      forwardKinematics(m, kin, s == 0 ? Eigen::VectorXd::Zero(m.dof()) : test::randomConfiguration(m, rng));
+      forwardKinematics(
+          m, kin, s == 0 ? Eigen::VectorXd::Zero(m.dof()) : test::randomConfiguration(m, rng));
       collisionDistances(m, kin, {}, ws);
       if (s == 0) {
         INFO("home configuration q = 0");

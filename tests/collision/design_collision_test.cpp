@@ -13,19 +13,21 @@ namespace {
 
 // A minimal two-joint design; `extra` is appended (its first line is line 27 of the text).
 std::string design(const std::string& extra) {
-  return "[design]\n"                                                                   // 1
-         "name = \"t\"\n"                                                               // 2
-         "[[joint]]\n"                                                                  // 3
+  return "[design]\n"      // 1
+         "name = \"t\"\n"  // 2
+         "[[joint]]\n"     // 3
          "name = \"j1\"\ntype = \"revolute\"\nx = 0\ny = 0\nz = 0\nalpha = 0\nbeta = 0\ngamma = 0\n"
-         "min = -1\nmax = 1\n"                                                           // 4-13
-         "[[joint]]\n"                                                                  // 14
-         "name = \"j2\"\ntype = \"revolute\"\nx = 0.3\ny = 0\nz = 0\nalpha = 0\nbeta = 0\ngamma = 0\n"
-         "min = -1\nmax = 1\n"                                                           // 15-24
-         "[tcp]\nx = 0.2\n"                                                             // 25-26
-         + extra;                                                                         // 27-
+         "min = -1\nmax = 1\n"  // 4-13
+         "[[joint]]\n"          // 14
+         "name = \"j2\"\ntype = \"revolute\"\nx = 0.3\ny = 0\nz = 0\nalpha = 0\nbeta = 0\ngamma = "
+         "0\n"
+         "min = -1\nmax = 1\n"  // 15-24
+         "[tcp]\nx = 0.2\n"     // 25-26
+         + extra;               // 27-
 }
 
-void expectError(const std::string& extra, int line, const std::string& key, const std::string& words) {
+void expectError(const std::string& extra, int line, const std::string& key,
+                 const std::string& words) {
   try {
     parseDesign(design(extra), "bad.toml");
     FAIL("expected an InputError for: " << extra);
@@ -41,16 +43,17 @@ void expectError(const std::string& extra, int line, const std::string& key, con
 }  // namespace
 
 TEST_CASE("collision volumes and allowed pairs are parsed in link frames with units") {
-  const Model m = parseDesign(design("[[collision]]\n"
-                                     "link = \"base\"\nname = \"column\"\ntype = \"line\"\n"
-                                     "points = [[0, 0, 0], [0, 0, \"1200 mm\"]]\nradius = \"60 mm\"\n"
-                                     "[[collision]]\n"
-                                     "link = \"j2\"\ntype = \"triangle\"\n"
-                                     "points = [[0, 0, 0], [0.2, 0, 0], [0, 0.1, 0]]\nradius = 0.01\n"
-                                     "[[collision]]\n"
-                                     "link = \"j1\"\ntype = \"point\"\npoints = [[0.1, 0, 0]]\nradius = 0\n"
-                                     "[[collision_allowed]]\nlinks = [\"j2\", \"base\"]\nreason = \"test\"\n"),
-                              "ok.toml");
+  const Model m =
+      parseDesign(design("[[collision]]\n"
+                         "link = \"base\"\nname = \"column\"\ntype = \"line\"\n"
+                         "points = [[0, 0, 0], [0, 0, \"1200 mm\"]]\nradius = \"60 mm\"\n"
+                         "[[collision]]\n"
+                         "link = \"j2\"\ntype = \"triangle\"\n"
+                         "points = [[0, 0, 0], [0.2, 0, 0], [0, 0.1, 0]]\nradius = 0.01\n"
+                         "[[collision]]\n"
+                         "link = \"j1\"\ntype = \"point\"\npoints = [[0.1, 0, 0]]\nradius = 0\n"
+                         "[[collision_allowed]]\nlinks = [\"j2\", \"base\"]\nreason = \"test\"\n"),
+                  "ok.toml");
   REQUIRE(m.collision.volumes.size() == 3);
   const auto& c = m.collision.volumes[0];
   CHECK(c.link == -1);
@@ -70,27 +73,33 @@ TEST_CASE("collision volumes and allowed pairs are parsed in link frames with un
 
 TEST_CASE("bad collision input is an InputError naming file, line and key") {
   const std::string v = "[[collision]]\nlink = \"j1\"\n";  // lines 27, 28
-  expectError(v + "type = \"point\"\npoints = [[0, 0, 0]]\nradius = \"-5 mm\"\n", 31, "collision[0].radius",
-              "negative");
+  expectError(v + "type = \"point\"\npoints = [[0, 0, 0]]\nradius = \"-5 mm\"\n", 31,
+              "collision[0].radius", "negative");
   expectError(v + "type = \"line\"\npoints = [[0.1, 0, 0], [0.1, 0, 0]]\nradius = 0.05\n", 30,
               "collision[0].points", "coincide");
-  expectError(v + "type = \"triangle\"\npoints = [[0, 0, 0], [0.1, 0, 0], [0.1, 0, 0]]\nradius = 0.05\n", 30,
-              "collision[0].points", "coincide");
-  expectError(v + "type = \"triangle\"\npoints = [[0, 0, 0], [0.1, 0, 0], [0.2, 0, 0]]\nradius = 0.05\n", 30,
-              "collision[0].points", "collinear");
-  expectError("[[collision]]\nlink = \"j7\"\ntype = \"point\"\npoints = [[0, 0, 0]]\nradius = 0.05\n", 28,
-              "collision[0].link", "no link named 'j7'");
-  expectError(v + "type = \"line\"\npoints = [[0, 0, 0]]\nradius = 0.05\n", 30, "collision[0].points",
-              "needs 2 points");
+  expectError(
+      v + "type = \"triangle\"\npoints = [[0, 0, 0], [0.1, 0, 0], [0.1, 0, 0]]\nradius = 0.05\n",
+      30, "collision[0].points", "coincide");
+  expectError(
+      v + "type = \"triangle\"\npoints = [[0, 0, 0], [0.1, 0, 0], [0.2, 0, 0]]\nradius = 0.05\n",
+      30, "collision[0].points", "collinear");
+  expectError(
+      "[[collision]]\nlink = \"j7\"\ntype = \"point\"\npoints = [[0, 0, 0]]\nradius = 0.05\n", 28,
+      "collision[0].link", "no link named 'j7'");
+  expectError(v + "type = \"line\"\npoints = [[0, 0, 0]]\nradius = 0.05\n", 30,
+              "collision[0].points", "needs 2 points");
   expectError(v + "type = \"box\"\npoints = [[0, 0, 0]]\nradius = 0.05\n", 29, "collision[0].type",
               "unknown SSV type");
-  expectError(v + "type = \"point\"\npoints = [[0, 0]]\nradius = 0.05\n", 30, "collision[0].points", "[x, y, z]");
+  expectError(v + "type = \"point\"\npoints = [[0, 0]]\nradius = 0.05\n", 30, "collision[0].points",
+              "[x, y, z]");
   expectError(v + "type = \"point\"\npoints = [[0, 0, 0]]\nradius = 0.05\ncolour = \"red\"\n", 32,
               "collision[0].colour", "unknown key");
-  expectError(v + "type = \"point\"\npoints = [[0, 0, \"3 deg\"]]\nradius = 0.05\n", 30, "collision[0].points",
-              "");
-  expectError("[[collision_allowed]]\nlinks = [\"j1\", \"elbow\"]\n", 28, "collision_allowed[0].links",
-              "no link named 'elbow'");
-  expectError("[[collision_allowed]]\nlinks = [\"j1\", \"j1\"]\n", 28, "collision_allowed[0].links", "itself");
-  expectError("[[collision_allowed]]\nlinks = [\"j1\"]\n", 28, "collision_allowed[0].links", "two link names");
+  expectError(v + "type = \"point\"\npoints = [[0, 0, \"3 deg\"]]\nradius = 0.05\n", 30,
+              "collision[0].points", "");
+  expectError("[[collision_allowed]]\nlinks = [\"j1\", \"elbow\"]\n", 28,
+              "collision_allowed[0].links", "no link named 'elbow'");
+  expectError("[[collision_allowed]]\nlinks = [\"j1\", \"j1\"]\n", 28, "collision_allowed[0].links",
+              "itself");
+  expectError("[[collision_allowed]]\nlinks = [\"j1\"]\n", 28, "collision_allowed[0].links",
+              "two link names");
 }

@@ -1,15 +1,16 @@
 // Primitive distances against CGAL's exact squared distances (Epeck: exact rational arithmetic),
 // symmetry, and named degenerate cases with closed-form answers.
+#include "collision/distance.hpp"
+
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
-#include <CGAL/squared_distance_3.h>
 #include <CGAL/intersections.h>
+#include <CGAL/squared_distance_3.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include "collision/distance.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -131,7 +132,8 @@ struct Generator {
     const Vector3d shift = rnd() * (m == 3 ? 1e-7 : 0.3);
     switch (m) {
       case 1:  // parallel / near-parallel copies, translated
-        for (int i = 0; i < n; ++i) c.p[i] = r.p[i % r.n] + shift + (i >= r.n ? Vector3d(rnd() * 0.2) : Vector3d::Zero());
+        for (int i = 0; i < n; ++i)
+          c.p[i] = r.p[i % r.n] + shift + (i >= r.n ? Vector3d(rnd() * 0.2) : Vector3d::Zero());
         if (n >= 2) c.p[1] = c.p[0] + (r.p[1] - r.p[0]) * (0.5 + u(rng)) + rnd() * 1e-9;
         break;
       case 2:  // coplanar with r (when r is a triangle) or collinear with r (segment)
@@ -149,7 +151,8 @@ struct Generator {
         const Vector3d perp = dir.cross(rnd()).normalized();
         const double angle = std::pow(10.0, -5 + 3.5 * (u(rng) + 0.5));
         const Vector3d mid = r.p[0] + (0.5 + 0.8 * u(rng)) * dir + perp * (1e-3 * u(rng));
-        const Vector3d d = (dir + angle * dir.norm() * perp.cross(dir).normalized()) * (0.5 + u(rng));
+        const Vector3d d =
+            (dir + angle * dir.norm() * perp.cross(dir).normalized()) * (0.5 + u(rng));
         c.p[0] = mid - 0.5 * d;
         if (n >= 2) c.p[1] = mid + 0.5 * d;
         if (n == 3) c.p[2] = mid + rnd() * 0.2;
@@ -192,10 +195,19 @@ void randomCase(int na, int nb) {
 }  // namespace
 
 TEST_CASE("point-point distance matches CGAL exact on random pairs") { randomCase(1, 1); }
-TEST_CASE("point-segment distance matches CGAL exact on random pairs") { randomCase(1, 2); randomCase(2, 1); }
+TEST_CASE("point-segment distance matches CGAL exact on random pairs") {
+  randomCase(1, 2);
+  randomCase(2, 1);
+}
 TEST_CASE("segment-segment distance matches CGAL exact on random pairs") { randomCase(2, 2); }
-TEST_CASE("point-triangle distance matches CGAL exact on random pairs") { randomCase(1, 3); randomCase(3, 1); }
-TEST_CASE("segment-triangle distance matches CGAL exact on random pairs") { randomCase(2, 3); randomCase(3, 2); }
+TEST_CASE("point-triangle distance matches CGAL exact on random pairs") {
+  randomCase(1, 3);
+  randomCase(3, 1);
+}
+TEST_CASE("segment-triangle distance matches CGAL exact on random pairs") {
+  randomCase(2, 3);
+  randomCase(3, 2);
+}
 TEST_CASE("triangle-triangle distance matches CGAL exact on random pairs") { randomCase(3, 3); }
 
 TEST_CASE("named degenerate and parallel cases have their closed-form distances") {
@@ -209,31 +221,39 @@ TEST_CASE("named degenerate and parallel cases have their closed-form distances"
       {"coincident points", core({ex}), core({ex}), 0.0},
       {"zero-length segment acts as a point", core({ey, ey}), core({o, ex}), 1.0},
       {"both segments zero-length", core({ey, ey}), core({ez, ez}), std::sqrt(2.0)},
-      {"parallel overlapping segments", core({o, 2 * ex}), core({ex + 0.3 * ey, 3 * ex + 0.3 * ey}), 0.3},
-      {"parallel disjoint segments (end gap)", core({o, ex}), core({2 * ex + 0.4 * ey, 3 * ex + 0.4 * ey}),
-       std::sqrt(1.0 + 0.16)},
-      {"anti-parallel segments", core({o, 2 * ex}), core({3 * ex + 0.2 * ez, 1.5 * ex + 0.2 * ez}), 0.2},
+      {"parallel overlapping segments", core({o, 2 * ex}), core({ex + 0.3 * ey, 3 * ex + 0.3 * ey}),
+       0.3},
+      {"parallel disjoint segments (end gap)", core({o, ex}),
+       core({2 * ex + 0.4 * ey, 3 * ex + 0.4 * ey}), std::sqrt(1.0 + 0.16)},
+      {"anti-parallel segments", core({o, 2 * ex}), core({3 * ex + 0.2 * ez, 1.5 * ex + 0.2 * ez}),
+       0.2},
       {"collinear overlapping segments", core({o, 2 * ex}), core({ex, 3 * ex}), 0.0},
       {"collinear disjoint segments", core({o, ex}), core({1.5 * ex, 3 * ex}), 0.5},
       {"crossing segments", core({-ex, ex}), core({-ey, ey}), 0.0},
       {"skew segments", core({-ex, ex}), core({-ey + 0.7 * ez, ey + 0.7 * ez}), 0.7},
       {"point in triangle plane inside", core({0.2 * ex + 0.2 * ey}), core({o, ex, ey}), 0.0},
-      {"point above triangle interior", core({0.2 * ex + 0.2 * ey + 0.3 * ez}), core({o, ex, ey}), 0.3},
+      {"point above triangle interior", core({0.2 * ex + 0.2 * ey + 0.3 * ez}), core({o, ex, ey}),
+       0.3},
       {"point beyond a triangle corner", core({-ex - ey}), core({o, ex, ey}), std::sqrt(2.0)},
-      {"collinear triangle acts as its hull segment", core({0.5 * ex + ey}), core({o, ex, 2 * ex}), 1.0},
+      {"collinear triangle acts as its hull segment", core({0.5 * ex + ey}), core({o, ex, 2 * ex}),
+       1.0},
       {"triangle with coincident corners", core({0.5 * ex + ez}), core({o, o, ex}), 1.0},
-      {"segment parallel above triangle", core({0.1 * ex + 0.1 * ey + 0.5 * ez, 0.3 * ex + 0.1 * ey + 0.5 * ez}),
-       core({o, ex, ey}), 0.5},
+      {"segment parallel above triangle",
+       core({0.1 * ex + 0.1 * ey + 0.5 * ez, 0.3 * ex + 0.1 * ey + 0.5 * ez}), core({o, ex, ey}),
+       0.5},
       {"segment piercing triangle", core({0.2 * ex + 0.2 * ey - ez, 0.2 * ex + 0.2 * ey + ez}),
        core({o, ex, ey}), 0.0},
       {"segment in triangle plane crossing an edge", core({-ex + 0.2 * ey, 0.5 * ex + 0.2 * ey}),
        core({o, ex, ey}), 0.0},
       {"segment in plane outside", core({-ex - ey, -ex + ey}), core({o, ex, ey}), 1.0},
-      {"parallel stacked triangles", core({o, ex, ey}), core({0.25 * ez, ex + 0.25 * ez, ey + 0.25 * ez}), 0.25},
-      {"coplanar overlapping triangles", core({o, ex, ey}), core({0.1 * ex + 0.1 * ey, 2 * ex, 2 * ey}), 0.0},
+      {"parallel stacked triangles", core({o, ex, ey}),
+       core({0.25 * ez, ex + 0.25 * ez, ey + 0.25 * ez}), 0.25},
+      {"coplanar overlapping triangles", core({o, ex, ey}),
+       core({0.1 * ex + 0.1 * ey, 2 * ex, 2 * ey}), 0.0},
       {"coplanar disjoint triangles", core({o, ex, ey}), core({2 * ex, 3 * ex, 2 * ex + ey}), 1.0},
       {"triangles sharing an edge", core({o, ex, ey}), core({ex, ey, ez}), 0.0},
-      {"crossed triangles", core({-ex, ex, ey}), core({0.2 * ey - ez, 0.2 * ey + ez, 0.2 * ey + ex}), 0.0},
+      {"crossed triangles", core({-ex, ex, ey}),
+       core({0.2 * ey - ez, 0.2 * ey + ez, 0.2 * ey + ex}), 0.0},
       {"identical triangles", core({o, ex, ey}), core({o, ex, ey}), 0.0},
   };
   for (const Case& c : cases) {

@@ -19,15 +19,16 @@ constexpr double kFig513Tracking_m = 1.5e-3;
 constexpr double kTermFdRelative = 1e-6;
 }  // namespace
 
-TEST_CASE("the collision term's gradient through the objective interface matches central differences") {
+TEST_CASE(
+    "the collision term's gradient through the objective interface matches central differences") {
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
   KinematicsWorkspace ws(m);
   ObjectiveContext ctx(m, ws);
   CollisionPotentialOptions o;
   o.safety_distance_m = 0.3;
   WeightedObjective h;
-  h.add(2.0, std::make_shared<CollisionTerm>(
-                 o, std::vector<Obstacle>{sphereObstacle("s", Eigen::Vector3d(0.1, 0.9, 0.5), 0.1)}));
+  h.add(2.0, std::make_shared<CollisionTerm>(o, std::vector<Obstacle>{sphereObstacle(
+                                                    "s", Eigen::Vector3d(0.1, 0.9, 0.5), 0.1)}));
   auto eval = [&](const Eigen::VectorXd& q, JointVector* g) {
     forwardKinematicsAndJacobian(m, ws, q);
     ctx.prepare(q);
@@ -51,8 +52,9 @@ TEST_CASE("the collision term's gradient through the objective interface matches
   CHECK(active > 20);
 }
 
-TEST_CASE("thesis Fig. 5.13: with H_c the arm passes a spherical obstacle while the TCP tracks the line",
-          "[collision][nullspace][thesis]") {
+TEST_CASE(
+    "thesis Fig. 5.13: with H_c the arm passes a spherical obstacle while the TCP tracks the line",
+    "[collision][nullspace][thesis]") {
   // 7-DoF final prototype, position task (redundancy 4). The TCP moves 0.6 m along +x in 4 s.
   // The sphere (radius 0.06 m) sits beside the upper arm's mid-motion position of the
   // undisturbed run (minimum-norm joint velocities), 0.16 m ahead in x and 0.08 m out in y from
@@ -102,8 +104,8 @@ TEST_CASE("thesis Fig. 5.13: with H_c the arm passes a spherical obstacle while 
   };
   const Run without = examine(off);
   INFO("without H_c: min distance " << without.min_distance << " (" << without.closest << ")");
-  CHECK(without.start_distance > 0.1);       // the sphere is clear at the start ...
-  CHECK(without.min_distance < -0.05);       // ... and the upper arm runs into it
+  CHECK(without.start_distance > 0.1);  // the sphere is clear at the start ...
+  CHECK(without.min_distance < -0.05);  // ... and the upper arm runs into it
   CHECK(without.closest == "j3-obstacle:sphere");
 
   CollisionPotentialOptions po;
@@ -115,8 +117,8 @@ TEST_CASE("thesis Fig. 5.13: with H_c the arm passes a spherical obstacle while 
   const Run with = examine(on);
   INFO("with H_c: min distance " << with.min_distance << " (" << with.closest << "), max TCP error "
                                  << with.max_error);
-  CHECK(with.min_distance > 0);                   // clear of the sphere throughout
-  CHECK(with.max_error < kFig513Tracking_m);      // while the TCP stays on the line
+  CHECK(with.min_distance > 0);               // clear of the sphere throughout
+  CHECK(with.max_error < kFig513Tracking_m);  // while the TCP stays on the line
   forwardKinematics(m, ws, on.samples.back().q);
   CHECK((ws.p_WT - p1).norm() < kFig513Tracking_m);
 }

@@ -1,10 +1,11 @@
 // Collision potential H_c (thesis eq. 5.53-5.57): boundary and transition conditions of the
 // piecewise polynomial, and the witness-point gradient against central finite differences.
+#include "collision/potential.hpp"
+
 #include <catch2/catch.hpp>
 #include <random>
 
 #include "collision/collision_model.hpp"
-#include "collision/potential.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
 
@@ -47,7 +48,8 @@ TEST_CASE("pair potential meets the boundary and transition conditions of eq. (5
   CHECK(std::abs(curvature(da - 2e-5, o)) <= 1e-3 * std::abs(curvature(d1, o)));
   // Continuous value, slope and curvature at t d_a.
   double gm = 0, gp = 0;
-  const double hm = pairPotential(d1 - kLimitStep_m, o, &gm), hp = pairPotential(d1 + kLimitStep_m, o, &gp);
+  const double hm = pairPotential(d1 - kLimitStep_m, o, &gm),
+               hp = pairPotential(d1 + kLimitStep_m, o, &gp);
   CHECK(hm == Approx(hp).margin(kContinuity));
   CHECK(gm == Approx(gp).margin(kContinuity));
   CHECK(curvature(d1 - 2e-5, o) == Approx(curvature(d1 + 2e-5, o)).epsilon(1e-3));
@@ -73,13 +75,14 @@ TEST_CASE("pair potential meets the boundary and transition conditions of eq. (5
 namespace {
 // Obstacles beside the arm at configuration q (of any design; its base may sit anywhere): a
 // sphere beside the middle of the arm and a vertical stem beside the TCP.
-std::vector<Obstacle> obstaclesNearArm(const Model& m, KinematicsWorkspace& kin, const Eigen::VectorXd& q) {
+std::vector<Obstacle> obstaclesNearArm(const Model& m, KinematicsWorkspace& kin,
+                                       const Eigen::VectorXd& q) {
   forwardKinematics(m, kin, q);
   const int mid = m.dof() / 2;
   const Eigen::Vector3d c = 0.5 * (kin.p_WF[mid] + kin.p_WT) + Eigen::Vector3d(0.15, 0.1, 0.0);
   const Eigen::Vector3d s = kin.p_WT + Eigen::Vector3d(0.0, 0.12, 0.0);
-  return {sphereObstacle("sphere", c, 0.08),
-          capsuleObstacle("stem", s - Eigen::Vector3d(0, 0, 1), s + Eigen::Vector3d(0, 0, 1), 0.02)};
+  return {sphereObstacle("sphere", c, 0.08), capsuleObstacle("stem", s - Eigen::Vector3d(0, 0, 1),
+                                                             s + Eigen::Vector3d(0, 0, 1), 0.02)};
 }
 
 // Core of a volume in W, written out from the frames of forward kinematics.
@@ -164,9 +167,11 @@ TEST_CASE("H_c is the sum over every SSV pair closer than d_a (brute force over 
       SsvDistance w;
       for (std::size_t i = 0; i < vols.size(); ++i) {
         for (std::size_t j = i + 1; j < vols.size(); ++j) {
-          if (!isCollisionPair(m, std::min(vols[i].link, vols[j].link), std::max(vols[i].link, vols[j].link)))
+          if (!isCollisionPair(m, std::min(vols[i].link, vols[j].link),
+                               std::max(vols[i].link, vols[j].link)))
             continue;
-          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, worldCore(m, kin, vols[j]), vols[j].radius_m, w);
+          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, worldCore(m, kin, vols[j]),
+                      vols[j].radius_m, w);
           if (w.distance_m >= o.safety_distance_m) continue;
           h_self += pairPotential(w.distance_m, o);
           ++n_self;

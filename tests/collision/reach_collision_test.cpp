@@ -1,8 +1,9 @@
 // Collision-aware reachability: reachable and collision-free (escaping a colliding first solution
 // through the redundancy), reachable only in collision (with the pair), unreachable.
+#include "collision/reach_collision.hpp"
+
 #include <catch2/catch.hpp>
 
-#include "collision/reach_collision.hpp"
 #include "ik/nullspace.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
@@ -10,7 +11,8 @@
 using namespace armstudy;
 using namespace armstudy::collision;
 
-TEST_CASE("collision-aware reachability classifies poses and escapes collisions through the redundancy") {
+TEST_CASE(
+    "collision-aware reachability classifies poses and escapes collisions through the redundancy") {
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
   IkWorkspace ws(m);
   CollisionWorkspace cws(m);

@@ -20,9 +20,9 @@
 #include "collision/distance.hpp"
 #include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
-#include "io/files.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
+#include "io/files.hpp"
 #include "stages/reach/reach_stage.hpp"
 #include "test_support.hpp"
 
@@ -82,7 +82,8 @@ std::string edited(const std::string& from, const std::string& to) {
 
 }  // namespace
 
-TEST_CASE("[[obstacle]] entries are read with units into the task frame", "[collision][reach][input]") {
+TEST_CASE("[[obstacle]] entries are read with units into the task frame",
+          "[collision][reach][input]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_reach_obstacle_parse";
   const Study s = loadStudy(writeStudy(dir, "s.toml", kStudy).string());
   REQUIRE(s.obstacles.size() == 3);
@@ -98,14 +99,16 @@ TEST_CASE("[[obstacle]] entries are read with units into the task frame", "[coll
   CHECK(stageSettings<ReachConfig>(s, "reach")->collision.self);
   CHECK(stageSettings<ReachConfig>(s, "reach")->collision.obstacles.size() == 3);
   // obstacles = false keeps them out of the sweeps.
-  const Study off = loadStudy(
-      writeStudy(dir, "off.toml", edited("task_space = \"position\"\n", "task_space = \"position\"\nobstacles = false\n"))
-          .string());
+  const Study off = loadStudy(writeStudy(dir, "off.toml",
+                                         edited("task_space = \"position\"\n",
+                                                "task_space = \"position\"\nobstacles = false\n"))
+                                  .string());
   CHECK(stageSettings<ReachConfig>(off, "reach")->collision.obstacles.empty());
   CHECK(off.obstacles.size() == 3);
 }
 
-TEST_CASE("bad [[obstacle]] entries are input errors naming file, line and key", "[collision][reach][input]") {
+TEST_CASE("bad [[obstacle]] entries are input errors naming file, line and key",
+          "[collision][reach][input]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_reach_obstacle_bad";
   struct Case {
     std::string from, to, key, words;
@@ -114,14 +117,15 @@ TEST_CASE("bad [[obstacle]] entries are input errors naming file, line and key",
       {"radius = \"50 mm\"", "radius = \"-5 mm\"", "obstacle[0].radius", "radius"},
       {"points = [[0, 0.7, 0.5], [0, 0.7, \"1800 mm\"]]", "points = [[0, 0.7, 0.5], [0, 0.7, 0.5]]",
        "obstacle[0].points", "coincide"},
-      {"points = [[0, 0.7, 0.5], [0, 0.7, \"1800 mm\"]]", "points = [[0, 0.7, 0.5]]", "obstacle[0].points",
-       "needs 2 points"},
+      {"points = [[0, 0.7, 0.5], [0, 0.7, \"1800 mm\"]]", "points = [[0, 0.7, 0.5]]",
+       "obstacle[0].points", "needs 2 points"},
       {"type = \"capsule\"", "type = \"cylinder\"", "obstacle[0].type", "unknown SSV type"},
       {"name = \"fruit\"", "name = \"stem\"", "obstacle[1].name", "defined twice"},
-      {"name = \"fruit\"", "name = \"fruit\"\ncolour = \"red\"", "obstacle[1].colour", "unknown key"},
+      {"name = \"fruit\"", "name = \"fruit\"\ncolour = \"red\"", "obstacle[1].colour",
+       "unknown key"},
       {"radius = \"40 mm\"", "radius = \"40 deg\"", "obstacle[1].radius", "length"},
-      {"points = [[-1, 1.05, 0], [1, 1.05, 0], [0, 1.05, 2]]", "points = [[-1, 1.05, 0], [1, 1.05, 0], [0, 1.05, 0]]",
-       "obstacle[2].points", "collinear"},
+      {"points = [[-1, 1.05, 0], [1, 1.05, 0], [0, 1.05, 2]]",
+       "points = [[-1, 1.05, 0], [1, 1.05, 0], [0, 1.05, 0]]", "obstacle[2].points", "collinear"},
   };
   for (const Case& c : cases) {
     INFO(c.to);
@@ -140,7 +144,8 @@ TEST_CASE("bad [[obstacle]] entries are input errors naming file, line and key",
   // obstacles = true without any [[obstacle]].
   std::string none = kStudy;
   none.erase(none.find("[[obstacle]]"), none.find("[reach]") - none.find("[[obstacle]]"));
-  none.replace(none.find("task_space = \"position\"\n"), 24, "task_space = \"position\"\nobstacles = true\n");
+  none.replace(none.find("task_space = \"position\"\n"), 24,
+               "task_space = \"position\"\nobstacles = true\n");
   const fs::path p = writeStudy(dir, "none.toml", none);
   try {
     loadStudy(p.string());
@@ -150,8 +155,10 @@ TEST_CASE("bad [[obstacle]] entries are input errors naming file, line and key",
   }
 }
 
-TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are classified, named and re-checked",
-          "[collision][reach]") {
+TEST_CASE(
+    "reach sweeps with obstacles: poses reachable only in contact are classified, named and "
+    "re-checked",
+    "[collision][reach]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_reach_obstacle_sweep";
   fs::remove_all(dir);
   const Study study = loadStudy(writeStudy(dir, "s.toml", kStudy).string());
@@ -169,7 +176,8 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
   const fs::path one = run("t1", 1), two = run("t2", 2);
   const fs::path vti = one / "reach" / g.name / (m.name + ".vti");
   REQUIRE(fs::exists(vti));
-  CHECK(readFileOrThrow(vti.string()) == readFileOrThrow((two / "reach" / g.name / (m.name + ".vti")).string()));
+  CHECK(readFileOrThrow(vti.string()) ==
+        readFileOrThrow((two / "reach" / g.name / (m.name + ".vti")).string()));
 
   vtkNew<vtkXMLImageDataReader> r;
   r->SetFileName(vti.c_str());
@@ -217,7 +225,8 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
     }
     n_forced += forced;
     if (forced) CHECK(st != ReachStatus::Reachable);
-    if (st != ReachStatus::Reachable && st != ReachStatus::SelfCollision && st != ReachStatus::ObstacleCollision) {
+    if (st != ReachStatus::Reachable && st != ReachStatus::SelfCollision &&
+        st != ReachStatus::ObstacleCollision) {
       CHECK(std::isnan(dist->GetComponent(p, 0)));
       CHECK(std::isnan(odist->GetComponent(p, 0)));
       continue;
@@ -225,7 +234,8 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
     JointVector q(m.dof());
     for (int c = 0; c < m.dof(); ++c) q[c] = qa->GetComponent(p, c);
     forwardKinematics(m, ws.kin, q);
-    CHECK((ws.kin.p_WT - target).norm() <= stageSettings<ReachConfig>(study, "reach")->ik.position_tolerance_m);
+    CHECK((ws.kin.p_WT - target).norm() <=
+          stageSettings<ReachConfig>(study, "reach")->ik.position_tolerance_m);
     collisionDistances(m, ws.kin, obstacles, cws);
     const double ds = minSelfDistance(cws), de = minEnvironmentDistance(cws);
     CHECK(odist->GetComponent(p, 0) == de);
@@ -246,7 +256,8 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
       CHECK(pair->GetComponent(p, 0) == -1);
     }
   }
-  INFO("free " << n_free << ", in contact with an obstacle " << n_obstacle << ", forced " << n_forced);
+  INFO("free " << n_free << ", in contact with an obstacle " << n_obstacle << ", forced "
+               << n_forced);
   CHECK(n_forced >= 5);
   CHECK(n_obstacle >= n_forced);
   CHECK(n_free >= points / 3);  // (measured: 20 of 42 free, 19 in contact, 16 forced)
@@ -255,7 +266,8 @@ TEST_CASE("reach sweeps with obstacles: poses reachable only in contact are clas
   const auto& jd = summary["reach"]["grids"][0]["designs"][0];
   CHECK(jd["status_counts"]["obstacle_collision"].get<long>() == n_obstacle);
   CHECK(jd["reachable"].get<long>() == n_free);
-  for (const auto& [name, count] : per_pair) CHECK(jd["colliding_pairs"][name].get<long>() == count);
+  for (const auto& [name, count] : per_pair)
+    CHECK(jd["colliding_pairs"][name].get<long>() == count);
   CHECK(jd["min_obstacle_distance_m"].get<double>() > 0);
   CHECK(summary["reach"]["settings"]["obstacles"].size() == 3);
   CHECK(summary["reach"]["settings"]["obstacles"][0]["name"] == "stem");

@@ -15,9 +15,9 @@
 
 using namespace armstudy;
 namespace {
-constexpr int kBruteStarts = 500;            // the independent search's starts per pose
-constexpr double kMaxAuditMissed = 0.02;     // reachable poses 500 random starts do not find
-constexpr double kMaxContradicted = 0.01;    // at most 1 % of self_collision verdicts
+constexpr int kBruteStarts = 500;          // the independent search's starts per pose
+constexpr double kMaxAuditMissed = 0.02;   // reachable poses 500 random starts do not find
+constexpr double kMaxContradicted = 0.01;  // at most 1 % of self_collision verdicts
 
 // Close to the base, where the sweep alone called poses self_collision that have collision-free
 // solutions: x -0.36..0.24 m (3 cm), y 0.30..0.50 m (2 cm), z 1.2 m, gamma +-40 deg: 21 x 11 x 2
@@ -40,7 +40,8 @@ PoseSweep searched(const Model& m, const TaskGrid& g, const IkOptions& o, int th
 }
 
 // True when one of kBruteStarts uniform random starts reaches pose i collision-free.
-bool bruteForceClear(const Model& m, const TaskGrid& g, const IkOptions& o, long i, std::mt19937_64& rng) {
+bool bruteForceClear(const Model& m, const TaskGrid& g, const IkOptions& o, long i,
+                     std::mt19937_64& rng) {
   IkWorkspace ws(m);
   collision::CollisionWorkspace cws(m);
   IkOptions one = o;
@@ -64,14 +65,17 @@ void checkSameRows(const PoseSweep& a, const PoseSweep& b) {
   CHECK(a.status == b.status);
   CHECK(a.starts == b.starts);
   CHECK(std::memcmp(a.q.data(), b.q.data(), b.q.size() * sizeof(double)) == 0);
-  CHECK(std::memcmp(a.manipulability.data(), b.manipulability.data(), b.size * sizeof(double)) == 0);
-  CHECK(std::memcmp(a.min_distance_m.data(), b.min_distance_m.data(), b.size * sizeof(double)) == 0);
+  CHECK(std::memcmp(a.manipulability.data(), b.manipulability.data(), b.size * sizeof(double)) ==
+        0);
+  CHECK(std::memcmp(a.min_distance_m.data(), b.min_distance_m.data(), b.size * sizeof(double)) ==
+        0);
   CHECK(a.colliding_pair == b.colliding_pair);
 }
 }  // namespace
 
-TEST_CASE("reach statuses do not depend on the sweep direction and are the same for 1 and 2 threads",
-          "[reach][map_search][determinism]") {
+TEST_CASE(
+    "reach statuses do not depend on the sweep direction and are the same for 1 and 2 threads",
+    "[reach][map_search][determinism]") {
   const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
   const TaskGrid g = fig38Part();
   IkOptions up = ReachConfig::studyDefaults(), down = up;
@@ -82,8 +86,8 @@ TEST_CASE("reach statuses do not depend on the sweep direction and are the same 
     differ += a.status[i] != b.status[i];
     in_collision += a.status[i] == static_cast<std::uint8_t>(ReachStatus::SelfCollision);
   }
-  INFO("statuses differing between the directions: " << differ << " of " << a.size << ", self_collision "
-                                                      << in_collision);
+  INFO("statuses differing between the directions: " << differ << " of " << a.size
+                                                     << ", self_collision " << in_collision);
   REQUIRE(in_collision > 0);  // the part has poses reachable only in collision
   // Every line is chained both ways and each pose keeps the better result by a symmetric rule, so
   // the whole result (statuses, solutions, quantities) is the same in either direction.
@@ -102,8 +106,10 @@ TEST_CASE("reach statuses do not depend on the sweep direction and are the same 
   CHECK(std::memcmp(c.q.data(), a.q.data(), a.q.size() * sizeof(double)) == 0);
 }
 
-TEST_CASE("self_collision verdicts are rarely contradicted by a 500-start search, the audit finds the same",
-          "[reach][map_search][audit][oracle]") {
+TEST_CASE(
+    "self_collision verdicts are rarely contradicted by a 500-start search, the audit finds the "
+    "same",
+    "[reach][map_search][audit][oracle]") {
   const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
   const TaskGrid g = fig38Part();
   const IkOptions o = ReachConfig::studyDefaults();
@@ -122,8 +128,9 @@ TEST_CASE("self_collision verdicts are rarely contradicted by a 500-start search
   CHECK(double(contradicted) <= kMaxContradicted * double(verdicts));
   // The built-in audit over every pose: its self_collision count is the map's, and it contradicts
   // no more than the brute force does (+1: two random searches at the edge of a tiny free region).
-  const ReachAudit au = auditGridSweep(m, g, o, SweepCollision{true, {}}, s, static_cast<int>(s.size), kBruteStarts,
-                                       defaults::kAuditSeed, 2);
+  const ReachAudit au =
+      auditGridSweep(m, g, o, SweepCollision{true, {}}, s, static_cast<int>(s.size), kBruteStarts,
+                     defaults::kAuditSeed, 2);
   const int sc = static_cast<int>(ReachStatus::SelfCollision);
   CHECK(au.by_status[sc] == verdicts);
   CHECK(std::abs(au.contradicted[sc] - contradicted) <= 1);
@@ -135,23 +142,29 @@ TEST_CASE("self_collision verdicts are rarely contradicted by a 500-start search
   collision::CollisionWorkspace cws(m);
   for (const ReachAuditPose& row : au.rows) {
     if (!(row.map_status == ReachStatus::Reachable && row.solutions == 0)) continue;
-    const JointVector q = Eigen::Map<const JointVector>(&s.q[static_cast<std::size_t>(row.index) * s.dof], s.dof);
-    const IkResult e = evaluateSolution(m, ws, taskTarget(g.task_space, g.pose(row.index)), o, q, ReachStatus::OutOfReach);
+    const JointVector q =
+        Eigen::Map<const JointVector>(&s.q[static_cast<std::size_t>(row.index) * s.dof], s.dof);
+    const IkResult e = evaluateSolution(m, ws, taskTarget(g.task_space, g.pose(row.index)), o, q,
+                                        ReachStatus::OutOfReach);
     CHECK(e.reachable());
     forwardKinematics(m, ws.kin, q);
     collision::collisionDistances(m, ws.kin, {}, cws);
     CHECK(collision::minSelfDistance(cws) > 0);
   }
-  // Without the map search (the sweep alone) the same oracle finds wrong verdicts: the test can fail.
+  // Without the map search (the sweep alone) the same oracle finds wrong verdicts: the test can
+  // fail.
   const PoseSweep raw = sweepGrid(m, g, o, 2, nullptr, SweepCollision{true, {}});
-  const ReachAudit au_raw = auditGridSweep(m, g, o, SweepCollision{true, {}}, raw, static_cast<int>(raw.size),
-                                           kBruteStarts, defaults::kAuditSeed, 2);
-  INFO("sweep alone: " << au_raw.contradicted[sc] << " of " << au_raw.by_status[sc] << " contradicted");
+  const ReachAudit au_raw =
+      auditGridSweep(m, g, o, SweepCollision{true, {}}, raw, static_cast<int>(raw.size),
+                     kBruteStarts, defaults::kAuditSeed, 2);
+  INFO("sweep alone: " << au_raw.contradicted[sc] << " of " << au_raw.by_status[sc]
+                       << " contradicted");
   CHECK(au_raw.contradicted[sc] > au.contradicted[sc]);
 }
 
-TEST_CASE("pose lists: poses in collision get the seeded starts, freed poses are verified collision-free",
-          "[reach][map_search]") {
+TEST_CASE(
+    "pose lists: poses in collision get the seeded starts, freed poses are verified collision-free",
+    "[reach][map_search]") {
   const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
   const TaskGrid g = fig38Part();
   PoseList list;
@@ -184,7 +197,8 @@ TEST_CASE("pose lists: poses in collision get the seeded starts, freed poses are
     collision::collisionDistances(m, ws.kin, {}, cws);
     CHECK(collision::minSelfDistance(cws) > 0);
     CHECK(collision::minSelfDistance(cws) == a.min_distance_m[i]);
-    const IkResult e = evaluateSolution(m, ws, taskTarget(list.task_space, list.poses[i]), o, q, ReachStatus::OutOfReach);
+    const IkResult e = evaluateSolution(m, ws, taskTarget(list.task_space, list.poses[i]), o, q,
+                                        ReachStatus::OutOfReach);
     CHECK(e.reachable());
   }
   CHECK(lost == 0);
@@ -231,7 +245,8 @@ TEST_CASE("a search's steps over their active sets give the map of steps over ev
   // two must give the same map, bit for bit, and the same counts: on the 6-DoF arm with
   // self-collision (propagation, multi-starts, the box round) and on the 7-DoF arm (long
   // best-manipulability rounds), 1 and 2 threads.
-  for (const char* design : {"designs/first_prototype_6dof.toml", "designs/final_prototype_7dof.toml"}) {
+  for (const char* design :
+       {"designs/first_prototype_6dof.toml", "designs/final_prototype_7dof.toml"}) {
     const Model m = loadDesign(test::sourcePath(design));
     const TaskGrid g = fig38Part();
     const IkOptions o = ReachConfig::studyDefaults();

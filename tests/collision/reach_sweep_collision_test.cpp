@@ -18,12 +18,12 @@
 
 #include "collision/collision.hpp"
 #include "common/errors.hpp"
-#include "io/design_io.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
-#include "stages/reach/stage.hpp"
-#include "stages/reach/reach_stage.hpp"
+#include "io/design_io.hpp"
 #include "reach/reach_sweep.hpp"
+#include "stages/reach/reach_stage.hpp"
+#include "stages/reach/stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -34,7 +34,8 @@ namespace {
 
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // The first prototype with every collision volume `extra_m` thicker (a design variant).
@@ -63,12 +64,15 @@ long countStatus(const PoseSweep& s, ReachStatus st) {
 
 }  // namespace
 
-TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK fields and are thread-independent",
-          "[collision][reach]") {
+TEST_CASE(
+    "self-collision sweeps classify poses, store the distance in the VTK fields and are "
+    "thread-independent",
+    "[collision][reach]") {
   const TaskGrid g = smallGrid();
   REQUIRE(g.validate().empty());
   const IkOptions o = ReachConfig::studyDefaults();
-  // The smallest inflation that gives poses reachable only in collision next to collision-free ones.
+  // The smallest inflation that gives poses reachable only in collision next to collision-free
+  // ones.
   Model m;
   PoseSweep a;
   bool found = false;
@@ -81,8 +85,8 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
     }
   }
   REQUIRE(found);
-  INFO("reachable " << a.countReachable() << ", in collision " << countStatus(a, ReachStatus::SelfCollision)
-                    << " of " << a.size);
+  INFO("reachable " << a.countReachable() << ", in collision "
+                    << countStatus(a, ReachStatus::SelfCollision) << " of " << a.size);
   REQUIRE(a.collision);
   REQUIRE(a.min_distance_m.size() == static_cast<std::size_t>(a.size));
   REQUIRE_FALSE(a.pair_names.empty());
@@ -193,8 +197,9 @@ TEST_CASE("self-collision sweeps classify poses, store the distance in the VTK f
   CHECK(summary["reach"]["settings"]["self_collision"].get<bool>());
 }
 
-TEST_CASE("self_collision = true for a design without a collision model is an input error naming the key",
-          "[collision][reach][input]") {
+TEST_CASE(
+    "self_collision = true for a design without a collision model is an input error naming the key",
+    "[collision][reach][input]") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_reach_sweep_collision_input";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -213,8 +218,11 @@ TEST_CASE("self_collision = true for a design without a collision model is an in
     if (!skip) stripped += line + "\n";
   }
   std::ofstream(dir / "bare.toml") << stripped;
-  const std::string study_head = "[study]\nname = \"s\"\n[[design]]\nfile = \"bare.toml\"\n[reach]\ntask_space = \"position\"\n";
-  const std::string grid = "[[reach.grid]]\nname = \"g\"\nx = \"0 m\"\ny = \"0.6 m\"\nz = \"1.0 m\"\n";
+  const std::string study_head =
+      "[study]\nname = \"s\"\n[[design]]\nfile = \"bare.toml\"\n[reach]\ntask_space = "
+      "\"position\"\n";
+  const std::string grid =
+      "[[reach.grid]]\nname = \"g\"\nx = \"0 m\"\ny = \"0.6 m\"\nz = \"1.0 m\"\n";
   std::ofstream(dir / "on.toml") << study_head << "self_collision = true\n" << grid;
   std::ofstream(dir / "default.toml") << study_head << grid;
   try {
@@ -227,7 +235,9 @@ TEST_CASE("self_collision = true for a design without a collision model is an in
   CHECK_FALSE(stageSettings<ReachConfig>(s, "reach")->collision.self);
   // Every shipped design has a collision model: the default is on.
   std::ofstream(dir / "shipped.toml") << "[study]\nname = \"t\"\n[[design]]\nfile = \""
-                                       << test::sourcePath("designs/first_prototype_6dof.toml")
-                                       << "\"\n[reach]\ntask_space = \"position\"\n" << grid;
-  CHECK(stageSettings<ReachConfig>(loadStudy((dir / "shipped.toml").string()), "reach")->collision.self);
+                                      << test::sourcePath("designs/first_prototype_6dof.toml")
+                                      << "\"\n[reach]\ntask_space = \"position\"\n"
+                                      << grid;
+  CHECK(stageSettings<ReachConfig>(loadStudy((dir / "shipped.toml").string()), "reach")
+            ->collision.self);
 }

@@ -1,5 +1,7 @@
 // Mesh -> SSV fitting: containment of every vertex (and of sampled surface points) checked with
 // CGAL's own point distances, STL/OFF readers, bad meshes, and the fit-ssv command end to end.
+#include "collision/ssv_fit.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/squared_distance_3.h>
 #include <unistd.h>
@@ -10,7 +12,6 @@
 #include <fstream>
 #include <random>
 
-#include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -59,13 +60,15 @@ TestMesh box(double lx, double ly, double lz) {
 TestMesh tube(double length, double radius, int sides) {
   std::vector<Eigen::Vector2d> poly;
   for (int i = 0; i < sides; ++i)
-    poly.emplace_back(radius * std::cos(2 * M_PI * i / sides), radius * std::sin(2 * M_PI * i / sides));
+    poly.emplace_back(radius * std::cos(2 * M_PI * i / sides),
+                      radius * std::sin(2 * M_PI * i / sides));
   return prism(poly, length, Vector3d(0, 0.02, -0.01));
 }
 
 // An L-shaped plate bracket (star-shaped from corner 0).
 TestMesh bracket() {
-  return prism({{0, 0}, {0.3, 0}, {0.3, 0.05}, {0.05, 0.05}, {0.05, 0.25}, {0, 0.25}}, 0.04, Vector3d::Zero());
+  return prism({{0, 0}, {0.3, 0}, {0.3, 0.05}, {0.05, 0.05}, {0.05, 0.25}, {0, 0.25}}, 0.04,
+               Vector3d::Zero());
 }
 
 struct TempDir {
@@ -86,7 +89,8 @@ void writeOff(const std::string& path, const TestMesh& m, int drop_faces = 0) {
   os.precision(17);
   os << "OFF\n" << m.v.size() << " " << m.f.size() - drop_faces << " 0\n";
   for (const auto& p : m.v) os << p.x() << " " << p.y() << " " << p.z() << "\n";
-  for (std::size_t i = drop_faces; i < m.f.size(); ++i) os << "3 " << m.f[i][0] << " " << m.f[i][1] << " " << m.f[i][2] << "\n";
+  for (std::size_t i = drop_faces; i < m.f.size(); ++i)
+    os << "3 " << m.f[i][0] << " " << m.f[i][1] << " " << m.f[i][2] << "\n";
 }
 
 void writeAsciiStl(const std::string& path, const TestMesh& m, double scale) {
@@ -115,7 +119,8 @@ double cgalExcess(const std::vector<FittedSsv>& vols, const Vector3d& x) {
     double sq = 0;
     if (v.type == SsvType::Point) sq = CGAL::squared_distance(p, P(v.p[0]));
     if (v.type == SsvType::Line) sq = CGAL::squared_distance(p, K::Segment_3(P(v.p[0]), P(v.p[1])));
-    if (v.type == SsvType::Triangle) sq = CGAL::squared_distance(p, K::Triangle_3(P(v.p[0]), P(v.p[1]), P(v.p[2])));
+    if (v.type == SsvType::Triangle)
+      sq = CGAL::squared_distance(p, K::Triangle_3(P(v.p[0]), P(v.p[1]), P(v.p[2])));
     best = std::min(best, std::sqrt(sq) - v.radius_m);
   }
   return best;
@@ -267,10 +272,12 @@ TEST_CASE("fit-ssv writes the fitted volumes into a copy of the design, atomical
   // Bad input: a missing mesh or an unknown link fails with exit 2 and writes nothing.
   const std::string out2 = dir.file("never.toml");
   CHECK(test::runCommand(test::binaryPath() + " fit-ssv " + design + " --link j3 --mesh " +
-                             dir.file("missing.stl") + " --out " + out2, log) == 2);
+                             dir.file("missing.stl") + " --out " + out2,
+                         log) == 2);
   CHECK(log.find("missing.stl") != std::string::npos);
   CHECK(test::runCommand(test::binaryPath() + " fit-ssv " + design + " --link j5 --mesh " +
-                             dir.file("upper_arm.off") + " --out " + out2, log) == 2);
+                             dir.file("upper_arm.off") + " --out " + out2,
+                         log) == 2);
   CHECK(log.find("no link named 'j5'") != std::string::npos);
   CHECK_FALSE(fs::exists(out2));
 
@@ -278,9 +285,11 @@ TEST_CASE("fit-ssv writes the fitted volumes into a copy of the design, atomical
   const std::string copy = dir.file("copy.toml");
   fs::copy_file(design, copy);
   REQUIRE(test::runCommand(test::binaryPath() + " fit-ssv " + copy + " --link j3 --mesh " +
-                               dir.file("upper_arm.off") + " --in-place", log) == 0);
+                               dir.file("upper_arm.off") + " --in-place",
+                           log) == 0);
   const std::string once = readFileOrThrow(copy);
   REQUIRE(test::runCommand(test::binaryPath() + " fit-ssv " + copy + " --link j3 --mesh " +
-                               dir.file("upper_arm.off") + " --in-place", log) == 0);
+                               dir.file("upper_arm.off") + " --in-place",
+                           log) == 0);
   CHECK(readFileOrThrow(copy) == once);
 }

@@ -1,13 +1,12 @@
 // The dexterity stage: stem-grid geometry (Fig. 3.4), per-cell invariants (tool on the pose, plain
 // and optimised both valid, optimisation never worse), determinism across thread counts, VTK
 // read-back with VTK's own readers (VTI, VTP and the PNG map images), and bad [dexterity] input.
-#include <catch2/catch.hpp>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPNGReader.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
-#include <vtkPNGReader.h>
 #include <vtkStringArray.h>
 #include <vtkStructuredGrid.h>
 #include <vtkXMLImageDataReader.h>
@@ -16,17 +15,18 @@
 
 #include <algorithm>
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 
 #include "common/errors.hpp"
-#include "io/vtk_io.hpp"
-#include "stages/dexterity/dexterity_output.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "engine/study_file.hpp"
+#include "io/vtk_io.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -80,7 +80,8 @@ TEST_CASE("stem grid places the TCP on the circle with the tool axis through the
     CHECK((c.u_W - (stem - c.target.p_WT).normalized()).norm() < kGeometryTolerance);
     CHECK((c.target.R_WT.col(2) - c.u_W).norm() < kGeometryTolerance);
     CHECK(std::abs(c.target.R_WT.determinant() - 1.0) < kGeometryTolerance);
-    CHECK((c.target.R_WT.transpose() * c.target.R_WT - Eigen::Matrix3d::Identity()).norm() < kGeometryTolerance);
+    CHECK((c.target.R_WT.transpose() * c.target.R_WT - Eigen::Matrix3d::Identity()).norm() <
+          kGeometryTolerance);
   }
   // gamma = 0: straight from the robot side (-y of the stem), gamma = +90 deg from -x.
   const auto c0 = o.grid.cell(6, 0);
@@ -91,7 +92,8 @@ TEST_CASE("stem grid places the TCP on the circle with the tool axis through the
 
 TEST_CASE("every reachable cell: plain and optimised on the pose, optimisation never worse",
           "[dexterity][invariant]") {
-  for (const char* rel : {"designs/first_prototype_9dof.toml", "designs/final_prototype_7dof.toml"}) {
+  for (const char* rel :
+       {"designs/first_prototype_9dof.toml", "designs/final_prototype_7dof.toml"}) {
     const Model m = loadDesign(sourcePath(rel));
     const DexterityOptions o = smallOptions();
     const DexterityMap map = computeDexterityMap(m, o, 2);
@@ -189,14 +191,16 @@ manipulability = 1
 transmission = 0.05
 )");
   std::string out;
-  const int rc = runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2", out);
+  const int rc =
+      runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2", out);
   INFO(out);
   REQUIRE(rc == 0);
   const std::string base = dir + "/out/t/dexterity/";
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   const Study s = loadStudy(study);
   REQUIRE(stageSettings<dexterity::DexterityOptions>(s, "dexterity"));
-  const DexterityMap map = computeDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1);
+  const DexterityMap map =
+      computeDexterityMap(m, *stageSettings<dexterity::DexterityOptions>(s, "dexterity"), 1);
   const MapFields f = mapFields(map);
 
   vtkNew<vtkXMLImageDataReader> ir;
@@ -230,13 +234,16 @@ transmission = 0.05
     best = std::max(best, mn->GetTuple1(i));
   }
   CHECK(best <= 1.0);
-  CHECK(std::abs(std::max(best, [&] {
-                   double b = 0;
-                   vtkDataArray* p = img->GetPointData()->GetArray("manipulability_plain_normalised");
-                   for (vtkIdType i = 0; i < p->GetNumberOfTuples(); ++i)
-                     if (!std::isnan(p->GetTuple1(i))) b = std::max(b, p->GetTuple1(i));
-                   return b;
-                 }()) - 1.0) < kGeometryTolerance);
+  CHECK(std::abs(std::max(best,
+                          [&] {
+                            double b = 0;
+                            vtkDataArray* p =
+                                img->GetPointData()->GetArray("manipulability_plain_normalised");
+                            for (vtkIdType i = 0; i < p->GetNumberOfTuples(); ++i)
+                              if (!std::isnan(p->GetTuple1(i))) b = std::max(b, p->GetTuple1(i));
+                            return b;
+                          }()) -
+                 1.0) < kGeometryTolerance);
 
   vtkNew<vtkXMLPolyDataReader> pr;
   pr->SetFileName((base + "first_prototype_9dof_ellipsoids_optimised.vtp").c_str());
@@ -317,15 +324,18 @@ transmission = 0.05
   CHECK(std::filesystem::exists(base + "summary.json"));
 }
 
-TEST_CASE("the map on its cylinder around the stem: world metres, the .vti's arrays, the arm at the best cell",
-          "[dexterity][io][oracle]") {
+TEST_CASE(
+    "the map on its cylinder around the stem: world metres, the .vti's arrays, the arm at the best "
+    "cell",
+    "[dexterity][io][oracle]") {
   const std::string dir = tempDir("cylinder");
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   const DexterityOptions o = smallOptions();
   const DexterityMap map = computeDexterityMap(m, o, 2);
   const MapFields f = mapFields(map);
   const std::vector<std::string> files = writeMapVtk(map, f, m, o.measure_space, false, dir);
-  CHECK(files == std::vector<std::string>{"first_prototype_9dof.vti", "first_prototype_9dof_cylinder.vts",
+  CHECK(files == std::vector<std::string>{"first_prototype_9dof.vti",
+                                          "first_prototype_9dof_cylinder.vts",
                                           "first_prototype_9dof_robot_best.vtp"});
   vtkNew<vtkXMLStructuredGridReader> sr;
   sr->SetFileName((dir + "/first_prototype_9dof_cylinder.vts").c_str());
@@ -355,8 +365,10 @@ TEST_CASE("the map on its cylinder around the stem: world metres, the .vti's arr
     INFO(x->GetName());
     REQUIRE(y);
     for (vtkIdType k = 0; k < x->GetNumberOfTuples(); ++k) {
-      if (std::isnan(x->GetTuple1(k))) CHECK(std::isnan(y->GetTuple1(k)));
-      else CHECK(x->GetTuple1(k) == y->GetTuple1(k));
+      if (std::isnan(x->GetTuple1(k)))
+        CHECK(std::isnan(y->GetTuple1(k)));
+      else
+        CHECK(x->GetTuple1(k) == y->GetTuple1(k));
     }
   }
   auto field = [](vtkDataObject* d, const char* name) {
@@ -369,7 +381,8 @@ TEST_CASE("the map on its cylinder around the stem: world metres, the .vti's arr
   // The arm at the cell of the best optimised manipulability: its skeleton ends at that cell's TCP.
   int best = -1;
   for (std::size_t i = 0; i < map.cells.size(); ++i)
-    if (map.cells[i].reachable && (best < 0 || map.cells[i].opt.manipulability > map.cells[best].opt.manipulability))
+    if (map.cells[i].reachable &&
+        (best < 0 || map.cells[i].opt.manipulability > map.cells[best].opt.manipulability))
       best = static_cast<int>(i);
   REQUIRE(best >= 0);
   vtkNew<vtkXMLPolyDataReader> rr;
@@ -379,8 +392,8 @@ TEST_CASE("the map on its cylinder around the stem: world metres, the .vti's arr
   REQUIRE(robot->GetNumberOfLines() >= 1);
   double tcp[3];
   robot->GetPoint(m.dof() + 1, tcp);  // skeleton: base, one point per joint frame, TCP
-  CHECK((Eigen::Vector3d(tcp[0], tcp[1], tcp[2]) - map.grid.cell(best % G, best / G).target.p_WT).norm() <
-        kOnPoseTolerance);
+  CHECK((Eigen::Vector3d(tcp[0], tcp[1], tcp[2]) - map.grid.cell(best % G, best / G).target.p_WT)
+            .norm() < kOnPoseTolerance);
 }
 
 TEST_CASE("bad [dexterity] input is rejected with file, line and key before any work",
@@ -395,13 +408,16 @@ gamma = { min = "-90 deg", max = "90 deg", step = "30 deg" }
 z = { min = 0.5, max = 1.1, count = 4 }
 )";
   REQUIRE_NOTHROW(loadStudy(writeStudy(dir, good)));
-  struct Case { std::string from, to, append, key; };
+  struct Case {
+    std::string from, to, append, key;
+  };
   const Case cases[] = {
       {"radius = 0.15", "radius = 0", "", "dexterity.radius"},
       {"radius = 0.15", "radius = -0.1", "", "dexterity.radius"},
       {"radius = 0.15", "radius = 0.15\ndirection = [0, 0, 0]", "", "dexterity.direction"},
       {"radius = 0.15", "radius = 0.15\ndirection = [0, 2, 0]", "", "dexterity.direction"},
-      {"", "", "[dexterity.objective]\nmanipulability = -1\n", "dexterity.objective.manipulability"},
+      {"", "", "[dexterity.objective]\nmanipulability = -1\n",
+       "dexterity.objective.manipulability"},
       {"", "", "[dexterity.objective]\njoint_limits = nan\n", "dexterity.objective.joint_limits"},
       {"", "", "[dexterity.solver]\ndamping = -0.1\n", "dexterity.solver.damping"},
       {"", "", "[dexterity.solver]\njoint_weights = [1, 1]\n", "dexterity"},
@@ -451,11 +467,17 @@ gamma = { min = "-30 deg", max = "30 deg", step = "30 deg" }
 z = { min = 0.8, max = 1.0, count = 2 }
 )");
   std::string out;
-  REQUIRE(runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2", out) == 0);
-  CHECK_THAT(out, Catch::Contains("warning: first_prototype_9dof reaches none of the 6 stem cells"));
+  REQUIRE(runCommand(binaryPath() + " run " + study + " --output " + dir + "/out --threads 2",
+                     out) == 0);
+  CHECK_THAT(out,
+             Catch::Contains("warning: first_prototype_9dof reaches none of the 6 stem cells"));
   const std::string md = readFileOrThrow(dir + "/out/t/dexterity/report.md");
-  CHECK_THAT(md, Catch::Contains("**Warning:** first_prototype_9dof reaches none of the 6 stem cells"));
-  CHECK_THAT(md, Catch::Contains("| first_prototype_9dof | 9 | 0.0 % | 0.0 % | 0.0 % | - | - | - |"));
-  CHECK_THAT(md, Catch::Contains("Best manipulability (normalisation value): -. Mean null-space iterations: - ("));
+  CHECK_THAT(md,
+             Catch::Contains("**Warning:** first_prototype_9dof reaches none of the 6 stem cells"));
+  CHECK_THAT(md,
+             Catch::Contains("| first_prototype_9dof | 9 | 0.0 % | 0.0 % | 0.0 % | - | - | - |"));
+  CHECK_THAT(md,
+             Catch::Contains(
+                 "Best manipulability (normalisation value): -. Mean null-space iterations: - ("));
   CHECK_THAT(md, Catch::Contains("| manipulability, optimised (normalised) | - | - | - | - |"));
 }

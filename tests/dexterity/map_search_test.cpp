@@ -2,7 +2,6 @@
 // file's own many-start search (its own random generator, no chaining, no neighbours), the grid
 // traversed in the other gamma order, and a sub-range of the grid.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -36,7 +35,8 @@ DexterityOptions regionOptions() {
   o.w_joint_limits = 0.1;
   o.w_manipulability = 1.0;
   o.w_transmission = 0.0;
-  o.seed_stride = 1;  // a coarse grid: every cell seeded (the study default, 4, is for 1 deg x 1 cm)
+  o.seed_stride =
+      1;  // a coarse grid: every cell seeded (the study default, 4, is for 1 deg x 1 cm)
   return o;
 }
 
@@ -51,20 +51,26 @@ std::vector<double> oracle(const Model& m, const DexterityOptions& o) {
   std::mt19937_64 rng(20261123);
   std::vector<double> best(o.grid.size(), INFINITY);
   for (int idx = 0; idx < o.grid.size(); ++idx) {
-    const StemGrid::Cell cell = o.grid.cell(idx % o.grid.gamma_rad.count, idx / o.grid.gamma_rad.count);
+    const StemGrid::Cell cell =
+        o.grid.cell(idx % o.grid.gamma_rad.count, idx / o.grid.gamma_rad.count);
     ctx.u_W = cell.u_W;
     for (int s = 0; s < kOracleStarts; ++s) {
-      const ik::PoseSolveResult p = ik::solvePose(m, ws, cell.target, randomConfiguration(m, rng), w_inv, {});
-      if (p.error.position_m > o.nullspace.pose_tolerance || p.error.orientation_rad > o.nullspace.pose_tolerance)
+      const ik::PoseSolveResult p =
+          ik::solvePose(m, ws, cell.target, randomConfiguration(m, rng), w_inv, {});
+      if (p.error.position_m > o.nullspace.pose_tolerance ||
+          p.error.orientation_rad > o.nullspace.pose_tolerance)
         continue;
-      const ik::NullspaceResult r = ik::optimiseAtPose(m, ws, ctx, cell.target, p.q, obj, w_inv, o.nullspace);
+      const ik::NullspaceResult r =
+          ik::optimiseAtPose(m, ws, ctx, cell.target, p.q, obj, w_inv, o.nullspace);
       if (r.status != ik::NullspaceStatus::NotOnPose) best[idx] = std::min(best[idx], r.H_final);
     }
   }
   return best;
 }
 
-bool agrees(double a, double b) { return std::abs(a - b) <= kAgreement * std::max(std::abs(std::min(a, b)), 1e-12); }
+bool agrees(double a, double b) {
+  return std::abs(a - b) <= kAgreement * std::max(std::abs(std::min(a, b)), 1e-12);
+}
 
 double shareWithin(const DexterityMap& map, const std::vector<double>& best, int& contradicted) {
   int both = 0, ok = 0;
@@ -83,8 +89,10 @@ double shareWithin(const DexterityMap& map, const std::vector<double>& best, int
 }
 }  // namespace
 
-TEST_CASE("dexterity map values agree with an independent many-start search, the chained rows alone do not",
-          "[dexterity][map_search][oracle]") {
+TEST_CASE(
+    "dexterity map values agree with an independent many-start search, the chained rows alone do "
+    "not",
+    "[dexterity][map_search][oracle]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   const DexterityOptions o = regionOptions();
   const std::vector<double> best = oracle(m, o);
@@ -124,8 +132,8 @@ TEST_CASE("a dexterity map does not depend on the gamma order or the sub-range o
     ok += same ? 1 : 0;
     if (!same)
       diff << "cell " << i << ": ascending H " << a.cells[i].H_opt << " (found by "
-                            << int(a.cells[i].found_by) << "), descending H " << b.cells[i].H_opt << " (found by "
-                            << int(b.cells[i].found_by) << ")\n";
+           << int(a.cells[i].found_by) << "), descending H " << b.cells[i].H_opt << " (found by "
+           << int(b.cells[i].found_by) << ")\n";
   }
   INFO(diff.str());
   CHECK(double(ok) / both >= kRequiredShare);
@@ -141,9 +149,9 @@ TEST_CASE("a dexterity map does not depend on the gamma order or the sub-range o
       const bool same = agrees(full.H_opt, part.H_opt);
       ok += same ? 1 : 0;
       if (!same)
-        diff << "gamma " << jg + off << ", z " << iz << ": full grid H " << full.H_opt << " (found by "
-                               << int(full.found_by) << "), sub-range H " << part.H_opt << " (found by "
-                               << int(part.found_by) << ")\n";
+        diff << "gamma " << jg + off << ", z " << iz << ": full grid H " << full.H_opt
+             << " (found by " << int(full.found_by) << "), sub-range H " << part.H_opt
+             << " (found by " << int(part.found_by) << ")\n";
     }
   INFO(diff.str());
   CHECK(double(ok) / both >= kRequiredShareSubRange);
@@ -172,7 +180,8 @@ TEST_CASE("the built-in audit agrees with a brute-force search over every cell o
     CHECK(r.H_map == map.cells[r.index].H_opt);
     if (r.map_reachable && std::isfinite(best[r.index])) {
       ++both;
-      within += map.cells[r.index].H_opt <= best[r.index] + kAgreement * std::abs(best[r.index]) ? 1 : 0;
+      within +=
+          map.cells[r.index].H_opt <= best[r.index] + kAgreement * std::abs(best[r.index]) ? 1 : 0;
     }
     contradicted += !r.map_reachable && std::isfinite(best[r.index]) ? 1 : 0;
   }

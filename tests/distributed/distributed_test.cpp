@@ -109,9 +109,9 @@ std::string writeOtherFontconfig(const fs::path& dir) {
 }
 std::string mpirunOthersUnder(const std::string& fontconfig, int ranks, const std::string& args) {
   const std::string run = binaryPath() + " run " + args;
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(ARMSTUDY_MPIEXEC) +
-         " --oversubscribe -np 1 " + run + " : -np " + std::to_string(ranks - 1) + " env FONTCONFIG_FILE=" +
-         fontconfig + " " + run;
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+         std::string(ARMSTUDY_MPIEXEC) + " --oversubscribe -np 1 " + run + " : -np " +
+         std::to_string(ranks - 1) + " env FONTCONFIG_FILE=" + fontconfig + " " + run;
 }
 
 const char* kReachSection = R"([reach]
@@ -412,29 +412,33 @@ TEST_CASE(
   // nothing about it).
   std::string plain, other;
   REQUIRE(runCommand("fc-match --format '%{hintstyle} %{embolden}' 'DejaVu Sans'", plain) == 0);
-  REQUIRE(runCommand("FONTCONFIG_FILE=" + conf + " fc-match --format '%{hintstyle} %{embolden}' 'DejaVu Sans'",
+  REQUIRE(runCommand("FONTCONFIG_FILE=" + conf +
+                         " fc-match --format '%{hintstyle} %{embolden}' 'DejaVu Sans'",
                      other) == 0);
   INFO("fc-match: '" << plain << "' vs '" << other << "'");
   REQUIRE(plain != other);
   // Every pair of the five designs gets comparison figures, rendered by whichever rank draws the
   // item; small units so that every rank draws some.
   const fs::path out = dir / "out" / "regression";
-  const std::string args = sourcePath("studies/regression.toml") + " --output " + (dir / "out").string() +
-                           " --overwrite --unit-size 8";
+  const std::string args = sourcePath("studies/regression.toml") + " --output " +
+                           (dir / "out").string() + " --overwrite --unit-size 8";
   std::string log;
   REQUIRE(runCommand(binaryPath() + " run " + args + " --threads 2", log) == 0);
   const auto ref = resultFiles(out);
   REQUIRE(ref.size() > 40);
   for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {3, 1}, {2, 2}}) {
     INFO(ranks << " rank(s) x " << threads << " thread(s), ranks 1.. under " << conf);
-    const int st = runCommand(mpirunOthersUnder(conf, ranks, args + " --threads " + std::to_string(threads)), log);
+    const int st = runCommand(
+        mpirunOthersUnder(conf, ranks, args + " --threads " + std::to_string(threads)), log);
     INFO(log);
     REQUIRE(st == 0);
     const auto got = resultFiles(out);
     CHECK(differing(ref, got).empty());
   }
   // A single process under that file: the same bytes too.
-  REQUIRE(runCommand("FONTCONFIG_FILE=" + conf + " " + binaryPath() + " run " + args + " --threads 1", log) == 0);
+  REQUIRE(
+      runCommand("FONTCONFIG_FILE=" + conf + " " + binaryPath() + " run " + args + " --threads 1",
+                 log) == 0);
   CHECK(differing(ref, resultFiles(out)).empty());
   fs::remove_all(dir);
 }

@@ -1,8 +1,8 @@
 // End-to-end: the `dynamics` and `approach` commands against the library they wrap, and their
 // handling of bad arguments (exit code 2, message naming the argument).
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -72,7 +72,8 @@ TEST_CASE("armstudy dynamics and approach reject bad arguments with exit code 2"
 TEST_CASE("armstudy approach writes the planned trajectory as CSV (thesis Fig. 5.8 scene)",
           "[trajectory][cli]") {
   std::string out;
-  const std::string csv = (std::filesystem::temp_directory_path() / "armstudy_approach_fig58_test.csv").string();
+  const std::string csv =
+      (std::filesystem::temp_directory_path() / "armstudy_approach_fig58_test.csv").string();
   std::remove(csv.c_str());
   const int rc =
       runCommand(binaryPath() +

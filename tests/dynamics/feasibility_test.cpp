@@ -12,11 +12,11 @@
 #include "drive/friction.hpp"
 #include "dynamics/approach_tracking.hpp"
 #include "dynamics/drive_feasibility.hpp"
-#include "stages/harvest/harvest_stage.hpp"
-#include "io/design_io.hpp"
-#include "engine/study_file.hpp"
-#include "kinematics/kinematics.hpp"
 #include "engine/run.hpp"
+#include "engine/study_file.hpp"
+#include "io/design_io.hpp"
+#include "kinematics/kinematics.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -332,9 +332,12 @@ TEST_CASE("harvest stage: identical results with 1 and 2 threads") {
   const fs::path dir = fs::temp_directory_path() / "armstudy_harvest_threads";
   const Study s = loadStudy(writeStudy(dir, kSmallHarvest));
   REQUIRE(stageSettings<harvest::HarvestOptions>(s, "harvest"));
-  const GreenhouseRow row = sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
-  const auto a = harvest::evaluateHarvestDesign(s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
-  const auto b = harvest::evaluateHarvestDesign(s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2);
+  const GreenhouseRow row =
+      sampleGreenhouseRow(stageSettings<harvest::HarvestOptions>(s, "harvest")->row);
+  const auto a = harvest::evaluateHarvestDesign(
+      s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 1);
+  const auto b = harvest::evaluateHarvestDesign(
+      s.designs[0].model, *stageSettings<harvest::HarvestOptions>(s, "harvest"), row, 2);
   REQUIRE(a.fruits.size() == b.fruits.size());
   int evaluated = 0;
   for (size_t f = 0; f < a.fruits.size(); ++f) {
@@ -384,7 +387,8 @@ TEST_CASE("harvest stage: run writes outputs and summary metrics") {
     ++limited;
     for (const auto& f : raw.fruits)
       if (f.evaluated())
-        for (const auto& c : f.with_friction.current) ratio = std::max(ratio, std::abs(c[i]) / dr.peak_current_A);
+        for (const auto& c : f.with_friction.current)
+          ratio = std::max(ratio, std::abs(c[i]) / dr.peak_current_A);
   }
   REQUIRE(limited > 0);
   REQUIRE(sum.metrics.scalars.count(d + "peak_current_ratio"));

@@ -32,7 +32,8 @@ struct UnnamedInputError : std::logic_error {
 };
 
 inline void requireNamed(const InputError& e, const std::string& file) {
-  if (e.file() != file) throw UnnamedInputError("InputError names '" + e.file() + "', not '" + file + "': " + e.what());
+  if (e.file() != file)
+    throw UnnamedInputError("InputError names '" + e.file() + "', not '" + file + "': " + e.what());
 }
 
 inline std::string bytes(const std::uint8_t* data, std::size_t size) {
@@ -54,7 +55,8 @@ inline void design(const std::uint8_t* data, std::size_t size) {
 inline void csv(const std::uint8_t* data, std::size_t size) {
   const std::string file = "fuzz_data.csv";
   try {
-    (void)io::parseCsv(bytes(data, size), file, io::CsvSchema{{"q", "current_a"}, {"temperature_c"}});
+    (void)io::parseCsv(bytes(data, size), file,
+                       io::CsvSchema{{"q", "current_a"}, {"temperature_c"}});
   } catch (const InputError& e) {
     requireNamed(e, file);
   }
@@ -89,11 +91,13 @@ inline void urdf(const std::uint8_t* data, std::size_t size) {
 inline void study(const std::uint8_t* data, std::size_t size) {
   namespace fs = std::filesystem;
   static const fs::path root = [] {
-    const fs::path r = fs::temp_directory_path() / ("armstudy_fuzz_study." + std::to_string(::getpid()));
+    const fs::path r =
+        fs::temp_directory_path() / ("armstudy_fuzz_study." + std::to_string(::getpid()));
     fs::create_directories(r / "studies");
     std::error_code ec;
     fs::create_directory_symlink(fs::path(ARMSTUDY_SOURCE_DIR) / "designs", r / "designs", ec);
-    fs::create_directory_symlink(fs::path(ARMSTUDY_SOURCE_DIR) / "studies" / "data", r / "studies" / "data", ec);
+    fs::create_directory_symlink(fs::path(ARMSTUDY_SOURCE_DIR) / "studies" / "data",
+                                 r / "studies" / "data", ec);
     return r;
   }();
   const std::string file = (root / "studies" / "fuzz.toml").string();
@@ -104,7 +108,8 @@ inline void study(const std::uint8_t* data, std::size_t size) {
   try {
     (void)loadStudy(file);
   } catch (const InputError& e) {
-    if (e.file().empty()) throw UnnamedInputError(std::string("InputError names no file: ") + e.what());
+    if (e.file().empty())
+      throw UnnamedInputError(std::string("InputError names no file: ") + e.what());
   }
 }
 #endif

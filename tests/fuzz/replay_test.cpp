@@ -5,9 +5,8 @@
 // an input or throw InputError naming the file; any other exception fails the test and the input
 // is saved under output/fuzz-findings/; a crash leaves it there as <target>-last-input.
 // The libFuzzer binaries of the same targets run on demand (README "Fuzzing").
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -30,7 +29,8 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-std::vector<std::string> seeds(const std::string& target, const std::vector<std::pair<std::string, std::string>>& globs) {
+std::vector<std::string> seeds(const std::string& target,
+                               const std::vector<std::pair<std::string, std::string>>& globs) {
   std::vector<fs::path> files;
   auto add = [&](const fs::path& dir, const std::string& suffix) {
     if (!fs::is_directory(dir)) return;
@@ -50,12 +50,36 @@ std::vector<std::string> seeds(const std::string& target, const std::vector<std:
   return out;
 }
 
-const std::vector<std::string> kTokens = {"nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "0", "-1",
-                                          "99999999999999999999", "=", "\"", "[", "]", "[[", "]]", "{", "}",
-                                          ",", "#", "\n", "true", "deg", "mm", "\xff", std::string(1, '\0')};
+const std::vector<std::string> kTokens = {"nan",
+                                          "inf",
+                                          "-inf",
+                                          "1e308",
+                                          "-1e308",
+                                          "1e-320",
+                                          "0",
+                                          "-1",
+                                          "99999999999999999999",
+                                          "=",
+                                          "\"",
+                                          "[",
+                                          "]",
+                                          "[[",
+                                          "]]",
+                                          "{",
+                                          "}",
+                                          ",",
+                                          "#",
+                                          "\n",
+                                          "true",
+                                          "deg",
+                                          "mm",
+                                          "\xff",
+                                          std::string(1, '\0')};
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
-  auto pick = [&](std::size_t n) { return n == 0 ? std::size_t{0} : static_cast<std::size_t>(rng() % n); };
+  auto pick = [&](std::size_t n) {
+    return n == 0 ? std::size_t{0} : static_cast<std::size_t>(rng() % n);
+  };
   const int ops = 1 + static_cast<int>(rng() % 4);
   for (int k = 0; k < ops; ++k) {
     switch (rng() % 6) {
@@ -63,12 +87,14 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
         if (!s.empty()) s[pick(s.size())] = static_cast<char>(rng() & 0xff);
         break;
       case 1: {  // delete a range
-        const std::size_t a = pick(s.size() + 1), n = std::min<std::size_t>(1 + pick(16), s.size() - a);
+        const std::size_t a = pick(s.size() + 1),
+                          n = std::min<std::size_t>(1 + pick(16), s.size() - a);
         s.erase(a, n);
         break;
       }
       case 2: {  // duplicate a range
-        const std::size_t a = pick(s.size() + 1), n = std::min<std::size_t>(1 + pick(64), s.size() - a);
+        const std::size_t a = pick(s.size() + 1),
+                          n = std::min<std::size_t>(1 + pick(64), s.size() - a);
         s.insert(pick(s.size() + 1), s.substr(a, n));
         break;
       }
@@ -88,7 +114,8 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
 }
 
 // Runs `target` on every seed and `mutations` mutations; returns the findings (message per input).
-std::vector<std::string> replay(const std::string& name, const std::function<void(const std::uint8_t*, std::size_t)>& target,
+std::vector<std::string> replay(const std::string& name,
+                                const std::function<void(const std::uint8_t*, std::size_t)>& target,
                                 const std::vector<std::string>& corpus, int mutations) {
   const fs::path dir = test::sourcePath("output/fuzz-findings/" + name);
   fs::create_directories(dir);
@@ -96,7 +123,8 @@ std::vector<std::string> replay(const std::string& name, const std::function<voi
   std::mt19937_64 rng(0xa5f00d ^ std::hash<std::string>{}(name));
   const bool trace = std::getenv("ARMSTUDY_FUZZ_TRACE") != nullptr;
   auto run = [&](const std::string& input) {
-    if (trace) {  // the mutations are the same on every run: rerun with the variable set after a crash
+    if (trace) {  // the mutations are the same on every run: rerun with the variable set after a
+                  // crash
       std::ofstream last(dir / (name + "-last-input"), std::ios::binary | std::ios::trunc);
       last << input;
     }
@@ -114,7 +142,8 @@ std::vector<std::string> replay(const std::string& name, const std::function<voi
   return findings;
 }
 
-void check(const std::string& name, const std::function<void(const std::uint8_t*, std::size_t)>& target,
+void check(const std::string& name,
+           const std::function<void(const std::uint8_t*, std::size_t)>& target,
            const std::vector<std::pair<std::string, std::string>>& globs, int mutations) {
   const std::vector<std::string> corpus = seeds(name, globs);
   REQUIRE(corpus.size() >= 2);
@@ -125,22 +154,29 @@ void check(const std::string& name, const std::function<void(const std::uint8_t*
 
 }  // namespace
 
-TEST_CASE("fuzz design reader: shipped designs and 15000 mutations accepted or rejected naming the file", "[fuzz]") {
+TEST_CASE(
+    "fuzz design reader: shipped designs and 15000 mutations accepted or rejected naming the file",
+    "[fuzz]") {
   check("design", fuzz::design, {{"designs", ".toml"}}, 15000);
 }
 
-#ifndef ARMSTUDY_CORE_ONLY  // the study reader needs every stage: not in the sanitizer subset's library
-TEST_CASE("fuzz study reader: shipped studies and 800 mutations accepted or rejected naming a file", "[fuzz]") {
+#ifndef ARMSTUDY_CORE_ONLY  // the study reader needs every stage: not in the sanitizer subset's
+                            // library
+TEST_CASE("fuzz study reader: shipped studies and 800 mutations accepted or rejected naming a file",
+          "[fuzz]") {
   check("study", fuzz::study, {{"studies", ".toml"}}, 800);
 }
 #endif
 
-TEST_CASE("fuzz CSV reader: shipped data and 30000 mutations accepted or rejected naming the file", "[fuzz]") {
+TEST_CASE("fuzz CSV reader: shipped data and 30000 mutations accepted or rejected naming the file",
+          "[fuzz]") {
   check("csv", fuzz::csv, {{"studies/data", ".csv"}}, 30000);
 }
 
-TEST_CASE("fuzz baseline reader: shipped baselines and 30000 mutations accepted or rejected naming the file",
-          "[fuzz]") {
+TEST_CASE(
+    "fuzz baseline reader: shipped baselines and 30000 mutations accepted or rejected naming the "
+    "file",
+    "[fuzz]") {
   check("baseline", fuzz::baseline, {{"studies", ".baseline.json"}}, 30000);
 }
 
@@ -153,7 +189,8 @@ TEST_CASE("fuzz URDF reader: the real arms and 5000 mutations accepted or reject
         5000);
 }
 
-TEST_CASE("fuzz harness: a reader that throws anything but a named InputError is a finding", "[fuzz]") {
+TEST_CASE("fuzz harness: a reader that throws anything but a named InputError is a finding",
+          "[fuzz]") {
   // The oracle of the tests above can fail: a target throwing std::out_of_range, and one whose
   // InputError names another file, are both reported.
   const std::vector<std::string> corpus = {"a", "b"};

@@ -2,11 +2,12 @@
 // (eq. 5.46, 5.47, 5.65), null-space motion invariants, position-level solves from forward
 // kinematics, the thesis scenarios of Fig. 5.12 (joint-limit avoidance) and Fig. 5.16 (adaptive
 // damping at the workspace boundary).
-#include <catch2/catch.hpp>
+#include "ik/nullspace.hpp"
+
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <cmath>
 
-#include "ik/nullspace.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
 
@@ -51,9 +52,11 @@ TEST_CASE("Algorithm 5.3 equals the explicit weighted generalised inverse (eq. 5
       for (double lambda : {0.0, 0.05}) {
         Eigen::VectorXd qdot(n);
         REQUIRE(redundancyResolution(J, w_inv, wdot, grad, alpha, lambda, qdot));
-        // Explicit: J# = W^-1 J^T (J W^-1 J^T + lambda^2 I)^-1; qdot = J# wdot - alpha (I - J# J) W^-1 grad.
+        // Explicit: J# = W^-1 J^T (J W^-1 J^T + lambda^2 I)^-1; qdot = J# wdot - alpha (I - J# J)
+        // W^-1 grad.
         const Eigen::MatrixXd Winv = w_inv.asDiagonal();
-        const Eigen::MatrixXd B = J * Winv * J.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(mm, mm);
+        const Eigen::MatrixXd B =
+            J * Winv * J.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(mm, mm);
         const Eigen::MatrixXd Jsharp = Winv * J.transpose() * B.inverse();
         const Eigen::MatrixXd N = Eigen::MatrixXd::Identity(n, n) - Jsharp * J;
         const Eigen::VectorXd expect = Jsharp * wdot - alpha * N * Winv * grad;
@@ -89,13 +92,22 @@ TEST_CASE("null-space motion keeps the tool still over a long run", "[ik][nullsp
   for (auto kind : {PoseTaskKind::PositionAxis, PoseTaskKind::FullPose}) {
     forwardKinematicsAndJacobian(m, ws, q0);
     const PoseTarget target = targetAt(ws, kind);
-    const double h0 = [&] { ctx.prepare(q0); return obj.evaluate(ctx, nullptr); }();
+    const double h0 = [&] {
+      ctx.prepare(q0);
+      return obj.evaluate(ctx, nullptr);
+    }();
     // Velocity level: 10 s of pure null-space motion (wdot_d = 0), 10,000 Euler steps.
     TrackingOptions o;
     o.redundancy.alpha = 2.0;
     o.stop_at_joint_limit = false;
-    const auto sum = trackReference(m, ws, [&](double) { ReferencePoint r; r.pose = target; return r; },
-                                    q0, 10.0, &obj, &ctx, o);
+    const auto sum = trackReference(
+        m, ws,
+        [&](double) {
+          ReferencePoint r;
+          r.pose = target;
+          return r;
+        },
+        q0, 10.0, &obj, &ctx, o);
     double worst_p = 0, worst_o = 0;
     for (const auto& s : sum.samples) {
       worst_p = std::max(worst_p, s.position_error_m);
@@ -120,7 +132,8 @@ TEST_CASE("null-space motion keeps the tool still over a long run", "[ik][nullsp
     CHECK(res.H_final < res.H_start);
     CHECK(withinLimits(m, res.q));
     // The optimum is stationary in the null space: a further run barely improves it.
-    const auto again = optimiseAtPose(m, ws, ctx, target, res.q, obj, JointVector::Ones(m.dof()), {});
+    const auto again =
+        optimiseAtPose(m, ws, ctx, target, res.q, obj, JointVector::Ones(m.dof()), {});
     CHECK(again.H_start - again.H_final <= 1e-3 * std::abs(res.H_final));
   }
 }
@@ -136,7 +149,8 @@ TEST_CASE("position-level solve recovers poses made by forward kinematics", "[ik
     for (int trial = 0; trial < trials; ++trial) {
       const Eigen::VectorXd q_true = randomConfiguration(m, rng);
       forwardKinematics(m, ws, q_true);
-      const PoseTarget t = targetAt(ws, m.dof() >= 6 ? PoseTaskKind::FullPose : PoseTaskKind::Position);
+      const PoseTarget t =
+          targetAt(ws, m.dof() >= 6 ? PoseTaskKind::FullPose : PoseTaskKind::Position);
       // Start from a configuration perturbed by up to 0.3 rad / 0.3 m per joint.
       Eigen::VectorXd q0 = q_true + 0.3 * Eigen::VectorXd::Random(m.dof());
       const auto r = solvePose(m, ws, t, q0, w_inv, {});
@@ -144,7 +158,8 @@ TEST_CASE("position-level solve recovers poses made by forward kinematics", "[ik
       CHECK(withinLimits(m, r.q));
     }
     INFO(rel << ": solved " << solved << " of " << trials);
-    CHECK(solved >= 90);  // local solver from a nearby start; the multi-start wrapper covers the rest
+    CHECK(solved >=
+          90);  // local solver from a nearby start; the multi-start wrapper covers the rest
   }
 }
 

@@ -1,9 +1,10 @@
 // Secondary objectives (thesis eq. 5.52, 5.59, 5.61) against central finite differences of their
 // own values, and H_m1 / H_m2 values against the SVD-based metrics (a second algorithm).
+#include "ik/objectives.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "ik/objectives.hpp"
 #include "io/design_io.hpp"
 #include "metrics/dexterity_measures.hpp"
 #include "test_support.hpp"
@@ -37,15 +38,18 @@ void checkGradient(const Model& m, const ObjectiveTerm& term, const Eigen::Vecto
     Eigen::VectorXd qp = q, qm = q;
     qp[i] += kFdStep;
     qm[i] -= kFdStep;
-    const double fd = (valueAt(m, ws, ctx, term, qp) - valueAt(m, ws, ctx, term, qm)) / (2 * kFdStep);
+    const double fd =
+        (valueAt(m, ws, ctx, term, qp) - valueAt(m, ws, ctx, term, qm)) / (2 * kFdStep);
     INFO(term.name() << " joint " << i << " analytic " << g[i] << " fd " << fd);
-    CHECK(std::abs(g[i] - fd) <= kGradRelTolerance * std::max(1.0, std::abs(h)) + kFdTolerance * 10);
+    CHECK(std::abs(g[i] - fd) <=
+          kGradRelTolerance * std::max(1.0, std::abs(h)) + kFdTolerance * 10);
   }
 }
 
 }  // namespace
 
-TEST_CASE("H_m1 and H_m2 gradients (eq. 5.62, 5.64) match central differences", "[ik][objectives][fd]") {
+TEST_CASE("H_m1 and H_m2 gradients (eq. 5.62, 5.64) match central differences",
+          "[ik][objectives][fd]") {
   std::mt19937_64 rng(7);
   for (const auto& rel : shippedDesigns()) {
     const Model m = loadDesign(sourcePath(rel));
@@ -109,7 +113,8 @@ TEST_CASE("H_m1 and H_m2 values agree with the SVD-based measures", "[ik][object
     ctx.prepare(q);
     ctx.u_W = u;
     const auto d = metrics::tcpMeasures(ws, metrics::MeasureSpace::Translational, u, true);
-    CHECK(std::abs(-hm1.evaluate(ctx, nullptr) - d.manipulability) < 1e-12 * std::max(1.0, d.manipulability));
+    CHECK(std::abs(-hm1.evaluate(ctx, nullptr) - d.manipulability) <
+          1e-12 * std::max(1.0, d.manipulability));
     const double beta = 1.0 / std::sqrt(hm2.evaluate(ctx, nullptr));  // eq. (5.60) from (5.61)
     CHECK(std::abs(beta - d.transmission) < 1e-10 * std::max(1.0, beta));
   }
@@ -134,7 +139,8 @@ TEST_CASE("weighted objective is the weighted sum of its terms (eq. 5.51)", "[ik
   ctx.prepare(q);
   JointVector g(m.dof()), g1(m.dof()), g2(m.dof()), g3(m.dof());
   const double h = obj.evaluate(ctx, &g);
-  const double expect = 2.0 * hj->evaluate(ctx, &g1) + 0.5 * hm1->evaluate(ctx, &g2) + 0.25 * hm2->evaluate(ctx, &g3);
+  const double expect =
+      2.0 * hj->evaluate(ctx, &g1) + 0.5 * hm1->evaluate(ctx, &g2) + 0.25 * hm2->evaluate(ctx, &g3);
   CHECK(std::abs(h - expect) < kHandCheckTolerance * std::max(1.0, std::abs(h)));
   CHECK((g - (2.0 * g1 + 0.5 * g2 + 0.25 * g3)).norm() < 1e-12 * std::max(1.0, g.norm()));
 }

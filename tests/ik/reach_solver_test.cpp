@@ -2,13 +2,14 @@
 // (known reachable; the solution is re-checked with an independent pose comparison), closed-form
 // arms for out_of_reach vs joint_limits, central finite differences for the SLSQP gradient, and a
 // finite-difference Jacobian for the manipulability (eq. 5.59).
-#include <catch2/catch.hpp>
+#include "ik/reach_solver.hpp"
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
 #include "io/design_io.hpp"
-#include "ik/reach_solver.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -76,7 +77,8 @@ x = 0.5
 
 }  // namespace
 
-TEST_CASE("poses made by forward kinematics are found reachable on every shipped design", "[ik][oracle]") {
+TEST_CASE("poses made by forward kinematics are found reachable on every shipped design",
+          "[ik][oracle]") {
   std::mt19937_64 rng(7);
   IkOptions o;
   for (const auto& rel : shippedDesigns()) {
@@ -116,7 +118,8 @@ TEST_CASE("poses beyond the summed link lengths are out of reach", "[ik][oracle]
         const double phi = 6.283185307 * u(rng);
         IkTarget t;
         t.task_space = TaskSpace::position();
-        t.w_d.head<3>() = ws.bound_p0 + 0.05 * ws.bound_axis + ws.reach_radius * 1.1 * (std::cos(phi) * a + std::sin(phi) * b);
+        t.w_d.head<3>() = ws.bound_p0 + 0.05 * ws.bound_axis +
+                          ws.reach_radius * 1.1 * (std::cos(phi) * a + std::sin(phi) * b);
         const IkResult r = solvePose(m, ws, t, o, k);
         CHECK(r.status == ReachStatus::OutOfReach);
         CHECK(r.bound_rejected == bound);
@@ -153,7 +156,8 @@ TEST_CASE("the SLSQP objective gradient matches central finite differences", "[i
   for (const auto& rel : shippedDesigns()) {
     const Model m = loadDesign(sourcePath(rel));
     KinematicsWorkspace kin(m);
-    for (const TaskSpace& ts : {TaskSpace::fullPose(), TaskSpace::spraying(), TaskSpace::position()}) {
+    for (const TaskSpace& ts :
+         {TaskSpace::fullPose(), TaskSpace::spraying(), TaskSpace::position()}) {
       for (int trial = 0; trial < 10; ++trial) {
         forwardKinematics(m, kin, randomConfiguration(m, rng));
         const IkTarget t = taskTarget(ts, tcpTaskVector(kin).w);
@@ -164,7 +168,9 @@ TEST_CASE("the SLSQP objective gradient matches central finite differences", "[i
           Eigen::VectorXd qp = q, qm = q;
           qp[i] += kFdStep;
           qm[i] -= kFdStep;
-          const double fd = (ikObjective(m, kin, t, 0.3, qp, nullptr) - ikObjective(m, kin, t, 0.3, qm, nullptr)) / (2 * kFdStep);
+          const double fd = (ikObjective(m, kin, t, 0.3, qp, nullptr) -
+                             ikObjective(m, kin, t, 0.3, qm, nullptr)) /
+                            (2 * kFdStep);
           CHECK(g[i] == Approx(fd).margin(kGradientTolerance));
         }
       }
@@ -172,7 +178,8 @@ TEST_CASE("the SLSQP objective gradient matches central finite differences", "[i
   }
 }
 
-TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference position Jacobian", "[ik][oracle]") {
+TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference position Jacobian",
+          "[ik][oracle]") {
   std::mt19937_64 rng(13);
   const Model m = loadDesign(sourcePath("designs/final_prototype_7dof.toml"));
   KinematicsWorkspace kin(m), k2(m);
@@ -238,7 +245,8 @@ TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target an
     ++solved;
     forwardKinematics(m, k2, r.q);
     CHECK((k2.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
-    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.axis_d_W), -1.0, 1.0)) <= o.orientation_tolerance_rad);
+    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.axis_d_W), -1.0, 1.0)) <=
+          o.orientation_tolerance_rad);
     CHECK(r.manipulability > 0);
     if (k < 5) {
       const Eigen::VectorXd q = randomConfiguration(m, rng);
@@ -248,7 +256,9 @@ TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target an
         Eigen::VectorXd qp = q, qm = q;
         qp[i] += kFdStep;
         qm[i] -= kFdStep;
-        const double fd = (ikObjective(m, k2, t, 0.3, qp, nullptr) - ikObjective(m, k2, t, 0.3, qm, nullptr)) / (2 * kFdStep);
+        const double fd =
+            (ikObjective(m, k2, t, 0.3, qp, nullptr) - ikObjective(m, k2, t, 0.3, qm, nullptr)) /
+            (2 * kFdStep);
         CHECK(g[i] == Approx(fd).margin(kGradientTolerance));
       }
     }

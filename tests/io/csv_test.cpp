@@ -1,8 +1,8 @@
 // Strict CSV reader: every bad input names file, line and column.
 #include <catch2/catch.hpp>
 
-#include "io/csv_io.hpp"
 #include "common/errors.hpp"
+#include "io/csv_io.hpp"
 
 using namespace armstudy;
 using namespace armstudy::io;
@@ -21,8 +21,10 @@ InputError parseError(const std::string& text) {
 }
 }  // namespace
 
-TEST_CASE("csv: columns by name / extra columns reported / comments / blank lines and CRLF skipped") {
-  const CsvTable t = parseCsv("# test bed\nnote,current,speed\r\nx,1.5,-10\n\n+2,2.5e-1,3\n", "bed.csv", kSchema);
+TEST_CASE(
+    "csv: columns by name / extra columns reported / comments / blank lines and CRLF skipped") {
+  const CsvTable t =
+      parseCsv("# test bed\nnote,current,speed\r\nx,1.5,-10\n\n+2,2.5e-1,3\n", "bed.csv", kSchema);
   CHECK(t.rows() == 2);
   CHECK(t.column("speed") == std::vector<double>{-10, 3});
   CHECK(t.column("current") == std::vector<double>{1.5, 0.25});
@@ -53,10 +55,10 @@ TEST_CASE("csv: non-numeric / NaN and Inf cells name file / line and column") {
 
 TEST_CASE("csv: structural errors") {
   CHECK(parseError("").line() == 0);
-  CHECK(parseError("speed,current\n").line() == 1);          // header only
+  CHECK(parseError("speed,current\n").line() == 1);                    // header only
   CHECK(parseError("speed,current,speed\n1,2,3\n").key() == "speed");  // duplicate column
-  CHECK(parseError("speed,current\n1,2,3\n").line() == 2);   // cell count
-  CHECK(parseError("speed,,current\n1,2,3\n").line() == 1);  // empty name
+  CHECK(parseError("speed,current\n1,2,3\n").line() == 2);             // cell count
+  CHECK(parseError("speed,,current\n1,2,3\n").line() == 1);            // empty name
 }
 
 TEST_CASE("csv: formatCsv round-trips exactly") {

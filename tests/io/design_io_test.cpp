@@ -1,10 +1,11 @@
 // Design files: the shipped designs load as the thesis tables say; every kind of bad input gets an
 // error naming file, line and key.
+#include "io/design_io.hpp"
+
 #include <catch2/catch.hpp>
 #include <regex>
 
 #include "common/errors.hpp"
-#include "io/design_io.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -104,23 +105,27 @@ TEST_CASE("shipped designs reproduce the thesis tables", "[io][design]") {
   CHECK(f7.joints[4].offset.z == -0.043);
   CHECK(f7.joints[4].offset.alpha == Approx(M_PI / 2));
   CHECK(f7.joints[4].offset.beta == Approx(M_PI / 2));
-  for (const auto& rel : shippedDesigns()) CHECK_FALSE(loadDesign(sourcePath(rel)).assumptions.empty());
+  for (const auto& rel : shippedDesigns())
+    CHECK_FALSE(loadDesign(sourcePath(rel)).assumptions.empty());
 }
 
 TEST_CASE("bad design input names file, line and key", "[io][design][bad-input]") {
   // Line numbers refer to kGood: joint 2 starts on line 14, its `type` is line 16, `max` line 24.
   SECTION("missing key") { expectError(variantOf("x = 0.3\n", ""), 14, "joint[1].x", "missing"); }
   SECTION("unknown key") {
-    expectError(variantOf("x = 0.3\n", "x = 0.3\nlength = 2\n"), 18, "joint[1].length", "unknown key");
+    expectError(variantOf("x = 0.3\n", "x = 0.3\nlength = 2\n"), 18, "joint[1].length",
+                "unknown key");
   }
   SECTION("wrong type") {
     expectError(variantOf("x = 0.3", "x = true"), 17, "joint[1].x", "expected a number");
   }
   SECTION("unknown joint type") {
-    expectError(variantOf("\"revolute\"", "\"spherical\""), 16, "joint[1].type", "unknown joint type");
+    expectError(variantOf("\"revolute\"", "\"spherical\""), 16, "joint[1].type",
+                "unknown joint type");
   }
   SECTION("inverted limits") {
-    expectError(variantOf("max = \"170 deg\"", "max = \"-180 deg\""), 24, "joint[1].max", "inverted");
+    expectError(variantOf("max = \"170 deg\"", "max = \"-180 deg\""), 24, "joint[1].max",
+                "inverted");
   }
   SECTION("non-finite limit") {
     expectError(variantOf("max = \"170 deg\"", "max = inf"), 24, "joint[1].max", "not finite");
@@ -137,7 +142,8 @@ TEST_CASE("bad design input names file, line and key", "[io][design][bad-input]"
     expectError(s, 0, "joint", "empty");
   }
   SECTION("wrong unit suffix") {
-    expectError(variantOf("gamma = \"90 deg\"", "gamma = \"90 mm\""), 22, "joint[1].gamma", "length");
+    expectError(variantOf("gamma = \"90 deg\"", "gamma = \"90 mm\""), 22, "joint[1].gamma",
+                "length");
   }
   SECTION("wrong unit for a prismatic limit") {
     expectError(variantOf("min = \"-0.2 m\"", "min = \"-20 deg\""), 12, "joint[0].min", "angle");
@@ -147,25 +153,32 @@ TEST_CASE("bad design input names file, line and key", "[io][design][bad-input]"
     s = s.substr(0, s.find("[tcp]"));
     expectError(s, 0, "tcp", "missing");
   }
-  SECTION("TOML syntax error") { expectError(variantOf("x = 0.3", "x = = 0.3"), 17, "x", "syntax"); }  // key: the one written on that line
+  SECTION("TOML syntax error") {
+    expectError(variantOf("x = 0.3", "x = = 0.3"), 17, "x", "syntax");
+  }  // key: the one written on that line
   SECTION("negative mass") {
-    expectError(std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = -1\ninertia = [1,1,1,0,0,0]\n",
-                29, "inertia[0].mass", "negative");
+    expectError(
+        std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = -1\ninertia = [1,1,1,0,0,0]\n",
+        29, "inertia[0].mass", "negative");
   }
   SECTION("inertia breaking the triangle inequality") {
-    expectError(std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,3,0,0,0]\n",
-                30, "inertia[0].inertia", "triangle");
+    expectError(
+        std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,3,0,0,0]\n",
+        30, "inertia[0].inertia", "triangle");
   }
   SECTION("inertia not positive definite") {
-    expectError(std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,-1,0,0,0]\n",
-                30, "inertia[0].inertia", "positive definite");
+    expectError(
+        std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,-1,0,0,0]\n",
+        30, "inertia[0].inertia", "positive definite");
   }
   SECTION("zero gear ratio") {
-    expectError(std::string(kGood) + "[[drive]]\njoint = \"elbow\"\ngear_ratio = 0\ntorque_constant = 0.1\n",
+    expectError(std::string(kGood) +
+                    "[[drive]]\njoint = \"elbow\"\ngear_ratio = 0\ntorque_constant = 0.1\n",
                 29, "drive[0].gear_ratio", "positive");
   }
   SECTION("drive on a joint that does not exist") {
-    expectError(std::string(kGood) + "[[drive]]\njoint = \"wrist\"\ngear_ratio = 100\ntorque_constant = 0.1\n",
+    expectError(std::string(kGood) +
+                    "[[drive]]\njoint = \"wrist\"\ngear_ratio = 100\ntorque_constant = 0.1\n",
                 28, "drive[0].joint", "no joint");
   }
 }

@@ -1,5 +1,4 @@
 // An output folder published as a whole (io/files.hpp makeStagingFolder, publishFolder).
-#include "common/errors.hpp"
 #include "io/files.hpp"
 
 #include <unistd.h>
@@ -8,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+
+#include "common/errors.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;

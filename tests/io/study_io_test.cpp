@@ -33,12 +33,13 @@ std::string designRef(const std::string& rel) {
 }  // namespace
 
 TEST_CASE("variants sweep table entries as a cartesian product with stable names", "[io][study]") {
-  const std::string path = writeStudy("variants", "[study]\nname = \"v\"\n[[design]]\nfile = " +
-                                                      designRef("designs/first_prototype_9dof.toml") +
-                                                      "\n[[variant]]\nof = \"first_prototype_9dof\"\n"
-                                                      "set = { \"tcp.z\" = \"150 mm\" }\n"
-                                                      "sweep = { \"joint.j4.x\" = [0.30, 0.35, \"400 mm\"], "
-                                                      "\"base.y\" = [0.0, -0.1] }\n");
+  const std::string path =
+      writeStudy("variants", "[study]\nname = \"v\"\n[[design]]\nfile = " +
+                                 designRef("designs/first_prototype_9dof.toml") +
+                                 "\n[[variant]]\nof = \"first_prototype_9dof\"\n"
+                                 "set = { \"tcp.z\" = \"150 mm\" }\n"
+                                 "sweep = { \"joint.j4.x\" = [0.30, 0.35, \"400 mm\"], "
+                                 "\"base.y\" = [0.0, -0.1] }\n");
   const Study s = loadStudy(path);
   REQUIRE(s.designs.size() == 1 + 3 * 2);
   CHECK(s.designs[0].model.name == "first_prototype_9dof");
@@ -68,16 +69,22 @@ TEST_CASE("bad study input names file, line and key", "[io][study][bad-input]") 
     }
   };
   const std::string head = "[study]\nname = \"s\"\n";
-  const std::string d9 = "[[design]]\nfile = " + designRef("designs/first_prototype_9dof.toml") + "\n";
-  expectError(head + "[[design]]\nfile = \"no_such_design.toml\"\n", "design[0].file", "does not exist");
-  expectError(head + d9 + "[[variant]]\nof = \"other\"\nset = { \"tcp.z\" = 0.1 }\n", "variant[0].of",
-              "unknown design");
-  expectError(head + d9 + "[[variant]]\nof = \"first_prototype_9dof\"\nset = { \"joint.j99.x\" = 0.1 }\n",
-              "variant[0].set.joint.j99.x", "no joint");
-  expectError(head + d9 + "[[variant]]\nof = \"first_prototype_9dof\"\nset = { \"joint.j4.x\" = \"10 deg\" }\n",
-              "variant[0].set.joint.j4.x", "angle");
-  expectError(head + d9 + "[[variant]]\nof = \"first_prototype_9dof\"\nsweep = { \"joint.j4.x\" = [] }\n",
-              "variant[0].sweep.joint.j4.x", "non-empty");
+  const std::string d9 =
+      "[[design]]\nfile = " + designRef("designs/first_prototype_9dof.toml") + "\n";
+  expectError(head + "[[design]]\nfile = \"no_such_design.toml\"\n", "design[0].file",
+              "does not exist");
+  expectError(head + d9 + "[[variant]]\nof = \"other\"\nset = { \"tcp.z\" = 0.1 }\n",
+              "variant[0].of", "unknown design");
+  expectError(
+      head + d9 + "[[variant]]\nof = \"first_prototype_9dof\"\nset = { \"joint.j99.x\" = 0.1 }\n",
+      "variant[0].set.joint.j99.x", "no joint");
+  expectError(
+      head + d9 +
+          "[[variant]]\nof = \"first_prototype_9dof\"\nset = { \"joint.j4.x\" = \"10 deg\" }\n",
+      "variant[0].set.joint.j4.x", "angle");
+  expectError(
+      head + d9 + "[[variant]]\nof = \"first_prototype_9dof\"\nsweep = { \"joint.j4.x\" = [] }\n",
+      "variant[0].sweep.joint.j4.x", "non-empty");
   expectError(head + d9 + "colour = \"red\"\n", "design[0].colour", "unknown key");
   expectError("[study]\nname = \"bad name!\"\n" + d9, "study.name", "letters");
   expectError(head + d9 + d9, "design[1].file", "twice");

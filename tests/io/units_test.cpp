@@ -1,7 +1,7 @@
+#include "io/units.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
-
-#include "io/units.hpp"
 
 using namespace armstudy;
 

@@ -21,8 +21,8 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
-#include "io/design_io.hpp"
 #include "engine/study_file.hpp"
+#include "io/design_io.hpp"
 #include "io/urdf_io.hpp"
 #include "kinematics/kinematics.hpp"
 #include "test_support.hpp"
@@ -1161,8 +1161,7 @@ TEST_CASE("URDF vendor elements inside links and joints are ignored, as urdfdom 
 
 TEST_CASE("URDF numbers are still checked where URDF defines them", "[urdf][bad]") {
   const std::string text = edited(readText(arm6()), "<mass value=\"3\"/>", "<mass value=\"Yes\"/>");
-  const InputError e =
-      expectInputError([&] { importUrdfText(text, "arm6.urdf", chain("", "")); });
+  const InputError e = expectInputError([&] { importUrdfText(text, "arm6.urdf", chain("", "")); });
   CHECK(e.key() == "link 'link2'/mass@value");
   CHECK_THAT(e.message(), Catch::Contains("'Yes' is not a finite number"));
 }
@@ -1251,7 +1250,8 @@ TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the o
   CHECK_THAT(out, Catch::Contains("link6") && Catch::Contains(" 6 joints"));
   CHECK_THAT(out, Catch::Contains("fixed frames after it: flange, tool0"));
   CHECK_THAT(out, Catch::Contains("left out: gripper_finger_joint_left (gripper or finger joint)"));
-  CHECK_THAT(out, Catch::Contains("tip      'tool0' (default: the longest chain of arm joints (6)"));
+  CHECK_THAT(out,
+             Catch::Contains("tip      'tool0' (default: the longest chain of arm joints (6)"));
   CHECK_THAT(out, Catch::Contains("other tips: --tip link6, --tip flange"));
   // an ambiguous default: describe still lists the chains, then fails with exit 2
   const std::string two = tempPath("two_arms.urdf");
@@ -1260,7 +1260,8 @@ TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the o
   CHECK_THAT(out, Catch::Contains("tip      none by default") &&
                       Catch::Contains("other tips: --tip a, --tip b"));
   // a base that is not there: what was looked for, in which file, and the links it has
-  REQUIRE(test::runCommand(test::binaryPath() + " describe " + arm6() + " --base nosuch", out) == 2);
+  REQUIRE(test::runCommand(test::binaryPath() + " describe " + arm6() + " --base nosuch", out) ==
+          2);
   CHECK_THAT(out, Catch::Contains("no link named 'nosuch' (--base; base_link in a study) in " +
                                   arm6() + "; its 11 links: base_link, finger_left, finger_right"));
 }
@@ -1284,11 +1285,12 @@ TEST_CASE("URDF CLI convert both ways keeps the tip and every frame fk prints", 
     }
 }
 
-TEST_CASE("URDF CLI --package to a missing folder is exit 2 naming the folder", "[urdf][cli][bad]") {
+TEST_CASE("URDF CLI --package to a missing folder is exit 2 naming the folder",
+          "[urdf][cli][bad]") {
   std::string out;
-  CHECK(test::runCommand(test::binaryPath() + " describe " + arm6() +
-                             " --package arm=/nonexistent/armstudy_dir",
-                         out) == 2);
+  CHECK(test::runCommand(
+            test::binaryPath() + " describe " + arm6() + " --package arm=/nonexistent/armstudy_dir",
+            out) == 2);
   CHECK_THAT(out, Catch::Contains("/nonexistent/armstudy_dir") &&
                       Catch::Contains("package 'arm'") && Catch::Contains("does not exist"));
 }
@@ -1305,8 +1307,8 @@ TEST_CASE("URDF CLI fk values that look like degrees without --deg get a hint", 
 
 TEST_CASE("URDF CLI fk --json angles are exact in the Cardan band short of the singularity",
           "[urdf][cli]") {
-  // R = Rx(q) Ry(1.5707965) Rz(0.4), cos(beta) = -1.7e-7: inside the band |cos beta| < 1e-6 the reach solver treats as singular,
-  // yet the angles are defined (a URDF rpy written as 1.5707965).
+  // R = Rx(q) Ry(1.5707965) Rz(0.4), cos(beta) = -1.7e-7: inside the band |cos beta| < 1e-6 the
+  // reach solver treats as singular, yet the angles are defined (a URDF rpy written as 1.5707965).
   const std::string f = tempPath("near_singular.urdf");
   writeText(f, R"(<robot name="ns">
   <link name="base"/><link name="l1"/><link name="tip"/>
@@ -1322,9 +1324,8 @@ TEST_CASE("URDF CLI fk --json angles are exact in the Cardan band short of the s
   REQUIRE(test::runCommand(test::binaryPath() + " fk " + f + " --q 0.3 --json", out) == 0);
   const auto tcp = nlohmann::json::parse(out)["frames"].back();
   CHECK(tcp["cardan_singular"].get<bool>());
-  const Eigen::Matrix3d R =
-      rotationFromCardan(tcp["alpha"].get<double>(), tcp["beta"].get<double>(),
-                         tcp["gamma"].get<double>());
+  const Eigen::Matrix3d R = rotationFromCardan(
+      tcp["alpha"].get<double>(), tcp["beta"].get<double>(), tcp["gamma"].get<double>());
   KDL::Chain c;
   REQUIRE(kdlTreeFromFile(f).getChain("base", "tip", c));
   KDL::Frame F;
@@ -1379,15 +1380,16 @@ TEST_CASE("URDF placement in a study: a length string needs its unit and is rang
 TEST_CASE("URDF CLI draw writes the arm as an SVG at q = 0 or a given q", "[urdf][cli]") {
   const std::string svg = tempPath("arm6.svg");
   std::string out;
-  REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() +
-                               " --deg --q 0,30,-60,0,45,0 --out " + svg,
-                           out) == 0);
+  REQUIRE(test::runCommand(
+              test::binaryPath() + " draw " + arm6() + " --deg --q 0,30,-60,0,45,0 --out " + svg,
+              out) == 0);
   CHECK_THAT(out, Catch::Contains("wrote " + svg + " (arm6_gripper, 6 joints)"));
   const std::string text = readText(svg);
   CHECK_THAT(text, Catch::Contains("<svg"));
   CHECK(text.size() > 1000);
   REQUIRE(test::runCommand(test::binaryPath() + " draw " + arm6() + " --out " + svg, out) == 0);
-  CHECK(test::runCommand(test::binaryPath() + " draw " + arm6() + " --q 0,1 --out " + svg, out) == 2);
+  CHECK(test::runCommand(test::binaryPath() + " draw " + arm6() + " --q 0,1 --out " + svg, out) ==
+        2);
   CHECK_THAT(out, Catch::Contains("got 2 joint values, design 'arm6_gripper' has 6 joints"));
 }
 

@@ -1,5 +1,7 @@
 // The VTK writers (io/vtk_io.hpp): what is written is what VTK's own readers read back, field data
 // included; a .pvd lists its steps in order.
+#include "io/vtk_io.hpp"
+
 #include <vtkAbstractArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
@@ -18,7 +20,6 @@
 #include <regex>
 
 #include "io/files.hpp"
-#include "io/vtk_io.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;
@@ -42,7 +43,8 @@ std::vector<std::string> strings(vtkDataObject* data, const char* name) {
 
 }  // namespace
 
-TEST_CASE("a .vts keeps its points, point arrays (NaN included) and string field data", "[io][vtk]") {
+TEST_CASE("a .vts keeps its points, point arrays (NaN included) and string field data",
+          "[io][vtk]") {
   const fs::path dir = freshDir("vts");
   io::StructuredGridSet g;
   g.dims = {3, 2, 1};
@@ -72,8 +74,10 @@ TEST_CASE("a .vts keeps its points, point arrays (NaN included) and string field
     CHECK(p[0] == g.points[k].x());
     CHECK(p[1] == g.points[k].y());
     CHECK(p[2] == g.points[k].z());
-    if (std::isnan(v[k])) CHECK(std::isnan(a->GetTuple1(k)));
-    else CHECK(a->GetTuple1(k) == v[k]);
+    if (std::isnan(v[k]))
+      CHECK(std::isnan(a->GetTuple1(k)));
+    else
+      CHECK(a->GetTuple1(k) == v[k]);
   }
   CHECK(strings(out, "coordinates") == std::vector<std::string>{io::kWorldMetres});
   CHECK(strings(out, "units") == std::vector<std::string>{"position: m", "value: 1"});
@@ -108,7 +112,8 @@ TEST_CASE(".vti and .vtp carry their field data", "[io][vtk]") {
 
 TEST_CASE("a .pvd lists its steps with their times in order", "[io][vtk]") {
   const fs::path dir = freshDir("pvd");
-  io::writePvd((dir / "m.pvd").string(), {{0.0, "m/step_000.vtp"}, {0.25, "m/step_001.vtp"}, {1.5, "m/step_002.vtp"}});
+  io::writePvd((dir / "m.pvd").string(),
+               {{0.0, "m/step_000.vtp"}, {0.25, "m/step_001.vtp"}, {1.5, "m/step_002.vtp"}});
   const std::string text = readFileOrThrow((dir / "m.pvd").string());
   CHECK(text.find("type=\"Collection\"") != std::string::npos);
   const std::regex ds("<DataSet timestep=\"([^\"]+)\"[^>]*file=\"([^\"]+)\"");

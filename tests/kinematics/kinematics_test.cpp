@@ -1,14 +1,15 @@
 // Kinematics against independent oracles: central finite differences for every Jacobian and
 // dJ/dq, orocos-kdl for forward kinematics and the geometric Jacobian, and hand-computed poses.
+#include "kinematics/kinematics.hpp"
+
 #include <catch2/catch.hpp>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 
 #include "io/design_io.hpp"
-#include "kinematics/kinematics.hpp"
-#include "test_support.hpp"
 #include "kdl_support.hpp"
+#include "test_support.hpp"
 
 using armstudy::test::toKdl;
 using armstudy::test::toKdlChain;
@@ -122,9 +123,9 @@ TEST_CASE("point Jacobian of a point on a link matches finite differences", "[ki
       qm[i] -= kFdStep;
       forwardKinematics(m, wp, qp);
       forwardKinematics(m, wm, qm);
-      const Eigen::Vector3d fd = ((wp.p_WF[link] + wp.R_WF[link] * p_link) -
-                                  (wm.p_WF[link] + wm.R_WF[link] * p_link)) /
-                                 (2 * kFdStep);
+      const Eigen::Vector3d fd =
+          ((wp.p_WF[link] + wp.R_WF[link] * p_link) - (wm.p_WF[link] + wm.R_WF[link] * p_link)) /
+          (2 * kFdStep);
       CHECK((fd - J.col(i).head<3>()).norm() < kFdTolerance);
     }
   }

@@ -1,11 +1,12 @@
 // Dexterity measures against closed forms (planar 2R arm of thesis Fig. 5.14) and against a second
 // computation (determinant, explicit inverse) on the shipped designs.
-#include <catch2/catch.hpp>
+#include "metrics/dexterity_measures.hpp"
+
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "io/design_io.hpp"
-#include "metrics/dexterity_measures.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -16,7 +17,8 @@ namespace {
 constexpr double kMeasureTolerance = 1e-10;
 }
 
-TEST_CASE("planar 2R arm: manipulability l1 l2 |sin q2| (Yoshikawa closed form)", "[metrics][closed_form]") {
+TEST_CASE("planar 2R arm: manipulability l1 l2 |sin q2| (Yoshikawa closed form)",
+          "[metrics][closed_form]") {
   const double l1 = 0.7, l2 = 0.4;
   for (double q1 : {0.0, 0.3, -1.2})
     for (double q2 : {0.2, 1.0, 2.5, -0.7}) {
@@ -40,7 +42,8 @@ TEST_CASE("planar 2R arm: manipulability l1 l2 |sin q2| (Yoshikawa closed form)"
   CHECK(d.inverse_condition < kMeasureTolerance);
 }
 
-TEST_CASE("measures of the shipped designs agree with determinant and inverse", "[metrics][oracle]") {
+TEST_CASE("measures of the shipped designs agree with determinant and inverse",
+          "[metrics][oracle]") {
   std::mt19937_64 rng(17);
   for (const auto& rel : shippedDesigns()) {
     const Model m = loadDesign(sourcePath(rel));
@@ -56,9 +59,11 @@ TEST_CASE("measures of the shipped designs agree with determinant and inverse", 
             1e-8 * std::max(1.0, d.transmission));
       // Ellipsoid: axes diag(lengths^2) axes^T = J_T J_T^T, axes orthonormal and right-handed.
       const Ellipsoid e = translationalEllipsoid(ws);
-      const Eigen::Matrix3d T = e.axes_W * e.lengths.array().square().matrix().asDiagonal() * e.axes_W.transpose();
+      const Eigen::Matrix3d T =
+          e.axes_W * e.lengths.array().square().matrix().asDiagonal() * e.axes_W.transpose();
       CHECK((T - A).norm() < kMeasureTolerance);
-      CHECK((e.axes_W.transpose() * e.axes_W - Eigen::Matrix3d::Identity()).norm() < kMeasureTolerance);
+      CHECK((e.axes_W.transpose() * e.axes_W - Eigen::Matrix3d::Identity()).norm() <
+            kMeasureTolerance);
       CHECK(e.axes_W.determinant() > 0);
       CHECK(std::abs(e.lengths.prod() - d.manipulability) < kMeasureTolerance);
       CHECK(std::abs(e.lengths.minCoeff() - d.sigma_min) < kMeasureTolerance);

@@ -1,32 +1,33 @@
 // Reachability sweeps and the study stage: bit-identical results for 1 and 2 threads, every
 // written VTK file read back with VTK's own XML readers (dimensions, origin, spacing, values, and
 // FK of the stored joint solutions as an independent check), the CGAL boundary surface against a
-// closed-form box volume and the divergence theorem, and each bad-input rule of the [reach] section.
+// closed-form box volume and the divergence theorem, and each bad-input rule of the [reach]
+// section.
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
-#include <numeric>
-#include <cmath>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
-#include <random>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numeric>
+#include <random>
 
 #include "common/errors.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "engine/study_file.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_sweep.hpp"
 #include "stages/reach/reach_config.hpp"
-#include "engine/run.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -35,7 +36,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kVolumeTolerance = 1e-9;   // m^3, closed-form box volume
+constexpr double kVolumeTolerance = 1e-9;    // m^3, closed-form box volume
 constexpr double kStoredValueTolerance = 0;  // Float64 arrays round-trip exactly
 
 fs::path tempDir(const std::string& name) {
@@ -45,13 +46,12 @@ fs::path tempDir(const std::string& name) {
   return d;
 }
 
-void writeText(const fs::path& p, const std::string& s) {
-  std::ofstream(p) << s;
-}
+void writeText(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
 
 std::string studyText(const std::string& name, const std::string& reach) {
-  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" + sourcePath("designs/first_prototype_6dof.toml") +
-         "\"\n[[design]]\nfile = \"" + sourcePath("designs/final_prototype_7dof.toml") + "\"\n" + reach;
+  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" +
+         sourcePath("designs/first_prototype_6dof.toml") + "\"\n[[design]]\nfile = \"" +
+         sourcePath("designs/final_prototype_7dof.toml") + "\"\n" + reach;
 }
 
 const char* kSmallReach = R"(
@@ -78,7 +78,8 @@ task_space = "position"
 
 }  // namespace
 
-TEST_CASE("sweeps are bit-identical for 1 and 2 threads and from run to run", "[reach][determinism]") {
+TEST_CASE("sweeps are bit-identical for 1 and 2 threads and from run to run",
+          "[reach][determinism]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_6dof.toml"));
   TaskGrid g;
   g.name = "g";
@@ -102,7 +103,8 @@ TEST_CASE("sweeps are bit-identical for 1 and 2 threads and from run to run", "[
   }
 }
 
-TEST_CASE("alpha-shape volume of a sampled box equals the box volume, facets face outwards", "[reach][oracle]") {
+TEST_CASE("alpha-shape volume of a sampled box equals the box volume, facets face outwards",
+          "[reach][oracle]") {
   std::vector<Eigen::Vector3d> pts;
   const double h = 0.1;
   for (int i = 0; i < 5; ++i)
@@ -142,11 +144,13 @@ TEST_CASE("boundary surfaces are canonical: the same point set in any order give
   CHECK(a.volume_m3 == b.volume_m3);  // bit for bit: summed in a canonical order
   // The sorted, re-indexed triangles still enclose the solid: divergence theorem.
   double v = 0;
-  for (const auto& t : a.triangles) v += a.vertices[t[0]].dot(a.vertices[t[1]].cross(a.vertices[t[2]])) / 6.0;
+  for (const auto& t : a.triangles)
+    v += a.vertices[t[0]].dot(a.vertices[t[1]].cross(a.vertices[t[2]])) / 6.0;
   CHECK(v == Approx(a.volume_m3).margin(kVolumeTolerance));
 }
 
-TEST_CASE("a study writes VTK files that VTK's readers load with the right grid and values", "[reach][oracle]") {
+TEST_CASE("a study writes VTK files that VTK's readers load with the right grid and values",
+          "[reach][oracle]") {
   const fs::path dir = tempDir("e2e");
   writeText(dir / "poses.csv", "x,y,z\n0.0,0.8,1.0\n0.3,0.6,1.2\n5,5,5\n");
   writeText(dir / "s.toml", studyText("e2e", kSmallReach));
@@ -227,7 +231,8 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
       const std::size_t rank = static_cast<std::size_t>(std::ceil(0.05 * manip.size())) - 1;
       std::nth_element(manip.begin(), manip.begin() + rank, manip.end());
       CHECK(rs.metrics.scalars.at(key + "p5") == Approx(manip[rank]).epsilon(1e-12));
-      CHECK(rs.metrics.scalars.at(key + "min") == Approx(*std::min_element(manip.begin(), manip.end())).epsilon(1e-12));
+      CHECK(rs.metrics.scalars.at(key + "min") ==
+            Approx(*std::min_element(manip.begin(), manip.end())).epsilon(1e-12));
       CHECK(rs.metrics.scalars.at(key + "mean") ==
             Approx(std::accumulate(manip.begin(), manip.end(), 0.0) / manip.size()).epsilon(1e-9));
       for (const auto& jg : summary["reach"]["grids"])
@@ -254,7 +259,8 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
       REQUIRE(line);
       CHECK(line->GetTuple1(2) == 4);
       CHECK(poly->GetPointData()->GetArray("reachable")->GetTuple1(2) == 0);  // (5, 5, 5) m
-      CHECK(poly->GetPointData()->GetArray("status")->GetTuple1(2) == double(ReachStatus::OutOfReach));
+      CHECK(poly->GetPointData()->GetArray("status")->GetTuple1(2) ==
+            double(ReachStatus::OutOfReach));
       double xyz[3];
       poly->GetPoint(1, xyz);
       CHECK(xyz[1] == 0.6 + kStoredValueTolerance);
@@ -266,7 +272,8 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing is written", "[reach][bad-input]") {
+TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing is written",
+          "[reach][bad-input]") {
   const fs::path dir = tempDir("bad");
   writeText(dir / "poses.csv", "x,y,z\n0.1,0.2,0.3\n0.1,zz,0.3\n");
   struct Case {
@@ -276,23 +283,41 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
   const std::string grid = "[[reach.grid]]\nname = \"g\"\n";
   // studyText puts 6 lines before the [reach] section, which starts on line 7.
   const std::vector<Case> cases = {
-      {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 10},
-      {"negative step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = \"-1 cm\" }\ny = 0.5\nz = 1\n", "reach.grid[0].x", 10},
-      {"empty range", "[reach]\n" + grid + "x = 0\ny = { from = 1, to = 0.5, step = 0.1 }\nz = 1\n", "reach.grid[0].y", 11},
-      {"unknown task-space component", "[reach]\ntask_space = \"x,y,z,roll\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.task_space", 8},
-      {"zero tolerance", "[reach]\nposition_tolerance = \"0 mm\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.position_tolerance", 8},
-      {"negative tolerance", "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n", "reach.orientation_tolerance", 8},
-      {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n", "reach.grid[0].beta", 13},
-      {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n", "reach.grid[0].speed", 13},
-      {"negative collision starts", "[reach]\n[reach.search]\ncollision_starts = -1\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+      {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n",
+       "reach.grid[0].x", 10},
+      {"negative step",
+       "[reach]\n" + grid + "x = { from = 0, to = 1, step = \"-1 cm\" }\ny = 0.5\nz = 1\n",
+       "reach.grid[0].x", 10},
+      {"empty range", "[reach]\n" + grid + "x = 0\ny = { from = 1, to = 0.5, step = 0.1 }\nz = 1\n",
+       "reach.grid[0].y", 11},
+      {"unknown task-space component",
+       "[reach]\ntask_space = \"x,y,z,roll\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.task_space", 8},
+      {"zero tolerance",
+       "[reach]\nposition_tolerance = \"0 mm\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.position_tolerance", 8},
+      {"negative tolerance",
+       "[reach]\norientation_tolerance = \"-0.5 deg\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+       "reach.orientation_tolerance", 8},
+      {"beta in the spraying space", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nbeta = 0\n",
+       "reach.grid[0].beta", 13},
+      {"unknown key", "[reach]\n" + grid + "x = 0\ny = 0.5\nz = 1\nspeed = 1\n",
+       "reach.grid[0].speed", 13},
+      {"negative collision starts",
+       "[reach]\n[reach.search]\ncollision_starts = -1\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
        "reach.search.collision_starts", 9},
-      {"unknown sweep order", "[reach]\n[reach.search]\norder = \"random\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+      {"unknown sweep order",
+       "[reach]\n[reach.search]\norder = \"random\"\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
        "reach.search.order", 9},
-      {"zero audit starts", "[reach]\n[reach.audit]\nstarts = 0\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+      {"zero audit starts",
+       "[reach]\n[reach.audit]\nstarts = 0\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
        "reach.audit.starts", 9},
-      {"unknown audit key", "[reach]\n[reach.audit]\ncells = 5\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
+      {"unknown audit key",
+       "[reach]\n[reach.audit]\ncells = 5\n" + grid + "x = 0\ny = 0.5\nz = 1\n",
        "reach.audit.cells", 9},
-      {"malformed CSV row", "[reach]\n[[reach.poses]]\nname = \"p\"\nfile = \"poses.csv\"\ntask_space = \"position\"\n", "y", 3},
+      {"malformed CSV row",
+       "[reach]\n[[reach.poses]]\nname = \"p\"\nfile = \"poses.csv\"\ntask_space = \"position\"\n",
+       "y", 3},
   };
   for (const Case& c : cases) {
     INFO(c.what);
@@ -304,12 +329,15 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
       thrown = true;
       CHECK(e.key() == c.key);
       CHECK(e.line() == c.line);
-      CHECK(e.file().find(c.what == "malformed CSV row" ? "poses.csv" : "s.toml") != std::string::npos);
+      CHECK(e.file().find(c.what == "malformed CSV row" ? "poses.csv" : "s.toml") !=
+            std::string::npos);
     }
     CHECK(thrown);
     // Through the CLI: exit status 2 and no output folder.
     std::string log;
-    CHECK(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --output " + (dir / "out").string(), log) == 2);
+    CHECK(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --output " +
+                         (dir / "out").string(),
+                     log) == 2);
     CHECK_FALSE(fs::exists(dir / "out"));
   }
   fs::remove_all(dir);
@@ -331,7 +359,8 @@ z = 1
   REQUIRE(runCommand(binaryPath() + " run " + (dir / "s.toml").string() + " --threads 2 --output " +
                          (dir / "out").string(),
                      out) == 0);
-  const std::string text = "`first_prototype_6dof`, `final_prototype_7dof` reach none of the 2 poses of grid `far`";
+  const std::string text =
+      "`first_prototype_6dof`, `final_prototype_7dof` reach none of the 2 poses of grid `far`";
   CHECK_THAT(out, Catch::Contains("warning: " + text));
   const fs::path o = dir / "out" / "nothing";
   std::ifstream in(o / "reach" / "report.md");
@@ -341,7 +370,8 @@ z = 1
   const std::string top = readFileOrThrow((o / "report.md").string());
   const std::size_t warnings = top.find("## Warnings"), details = top.find("## Details");
   REQUIRE(warnings != std::string::npos);
-  const std::size_t at = top.find("`first_prototype_6dof` reaches none of the 2 poses of grid `far`");
+  const std::size_t at =
+      top.find("`first_prototype_6dof` reaches none of the 2 poses of grid `far`");
   CHECK(at > warnings);
   CHECK(at < details);
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(o / "summary.json"));

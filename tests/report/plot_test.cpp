@@ -1,6 +1,9 @@
 // The plotting module (report/plot.hpp): text boxes measured by cairo never overlap and stay on the
 // canvas, tick labels sit on the data coordinates of the map (checked on the rendered pixels), cell
-// text contrasts with its cell, the SVG is well-formed XML and the same figure gives the same bytes.
+// text contrasts with its cell, the SVG is well-formed XML and the same figure gives the same
+// bytes.
+#include "report/plot.hpp"
+
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
@@ -10,8 +13,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <sstream>
-
-#include "report/plot.hpp"
 
 using namespace armstudy::report;
 
@@ -55,11 +56,13 @@ bool wellFormedSvg(const std::string& svg) {
 // Every text box on the canvas and no two overlapping; the first fault found, or "".
 std::string layoutFault(const Drawing& d) {
   for (const TextBox& b : d.texts)
-    if (b.x0 < 0 || b.y0 < 0 || b.x1 > d.width || b.y1 > d.height) return "'" + b.text + "' leaves the canvas";
+    if (b.x0 < 0 || b.y0 < 0 || b.x1 > d.width || b.y1 > d.height)
+      return "'" + b.text + "' leaves the canvas";
   for (std::size_t i = 0; i < d.texts.size(); ++i)
     for (std::size_t j = i + 1; j < d.texts.size(); ++j) {
       const TextBox &a = d.texts[i], &b = d.texts[j];
-      const double w = std::min(a.x1, b.x1) - std::max(a.x0, b.x0), h = std::min(a.y1, b.y1) - std::max(a.y0, b.y0);
+      const double w = std::min(a.x1, b.x1) - std::max(a.x0, b.x0),
+                   h = std::min(a.y1, b.y1) - std::max(a.y0, b.y0);
       if (w > 0 && h > 0 && w * h > kTouch) return "'" + a.text + "' overlaps '" + b.text + "'";
     }
   return "";
@@ -81,15 +84,20 @@ MapFigure mapOf10x4(std::string title, std::string scale_label) {
   return f;
 }
 
-Rgb cellColour(int i, int j) { return Rgb{static_cast<std::uint8_t>(20 * i), static_cast<std::uint8_t>(50 * j), 9}; }
+Rgb cellColour(int i, int j) {
+  return Rgb{static_cast<std::uint8_t>(20 * i), static_cast<std::uint8_t>(50 * j), 9};
+}
 
 }  // namespace
 
-TEST_CASE("map figures: tick labels sit over the cells they name, text never overlaps or leaves the canvas",
-          "[report][plot][oracle]") {
+TEST_CASE(
+    "map figures: tick labels sit over the cells they name, text never overlaps or leaves the "
+    "canvas",
+    "[report][plot][oracle]") {
   const int border = 2;
   const RasterImage map = renderCellMap(10, 4, cellColour, 400, border);  // 40 px per cell
-  const Drawing d = mapFigure(map, mapOf10x4("a < b & \"c\"", "manipulability [m^3]"), Format::svg_and_png);
+  const Drawing d =
+      mapFigure(map, mapOf10x4("a < b & \"c\"", "manipulability [m^3]"), Format::svg_and_png);
   CHECK(wellFormedSvg(d.svg));  // escaping included
   CHECK(layoutFault(d).empty());
   CHECK(findText(d, "a < b & \"c\""));
@@ -114,24 +122,30 @@ TEST_CASE("map figures: tick labels sit over the cells they name, text never ove
   CHECK(px.at(cx2 + 4, y) == cellColour(7, 0));
 }
 
-TEST_CASE("map figures: a long title wraps and a long colour-bar label stays clear of the axis labels",
-          "[report][plot]") {
+TEST_CASE(
+    "map figures: a long title wraps and a long colour-bar label stays clear of the axis labels",
+    "[report][plot]") {
   const RasterImage map = renderCellMap(10, 4, cellColour, 120, 2);
-  const std::string title = "stem_heatmap: first_prototype_6dof, orientation alpha 0 deg, gamma 0 deg, coverage of "
-                            "the whole grid with self-collision checked";
-  const Drawing d = mapFigure(map, mapOf10x4(title, "normalised manipulability sqrt(det(J J^T)) / max, optimised [1]"));
+  const std::string title =
+      "stem_heatmap: first_prototype_6dof, orientation alpha 0 deg, gamma 0 deg, coverage of "
+      "the whole grid with self-collision checked";
+  const Drawing d = mapFigure(
+      map, mapOf10x4(title, "normalised manipulability sqrt(det(J J^T)) / max, optimised [1]"));
   INFO(layoutFault(d));
   CHECK(layoutFault(d).empty());
   CHECK_FALSE(findText(d, title));  // wrapped into lines, none wider than the canvas
   CHECK(wellFormedSvg(d.svg));
 }
 
-TEST_CASE("plots: one panel per unit, long category labels read upwards, legends and limit lines, no text overlaps",
-          "[report][plot]") {
+TEST_CASE(
+    "plots: one panel per unit, long category labels read upwards, legends and limit lines, no "
+    "text overlaps",
+    "[report][plot]") {
   PlotSpec p;
   p.title = "error ladder of a calibration with many long category names";
   p.x_label = "model";
-  for (int k = 0; k < 9; ++k) p.x_categories.push_back("nominal + offsets + elasticity step " + std::to_string(k));
+  for (int k = 0; k < 9; ++k)
+    p.x_categories.push_back("nominal + offsets + elasticity step " + std::to_string(k));
   PlotPanel a{"position", "TCP error [mm]", {}, {}, false};
   PlotSeries s;
   s.label = "RMS";
@@ -162,7 +176,8 @@ TEST_CASE("series colours are distinct and none is too light to see on white", "
   }
 }
 
-TEST_CASE("heatmaps: cell text is white on dark cells and black on light ones", "[report][plot][oracle]") {
+TEST_CASE("heatmaps: cell text is white on dark cells and black on light ones",
+          "[report][plot][oracle]") {
   HeatmapSpec h;
   h.title = "residual map";
   h.x_label = "speed [rad/s]";
@@ -197,8 +212,9 @@ TEST_CASE("the same figure gives the same SVG bytes whatever was drawn before", 
   CHECK(mapFigure(map, mapOf10x4("t", "v [1]")).svg == first);
 }
 
-TEST_CASE("SVG text is text a reader can search and copy, in the figures' font, with no glyph outlines",
-          "[report][plot]") {
+TEST_CASE(
+    "SVG text is text a reader can search and copy, in the figures' font, with no glyph outlines",
+    "[report][plot]") {
   const RasterImage map = renderCellMap(10, 4, cellColour, 100, 2);
   const Drawing d = mapFigure(map, mapOf10x4("a < b & \"c\"", "manipulability [m^3]"));
   CHECK(d.svg.find(">a &lt; b &amp; &quot;c&quot;</text>") != std::string::npos);
@@ -208,6 +224,8 @@ TEST_CASE("SVG text is text a reader can search and copy, in the figures' font, 
   CHECK(d.svg.find("glyph") == std::string::npos);
   // Every text the layout placed is in the SVG once per placement.
   std::size_t texts = 0;
-  for (std::size_t at = d.svg.find("<text "); at != std::string::npos; at = d.svg.find("<text ", at + 1)) ++texts;
+  for (std::size_t at = d.svg.find("<text "); at != std::string::npos;
+       at = d.svg.find("<text ", at + 1))
+    ++texts;
   CHECK(texts == d.texts.size());
 }

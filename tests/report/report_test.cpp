@@ -6,7 +6,6 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -15,14 +14,21 @@
 
 using namespace armstudy::report;
 
-TEST_CASE("cell maps written as PNG read back pixel for pixel with vtkPNGReader", "[report][oracle]") {
-  const RasterImage img = renderCellMap(5, 3, [](int i, int j) { return Rgb{static_cast<std::uint8_t>(40 * i), static_cast<std::uint8_t>(80 * j), 7}; }, 10, 1);
+TEST_CASE("cell maps written as PNG read back pixel for pixel with vtkPNGReader",
+          "[report][oracle]") {
+  const RasterImage img = renderCellMap(
+      5, 3,
+      [](int i, int j) {
+        return Rgb{static_cast<std::uint8_t>(40 * i), static_cast<std::uint8_t>(80 * j), 7};
+      },
+      10, 1);
   CHECK(img.width() == 2 * 5 + 2);
   CHECK(img.height() == 2 * 3 + 2);
   // Cell (0, 0) is bottom-left; the border is grey.
   CHECK(img.at(1, img.height() - 2) == Rgb{0, 0, 7});
   CHECK(img.at(0, 0) == Rgb{128, 128, 128});
-  const std::string path = (std::filesystem::temp_directory_path() / "armstudy_report_test.png").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "armstudy_report_test.png").string();
   writePng(path, img);
   vtkNew<vtkPNGReader> r;
   r->SetFileName(path.c_str());

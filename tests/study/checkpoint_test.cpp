@@ -35,7 +35,8 @@ TEST_CASE("checkpoint store resumes with the same fingerprint", "[study][checkpo
   CHECK_FALSE(CheckpointStore::hasPartialRun(dir.string()));
 }
 
-TEST_CASE("each rank's store removes the units it saved, finish removes the rest", "[study][checkpoint]") {
+TEST_CASE("each rank's store removes the units it saved, finish removes the rest",
+          "[study][checkpoint]") {
   // A distributed run: every rank opens the store in the same folder and saves the units it
   // computes; at the end each removes its own (in parallel), rank 0 then the folder with what is
   // left (units an interrupted run saved, which nobody of this run saved again).
@@ -53,7 +54,8 @@ TEST_CASE("each rank's store removes the units it saved, finish removes the rest
   rank1.save("unit/c", "c");
   auto count = [&] {
     long n = 0;
-    for (const auto& e : fs::directory_iterator(dir / ".partial/units")) n += e.path().extension() == ".unit";
+    for (const auto& e : fs::directory_iterator(dir / ".partial/units"))
+      n += e.path().extension() == ".unit";
     return n;
   };
   REQUIRE(count() == 4);
@@ -123,7 +125,7 @@ TEST_CASE("unit bytes round-trip bit for bit, other formats and damaged bytes ar
   CHECK(R2 == R);
   CHECK(r.finished());
 
-  CHECK_FALSE(UnitReader(b, "fmt-v2").ok());      // another format version
+  CHECK_FALSE(UnitReader(b, "fmt-v2").ok());  // another format version
   const std::string too_short = "fmt";
   CHECK_FALSE(UnitReader(too_short, "fmt-v1").ok());  // shorter than the magic
   // Cut anywhere: some read fails, nothing is read past the end.

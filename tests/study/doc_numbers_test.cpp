@@ -1,6 +1,6 @@
-// The numbers the docs quote come from the shipped studies' outputs: the studies scripts/doc_numbers.py
-// needs are run here (2 threads), then the script renders each quoted text from their summary.json
-// and fails when a doc does not contain it verbatim.
+// The numbers the docs quote come from the shipped studies' outputs: the studies
+// scripts/doc_numbers.py needs are run here (2 threads), then the script renders each quoted text
+// from their summary.json and fails when a doc does not contain it verbatim.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <sstream>
@@ -29,7 +29,8 @@ TEST_CASE("the numbers the docs quote match the shipped studies' outputs", "[doc
   }
   REQUIRE(studies > 0);  // the script names the studies it reads
   std::string check_log;
-  const int st = runCommand("python3 " + sourcePath("scripts/doc_numbers.py") + " --outputs " + out.string(), check_log);
+  const int st = runCommand(
+      "python3 " + sourcePath("scripts/doc_numbers.py") + " --outputs " + out.string(), check_log);
   INFO(check_log);
   CHECK(st == 0);
   CHECK(check_log.find("quoted texts match the outputs") != std::string::npos);

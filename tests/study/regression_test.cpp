@@ -1,12 +1,13 @@
 // Regression checks: tolerance rules, flips of per-pose flags, baseline round trip and the bad
 // inputs (baseline of another study, unknown format version, negative tolerance).
+#include "study/regression.hpp"
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
 #include "common/errors.hpp"
 #include "engine/study_file.hpp"
-#include "study/regression.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -46,10 +47,11 @@ TEST_CASE("baselines round-trip through JSON exactly", "[study][regression]") {
   CHECK(r.rows.size() == 3);
 }
 
-TEST_CASE("tolerances decide the verdict per metric, the first matching rule wins", "[study][regression]") {
+TEST_CASE("tolerances decide the verdict per metric, the first matching rule wins",
+          "[study][regression]") {
   const Baseline b = sampleBaseline();
   StudyMetrics now = b.metrics;
-  now.scalars["reach/a/grid0/reachable_fraction"] = 0.5009;  // within 0.001 absolute
+  now.scalars["reach/a/grid0/reachable_fraction"] = 0.5009;   // within 0.001 absolute
   now.scalars["reach/a/grid0/manipulability_mean"] = 0.0202;  // 1 % relative: exactly at the limit
   CHECK(compareToBaseline(b, now, sampleSpec()).passed());
   now.scalars["reach/a/grid0/reachable_fraction"] = 0.5011;
@@ -94,15 +96,19 @@ TEST_CASE("missing and new metrics fail the check", "[study][regression]") {
 
 TEST_CASE("bad baselines are clear errors", "[study][regression][bad-input]") {
   const std::string good = baselineToJson(sampleBaseline());
-  CHECK_THROWS_WITH(parseBaseline(good, "b.json", "other"), Catch::Contains("belongs to study 's'"));
+  CHECK_THROWS_WITH(parseBaseline(good, "b.json", "other"),
+                    Catch::Contains("belongs to study 's'"));
   std::string v2 = good;
   v2.replace(v2.find("\"format_version\": 1"), 19, "\"format_version\": 7");
-  CHECK_THROWS_WITH(parseBaseline(v2, "b.json", "s"), Catch::Contains("unknown baseline format version 7"));
+  CHECK_THROWS_WITH(parseBaseline(v2, "b.json", "s"),
+                    Catch::Contains("unknown baseline format version 7"));
   CHECK_THROWS_AS(parseBaseline("{not json", "b.json", "s"), InputError);
-  CHECK_THROWS_WITH(parseBaseline("{\"a\": 1}", "b.json", "s"), Catch::Contains("not an armstudy baseline"));
+  CHECK_THROWS_WITH(parseBaseline("{\"a\": 1}", "b.json", "s"),
+                    Catch::Contains("not an armstudy baseline"));
 }
 
-TEST_CASE("a negative tolerance in the study is an error with line and key", "[study][regression][bad-input]") {
+TEST_CASE("a negative tolerance in the study is an error with line and key",
+          "[study][regression][bad-input]") {
   const auto dir = std::filesystem::temp_directory_path() / "armstudy_regression_test";
   std::filesystem::create_directories(dir);
   const auto p = dir / "neg.toml";

@@ -1,13 +1,14 @@
 // The ParaView scene geometry (study/scene.hpp): obstacle and robot surfaces lie on their
 // swept-sphere volumes (distances from collision/distance, not the mesh code), the skeleton
 // follows the joint frames, time steps are spread evenly.
+#include "study/scene.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
 #include "collision/distance.hpp"
 #include "io/design_io.hpp"
 #include "kinematics/kinematics.hpp"
-#include "study/scene.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -17,11 +18,14 @@ namespace {
 constexpr double kSurfaceTolerance = 1e-9;  // [m] a mesh vertex on its volume's surface
 
 // Distance of p from the core (point, segment or triangle) of a swept-sphere volume.
-double coreDistance(SsvType type, const std::array<Eigen::Vector3d, 3>& c, const Eigen::Vector3d& p) {
+double coreDistance(SsvType type, const std::array<Eigen::Vector3d, 3>& c,
+                    const Eigen::Vector3d& p) {
   Eigen::Vector3d closest;
   switch (type) {
-    case SsvType::Point: return (p - c[0]).norm();
-    case SsvType::Line: return std::sqrt(collision::squaredDistancePointSegment(p, c[0], c[1], closest));
+    case SsvType::Point:
+      return (p - c[0]).norm();
+    case SsvType::Line:
+      return std::sqrt(collision::squaredDistancePointSegment(p, c[0], c[1], closest));
     case SsvType::Triangle:
       return std::sqrt(collision::squaredDistancePointTriangle(p, c[0], c[1], c[2], closest));
   }
@@ -31,10 +35,12 @@ double coreDistance(SsvType type, const std::array<Eigen::Vector3d, 3>& c, const
 // A mesh vertex of a swept-sphere volume: never outside it, and on the sphere around one of its
 // core points or at the radius from the core (tube and face points); the corner spheres' inner
 // halves lie inside the volume.
-bool onVolume(SsvType type, const std::array<Eigen::Vector3d, 3>& c, double r, const Eigen::Vector3d& p) {
+bool onVolume(SsvType type, const std::array<Eigen::Vector3d, 3>& c, double r,
+              const Eigen::Vector3d& p) {
   const double d = coreDistance(type, c, p);
   bool on = std::abs(d - r) < kSurfaceTolerance;
-  for (int i = 0; i < static_cast<int>(type); ++i) on = on || std::abs((p - c[i]).norm() - r) < kSurfaceTolerance;
+  for (int i = 0; i < static_cast<int>(type); ++i)
+    on = on || std::abs((p - c[i]).norm() - r) < kSurfaceTolerance;
   return on && d <= r + kSurfaceTolerance;
 }
 
@@ -49,7 +55,8 @@ const io::NamedArray& array(const io::PolyDataSet& p, const std::string& name) {
 TEST_CASE("obstacle surfaces lie on their spheres, capsules and swept triangles", "[scene]") {
   std::vector<collision::Obstacle> obs{
       collision::sphereObstacle("fruit", Eigen::Vector3d(0.2, 0.7, 1.2), 0.045),
-      collision::capsuleObstacle("stem", Eigen::Vector3d(0.225, 0.7, 0), Eigen::Vector3d(0.225, 0.7, 2), 0.012)};
+      collision::capsuleObstacle("stem", Eigen::Vector3d(0.225, 0.7, 0),
+                                 Eigen::Vector3d(0.225, 0.7, 2), 0.012)};
   collision::Obstacle tri;
   tri.name = "platform";
   tri.type = SsvType::Triangle;
@@ -63,7 +70,8 @@ TEST_CASE("obstacle surfaces lie on their spheres, capsules and swept triangles"
     const collision::Obstacle& o = obs[static_cast<std::size_t>(idx.values[k])];
     ++count[static_cast<std::size_t>(idx.values[k])];
     CHECK(onVolume(o.type, o.p_W, o.radius_m, poly.points[k]));
-    if (o.type == SsvType::Point) CHECK(std::abs((poly.points[k] - o.p_W[0]).norm() - o.radius_m) < kSurfaceTolerance);
+    if (o.type == SsvType::Point)
+      CHECK(std::abs((poly.points[k] - o.p_W[0]).norm() - o.radius_m) < kSurfaceTolerance);
   }
   CHECK(count[0] > 0);
   CHECK(count[1] > 0);
@@ -75,7 +83,8 @@ TEST_CASE("obstacle surfaces lie on their spheres, capsules and swept triangles"
   CHECK(poly.field_data[2].values[1].find("stem") != std::string::npos);
 }
 
-TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the posed SSVs", "[scene]") {
+TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the posed SSVs",
+          "[scene]") {
   const Model m = loadDesign(sourcePath("designs/final_prototype_7dof.toml"));
   REQUIRE(!m.collision.empty());
   std::mt19937_64 rng(18);
@@ -86,7 +95,8 @@ TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the po
   REQUIRE(poly.lines.size() == 1);
   REQUIRE(poly.lines[0].size() == static_cast<std::size_t>(m.dof() + 2));
   CHECK((poly.points[poly.lines[0][0]] - m.T_WB.translation()).norm() == 0);
-  for (int i = 0; i < m.dof(); ++i) CHECK((poly.points[poly.lines[0][i + 1]] - ws.p_WF[i]).norm() == 0);
+  for (int i = 0; i < m.dof(); ++i)
+    CHECK((poly.points[poly.lines[0][i + 1]] - ws.p_WF[i]).norm() == 0);
   CHECK((poly.points[poly.lines[0].back()] - ws.p_WT).norm() == 0);
   const io::NamedArray& part = array(poly, "part");
   const io::NamedArray& body = array(poly, "body");
@@ -99,7 +109,8 @@ TEST_CASE("the robot's skeleton follows its frames and its volumes lie on the po
     for (const CollisionVolume& v : m.collision.volumes) {
       if (v.link != static_cast<int>(body.values[k])) continue;
       const Eigen::Matrix3d R = v.link < 0 ? Eigen::Matrix3d(m.T_WB.linear()) : ws.R_WF[v.link];
-      const Eigen::Vector3d p = v.link < 0 ? Eigen::Vector3d(m.T_WB.translation()) : ws.p_WF[v.link];
+      const Eigen::Vector3d p =
+          v.link < 0 ? Eigen::Vector3d(m.T_WB.translation()) : ws.p_WF[v.link];
       std::array<Eigen::Vector3d, 3> c;
       for (int j = 0; j < 3; ++j) c[j] = p + R * v.p_L[j];
       on = on || onVolume(v.type, c, v.radius_m, poly.points[k]);

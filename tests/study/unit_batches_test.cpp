@@ -54,7 +54,8 @@ std::vector<Job> jobs() {
   j[0].ids = {"reach/g/a/units_0-1", "reach/g/a/units_1-2", "reach/g/a/units_2-3"};
   j[1].ids = {};  // a design without units
   j[2].ids = {"reach/g/b/units_0-1"};
-  j[3].ids = {"reach/g/c/units_0-2", "reach/g/c/units_2-4", "reach/g/c/units_4-6", "reach/g/c/units_6-7"};
+  j[3].ids = {"reach/g/c/units_0-2", "reach/g/c/units_2-4", "reach/g/c/units_4-6",
+              "reach/g/c/units_6-7"};
   return j;
 }
 
@@ -63,7 +64,8 @@ std::vector<Job> jobs() {
 void compareWithOneByOne(const UnitTimeRecord& times, const std::vector<std::string>& saved) {
   std::vector<std::map<std::size_t, std::string>> expected, got;
   for (int combined = 0; combined < 2; ++combined) {
-    const fs::path dir = fs::temp_directory_path() / ("armstudy_unit_batches_" + std::to_string(combined));
+    const fs::path dir =
+        fs::temp_directory_path() / ("armstudy_unit_batches_" + std::to_string(combined));
     fs::remove_all(dir);
     std::string msg;
     CheckpointStore store(dir.string(), "fingerprint\n", msg);
@@ -94,7 +96,8 @@ void compareWithOneByOne(const UnitTimeRecord& times, const std::vector<std::str
 TEST_CASE("batches run as one pool end as they end run one by one", "[study][units]") {
   SECTION("fresh store") { compareWithOneByOne(UnitTimeRecord{}, {}); }
   SECTION("resuming with some units saved") {
-    compareWithOneByOne(UnitTimeRecord{}, {"reach/g/a/units_1-2", "reach/g/c/units_0-2", "reach/g/c/units_6-7"});
+    compareWithOneByOne(UnitTimeRecord{},
+                        {"reach/g/a/units_1-2", "reach/g/c/units_0-2", "reach/g/c/units_6-7"});
   }
   SECTION("unit costs recorded: one call per unit, each call replacing every batch's units") {
     const fs::path csv = fs::temp_directory_path() / "armstudy_unit_batches_times.csv";
@@ -108,7 +111,8 @@ TEST_CASE("batches run as one pool end as they end run one by one", "[study][uni
   }
 }
 
-TEST_CASE("a combined compute call gives each batch only its own units, in its own indices", "[study][units]") {
+TEST_CASE("a combined compute call gives each batch only its own units, in its own indices",
+          "[study][units]") {
   CheckpointStore off;
   const UnitRunner runner(off, 1, UnitTimeRecord{});
   std::vector<Job> js = jobs();

@@ -1,15 +1,16 @@
 // Writer (study/writer.hpp): files written in the background (textLater) are listed at once, in
 // call order, hold exactly their content after flush(), and a write that fails reaches flush()
 // (the oracle: the files read back, and a path that cannot be created).
+#include "study/writer.hpp"
+
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
-
-#include "study/writer.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;
@@ -24,20 +25,24 @@ std::string slurp(const fs::path& p) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("armstudy-writer-test-" + std::to_string(::getpid()) + "-" + name);
+  const fs::path dir = fs::temp_directory_path() /
+                       ("armstudy-writer-test-" + std::to_string(::getpid()) + "-" + name);
   fs::remove_all(dir);
   return dir;
 }
 
 }  // namespace
 
-TEST_CASE("background writes are listed in call order and hold their content after flush", "[writer]") {
+TEST_CASE("background writes are listed in call order and hold their content after flush",
+          "[writer]") {
   const fs::path dir = scratch("order");
   {
     Writer w(dir.string());
     w.text("a.txt", "first");
     std::vector<std::pair<std::string, std::string>> batch;
-    for (int i = 0; i < 50; ++i) batch.emplace_back("sub/f" + std::to_string(i) + ".bin", std::string(1000 + i, char('a' + i % 26)));
+    for (int i = 0; i < 50; ++i)
+      batch.emplace_back("sub/f" + std::to_string(i) + ".bin",
+                         std::string(1000 + i, char('a' + i % 26)));
     w.textLater(batch);
     w.add("c.vti");
     w.textLater({{"d.txt", "last"}});
@@ -52,7 +57,8 @@ TEST_CASE("background writes are listed in call order and hold their content aft
     for (const auto& [rel, content] : batch) CHECK(slurp(dir / rel) == content);
     CHECK(slurp(dir / "d.txt") == "last");
     // No temporaries left behind.
-    for (const auto& e : fs::recursive_directory_iterator(dir)) CHECK(e.path().string().find(".tmp.") == std::string::npos);
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+      CHECK(e.path().string().find(".tmp.") == std::string::npos);
   }
   fs::remove_all(dir);
 }

@@ -1,11 +1,12 @@
 // Task grids and CSV pose lists: counts against the thesis' grid (eq. 3.3), index layout against
 // an explicit loop, and every bad-input rule with its line number.
+#include "tasks/task_grid.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
 #include "common/errors.hpp"
 #include "io/pose_list_io.hpp"
-#include "tasks/task_grid.hpp"
 
 using namespace armstudy;
 
@@ -64,8 +65,9 @@ TEST_CASE("axis ranges: non-positive step and empty range are rejected", "[tasks
 }
 
 TEST_CASE("CSV pose lists: header order, comments and orientation columns", "[tasks]") {
-  const PoseList l = parsePoseCsv("# poses\nz,x,y,gamma,beta,alpha\n1,2,3,0.3,0.2,0.1\n\n4,5,6,0,0,0\n", "p.csv",
-                                  TaskSpace::fullPose());
+  const PoseList l =
+      parsePoseCsv("# poses\nz,x,y,gamma,beta,alpha\n1,2,3,0.3,0.2,0.1\n\n4,5,6,0,0,0\n", "p.csv",
+                   TaskSpace::fullPose());
   REQUIRE(l.poses.size() == 2);
   CHECK(l.poses[0][0] == 2);
   CHECK(l.poses[0][2] == 1);
@@ -76,7 +78,8 @@ TEST_CASE("CSV pose lists: header order, comments and orientation columns", "[ta
   CHECK_FALSE(p.has_orientation);
 }
 
-TEST_CASE("CSV pose lists: a malformed row is reported with its line number", "[tasks][bad-input]") {
+TEST_CASE("CSV pose lists: a malformed row is reported with its line number",
+          "[tasks][bad-input]") {
   auto lineOf = [](const std::string& text, const TaskSpace& ts) {
     try {
       parsePoseCsv(text, "bad.csv", ts);

@@ -18,13 +18,13 @@
 
 #include "collision/collision.hpp"
 #include "common/errors.hpp"
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/csv_io.hpp"
 #include "io/files.hpp"
-#include "engine/study_file.hpp"
 #include "kinematics/kinematics.hpp"
-#include "engine/run.hpp"
-#include "test_support.hpp"
 #include "stages/tracking/tracking_stage.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;
@@ -98,7 +98,8 @@ TEST_CASE("the shipped sphere sits where the Fig. 5.13 recipe puts it", "[tracki
   const Study s = loadStudy(test::sourcePath(kStudy));
   REQUIRE(stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->size() == 1);
   REQUIRE(s.obstacles.size() == 1);
-  const tracking::TrackingEntry& e = stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
+  const tracking::TrackingEntry& e =
+      stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
   const Model& m = studyModel(s, e.design);
   const tracking::LineReference line = tracking::lineReference(m, e);
   KinematicsWorkspace ws(m);
@@ -108,7 +109,8 @@ TEST_CASE("the shipped sphere sits where the Fig. 5.13 recipe puts it", "[tracki
   const auto off = ik::trackReference(m, ws, ref, e.q0, e.duration_s, nullptr, nullptr, o);
   REQUIRE(off.status == ik::TrackingStatus::Completed);
   forwardKinematics(m, ws, off.samples[off.samples.size() / 2].q);
-  const Eigen::Vector3d centre = 0.5 * (ws.p_WF[2] + ws.p_WF[3]) + Eigen::Vector3d(0.19, 0.08, 0.04);
+  const Eigen::Vector3d centre =
+      0.5 * (ws.p_WF[2] + ws.p_WF[3]) + Eigen::Vector3d(0.19, 0.08, 0.04);
   INFO("recomputed centre: " << centre.transpose().format(Eigen::IOFormat(Eigen::FullPrecision)));
   CHECK(s.obstacles[0].type == SsvType::Point);
   CHECK((s.obstacles[0].p_W[0] - centre).norm() < kCentreWritten_m);
@@ -121,7 +123,8 @@ TEST_CASE("thesis Fig. 5.13 from the shipped study: the plain run hits the spher
   fs::remove_all(root);
   const Study s = loadStudy(test::sourcePath(kStudy));
   REQUIRE(stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->size() == 1);
-  const tracking::TrackingEntry& e = stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
+  const tracking::TrackingEntry& e =
+      stageSettings<std::vector<tracking::TrackingEntry>>(s, "tracking")->at(0);
   const Model& m = studyModel(s, e.design);
   const RunSummary a = runStudy(s, runOptions(root / "a", 2));
   const fs::path out = fs::path(a.output_dir) / "tracking";
@@ -334,7 +337,8 @@ safety_distance = "50 mm"
   };
   const Study free = loadStudy(writeStudy(dir, withDesign("final_prototype_7dof")).string());
   const Model& m = studyModel(free, "final_prototype_7dof");
-  const tracking::EntryResult r0 = tracking::evaluateTrackingEntry(m, stageSettings<std::vector<tracking::TrackingEntry>>(free, "tracking")->at(0));
+  const tracking::EntryResult r0 = tracking::evaluateTrackingEntry(
+      m, stageSettings<std::vector<tracking::TrackingEntry>>(free, "tracking")->at(0));
   REQUIRE(r0.plain.completed());
   CHECK(r0.plain.collisionFree());  // no obstacles here: self distances only
   CHECK(std::isinf(r0.plain.min_obstacle_distance_m));
@@ -349,8 +353,9 @@ safety_distance = "50 mm"
     << " }\n";
   const std::string variant = variantName("final_prototype_7dof", {{key, limit}});
   const Study lim = loadStudy(writeStudy(dir, v.str() + withDesign(variant)).string());
-  const tracking::EntryResult r1 =
-      tracking::evaluateTrackingEntry(studyModel(lim, variant), stageSettings<std::vector<tracking::TrackingEntry>>(lim, "tracking")->at(0));
+  const tracking::EntryResult r1 = tracking::evaluateTrackingEntry(
+      studyModel(lim, variant),
+      stageSettings<std::vector<tracking::TrackingEntry>>(lim, "tracking")->at(0));
   CHECK(r1.plain.status == ik::TrackingStatus::JointLimitReached);
   CHECK(r1.plain.limit_joint == 1);
   CHECK(r1.plain.statusText(m) == "joint_limit_reached (j2)");

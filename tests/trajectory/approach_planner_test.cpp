@@ -9,8 +9,8 @@
 #include <numbers>
 
 #include "common/errors.hpp"
-#include "test_support.hpp"
 #include "io/approach_io.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::test;

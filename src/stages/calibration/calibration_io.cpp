@@ -2,14 +2,14 @@
 // Everything is checked here, before any work: a study that loads runs without input errors
 // (except a data file too short for the fit, which the engine reports when the stage runs).
 #include <cctype>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 
-#include "stages/calibration/calibration_stage.hpp"
 #include "io/csv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "stages/calibration/calibration_stage.hpp"
 
 namespace armstudy::calibration {
 
@@ -40,9 +40,9 @@ void rejectKey(TableReader& r, const std::string& key, const std::string& why) {
   if (r.has(key)) r.fail(key, why);
 }
 
-
 // "<number> <unit>" with the unit one of `units` (name, factor to SI); the unit is required.
-double quantityIn(TableReader& r, const std::string& key, const std::vector<std::pair<std::string, double>>& units) {
+double quantityIn(TableReader& r, const std::string& key,
+                  const std::vector<std::pair<std::string, double>>& units) {
   std::string names;
   for (const auto& u : units) names += (names.empty() ? "" : ", ") + u.first;
   const toml::node* n = r.node(key);
@@ -64,7 +64,8 @@ double quantityIn(TableReader& r, const std::string& key, const std::vector<std:
 }
 
 // A column list: header names, or 1-based column numbers looked up in the file's header line.
-std::vector<std::string> readColumns(TableReader& r, const std::string& key, const std::string& path) {
+std::vector<std::string> readColumns(TableReader& r, const std::string& key,
+                                     const std::string& path) {
   const toml::array* a = r.array(key);
   if (!a) r.fail(key, "missing '" + key + "' (the column names or 1-based numbers, one per joint)");
   std::vector<std::string> header;
@@ -78,40 +79,50 @@ std::vector<std::string> readColumns(TableReader& r, const std::string& key, con
     if (header.empty()) {
       std::ifstream in(path);
       std::string line;
-      while (std::getline(in, line) && (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#')) {
+      while (std::getline(in, line) &&
+             (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#')) {
       }
       const auto lines = io::splitCsvLines(line);
       if (!lines.empty()) header = lines.front().cells;
     }
     const long long c = n.as_integer()->get();
     if (c < 1 || c > static_cast<long long>(header.size()))
-      r.fail(key, "column " + std::to_string(c) + " does not exist (" + path + " has " + std::to_string(header.size()) +
-                      " columns)");
+      r.fail(key, "column " + std::to_string(c) + " does not exist (" + path + " has " +
+                      std::to_string(header.size()) + " columns)");
     out.push_back(header[static_cast<std::size_t>(c - 1)]);
   }
   return out;
 }
 
-LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& dir, bool positions) {
+LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& dir,
+                        bool positions) {
   TableReader r = m.requiredTable(key, " (file, columns and unit of the logged " + key + ")");
   LogFile f;
   const std::string file = r.string("file");
   f.path = (fs::path(file).is_absolute() ? fs::path(file) : dir / file).lexically_normal().string();
-  if (!fs::is_regular_file(f.path)) r.fail("file", "log file '" + file + "' does not exist (looked for " + f.path + ")");
+  if (!fs::is_regular_file(f.path))
+    r.fail("file", "log file '" + file + "' does not exist (looked for " + f.path + ")");
   f.columns = readColumns(r, "columns", f.path);
-  if (!r.has("unit")) r.fail("unit", std::string("missing 'unit' of the logged ") + key +
-                                        (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  if (!r.has("unit"))
+    r.fail("unit", std::string("missing 'unit' of the logged ") + key +
+                       (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
   const std::string unit = r.string("unit");
   const std::vector<std::pair<std::string, double>> units =
-      positions ? std::vector<std::pair<std::string, double>>{{"rad", 1.0}, {"deg", M_PI / 180}, {"m", 1.0}, {"mm", 1e-3}}
-                : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}};
+      positions
+          ? std::vector<std::pair<std::string, double>>{{"rad", 1.0},
+                                                        {"deg", M_PI / 180},
+                                                        {"m", 1.0},
+                                                        {"mm", 1e-3}}
+          : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}};
   bool known = false;
   for (const auto& u : units)
     if (u.first == unit) {
       f.scale = u.second;
       known = true;
     }
-  if (!known) r.fail("unit", "unknown unit '" + unit + "'" + (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  if (!known)
+    r.fail("unit",
+           "unknown unit '" + unit + "'" + (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
   r.finish();
   return f;
 }
@@ -121,13 +132,16 @@ LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& 
 Eigen::MatrixXd readCoupling(TableReader& r, const std::vector<std::string>& joints) {
   const auto n = static_cast<Eigen::Index>(joints.size());
   if (r.has("coupling_matrix")) {
-    if (r.has("ratios") || r.has("coupling")) r.fail("coupling_matrix", "give either coupling_matrix or ratios (+ coupling)");
+    if (r.has("ratios") || r.has("coupling"))
+      r.fail("coupling_matrix", "give either coupling_matrix or ratios (+ coupling)");
     const toml::array* rows = r.array("coupling_matrix");
     Eigen::MatrixXd R(n, n);
-    if (!rows || static_cast<Eigen::Index>(rows->size()) != n) r.fail("coupling_matrix", "one row per joint");
+    if (!rows || static_cast<Eigen::Index>(rows->size()) != n)
+      r.fail("coupling_matrix", "one row per joint");
     for (Eigen::Index i = 0; i < n; ++i) {
       const toml::array* row = (*rows)[static_cast<std::size_t>(i)].as_array();
-      if (!row || static_cast<Eigen::Index>(row->size()) != n) r.fail("coupling_matrix", "one column per joint");
+      if (!row || static_cast<Eigen::Index>(row->size()) != n)
+        r.fail("coupling_matrix", "one column per joint");
       for (Eigen::Index j = 0; j < n; ++j) {
         const auto v = (*row)[static_cast<std::size_t>(j)].value<double>();
         if (!v || !std::isfinite(*v)) r.fail("coupling_matrix", "entries are numbers");
@@ -137,7 +151,8 @@ Eigen::MatrixXd readCoupling(TableReader& r, const std::vector<std::string>& joi
     return R;
   }
   const std::vector<double> ratios = r.numberArray("ratios");
-  if (static_cast<Eigen::Index>(ratios.size()) != n) r.fail("ratios", "one reduction ratio per joint");
+  if (static_cast<Eigen::Index>(ratios.size()) != n)
+    r.fail("ratios", "one reduction ratio per joint");
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, n);
   for (Eigen::Index i = 0; i < n; ++i) R(i, i) = ratios[static_cast<std::size_t>(i)];
   auto index = [&](TableReader& c, const std::string& key) {
@@ -184,10 +199,12 @@ JointLogSpec readMeasured(TableReader& e, const fs::path& dir) {
   if (const toml::array* a = r.array("offsets")) {
     if (static_cast<Eigen::Index>(a->size()) != n) r.fail("offsets", "one offset per joint");
     for (Eigen::Index j = 0; j < n; ++j)
-      s.offsets[j] = io::nodeQuantity((*a)[static_cast<std::size_t>(j)], Dimension::Angle, r.file(), r.keyPath("offsets"));
+      s.offsets[j] = io::nodeQuantity((*a)[static_cast<std::size_t>(j)], Dimension::Angle, r.file(),
+                                      r.keyPath("offsets"));
   }
   s.friction_width_fraction = r.number("friction_width", defaults::kFrictionWidthFraction);
-  if (!(s.friction_width_fraction > 0)) r.fail("friction_width", "the friction width fraction must be positive");
+  if (!(s.friction_width_fraction > 0))
+    r.fail("friction_width", "the friction width fraction must be positive");
   TableReader f = r.requiredTable("filter", " (cutoff, and optionally order, decimate, trim)");
   s.cutoff_Hz = quantityIn(f, "cutoff", {{"Hz", 1.0}, {"kHz", 1e3}});
   s.filter_order = f.integerIn("order", 2, 2, 8);
@@ -227,13 +244,16 @@ ReferenceValues readReference(TableReader& e, const std::vector<std::string>& jo
   return ref;
 }
 
-CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vector<const Model*>& designs) {
+CalibrationEntry readEntry(TableReader& r, const fs::path& dir,
+                           const std::vector<const Model*>& designs) {
   CalibrationEntry e;
   e.name = r.string("name");
   if (!validName(e.name))
-    r.fail("name", "calibration names use letters, digits, '_' and '-' only (they name the output folder)");
+    r.fail("name",
+           "calibration names use letters, digits, '_' and '-' only (they name the output folder)");
   e.kind = r.string("kind");
-  if (!isKind(e.kind)) r.fail("kind", "unknown kind '" + e.kind + "' (expected drive, tcp or trajectory)");
+  if (!isKind(e.kind))
+    r.fail("kind", "unknown kind '" + e.kind + "' (expected drive, tcp or trajectory)");
   e.design = r.string("design");
   const Model* model = nullptr;
   for (const Model* m : designs)
@@ -245,7 +265,8 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
   }
 
   const std::string mode = r.string("mode", "fit");
-  if (mode != "fit" && mode != "compare") r.fail("mode", "unknown mode '" + mode + "' (expected fit or compare)");
+  if (mode != "fit" && mode != "compare")
+    r.fail("mode", "unknown mode '" + mode + "' (expected fit or compare)");
   e.fit = mode == "fit";
   const bool auto_add = r.boolean("auto", false);
   std::vector<std::string> add;
@@ -264,10 +285,12 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
 
   if (e.kind == "drive") {
     e.joint = r.string("drive");
-    if (model->jointIndex(e.joint) < 0) r.fail("drive", "design '" + model->name + "' has no joint '" + e.joint + "'");
+    if (model->jointIndex(e.joint) < 0)
+      r.fail("drive", "design '" + model->name + "' has no joint '" + e.joint + "'");
     bool has_drive = false;
     for (const Drive& d : model->drives) has_drive = has_drive || d.joint == e.joint;
-    if (!has_drive) r.fail("drive", "design '" + model->name + "' has no [[drive]] for joint '" + e.joint + "'");
+    if (!has_drive)
+      r.fail("drive", "design '" + model->name + "' has no [[drive]] for joint '" + e.joint + "'");
     for (const char* k : {"variable_bins", "workspace_bins"})
       rejectKey(r, k, std::string("'") + k + "' belongs to the tcp and trajectory kinds");
     DriveFitOptions& o = e.drive_options;
@@ -276,11 +299,14 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
     o.auto_add = auto_add;
     o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, kMaxBins);
     o.load_bins = readCount(r, "load_bins", o.load_bins, 1, kMaxBins);
-    for (const std::string& n : add) o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
+    for (const std::string& n : add)
+      o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
     ARMSTUDY_CHECK(o.validate().empty(), "calibration drive options were checked one by one");
   } else {
-    rejectKey(r, "drive", "'drive' belongs to kind = \"drive\"; the " + e.kind + " kind uses every joint");
-    for (const char* k : {"speed_bins", "load_bins"}) rejectKey(r, k, std::string("'") + k + "' belongs to the drive kind");
+    rejectKey(r, "drive",
+              "'drive' belongs to kind = \"drive\"; the " + e.kind + " kind uses every joint");
+    for (const char* k : {"speed_bins", "load_bins"})
+      rejectKey(r, k, std::string("'") + k + "' belongs to the drive kind");
     ArmFitOptions& o = e.arm_options;
     o.folds = folds;
     o.seed = seed;
@@ -293,16 +319,20 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
 
   std::optional<JointLogSpec> log;
   if (r.has("measured")) {
-    if (e.kind != "trajectory") r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
-    if (r.has("data")) r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
+    if (e.kind != "trajectory")
+      r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
+    if (r.has("data"))
+      r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
     log = readMeasured(r, dir);
     e.reference = readReference(r, log->joints);
     e.data_file = log->positions.path;
   } else {
     const std::string data = r.string("data");
-    const fs::path resolved = (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
+    const fs::path resolved =
+        (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
     if (!fs::is_regular_file(resolved))
-      r.fail("data", "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
+      r.fail("data",
+             "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
     e.data_file = resolved.string();
   }
   r.finish();
@@ -325,12 +355,14 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir, const std::vecto
         if (P->findEffect(n) < 0) {
           std::string names;
           for (const ArmEffect& c : P->catalogue) names += (names.empty() ? "" : ", ") + c.name;
-          r.fail("add", "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
+          r.fail("add",
+                 "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
         }
       for (const auto& [key, v] : e.reference.values)
         if (P->findEffect(key) < 0)
           throw InputError(r.file(), e.reference.line, key,
-                           "reference value for '" + key + "', which is no candidate effect of this design and data");
+                           "reference value for '" + key +
+                               "', which is no candidate effect of this design and data");
     }
   }
   return e;

@@ -1,7 +1,5 @@
 #include "stages/calibration/calibration_stage.hpp"
 
-#include "calibration/identification_report.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 #include <sstream>
 
 #include "calibration/drive_report.hpp"
+#include "calibration/identification_report.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "io/design_io.hpp"
@@ -70,8 +69,8 @@ std::string variantDesignText(const StudyDesign& d, const std::string& name) {
     const std::string head = key.substr(0, dot);
     if (head == "joint") {
       const auto dot2 = key.find('.', dot + 1);
-      text = setDesignEntry(text, "[[joint]]", "name", key.substr(dot + 1, dot2 - dot - 1), key.substr(dot2 + 1),
-                            num(value));
+      text = setDesignEntry(text, "[[joint]]", "name", key.substr(dot + 1, dot2 - dot - 1),
+                            key.substr(dot2 + 1), num(value));
     } else {
       text = setDesignEntry(text, "[" + head + "]", "", "", key.substr(dot + 1), num(value));
     }
@@ -79,25 +78,30 @@ std::string variantDesignText(const StudyDesign& d, const std::string& name) {
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + name + "\"");
   // setDesignEntry marks the lines it writes "# calibrated"; here they are variant overrides.
   std::istringstream is(text);
-  std::string out = "# Study variant '" + d.model.name + "' of " + d.model.file + " (armstudy [[calibration]] stage).\n";
+  std::string out = "# Study variant '" + d.model.name + "' of " + d.model.file +
+                    " (armstudy [[calibration]] stage).\n";
   const std::string mark = "   # calibrated";
   for (std::string l; std::getline(is, l);) {
-    if (!base_lines.count(l) && l.size() > mark.size() && l.compare(l.size() - mark.size(), mark.size(), mark) == 0)
+    if (!base_lines.count(l) && l.size() > mark.size() &&
+        l.compare(l.size() - mark.size(), mark.size(), mark) == 0)
       l = l.substr(0, l.size() - mark.size()) + "   # study variant";
     out += l + "\n";
   }
   const Model back = parseDesign(out, name + ".toml");
   const Model& v = d.model;
-  bool same = back.dof() == v.dof() && std::abs(back.payload_kg - v.payload_kg) < kRoundTripTolerance;
+  bool same =
+      back.dof() == v.dof() && std::abs(back.payload_kg - v.payload_kg) < kRoundTripTolerance;
   auto samePose = [](const PoseXYZABG& a, const PoseXYZABG& b) {
-    return std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.z - b.z) + std::abs(a.alpha - b.alpha) +
-               std::abs(a.beta - b.beta) + std::abs(a.gamma - b.gamma) <
+    return std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.z - b.z) +
+               std::abs(a.alpha - b.alpha) + std::abs(a.beta - b.beta) +
+               std::abs(a.gamma - b.gamma) <
            kRoundTripTolerance;
   };
   same = same && samePose(back.tcp, v.tcp) && samePose(back.base, v.base);
   for (int i = 0; same && i < v.dof(); ++i) {
     const Joint &a = back.joints[i], &b = v.joints[i];
-    same = samePose(a.offset, b.offset) && std::abs(a.limits.q_min - b.limits.q_min) < kRoundTripTolerance &&
+    same = samePose(a.offset, b.offset) &&
+           std::abs(a.limits.q_min - b.limits.q_min) < kRoundTripTolerance &&
            std::abs(a.limits.q_max - b.limits.q_max) < kRoundTripTolerance &&
            std::abs(a.limits.qd_max - b.limits.qd_max) < kRoundTripTolerance;
   }
@@ -112,9 +116,9 @@ std::string variantDesignText(const StudyDesign& d, const std::string& name) {
 struct Work {
   const CalibrationEntry* entry = nullptr;
   const StudyDesign* design = nullptr;
-  Model model;                  // the design as evaluated (variants: file = the written variant text)
-  std::string variant_text;     // variants only
-  std::string folder;           // <output>/calibration/<name>
+  Model model;               // the design as evaluated (variants: file = the written variant text)
+  std::string variant_text;  // variants only
+  std::string folder;        // <output>/calibration/<name>
   std::optional<DriveDiagnosis> drive;
   std::unique_ptr<ArmProblem> problem;
   std::optional<ArmDiagnosis> arm;
@@ -171,7 +175,8 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
     s.as_designed_rmse = d.as_designed_cmp.current.rmse;
     s.as_designed_flagged = d.as_designed_cmp.map.flagged();
     s.bins = static_cast<int>(d.as_designed_cmp.map.bins.size());
-    for (const ModelFit& m : d.ladder) s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+    for (const ModelFit& m : d.ladder)
+      s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
     for (const EffectInfo& info : driveEffectCatalogue()) {
       s.catalogue.push_back(info.name);
       bool sig = false;
@@ -186,7 +191,8 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
       s.rmse_after = d.rmse_after;
       s.final_params = d.final_fit.params;
       cal_path = rs.calibrated_design_path;
-      if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty()) s.notes.push_back(why);
+      if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty())
+        s.notes.push_back(why);
     }
     if (e.fit && !cal_path.empty()) {
       // The calibrated copy as written, read back and compared with the same data.
@@ -210,7 +216,8 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
         IdentificationInput in;
         in.reference_source = e.reference.source;
         in.reference = e.reference.values;
-        const IdentificationReport ir = identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
+        const IdentificationReport ir =
+            identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
         extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
         s.extra_metrics = ir.metrics;
       }
@@ -225,11 +232,13 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
     s.as_designed_rmse = d.as_designed.train_rmse;
     s.as_designed_flagged = d.as_designed_map.flagged();
     s.bins = static_cast<int>(d.as_designed_map.bins.size());
-    for (const ArmFit& m : d.ladder) s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+    for (const ArmFit& m : d.ladder)
+      s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
     for (std::size_t k = 0; k < P.catalogue.size(); ++k) {
       s.catalogue.push_back(P.catalogue[k].name);
       bool sig = false;
-      for (const ArmCandidate& c : d.ranking) sig = sig || (c.effect == static_cast<int>(k) && c.significant);
+      for (const ArmCandidate& c : d.ranking)
+        sig = sig || (c.effect == static_cast<int>(k) && c.significant);
       s.significant.push_back(sig ? 1 : 0);
     }
     s.added = d.added;
@@ -286,7 +295,8 @@ std::optional<EntrySummary> resumeEntry(const std::string& bytes, const std::str
     if (h.size() != s.files.size()) return std::nullopt;
     for (const std::string& f : s.files) {
       const fs::path p = fs::path(output_dir) / f;
-      if (!fs::is_regular_file(p) || fileHash(p.string()) != h.at(f).get<std::string>()) return std::nullopt;
+      if (!fs::is_regular_file(p) || fileHash(p.string()) != h.at(f).get<std::string>())
+        return std::nullopt;
     }
     return s;
   } catch (const std::exception&) {
@@ -310,7 +320,8 @@ void addMetrics(const EntrySummary& s, StudyMetrics& M) {
   M.scalars[p + "calibrated_flagged_bins"] = s.calibrated_flagged;
   for (std::size_t k = 0; k < s.ladder.size(); ++k)
     M.scalars[p + "ladder/" + std::to_string(k) + "/heldout_rmse"] = s.ladder[k].heldout_rmse;
-  for (std::size_t k = 0; k < s.added.size(); ++k) M.scalars[p + "added/" + s.added[k]] = static_cast<double>(k + 1);
+  for (std::size_t k = 0; k < s.added.size(); ++k)
+    M.scalars[p + "added/" + s.added[k]] = static_cast<double>(k + 1);
   for (const FittedParameter& f : s.final_params) M.scalars[p + "param/" + f.key] = f.value;
   for (const auto& [k, v] : s.extra_metrics) M.scalars[p + k] = v;
   std::vector<std::uint8_t> added(s.catalogue.size(), 0);
@@ -329,50 +340,62 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
   std::ostringstream md;
   md << "# Model versus measurement: " << study << "\n\n"
      << "Each entry compares a design's model with measured data, ranks the candidate effects that "
-        "could be missing by cross-validated error, adds them as asked, writes a calibrated copy of "
+        "could be missing by cross-validated error, adds them as asked, writes a calibrated copy "
+        "of "
         "the design and compares that copy with the same data (docs/calibration.md, \"As a study "
         "stage\"). RMSE in the unit of each entry; held-out = k-fold cross-validation.\n\n";
   for (const EntrySummary& s : entries) {
     md << "## " << s.name << "\n\n"
-       << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `" << s.design
-       << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode << ". Noise estimate "
-       << g4(s.noise_estimate) << " " << s.unit << "; as designed RMSE " << g4(s.as_designed_rmse) << " " << s.unit
-       << ", flagged bins " << s.as_designed_flagged << " of " << s.bins << ".\n\n";
+       << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `"
+       << s.design << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode
+       << ". Noise estimate " << g4(s.noise_estimate) << " " << s.unit << "; as designed RMSE "
+       << g4(s.as_designed_rmse) << " " << s.unit << ", flagged bins " << s.as_designed_flagged
+       << " of " << s.bins << ".\n\n";
     std::vector<std::vector<std::string>> rows;
     for (const LadderStep& l : s.ladder)
       rows.push_back({l.label, std::to_string(l.n_params), g4(l.train_rmse), g4(l.heldout_rmse)});
-    md << report::markdownTable({"model", ">params", ">train RMSE [" + s.unit + "]", ">held-out RMSE [" + s.unit + "]"},
+    md << report::markdownTable({"model", ">params", ">train RMSE [" + s.unit + "]",
+                                 ">held-out RMSE [" + s.unit + "]"},
                                 rows)
        << "\n";
     if (s.mode == "fit") {
       std::string added;
       for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + a;
-      md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added) << ". Held-out RMSE "
-         << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
-      if (s.rmse_after > 0 && !s.added.empty()) md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
+      md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added)
+         << ". Held-out RMSE " << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
+      if (s.rmse_after > 0 && !s.added.empty())
+        md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
       if (s.calibrated_design.empty()) {
         md << ". No calibrated copy";
         for (const auto& n : s.notes) md << "; " << n;
         md << ".\n\n";
       } else {
-        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design << "` against the same data: RMSE "
-           << g4(s.calibrated_rmse) << " " << s.unit << ", flagged bins " << s.calibrated_flagged << " of "
-           << s.bins << " (as designed: " << s.as_designed_flagged << ").\n\n";
+        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design
+           << "` against the same data: RMSE " << g4(s.calibrated_rmse) << " " << s.unit
+           << ", flagged bins " << s.calibrated_flagged << " of " << s.bins
+           << " (as designed: " << s.as_designed_flagged << ").\n\n";
       }
       if (!s.extra_metrics.empty())
-        md << "Per joint (held out by time block), the fitted values beside the reference and the friction "
-              "coefficients over the smooth-sign width: `" << s.name << "/identification.md`; residuals before and "
-              "after on one scale: `" << s.name << "/residuals_before_after.svg`.\n\n";
+        md << "Per joint (held out by time block), the fitted values beside the reference and the "
+              "friction "
+              "coefficients over the smooth-sign width: `"
+           << s.name
+           << "/identification.md`; residuals before and "
+              "after on one scale: `"
+           << s.name << "/residuals_before_after.svg`.\n\n";
       std::vector<std::vector<std::string>> prow;
       for (const FittedParameter& f : s.final_params)
-        prow.push_back({f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
+        prow.push_back(
+            {f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
       if (!prow.empty())
-        md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow) << "\n";
+        md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow)
+           << "\n";
     }
     for (const auto& n : s.notes) md << "Note: " << n << "\n\n";
     for (const auto& x : s.warnings) md << "Warning: " << x << "\n\n";
     md << "Reports: `" << s.name << "/result.json`, plots in `" << s.name << "/plots/`"
-       << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`" : std::string())
+       << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
+                           : std::string())
        << ".\n\n";
   }
   return md.str();
@@ -382,18 +405,21 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
 // were added, and how far the held-out error fell; or its verdict when nothing was added.
 std::string entryAnswer(const EntrySummary& e) {
   std::string a = "`" + e.name + "` (" + e.kind + ", `" + e.design + "`): ";
-  if (e.added.empty() || !std::isfinite(e.rmse_before) || !std::isfinite(e.rmse_after)) return a + e.verdict;
-  for (std::size_t k = 0; k < e.added.size() && k < 4; ++k) a += (k ? ", " : "adding ") + e.added[k];
+  if (e.added.empty() || !std::isfinite(e.rmse_before) || !std::isfinite(e.rmse_after))
+    return a + e.verdict;
+  for (std::size_t k = 0; k < e.added.size() && k < 4; ++k)
+    a += (k ? ", " : "adding ") + e.added[k];
   if (e.added.size() > 4) a += " and " + std::to_string(e.added.size() - 4) + " more";
-  a += " lowers the held-out RMSE from " + formatG(e.rmse_before, 3) + " to " + formatG(e.rmse_after, 3) + " " + e.unit;
+  a += " lowers the held-out RMSE from " + formatG(e.rmse_before, 3) + " to " +
+       formatG(e.rmse_after, 3) + " " + e.unit;
   if (e.rmse_after > 0) a += " (" + formatG(e.rmse_before / e.rmse_after, 3) + "x lower)";
   return a + ".";
 }
 
 }  // namespace
 
-
-StageResult runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries,
+StageResult runCalibrationStage(const StageContext& ctx,
+                                const std::vector<CalibrationEntry>& entries,
                                 std::vector<EntrySummary>* results) {
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;
@@ -407,7 +433,8 @@ StageResult runCalibrationStage(const StageContext& ctx, const std::vector<Calib
     w.entry = &entries[i];
     for (const StudyDesign& d : ctx.study.designs)
       if (d.model.name == entries[i].design) w.design = &d;
-    ARMSTUDY_CHECK(w.design, "calibration entry '" + entries[i].name + "' names a design the study has");
+    ARMSTUDY_CHECK(w.design,
+                   "calibration entry '" + entries[i].name + "' names a design the study has");
     w.folder = dir + "/" + entries[i].name;
     w.model = w.design->model;
     if (!w.design->overrides.empty()) {

@@ -55,13 +55,13 @@ struct ReferenceValues {
 
 struct CalibrationEntry {
   std::string name;
-  std::string kind;       // drive | tcp | trajectory
-  std::string design;     // model name of a study design or variant
-  std::string data_file;  // resolved path of the data CSV
-  std::string joint;      // drive kind: the measured drive's joint
-  bool fit = true;        // false: compare only
-  DriveFitOptions drive_options;  // drive kind
-  ArmFitOptions arm_options;      // tcp and trajectory kinds
+  std::string kind;                             // drive | tcp | trajectory
+  std::string design;                           // model name of a study design or variant
+  std::string data_file;                        // resolved path of the data CSV
+  std::string joint;                            // drive kind: the measured drive's joint
+  bool fit = true;                              // false: compare only
+  DriveFitOptions drive_options;                // drive kind
+  ArmFitOptions arm_options;                    // tcp and trajectory kinds
   std::shared_ptr<const DriveData> drive_data;  // drive kind, read when the study loads
   ArmData arm_data;                             // tcp and trajectory kinds
   std::shared_ptr<const JointLogSpec> log;      // trajectory data from [calibration.measured]
@@ -101,20 +101,22 @@ struct EntrySummary {
   double calibrated_rmse = 0;     // all rows
   int calibrated_flagged = 0;
   std::vector<std::string> files;  // relative to the study output folder
-  // Measured logs: the identification report's numbers (per-joint ladder, fitted values, width sweep).
+  // Measured logs: the identification report's numbers (per-joint ladder, fitted values, width
+  // sweep).
   std::vector<std::pair<std::string, double>> extra_metrics;
 };
 
 std::string entrySummaryToJson(const EntrySummary& s);
 EntrySummary entrySummaryFromJson(const std::string& json);  // throws std::exception when malformed
 
-
 // Runs every entry (OpenMP over entries; each entry is sequential, so results do not depend on the
 // thread count) and writes under <output_dir>/calibration/: per entry <name>/ (the fit or compare
-// report), <name>/calibrated/ (fit: the compare report of the calibrated copy), <name>/summary.json;
-// then report.md and summary.json. Metrics "calibration/<name>/...". With `results`, the entries'
-// summaries go there (tests). Each entry is one work unit (id calibration-<name>).
-StageResult runCalibrationStage(const StageContext& ctx, const std::vector<CalibrationEntry>& entries,
+// report), <name>/calibrated/ (fit: the compare report of the calibrated copy),
+// <name>/summary.json; then report.md and summary.json. Metrics "calibration/<name>/...". With
+// `results`, the entries' summaries go there (tests). Each entry is one work unit (id
+// calibration-<name>).
+StageResult runCalibrationStage(const StageContext& ctx,
+                                const std::vector<CalibrationEntry>& entries,
                                 std::vector<EntrySummary>* results = nullptr);
 
 }  // namespace calibration

@@ -1,14 +1,13 @@
-#include "stages/calibration/calibration_stage.hpp"
-
 #include <cmath>
 #include <nlohmann/json.hpp>
+
+#include "stages/calibration/calibration_stage.hpp"
 
 namespace armstudy::calibration {
 
 using nlohmann::ordered_json;
 
 namespace {
-
 
 // ---------------------------------------------------------------------------------------------
 // Summary <-> JSON
@@ -29,7 +28,9 @@ std::string entrySummaryToJson(const EntrySummary& s) {
   j["mode"] = s.mode;
   j["unit"] = s.unit;
   j["noise_estimate"] = finite(s.noise_estimate);
-  j["as_designed"] = {{"rmse", finite(s.as_designed_rmse)}, {"flagged_bins", s.as_designed_flagged}, {"bins", s.bins}};
+  j["as_designed"] = {{"rmse", finite(s.as_designed_rmse)},
+                      {"flagged_bins", s.as_designed_flagged},
+                      {"bins", s.bins}};
   ordered_json ladder = ordered_json::array();
   for (const LadderStep& l : s.ladder)
     ladder.push_back({{"label", l.label},
@@ -83,8 +84,8 @@ EntrySummary entrySummaryFromJson(const std::string& text) {
   s.as_designed_flagged = j.at("as_designed").at("flagged_bins").get<int>();
   s.bins = j.at("as_designed").at("bins").get<int>();
   for (const auto& l : j.at("ladder"))
-    s.ladder.push_back({l.at("label").get<std::string>(), l.at("n_params").get<int>(), number(l.at("train_rmse")),
-                        number(l.at("heldout_rmse"))});
+    s.ladder.push_back({l.at("label").get<std::string>(), l.at("n_params").get<int>(),
+                        number(l.at("train_rmse")), number(l.at("heldout_rmse"))});
   for (const auto& c : j.at("candidates")) {
     s.catalogue.push_back(c.at("effect").get<std::string>());
     s.significant.push_back(c.at("significant").get<bool>() ? 1 : 0);
@@ -110,7 +111,8 @@ EntrySummary entrySummaryFromJson(const std::string& text) {
   s.warnings = j.at("warnings").get<std::vector<std::string>>();
   s.files = j.at("files").get<std::vector<std::string>>();
   if (j.contains("identification"))
-    for (const auto& [k, v] : j.at("identification").items()) s.extra_metrics.emplace_back(k, number(v));
+    for (const auto& [k, v] : j.at("identification").items())
+      s.extra_metrics.emplace_back(k, number(v));
   return s;
 }
 

@@ -23,7 +23,8 @@ AxisRange readRange(io::TableReader& parent, const std::string& key, Dimension d
   a.min = r.quantity("min", dim);
   a.max = r.quantity("max", dim);
   if (r.has("step") == r.has("count")) r.fail("step", "give exactly one of `step` and `count`");
-  if (!(a.max > a.min)) r.fail("max", "max must be greater than min (or use `value` for a single sample)");
+  if (!(a.max > a.min))
+    r.fail("max", "max must be greater than min (or use `value` for a single sample)");
   if (r.has("step")) {
     const double step = r.quantity("step", dim);
     if (!(step > 0)) r.fail("step", "step must be > 0");
@@ -67,14 +68,20 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   g.radius_m = r.quantity("radius", Dimension::Length);
   if (!(g.radius_m > 0)) r.fail("radius", "stem radius must be > 0");
   g.gamma_rad = readRange(r, "gamma", Dimension::Angle);
-  if (g.gamma_rad.max - g.gamma_rad.min > 2 * M_PI + 1e-9) r.fail("gamma", "gamma range exceeds a full turn");
+  if (g.gamma_rad.max - g.gamma_rad.min > 2 * M_PI + 1e-9)
+    r.fail("gamma", "gamma range exceeds a full turn");
   g.z_m = readRange(r, "z", Dimension::Length);
   const std::string task = r.string("task", "position_axis");
-  if (task == "position_axis") g.task = ik::PoseTaskKind::PositionAxis;
-  else if (task == "full") g.task = ik::PoseTaskKind::FullPose;
-  else r.fail("task", "expected \"position_axis\" (tool axis towards the stem, roll free) or \"full\"");
+  if (task == "position_axis")
+    g.task = ik::PoseTaskKind::PositionAxis;
+  else if (task == "full")
+    g.task = ik::PoseTaskKind::FullPose;
+  else
+    r.fail("task",
+           "expected \"position_axis\" (tool axis towards the stem, roll free) or \"full\"");
   g.roll_rad = r.quantity("roll", Dimension::Angle, 0.0);
-  if (r.has("roll") && g.task != ik::PoseTaskKind::FullPose) r.fail("roll", "roll is only used with task = \"full\"");
+  if (r.has("roll") && g.task != ik::PoseTaskKind::FullPose)
+    r.fail("roll", "roll is only used with task = \"full\"");
   const std::string space = r.string("measure_space", "translational");
   if (!metrics::parseMeasureSpace(space, o.measure_space))
     r.fail("measure_space", "expected \"translational\" or \"full\"");
@@ -86,12 +93,14 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     o.direction_W = Eigen::Vector3d(d[0], d[1], d[2]);
     const double nrm = o.direction_W.norm();
     if (!std::isfinite(nrm) || nrm == 0) r.fail("direction", "direction u has zero length");
-    if (std::abs(nrm - 1.0) > 1e-6) r.fail("direction", "direction u must be a unit vector (length " + std::to_string(nrm) + ")");
+    if (std::abs(nrm - 1.0) > 1e-6)
+      r.fail("direction", "direction u must be a unit vector (length " + std::to_string(nrm) + ")");
   }
   if (const toml::table* t = r.table("objective")) {
     io::TableReader ob(*t, r.file(), r.keyPath("objective"));
     o.w_joint_limits = nonNegative(ob, "joint_limits", o.w_joint_limits, Dimension::Dimensionless);
-    o.w_manipulability = nonNegative(ob, "manipulability", o.w_manipulability, Dimension::Dimensionless);
+    o.w_manipulability =
+        nonNegative(ob, "manipulability", o.w_manipulability, Dimension::Dimensionless);
     o.w_transmission = nonNegative(ob, "transmission", o.w_transmission, Dimension::Dimensionless);
     if (ob.has("joint_limit_activation")) {
       o.joint_limit_activation = ob.quantity("joint_limit_activation", Dimension::Dimensionless);
@@ -107,15 +116,20 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
       for (double w : o.joint_weights)
         if (!(w > 0)) sv.fail("joint_weights", "joint weights must be > 0");
     }
-    o.position_tolerance_m = positive(sv, "position_tolerance", o.position_tolerance_m, Dimension::Length);
-    o.orientation_tolerance_rad = positive(sv, "orientation_tolerance", o.orientation_tolerance_rad, Dimension::Angle);
+    o.position_tolerance_m =
+        positive(sv, "position_tolerance", o.position_tolerance_m, Dimension::Length);
+    o.orientation_tolerance_rad =
+        positive(sv, "orientation_tolerance", o.orientation_tolerance_rad, Dimension::Angle);
     o.cold_starts = sv.integerIn("cold_starts", o.cold_starts, 1, 1000);
     o.solve.max_iterations = sv.integerIn("max_iterations", o.solve.max_iterations, 1, 100000);
-    o.nullspace.max_iterations = sv.integerIn("nullspace_max_iterations", o.nullspace.max_iterations, 0, 100000);
-    o.nullspace.relative_improvement =
-        nonNegative(sv, "relative_improvement", o.nullspace.relative_improvement, Dimension::Dimensionless);
-    o.nullspace.damping_lambda0 = nonNegative(sv, "damping", o.nullspace.damping_lambda0, Dimension::Dimensionless);
-    o.nullspace.damping_m0 = nonNegative(sv, "damping_threshold", o.nullspace.damping_m0, Dimension::Dimensionless);
+    o.nullspace.max_iterations =
+        sv.integerIn("nullspace_max_iterations", o.nullspace.max_iterations, 0, 100000);
+    o.nullspace.relative_improvement = nonNegative(
+        sv, "relative_improvement", o.nullspace.relative_improvement, Dimension::Dimensionless);
+    o.nullspace.damping_lambda0 =
+        nonNegative(sv, "damping", o.nullspace.damping_lambda0, Dimension::Dimensionless);
+    o.nullspace.damping_m0 =
+        nonNegative(sv, "damping_threshold", o.nullspace.damping_m0, Dimension::Dimensionless);
     sv.finish();
   }
   if (const toml::table* t = r.table("search")) {  // docs/dexterity.md, "How a map value is found"
@@ -126,7 +140,8 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     o.search_seed = se.seed("seed", o.search_seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")
-      se.fail("order", "expected \"ascending\" or \"descending\" (the gamma order of the chained rows)");
+      se.fail("order",
+              "expected \"ascending\" or \"descending\" (the gamma order of the chained rows)");
     o.descending = order == "descending";
     se.finish();
   }

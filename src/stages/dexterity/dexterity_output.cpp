@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "common/errors.hpp"
@@ -42,9 +42,9 @@ std::string fmt(double v, int prec = 3) {
 MapFields mapFields(const DexterityMap& map) {
   MapFields f;
   const std::size_t N = map.cells.size();
-  for (auto* v : {&f.reachable, &f.manip_plain, &f.manip_opt, &f.manip_plain_norm, &f.manip_opt_norm,
-                  &f.beta_plain, &f.beta_opt, &f.invcond_plain, &f.invcond_opt, &f.smin_plain,
-                  &f.smin_opt, &f.H_plain, &f.H_opt, &f.nullspace_iterations})
+  for (auto* v : {&f.reachable, &f.manip_plain, &f.manip_opt, &f.manip_plain_norm,
+                  &f.manip_opt_norm, &f.beta_plain, &f.beta_opt, &f.invcond_plain, &f.invcond_opt,
+                  &f.smin_plain, &f.smin_opt, &f.H_plain, &f.H_opt, &f.nullspace_iterations})
     v->assign(N, kNaN);
   std::vector<unsigned char> valid(N, 0);
   for (std::size_t i = 0; i < N; ++i) {
@@ -106,12 +106,13 @@ report::RasterImage heatmapCells(const DexterityMap& map, const std::vector<doub
 
 // The same map as a figure: gamma [deg] to the right, z [m] upwards, colour bar 0..hi.
 report::Drawing heatmapFigure(const DexterityMap& map, const report::RasterImage& cells, double hi,
-                          const std::string& title, const std::string& scale_label) {
+                              const std::string& title, const std::string& scale_label) {
   const AxisRange& ga = map.grid.gamma_rad;
   const AxisRange& za = map.grid.z_m;
   report::MapFigure f;
   f.title = title;
-  f.x = report::cellAxis("gamma [deg]", ga.min * kRadToDeg, ga.max * kRadToDeg, ga.step() * kRadToDeg);
+  f.x = report::cellAxis("gamma [deg]", ga.min * kRadToDeg, ga.max * kRadToDeg,
+                         ga.step() * kRadToDeg);
   f.y = report::cellAxis("z [m]", za.min, za.max, za.step());
   f.scale = report::ColourScale{report::viridis, 0, hi > 0 ? hi : 1.0, scale_label};
   f.legend = {{kUnreachableGrey, "not reachable"}};
@@ -134,10 +135,12 @@ std::string statsRow(const std::string& what, const FieldStats& s) {
 // One design's map, in work units of whole rows (see runDexterityStage): units saved by an
 // interrupted run are loaded, the others computed; both are joined by cell index (so the order
 // units finished in does not matter), then the search across rows runs on the whole map.
-DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOptions& options, long& units_resumed) {
-  const long per = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kDexterityUnitCells;
-  const std::vector<ItemRange> ranges =
-      splitRange(options.grid.z_m.count, std::max(1L, per / std::max(1, options.grid.gamma_rad.count)));
+DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOptions& options,
+                     long& units_resumed) {
+  const long per =
+      ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kDexterityUnitCells;
+  const std::vector<ItemRange> ranges = splitRange(
+      options.grid.z_m.count, std::max(1L, per / std::max(1, options.grid.gamma_rad.count)));
   DexterityMap loaded;
   loaded.dof = m.dof();
   loaded.grid = options.grid;
@@ -145,10 +148,12 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
   std::vector<ItemRange> done, todo;
   std::optional<DexterityMap> computed;
   UnitBatch batch;
-  for (const ItemRange& r : ranges) batch.ids.push_back("dexterity/" + m.name + "/rows_" + r.text());
+  for (const ItemRange& r : ranges)
+    batch.ids.push_back("dexterity/" + m.name + "/rows_" + r.text());
   batch.load = [&](std::size_t k, const std::string& bytes) {
     ItemRange got;
-    if (!(deserializeRows(bytes, loaded, got) && got.begin == ranges[k].begin && got.end == ranges[k].end))
+    if (!(deserializeRows(bytes, loaded, got) && got.begin == ranges[k].begin &&
+          got.end == ranges[k].end))
       return false;
     done.push_back(ranges[k]);
     return true;
@@ -156,15 +161,18 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
   batch.compute = [&](const std::vector<std::size_t>& list, const UnitBatch::Done& unit_done) {
     todo.clear();  // a later call replaces an earlier one's units (UnitBatch)
     for (std::size_t k : list) todo.push_back(ranges[k]);
-    computed = computeDexterityRows(m, options, todo, ctx.threads, [&](std::size_t j, const DexterityMap& partial) {
-      unit_done(list[j], serializeRows(partial, todo[j]));
-    });
+    computed = computeDexterityRows(m, options, todo, ctx.threads,
+                                    [&](std::size_t j, const DexterityMap& partial) {
+                                      unit_done(list[j], serializeRows(partial, todo[j]));
+                                    });
   };
   units_resumed += ctx.units.run(batch);
-  DexterityMap map = computed ? std::move(*computed) : computeDexterityRows(m, options, {}, ctx.threads);
+  DexterityMap map =
+      computed ? std::move(*computed) : computeDexterityRows(m, options, {}, ctx.threads);
   const int G = options.grid.gamma_rad.count;
   for (const ItemRange& u : done)
-    std::move(loaded.cells.begin() + u.begin * G, loaded.cells.begin() + u.end * G, map.cells.begin() + u.begin * G);
+    std::move(loaded.cells.begin() + u.begin * G, loaded.cells.begin() + u.end * G,
+              map.cells.begin() + u.begin * G);
   // The search across rows needs every row: it runs once all units are in (deterministic, so a
   // resumed run ends in the same map).
   searchDexterityMap(m, options, map, ctx.threads);
@@ -183,7 +191,8 @@ void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
     sum_plain += map.cells[i].plain.manipulability;
   }
   const int r = map.reachable();
-  dm.scalars[prefix + "/reachable_fraction"] = map.cells.empty() ? 0.0 : double(r) / map.cells.size();
+  dm.scalars[prefix + "/reachable_fraction"] =
+      map.cells.empty() ? 0.0 : double(r) / map.cells.size();
   dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
   dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
   dm.flags[prefix + "/reachable"] = flags;
@@ -205,17 +214,21 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options, StageR
     rows.push_back({sd.model.name, sum.metrics.scalars.at(p + "/manipulability_mean_optimised"),
                     sum.metrics.scalars.at(p + "/reachable_fraction")});
     if (rows.back().reach == 0)
-      sum.warnings.push_back("`" + sd.model.name + "` reaches none of the " + std::to_string(options.grid.size()) +
-                             " cells around the stem.");
+      sum.warnings.push_back("`" + sd.model.name + "` reaches none of the " +
+                             std::to_string(options.grid.size()) + " cells around the stem.");
   }
-  rows.erase(std::remove_if(rows.begin(), rows.end(), [](const Row& r) { return r.reach == 0; }), rows.end());
+  rows.erase(std::remove_if(rows.begin(), rows.end(), [](const Row& r) { return r.reach == 0; }),
+             rows.end());
   if (rows.empty()) return;
-  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.mean > b.mean; });
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const Row& a, const Row& b) { return a.mean > b.mean; });
   auto item = [](const Row& r) {
-    return "`" + r.design + "` " + formatG(r.mean, 3) + " (reaching " + report::percent(r.reach) + " of the cells)";
+    return "`" + r.design + "` " + formatG(r.mean, 3) + " (reaching " + report::percent(r.reach) +
+           " of the cells)";
   };
   std::string a = "Around the stem (" + std::to_string(options.grid.size()) + " cells, " +
-                  metrics::toString(options.measure_space) + " manipulability, optimised in the null space): " +
+                  metrics::toString(options.measure_space) +
+                  " manipulability, optimised in the null space): " +
                   (rows.size() > 1 ? "highest mean " : "mean ") + item(rows[0]);
   for (std::size_t k = 1; k < rows.size(); ++k) a += (k == 1 ? "; then " : ", ") + item(rows[k]);
   sum.answer.push_back(a + ".");
@@ -225,13 +238,15 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options, StageR
 nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
   nlohmann::ordered_json js;
   const StemGrid& g = options.grid;
-  js["grid"] = {{"stem_x_m", g.stem_x_m},
-                {"stem_y_m", g.stem_y_m},
-                {"radius_m", g.radius_m},
-                {"gamma_rad", {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
-                {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
-                {"task", ik::toString(g.task)},
-                {"roll_rad", g.roll_rad}};
+  js["grid"] = {
+      {"stem_x_m", g.stem_x_m},
+      {"stem_y_m", g.stem_y_m},
+      {"radius_m", g.radius_m},
+      {"gamma_rad",
+       {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
+      {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
+      {"task", ik::toString(g.task)},
+      {"roll_rad", g.roll_rad}};
   js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
                     {"w_joint_limits", options.w_joint_limits},
                     {"w_manipulability", options.w_manipulability},
@@ -256,15 +271,18 @@ std::string reportIntro(const DexterityOptions& options) {
   const StemGrid& g = options.grid;
   std::ostringstream md;
   md << "# Dexterity maps\n\n"
-     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m) << ") m, TCP on a circle of radius "
-     << fmt(g.radius_m) << " m, gamma " << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".."
-     << fmt(g.gamma_rad.max * kRadToDeg, 1) << " deg (" << g.gamma_rad.count << " values), z "
-     << fmt(g.z_m.min, 2) << ".." << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task "
-     << ik::toString(g.task) << ", measures on the " << metrics::toString(options.measure_space)
-     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + " << options.w_manipulability
-     << " H_m1 + " << options.w_transmission << " H_m2 (thesis eq. 5.51).\n\n"
-     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0) << " deg), y = z (bottom = "
-     << fmt(g.z_m.min, 2) << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
+     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
+     << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
+     << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
+     << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
+     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << ik::toString(g.task)
+     << ", measures on the " << metrics::toString(options.measure_space)
+     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
+     << options.w_manipulability << " H_m1 + " << options.w_transmission
+     << " H_m2 (thesis eq. 5.51).\n\n"
+     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
+     << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
+     << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
      << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
      << "grey = not reachable.\n\n";
   return md.str();
@@ -273,7 +291,8 @@ std::string reportIntro(const DexterityOptions& options) {
 // What the report and summary.json say about one design's map: field statistics, reachable cells
 // by the sign of gamma, and means over the reachable cells.
 struct MapSummary {
-  FieldStats mo, mp, beta_s, bp;  // manipulability optimised/plain (normalised), transmission opt./plain
+  FieldStats mo, mp, beta_s,
+      bp;  // manipulability optimised/plain (normalised), transmission opt./plain
   int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
   int R = 0;                      // reachable cells
   double mean_p = 0, mean_o = 0;  // mean normalised manipulability, plain and optimised
@@ -309,12 +328,19 @@ std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::
 // name per image key.
 std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const MapFields& f,
                                                  const FieldStats& beta_s, Writer& out) {
-  struct Img { const char* key; const std::vector<double>* v; double hi; const char* label; };
-  const Img imgs[] = {
-      {"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0, "normalised manipulability, optimised [1]"},
-      {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0, "normalised manipulability, plain [1]"},
-      {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0, "transmission beta along u, optimised [m/rad]"},
-      {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
+  struct Img {
+    const char* key;
+    const std::vector<double>* v;
+    double hi;
+    const char* label;
+  };
+  const Img imgs[] = {{"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0,
+                       "normalised manipulability, optimised [1]"},
+                      {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0,
+                       "normalised manipulability, plain [1]"},
+                      {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0,
+                       "transmission beta along u, optimised [m/rad]"},
+                      {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
   std::map<std::string, std::string> png;  // what the report shows: the .svg figures
   for (const Img& im : imgs) {
     // <design>_<key>.svg: the figure with axes and colour bar; .png: the same figure.
@@ -332,10 +358,10 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
 std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
                           const MapSummary& s) {
   std::ostringstream cmp;
-  cmp << "| " << m.name << " | " << m.dof() << " | " << frac(s.R, static_cast<int>(map.cells.size())) << " | "
-      << frac(s.reach_neg, s.n_neg) << " | " << frac(s.reach_pos, s.n_pos) << " | "
-      << (s.R ? fmt(f.best_manipulability, 4) : "-") << " | " << (s.R ? fmt(s.mean_p) : "-") << " | "
-      << (s.R ? fmt(s.mean_o) : "-") << " |\n";
+  cmp << "| " << m.name << " | " << m.dof() << " | "
+      << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
+      << " | " << frac(s.reach_pos, s.n_pos) << " | " << (s.R ? fmt(f.best_manipulability, 4) : "-")
+      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " |\n";
   return cmp.str();
 }
 
@@ -351,23 +377,29 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
     md << "**Warning:** " << text << ".\n\n";
     std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
   }
-  md << "Reachable: " << s.R << " of " << map.cells.size() << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
-     << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos) << "). Best manipulability (normalisation value): "
-     << (s.R ? fmt(f.best_manipulability, 5) : "-") << ". Mean null-space iterations: "
-     << (s.R ? fmt(double(s.iters) / s.R, 1) : "-") << " (timings: manifest.json).\n\n"
+  md << "Reachable: " << s.R << " of " << map.cells.size()
+     << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
+     << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
+     << "). Best manipulability (normalisation value): "
+     << (s.R ? fmt(f.best_manipulability, 5) : "-")
+     << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
+     << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
      << statsRow("transmission beta along u, plain", s.bp) << "\n"
-     << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable |\n"
+     << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable "
+        "|\n"
      << "|---|---|---|---|\n"
-     << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![](" << png["manipulability_plain_normalised"]
-     << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["reachable"] << ") |\n\n";
+     << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![]("
+     << png["manipulability_plain_normalised"] << ") | ![](" << png["transmission_optimised"]
+     << ") | ![](" << png["reachable"] << ") |\n\n";
   const MapSearchSummary& se = map.search;
-  md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells << " cells got "
-     << options.seed_starts << " seeded starts each (" << se.multistart_improved << " improved), then "
-     << se.rounds << " neighbour-propagation rounds improved " << se.neighbour_improved << " cell values"
+  md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
+     << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
+     << " improved), then " << se.rounds << " neighbour-propagation rounds improved "
+     << se.neighbour_improved << " cell values"
      << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
      << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
   return md.str();
@@ -375,7 +407,8 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
 
 // The design's entry of summary.json, without the audit.
 nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& options,
-                                  const DexterityMap& map, const MapFields& f, const MapSummary& s) {
+                                  const DexterityMap& map, const MapFields& f,
+                                  const MapSummary& s) {
   nlohmann::ordered_json d;
   d["design"] = m.name;
   d["dof"] = m.dof();
@@ -383,7 +416,9 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["reachable"] = s.R;
   d["reachable_gamma_negative"] = s.reach_neg;
   d["reachable_gamma_non_negative"] = s.reach_pos;
-  const auto orNull = [&](double v) { return s.R ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  const auto orNull = [&](double v) {
+    return s.R ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+  };
   d["best_manipulability"] = orNull(f.best_manipulability);
   d["manipulability_optimised_normalised"] = statsJson(s.mo);
   d["manipulability_plain_normalised"] = statsJson(s.mp);
@@ -393,10 +428,14 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["mean_normalised_optimised"] = orNull(s.mean_o);
   if (s.R == 0) d["warnings"] = {"reaches none of the stem cells"};
   const MapSearchSummary& se = map.search;
-  d["search"] = {{"seeding_cells", se.seeding_cells},         {"seed_starts", options.seed_starts},
-                 {"multistart_tries", se.multistart_tries},   {"multistart_improved", se.multistart_improved},
-                 {"propagation_rounds", se.rounds},           {"neighbour_tries", se.neighbour_tries},
-                 {"neighbour_improved", se.neighbour_improved}, {"converged", se.converged}};
+  d["search"] = {{"seeding_cells", se.seeding_cells},
+                 {"seed_starts", options.seed_starts},
+                 {"multistart_tries", se.multistart_tries},
+                 {"multistart_improved", se.multistart_improved},
+                 {"propagation_rounds", se.rounds},
+                 {"neighbour_tries", se.neighbour_tries},
+                 {"neighbour_improved", se.neighbour_improved},
+                 {"converged", se.converged}};
   return d;
 }
 
@@ -418,26 +457,31 @@ std::string writeAudit(const Model& m, const DexterityOptions& options, const De
   aj["audit_found_no_solution"] = a.audit_missed;
   aj["worst_gap"] = a.worst_gap;
   if (a.worst_index >= 0)
-    aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)}, {"z_m", g.z_m.value(a.worst_index / G)}};
+    aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)},
+                      {"z_m", g.z_m.value(a.worst_index / G)}};
   d["audit"] = aj;
   std::ostringstream csv;
   csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
          "manipulability_audit,audit_solutions\n";
   csv.precision(17);
   for (const AuditCell& r : a.rows)
-    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << "," << r.audit_reachable
-        << "," << r.H_map << "," << r.H_audit << "," << r.gap << "," << r.manipulability_map << ","
-        << r.manipulability_audit << "," << r.solutions << "\n";
+    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << ","
+        << r.audit_reachable << "," << r.H_map << "," << r.H_audit << "," << r.gap << ","
+        << r.manipulability_map << "," << r.manipulability_audit << "," << r.solutions << "\n";
   const std::string csv_name = m.name + "_audit.csv";
   out.text(std::string(kSub) + "/" + csv_name, csv.str());
   std::ostringstream md;
-  md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed " << a.seed << "), "
-     << a.starts << " random starts each, every start solved onto the pose and optimised with this map's "
+  md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed "
+     << a.seed << "), " << a.starts
+     << " random starts each, every start solved onto the pose and optimised with this map's "
      << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1) << " % are within 1 % of the audit's best "
+     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1)
+     << " % are within 1 % of the audit's best "
      << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2) << " %). Reachability verdicts contradicted "
-     << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `" << csv_name << "`.\n\n";
+     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2)
+     << " %). Reachability verdicts contradicted "
+     << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `"
+     << csv_name << "`.\n\n";
   return md.str();
 }
 
@@ -456,15 +500,18 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   nlohmann::ordered_json js = settingsJson(options);
   std::ostringstream md, cmp;
   md << reportIntro(options);
-  cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best manipulability | "
-         "mean normalised (plain) | mean normalised (optimised) |\n|---|---|---|---|---|---|---|---|\n";
+  cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best "
+         "manipulability | "
+         "mean normalised (plain) | mean normalised (optimised) "
+         "|\n|---|---|---|---|---|---|---|---|\n";
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& m = sd.model;
     DexterityMap map = unitMap(ctx, m, options, sum.units_resumed);
     addMapMetrics(sum.metrics, map);
     sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
     const MapFields f = mapFields(map);
-    for (const std::string& name : writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
+    for (const std::string& name :
+         writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
       out.add(sub + "/" + name);
     const MapSummary s = summarise(map, f, options.grid);
     std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
@@ -476,8 +523,10 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     if (maps) maps->push_back(std::move(map));
   }
   dexterityAnswer(ctx.study, options, sum);
-  if (ctx.study.designs.size() > 1) md << "## Side by side\n\n" << cmp.str() << "\n";
-  else md << "## Summary\n\n" << cmp.str() << "\n";
+  if (ctx.study.designs.size() > 1)
+    md << "## Side by side\n\n" << cmp.str() << "\n";
+  else
+    md << "## Summary\n\n" << cmp.str() << "\n";
   out.text(sub + "/summary.json", js.dump(2) + "\n");
   out.text(sub + "/report.md", md.str());
   sum.files = out.files();

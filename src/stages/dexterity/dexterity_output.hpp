@@ -34,8 +34,9 @@ FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field)
 // around the stem in world metres; <design>_robot_best.vtp, the arm at the best optimised
 // manipulability (when a cell is reachable); with `ellipsoids`,
 // <design>_ellipsoids_{plain|optimised}.vtp (reachable cells only). `model` is the map's design.
-std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f, const Model& model,
-                                     metrics::MeasureSpace space, bool ellipsoids, const std::string& dir);
+std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f,
+                                     const Model& model, metrics::MeasureSpace space,
+                                     bool ellipsoids, const std::string& dir);
 
 // The cells of rows [rows.begin, rows.end) as checkpoint unit bytes (every field, bit for bit),
 // and back into a map of the same grid and design size: false, with the map unchanged, when the
@@ -47,7 +48,8 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
 // <output_dir>/dexterity/. Each design's map is cut into work units of whole z rows (about
 // ctx.options.unit_items cells, at least one row; 0 = defaults::kDexterityUnitCells), ids
 // dexterity/<design>/rows_<b>-<e>, run through ctx.units (loaded when an interrupted run saved
-// them). Metrics: dexterity/<design>/... With `maps`, the maps are appended there (tests, benchmark).
+// them). Metrics: dexterity/<design>/... With `maps`, the maps are appended there (tests,
+// benchmark).
 StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
                               std::vector<DexterityMap>* maps = nullptr);
 

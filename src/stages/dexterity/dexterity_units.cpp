@@ -1,6 +1,6 @@
-#include "stages/dexterity/dexterity_output.hpp"
-
 #include <algorithm>
+
+#include "stages/dexterity/dexterity_output.hpp"
 
 namespace armstudy::dexterity {
 
@@ -9,12 +9,13 @@ namespace {
 constexpr char kUnitMagic[] = "armstudy-dexterity-unit-v1";
 
 void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
-  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min, m.sigma_max})
+  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min,
+                   m.sigma_max})
     w.put(v);
 }
 void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
-  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition, &m.sigma_min,
-                    &m.sigma_max})
+  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition,
+                    &m.sigma_min, &m.sigma_max})
     *v = r.get<double>();
 }
 
@@ -23,7 +24,8 @@ void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
 std::string serializeRows(const DexterityMap& map, const ItemRange& rows) {
   const int G = map.grid.gamma_rad.count;
   UnitWriter w(kUnitMagic);
-  for (long v : {long(map.dof), long(G), long(map.grid.z_m.count), rows.begin, rows.end}) w.put<std::int64_t>(v);
+  for (long v : {long(map.dof), long(G), long(map.grid.z_m.count), rows.begin, rows.end})
+    w.put<std::int64_t>(v);
   for (long i = rows.begin * G; i < rows.end * G; ++i) {
     const CellResult& c = map.cells[i];
     w.put<std::uint8_t>(c.reachable);
@@ -49,8 +51,8 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
   UnitReader r(bytes, kUnitMagic);
   const auto dof = r.get<std::int64_t>(), g = r.get<std::int64_t>(), z = r.get<std::int64_t>();
   const auto b = r.get<std::int64_t>(), e = r.get<std::int64_t>();
-  if (!r.ok() || dof != map.dof || g != G || z != map.grid.z_m.count || !(0 <= b && b < e && e <= z) ||
-      map.cells.size() != static_cast<std::size_t>(g * z))
+  if (!r.ok() || dof != map.dof || g != G || z != map.grid.z_m.count ||
+      !(0 <= b && b < e && e <= z) || map.cells.size() != static_cast<std::size_t>(g * z))
     return false;
   std::vector<CellResult> cells(static_cast<std::size_t>((e - b) * G));
   for (CellResult& c : cells) {
@@ -64,7 +66,8 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
       r.getMatrix(el->axes_W);
       r.getMatrix(el->lengths);
     }
-    for (double* v : {&c.H_plain, &c.H_opt, &c.position_error_m, &c.orientation_error_rad}) *v = r.get<double>();
+    for (double* v : {&c.H_plain, &c.H_opt, &c.position_error_m, &c.orientation_error_rad})
+      *v = r.get<double>();
     c.starts = r.get<std::int32_t>();
     c.nullspace_iterations = r.get<std::int32_t>();
     const auto st = r.get<std::int32_t>();

@@ -16,16 +16,23 @@ namespace {
 std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& f) {
   std::vector<io::NamedArray> arrays{{"reachable", io::ArrayType::UInt8, 1, f.reachable}};
   const std::pair<const char*, const std::vector<double>*> fields[] = {
-      {"manipulability_plain", &f.manip_plain}, {"manipulability_optimised", &f.manip_opt},
+      {"manipulability_plain", &f.manip_plain},
+      {"manipulability_optimised", &f.manip_opt},
       {"manipulability_plain_normalised", &f.manip_plain_norm},
-      {"manipulability_optimised_normalised", &f.manip_opt_norm}, {"transmission_plain", &f.beta_plain},
-      {"transmission_optimised", &f.beta_opt}, {"inverse_condition_plain", &f.invcond_plain},
-      {"inverse_condition_optimised", &f.invcond_opt}, {"sigma_min_plain", &f.smin_plain},
-      {"sigma_min_optimised", &f.smin_opt}, {"objective_plain", &f.H_plain}, {"objective_optimised", &f.H_opt},
+      {"manipulability_optimised_normalised", &f.manip_opt_norm},
+      {"transmission_plain", &f.beta_plain},
+      {"transmission_optimised", &f.beta_opt},
+      {"inverse_condition_plain", &f.invcond_plain},
+      {"inverse_condition_optimised", &f.invcond_opt},
+      {"sigma_min_plain", &f.smin_plain},
+      {"sigma_min_optimised", &f.smin_opt},
+      {"objective_plain", &f.H_plain},
+      {"objective_optimised", &f.H_opt},
       {"nullspace_iterations", &f.nullspace_iterations}};
   for (const auto& [name, v] : fields) arrays.push_back({name, io::ArrayType::Float64, 1, *v});
   std::vector<double> found_by(map.cells.size());
-  for (std::size_t i = 0; i < map.cells.size(); ++i) found_by[i] = static_cast<double>(map.cells[i].found_by);
+  for (std::size_t i = 0; i < map.cells.size(); ++i)
+    found_by[i] = static_cast<double>(map.cells[i].found_by);
   // 0 chained row, 1 seeded multi-start, 2 neighbour
   arrays.push_back({"found_by", io::ArrayType::UInt8, 1, found_by});
   return arrays;
@@ -34,19 +41,32 @@ std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& 
 // Units of the measures in a measure space (metrics/dexterity_measures.hpp).
 std::vector<std::string> measureUnits(metrics::MeasureSpace space) {
   const bool t = space == metrics::MeasureSpace::Translational;
-  const std::string m3 = t ? "m^3 (translational Jacobian, revolute joints: per rad^3)" : "mixed m and rad (full Jacobian)";
+  const std::string m3 = t ? "m^3 (translational Jacobian, revolute joints: per rad^3)"
+                           : "mixed m and rad (full Jacobian)";
   const std::string s = t ? "m/rad" : "mixed m/rad and 1";
-  return {"manipulability_plain: " + m3, "manipulability_optimised: " + m3, "manipulability: " + m3,
-          "manipulability_plain_normalised: 1", "manipulability_optimised_normalised: 1",
-          "transmission_plain: m/rad", "transmission_optimised: m/rad", "transmission: m/rad",
-          "inverse_condition_plain: 1", "inverse_condition_optimised: 1", "sigma_min_plain: " + s,
-          "sigma_min_optimised: " + s, "objective_plain: 1", "objective_optimised: 1",
-          "nullspace_iterations: 1", "reachable: 1", "found_by: 1"};
+  return {"manipulability_plain: " + m3,
+          "manipulability_optimised: " + m3,
+          "manipulability: " + m3,
+          "manipulability_plain_normalised: 1",
+          "manipulability_optimised_normalised: 1",
+          "transmission_plain: m/rad",
+          "transmission_optimised: m/rad",
+          "transmission: m/rad",
+          "inverse_condition_plain: 1",
+          "inverse_condition_optimised: 1",
+          "sigma_min_plain: " + s,
+          "sigma_min_optimised: " + s,
+          "objective_plain: 1",
+          "objective_optimised: 1",
+          "nullspace_iterations: 1",
+          "reachable: 1",
+          "found_by: 1"};
 }
 
 const std::vector<std::string> kMapLegend = {
     "reachable 0: no solution at this cell (every other quantity NaN)", "reachable 1: reachable",
-    "found_by 0: chained row", "found_by 1: seeded multi-start", "found_by 2: neighbour propagation"};
+    "found_by 0: chained row", "found_by 1: seeded multi-start",
+    "found_by 2: neighbour propagation"};
 
 std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir,
                         const std::vector<std::string>& units) {
@@ -58,9 +78,10 @@ std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::
   grid.spacing = {g.gamma_rad.count > 1 ? g.gamma_rad.step() : 1.0,
                   g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0};
   grid.point_arrays = mapArrays(map, f);
-  grid.field_data = io::fieldData(units, kMapLegend,
-                                  "parameter plane: x = gamma [rad], y = z [m] (world metres: " + map.design +
-                                      "_cylinder.vts)");
+  grid.field_data =
+      io::fieldData(units, kMapLegend,
+                    "parameter plane: x = gamma [rad], y = z [m] (world metres: " + map.design +
+                        "_cylinder.vts)");
   const std::string name = map.design + ".vti";
   io::writeVti((std::filesystem::path(dir) / name).string(), grid);
   return name;
@@ -73,7 +94,8 @@ std::string writeMapVts(const DexterityMap& map, const MapFields& f, const std::
   const StemGrid& g = map.grid;
   io::StructuredGridSet grid;
   grid.dims = {g.gamma_rad.count, g.z_m.count, 1};
-  io::NamedArray gamma{"gamma", io::ArrayType::Float64, 1, {}}, z{"z", io::ArrayType::Float64, 1, {}};
+  io::NamedArray gamma{"gamma", io::ArrayType::Float64, 1, {}},
+      z{"z", io::ArrayType::Float64, 1, {}};
   for (int j = 0; j < g.z_m.count; ++j)
     for (int i = 0; i < g.gamma_rad.count; ++i) {
       const StemGrid::Cell c = g.cell(i, j);
@@ -128,19 +150,28 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
   for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u, &manip, &beta, &gam, &zz})
     poly.point_arrays.push_back(std::move(*a));
   poly.active_tensors = "ellipsoid_tensor";
-  std::vector<std::string> u_all{"position: m", "ellipsoid_tensor: m/rad", "semi_axes: m/rad", "axis_1: m/rad",
-                                 "axis_2: m/rad", "axis_3: m/rad", "u: 1", "gamma: rad", "z: m"};
+  std::vector<std::string> u_all{"position: m",
+                                 "ellipsoid_tensor: m/rad",
+                                 "semi_axes: m/rad",
+                                 "axis_1: m/rad",
+                                 "axis_2: m/rad",
+                                 "axis_3: m/rad",
+                                 "u: 1",
+                                 "gamma: rad",
+                                 "z: m"};
   u_all.insert(u_all.end(), units.begin(), units.end());
   poly.field_data = io::fieldData(u_all);
-  const std::string name = map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
+  const std::string name =
+      map.design + (optimised ? "_ellipsoids_optimised.vtp" : "_ellipsoids_plain.vtp");
   io::writeVtp((std::filesystem::path(dir) / name).string(), poly);
   return name;
 }
 
 }  // namespace
 
-std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f, const Model& model,
-                                     metrics::MeasureSpace space, bool ellipsoids, const std::string& dir) {
+std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f,
+                                     const Model& model, metrics::MeasureSpace space,
+                                     bool ellipsoids, const std::string& dir) {
   const std::vector<std::string> units = measureUnits(space);
   std::vector<std::string> files{writeMapVti(map, f, dir, units), writeMapVts(map, f, dir, units)};
   if (ellipsoids) {
@@ -150,13 +181,17 @@ std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f
   // The robot at the cell of the best optimised manipulability.
   int best = -1;
   for (std::size_t i = 0; i < map.cells.size(); ++i)
-    if (map.cells[i].reachable && (best < 0 || f.manip_opt[i] > f.manip_opt[best])) best = static_cast<int>(i);
+    if (map.cells[i].reachable && (best < 0 || f.manip_opt[i] > f.manip_opt[best]))
+      best = static_cast<int>(i);
   if (best >= 0) {
     const CellResult& c = map.cells[best];
-    const StemGrid::Cell cell = map.grid.cell(best % map.grid.gamma_rad.count, best / map.grid.gamma_rad.count);
+    const StemGrid::Cell cell =
+        map.grid.cell(best % map.grid.gamma_rad.count, best / map.grid.gamma_rad.count);
     io::PolyDataSet robot = scene::robotPolyData(model, c.optimised ? c.q_opt : c.q_plain);
-    robot.field_data.push_back({"pose", {"best optimised manipulability of the map, gamma = " +
-                                         std::to_string(cell.gamma) + " rad, z = " + std::to_string(cell.z) + " m"}});
+    robot.field_data.push_back(
+        {"pose",
+         {"best optimised manipulability of the map, gamma = " + std::to_string(cell.gamma) +
+          " rad, z = " + std::to_string(cell.z) + " m"}});
     const std::string name = map.design + "_robot_best.vtp";
     io::writeVtp((std::filesystem::path(dir) / name).string(), robot);
     files.push_back(name);

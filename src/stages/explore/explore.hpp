@@ -15,10 +15,10 @@
 namespace armstudy::explore {
 
 struct Parameter {
-  std::string key;              // design entry key (io/design_io.hpp setModelEntry)
-  std::vector<double> values;   // list (or the steps of from..to); SI
-  double lo = 0, hi = 0;        // search bounds (min/max of the values)
-  double step = 0;              // resolution: candidates are snapped to lo + k*step (0: none)
+  std::string key;             // design entry key (io/design_io.hpp setModelEntry)
+  std::vector<double> values;  // list (or the steps of from..to); SI
+  double lo = 0, hi = 0;       // search bounds (min/max of the values)
+  double step = 0;             // resolution: candidates are snapped to lo + k*step (0: none)
   int line = 0;
 };
 
@@ -45,8 +45,8 @@ struct Objective {
 enum class Method { Grid, Optimise };
 
 struct ExploreOptions {
-  Model base;                       // the design the candidates derive from
-  std::string file;                 // the study file (messages)
+  Model base;        // the design the candidates derive from
+  std::string file;  // the study file (messages)
   int line = 0;
   std::vector<Parameter> parameters;
   std::vector<LinearConstraint> constraints;
@@ -58,7 +58,7 @@ struct ExploreOptions {
   int budget = 60;                     // evaluations (global + polish)
   double polish_share = 0.25;          // of the budget
   std::uint64_t seed = 1;
-  int front_designs = 3;               // front designs written with their stage outputs
+  int front_designs = 3;  // front designs written with their stage outputs
   std::string validate() const;
 };
 
@@ -68,9 +68,9 @@ ExploreOptions readExploreOptions(io::TableReader& r, const SectionInput& in);
 struct Candidate {
   std::string name;
   std::vector<std::pair<std::string, double>> overrides;  // empty for the base design
-  std::vector<double> params;   // parameter values (SI), parameter order
-  std::vector<double> values;   // objective metric values, objective order
-  bool feasible = true;         // every constraint met
+  std::vector<double> params;                             // parameter values (SI), parameter order
+  std::vector<double> values;        // objective metric values, objective order
+  bool feasible = true;              // every constraint met
   std::vector<std::string> adapted;  // geometry-that-follows notes
 };
 

@@ -25,7 +25,8 @@ Parameter readParameter(TableReader& r, const Model& base) {
     if (r.has("from") || r.has("to")) r.fail("values", "give either values or from/to, not both");
     const toml::array* a = r.array("values");
     if (!a || a->empty()) r.fail("values", "needs a non-empty array of values");
-    for (const auto& e : *a) p.values.push_back(io::nodeQuantity(e, dim, r.file(), r.keyPath("values")));
+    for (const auto& e : *a)
+      p.values.push_back(io::nodeQuantity(e, dim, r.file(), r.keyPath("values")));
     p.lo = p.hi = p.values[0];
     for (double v : p.values) p.lo = std::min(p.lo, v), p.hi = std::max(p.hi, v);
   } else {
@@ -108,7 +109,9 @@ ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
     ob.line = orr.line();
     ob.metric = orr.string("metric");
     if (ob.metric != "cost/link_length" && ob.metric.find("{design}") == std::string::npos)
-      orr.fail("metric", "a stage metric names the candidate as {design}, e.g. \"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
+      orr.fail("metric",
+               "a stage metric names the candidate as {design}, e.g. "
+               "\"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
     ob.label = orr.string("label", ob.metric);
     const std::string goal = orr.string("goal", "");
     if (goal == "max")
@@ -133,19 +136,25 @@ ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
   }
   for (const auto& s : o.stages) {
     if (s == "explore") r.fail("stages", "explore cannot run itself on its candidates");
-    if (!in.top.table(s) && !in.top.array(s)) r.fail("stages", "the study has no [" + s + "] section");
+    if (!in.top.table(s) && !in.top.array(s))
+      r.fail("stages", "the study has no [" + s + "] section");
   }
   long grid = 1;
   bool all_listed = true;
   for (const auto& p : o.parameters) {
     all_listed &= !p.values.empty();
-    grid = p.values.empty() ? grid : std::min(grid * static_cast<long>(p.values.size()), kMaxGridCandidates + 1);
+    grid = p.values.empty()
+               ? grid
+               : std::min(grid * static_cast<long>(p.values.size()), kMaxGridCandidates + 1);
   }
-  const std::string method = r.string("method", all_listed && grid <= kMaxGridCandidates ? "grid" : "optimise");
+  const std::string method =
+      r.string("method", all_listed && grid <= kMaxGridCandidates ? "grid" : "optimise");
   if (method == "grid") {
-    if (!all_listed) r.fail("method", "an exhaustive grid needs values or a step for every parameter");
+    if (!all_listed)
+      r.fail("method", "an exhaustive grid needs values or a step for every parameter");
     if (grid > kMaxGridCandidates)
-      r.fail("method", "the grid has more than " + std::to_string(kMaxGridCandidates) + " candidates; use method = \"optimise\"");
+      r.fail("method", "the grid has more than " + std::to_string(kMaxGridCandidates) +
+                           " candidates; use method = \"optimise\"");
     o.method = Method::Grid;
   } else if (method == "optimise") {
     o.method = Method::Optimise;
@@ -156,7 +165,8 @@ ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
   if (o.algorithm != "DIRECT_L" && o.algorithm != "CRS2" && o.algorithm != "ISRES")
     r.fail("algorithm", "algorithm is DIRECT_L, CRS2 or ISRES");
   o.polish = r.string("polish", o.polish);
-  if (o.polish != "BOBYQA" && o.polish != "COBYLA" && o.polish != "NELDERMEAD" && o.polish != "none")
+  if (o.polish != "BOBYQA" && o.polish != "COBYLA" && o.polish != "NELDERMEAD" &&
+      o.polish != "none")
     r.fail("polish", "polish is BOBYQA, COBYLA, NELDERMEAD or none");
   o.budget = r.integerIn("budget", o.budget, 1, 100000);
   o.polish_share = r.number("polish_share", o.polish_share);

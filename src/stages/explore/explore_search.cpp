@@ -39,7 +39,8 @@ double totalLinkLength(const Model& m) {
   return L;
 }
 
-std::vector<std::size_t> paretoFront(const std::vector<Candidate>& c, const std::vector<Objective>& obj) {
+std::vector<std::size_t> paretoFront(const std::vector<Candidate>& c,
+                                     const std::vector<Objective>& obj) {
   // Value in "larger is better" form.
   auto better = [&](std::size_t k, double v) { return obj[k].goal == Goal::Maximise ? v : -v; };
   auto dominates = [&](const Candidate& a, const Candidate& b) {
@@ -56,7 +57,8 @@ std::vector<std::size_t> paretoFront(const std::vector<Candidate>& c, const std:
   for (std::size_t i = 0; i < c.size(); ++i) {
     if (!c[i].feasible) continue;
     bool dominated = false;
-    for (std::size_t j = 0; j < c.size() && !dominated; ++j) dominated = j != i && c[j].feasible && dominates(c[j], c[i]);
+    for (std::size_t j = 0; j < c.size() && !dominated; ++j)
+      dominated = j != i && c[j].feasible && dominates(c[j], c[i]);
     if (!dominated) front.push_back(i);
   }
   return front;
@@ -81,7 +83,8 @@ Study Evaluator::candidateStudy(const Model& m, const Overrides& ov) const {
   return sub;
 }
 
-StageResult Evaluator::runStages(const Model& m, const Overrides& ov, const std::string& dir) const {
+StageResult Evaluator::runStages(const Model& m, const Overrides& ov,
+                                 const std::string& dir) const {
   const Study sub = candidateStudy(m, ov);
   StageResult all;
   for (const StudySection& s : sections_) {
@@ -111,7 +114,8 @@ std::vector<double> Evaluator::metricValues(const Model& m, const StudyMetrics& 
       for (const auto& [k, x] : metrics.scalars)
         if (n++ < 12) have += (have.empty() ? "" : ", ") + k;
       throw InputError(o_.file, ob.line, "explore.objective.metric",
-                       "the stages " + std::string(sections_.empty() ? "(none)" : "run on the candidate") +
+                       "the stages " +
+                           std::string(sections_.empty() ? "(none)" : "run on the candidate") +
                            " give no metric '" + name + "' (they give: " + have + ")");
     }
     v.push_back(it->second);
@@ -155,7 +159,8 @@ Overrides Evaluator::overridesOf(const std::vector<double>& params) const {
   return ov;
 }
 
-std::vector<std::size_t> Evaluator::evaluate(const std::vector<std::vector<double>>& batch_params, bool base) {
+std::vector<std::size_t> Evaluator::evaluate(const std::vector<std::vector<double>>& batch_params,
+                                             bool base) {
   // New candidates only; known ones (a search revisiting a point) are returned as they are.
   std::vector<std::size_t> out(batch_params.size());
   std::vector<std::size_t> fresh;
@@ -173,7 +178,8 @@ std::vector<std::size_t> Evaluator::evaluate(const std::vector<std::vector<doubl
     c.overrides = ov;
     c.params = base ? baseParams() : batch_params[b];
     Model m = base ? o_.base : deriveVariant(o_.base, ov, o_.file, o_.line);
-    for (std::size_t a = o_.base.assumptions.size(); a < m.assumptions.size(); ++a) c.adapted.push_back(m.assumptions[a]);
+    for (std::size_t a = o_.base.assumptions.size(); a < m.assumptions.size(); ++a)
+      c.adapted.push_back(m.assumptions[a]);
     by_name_[name] = cands_.size();
     out[b] = cands_.size();
     fresh.push_back(cands_.size());
@@ -216,10 +222,13 @@ void Evaluator::searchGrid() {
   std::vector<std::size_t> counter(o_.parameters.size(), 0);
   for (bool done = false; !done;) {
     std::vector<double> p;
-    for (std::size_t i = 0; i < counter.size(); ++i) p.push_back(o_.parameters[i].values[counter[i]]);
+    for (std::size_t i = 0; i < counter.size(); ++i)
+      p.push_back(o_.parameters[i].values[counter[i]]);
     double viol;
-    if (parametersFeasible(p, viol)) pts.push_back(p);
-    else ++skipped_;
+    if (parametersFeasible(p, viol))
+      pts.push_back(p);
+    else
+      ++skipped_;
     int k = static_cast<int>(counter.size()) - 1;  // the last parameter varies fastest
     for (; k >= 0; --k) {
       if (++counter[k] < o_.parameters[k].values.size()) break;
@@ -228,8 +237,8 @@ void Evaluator::searchGrid() {
     done = k < 0;
   }
   evaluate(pts, false);
-  status_ = "exhaustive grid: " + std::to_string(pts.size()) + " candidate(s), " + std::to_string(skipped_) +
-            " left out by the parameter constraints";
+  status_ = "exhaustive grid: " + std::to_string(pts.size()) + " candidate(s), " +
+            std::to_string(skipped_) + " left out by the parameter constraints";
 }
 
 std::vector<double> Evaluator::snap(const std::vector<double>& x01) const {
@@ -270,7 +279,8 @@ double Evaluator::score(const std::vector<double>& x01) {
 
 void Evaluator::searchOptimise() {
   const unsigned n = static_cast<unsigned>(o_.parameters.size());
-  const int polish_budget = o_.polish == "none" ? 0 : static_cast<int>(std::floor(o_.budget * o_.polish_share));
+  const int polish_budget =
+      o_.polish == "none" ? 0 : static_cast<int>(std::floor(o_.budget * o_.polish_share));
   const int global_budget = std::max(1, o_.budget - polish_budget);
   nlopt::srand(o_.seed);
   std::exception_ptr error;
@@ -324,13 +334,15 @@ void Evaluator::searchOptimise() {
     std::string how;
     try {
       const nlopt::result r = opt.optimize(x, f);
-      how = r == nlopt::MAXEVAL_REACHED ? "call cap reached" : "NLopt status " + std::to_string(static_cast<int>(r));
+      how = r == nlopt::MAXEVAL_REACHED ? "call cap reached"
+                                        : "NLopt status " + std::to_string(static_cast<int>(r));
     } catch (const std::exception& e) {
       how = e.what();
     }
     if (error) std::rethrow_exception(error);
     if (d.budget_spent) how = "budget spent";
-    return std::to_string(cands_.size() - known) + " evaluations in " + std::to_string(d.calls) + " calls, " + how;
+    return std::to_string(cands_.size() - known) + " evaluations in " + std::to_string(d.calls) +
+           " calls, " + how;
   };
   const std::string gs = run(global, global_budget, 0);
   status_ = "NLopt " + o_.algorithm + " (" + gs + ")";

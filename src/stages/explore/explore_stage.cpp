@@ -16,7 +16,9 @@ namespace {
 
 std::string num(double v) { return formatG(v, 6); }
 
-std::string goalText(Goal g) { return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint"; }
+std::string goalText(Goal g) {
+  return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint";
+}
 
 // Larger is better for objective k.
 double oriented(const Objective& ob, double v) { return ob.goal == Goal::Minimise ? -v : v; }
@@ -48,7 +50,8 @@ std::vector<std::size_t> sortedFront(const ExploreOptions& o, const std::vector<
   std::size_t k0 = 0;
   while (o.objectives[k0].goal == Goal::None) ++k0;
   std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
-    const double va = oriented(o.objectives[k0], c[a].values[k0]), vb = oriented(o.objectives[k0], c[b].values[k0]);
+    const double va = oriented(o.objectives[k0], c[a].values[k0]),
+                 vb = oriented(o.objectives[k0], c[b].values[k0]);
     return va != vb ? va > vb : c[a].name < c[b].name;
   });
   return front;
@@ -73,9 +76,11 @@ std::string candidatesCsv(const Outcome& r) {
   s << ",feasible,on_front,is_base\n";
   for (std::size_t i = 0; i < c.size(); ++i) {
     s << c[i].name;
-    for (std::size_t p = 0; p < o.parameters.size(); ++p) s << "," << (c[i].params.empty() ? "" : num(c[i].params[p]));
+    for (std::size_t p = 0; p < o.parameters.size(); ++p)
+      s << "," << (c[i].params.empty() ? "" : num(c[i].params[p]));
     for (double v : c[i].values) s << "," << num(v);
-    s << "," << (c[i].feasible ? 1 : 0) << "," << (std::count(r.front.begin(), r.front.end(), i) ? 1 : 0) << ","
+    s << "," << (c[i].feasible ? 1 : 0) << ","
+      << (std::count(r.front.begin(), r.front.end(), i) ? 1 : 0) << ","
       << (i == r.base_index ? 1 : 0) << "\n";
   }
   return s.str();
@@ -93,10 +98,11 @@ std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evalua
     const Model m = deriveVariant(o.base, cand.overrides, o.file, o.line);
     const std::string safe = fileSafeName(cand.name);
     const std::string rel = "explore/front/" + safe;
-    Model file_model = m;  // as a design file: a valid design name, the variant named in the description
+    Model file_model =
+        m;  // as a design file: a valid design name, the variant named in the description
     file_model.name = safe;
-    file_model.description = "Variant " + cand.name + " of " + o.base.name + " (Pareto front of study " +
-                             ctx.study.name + "). " + m.description;
+    file_model.description = "Variant " + cand.name + " of " + o.base.name +
+                             " (Pareto front of study " + ctx.study.name + "). " + m.description;
     out.text(rel + "/" + safe + ".toml", designToToml(file_model));
     const StageResult sr = ev.runStages(m, cand.overrides, out.path(rel));
     for (const std::string& file : sr.files) out.add(rel + "/" + file);
@@ -109,18 +115,27 @@ std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evalua
 std::string introMarkdown(const StageContext& ctx, const Evaluator& ev, const Outcome& r) {
   const ExploreOptions& o = r.o;
   std::string md = "# Design-space exploration: study `" + ctx.study.name + "`\n\n";
-  md += "Candidates are variants of `" + o.base.name + "` (docs/exploration.md); each is evaluated by the stages " ;
-  for (std::size_t s = 0; s < o.stages.size(); ++s) md += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
-  md += " run on it alone.\n\nSearch: " + ev.status() + ". Evaluated: " + std::to_string(r.c.size()) +
-        " candidate(s) including the base design; " + std::to_string(r.front.size()) + " on the Pareto front.\n\n";
+  md += "Candidates are variants of `" + o.base.name +
+        "` (docs/exploration.md); each is evaluated by the stages ";
+  for (std::size_t s = 0; s < o.stages.size(); ++s)
+    md += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
+  md += " run on it alone.\n\nSearch: " + ev.status() +
+        ". Evaluated: " + std::to_string(r.c.size()) + " candidate(s) including the base design; " +
+        std::to_string(r.front.size()) + " on the Pareto front.\n\n";
   std::vector<std::vector<std::string>> rows;
   for (const Parameter& p : o.parameters)
-    rows.push_back({p.key, num(p.lo), num(p.hi), p.step > 0 ? num(p.step) : p.values.empty() ? "continuous" : std::to_string(p.values.size()) + " values"});
-  md += "## Parameters (SI)\n\n" + report::markdownTable({"key", ">from", ">to", ">step"}, rows) + "\n";
+    rows.push_back({p.key, num(p.lo), num(p.hi),
+                    p.step > 0         ? num(p.step)
+                    : p.values.empty() ? "continuous"
+                                       : std::to_string(p.values.size()) + " values"});
+  md += "## Parameters (SI)\n\n" + report::markdownTable({"key", ">from", ">to", ">step"}, rows) +
+        "\n";
   rows.clear();
   for (const Objective& ob : o.objectives)
-    rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal), ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
-  md += "## Objectives and constraints\n\n" + report::markdownTable({"label", "metric", "goal", ">min", ">max"}, rows) + "\n";
+    rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal),
+                    ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
+  md += "## Objectives and constraints\n\n" +
+        report::markdownTable({"label", "metric", "goal", ">min", ">max"}, rows) + "\n";
   return md;
 }
 
@@ -136,7 +151,8 @@ std::vector<std::string> candidateHeader(const ExploreOptions& o) {
 std::vector<std::string> candidateRow(const Outcome& r, std::size_t i) {
   const std::vector<Candidate>& c = r.c;
   std::vector<std::string> row{c[i].name + (i == r.base_index ? " (base design)" : "")};
-  for (std::size_t p = 0; p < r.o.parameters.size(); ++p) row.push_back(c[i].params.empty() ? "(base)" : num(c[i].params[p]));
+  for (std::size_t p = 0; p < r.o.parameters.size(); ++p)
+    row.push_back(c[i].params.empty() ? "(base)" : num(c[i].params[p]));
   for (double v : c[i].values) row.push_back(num(v));
   return row;
 }
@@ -148,7 +164,8 @@ std::vector<std::string> dominatingBase(const Outcome& r) {
   for (std::size_t i : r.front) {
     bool dom = true, strict = false;
     for (std::size_t k : r.goals) {
-      const double a = oriented(r.o.objectives[k], r.c[i].values[k]), b = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
+      const double a = oriented(r.o.objectives[k], r.c[i].values[k]),
+                   b = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
       dom &= a >= b;
       strict |= a > b;
     }
@@ -162,18 +179,22 @@ std::vector<std::string> dominatingBase(const Outcome& r) {
 std::string exploreAnswer(const Outcome& r) {
   long feasible = 0;
   for (const Candidate& x : r.c) feasible += x.feasible;
-  std::string a = std::to_string(r.front.size()) + " of the " + std::to_string(r.c.size()) + " candidates (" +
-                  std::to_string(feasible) + " feasible) are on the Pareto front; the base design is ";
-  if (r.base_on_front) a += "on it";
+  std::string a = std::to_string(r.front.size()) + " of the " + std::to_string(r.c.size()) +
+                  " candidates (" + std::to_string(feasible) +
+                  " feasible) are on the Pareto front; the base design is ";
+  if (r.base_on_front)
+    a += "on it";
   else {
     const std::vector<std::string> by = dominatingBase(r);
-    a += "dominated by " + std::to_string(by.size()) + " of them" + (by.empty() ? "" : " (e.g. " + by[0] + ")");
+    a += "dominated by " + std::to_string(by.size()) + " of them" +
+         (by.empty() ? "" : " (e.g. " + by[0] + ")");
   }
   for (std::size_t k : r.goals) {
     double best = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
-    for (std::size_t i : r.front) best = std::max(best, oriented(r.o.objectives[k], r.c[i].values[k]));
-    a += "; " + r.o.objectives[k].label + ": base " + num(r.c[r.base_index].values[k]) + ", best on the front " +
-         num(r.o.objectives[k].goal == Goal::Minimise ? -best : best);
+    for (std::size_t i : r.front)
+      best = std::max(best, oriented(r.o.objectives[k], r.c[i].values[k]));
+    a += "; " + r.o.objectives[k].label + ": base " + num(r.c[r.base_index].values[k]) +
+         ", best on the front " + num(r.o.objectives[k].goal == Goal::Minimise ? -best : best);
   }
   return a + ".";
 }
@@ -189,7 +210,9 @@ std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& heade
   md += report::markdownTable(header, rows) + "\n";
   if (!c[base_index].feasible) md += "The base design breaks a constraint.\n\n";
   if (r.base_on_front) {
-    md += "The base design is on the front: no candidate is at least as good in every objective and better in one.\n\n";
+    md +=
+        "The base design is on the front: no candidate is at least as good in every objective and "
+        "better in one.\n\n";
   } else {
     const std::vector<std::string> by = dominatingBase(r);
     md += "The base design is dominated by " + std::to_string(by.size()) + " front design(s)";
@@ -203,8 +226,9 @@ std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& heade
   for (std::size_t k : r.goals) {
     double best = oriented(o.objectives[k], c[base_index].values[k]);
     for (std::size_t i : r.front) best = std::max(best, oriented(o.objectives[k], c[i].values[k]));
-    md += "- " + o.objectives[k].label + ": base " + num(c[base_index].values[k]) + ", best on the front " +
-          num(o.objectives[k].goal == Goal::Minimise ? -best : best) + "\n";
+    md += "- " + o.objectives[k].label + ": base " + num(c[base_index].values[k]) +
+          ", best on the front " + num(o.objectives[k].goal == Goal::Minimise ? -best : best) +
+          "\n";
   }
   md += "\n";
   return md;
@@ -212,16 +236,21 @@ std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& heade
 
 // The adapted geometry of the front designs and the list of files written.
 std::string geometryAndFilesMarkdown(const Outcome& r, const std::vector<std::string>& written) {
-  std::string md = "## Geometry that follows\n\nWhat deriving the front designs adapted (docs/exploration.md, \"Geometry that follows\"):\n\n";
+  std::string md =
+      "## Geometry that follows\n\nWhat deriving the front designs adapted (docs/exploration.md, "
+      "\"Geometry that follows\"):\n\n";
   for (std::size_t i : r.front) {
     if (r.c[i].adapted.empty()) continue;
     md += "- `" + r.c[i].name + "`:\n";
     for (const std::string& a : r.c[i].adapted) md += "  - " + a + "\n";
   }
   md += "\n## Files\n\n- `candidates.csv`: every evaluated candidate\n";
-  if (r.goals.size() >= 2) md += "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
+  if (r.goals.size() >= 2)
+    md +=
+        "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
   md += "- `parallel.svg`: parallel coordinates of parameters and objectives\n";
-  for (const std::string& n : written) md += "- `front/" + n + "/`: design file and the stages' outputs\n";
+  for (const std::string& n : written)
+    md += "- `front/" + n + "/`: design file and the stages' outputs\n";
   return md;
 }
 
@@ -232,7 +261,8 @@ std::string exploreMarkdown(const StageContext& ctx, const Evaluator& ev, const 
   const std::vector<std::string> header = candidateHeader(r.o);
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i : r.front) rows.push_back(candidateRow(r, i));
-  md += "## Pareto front (non-dominated feasible candidates)\n\n" + report::markdownTable(header, rows) + "\n";
+  md += "## Pareto front (non-dominated feasible candidates)\n\n" +
+        report::markdownTable(header, rows) + "\n";
   md += baseMarkdown(r, header);
   md += geometryAndFilesMarkdown(r, written);
   return md;
@@ -245,7 +275,8 @@ void addExploreMetrics(const Outcome& r, StudyMetrics& M) {
   M.scalars["explore/base_on_front"] = r.base_on_front ? 1.0 : 0.0;
   for (std::size_t f = 0; f < r.front.size(); ++f)
     for (std::size_t k = 0; k < r.o.objectives.size(); ++k)
-      M.scalars["explore/front/" + r.c[r.front[f]].name + "/" + std::to_string(k)] = r.c[r.front[f]].values[k];
+      M.scalars["explore/front/" + r.c[r.front[f]].name + "/" + std::to_string(k)] =
+          r.c[r.front[f]].values[k];
 }
 
 }  // namespace
@@ -258,15 +289,19 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   Writer out(ctx.output_dir);
   Evaluator ev(ctx, o);
   const std::size_t base_index = ev.evaluate({{}}, true)[0];
-  if (o.method == Method::Grid) ev.searchGrid();
-  else ev.searchOptimise();
+  if (o.method == Method::Grid)
+    ev.searchGrid();
+  else
+    ev.searchOptimise();
   const std::vector<Candidate>& c = ev.candidates();
   std::vector<std::size_t> front = sortedFront(o, c);
   const bool base_on_front = std::find(front.begin(), front.end(), base_index) != front.end();
   const Outcome r{o, c, std::move(front), base_index, goalObjectives(o), base_on_front};
   out.text("explore/candidates.csv", candidatesCsv(r));
   // Plots (explore_plots.hpp: minimal SVG kept in this folder).
-  if (r.goals.size() >= 2) out.text("explore/front_scatter.svg", scatterSvg(r.c, r.front, base_index, o, r.goals[0], r.goals[1]));
+  if (r.goals.size() >= 2)
+    out.text("explore/front_scatter.svg",
+             scatterSvg(r.c, r.front, base_index, o, r.goals[0], r.goals[1]));
   out.text("explore/parallel.svg", parallelSvg(r.c, r.front, base_index, o));
   const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out);
   out.text("explore/explore.md", exploreMarkdown(ctx, ev, r, written));

@@ -39,11 +39,13 @@ Eigen::Matrix3d toolRotation(double beta) {
 }
 
 // The (range, item) pairs of `ranges`, in order; every range non-empty and within [0, count).
-std::vector<std::pair<std::size_t, long>> workItems(const std::vector<ItemRange>& ranges, long count) {
+std::vector<std::pair<std::size_t, long>> workItems(const std::vector<ItemRange>& ranges,
+                                                    long count) {
   std::vector<std::pair<std::size_t, long>> items;
   for (std::size_t k = 0; k < ranges.size(); ++k) {
-    ARMSTUDY_CHECK(0 <= ranges[k].begin && ranges[k].begin < ranges[k].end && ranges[k].end <= count,
-                   "harvest work range out of bounds");
+    ARMSTUDY_CHECK(
+        0 <= ranges[k].begin && ranges[k].begin < ranges[k].end && ranges[k].end <= count,
+        "harvest work range out of bounds");
     for (long i = ranges[k].begin; i < ranges[k].end; ++i) items.emplace_back(k, i);
   }
   return items;
@@ -57,7 +59,8 @@ ApproachTrackingOptions trackingOptions(const HarvestOptions& o) {
   return t;
 }
 
-// Tells `done` (may be empty) that range k of `res` is complete; `failure` keeps the first exception.
+// Tells `done` (may be empty) that range k of `res` is complete; `failure` keeps the first
+// exception.
 void tellRangeDone(FirstException& failure, const RangeDone& done, std::size_t k,
                    const DesignResult& res) {
   if (done) failure.call([&] { done(k, res); });

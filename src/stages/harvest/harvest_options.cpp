@@ -1,5 +1,3 @@
-#include "stages/harvest/harvest_stage.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
@@ -9,20 +7,21 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "dynamics/approach_tracking.hpp"
+#include "io/approach_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
-#include "io/approach_io.hpp"
+#include "stages/harvest/harvest_stage.hpp"
 
 namespace armstudy::harvest {
 

@@ -32,7 +32,6 @@ std::string limitText(const QuantityCheck& c, int decimals) {
   return c.checked ? report::fixed(c.limit, decimals) : "-";
 }
 
-
 std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d) {
   const int n = model.dof();
   std::vector<JointAggregate> agg(n);
@@ -134,8 +133,9 @@ std::string profileCsv(const Model& model, const FruitResult& f, double dt) {
 }
 
 // Every `stride`-th sample (plots stay small).
-std::vector<report::PlotSeries> profileSeries(const Model& model, const std::vector<JointVector>& rows,
-                                          double dt, const std::string& suffix, int stride) {
+std::vector<report::PlotSeries> profileSeries(const Model& model,
+                                              const std::vector<JointVector>& rows, double dt,
+                                              const std::string& suffix, int stride) {
   std::vector<report::PlotSeries> out;
   for (int i = 0; i < model.dof(); ++i) {
     report::PlotSeries s;
@@ -153,7 +153,8 @@ namespace {
 
 // The holding load sampled over a grid: the VTK image with its point arrays, and its counts.
 struct HoldingImage {
-  io::ImageGrid img;  // status, max_current_ratio, max_current_ratio_revolute, limiting_joint, holding_<joint>
+  io::ImageGrid img;  // status, max_current_ratio, max_current_ratio_revolute, limiting_joint,
+                      // holding_<joint>
   int reachable = 0, limited = 0;
   double max_ratio = 0;
   int max_ratio_joint = -1;
@@ -163,11 +164,12 @@ struct HoldingImage {
 // The units and legend lines of the holding image's field data.
 std::vector<io::FieldStrings> holdingFieldData(const Model& model) {
   const int n = model.dof();
-  std::vector<std::string> units{"position: m", "status: 1", "max_current_ratio: 1", "max_current_ratio_revolute: 1",
-                                 "limiting_joint: 1"};
-  std::vector<std::string> legend{"status 0: unreachable (every other quantity NaN, limiting_joint -1)",
-                                  "status 1: the drives hold the pose", "status 2: a drive over its limit",
-                                  "limiting_joint -1: none"};
+  std::vector<std::string> units{"position: m", "status: 1", "max_current_ratio: 1",
+                                 "max_current_ratio_revolute: 1", "limiting_joint: 1"};
+  std::vector<std::string> legend{
+      "status 0: unreachable (every other quantity NaN, limiting_joint -1)",
+      "status 1: the drives hold the pose", "status 2: a drive over its limit",
+      "limiting_joint -1: none"};
   for (int i = 0; i < n; ++i) {
     units.push_back("holding_" + model.joints[i].name + (isRevolute(model, i) ? ": N m" : ": N"));
     legend.push_back("limiting_joint " + std::to_string(i) + ": " + model.joints[i].name);
@@ -196,8 +198,8 @@ HoldingImage holdingImage(const Model& model, const HarvestGrid& g, const Design
   io::NamedArray limj{"limiting_joint", io::ArrayType::Int32, 1, std::vector<double>(np)};
   std::vector<io::NamedArray> hold;
   for (int i = 0; i < n; ++i)
-    hold.push_back({"holding_" + model.joints[i].name, io::ArrayType::Float64, 1,
-                    std::vector<double>(np)});
+    hold.push_back(
+        {"holding_" + model.joints[i].name, io::ArrayType::Float64, 1, std::vector<double>(np)});
   hi.limiting_count.assign(n, 0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (long p = 0; p < np; ++p) {
@@ -250,8 +252,8 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   for (int a = 0; a < 3; ++a)
     if (img.dims[a] > 1) axes.push_back(a);
   if (axes.size() < 2) {
-    md << "Static holding over the grid: " << hi.reachable << " of " << np
-       << " points reachable, " << hi.limited << " drive-limited.\n\n";
+    md << "Static holding over the grid: " << hi.reachable << " of " << np << " points reachable, "
+       << hi.limited << " drive-limited.\n\n";
     return md.str();
   }
   const int a0 = axes[0], a1 = axes[1];
@@ -282,7 +284,8 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
                        {report::Rgb{215, 50, 40}, "drive limit"},
                        {report::Rgb{200, 200, 200}, "unreachable"}};
-  const report::Drawing status_d = report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
+  const report::Drawing status_d =
+      report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
   out.text("harvest/" + base + "_holding_map.png", status_d.png);
   out.text("harvest/" + base + "_holding_map.svg", status_d.svg);
   const auto ratioImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
@@ -292,13 +295,13 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   report::MapFigure ratio_fig = figure(model.name + ": max |I| / I_continuous (revolute joints)");
   ratio_fig.scale = report::ColourScale{report::viridis, 0, 1.5, "max |I| / I_continuous [1]"};
   ratio_fig.legend = {{report::Rgb{200, 200, 200}, "unreachable"}};
-  const report::Drawing ratio_d = report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
+  const report::Drawing ratio_d =
+      report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
   out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
   out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
   md << "Static holding (gravity + payload) over the grid, tool heading "
      << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << hi.reachable << " of " << np
-     << " points reachable, " << hi.limited
-     << " of them drive-limited (|I| > continuous current). "
+     << " points reachable, " << hi.limited << " of them drive-limited (|I| > continuous current). "
      << "Map axes: " << an[a0] << " to the right, " << an[a1]
      << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
         "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
@@ -313,8 +316,8 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
 
 // Writes the holding image, adds the holding metrics, writes the maps and assembles the report
 // paragraph with the limiting-joint table.
-HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
-                                StudyMetrics& M) {
+HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d,
+                                Writer& out, StudyMetrics& M) {
   HoldingSummary h;
   std::ostringstream md;
   const int n = model.dof();
@@ -330,7 +333,8 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   M.scalars[mprefix + "holding_max_current_ratio"] = hi.max_ratio;
   md << "Largest static holding current over the reachable grid points: "
      << report::percent(hi.max_ratio, 1) << " of the continuous limit"
-     << (hi.max_ratio_joint >= 0 ? " (" + model.joints[hi.max_ratio_joint].name + ")" : std::string())
+     << (hi.max_ratio_joint >= 0 ? " (" + model.joints[hi.max_ratio_joint].name + ")"
+                                 : std::string())
      << ".\n\n";
   md << writeHoldingMaps(model, g, hi, out);
   std::vector<std::vector<std::string>> lrows;

@@ -30,8 +30,9 @@ std::string failureText(const Model& model, const DriveFeasibility& r);
 std::string fruitCsv(const Model& model, const DesignResult& d);
 std::string profileCsv(const Model& model, const FruitResult& f, double dt);
 // One series per joint, every `stride`-th sample (plots stay small).
-std::vector<report::PlotSeries> profileSeries(const Model& model, const std::vector<JointVector>& rows, double dt,
-                                          const std::string& suffix, int stride);
+std::vector<report::PlotSeries> profileSeries(const Model& model,
+                                              const std::vector<JointVector>& rows, double dt,
+                                              const std::string& suffix, int stride);
 
 // The static holding load over the [harvest.grid]: <design>_holding.vti and, for a grid with two
 // axes of more than one value, status and current-ratio maps (.png raw, .svg with axes). Adds the
@@ -42,7 +43,7 @@ struct HoldingSummary {
   double max_ratio = 0;
   std::string markdown;
 };
-HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d, Writer& out,
-                                StudyMetrics& M);
+HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d,
+                                Writer& out, StudyMetrics& M);
 
 }  // namespace armstudy::harvest

@@ -120,7 +120,8 @@ std::vector<int> plottedFruits(const DesignResult& d, int plot_fruits) {
   return plotted;
 }
 
-// Joint efforts of one fruit: revolute joints [N m] and prismatic joints [N] in panels of their own.
+// Joint efforts of one fruit: revolute joints [N m] and prismatic joints [N] in panels of their
+// own.
 report::PlotSpec effortPlot(const Model& model, const FruitResult& f, const std::string& what,
                             double dt, int stride) {
   const int n = model.dof();
@@ -164,7 +165,8 @@ report::PlotSpec currentPlot(const Model& model, const FruitResult& f, const std
         panel.lines.push_back({-dr.peak_current_A, "", true, report::Rgb{214, 39, 40}});
       }
       if (dr.continuous_current_A > 0) {
-        panel.lines.push_back({dr.continuous_current_A, "continuous limit", true, report::Rgb{255, 127, 14}});
+        panel.lines.push_back(
+            {dr.continuous_current_A, "continuous limit", true, report::Rgb{255, 127, 14}});
         panel.lines.push_back({-dr.continuous_current_A, "", true, report::Rgb{255, 127, 14}});
       }
     }
@@ -206,7 +208,8 @@ void writeFruitPlots(const Model& model, const DesignResult& d, const std::vecto
 
 // The design's report section: fruit counts, the per-fruit and per-joint tables, plot links.
 std::string designMarkdown(const Model& model, const DesignResult& d, const FruitCounts& c,
-                           const std::vector<JointAggregate>& agg, const std::vector<int>& plotted) {
+                           const std::vector<JointAggregate>& agg,
+                           const std::vector<int>& plotted) {
   const int n = model.dof();
   std::ostringstream md;
   md << "## " << model.name << "\n\n"
@@ -230,8 +233,8 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
   for (int i = 0; i < n; ++i) {
     const JointAggregate& a = agg[i];
     if (!a.has_drive) {
-      rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2), "no drive", "", "",
-                      "", "", "", "", ""});
+      rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2), "no drive", "", "", "",
+                      "", "", "", ""});
       continue;
     }
     const auto& pc = a.worst[0];
@@ -320,18 +323,22 @@ void harvestAnswer(const ordered_json& js, StageResult& sum) {
     std::string why;
     for (const auto& f : d["fruits"]) {
       if (f.value("feasible", false)) continue;
-      why += std::string(why.empty() ? "" : "; ") + "fruit " + std::to_string(f.value("fruit", 0)) + ": ";
+      why += std::string(why.empty() ? "" : "; ") + "fruit " + std::to_string(f.value("fruit", 0)) +
+             ": ";
       if (f.contains("failing_joint"))
-        why += f["failing_joint"].get<std::string>() + " " + words(f.value("failing_quantity", "")) + " at " +
+        why += f["failing_joint"].get<std::string>() + " " +
+               words(f.value("failing_quantity", "")) + " at " +
                formatG(f.value("failure_time_s", 0.0), 3) + " s";
       else
         why += words(f.value("status", ""));
     }
-    sum.answer.push_back("`" + name + "` picks " + std::to_string(feasible) + " of the " + std::to_string(fruits) +
-                         " fruits within its drives' limits (" + std::to_string(d.value("evaluated", 0L)) +
-                         " approached)" + (why.empty() ? "." : "; misses " + why + "."));
+    sum.answer.push_back("`" + name + "` picks " + std::to_string(feasible) + " of the " +
+                         std::to_string(fruits) + " fruits within its drives' limits (" +
+                         std::to_string(d.value("evaluated", 0L)) + " approached)" +
+                         (why.empty() ? "." : "; misses " + why + "."));
     if (feasible == 0)
-      sum.warnings.push_back("`" + name + "` picks none of the " + std::to_string(fruits) + " fruits.");
+      sum.warnings.push_back("`" + name + "` picks none of the " + std::to_string(fruits) +
+                             " fruits.");
   }
 }
 

@@ -79,7 +79,6 @@ struct DesignResult {
   std::vector<GridPointResult> grid;
 };
 
-
 // Which fruits (approaches) and holding-grid points evaluateHarvestDesign computes, as ranges of
 // indices (non-empty, within the row's fruits / the grid's points), and whom it tells when a range
 // is complete: called once per range from the thread that finished it (concurrently for distinct

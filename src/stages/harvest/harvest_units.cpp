@@ -9,19 +9,19 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "common/errors.hpp"
 #include "dynamics/approach_tracking.hpp"
+#include "io/approach_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
-#include "io/approach_io.hpp"
 
 namespace armstudy::harvest {
 
@@ -47,7 +47,8 @@ void rowsField(UnitWriter& w, const std::vector<JointVector>& rows) {
 void rowsField(UnitReader& r, std::vector<JointVector>& rows) {
   const auto n = r.get<std::uint64_t>();
   const auto width = r.get<std::int64_t>();
-  if (!r.ok() || width < 0 || width > defaults::kMaxDof || (n > 0 && width == 0) || n > (1ULL << 32)) {
+  if (!r.ok() || width < 0 || width > defaults::kMaxDof || (n > 0 && width == 0) ||
+      n > (1ULL << 32)) {
     r.fail();
     return;
   }
@@ -161,7 +162,9 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
   const long unit_items = ctx.options.unit_items;
   const long nf = static_cast<long>(row.fruits.size());
   long np = 0;
-  if (options.grid) np = long(options.grid->axes[0].count()) * options.grid->axes[1].count() * options.grid->axes[2].count();
+  if (options.grid)
+    np = long(options.grid->axes[0].count()) * options.grid->axes[1].count() *
+         options.grid->axes[2].count();
   const std::vector<ItemRange> fruit_units =
       splitRange(nf, unit_items > 0 ? unit_items : defaults::kHarvestUnitFruits);
   const std::vector<ItemRange> grid_units =
@@ -169,15 +172,18 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
   const std::size_t F = fruit_units.size();
   auto range = [&](std::size_t k) { return k < F ? fruit_units[k] : grid_units[k - F]; };
   UnitBatch batch;
-  for (const ItemRange& r : fruit_units) batch.ids.push_back("harvest/" + model.name + "/fruits_" + r.text());
-  for (const ItemRange& r : grid_units) batch.ids.push_back("harvest/" + model.name + "/grid_" + r.text());
+  for (const ItemRange& r : fruit_units)
+    batch.ids.push_back("harvest/" + model.name + "/fruits_" + r.text());
+  for (const ItemRange& r : grid_units)
+    batch.ids.push_back("harvest/" + model.name + "/grid_" + r.text());
   DesignResult loaded;
   loaded.fruits.resize(nf);
   loaded.grid.resize(np);
   std::vector<ItemRange> fruits_loaded, grid_loaded;
   batch.load = [&](std::size_t k, const std::string& bytes) {
     ItemRange got;
-    const bool ok = k < F ? deserializeFruits(bytes, loaded, got) : deserializeGridPoints(bytes, loaded, got);
+    const bool ok =
+        k < F ? deserializeFruits(bytes, loaded, got) : deserializeGridPoints(bytes, loaded, got);
     if (!ok || got.begin != range(k).begin || got.end != range(k).end) return false;
     (k < F ? fruits_loaded : grid_loaded).push_back(range(k));
     return true;
@@ -195,14 +201,20 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
       (k < F ? work.fruits : work.grid).push_back(range(k));
       (k < F ? fruit_ids : grid_ids).push_back(k);
     }
-    work.fruits_done = [&](std::size_t j, const DesignResult& d) { done(fruit_ids[j], serializeFruits(d, work.fruits[j])); };
-    work.grid_done = [&](std::size_t j, const DesignResult& d) { done(grid_ids[j], serializeGridPoints(d, work.grid[j])); };
+    work.fruits_done = [&](std::size_t j, const DesignResult& d) {
+      done(fruit_ids[j], serializeFruits(d, work.fruits[j]));
+    };
+    work.grid_done = [&](std::size_t j, const DesignResult& d) {
+      done(grid_ids[j], serializeGridPoints(d, work.grid[j]));
+    };
     computed = evaluateHarvestDesign(model, options, row, ctx.threads, &work);
   };
   units_resumed += ctx.units.run(batch);
-  DesignResult d = computed ? std::move(*computed) : evaluateHarvestDesign(model, options, row, ctx.threads, &work);
+  DesignResult d = computed ? std::move(*computed)
+                            : evaluateHarvestDesign(model, options, row, ctx.threads, &work);
   for (const ItemRange& u : fruits_loaded)
-    std::move(loaded.fruits.begin() + u.begin, loaded.fruits.begin() + u.end, d.fruits.begin() + u.begin);
+    std::move(loaded.fruits.begin() + u.begin, loaded.fruits.begin() + u.end,
+              d.fruits.begin() + u.begin);
   for (const ItemRange& u : grid_loaded)
     std::move(loaded.grid.begin() + u.begin, loaded.grid.begin() + u.end, d.grid.begin() + u.begin);
   return d;

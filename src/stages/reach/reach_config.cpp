@@ -6,8 +6,8 @@
 
 #include "io/design_io.hpp"
 #include "io/files.hpp"
-#include "io/toml_reader.hpp"
 #include "io/pose_list_io.hpp"
+#include "io/toml_reader.hpp"
 
 namespace armstudy {
 
@@ -54,7 +54,8 @@ AxisRange readRange(const toml::table& t, const std::string& file, const std::st
 AxisRange readAxis(TableReader& r, const std::string& key) {
   const toml::node* n = r.node(key);
   if (!n) r.fail(key, "missing axis (a value such as \"1.2 m\" or {from, to, step})");
-  if (const toml::table* t = n->as_table()) return readRange(*t, r.file(), r.keyPath(key), Dimension::Length);
+  if (const toml::table* t = n->as_table())
+    return readRange(*t, r.file(), r.keyPath(key), Dimension::Length);
   AxisRange a;
   a.from = a.to = io::nodeQuantity(*n, Dimension::Length, r.file(), r.keyPath(key));
   a.step = 1;
@@ -71,7 +72,8 @@ std::vector<double> readAngles(TableReader& r, const std::string& key) {
     for (int i = 0; i < a.count(); ++i) v.push_back(a.value(i));
   } else if (const toml::array* arr = n->as_array()) {
     if (arr->empty()) r.fail(key, "empty list of angles");
-    for (const auto& e : *arr) v.push_back(io::nodeQuantity(e, Dimension::Angle, r.file(), r.keyPath(key)));
+    for (const auto& e : *arr)
+      v.push_back(io::nodeQuantity(e, Dimension::Angle, r.file(), r.keyPath(key)));
   } else {
     v.push_back(io::nodeQuantity(*n, Dimension::Angle, r.file(), r.keyPath(key)));
   }
@@ -97,12 +99,14 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (!t) return;
   cfg.enabled = true;
   TableReader r(*t, top.file(), "reach");
-  std::vector<const Model*> evaluated;  // the designs this stage evaluates (key designs; default all)
+  std::vector<const Model*>
+      evaluated;  // the designs this stage evaluates (key designs; default all)
   if (r.has("designs")) {
     cfg.designs = r.stringArray("designs");
     if (cfg.designs.empty()) r.fail("designs", "empty list of designs");
     for (const auto& d : cfg.designs) {
-      const auto it = std::find_if(models.begin(), models.end(), [&](const Model* m) { return m->name == d; });
+      const auto it =
+          std::find_if(models.begin(), models.end(), [&](const Model* m) { return m->name == d; });
       if (it == models.end()) {
         std::string names;
         for (const Model* m : models) names += (names.empty() ? "" : ", ") + m->name;
@@ -117,58 +121,70 @@ void readReachSection(TableReader& top, const std::string& study_dir,
     TableReader tr(*ta, top.file(), r.keyPath("tool_axis"));
     for (auto&& [key, value] : *ta) {
       const std::string name(key.str());
-      if (std::find_if(evaluated.begin(), evaluated.end(), [&](const Model* m) { return m->name == name; }) ==
-          evaluated.end()) {
+      if (std::find_if(evaluated.begin(), evaluated.end(),
+                       [&](const Model* m) { return m->name == name; }) == evaluated.end()) {
         std::string names;
         for (const Model* m : evaluated) names += (names.empty() ? "" : ", ") + m->name;
-        tr.fail(name, "design '" + name + "' is not evaluated by this stage (designs: " + names + ")");
+        tr.fail(name,
+                "design '" + name + "' is not evaluated by this stage (designs: " + names + ")");
       }
       cfg.tool_axes.emplace_back(name, readToolAxis(tr, name, Eigen::Vector3d::UnitZ()));
     }
     tr.finish();
   }
   const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
-  cfg.ik.position_tolerance_m = r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);
-  if (!(cfg.ik.position_tolerance_m > 0)) r.fail("position_tolerance", "tolerance must be positive");
+  cfg.ik.position_tolerance_m =
+      r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);
+  if (!(cfg.ik.position_tolerance_m > 0))
+    r.fail("position_tolerance", "tolerance must be positive");
   cfg.ik.orientation_tolerance_rad =
       r.quantity("orientation_tolerance", Dimension::Angle, cfg.ik.orientation_tolerance_rad);
-  if (!(cfg.ik.orientation_tolerance_rad > 0)) r.fail("orientation_tolerance", "tolerance must be positive");
+  if (!(cfg.ik.orientation_tolerance_rad > 0))
+    r.fail("orientation_tolerance", "tolerance must be positive");
   const long long starts = r.integer("starts", cfg.ik.max_starts);
   if (starts < 1 || starts > 10000) r.fail("starts", "starts must be between 1 and 10000");
   cfg.ik.max_starts = static_cast<int>(starts);
   const long long cls = r.integer("classify_starts", cfg.ik.classify_starts);
-  if (cls < 0 || cls > 10000) r.fail("classify_starts", "classify_starts must be between 0 and 10000");
+  if (cls < 0 || cls > 10000)
+    r.fail("classify_starts", "classify_starts must be between 0 and 10000");
   cfg.ik.classify_starts = static_cast<int>(cls);
   const long long seed = r.integer("seed", static_cast<long long>(cfg.ik.seed));
   if (seed < 0) r.fail("seed", "seed must not be negative");
   cfg.ik.seed = static_cast<std::uint64_t>(seed);
   cfg.ik.classify_failures = r.boolean("classify", true);
   {
-    // Designs without collision volumes are evaluated without collisions (ReachConfig::collisionFor).
+    // Designs without collision volumes are evaluated without collisions
+    // (ReachConfig::collisionFor).
     bool any_has_model = false;
     for (const Model* m : evaluated) any_has_model |= !m->collision.empty();
     cfg.collision.self = r.boolean("self_collision", any_has_model);
     if (cfg.collision.self && !any_has_model)
-      r.fail("self_collision", "self_collision = true needs a collision model, but no design of the study has one "
-                               "(add [[collision]] volumes or set self_collision = false)");
+      r.fail("self_collision",
+             "self_collision = true needs a collision model, but no design of the study has one "
+             "(add [[collision]] volumes or set self_collision = false)");
     const bool use_obstacles = r.boolean("obstacles", !obstacles.empty());
     if (use_obstacles && obstacles.empty())
       r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
     if (use_obstacles && !any_has_model)
-      r.fail("obstacles", "obstacles are checked against the designs' collision volumes, but no design of the "
-                          "study has any (add [[collision]] volumes or set obstacles = false)");
+      r.fail("obstacles",
+             "obstacles are checked against the designs' collision volumes, but no design of the "
+             "study has any (add [[collision]] volumes or set obstacles = false)");
     if (use_obstacles) cfg.collision.obstacles = obstacles;
     cfg.collision.nullspace_escape = r.boolean("nullspace_escape", true);
   }
   if (const toml::table* t = r.table("search")) {  // docs/reachability.md, "What a status claims"
     TableReader se(*t, top.file(), r.keyPath("search"));
-    cfg.search.propagation_rounds = se.integerIn("propagation_rounds", cfg.search.propagation_rounds, 0, 1000000);
-    cfg.search.collision_starts = se.integerIn("collision_starts", cfg.search.collision_starts, 0, 100000);
-    cfg.search.best_manipulability = se.boolean("best_manipulability", cfg.search.best_manipulability);
+    cfg.search.propagation_rounds =
+        se.integerIn("propagation_rounds", cfg.search.propagation_rounds, 0, 1000000);
+    cfg.search.collision_starts =
+        se.integerIn("collision_starts", cfg.search.collision_starts, 0, 100000);
+    cfg.search.best_manipulability =
+        se.boolean("best_manipulability", cfg.search.best_manipulability);
     cfg.search.seed = se.seed("seed", cfg.search.seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")
-      se.fail("order", "expected \"ascending\" or \"descending\" (the direction grid lines are swept in)");
+      se.fail("order",
+              "expected \"ascending\" or \"descending\" (the direction grid lines are swept in)");
     cfg.ik.sweep_descending = order == "descending";
     se.finish();
   }
@@ -182,10 +198,14 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (r.has("outputs")) {
     cfg.outputs = ReachOutputs{false, false, false};
     for (const std::string& o : r.stringArray("outputs")) {
-      if (o == "vtk") cfg.outputs.vtk = true;
-      else if (o == "images") cfg.outputs.images = true;
-      else if (o == "surface") cfg.outputs.surface = true;
-      else r.fail("outputs", "unknown output '" + o + "' (expected vtk, images, surface)");
+      if (o == "vtk")
+        cfg.outputs.vtk = true;
+      else if (o == "images")
+        cfg.outputs.images = true;
+      else if (o == "surface")
+        cfg.outputs.surface = true;
+      else
+        r.fail("outputs", "unknown output '" + o + "' (expected vtk, images, surface)");
     }
   }
 
@@ -194,7 +214,8 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (const toml::array* grids = r.array("grid")) {
     for (const auto& e : *grids) {
       if (!e.is_table())
-        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.grid", "expected [[reach.grid]] tables");
+        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.grid",
+                         "expected [[reach.grid]] tables");
       TableReader g(*e.as_table(), top.file(), "reach.grid[" + std::to_string(idx++) + "]");
       TaskGrid grid;
       grid.name = g.string("name");
@@ -222,14 +243,18 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (const toml::array* lists = r.array("poses")) {
     for (const auto& e : *lists) {
       if (!e.is_table())
-        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.poses", "expected [[reach.poses]] tables");
+        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.poses",
+                         "expected [[reach.poses]] tables");
       TableReader p(*e.as_table(), top.file(), "reach.poses[" + std::to_string(idx++) + "]");
       const std::string name = p.string("name");
       checkName(p, name, names);
       const TaskSpace ts = readTaskSpace(p, "task_space", default_space);
       const std::string file = p.string("file");
-      const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : fs::path(study_dir) / file;
-      if (!fs::exists(resolved)) p.fail("file", "pose list '" + file + "' does not exist (looked for " + resolved.string() + ")");
+      const fs::path resolved =
+          fs::path(file).is_absolute() ? fs::path(file) : fs::path(study_dir) / file;
+      if (!fs::exists(resolved))
+        p.fail("file",
+               "pose list '" + file + "' does not exist (looked for " + resolved.string() + ")");
       p.finish();
       const std::string path = resolved.lexically_normal().string();
       const std::string text = readFileOrThrow(path);
@@ -241,7 +266,8 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   }
   r.finish();
   if (cfg.grids.empty() && cfg.pose_lists.empty())
-    throw InputError(top.file(), r.line(), "reach", "[reach] needs at least one [[reach.grid]] or [[reach.poses]]");
+    throw InputError(top.file(), r.line(), "reach",
+                     "[reach] needs at least one [[reach.grid]] or [[reach.poses]]");
 }
 
 }  // namespace armstudy

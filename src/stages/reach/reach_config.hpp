@@ -16,9 +16,9 @@ class TableReader;
 }
 
 struct ReachOutputs {
-  bool vtk = true;       // .vti per grid and design, .vtp per pose list and design
-  bool images = true;    // PNG maps in the report
-  bool surface = true;   // boundary surface (.vtp) and volume for 3-D grids
+  bool vtk = true;      // .vti per grid and design, .vtp per pose list and design
+  bool images = true;   // PNG maps in the report
+  bool surface = true;  // boundary surface (.vtp) and volume for 3-D grids
 };
 
 struct ReachConfig {
@@ -26,7 +26,7 @@ struct ReachConfig {
   std::vector<std::string> designs;  // the designs the stage evaluates (key designs); empty: all
   // [reach.tool_axis]: a design's tool axis for this stage (TCP frame, unit), overriding its own.
   std::vector<std::pair<std::string, Eigen::Vector3d>> tool_axes;
-  IkOptions ik = studyDefaults();    // tolerances, starts, seed, classification
+  IkOptions ik = studyDefaults();  // tolerances, starts, seed, classification
   static IkOptions studyDefaults() {
     IkOptions o;
     o.max_starts = defaults::kReachStudyStarts;  // grid poses get warm starts from their neighbours
@@ -45,15 +45,16 @@ struct ReachConfig {
   SweepCollision collision;
   // What a design's sweep checks: `collision`, or nothing for a design without collision volumes.
   SweepCollision collisionFor(const Model& model) const {
-    return model.collision.empty() ? SweepCollision{false, {}, collision.nullspace_escape} : collision;
+    return model.collision.empty() ? SweepCollision{false, {}, collision.nullspace_escape}
+                                   : collision;
   }
-  SweepSearch search;                // [reach.search]: the map search after the sweeps of a grid
+  SweepSearch search;  // [reach.search]: the map search after the sweeps of a grid
   // [reach.audit]: poses drawn per grid and design, searched from `audit_starts` random starts
   // each, independently of the sweep (reach_audit.hpp); 0 = no audit.
   int audit_poses = 0;
   int audit_starts = defaults::kAuditReachStarts;
   std::uint64_t audit_seed = defaults::kAuditSeed;
-  std::string validate() const;      // empty when valid (programmer check after parsing)
+  std::string validate() const;  // empty when valid (programmer check after parsing)
 };
 
 // Reads the optional [reach] section from the study's top-level table. Relative pose-list paths

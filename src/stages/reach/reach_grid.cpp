@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
-#include <string_view>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "collision/reach_collision.hpp"
 #include "common/defaults.hpp"
@@ -33,7 +33,9 @@ using namespace reach_units;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 // Designs compared pairwise in full up to this many; beyond, the first against each other.
 constexpr std::size_t kMaxPairsDesigns = 4;
@@ -43,10 +45,21 @@ constexpr std::size_t kMaxPairsDesigns = 4;
 // results, the report: the designs' entries and tables (writeGridReport) and the comparison of
 // designs (compareDesigns).
 struct GridRun {
-  GridRun(const StageContext& c, const ReachConfig& rc, const TaskGrid& tg, StageResult& s, Writer& w)
-      : ctx(c), study(c.study), cfg(rc), g(tg), sum(s), out(w), d(tg.dims()), points(tg.points()),
-        no(static_cast<int>(tg.orientations.size())), nd(c.study.designs.size()), gdir("reach/" + tg.name),
-        plane(imagePlane(tg)), pieces(1 + 2 * no) {
+  GridRun(const StageContext& c, const ReachConfig& rc, const TaskGrid& tg, StageResult& s,
+          Writer& w)
+      : ctx(c),
+        study(c.study),
+        cfg(rc),
+        g(tg),
+        sum(s),
+        out(w),
+        d(tg.dims()),
+        points(tg.points()),
+        no(static_cast<int>(tg.orientations.size())),
+        nd(c.study.designs.size()),
+        gdir("reach/" + tg.name),
+        plane(imagePlane(tg)),
+        pieces(1 + 2 * no) {
     for (const StudyDesign& sd : study.designs) models.push_back(&sd.model);
     // The pairs of designs compared on this grid (many designs: the first against each other).
     for (std::size_t a = 0; a < nd; ++a)
@@ -78,7 +91,8 @@ struct GridRun {
   std::vector<PoseSweep> sweeps;
   std::vector<SweepSearchSummary> searches;
   std::vector<ReachAudit> audits;
-  std::vector<std::string> parts;  // per design piece, then per pair: files, entry and lines as bytes
+  std::vector<std::string>
+      parts;  // per design piece, then per pair: files, entry and lines as bytes
   std::size_t designItems() const { return nd * static_cast<std::size_t>(pieces); }
   int imageRows() const { return plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1; }
 };
@@ -98,9 +112,10 @@ ordered_json gridHeader(const TaskGrid& g, std::string& md) {
   jg["poses"] = g.size();
   if (!g.reference.empty()) jg["reference"] = g.reference;
   md += "## Grid `" + g.name + "`\n\n";
-  md += "Task space " + g.task_space.toString() + "; x " + axisText(g.axes[0]) + ", y " + axisText(g.axes[1]) +
-        ", z " + axisText(g.axes[2]) + "; " + std::to_string(g.orientations.size()) + " orientation(s); " +
-        std::to_string(g.size()) + " poses per design.\n\n";
+  md += "Task space " + g.task_space.toString() + "; x " + axisText(g.axes[0]) + ", y " +
+        axisText(g.axes[1]) + ", z " + axisText(g.axes[2]) + "; " +
+        std::to_string(g.orientations.size()) + " orientation(s); " + std::to_string(g.size()) +
+        " poses per design.\n\n";
   return jg;
 }
 
@@ -114,8 +129,8 @@ void solveGrid(GridRun& r, Progress& progress) {
   for (std::size_t di = 0; di < r.nd; ++di)
     programs.push_back([&r, di](const UnitRunner* runner) {
       const Model& m = r.study.designs[di].model;
-      r.searches[di] =
-          searchGridSweep(m, r.g, r.cfg.ik, r.ctx.threads, r.cfg.collisionFor(m), r.cfg.search, r.sweeps[di], runner);
+      r.searches[di] = searchGridSweep(m, r.g, r.cfg.ik, r.ctx.threads, r.cfg.collisionFor(m),
+                                       r.cfg.search, r.sweeps[di], runner);
     });
   const auto t0 = Clock::now();
   // A distributed run may search the designs in rank groups: a design's search then travels as its
@@ -126,8 +141,9 @@ void solveGrid(GridRun& r, Progress& progress) {
   // enough groups).
   ProgramResults results;
   results.weight = [&r](std::size_t di) {
-    return 1.0 + double(r.sweeps[di].countReachable()) *
-                     (r.study.designs[di].model.dof() > 6 ? 1.0 : defaults::kSearchWeightNonRedundant);
+    return 1.0 +
+           double(r.sweeps[di].countReachable()) *
+               (r.study.designs[di].model.dof() > 6 ? 1.0 : defaults::kSearchWeightNonRedundant);
   };
   results.pack = [&r](std::size_t di) { return packSearchResult(r.sweeps[di], r.searches[di]); };
   results.unpack = [&r](std::size_t di, const std::string& bytes) {
@@ -149,8 +165,9 @@ void auditGrid(GridRun& r) {
   for (std::size_t di = 0; di < r.nd; ++di)
     programs.push_back([&r, di](const UnitRunner* runner) {
       const Model& m = r.study.designs[di].model;
-      r.audits[di] = auditGridSweep(m, r.g, r.cfg.ik, r.cfg.collisionFor(m), r.sweeps[di], r.cfg.audit_poses,
-                                    r.cfg.audit_starts, r.cfg.audit_seed, r.ctx.threads, runner);
+      r.audits[di] =
+          auditGridSweep(m, r.g, r.cfg.ik, r.cfg.collisionFor(m), r.sweeps[di], r.cfg.audit_poses,
+                         r.cfg.audit_starts, r.cfg.audit_seed, r.ctx.threads, runner);
     });
   const auto t0 = Clock::now();
   runInterleaved(&r.ctx.units, programs);
@@ -170,14 +187,18 @@ void searchAndAuditEntries(const GridRun& r, std::size_t di, ordered_json& jd, s
                   {"best_manipulability_rounds", se.best_rounds},
                   {"best_manipulability_updates", se.best_updates},
                   {"converged", se.converged}};
-  md += "Map search (" + s.design + "): " + std::to_string(se.rounds) + " neighbour-propagation rounds changed " +
-        std::to_string(se.neighbour_updates) + " statuses";
+  md += "Map search (" + s.design + "): " + std::to_string(se.rounds) +
+        " neighbour-propagation rounds changed " + std::to_string(se.neighbour_updates) +
+        " statuses";
   if (s.collision)
     md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
           std::to_string(r.cfg.search.collision_starts) + " seeded starts each (" +
-          std::to_string(se.multistart_freed) + " found collision-free). A pose is `self_collision` / "
-          "`obstacle_collision` only when no collision-free solution was found in all its starts (array "
-          "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, capped at 255)";
+          std::to_string(se.multistart_freed) +
+          " found collision-free). A pose is `self_collision` / "
+          "`obstacle_collision` only when no collision-free solution was found in all its starts "
+          "(array "
+          "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, "
+          "capped at 255)";
   md += ".\n\n";
   if (r.cfg.audit_poses <= 0) return;
   const ReachAudit& au = r.audits[di];
@@ -197,24 +218,27 @@ void searchAndAuditEntries(const GridRun& r, std::size_t di, ordered_json& jd, s
   ja["manipulability_compared"] = au.manipulability_compared;
   ja["manipulability_within_5pct_of_audit_best"] = au.manipulability_within_5pct;
   jd["audit"] = ja;
-  const int sc = static_cast<int>(ReachStatus::SelfCollision), oc = static_cast<int>(ReachStatus::ObstacleCollision);
+  const int sc = static_cast<int>(ReachStatus::SelfCollision),
+            oc = static_cast<int>(ReachStatus::ObstacleCollision);
   md += "Audit (" + s.design + "): " + std::to_string(au.poses) + " poses drawn at random (seed " +
         std::to_string(au.seed) + "), " + std::to_string(au.starts) +
         " random starts each, without the sweep's warm starts or neighbours: " +
         std::to_string(au.contradictedTotal()) + " statuses contradicted (a solution" +
         (s.collision ? " clear of collisions" : "") + " found where the map has none; " +
-        std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) + " self_collision, " +
-        std::to_string(au.contradicted[oc]) + " of " + std::to_string(au.by_status[oc]) +
-        " obstacle_collision), " + std::to_string(au.audit_missed) +
-        " reachable poses where the audit found no solution; manipulability at the map's solution within 5 % "
+        std::to_string(au.contradicted[sc]) + " of " + std::to_string(au.by_status[sc]) +
+        " self_collision, " + std::to_string(au.contradicted[oc]) + " of " +
+        std::to_string(au.by_status[oc]) + " obstacle_collision), " +
+        std::to_string(au.audit_missed) +
+        " reachable poses where the audit found no solution; manipulability at the map's solution "
+        "within 5 % "
         "of the best the audit found at " +
-        std::to_string(au.manipulability_within_5pct) + " of " + std::to_string(au.manipulability_compared) +
-        " reachable poses.\n\n";
+        std::to_string(au.manipulability_within_5pct) + " of " +
+        std::to_string(au.manipulability_compared) + " reachable poses.\n\n";
 }
 
 // VTK image data of design di: one array per quantity and orientation.
-void writeDesignVti(const GridRun& r, std::size_t di, const std::vector<ManipulabilityParts>& mparts, Writer& out,
-                    ordered_json& jd) {
+void writeDesignVti(const GridRun& r, std::size_t di,
+                    const std::vector<ManipulabilityParts>& mparts, Writer& out, ordered_json& jd) {
   const PoseSweep& s = r.sweeps[di];
   const TaskGrid& g = r.g;
   io::ImageGrid img;
@@ -226,10 +250,11 @@ void writeDesignVti(const GridRun& r, std::size_t di, const std::vector<Manipula
     addPartArrays(img.point_arrays, s, mparts, g, r.points, k, suffix(g, k));
   }
   if (r.no > 1)
-    img.point_arrays.push_back(arrayOf("reachable_orientations", io::ArrayType::UInt8, nullptr, r.points, 0, 1,
-                                       [&](long p, int) {
+    img.point_arrays.push_back(arrayOf("reachable_orientations", io::ArrayType::UInt8, nullptr,
+                                       r.points, 0, 1, [&](long p, int) {
                                          int c = 0;
-                                         for (int k = 0; k < r.no; ++k) c += s.reachable(k * r.points + p);
+                                         for (int k = 0; k < r.no; ++k)
+                                           c += s.reachable(k * r.points + p);
                                          return double(c);
                                        }));
   img.field_data = poseFieldData(s, &g);
@@ -272,9 +297,10 @@ void renderMain(const GridRun& r, std::size_t di, Writer& out, DesignPart& part)
     ordered_json e = per[k].json();
     e["orientation"] = orientationText(g, k);
     jper.push_back(e);
-    part.rows.push_back({s.design, orientationText(g, k), report::percent(per[k].fraction()),
-                         share(per[k], ReachStatus::JointLimits), share(per[k], ReachStatus::OutOfReach),
-                         share(per[k], ReachStatus::RepresentationSingularity), per[k].extent.text()});
+    part.rows.push_back(
+        {s.design, orientationText(g, k), report::percent(per[k].fraction()),
+         share(per[k], ReachStatus::JointLimits), share(per[k], ReachStatus::OutOfReach),
+         share(per[k], ReachStatus::RepresentationSingularity), per[k].extent.text()});
     if (!usesCardanAngles(g.task_space)) part.rows.back().erase(part.rows.back().begin() + 5);
     insertCollisionColumns(r.cfg, part.rows.back(), 3, per[k]);
   }
@@ -293,12 +319,14 @@ void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, DesignP
   std::vector<Eigen::Vector3d> pts;
   for (long p = 0; p < r.points; ++p)
     if (s.reachable(k * r.points + p)) pts.push_back(g.position(p));
-  const BoundarySurface bs = alphaShapeSurface(pts, gridAlphaRadius({g.axes[0].step, g.axes[1].step, g.axes[2].step}));
+  const BoundarySurface bs =
+      alphaShapeSurface(pts, gridAlphaRadius({g.axes[0].step, g.axes[1].step, g.axes[2].step}));
   io::PolyDataSet poly;
   poly.points = bs.vertices;
   poly.triangles = bs.triangles;
-  poly.field_data = io::fieldData({"position: m"}, {"surface: boundary of the reachable grid points (" +
-                                                    orientationText(g, k) + ")"});
+  poly.field_data = io::fieldData(
+      {"position: m"},
+      {"surface: boundary of the reachable grid points (" + orientationText(g, k) + ")"});
   const std::string rel = r.gdir + "/" + s.design + "_surface" + suffix(g, k) + ".vtp";
   io::writeVtp(out.path(rel), poly);
   out.add(rel);
@@ -310,26 +338,30 @@ void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, DesignP
 }
 
 // The manipulability figure of design di in orientation k (2-D grids), colour 0..mmax.
-std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double mmax, Writer& out) {
+std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double mmax,
+                                 Writer& out) {
   const TaskGrid& g = r.g;
   const PoseSweep& s = r.sweeps[di];
   const long off = static_cast<long>(k) * r.points;
-  report::RasterImage m_img = report::renderCellMap(r.d[r.plane.a], r.imageRows(), [&](int u, int v) {
-    report::Rgb col{230, 230, 230};
-    forCell(g, r.plane, u, v, [&](long p) {
-      if (s.reachable(off + p)) col = report::viridis(s.manipulability[off + p] / mmax);
-    });
-    return col;
-  });
+  report::RasterImage m_img =
+      report::renderCellMap(r.d[r.plane.a], r.imageRows(), [&](int u, int v) {
+        report::Rgb col{230, 230, 230};
+        forCell(g, r.plane, u, v, [&](long p) {
+          if (s.reachable(off + p)) col = report::viridis(s.manipulability[off + p] / mmax);
+        });
+        return col;
+      });
   report::MapFigure mfig = mapAxes(g, r.plane, s.design + ", " + orientationText(g, k));
-  mfig.scale = report::ColourScale{report::viridis, 0, mmax, "manipulability of the task rows, eq. 5.59 [m^3]"};
+  mfig.scale = report::ColourScale{report::viridis, 0, mmax,
+                                   "manipulability of the task rows, eq. 5.59 [m^3]"};
   mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
-  const std::string mrel =
-      writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img, mfig);
+  const std::string mrel = writeFigure(
+      out, "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img,
+      mfig);
   return "![manipulability](" + mrel +
-         ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " + s.design +
-         ", " + orientationText(g, k) + "; viridis from 0 (dark) to " + report::scientific(mmax) +
-         " (yellow), grey = unreachable.*\n\n";
+         ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
+         s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
+         report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
 }
 
 // Pieces no+1..2no of design di: the status (or reachable-fraction) and manipulability figures of
@@ -349,57 +381,69 @@ void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, DesignPa
   for (long i = 0; i < g.size(); ++i)
     if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
   const long off = static_cast<long>(k) * r.points;
-  report::RasterImage status_img = report::renderCellMap(r.d[plane.a], r.imageRows(), [&](int u, int v) {
-    if (plane.projected >= 0) {
-      long c = 0, n = 0;
-      forCell(g, plane, u, v, [&](long p) { c += s.reachable(off + p); ++n; });
-      return report::viridis(n ? double(c) / n : 0.0);
-    }
-    report::Rgb col;
-    forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
-    return col;
-  });
+  report::RasterImage status_img =
+      report::renderCellMap(r.d[plane.a], r.imageRows(), [&](int u, int v) {
+        if (plane.projected >= 0) {
+          long c = 0, n = 0;
+          forCell(g, plane, u, v, [&](long p) {
+            c += s.reachable(off + p);
+            ++n;
+          });
+          return report::viridis(n ? double(c) / n : 0.0);
+        }
+        report::Rgb col;
+        forCell(g, plane, u, v, [&](long p) { col = report::categorical(s.status[off + p]); });
+        return col;
+      });
   report::MapFigure fig = mapAxes(g, plane, s.design + ", " + orientationText(g, k));
   if (plane.projected >= 0)
-    fig.scale = report::ColourScale{report::viridis, 0, 1,
-                                    "fraction of the cells along " + std::string(kAxis[plane.projected]) +
-                                        " that are reachable"};
+    fig.scale =
+        report::ColourScale{report::viridis, 0, 1,
+                            "fraction of the cells along " + std::string(kAxis[plane.projected]) +
+                                " that are reachable"};
   else
     fig.legend = statusLegend(per_k.status);
-  const std::string rel = writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
-  images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design + ", " +
-               orientationText(g, k) + ": " + report::percent(per_k.fraction()) + " reachable. " +
-               imageCaptionAxes(g, plane) + ".*\n\n";
+  const std::string rel =
+      writeFigure(out, "reach/images/" + g.name + "__" + s.design + suffix(g, k), status_img, fig);
+  images_md += "![" + s.design + ", " + orientationText(g, k) + "](" + rel + ")\n\n*" + s.design +
+               ", " + orientationText(g, k) + ": " + report::percent(per_k.fraction()) +
+               " reachable. " + imageCaptionAxes(g, plane) + ".*\n\n";
   if (plane.projected < 0 && mmax > 0) images_md += manipulabilityFigure(r, di, k, mmax, out);
 }
 
 // The comparison images of the pair (a, b), one per orientation.
-void renderPair(const GridRun& r, std::size_t a, std::size_t b, Writer& out, std::string& pair_imgs) {
+void renderPair(const GridRun& r, std::size_t a, std::size_t b, Writer& out,
+                std::string& pair_imgs) {
   const TaskGrid& g = r.g;
   const std::vector<PoseSweep>& sweeps = r.sweeps;
   for (int k = 0; k < r.no; ++k) {
     const long off = static_cast<long>(k) * r.points;
-    report::RasterImage img = report::renderCellMap(r.d[r.plane.a], r.imageRows(), [&](int u, int v) {
-      report::Rgb col;
-      forCell(g, r.plane, u, v, [&](long p) {
-        const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
-        col = ra && rb ? report::categorical(0)
-                       : ra ? report::categorical(5) : rb ? report::categorical(2) : report::categorical(1);
-      });
-      return col;
-    });
-    report::MapFigure cfig =
-        mapAxes(g, r.plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
+    report::RasterImage img =
+        report::renderCellMap(r.d[r.plane.a], r.imageRows(), [&](int u, int v) {
+          report::Rgb col;
+          forCell(g, r.plane, u, v, [&](long p) {
+            const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
+            col = ra && rb ? report::categorical(0)
+                  : ra     ? report::categorical(5)
+                  : rb     ? report::categorical(2)
+                           : report::categorical(1);
+          });
+          return col;
+        });
+    report::MapFigure cfig = mapAxes(
+        g, r.plane, sweeps[a].design + " vs " + sweeps[b].design + ", " + orientationText(g, k));
     cfig.legend = {{report::categorical(0), "both"},
                    {report::categorical(5), "only " + sweeps[a].design},
                    {report::categorical(2), "only " + sweeps[b].design},
                    {report::categorical(1), "neither"}};
-    const std::string rel =
-        writeFigure(out, "reach/images/" + g.name + "__" + sweeps[a].design + "__vs__" + sweeps[b].design + suffix(g, k),
-                    img, cfig);
+    const std::string rel = writeFigure(out,
+                                        "reach/images/" + g.name + "__" + sweeps[a].design +
+                                            "__vs__" + sweeps[b].design + suffix(g, k),
+                                        img, cfig);
     pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
-                 orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design + " (blue), only " +
-                 sweeps[b].design + " (orange), neither (light grey). " + imageCaptionAxes(g, r.plane) + ".*\n\n";
+                 orientationText(g, k) + ": reached by both (green), only " + sweeps[a].design +
+                 " (blue), only " + sweeps[b].design + " (orange), neither (light grey). " +
+                 imageCaptionAxes(g, r.plane) + ".*\n\n";
   }
 }
 
@@ -449,12 +493,14 @@ void renderGrid(GridRun& r) {
   };
   render.pack = [&r](std::size_t, const ItemRange& range) {
     UnitWriter b(kDesignPartMagic);
-    for (long di = range.begin; di < range.end; ++di) b.putString(r.parts[static_cast<std::size_t>(di)]);
+    for (long di = range.begin; di < range.end; ++di)
+      b.putString(r.parts[static_cast<std::size_t>(di)]);
     return b.bytes();
   };
   render.unpack = [&r](std::size_t, const ItemRange& range, const std::string& bytes) {
     UnitReader rd(bytes, kDesignPartMagic);
-    for (long di = range.begin; di < range.end; ++di) r.parts[static_cast<std::size_t>(di)] = rd.getString();
+    for (long di = range.begin; di < range.end; ++di)
+      r.parts[static_cast<std::size_t>(di)] = rd.getString();
     ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
   };
   runSharedLoop(&r.ctx.units, render);
@@ -483,7 +529,8 @@ ordered_json joinDesignParts(GridRun& r, std::string& md, std::string& images_md
     if (r.cfg.outputs.surface && r.g.spatialDimension() == 3) part.jd["surface"] = std::move(jsurf);
     for (int k = 0; k < r.no; ++k) {
       DesignPart figures;
-      unpackDesignPart(r.parts[first + 1 + static_cast<std::size_t>(r.no + k)], figures, design_files);
+      unpackDesignPart(r.parts[first + 1 + static_cast<std::size_t>(r.no + k)], figures,
+                       design_files);
       part.images_md += figures.images_md;
     }
     jdesigns.push_back(std::move(part.jd));
@@ -497,10 +544,15 @@ ordered_json joinDesignParts(GridRun& r, std::string& md, std::string& images_md
 
 // The grid's tables: statuses per design and orientation, reachable volumes (3-D grids), and the
 // reference statement next to this model's numbers.
-void gridTables(const GridRun& r, const ordered_json& jdesigns, const std::vector<std::vector<std::string>>& rows,
-                std::string& md) {
-  std::vector<std::string> header = {"design", "orientation", ">reachable", ">joint limits", ">out of reach",
-                                     ">repr. singular", "extent of the reachable poses"};
+void gridTables(const GridRun& r, const ordered_json& jdesigns,
+                const std::vector<std::vector<std::string>>& rows, std::string& md) {
+  std::vector<std::string> header = {"design",
+                                     "orientation",
+                                     ">reachable",
+                                     ">joint limits",
+                                     ">out of reach",
+                                     ">repr. singular",
+                                     "extent of the reachable poses"};
   if (!usesCardanAngles(r.g.task_space)) header.erase(header.begin() + 5);
   insertCollisionColumns(r.cfg, header, 3);
   md += report::markdownTable(header, rows);
@@ -511,9 +563,14 @@ void gridTables(const GridRun& r, const ordered_json& jdesigns, const std::vecto
       for (const auto& sf : jd["surface"])
         srows.push_back({jd["design"].get<std::string>(), sf["orientation"].get<std::string>(),
                          report::fixed(sf["alpha_shape_volume_m3"].get<double>(), 4),
-                         report::fixed(sf["voxel_volume_m3"].get<double>(), 4), sf["file"].get<std::string>()});
-    md += "Reachable volume (boundary surface: CGAL 3-D alpha shape of the reachable grid points; the voxel estimate counts one grid cell per reachable point):\n\n" +
-          report::markdownTable({"design", "orientation", ">alpha shape [m^3]", ">voxels [m^3]", "surface"}, srows) + "\n";
+                         report::fixed(sf["voxel_volume_m3"].get<double>(), 4),
+                         sf["file"].get<std::string>()});
+    md +=
+        "Reachable volume (boundary surface: CGAL 3-D alpha shape of the reachable grid points; "
+        "the voxel estimate counts one grid cell per reachable point):\n\n" +
+        report::markdownTable(
+            {"design", "orientation", ">alpha shape [m^3]", ">voxels [m^3]", "surface"}, srows) +
+        "\n";
   }
   if (r.g.reference.empty()) return;
   md += "**Reference:** " + r.g.reference + "\n\n**This model:** ";
@@ -529,7 +586,8 @@ void gridTables(const GridRun& r, const ordered_json& jdesigns, const std::vecto
 
 // Designs that reach none of the grid's poses: a warning in the report, in summary.json and on
 // stderr (a base placed in the wrong unit, a grid beside the arm).
-void warnUnreached(const GridRun& r, const ordered_json& jdesigns, ordered_json& jg, std::string& md) {
+void warnUnreached(const GridRun& r, const ordered_json& jdesigns, ordered_json& jg,
+                   std::string& md) {
   ordered_json none = ordered_json::array();
   for (const auto& jd : jdesigns)
     if (jd["reachable"].get<long>() == 0) none.push_back(jd["design"]);
@@ -561,19 +619,24 @@ void compareReferenceReach(const GridRun& r, ordered_json& jg, std::string& md) 
       }
     const double ref = sd.reference_reach_m, diff = found - ref;
     rows.push_back({sd.model.name, report::fixed(ref, 3), found < 0 ? "-" : report::fixed(found, 3),
-                    found < 0 ? "-"
-                              : (diff >= 0 ? "+" : "") + report::fixed(diff * 1e3, 0) + " mm (" +
-                                    (diff >= 0 ? "+" : "") + report::fixed(100 * diff / ref, 1) + " %)"});
-    jr.push_back({{"design", sd.model.name},
-                  {"reference_reach_m", ref},
-                  {"largest_reach_found_m", found < 0 ? ordered_json(nullptr) : ordered_json(found)},
-                  {"difference_m", found < 0 ? ordered_json(nullptr) : ordered_json(diff)}});
+                    found < 0
+                        ? "-"
+                        : (diff >= 0 ? "+" : "") + report::fixed(diff * 1e3, 0) + " mm (" +
+                              (diff >= 0 ? "+" : "") + report::fixed(100 * diff / ref, 1) + " %)"});
+    jr.push_back(
+        {{"design", sd.model.name},
+         {"reference_reach_m", ref},
+         {"largest_reach_found_m", found < 0 ? ordered_json(nullptr) : ordered_json(found)},
+         {"difference_m", found < 0 ? ordered_json(nullptr) : ordered_json(diff)}});
   }
   if (rows.empty()) return;
-  md += "Largest reach found (the farthest reachable pose of this grid from the design's base z axis) "
-        "against the design's `reference_reach_m`:\n\n" +
-        report::markdownTable({"design", ">reference [m]", ">largest found [m]", ">difference"}, rows) +
-        "\n";
+  md +=
+      "Largest reach found (the farthest reachable pose of this grid from the design's base z "
+      "axis) "
+      "against the design's `reference_reach_m`:\n\n" +
+      report::markdownTable({"design", ">reference [m]", ">largest found [m]", ">difference"},
+                            rows) +
+      "\n";
   jg["reference_reach"] = jr;
 }
 
@@ -586,15 +649,15 @@ void writeComparisonVti(const GridRun& r, ordered_json& jcmp) {
   img.origin = {g.axes[0].from, g.axes[1].from, g.axes[2].from};
   img.spacing = {g.axes[0].step, g.axes[1].step, g.axes[2].step};
   for (int k = 0; k < r.no; ++k) {
-    img.point_arrays.push_back(arrayOf("reached_by_mask" + suffix(g, k), io::ArrayType::Int32, &g, r.points, k, 1,
-                                       [&](long i, int) {
+    img.point_arrays.push_back(arrayOf("reached_by_mask" + suffix(g, k), io::ArrayType::Int32, &g,
+                                       r.points, k, 1, [&](long i, int) {
                                          long m = 0;
                                          for (std::size_t di = 0; di < sweeps.size(); ++di)
                                            if (sweeps[di].reachable(i)) m |= 1L << di;
                                          return double(m);
                                        }));
-    img.point_arrays.push_back(arrayOf("reached_by_count" + suffix(g, k), io::ArrayType::UInt8, &g, r.points, k, 1,
-                                       [&](long i, int) {
+    img.point_arrays.push_back(arrayOf("reached_by_count" + suffix(g, k), io::ArrayType::UInt8, &g,
+                                       r.points, k, 1, [&](long i, int) {
                                          int c = 0;
                                          for (const auto& s : sweeps) c += s.reachable(i);
                                          return double(c);
@@ -602,9 +665,10 @@ void writeComparisonVti(const GridRun& r, ordered_json& jcmp) {
   }
   std::vector<std::string> legend;
   for (std::size_t di = 0; di < sweeps.size(); ++di)
-    legend.push_back("reached_by_mask bit " + std::to_string(di) + " (value " + std::to_string(1L << di) +
-                     "): " + sweeps[di].design);
-  img.field_data = io::fieldData({"position: m", "reached_by_mask: 1 (bit mask)", "reached_by_count: 1"}, legend);
+    legend.push_back("reached_by_mask bit " + std::to_string(di) + " (value " +
+                     std::to_string(1L << di) + "): " + sweeps[di].design);
+  img.field_data = io::fieldData(
+      {"position: m", "reached_by_mask: 1 (bit mask)", "reached_by_count: 1"}, legend);
   const std::string rel = r.gdir + "/comparison.vti";
   io::writeVti(r.out.path(rel), img);
   r.out.add(rel);
@@ -615,11 +679,13 @@ void writeComparisonVti(const GridRun& r, ordered_json& jcmp) {
 }
 
 // Best design / variant per base design (e.g. the best base placement): summary entries and rows.
-ordered_json bestVariants(const GridRun& r, const ordered_json& jdesigns, std::vector<std::vector<std::string>>& brow) {
+ordered_json bestVariants(const GridRun& r, const ordered_json& jdesigns,
+                          std::vector<std::vector<std::string>>& brow) {
   ordered_json best = ordered_json::array();
   std::vector<std::string> bases;
   for (const auto& sd : r.study.designs)
-    if (std::find(bases.begin(), bases.end(), sd.base_name) == bases.end()) bases.push_back(sd.base_name);
+    if (std::find(bases.begin(), bases.end(), sd.base_name) == bases.end())
+      bases.push_back(sd.base_name);
   for (const std::string& base : bases) {
     int count = 0, best_i = -1;
     double best_f = -1;
@@ -627,7 +693,8 @@ ordered_json bestVariants(const GridRun& r, const ordered_json& jdesigns, std::v
     for (std::size_t di = 0; di < r.sweeps.size(); ++di) {
       if (r.study.designs[di].base_name != base) continue;
       ++count;
-      for (const auto& [k, v] : r.study.designs[di].overrides) base_sweep |= k.rfind("base.", 0) == 0;
+      for (const auto& [k, v] : r.study.designs[di].overrides)
+        base_sweep |= k.rfind("base.", 0) == 0;
       const double f = jdesigns[di]["fraction"].get<double>();
       if (f > best_f) {
         best_f = f;
@@ -635,9 +702,12 @@ ordered_json bestVariants(const GridRun& r, const ordered_json& jdesigns, std::v
       }
     }
     if (count < 2) continue;
-    best.push_back({{"base_design", base}, {"best", r.sweeps[best_i].design}, {"fraction", best_f},
+    best.push_back({{"base_design", base},
+                    {"best", r.sweeps[best_i].design},
+                    {"fraction", best_f},
                     {"varies_base_placement", base_sweep}});
-    brow.push_back({base, r.sweeps[best_i].design, report::percent(best_f), base_sweep ? "yes" : "no"});
+    brow.push_back(
+        {base, r.sweeps[best_i].design, report::percent(best_f), base_sweep ? "yes" : "no"});
   }
   return best;
 }
@@ -662,11 +732,16 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
       both += ra && rb;
       neither += !ra && !rb;
     }
-    jpairs.push_back({{"a", r.sweeps[a].design}, {"b", r.sweeps[b].design}, {"a_only", n_a}, {"b_only", n_b},
-                      {"both", both}, {"neither", neither}});
+    jpairs.push_back({{"a", r.sweeps[a].design},
+                      {"b", r.sweeps[b].design},
+                      {"a_only", n_a},
+                      {"b_only", n_b},
+                      {"both", both},
+                      {"neither", neither}});
     const double N = static_cast<double>(r.g.size());
-    crow.push_back({r.sweeps[a].design, r.sweeps[b].design, report::percent(n_a / N), report::percent(n_b / N),
-                    report::percent(both / N), report::percent(neither / N)});
+    crow.push_back({r.sweeps[a].design, r.sweeps[b].design, report::percent(n_a / N),
+                    report::percent(n_b / N), report::percent(both / N),
+                    report::percent(neither / N)});
     if (r.pair_images) {  // the images the render loop made
       DesignPart part;
       unpackDesignPart(r.parts[r.designItems() + p], part, pair_files);
@@ -680,18 +755,23 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
   std::string dexterity_md;
   jcmp["dexterity"] = dexterityComparison(r.models, r.g, r.sweeps, r.pairs, dexterity_md);
   md += "Per pose, which designs reach it (all orientations together):\n\n" +
-        report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n" + dexterity_md;
+        report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n" +
+        dexterity_md;
   if (!brow.empty())
-    md += "Best variant per base design (the most reachable poses; with base.* overrides this is the best base placement):\n\n" +
-          report::markdownTable({"base design", "best variant", ">reachable", "base placement varied"}, brow) + "\n";
+    md +=
+        "Best variant per base design (the most reachable poses; with base.* overrides this is the "
+        "best base placement):\n\n" +
+        report::markdownTable(
+            {"base design", "best variant", ">reachable", "base placement varied"}, brow) +
+        "\n";
   md += pair_imgs;
   return jcmp;
 }
 
 }  // namespace
 
-ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& g, Progress& progress,
-                        StageResult& sum, Writer& out, std::string& md) {
+ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& g,
+                        Progress& progress, StageResult& sum, Writer& out, std::string& md) {
   GridRun r(ctx, cfg, g, sum, out);
   ordered_json jg = gridHeader(g, md);
   solveGrid(r, progress);

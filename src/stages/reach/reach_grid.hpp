@@ -13,7 +13,8 @@
 
 namespace armstudy {
 
-nlohmann::ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& g,
-                                  Progress& progress, StageResult& sum, Writer& out, std::string& md);
+nlohmann::ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg,
+                                  const TaskGrid& g, Progress& progress, StageResult& sum,
+                                  Writer& out, std::string& md);
 
 }  // namespace armstudy

@@ -1,14 +1,13 @@
 #include "stages/reach/reach_report.hpp"
 
-#include "common/format.hpp"
-
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <string_view>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 #include "report/markdown.hpp"
 #include "study/checkpoint.hpp"
@@ -55,7 +54,8 @@ ordered_json Stats::json() const {
     ordered_json cp = ordered_json::object();
     for (const auto& [name, count] : colliding_pairs) cp[name] = count;
     j["colliding_pairs"] = cp;
-    j["min_distance_m"] = reachable && std::isfinite(min_distance) ? ordered_json(min_distance) : ordered_json(nullptr);
+    j["min_distance_m"] = reachable && std::isfinite(min_distance) ? ordered_json(min_distance)
+                                                                   : ordered_json(nullptr);
   }
   if (obstacles)
     j["min_obstacle_distance_m"] = reachable && std::isfinite(min_obstacle_distance)
@@ -79,8 +79,8 @@ std::string orientationText(const TaskGrid& g, int k) {
 
 std::string axisText(const AxisRange& a) {
   if (a.count() == 1) return report::fixed(a.from, 3) + " m";
-  return report::fixed(a.from, 3) + ".." + report::fixed(a.to, 3) + " m step " + report::fixed(a.step, 3) +
-         " m (" + std::to_string(a.count()) + ")";
+  return report::fixed(a.from, 3) + ".." + report::fixed(a.to, 3) + " m step " +
+         report::fixed(a.step, 3) + " m (" + std::to_string(a.count()) + ")";
 }
 
 std::string suffix(const TaskGrid& g, int k) {
@@ -121,8 +121,8 @@ std::string imageCaptionAxes(const TaskGrid& g, const ImagePlane& p) {
     s += ", " + std::string(kAxis[p.b]) + " " + report::fixed(g.axes[p.b].from, 2) + ".." +
          report::fixed(g.axes[p.b].to, 2) + " m upwards";
   if (p.projected >= 0)
-    s += "; fraction of the " + std::to_string(d[p.projected]) + " cells along " + kAxis[p.projected] +
-         " that are reachable (viridis: dark = none, yellow = all)";
+    s += "; fraction of the " + std::to_string(d[p.projected]) + " cells along " +
+         kAxis[p.projected] + " that are reachable (viridis: dark = none, yellow = all)";
   return s;
 }
 
@@ -135,11 +135,13 @@ io::NamedArray arrayOf(const std::string& name, io::ArrayType type, const TaskGr
   a.values.resize(static_cast<std::size_t>(points) * components);
   const long offset = g ? static_cast<long>(k) * points : 0;
   for (long p = 0; p < points; ++p)
-    for (int c = 0; c < components; ++c) a.values[static_cast<std::size_t>(p) * components + c] = value(offset + p, c);
+    for (int c = 0; c < components; ++c)
+      a.values[static_cast<std::size_t>(p) * components + c] = value(offset + p, c);
   return a;
 }
 
-std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g, const PoseSweep& s) {
+std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g,
+                                                     const PoseSweep& s) {
   std::vector<ManipulabilityParts> parts(static_cast<std::size_t>(g.size()));
   KinematicsWorkspace kin(model);
   JointVector q(s.dof);
@@ -147,7 +149,8 @@ std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const T
     if (!s.reachable(i)) continue;
     for (int c = 0; c < s.dof; ++c) q[c] = s.q[static_cast<std::size_t>(i) * s.dof + c];
     forwardKinematicsAndJacobian(model, kin, q);
-    parts[static_cast<std::size_t>(i)] = taskManipulabilityParts(kin, taskTarget(g.task_space, g.pose(i)));
+    parts[static_cast<std::size_t>(i)] =
+        taskManipulabilityParts(kin, taskTarget(g.task_space, g.pose(i)));
   }
   return parts;
 }
@@ -177,33 +180,39 @@ std::string coverageSentence(const ordered_json& designs, long poses, const std:
     const double x = d.value("fraction", 0.0);
     f.push_back({x, d.value("design", std::string())});
     if (d.value("reachable", 0L) == 0)
-      warnings.push_back("`" + f.back().second + "` reaches none of the " + std::to_string(poses) + " poses of " +
-                         what + ".");
+      warnings.push_back("`" + f.back().second + "` reaches none of the " + std::to_string(poses) +
+                         " poses of " + what + ".");
   }
-  std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::stable_sort(f.begin(), f.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
   if (f.empty()) return "";
-  if (f.size() == 1) return "`" + f[0].second + "` reaches " + report::percent(f[0].first) + " of the " +
-                            std::to_string(poses) + " poses of " + what + ".";
+  if (f.size() == 1)
+    return "`" + f[0].second + "` reaches " + report::percent(f[0].first) + " of the " +
+           std::to_string(poses) + " poses of " + what + ".";
   std::string top, rest;
   std::size_t k = 0;
   for (; k < f.size() && report::percent(f[k].first) == report::percent(f[0].first); ++k)
     top += std::string(k ? ", " : "") + "`" + f[k].second + "`";
   for (std::size_t j = k; j < f.size(); ++j)
     rest += std::string(j > k ? ", " : "") + "`" + f[j].second + "` " + report::percent(f[j].first);
-  if (k == f.size()) return "every design (" + top + ") reaches " + report::percent(f[0].first) + " of the " +
-                            std::to_string(poses) + " poses of " + what + ".";
-  return top + (k > 1 ? " reach" : " reaches") + " the most of the " + std::to_string(poses) + " poses of " + what +
-         ", " + report::percent(f[0].first) + " (then " + rest + ").";
+  if (k == f.size())
+    return "every design (" + top + ") reaches " + report::percent(f[0].first) + " of the " +
+           std::to_string(poses) + " poses of " + what + ".";
+  return top + (k > 1 ? " reach" : " reaches") + " the most of the " + std::to_string(poses) +
+         " poses of " + what + ", " + report::percent(f[0].first) + " (then " + rest + ").";
 }
 }  // namespace
 
-void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer, std::vector<std::string>& warnings) {
+void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
+                 std::vector<std::string>& warnings) {
   for (const char* kind : {"grids", "pose_lists"}) {
     if (!summary.contains(kind)) continue;
     for (const auto& g : summary[kind]) {
-      const std::string what = std::string(kind[0] == 'g' ? "grid `" : "pose list `") + g.value("name", "") + "`";
+      const std::string what =
+          std::string(kind[0] == 'g' ? "grid `" : "pose list `") + g.value("name", "") + "`";
       const long poses = g.value("poses", 0L);
-      std::string a = coverageSentence(g.value("designs", ordered_json::array()), poses, what, warnings);
+      std::string a =
+          coverageSentence(g.value("designs", ordered_json::array()), poses, what, warnings);
       if (a.empty()) continue;
       a[0] = a[0] == '`' ? a[0] : static_cast<char>(std::toupper(static_cast<unsigned char>(a[0])));
       std::string verdicts;
@@ -212,32 +221,40 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer, 
           if (!v.contains("better") || v["better"].is_null()) continue;
           const bool a_better = v.value("a", "") == v["better"].get<std::string>();
           const auto& m = v["manipulability_mean"];
-          const double ratio = a_better ? m[0].get<double>() / m[1].get<double>() : m[1].get<double>() / m[0].get<double>();
-          verdicts += std::string(verdicts.empty() ? "" : "; ") + "`" + v.value(a_better ? "a" : "b", "") + "` " +
-                      formatG(ratio, 3) + "x `" + v.value(a_better ? "b" : "a", "") + "` (" +
+          const double ratio = a_better ? m[0].get<double>() / m[1].get<double>()
+                                        : m[1].get<double>() / m[0].get<double>();
+          verdicts += std::string(verdicts.empty() ? "" : "; ") + "`" +
+                      v.value(a_better ? "a" : "b", "") + "` " + formatG(ratio, 3) + "x `" +
+                      v.value(a_better ? "b" : "a", "") + "` (" +
                       std::to_string(v.value("poses_both_reach", 0L)) + " poses)";
         }
       if (!verdicts.empty())
-        a += " More dexterous where both reach (manipulability of the task's rows, ranked only where its translational "
-             "and rotational parts agree): " + verdicts + ".";
+        a += " More dexterous where both reach (manipulability of the task's rows, ranked only "
+             "where its translational "
+             "and rotational parts agree): " +
+             verdicts + ".";
       answer.push_back(a);
     }
   }
-  if (summary.contains("designs_without_collision_volumes") && !summary["designs_without_collision_volumes"].empty()) {
+  if (summary.contains("designs_without_collision_volumes") &&
+      !summary["designs_without_collision_volumes"].empty()) {
     std::string names;
     for (const auto& n : summary["designs_without_collision_volumes"])
       names += std::string(names.empty() ? "" : ", ") + "`" + n.get<std::string>() + "`";
-    warnings.push_back(names + " evaluated without self-collision and obstacles (no collision volumes): their "
-                               "reachable shares are not comparable with the others'.");
+    warnings.push_back(
+        names +
+        " evaluated without self-collision and obstacles (no collision volumes): their "
+        "reachable shares are not comparable with the others'.");
   }
 }
 
-nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
-                                           const std::vector<PoseSweep>& sweeps,
-                                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                                           std::string& md) {
+nlohmann::ordered_json dexterityComparison(
+    const std::vector<const Model*>& models, const TaskGrid& g,
+    const std::vector<PoseSweep>& sweeps,
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, std::string& md) {
   std::vector<std::vector<ManipulabilityParts>> parts;
-  for (std::size_t d = 0; d < sweeps.size(); ++d) parts.push_back(manipulabilityParts(*models[d], g, sweeps[d]));
+  for (std::size_t d = 0; d < sweeps.size(); ++d)
+    parts.push_back(manipulabilityParts(*models[d], g, sweeps[d]));
   const bool rot = g.task_space.hasOrientation();
   ordered_json out = ordered_json::array();
   std::vector<std::vector<std::string>> rows;
@@ -271,46 +288,67 @@ nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& mode
     j["manipulability_mean"] = {pd.w[0], pd.w[1]};
     j["translation_mean"] = {pd.t[0], pd.t[1]};
     if (rot) j["rotation_mean"] = {pd.r[0], pd.r[1]};
-    j["better"] = agree > 0 ? ordered_json(nb) : (agree < 0 ? ordered_json(na) : ordered_json(nullptr));
+    j["better"] =
+        agree > 0 ? ordered_json(nb) : (agree < 0 ? ordered_json(na) : ordered_json(nullptr));
     out.push_back(j);
-    auto ratio = [](double x) { return x >= 1 ? report::fixed(x, 2) + "x" : "1/" + report::fixed(1 / x, 2) + "x"; };
-    std::vector<std::string> row{na, nb, std::to_string(pd.both), report::fixed(pd.w[0], 3) + " / " + report::fixed(pd.w[1], 3),
-                                 ratio(rw), ratio(rt)};
+    auto ratio = [](double x) {
+      return x >= 1 ? report::fixed(x, 2) + "x" : "1/" + report::fixed(1 / x, 2) + "x";
+    };
+    std::vector<std::string> row{na,
+                                 nb,
+                                 std::to_string(pd.both),
+                                 report::fixed(pd.w[0], 3) + " / " + report::fixed(pd.w[1], 3),
+                                 ratio(rw),
+                                 ratio(rt)};
     if (rot) row.push_back(ratio(rr));
     rows.push_back(row);
     if (agree != 0) {
       const std::string& better = agree > 0 ? nb : na;
       const std::string& worse = agree > 0 ? na : nb;
       const double f = agree > 0 ? rw : 1 / rw;
-      verdicts += "- `" + better + "` is more dexterous than `" + worse + "` on the " + std::to_string(pd.both) +
-                  " poses both reach: " + report::fixed(f, 2) + "x the manipulability" +
+      verdicts += "- `" + better + "` is more dexterous than `" + worse + "` on the " +
+                  std::to_string(pd.both) + " poses both reach: " + report::fixed(f, 2) +
+                  "x the manipulability" +
                   (rot ? ", and better in both its translational and rotational parts.\n" : ".\n");
     } else {
-      verdicts += "- `" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" + (rw > 1 ? nb : na) +
-                  "` but the translational part favours `" + (rt > 1 ? nb : na) + "` and the rotational part `" +
-                  (rr > 1 ? nb : na) + "` (the combined value depends on the 1 m that weighs the angular rows).\n";
+      verdicts += "- `" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" +
+                  (rw > 1 ? nb : na) + "` but the translational part favours `" +
+                  (rt > 1 ? nb : na) + "` and the rotational part `" + (rr > 1 ? nb : na) +
+                  "` (the combined value depends on the 1 m that weighs the angular rows).\n";
     }
   }
   if (rows.empty()) return out;
-  std::vector<std::string> header{"A", "B", ">poses both reach", ">manipulability A / B", ">B/A", ">B/A translation"};
+  std::vector<std::string> header{
+      "A", "B", ">poses both reach", ">manipulability A / B", ">B/A", ">B/A translation"};
   if (rot) header.push_back(">B/A rotation");
-  md += "Dexterity where both reach (means over the poses both designs reach; manipulability of the rows the task "
-        "constrains, " +
-        std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; translation: the 3 position "
-                          "rows alone [m^3]; rotation: the angular rows alone [1]"
-                        : "the 3 position rows [m^3]") +
-        "; a pair is ranked only when all agree):\n\n" + report::markdownTable(header, rows) + "\n" + verdicts + "\n";
+  md +=
+      "Dexterity where both reach (means over the poses both designs reach; manipulability of the "
+      "rows the task "
+      "constrains, " +
+      std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; translation: "
+                        "the 3 position "
+                        "rows alone [m^3]; rotation: the angular rows alone [1]"
+                      : "the 3 position rows [m^3]") +
+      "; a pair is ranked only when all agree):\n\n" + report::markdownTable(header, rows) + "\n" +
+      verdicts + "\n";
   return out;
 }
 
-void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const std::vector<ManipulabilityParts>& parts,
-                   const TaskGrid& g, long points, int k, const std::string& sfx) {
+void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s,
+                   const std::vector<ManipulabilityParts>& parts, const TaskGrid& g, long points,
+                   int k, const std::string& sfx) {
   const double none = std::numeric_limits<double>::quiet_NaN();
-  out.push_back(arrayOf("manipulability_translation" + sfx, io::ArrayType::Float64, &g, points, k, 1,
-                        [&](long i, int) { return s.reachable(i) ? parts[static_cast<std::size_t>(i)].translation : none; }));
+  out.push_back(arrayOf("manipulability_translation" + sfx, io::ArrayType::Float64, &g, points, k,
+                        1, [&](long i, int) {
+                          return s.reachable(i) ? parts[static_cast<std::size_t>(i)].translation
+                                                : none;
+                        }));
   if (g.task_space.hasOrientation())
     out.push_back(arrayOf("manipulability_rotation" + sfx, io::ArrayType::Float64, &g, points, k, 1,
-                          [&](long i, int) { return s.reachable(i) ? parts[static_cast<std::size_t>(i)].rotation : none; }));
+                          [&](long i, int) {
+                            return s.reachable(i) ? parts[static_cast<std::size_t>(i)].rotation
+                                                  : none;
+                          }));
 }
 
 void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const TaskGrid* g,
@@ -318,7 +356,8 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
   using io::ArrayType;
   out.push_back(arrayOf("reachable" + sfx, ArrayType::UInt8, g, points, k, 1,
                         [&](long i, int) { return s.reachable(i) ? 1.0 : 0.0; }));
-  out.push_back(arrayOf("status" + sfx, ArrayType::UInt8, g, points, k, 1, [&](long i, int) { return s.status[i]; }));
+  out.push_back(arrayOf("status" + sfx, ArrayType::UInt8, g, points, k, 1,
+                        [&](long i, int) { return s.status[i]; }));
   out.push_back(arrayOf("position_error_m" + sfx, ArrayType::Float64, g, points, k, 1,
                         [&](long i, int) { return s.position_error_m[i]; }));
   out.push_back(arrayOf("orientation_error_rad" + sfx, ArrayType::Float64, g, points, k, 1,
@@ -329,9 +368,11 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
                         [&](long i, int) { return s.reachable(i) ? s.manipulability[i] : none; }));
   out.push_back(arrayOf("joint_limit_margin" + sfx, ArrayType::Float64, g, points, k, 1,
                         [&](long i, int) { return s.joint_limit_margin[i]; }));
-  out.push_back(arrayOf("starts" + sfx, ArrayType::UInt8, g, points, k, 1, [&](long i, int) { return s.starts[i]; }));
-  out.push_back(arrayOf("q" + sfx, ArrayType::Float64, g, points, k, s.dof,
-                        [&](long i, int c) { return s.q[static_cast<std::size_t>(i) * s.dof + c]; }));
+  out.push_back(arrayOf("starts" + sfx, ArrayType::UInt8, g, points, k, 1,
+                        [&](long i, int) { return s.starts[i]; }));
+  out.push_back(arrayOf("q" + sfx, ArrayType::Float64, g, points, k, s.dof, [&](long i, int c) {
+    return s.q[static_cast<std::size_t>(i) * s.dof + c];
+  }));
   if (s.obstacles)
     out.push_back(arrayOf("obstacle_distance" + sfx, ArrayType::Float64, g, points, k, 1,
                           [&](long i, int) { return s.obstacle_distance_m[i]; }));
@@ -351,7 +392,8 @@ std::string writeFigure(Writer& out, const std::string& stem, const report::Rast
   out.text(stem + ".svg", d.svg);
   out.text(stem + ".png", d.png);
   const std::string prefix = "reach/";
-  return stem.compare(0, prefix.size(), prefix) == 0 ? stem.substr(prefix.size()) + ".svg" : stem + ".svg";
+  return stem.compare(0, prefix.size(), prefix) == 0 ? stem.substr(prefix.size()) + ".svg"
+                                                     : stem + ".svg";
 }
 
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
@@ -371,9 +413,13 @@ report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string ti
 }
 
 namespace {
-const char* const kStatusText[kReachStatusCount] = {"reachable", "out of reach", "blocked by joint limits",
-                                                    "representation singularity", "only in self-collision",
-                                                    "torque", "only in contact with an obstacle"};
+const char* const kStatusText[kReachStatusCount] = {"reachable",
+                                                    "out of reach",
+                                                    "blocked by joint limits",
+                                                    "representation singularity",
+                                                    "only in self-collision",
+                                                    "torque",
+                                                    "only in contact with an obstacle"};
 }  // namespace
 
 // Legend of the status map: the statuses that occur in it.
@@ -385,16 +431,22 @@ std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatu
 }
 
 std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g) {
-  std::vector<std::string> units{"position: m", "reachable: 1", "status: 1", "position_error_m: m",
-                                 "orientation_error_rad: rad",
-                                 "manipulability: m^3 (sqrt(det(J_t J_t^T)) of the rows the task constrains, eq. 5.59: "
-                                 "3 position rows, plus the 2 angular rows perpendicular to the tool axis or all 3 for "
-                                 "the full pose, weighed by a characteristic length of 1 m)",
-                                 "joint_limit_margin: rad (m for prismatic joints)", "starts: 1",
-                                 "q: rad (m for prismatic joints)"};
+  std::vector<std::string> units{
+      "position: m",
+      "reachable: 1",
+      "status: 1",
+      "position_error_m: m",
+      "orientation_error_rad: rad",
+      "manipulability: m^3 (sqrt(det(J_t J_t^T)) of the rows the task constrains, eq. 5.59: "
+      "3 position rows, plus the 2 angular rows perpendicular to the tool axis or all 3 for "
+      "the full pose, weighed by a characteristic length of 1 m)",
+      "joint_limit_margin: rad (m for prismatic joints)",
+      "starts: 1",
+      "q: rad (m for prismatic joints)"};
   if (g) {
     units.push_back("manipulability_translation: m^3 (the 3 position rows alone)");
-    if (g->task_space.hasOrientation()) units.push_back("manipulability_rotation: 1 (the angular rows alone)");
+    if (g->task_space.hasOrientation())
+      units.push_back("manipulability_rotation: 1 (the angular rows alone)");
   }
   if (s.obstacles) units.push_back("obstacle_distance: m");
   if (s.collision) units.insert(units.end(), {"min_distance: m", "colliding_pair: 1"});
@@ -405,10 +457,11 @@ std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* 
   }
   std::vector<std::string> legend;
   for (int k = 0; k < kReachStatusCount; ++k)
-    legend.push_back("status " + std::to_string(k) + ": " + toString(static_cast<ReachStatus>(k)) + " (" +
-                     kStatusText[k] + ")");
-  legend.push_back("manipulability: NaN where status != 0 (no solution); q, errors and margins there are the "
-                   "best attempt's");
+    legend.push_back("status " + std::to_string(k) + ": " + toString(static_cast<ReachStatus>(k)) +
+                     " (" + kStatusText[k] + ")");
+  legend.push_back(
+      "manipulability: NaN where status != 0 (no solution); q, errors and margins there are the "
+      "best attempt's");
   if (s.collision) {
     legend.push_back("colliding_pair -1: none");
     for (std::size_t i = 0; i < s.pair_names.size(); ++i)
@@ -424,20 +477,24 @@ bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, con
   if (best < 0) return false;
   const Eigen::Map<const Eigen::VectorXd> q(s.q.data() + best * s.dof, s.dof);
   io::PolyDataSet robot = scene::robotPolyData(model, q);
-  robot.field_data.push_back({"pose", {"the reachable pose of the largest manipulability, index " +
-                                       std::to_string(best + s.offset)}});
+  robot.field_data.push_back({"pose",
+                              {"the reachable pose of the largest manipulability, index " +
+                               std::to_string(best + s.offset)}});
   io::writeVtp(out.path(rel), robot);
   out.add(rel);
   return true;
 }
 
 // The self-collision and obstacle-collision columns of the report tables (when checked).
-void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at, const Stats& st) {
+void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at,
+                            const Stats& st) {
   // A design evaluated without collisions (no volumes) shows "n/a": its share is not comparable.
   auto share = [&](ReachStatus k) {
-    return st.collision ? report::percent(st.n ? double(st.status[int(k)]) / st.n : 0) : std::string("n/a (no volumes)");
+    return st.collision ? report::percent(st.n ? double(st.status[int(k)]) / st.n : 0)
+                        : std::string("n/a (no volumes)");
   };
-  if (!cfg.collision.obstacles.empty()) row.insert(row.begin() + at, share(ReachStatus::ObstacleCollision));
+  if (!cfg.collision.obstacles.empty())
+    row.insert(row.begin() + at, share(ReachStatus::ObstacleCollision));
   if (cfg.collision.self) row.insert(row.begin() + at, share(ReachStatus::SelfCollision));
 }
 void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& header, int at) {
@@ -450,14 +507,16 @@ const char* ssvTypeName(SsvType t) {
 }
 ordered_json obstacleJson(const collision::Obstacle& o) {
   ordered_json pts = ordered_json::array();
-  for (int i = 0; i < static_cast<int>(o.type); ++i) pts.push_back({o.p_W[i].x(), o.p_W[i].y(), o.p_W[i].z()});
-  return {{"name", o.name}, {"type", ssvTypeName(o.type)}, {"points_m", pts}, {"radius_m", o.radius_m}};
+  for (int i = 0; i < static_cast<int>(o.type); ++i)
+    pts.push_back({o.p_W[i].x(), o.p_W[i].y(), o.p_W[i].z()});
+  return {
+      {"name", o.name}, {"type", ssvTypeName(o.type)}, {"points_m", pts}, {"radius_m", o.radius_m}};
 }
 std::vector<std::string> obstacleRow(const collision::Obstacle& o) {
   std::string pts;
   for (int i = 0; i < static_cast<int>(o.type); ++i)
-    pts += (i ? ", (" : "(") + report::fixed(o.p_W[i].x(), 3) + ", " + report::fixed(o.p_W[i].y(), 3) + ", " +
-           report::fixed(o.p_W[i].z(), 3) + ")";
+    pts += (i ? ", (" : "(") + report::fixed(o.p_W[i].x(), 3) + ", " +
+           report::fixed(o.p_W[i].y(), 3) + ", " + report::fixed(o.p_W[i].z(), 3) + ")";
   return {o.name, ssvTypeName(o.type), pts, report::fixed(o.radius_m * 1e3, 1)};
 }
 

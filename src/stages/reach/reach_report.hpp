@@ -24,7 +24,7 @@ inline const char* const kAxis[3] = {"x", "y", "z"};
 struct Extent {
   std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   nlohmann::ordered_json json() const;  // {"x_m": [lo, hi], ...}, null when empty
-  std::string text() const;            // "x 0.10..0.50, y ... m", "none" when empty
+  std::string text() const;             // "x 0.10..0.50, y ... m", "none" when empty
   bool empty() const { return !(lo[0] <= hi[0]); }
   void add(const Eigen::Vector3d& p) {
     for (int a = 0; a < 3; ++a) {
@@ -56,7 +56,8 @@ struct Stats {
     }
     if (s.obstacles) {
       obstacles = true;
-      if (s.reachable(i)) min_obstacle_distance = std::min(min_obstacle_distance, s.obstacle_distance_m[i]);
+      if (s.reachable(i))
+        min_obstacle_distance = std::min(min_obstacle_distance, s.obstacle_distance_m[i]);
     }
     if (s.reachable(i)) {
       ++reachable;
@@ -114,10 +115,13 @@ void addPoseArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const T
                    long points, int k, const std::string& sfx);
 // The translational and rotational parts of the manipulability of every pose of a grid's sweep at
 // its stored q (taskManipulabilityParts of the grid's task target; zero where unreachable).
-std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g, const PoseSweep& s);
-// The parts as VTK arrays manipulability_translation / manipulability_rotation (NaN where unreachable).
-void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const std::vector<ManipulabilityParts>& parts,
-                   const TaskGrid& g, long points, int k, const std::string& sfx);
+std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g,
+                                                     const PoseSweep& s);
+// The parts as VTK arrays manipulability_translation / manipulability_rotation (NaN where
+// unreachable).
+void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s,
+                   const std::vector<ManipulabilityParts>& parts, const TaskGrid& g, long points,
+                   int k, const std::string& sfx);
 // Dexterity of design pairs on the poses both reach: mean manipulability and its translational and
 // rotational parts of each, and a verdict that ranks the pair only when the combined value and
 // both parts agree. Appends a table and sentences to md; returns the summary.json block.
@@ -127,10 +131,10 @@ void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s, const s
 void reachAnswer(const nlohmann::ordered_json& summary, std::vector<std::string>& answer,
                  std::vector<std::string>& warnings);
 
-nlohmann::ordered_json dexterityComparison(const std::vector<const Model*>& models, const TaskGrid& g,
-                                           const std::vector<PoseSweep>& sweeps,
-                                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                                           std::string& md);
+nlohmann::ordered_json dexterityComparison(
+    const std::vector<const Model*>& models, const TaskGrid& g,
+    const std::vector<PoseSweep>& sweeps,
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, std::string& md);
 // Field data of a sweep's VTK file (docs/paraview.md): units of the pose arrays, the status and
 // colliding-pair legends; with a grid `g` of several orientations, what each array suffix means.
 std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g);
@@ -146,7 +150,8 @@ report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string ti
 // Legend of the status map: the statuses that occur in it.
 std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts);
 // The self-collision and obstacle-collision columns of the report tables (when checked).
-void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at, const Stats& st);
+void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& row, int at,
+                            const Stats& st);
 void insertCollisionColumns(const ReachConfig& cfg, std::vector<std::string>& header, int at);
 const char* ssvTypeName(SsvType t);
 nlohmann::ordered_json obstacleJson(const collision::Obstacle& o);

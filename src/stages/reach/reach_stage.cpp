@@ -47,44 +47,58 @@ ordered_json settingsJson(const ReachConfig& cfg) {
 std::string taskText(const Study& study, const ReachConfig& cfg) {
   std::string md = "# Reachability: study `" + study.name + "`\n\n";
   if (!study.description.empty()) md += study.description + "\n\n";
-  md += "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the TCP within " +
-        report::fixed(cfg.ik.position_tolerance_m * 1e3, 2) + " mm and " +
-        report::fixed(cfg.ik.orientation_tolerance_rad * kRadToDeg, 2) +
-        " deg of it (up to " + std::to_string(cfg.ik.max_starts) +
-        " deterministic starts, seed " + std::to_string(cfg.ik.seed) +
-        "). See docs/reachability.md for the solver, the failure reasons and the file formats.\n\n";
+  md +=
+      "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the "
+      "TCP within " +
+      report::fixed(cfg.ik.position_tolerance_m * 1e3, 2) + " mm and " +
+      report::fixed(cfg.ik.orientation_tolerance_rad * kRadToDeg, 2) + " deg of it (up to " +
+      std::to_string(cfg.ik.max_starts) + " deterministic starts, seed " +
+      std::to_string(cfg.ik.seed) +
+      "). See docs/reachability.md for the solver, the failure reasons and the file formats.\n\n";
   md += "Task: each design's tool axis (named in its design file or study entry) ";
   for (std::size_t di = 0; di < study.designs.size(); ++di) {
     const Eigen::Vector3d& a = study.designs[di].model.tool_axis_T;
-    md += std::string(di ? ", " : "") + "`" + study.designs[di].model.name + "` TCP (" + report::fixed(a.x(), 3) + ", " +
-          report::fixed(a.y(), 3) + ", " + report::fixed(a.z(), 3) + ")";
+    md += std::string(di ? ", " : "") + "`" + study.designs[di].model.name + "` TCP (" +
+          report::fixed(a.x(), 3) + ", " + report::fixed(a.y(), 3) + ", " +
+          report::fixed(a.z(), 3) + ")";
   }
-  md += ". The spraying task (eq. 3.1) puts the TCP at the point with the tool axis along d = Rx(alpha) Rz(gamma) e_y "
-        "(+y at alpha = gamma = 0) and the roll about it free; manipulability is sqrt(det(J_t J_t^T)) of the 3 position "
-        "rows and the 2 angular rows perpendicular to the tool axis (eq. 5.59; the angular rows weighed by a "
-        "characteristic length of 1 m; summary.json and the .vti files give the translational and rotational parts "
-        "beside it).\n\n";
+  md +=
+      ". The spraying task (eq. 3.1) puts the TCP at the point with the tool axis along d = "
+      "Rx(alpha) Rz(gamma) e_y "
+      "(+y at alpha = gamma = 0) and the roll about it free; manipulability is sqrt(det(J_t "
+      "J_t^T)) of the 3 position "
+      "rows and the 2 angular rows perpendicular to the tool axis (eq. 5.59; the angular rows "
+      "weighed by a "
+      "characteristic length of 1 m; summary.json and the .vti files give the translational and "
+      "rotational parts "
+      "beside it).\n\n";
   return md;
 }
 
 // The designs evaluated without collisions (no volumes) while the study checks them: a warning at
 // the top of the report, in summary.json and on stderr.
-void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered_json& jr, std::string& md) {
+void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered_json& jr,
+                        std::string& md) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   std::string without;
   for (const StudyDesign& sd : ctx.study.designs)
-    if (sd.model.collision.empty()) without += std::string(without.empty() ? "" : ", ") + "`" + sd.model.name + "`";
+    if (sd.model.collision.empty())
+      without += std::string(without.empty() ? "" : ", ") + "`" + sd.model.name + "`";
   if (!(self_on || obst_on) || without.empty()) return;
   md += "**Warning:** " + without +
-        " evaluated without self-collision and obstacles: no collision volumes (a design file without "
-        "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say \"n/a\" in "
+        " evaluated without self-collision and obstacles: no collision volumes (a design file "
+        "without "
+        "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say "
+        "\"n/a\" in "
         "the collision columns and their reachable shares are not comparable with the others'.\n\n";
   ordered_json jw = ordered_json::array();
   for (const StudyDesign& sd : ctx.study.designs)
     if (sd.model.collision.empty()) jw.push_back(sd.model.name);
   jr["designs_without_collision_volumes"] = jw;
   if (ctx.writes_results)
-    std::fprintf(stderr, "armstudy: warning: %s evaluated without self-collision and obstacles (no collision volumes)\n",
+    std::fprintf(stderr,
+                 "armstudy: warning: %s evaluated without self-collision and obstacles (no "
+                 "collision volumes)\n",
                  without.c_str());
 }
 
@@ -95,38 +109,51 @@ std::string checksText(const ReachConfig& cfg) {
   bool cardan = false;
   for (const TaskGrid& g : cfg.grids) cardan |= usesCardanAngles(g.task_space);
   for (const PoseList& l : cfg.pose_lists) cardan |= usesCardanAngles(l.task_space);
-  std::string md = "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
-                   report::hex(report::categorical(1)) + " out of reach, " + report::hex(report::categorical(2)) +
-                   " blocked by joint limits" +
-                   (cardan ? ", " + report::hex(report::categorical(3)) + " representation singularity" : "") +
-                   (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision" : "") +
-                   (obst_on ? ", " + report::hex(report::categorical(6)) + " reachable only in contact with an obstacle" : "") +
-                   " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
-                   (obst_on ? ", brown" : "") + ").\n\n";
+  std::string md =
+      "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
+      report::hex(report::categorical(1)) + " out of reach, " +
+      report::hex(report::categorical(2)) + " blocked by joint limits" +
+      (cardan ? ", " + report::hex(report::categorical(3)) + " representation singularity" : "") +
+      (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision"
+               : "") +
+      (obst_on ? ", " + report::hex(report::categorical(6)) +
+                     " reachable only in contact with an obstacle"
+               : "") +
+      " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
+      (obst_on ? ", brown" : "") + ").\n\n";
   if (self_on)
-    md += "Self-collision: on. A pose counts as reachable only with a collision-free solution (every self-collision "
-          "distance of the design's swept-sphere volumes > 0, other postures tried through the redundancy); poses "
-          "reachable only in collision are counted separately, with the colliding pair in summary.json.\n\n";
+    md +=
+        "Self-collision: on. A pose counts as reachable only with a collision-free solution (every "
+        "self-collision "
+        "distance of the design's swept-sphere volumes > 0, other postures tried through the "
+        "redundancy); poses "
+        "reachable only in collision are counted separately, with the colliding pair in "
+        "summary.json.\n\n";
   if (obst_on) {
     md += "Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
-          " in the task frame, checked against every link's swept-sphere volumes; a pose counts as reachable only "
-          "with a solution clear of them (field `obstacle_distance`: the arm's clearance from the nearest "
+          " in the task frame, checked against every link's swept-sphere volumes; a pose counts as "
+          "reachable only "
+          "with a solution clear of them (field `obstacle_distance`: the arm's clearance from the "
+          "nearest "
           "obstacle at the solution).\n\n";
     std::vector<std::vector<std::string>> orows;
     for (const collision::Obstacle& o : cfg.collision.obstacles) orows.push_back(obstacleRow(o));
-    md += report::markdownTable({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"}, orows) + "\n";
+    md += report::markdownTable({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"},
+                                orows) +
+          "\n";
   }
   return md;
 }
 
 // One design on a pose list: its sweep and search, summary entry, .vtp and best robot, table row.
-ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l, const StudyDesign& sd,
-                            Progress& progress, StageResult& sum, Writer& out, std::vector<std::string>& row) {
+ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
+                            const StudyDesign& sd, Progress& progress, StageResult& sum,
+                            Writer& out, std::vector<std::string>& row) {
   const std::string unit = "reach/" + l.name + "/" + sd.model.name;
   PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
   // Poses in collision get the seeded starts too (a list has no neighbours).
-  const SweepSearchSummary ss =
-      searchPoseListSweep(sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
+  const SweepSearchSummary ss = searchPoseListSweep(
+      sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
   sum.timings.push_back({unit + "/search", ss.seconds});
   addUnitMetrics(sum.metrics, unit, s);
   Stats st;
@@ -152,22 +179,23 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
     jd["vtp"] = rel;
     writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
   }
-  row = {s.design, report::percent(st.fraction()), report::percent(st.n ? double(st.status[2]) / st.n : 0),
+  row = {s.design, report::percent(st.fraction()),
+         report::percent(st.n ? double(st.status[2]) / st.n : 0),
          report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()};
   insertCollisionColumns(cfg, row, 2, st);
   return jd;
 }
 
 // A pose list: every design on it, its summary block and report section.
-ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l, Progress& progress,
-                            StageResult& sum, Writer& out, std::string& md) {
+ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
+                            Progress& progress, StageResult& sum, Writer& out, std::string& md) {
   ordered_json jl;
   jl["name"] = l.name;
   jl["file"] = l.file;
   jl["task_space"] = l.task_space.toString();
   jl["poses"] = l.poses.size();
-  md += "## Pose list `" + l.name + "`\n\n" + std::to_string(l.poses.size()) + " poses from `" + l.file +
-        "`, task space " + l.task_space.toString() + ".\n\n";
+  md += "## Pose list `" + l.name + "`\n\n" + std::to_string(l.poses.size()) + " poses from `" +
+        l.file + "`, task space " + l.task_space.toString() + ".\n\n";
   std::vector<std::vector<std::string>> rows;
   ordered_json jdesigns = ordered_json::array();
   for (const StudyDesign& sd : ctx.study.designs) {
@@ -175,7 +203,8 @@ ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, con
     jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back()));
   }
   jl["designs"] = jdesigns;
-  std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach", "extent"};
+  std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach",
+                                     "extent"};
   insertCollisionColumns(cfg, header, 2);
   md += report::markdownTable(header, rows) + "\n";
   return jl;
@@ -192,21 +221,22 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   if (!cfg.designs.empty())
     selected.designs.erase(std::remove_if(selected.designs.begin(), selected.designs.end(),
                                           [&](const StudyDesign& sd) {
-                                            return std::find(cfg.designs.begin(), cfg.designs.end(), sd.model.name) ==
-                                                   cfg.designs.end();
+                                            return std::find(cfg.designs.begin(), cfg.designs.end(),
+                                                             sd.model.name) == cfg.designs.end();
                                           }),
                            selected.designs.end());
   for (StudyDesign& sd : selected.designs)
     for (const auto& [name, axis] : cfg.tool_axes)
       if (sd.model.name == name) sd.model.tool_axis_T = axis;
-  const StageContext ctx{selected, all_ctx.options, all_ctx.output_dir, all_ctx.units, all_ctx.threads,
-                         all_ctx.writes_results};
+  const StageContext ctx{selected,      all_ctx.options, all_ctx.output_dir,
+                         all_ctx.units, all_ctx.threads, all_ctx.writes_results};
   const Study& study = ctx.study;
   ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
   Writer out(ctx.output_dir);
   long total = 0;
   for (const TaskGrid& g : cfg.grids) total += g.size() * static_cast<long>(study.designs.size());
-  for (const PoseList& l : cfg.pose_lists) total += static_cast<long>(l.poses.size() * study.designs.size());
+  for (const PoseList& l : cfg.pose_lists)
+    total += static_cast<long>(l.poses.size() * study.designs.size());
   Progress progress(total, ctx.options.progress, "reachability " + study.name);
 
   ordered_json js;
@@ -217,10 +247,12 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   warnWithoutVolumes(ctx, cfg, jr, md);
   md += checksText(cfg);
   ordered_json jgrids = ordered_json::array();
-  for (const TaskGrid& g : cfg.grids) jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, md));
+  for (const TaskGrid& g : cfg.grids)
+    jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, md));
   jr["grids"] = jgrids;
   ordered_json jlists = ordered_json::array();
-  for (const PoseList& l : cfg.pose_lists) jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
+  for (const PoseList& l : cfg.pose_lists)
+    jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
   jr["pose_lists"] = jlists;
   if (!ctx.writes_results) {  // a rank other than 0: its summary and report nobody reads
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

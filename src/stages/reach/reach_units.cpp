@@ -37,9 +37,10 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
   const auto n = static_cast<std::size_t>(s.size);
   const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;
   return s.status.size() == n && s.starts.size() == n && s.position_error_m.size() == n &&
-         s.orientation_error_rad.size() == n && s.manipulability.size() == n && s.joint_limit_margin.size() == n &&
-         s.q.size() == n * s.dof && s.q_alt.size() == n * s.dof && s.min_distance_m.size() == nc && s.colliding_pair.size() == nc &&
-         s.obstacle_distance_m.size() == no;
+         s.orientation_error_rad.size() == n && s.manipulability.size() == n &&
+         s.joint_limit_margin.size() == n && s.q.size() == n * s.dof &&
+         s.q_alt.size() == n * s.dof && s.min_distance_m.size() == nc &&
+         s.colliding_pair.size() == nc && s.obstacle_distance_m.size() == no;
 }
 
 namespace {
@@ -57,12 +58,20 @@ long posesOf(const PoseList& l) { return static_cast<long>(l.poses.size()); }
 template <class Source, class SweepRanges>
 class UnitSweepJob {
  public:
-  UnitSweepJob(const StageContext& ctx, const std::string& prefix, const Model& model, const Source& source,
-               const SweepCollision& collision, Progress& progress, SweepRanges sweep_ranges)
-      : prefix_(prefix), model_(model), len_(sweepUnitLength(source)), poses_(posesOf(source)),
-        collision_(collision), progress_(progress), sweep_ranges_(std::move(sweep_ranges)) {
-    if (collision.enabled()) pair_names_ = collision::collisionPairNames(model, collision.obstacles, collision.self);
-    const long unit_poses = ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
+  UnitSweepJob(const StageContext& ctx, const std::string& prefix, const Model& model,
+               const Source& source, const SweepCollision& collision, Progress& progress,
+               SweepRanges sweep_ranges)
+      : prefix_(prefix),
+        model_(model),
+        len_(sweepUnitLength(source)),
+        poses_(posesOf(source)),
+        collision_(collision),
+        progress_(progress),
+        sweep_ranges_(std::move(sweep_ranges)) {
+    if (collision.enabled())
+      pair_names_ = collision::collisionPairNames(model, collision.obstacles, collision.self);
+    const long unit_poses =
+        ctx.options.unit_items > 0 ? ctx.options.unit_items : defaults::kReachUnitPoses;
     ranges_ = splitRange(sweepUnitCount(source), std::max(1L, unit_poses / len_));
   }
   UnitSweepJob(const UnitSweepJob&) = delete;  // the batch's functions point at this job
@@ -73,10 +82,11 @@ class UnitSweepJob {
     for (const ItemRange& r : ranges_) batch.ids.push_back(prefix_ + "/units_" + r.text());
     batch.load = [this](std::size_t k, const std::string& bytes) {
       PoseSweep c;
-      const long first = ranges_[k].begin * len_, n = std::min(poses_, ranges_[k].end * len_) - first;
-      if (!(deserializeSweep(bytes, model_.name, c) && c.offset == first && c.size == n && c.dof == model_.dof() &&
-            c.collision == collision_.enabled() && c.obstacles == !collision_.obstacles.empty() &&
-            c.pair_names == pair_names_))
+      const long first = ranges_[k].begin * len_,
+                 n = std::min(poses_, ranges_[k].end * len_) - first;
+      if (!(deserializeSweep(bytes, model_.name, c) && c.offset == first && c.size == n &&
+            c.dof == model_.dof() && c.collision == collision_.enabled() &&
+            c.obstacles == !collision_.obstacles.empty() && c.pair_names == pair_names_))
         return false;
       progress_.advance(n);
       chunks_.push_back(std::move(c));
@@ -87,7 +97,9 @@ class UnitSweepJob {
       if (todo.empty()) return;
       std::vector<ItemRange> todo_ranges;
       for (std::size_t k : todo) todo_ranges.push_back(ranges_[k]);
-      solved_ = sweep_ranges_(todo_ranges, [&](std::size_t j, const PoseSweep& c) { done(todo[j], serializeSweep(c)); });
+      solved_ = sweep_ranges_(todo_ranges, [&](std::size_t j, const PoseSweep& c) {
+        done(todo[j], serializeSweep(c));
+      });
     };
     return batch;
   }
@@ -123,25 +135,27 @@ class UnitSweepJob {
 };
 
 template <class Source, class SweepRanges>
-std::unique_ptr<UnitSweepJob<Source, SweepRanges>> makeJob(const StageContext& ctx, const std::string& prefix,
-                                                           const Model& model, const Source& source,
-                                                           const ReachConfig& cfg, Progress& progress,
-                                                           SweepRanges sweep_ranges) {
-  return std::make_unique<UnitSweepJob<Source, SweepRanges>>(ctx, prefix, model, source, cfg.collisionFor(model), progress,
-                                                             std::move(sweep_ranges));
+std::unique_ptr<UnitSweepJob<Source, SweepRanges>> makeJob(
+    const StageContext& ctx, const std::string& prefix, const Model& model, const Source& source,
+    const ReachConfig& cfg, Progress& progress, SweepRanges sweep_ranges) {
+  return std::make_unique<UnitSweepJob<Source, SweepRanges>>(
+      ctx, prefix, model, source, cfg.collisionFor(model), progress, std::move(sweep_ranges));
 }
 
-auto gridJob(const StageContext& ctx, const std::string& prefix, const Model& model, const TaskGrid& g,
-             const ReachConfig& cfg, Progress& progress) {
+auto gridJob(const StageContext& ctx, const std::string& prefix, const Model& model,
+             const TaskGrid& g, const ReachConfig& cfg, Progress& progress) {
   return makeJob(ctx, prefix, model, g, cfg, progress,
-                 [&ctx, &model, &g, &cfg, &progress](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
-                   return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress, cfg.collisionFor(model), done);
+                 [&ctx, &model, &g, &cfg, &progress](const std::vector<ItemRange>& ranges,
+                                                     const SweepChunkDone& done) {
+                   return sweepGridRanges(model, g, ranges, cfg.ik, ctx.threads, &progress,
+                                          cfg.collisionFor(model), done);
                  });
 }
 
 }  // namespace
 
-std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum,
+                                        const std::string& prefix,
                                         const std::vector<const Model*>& models, const TaskGrid& g,
                                         const ReachConfig& cfg, Progress& progress) {
   using Job = decltype(gridJob(ctx, prefix, *models.front(), g, cfg, progress));
@@ -157,12 +171,13 @@ std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& su
   return out;
 }
 
-PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
-                        const PoseList& l, const ReachConfig& cfg, Progress& progress) {
+PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+                        const Model& model, const PoseList& l, const ReachConfig& cfg,
+                        Progress& progress) {
   auto job = makeJob(ctx, prefix, model, l, cfg, progress,
                      [&](const std::vector<ItemRange>& ranges, const SweepChunkDone& done) {
-                       return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress, cfg.collisionFor(model),
-                                                  done);
+                       return sweepPoseListRanges(model, l, ranges, cfg.ik, ctx.threads, &progress,
+                                                  cfg.collisionFor(model), done);
                      });
   sum.units_resumed += ctx.units.run(job->batch());
   return job->finish(sum);
@@ -188,7 +203,8 @@ void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep&
   // 5th-percentile manipulability over the reachable poses (nearest rank: the ceil(0.05 n)-th
   // smallest), 0 when nothing is reachable.
   std::sort(reachable_m.begin(), reachable_m.end());
-  const std::size_t p5 = reachable_m.empty() ? 0 : static_cast<std::size_t>(std::ceil(0.05 * reachable_m.size())) - 1;
+  const std::size_t p5 =
+      reachable_m.empty() ? 0 : static_cast<std::size_t>(std::ceil(0.05 * reachable_m.size())) - 1;
   m.scalars[prefix + "/manipulability_min"] = reachable_m.empty() ? 0.0 : reachable_m.front();
   m.scalars[prefix + "/manipulability_p5"] = reachable_m.empty() ? 0.0 : reachable_m[p5];
   m.flags[prefix + "/reachable"] = flags;

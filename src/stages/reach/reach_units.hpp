@@ -19,14 +19,17 @@ bool deserializeSweep(const std::string& bytes, const std::string& design, PoseS
 // hand-out pool and one exchange in a distributed run instead of one per design); unit ids
 // <prefix>/<design>/units_<b>-<e>, results in `models` order. Per-unit timings go to sum.timings,
 // resumed units to sum.units_resumed.
-std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+std::vector<PoseSweep> solveGridDesigns(const StageContext& ctx, StageResult& sum,
+                                        const std::string& prefix,
                                         const std::vector<const Model*>& models, const TaskGrid& g,
                                         const ReachConfig& cfg, Progress& progress);
 // A design's sweep of a pose list through ctx.units (unit ids <prefix>/units_<b>-<e>).
-PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix, const Model& model,
-                        const PoseList& l, const ReachConfig& cfg, Progress& progress);
+PoseSweep solvePoseList(const StageContext& ctx, StageResult& sum, const std::string& prefix,
+                        const Model& model, const PoseList& l, const ReachConfig& cfg,
+                        Progress& progress);
 
-// Summary metrics of one design's sweep for baselines and checks (<prefix>/reachable_fraction, ...).
+// Summary metrics of one design's sweep for baselines and checks (<prefix>/reachable_fraction,
+// ...).
 void addUnitMetrics(StudyMetrics& m, const std::string& prefix, const PoseSweep& s);
 
 }  // namespace armstudy::reach_units

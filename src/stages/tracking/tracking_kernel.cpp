@@ -1,11 +1,10 @@
-#include "stages/tracking/tracking_stage.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "collision/collision_term.hpp"
 #include "common/errors.hpp"
+#include "stages/tracking/tracking_stage.hpp"
 
 namespace armstudy::tracking {
 
@@ -141,7 +140,6 @@ RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& e, const 
   if (!r.samples.empty()) r.final_position_error_m = r.samples.back().position_error_m;
   return r;
 }
-
 
 EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry) {
   const std::string why = entry.validate(model.dof());

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -153,16 +153,17 @@ void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference
     if (np == 3) b.poly.triangles.push_back({core[0], core[1], core[2]});
   }
   b.finish();
-  b.poly.field_data = io::fieldData(
-      {"position: m", "time: s", "part: 1", "in_contact: 1", "radius: m"},
-      {"part 0: reference line", "part 1: TCP path", "part 2: arm skeleton (base, joint frames, TCP)",
-       "part 3: obstacle (core and three great circles of its radius)", "in_contact 0: clear",
-       "in_contact 1: an obstacle or self distance below 0"});
+  b.poly.field_data =
+      io::fieldData({"position: m", "time: s", "part: 1", "in_contact: 1", "radius: m"},
+                    {"part 0: reference line", "part 1: TCP path",
+                     "part 2: arm skeleton (base, joint frames, TCP)",
+                     "part 3: obstacle (core and three great circles of its radius)",
+                     "in_contact 0: clear", "in_contact 1: an obstacle or self distance below 0"});
   io::writeVtp(path, b.poly);
 }
 
 report::PlotSeries plotSeries(const RunResult& r, double rate_Hz, const std::string& label,
-                          double RunSample::*field, double scale) {
+                              double RunSample::*field, double scale) {
   report::PlotSeries s;
   s.label = label;
   const int n = static_cast<int>(r.samples.size());
@@ -314,7 +315,8 @@ void writeEntryPlots(const TrackingEntry& e, const EntryResult& er, Writer& out)
   eplot.panels.resize(1);
   eplot.panels[0].y_label = "TCP position error [mm]";
   for (const RunResult* r : {&er.plain, &er.with_hc})
-    eplot.panels[0].series.push_back(plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
+    eplot.panels[0].series.push_back(
+        plotSeries(*r, e.rate_Hz, runLabel(r->kind), &RunSample::position_error_m, 1e3));
   out.text("tracking/" + e.name + "_tcp_error.svg", report::plot(eplot).svg);
 }
 
@@ -384,11 +386,13 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
 std::string entryAnswer(const Model& model, const TrackingEntry& e, const EntryResult& er) {
   std::string a = "`" + e.name + "` (`" + e.design + "`):";
   for (const RunResult* r : {&er.plain, &er.with_hc}) {
-    a += std::string(r == &er.plain ? " " : "; ") + runLabel(r->kind) + ": " + r->statusText(model) + ", " +
-         (r->first_contact_s ? "first contact at " + report::fixed(*r->first_contact_s, 3) + " s (" +
-                                   pairText(*r, r->first_contact_pair) + ")"
+    a += std::string(r == &er.plain ? " " : "; ") + runLabel(r->kind) + ": " +
+         r->statusText(model) + ", " +
+         (r->first_contact_s ? "first contact at " + report::fixed(*r->first_contact_s, 3) +
+                                   " s (" + pairText(*r, r->first_contact_pair) + ")"
                              : "no contact");
-    if (!e.obstacles.empty()) a += ", closest to the obstacles " + mm(r->min_obstacle_distance_m) + " mm";
+    if (!e.obstacles.empty())
+      a += ", closest to the obstacles " + mm(r->min_obstacle_distance_m) + " mm";
   }
   return a + ".";
 }

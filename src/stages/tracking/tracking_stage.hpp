@@ -133,8 +133,8 @@ struct EntryResult {
 };
 
 // One motion of an entry along its line, without or with H_c (single-threaded; deterministic).
-RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& entry, const LineReference& line,
-                              RunKind kind);
+RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& entry,
+                              const LineReference& line, RunKind kind);
 
 // A run as work-unit bytes (every field, bit for bit), and back (false, run unchanged, when the
 // bytes are not such a unit).
@@ -143,7 +143,6 @@ bool deserializeRun(const std::string& bytes, RunResult& run);
 
 // Runs both motions of one entry (single-threaded; deterministic).
 EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry);
-
 
 // Runs every entry (OpenMP over entries x runs; results do not depend on the thread count) and
 // writes under <output_dir>/tracking/: per entry and run <name>_<run>.csv and <name>_<run>.vtp,
