@@ -12,6 +12,7 @@ PKGS=(build-essential cmake ninja-build ccache git pkg-config
       liborocos-kdl-dev libfcl-dev libceres-dev
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
       libopenmpi-dev openmpi-bin
+      clang-format  # scripts/check-format.sh, run by .ci/run
       python3)  # the distribution simulator's tests (tests/study/interleave_test.cpp)
 missing=()
 for p in "${PKGS[@]}"; do
