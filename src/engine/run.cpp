@@ -300,6 +300,10 @@ struct StudyRun {
     try {
       for (const StudySection& section : study.sections) {
         StageResult r = section.stage->run(ctx, *section.settings);
+        const std::vector<std::string> stray = metricsOutside(r.metrics, section.stage->name());
+        ARMSTUDY_CHECK(stray.empty(), "stage '" + section.stage->name() + "' names metric '" +
+                                          (stray.empty() ? "" : stray[0]) +
+                                          "' outside its prefix '" + section.stage->name() + "/'");
         pages.push_back({section.stage->name(), r.files});
         StageResult a;
         a.files = r.files;

@@ -369,7 +369,7 @@ TEST_CASE("harvest stage: run writes outputs and summary metrics") {
   ro.threads = 2;
   ro.progress = false;
   const RunSummary sum = runStudy(s, ro);
-  const std::string d = "dynamics/final_prototype_9dof/";
+  const std::string d = "harvest/final_prototype_9dof/";
   REQUIRE(sum.metrics.scalars.count(d + "feasible_fraction"));
   REQUIRE(sum.metrics.scalars.count(d + "j3/peak_current_A"));
   CHECK(sum.metrics.scalars.at(d + "evaluated_fraction") > 0);

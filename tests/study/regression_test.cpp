@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "common/errors.hpp"
 #include "engine/study_file.hpp"
@@ -122,4 +123,24 @@ TEST_CASE("a negative tolerance in the study is an error with line and key",
     CHECK(e.key() == "regression.tolerance[0].abs");
     CHECK(e.line() == 7);
   }
+}
+
+TEST_CASE("every metric a shipped stage names begins with the stage's name",
+          "[study][regression]") {
+  StudyMetrics m;
+  m.scalars["harvest/d/feasible_fraction"] = 1;
+  m.scalars["harvestx/d/a"] = 1;  // a prefix of the name is not the stage
+  m.flags["dynamics/d/fruit_feasible"] = {1};
+  CHECK(metricsOutside(m, "harvest") ==
+        std::vector<std::string>{"harvestx/d/a", "dynamics/d/fruit_feasible"});
+  CHECK(metricsOutside(m, "dynamics") ==
+        std::vector<std::string>{"harvest/d/feasible_fraction", "harvestx/d/a"});
+  // The shipped harvest study's baseline: all under harvest/ (the engine refuses others).
+  const std::string file = sourcePath("studies/harvest_torque.baseline.json");
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const StudyMetrics shipped = parseBaseline(text.str(), file, "harvest_torque").metrics;
+  REQUIRE(shipped.scalars.size() > 10);
+  CHECK(metricsOutside(shipped, "harvest").empty());
 }

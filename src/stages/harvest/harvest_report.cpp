@@ -322,7 +322,7 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   std::ostringstream md;
   const int n = model.dof();
   const std::string base = model.name;
-  const std::string mprefix = "dynamics/" + model.name + "/";
+  const std::string mprefix = "harvest/" + model.name + "/";
   const HoldingImage hi = holdingImage(model, g, d);
   const long np = hi.img.points();
   io::writeVti(out.path("harvest/" + base + "_holding.vti"), hi.img);

@@ -85,7 +85,7 @@ FruitCounts countFruits(const DesignResult& d) {
 void addDesignMetrics(const Model& model, const DesignResult& d, const FruitCounts& c,
                       const std::vector<JointAggregate>& agg, StudyMetrics& M) {
   const int n = model.dof();
-  const std::string mprefix = "dynamics/" + model.name + "/";
+  const std::string mprefix = "harvest/" + model.name + "/";
   const double nfr = std::max<double>(1, static_cast<double>(d.fruits.size()));
   M.scalars[mprefix + "evaluated_fraction"] = c.evaluated / nfr;
   M.scalars[mprefix + "feasible_fraction"] = c.feasible / nfr;

@@ -106,7 +106,7 @@ bool deserializeGridPoints(const std::string& bytes, DesignResult& d, ItemRange&
 
 // Runs the stage for the selected designs and writes under <output_dir>/harvest/: per design
 // <design>_fruits.csv, <design>_fruit<k>_profile.csv (plotted fruits), SVG plots,
-// <design>_holding.vti and PNG maps; report.md and summary.json. Metrics "dynamics/<design>/...".
+// <design>_holding.vti and PNG maps; report.md and summary.json. Metrics "harvest/<design>/...".
 // Work units: one design x a range of fruits (defaults::kHarvestUnitFruits) or holding-grid
 // points (defaults::kHarvestUnitGridPoints; ctx.options.unit_items overrides both), ids
 // harvest/<design>/fruits_<b>-<e> and harvest/<design>/grid_<b>-<e>, run through ctx.units.
