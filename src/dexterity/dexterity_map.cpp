@@ -8,15 +8,18 @@
 #include <exception>
 #include <limits>
 
+#include "collision/collision_term.hpp"
+#include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
 #include "common/first_exception.hpp"
+#include "dexterity/stem_collision.hpp"
 
 namespace armstudy::dexterity {
 
 std::string DexterityOptions::validate() const {
   const std::string g = grid.validate();
   if (!g.empty()) return g;
-  for (double w : {w_joint_limits, w_manipulability, w_transmission})
+  for (double w : {w_joint_limits, w_manipulability, w_transmission, w_collision})
     if (!std::isfinite(w) || w < 0) return "objective weights must be finite and >= 0";
   if (!(joint_limit_activation > 0 && joint_limit_activation < 0.5))
     return "joint_limit_activation must lie in (0, 0.5)";
@@ -31,6 +34,10 @@ std::string DexterityOptions::validate() const {
     return "tolerances must be > 0";
   if (cold_starts < 1) return "cold_starts must be >= 1";
   if (solve.max_iterations < 1) return "solver max_iterations must be >= 1";
+  if (!(collision_safety_distance_m > 0) || !std::isfinite(collision_safety_distance_m))
+    return "collision safety distance must be a finite length > 0";
+  if (!(collision.clearance_m >= 0) || !std::isfinite(collision.clearance_m))
+    return "clearance must be a finite length >= 0";
   return nullspace.validate();
 }
 
@@ -50,6 +57,14 @@ ik::WeightedObjective DexterityOptions::buildObjective(const Model& model) const
   obj.add(w_joint_limits, std::make_shared<ik::JointLimitTerm>(model, joint_limit_activation));
   obj.add(w_manipulability, std::make_shared<ik::ManipulabilityTerm>(measure_space));
   obj.add(w_transmission, std::make_shared<ik::TransmissionTerm>(measure_space));
+  const StemCollision col = collisionFor(model);
+  if (w_collision > 0 && col.enabled()) {
+    collision::CollisionPotentialOptions po;
+    po.safety_distance_m = collision_safety_distance_m;
+    po.self = col.self;
+    po.environment = !col.obstacles.empty();
+    obj.add(w_collision, std::make_shared<collision::CollisionTerm>(po, col.obstacles));
+  }
   return obj;
 }
 
@@ -129,11 +144,19 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
 }
 
-// True when `cand` should replace `cur`: reachable where `cur` is not, or a lower objective by
-// more than the relative threshold (so rounding noise cannot keep the propagation going).
+// True when `cand` should replace `cur`: a better verdict (collision-free before in collision
+// before no posture), or both collision-free and a lower objective by more than the relative
+// threshold (so rounding noise cannot keep the propagation going).
+// Rank of a cell's verdict: reachable collision-free 2, on the pose only in collision 1, else 0.
+int rank(const CellResult& c) {
+  if (c.reachable) return 2;
+  return c.status == ReachStatus::SelfCollision || c.status == ReachStatus::ObstacleCollision;
+}
+
 bool better(const CellResult& cand, const CellResult& cur) {
-  if (!cand.reachable) return false;
-  if (!cur.reachable) return true;
+  const int rc = rank(cand), ru = rank(cur);
+  if (rc != ru) return rc > ru;
+  if (rc < 2) return false;
   return cand.H_opt <
          cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
 }
@@ -141,7 +164,7 @@ bool better(const CellResult& cand, const CellResult& cur) {
 // Replaces the optimised part of `cur` by the candidate's (the plain part stays the chained
 // solution when `cur` was reachable: "plain" is the pose solution before any optimisation).
 void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
-  if (!cur.reachable) {
+  if (!cur.reachable || !cand.reachable) {
     cur = cand;
   } else {
     cur.optimised = cand.optimised;
@@ -151,6 +174,7 @@ void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
     cur.H_opt = cand.H_opt;
     cur.nullspace_iterations = cand.nullspace_iterations;
     cur.nullspace_status = cand.nullspace_status;
+    cur.min_distance_m = cand.min_distance_m;
   }
   cur.found_by = source;
 }
@@ -159,7 +183,8 @@ void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
 
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                   const ik::WeightedObjective& objective, const DexterityOptions& options,
-                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out) {
+                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
+                  collision::CollisionWorkspace* cws) {
   const JointVector w_inv = weightInverse(options, model.dof());
   const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
   // On the pose as exactly as the null-space stage needs (a seed that only gets within the
@@ -174,6 +199,7 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveCont
   out.position_error_m = s.error.position_m;
   out.orientation_error_rad = s.error.orientation_rad;
   finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
+  settleCollision(model, ws, cws, options.collision, out);
   return true;
 }
 
@@ -181,7 +207,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
                      std::uint64_t cell_id, const JointVector* warm_plain,
-                     const JointVector* warm_opt) {
+                     const JointVector* warm_opt, collision::CollisionWorkspace* cws) {
   CellResult r;
   const int n = model.dof();
   const JointVector w_inv = weightInverse(options, n);
@@ -202,9 +228,10 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     io.position_tolerance_m = options.position_tolerance_m;
     io.orientation_tolerance_rad = options.orientation_tolerance_rad;
     io.max_starts = options.cold_starts;
-    io.classify_failures = false;
+    io.classify_failures = true;  // an unreachable cell's reason: joint limits or out of reach
     const IkResult ir = solvePose(model, ik_ws, reachTarget(cell.target), io, cell_id, warm_plain);
     r.starts += ir.starts;
+    r.status = ir.status == ReachStatus::Reachable ? ReachStatus::OutOfReach : ir.status;
     const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, ir.q, w_inv, options.solve);
     if (cost(s) < cost(best)) best = s;
   }
@@ -216,6 +243,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     r.q_opt = r.q_plain;
     return r;
   }
+  if (cws) escapeCollision(model, ws, ik_ws, *cws, options, cell, cell_id, w_inv, r);
   // The null-space descent starts from the pose solution nearest the previous cell's optimum.
   JointVector start;
   bool chained = false;
@@ -229,6 +257,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     }
   }
   finishCell(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr, r);
+  settleCollision(model, ws, cws, options.collision, r);
   return r;
 }
 
@@ -287,10 +316,13 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
   sum.seeding_cells = static_cast<int>(seeding.size());
   long tries = 0;
   int improved = 0;
+  const bool check = options.collisionFor(model).enabled();
 #pragma omp parallel num_threads(nt) reduction(+ : tries, improved)
   {
     KinematicsWorkspace ws(model);
     ik::ObjectiveContext ctx(model, ws);
+    collision::CollisionWorkspace cws(model);
+    collision::CollisionWorkspace* cw = check ? &cws : nullptr;
     JointVector q0(model.dof());
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < static_cast<int>(seeding.size()); ++k) {
@@ -301,7 +333,8 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
         randomConfiguration(model, options.search_seed, static_cast<std::uint64_t>(idx), s, q0);
         CellResult cand;
         ++tries;
-        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand) || !better(cand, cur))
+        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw) ||
+            !better(cand, cur))
           continue;
         if (cur.found_by != CellResult::Source::MultiStart) ++improved;
         adopt(cur, cand, CellResult::Source::MultiStart);
@@ -325,6 +358,8 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
     {
       KinematicsWorkspace ws(model);
       ik::ObjectiveContext ctx(model, ws);
+      collision::CollisionWorkspace cws(model);
+      collision::CollisionWorkspace* cw = check ? &cws : nullptr;
       int nb[8];
 #pragma omp for schedule(dynamic, 16)
       for (int idx = 0; idx < N; ++idx) {
@@ -344,7 +379,7 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
           CellResult cand;
           ++round_tries;
           if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt,
-                            cand) ||
+                            cand, cw) ||
               !better(cand, best))
             continue;
           adopt(best, cand, CellResult::Source::Neighbour);
@@ -384,6 +419,9 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
   map.grid = options.grid;
   map.cells.resize(options.grid.size());
   map.threads = threads > 0 ? threads : omp_get_max_threads();
+  const StemCollision col = options.collisionFor(model);
+  map.collision = col.enabled();
+  if (map.collision) map.pair_names = collision::collisionPairNames(model, col.obstacles, col.self);
   const ik::WeightedObjective objective = options.buildObjective(model);
   const int cols = options.grid.gamma_rad.count;
   std::vector<std::pair<std::size_t, int>> work;  // (range, row), in order
@@ -401,6 +439,8 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
     KinematicsWorkspace ws(model);
     IkWorkspace ik_ws(model);
     ik::ObjectiveContext ctx(model, ws);
+    collision::CollisionWorkspace cws(model);
+    collision::CollisionWorkspace* cw = map.collision ? &cws : nullptr;
 #pragma omp for schedule(dynamic, 1)
     for (int w = 0; w < n_work; ++w) {
       const std::size_t k = work[w].first;  // not a structured binding: captured below (clang)
@@ -414,7 +454,7 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
         CellResult r =
             solveCell(model, ws, ik_ws, ctx, objective, options, cell,
                       static_cast<std::uint64_t>(options.grid.index(ig, iz)),
-                      have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr);
+                      have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr, cw);
         have_prev = r.reachable;
         if (r.reachable) {
           prev_plain = r.q_plain;

@@ -13,11 +13,11 @@
 
 #include "common/errors.hpp"
 #include "common/format.hpp"
-#include "dexterity/dexterity_audit.hpp"
 #include "io/files.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
+#include "stages/dexterity/dexterity_status.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -234,60 +234,6 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options, StageR
   sum.answer.push_back(a + ".");
 }
 
-// The study-wide fields of summary.json (grid and settings) with an empty design list.
-nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
-  nlohmann::ordered_json js;
-  const StemGrid& g = options.grid;
-  js["grid"] = {
-      {"stem_x_m", g.stem_x_m},
-      {"stem_y_m", g.stem_y_m},
-      {"radius_m", g.radius_m},
-      {"gamma_rad",
-       {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
-      {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
-      {"task", ik::toString(g.task)},
-      {"roll_rad", g.roll_rad}};
-  js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
-                    {"w_joint_limits", options.w_joint_limits},
-                    {"w_manipulability", options.w_manipulability},
-                    {"w_transmission", options.w_transmission},
-                    {"joint_limit_activation", options.joint_limit_activation},
-                    {"position_tolerance_m", options.position_tolerance_m},
-                    {"orientation_tolerance_rad", options.orientation_tolerance_rad},
-                    {"cold_starts", options.cold_starts},
-                    {"nullspace_max_iterations", options.nullspace.max_iterations},
-                    {"nullspace_relative_improvement", options.nullspace.relative_improvement},
-                    {"search_seed_starts", options.seed_starts},
-                    {"search_seed_stride", options.seed_stride},
-                    {"search_propagation_rounds", options.propagation_rounds},
-                    {"search_seed", options.search_seed},
-                    {"chain_order", options.descending ? "descending" : "ascending"}};
-  js["designs"] = nlohmann::ordered_json::array();
-  return js;
-}
-
-// The report's title and opening paragraphs: the grid, the objective and how to read the images.
-std::string reportIntro(const DexterityOptions& options) {
-  const StemGrid& g = options.grid;
-  std::ostringstream md;
-  md << "# Dexterity maps\n\n"
-     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
-     << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
-     << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
-     << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
-     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << ik::toString(g.task)
-     << ", measures on the " << metrics::toString(options.measure_space)
-     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
-     << options.w_manipulability << " H_m1 + " << options.w_transmission
-     << " H_m2 (thesis eq. 5.51).\n\n"
-     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
-     << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
-     << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
-     << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
-     << "grey = not reachable.\n\n";
-  return md.str();
-}
-
 // What the report and summary.json say about one design's map: field statistics, reachable cells
 // by the sign of gamma, and means over the reachable cells.
 struct MapSummary {
@@ -318,6 +264,11 @@ MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid
   s.R = map.reachable();
   if (s.R > 0) s.mean_p /= s.R, s.mean_o /= s.R;
   return s;
+}
+
+// The unit of the absolute manipulability (metrics/dexterity_measures.hpp).
+std::string manipulabilityUnit(metrics::MeasureSpace space) {
+  return space == metrics::MeasureSpace::Translational ? "m^3" : "mixed m and rad";
 }
 
 // "a/b" as a percentage with one decimal, "-" when b is 0.
@@ -385,16 +336,20 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
      << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
+     << statsRow("manipulability, optimised [" + manipulabilityUnit(options.measure_space) + "]",
+                 fieldStats(map, f.manip_opt))
+     << statsRow("manipulability, plain [" + manipulabilityUnit(options.measure_space) + "]",
+                 fieldStats(map, f.manip_plain))
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
      << statsRow("transmission beta along u, plain", s.bp) << "\n"
-     << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable "
+     << "| optimised manipulability | plain manipulability | transmission (optimised) | status "
         "|\n"
      << "|---|---|---|---|\n"
      << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![]("
      << png["manipulability_plain_normalised"] << ") | ![](" << png["transmission_optimised"]
-     << ") | ![](" << png["reachable"] << ") |\n\n";
+     << ") | ![](" << png["status"] << ") |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
@@ -439,52 +394,6 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   return d;
 }
 
-// Audits the map against an independent search: writes <design>_audit.csv, sets d["audit"] and
-// returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                       int threads, Writer& out, nlohmann::ordered_json& d) {
-  const StemGrid& g = options.grid;
-  const int G = g.gamma_rad.count;
-  const DexterityAudit a = auditDexterityMap(m, options, map, threads);
-  nlohmann::ordered_json aj;
-  aj["cells"] = a.cells;
-  aj["starts_per_cell"] = a.starts;
-  aj["seed"] = a.seed;
-  aj["both_reachable"] = a.both_reachable;
-  aj["share_within_1pct"] = a.shareWithin1Percent();
-  aj["share_within_5pct"] = a.both_reachable ? double(a.within_5pct) / a.both_reachable : 1.0;
-  aj["reachability_contradicted"] = a.reach_contradicted;
-  aj["audit_found_no_solution"] = a.audit_missed;
-  aj["worst_gap"] = a.worst_gap;
-  if (a.worst_index >= 0)
-    aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)},
-                      {"z_m", g.z_m.value(a.worst_index / G)}};
-  d["audit"] = aj;
-  std::ostringstream csv;
-  csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
-         "manipulability_audit,audit_solutions\n";
-  csv.precision(17);
-  for (const AuditCell& r : a.rows)
-    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << ","
-        << r.audit_reachable << "," << r.H_map << "," << r.H_audit << "," << r.gap << ","
-        << r.manipulability_map << "," << r.manipulability_audit << "," << r.solutions << "\n";
-  const std::string csv_name = m.name + "_audit.csv";
-  out.text(std::string(kSub) + "/" + csv_name, csv.str());
-  std::ostringstream md;
-  md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed "
-     << a.seed << "), " << a.starts
-     << " random starts each, every start solved onto the pose and optimised with this map's "
-     << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1)
-     << " % are within 1 % of the audit's best "
-     << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2)
-     << " %). Reachability verdicts contradicted "
-     << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `"
-     << csv_name << "`.\n\n";
-  return md.str();
-}
-
 }  // namespace
 
 // Computes each design's map through the work units and writes its files, report section and
@@ -515,10 +424,14 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
       out.add(sub + "/" + name);
     const MapSummary s = summarise(map, f, options.grid);
     std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
+    png["status"] = writeStatusMap(map, sub, out);
     cmp << comparisonRow(m, map, f, s);
-    md << designMarkdown(m, options, map, f, s, png);
+    const StatusCounts sc = statusCounts(map);
+    md << designMarkdown(m, options, map, f, s, png) << statusMarkdown(map, sc);
     nlohmann::ordered_json d = designJson(m, options, map, f, s);
-    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, out, d);
+    addStatusJson(map, sc, d);
+    md << rowSweep(m, options, map, ctx.threads, d);
+    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, sub, out, d);
     js["designs"].push_back(d);
     if (maps) maps->push_back(std::move(map));
   }
