@@ -242,7 +242,40 @@ struct MapSummary {
   int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
   int R = 0;                      // reachable cells
   double mean_p = 0, mean_o = 0;  // mean normalised manipulability, plain and optimised
+  // The valley: the z row with the lowest mean optimised manipulability over its reachable
+  // cells (normalised and absolute); -1 when no row has a reachable cell.
+  int valley_row = -1;
+  double valley_norm = 0, valley_abs = 0;
 };
+
+// The valley of the optimised map (MapSummary::valley_row).
+void findValley(const DexterityMap& map, const MapFields& f, MapSummary& s) {
+  const int G = map.grid.gamma_rad.count;
+  for (int iz = 0; iz < map.grid.z_m.count; ++iz) {
+    double sum_n = 0, sum_a = 0;
+    int n = 0;
+    for (int ig = 0; ig < G; ++ig) {
+      const int i = map.grid.index(ig, iz);
+      if (!map.cells[i].reachable) continue;
+      sum_n += f.manip_opt_norm[i];
+      sum_a += f.manip_opt[i];
+      ++n;
+    }
+    if (n == 0 || (s.valley_row >= 0 && !(sum_n / n < s.valley_norm))) continue;
+    s.valley_row = iz;
+    s.valley_norm = sum_n / n;
+    s.valley_abs = sum_a / n;
+  }
+}
+
+// "z 0.65 m (row mean 0.660, 0.519 m^3)", or "-"; "at the edge" when it is the first or last row.
+std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit) {
+  if (s.valley_row < 0) return "-";
+  const bool edge = s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1;
+  return "z " + fmt(map.grid.z_m.value(s.valley_row), 2) + " m (row mean " + fmt(s.valley_norm) +
+         ", " + fmt(s.valley_abs) + " " + unit + ")" +
+         (edge ? " at the edge of the grid: no valley inside it" : "");
+}
 
 // Computes the statistics, counts and means of one design's map.
 MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid& g) {
@@ -263,6 +296,7 @@ MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid
   }
   s.R = map.reachable();
   if (s.R > 0) s.mean_p /= s.R, s.mean_o /= s.R;
+  findValley(map, f, s);
   return s;
 }
 
@@ -307,12 +341,15 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
 
 // The design's row of the side-by-side table.
 std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
-                          const MapSummary& s) {
+                          const MapSummary& s, const std::string& unit) {
+  double mean_abs = 0;
+  for (double v : f.manip_opt) mean_abs += std::isnan(v) ? 0.0 : v;
   std::ostringstream cmp;
   cmp << "| " << m.name << " | " << m.dof() << " | "
       << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
       << " | " << frac(s.reach_pos, s.n_pos) << " | " << (s.R ? fmt(f.best_manipulability, 4) : "-")
-      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " |\n";
+      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " | "
+      << (s.R ? fmt(mean_abs / s.R) : "-") << " | " << valleyText(map, s, unit) << " |\n";
   return cmp.str();
 }
 
@@ -333,6 +370,8 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
      << "). Best manipulability (normalisation value): "
      << (s.R ? fmt(f.best_manipulability, 5) : "-")
+     << ". Valley of the optimised map (the row of lowest mean): "
+     << valleyText(map, s, manipulabilityUnit(options.measure_space))
      << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
      << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
@@ -381,6 +420,11 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["transmission_plain"] = statsJson(s.bp);
   d["mean_normalised_plain"] = orNull(s.mean_p);
   d["mean_normalised_optimised"] = orNull(s.mean_o);
+  if (s.valley_row >= 0)
+    d["valley"] = {{"z_m", map.grid.z_m.value(s.valley_row)},
+                   {"row_mean_normalised", s.valley_norm},
+                   {"row_mean", s.valley_abs},
+                   {"at_edge", s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1}};
   if (s.R == 0) d["warnings"] = {"reaches none of the stem cells"};
   const MapSearchSummary& se = map.search;
   d["search"] = {{"seeding_cells", se.seeding_cells},
@@ -411,8 +455,9 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   md << reportIntro(options);
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best "
          "manipulability | "
-         "mean normalised (plain) | mean normalised (optimised) "
-         "|\n|---|---|---|---|---|---|---|---|\n";
+         "mean normalised (plain) | mean normalised (optimised) | mean manipulability, optimised ["
+      << manipulabilityUnit(options.measure_space)
+      << "] | valley: lowest row mean, optimised |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& m = sd.model;
     DexterityMap map = unitMap(ctx, m, options, sum.units_resumed);
@@ -425,7 +470,7 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
     const MapSummary s = summarise(map, f, options.grid);
     std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
     png["status"] = writeStatusMap(map, sub, out);
-    cmp << comparisonRow(m, map, f, s);
+    cmp << comparisonRow(m, map, f, s, manipulabilityUnit(options.measure_space));
     const StatusCounts sc = statusCounts(map);
     md << designMarkdown(m, options, map, f, s, png) << statusMarkdown(map, sc);
     nlohmann::ordered_json d = designJson(m, options, map, f, s);
