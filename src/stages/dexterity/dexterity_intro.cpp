@@ -89,7 +89,7 @@ std::string reportIntro(const DexterityOptions& options) {
                         ? ""
                         : std::to_string(options.collision.obstacles.size()) + " obstacles")
              : std::string("none"))
-     << " (designs without collision volumes: none).\n\n"
+     << "; a design without collision volumes is evaluated without them.\n\n"
      << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
      << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
      << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
