@@ -270,7 +270,7 @@ void findValley(const DexterityMap& map, const MapFields& f, MapSummary& s) {
 
 // "z 0.65 m (row mean 0.660, 0.519 m^3)", or "-"; "at the edge" when it is the first or last row.
 std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit) {
-  if (s.valley_row < 0) return "-";
+  if (s.valley_row < 0 || map.grid.z_m.count < 3) return "-";  // a valley needs rows around it
   const bool edge = s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1;
   return "z " + fmt(map.grid.z_m.value(s.valley_row), 2) + " m (row mean " + fmt(s.valley_norm) +
          ", " + fmt(s.valley_abs) + " " + unit + ")" +
@@ -420,7 +420,7 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["transmission_plain"] = statsJson(s.bp);
   d["mean_normalised_plain"] = orNull(s.mean_p);
   d["mean_normalised_optimised"] = orNull(s.mean_o);
-  if (s.valley_row >= 0)
+  if (s.valley_row >= 0 && map.grid.z_m.count >= 3)
     d["valley"] = {{"z_m", map.grid.z_m.value(s.valley_row)},
                    {"row_mean_normalised", s.valley_norm},
                    {"row_mean", s.valley_abs},
