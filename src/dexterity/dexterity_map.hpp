@@ -12,7 +12,8 @@
 // found"): the chained rows alone stay on the solution branch they started in, so after them
 // searchDexterityMap (1) runs seeded multi-starts on a sub-grid of cells and (2) propagates
 // better solutions to neighbouring cells (all eight directions, Jacobi rounds: every cell of a
-// round reads only the previous round) until no cell improves. Both steps are order-independent and
+// round reads only the previous round) until no cell improves; in collision maps (3) cells still
+// reached only in collision get further random starts. Both steps are order-independent and
 // bit-identical for any thread count.
 #include <cstdint>
 #include <functional>
@@ -29,6 +30,12 @@
 #include "study/checkpoint.hpp"
 
 namespace armstudy::dexterity {
+
+// (study) Random starts per stem cell still reached only in collision after the map search
+// ([dexterity.search] collision_starts; kept beside the stem-map settings it belongs to). Off by
+// default: 8 per cell freed none of the cells in collision of the shipped stem maps (docs/
+// dexterity.md "Known limits") and cost the row map 0.8x of a map without collisions.
+inline constexpr int kMapCollisionStarts = 0;
 
 // What a stem map checks at every posture it keeps (docs/dexterity.md, "Collisions"): the
 // design's self-collision pairs and/or obstacles fixed in W (the stems of the row, the study's
@@ -77,6 +84,9 @@ struct DexterityOptions {
   int seed_starts = defaults::kMapSeedStarts;
   int seed_stride = defaults::kMapSeedStride;
   int propagation_rounds = defaults::kMapPropagationRounds;
+  // Collision maps: random starts for every cell still reached only in collision after the
+  // propagation (then propagation again from the cells they freed); 0: none.
+  int collision_starts = kMapCollisionStarts;
   std::uint64_t search_seed = defaults::kMapSearchSeed;
   bool descending =
       false;  // chained rows from the largest gamma down (a check of path independence)
@@ -123,6 +133,11 @@ struct MapSearchSummary {
   int neighbour_improved =
       0;                  // cell updates by neighbour seeds (a cell may improve in several rounds)
   bool converged = true;  // false when the round cap stopped the propagation
+  // Collision maps: cells still in collision after the propagation, their extra random starts,
+  // and the cells those freed.
+  int collision_cells = 0;
+  long collision_tries = 0;
+  int collision_freed = 0;
   double seconds = 0;
 };
 
@@ -160,7 +175,9 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
 // propagation: a cell retries from the optimised configuration of each neighbour that is better
 // (lower H) or reachable where it is not, keeping a candidate that lowers H by more than
 // defaults::kMapImprovementRelative; rounds repeat, retrying only from neighbours that changed,
-// until no cell changes (at most options.propagation_rounds). Updates map.cells and map.search.
+// until no cell changes (at most options.propagation_rounds in all). Collision maps: then every
+// cell still reached only in collision gets options.collision_starts further random starts, and
+// the propagation resumes from the cells they freed. Updates map.cells and map.search.
 void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
                         int threads);
 

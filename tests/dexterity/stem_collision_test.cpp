@@ -32,6 +32,7 @@ constexpr double kBlockRadius = 0.06;        // [m] a base volume centred on the
 constexpr int kOracleStarts = 100;           // independent random starts per cell
 constexpr double kOnPose = 1e-6;             // [m and rad] a start that reached the pose
 constexpr double kNarrowLift = 0.02;         // [m] lift range +- this (design: +- 0.5 m)
+constexpr int kCollisionStarts = 3;          // further starts per cell still in collision
 
 DexterityOptions rowOptions() {
   DexterityOptions o;
@@ -103,7 +104,11 @@ TEST_CASE("a cell blocked only by the stem is obstacle_collision, reachable with
   row.stem = true;
   row.radius_m = kStemRadiusOverTcp;
   o.collision.obstacles = rowObstacles(o.grid, row);
+  o.collision_starts = kCollisionStarts;  // every cell in collision gets them; none can be freed
   const DexterityMap map = computeDexterityMap(m, o, 2);
+  CHECK(map.search.collision_cells == o.grid.size());
+  CHECK(map.search.collision_tries == long(kCollisionStarts) * o.grid.size());
+  CHECK(map.search.collision_freed == 0);
   for (std::size_t i = 0; i < map.cells.size(); ++i) {
     INFO("cell " << i);
     REQUIRE(free_map.cells[i].status == ReachStatus::Reachable);  // only the stem blocks it

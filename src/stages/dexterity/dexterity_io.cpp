@@ -216,6 +216,7 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     o.seed_starts = se.integerIn("seed_starts", o.seed_starts, 0, 10000);
     o.seed_stride = se.integerIn("seed_stride", o.seed_stride, 1, 100000);
     o.propagation_rounds = se.integerIn("propagation_rounds", o.propagation_rounds, 0, 1000000);
+    o.collision_starts = se.integerIn("collision_starts", o.collision_starts, 0, 10000);
     o.search_seed = se.seed("seed", o.search_seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")

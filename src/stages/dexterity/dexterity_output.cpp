@@ -434,6 +434,9 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
                  {"propagation_rounds", se.rounds},
                  {"neighbour_tries", se.neighbour_tries},
                  {"neighbour_improved", se.neighbour_improved},
+                 {"collision_cells", se.collision_cells},
+                 {"collision_tries", se.collision_tries},
+                 {"collision_freed", se.collision_freed},
                  {"converged", se.converged}};
   return d;
 }

@@ -147,6 +147,11 @@ std::string statusMarkdown(const DexterityMap& map, const StatusCounts& c) {
     md << " | " << (pair.empty() ? "-" : "`" + pair + "`") << " |\n";
   }
   md << "\n";
+  const MapSearchSummary& se = map.search;
+  if (se.collision_cells > 0)
+    md << "Cells still in collision after the neighbour propagation: " << se.collision_cells << ", "
+       << se.collision_tries << " further random starts freed " << se.collision_freed
+       << " of them.\n\n";
   return md.str();
 }
 
