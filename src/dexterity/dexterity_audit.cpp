@@ -36,6 +36,8 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
   {
     KinematicsWorkspace ws(model);
     ik::ObjectiveContext ctx(model, ws);
+    collision::CollisionWorkspace cws(model);
+    collision::CollisionWorkspace* cw = options.collisionFor(model).enabled() ? &cws : nullptr;
     JointVector q0(model.dof());
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < static_cast<int>(cells.size()); ++k) {
@@ -48,13 +50,16 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
       row.z_m = cell.z;
       const CellResult& m = map.cells[idx];
       row.map_reachable = m.reachable;
+      row.map_status = m.status;
       row.H_map = m.H_opt;
       row.manipulability_map = m.opt.manipulability;
       double best = std::numeric_limits<double>::infinity();
       for (int s = 0; s < starts; ++s) {
         randomConfiguration(model, seed, static_cast<std::uint64_t>(idx), s, q0);
         CellResult cand;
-        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand)) continue;
+        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw)) continue;
+        ++row.on_pose;
+        if (!cand.reachable) continue;
         ++row.solutions;
         if (cand.H_opt < best) {
           best = cand.H_opt;
@@ -79,6 +84,14 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
       }
     }
     a.reach_contradicted += !r.map_reachable && r.audit_reachable ? 1 : 0;
+    const int st = static_cast<int>(r.map_status);
+    ++a.verdicts[st];
+    // A verdict is contradicted by a posture it says does not exist: a collision-free one for
+    // "in collision", any posture on the pose for "joint limits" / "out of reach".
+    const bool in_collision = r.map_status == ReachStatus::SelfCollision ||
+                              r.map_status == ReachStatus::ObstacleCollision;
+    if (!r.map_reachable && (in_collision ? r.audit_reachable : r.on_pose > 0))
+      ++a.contradicted[st];
     a.audit_missed += r.map_reachable && !r.audit_reachable ? 1 : 0;
   }
   a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

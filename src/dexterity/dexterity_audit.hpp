@@ -4,6 +4,7 @@
 // limits that do not use the map's path (no chaining, no neighbours): every start is solved onto
 // the cell's pose and optimised in the null space with the map's own objective and settings; the
 // best objective found is compared with the map's.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,11 +16,13 @@ namespace armstudy::dexterity {
 struct AuditCell {
   int index = 0;  // grid.index(i_gamma, i_z)
   double gamma_rad = 0, z_m = 0;
-  bool map_reachable = false, audit_reachable = false;
+  ReachStatus map_status = ReachStatus::OutOfReach;
+  bool map_reachable = false, audit_reachable = false;      // audit: a collision-free posture found
   double H_map = 0, H_audit = 0;                            // objective (eq. 5.51, lower is better)
   double manipulability_map = 0, manipulability_audit = 0;  // at the optimised configurations
   double gap = 0;     // (H_map - H_audit) / |H_audit|: > 0 where the audit found better
-  int solutions = 0;  // starts that reached the pose
+  int solutions = 0;  // starts that reached the pose collision-free
+  int on_pose = 0;    // starts that reached the pose (in collision or not)
 };
 
 struct DexterityAudit {
@@ -29,6 +32,10 @@ struct DexterityAudit {
   int within_1pct = 0, within_5pct = 0;  // of both_reachable: gap <= 1 % / 5 %
   int reach_contradicted = 0;            // map: unreachable, audit: a solution (a wrong verdict)
   int audit_missed = 0;  // map: reachable, audit: none (the map's solution is a witness)
+  // Per map status (ReachStatus): cells with that verdict, and those the audit contradicted (a
+  // collision-free posture for SelfCollision / ObstacleCollision, any posture on the pose for
+  // OutOfReach / JointLimits).
+  std::array<int, kReachStatusCount> verdicts{}, contradicted{};
   double worst_gap = 0;
   int worst_index = -1;
   double seconds = 0;

@@ -8,15 +8,18 @@
 #include <exception>
 #include <limits>
 
+#include "collision/collision_term.hpp"
+#include "collision/reach_collision.hpp"
 #include "common/errors.hpp"
 #include "common/first_exception.hpp"
+#include "dexterity/stem_collision.hpp"
 
 namespace armstudy::dexterity {
 
 std::string DexterityOptions::validate() const {
   const std::string g = grid.validate();
   if (!g.empty()) return g;
-  for (double w : {w_joint_limits, w_manipulability, w_transmission})
+  for (double w : {w_joint_limits, w_manipulability, w_transmission, w_collision})
     if (!std::isfinite(w) || w < 0) return "objective weights must be finite and >= 0";
   if (!(joint_limit_activation > 0 && joint_limit_activation < 0.5))
     return "joint_limit_activation must lie in (0, 0.5)";
@@ -31,6 +34,10 @@ std::string DexterityOptions::validate() const {
     return "tolerances must be > 0";
   if (cold_starts < 1) return "cold_starts must be >= 1";
   if (solve.max_iterations < 1) return "solver max_iterations must be >= 1";
+  if (!(collision_safety_distance_m > 0) || !std::isfinite(collision_safety_distance_m))
+    return "collision safety distance must be a finite length > 0";
+  if (!(collision.clearance_m >= 0) || !std::isfinite(collision.clearance_m))
+    return "clearance must be a finite length >= 0";
   return nullspace.validate();
 }
 
@@ -50,6 +57,14 @@ ik::WeightedObjective DexterityOptions::buildObjective(const Model& model) const
   obj.add(w_joint_limits, std::make_shared<ik::JointLimitTerm>(model, joint_limit_activation));
   obj.add(w_manipulability, std::make_shared<ik::ManipulabilityTerm>(measure_space));
   obj.add(w_transmission, std::make_shared<ik::TransmissionTerm>(measure_space));
+  const StemCollision col = collisionFor(model);
+  if (w_collision > 0 && col.enabled()) {
+    collision::CollisionPotentialOptions po;
+    po.safety_distance_m = collision_safety_distance_m;
+    po.self = col.self;
+    po.environment = !col.obstacles.empty();
+    obj.add(w_collision, std::make_shared<collision::CollisionTerm>(po, col.obstacles));
+  }
   return obj;
 }
 
@@ -129,37 +144,12 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
 }
 
-// True when `cand` should replace `cur`: reachable where `cur` is not, or a lower objective by
-// more than the relative threshold (so rounding noise cannot keep the propagation going).
-bool better(const CellResult& cand, const CellResult& cur) {
-  if (!cand.reachable) return false;
-  if (!cur.reachable) return true;
-  return cand.H_opt <
-         cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
-}
-
-// Replaces the optimised part of `cur` by the candidate's (the plain part stays the chained
-// solution when `cur` was reachable: "plain" is the pose solution before any optimisation).
-void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
-  if (!cur.reachable) {
-    cur = cand;
-  } else {
-    cur.optimised = cand.optimised;
-    cur.q_opt = cand.q_opt;
-    cur.opt = cand.opt;
-    cur.ellipsoid_opt = cand.ellipsoid_opt;
-    cur.H_opt = cand.H_opt;
-    cur.nullspace_iterations = cand.nullspace_iterations;
-    cur.nullspace_status = cand.nullspace_status;
-  }
-  cur.found_by = source;
-}
-
 }  // namespace
 
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                   const ik::WeightedObjective& objective, const DexterityOptions& options,
-                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out) {
+                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
+                  collision::CollisionWorkspace* cws) {
   const JointVector w_inv = weightInverse(options, model.dof());
   const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
   // On the pose as exactly as the null-space stage needs (a seed that only gets within the
@@ -174,6 +164,7 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveCont
   out.position_error_m = s.error.position_m;
   out.orientation_error_rad = s.error.orientation_rad;
   finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
+  settleCollision(model, ws, cws, options.collision, out);
   return true;
 }
 
@@ -181,7 +172,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
                      std::uint64_t cell_id, const JointVector* warm_plain,
-                     const JointVector* warm_opt) {
+                     const JointVector* warm_opt, collision::CollisionWorkspace* cws) {
   CellResult r;
   const int n = model.dof();
   const JointVector w_inv = weightInverse(options, n);
@@ -202,9 +193,10 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     io.position_tolerance_m = options.position_tolerance_m;
     io.orientation_tolerance_rad = options.orientation_tolerance_rad;
     io.max_starts = options.cold_starts;
-    io.classify_failures = false;
+    io.classify_failures = true;  // an unreachable cell's reason: joint limits or out of reach
     const IkResult ir = solvePose(model, ik_ws, reachTarget(cell.target), io, cell_id, warm_plain);
     r.starts += ir.starts;
+    r.status = ir.status == ReachStatus::Reachable ? ReachStatus::OutOfReach : ir.status;
     const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, ir.q, w_inv, options.solve);
     if (cost(s) < cost(best)) best = s;
   }
@@ -216,6 +208,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     r.q_opt = r.q_plain;
     return r;
   }
+  if (cws) escapeCollision(model, ws, ik_ws, *cws, options, cell, cell_id, w_inv, r);
   // The null-space descent starts from the pose solution nearest the previous cell's optimum.
   JointVector start;
   bool chained = false;
@@ -229,6 +222,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     }
   }
   finishCell(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr, r);
+  settleCollision(model, ws, cws, options.collision, r);
   return r;
 }
 
@@ -238,138 +232,6 @@ DexterityMap computeDexterityMap(const Model& model, const DexterityOptions& opt
   DexterityMap map = computeDexterityRows(model, options, all, threads);
   searchDexterityMap(model, options, map, threads);
   return map;
-}
-
-namespace {
-
-// The up to eight neighbours of a cell (gamma wraps around on a full circle), in a fixed order.
-int neighbours(const StemGrid& g, int idx, int out[8]) {
-  const int G = g.gamma_rad.count, Z = g.z_m.count;
-  const bool wrap = G > 2 && std::abs(g.gamma_rad.step() * G - 2 * M_PI) < 1e-9;
-  const int ig = idx % G, iz = idx / G;
-  int n = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dg = -1; dg <= 1; ++dg) {
-      if (dz == 0 && dg == 0) continue;
-      int jg = ig + dg;
-      const int jz = iz + dz;
-      if (jz < 0 || jz >= Z) continue;
-      if (wrap) jg = (jg + G) % G;
-      if (jg < 0 || jg >= G) continue;
-      out[n++] = g.index(jg, jz);
-    }
-  return n;
-}
-
-}  // namespace
-
-void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
-                        int threads) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const StemGrid& g = options.grid;
-  const int N = g.size(), G = g.gamma_rad.count;
-  ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == N, "dexterity map does not match its grid");
-  const int nt = threads > 0 ? threads : omp_get_max_threads();
-  const ik::WeightedObjective objective = options.buildObjective(model);
-  MapSearchSummary& sum = map.search;
-  sum = MapSearchSummary{};
-  std::vector<CellResult>& cells = map.cells;
-  // Cells that changed in the last step: the sources of the next propagation round.
-  std::vector<std::uint8_t> changed(N, 0);
-
-  // (1) Seeded multi-starts on the sub-grid. Each cell depends only on its own index.
-  std::vector<int> seeding;
-  if (options.seed_starts > 0) {
-    const int st = std::max(1, options.seed_stride);
-    for (int iz = 0; iz < g.z_m.count; iz += st)
-      for (int ig = 0; ig < G; ig += st) seeding.push_back(g.index(ig, iz));
-  }
-  sum.seeding_cells = static_cast<int>(seeding.size());
-  long tries = 0;
-  int improved = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tries, improved)
-  {
-    KinematicsWorkspace ws(model);
-    ik::ObjectiveContext ctx(model, ws);
-    JointVector q0(model.dof());
-#pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < static_cast<int>(seeding.size()); ++k) {
-      const int idx = seeding[k];
-      const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-      CellResult& cur = cells[idx];
-      for (int s = 0; s < options.seed_starts; ++s) {
-        randomConfiguration(model, options.search_seed, static_cast<std::uint64_t>(idx), s, q0);
-        CellResult cand;
-        ++tries;
-        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand) || !better(cand, cur))
-          continue;
-        if (cur.found_by != CellResult::Source::MultiStart) ++improved;
-        adopt(cur, cand, CellResult::Source::MultiStart);
-        changed[idx] = 1;
-      }
-    }
-  }
-  sum.multistart_tries = tries;
-  sum.multistart_improved = improved;
-
-  // (2) Neighbour propagation, Jacobi rounds. Round 0 tries every better neighbour (the chain's
-  // branch choices are not marked); later rounds only neighbours that changed in the round before.
-  bool first = true;
-  sum.converged = options.propagation_rounds == 0;
-  while (sum.rounds < options.propagation_rounds) {
-    std::vector<CellResult> next = cells;
-    std::vector<std::uint8_t> now(N, 0);
-    long round_tries = 0;
-    int round_improved = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : round_tries, round_improved)
-    {
-      KinematicsWorkspace ws(model);
-      ik::ObjectiveContext ctx(model, ws);
-      int nb[8];
-#pragma omp for schedule(dynamic, 16)
-      for (int idx = 0; idx < N; ++idx) {
-        const CellResult& cur = cells[idx];
-        const int count = neighbours(g, idx, nb);
-        CellResult best = cur;
-        bool any = false;
-        for (int k = 0; k < count; ++k) {
-          const CellResult& src = cells[nb[k]];
-          if (!src.reachable || !(first || changed[nb[k]])) continue;
-          if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
-          // A neighbour whose optimum is this cell's posture (every joint within kMapSameBasin)
-          // would descend to this cell's optimum again.
-          if (cur.reachable &&
-              (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin)
-            continue;
-          CellResult cand;
-          ++round_tries;
-          if (!cellFromSeed(model, ws, ctx, objective, options, g.cell(idx % G, idx / G), src.q_opt,
-                            cand) ||
-              !better(cand, best))
-            continue;
-          adopt(best, cand, CellResult::Source::Neighbour);
-          any = true;
-        }
-        if (any) {
-          next[idx] = std::move(best);
-          now[idx] = 1;
-          ++round_improved;
-        }
-      }
-    }
-    ++sum.rounds;
-    sum.neighbour_tries += round_tries;
-    sum.neighbour_improved += round_improved;
-    cells.swap(next);
-    changed.swap(now);
-    first = false;
-    if (round_improved == 0) {
-      sum.converged = true;
-      break;
-    }
-  }
-  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  map.seconds += sum.seconds;
 }
 
 DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& options,
@@ -384,6 +246,9 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
   map.grid = options.grid;
   map.cells.resize(options.grid.size());
   map.threads = threads > 0 ? threads : omp_get_max_threads();
+  const StemCollision col = options.collisionFor(model);
+  map.collision = col.enabled();
+  if (map.collision) map.pair_names = collision::collisionPairNames(model, col.obstacles, col.self);
   const ik::WeightedObjective objective = options.buildObjective(model);
   const int cols = options.grid.gamma_rad.count;
   std::vector<std::pair<std::size_t, int>> work;  // (range, row), in order
@@ -401,6 +266,8 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
     KinematicsWorkspace ws(model);
     IkWorkspace ik_ws(model);
     ik::ObjectiveContext ctx(model, ws);
+    collision::CollisionWorkspace cws(model);
+    collision::CollisionWorkspace* cw = map.collision ? &cws : nullptr;
 #pragma omp for schedule(dynamic, 1)
     for (int w = 0; w < n_work; ++w) {
       const std::size_t k = work[w].first;  // not a structured binding: captured below (clang)
@@ -414,7 +281,7 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
         CellResult r =
             solveCell(model, ws, ik_ws, ctx, objective, options, cell,
                       static_cast<std::uint64_t>(options.grid.index(ig, iz)),
-                      have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr);
+                      have_prev ? &prev_plain : nullptr, have_prev ? &prev_opt : nullptr, cw);
         have_prev = r.reachable;
         if (r.reachable) {
           prev_plain = r.q_plain;

@@ -12,13 +12,16 @@
 // found"): the chained rows alone stay on the solution branch they started in, so after them
 // searchDexterityMap (1) runs seeded multi-starts on a sub-grid of cells and (2) propagates
 // better solutions to neighbouring cells (all eight directions, Jacobi rounds: every cell of a
-// round reads only the previous round) until no cell improves. Both steps are order-independent and
+// round reads only the previous round) until no cell improves; in collision maps (3) cells still
+// reached only in collision get further random starts. Both steps are order-independent and
 // bit-identical for any thread count.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "collision/collision.hpp"
 #include "dexterity/stem_grid.hpp"
 #include "ik/nullspace.hpp"
 #include "ik/objectives.hpp"
@@ -28,13 +31,44 @@
 
 namespace armstudy::dexterity {
 
+// (study) Random starts per stem cell still reached only in collision after the map search
+// ([dexterity.search] collision_starts; kept beside the stem-map settings it belongs to). Off by
+// default: 8 per cell freed none of the cells in collision of the shipped stem maps (docs/
+// dexterity.md "Known limits") and cost the row map 0.8x of a map without collisions.
+inline constexpr int kMapCollisionStarts = 0;
+
+// What a stem map checks at every posture it keeps (docs/dexterity.md, "Collisions"): the
+// design's self-collision pairs and/or obstacles fixed in W (the stems of the row, the study's
+// [[obstacle]]s). A posture collides when a checked distance is <= clearance_m.
+struct StemCollision {
+  bool self = false;
+  std::vector<collision::Obstacle> obstacles;
+  double clearance_m = 0;
+  bool enabled() const { return self || !obstacles.empty(); }
+};
+
 struct DexterityOptions {
   StemGrid grid;
+  // Collisions checked for designs with a collision model (collisionFor); a design without
+  // volumes is evaluated without them.
+  StemCollision collision;
+  StemCollision collisionFor(const Model& model) const {
+    return model.collision.empty() ? StemCollision{} : collision;
+  }
+  // The row sweep (docs/dexterity.md, "The row around the stem"): the map again with each entry's
+  // collisions instead of `collision`, the neighbouring stems at row_sweep_spacing_m[k] (0: none).
+  std::vector<StemCollision> row_sweep;
+  std::vector<double> row_sweep_spacing_m;
+  double row_spacing_m = -1;  // [dexterity.row]'s spacing (0: no neighbours; -1: no row)
   metrics::MeasureSpace measure_space = metrics::MeasureSpace::Translational;
   // Weights of eq. (5.51); finite and >= 0.
   double w_joint_limits = 0.0;
   double w_manipulability = 1.0;  // H_m1
   double w_transmission = 0.0;    // H_m2 along u
+  // w_c H_c (eq. 5.53-5.57) over the checked pairs (collisionFor) with safety distance d_a; 0 or
+  // a design without volumes: no term.
+  double w_collision = 0.0;
+  double collision_safety_distance_m = defaults::kCollisionSafetyDistance_m;
   double joint_limit_activation = defaults::kJointLimitActivation;
   bool fixed_direction = false;  // u from the study instead of TCP -> stem
   Eigen::Vector3d direction_W = Eigen::Vector3d::UnitY();
@@ -50,6 +84,9 @@ struct DexterityOptions {
   int seed_starts = defaults::kMapSeedStarts;
   int seed_stride = defaults::kMapSeedStride;
   int propagation_rounds = defaults::kMapPropagationRounds;
+  // Collision maps: random starts for every cell still reached only in collision after the
+  // propagation (then propagation again from the cells they freed); 0: none.
+  int collision_starts = kMapCollisionStarts;
   std::uint64_t search_seed = defaults::kMapSearchSeed;
   bool descending =
       false;  // chained rows from the largest gamma down (a check of path independence)
@@ -65,7 +102,11 @@ struct DexterityOptions {
 };
 
 struct CellResult {
-  bool reachable = false;
+  // Reachable: a collision-free posture on the pose was found (the quantities below are its);
+  // SelfCollision / ObstacleCollision: the pose is reached only in collision (colliding_pair
+  // indexes collision::collisionPairNames); OutOfReach / JointLimits: no posture on the pose.
+  ReachStatus status = ReachStatus::OutOfReach;
+  bool reachable = false;  // status == Reachable
   bool optimised = false;  // null-space optimisation ran (reachable and redundant)
   JointVector q_plain, q_opt;
   metrics::DexterityMeasures plain, opt;  // in options.measure_space, transmission along u
@@ -78,6 +119,8 @@ struct CellResult {
   // Where the optimised configuration came from (values written into the .vti field found_by).
   enum class Source : std::uint8_t { Chain = 0, MultiStart = 1, Neighbour = 2 };
   Source found_by = Source::Chain;
+  int colliding_pair = -1;  // the closest pair at the colliding posture (in collision only)
+  double min_distance_m = std::numeric_limits<double>::quiet_NaN();  // at q_opt, collision maps
 };
 
 // What the map search did (searchDexterityMap).
@@ -90,6 +133,11 @@ struct MapSearchSummary {
   int neighbour_improved =
       0;                  // cell updates by neighbour seeds (a cell may improve in several rounds)
   bool converged = true;  // false when the round cap stopped the propagation
+  // Collision maps: cells still in collision after the propagation, their extra random starts,
+  // and the cells those freed.
+  int collision_cells = 0;
+  long collision_tries = 0;
+  int collision_freed = 0;
   double seconds = 0;
 };
 
@@ -101,6 +149,8 @@ struct DexterityMap {
   double seconds = 0;
   int threads = 1;
   MapSearchSummary search;
+  bool collision = false;               // cells were checked for collisions
+  std::vector<std::string> pair_names;  // collision::collisionPairNames of the checked pairs
   int reachable() const;
 };
 
@@ -125,16 +175,21 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
 // propagation: a cell retries from the optimised configuration of each neighbour that is better
 // (lower H) or reachable where it is not, keeping a candidate that lowers H by more than
 // defaults::kMapImprovementRelative; rounds repeat, retrying only from neighbours that changed,
-// until no cell changes (at most options.propagation_rounds). Updates map.cells and map.search.
+// until no cell changes (at most options.propagation_rounds in all). Collision maps: then every
+// cell still reached only in collision gets options.collision_starts further random starts, and
+// the propagation resumes from the cells they freed. Updates map.cells and map.search.
 void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
                         int threads);
 
 // One candidate for a cell from the configuration `seed`: solved onto the cell's pose by the
-// local solve, then optimised in the null space (redundant designs). False when the seed does not
-// lead onto the pose. `out` holds the candidate's plain (the solved pose) and optimised results.
+// local solve, then optimised in the null space (redundant designs) and checked for collisions
+// (settleCollision, with `cws` non-null for collision maps). False when the seed does not lead
+// onto the pose; a candidate in collision returns true with out.reachable false. `out` holds the
+// candidate's plain (the solved pose) and optimised results.
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                   const ik::WeightedObjective& objective, const DexterityOptions& options,
-                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out);
+                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
+                  collision::CollisionWorkspace* cws = nullptr);
 
 // Solves and optimises one cell. The plain configuration: a local damped Newton solve from
 // `warm_plain` (the previous cell's plain solution, may be null) when that lands on the pose (so
@@ -144,11 +199,15 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveCont
 // tolerance the null-space stage needs. The null-space descent starts from the pose solution
 // nearest `warm_opt` (the previous cell's optimised configuration, may be null) when that solve
 // lands on the pose, else from the plain configuration. Uses the per-thread ws, ik_ws and ctx.
+// Collision maps (`cws` non-null): a plain posture in collision is replaced by the collision-aware
+// solve's (collision::solvePoseCollisionAware: H_c descended in the null space, then restarts);
+// the cell is then settled (settleCollision). An unreachable cell's status tells joint limits
+// from out of reach (the reach solver's classification).
 CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                      const DexterityOptions& options, const StemGrid::Cell& cell,
                      std::uint64_t cell_id, const JointVector* warm_plain,
-                     const JointVector* warm_opt);
+                     const JointVector* warm_opt, collision::CollisionWorkspace* cws = nullptr);
 
 // The cell's pose target in the reachability solver's terms (tool-axis task for PositionAxis).
 IkTarget reachTarget(const ik::PoseTarget& target);

@@ -35,4 +35,29 @@ StemGrid::Cell StemGrid::cell(int i_gamma, int i_z) const {
   return c;
 }
 
+std::string StemRow::validate() const {
+  if (!std::isfinite(radius_m) || radius_m <= 0) return "stem radius must be > 0";
+  if (!std::isfinite(bottom_m) || !std::isfinite(top_m) || !(top_m > bottom_m))
+    return "stem top must lie above its bottom";
+  if (neighbours < 0) return "neighbours must be >= 0";
+  if (neighbours > 0 && !(std::isfinite(spacing_m) && spacing_m > 2 * radius_m))
+    return "neighbouring stems need a spacing larger than the stem diameter";
+  return "";
+}
+
+std::vector<collision::Obstacle> rowObstacles(const StemGrid& g, const StemRow& row) {
+  std::vector<collision::Obstacle> out;
+  auto add = [&](const std::string& name, double x) {
+    out.push_back(collision::capsuleObstacle(name, Eigen::Vector3d(x, g.stem_y_m, row.bottom_m),
+                                             Eigen::Vector3d(x, g.stem_y_m, row.top_m),
+                                             row.radius_m));
+  };
+  if (row.stem) add("stem", g.stem_x_m);
+  for (int k = 1; k <= row.neighbours; ++k) {
+    add("stem_-" + std::to_string(k), g.stem_x_m - k * row.spacing_m);
+    add("stem_+" + std::to_string(k), g.stem_x_m + k * row.spacing_m);
+  }
+  return out;
+}
+
 }  // namespace armstudy::dexterity

@@ -12,7 +12,9 @@
 // the base origin when x_s > 0), gamma = -pi/2 from +x.
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
+#include "collision/collision.hpp"
 #include "ik/nullspace.hpp"
 
 namespace armstudy::dexterity {
@@ -43,5 +45,19 @@ struct StemGrid {
   };
   Cell cell(int i_gamma, int i_z) const;
 };
+
+// The plants of the row around the map's stem as obstacles (docs/dexterity.md, "Collisions"):
+// the stem itself and `neighbours` stems on each side along the row (the x axis of W) at
+// `spacing_m`, each a vertical capsule of radius_m from bottom_m to top_m.
+struct StemRow {
+  bool stem = false;     // the map's own stem
+  int neighbours = 0;    // per side; needs spacing_m > 0
+  double spacing_m = 0;  // stem to stem along x (thesis Table 2.2: 0.192 m nominal)
+  double radius_m = 0.012;
+  double bottom_m = 0, top_m = 2;
+  std::string validate() const;  // empty when valid
+};
+// "stem" and "stem_-1", "stem_+1", ... (neighbours by their place along +x).
+std::vector<collision::Obstacle> rowObstacles(const StemGrid& grid, const StemRow& row);
 
 }  // namespace armstudy::dexterity

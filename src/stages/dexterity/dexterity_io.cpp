@@ -1,5 +1,6 @@
 #include "stages/dexterity/dexterity_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/toml_reader.hpp"
@@ -57,6 +58,78 @@ double positive(io::TableReader& r, const std::string& key, double fallback, Dim
   return v;
 }
 
+// The collision keys (docs/dexterity.md, "Collisions"): self_collision (default: on when a design
+// has a collision model), obstacles (the study's [[obstacle]]s, default: on when it declares any),
+// clearance, and [dexterity.row], the stems of the row around the map's stem.
+void readCollision(io::TableReader& r, const SectionInput& in, DexterityOptions& o) {
+  bool any_has_model = false;
+  for (const Model* m : in.designs) any_has_model |= !m->collision.empty();
+  StemCollision& c = o.collision;
+  c.self = r.boolean("self_collision", any_has_model);
+  if (c.self && !any_has_model)
+    r.fail("self_collision",
+           "self_collision = true needs a collision model, but no design of the study has one "
+           "(add [[collision]] volumes or set self_collision = false)");
+  const bool use_obstacles = r.boolean("obstacles", !in.obstacles.empty());
+  if (use_obstacles && in.obstacles.empty())
+    r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
+  if (use_obstacles) c.obstacles = in.obstacles;
+  c.clearance_m = nonNegative(r, "clearance", 0.0, Dimension::Length);
+  if (const toml::table* t = r.table("row")) {
+    io::TableReader rw(*t, r.file(), r.keyPath("row"));
+    StemRow row;
+    row.stem = rw.boolean("stem", true);
+    row.neighbours = rw.integerIn("neighbours", 1, 0, 100);
+    if (row.neighbours > 0) row.spacing_m = positive(rw, "spacing", 0.0, Dimension::Length);
+    if (row.neighbours > 0 && !rw.has("spacing"))
+      rw.fail("neighbours", "neighbouring stems need `spacing` (thesis Table 2.2: \"192 mm\")");
+    row.radius_m = positive(rw, "stem_radius", row.radius_m, Dimension::Length);
+    row.bottom_m = rw.quantity("bottom", Dimension::Length, row.bottom_m);
+    row.top_m = rw.quantity("top", Dimension::Length, row.top_m);
+    const std::string why = row.validate();
+    if (!why.empty()) rw.fail(row.neighbours > 0 ? "spacing" : "stem_radius", why);
+    std::vector<double> sweep;
+    if (const toml::array* a = rw.array("spacing_sweep")) {
+      for (const toml::node& n : *a) {
+        const double v =
+            io::nodeQuantity(n, Dimension::Length, rw.file(), rw.keyPath("spacing_sweep"));
+        StemRow other = row;
+        other.spacing_m = v;
+        other.neighbours = v > 0 ? std::max(row.neighbours, 1) : 0;
+        if (!(v >= 0) || !other.validate().empty())
+          rw.fail("spacing_sweep",
+                  "every spacing must be 0 (no neighbouring stems) or larger "
+                  "than the stem diameter");
+        sweep.push_back(v);
+      }
+    }
+    rw.finish();
+    const std::vector<collision::Obstacle> study = c.obstacles;
+    auto withRow = [&](const StemRow& r) {
+      StemCollision rc = c;
+      rc.obstacles = rowObstacles(o.grid, r);
+      rc.obstacles.insert(rc.obstacles.end(), study.begin(), study.end());
+      return rc;
+    };
+    c = withRow(row);
+    o.row_spacing_m = row.neighbours > 0 ? row.spacing_m : 0.0;
+    for (const double v : sweep) {
+      StemRow other = row;
+      other.spacing_m = v;
+      other.neighbours = v > 0 ? std::max(row.neighbours, 1) : 0;
+      o.row_sweep.push_back(withRow(other));
+      o.row_sweep_spacing_m.push_back(v);
+    }
+  }
+  if (!c.obstacles.empty() && !any_has_model)
+    r.fail(r.has("row") ? "row" : "obstacles",
+           "obstacles are checked against the designs' collision volumes, but no design of the "
+           "study has any (add [[collision]] volumes or remove them)");
+  if (c.obstacles.size() > static_cast<std::size_t>(defaults::kMaxObstacles))
+    r.fail("row", "more than " + std::to_string(defaults::kMaxObstacles) +
+                      " obstacles (stems and [[obstacle]]s)");
+}
+
 }  // namespace
 
 DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in) {
@@ -86,6 +159,7 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   if (!metrics::parseMeasureSpace(space, o.measure_space))
     r.fail("measure_space", "expected \"translational\" or \"full\"");
   o.ellipsoids = r.boolean("ellipsoids", true);
+  readCollision(r, in, o);
   if (r.has("direction")) {
     const std::vector<double> d = r.numberArray("direction");
     if (d.size() != 3) r.fail("direction", "direction u needs three components [x, y, z]");
@@ -102,6 +176,11 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     o.w_manipulability =
         nonNegative(ob, "manipulability", o.w_manipulability, Dimension::Dimensionless);
     o.w_transmission = nonNegative(ob, "transmission", o.w_transmission, Dimension::Dimensionless);
+    o.w_collision = nonNegative(ob, "collision", o.w_collision, Dimension::Dimensionless);
+    o.collision_safety_distance_m =
+        positive(ob, "collision_safety_distance", o.collision_safety_distance_m, Dimension::Length);
+    if (o.w_collision > 0 && !o.collision.enabled())
+      ob.fail("collision", "the collision term needs self_collision or obstacles");
     if (ob.has("joint_limit_activation")) {
       o.joint_limit_activation = ob.quantity("joint_limit_activation", Dimension::Dimensionless);
       if (!(o.joint_limit_activation > 0 && o.joint_limit_activation < 0.5))
@@ -137,6 +216,7 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     o.seed_starts = se.integerIn("seed_starts", o.seed_starts, 0, 10000);
     o.seed_stride = se.integerIn("seed_stride", o.seed_stride, 1, 100000);
     o.propagation_rounds = se.integerIn("propagation_rounds", o.propagation_rounds, 0, 1000000);
+    o.collision_starts = se.integerIn("collision_starts", o.collision_starts, 0, 10000);
     o.search_seed = se.seed("seed", o.search_seed);
     const std::string order = se.string("order", "ascending");
     if (order != "ascending" && order != "descending")

@@ -13,11 +13,11 @@
 
 #include "common/errors.hpp"
 #include "common/format.hpp"
-#include "dexterity/dexterity_audit.hpp"
 #include "io/files.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
+#include "stages/dexterity/dexterity_status.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -232,60 +232,6 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options, StageR
   sum.answer.push_back(a + ".");
 }
 
-// The study-wide fields of summary.json (grid and settings) with an empty design list.
-nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
-  nlohmann::ordered_json js;
-  const StemGrid& g = options.grid;
-  js["grid"] = {
-      {"stem_x_m", g.stem_x_m},
-      {"stem_y_m", g.stem_y_m},
-      {"radius_m", g.radius_m},
-      {"gamma_rad",
-       {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
-      {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
-      {"task", ik::toString(g.task)},
-      {"roll_rad", g.roll_rad}};
-  js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
-                    {"w_joint_limits", options.w_joint_limits},
-                    {"w_manipulability", options.w_manipulability},
-                    {"w_transmission", options.w_transmission},
-                    {"joint_limit_activation", options.joint_limit_activation},
-                    {"position_tolerance_m", options.position_tolerance_m},
-                    {"orientation_tolerance_rad", options.orientation_tolerance_rad},
-                    {"cold_starts", options.cold_starts},
-                    {"nullspace_max_iterations", options.nullspace.max_iterations},
-                    {"nullspace_relative_improvement", options.nullspace.relative_improvement},
-                    {"search_seed_starts", options.seed_starts},
-                    {"search_seed_stride", options.seed_stride},
-                    {"search_propagation_rounds", options.propagation_rounds},
-                    {"search_seed", options.search_seed},
-                    {"chain_order", options.descending ? "descending" : "ascending"}};
-  js["designs"] = nlohmann::ordered_json::array();
-  return js;
-}
-
-// The report's title and opening paragraphs: the grid, the objective and how to read the images.
-std::string reportIntro(const DexterityOptions& options) {
-  const StemGrid& g = options.grid;
-  std::ostringstream md;
-  md << "# Dexterity maps\n\n"
-     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
-     << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
-     << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
-     << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
-     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << ik::toString(g.task)
-     << ", measures on the " << metrics::toString(options.measure_space)
-     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
-     << options.w_manipulability << " H_m1 + " << options.w_transmission
-     << " H_m2 (thesis eq. 5.51).\n\n"
-     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
-     << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
-     << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
-     << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
-     << "grey = not reachable.\n\n";
-  return md.str();
-}
-
 // What the report and summary.json say about one design's map: field statistics, reachable cells
 // by the sign of gamma, and means over the reachable cells.
 struct MapSummary {
@@ -294,7 +240,40 @@ struct MapSummary {
   int reach_neg = 0, n_neg = 0, reach_pos = 0, n_pos = 0, iters = 0;
   int R = 0;                      // reachable cells
   double mean_p = 0, mean_o = 0;  // mean normalised manipulability, plain and optimised
+  // The valley: the z row with the lowest mean optimised manipulability over its reachable
+  // cells (normalised and absolute); -1 when no row has a reachable cell.
+  int valley_row = -1;
+  double valley_norm = 0, valley_abs = 0;
 };
+
+// The valley of the optimised map (MapSummary::valley_row).
+void findValley(const DexterityMap& map, const MapFields& f, MapSummary& s) {
+  const int G = map.grid.gamma_rad.count;
+  for (int iz = 0; iz < map.grid.z_m.count; ++iz) {
+    double sum_n = 0, sum_a = 0;
+    int n = 0;
+    for (int ig = 0; ig < G; ++ig) {
+      const int i = map.grid.index(ig, iz);
+      if (!map.cells[i].reachable) continue;
+      sum_n += f.manip_opt_norm[i];
+      sum_a += f.manip_opt[i];
+      ++n;
+    }
+    if (n == 0 || (s.valley_row >= 0 && !(sum_n / n < s.valley_norm))) continue;
+    s.valley_row = iz;
+    s.valley_norm = sum_n / n;
+    s.valley_abs = sum_a / n;
+  }
+}
+
+// "z 0.65 m (row mean 0.660, 0.519 m^3)", or "-"; "at the edge" when it is the first or last row.
+std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit) {
+  if (s.valley_row < 0 || map.grid.z_m.count < 3) return "-";  // a valley needs rows around it
+  const bool edge = s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1;
+  return "z " + fmt(map.grid.z_m.value(s.valley_row), 2) + " m (row mean " + fmt(s.valley_norm) +
+         ", " + fmt(s.valley_abs) + " " + unit + ")" +
+         (edge ? " at the edge of the grid: no valley inside it" : "");
+}
 
 // Computes the statistics, counts and means of one design's map.
 MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid& g) {
@@ -315,7 +294,13 @@ MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid
   }
   s.R = map.reachable();
   if (s.R > 0) s.mean_p /= s.R, s.mean_o /= s.R;
+  findValley(map, f, s);
   return s;
+}
+
+// The unit of the absolute manipulability (metrics/dexterity_measures.hpp).
+std::string manipulabilityUnit(metrics::MeasureSpace space) {
+  return space == metrics::MeasureSpace::Translational ? "m^3" : "mixed m and rad";
 }
 
 // "a/b" as a percentage with one decimal, "-" when b is 0.
@@ -354,12 +339,15 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
 
 // The design's row of the side-by-side table.
 std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
-                          const MapSummary& s) {
+                          const MapSummary& s, const std::string& unit) {
+  double mean_abs = 0;
+  for (double v : f.manip_opt) mean_abs += std::isnan(v) ? 0.0 : v;
   std::ostringstream cmp;
   cmp << "| " << m.name << " | " << m.dof() << " | "
       << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
       << " | " << frac(s.reach_pos, s.n_pos) << " | " << (s.R ? fmt(f.best_manipulability, 4) : "-")
-      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " |\n";
+      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " | "
+      << (s.R ? fmt(mean_abs / s.R) : "-") << " | " << valleyText(map, s, unit) << " |\n";
   return cmp.str();
 }
 
@@ -380,19 +368,25 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
      << "). Best manipulability (normalisation value): "
      << (s.R ? fmt(f.best_manipulability, 5) : "-")
+     << ". Valley of the optimised map (the row of lowest mean): "
+     << valleyText(map, s, manipulabilityUnit(options.measure_space))
      << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
      << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
+     << statsRow("manipulability, optimised [" + manipulabilityUnit(options.measure_space) + "]",
+                 fieldStats(map, f.manip_opt))
+     << statsRow("manipulability, plain [" + manipulabilityUnit(options.measure_space) + "]",
+                 fieldStats(map, f.manip_plain))
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
      << statsRow("transmission beta along u, plain", s.bp) << "\n"
-     << "| optimised manipulability | plain manipulability | transmission (optimised) | reachable "
+     << "| optimised manipulability | plain manipulability | transmission (optimised) | status "
         "|\n"
      << "|---|---|---|---|\n"
      << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![]("
      << png["manipulability_plain_normalised"] << ") | ![](" << png["transmission_optimised"]
-     << ") | ![](" << png["reachable"] << ") |\n\n";
+     << ") | ![](" << png["status"] << ") |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
@@ -424,6 +418,11 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   d["transmission_plain"] = statsJson(s.bp);
   d["mean_normalised_plain"] = orNull(s.mean_p);
   d["mean_normalised_optimised"] = orNull(s.mean_o);
+  if (s.valley_row >= 0 && map.grid.z_m.count >= 3)
+    d["valley"] = {{"z_m", map.grid.z_m.value(s.valley_row)},
+                   {"row_mean_normalised", s.valley_norm},
+                   {"row_mean", s.valley_abs},
+                   {"at_edge", s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1}};
   if (s.R == 0) d["warnings"] = {"reaches none of the stem cells"};
   const MapSearchSummary& se = map.search;
   d["search"] = {{"seeding_cells", se.seeding_cells},
@@ -433,54 +432,11 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
                  {"propagation_rounds", se.rounds},
                  {"neighbour_tries", se.neighbour_tries},
                  {"neighbour_improved", se.neighbour_improved},
+                 {"collision_cells", se.collision_cells},
+                 {"collision_tries", se.collision_tries},
+                 {"collision_freed", se.collision_freed},
                  {"converged", se.converged}};
   return d;
-}
-
-// Audits the map against an independent search: writes <design>_audit.csv, sets d["audit"] and
-// returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                       int threads, Writer& out, nlohmann::ordered_json& d) {
-  const StemGrid& g = options.grid;
-  const int G = g.gamma_rad.count;
-  const DexterityAudit a = auditDexterityMap(m, options, map, threads);
-  nlohmann::ordered_json aj;
-  aj["cells"] = a.cells;
-  aj["starts_per_cell"] = a.starts;
-  aj["seed"] = a.seed;
-  aj["both_reachable"] = a.both_reachable;
-  aj["share_within_1pct"] = a.shareWithin1Percent();
-  aj["share_within_5pct"] = a.both_reachable ? double(a.within_5pct) / a.both_reachable : 1.0;
-  aj["reachability_contradicted"] = a.reach_contradicted;
-  aj["audit_found_no_solution"] = a.audit_missed;
-  aj["worst_gap"] = a.worst_gap;
-  if (a.worst_index >= 0)
-    aj["worst_at"] = {{"gamma_rad", g.gamma_rad.value(a.worst_index % G)},
-                      {"z_m", g.z_m.value(a.worst_index / G)}};
-  d["audit"] = aj;
-  std::ostringstream csv;
-  csv << "cell,gamma_rad,z_m,map_reachable,audit_reachable,H_map,H_audit,gap,manipulability_map,"
-         "manipulability_audit,audit_solutions\n";
-  csv.precision(17);
-  for (const AuditCell& r : a.rows)
-    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << r.map_reachable << ","
-        << r.audit_reachable << "," << r.H_map << "," << r.H_audit << "," << r.gap << ","
-        << r.manipulability_map << "," << r.manipulability_audit << "," << r.solutions << "\n";
-  const std::string csv_name = m.name + "_audit.csv";
-  out.text(std::string(kSub) + "/" + csv_name, csv.str());
-  std::ostringstream md;
-  md << "Audit against an independent search: " << a.cells << " cells drawn at random (seed "
-     << a.seed << "), " << a.starts
-     << " random starts each, every start solved onto the pose and optimised with this map's "
-     << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1)
-     << " % are within 1 % of the audit's best "
-     << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2)
-     << " %). Reachability verdicts contradicted "
-     << "(map: unreachable, audit: a solution): " << a.reach_contradicted << ". Cells: `"
-     << csv_name << "`.\n\n";
-  return md.str();
 }
 
 }  // namespace
@@ -500,8 +456,9 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
   md << reportIntro(options);
   cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best "
          "manipulability | "
-         "mean normalised (plain) | mean normalised (optimised) "
-         "|\n|---|---|---|---|---|---|---|---|\n";
+         "mean normalised (plain) | mean normalised (optimised) | mean manipulability, optimised ["
+      << manipulabilityUnit(options.measure_space)
+      << "] | valley: lowest row mean, optimised |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& m = sd.model;
     DexterityMap map = unitMap(ctx, m, options, sum.units_resumed);
@@ -513,10 +470,14 @@ StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& o
       out.add(sub + "/" + name);
     const MapSummary s = summarise(map, f, options.grid);
     std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
-    cmp << comparisonRow(m, map, f, s);
-    md << designMarkdown(m, options, map, f, s, png);
+    png["status"] = writeStatusMap(map, sub, out);
+    cmp << comparisonRow(m, map, f, s, manipulabilityUnit(options.measure_space));
+    const StatusCounts sc = statusCounts(map);
+    md << designMarkdown(m, options, map, f, s, png) << statusMarkdown(map, sc);
     nlohmann::ordered_json d = designJson(m, options, map, f, s);
-    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, out, d);
+    addStatusJson(map, sc, d);
+    md << rowSweep(m, options, map, ctx.threads, d);
+    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, sub, out, d);
     js["designs"].push_back(d);
     if (maps) maps->push_back(std::move(map));
   }

@@ -6,7 +6,7 @@ namespace armstudy::dexterity {
 
 namespace {
 
-constexpr char kUnitMagic[] = "armstudy-dexterity-unit-v1";
+constexpr char kUnitMagic[] = "armstudy-dexterity-unit-v2";
 
 void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
   for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min,
@@ -30,6 +30,9 @@ std::string serializeRows(const DexterityMap& map, const ItemRange& rows) {
     const CellResult& c = map.cells[i];
     w.put<std::uint8_t>(c.reachable);
     w.put<std::uint8_t>(c.optimised);
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(c.status));
+    w.put<std::int32_t>(c.colliding_pair);
+    w.put(c.min_distance_m);
     w.putMatrix(c.q_plain);
     w.putMatrix(c.q_opt);
     putMeasures(w, c.plain);
@@ -58,6 +61,11 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
   for (CellResult& c : cells) {
     c.reachable = r.get<std::uint8_t>() != 0;
     c.optimised = r.get<std::uint8_t>() != 0;
+    const auto status = r.get<std::uint8_t>();
+    if (status >= kReachStatusCount) r.fail();
+    c.status = static_cast<ReachStatus>(status);
+    c.colliding_pair = r.get<std::int32_t>();
+    c.min_distance_m = r.get<double>();
     r.getMatrix(c.q_plain);
     r.getMatrix(c.q_opt);
     getMeasures(r, c.plain);

@@ -35,6 +35,17 @@ std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& 
     found_by[i] = static_cast<double>(map.cells[i].found_by);
   // 0 chained row, 1 seeded multi-start, 2 neighbour
   arrays.push_back({"found_by", io::ArrayType::UInt8, 1, found_by});
+  std::vector<double> status(map.cells.size()), pair(map.cells.size()), dist(map.cells.size());
+  for (std::size_t i = 0; i < map.cells.size(); ++i) {
+    status[i] = static_cast<double>(map.cells[i].status);
+    pair[i] = map.cells[i].colliding_pair;
+    dist[i] = map.cells[i].min_distance_m;
+  }
+  arrays.push_back({"status", io::ArrayType::UInt8, 1, status});  // ReachStatus values
+  if (map.collision) {
+    arrays.push_back({"colliding_pair", io::ArrayType::Float64, 1, pair});
+    arrays.push_back({"min_distance", io::ArrayType::Float64, 1, dist});
+  }
   return arrays;
 }
 
@@ -60,13 +71,33 @@ std::vector<std::string> measureUnits(metrics::MeasureSpace space) {
           "objective_optimised: 1",
           "nullspace_iterations: 1",
           "reachable: 1",
-          "found_by: 1"};
+          "found_by: 1",
+          "status: 1",
+          "colliding_pair: 1",
+          "min_distance: m"};
 }
 
 const std::vector<std::string> kMapLegend = {
-    "reachable 0: no solution at this cell (every other quantity NaN)", "reachable 1: reachable",
-    "found_by 0: chained row", "found_by 1: seeded multi-start",
-    "found_by 2: neighbour propagation"};
+    "reachable 0: no solution at this cell (every other quantity NaN)",
+    "reachable 1: reachable",
+    "found_by 0: chained row",
+    "found_by 1: seeded multi-start",
+    "found_by 2: neighbour propagation",
+    "status 0: reachable (collision-free where collisions are checked)",
+    "status 1: out_of_reach",
+    "status 2: joint_limits",
+    "status 4: self_collision (reached only in self-collision)",
+    "status 6: obstacle_collision (reached only in contact with an obstacle)",
+    "colliding_pair: index of the pairs listed below (-1: not in collision)",
+    "min_distance: smallest checked distance at the optimised posture (negative: penetration)"};
+
+// The legend with the map's checked pairs ("colliding_pair 3: j2-obstacle:stem").
+std::vector<std::string> mapLegend(const DexterityMap& map) {
+  std::vector<std::string> l = kMapLegend;
+  for (std::size_t k = 0; k < map.pair_names.size(); ++k)
+    l.push_back("colliding_pair " + std::to_string(k) + ": " + map.pair_names[k]);
+  return l;
+}
 
 std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::string& dir,
                         const std::vector<std::string>& units) {
@@ -79,7 +110,7 @@ std::string writeMapVti(const DexterityMap& map, const MapFields& f, const std::
                   g.z_m.count > 1 ? g.z_m.step() : 1.0, 1.0};
   grid.point_arrays = mapArrays(map, f);
   grid.field_data =
-      io::fieldData(units, kMapLegend,
+      io::fieldData(units, mapLegend(map),
                     "parameter plane: x = gamma [rad], y = z [m] (world metres: " + map.design +
                         "_cylinder.vts)");
   const std::string name = map.design + ".vti";
@@ -107,7 +138,7 @@ std::string writeMapVts(const DexterityMap& map, const MapFields& f, const std::
   grid.point_arrays.push_back(std::move(gamma));
   grid.point_arrays.push_back(std::move(z));
   units.insert(units.begin(), {"position: m", "gamma: rad", "z: m"});
-  grid.field_data = io::fieldData(units, kMapLegend);
+  grid.field_data = io::fieldData(units, mapLegend(map));
   const std::string name = map.design + "_cylinder.vts";
   io::writeVts((std::filesystem::path(dir) / name).string(), grid);
   return name;

@@ -1,0 +1,101 @@
+#include <cmath>
+#include <sstream>
+
+#include "common/format.hpp"
+#include "stages/dexterity/dexterity_status.hpp"
+
+// The study-wide parts of the dexterity stage's outputs: the settings in summary.json and the
+// report's opening paragraphs.
+namespace armstudy::dexterity {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(prec);
+  s << v;
+  return s.str();
+}
+
+std::vector<std::string> obstacleNames(const std::vector<collision::Obstacle>& obstacles) {
+  std::vector<std::string> n;
+  for (const collision::Obstacle& o : obstacles) n.push_back(o.name);
+  return n;
+}
+
+}  // namespace
+
+// The study-wide fields of summary.json (grid and settings) with an empty design list.
+nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
+  nlohmann::ordered_json js;
+  const StemGrid& g = options.grid;
+  js["grid"] = {
+      {"stem_x_m", g.stem_x_m},
+      {"stem_y_m", g.stem_y_m},
+      {"radius_m", g.radius_m},
+      {"gamma_rad",
+       {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
+      {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
+      {"task", ik::toString(g.task)},
+      {"roll_rad", g.roll_rad}};
+  js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
+                    {"w_joint_limits", options.w_joint_limits},
+                    {"w_manipulability", options.w_manipulability},
+                    {"w_transmission", options.w_transmission},
+                    {"w_collision", options.w_collision},
+                    {"collision_safety_distance_m", options.collision_safety_distance_m},
+                    {"self_collision", options.collision.self},
+                    {"clearance_m", options.collision.clearance_m},
+                    {"obstacles", obstacleNames(options.collision.obstacles)},
+                    {"joint_limit_activation", options.joint_limit_activation},
+                    {"position_tolerance_m", options.position_tolerance_m},
+                    {"orientation_tolerance_rad", options.orientation_tolerance_rad},
+                    {"cold_starts", options.cold_starts},
+                    {"nullspace_max_iterations", options.nullspace.max_iterations},
+                    {"nullspace_relative_improvement", options.nullspace.relative_improvement},
+                    {"search_seed_starts", options.seed_starts},
+                    {"search_seed_stride", options.seed_stride},
+                    {"search_propagation_rounds", options.propagation_rounds},
+                    {"search_seed", options.search_seed},
+                    {"chain_order", options.descending ? "descending" : "ascending"}};
+  js["designs"] = nlohmann::ordered_json::array();
+  return js;
+}
+
+// The report's title and opening paragraphs: the grid, the objective and how to read the images.
+std::string reportIntro(const DexterityOptions& options) {
+  const StemGrid& g = options.grid;
+  std::ostringstream md;
+  md << "# Dexterity maps\n\n"
+     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
+     << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
+     << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
+     << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
+     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << ik::toString(g.task)
+     << ", measures on the " << metrics::toString(options.measure_space)
+     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
+     << options.w_manipulability << " H_m1 + " << options.w_transmission << " H_m2"
+     << (options.w_collision > 0 ? " + " + formatG(options.w_collision, 3) + " H_c (d_a " +
+                                       formatG(options.collision_safety_distance_m, 3) + " m)"
+                                 : std::string())
+     << " (thesis eq. 5.51). Collisions checked: "
+     << (options.collision.enabled()
+             ? std::string(options.collision.self ? "self-collision" : "") +
+                   (options.collision.self && !options.collision.obstacles.empty() ? " and " : "") +
+                   (options.collision.obstacles.empty()
+                        ? ""
+                        : std::to_string(options.collision.obstacles.size()) + " obstacles")
+             : std::string("none"))
+     << "; a design without collision volumes is evaluated without them.\n\n"
+     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
+     << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
+     << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
+     << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
+     << "grey = not reachable.\n\n";
+  return md.str();
+}
+
+}  // namespace armstudy::dexterity
