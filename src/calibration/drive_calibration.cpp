@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
 #include "io/csv_io.hpp"
@@ -213,7 +214,7 @@ class DriveProblem : public ArmProblem {
           std::minmax_element(data.temperature.begin(), data.temperature.end());
       const double span = *tmax - *tmin;
       if (span > 0 && span < defaults::kMinTemperatureSpan_K)
-        warnings.push_back("temperature varies by only " + std::to_string(span) +
+        warnings.push_back("temperature varies by only " + formatG(span, 3) +
                            " K in the data: the temperature effects are weakly identifiable");
     }
   }

@@ -14,7 +14,8 @@ namespace armstudy::explore {
 
 namespace {
 
-std::string num(double v) { return formatG(v, 6); }
+// Numbers in the report: 4 significant digits.
+std::string num(double v) { return formatG(v, 4); }
 
 std::string goalText(Goal g) {
   return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint";

@@ -57,13 +57,19 @@ std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d)
       a.peak_current_no_friction =
           std::max(a.peak_current_no_friction, jn.check(DriveQuantity::PeakCurrent).value);
       if (!f.with_friction.current.empty() && !f.without_friction.current.empty()) {
-        double dmax = 0, imax = 0;
-        for (size_t k = 0; k < f.with_friction.current.size(); ++k) {
-          dmax = std::max(
-              dmax, std::abs(f.with_friction.current[k][i] - f.without_friction.current[k][i]));
-          imax = std::max(imax, std::abs(f.with_friction.current[k][i]));
+        // The share of the peak current that friction adds: (peak |I_f| - peak |I_nf|) / peak |I_f|
+        // (at most 1; negative where friction lowers the peak, working against a load that drives
+        // the joint).
+        double peak_f = 0, peak_nf = 0;
+        for (size_t k = 0; k < f.with_friction.current.size(); ++k)
+          peak_f = std::max(peak_f, std::abs(f.with_friction.current[k][i]));
+        for (size_t k = 0; k < f.without_friction.current.size(); ++k)
+          peak_nf = std::max(peak_nf, std::abs(f.without_friction.current[k][i]));
+        if (peak_f > 0) {
+          const double share = (peak_f - peak_nf) / peak_f;
+          a.friction_share = a.has_friction_share ? std::max(a.friction_share, share) : share;
+          a.has_friction_share = true;
         }
-        if (imax > 0) a.friction_share = std::max(a.friction_share, dmax / imax);
       }
     }
   }

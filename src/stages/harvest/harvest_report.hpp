@@ -16,8 +16,11 @@ struct JointAggregate {
   double peak_effort = 0;
   std::array<QuantityCheck, kDriveQuantityCount> worst;  // with friction
   double peak_current_no_friction = 0;
-  double friction_share = 0;  // max over the evaluated fruits of peak |I_f - I_nf| / peak |I_f|
-  int exceeded_fruits = 0;    // fruits where any check of this joint failed (with friction)
+  // Max over the evaluated fruits of the share of the peak current friction adds,
+  // (peak |I_f| - peak |I_nf|) / peak |I_f| (negative where friction lowers the peak).
+  double friction_share = 0;
+  bool has_friction_share = false;
+  int exceeded_fruits = 0;  // fruits where any check of this joint failed (with friction)
   bool has_drive = false;
 };
 std::vector<JointAggregate> aggregate(const Model& model, const DesignResult& d);

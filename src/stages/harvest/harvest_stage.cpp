@@ -247,7 +247,8 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
                     report::fixed(sc.value, 0) + " / " + limitText(sc, 0), marginText(sc),
                     report::fixed(vc.value, 1) + " / " + limitText(vc, 0), marginText(vc),
                     report::fixed(a.peak_current_no_friction, 2),
-                    report::percent(a.friction_share, 0), std::to_string(a.exceeded_fruits)});
+                    a.has_friction_share ? report::percent(a.friction_share, 0) : "-",
+                    std::to_string(a.exceeded_fruits)});
   }
   md << "Per joint, worst over the evaluated fruits (with friction):\n\n"
      << report::markdownTable(
@@ -255,8 +256,11 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
              ">margin", ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit",
              ">margin", ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
             rows)
-     << "\nfriction share = max_t |I_friction - I_frictionless| / max_t |I_friction| over the "
-        "evaluated fruits (thesis Fig. 4.1 reports up to 50 % for joint 3).\n\n";
+     << "\nfriction share: the share of the peak current that friction adds, (peak |I| with "
+        "friction - peak |I| without) / peak |I| with friction, the largest over the evaluated "
+        "fruits; negative where friction lowers the peak (it works against a load that drives the "
+        "joint). Thesis Fig. 4.1 gives a torque difference with and without friction of up to "
+        "50 % along one trajectory of joint 3.\n\n";
   for (int f : plotted)
     md << "![" << model.name << " fruit " << f << " current](" << model.name << "_fruit" << f
        << "_current.svg) ![friction](" << model.name << "_fruit" << f << "_friction.svg)\n\n";
@@ -300,7 +304,8 @@ ordered_json designJson(const Model& model, const DesignResult& d, const FruitCo
       jj[toString(static_cast<DriveQuantity>(q))] = cj;
     }
     jj["peak_current_no_friction"] = agg[i].peak_current_no_friction;
-    jj["friction_share"] = agg[i].friction_share;
+    jj["friction_share"] =
+        agg[i].has_friction_share ? ordered_json(agg[i].friction_share) : ordered_json(nullptr);
     dj["joints"].push_back(jj);
   }
   return dj;

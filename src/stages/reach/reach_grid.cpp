@@ -37,8 +37,11 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Designs compared pairwise in full up to this many; beyond, the first against each other.
-constexpr std::size_t kMaxPairsDesigns = 4;
+// Designs compared pairwise (tables, dexterity) up to this many; beyond, the first against each
+// other. Pair images (one per orientation and pair) for all pairs up to kMaxPairImageDesigns
+// designs; beyond, for the first against each other.
+constexpr std::size_t kMaxPairsDesigns = 12;
+constexpr std::size_t kMaxPairImageDesigns = 4;
 
 // One grid's run, phase by phase: sweep and search (solveGrid), audit (auditGrid), render each
 // design's and pair's files in a shared loop (renderGrid), then, on the process that writes the
@@ -64,7 +67,10 @@ struct GridRun {
     // The pairs of designs compared on this grid (many designs: the first against each other).
     for (std::size_t a = 0; a < nd; ++a)
       for (std::size_t b = a + 1; b < nd; ++b)
-        if (!(nd > kMaxPairsDesigns && a > 0)) pairs.emplace_back(a, b);
+        if (!(nd > kMaxPairsDesigns && a > 0)) {
+          if (nd <= kMaxPairImageDesigns || a == 0) image_pairs.push_back(pairs.size());
+          pairs.emplace_back(a, b);
+        }
     pair_images = nd >= 2 && cfg.outputs.images && plane.projected < 0;
   }
   const StageContext& ctx;
@@ -87,6 +93,7 @@ struct GridRun {
   const int pieces;
   std::vector<const Model*> models;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::vector<std::size_t> image_pairs;  // the pairs (indices into pairs) that get images
   bool pair_images = false;
   std::vector<PoseSweep> sweeps;
   std::vector<SweepSearchSummary> searches;
@@ -464,7 +471,7 @@ std::string renderItem(const GridRun& r, std::size_t it) {
     else
       renderImages(r, di, piece - 1 - r.no, w, part);
   } else {
-    const auto [a, b] = r.pairs[it - r.designItems()];
+    const auto [a, b] = r.pairs[r.image_pairs[it - r.designItems()]];
     renderPair(r, a, b, w, part.md);
   }
   std::string bytes = packDesignPart(part, w);
@@ -479,7 +486,7 @@ std::string renderItem(const GridRun& r, std::size_t it) {
 // them in design order (the others list them only), so the files and their order are those of a
 // single process.
 void renderGrid(GridRun& r) {
-  const std::size_t n_items = r.designItems() + (r.pair_images ? r.pairs.size() : 0);
+  const std::size_t n_items = r.designItems() + (r.pair_images ? r.image_pairs.size() : 0);
   r.parts.assign(n_items, {});
   SharedLoop render;
   render.id = "files/" + r.g.name;
@@ -742,9 +749,10 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
     crow.push_back({r.sweeps[a].design, r.sweeps[b].design, report::percent(n_a / N),
                     report::percent(n_b / N), report::percent(both / N),
                     report::percent(neither / N)});
-    if (r.pair_images) {  // the images the render loop made
+    const auto img = std::find(r.image_pairs.begin(), r.image_pairs.end(), p);
+    if (r.pair_images && img != r.image_pairs.end()) {  // the images the render loop made
       DesignPart part;
-      unpackDesignPart(r.parts[r.designItems() + p], part, pair_files);
+      unpackDesignPart(r.parts[r.designItems() + (img - r.image_pairs.begin())], part, pair_files);
       pair_imgs += part.md;
     }
   }
