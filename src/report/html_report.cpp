@@ -48,6 +48,17 @@ figcaption { color: var(--muted); font-size: 13.5px; margin-top: 4px; }
 .gallery { display: flex; flex-wrap: wrap; gap: 14px; }
 .gallery figure { flex: 1 1 460px; max-width: 100%; }
 ul.files { columns: 2 340px; font-size: 13.5px; }
+figure img { cursor: zoom-in; }
+figure.zoom { position: fixed; inset: 0; z-index: 10; margin: 0; padding: 12px; overflow: auto;
+              background: rgba(255, 255, 255, 0.97); cursor: zoom-out; }
+figure.zoom img { width: 100%; max-width: none; cursor: zoom-out; }
+@media (max-width: 700px) {
+  header, main { padding-left: 10px; padding-right: 10px; }
+  section.answer { padding: 2px 10px 6px; }
+  .gallery figure { flex-basis: 100%; }
+  table { font-size: 12.5px; }
+  ul.files { columns: 1; }
+}
 @media print {
   body { font-size: 11pt; }
   header { background: none; }
@@ -394,6 +405,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
                        const std::vector<HtmlStage>& stages, const std::string& answer_md) {
   const fs::path root(output_dir);
   std::set<std::string> shown;  // figures a report already shows (relative to the output folder)
+  std::size_t inlined = 0;      // bytes of the figures carried so far
   auto dataUri = [&](const std::string& rel) -> std::string {
     const fs::path p = root / rel;
     std::string mime;
@@ -403,6 +415,9 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       mime = "image/png";
     if (mime.empty() || !fs::exists(p)) return rel;  // left as a link
     shown.insert(fs::path(rel).lexically_normal().generic_string());
+    const std::size_t size = fs::file_size(p);
+    if (size > kInlineFigureBytes || inlined + size > kInlineTotalBytes) return rel;  // linked
+    inlined += size;
     const std::string bytes = readFileOrThrow(p.string());
     std::string uri;
     uri.reserve(5 + mime.size() + 8 + (bytes.size() + 2) / 3 * 4);
@@ -499,7 +514,13 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
           "the same "
           "text).</p>\n";
-  const std::string tail = "</main>\n</body>\n</html>\n";
+  // A click on a figure shows it across the window; another click (or Escape) puts it back.
+  const std::string tail =
+      "</main>\n<script>\ndocument.addEventListener('click', e => {\n"
+      "  const f = e.target.closest('figure');\n  if (f) f.classList.toggle('zoom');\n});\n"
+      "document.addEventListener('keydown', e => {\n"
+      "  if (e.key === 'Escape') document.querySelectorAll('figure.zoom').forEach(f => "
+      "f.classList.remove('zoom'));\n});\n</script>\n</body>\n</html>\n";
   std::string page = std::move(head).str();
   page.reserve(page.size() + nav_html.size() + body_html.size() + tail.size());
   page.append(nav_html).append(body_html).append(tail);

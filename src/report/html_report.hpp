@@ -15,6 +15,13 @@ struct HtmlStage {
   std::vector<std::string> files;  // what the stage wrote, relative to the output folder
 };
 
+// Figures carried inside report.html (data URIs): each at most kInlineFigureBytes, together at
+// most kInlineTotalBytes in page order; larger ones, and those after the budget is spent, are
+// linked (relative to report.html, which sits in the output folder), so the page stays light
+// whatever the study's size.
+inline constexpr std::size_t kInlineFigureBytes = 100 * 1024;
+inline constexpr std::size_t kInlineTotalBytes = 3 * 1024 * 1024;
+
 // The page for a study whose results are in `output_dir`. Reads the listed Markdown and figure
 // files from there. `answer_md` (the study's answer and warnings, Markdown) opens the page, above
 // the contents.

@@ -23,6 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kLaptopWidth = 1366, kLaptopHeight = 900;  // [px] window the reports must fit
+constexpr int kPhoneWidth = 420;                         // [px] a phone's window, held upright
 constexpr int kScreenshotHeight = 2400;                  // [px] screenshot of the report's top
 
 // Collects errors from the first moment: uncaught exceptions, failed resources, console.error.
@@ -59,6 +60,17 @@ window.addEventListener('load', () => {
     if (!c || !c.textContent.trim()) r.uncaptioned.push(name);
   }
   r.pageOverflow = document.documentElement.scrollWidth > window.innerWidth + 1;
+  r.window = window.innerWidth;
+  // A click on the first figure shows it across the window, a second click puts it back.
+  const f0 = document.querySelector('figure img');
+  if (f0) {
+    const before = f0.getBoundingClientRect().width;
+    f0.click();
+    const zoomed = f0.getBoundingClientRect().width;
+    f0.click();
+    r.zoom = {before: before, zoomed: zoomed, after: f0.getBoundingClientRect().width,
+              window: window.innerWidth};
+  }
   const a = document.getElementById('answer');
   r.answerTop = a ? a.getBoundingClientRect().top + window.scrollY : -1;
   r.answer = a ? a.textContent : '';
@@ -74,9 +86,9 @@ struct Check {
   std::string log;
 };
 
-std::string chromium(const fs::path& profile) {
+std::string chromium(const fs::path& profile, int width = kLaptopWidth) {
   return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
-         profile.string() + " --window-size=" + std::to_string(kLaptopWidth) + ",";
+         profile.string() + " --window-size=" + std::to_string(width) + ",";
 }
 
 std::string unescapeText(std::string s) {
@@ -91,7 +103,7 @@ std::string unescapeText(std::string s) {
 }
 
 // Loads `page` (a copy with the check scripts is written beside it) and returns the findings.
-Check checkPage(const fs::path& page, const fs::path& work) {
+Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth) {
   std::string html = readFileOrThrow(page.string());
   const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
   REQUIRE(head != std::string::npos);
@@ -101,7 +113,7 @@ Check checkPage(const fs::path& page, const fs::path& work) {
   const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
   writeFileAtomic(copy.string(), html);
   Check c;
-  runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kLaptopHeight) +
+  runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(kLaptopHeight) +
                  " --virtual-time-budget=10000 --dump-dom file://" + copy.string(),
              c.log);
   fs::remove(copy);
@@ -121,7 +133,8 @@ std::string faults(const Check& c) {
   for (const char* key : {"errors", "broken", "overflow", "uncaptioned"})
     for (const auto& e : c.result[key]) f += std::string(key) + ": " + e.get<std::string>() + "\n";
   if (c.result["pageOverflow"].get<bool>())
-    f += "the page is wider than " + std::to_string(kLaptopWidth) + " px\n";
+    f += "the page is wider than the window (" + std::to_string(c.result.value("window", 0)) +
+         " px)\n";
   return f;
 }
 
@@ -226,6 +239,13 @@ TEST_CASE(
       INFO(study.filename().string() + ": " + faults(c));
       CHECK(faults(c).empty());
       CHECK(c.result.value("figures", 0) + c.result.value("images", 0) > 0);
+      if (c.result.value("figures", 0) > 0) {  // click to enlarge, click to put back
+        const auto& z = c.result["zoom"];
+        INFO("zoom: " << z.dump());
+        REQUIRE(z.is_object());
+        CHECK(z["zoomed"].get<double>() >= 0.9 * z["window"].get<double>() - 24);
+        CHECK(z["after"].get<double>() == Approx(z["before"].get<double>()));
+      }
       // The answer opens the page: within the first 1,000 px, and it names, for every reach grid,
       // the design summary.json ranks first by reachable share, with that share as printed.
       INFO("answer block at " << c.result.value("answerTop", -1.0)
@@ -256,6 +276,10 @@ TEST_CASE(
           CHECK(line.find(pct) != std::string::npos);
         }
       }
+      // On a phone's width: no figure sticks out and the page does not scroll sideways.
+      const Check phone = checkPage(report, work, kPhoneWidth);
+      INFO(study.filename().string() + " at " << kPhoneWidth << " px: " + faults(phone));
+      CHECK(faults(phone).empty());
       // A screenshot of the report as a laptop shows it, kept beside the report.
       const fs::path shot = report.parent_path() / "report_screenshot.png";
       runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kScreenshotHeight) +

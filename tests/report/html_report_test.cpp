@@ -72,3 +72,39 @@ TEST_CASE("report.html inlines the figures, links the data files and fetches not
   CHECK(html.find("<link") == std::string::npos);
   fs::remove_all(d);
 }
+
+TEST_CASE("report.html links a figure over the inline limit and the figures after the page budget",
+          "[report][html]") {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_html_big_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d / "images");
+  // An SVG of a given size (padded with a comment).
+  auto svgOf = [](std::size_t bytes) {
+    const std::string head = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"4\" height=\"4\">",
+                      tail = "</svg>\n";
+    return head + "<!--" + std::string(bytes - head.size() - tail.size() - 7, 'x') + "-->" + tail;
+  };
+  std::string md = "# Figures\n\n";
+  std::vector<std::string> files = {"report.md"};
+  writeFileAtomic((d / "images/big.svg").string(), svgOf(report::kInlineFigureBytes + 1));
+  md += "![big](images/big.svg)\n\n";
+  files.push_back("images/big.svg");
+  // Small figures until twice the page budget: the first ones are carried, the rest linked.
+  const std::size_t each = report::kInlineFigureBytes / 2, n = 2 * report::kInlineTotalBytes / each;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string rel = "images/f" + std::to_string(k) + ".svg";
+    writeFileAtomic((d / rel).string(), svgOf(each));
+    md += "![f" + std::to_string(k) + "](" + rel + ")\n\n";
+    files.push_back(rel);
+  }
+  writeFileAtomic((d / "report.md").string(), md);
+  const std::string html = htmlReport(d.string(), "s", {{"reach", files}});
+  CHECK(html.find("src=\"images/big.svg\"") != std::string::npos);  // over the limit: linked
+  CHECK(html.find("src=\"images/f0.svg\"") == std::string::npos);   // carried
+  const std::size_t carried = report::kInlineTotalBytes / each;     // what fits the budget
+  CHECK(html.find("src=\"images/f" + std::to_string(carried - 1) + ".svg\"") == std::string::npos);
+  CHECK(html.find("src=\"images/f" + std::to_string(carried) + ".svg\"") != std::string::npos);
+  CHECK(html.find("src=\"images/f" + std::to_string(n - 1) + ".svg\"") != std::string::npos);
+  CHECK(html.size() < report::kInlineTotalBytes * 4 / 3 + 200 * 1024);  // base64 of the budget
+  fs::remove_all(d);
+}
