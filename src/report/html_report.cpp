@@ -29,7 +29,7 @@ nav.contents { border: 1px solid var(--line); background: var(--band); padding: 
 nav.contents ul { margin: 4px 0; padding-left: 20px; }
 nav.contents li.l3 { margin-left: 18px; font-size: 14px; }
 section.stage { border-top: 3px solid var(--accent); margin-top: 28px; padding-top: 6px; }
-h1, h2, h3, h4 { line-height: 1.25; }
+h1, h2, h3, h4 { line-height: 1.25; overflow-wrap: anywhere; }
 h2.stage-title { font-size: 22px; color: var(--accent); text-transform: capitalize; }
 a { color: var(--accent); }
 code { font-family: "DejaVu Sans Mono", monospace; font-size: 90%; background: var(--band); padding: 0 3px;
@@ -401,6 +401,39 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
   return MarkdownToHtml(md, id_prefix, image, headings).run();
 }
 
+namespace {
+
+// The page around the contents (`nav_html`) and the stages (`body_html`): head, style, the answer
+// block, and the script that enlarges a figure on a click (another click or Escape puts it back).
+std::string page(const std::string& study_name, const std::string& answer_md,
+                 const std::string& nav_html, const std::string& body_html) {
+  std::ostringstream head;
+  head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+       << "<meta name=\"viewport\" content=\"width=device-width, "
+          "initial-scale=1\">\n<title>armstudy: "
+       << htmlEscape(study_name) << "</title>\n<style>" << kCss
+       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name)
+       << "</h1></header>\n<main>\n";
+  if (!answer_md.empty())
+    head << "<section class=\"answer\" id=\"answer\">\n"
+         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; })
+         << "</section>\n";
+  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
+          "the same text).</p>\n";
+  const std::string tail =
+      "</main>\n<script>\ndocument.addEventListener('click', e => {\n"
+      "  const f = e.target.closest('figure');\n  if (f) f.classList.toggle('zoom');\n});\n"
+      "document.addEventListener('keydown', e => {\n"
+      "  if (e.key === 'Escape') document.querySelectorAll('figure.zoom').forEach(f => "
+      "f.classList.remove('zoom'));\n});\n</script>\n</body>\n</html>\n";
+  std::string out = std::move(head).str();
+  out.reserve(out.size() + nav_html.size() + body_html.size() + tail.size());
+  out.append(nav_html).append(body_html).append(tail);
+  return out;
+}
+
+}  // namespace
+
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
                        const std::vector<HtmlStage>& stages, const std::string& answer_md) {
   const fs::path root(output_dir);
@@ -499,32 +532,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   }
   nav << "</ul></nav>\n";
   // One copy of the body into the page (it holds the inlined figures).
-  const std::string nav_html = std::move(nav).str(), body_html = std::move(body).str();
-  std::ostringstream head;
-  head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, "
-          "initial-scale=1\">\n<title>armstudy: "
-       << htmlEscape(study_name) << "</title>\n<style>" << kCss
-       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name)
-       << "</h1></header>\n<main>\n";
-  if (!answer_md.empty())
-    head << "<section class=\"answer\" id=\"answer\">\n"
-         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; })
-         << "</section>\n";
-  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
-          "the same "
-          "text).</p>\n";
-  // A click on a figure shows it across the window; another click (or Escape) puts it back.
-  const std::string tail =
-      "</main>\n<script>\ndocument.addEventListener('click', e => {\n"
-      "  const f = e.target.closest('figure');\n  if (f) f.classList.toggle('zoom');\n});\n"
-      "document.addEventListener('keydown', e => {\n"
-      "  if (e.key === 'Escape') document.querySelectorAll('figure.zoom').forEach(f => "
-      "f.classList.remove('zoom'));\n});\n</script>\n</body>\n</html>\n";
-  std::string page = std::move(head).str();
-  page.reserve(page.size() + nav_html.size() + body_html.size() + tail.size());
-  page.append(nav_html).append(body_html).append(tail);
-  return page;
+  return page(study_name, answer_md, std::move(nav).str(), std::move(body).str());
 }
 
 }  // namespace armstudy::report
