@@ -28,6 +28,7 @@
 #include "ik/reach_solver.hpp"
 #include "metrics/dexterity_measures.hpp"
 #include "study/checkpoint.hpp"
+#include "study/stage_designs.hpp"
 
 namespace armstudy::dexterity {
 
@@ -49,6 +50,7 @@ struct StemCollision {
 
 struct DexterityOptions {
   StemGrid grid;
+  StageDesigns designs;  // [dexterity] designs and [dexterity.tool_axis] (study/stage_designs.hpp)
   // Collisions checked for designs with a collision model (collisionFor); a design without
   // volumes is evaluated without them.
   StemCollision collision;

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "common/errors.hpp"
@@ -490,4 +491,69 @@ z = { min = 0.8, max = 1.0, count = 2 }
                                  "optimised map (the row of lowest mean): -. Mean null-space "
                                  "iterations: - ("));
   CHECK_THAT(md, Catch::Contains("| manipulability, optimised (normalised) | - | - | - | - |"));
+}
+
+TEST_CASE(
+    "the dexterity stage evaluates the designs its section names, with the tool axes it gives them",
+    "[dexterity][input]") {
+  const std::string dir = tempDir("designs");
+  // The 6-DoF first prototype's nozzle is its TCP y axis; the 9-DoF's gripper axis is z.
+  auto study = [&](const std::string& name, const std::string& design_extra,
+                   const std::string& section_extra) {
+    const std::string path = dir + "/" + name + ".toml";
+    std::ofstream(path) << "[study]\nname = \"" << name << "\"\n[[design]]\nfile = \""
+                        << sourcePath("designs/first_prototype_6dof.toml") << "\"\n"
+                        << design_extra << "[[design]]\nfile = \""
+                        << sourcePath("designs/first_prototype_9dof.toml") << "\"\n"
+                        << R"([dexterity]
+stem_x = "0.225 m"
+stem_y = "0.7 m"
+radius = "0.15 m"
+gamma = { min = "-pi/2", max = "pi/2", step = "30 deg" }
+z = { min = "0.4 m", max = "1.4 m", step = "0.25 m" }
+ellipsoids = false
+self_collision = false
+)" << section_extra;
+    return path;
+  };
+  auto run = [&](const std::string& path, const std::string& name) {
+    std::string log;
+    REQUIRE(runCommand(binaryPath() + " run " + path + " --output " + dir + "/out --threads 2",
+                       log) == 0);
+    return nlohmann::json::parse(readFileOrThrow(dir + "/out/" + name + "/dexterity/summary.json"));
+  };
+  // designs = [...]: only the 6-DoF is evaluated.
+  const auto only = run(study("only", "", "designs = [\"first_prototype_6dof\"]\n"), "only");
+  REQUIRE(only["designs"].size() == 1);
+  CHECK(only["designs"][0]["design"] == "first_prototype_6dof");
+  // [dexterity.tool_axis] gives the same map as the [[design]] entry's tool_axis (a second way to
+  // the same model), and another map than the design's own axis (the override took effect).
+  const auto stage_axis = run(study("stage_axis", "",
+                                    "designs = [\"first_prototype_6dof\"]\n[dexterity.tool_axis]\n"
+                                    "first_prototype_6dof = \"z\"\n"),
+                              "stage_axis");
+  const auto entry_axis =
+      run(study("entry_axis", "tool_axis = \"z\"\n", "designs = [\"first_prototype_6dof\"]\n"),
+          "entry_axis");
+  REQUIRE(stage_axis["designs"].size() == 1);
+  CHECK(stage_axis["designs"][0]["reachable"] == entry_axis["designs"][0]["reachable"]);
+  CHECK(stage_axis["designs"][0].dump() == entry_axis["designs"][0].dump());
+  CHECK(stage_axis["designs"][0]["reachable"] != only["designs"][0]["reachable"]);
+  // An unknown design, or a tool axis for a design the stage does not evaluate: input errors that
+  // list the designs there are.
+  std::string log;
+  CHECK(runCommand(binaryPath() + " run " + study("bad", "", "designs = [\"ur10\"]\n") +
+                       " --output " + dir + "/out",
+                   log) == 2);
+  CHECK_THAT(log, Catch::Contains("dexterity.designs"));
+  CHECK_THAT(log, Catch::Contains("'ur10' is not part of the study (designs: "
+                                  "first_prototype_6dof, first_prototype_9dof)"));
+  CHECK(runCommand(binaryPath() + " run " +
+                       study("bad_axis", "",
+                             "designs = [\"first_prototype_9dof\"]\n[dexterity.tool_axis]\n"
+                             "first_prototype_6dof = \"z\"\n") +
+                       " --output " + dir + "/out",
+                   log) == 2);
+  CHECK_THAT(log, Catch::Contains("'first_prototype_6dof' is not evaluated by this stage "
+                                  "(designs: first_prototype_9dof)"));
 }

@@ -63,7 +63,7 @@ double positive(io::TableReader& r, const std::string& key, double fallback, Dim
 // clearance, and [dexterity.row], the stems of the row around the map's stem.
 void readCollision(io::TableReader& r, const SectionInput& in, DexterityOptions& o) {
   bool any_has_model = false;
-  for (const Model* m : in.designs) any_has_model |= !m->collision.empty();
+  for (const Model* m : o.designs.evaluated(in.designs)) any_has_model |= !m->collision.empty();
   StemCollision& c = o.collision;
   c.self = r.boolean("self_collision", any_has_model);
   if (c.self && !any_has_model)
@@ -133,8 +133,9 @@ void readCollision(io::TableReader& r, const SectionInput& in, DexterityOptions&
 }  // namespace
 
 DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in) {
-  const std::vector<const Model*>& designs = in.designs;
   DexterityOptions o;
+  o.designs = readStageDesigns(r, r.file(), in.designs);
+  const std::vector<const Model*> designs = o.designs.evaluated(in.designs);
   StemGrid& g = o.grid;
   g.stem_x_m = r.quantity("stem_x", Dimension::Length);
   g.stem_y_m = r.quantity("stem_y", Dimension::Length);

@@ -443,8 +443,12 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
 
 // Computes each design's map through the work units and writes its files, report section and
 // summary entry, then the comparison table, summary.json and report.md.
-StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
+StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOptions& options,
                               std::vector<DexterityMap>* maps) {
+  // The designs this stage evaluates ([dexterity] designs), in study order, with their tool axes.
+  const Study selected = options.designs.select(all_ctx.study);
+  const StageContext ctx{selected,      all_ctx.options, all_ctx.output_dir,
+                         all_ctx.units, all_ctx.threads, all_ctx.writes_results};
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;

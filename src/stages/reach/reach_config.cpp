@@ -8,6 +8,7 @@
 #include "io/files.hpp"
 #include "io/pose_list_io.hpp"
 #include "io/toml_reader.hpp"
+#include "study/stage_designs.hpp"
 
 namespace armstudy {
 
@@ -86,49 +87,6 @@ void checkName(TableReader& r, const std::string& name, std::set<std::string>& n
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
       r.fail("name", "names use letters, digits, '_' and '-' only (they name output files)");
   if (!names.insert(name).second) r.fail("name", "name '" + name + "' is used twice in [reach]");
-}
-
-// The designs this stage evaluates (key `designs`; default all).
-std::vector<const Model*> readEvaluated(TableReader& r, const std::vector<const Model*>& models,
-                                        ReachConfig& cfg) {
-  std::vector<const Model*> evaluated;
-  if (r.has("designs")) {
-    cfg.designs = r.stringArray("designs");
-    if (cfg.designs.empty()) r.fail("designs", "empty list of designs");
-    for (const auto& d : cfg.designs) {
-      const auto it =
-          std::find_if(models.begin(), models.end(), [&](const Model* m) { return m->name == d; });
-      if (it == models.end()) {
-        std::string names;
-        for (const Model* m : models) names += (names.empty() ? "" : ", ") + m->name;
-        r.fail("designs", "design '" + d + "' is not part of the study (designs: " + names + ")");
-      }
-      evaluated.push_back(*it);
-    }
-  } else {
-    evaluated = models;
-  }
-  return evaluated;
-}
-
-// [reach.tool_axis]: per evaluated design, name = "y" | [x, y, z].
-void readToolAxes(TableReader& r, const TableReader& top,
-                  const std::vector<const Model*>& evaluated, ReachConfig& cfg) {
-  if (const toml::table* ta = r.table("tool_axis")) {
-    TableReader tr(*ta, top.file(), r.keyPath("tool_axis"));
-    for (auto&& [key, value] : *ta) {
-      const std::string name(key.str());
-      if (std::find_if(evaluated.begin(), evaluated.end(),
-                       [&](const Model* m) { return m->name == name; }) == evaluated.end()) {
-        std::string names;
-        for (const Model* m : evaluated) names += (names.empty() ? "" : ", ") + m->name;
-        tr.fail(name,
-                "design '" + name + "' is not evaluated by this stage (designs: " + names + ")");
-      }
-      cfg.tool_axes.emplace_back(name, readToolAxis(tr, name, Eigen::Vector3d::UnitZ()));
-    }
-    tr.finish();
-  }
 }
 
 // The solver's tolerances, starts and seed.
@@ -293,8 +251,10 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (!t) return;
   cfg.enabled = true;
   TableReader r(*t, top.file(), "reach");
-  const std::vector<const Model*> evaluated = readEvaluated(r, models, cfg);
-  readToolAxes(r, top, evaluated, cfg);
+  const StageDesigns stage_designs = readStageDesigns(r, top.file(), models);
+  cfg.designs = stage_designs.names;
+  cfg.tool_axes = stage_designs.tool_axes;
+  const std::vector<const Model*> evaluated = stage_designs.evaluated(models);
   const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
   readIkSettings(r, cfg);
   readCollisionSettings(r, evaluated, obstacles, cfg);

@@ -11,6 +11,7 @@
 #include "stages/reach/reach_grid.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
+#include "study/stage_designs.hpp"
 
 namespace armstudy {
 
@@ -216,18 +217,8 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;
   if (!cfg.enabled) return sum;
-  // The designs this stage evaluates ([reach] designs), in study order.
-  Study selected = all_ctx.study;
-  if (!cfg.designs.empty())
-    selected.designs.erase(std::remove_if(selected.designs.begin(), selected.designs.end(),
-                                          [&](const StudyDesign& sd) {
-                                            return std::find(cfg.designs.begin(), cfg.designs.end(),
-                                                             sd.model.name) == cfg.designs.end();
-                                          }),
-                           selected.designs.end());
-  for (StudyDesign& sd : selected.designs)
-    for (const auto& [name, axis] : cfg.tool_axes)
-      if (sd.model.name == name) sd.model.tool_axis_T = axis;
+  // The designs this stage evaluates ([reach] designs), in study order, with their tool axes.
+  const Study selected = StageDesigns{cfg.designs, cfg.tool_axes}.select(all_ctx.study);
   const StageContext ctx{selected,      all_ctx.options, all_ctx.output_dir,
                          all_ctx.units, all_ctx.threads, all_ctx.writes_results};
   const Study& study = ctx.study;
