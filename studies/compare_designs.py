@@ -48,7 +48,7 @@ def main():
     maps = {}
     for name in DESIGNS:
         design = armstudy.load_design(os.path.join(HERE, "..", "designs", name + ".toml"))
-        key = f"reach/{name}/fig3_8"
+        key = f"reach/fig3_8/{name}"
         m = run["metrics"]
         # The kernel layer next to the study: the centre pose of the row solved directly.
         centre = design.solve([0.0, 0.75, 1.2, 0.0, 0.0, np.radians(40)], "spraying")

@@ -35,6 +35,14 @@ beta = 0
 gamma = 0
 min = "-90 deg"
 max = {max}
+
+[tcp]
+x = 0.2
+y = 0
+z = 0
+alpha = 0
+beta = 0
+gamma = 0
 """
 
 

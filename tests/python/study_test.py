@@ -1,6 +1,7 @@
 """A study run from Python (from its file and from a dict) writes the files of `armstudy run`,
 byte for byte (the manifest, which records times, aside), and returns the maps it wrote with
 their grid axes, the summary metrics and the per-pose flags."""
+import copy
 import filecmp
 import os
 import tempfile
@@ -21,7 +22,7 @@ def study_dict(name):
     return {"study": {"name": name, "description": "a coarse spraying row"},
             "design": [{"file": design_path(DESIGN)}],
             "reach": {"task_space": "spraying", "position_tolerance": "1 mm",
-                      "orientation_tolerance": "0.5 deg", "grid": [GRID]}}
+                      "orientation_tolerance": "0.5 deg", "grid": [copy.deepcopy(GRID)]}}
 
 
 STUDY_TOML = f"""[study]
@@ -89,12 +90,13 @@ class Study(unittest.TestCase):
         status = [k for k in m["arrays"] if k.startswith("status")]
         self.assertEqual(len(status), 2)  # one per orientation
         self.assertEqual(m["arrays"][status[0]].shape, (1, 10, 15))
-        names = m["names"][status[0]]
-        self.assertEqual(names[0], "reachable")
-        flags = r["flags"][f"reach/{DESIGN}/row/reachable"]
+        self.assertEqual(status, ["status_o0", "status_o1"])
+        self.assertTrue(m["names"]["status"][0].startswith("reachable"), m["names"])
+        self.assertTrue(m["names"]["status"][1].startswith("out_of_reach"), m["names"])
+        flags = r["flags"][f"reach/row/{DESIGN}/reachable"]
         from_map = np.concatenate([(m["arrays"][s] == 0).ravel() for s in status])
         np.testing.assert_array_equal(from_map, flags.astype(bool))
-        self.assertAlmostEqual(r["metrics"][f"reach/{DESIGN}/row/reachable_fraction"], flags.mean(), places=15)
+        self.assertAlmostEqual(r["metrics"][f"reach/row/{DESIGN}/reachable_fraction"], flags.mean(), places=15)
         self.assertTrue(0 < flags.mean() < 1)
 
     def test_a_dict_error_names_the_key_path(self):
