@@ -44,7 +44,7 @@ def main():
                              overwrite=True, folder=HERE)
     print(f"study {run['study']} -> {run['output_dir']}")
     print(f"{'design':24s} {'dof':>3s} {'reachable':>9s} {'mean manip.':>11s} {'p5 manip.':>9s}"
-          f" {'q at centre':>11s}")
+          f" {'centre pose':>11s}")
     maps = {}
     for name in DESIGNS:
         design = armstudy.load_design(os.path.join(HERE, "..", "designs", name + ".toml"))
