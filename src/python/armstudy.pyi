@@ -138,3 +138,30 @@ def run_study(
     unit_size: int = 0,
     folder: str = ".",
 ) -> dict[str, Any]: ...
+def synthesize_tcp(
+    design: Design,
+    rows: int = 60,
+    noise: float = 1e-4,
+    orientation: bool = False,
+    noise_angle: float = 1e-4,
+    hidden: Sequence[str] = ...,
+    seed: int = 1,
+) -> dict[str, Any]: ...
+def compare_tcp(
+    design: Design,
+    data: Union[str, ArrayLike],
+    pose: Optional[ArrayLike] = None,
+    variable_bins: int = 4,
+    workspace_bins: int = 4,
+) -> dict[str, Any]: ...
+def fit_tcp(
+    design: Design,
+    data: Union[str, ArrayLike],
+    pose: Optional[ArrayLike] = None,
+    add: Sequence[str] = ...,
+    auto: bool = False,
+    folds: int = 5,
+    seed: int = 1,
+    variable_bins: int = 4,
+    workspace_bins: int = 4,
+) -> dict[str, Any]: ...

@@ -44,5 +44,6 @@ void bindDesign(py::module_& m);
 void bindKernels(py::class_<Design>& design);
 void bindSolve(py::module_& m, py::class_<Design>& design);
 void bindStudy(py::module_& m);
+void bindCalibration(py::module_& m);
 
 }  // namespace armstudy::python

@@ -77,4 +77,5 @@ PYBIND11_MODULE(armstudy, m) {
   });
   bindDesign(m);
   bindStudy(m);
+  bindCalibration(m);
 }

@@ -31,8 +31,7 @@ py::list stringList(vtkFieldData* fd, const char* name) {
   py::list out;
   auto* a = fd ? vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
   if (a)
-    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
-      out.append(std::string(a->GetValue(i)));
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i) out.append(std::string(a->GetValue(i)));
   return out;
 }
 
