@@ -147,21 +147,29 @@ def synthesize_tcp(
     hidden: Sequence[str] = ...,
     seed: int = 1,
 ) -> dict[str, Any]: ...
-def compare_tcp(
+def compare(
     design: Design,
     data: Union[str, ArrayLike],
+    kind: str = "tcp",
     pose: Optional[ArrayLike] = None,
+    joint: str = "",
     variable_bins: int = 4,
     workspace_bins: int = 4,
+    speed_bins: int = 8,
+    load_bins: int = 4,
 ) -> dict[str, Any]: ...
-def fit_tcp(
+def fit(
     design: Design,
     data: Union[str, ArrayLike],
+    kind: str = "tcp",
     pose: Optional[ArrayLike] = None,
+    joint: str = "",
     add: Sequence[str] = ...,
     auto: bool = False,
     folds: int = 5,
     seed: int = 1,
     variable_bins: int = 4,
     workspace_bins: int = 4,
+    speed_bins: int = 8,
+    load_bins: int = 4,
 ) -> dict[str, Any]: ...

@@ -1,12 +1,13 @@
-// Model versus measurement on arrays (docs/calibration.md, the tcp kind): synthesize measured TCP
-// poses with hidden effects, compare the design with them, fit and rank the missing effects, with
-// the engine `armstudy synth|compare|fit --kind tcp` runs.
+// Model versus measurement (docs/calibration.md) with the engine `armstudy synth|compare|fit` runs:
+// synthesize measured TCP poses with hidden effects, compare a design with measurements of any
+// kind (the tcp kind also on arrays), fit and rank the missing effects.
 #include <pybind11/stl.h>
 
 #include <stdexcept>
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/calibration_run.hpp"
+#include "calibration/drive_calibration.hpp"
 #include "calibration/tcp_calibration.hpp"
 #include "io/files.hpp"
 #include "python/bindings.hpp"
@@ -135,11 +136,29 @@ ArmFitOptions fitOptions(int folds, std::uint64_t seed, int variable_bins, int w
   return o;
 }
 
-py::dict compare(const Design& design, const py::object& data, const py::handle& pose,
-                 int variable_bins, int workspace_bins) {
-  const Model& m = *design.model;
-  const TcpData d = tcpData(m, data, pose);
-  const std::unique_ptr<ArmProblem> P = makeTcpProblem(m, d);
+// The problem of any kind, as `armstudy compare|fit` builds it: tcp from a CSV path or arrays,
+// drive (the test bed of `joint`'s drive) and trajectory from their CSV files.
+std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind, const py::object& data,
+                                    const py::handle& pose, const std::string& joint,
+                                    int speed_bins, int load_bins) {
+  if (!isKind(kind))
+    throw std::invalid_argument("kind: '" + kind + "' is not one of drive, tcp, trajectory");
+  if (kind == "tcp") return makeTcpProblem(m, tcpData(m, data, pose));
+  if (!py::isinstance<py::str>(data) || !pose.is_none())
+    throw std::invalid_argument("data: the " + kind + " kind reads its CSV file (a path)");
+  const std::string path = data.cast<std::string>();
+  if (kind == "drive") {
+    requireDrive(m, joint);
+    return makeDriveProblem(m, joint, readDriveData(path), speed_bins, load_bins);
+  }
+  return makeArmProblem(m, readArmData(kind, path, m));
+}
+
+py::dict compare(const Design& design, const py::object& data, const std::string& kind,
+                 const py::handle& pose, const std::string& joint, int variable_bins,
+                 int workspace_bins, int speed_bins, int load_bins) {
+  const std::unique_ptr<ArmProblem> P =
+      problem(*design.model, kind, data, pose, joint, speed_bins, load_bins);
   ArmFitOptions o =
       fitOptions(defaults::kCvFolds, defaults::kCvSeed, variable_bins, workspace_bins);
   if (const std::string error = o.validate(); !error.empty()) throw std::invalid_argument(error);
@@ -151,15 +170,17 @@ py::dict compare(const Design& design, const py::object& data, const py::handle&
   return diagnosisDict(diagnosis, *P);
 }
 
-py::dict fit(const Design& design, const py::object& data, const py::handle& pose,
-             const std::vector<std::string>& add, bool auto_add, int folds, std::uint64_t seed,
-             int variable_bins, int workspace_bins) {
-  const Model& m = *design.model;
-  const TcpData d = tcpData(m, data, pose);
-  const std::unique_ptr<ArmProblem> P = makeTcpProblem(m, d);
+py::dict fit(const Design& design, const py::object& data, const std::string& kind,
+             const py::handle& pose, const std::string& joint, const std::vector<std::string>& add,
+             bool auto_add, int folds, std::uint64_t seed, int variable_bins, int workspace_bins,
+             int speed_bins, int load_bins) {
+  const std::unique_ptr<ArmProblem> P =
+      problem(*design.model, kind, data, pose, joint, speed_bins, load_bins);
   ArmFitOptions o = fitOptions(folds, seed, variable_bins, workspace_bins);
   o.auto_add = auto_add;
-  o.add = add;
+  // The drive kind refits the design's own friction terms first (thesis Table 4.5), as the CLI.
+  if (kind == "drive" && P->findEffect(kRefitEffect) >= 0) o.add.push_back(kRefitEffect);
+  for (const std::string& e : add) o.add.push_back(e);
   if (const std::string error = o.validate(); !error.empty()) throw std::invalid_argument(error);
   ArmDiagnosis diagnosis;
   {
@@ -197,21 +218,26 @@ void bindCalibration(py::module_& m) {
         R"(Measured TCP poses of the design with hidden effects, as `armstudy synth --kind tcp`
 (e.g. hidden=['joint_offset.j3', 'link_length.j4:length=0.002']). Returns q (N, dof), pose
 (N, 3 or 6) and the CSV text the CLI writes.)");
-  m.def("compare_tcp", &compare, py::arg("design"), py::arg("data"), py::arg("pose") = py::none(),
+  m.def("compare", &compare, py::arg("design"), py::arg("data"), py::arg("kind") = "tcp",
+        py::arg("pose") = py::none(), py::arg("joint") = "",
         py::arg("variable_bins") = defaults::kArmVariableBins,
         py::arg("workspace_bins") = defaults::kArmWorkspaceBins,
-        R"(The design against measured TCP poses, as `armstudy compare --kind tcp`: data is a CSV
-path or the q array with pose. Returns the diagnosis dict (as_designed fit with predicted and
+        py::arg("speed_bins") = defaults::kSpeedBins, py::arg("load_bins") = defaults::kLoadBins,
+        R"(The design against measurements, as `armstudy compare`: kind 'tcp' (data: a CSV path, or
+the q array (N, dof) with pose (N, 3 or 6)), 'drive' (data: the test-bed CSV of `joint`'s drive)
+or 'trajectory' (data: a CSV path). Returns the diagnosis dict (as_designed fit with predicted and
 residual arrays, noise estimate, ...).)");
-  m.def("fit_tcp", &fit, py::arg("design"), py::arg("data"), py::arg("pose") = py::none(),
+  m.def("fit", &fit, py::arg("design"), py::arg("data"), py::arg("kind") = "tcp",
+        py::arg("pose") = py::none(), py::arg("joint") = "",
         py::arg("add") = std::vector<std::string>{}, py::arg("auto") = false,
         py::arg("folds") = defaults::kCvFolds, py::arg("seed") = defaults::kCvSeed,
         py::arg("variable_bins") = defaults::kArmVariableBins,
         py::arg("workspace_bins") = defaults::kArmWorkspaceBins,
+        py::arg("speed_bins") = defaults::kSpeedBins, py::arg("load_bins") = defaults::kLoadBins,
         R"(Compare, rank the candidate effects and add them (add=[...] in order, auto=True: the
-best significant one until none is left), as `armstudy fit --kind tcp`. Returns the diagnosis:
-ranking (ranked effects), ladder (the models as effects were added), final (parameters with 95 %
-intervals), verdict, rmse_before/after (held out), patterns, ...)");
+best significant one until none is left), as `armstudy fit` (data and kind as compare). Returns
+the diagnosis: ranking (ranked effects), ladder (the models as effects were added), final
+(parameters with 95 % intervals), verdict, rmse_before/after (held out), patterns, ...)");
 }
 
 }  // namespace armstudy::python

@@ -1,6 +1,7 @@
-"""The model-versus-measurement loop on arrays (tcp kind): synthesized poses are the CLI's `synth`
-CSV byte for byte; compare and fit on the arrays give the CLI's result.json numbers (the same
-engine), rank the hidden effect first and recover its value within the 95 % interval."""
+"""The model-versus-measurement loop: synthesized TCP poses are the CLI's `synth` CSV byte for
+byte; compare and fit on the arrays (and on the drive test bed of thesis chapter 4) give the CLI's
+result.json numbers (the same engine), rank the hidden effect first and recover its value within
+the 95 % interval."""
 import json
 import os
 import tempfile
@@ -9,7 +10,7 @@ import unittest
 import numpy as np
 
 import armstudy
-from support import cli, design_path
+from support import SOURCE_DIR, cli, design_path
 
 DESIGN = "final_prototype_7dof"
 HIDDEN_OFFSET_RAD = 0.004
@@ -32,8 +33,8 @@ class Calibration(unittest.TestCase):
                 os.path.join(tmp, "fit"))
             with open(os.path.join(tmp, "fit", "result.json")) as f:
                 j = json.load(f)
-            from_file = armstudy.fit_tcp(d, csv, auto=True)
-        r = armstudy.fit_tcp(d, s["q"], s["pose"], auto=True)
+            from_file = armstudy.fit(d, csv, auto=True)
+        r = armstudy.fit(d, s["q"], pose=s["pose"], auto=True)
         for result in (r, from_file):
             self.assertEqual(result["verdict"], j["verdict"])
             self.assertEqual(result["rmse_before"], j["rmse_before"])
@@ -56,14 +57,32 @@ class Calibration(unittest.TestCase):
     def test_compare_only_and_errors(self):
         d = armstudy.load_design(design_path(DESIGN))
         s = armstudy.synthesize_tcp(d, rows=40, seed=6)
-        c = armstudy.compare_tcp(d, s["q"], s["pose"])
+        c = armstudy.compare(d, s["q"], pose=s["pose"])
         self.assertEqual([f["label"] for f in c["ladder"]], ["as designed"])
         self.assertLess(c["as_designed"]["train_rmse"], 5e-4)   # noise of 0.1 mm only
         with self.assertRaises(armstudy.InputError) as e:
-            armstudy.fit_tcp(d, s["q"], s["pose"], add=["no_such_effect"])
+            armstudy.fit(d, s["q"], pose=s["pose"], add=["no_such_effect"])
         self.assertIn("no_such_effect", str(e.exception))
         with self.assertRaises(ValueError):
-            armstudy.fit_tcp(d, s["q"], s["pose"][:10])
+            armstudy.fit(d, s["q"], pose=s["pose"][:10])
+
+
+    def test_drive_kind_equals_the_cli(self):
+        # Thesis chapter 4: drive j6 of the final 9-DoF prototype against the module B.2 test bed.
+        design = design_path("final_prototype_9dof")
+        data = os.path.join(SOURCE_DIR, "studies", "data", "drive_testbed_module_b2.csv")
+        with tempfile.TemporaryDirectory() as tmp:
+            cli("fit", design, "--drive", "j6", "--data", data, "--auto", "--out", tmp)
+            with open(os.path.join(tmp, "result.json")) as f:
+                j = json.load(f)
+        r = armstudy.fit(armstudy.load_design(design), data, kind="drive", joint="j6", auto=True)
+        self.assertEqual(r["verdict"], j["verdict"])
+        self.assertEqual((r["rmse_before"], r["rmse_after"]), (j["rmse_before"], j["rmse_after"]))
+        self.assertEqual([f["label"] for f in r["ladder"]], [f["label"] for f in j["ladder"]])
+        self.assertEqual(r["final"]["params"], j["final_params"])
+        self.assertIn("stribeck", r["verdict"])
+        with self.assertRaises(armstudy.InputError):
+            armstudy.fit(armstudy.load_design(design), data, kind="drive", joint="j99")
 
 
 if __name__ == "__main__":
