@@ -29,6 +29,8 @@ class SolveResult(TypedDict):
     joint_limit_margin: float
     starts: int
     iterations: int
+    min_distance: float
+    colliding_pair: str
 
 class BatchSolveResult(TypedDict):
     status: npt.NDArray[np.uint8]
@@ -37,6 +39,7 @@ class BatchSolveResult(TypedDict):
     position_error: Array
     orientation_error: Array
     starts: npt.NDArray[np.int32]
+    min_distance: Array
 
 class Design:
     @property
@@ -103,6 +106,7 @@ class Design:
         task: str = "spraying",
         pose_id: int = 0,
         warm_start: Optional[ArrayLike] = None,
+        self_collision: Optional[bool] = None,
         position_tolerance: Optional[float] = None,
         orientation_tolerance: Optional[float] = None,
         max_starts: Optional[int] = None,
@@ -115,6 +119,7 @@ class Design:
         pose_ids: Optional[ArrayLike] = None,
         warm_starts: Optional[ArrayLike] = None,
         threads: int = 0,
+        self_collision: Optional[bool] = None,
         position_tolerance: Optional[float] = None,
         orientation_tolerance: Optional[float] = None,
         max_starts: Optional[int] = None,

@@ -2,9 +2,11 @@
 // the pose's id seeding its starts), one pose or a batch on threads.
 #include <pybind11/stl.h>
 
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
+#include "collision/reach_collision.hpp"
 #include "ik/reach_solver.hpp"
 #include "python/bindings.hpp"
 
@@ -49,8 +51,43 @@ std::vector<std::uint64_t> poseIds(const py::handle& ids, long n) {
   return out;
 }
 
+// One thread's solver: the reach stage's (reach/sweep_internal.hpp PoseSolver) without obstacles:
+// with self-collision, solvePoseCollisionAware (a colliding solution escapes by the null-space
+// descent, then by further seeded solves); without, solvePose.
+struct Solver {
+  IkWorkspace ws;
+  std::optional<collision::CollisionWorkspace> cws;
+  Solver(const Model& m, bool collision) : ws(m) {
+    if (collision) cws.emplace(m);
+  }
+  collision::CollisionReachResult solve(const Model& m, const IkTarget& target,
+                                        const IkOptions& options, std::uint64_t id,
+                                        const JointVector* warm) {
+    if (!cws) {
+      collision::CollisionReachResult r;
+      r.ik = solvePose(m, ws, target, options, id, warm);
+      r.min_distance_m = std::numeric_limits<double>::quiet_NaN();
+      return r;
+    }
+    collision::CollisionReachResult r = collision::solvePoseCollisionAware(
+        m, ws, *cws, target, options, collision::CollisionReachOptions{}, id, {}, warm);
+    if (!r.ik.reachable() && r.ik.status != ReachStatus::SelfCollision)
+      r.min_distance_m = std::numeric_limits<double>::quiet_NaN();
+    return r;
+  }
+};
+
+// Self-collision as the reach stage decides it: on when the design has collision volumes.
+bool selfCollision(const Model& m, const std::optional<bool>& self_collision) {
+  const bool on = self_collision.value_or(!m.collision.empty());
+  if (on && m.collision.empty())
+    throw std::invalid_argument("self_collision: design '" + m.name + "' has no collision volumes");
+  return on;
+}
+
 py::dict solveOne(const Design& d, const py::handle& pose, const std::string& task,
                   std::uint64_t pose_id, const py::handle& warm_start,
+                  const std::optional<bool>& self_collision,
                   const std::optional<double>& position_tolerance,
                   const std::optional<double>& orientation_tolerance,
                   const std::optional<int>& max_starts, const std::optional<std::uint64_t>& seed) {
@@ -64,12 +101,14 @@ py::dict solveOne(const Design& d, const py::handle& pose, const std::string& ta
     const Rows w = readRows(warm_start, m.dof(), "warm_start");
     warm = Eigen::Map<const Eigen::VectorXd>(w.row(0), m.dof());
   }
-  IkResult r;
+  const bool collision = selfCollision(m, self_collision);
+  collision::CollisionReachResult c;
   {
     py::gil_scoped_release release;
-    IkWorkspace ws(m);
-    r = solvePose(m, ws, target, options, pose_id, warm ? &*warm : nullptr);
+    Solver solver(m, collision);
+    c = solver.solve(m, target, options, pose_id, warm ? &*warm : nullptr);
   }
+  const IkResult& r = c.ik;
   py::array_t<double> q(m.dof());
   for (int i = 0; i < m.dof(); ++i) q.mutable_at(i) = r.q[i];
   py::dict out;
@@ -83,11 +122,14 @@ py::dict solveOne(const Design& d, const py::handle& pose, const std::string& ta
   out["joint_limit_margin"] = r.joint_limit_margin;
   out["starts"] = r.starts;
   out["iterations"] = r.iterations;
+  out["min_distance"] = c.min_distance_m;
+  out["colliding_pair"] = c.colliding_pair;
   return out;
 }
 
 py::dict solveBatch(const Design& d, const py::handle& poses, const std::string& task,
                     const py::handle& pose_ids, const py::handle& warm_starts, int threads,
+                    const std::optional<bool>& self_collision,
                     const std::optional<double>& position_tolerance,
                     const std::optional<double>& orientation_tolerance,
                     const std::optional<int>& max_starts,
@@ -104,24 +146,29 @@ py::dict solveBatch(const Design& d, const py::handle& poses, const std::string&
     throw std::invalid_argument("warm_starts: expected one row per pose");
   py::array_t<std::uint8_t> status(count);
   py::array_t<double> q({count, static_cast<long>(n)});
+  const bool collision = selfCollision(m, self_collision);
   py::array_t<double> manip(count), position_error(count), orientation_error(count);
+  py::array_t<double> min_distance(count);
   py::array_t<int> starts(count);
   std::uint8_t* s = status.mutable_data();
   double *qo = q.mutable_data(), *mo = manip.mutable_data();
   double *pe = position_error.mutable_data(), *oe = orientation_error.mutable_data();
+  double* md = min_distance.mutable_data();
   int* so = starts.mutable_data();
   const int t = threadCount(threads);
   {
     py::gil_scoped_release release;
 #pragma omp parallel num_threads(t)
     {
-      IkWorkspace ws(m);
+      Solver solver(m, collision);
       JointVector warm(n);
 #pragma omp for schedule(dynamic, 16)
       for (long i = 0; i < count; ++i) {
         if (w.cols > 0) warm = Eigen::Map<const Eigen::VectorXd>(w.row(i), n);
-        const IkResult r = solvePose(m, ws, taskTarget(space, poseVector(p, i)), options, ids[i],
-                                     w.cols > 0 ? &warm : nullptr);
+        const collision::CollisionReachResult c = solver.solve(
+            m, taskTarget(space, poseVector(p, i)), options, ids[i], w.cols > 0 ? &warm : nullptr);
+        const IkResult& r = c.ik;
+        md[i] = c.min_distance_m;
         s[i] = static_cast<std::uint8_t>(r.status);
         for (int j = 0; j < n; ++j) qo[i * n + j] = r.q[j];
         mo[i] = r.manipulability;
@@ -138,6 +185,7 @@ py::dict solveBatch(const Design& d, const py::handle& poses, const std::string&
   out["position_error"] = position_error;
   out["orientation_error"] = orientation_error;
   out["starts"] = starts;
+  out["min_distance"] = min_distance;
   return out;
 }
 
@@ -151,22 +199,27 @@ void bindSolve(py::module_& m, py::class_<Design>& design) {
   design
       .def("solve", &solveOne, py::arg("pose"), py::arg("task") = "spraying",
            py::arg("pose_id") = 0, py::arg("warm_start") = py::none(),
-           py::arg("position_tolerance") = py::none(),
+           py::arg("self_collision") = py::none(), py::arg("position_tolerance") = py::none(),
            py::arg("orientation_tolerance") = py::none(), py::arg("max_starts") = py::none(),
            py::arg("seed") = py::none(),
            R"(Solves one pose w_d = (x, y, z, alpha, beta, gamma) in W with the reach maps' solver.
 task: 'spraying' (position and the tool axis along the spray direction of alpha, gamma), 'full',
 'position' or a Cardan selection. pose_id seeds the random starts (the same id, the same starts);
-warm_start (dof,) is tried first. Returns a dict: status, status_name, reachable, q,
-manipulability, position_error, orientation_error, joint_limit_margin, starts, iterations.)")
+warm_start (dof,) is tried first. self_collision (default: whether the design has collision
+volumes, as the reach stage) makes a colliding solution escape, else report self_collision.
+Returns a dict: status, status_name, reachable, q, manipulability, position_error,
+orientation_error, joint_limit_margin, starts, iterations, min_distance (smallest self-collision
+distance at q, NaN without the check or a solution), colliding_pair.)")
       .def("solve_batch", &solveBatch, py::arg("poses"), py::arg("task") = "spraying",
            py::arg("pose_ids") = py::none(), py::arg("warm_starts") = py::none(),
-           py::arg("threads") = 0, py::arg("position_tolerance") = py::none(),
+           py::arg("threads") = 0, py::arg("self_collision") = py::none(),
+           py::arg("position_tolerance") = py::none(),
            py::arg("orientation_tolerance") = py::none(), py::arg("max_starts") = py::none(),
            py::arg("seed") = py::none(),
            R"(Solves N poses (N, 6) on threads, each exactly as solve() with pose_id = pose_ids[i]
 (default: the row index) and warm_starts[i]. Returns a dict of arrays: status (uint8; names in
-armstudy.STATUS_NAMES), q (N, dof), manipulability, position_error, orientation_error, starts.)");
+armstudy.STATUS_NAMES), q (N, dof), manipulability, position_error, orientation_error, starts,
+min_distance.)");
 }
 
 }  // namespace armstudy::python

@@ -59,6 +59,28 @@ class Solve(unittest.TestCase):
             s = d.solve(poses[i], pose_id=i, warm_start=warm[i])
             np.testing.assert_array_equal(s["q"], wb["q"][i])
 
+    def test_collision_aware_solutions_are_clear_of_self_collision(self):
+        d = armstudy.load_design(design_path("final_prototype_9dof"))
+        poses = spraying_row_poses(400, seed=13)
+        poses[:, 2] = 0.5
+        aware = d.solve_batch(poses, threads=2)                  # the design has volumes: on
+        plain = d.solve_batch(poses, threads=2, self_collision=False)
+        ok = aware["status"] == 0
+        self.assertGreater(ok.sum(), 100)
+        distances = d.self_distances(aware["q"][ok]).min(axis=1)
+        self.assertTrue((distances > 0).all())
+        np.testing.assert_array_equal(distances, aware["min_distance"][ok])
+        self.assertTrue(np.isnan(plain["min_distance"]).all())
+        # Without the check some solutions collide, and each of those poses is either cleared by the
+        # collision-aware solve or reported as reachable only in self-collision.
+        colliding = (plain["status"] == 0) & (d.self_distances(plain["q"]).min(axis=1) <= 0)
+        self.assertGreater(colliding.sum(), 10)
+        self.assertTrue(np.isin(aware["status"][colliding], [0, 4]).all())
+        self.assertGreater((aware["status"] == 4).sum(), 0)
+        one = d.solve(poses[7], pose_id=7)
+        self.assertEqual(one["status"], aware["status"][7])
+        np.testing.assert_array_equal(one["q"], aware["q"][7])
+
     def test_full_pose_of_a_configuration_is_reachable(self):
         d = armstudy.load_design(design_path("final_prototype_9dof"))
         q = (d.lower + d.upper) / 2 + 0.1
