@@ -43,6 +43,41 @@ class DriveProblem : public ArmProblem {
     channel_units = {"A"};
     fit_unit = "A";
     weight = Eigen::VectorXd::Ones(1);
+    setMeasurements(data);
+    setOperatingVariables(data, speed_bins, load_bins);
+    addEffects(joint, data);
+    warnNarrowTemperature(data);
+  }
+
+  FrictionParams friction(const EffectValues& values) const {
+    FrictionParams p = design_;
+    for (const auto& v : values) {
+      const DriveTag& t = tags_[v.effect];
+      const ArmEffect& info = catalogue[v.effect];
+      if (!t.refit) p.on[idx(t.effect)] = true;
+      for (std::size_t j = 0; j < t.keys.size(); ++j)
+        *drive::parameter(p, t.keys[j]) = info.params[j].design + v.x[j];
+      if (info.hasProfile()) p.stribeck_velocity = v.profile;
+    }
+    return p;
+  }
+
+  Eigen::MatrixXd predict(const EffectValues& values) const override {
+    const FrictionParams p = friction(values);
+    Eigen::MatrixXd out(data_.rows(), 1);
+    for (int i = 0; i < data_.rows(); ++i)
+      out(i, 0) = drive::testBedCurrent(drive_, p, data_.speed[i], data_.load[i], theta_[i]);
+    return out;
+  }
+
+  std::string joint_;
+  Drive drive_;
+  FrictionParams design_;
+  std::vector<DriveTag> tags_;
+
+ private:
+  // The measured currents and the temperature each sample is evaluated at.
+  void setMeasurements(const DriveData& data) {
     const int n = data.rows();
     measured.resize(n, 1);
     for (int i = 0; i < n; ++i) measured(i, 0) = data.current[i];
@@ -54,10 +89,15 @@ class DriveProblem : public ArmProblem {
       warnings.push_back(
           "the design has a temperature term but the data has no temperature column; "
           "evaluated at the reference temperature");
+  }
+
+  // Operating variables, the speed x |load| grid map, the held-out regions (quadrants) and the
+  // Stribeck velocities the profile is scanned at.
+  void setOperatingVariables(const DriveData& data, int speed_bins, int load_bins) {
+    const int n = data.rows();
     const bool joint_side = design_.joint_side;
     const double side =
         joint_side ? 1.0 / drive_.gear_ratio : 1.0;  // motor speed -> law-side speed
-    // Operating variables, the speed x |load| grid map and the held-out regions (quadrants).
     BinVariable speed{"speed", "rad/s", data.speed, false},
         load{"load", joint_side ? "N" : "N m", data.load, false};
     variables = {speed, load};
@@ -86,41 +126,49 @@ class DriveProblem : public ArmProblem {
       vmin = std::min(vmin, v * side);
       vmax = std::max(vmax, v * side);
     }
-    std::vector<double> stribeck_grid;
     if (n > 0 && vmax > 0) {
       const int G = defaults::kStribeckGridPoints;
       const double a = std::log(0.5 * vmin), b = std::log(vmax);
-      for (int g = 0; g < G; ++g) stribeck_grid.push_back(std::exp(a + (b - a) * g / (G - 1)));
+      for (int g = 0; g < G; ++g) stribeck_grid_.push_back(std::exp(a + (b - a) * g / (G - 1)));
     }
-    auto unitOf = [&](const EffectParameter& ep) {
-      return joint_side ? ep.unit_joint : ep.unit_motor;
-    };
-    // Catalogue typical values are motor side; joint-side laws see them scaled (typical values
-    // only).
-    auto typicalOf = [&](const EffectParameter& ep) {
-      const double N = drive_.gear_ratio;
-      if (!joint_side || ep.key == "load_coulomb") return ep.typical;
-      return ep.key == "viscous" || ep.key == "temperature_viscous_coefficient" ? ep.typical * N * N
-                                                                                : ep.typical * N;
-    };
-    auto param = [&](const EffectParameter& ep, double design_value) {
-      ArmParam p;
-      p.key = ep.key;
-      p.unit = unitOf(ep);
-      p.lower = ep.lower - design_value;
-      p.upper = ep.upper - design_value;
-      p.typical = typicalOf(ep);
-      p.step = std::max(std::abs(p.typical), 1e-12);  // the prediction is linear in every parameter
-      p.design = design_value;
-      return p;
-    };
-    auto stribeckProfile = [&](ArmEffect& e) {
-      const EffectParameter& ev = effectInfo(Effect::Stribeck).params[1];
-      e.profile = {
-          ev.key, unitOf(ev), 0, kInf, joint_side ? ev.typical / drive_.gear_ratio : ev.typical,
-          0,      0};
-      e.profile_grid = stribeck_grid;
-    };
+  }
+
+  std::string unitOf(const EffectParameter& ep) const {
+    return design_.joint_side ? ep.unit_joint : ep.unit_motor;
+  }
+  // Catalogue typical values are motor side; joint-side laws see them scaled (typical values
+  // only).
+  double typicalOf(const EffectParameter& ep) const {
+    const double N = drive_.gear_ratio;
+    if (!design_.joint_side || ep.key == "load_coulomb") return ep.typical;
+    return ep.key == "viscous" || ep.key == "temperature_viscous_coefficient" ? ep.typical * N * N
+                                                                              : ep.typical * N;
+  }
+  ArmParam param(const EffectParameter& ep, double design_value) const {
+    ArmParam p;
+    p.key = ep.key;
+    p.unit = unitOf(ep);
+    p.lower = ep.lower - design_value;
+    p.upper = ep.upper - design_value;
+    p.typical = typicalOf(ep);
+    p.step = std::max(std::abs(p.typical), 1e-12);  // the prediction is linear in every parameter
+    p.design = design_value;
+    return p;
+  }
+  void stribeckProfile(ArmEffect& e) const {
+    const EffectParameter& ev = effectInfo(Effect::Stribeck).params[1];
+    e.profile = {ev.key,
+                 unitOf(ev),
+                 0,
+                 kInf,
+                 design_.joint_side ? ev.typical / drive_.gear_ratio : ev.typical,
+                 0,
+                 0};
+    e.profile_grid = stribeck_grid_;
+  }
+
+  // The candidate effects: the refit of the design's own terms, then every term it lacks.
+  void addEffects(const std::string& joint, const DriveData& data) {
     // The refit of the design's own terms (thesis Table 4.5: eq. 3.30 refitted to the test bed).
     {
       ArmEffect e;
@@ -157,6 +205,9 @@ class DriveProblem : public ArmProblem {
       if (fe == Effect::Stribeck) stribeckProfile(e);
       add(e, DriveTag{false, fe, {info.params[0].key}});
     }
+  }
+
+  void warnNarrowTemperature(const DriveData& data) {
     if (data.hasTemperature()) {
       const auto [tmin, tmax] =
           std::minmax_element(data.temperature.begin(), data.temperature.end());
@@ -167,39 +218,13 @@ class DriveProblem : public ArmProblem {
     }
   }
 
-  FrictionParams friction(const EffectValues& values) const {
-    FrictionParams p = design_;
-    for (const auto& v : values) {
-      const DriveTag& t = tags_[v.effect];
-      const ArmEffect& info = catalogue[v.effect];
-      if (!t.refit) p.on[idx(t.effect)] = true;
-      for (std::size_t j = 0; j < t.keys.size(); ++j)
-        *drive::parameter(p, t.keys[j]) = info.params[j].design + v.x[j];
-      if (info.hasProfile()) p.stribeck_velocity = v.profile;
-    }
-    return p;
-  }
-
-  Eigen::MatrixXd predict(const EffectValues& values) const override {
-    const FrictionParams p = friction(values);
-    Eigen::MatrixXd out(data_.rows(), 1);
-    for (int i = 0; i < data_.rows(); ++i)
-      out(i, 0) = drive::testBedCurrent(drive_, p, data_.speed[i], data_.load[i], theta_[i]);
-    return out;
-  }
-
-  std::string joint_;
-  Drive drive_;
-  FrictionParams design_;
-  std::vector<DriveTag> tags_;
-
- private:
   void add(const ArmEffect& e, DriveTag t) {
     catalogue.push_back(e);
     tags_.push_back(std::move(t));
   }
   DriveData data_;
   std::vector<double> theta_;
+  std::vector<double> stribeck_grid_;  // law-side speeds, rad/s
 };
 
 const DriveProblem& asDrive(const ArmProblem& P) {

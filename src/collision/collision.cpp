@@ -287,25 +287,58 @@ void finishPair(CollisionWorkspace& ws, int k0, int k1, double near_below, PairD
   out.volume_b = ws.model_index[ws.pair_b[win]];
 }
 
-}  // namespace
+// Environment: the exact minimum over one body's volumes [k0, k1) against one obstacle core.
+// Volumes whose bounding spheres lie beyond the cutoff are skipped (their bound is kept as a lower
+// bound).
+void obstaclePair(CollisionWorkspace& ws, double cutoff, double near_below, int k0, int k1,
+                  const Core& oc, const Vector3d& oc_centre, double oc_bound, double oc_radius,
+                  int obstacle, PairDistance& out) {
+  double best = std::numeric_limits<double>::infinity();
+  double lower = std::numeric_limits<double>::infinity();
+  int win = -1;
+  Vector3d win_a = Vector3d::Zero(), win_b = Vector3d::Zero();
+  for (int k = k0; k < k1; ++k) {
+    const double lb = (ws.centre_W[k] - oc_centre).norm() - ws.bound_r[k] - oc_bound;
+    if (lb >= cutoff) {
+      lower = std::min(lower, lb);
+      continue;
+    }
+    Vector3d ca, cb;
+    const double d =
+        std::sqrt(squaredDistanceCores(ws.core_W[k], oc, ca, cb)) - ws.radius[k] - oc_radius;
+    if (d < near_below) {
+      PairDistance& v = ws.near_env[ws.num_near_env++];
+      v.link_a = out.link_a;
+      v.link_b = obstacle;
+      v.volume_a = ws.model_index[k];
+      v.volume_b = obstacle;
+      ssvDistanceFromWitnesses(ca, ws.radius[k], cb, oc_radius, v.w);
+      v.distance_m = v.w.distance_m;
+      v.exact = true;
+    }
+    if (d < best) {
+      best = d;
+      win = k;
+      win_a = ca;
+      win_b = cb;
+    }
+  }
+  if (win >= 0 && best <= lower) {
+    ssvDistanceFromWitnesses(win_a, ws.radius[win], win_b, oc_radius, out.w);
+    out.distance_m = out.w.distance_m;
+    out.exact = true;
+    out.volume_a = ws.model_index[win];
+  } else {
+    out.distance_m = std::min(best, lower);
+    out.exact = false;
+    out.volume_a = -1;
+  }
+}
 
-void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
-                        std::span<const Obstacle> obstacles, CollisionWorkspace& ws,
-                        const CollisionQueryOptions& options) {
-  ARMSTUDY_CHECK(static_cast<int>(obstacles.size()) <= kMaxObstacles,
-                 "collision: too many obstacles");
-  ARMSTUDY_CHECK(kin.n == model.dof(), "collision: kinematics workspace of another model");
+// Volumes into W (bounding-sphere centres only when `need_bounds`).
+void placeVolumes(const Model& model, const KinematicsWorkspace& kin, bool need_bounds,
+                  CollisionWorkspace& ws) {
   const int n = model.dof();
-  const double cutoff = options.cutoff_m;
-  ws.cutoff_used_m = cutoff;
-  // Volume pairs closer than this are listed in near_self / near_env (finite cutoffs only).
-  const double near_below = cutoff < std::numeric_limits<double>::infinity() ? cutoff : -cutoff;
-  ws.num_near_self = 0;
-  ws.num_near_env = 0;
-
-  // Volumes into W (bounding-sphere centres only when something uses them).
-  const bool need_bounds = cutoff < std::numeric_limits<double>::infinity() ||
-                           (options.environment && !obstacles.empty());
   Eigen::Matrix3d R;
   Vector3d p;
   for (int b = 0; b <= n; ++b) {
@@ -332,120 +365,99 @@ void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
       ws.uz[k] = ws.seg_d_W[k].z();
     }
   }
+}
 
-  // Environment: the exact minimum over one body's volumes against one obstacle core. Volumes
-  // whose bounding spheres lie beyond the cutoff are skipped (their bound is kept as a lower
-  // bound).
-  auto obstaclePair = [&](int k0, int k1, const Core& oc, const Vector3d& oc_centre,
-                          double oc_bound, double oc_radius, int obstacle, PairDistance& out) {
-    double best = std::numeric_limits<double>::infinity();
-    double lower = std::numeric_limits<double>::infinity();
-    int win = -1;
-    Vector3d win_a = Vector3d::Zero(), win_b = Vector3d::Zero();
-    for (int k = k0; k < k1; ++k) {
-      const double lb = (ws.centre_W[k] - oc_centre).norm() - ws.bound_r[k] - oc_bound;
-      if (lb >= cutoff) {
-        lower = std::min(lower, lb);
-        continue;
-      }
-      Vector3d ca, cb;
-      const double d =
-          std::sqrt(squaredDistanceCores(ws.core_W[k], oc, ca, cb)) - ws.radius[k] - oc_radius;
-      if (d < near_below) {
-        PairDistance& v = ws.near_env[ws.num_near_env++];
-        v.link_a = out.link_a;
-        v.link_b = obstacle;
-        v.volume_a = ws.model_index[k];
-        v.volume_b = obstacle;
-        ssvDistanceFromWitnesses(ca, ws.radius[k], cb, oc_radius, v.w);
-        v.distance_m = v.w.distance_m;
-        v.exact = true;
-      }
-      if (d < best) {
-        best = d;
-        win = k;
-        win_a = ca;
-        win_b = cb;
-      }
+// Self pairs: body pairs whose bounding spheres lie beyond the cutoff get that bound; the
+// volume pairs of all others are evaluated in one flat pass, then reduced per body pair.
+void selfDistances(CollisionWorkspace& ws, bool need_bounds, double cutoff, double near_below) {
+  int n_active = 0;
+  for (int i = 0; i < ws.num_self; ++i) {
+    PairDistance& pr = ws.self[i];
+    const int a = pr.link_a + 1, b = pr.link_b + 1;
+    pr.volume_a = pr.volume_b = -1;
+    if (need_bounds) {
+      const double lb = (ws.body_centre_W[a] - ws.body_centre_W[b]).norm() - ws.body_bound_r[a] -
+                        ws.body_bound_r[b];
+      pr.exact = false;
+      pr.distance_m = lb;
+      if (lb >= cutoff) continue;
     }
-    if (win >= 0 && best <= lower) {
-      ssvDistanceFromWitnesses(win_a, ws.radius[win], win_b, oc_radius, out.w);
-      out.distance_m = out.w.distance_m;
-      out.exact = true;
-      out.volume_a = ws.model_index[win];
-    } else {
-      out.distance_m = std::min(best, lower);
-      out.exact = false;
-      out.volume_a = -1;
+    pr.exact = true;  // evaluated below
+    for (int k = ws.pair_begin[i]; k < ws.pair_begin[i + 1]; ++k) ws.active[n_active++] = k;
+  }
+  evaluatePairs(ws, n_active);
+  double min_d = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < ws.num_self; ++i) {
+    PairDistance& pr = ws.self[i];
+    if (pr.exact) finishPair(ws, ws.pair_begin[i], ws.pair_begin[i + 1], near_below, pr);
+    if (pr.distance_m < min_d) {
+      min_d = pr.distance_m;
+      ws.closest_self = i;
     }
-  };
+  }
+}
 
-  // Self pairs: body pairs whose bounding spheres lie beyond the cutoff get that bound; the
-  // volume pairs of all others are evaluated in one flat pass, then reduced per body pair.
-  ws.closest_self = -1;
-  if (options.self) {
-    int n_active = 0;
-    for (int i = 0; i < ws.num_self; ++i) {
-      PairDistance& pr = ws.self[i];
-      const int a = pr.link_a + 1, b = pr.link_b + 1;
+// Every body with volumes against every obstacle.
+void environmentDistances(int n, std::span<const Obstacle> obstacles, CollisionWorkspace& ws,
+                          double cutoff, double near_below) {
+  double min_d = std::numeric_limits<double>::infinity();
+  for (int o = 0; o < static_cast<int>(obstacles.size()); ++o) {
+    const Obstacle& ob = obstacles[o];
+    Core oc;
+    oc.n = static_cast<int>(ob.type);
+    for (int i = 0; i < 3; ++i) oc.p[i] = ob.p_W[i];
+    Vector3d oc_centre;
+    double oc_bound;
+    boundCore(oc, ob.radius_m, oc_centre, oc_bound);
+    for (int b = 0; b <= n; ++b) {
+      if (ws.body_begin[b] == ws.body_begin[b + 1]) continue;
+      PairDistance& pr = ws.env[ws.num_env];
+      pr.link_a = b - 1;
+      pr.link_b = o;
       pr.volume_a = pr.volume_b = -1;
-      if (need_bounds) {
-        const double lb = (ws.body_centre_W[a] - ws.body_centre_W[b]).norm() - ws.body_bound_r[a] -
-                          ws.body_bound_r[b];
-        pr.exact = false;
+      const double lb = (ws.body_centre_W[b] - oc_centre).norm() - ws.body_bound_r[b] - oc_bound;
+      if (lb >= cutoff) {
         pr.distance_m = lb;
-        if (lb >= cutoff) continue;
+        pr.exact = false;
+      } else {
+        obstaclePair(ws, cutoff, near_below, ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre,
+                     oc_bound, ob.radius_m, o, pr);
+        pr.volume_b = o;
       }
-      pr.exact = true;  // evaluated below
-      for (int k = ws.pair_begin[i]; k < ws.pair_begin[i + 1]; ++k) ws.active[n_active++] = k;
-    }
-    evaluatePairs(ws, n_active);
-    double min_d = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < ws.num_self; ++i) {
-      PairDistance& pr = ws.self[i];
-      if (pr.exact) finishPair(ws, ws.pair_begin[i], ws.pair_begin[i + 1], near_below, pr);
       if (pr.distance_m < min_d) {
         min_d = pr.distance_m;
-        ws.closest_self = i;
+        ws.closest_env = ws.num_env;
       }
+      ++ws.num_env;
     }
   }
+}
 
+}  // namespace
+
+void collisionDistances(const Model& model, const KinematicsWorkspace& kin,
+                        std::span<const Obstacle> obstacles, CollisionWorkspace& ws,
+                        const CollisionQueryOptions& options) {
+  ARMSTUDY_CHECK(static_cast<int>(obstacles.size()) <= kMaxObstacles,
+                 "collision: too many obstacles");
+  ARMSTUDY_CHECK(kin.n == model.dof(), "collision: kinematics workspace of another model");
+  const int n = model.dof();
+  const double cutoff = options.cutoff_m;
+  ws.cutoff_used_m = cutoff;
+  // Volume pairs closer than this are listed in near_self / near_env (finite cutoffs only).
+  const double near_below = cutoff < std::numeric_limits<double>::infinity() ? cutoff : -cutoff;
+  ws.num_near_self = 0;
+  ws.num_near_env = 0;
+
+  // Volumes into W (bounding-sphere centres only when something uses them).
+  const bool need_bounds = cutoff < std::numeric_limits<double>::infinity() ||
+                           (options.environment && !obstacles.empty());
+  placeVolumes(model, kin, need_bounds, ws);
+  ws.closest_self = -1;
+  if (options.self) selfDistances(ws, need_bounds, cutoff, near_below);
   ws.num_env = 0;
   ws.closest_env = -1;
-  if (options.environment) {
-    double min_d = std::numeric_limits<double>::infinity();
-    for (int o = 0; o < static_cast<int>(obstacles.size()); ++o) {
-      const Obstacle& ob = obstacles[o];
-      Core oc;
-      oc.n = static_cast<int>(ob.type);
-      for (int i = 0; i < 3; ++i) oc.p[i] = ob.p_W[i];
-      Vector3d oc_centre;
-      double oc_bound;
-      boundCore(oc, ob.radius_m, oc_centre, oc_bound);
-      for (int b = 0; b <= n; ++b) {
-        if (ws.body_begin[b] == ws.body_begin[b + 1]) continue;
-        PairDistance& pr = ws.env[ws.num_env];
-        pr.link_a = b - 1;
-        pr.link_b = o;
-        pr.volume_a = pr.volume_b = -1;
-        const double lb = (ws.body_centre_W[b] - oc_centre).norm() - ws.body_bound_r[b] - oc_bound;
-        if (lb >= cutoff) {
-          pr.distance_m = lb;
-          pr.exact = false;
-        } else {
-          obstaclePair(ws.body_begin[b], ws.body_begin[b + 1], oc, oc_centre, oc_bound, ob.radius_m,
-                       o, pr);
-          pr.volume_b = o;
-        }
-        if (pr.distance_m < min_d) {
-          min_d = pr.distance_m;
-          ws.closest_env = ws.num_env;
-        }
-        ++ws.num_env;
-      }
-    }
-  }
+  if (options.environment) environmentDistances(n, obstacles, ws, cutoff, near_below);
 }
 
 double minSelfDistance(const CollisionWorkspace& ws) {

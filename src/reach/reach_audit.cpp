@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "common/errors.hpp"
-#include "study/stage.hpp"
+#include "study/shared_loop.hpp"
 
 namespace armstudy {
 

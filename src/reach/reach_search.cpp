@@ -19,7 +19,7 @@
 #include "common/errors.hpp"
 #include "reach/reach_sweep.hpp"
 #include "reach/sweep_internal.hpp"
-#include "study/stage.hpp"
+#include "study/shared_loop.hpp"
 
 namespace armstudy {
 

@@ -78,6 +78,71 @@ void Progress::advance(long n) {
 using namespace sweep_detail;
 
 namespace {
+// One chain along poses [begin, end) in direction dir, into out (entry i - out_off); `retry` is
+// the one-start solve of the backward pass. Adds the solve times to t_reach / t_unreach.
+void chainLine(PoseSolver& solver, const IkOptions& options, const IkOptions& retry, long begin,
+               long end, long dir, PoseSweep& out, long out_off, double& t_reach,
+               double& t_unreach) {
+  JointVector warm(out.dof);
+  bool have_warm = false;
+  const long first = dir > 0 ? begin : end - 1, past = dir > 0 ? end : begin - 1;
+  for (long i = first; i != past; i += dir) {
+    const auto p0 = std::chrono::steady_clock::now();
+    const PoseResult pr = solver.solve(i, options, have_warm ? &warm : nullptr);
+    const IkResult& r = pr.ik;
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+    (r.reachable() ? t_reach : t_unreach) += dt;
+    store(out, i - out_off, r, 0);
+    storeCollision(out, i - out_off, pr);
+    if (r.reachable()) {
+      warm = r.q;
+      have_warm = true;
+    }
+  }
+  // Backward pass: an unreachable pose next to a reachable one gets one more start from its
+  // neighbour's solution (the one after it in the chain's direction). A pose reachable only
+  // in collision keeps its result unless the retry finds a collision-free solution; an
+  // unreachable one also takes a solution in collision.
+  for (long i = past - 2 * dir; i != first - dir; i -= dir) {
+    const long li = i - out_off;
+    if (out.reachable(li) || !out.reachable(li + dir)) continue;
+    const JointVector w = solutionOf(out, li + dir);
+    const auto p0 = std::chrono::steady_clock::now();
+    const PoseResult pr = solver.solve(i, retry, &w);
+    const IkResult& r = pr.ik;
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+    (r.reachable() ? t_reach : t_unreach) += dt;
+    if (r.reachable() ||
+        (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(out.status[li])))) {
+      store(out, li, r, out.starts[li]);
+      storeCollision(out, li, pr);
+    }
+  }
+}
+
+// Every pose of the line [begin, begin + n) keeps the better of the two chains' results (one
+// chain when passes == 1) in s, and the other chain's distinct collision-free solution in q_alt.
+void keepBetterChain(const PoseSweep& first_chain, const PoseSweep& second_chain, int passes,
+                     long begin, long n, PoseSweep& s) {
+  const long off = s.offset;
+  for (long li = 0; li < n; ++li) {
+    const bool second = passes == 2 && betterPose(second_chain, first_chain, li);
+    const PoseSweep &kept = second ? second_chain : first_chain,
+                    &other = second ? first_chain : second_chain;
+    copyPose(kept, li, s, begin - off + li,
+             first_chain.starts[li] + (passes == 2 ? second_chain.starts[li] : 0));
+    // The other chain's collision-free solution, where it differs: a second seed for the
+    // search.
+    const std::size_t to = static_cast<std::size_t>(begin - off + li) * s.dof,
+                      from = static_cast<std::size_t>(li) * s.dof;
+    const bool distinct =
+        passes == 2 && other.reachable(li) &&
+        !std::equal(other.q.begin() + from, other.q.begin() + from + s.dof, kept.q.begin() + from);
+    for (int j = 0; j < s.dof; ++j)
+      s.q_alt[to + j] = distinct ? other.q[from + j] : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 // Solves the units of every range (unit u covers poses [u * len, min((u+1) * len, size))) into
 // one chunk per range; see sweepGridRanges.
 std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
@@ -114,57 +179,12 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
 #pragma omp parallel num_threads(nt)
   {
     PoseSolver solver(model, collision, target);
-    auto solve = [&](long i, const IkOptions& o, const JointVector* warm_start) {
-      return solver.solve(i, o, warm_start);
-    };
     PoseSweep first_chain = makeSweep(model, len, collision), second_chain = first_chain;
-    // One chain along poses [begin, end) in direction dir, into out (entry i - out_off).
-    auto chainLine = [&](long begin, long end, long dir, PoseSweep& out, long out_off,
-                         double& t_reach, double& t_unreach) {
-      JointVector warm(model.dof());
-      bool have_warm = false;
-      const long first = dir > 0 ? begin : end - 1, past = dir > 0 ? end : begin - 1;
-      for (long i = first; i != past; i += dir) {
-        const auto p0 = std::chrono::steady_clock::now();
-        const PoseResult pr = solve(i, options, have_warm ? &warm : nullptr);
-        const IkResult& r = pr.ik;
-        const double dt =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
-        (r.reachable() ? t_reach : t_unreach) += dt;
-        store(out, i - out_off, r, 0);
-        storeCollision(out, i - out_off, pr);
-        if (r.reachable()) {
-          warm = r.q;
-          have_warm = true;
-        }
-      }
-      // Backward pass: an unreachable pose next to a reachable one gets one more start from its
-      // neighbour's solution (the one after it in the chain's direction). A pose reachable only
-      // in collision keeps its result unless the retry finds a collision-free solution; an
-      // unreachable one also takes a solution in collision.
-      for (long i = past - 2 * dir; i != first - dir; i -= dir) {
-        const long li = i - out_off;
-        if (out.reachable(li) || !out.reachable(li + dir)) continue;
-        const JointVector w = solutionOf(out, li + dir);
-        const auto p0 = std::chrono::steady_clock::now();
-        const PoseResult pr = solve(i, retry, &w);
-        const IkResult& r = pr.ik;
-        const double dt =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
-        (r.reachable() ? t_reach : t_unreach) += dt;
-        if (r.reachable() ||
-            (inCollision(r.status) && !inCollision(static_cast<ReachStatus>(out.status[li])))) {
-          store(out, li, r, out.starts[li]);
-          storeCollision(out, li, pr);
-        }
-      }
-    };
 #pragma omp for schedule(dynamic, 1)
     for (long w = 0; w < n_work; ++w) {
       const std::size_t k = work[w].first;  // not a structured binding: captured below (clang)
       const long u = work[w].second;
       PoseSweep& s = chunks[k];
-      const long off = s.offset;
       const long begin = u * len, end = std::min(size, begin + len);
       double t_reach = 0, t_unreach = 0;
       // Each line is chained in both directions (forward from its start, forward from its end),
@@ -177,24 +197,9 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
       for (int pass = 0; pass < passes; ++pass) {
         PoseSweep& out = pass == 0 ? first_chain : second_chain;
         const long dir = (pass == 0) != options.sweep_descending ? 1 : -1;
-        chainLine(begin, end, dir, out, begin, t_reach, t_unreach);
+        chainLine(solver, options, retry, begin, end, dir, out, begin, t_reach, t_unreach);
       }
-      for (long li = 0; li < n; ++li) {
-        const bool second = passes == 2 && betterPose(second_chain, first_chain, li);
-        const PoseSweep &kept = second ? second_chain : first_chain,
-                        &other = second ? first_chain : second_chain;
-        copyPose(kept, li, s, begin - off + li,
-                 first_chain.starts[li] + (passes == 2 ? second_chain.starts[li] : 0));
-        // The other chain's collision-free solution, where it differs: a second seed for the
-        // search.
-        const std::size_t to = static_cast<std::size_t>(begin - off + li) * s.dof,
-                          from = static_cast<std::size_t>(li) * s.dof;
-        const bool distinct = passes == 2 && other.reachable(li) &&
-                              !std::equal(other.q.begin() + from, other.q.begin() + from + s.dof,
-                                          kept.q.begin() + from);
-        for (int j = 0; j < s.dof; ++j)
-          s.q_alt[to + j] = distinct ? other.q[from + j] : std::numeric_limits<double>::quiet_NaN();
-      }
+      keepBetterChain(first_chain, second_chain, passes, begin, n, s);
 #pragma omp atomic
       s.solve_seconds_reachable += t_reach;
 #pragma omp atomic

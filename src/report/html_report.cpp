@@ -202,155 +202,192 @@ std::string base64(const std::string& in) {
   return o;
 }
 
-std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
-                           const std::function<std::string(const std::string&)>& image,
-                           std::vector<Heading>* headings) {
-  std::vector<std::string> lines;
-  {
+namespace {
+
+bool isBlank(const std::string& l) { return l.find_first_not_of(" \t") == std::string::npos; }
+
+std::string paragraphText(const std::vector<std::string>& p) {
+  std::string s;
+  for (const auto& l : p) s += (s.empty() ? "" : " ") + l;
+  return s;
+}
+
+// The image links "![alt](file)" a paragraph consists of; empty when it holds anything else.
+std::vector<std::string> onlyImages(const std::string& s) {
+  std::vector<std::string> imgs;
+  std::size_t p = 0;
+  while (p < s.size()) {
+    while (p < s.size() && s[p] == ' ') ++p;
+    if (p >= s.size()) break;
+    if (s.compare(p, 2, "![") != 0) return {};
+    const std::size_t e = s.find(')', s.find("](", p));
+    if (e == std::string::npos) return {};
+    imgs.push_back(s.substr(p, e - p + 1));
+    p = e + 1;
+  }
+  return imgs;
+}
+
+// The Markdown subset the reports write, line by line: headings, paragraphs, figures with their
+// captions, fenced code, tables and lists.
+class MarkdownToHtml {
+ public:
+  using Image = std::function<std::string(const std::string&)>;
+  MarkdownToHtml(const std::string& md, const std::string& id_prefix, const Image& image,
+                 std::vector<Heading>* headings)
+      : id_prefix_(id_prefix), image_(image), headings_(headings) {
     std::istringstream in(md);
     std::string l;
     while (std::getline(in, l)) {
       if (!l.empty() && l.back() == '\r') l.pop_back();
-      lines.push_back(l);
+      lines_.push_back(l);
     }
   }
-  std::ostringstream o;
-  std::vector<std::string> para;
-  int n_heading = 0;
-  auto isBlank = [](const std::string& l) {
-    return l.find_first_not_of(" \t") == std::string::npos;
-  };
-  std::size_t i = 0;
-  // A paragraph that is only an image becomes a figure; an italic paragraph right after it is its
-  // caption (the reports write "![alt](file)" then "*caption*").
-  auto paragraphText = [](const std::vector<std::string>& p) {
-    std::string s;
-    for (const auto& l : p) s += (s.empty() ? "" : " ") + l;
-    return s;
-  };
-  auto nextParagraph = [&](std::size_t from, std::size_t& end) {
+
+  std::string run() {
+    while (i_ < lines_.size()) {
+      const std::string& l = lines_[i_];
+      if (isBlank(l)) {
+        const std::size_t at = i_;
+        flush();  // may consume the caption paragraph after a figure
+        if (i_ == at) ++i_;
+      } else if (l.rfind("```", 0) == 0) {
+        flush();
+        code();
+      } else if (l[0] == '#' && isHeading(l)) {
+        flush();
+        heading(l);
+      } else if (l[0] == '|' && i_ + 1 < lines_.size() && isSeparatorRow(lines_[i_ + 1])) {
+        flush();
+        table();
+      } else if (l.rfind("- ", 0) == 0 || l.rfind("* ", 0) == 0) {
+        flush();
+        list();
+      } else {
+        if (l[0] == '#') flush();
+        para_.push_back(l);
+        ++i_;
+      }
+    }
+    flush();
+    return o_.str();
+  }
+
+ private:
+  static bool isHeading(const std::string& l) {
+    const std::size_t level = l.find_first_not_of('#');
+    return level != std::string::npos && level <= 6 && l[level] == ' ';
+  }
+
+  std::string nextParagraph(std::size_t from, std::size_t& end) const {
     std::size_t k = from;
-    while (k < lines.size() && isBlank(lines[k])) ++k;
+    while (k < lines_.size() && isBlank(lines_[k])) ++k;
     std::vector<std::string> p;
-    while (k < lines.size() && !isBlank(lines[k]) && lines[k][0] != '#' && lines[k][0] != '|')
-      p.push_back(lines[k++]);
+    while (k < lines_.size() && !isBlank(lines_[k]) && lines_[k][0] != '#' && lines_[k][0] != '|')
+      p.push_back(lines_[k++]);
     end = k;
     return paragraphText(p);
-  };
-  auto flush = [&] {
-    if (para.empty()) return;
-    const std::string s = paragraphText(para);
-    para.clear();
-    std::vector<std::string> imgs;
-    std::size_t p = 0;
-    bool only_images = true;
-    while (p < s.size()) {
-      while (p < s.size() && s[p] == ' ') ++p;
-      if (p >= s.size()) break;
-      if (s.compare(p, 2, "![") != 0) {
-        only_images = false;
-        break;
-      }
-      const std::size_t e = s.find(')', s.find("](", p));
-      if (e == std::string::npos) {
-        only_images = false;
-        break;
-      }
-      imgs.push_back(s.substr(p, e - p + 1));
-      p = e + 1;
-    }
-    if (only_images && !imgs.empty()) {
-      std::size_t end = i;
-      const std::string next = nextParagraph(i, end);
-      std::string caption;
-      if (wholeItalic(next)) {
-        caption = inlineMd(next.substr(1, next.size() - 2), image);
-        i = end;
-      }
-      o << (imgs.size() > 1 ? "<div class=\"gallery\">\n" : "");
-      for (const auto& im : imgs) {
-        const std::size_t rb = im.find("](");
-        const std::string alt = im.substr(2, rb - 2);
-        o << "<figure>" << inlineMd(im, image) << "<figcaption>"
-          << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image) : caption)
-          << "</figcaption></figure>\n";
-      }
-      if (imgs.size() > 1 && !caption.empty()) o << "<p class=\"caption\">" << caption << "</p>\n";
-      o << (imgs.size() > 1 ? "</div>\n" : "");
+  }
+
+  // A paragraph that is only images becomes figures; an italic paragraph right after it is its
+  // caption (the reports write "![alt](file)" then "*caption*").
+  void flush() {
+    if (para_.empty()) return;
+    const std::string s = paragraphText(para_);
+    para_.clear();
+    const std::vector<std::string> imgs = onlyImages(s);
+    if (imgs.empty()) {
+      o_ << "<p>" << inlineMd(s, image_) << "</p>\n";
       return;
     }
-    o << "<p>" << inlineMd(s, image) << "</p>\n";
-  };
-  while (i < lines.size()) {
-    const std::string& l = lines[i];
-    if (isBlank(l)) {
-      const std::size_t at = i;
-      flush();  // may consume the caption paragraph after a figure
-      if (i == at) ++i;
-      continue;
+    std::size_t end = i_;
+    const std::string next = nextParagraph(i_, end);
+    std::string caption;
+    if (wholeItalic(next)) {
+      caption = inlineMd(next.substr(1, next.size() - 2), image_);
+      i_ = end;
     }
-    if (l.rfind("```", 0) == 0) {
-      flush();
-      std::string code;
-      for (++i; i < lines.size() && lines[i].rfind("```", 0) != 0; ++i) code += lines[i] + "\n";
-      ++i;
-      o << "<pre><code>" << htmlEscape(code) << "</code></pre>\n";
-      continue;
+    o_ << (imgs.size() > 1 ? "<div class=\"gallery\">\n" : "");
+    for (const auto& im : imgs) {
+      const std::size_t rb = im.find("](");
+      const std::string alt = im.substr(2, rb - 2);
+      o_ << "<figure>" << inlineMd(im, image_) << "<figcaption>"
+         << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image_) : caption)
+         << "</figcaption></figure>\n";
     }
-    if (l[0] == '#') {
-      flush();
-      std::size_t level = l.find_first_not_of('#');
-      if (level != std::string::npos && level <= 6 && l[level] == ' ') {
-        const std::string text = l.substr(level + 1);
-        const std::string id = id_prefix + std::to_string(n_heading++);
-        o << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image) << "</h"
-          << level + 1 << ">\n";
-        if (headings) headings->push_back({static_cast<int>(level), id, text});
-        ++i;
-        continue;
-      }
-    }
-    if (l[0] == '|' && i + 1 < lines.size() && isSeparatorRow(lines[i + 1])) {
-      flush();
-      const auto head = tableCells(l);
-      const auto seps = tableCells(lines[i + 1]);
-      std::vector<bool> right(head.size(), false);
-      for (std::size_t c = 0; c < seps.size() && c < right.size(); ++c)
-        right[c] = !seps[c].empty() && seps[c].back() == ':';
-      o << "<div class=\"table-wrap\"><table>\n<thead><tr>";
-      for (std::size_t c = 0; c < head.size(); ++c)
-        o << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image)
-          << "</th>";
-      o << "</tr></thead>\n<tbody>\n";
-      for (i += 2; i < lines.size() && !lines[i].empty() && lines[i][0] == '|'; ++i) {
-        const auto cells = tableCells(lines[i]);
-        o << "<tr>";
-        for (std::size_t c = 0; c < std::max(cells.size(), head.size()); ++c)
-          o << "<td" << (c < right.size() && right[c] ? " class=\"num\"" : "") << ">"
-            << (c < cells.size() ? inlineMd(cells[c], image) : "") << "</td>";
-        o << "</tr>\n";
-      }
-      o << "</tbody></table></div>\n";
-      continue;
-    }
-    if (l.rfind("- ", 0) == 0 || l.rfind("* ", 0) == 0) {
-      flush();
-      o << "<ul>\n";
-      for (; i < lines.size() && (lines[i].rfind("- ", 0) == 0 || lines[i].rfind("* ", 0) == 0);
-           ++i) {
-        std::string item = lines[i].substr(2);
-        while (i + 1 < lines.size() && lines[i + 1].rfind("  ", 0) == 0 && !isBlank(lines[i + 1]))
-          item += " " + lines[++i].substr(2);
-        o << "<li>" << inlineMd(item, image) << "</li>\n";
-      }
-      o << "</ul>\n";
-      continue;
-    }
-    para.push_back(l);
-    ++i;
+    if (imgs.size() > 1 && !caption.empty()) o_ << "<p class=\"caption\">" << caption << "</p>\n";
+    o_ << (imgs.size() > 1 ? "</div>\n" : "");
   }
-  flush();
-  return o.str();
+
+  void code() {
+    std::string text;
+    for (++i_; i_ < lines_.size() && lines_[i_].rfind("```", 0) != 0; ++i_)
+      text += lines_[i_] + "\n";
+    ++i_;
+    o_ << "<pre><code>" << htmlEscape(text) << "</code></pre>\n";
+  }
+
+  void heading(const std::string& l) {
+    const std::size_t level = l.find_first_not_of('#');
+    const std::string text = l.substr(level + 1);
+    const std::string id = id_prefix_ + std::to_string(n_heading_++);
+    o_ << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image_) << "</h"
+       << level + 1 << ">\n";
+    if (headings_) headings_->push_back({static_cast<int>(level), id, text});
+    ++i_;
+  }
+
+  void table() {
+    const auto head = tableCells(lines_[i_]);
+    const auto seps = tableCells(lines_[i_ + 1]);
+    std::vector<bool> right(head.size(), false);
+    for (std::size_t c = 0; c < seps.size() && c < right.size(); ++c)
+      right[c] = !seps[c].empty() && seps[c].back() == ':';
+    o_ << "<div class=\"table-wrap\"><table>\n<thead><tr>";
+    for (std::size_t c = 0; c < head.size(); ++c)
+      o_ << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image_)
+         << "</th>";
+    o_ << "</tr></thead>\n<tbody>\n";
+    for (i_ += 2; i_ < lines_.size() && !lines_[i_].empty() && lines_[i_][0] == '|'; ++i_) {
+      const auto cells = tableCells(lines_[i_]);
+      o_ << "<tr>";
+      for (std::size_t c = 0; c < std::max(cells.size(), head.size()); ++c)
+        o_ << "<td" << (c < right.size() && right[c] ? " class=\"num\"" : "") << ">"
+           << (c < cells.size() ? inlineMd(cells[c], image_) : "") << "</td>";
+      o_ << "</tr>\n";
+    }
+    o_ << "</tbody></table></div>\n";
+  }
+
+  void list() {
+    o_ << "<ul>\n";
+    for (; i_ < lines_.size() && (lines_[i_].rfind("- ", 0) == 0 || lines_[i_].rfind("* ", 0) == 0);
+         ++i_) {
+      std::string item = lines_[i_].substr(2);
+      while (i_ + 1 < lines_.size() && lines_[i_ + 1].rfind("  ", 0) == 0 &&
+             !isBlank(lines_[i_ + 1]))
+        item += " " + lines_[++i_].substr(2);
+      o_ << "<li>" << inlineMd(item, image_) << "</li>\n";
+    }
+    o_ << "</ul>\n";
+  }
+
+  std::vector<std::string> lines_;
+  const std::string& id_prefix_;
+  const Image& image_;
+  std::vector<Heading>* headings_;
+  std::ostringstream o_;
+  std::vector<std::string> para_;
+  int n_heading_ = 0;
+  std::size_t i_ = 0;
+};
+
+}  // namespace
+
+std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
+                           const std::function<std::string(const std::string&)>& image,
+                           std::vector<Heading>* headings) {
+  return MarkdownToHtml(md, id_prefix, image, headings).run();
 }
 
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,

@@ -171,3 +171,61 @@ TEST_CASE(
     CHECK_FALSE(std::regex_search(b.str(), include_re));
   }
 }
+
+namespace {
+
+// Compiles `source` (syntax only) against the include roots of `layers` (their folders under the
+// build's layer_include/) and the generated headers; returns the exit status and the diagnostics.
+std::pair<int, std::string> compileWithLayers(const std::string& source,
+                                              const std::vector<std::string>& layers) {
+  const fs::path dir = fs::temp_directory_path() / "armstudy_layer_compile";
+  fs::create_directories(dir);
+  const fs::path file = dir / "probe.cpp", log = dir / "probe.log";
+  std::ofstream(file) << source;
+  std::string cmd = std::string(ARMSTUDY_CXX) + " -std=c++20 -fsyntax-only";
+  for (const std::string& l : layers) cmd += " -I" + std::string(ARMSTUDY_LAYER_INCLUDE) + "/" + l;
+  cmd += " -I" + std::string(ARMSTUDY_GENERATED) + " " + file.string() + " > " + log.string() +
+         " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  fs::remove_all(dir);
+  return {status, text.str()};
+}
+
+}  // namespace
+
+TEST_CASE("each layer compiles against its own include root: an upward include does not compile",
+          "[architecture]") {
+  // Every layer's root holds exactly its folders (symbolic links into src/).
+  const std::vector<std::string> target_names = {
+      "common", "model",     "kinematics", "tasks",    "metrics", "ik",
+      "drive",  "collision", "trajectory", "dynamics", "io",      "report",
+      "study",  "reach",     "stages",     "engine",   "cli"};
+  REQUIRE(target_names.size() == kLayers.size());
+  for (std::size_t i = 0; i < kLayers.size(); ++i) {
+    const fs::path root = fs::path(ARMSTUDY_LAYER_INCLUDE) / target_names[i];
+    INFO(root.string());
+    REQUIRE(fs::is_directory(root));
+    std::set<std::string> in_root, expected;
+    for (const auto& e : fs::directory_iterator(root)) {
+      CHECK(fs::is_symlink(e.path()));
+      in_root.insert(e.path().filename().string());
+    }
+    for (const std::string& f : kLayers[i])
+      if (f != "armstudy") expected.insert(f);
+    CHECK(in_root == expected);
+  }
+  // A lower layer's header compiles in a higher layer; a higher layer's header does not compile
+  // in a lower one, and the compiler says it cannot find it.
+  const auto [ok, ok_log] =
+      compileWithLayers("#include \"common/errors.hpp\"\n", {"model", "common"});
+  INFO(ok_log);
+  CHECK(ok == 0);
+  const auto [bad, bad_log] = compileWithLayers(
+      "#include \"common/errors.hpp\"\n#include \"study/stage.hpp\"\n", {"common"});
+  INFO(bad_log);
+  CHECK(bad != 0);
+  CHECK(bad_log.find("study/stage.hpp: No such file or directory") != std::string::npos);
+}

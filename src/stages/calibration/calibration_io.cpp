@@ -244,6 +244,124 @@ ReferenceValues readReference(TableReader& e, const std::vector<std::string>& jo
   return ref;
 }
 
+// The keys of mode = "fit" (rejected in compare mode).
+struct FitKeys {
+  bool auto_add = false;
+  std::vector<std::string> add;
+  int folds = defaults::kCvFolds;
+  std::uint64_t seed = defaults::kCvSeed;
+};
+
+FitKeys readFitKeys(TableReader& r, bool fit) {
+  FitKeys k;
+  k.auto_add = r.boolean("auto", false);
+  if (r.has("add")) k.add = r.stringArray("add");
+  if (fit) {
+    k.folds = readCount(r, "folds", defaults::kCvFolds, 2, kMaxFolds);
+    const long long s = r.integer("seed", static_cast<long long>(defaults::kCvSeed));
+    if (s < 0) r.fail("seed", "seed must not be negative");
+    k.seed = static_cast<std::uint64_t>(s);
+  } else {
+    for (const char* key : {"auto", "add", "folds", "seed"})
+      rejectKey(r, key, std::string("'") + key + "' belongs to mode = \"fit\"");
+  }
+  return k;
+}
+
+// The drive kind's keys.
+void readDriveKeys(TableReader& r, const Model& model, const FitKeys& fit, CalibrationEntry& e) {
+  e.joint = r.string("drive");
+  if (model.jointIndex(e.joint) < 0)
+    r.fail("drive", "design '" + model.name + "' has no joint '" + e.joint + "'");
+  bool has_drive = false;
+  for (const Drive& d : model.drives) has_drive = has_drive || d.joint == e.joint;
+  if (!has_drive)
+    r.fail("drive", "design '" + model.name + "' has no [[drive]] for joint '" + e.joint + "'");
+  for (const char* k : {"variable_bins", "workspace_bins"})
+    rejectKey(r, k, std::string("'") + k + "' belongs to the tcp and trajectory kinds");
+  DriveFitOptions& o = e.drive_options;
+  o.folds = fit.folds;
+  o.seed = fit.seed;
+  o.auto_add = fit.auto_add;
+  o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, kMaxBins);
+  o.load_bins = readCount(r, "load_bins", o.load_bins, 1, kMaxBins);
+  for (const std::string& n : fit.add)
+    o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
+  ARMSTUDY_CHECK(o.validate().empty(), "calibration drive options were checked one by one");
+}
+
+// The tcp and trajectory kinds' keys.
+void readArmKeys(TableReader& r, const FitKeys& fit, CalibrationEntry& e) {
+  rejectKey(r, "drive",
+            "'drive' belongs to kind = \"drive\"; the " + e.kind + " kind uses every joint");
+  for (const char* k : {"speed_bins", "load_bins"})
+    rejectKey(r, k, std::string("'") + k + "' belongs to the drive kind");
+  ArmFitOptions& o = e.arm_options;
+  o.folds = fit.folds;
+  o.seed = fit.seed;
+  o.auto_add = fit.auto_add;
+  o.add = fit.add;
+  o.variable_bins = readCount(r, "variable_bins", o.variable_bins, 1, kMaxBins);
+  o.workspace_bins = readCount(r, "workspace_bins", o.workspace_bins, 1, kMaxBins);
+  ARMSTUDY_CHECK(o.validate().empty(), "calibration arm options were checked one by one");
+}
+
+// Where the measurements come from: [calibration.measured] logs (returned) or a data file.
+std::optional<JointLogSpec> readDataSource(TableReader& r, const fs::path& dir,
+                                           CalibrationEntry& e) {
+  std::optional<JointLogSpec> log;
+  if (r.has("measured")) {
+    if (e.kind != "trajectory")
+      r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
+    if (r.has("data"))
+      r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
+    log = readMeasured(r, dir);
+    e.reference = readReference(r, log->joints);
+    e.data_file = log->positions.path;
+  } else {
+    const std::string data = r.string("data");
+    const fs::path resolved =
+        (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
+    if (!fs::is_regular_file(resolved))
+      r.fail("data",
+             "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
+    e.data_file = resolved.string();
+  }
+  return log;
+}
+
+// The data (InputErrors name the data file, line and column), then the effect names of the arm
+// kinds, whose catalogue depends on the design and the data.
+void loadEntryData(TableReader& r, const Model& model, const std::optional<JointLogSpec>& log,
+                   const std::vector<std::string>& add, CalibrationEntry& e) {
+  if (e.kind == "drive") {
+    e.drive_data = std::make_shared<const DriveData>(readDriveData(e.data_file));
+  } else {
+    if (log) {
+      e.arm_data.kind = e.kind;
+      e.arm_data.trajectory = std::make_shared<const TrajectoryData>(readJointLog(*log, model));
+      e.log = std::make_shared<const JointLogSpec>(*log);
+    } else {
+      e.arm_data = readArmData(e.kind, e.data_file, model);
+    }
+    if (!add.empty() || !e.reference.values.empty()) {
+      const auto P = makeArmProblem(model, e.arm_data);
+      for (const std::string& n : add)
+        if (P->findEffect(n) < 0) {
+          std::string names;
+          for (const ArmEffect& c : P->catalogue) names += (names.empty() ? "" : ", ") + c.name;
+          r.fail("add",
+                 "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
+        }
+      for (const auto& [key, v] : e.reference.values)
+        if (P->findEffect(key) < 0)
+          throw InputError(r.file(), e.reference.line, key,
+                           "reference value for '" + key +
+                               "', which is no candidate effect of this design and data");
+    }
+  }
+}
+
 CalibrationEntry readEntry(TableReader& r, const fs::path& dir,
                            const std::vector<const Model*>& designs) {
   CalibrationEntry e;
@@ -268,103 +386,14 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir,
   if (mode != "fit" && mode != "compare")
     r.fail("mode", "unknown mode '" + mode + "' (expected fit or compare)");
   e.fit = mode == "fit";
-  const bool auto_add = r.boolean("auto", false);
-  std::vector<std::string> add;
-  if (r.has("add")) add = r.stringArray("add");
-  int folds = defaults::kCvFolds;
-  std::uint64_t seed = defaults::kCvSeed;
-  if (e.fit) {
-    folds = readCount(r, "folds", defaults::kCvFolds, 2, kMaxFolds);
-    const long long s = r.integer("seed", static_cast<long long>(defaults::kCvSeed));
-    if (s < 0) r.fail("seed", "seed must not be negative");
-    seed = static_cast<std::uint64_t>(s);
-  } else {
-    for (const char* k : {"auto", "add", "folds", "seed"})
-      rejectKey(r, k, std::string("'") + k + "' belongs to mode = \"fit\"");
-  }
-
-  if (e.kind == "drive") {
-    e.joint = r.string("drive");
-    if (model->jointIndex(e.joint) < 0)
-      r.fail("drive", "design '" + model->name + "' has no joint '" + e.joint + "'");
-    bool has_drive = false;
-    for (const Drive& d : model->drives) has_drive = has_drive || d.joint == e.joint;
-    if (!has_drive)
-      r.fail("drive", "design '" + model->name + "' has no [[drive]] for joint '" + e.joint + "'");
-    for (const char* k : {"variable_bins", "workspace_bins"})
-      rejectKey(r, k, std::string("'") + k + "' belongs to the tcp and trajectory kinds");
-    DriveFitOptions& o = e.drive_options;
-    o.folds = folds;
-    o.seed = seed;
-    o.auto_add = auto_add;
-    o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, kMaxBins);
-    o.load_bins = readCount(r, "load_bins", o.load_bins, 1, kMaxBins);
-    for (const std::string& n : add)
-      o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
-    ARMSTUDY_CHECK(o.validate().empty(), "calibration drive options were checked one by one");
-  } else {
-    rejectKey(r, "drive",
-              "'drive' belongs to kind = \"drive\"; the " + e.kind + " kind uses every joint");
-    for (const char* k : {"speed_bins", "load_bins"})
-      rejectKey(r, k, std::string("'") + k + "' belongs to the drive kind");
-    ArmFitOptions& o = e.arm_options;
-    o.folds = folds;
-    o.seed = seed;
-    o.auto_add = auto_add;
-    o.add = add;
-    o.variable_bins = readCount(r, "variable_bins", o.variable_bins, 1, kMaxBins);
-    o.workspace_bins = readCount(r, "workspace_bins", o.workspace_bins, 1, kMaxBins);
-    ARMSTUDY_CHECK(o.validate().empty(), "calibration arm options were checked one by one");
-  }
-
-  std::optional<JointLogSpec> log;
-  if (r.has("measured")) {
-    if (e.kind != "trajectory")
-      r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
-    if (r.has("data"))
-      r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
-    log = readMeasured(r, dir);
-    e.reference = readReference(r, log->joints);
-    e.data_file = log->positions.path;
-  } else {
-    const std::string data = r.string("data");
-    const fs::path resolved =
-        (fs::path(data).is_absolute() ? fs::path(data) : dir / data).lexically_normal();
-    if (!fs::is_regular_file(resolved))
-      r.fail("data",
-             "data file '" + data + "' does not exist (looked for " + resolved.string() + ")");
-    e.data_file = resolved.string();
-  }
+  const FitKeys fit = readFitKeys(r, e.fit);
+  if (e.kind == "drive")
+    readDriveKeys(r, *model, fit, e);
+  else
+    readArmKeys(r, fit, e);
+  const std::optional<JointLogSpec> log = readDataSource(r, dir, e);
   r.finish();
-
-  // The data (InputErrors name the data file, line and column), then the effect names of the arm
-  // kinds, whose catalogue depends on the design and the data.
-  if (e.kind == "drive") {
-    e.drive_data = std::make_shared<const DriveData>(readDriveData(e.data_file));
-  } else {
-    if (log) {
-      e.arm_data.kind = e.kind;
-      e.arm_data.trajectory = std::make_shared<const TrajectoryData>(readJointLog(*log, *model));
-      e.log = std::make_shared<const JointLogSpec>(*log);
-    } else {
-      e.arm_data = readArmData(e.kind, e.data_file, *model);
-    }
-    if (!add.empty() || !e.reference.values.empty()) {
-      const auto P = makeArmProblem(*model, e.arm_data);
-      for (const std::string& n : add)
-        if (P->findEffect(n) < 0) {
-          std::string names;
-          for (const ArmEffect& c : P->catalogue) names += (names.empty() ? "" : ", ") + c.name;
-          r.fail("add",
-                 "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
-        }
-      for (const auto& [key, v] : e.reference.values)
-        if (P->findEffect(key) < 0)
-          throw InputError(r.file(), e.reference.line, key,
-                           "reference value for '" + key +
-                               "', which is no candidate effect of this design and data");
-    }
-  }
+  loadEntryData(r, *model, log, fit.add, e);
   return e;
 }
 

@@ -18,6 +18,7 @@
 #include "calibration/identification_report.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
+#include "common/parallel_for.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "report/markdown.hpp"
@@ -141,6 +142,113 @@ std::string relativeTo(const std::string& path, const std::string& root) {
   return fs::path(path).lexically_relative(fs::path(root)).generic_string();
 }
 
+// The files and summary of a drive entry; returns the calibrated design's path (empty: none).
+std::string writeDriveEntry(const Work& w, const std::string& cal_dir, EntrySummary& s) {
+  const CalibrationEntry& e = *w.entry;
+  std::string cal_path;
+  const DriveDiagnosis& d = *w.drive;
+  DriveReportOptions ro;
+  ro.out_dir = w.folder;
+  ro.command = s.mode;
+  ro.write_calibrated_design = e.fit;
+  ro.lock = false;  // the study's output folder is locked
+  const DriveReportSummary rs = writeDriveReport(d, w.model, *e.drive_data, ro);
+  s.unit = "A";
+  s.noise_estimate = d.noise_estimate;
+  s.as_designed_rmse = d.as_designed_cmp.current.rmse;
+  s.as_designed_flagged = d.as_designed_cmp.map.flagged();
+  s.bins = static_cast<int>(d.as_designed_cmp.map.bins.size());
+  for (const ModelFit& m : d.ladder)
+    s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+  for (const EffectInfo& info : driveEffectCatalogue()) {
+    s.catalogue.push_back(info.name);
+    bool sig = false;
+    for (const Candidate& c : d.ranking) sig = sig || (c.effect == info.effect && c.significant);
+    s.significant.push_back(sig ? 1 : 0);
+  }
+  for (drive::Effect x : d.added) s.added.push_back(drive::toString(x));
+  s.warnings = d.warnings;
+  if (e.fit) {
+    s.verdict = d.verdict;
+    s.rmse_before = d.rmse_before;
+    s.rmse_after = d.rmse_after;
+    s.final_params = d.final_fit.params;
+    cal_path = rs.calibrated_design_path;
+    if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty())
+      s.notes.push_back(why);
+  }
+  if (e.fit && !cal_path.empty()) {
+    // The calibrated copy as written, read back and compared with the same data.
+    const Model cal = loadDesign(cal_path);
+    const DriveDiagnosis c = compareDrive(cal, e.joint, *e.drive_data, e.drive_options);
+    DriveReportOptions co;
+    co.out_dir = cal_dir;
+    co.command = "compare";
+    co.lock = false;
+    writeDriveReport(c, cal, *e.drive_data, co);
+    s.calibrated_rmse = c.as_designed_cmp.current.rmse;
+    s.calibrated_flagged = c.as_designed_cmp.map.flagged();
+  }
+  if (!e.fit) s.verdict = "compare only";
+  return cal_path;
+}
+
+// The files and summary of an arm entry; returns the calibrated design's path (empty: none).
+std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummary& s) {
+  const CalibrationEntry& e = *w.entry;
+  std::string cal_path;
+  const ArmDiagnosis& d = *w.arm;
+  const ArmProblem& P = *w.problem;
+  if (e.fit) {
+    std::vector<std::pair<std::string, std::string>> extra;
+    if (e.log) {
+      IdentificationInput in;
+      in.reference_source = e.reference.source;
+      in.reference = e.reference.values;
+      const IdentificationReport ir =
+          identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
+      extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
+      s.extra_metrics = ir.metrics;
+    }
+    const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false, extra);
+    cal_path = f.calibrated_design_path;
+    s.notes = f.notes;
+  } else {
+    writeArmReport(d, P, ArmReportOptions{w.folder, "compare", {}, false}, "");
+  }
+  s.unit = P.fit_unit;
+  s.noise_estimate = d.noise_estimate;
+  s.as_designed_rmse = d.as_designed.train_rmse;
+  s.as_designed_flagged = d.as_designed_map.flagged();
+  s.bins = static_cast<int>(d.as_designed_map.bins.size());
+  for (const ArmFit& m : d.ladder)
+    s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
+  for (std::size_t k = 0; k < P.catalogue.size(); ++k) {
+    s.catalogue.push_back(P.catalogue[k].name);
+    bool sig = false;
+    for (const ArmCandidate& c : d.ranking)
+      sig = sig || (c.effect == static_cast<int>(k) && c.significant);
+    s.significant.push_back(sig ? 1 : 0);
+  }
+  s.added = d.added;
+  s.warnings = d.warnings;
+  s.verdict = e.fit ? d.verdict : "compare only";
+  if (e.fit) {
+    s.rmse_before = d.rmse_before;
+    s.rmse_after = d.rmse_after;
+    s.final_params = d.final_fit.params;
+  }
+  if (e.fit && !cal_path.empty()) {
+    const Model cal = loadDesign(cal_path);
+    const auto Pc = makeArmProblem(cal, e.arm_data);
+    const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
+    writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false}, "");
+    s.calibrated_rmse = c.as_designed.train_rmse;
+    s.calibrated_flagged = c.as_designed_map.flagged();
+  }
+  return cal_path;
+}
+
 // Phase 2: the files (what `armstudy fit|compare` writes, plus the compare of the calibrated copy
 // in calibrated/) and the entry summary.
 EntrySummary writeEntry(Work& w, const std::string& output_dir) {
@@ -160,104 +268,9 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
   fs::create_directories(w.folder);
   if (!w.variant_text.empty()) writeFileAtomic(w.model.file, w.variant_text);
   const std::string cal_dir = w.folder + "/calibrated";
-  std::string cal_path;
 
-  if (w.drive) {
-    const DriveDiagnosis& d = *w.drive;
-    DriveReportOptions ro;
-    ro.out_dir = w.folder;
-    ro.command = s.mode;
-    ro.write_calibrated_design = e.fit;
-    ro.lock = false;  // the study's output folder is locked
-    const DriveReportSummary rs = writeDriveReport(d, w.model, *e.drive_data, ro);
-    s.unit = "A";
-    s.noise_estimate = d.noise_estimate;
-    s.as_designed_rmse = d.as_designed_cmp.current.rmse;
-    s.as_designed_flagged = d.as_designed_cmp.map.flagged();
-    s.bins = static_cast<int>(d.as_designed_cmp.map.bins.size());
-    for (const ModelFit& m : d.ladder)
-      s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
-    for (const EffectInfo& info : driveEffectCatalogue()) {
-      s.catalogue.push_back(info.name);
-      bool sig = false;
-      for (const Candidate& c : d.ranking) sig = sig || (c.effect == info.effect && c.significant);
-      s.significant.push_back(sig ? 1 : 0);
-    }
-    for (drive::Effect x : d.added) s.added.push_back(drive::toString(x));
-    s.warnings = d.warnings;
-    if (e.fit) {
-      s.verdict = d.verdict;
-      s.rmse_before = d.rmse_before;
-      s.rmse_after = d.rmse_after;
-      s.final_params = d.final_fit.params;
-      cal_path = rs.calibrated_design_path;
-      if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty())
-        s.notes.push_back(why);
-    }
-    if (e.fit && !cal_path.empty()) {
-      // The calibrated copy as written, read back and compared with the same data.
-      const Model cal = loadDesign(cal_path);
-      const DriveDiagnosis c = compareDrive(cal, e.joint, *e.drive_data, e.drive_options);
-      DriveReportOptions co;
-      co.out_dir = cal_dir;
-      co.command = "compare";
-      co.lock = false;
-      writeDriveReport(c, cal, *e.drive_data, co);
-      s.calibrated_rmse = c.as_designed_cmp.current.rmse;
-      s.calibrated_flagged = c.as_designed_cmp.map.flagged();
-    }
-    if (!e.fit) s.verdict = "compare only";
-  } else {
-    const ArmDiagnosis& d = *w.arm;
-    const ArmProblem& P = *w.problem;
-    if (e.fit) {
-      std::vector<std::pair<std::string, std::string>> extra;
-      if (e.log) {
-        IdentificationInput in;
-        in.reference_source = e.reference.source;
-        in.reference = e.reference.values;
-        const IdentificationReport ir =
-            identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
-        extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
-        s.extra_metrics = ir.metrics;
-      }
-      const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false, extra);
-      cal_path = f.calibrated_design_path;
-      s.notes = f.notes;
-    } else {
-      writeArmReport(d, P, ArmReportOptions{w.folder, "compare", {}, false}, "");
-    }
-    s.unit = P.fit_unit;
-    s.noise_estimate = d.noise_estimate;
-    s.as_designed_rmse = d.as_designed.train_rmse;
-    s.as_designed_flagged = d.as_designed_map.flagged();
-    s.bins = static_cast<int>(d.as_designed_map.bins.size());
-    for (const ArmFit& m : d.ladder)
-      s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
-    for (std::size_t k = 0; k < P.catalogue.size(); ++k) {
-      s.catalogue.push_back(P.catalogue[k].name);
-      bool sig = false;
-      for (const ArmCandidate& c : d.ranking)
-        sig = sig || (c.effect == static_cast<int>(k) && c.significant);
-      s.significant.push_back(sig ? 1 : 0);
-    }
-    s.added = d.added;
-    s.warnings = d.warnings;
-    s.verdict = e.fit ? d.verdict : "compare only";
-    if (e.fit) {
-      s.rmse_before = d.rmse_before;
-      s.rmse_after = d.rmse_after;
-      s.final_params = d.final_fit.params;
-    }
-    if (e.fit && !cal_path.empty()) {
-      const Model cal = loadDesign(cal_path);
-      const auto Pc = makeArmProblem(cal, e.arm_data);
-      const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
-      writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false}, "");
-      s.calibrated_rmse = c.as_designed.train_rmse;
-      s.calibrated_flagged = c.as_designed_map.flagged();
-    }
-  }
+  const std::string cal_path =
+      w.drive ? writeDriveEntry(w, cal_dir, s) : writeArmEntry(w, cal_dir, s);
   if (!cal_path.empty()) s.calibrated_design = relativeTo(cal_path, w.folder);
 
   // Every file of the entry folder, sorted (the reports list theirs in different forms).
@@ -455,29 +468,12 @@ StageResult runCalibrationStage(const StageContext& ctx,
   // the first one in entry order is rethrown.
   batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& unit_done) {
     const int m = static_cast<int>(todo.size());
-    std::vector<std::exception_ptr> errors(m);
-#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
-    for (int k = 0; k < m; ++k) {
-      try {
-        diagnose(work[todo[k]]);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    }
-    for (const auto& err : errors)
-      if (err) std::rethrow_exception(err);
-#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
-    for (int k = 0; k < m; ++k) {
-      try {
-        const std::size_t i = todo[k];
-        done[i] = writeEntry(work[i], ctx.output_dir);
-        unit_done(i, checkpointBytes(*done[i], ctx.output_dir));
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    }
-    for (const auto& err : errors)
-      if (err) std::rethrow_exception(err);
+    parallelFor(m, ctx.threads, [&](int k) { diagnose(work[todo[k]]); });
+    parallelFor(m, ctx.threads, [&](int k) {
+      const std::size_t i = todo[k];
+      done[i] = writeEntry(work[i], ctx.output_dir);
+      unit_done(i, checkpointBytes(*done[i], ctx.output_dir));
+    });
   };
   sum.units_resumed = ctx.units.run(batch);
 

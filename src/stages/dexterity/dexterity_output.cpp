@@ -145,12 +145,9 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
   loaded.dof = m.dof();
   loaded.grid = options.grid;
   loaded.cells.resize(options.grid.size());
-  std::vector<ItemRange> done, todo;
+  std::vector<ItemRange> done;
   std::optional<DexterityMap> computed;
-  UnitBatch batch;
-  for (const ItemRange& r : ranges)
-    batch.ids.push_back("dexterity/" + m.name + "/rows_" + r.text());
-  batch.load = [&](std::size_t k, const std::string& bytes) {
+  auto load = [&](std::size_t k, const std::string& bytes) {
     ItemRange got;
     if (!(deserializeRows(bytes, loaded, got) && got.begin == ranges[k].begin &&
           got.end == ranges[k].end))
@@ -158,15 +155,16 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
     done.push_back(ranges[k]);
     return true;
   };
-  batch.compute = [&](const std::vector<std::size_t>& list, const UnitBatch::Done& unit_done) {
-    todo.clear();  // a later call replaces an earlier one's units (UnitBatch)
-    for (std::size_t k : list) todo.push_back(ranges[k]);
+  auto compute = [&](const std::vector<std::size_t>&, const std::vector<ItemRange>& todo,
+                     const RangeDone& unit_done) {
+    // A later call replaces an earlier one's units (UnitBatch).
     computed = computeDexterityRows(m, options, todo, ctx.threads,
                                     [&](std::size_t j, const DexterityMap& partial) {
-                                      unit_done(list[j], serializeRows(partial, todo[j]));
+                                      unit_done(j, serializeRows(partial, todo[j]));
                                     });
   };
-  units_resumed += ctx.units.run(batch);
+  units_resumed += ctx.units.run(
+      rangeUnitBatch(unitIds("dexterity/" + m.name + "/rows_", ranges), ranges, load, compute));
   DexterityMap map =
       computed ? std::move(*computed) : computeDexterityRows(m, options, {}, ctx.threads);
   const int G = options.grid.gamma_rad.count;

@@ -170,36 +170,36 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
   const std::vector<ItemRange> grid_units =
       splitRange(np, unit_items > 0 ? unit_items : defaults::kHarvestUnitGridPoints);
   const std::size_t F = fruit_units.size();
-  auto range = [&](std::size_t k) { return k < F ? fruit_units[k] : grid_units[k - F]; };
-  UnitBatch batch;
-  for (const ItemRange& r : fruit_units)
-    batch.ids.push_back("harvest/" + model.name + "/fruits_" + r.text());
-  for (const ItemRange& r : grid_units)
-    batch.ids.push_back("harvest/" + model.name + "/grid_" + r.text());
+  std::vector<std::string> ids = unitIds("harvest/" + model.name + "/fruits_", fruit_units);
+  for (const std::string& id : unitIds("harvest/" + model.name + "/grid_", grid_units))
+    ids.push_back(id);
+  std::vector<ItemRange> ranges = fruit_units;
+  ranges.insert(ranges.end(), grid_units.begin(), grid_units.end());
   DesignResult loaded;
   loaded.fruits.resize(nf);
   loaded.grid.resize(np);
   std::vector<ItemRange> fruits_loaded, grid_loaded;
-  batch.load = [&](std::size_t k, const std::string& bytes) {
+  auto load = [&](std::size_t k, const std::string& bytes) {
     ItemRange got;
     const bool ok =
         k < F ? deserializeFruits(bytes, loaded, got) : deserializeGridPoints(bytes, loaded, got);
-    if (!ok || got.begin != range(k).begin || got.end != range(k).end) return false;
-    (k < F ? fruits_loaded : grid_loaded).push_back(range(k));
+    if (!ok || got.begin != ranges[k].begin || got.end != ranges[k].end) return false;
+    (k < F ? fruits_loaded : grid_loaded).push_back(ranges[k]);
     return true;
   };
   HarvestWork work;
   std::vector<std::size_t> fruit_ids, grid_ids;
   std::optional<DesignResult> computed;
-  batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+  auto compute = [&](const std::vector<std::size_t>& units, const std::vector<ItemRange>& todo,
+                     const armstudy::RangeDone& done) {
     // A later call replaces an earlier one's units (UnitBatch).
     work.fruits.clear();
     work.grid.clear();
     fruit_ids.clear();
     grid_ids.clear();
-    for (std::size_t k : todo) {
-      (k < F ? work.fruits : work.grid).push_back(range(k));
-      (k < F ? fruit_ids : grid_ids).push_back(k);
+    for (std::size_t j = 0; j < units.size(); ++j) {
+      (units[j] < F ? work.fruits : work.grid).push_back(todo[j]);
+      (units[j] < F ? fruit_ids : grid_ids).push_back(j);
     }
     work.fruits_done = [&](std::size_t j, const DesignResult& d) {
       done(fruit_ids[j], serializeFruits(d, work.fruits[j]));
@@ -209,7 +209,7 @@ DesignResult unitDesign(const StageContext& ctx, const Model& model, const Harve
     };
     computed = evaluateHarvestDesign(model, options, row, ctx.threads, &work);
   };
-  units_resumed += ctx.units.run(batch);
+  units_resumed += ctx.units.run(rangeUnitBatch(ids, ranges, load, compute));
   DesignResult d = computed ? std::move(*computed)
                             : evaluateHarvestDesign(model, options, row, ctx.threads, &work);
   for (const ItemRange& u : fruits_loaded)

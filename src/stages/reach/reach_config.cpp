@@ -88,19 +88,10 @@ void checkName(TableReader& r, const std::string& name, std::set<std::string>& n
   if (!names.insert(name).second) r.fail("name", "name '" + name + "' is used twice in [reach]");
 }
 
-}  // namespace
-
-void readReachSection(TableReader& top, const std::string& study_dir,
-                      const std::vector<const Model*>& models,
-                      const std::vector<collision::Obstacle>& obstacles, ReachConfig& cfg,
-                      std::vector<std::pair<std::string, std::string>>& files_read) {
-  namespace fs = std::filesystem;
-  const toml::table* t = top.table("reach");
-  if (!t) return;
-  cfg.enabled = true;
-  TableReader r(*t, top.file(), "reach");
-  std::vector<const Model*>
-      evaluated;  // the designs this stage evaluates (key designs; default all)
+// The designs this stage evaluates (key `designs`; default all).
+std::vector<const Model*> readEvaluated(TableReader& r, const std::vector<const Model*>& models,
+                                        ReachConfig& cfg) {
+  std::vector<const Model*> evaluated;
   if (r.has("designs")) {
     cfg.designs = r.stringArray("designs");
     if (cfg.designs.empty()) r.fail("designs", "empty list of designs");
@@ -117,7 +108,13 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   } else {
     evaluated = models;
   }
-  if (const toml::table* ta = r.table("tool_axis")) {  // per design: name = "y" | [x, y, z]
+  return evaluated;
+}
+
+// [reach.tool_axis]: per evaluated design, name = "y" | [x, y, z].
+void readToolAxes(TableReader& r, const TableReader& top,
+                  const std::vector<const Model*>& evaluated, ReachConfig& cfg) {
+  if (const toml::table* ta = r.table("tool_axis")) {
     TableReader tr(*ta, top.file(), r.keyPath("tool_axis"));
     for (auto&& [key, value] : *ta) {
       const std::string name(key.str());
@@ -132,7 +129,10 @@ void readReachSection(TableReader& top, const std::string& study_dir,
     }
     tr.finish();
   }
-  const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
+}
+
+// The solver's tolerances, starts and seed.
+void readIkSettings(TableReader& r, ReachConfig& cfg) {
   cfg.ik.position_tolerance_m =
       r.quantity("position_tolerance", Dimension::Length, cfg.ik.position_tolerance_m);
   if (!(cfg.ik.position_tolerance_m > 0))
@@ -152,26 +152,33 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   if (seed < 0) r.fail("seed", "seed must not be negative");
   cfg.ik.seed = static_cast<std::uint64_t>(seed);
   cfg.ik.classify_failures = r.boolean("classify", true);
-  {
-    // Designs without collision volumes are evaluated without collisions
-    // (ReachConfig::collisionFor).
-    bool any_has_model = false;
-    for (const Model* m : evaluated) any_has_model |= !m->collision.empty();
-    cfg.collision.self = r.boolean("self_collision", any_has_model);
-    if (cfg.collision.self && !any_has_model)
-      r.fail("self_collision",
-             "self_collision = true needs a collision model, but no design of the study has one "
-             "(add [[collision]] volumes or set self_collision = false)");
-    const bool use_obstacles = r.boolean("obstacles", !obstacles.empty());
-    if (use_obstacles && obstacles.empty())
-      r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
-    if (use_obstacles && !any_has_model)
-      r.fail("obstacles",
-             "obstacles are checked against the designs' collision volumes, but no design of the "
-             "study has any (add [[collision]] volumes or set obstacles = false)");
-    if (use_obstacles) cfg.collision.obstacles = obstacles;
-    cfg.collision.nullspace_escape = r.boolean("nullspace_escape", true);
-  }
+}
+
+// Self-collision and obstacles.
+void readCollisionSettings(TableReader& r, const std::vector<const Model*>& evaluated,
+                           const std::vector<collision::Obstacle>& obstacles, ReachConfig& cfg) {
+  // Designs without collision volumes are evaluated without collisions
+  // (ReachConfig::collisionFor).
+  bool any_has_model = false;
+  for (const Model* m : evaluated) any_has_model |= !m->collision.empty();
+  cfg.collision.self = r.boolean("self_collision", any_has_model);
+  if (cfg.collision.self && !any_has_model)
+    r.fail("self_collision",
+           "self_collision = true needs a collision model, but no design of the study has one "
+           "(add [[collision]] volumes or set self_collision = false)");
+  const bool use_obstacles = r.boolean("obstacles", !obstacles.empty());
+  if (use_obstacles && obstacles.empty())
+    r.fail("obstacles", "obstacles = true but the study declares no [[obstacle]] entries");
+  if (use_obstacles && !any_has_model)
+    r.fail("obstacles",
+           "obstacles are checked against the designs' collision volumes, but no design of the "
+           "study has any (add [[collision]] volumes or set obstacles = false)");
+  if (use_obstacles) cfg.collision.obstacles = obstacles;
+  cfg.collision.nullspace_escape = r.boolean("nullspace_escape", true);
+}
+
+// [reach.search], [reach.audit] and the outputs.
+void readSearchAuditOutputs(TableReader& r, const TableReader& top, ReachConfig& cfg) {
   if (const toml::table* t = r.table("search")) {  // docs/reachability.md, "What a status claims"
     TableReader se(*t, top.file(), r.keyPath("search"));
     cfg.search.propagation_rounds =
@@ -208,8 +215,11 @@ void readReachSection(TableReader& top, const std::string& study_dir,
         r.fail("outputs", "unknown output '" + o + "' (expected vtk, images, surface)");
     }
   }
+}
 
-  std::set<std::string> names;
+// [[reach.grid]] tables.
+void readGrids(TableReader& r, const TableReader& top, const TaskSpace& default_space,
+               std::set<std::string>& names, ReachConfig& cfg) {
   int idx = 0;
   if (const toml::array* grids = r.array("grid")) {
     for (const auto& e : *grids) {
@@ -239,7 +249,14 @@ void readReachSection(TableReader& top, const std::string& study_dir,
       cfg.grids.push_back(grid);
     }
   }
-  idx = 0;
+}
+
+// [[reach.poses]] tables: pose lists read from CSV files.
+void readPoseLists(TableReader& r, const TableReader& top, const std::string& study_dir,
+                   const TaskSpace& default_space, std::set<std::string>& names, ReachConfig& cfg,
+                   std::vector<std::pair<std::string, std::string>>& files_read) {
+  namespace fs = std::filesystem;
+  int idx = 0;
   if (const toml::array* lists = r.array("poses")) {
     for (const auto& e : *lists) {
       if (!e.is_table())
@@ -264,6 +281,27 @@ void readReachSection(TableReader& top, const std::string& study_dir,
       cfg.pose_lists.push_back(std::move(list));
     }
   }
+}
+
+}  // namespace
+
+void readReachSection(TableReader& top, const std::string& study_dir,
+                      const std::vector<const Model*>& models,
+                      const std::vector<collision::Obstacle>& obstacles, ReachConfig& cfg,
+                      std::vector<std::pair<std::string, std::string>>& files_read) {
+  const toml::table* t = top.table("reach");
+  if (!t) return;
+  cfg.enabled = true;
+  TableReader r(*t, top.file(), "reach");
+  const std::vector<const Model*> evaluated = readEvaluated(r, models, cfg);
+  readToolAxes(r, top, evaluated, cfg);
+  const TaskSpace default_space = readTaskSpace(r, "task_space", TaskSpace::spraying());
+  readIkSettings(r, cfg);
+  readCollisionSettings(r, evaluated, obstacles, cfg);
+  readSearchAuditOutputs(r, top, cfg);
+  std::set<std::string> names;
+  readGrids(r, top, default_space, names, cfg);
+  readPoseLists(r, top, study_dir, default_space, names, cfg, files_read);
   r.finish();
   if (cfg.grids.empty() && cfg.pose_lists.empty())
     throw InputError(top.file(), r.line(), "reach",

@@ -78,9 +78,7 @@ class UnitSweepJob {
   UnitSweepJob& operator=(const UnitSweepJob&) = delete;
 
   UnitBatch batch() {
-    UnitBatch batch;
-    for (const ItemRange& r : ranges_) batch.ids.push_back(prefix_ + "/units_" + r.text());
-    batch.load = [this](std::size_t k, const std::string& bytes) {
+    auto load = [this](std::size_t k, const std::string& bytes) {
       PoseSweep c;
       const long first = ranges_[k].begin * len_,
                  n = std::min(poses_, ranges_[k].end * len_) - first;
@@ -92,16 +90,14 @@ class UnitSweepJob {
       chunks_.push_back(std::move(c));
       return true;
     };
-    batch.compute = [this](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
+    auto compute = [this](const std::vector<std::size_t>&, const std::vector<ItemRange>& todo,
+                          const RangeDone& done) {
       solved_.clear();  // each call replaces the previous one's units (UnitBatch)
       if (todo.empty()) return;
-      std::vector<ItemRange> todo_ranges;
-      for (std::size_t k : todo) todo_ranges.push_back(ranges_[k]);
-      solved_ = sweep_ranges_(todo_ranges, [&](std::size_t j, const PoseSweep& c) {
-        done(todo[j], serializeSweep(c));
-      });
+      solved_ = sweep_ranges_(
+          todo, [&](std::size_t j, const PoseSweep& c) { done(j, serializeSweep(c)); });
     };
-    return batch;
+    return rangeUnitBatch(unitIds(prefix_ + "/units_", ranges_), ranges_, load, compute);
   }
 
   PoseSweep finish(StageResult& sum) {

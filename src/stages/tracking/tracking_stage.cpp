@@ -14,6 +14,7 @@
 
 #include "collision/collision_term.hpp"
 #include "common/errors.hpp"
+#include "common/parallel_for.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
 #include "report/markdown.hpp"
@@ -248,20 +249,12 @@ long runUnits(const StageContext& ctx, const std::vector<TrackingEntry>& entries
     return true;
   };
   batch.compute = [&](const std::vector<std::size_t>& todo, const UnitBatch::Done& done) {
-    const int m = static_cast<int>(todo.size());
-    std::vector<std::exception_ptr> errors(m);  // e.g. a full disk while saving: rethrown below
-#pragma omp parallel for schedule(dynamic) num_threads(ctx.threads)
-    for (int k = 0; k < m; ++k) {
-      try {
-        const std::size_t u = todo[k];
-        runOf(u) = evaluateTrackingRun(*models[u / 2], entries[u / 2], lines[u / 2], kindOf(u));
-        done(u, serializeRun(runOf(u)));
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    }
-    for (const auto& e : errors)
-      if (e) std::rethrow_exception(e);
+    // Errors (e.g. a full disk while saving) are rethrown after the loop.
+    parallelFor(static_cast<int>(todo.size()), ctx.threads, [&](int k) {
+      const std::size_t u = todo[k];
+      runOf(u) = evaluateTrackingRun(*models[u / 2], entries[u / 2], lines[u / 2], kindOf(u));
+      done(u, serializeRun(runOf(u)));
+    });
   };
   return ctx.units.run(batch);
 }
