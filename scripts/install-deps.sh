@@ -13,7 +13,9 @@ PKGS=(build-essential cmake ninja-build ccache git pkg-config
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
       libopenmpi-dev openmpi-bin
       clang-format  # scripts/check-format.sh, run by .ci/run
-      python3)  # the distribution simulator's tests (tests/study/interleave_test.cpp)
+      python3  # the distribution simulator's tests (tests/study/interleave_test.cpp)
+      python3-dev pybind11-dev python3-numpy  # the Python module (src/python, docs/python.md)
+      python3-pykdl)  # orocos-kdl from Python: the oracle of the Python module's tests
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

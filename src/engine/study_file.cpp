@@ -320,15 +320,18 @@ void readStageSections(TableReader& top, const fs::path& dir, Study& s) {
 
 // Reads the study file: header, designs, variants, obstacles, regression, stage sections.
 Study loadStudy(const std::string& path) {
+  return loadStudyText(readFileOrThrow(path), path, fs::path(path).parent_path().string());
+}
+
+Study loadStudyText(const std::string& text, const std::string& path, const std::string& folder) {
   Study s;
   s.file = path;
-  const std::string text = readFileOrThrow(path);
   s.file_hash = contentHash(text);
   s.inputs.push_back({path, s.file_hash});
   const toml::table root = io::parseTomlText(text, path);
   TableReader top(root, path, "");
   readStudyHeader(top, s);
-  const fs::path dir = fs::path(path).parent_path();
+  const fs::path dir = folder;
   BaseDesigns bases;
   readDesigns(top, path, dir, s, bases);
   readVariants(top, path, bases, s);

@@ -417,6 +417,17 @@ double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target
   return rowsManipulability(J, 0, position + angular);
 }
 
+int taskJacobianRows(const KinematicsWorkspace& kin, const IkTarget& target, Jacobian6& J_out) {
+  const Context c = makeContext(nullptr, target, 1.0);
+  if (cardanSelection(c)) {
+    J_out.setZero(6, kin.n);
+    return taskJacobian(c, kin, J_out) ? c.m : 0;
+  }
+  int angular = 0;
+  const int position = geometricTaskRows(c, kin, J_out, angular);
+  return position + angular;
+}
+
 double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
   IkTarget t;
   t.task_space = task_space;

@@ -167,6 +167,11 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
 // 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's
 // singularity.
 double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target);
+// The rows of the task Jacobian whose Yoshikawa value taskManipulability reports, into J_out
+// (rows beyond the returned count are zero): the geometric rows the target constrains, or for a
+// Cardan selection its analytic rows (eq. 5.11). Returns the number of rows; 0 at that
+// representation's singularity. Requires tcpJacobian.
+int taskJacobianRows(const KinematicsWorkspace& kin, const IkTarget& target, Jacobian6& J_out);
 // The thesis' Cardan value of a task space (analytic rows eq. 5.11, e.g. spraying's alpha and
 // gamma rows): depends on the angle representation (it equals the tool-axis value divided by
 // |cos beta|), so it is only for reproducing the thesis' figures, never for comparisons.

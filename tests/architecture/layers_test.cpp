@@ -37,7 +37,7 @@ const std::vector<std::vector<std::string>> kLayers = {
     {"reach", "dexterity", "calibration"},
     {"stages"},
     {"engine"},
-    {"cli"},
+    {"cli", "python"},
 };
 
 int layerOf(const std::string& folder) {

@@ -1,0 +1,180 @@
+# Typed stub of the armstudy extension module (docs/python.md). Arrays are float64 numpy arrays;
+# "N" is the batch axis, dropped when a single configuration (dof,) or pose (6,) is given.
+from typing import Any, Mapping, Optional, Sequence, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+__revision__: str
+STATUS_NAMES: list[str]
+
+ArrayLike = npt.ArrayLike
+Array = npt.NDArray[np.float64]
+
+class InputError(ValueError):
+    file: str
+    line: int
+    key: str
+    message: str
+
+class SolveResult(TypedDict):
+    status: int
+    status_name: str
+    reachable: bool
+    q: Array
+    manipulability: float
+    position_error: float
+    orientation_error: float
+    joint_limit_margin: float
+    starts: int
+    iterations: int
+    min_distance: float
+    colliding_pair: str
+
+class BatchSolveResult(TypedDict):
+    status: npt.NDArray[np.uint8]
+    q: Array
+    manipulability: Array
+    position_error: Array
+    orientation_error: Array
+    starts: npt.NDArray[np.int32]
+    min_distance: Array
+
+class Design:
+    @property
+    def name(self) -> str: ...
+    @property
+    def description(self) -> str: ...
+    @property
+    def file(self) -> str: ...
+    @property
+    def file_hash(self) -> str: ...
+    @property
+    def assumptions(self) -> list[str]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    @property
+    def dof(self) -> int: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def joints(self) -> list[dict[str, Any]]: ...
+    @property
+    def lower(self) -> Array: ...
+    @property
+    def upper(self) -> Array: ...
+    @property
+    def max_velocity(self) -> Array: ...
+    @property
+    def tcp(self) -> dict[str, float]: ...
+    @property
+    def base(self) -> dict[str, float]: ...
+    @property
+    def tool_axis(self) -> Array: ...
+    @property
+    def payload_kg(self) -> float: ...
+    @property
+    def has_inertia(self) -> bool: ...
+    @property
+    def volumes(self) -> list[dict[str, Any]]: ...
+    @property
+    def collision_pairs(self) -> list[tuple[str, str]]: ...
+    def to_toml(self) -> str: ...
+    def to_urdf(self) -> str: ...
+    def with_entries(self, entries: Mapping[str, float], name: str = "") -> Design: ...
+    def fk(self, q: ArrayLike, threads: int = 0) -> Array: ...
+    def frames(self, q: ArrayLike, threads: int = 0) -> Array: ...
+    def jacobian(self, q: ArrayLike, threads: int = 0) -> Array: ...
+    def task_jacobian(self, q: ArrayLike, task: str = "spraying", threads: int = 0) -> Array: ...
+    def manipulability(self, q: ArrayLike, task: str = "spraying", threads: int = 0) -> Array: ...
+    def inverse_dynamics(
+        self,
+        q: ArrayLike,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        gravity: Optional[Sequence[float]] = None,
+        payload: bool = True,
+        rotor_inertia: bool = False,
+        threads: int = 0,
+    ) -> Array: ...
+    def mass_matrix(self, q: ArrayLike, rotor_inertia: bool = False, threads: int = 0) -> Array: ...
+    def self_distances(self, q: ArrayLike, threads: int = 0) -> Array: ...
+    def solve(
+        self,
+        pose: ArrayLike,
+        task: str = "spraying",
+        pose_id: int = 0,
+        warm_start: Optional[ArrayLike] = None,
+        self_collision: Optional[bool] = None,
+        position_tolerance: Optional[float] = None,
+        orientation_tolerance: Optional[float] = None,
+        max_starts: Optional[int] = None,
+        seed: Optional[int] = None,
+    ) -> SolveResult: ...
+    def solve_batch(
+        self,
+        poses: ArrayLike,
+        task: str = "spraying",
+        pose_ids: Optional[ArrayLike] = None,
+        warm_starts: Optional[ArrayLike] = None,
+        threads: int = 0,
+        self_collision: Optional[bool] = None,
+        position_tolerance: Optional[float] = None,
+        orientation_tolerance: Optional[float] = None,
+        max_starts: Optional[int] = None,
+        seed: Optional[int] = None,
+    ) -> BatchSolveResult: ...
+
+def load_design(
+    path: str,
+    base: str = "",
+    tip: str = "",
+    packages: Mapping[str, str] = ...,
+    collision: bool = True,
+) -> Design: ...
+def parse_design(text: str, label: str = "<string>") -> Design: ...
+def read_map(path: str) -> dict[str, Any]: ...
+def run_study(
+    study: Union[str, Mapping[str, Any]],
+    output: str = "output",
+    threads: int = 0,
+    overwrite: bool = False,
+    unit_size: int = 0,
+    folder: str = ".",
+) -> dict[str, Any]: ...
+def synthesize_tcp(
+    design: Design,
+    rows: int = 60,
+    noise: float = 1e-4,
+    orientation: bool = False,
+    noise_angle: float = 1e-4,
+    hidden: Sequence[str] = ...,
+    seed: int = 1,
+) -> dict[str, Any]: ...
+def compare(
+    design: Design,
+    data: Union[str, ArrayLike],
+    kind: str = "tcp",
+    pose: Optional[ArrayLike] = None,
+    joint: str = "",
+    variable_bins: int = 4,
+    workspace_bins: int = 4,
+    speed_bins: int = 8,
+    load_bins: int = 4,
+) -> dict[str, Any]: ...
+def fit(
+    design: Design,
+    data: Union[str, ArrayLike],
+    kind: str = "tcp",
+    pose: Optional[ArrayLike] = None,
+    joint: str = "",
+    add: Sequence[str] = ...,
+    auto: bool = False,
+    folds: int = 5,
+    seed: int = 1,
+    variable_bins: int = 4,
+    workspace_bins: int = 4,
+    speed_bins: int = 8,
+    load_bins: int = 4,
+) -> dict[str, Any]: ...

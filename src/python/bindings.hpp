@@ -1,0 +1,49 @@
+#pragma once
+// The Python module `armstudy` (docs/python.md): pybind11 bindings over the engine's layers. The
+// kernels run the library's own functions (one workspace per OpenMP thread, the GIL released); a
+// bad input raises armstudy.InputError carrying the CLI's message, file, line and key.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/urdf_io.hpp"
+#include "model/model.hpp"
+
+namespace armstudy::python {
+
+namespace py = pybind11;
+
+// A loaded design: the frozen model and the URDF facts the way back to URDF needs.
+struct Design {
+  std::shared_ptr<const Model> model;
+  UrdfInfo info;
+  std::vector<std::string> warnings;  // notes of the URDF import (missing meshes, branches)
+};
+
+// Configurations as a C-contiguous (N, dof) array of doubles; a single (dof,) vector is one row.
+// Throws ValueError (std::invalid_argument) for another shape or a non-finite value.
+struct Rows {
+  py::array_t<double, py::array::c_style | py::array::forcecast> array;
+  long n = 0;
+  bool single = false;  // the input was one vector: results drop the leading axis
+  const double* row(long i) const { return array.data() + i * cols; }
+  long cols = 0;
+};
+Rows readRows(const py::handle& object, long cols, const char* what);
+
+// An array of shape (n, extra...) or (extra...) when rows.single.
+py::array_t<double> makeResult(const Rows& rows, std::vector<py::ssize_t> extra);
+
+// OpenMP threads for a batch call: `threads` (0 = the OpenMP default), at least 1.
+int threadCount(int threads);
+
+void bindDesign(py::module_& m);
+void bindKernels(py::class_<Design>& design);
+void bindSolve(py::module_& m, py::class_<Design>& design);
+void bindStudy(py::module_& m);
+void bindCalibration(py::module_& m);
+
+}  // namespace armstudy::python

@@ -1,0 +1,205 @@
+// Designs: loading (TOML or URDF), inspecting joints, limits and collision volumes, converting.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+
+#include "collision/collision.hpp"
+#include "common/errors.hpp"
+#include "io/design_io.hpp"
+#include "python/bindings.hpp"
+
+namespace armstudy::python {
+
+namespace {
+
+py::dict poseDict(const PoseXYZABG& p) {
+  py::dict d;
+  d["x"] = p.x;
+  d["y"] = p.y;
+  d["z"] = p.z;
+  d["alpha"] = p.alpha;
+  d["beta"] = p.beta;
+  d["gamma"] = p.gamma;
+  return d;
+}
+
+py::array_t<double> vector3(const Eigen::Vector3d& v) {
+  py::array_t<double> a(3);
+  for (int k = 0; k < 3; ++k) a.mutable_at(k) = v[k];
+  return a;
+}
+
+UrdfOptions urdfOptions(const std::string& base, const std::string& tip,
+                        const std::map<std::string, std::string>& packages, bool collision) {
+  UrdfOptions u;
+  u.base_link = base;
+  u.tip_link = tip;
+  for (const auto& [name, dir] : packages) {
+    if (!std::filesystem::is_directory(dir))
+      throw InputError("packages", 0, "package",
+                       "folder '" + dir + "' for package '" + name + "' does not exist (" +
+                           std::filesystem::absolute(dir).string() + ")");
+    u.packages.emplace_back(name, dir);
+  }
+  u.collision = collision;
+  return u;
+}
+
+Design load(const std::string& path, const std::string& base, const std::string& tip,
+            const std::map<std::string, std::string>& packages, bool collision) {
+  Design d;
+  d.model = std::make_shared<const Model>(
+      loadAnyDesign(path, urdfOptions(base, tip, packages, collision), &d.info, &d.warnings));
+  return d;
+}
+
+py::list jointList(const Model& m) {
+  py::list joints;
+  for (const Joint& j : m.joints) {
+    py::dict d = poseDict(j.offset);
+    d["name"] = j.name;
+    d["type"] = toString(j.type);
+    d["min"] = j.limits.q_min;
+    d["max"] = j.limits.q_max;
+    d["max_velocity"] = j.limits.qd_max;
+    d["line"] = j.source_line;
+    joints.append(d);
+  }
+  return joints;
+}
+
+std::string bodyName(const Model& m, int link) {
+  return link < 0 ? std::string("base") : m.joints[link].name;
+}
+
+py::list volumeList(const Model& m) {
+  py::list volumes;
+  for (const CollisionVolume& v : m.collision.volumes) {
+    const int k = static_cast<int>(v.type);
+    py::array_t<double> points({k, 3});
+    for (int i = 0; i < k; ++i)
+      for (int c = 0; c < 3; ++c) points.mutable_at(i, c) = v.p_L[i][c];
+    py::dict d;
+    d["name"] = v.name;
+    d["link"] = bodyName(m, v.link);
+    d["type"] = toString(v.type);
+    d["points"] = points;
+    d["radius"] = v.radius_m;
+    d["line"] = v.source_line;
+    volumes.append(d);
+  }
+  return volumes;
+}
+
+py::list collisionPairs(const Model& m) {
+  py::list pairs;
+  if (m.collision.empty()) return pairs;
+  collision::CollisionWorkspace ws(m);
+  for (int i = 0; i < ws.num_self; ++i)
+    pairs.append(py::make_tuple(bodyName(m, ws.self[i].link_a), bodyName(m, ws.self[i].link_b)));
+  return pairs;
+}
+
+py::array_t<double> limitArray(const Model& m, double JointLimits::*field) {
+  py::array_t<double> a(m.dof());
+  for (int i = 0; i < m.dof(); ++i) a.mutable_at(i) = m.joints[i].limits.*field;
+  return a;
+}
+
+// A copy of the design with table entries set (study variants' keys), validated.
+Design withEntries(const Design& d, const std::map<std::string, double>& entries,
+                   const std::string& name) {
+  Model m = *d.model;
+  for (const auto& [key, value] : entries) {
+    std::string error;
+    if (!setModelEntry(m, key, value, error)) throw InputError(m.file, 0, key, error);
+  }
+  if (!name.empty()) m.name = name;
+  m.finalize();
+  validateModel(m, m.file);
+  Design out = d;
+  out.model = std::make_shared<const Model>(std::move(m));
+  return out;
+}
+
+}  // namespace
+
+void bindDesign(py::module_& m) {
+  py::class_<Design> design(m, "Design", R"(A robot-arm design (immutable).
+
+Load one with armstudy.load_design (TOML or URDF) or armstudy.parse_design (TOML text).
+Joint values are SI: radians for revolute, metres for prismatic joints; poses are in the world
+frame W (the design's base placed in it).)");
+  design.def_property_readonly("name", [](const Design& d) { return d.model->name; })
+      .def_property_readonly("description", [](const Design& d) { return d.model->description; })
+      .def_property_readonly("file", [](const Design& d) { return d.model->file; })
+      .def_property_readonly("file_hash", [](const Design& d) { return d.model->file_hash; })
+      .def_property_readonly("assumptions", [](const Design& d) { return d.model->assumptions; })
+      .def_property_readonly(
+          "warnings", [](const Design& d) { return d.warnings; },
+          "Notes of a URDF import (missing meshes, ignored branches).")
+      .def_property_readonly("dof", [](const Design& d) { return d.model->dof(); })
+      .def_property_readonly("joint_names",
+                             [](const Design& d) {
+                               std::vector<std::string> n;
+                               for (const Joint& j : d.model->joints) n.push_back(j.name);
+                               return n;
+                             })
+      .def_property_readonly(
+          "joints", [](const Design& d) { return jointList(*d.model); },
+          "One dict per joint: name, type, the table row x, y, z, alpha, beta, gamma, the limits "
+          "min, max, max_velocity (0 = not given) and the line in the design file.")
+      .def_property_readonly(
+          "lower", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_min); })
+      .def_property_readonly(
+          "upper", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_max); })
+      .def_property_readonly(
+          "max_velocity",
+          [](const Design& d) { return limitArray(*d.model, &JointLimits::qd_max); })
+      .def_property_readonly("tcp", [](const Design& d) { return poseDict(d.model->tcp); })
+      .def_property_readonly("base", [](const Design& d) { return poseDict(d.model->base); })
+      .def_property_readonly("tool_axis",
+                             [](const Design& d) { return vector3(d.model->tool_axis_T); })
+      .def_property_readonly("payload_kg", [](const Design& d) { return d.model->payload_kg; })
+      .def_property_readonly("has_inertia",
+                             [](const Design& d) { return !d.model->inertias.empty(); })
+      .def_property_readonly(
+          "volumes", [](const Design& d) { return volumeList(*d.model); },
+          "The collision volumes: name, link (body name, 'base' for the fixed base), type "
+          "(point/line/triangle), points (k, 3) in the link frame [m], radius [m], line.")
+      .def_property_readonly(
+          "collision_pairs", [](const Design& d) { return collisionPairs(*d.model); },
+          "The self-collision body pairs, in the column order of self_distances.")
+      .def(
+          "to_toml", [](const Design& d) { return designToToml(*d.model, d.info); },
+          "The design as design-file TOML (what `armstudy convert X.urdf X.toml` writes).")
+      .def(
+          "to_urdf", [](const Design& d) { return exportUrdf(*d.model, d.info); },
+          "The design as URDF text (what `armstudy convert X.toml X.urdf` writes).")
+      .def("with_entries", &withEntries, py::arg("entries"), py::arg("name") = "",
+           R"(A copy with table entries set, as a study variant does: keys such as
+'joint.j3.min', 'joint.j2.z', 'tcp.z', 'base.y', 'payload.mass'; values in SI.)")
+      .def("__repr__", [](const Design& d) {
+        return "<armstudy.Design '" + d.model->name + "', " + std::to_string(d.model->dof()) +
+               " joints>";
+      });
+  bindKernels(design);
+  bindSolve(m, design);
+
+  m.def("load_design", &load, py::arg("path"), py::arg("base") = "", py::arg("tip") = "",
+        py::arg("packages") = std::map<std::string, std::string>{}, py::arg("collision") = true,
+        R"(Loads a design file: TOML, or URDF (.urdf) with the chain from `base` to `tip`
+(defaults as `armstudy describe`), `packages` mapping package://NAME to a folder, and
+`collision` fitting swept-sphere volumes to its meshes. Raises InputError on bad input.)");
+  m.def(
+      "parse_design",
+      [](const std::string& text, const std::string& label) {
+        Design d;
+        d.model = std::make_shared<const Model>(parseDesignWithUrdfInfo(text, label, &d.info));
+        return d;
+      },
+      py::arg("text"), py::arg("label") = "<string>",
+      "Parses design TOML text; `label` names it in error messages.");
+}
+
+}  // namespace armstudy::python

@@ -1,0 +1,280 @@
+// The kernels on arrays: forward kinematics, Jacobians, task manipulability, dynamics and
+// self-collision distances of N configurations at once. Each OpenMP thread owns one workspace of
+// the library (as the stages do); rows are independent, so results do not depend on the thread
+// count. The GIL is released while they run.
+#include <omp.h>
+#include <pybind11/stl.h>
+
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "collision/collision.hpp"
+#include "dynamics/dynamics.hpp"
+#include "ik/reach_solver.hpp"
+#include "kinematics/kinematics.hpp"
+#include "python/bindings.hpp"
+
+namespace armstudy::python {
+
+namespace {
+
+// Runs body(workspace, row) for every row on `threads` threads, one workspace per thread.
+template <class MakeWorkspace, class Body>
+void forEachRow(long n, int threads, const MakeWorkspace& make, const Body& body) {
+  py::gil_scoped_release release;
+  if (n == 1 || threads == 1) {
+    auto ws = make();
+    for (long i = 0; i < n; ++i) body(ws, i);
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+  {
+    auto ws = make();
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) body(ws, i);
+  }
+}
+
+void storeTransform(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double* out) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out[r * 4 + c] = R(r, c);
+    out[r * 4 + 3] = p[r];
+  }
+  out[12] = out[13] = out[14] = 0.0;
+  out[15] = 1.0;
+}
+
+Eigen::Map<const Eigen::VectorXd> rowVector(const Rows& rows, long i) {
+  return Eigen::Map<const Eigen::VectorXd>(rows.row(i), rows.cols);
+}
+
+// The target whose Jacobian rows a task kind constrains (the pose itself plays no part).
+IkTarget taskOfKind(const std::string& task) {
+  TaskSpace space;
+  std::string error;
+  if (!parseTaskSpace(task, space, error)) throw std::invalid_argument("task: " + error);
+  return taskTarget(space, TaskVector6::Zero());
+}
+
+int taskRows(const IkTarget& t) {
+  const auto& s = t.task_space.selected;
+  const int position = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
+  if (t.tool_axis) return position + 2;
+  if (s[3] && s[4] && s[5]) return position + 3;
+  return position + (s[3] ? 1 : 0) + (s[4] ? 1 : 0) + (s[5] ? 1 : 0);
+}
+
+py::array_t<double> fk(const Design& d, const py::handle& q, int threads) {
+  const Model& m = *d.model;
+  const Rows rows = readRows(q, m.dof(), "q");
+  py::array_t<double> out = makeResult(rows, {4, 4});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, long i) {
+        forwardKinematics(m, ws, rowVector(rows, i));
+        storeTransform(ws.R_WT, ws.p_WT, o + 16 * i);
+      });
+  return out;
+}
+
+py::array_t<double> frames(const Design& d, const py::handle& q, int threads) {
+  const Model& m = *d.model;
+  const int n = m.dof();
+  const Rows rows = readRows(q, n, "q");
+  py::array_t<double> out = makeResult(rows, {n, 4, 4});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, long i) {
+        forwardKinematics(m, ws, rowVector(rows, i));
+        for (int j = 0; j < n; ++j) storeTransform(ws.R_WF[j], ws.p_WF[j], o + 16 * (i * n + j));
+      });
+  return out;
+}
+
+py::array_t<double> jacobian(const Design& d, const py::handle& q, int threads) {
+  const Model& m = *d.model;
+  const int n = m.dof();
+  const Rows rows = readRows(q, n, "q");
+  py::array_t<double> out = makeResult(rows, {6, n});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, long i) {
+        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
+        Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>>(o + 6 * n * i, 6, n) =
+            ws.J_W_tcp;
+      });
+  return out;
+}
+
+py::array_t<double> taskJacobian(const Design& d, const py::handle& q, const std::string& task,
+                                 int threads) {
+  const Model& m = *d.model;
+  const int n = m.dof();
+  const IkTarget target = taskOfKind(task);
+  const int rows_m = taskRows(target);
+  const Rows rows = readRows(q, n, "q");
+  py::array_t<double> out = makeResult(rows, {rows_m, n});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, long i) {
+        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
+        Jacobian6 J(6, n);
+        const int got = taskJacobianRows(ws, target, J);
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> dst(
+            o + static_cast<long>(rows_m) * n * i, rows_m, n);
+        if (got == rows_m)
+          dst = J.topRows(rows_m);
+        else
+          dst.setConstant(std::numeric_limits<double>::quiet_NaN());  // Cardan singularity
+      });
+  return out;
+}
+
+py::array_t<double> manipulability(const Design& d, const py::handle& q, const std::string& task,
+                                   int threads) {
+  const Model& m = *d.model;
+  const IkTarget target = taskOfKind(task);
+  const Rows rows = readRows(q, m.dof(), "q");
+  py::array_t<double> out = makeResult(rows, {});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, long i) {
+        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
+        o[i] = taskManipulability(ws, target);
+      });
+  return out;
+}
+
+DynamicsOptions dynamicsOptions(const std::optional<std::vector<double>>& gravity, bool payload,
+                                bool rotor_inertia) {
+  DynamicsOptions o;
+  if (gravity) {
+    if (gravity->size() != 3) throw std::invalid_argument("gravity: expected 3 values (m/s^2)");
+    o.g_W = Eigen::Vector3d((*gravity)[0], (*gravity)[1], (*gravity)[2]);
+  }
+  o.include_payload = payload;
+  o.include_rotor_inertia = rotor_inertia;
+  std::string error;
+  if (!o.validate(error)) throw std::invalid_argument(error);
+  return o;
+}
+
+py::array_t<double> inverseDynamicsRows(const Design& d, const py::handle& q, const py::handle& qd,
+                                        const py::handle& qdd,
+                                        const std::optional<std::vector<double>>& gravity,
+                                        bool payload, bool rotor_inertia, int threads) {
+  const Model& m = *d.model;
+  const int n = m.dof();
+  const RigidBodyModel rbm =
+      makeRigidBodyModel(m, dynamicsOptions(gravity, payload, rotor_inertia));
+  const Rows rq = readRows(q, n, "q");
+  const Rows rqd = qd.is_none() ? Rows{} : readRows(qd, n, "qd");
+  const Rows rqdd = qdd.is_none() ? Rows{} : readRows(qdd, n, "qdd");
+  for (const Rows* r : {&rqd, &rqdd})
+    if (r->cols > 0 && (r->n != rq.n || r->single != rq.single))
+      throw std::invalid_argument("qd and qdd must have the shape of q");
+  py::array_t<double> out = makeResult(rq, {n});
+  double* o = out.mutable_data();
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  forEachRow(
+      rq.n, threadCount(threads), [&] { return DynamicsWorkspace(rbm); },
+      [&](DynamicsWorkspace& ws, long i) {
+        Eigen::Map<Eigen::VectorXd> tau(o + static_cast<long>(n) * i, n);
+        inverseDynamics(rbm, ws, rowVector(rq, i),
+                        rqd.cols ? Eigen::Ref<const Eigen::VectorXd>(rowVector(rqd, i))
+                                 : Eigen::Ref<const Eigen::VectorXd>(zero),
+                        rqdd.cols ? Eigen::Ref<const Eigen::VectorXd>(rowVector(rqdd, i))
+                                  : Eigen::Ref<const Eigen::VectorXd>(zero),
+                        tau);
+      });
+  return out;
+}
+
+py::array_t<double> massMatrixRows(const Design& d, const py::handle& q, bool rotor_inertia,
+                                   int threads) {
+  const Model& m = *d.model;
+  const int n = m.dof();
+  DynamicsOptions options;
+  options.include_rotor_inertia = rotor_inertia;
+  const RigidBodyModel rbm = makeRigidBodyModel(m, options);
+  const Rows rows = readRows(q, n, "q");
+  py::array_t<double> out = makeResult(rows, {n, n});
+  double* o = out.mutable_data();
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return DynamicsWorkspace(rbm); },
+      [&](DynamicsWorkspace& ws, long i) {
+        massMatrix(rbm, ws, rowVector(rows, i));
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            o + static_cast<long>(n) * n * i, n, n) = ws.M;
+      });
+  return out;
+}
+
+// Kinematics and collision scratch of one thread.
+struct CollisionScratch {
+  KinematicsWorkspace kin;
+  collision::CollisionWorkspace col;
+  explicit CollisionScratch(const Model& m) : kin(m), col(m) {}
+};
+
+py::array_t<double> selfDistances(const Design& d, const py::handle& q, int threads) {
+  const Model& m = *d.model;
+  if (m.collision.empty())
+    throw std::invalid_argument("design '" + m.name + "' has no collision volumes");
+  const int pairs = collision::CollisionWorkspace(m).num_self;
+  const Rows rows = readRows(q, m.dof(), "q");
+  py::array_t<double> out = makeResult(rows, {pairs});
+  double* o = out.mutable_data();
+  collision::CollisionQueryOptions query;
+  query.environment = false;
+  forEachRow(
+      rows.n, threadCount(threads), [&] { return CollisionScratch(m); },
+      [&](CollisionScratch& s, long i) {
+        forwardKinematics(m, s.kin, rowVector(rows, i));
+        collision::collisionDistances(m, s.kin, {}, s.col, query);
+        for (int k = 0; k < pairs; ++k)
+          o[static_cast<long>(pairs) * i + k] = s.col.self[k].distance_m;
+      });
+  return out;
+}
+
+}  // namespace
+
+void bindKernels(py::class_<Design>& design) {
+  design
+      .def("fk", &fk, py::arg("q"), py::arg("threads") = 0,
+           R"(TCP pose in W as 4x4 homogeneous transforms: q (dof,) -> (4, 4), q (N, dof) ->
+(N, 4, 4). threads: OpenMP threads for a batch (0 = all cores).)")
+      .def("frames", &frames, py::arg("q"), py::arg("threads") = 0,
+           "Every joint's body frame in W: (dof, 4, 4) per configuration.")
+      .def("jacobian", &jacobian, py::arg("q"), py::arg("threads") = 0,
+           "Geometric TCP Jacobian in W, [J_T; J_R]: (6, dof) per configuration.")
+      .def("task_jacobian", &taskJacobian, py::arg("q"), py::arg("task") = "spraying",
+           py::arg("threads") = 0,
+           R"(The rows of the Jacobian a task constrains, whose Yoshikawa value is the map's
+manipulability: 'spraying' (x, y, z and the 2 angular rows perpendicular to the tool axis),
+'full', 'position', or a Cardan selection such as 'x,y,z,gamma' (analytic rows; NaN at its
+singularity). (m, dof) per configuration.)")
+      .def("manipulability", &manipulability, py::arg("q"), py::arg("task") = "spraying",
+           py::arg("threads") = 0,
+           "Task manipulability sqrt(det(J_t J_t^T)) (thesis eq. 5.59), as the reach maps report.")
+      .def("inverse_dynamics", &inverseDynamicsRows, py::arg("q"), py::arg("qd") = py::none(),
+           py::arg("qdd") = py::none(), py::arg("gravity") = py::none(), py::arg("payload") = true,
+           py::arg("rotor_inertia") = false, py::arg("threads") = 0,
+           R"(Joint forces (N m / N) for q, qd, qdd (None = zero) by recursive Newton-Euler, as
+`armstudy dynamics`. gravity: 3 values in W (default (0, 0, -g)). Raises InputError when the
+design has no inertia data.)")
+      .def("mass_matrix", &massMatrixRows, py::arg("q"), py::arg("rotor_inertia") = false,
+           py::arg("threads") = 0, "Mass matrix M(q): (dof, dof) per configuration.")
+      .def("self_distances", &selfDistances, py::arg("q"), py::arg("threads") = 0,
+           R"(Signed distance [m] of every self-collision body pair (negative = overlap), columns
+in the order of collision_pairs.)");
+}
+
+}  // namespace armstudy::python
