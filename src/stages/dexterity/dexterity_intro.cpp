@@ -12,14 +12,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-std::string fmt(double v, int prec = 3) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
-
 std::vector<std::string> obstacleNames(const std::vector<collision::Obstacle>& obstacles) {
   std::vector<std::string> n;
   for (const collision::Obstacle& o : obstacles) n.push_back(o.name);

@@ -29,14 +29,6 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 // Unreachable cells in the heatmap images.
 constexpr report::Rgb kUnreachableGrey{160, 160, 160};
 
-std::string fmt(double v, int prec = 3) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
 }  // namespace
 
 MapFields mapFields(const DexterityMap& map) {

@@ -22,7 +22,11 @@ constexpr ReachStatus kCellStatuses[] = {
     ReachStatus::SelfCollision, ReachStatus::JointLimits,
     ReachStatus::OutOfReach,    ReachStatus::RepresentationSingularity};
 
-std::string fmt(double v, int prec = 3) {
+std::string share(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
+
+}  // namespace
+
+std::string fmt(double v, int prec) {
   if (std::isnan(v)) return "-";
   std::ostringstream s;
   s.setf(std::ios::fixed);
@@ -30,10 +34,6 @@ std::string fmt(double v, int prec = 3) {
   s << v;
   return s.str();
 }
-
-std::string share(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
-
-}  // namespace
 
 bool inHalf(double gamma_rad, Half h) {
   constexpr double kSide = 1e-9;  // |cos gamma| below this: beside the stem, along the row

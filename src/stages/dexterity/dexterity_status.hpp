@@ -18,6 +18,9 @@ enum class Half { Negative = 0, NonNegative = 1, Near = 2, Far = 3 };
 inline constexpr int kHalves = 4;
 bool inHalf(double gamma_rad, Half h);
 
+// A report number with `prec` decimals; "-" for NaN (nothing to report).
+std::string fmt(double v, int prec = 3);
+
 // Cells per status (ReachStatus) in each half.
 struct StatusCounts {
   std::array<std::array<int, kReachStatusCount>, kHalves> by{};
