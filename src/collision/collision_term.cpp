@@ -11,6 +11,10 @@ CollisionTerm::CollisionTerm(CollisionPotentialOptions options, std::vector<Obst
                  "CollisionTerm: too many obstacles");
 }
 
+void CollisionTerm::lendWorkspace(ik::ObjectiveContext& ctx, CollisionWorkspace& cws) const {
+  ctx.term_scratch[this] = std::shared_ptr<void>(std::shared_ptr<void>{}, &cws);  // not owned
+}
+
 double CollisionTerm::evaluate(ik::ObjectiveContext& ctx, JointVector* grad) const {
   std::shared_ptr<void>& slot = ctx.term_scratch[this];
   if (!slot) slot = std::make_shared<CollisionWorkspace>(ctx.model());

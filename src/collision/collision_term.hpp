@@ -17,6 +17,10 @@ class CollisionTerm final : public ik::ObjectiveTerm {
   // H_c and dH_c/dq at the prepared configuration. The per-thread CollisionWorkspace lives in
   // ctx.term_scratch (allocated on the first evaluation in a context, never after).
   double evaluate(ik::ObjectiveContext& ctx, JointVector* grad) const override;
+  // Lets the term evaluate in the caller's per-thread workspace `cws` (of the same model; it must
+  // outlive ctx) instead of allocating its own in a fresh context. Every query recomputes all
+  // of the workspace's per-query fields, so sharing it never changes a result.
+  void lendWorkspace(ik::ObjectiveContext& ctx, CollisionWorkspace& cws) const;
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
 
  private:

@@ -81,18 +81,20 @@ bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarge
 // distance escape_safety_distance_m + clearance) in the null space of the task with the tool held
 // there (ik::optimiseAtPose). The result judged by the reach solver's tolerances and limits
 // (status Reachable or OutOfReach; its collision distances are the caller's to check).
-IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, const IkTarget& target,
-                         const ik::PoseTarget& pose_task, const IkOptions& ik_options,
-                         const CollisionReachOptions& options, std::span<const Obstacle> obstacles,
-                         const JointVector& q) {
+IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
+                         const IkTarget& target, const ik::PoseTarget& pose_task,
+                         const IkOptions& ik_options, const CollisionReachOptions& options,
+                         std::span<const Obstacle> obstacles, const JointVector& q) {
   CollisionPotentialOptions po;
   po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
   po.self = options.self;
   po.environment = !obstacles.empty();
   ik::WeightedObjective h_c;
-  h_c.add(1.0, std::make_shared<CollisionTerm>(
-                   po, std::vector<Obstacle>(obstacles.begin(), obstacles.end())));
+  const auto term = std::make_shared<CollisionTerm>(
+      po, std::vector<Obstacle>(obstacles.begin(), obstacles.end()));
+  h_c.add(1.0, term);
   ik::ObjectiveContext ctx(model, ws.kin);
+  term->lendWorkspace(ctx, cws);
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
   // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
   const ik::PoseSolveResult on =
@@ -156,7 +158,7 @@ CollisionReachResult solvePoseCollisionAware(
   if (options.escape_safety_distance_m > 0 &&
       nullspaceTarget(model, ws.kin, target, first.q, pose_task)) {
     const IkResult found =
-        nullspaceEscape(model, ws, target, pose_task, ik_options, options, obstacles, first.q);
+        nullspaceEscape(model, ws, cws, target, pose_task, ik_options, options, obstacles, first.q);
     if (found.reachable()) {
       const Check c = check(found.q);
       if (c.d_min > options.clearance_m) return accept(found, c, true);
