@@ -11,6 +11,7 @@
 #include "collision/reach_collision.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "common/parallel_for.hpp"
 #include "io/vtk_io.hpp"
 #include "reach/boundary_surface.hpp"
 #include "reach/reach_audit.hpp"
@@ -493,10 +494,13 @@ void renderGrid(GridRun& r) {
   render.items = static_cast<long>(n_items);
   render.chunk = 1;
   render.compute = [&r](const std::vector<SharedLoop::Chunk>& mine) {
-    for (const long item : SharedLoop::itemsOf(mine)) {
-      const auto it = static_cast<std::size_t>(item);
+    // Items are independent (each its own scratch folder and bytes), so this process's share
+    // renders on its threads as well.
+    const std::vector<long> items = SharedLoop::itemsOf(mine);
+    parallelFor(static_cast<int>(items.size()), r.ctx.threads, [&](int k) {
+      const auto it = static_cast<std::size_t>(items[static_cast<std::size_t>(k)]);
       r.parts[it] = renderItem(r, it);
-    }
+    });
   };
   render.pack = [&r](std::size_t, const ItemRange& range) {
     UnitWriter b(kDesignPartMagic);
