@@ -1,6 +1,7 @@
-// Distributed runs on one machine (docs/performance.md "Distributed runs"): the same
-// study as 1 process x 1 thread, as 2 MPI ranks x 1 thread and as 1 process x 2 threads, wall time,
-// CPU time of the processes, parallel efficiency T1 / (2 T) and a byte comparison of the results.
+// Distributed runs on one machine (docs/performance.md "Distributed runs"): the same study as 1
+// process x 1 thread, as 2 and 3 MPI ranks x 1 thread, 2 ranks x 2 threads and 1 process x 2
+// threads: wall time, CPU time of the processes, parallel efficiency T1 / (cores T), a byte
+// comparison of every run's results with the first's, and the serial part s = 2 T(2) - T(1).
 // Optionally records per-unit costs (ARMSTUDY_UNIT_TIMES) of the 1 x 1 run for
 // tests/benchmarks/simulate_distribution.py.
 //
@@ -18,6 +19,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/files.hpp"
 
@@ -89,20 +91,38 @@ int main(int argc, char** argv) {
   std::string name;
   for (const auto& e : fs::directory_iterator(out)) name = e.path().filename().string();
   const auto ref = resultFiles(out / name);
-  const Timing r2 = run(mpi + "2 " + bin + args + " --threads 1");
-  const bool same_r2 = resultFiles(out / name) == ref;
-  const Timing t2 = run(bin + args + " --threads 2");
-  const bool same_t2 = resultFiles(out / name) == ref;
+  struct Row {
+    const char* label;
+    std::string cmd;
+    int cores;
+    Timing t;
+    bool same = false;
+  };
+  std::vector<Row> rows = {{"2 MPI ranks x 1 thread", mpi + "2 " + bin + args + " --threads 1", 2},
+                           {"3 MPI ranks x 1 thread", mpi + "3 " + bin + args + " --threads 1", 3},
+                           {"2 MPI ranks x 2 threads", mpi + "2 " + bin + args + " --threads 2", 4},
+                           {"1 process x 2 threads", bin + args + " --threads 2", 2}};
+  for (Row& r : rows) {
+    r.t = run(r.cmd);
+    r.same = resultFiles(out / name) == ref;
+  }
   std::printf(
       "| run | wall [s] | CPU [s] | speed-up | efficiency | result files "
       "|\n|---|---:|---:|---:|---:|---|\n");
   std::printf("| 1 process x 1 thread | %.1f | %.1f | 1.00 | 100 %% | reference |\n", t1.wall,
               t1.cpu);
-  std::printf("| 2 MPI ranks x 1 thread | %.1f | %.1f | %.2f | %.0f %% | %s |\n", r2.wall, r2.cpu,
-              t1.wall / r2.wall, 100 * t1.wall / (2 * r2.wall), same_r2 ? "identical" : "DIFFER");
-  std::printf("| 1 process x 2 threads | %.1f | %.1f | %.2f | %.0f %% | %s |\n", t2.wall, t2.cpu,
-              t1.wall / t2.wall, 100 * t1.wall / (2 * t2.wall), same_t2 ? "identical" : "DIFFER");
+  bool all_same = true;
+  for (const Row& r : rows) {
+    std::printf("| %s | %.1f | %.1f | %.2f | %.0f %% | %s |\n", r.label, r.t.wall, r.t.cpu,
+                t1.wall / r.t.wall, 100 * t1.wall / (r.cores * r.t.wall),
+                r.same ? "identical" : "DIFFER");
+    all_same = all_same && r.same;
+  }
+  // Amdahl with T(N) = s + p / N: s = 2 T(2) - T(1) from the 2-thread run (no phase labels).
+  const double s2 = 2 * rows.back().t.wall - t1.wall;
+  std::printf("serial part s = 2 T(2 threads) - T(1) = %.2f s, %.1f %% of T(1)\n", s2,
+              100 * s2 / t1.wall);
   std::printf("load average after: %s\n", loadAverage().c_str());
   fs::remove_all(out);
-  return same_r2 && same_t2 ? 0 : 1;
+  return all_same ? 0 : 1;
 }
