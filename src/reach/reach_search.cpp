@@ -368,6 +368,22 @@ class MapSearch {
     }
   }
 
+  // One seeded start of a pose in collision: the solution from q0 as it is, and when it collides,
+  // the H_c descent from it (solvePoseCollisionAware) unless an earlier start of this pose
+  // descended from the same posture (every joint within defaults::kMapSameBasin), which would
+  // descend to the same end again. Re-solving from a solution returns it unchanged, so a start
+  // that does descend gives the bytes of one call with the descent.
+  PoseResult escapeOnce(PoseSolver& solver, long i, const JointVector& q0,
+                        std::vector<JointVector>& descended) {
+    PoseResult pr = solver.solve(i, one_, &q0, 0, false);
+    if (pr.ik.reachable() || !inCollision(pr.ik.status)) return pr;
+    for (const JointVector& q : descended)
+      if ((q - pr.ik.q).cwiseAbs().maxCoeff() < defaults::kMapSameBasin) return pr;
+    descended.push_back(pr.ik.q);
+    const JointVector q_sol = pr.ik.q;
+    return solver.solve(i, one_, &q_sol, 0);
+  }
+
   // Seeded multi-starts for every pose still reachable only in collision, then propagation from
   // the poses they freed.
   void multistart() {
@@ -378,9 +394,10 @@ class MapSearch {
              [&](PoseSolver& solver, long i, long*, long& tries, long& freed) {
                if (!inCollision(static_cast<ReachStatus>(s_.status[i]))) return;
                JointVector q0(model_.dof());
+               std::vector<JointVector> descended;
                for (int k = 0; k < search_.collision_starts; ++k) {
                  randomConfiguration(model_, search_.seed, static_cast<std::uint64_t>(i), k, q0);
-                 PoseResult pr = solver.solve(i, one_, &q0, 0);
+                 PoseResult pr = escapeOnce(solver, i, q0, descended);
                  ++tries;
                  if (!pr.ik.reachable()) continue;
                  found_[i] = std::move(pr);
