@@ -114,7 +114,7 @@ IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace
 CollisionReachResult solvePoseCollisionAware(
     const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
     const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
-    std::span<const Obstacle> obstacles, const JointVector* warm_start) {
+    std::span<const Obstacle> obstacles, const JointVector* warm_start, const IkResult* solved) {
   CollisionReachResult out;
   CollisionQueryOptions query;
   query.self = options.self;
@@ -137,7 +137,7 @@ CollisionReachResult solvePoseCollisionAware(
     }
     return c;
   };
-  out.ik = solvePose(model, ws, target, ik_options, pose_id, warm_start);
+  out.ik = solved ? *solved : solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
   if (!out.ik.reachable()) return out;
   const Check first_check = check(out.ik.q);

@@ -39,11 +39,14 @@ struct CollisionReachResult {
   bool nullspace_escape = false;  // the collision-free solution came from the null-space descent
 };
 
-// Requires cws built from the same model. Deterministic for a given pose_id.
+// Requires cws built from the same model. Deterministic for a given pose_id. `solved`: the result
+// of solvePose(model, ws, target, ik_options, pose_id, warm_start) when the caller has it already
+// (then it is not solved again).
 CollisionReachResult solvePoseCollisionAware(
     const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
     const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
-    std::span<const Obstacle> obstacles = {}, const JointVector* warm_start = nullptr);
+    std::span<const Obstacle> obstacles = {}, const JointVector* warm_start = nullptr,
+    const IkResult* solved = nullptr);
 
 // Names of every pair a collision-aware solve can report, indexed like
 // CollisionReachResult::colliding_pair_index: the self pairs (when `self`) then, for each

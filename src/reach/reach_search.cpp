@@ -371,17 +371,17 @@ class MapSearch {
   // One seeded start of a pose in collision: the solution from q0 as it is, and when it collides,
   // the H_c descent from it (solvePoseCollisionAware) unless an earlier start of this pose
   // descended from the same posture (every joint within defaults::kMapSameBasin), which would
-  // descend to the same end again. Re-solving from a solution returns it unchanged, so a start
-  // that does descend gives the bytes of one call with the descent.
+  // descend to the same end again. A start that does descend gives the result of one call with
+  // the descent.
   PoseResult escapeOnce(PoseSolver& solver, long i, const JointVector& q0,
                         std::vector<JointVector>& descended) {
-    PoseResult pr = solver.solve(i, one_, &q0, 0, false);
+    const IkResult ik = solver.solveIgnoringCollisions(i, one_, &q0);
+    PoseResult pr = solver.solve(i, one_, &q0, 0, false, &ik);
     if (pr.ik.reachable() || !inCollision(pr.ik.status)) return pr;
     for (const JointVector& q : descended)
       if ((q - pr.ik.q).cwiseAbs().maxCoeff() < defaults::kMapSameBasin) return pr;
     descended.push_back(pr.ik.q);
-    const JointVector q_sol = pr.ik.q;
-    return solver.solve(i, one_, &q_sol, 0);
+    return solver.solve(i, one_, &q0, 0, true, &ik);
   }
 
   // Seeded multi-starts for every pose still reachable only in collision, then propagation from
@@ -464,12 +464,16 @@ class MapSearch {
                    if (!src[nb[k]] || !s_.reachable(nb[k]) || !(s_.manipulability[nb[k]] > best))
                      continue;
                    const JointVector w = solutionOf(s_, nb[k]);
-                   PoseResult pr = solver.solve(i, one_, &w, 0, false);
+                   // The manipulability first, the collision check only for a candidate that
+                   // would be adopted (the same result as one collision-aware solve from w).
+                   const IkResult ik = solver.solveIgnoringCollisions(i, one_, &w);
                    ++tries;
-                   if (!pr.ik.reachable() ||
-                       !(pr.ik.manipulability >
+                   if (!ik.reachable() ||
+                       !(ik.manipulability >
                          best + defaults::kReachManipulabilityImprovement * std::abs(best)))
                      continue;
+                   PoseResult pr = solver.solve(i, one_, &w, 0, false, &ik);
+                   if (!pr.ik.reachable()) continue;
                    best = pr.ik.manipulability;
                    found_[i] = std::move(pr);
                    now_[i] = 1;

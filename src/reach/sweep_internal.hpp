@@ -93,11 +93,14 @@ class PoseSolver {
   }
   // escape_attempts < 0: the default number of random escapes after a colliding solution.
   // escape = false: no H_c descent either (a colliding solution stays in collision).
+  // solved: the result of solveIgnoringCollisions(i, o, warm_start), when the caller has it.
   PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start,
-                   int escape_attempts = -1, bool escape = true) {
+                   int escape_attempts = -1, bool escape = true, const IkResult* solved = nullptr) {
     PoseResult r;
     if (!collision_.enabled()) {
-      r.ik = solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
+      r.ik = solved
+                 ? *solved
+                 : solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
       return r;
     }
     collision::CollisionReachOptions copts = copts_;
@@ -105,7 +108,7 @@ class PoseSolver {
     if (!escape) copts.escape_safety_distance_m = 0;
     collision::CollisionReachResult c = collision::solvePoseCollisionAware(
         model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i),
-        collision_.obstacles, warm_start);
+        collision_.obstacles, warm_start, solved);
     r.ik = std::move(c.ik);
     if (r.ik.reachable() || inCollision(r.ik.status)) {
       r.min_distance_m = c.min_distance_m;
@@ -113,6 +116,12 @@ class PoseSolver {
     }
     r.pair = c.colliding_pair_index;
     return r;
+  }
+
+  // The solution alone, without the collision check (its status says only whether the tool
+  // reaches the pose).
+  IkResult solveIgnoringCollisions(long i, const IkOptions& o, const JointVector* warm_start) {
+    return solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
   }
 
  private:
