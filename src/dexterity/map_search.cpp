@@ -76,6 +76,21 @@ struct SearchContext {
   bool check;  // collisions checked
 };
 
+// One thread's workspaces for the search's solves (built once per parallel region).
+struct ThreadSolver {
+  explicit ThreadSolver(const SearchContext& sc)
+      : sc(sc), ws(sc.model), ctx(sc.model, ws), cws(sc.model) {}
+  // The cell's optimum descended from q0 (dexterity::cellFromSeed).
+  bool fromSeed(const StemGrid::Cell& cell, const JointVector& q0, CellResult& out) {
+    return cellFromSeed(sc.model, ws, ctx, sc.objective, sc.options, cell, q0, out,
+                        sc.check ? &cws : nullptr);
+  }
+  const SearchContext& sc;
+  KinematicsWorkspace ws;
+  ik::ObjectiveContext ctx;
+  collision::CollisionWorkspace cws;
+};
+
 // `starts` random configurations for each cell of `list` (start numbers first .. first + starts - 1
 // of the cell's counter-based stream: each cell depends only on its own index); a better
 // candidate replaces the cell and marks it in `changed`. Returns the cells improved.
@@ -88,10 +103,7 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
   int improved = 0;
 #pragma omp parallel num_threads(sc.threads) reduction(+ : n_tries, improved)
   {
-    KinematicsWorkspace ws(sc.model);
-    ik::ObjectiveContext ctx(sc.model, ws);
-    collision::CollisionWorkspace cws(sc.model);
-    collision::CollisionWorkspace* cw = sc.check ? &cws : nullptr;
+    ThreadSolver solver(sc);
     JointVector q0(sc.model.dof());
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < static_cast<int>(list.size()); ++k) {
@@ -103,9 +115,7 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
                             q0);
         CellResult cand;
         ++n_tries;
-        if (!cellFromSeed(sc.model, ws, ctx, sc.objective, sc.options, cell, q0, cand, cw) ||
-            !better(cand, cur))
-          continue;
+        if (!solver.fromSeed(cell, q0, cand) || !better(cand, cur)) continue;
         if (cur.found_by != CellResult::Source::MultiStart) ++improved;
         adopt(cur, cand, CellResult::Source::MultiStart);
         changed[idx] = 1;
@@ -132,10 +142,7 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
     int round_improved = 0;
 #pragma omp parallel num_threads(sc.threads) reduction(+ : round_tries, round_improved)
     {
-      KinematicsWorkspace ws(sc.model);
-      ik::ObjectiveContext ctx(sc.model, ws);
-      collision::CollisionWorkspace cws(sc.model);
-      collision::CollisionWorkspace* cw = sc.check ? &cws : nullptr;
+      ThreadSolver solver(sc);
       int nb[8];
 #pragma omp for schedule(dynamic, 16)
       for (int idx = 0; idx < N; ++idx) {
@@ -154,9 +161,7 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
             continue;
           CellResult cand;
           ++round_tries;
-          if (!cellFromSeed(sc.model, ws, ctx, sc.objective, sc.options, g.cell(idx % G, idx / G),
-                            src.q_opt, cand, cw) ||
-              !better(cand, best))
+          if (!solver.fromSeed(g.cell(idx % G, idx / G), src.q_opt, cand) || !better(cand, best))
             continue;
           adopt(best, cand, CellResult::Source::Neighbour);
           any = true;
