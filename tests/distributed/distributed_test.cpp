@@ -442,3 +442,30 @@ TEST_CASE(
   CHECK(differing(ref, resultFiles(out)).empty());
   fs::remove_all(dir);
 }
+
+TEST_CASE(
+    "the shipped compare_designs study (4 designs, 6 pairs, two grids with map searches and "
+    "audits) "
+    "on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
+    "[distributed][e2e][report]") {
+  requireMpi();
+  const fs::path dir = freshDir("compare_designs");
+  const fs::path out = dir / "out" / "compare_designs";
+  // Small units, so that every rank computes and renders some of every step.
+  const std::string args = sourcePath("studies/compare_designs.toml") + " --output " +
+                           (dir / "out").string() + " --overwrite --unit-size 64";
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " run " + args + " --threads 2", log) == 0);
+  const auto ref = resultFiles(out);
+  // The scenario: every design's maps and every pair's comparison figures are there.
+  REQUIRE(ref.size() > 100);
+  REQUIRE(ref.count("reach/canopy_wall/final_prototype_9dof.vti") == 1);
+  for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {3, 1}, {2, 2}}) {
+    INFO(ranks << " rank(s) x " << threads << " thread(s)");
+    const int st = runCommand(mpirun(ranks, args + " --threads " + std::to_string(threads)), log);
+    INFO(log);
+    REQUIRE(st == 0);
+    CHECK(differing(ref, resultFiles(out)).empty());
+  }
+  fs::remove_all(dir);
+}
