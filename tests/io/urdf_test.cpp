@@ -1266,6 +1266,86 @@ TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the o
                                   arm6() + "; its 11 links: base_link, finger_left, finger_right"));
 }
 
+namespace {
+// describe --json of a URDF (stderr left out): its exit status and the JSON it printed.
+nlohmann::json describeJson(const std::string& args, int& status) {
+  std::string out;
+  status = test::runCommand("(" + test::binaryPath() + " describe " + args + " --json 2>/dev/null)",
+                            out);
+  INFO(out);
+  return nlohmann::json::parse(out);
+}
+}  // namespace
+
+TEST_CASE("URDF CLI describe --json lists the chains, the tip chosen and why, and the other tips",
+          "[urdf][cli]") {
+  struct Expected {
+    std::string file, base, end, tip;
+    int joints;
+    std::vector<std::string> fixed_frames;
+    std::size_t left_out;
+  };
+  const std::vector<Expected> arms = {
+      {arm6(), "base_link", "link6", "tool0", 6, {"flange", "tool0"}, 2},
+      {ur5(), "world", "wrist_3_link", "wrist_3_link", 6, {"ee_link", "tool0"}, 0},
+      {panda(),
+       "panda_link0",
+       "panda_link7",
+       "panda_hand_tcp",
+       7,
+       {"panda_link8", "panda_hand", "panda_hand_tcp"},
+       2}};
+  for (const Expected& e : arms) {
+    INFO(e.file);
+    int status = -1;
+    const nlohmann::json j = describeJson(e.file, status);
+    REQUIRE(status == 0);
+    const nlohmann::json& c = j.at("urdf_chains");
+    CHECK(c.at("base") == e.base);
+    REQUIRE(c.at("chains").size() == 1);
+    CHECK(c["chains"][0].at("end") == e.end);
+    CHECK(c["chains"][0].at("joints") == e.joints);
+    CHECK(c["chains"][0].at("fixed_frames") == e.fixed_frames);
+    CHECK(c["chains"][0].at("left_out").size() == e.left_out);
+    CHECK(c.at("tip") == e.tip);
+    CHECK(c.at("tip_from") == "default");
+    CHECK(c.at("default_tip") == e.tip);
+    CHECK(c.at("default_reason").get<std::string>().find(e.end) != std::string::npos);
+    CHECK(j.at("dof") == e.joints);  // the design describe loaded is the chain it names
+    // Every other tip it offers loads with --tip: the same joints, the chain's end or a frame
+    // fixed after it.
+    std::vector<std::string> others = c.at("other_tips");
+    std::vector<std::string> all = e.fixed_frames;
+    all.insert(all.begin(), e.end);
+    all.erase(std::find(all.begin(), all.end(), e.tip));
+    CHECK(others == all);
+    for (const std::string& tip : others) {
+      INFO(tip);
+      const nlohmann::json k = describeJson(e.file + " --tip " + tip, status);
+      REQUIRE(status == 0);
+      CHECK(k.at("dof") == e.joints);
+      CHECK(k.at("urdf_chains").at("tip") == tip);
+      CHECK(k.at("urdf_chains").at("tip_from") == "--tip");
+      CHECK(std::count(k["urdf_chains"]["other_tips"].begin(), k["urdf_chains"]["other_tips"].end(),
+                       e.tip) == 1);
+    }
+  }
+  // An ambiguous default: the chains as JSON, then exit 2.
+  const std::string two = tempPath("two_arms_json.urdf");
+  writeText(two, kTwoArms);
+  int status = -1;
+  const nlohmann::json j = describeJson(two, status);
+  CHECK(status == 2);
+  const nlohmann::json& c = j.at("urdf_chains");
+  CHECK(c.at("tip").is_null());
+  CHECK(c.at("tip_from") == "none");
+  CHECK(c.at("chains").size() == 2);
+  CHECK(c.at("other_tips") == std::vector<std::string>{"a", "b"});
+  // A design file has no URDF chains.
+  CHECK_FALSE(describeJson(test::sourcePath("designs/first_prototype_6dof.toml"), status)
+                  .contains("urdf_chains"));
+}
+
 TEST_CASE("URDF CLI convert both ways keeps the tip and every frame fk prints", "[urdf][cli]") {
   const std::string toml = tempPath("arm6.toml"), urdf = tempPath("arm6_back.urdf");
   std::string out, fk_a, fk_b;
