@@ -1184,6 +1184,54 @@ TEST_CASE("URDF default chain leaves the gripper out and ends in the one path of
   CHECK(c.chosen == "tool0");
 }
 
+namespace {
+// Two arm joints, then a hand frame 0.16 m out and two fingers written as fixed joints (as the
+// Kinova JACO2 j2s6s200 of example-robot-data writes them, with a zero axis and zero limits on
+// its fixed mounting joint).
+const char* kFixedFingers = R"(<robot name="fixed_fingers">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="mount"/>
+  <joint name="base_to_mount" type="fixed"><parent link="base"/><child link="mount"/>
+    <axis xyz="0 0 0"/><limit effort="0" lower="0" upper="0" velocity="0"/></joint>
+  <joint name="j1" type="revolute"><parent link="mount"/><child link="l1"/><axis xyz="0 0 1"/>
+    <origin xyz="0 0 0.2"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/>
+    <origin xyz="0 0 0.3"/><limit lower="-6.28" upper="6.28" effort="1" velocity="1"/></joint>
+  <link name="end_effector"/>
+  <joint name="joint_end_effector" type="fixed"><parent link="l2"/><child link="end_effector"/>
+    <origin rpy="3.14159265359 1.57079632679 0" xyz="0 0 -0.16"/></joint>
+  <link name="link_finger_1"/><link name="link_finger_tip_1"/><link name="link_finger_2"/>
+  <joint name="joint_finger_1" type="fixed"><parent link="l2"/><child link="link_finger_1"/>
+    <axis xyz="0 0 1"/><origin xyz="0 0.03 -0.11"/>
+    <limit effort="2" lower="0" upper="1.51" velocity="1"/></joint>
+  <joint name="joint_finger_tip_1" type="fixed"><parent link="link_finger_1"/>
+    <child link="link_finger_tip_1"/><origin xyz="0.044 -0.003 0"/></joint>
+  <joint name="joint_finger_2" type="fixed"><parent link="l2"/><child link="link_finger_2"/>
+    <axis xyz="0 0 1"/><origin xyz="0 -0.03 -0.11"/></joint>
+</robot>)";
+}  // namespace
+
+TEST_CASE("URDF default tip: finger frames on fixed joints do not hide the hand frame", "[urdf]") {
+  const std::string f = tempPath("fixed_fingers.urdf");
+  writeText(f, kFixedFingers);
+  const UrdfChains c = findUrdfChains(f, chain("", ""));
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.ends[0].link == "l2");
+  CHECK(c.ends[0].joints == 2);
+  CHECK(c.chosen == "end_effector");
+  CHECK_THAT(c.reason, Catch::Contains("finger frames aside") &&
+                           Catch::Contains("link_finger_1, link_finger_2"));
+  UrdfInfo info;
+  const Model m = importUrdf(f, chain("", ""), &info);
+  CHECK(m.dof() == 2);
+  CHECK(info.tcp_link == "end_effector");
+  // The TCP is the hand frame: 0.16 m along -z of l2, which at q = 0 is 0.5 - 0.16 m up.
+  KinematicsWorkspace ws(m);
+  forwardKinematics(m, ws, Eigen::VectorXd::Zero(2));
+  CHECK(ws.p_WT.z() == Approx(0.34).margin(kUrdfOracleTolerance));
+  // The fingers stay reachable with --tip, and a finger frame is still a tip of its own.
+  CHECK(importUrdf(f, chain("", "link_finger_tip_1")).dof() == 2);
+}
+
 TEST_CASE("URDF default chain stops before a mimic joint inside the arm", "[urdf]") {
   // A parallel linkage joint that follows joint 5 (as the ABB IRB 5400's joint_5b): not an arm
   // joint, so the default chain ends at link5 instead of refusing the chain it chose.
