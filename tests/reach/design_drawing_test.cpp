@@ -117,3 +117,29 @@ TEST_CASE("Reports draw each design at its zero pose: designs/ when no stage dra
     CHECK(html.find(report::base64(svg)) != std::string::npos);
   }
 }
+
+TEST_CASE("Reports draw each design at its zero pose: the designs a reach section leaves out",
+          "[reach][arm_drawing]") {
+  const fs::path dir = tempDir("subset");
+  std::ofstream(dir / "sub.toml") << studyText("sub", R"(
+[reach]
+task_space = "position"
+designs = ["first_prototype_6dof"]
+[[reach.grid]]
+name = "line"
+x = { from = "0 m", to = "0.4 m", step = "0.2 m" }
+y = "0.6 m"
+z = "1.0 m"
+)");
+  const fs::path out = run(dir, "sub", 2);
+  const std::string study_md = readFileOrThrow((out / "report.md").string());
+  // The evaluated design is drawn by the reach stage only, the other one by the study.
+  CHECK(fs::exists(out / "reach/images/arm_first_prototype_6dof.svg"));
+  CHECK_FALSE(fs::exists(out / "designs/arm_first_prototype_6dof.svg"));
+  CHECK_FALSE(fs::exists(out / "reach/images/arm_final_prototype_7dof.svg"));
+  REQUIRE(fs::exists(out / "designs/arm_final_prototype_7dof.svg"));
+  CHECK(readFileOrThrow((out / "designs/arm_final_prototype_7dof.svg").string()) ==
+        drawnByCli(dir, "final_prototype_7dof"));
+  CHECK(study_md.find("](reach/images/arm_first_prototype_6dof.svg)") != std::string::npos);
+  CHECK(study_md.find("](designs/arm_final_prototype_7dof.svg)") != std::string::npos);
+}
