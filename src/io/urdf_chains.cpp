@@ -33,6 +33,23 @@ bool namesAFinger(const std::string& name) {
   return false;
 }
 
+// Words (between '_', '-' or '.') that mark a sensor frame (an LED, an IMU, a camera, a laser)
+// in a fixed joint's or its child link's name.
+bool namesASensor(const std::string& name) {
+  const std::string n = lower(name);
+  std::size_t b = 0;
+  while (b <= n.size()) {
+    std::size_t e = n.find_first_of("_-.", b);
+    if (e == std::string::npos) e = n.size();
+    const std::string w = n.substr(b, e - b);
+    for (const char* s :
+         {"led", "imu", "accelerometer", "camera", "optical", "laser", "lidar", "sensor"})
+      if (w == s) return true;
+    b = e + 1;
+  }
+  return false;
+}
+
 std::string joinNames(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -116,16 +133,17 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
   out.reason =
       "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" + e.link + "'";
   if (out.chosen != e.link)
-    out.reason += "; the fixed frames after it form one path" +
-                  (fingers.empty() ? "" : " (finger frames aside: " + joinNames(fingers) + ")") +
-                  ", ending in '" + out.chosen + "'";
+    out.reason +=
+        "; the fixed frames after it form one path" +
+        (fingers.empty() ? "" : " (finger and sensor frames aside: " + joinNames(fingers) + ")") +
+        ", ending in '" + out.chosen + "'";
   if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);
   return out;
 }
 
 // The last link of the fixed joints after `link` when they form one path, else `link`. Fixed
-// joints to finger parts (fixed fingers, as some hands are written) are not part of the path; their
-// child links go to `fingers`.
+// joints to finger parts (fixed fingers, as some hands are written) and to sensor frames (an LED,
+// an accelerometer on the palm) are not part of the path; their child links go to `fingers`.
 std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
                          std::vector<std::string>* fingers) {
   std::string cur = link;
@@ -135,7 +153,8 @@ std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& l
     std::vector<std::string> fixed;
     for (const auto& j : l->child_joints) {
       if (j->type != urdf::Joint::FIXED) continue;
-      if (namesAFinger(j->name) || namesAFinger(j->child_link_name))
+      if (namesAFinger(j->name) || namesAFinger(j->child_link_name) || namesASensor(j->name) ||
+          namesASensor(j->child_link_name))
         skipped.push_back(j->child_link_name);
       else
         fixed.push_back(j->child_link_name);

@@ -46,7 +46,8 @@ std::string notArmJointReason(const urdf::Joint& j);
 UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base);
 
 // The last link of the fixed joints after `link` when they form one path (fixed joints to finger
-// parts aside; their child links go to `fingers` when the path leads past `link`), else `link`.
+// parts and sensor frames aside; their child links go to `fingers` when the path leads past
+// `link`), else `link`.
 std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
                          std::vector<std::string>* fingers = nullptr);
 

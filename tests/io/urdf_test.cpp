@@ -1218,7 +1218,7 @@ TEST_CASE("URDF default tip: finger frames on fixed joints do not hide the hand 
   CHECK(c.ends[0].link == "l2");
   CHECK(c.ends[0].joints == 2);
   CHECK(c.chosen == "end_effector");
-  CHECK_THAT(c.reason, Catch::Contains("finger frames aside") &&
+  CHECK_THAT(c.reason, Catch::Contains("finger and sensor frames aside") &&
                            Catch::Contains("link_finger_1, link_finger_2"));
   UrdfInfo info;
   const Model m = importUrdf(f, chain("", ""), &info);
@@ -1230,6 +1230,38 @@ TEST_CASE("URDF default tip: finger frames on fixed joints do not hide the hand 
   CHECK(ws.p_WT.z() == Approx(0.34).margin(kUrdfOracleTolerance));
   // The fingers stay reachable with --tip, and a finger frame is still a tip of its own.
   CHECK(importUrdf(f, chain("", "link_finger_tip_1")).dof() == 2);
+}
+
+TEST_CASE("URDF default tip: sensor frames on the palm do not hide the tool frame", "[urdf]") {
+  // As the PR2's gripper palm: an LED frame, an accelerometer and the tool frame 0.18 m out, all
+  // on fixed joints, besides the finger joints.
+  const std::string f = tempPath("palm_sensors.urdf");
+  writeText(f, R"(<robot name="palm">
+  <link name="base"/><link name="l1"/><link name="palm"/><link name="r_gripper_led_frame"/>
+  <link name="r_gripper_motor_accelerometer_link"/><link name="r_gripper_tool_frame"/>
+  <link name="finger"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="palm_joint" type="fixed"><parent link="l1"/><child link="palm"/></joint>
+  <joint name="r_gripper_led_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_led_frame"/><origin xyz="0.0513 0.0 .0244"/></joint>
+  <joint name="r_gripper_motor_accelerometer_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_motor_accelerometer_link"/></joint>
+  <joint name="r_gripper_tool_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_tool_frame"/><origin xyz="0.18 0 0"/></joint>
+  <joint name="r_gripper_l_finger_joint" type="revolute"><parent link="palm"/><child link="finger"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="0.548" effort="1" velocity="1"/></joint>
+</robot>)");
+  const UrdfChains c = findUrdfChains(f, chain("", ""));
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.chosen == "r_gripper_tool_frame");
+  CHECK_THAT(c.reason, Catch::Contains("r_gripper_led_frame, r_gripper_motor_accelerometer_link"));
+  UrdfInfo info;
+  const Model m = importUrdf(f, chain("", ""), &info);
+  CHECK(info.tcp_link == "r_gripper_tool_frame");
+  KinematicsWorkspace ws(m);
+  forwardKinematics(m, ws, Eigen::VectorXd::Zero(1));
+  CHECK(ws.p_WT.x() == Approx(0.18).margin(kUrdfOracleTolerance));
 }
 
 TEST_CASE("URDF default chain stops before a mimic joint inside the arm", "[urdf]") {
