@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli/design_options.hpp"
@@ -26,6 +27,17 @@ static std::string joined(const std::vector<std::string>& v) {
   return out;
 }
 
+// The links `--tip` can name besides `tip`: each chain's end and the fixed frames after it.
+static std::vector<std::string> otherTips(const UrdfChains& c, const std::string& tip) {
+  std::vector<std::string> others;
+  for (const auto& e : c.ends) {
+    if (e.link != tip) others.push_back(e.link);
+    for (const auto& f : e.fixed_frames)
+      if (f != tip) others.push_back(f);
+  }
+  return others;
+}
+
 // The chains of a URDF design, the tip chosen and why, and the --tip for the others.
 static void printChains(const UrdfChains& c, const std::string& tip_given) {
   std::printf(
@@ -45,14 +57,28 @@ static void printChains(const UrdfChains& c, const std::string& tip_given) {
     std::printf("tip      '%s' (default: %s)\n", c.chosen.c_str(), c.reason.c_str());
   else
     std::printf("tip      none by default: %s\n", c.reason.c_str());
-  const std::string& tip = tip_given.empty() ? c.chosen : tip_given;
-  std::vector<std::string> others;
-  for (const auto& e : c.ends) {
-    if (e.link != tip) others.push_back("--tip " + e.link);
-    for (const auto& f : e.fixed_frames)
-      if (f != tip) others.push_back("--tip " + f);
-  }
+  std::vector<std::string> others = otherTips(c, tip_given.empty() ? c.chosen : tip_given);
+  for (auto& o : others) o = "--tip " + o;
   if (!others.empty()) std::printf("other tips: %s\n", joined(others).c_str());
+}
+
+// The same as JSON (describe --json, key "urdf_chains"; docs/design-format.md).
+static nlohmann::ordered_json chainsJson(const UrdfChains& c, const std::string& tip_given) {
+  nlohmann::ordered_json j;
+  j["base"] = c.base;
+  j["chains"] = nlohmann::ordered_json::array();
+  for (const auto& e : c.ends)
+    j["chains"].push_back({{"end", e.link},
+                           {"joints", e.joints},
+                           {"fixed_frames", e.fixed_frames},
+                           {"left_out", e.left_out}});
+  const std::string& tip = tip_given.empty() ? c.chosen : tip_given;
+  j["tip"] = tip.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(tip);
+  j["tip_from"] = !tip_given.empty() ? "--tip" : tip.empty() ? "none" : "default";
+  j["default_tip"] = c.chosen.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(c.chosen);
+  j["default_reason"] = c.reason;
+  j["other_tips"] = otherTips(c, tip);
+  return j;
 }
 
 void addDescribeCommand(CLI::App* cmd, Action& action) {
@@ -66,16 +92,27 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
   cmd->add_flag("--json", *json, "Print the resolved table as JSON (SI units)");
   setAction(cmd, action, [path, json, src] {
     std::optional<UrdfChains> chains;
-    if (isUrdfPath(*path) && !*json) chains = findUrdfChains(*path, src->urdf());
+    if (isUrdfPath(*path)) chains = findUrdfChains(*path, src->urdf());
     Model m;
     try {
       m = loadAnyDesign(*path, src->urdf());
     } catch (const InputError&) {
-      if (chains) printChains(*chains, src->tip);  // the way out of an ambiguous or bad chain
+      // the way out of an ambiguous or bad chain
+      if (chains && *json)
+        std::cout << nlohmann::ordered_json{{"urdf_chains", chainsJson(*chains, src->tip)}}.dump(2)
+                  << "\n";
+      else if (chains)
+        printChains(*chains, src->tip);
       throw;
     }
     if (*json) {
-      std::cout << modelToJson(m) << "\n";
+      if (!chains) {
+        std::cout << modelToJson(m) << "\n";
+        return 0;
+      }
+      auto j = nlohmann::ordered_json::parse(modelToJson(m));
+      j["urdf_chains"] = chainsJson(*chains, src->tip);
+      std::cout << j.dump(2) << "\n";
       return 0;
     }
     std::printf("design   %s  (%d DoF)\n", m.name.c_str(), m.dof());

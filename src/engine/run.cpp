@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -14,6 +15,7 @@
 #include "armstudy/version.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "report/arm_drawing.hpp"
 #include "report/html_report.hpp"
 #include "study/checkpoint.hpp"
 #include "study/scene.hpp"
@@ -229,6 +231,7 @@ struct StudyRun {
   ScratchFolder scratch;
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
+  std::string designs_md;                // each design drawn at its zero pose (report.md)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
@@ -326,6 +329,37 @@ struct StudyRun {
     }
   }
 
+  // Each design at its zero pose for report.md: the drawing a stage made of it (<stage>/images/
+  // arm_<design>.svg), else one drawn here into designs/, which then get their own report.html
+  // page.
+  void drawDesigns() {
+    designs_md = "## Designs\n\n";
+    Writer drawn(sum.output_dir);
+    std::string page_md =
+        "# Designs\n\nThe study's designs at their zero pose (those a stage's report draws are "
+        "shown there).\n\n";
+    for (const StudyDesign& d : study.designs) {
+      const std::string file = report::zeroPoseFileName(d.model.name);
+      const auto by_stage =
+          std::find_if(sum.files_written.begin(), sum.files_written.end(), [&](const auto& f) {
+            return f.size() > file.size() + 8 && std::count(f.begin(), f.end(), '/') == 2 &&
+                   f.compare(f.size() - file.size(), file.size(), file) == 0 &&
+                   f.compare(f.size() - file.size() - 8, 8, "/images/") == 0;
+          });
+      std::string rel = by_stage != sum.files_written.end() ? *by_stage : "";
+      if (rel.empty()) {
+        rel = "designs/" + file;
+        drawn.text(rel, report::zeroPoseSvg(d.model));
+        page_md += report::zeroPoseFigureMd(d.model.name, file);
+      }
+      designs_md += report::zeroPoseFigureMd(d.model.name, rel);
+    }
+    if (drawn.files().empty()) return;
+    drawn.text("designs/report.md", page_md);
+    pages.insert(pages.begin(), report::HtmlStage{"designs", drawn.files()});
+    sum.files_written.insert(sum.files_written.end(), drawn.files().begin(), drawn.files().end());
+  }
+
   // The ParaView scene (docs/paraview.md): the obstacles, and a pvpython script that opens every
   // spatial file of the run in one view.
   void writeScene() {
@@ -364,7 +398,7 @@ struct StudyRun {
     if (!any) answer_md += "None.\n";
     std::string md = "# Study `" + study.name + "`\n\n";
     if (!study.description.empty()) md += study.description + "\n\n";
-    md += answer_md + "\n## Details\n\n";
+    md += answer_md + "\n" + designs_md + "## Details\n\n";
     for (const auto& [stage, r] : answers)
       for (const std::string& f : r.files)  // the stage's own reports, one folder down
         if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 &&
@@ -444,6 +478,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   // one file per unit, docs/distributed.md "Checkpoints"), and rank 0 the rest of the store.
   agreed(ranks, [&] {
     if (!run.root) return;
+    run.drawDesigns();
     run.writeScene();
     run.writeAnswer();
     run.writeHtml();

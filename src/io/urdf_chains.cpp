@@ -24,6 +24,32 @@ bool namesAGripper(const std::string& name) {
   return false;
 }
 
+// Words that mark a finger part (not the hand or gripper body, which may carry the tool frame) in
+// a fixed joint's or its child link's name.
+bool namesAFinger(const std::string& name) {
+  const std::string n = lower(name);
+  for (const char* w : {"finger", "thumb", "jaw", "knuckle"})
+    if (n.find(w) != std::string::npos) return true;
+  return false;
+}
+
+// Words (between '_', '-' or '.') that mark a sensor frame (an LED, an IMU, a camera, a laser)
+// in a fixed joint's or its child link's name.
+bool namesASensor(const std::string& name) {
+  const std::string n = lower(name);
+  std::size_t b = 0;
+  while (b <= n.size()) {
+    std::size_t e = n.find_first_of("_-.", b);
+    if (e == std::string::npos) e = n.size();
+    const std::string w = n.substr(b, e - b);
+    for (const char* s :
+         {"led", "imu", "accelerometer", "camera", "optical", "laser", "lidar", "sensor"})
+      if (w == s) return true;
+    b = e + 1;
+  }
+  return false;
+}
+
 std::string joinNames(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -102,25 +128,42 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
     return out;
   }
   const UrdfChainEnd& e = out.ends.front();
-  out.chosen = fixedPathEnd(robot, e.link);
+  std::vector<std::string> fingers;
+  out.chosen = fixedPathEnd(robot, e.link, &fingers);
   out.reason =
       "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" + e.link + "'";
   if (out.chosen != e.link)
-    out.reason += "; the fixed frames after it form one path, ending in '" + out.chosen + "'";
+    out.reason +=
+        "; the fixed frames after it form one path" +
+        (fingers.empty() ? "" : " (finger and sensor frames aside: " + joinNames(fingers) + ")") +
+        ", ending in '" + out.chosen + "'";
   if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);
   return out;
 }
 
-// The last link of the fixed joints after `link` when they form one path, else `link`.
-std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link) {
+// The last link of the fixed joints after `link` when they form one path, else `link`. Fixed
+// joints to finger parts (fixed fingers, as some hands are written) and to sensor frames (an LED,
+// an accelerometer on the palm) are not part of the path; their child links go to `fingers`.
+std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
+                         std::vector<std::string>* fingers) {
   std::string cur = link;
+  std::vector<std::string> skipped;
   for (;;) {
     const auto l = robot.getLink(cur);
     std::vector<std::string> fixed;
-    for (const auto& j : l->child_joints)
-      if (j->type == urdf::Joint::FIXED) fixed.push_back(j->child_link_name);
+    for (const auto& j : l->child_joints) {
+      if (j->type != urdf::Joint::FIXED) continue;
+      if (namesAFinger(j->name) || namesAFinger(j->child_link_name) || namesASensor(j->name) ||
+          namesASensor(j->child_link_name))
+        skipped.push_back(j->child_link_name);
+      else
+        fixed.push_back(j->child_link_name);
+    }
     if (fixed.size() > 1) return link;
-    if (fixed.empty()) return cur;
+    if (fixed.empty()) {
+      if (fingers && cur != link) *fingers = skipped;
+      return cur;
+    }
     cur = fixed.front();
   }
 }

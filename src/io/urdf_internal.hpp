@@ -45,7 +45,10 @@ std::string notArmJointReason(const urdf::Joint& j);
 // on along the fixed joints after it while they form one path (a flange, then tool0).
 UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base);
 
-// The last link of the fixed joints after `link` when they form one path, else `link`.
-std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link);
+// The last link of the fixed joints after `link` when they form one path (fixed joints to finger
+// parts and sensor frames aside; their child links go to `fingers` when the path leads past
+// `link`), else `link`.
+std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
+                         std::vector<std::string>* fingers = nullptr);
 
 }  // namespace armstudy::urdf_detail

@@ -1184,6 +1184,86 @@ TEST_CASE("URDF default chain leaves the gripper out and ends in the one path of
   CHECK(c.chosen == "tool0");
 }
 
+namespace {
+// Two arm joints, then a hand frame 0.16 m out and two fingers written as fixed joints (as the
+// Kinova JACO2 j2s6s200 of example-robot-data writes them, with a zero axis and zero limits on
+// its fixed mounting joint).
+const char* kFixedFingers = R"(<robot name="fixed_fingers">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="mount"/>
+  <joint name="base_to_mount" type="fixed"><parent link="base"/><child link="mount"/>
+    <axis xyz="0 0 0"/><limit effort="0" lower="0" upper="0" velocity="0"/></joint>
+  <joint name="j1" type="revolute"><parent link="mount"/><child link="l1"/><axis xyz="0 0 1"/>
+    <origin xyz="0 0 0.2"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/>
+    <origin xyz="0 0 0.3"/><limit lower="-6.28" upper="6.28" effort="1" velocity="1"/></joint>
+  <link name="end_effector"/>
+  <joint name="joint_end_effector" type="fixed"><parent link="l2"/><child link="end_effector"/>
+    <origin rpy="3.14159265359 1.57079632679 0" xyz="0 0 -0.16"/></joint>
+  <link name="link_finger_1"/><link name="link_finger_tip_1"/><link name="link_finger_2"/>
+  <joint name="joint_finger_1" type="fixed"><parent link="l2"/><child link="link_finger_1"/>
+    <axis xyz="0 0 1"/><origin xyz="0 0.03 -0.11"/>
+    <limit effort="2" lower="0" upper="1.51" velocity="1"/></joint>
+  <joint name="joint_finger_tip_1" type="fixed"><parent link="link_finger_1"/>
+    <child link="link_finger_tip_1"/><origin xyz="0.044 -0.003 0"/></joint>
+  <joint name="joint_finger_2" type="fixed"><parent link="l2"/><child link="link_finger_2"/>
+    <axis xyz="0 0 1"/><origin xyz="0 -0.03 -0.11"/></joint>
+</robot>)";
+}  // namespace
+
+TEST_CASE("URDF default tip: finger frames on fixed joints do not hide the hand frame", "[urdf]") {
+  const std::string f = tempPath("fixed_fingers.urdf");
+  writeText(f, kFixedFingers);
+  const UrdfChains c = findUrdfChains(f, chain("", ""));
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.ends[0].link == "l2");
+  CHECK(c.ends[0].joints == 2);
+  CHECK(c.chosen == "end_effector");
+  CHECK_THAT(c.reason, Catch::Contains("finger and sensor frames aside") &&
+                           Catch::Contains("link_finger_1, link_finger_2"));
+  UrdfInfo info;
+  const Model m = importUrdf(f, chain("", ""), &info);
+  CHECK(m.dof() == 2);
+  CHECK(info.tcp_link == "end_effector");
+  // The TCP is the hand frame: 0.16 m along -z of l2, which at q = 0 is 0.5 - 0.16 m up.
+  KinematicsWorkspace ws(m);
+  forwardKinematics(m, ws, Eigen::VectorXd::Zero(2));
+  CHECK(ws.p_WT.z() == Approx(0.34).margin(kUrdfOracleTolerance));
+  // The fingers stay reachable with --tip, and a finger frame is still a tip of its own.
+  CHECK(importUrdf(f, chain("", "link_finger_tip_1")).dof() == 2);
+}
+
+TEST_CASE("URDF default tip: sensor frames on the palm do not hide the tool frame", "[urdf]") {
+  // As the PR2's gripper palm: an LED frame, an accelerometer and the tool frame 0.18 m out, all
+  // on fixed joints, besides the finger joints.
+  const std::string f = tempPath("palm_sensors.urdf");
+  writeText(f, R"(<robot name="palm">
+  <link name="base"/><link name="l1"/><link name="palm"/><link name="r_gripper_led_frame"/>
+  <link name="r_gripper_motor_accelerometer_link"/><link name="r_gripper_tool_frame"/>
+  <link name="finger"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="palm_joint" type="fixed"><parent link="l1"/><child link="palm"/></joint>
+  <joint name="r_gripper_led_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_led_frame"/><origin xyz="0.0513 0.0 .0244"/></joint>
+  <joint name="r_gripper_motor_accelerometer_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_motor_accelerometer_link"/></joint>
+  <joint name="r_gripper_tool_joint" type="fixed"><parent link="palm"/>
+    <child link="r_gripper_tool_frame"/><origin xyz="0.18 0 0"/></joint>
+  <joint name="r_gripper_l_finger_joint" type="revolute"><parent link="palm"/><child link="finger"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="0.548" effort="1" velocity="1"/></joint>
+</robot>)");
+  const UrdfChains c = findUrdfChains(f, chain("", ""));
+  REQUIRE(c.ends.size() == 1);
+  CHECK(c.chosen == "r_gripper_tool_frame");
+  CHECK_THAT(c.reason, Catch::Contains("r_gripper_led_frame, r_gripper_motor_accelerometer_link"));
+  UrdfInfo info;
+  const Model m = importUrdf(f, chain("", ""), &info);
+  CHECK(info.tcp_link == "r_gripper_tool_frame");
+  KinematicsWorkspace ws(m);
+  forwardKinematics(m, ws, Eigen::VectorXd::Zero(1));
+  CHECK(ws.p_WT.x() == Approx(0.18).margin(kUrdfOracleTolerance));
+}
+
 TEST_CASE("URDF default chain stops before a mimic joint inside the arm", "[urdf]") {
   // A parallel linkage joint that follows joint 5 (as the ABB IRB 5400's joint_5b): not an arm
   // joint, so the default chain ends at link5 instead of refusing the chain it chose.
@@ -1264,6 +1344,86 @@ TEST_CASE("URDF CLI describe lists the chains, the tip chosen and why, and the o
           2);
   CHECK_THAT(out, Catch::Contains("no link named 'nosuch' (--base; base_link in a study) in " +
                                   arm6() + "; its 11 links: base_link, finger_left, finger_right"));
+}
+
+namespace {
+// describe --json of a URDF (stderr left out): its exit status and the JSON it printed.
+nlohmann::json describeJson(const std::string& args, int& status) {
+  std::string out;
+  status = test::runCommand("(" + test::binaryPath() + " describe " + args + " --json 2>/dev/null)",
+                            out);
+  INFO(out);
+  return nlohmann::json::parse(out);
+}
+}  // namespace
+
+TEST_CASE("URDF CLI describe --json lists the chains, the tip chosen and why, and the other tips",
+          "[urdf][cli]") {
+  struct Expected {
+    std::string file, base, end, tip;
+    int joints;
+    std::vector<std::string> fixed_frames;
+    std::size_t left_out;
+  };
+  const std::vector<Expected> arms = {
+      {arm6(), "base_link", "link6", "tool0", 6, {"flange", "tool0"}, 2},
+      {ur5(), "world", "wrist_3_link", "wrist_3_link", 6, {"ee_link", "tool0"}, 0},
+      {panda(),
+       "panda_link0",
+       "panda_link7",
+       "panda_hand_tcp",
+       7,
+       {"panda_link8", "panda_hand", "panda_hand_tcp"},
+       2}};
+  for (const Expected& e : arms) {
+    INFO(e.file);
+    int status = -1;
+    const nlohmann::json j = describeJson(e.file, status);
+    REQUIRE(status == 0);
+    const nlohmann::json& c = j.at("urdf_chains");
+    CHECK(c.at("base") == e.base);
+    REQUIRE(c.at("chains").size() == 1);
+    CHECK(c["chains"][0].at("end") == e.end);
+    CHECK(c["chains"][0].at("joints") == e.joints);
+    CHECK(c["chains"][0].at("fixed_frames") == e.fixed_frames);
+    CHECK(c["chains"][0].at("left_out").size() == e.left_out);
+    CHECK(c.at("tip") == e.tip);
+    CHECK(c.at("tip_from") == "default");
+    CHECK(c.at("default_tip") == e.tip);
+    CHECK(c.at("default_reason").get<std::string>().find(e.end) != std::string::npos);
+    CHECK(j.at("dof") == e.joints);  // the design describe loaded is the chain it names
+    // Every other tip it offers loads with --tip: the same joints, the chain's end or a frame
+    // fixed after it.
+    std::vector<std::string> others = c.at("other_tips");
+    std::vector<std::string> all = e.fixed_frames;
+    all.insert(all.begin(), e.end);
+    all.erase(std::find(all.begin(), all.end(), e.tip));
+    CHECK(others == all);
+    for (const std::string& tip : others) {
+      INFO(tip);
+      const nlohmann::json k = describeJson(e.file + " --tip " + tip, status);
+      REQUIRE(status == 0);
+      CHECK(k.at("dof") == e.joints);
+      CHECK(k.at("urdf_chains").at("tip") == tip);
+      CHECK(k.at("urdf_chains").at("tip_from") == "--tip");
+      CHECK(std::count(k["urdf_chains"]["other_tips"].begin(), k["urdf_chains"]["other_tips"].end(),
+                       e.tip) == 1);
+    }
+  }
+  // An ambiguous default: the chains as JSON, then exit 2.
+  const std::string two = tempPath("two_arms_json.urdf");
+  writeText(two, kTwoArms);
+  int status = -1;
+  const nlohmann::json j = describeJson(two, status);
+  CHECK(status == 2);
+  const nlohmann::json& c = j.at("urdf_chains");
+  CHECK(c.at("tip").is_null());
+  CHECK(c.at("tip_from") == "none");
+  CHECK(c.at("chains").size() == 2);
+  CHECK(c.at("other_tips") == std::vector<std::string>{"a", "b"});
+  // A design file has no URDF chains.
+  CHECK_FALSE(describeJson(test::sourcePath("designs/first_prototype_6dof.toml"), status)
+                  .contains("urdf_chains"));
 }
 
 TEST_CASE("URDF CLI convert both ways keeps the tip and every frame fk prints", "[urdf][cli]") {

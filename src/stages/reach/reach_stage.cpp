@@ -7,6 +7,7 @@
 
 #include "common/errors.hpp"
 #include "io/vtk_io.hpp"
+#include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
 #include "stages/reach/reach_grid.hpp"
 #include "stages/reach/reach_report.hpp"
@@ -146,6 +147,19 @@ std::string checksText(const ReachConfig& cfg) {
   return md;
 }
 
+// The designs evaluated, each drawn at its zero pose (reach/images/arm_<design>.svg), as a report
+// section; nothing without images or on a rank that does not write the results.
+std::string designDrawings(const StageContext& ctx, const ReachConfig& cfg, Writer& out) {
+  if (!cfg.outputs.images || !ctx.writes_results) return "";
+  std::string md = "## The designs\n\n";
+  for (const StudyDesign& sd : ctx.study.designs) {
+    const std::string file = report::zeroPoseFileName(sd.model.name);
+    out.text("reach/images/" + file, report::zeroPoseSvg(sd.model));
+    md += report::zeroPoseFigureMd(sd.model.name, "images/" + file);
+  }
+  return md;
+}
+
 // One design on a pose list: its sweep and search, summary entry, .vtp and best robot, table row.
 ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
                             const StudyDesign& sd, Progress& progress, StageResult& sum,
@@ -237,6 +251,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   std::string md = taskText(study, cfg);
   warnWithoutVolumes(ctx, cfg, jr, md);
   md += checksText(cfg);
+  md += designDrawings(ctx, cfg, out);
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids)
     jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, md));
