@@ -3,6 +3,8 @@
 #include "collision/reach_collision.hpp"
 
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
 
 #include "ik/nullspace.hpp"
 #include "io/design_io.hpp"
@@ -78,4 +80,53 @@ TEST_CASE(
   const auto out = solvePoseCollisionAware(m, ws, cws, far, ik, co, 1);
   CHECK(out.ik.status == ReachStatus::OutOfReach);
   CHECK(out.attempts == 1);
+}
+
+TEST_CASE(
+    "a collision-aware solve given the solution the caller already has returns what the whole "
+    "solve returns, on poses that are free, escaped and in collision",
+    "[collision]") {
+  const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
+  IkWorkspace ws(m);
+  CollisionWorkspace cws(m);
+  IkOptions ik;
+  ik.max_starts = 1;
+  CollisionReachOptions co;
+  co.escape_attempts = 0;
+  std::mt19937_64 rng(7);
+  int kinds[3] = {0, 0, 0};  // reachable without escape, reachable by the descent, in collision
+  for (int t = 0; t < 60; ++t) {
+    // A pose the arm reaches, an obstacle on its upper arm or around the tool for some of them.
+    const Eigen::VectorXd q_true = test::randomConfiguration(m, rng);
+    forwardKinematics(m, ws.kin, q_true);
+    IkTarget target;
+    target.task_space = TaskSpace::position();
+    target.w_d.head<3>() = ws.kin.p_WT;
+    std::vector<Obstacle> obstacles;
+    if (t % 3 == 1)
+      obstacles.push_back(sphereObstacle("arm", 0.5 * (ws.kin.p_WF[2] + ws.kin.p_WF[3]), 0.05));
+    if (t % 3 == 2) obstacles.push_back(sphereObstacle("tool", ws.kin.p_WT, 0.04));
+    const JointVector start = test::randomConfiguration(m, rng);
+    const auto whole = solvePoseCollisionAware(m, ws, cws, target, ik, co, t, obstacles, &start);
+    const IkResult solved = solvePose(m, ws, target, ik, t, &start);
+    const auto given =
+        solvePoseCollisionAware(m, ws, cws, target, ik, co, t, obstacles, &start, &solved);
+    INFO("pose " << t);
+    CHECK(given.ik.status == whole.ik.status);
+    CHECK(given.ik.q == whole.ik.q);
+    CHECK(given.ik.manipulability == whole.ik.manipulability);
+    CHECK(given.nullspace_escape == whole.nullspace_escape);
+    CHECK(given.colliding_pair_index == whole.colliding_pair_index);
+    CHECK((given.min_distance_m == whole.min_distance_m ||
+           (std::isnan(given.min_distance_m) && std::isnan(whole.min_distance_m))));
+    if (whole.ik.reachable()) ++kinds[whole.nullspace_escape ? 1 : 0];
+    if (whole.ik.status == ReachStatus::ObstacleCollision ||
+        whole.ik.status == ReachStatus::SelfCollision)
+      ++kinds[2];
+  }
+  // The scenario: each kind of outcome happened.
+  INFO("free " << kinds[0] << ", escaped " << kinds[1] << ", in collision " << kinds[2]);
+  CHECK(kinds[0] > 0);
+  CHECK(kinds[1] > 0);
+  CHECK(kinds[2] > 0);
 }
