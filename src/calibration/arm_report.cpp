@@ -373,6 +373,16 @@ json rankingJson(const ArmDiagnosis& d, const ArmProblem& P) {
 }
 
 // result.json: data, errors before and after, noise, ranking, regions, ladder and files.
+// `path` as written from `folder` (so that result.json does not depend on where the output
+// folder lies): relative when it lies inside the folder, else absolute.
+std::string pathFromFolder(const std::string& path, const std::string& folder) {
+  if (path.empty()) return path;  // no calibrated copy
+  const fs::path rel = fs::absolute(path).lexically_normal().lexically_relative(
+      fs::absolute(folder).lexically_normal());
+  if (rel.empty() || *rel.begin() == "..") return fs::absolute(path).lexically_normal().string();
+  return rel.string();
+}
+
 json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptions& o,
                 const std::string& calibrated_design_path, const std::vector<std::string>& files) {
   json j;
@@ -414,7 +424,7 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
   if (o.command == "fit") {
     j["rmse_before"] = finite(d.rmse_before);
     j["rmse_after"] = finite(d.rmse_after);
-    j["calibrated_design"] = calibrated_design_path;
+    j["calibrated_design"] = pathFromFolder(calibrated_design_path, o.out_dir);
   }
   j["files"] = files;
   return j;

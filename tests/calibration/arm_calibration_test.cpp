@@ -426,7 +426,9 @@ TEST_CASE(
   CHECK(fs::exists(dir + "/tcp/before_workspace_cells.vti"));
   CHECK(fs::exists(dir + "/tcp/after_residual_points.vtp"));
   // The calibrated copy has the offset in its joint table: compared as is, it meets the noise.
-  const std::string cal = j["calibrated_design"];
+  const std::string cal_rel = j["calibrated_design"];
+  CHECK_FALSE(fs::path(cal_rel).is_absolute());  // from result.json's folder
+  const std::string cal = dir + "/tcp/" + cal_rel;
   REQUIRE(test::runCommand(bin + " compare " + cal + " --kind tcp --data " + dir +
                                "/tcp.csv --out " + dir + "/tcp",
                            out) == 0);
@@ -448,7 +450,7 @@ TEST_CASE(
   CHECK(j["kind"] == "trajectory");
   CHECK(j["added"][0] == "payload");
   CHECK(j["rmse_after"].get<double>() <= kNoiseRatio * 0.01);
-  const Model cm = loadDesign(j["calibrated_design"].get<std::string>());
+  const Model cm = loadDesign(dir + "/traj/" + j["calibrated_design"].get<std::string>());
   CHECK(cm.payload_kg == Approx(design7().payload_kg + 0.5).margin(0.01));
   // Bad input: exit code 2 with a message.
   writeFileAtomic(dir + "/bad.csv", "q1,q2,x,y,z\n0,0,0,0,0\n");
