@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,6 +24,14 @@ inline std::string sourcePath(const std::string& rel) {
   return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel;
 }
 inline std::string binaryPath() { return ARMSTUDY_BINARY; }
+
+// An empty folder <temp>/armstudy_<name>, made anew (whatever was there is removed first).
+inline std::filesystem::path emptyTempDir(const std::string& name) {
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / ("armstudy_" + name);
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
 
 inline const std::vector<std::string>& shippedDesigns() {
   static const std::vector<std::string> d = {

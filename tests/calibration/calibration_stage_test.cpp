@@ -48,12 +48,7 @@ RunOptions runOptions(const fs::path& root, int threads) {
   return ro;
 }
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_calstage_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::emptyTempDir("calstage_" + name); }
 
 // Every file of a run but the manifest (timings, date) and the checkpoint store, by relative path.
 std::map<std::string, std::string> resultFiles(const fs::path& dir) {

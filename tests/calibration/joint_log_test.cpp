@@ -47,12 +47,7 @@ double forwardBackwardGain(double f, double fc, double h, int N) {
   return 1.0 / (1.0 + std::pow(std::tan(M_PI * f * h) / std::tan(M_PI * fc * h), 2 * N));
 }
 
-fs::path tmp(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_jointlog_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path tmp(const std::string& name) { return test::emptyTempDir("jointlog_" + name); }
 
 void writeText(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 

@@ -17,12 +17,7 @@ std::string cli(const std::string& args, int& status) {
   status = runCommand(binaryPath() + " " + args, out);
   return out;
 }
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return armstudy::test::emptyTempDir("cli_" + name); }
 }  // namespace
 
 TEST_CASE("--help teaches the commands", "[cli]") {

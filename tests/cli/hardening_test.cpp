@@ -22,10 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_hardening_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return armstudy::test::emptyTempDir("hardening_" + name);
 }
 }  // namespace
 

@@ -55,10 +55,7 @@ DexterityOptions smallOptions() {
 }
 
 std::string tempDir(const std::string& name) {
-  const auto p = std::filesystem::temp_directory_path() / ("armstudy_dexterity_test_" + name);
-  std::filesystem::remove_all(p);
-  std::filesystem::create_directories(p);
-  return p.string();
+  return test::emptyTempDir("dexterity_test_" + name).string();
 }
 
 std::string writeStudy(const std::string& dir, const std::string& body) {

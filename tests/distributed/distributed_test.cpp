@@ -31,12 +31,7 @@ void requireMpi() {
   REQUIRE(fs::exists(ARMSTUDY_MPIEXEC));
 }
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_distributed_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::emptyTempDir("distributed_" + name); }
 
 std::string designPath(const std::string& name) { return sourcePath("designs/" + name + ".toml"); }
 

@@ -20,10 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_design_drawing_test_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::emptyTempDir("design_drawing_test_" + name);
 }
 
 const char* const kDesigns[2] = {"first_prototype_6dof", "final_prototype_7dof"};

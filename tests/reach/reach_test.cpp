@@ -39,12 +39,7 @@ namespace {
 constexpr double kVolumeTolerance = 1e-9;    // m^3, closed-form box volume
 constexpr double kStoredValueTolerance = 0;  // Float64 arrays round-trip exactly
 
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_reach_test_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir(const std::string& name) { return test::emptyTempDir("reach_test_" + name); }
 
 void writeText(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
 

@@ -41,12 +41,7 @@ RunOptions runOpts(int threads, long unit_items) {
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_chunk_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::emptyTempDir("chunk_" + name); }
 
 // Bitwise equality (NaN == NaN, -0 != +0).
 template <class T>

@@ -16,12 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("armstudy_reg_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::emptyTempDir("reg_" + name); }
 
 // Every result file of a run (all but the manifest, which holds timings and dates) by path.
 std::map<std::string, std::string> resultFiles(const fs::path& dir) {
