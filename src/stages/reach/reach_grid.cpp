@@ -344,7 +344,19 @@ void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, DesignP
              {"triangles", bs.triangles.size()}};
 }
 
-// The manipulability figure of design di in orientation k (2-D grids), colour 0..mmax.
+// The largest manipulability any design reaches on the grid (all orientations): the top of the
+// one colour scale every design's manipulability figure of the grid shares, so that a colour
+// means the same value in each of them.
+double sharedManipulabilityMax(const GridRun& r) {
+  double mmax = 0;
+  for (const PoseSweep& s : r.sweeps)
+    for (long i = 0; i < r.g.size(); ++i)
+      if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+  return mmax;
+}
+
+// The manipulability figure of design di in orientation k (2-D grids), colour 0..mmax (shared by
+// the grid's designs).
 std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double mmax,
                                  Writer& out) {
   const TaskGrid& g = r.g;
@@ -368,7 +380,8 @@ std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double
   return "![manipulability](" + mrel +
          ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
          s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
-         report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
+         report::scientific(mmax) + " m^3 (yellow), the same scale for every design of the grid" +
+         ", grey = unreachable.*\n\n";
 }
 
 // Pieces no+1..2no of design di: the status (or reachable-fraction) and manipulability figures of
@@ -384,9 +397,7 @@ void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, DesignPa
     const long i = static_cast<long>(k) * r.points + p;
     per_k.add(s, i, g.position(g.pointOf(i)));
   }
-  double mmax = 0;
-  for (long i = 0; i < g.size(); ++i)
-    if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+  const double mmax = sharedManipulabilityMax(r);
   const long off = static_cast<long>(k) * r.points;
   report::RasterImage status_img =
       report::renderCellMap(r.d[plane.a], r.imageRows(), [&](int u, int v) {
