@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "report/html_report.hpp"
+#include "report/view3d.hpp"
 #include "study/checkpoint.hpp"
 #include "study/scene.hpp"
 
@@ -230,6 +231,8 @@ struct StudyRun {
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
   std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
+  std::vector<report::ViewCloud> view_clouds;                // the stages' maps for view.html
+  bool view_written = false;
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
            std::chrono::steady_clock::time_point t)
@@ -310,6 +313,7 @@ struct StudyRun {
         a.answer = r.answer;
         a.warnings = r.warnings;
         answers.emplace_back(section.stage->name(), std::move(a));
+        for (report::ViewCloud& c : r.view) view_clouds.push_back(std::move(c));
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -343,10 +347,38 @@ struct StudyRun {
                              scene_out.files().end());
   }
 
+  // view.html (docs/study-format.md "Outputs"): the stages' maps with the arm at its best pose and
+  // the study's obstacles, when a stage gave maps; without three.js, a note and no view.
+  void writeView() {
+    if (view_clouds.empty()) return;
+    std::string why;
+    const std::string three_js = report::threeJsSource(why);
+    if (three_js.empty()) {
+      std::fprintf(stderr, "armstudy: no view.html: %s\n", why.c_str());
+      return;
+    }
+    report::View3d view;
+    view.title = "3-D view: study " + study.name;
+    view.value_label = "manipulability [m^3]";
+    view.clouds = std::move(view_clouds);
+    for (const collision::Obstacle& o : study.obstacles) {
+      report::ViewSolid solid{o.name, static_cast<int>(o.type), {}, o.radius_m};
+      for (int k = 0; k < solid.points; ++k)
+        solid.p_W[k] = {o.p_W[k].x(), o.p_W[k].y(), o.p_W[k].z()};
+      view.solids.push_back(solid);
+    }
+    writeFileAtomic((out / "view.html").string(), report::viewHtml(view, three_js));
+    sum.files_written.push_back("view.html");
+    view_written = true;
+  }
+
   // report.md: the answer first, then the warnings, then where the details are (each stage's
   // report).
   void writeAnswer() {
-    answer_md = "## Answer\n\n";
+    answer_md = view_written ? "**Interactive 3-D view:** [view.html](view.html) (the maps' "
+                               "points, the arm at its best pose and the obstacles; drag to "
+                               "rotate).\n\n## Answer\n\n"
+                             : "## Answer\n\n";
     bool any = false;
     for (const auto& [stage, r] : answers)
       for (const std::string& a : r.answer) {
@@ -445,6 +477,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   agreed(ranks, [&] {
     if (!run.root) return;
     run.writeScene();
+    run.writeView();
     run.writeAnswer();
     run.writeHtml();
     run.writeManifest(units);

@@ -422,6 +422,8 @@ const char* const kStatusText[kReachStatusCount] = {"reachable",
                                                     "only in contact with an obstacle"};
 }  // namespace
 
+const char* statusText(int k) { return kStatusText[k]; }
+
 // Legend of the status map: the statuses that occur in it.
 std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts) {
   std::vector<report::LegendEntry> l;
