@@ -111,3 +111,37 @@ TEST_CASE("the designs' maps of one quantity share one colour scale with its uni
   }
   fs::remove_all(work);
 }
+
+TEST_CASE("a fit's before and after residual maps share one colour scale with its unit",
+          "[report][cli][calibration]") {
+  const fs::path work =
+      fs::temp_directory_path() / ("armstudy_shared_scale_fit_" + std::to_string(getpid()));
+  fs::create_directories(work);
+  const std::string design = sourcePath("designs/final_prototype_7dof.toml");
+  const std::string data = (work / "tcp.csv").string(), out = (work / "tcp").string();
+  std::string log;
+  // The arm_calibration study's TCP case: a joint offset and a link length error hidden.
+  REQUIRE(runCommand(binaryPath() + " synth " + design +
+                         " --kind tcp --rows 60 --noise 2e-4 --seed 1"
+                         " --hide joint_offset.j3:offset=0.01 --hide link_length.j4.x:dx=0.005"
+                         " --out " +
+                         data,
+                     log) == 0);
+  REQUIRE(runCommand(binaryPath() + " fit " + design + " --kind tcp --data " + data +
+                         " --auto --out " + out,
+                     log) == 0);
+  INFO(log);
+  const fs::path before = work / "tcp/plots/before_workspace_map.svg",
+                 after = work / "tcp/plots/after_workspace_map.svg";
+  REQUIRE(fs::exists(before));
+  REQUIRE(fs::exists(after));
+  const ColourBar a = colourBar(readFileOrThrow(before.string()), "|mean residual|");
+  const ColourBar b = colourBar(readFileOrThrow(after.string()), "|mean residual|");
+  INFO("ticks " << Catch::Detail::stringify(a.ticks) << " vs "
+                << Catch::Detail::stringify(b.ticks));
+  REQUIRE(a.ticks.size() >= 2);
+  CHECK(a.ticks == b.ticks);
+  CHECK(a.label == b.label);
+  CHECK(a.label.find("[m]") != std::string::npos);
+  fs::remove_all(work);
+}
