@@ -232,6 +232,7 @@ struct StudyRun {
   std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
   std::vector<report::ViewCloud> view_clouds;                // the stages' maps for view.html
+  std::vector<report::ViewSolid> view_solids;                // ... and their own obstacles
   bool view_written = false;
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
@@ -314,6 +315,7 @@ struct StudyRun {
         a.warnings = r.warnings;
         answers.emplace_back(section.stage->name(), std::move(a));
         for (report::ViewCloud& c : r.view) view_clouds.push_back(std::move(c));
+        view_solids.insert(view_solids.end(), r.view_solids.begin(), r.view_solids.end());
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -359,14 +361,16 @@ struct StudyRun {
     }
     report::View3d view;
     view.title = "3-D view: study " + study.name;
-    view.value_label = "manipulability [m^3]";
+    view.value_label = "manipulability";
     view.clouds = std::move(view_clouds);
-    for (const collision::Obstacle& o : study.obstacles) {
-      report::ViewSolid solid{o.name, static_cast<int>(o.type), {}, o.radius_m};
-      for (int k = 0; k < solid.points; ++k)
-        solid.p_W[k] = {o.p_W[k].x(), o.p_W[k].y(), o.p_W[k].z()};
-      view.solids.push_back(solid);
-    }
+    // The study's obstacles, then the stages' own ones (each name once: a stage's collision
+    // obstacles include the study's).
+    std::vector<report::ViewSolid> solids = report::viewSolids(study.obstacles);
+    solids.insert(solids.end(), view_solids.begin(), view_solids.end());
+    for (const report::ViewSolid& s : solids)
+      if (std::none_of(view.solids.begin(), view.solids.end(),
+                       [&](const report::ViewSolid& o) { return o.name == s.name; }))
+        view.solids.push_back(s);
     writeFileAtomic((out / "view.html").string(), report::viewHtml(view, three_js));
     sum.files_written.push_back("view.html");
     view_written = true;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "report/html_report.hpp"  // base64, htmlEscape
@@ -84,7 +85,8 @@ std::string cloudJson(const ViewCloud& c, double hi, long stride, long& shown) {
     names += (k ? "," : "") + jsonString(c.status_names[k]);
     colours += (k ? "," : "") + jsonString(hex(categorical(static_cast<int>(k))));
   }
-  return "{\"name\":" + jsonString(c.name) + ",\"size\":" + num(c.point_size_m) +
+  return "{\"name\":" + jsonString(c.name) + ",\"unit\":" + jsonString(c.value_unit) +
+         ",\"hi\":" + jsonString(hi > 0 ? num(hi, 4) : "0") + ",\"size\":" + num(c.point_size_m) +
          ",\"status_names\":[" + names + "],\"status_colours\":[" + colours + "]" + ",\"pos\":\"" +
          base64(pos) + "\",\"status\":\"" + base64(st) + "\",\"level\":\"" + base64(lv) +
          "\",\"arm\":" + arm + "],\"arm_caption\":" + jsonString(c.arm_caption) + "}";
@@ -92,19 +94,20 @@ std::string cloudJson(const ViewCloud& c, double hi, long stride, long& shown) {
 
 // The scene as JSON for the page's script.
 std::string sceneJson(const View3d& v) {
-  double hi = 0;
+  std::map<std::string, double> hi;  // per unit: the maps of one unit share a colour scale
   long total = 0;
   for (const ViewCloud& c : v.clouds) {
+    double& h = hi[c.value_unit];
     for (std::size_t i = 0; i < c.p_W.size(); ++i) {
       if (drawn(c, i)) ++total;
-      if (!std::isnan(c.value[i])) hi = std::max(hi, c.value[i]);
+      if (!std::isnan(c.value[i])) h = std::max(h, c.value[i]);
     }
   }
   const long stride = std::max(1L, (total + kViewMaxPoints - 1) / kViewMaxPoints);
   long shown = 0;
   std::string clouds;
   for (const ViewCloud& c : v.clouds)
-    clouds += (clouds.empty() ? "" : ",\n") + cloudJson(c, hi, stride, shown);
+    clouds += (clouds.empty() ? "" : ",\n") + cloudJson(c, hi.at(c.value_unit), stride, shown);
   std::string solids;
   for (const ViewSolid& s : v.solids) {
     std::string pts;
@@ -120,9 +123,8 @@ std::string sceneJson(const View3d& v) {
   char stride_text[32];
   std::snprintf(stride_text, sizeof stride_text, "%ld", stride);
   return "{\"title\":" + jsonString(v.title) + ",\"value_label\":" + jsonString(v.value_label) +
-         ",\"value_hi\":" + jsonString(hi > 0 ? num(hi, 4) : "0") + ",\"stride\":" + stride_text +
-         ",\"viridis\":\"" + base64(viridis_rgb) + "\",\"solids\":[" + solids + "],\n\"clouds\":[" +
-         clouds + "]}";
+         ",\"stride\":" + stride_text + ",\"viridis\":\"" + base64(viridis_rgb) +
+         "\",\"solids\":[" + solids + "],\n\"clouds\":[" + clouds + "]}";
 }
 
 const char* kStyle = R"(
@@ -160,7 +162,7 @@ const char* kApp = R"JS(
   const render = () => renderer.render(scene, camera);
   controls.addEventListener('change', render);
   const viridis = bytes(D.viridis);
-  const clouds = D.clouds.map(c => ({name: c.name, size: c.size, arm: c.arm, caption: c.arm_caption,
+  const clouds = D.clouds.map(c => ({name: c.name, unit: c.unit, hi: c.hi, size: c.size, arm: c.arm, caption: c.arm_caption,
     names: c.status_names, status_colours_css: c.status_colours, colours: c.status_colours.map(h => new THREE.Color(h)),
     pos: new Int32Array(bytes(c.pos).buffer), status: bytes(c.status), level: bytes(c.level)}));
   const v3 = p => new THREE.Vector3(p[0], p[1], p[2]);
@@ -232,12 +234,12 @@ const char* kApp = R"JS(
       const stops = [];
       for (let l = 0; l <= 254; l += 127) stops.push('rgb(' + viridis[3 * l] + ',' + viridis[3 * l + 1] + ',' + viridis[3 * l + 2] + ')');
       const e = document.createElement('span');
-      e.appendChild(document.createTextNode(D.value_label + ': 0'));
+      e.appendChild(document.createTextNode(D.value_label + ' [' + c.unit + ']: 0'));
       const bar = document.createElement('span');
       bar.className = 'bar';
       bar.style.background = 'linear-gradient(to right,' + stops.join(',') + ')';
       e.appendChild(bar);
-      e.appendChild(document.createTextNode(D.value_hi + ' (one scale for every map of this page)'));
+      e.appendChild(document.createTextNode(c.hi + ' (one scale for every map of this page in ' + c.unit + ')'));
       legend.appendChild(e);
     }
     const arms = document.createElement('span');
@@ -252,7 +254,7 @@ const char* kApp = R"JS(
       for (let k = 0; k < c.status.length; ++k) box.expandByPoint(new THREE.Vector3(c.pos[3 * k] * 1e-4, c.pos[3 * k + 1] * 1e-4, c.pos[3 * k + 2] * 1e-4));
       for (const p of c.arm) box.expandByPoint(v3(p));
     }
-    box.expandByObject(obstacles);
+    if (box.isEmpty()) box.expandByObject(obstacles);  // the maps and arms first; stems are tall
     const centre = box.getCenter(new THREE.Vector3()), radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.1);
     controls.target.copy(centre);
     camera.position.copy(centre).add(new THREE.Vector3(1.0, -1.6, 0.9).normalize().multiplyScalar(2.6 * radius));
@@ -320,6 +322,16 @@ std::string threeJsSource(std::string& why) {
     all += "<script>\n" + js + "\n</script>\n";
   }
   return all;
+}
+
+std::vector<ViewSolid> viewSolids(const std::vector<collision::Obstacle>& obstacles) {
+  std::vector<ViewSolid> out;
+  for (const collision::Obstacle& o : obstacles) {
+    ViewSolid s{o.name, static_cast<int>(o.type), {}, o.radius_m};
+    for (int k = 0; k < s.points; ++k) s.p_W[k] = {o.p_W[k].x(), o.p_W[k].y(), o.p_W[k].z()};
+    out.push_back(s);
+  }
+  return out;
 }
 
 std::string viewHtml(const View3d& view, const std::string& three_js) {

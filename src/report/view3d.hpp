@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "collision/collision.hpp"
+
 namespace armstudy::report {
 
 // One map's points (e.g. a reach grid of one design) and the arm that belongs to it.
@@ -18,6 +20,7 @@ struct ViewCloud {
   std::vector<int> status;                   // per point: category (colour: categorical(status))
   std::vector<std::string> status_names;     // per category; "" = its points are not drawn
   std::vector<double> value;                 // per point: manipulability, NaN where none
+  std::string value_unit = "m^3";            // the value's unit: maps of one unit share a scale
   double point_size_m = 0.01;                // drawn size of a point [m] (about the grid step)
   std::vector<std::array<double, 3>> arm_W;  // the arm's joint frame origins, base to TCP [m]
   std::string arm_caption;                   // what the arm's pose is
@@ -35,8 +38,11 @@ struct View3d {
   std::string title;
   std::vector<ViewCloud> clouds;
   std::vector<ViewSolid> solids;
-  std::string value_label;  // the value's quantity and unit, for the colour bar
+  std::string value_label;  // the value's quantity, for the colour bar (each map names its unit)
 };
+
+// Obstacles as the view draws them, in their order.
+std::vector<ViewSolid> viewSolids(const std::vector<collision::Obstacle>& obstacles);
 
 // At most this many points in a page: beyond it every k-th point of each map is kept (in index
 // order), so the page stays a few MB whatever the grid.

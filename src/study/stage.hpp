@@ -70,6 +70,7 @@ struct StageResult {
   // The stage's maps as points in the world frame, with the arm at its best pose: the study's
   // interactive 3-D view (view.html) shows them with the study's obstacles.
   std::vector<report::ViewCloud> view;
+  std::vector<report::ViewSolid> view_solids;  // the stage's own obstacles (e.g. a map's stem)
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

@@ -18,6 +18,7 @@
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
+#include "study/scene.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -457,6 +458,46 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
 
 }  // namespace
 
+// A design's stem map for the study's 3-D view: the cells' TCP positions on the cylinder around
+// the stem with their status and optimised manipulability, and the arm at the cell of the largest.
+report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFields& f,
+                            const std::string& unit) {
+  report::ViewCloud c;
+  c.name = "stem map: " + map.design;
+  c.value_unit = unit;
+  const double arc = map.grid.radius_m * map.grid.gamma_rad.step(), dz = map.grid.z_m.step();
+  c.point_size_m = std::max(0.005, std::min(arc > 0 ? arc : dz, dz > 0 ? dz : arc));
+  for (int k = 0; k < kReachStatusCount; ++k) {
+    const auto st = static_cast<ReachStatus>(k);
+    const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
+                       st == ReachStatus::ObstacleCollision;
+    c.status_names.push_back(drawn ? describe(st) : "");
+  }
+  int best = -1;
+  for (int j = 0; j < map.grid.z_m.count; ++j)
+    for (int i = 0; i < map.grid.gamma_rad.count; ++i) {
+      const int idx = map.grid.index(i, j);
+      const Eigen::Vector3d p = map.grid.cell(i, j).target.p_WT;
+      c.p_W.push_back({p.x(), p.y(), p.z()});
+      c.status.push_back(static_cast<int>(map.cells[idx].status));
+      c.value.push_back(f.manip_opt[idx]);
+      if (!std::isnan(f.manip_opt[idx]) && (best < 0 || f.manip_opt[idx] > f.manip_opt[best]))
+        best = idx;
+    }
+  if (best >= 0) {
+    const CellResult& cell = map.cells[best];
+    for (const Eigen::Vector3d& p :
+         scene::skeletonPoints(m, cell.optimised ? cell.q_opt : cell.q_plain))
+      c.arm_W.push_back({p.x(), p.y(), p.z()});
+    c.arm_caption = "arm: " + map.design +
+                    " at the stem map's cell of the largest optimised manipulability (" +
+                    fmt(f.manip_opt[best], 4) + ").";
+  } else {
+    c.arm_caption = "arm: " + map.design + " reaches no cell of the stem map.";
+  }
+  return c;
+}
+
 // Computes each design's map through the work units and writes its files, report section and
 // summary entry, then the comparison table, summary.json and report.md.
 StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOptions& options,
@@ -490,6 +531,15 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
     fields.push_back(mapFields(design_maps.back()));
   }
   const SharedScales scales = sharedScales(fields);
+  // The 3-D view: the stem (and the row's plants, when collisions are checked) with each map.
+  StemRow stem;
+  stem.stem = true;
+  sum.view_solids = report::viewSolids(rowObstacles(options.grid, stem));
+  const std::vector<report::ViewSolid> plants = report::viewSolids(options.collision.obstacles);
+  sum.view_solids.insert(sum.view_solids.end(), plants.begin(), plants.end());
+  for (std::size_t di = 0; di < design_maps.size(); ++di)
+    sum.view.push_back(viewCloud(ctx.study.designs[di].model, design_maps[di], fields[di],
+                                 manipulabilityUnit(options.measure_space)));
   for (std::size_t di = 0; di < design_maps.size(); ++di) {
     const Model& m = ctx.study.designs[di].model;
     DexterityMap& map = design_maps[di];

@@ -819,7 +819,7 @@ void addViewClouds(const GridRun& r) {
       const auto st = static_cast<ReachStatus>(k);
       const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
                          st == ReachStatus::ObstacleCollision;
-      c.status_names.push_back(drawn ? statusText(k) : "");
+      c.status_names.push_back(drawn ? describe(st) : "");
     }
     long best = -1;
     for (long p = 0; p < r.points; ++p) {

@@ -147,8 +147,6 @@ std::string writeFigure(Writer& out, const std::string& stem, const report::Rast
                         const report::MapFigure& fig);
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
 report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string title);
-// What status k means, as the status maps' legends say it ("only in self-collision").
-const char* statusText(int k);
 // Legend of the status map: the statuses that occur in it.
 std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts);
 // The self-collision and obstacle-collision columns of the report tables (when checked).
