@@ -2,7 +2,7 @@
 // a quick copy of each study (coarser grids, smaller audits) through the CLI, loads its report with
 // a small check script added, and fails on a console error, a broken image, an element overflowing
 // its figure, a figure without caption or a page wider than a laptop screen. Saves a screenshot of
-// each report beside it. The 3-D view (view.html) of studies with reach maps loads with WebGL in
+// each report beside it. The 3-D view (view.html) of studies with maps loads with WebGL in
 // software (SwiftShader) and must draw a non-blank canvas that changes when the view is turned.
 #include <unistd.h>
 
@@ -354,11 +354,11 @@ TEST_CASE(
   }
 }
 
-TEST_CASE("the 3-D view of a study with reach maps renders in Chromium and turns when rotated",
+TEST_CASE("the 3-D view of a study with maps renders in Chromium and turns when rotated",
           "[browser][report][cli]") {
   const fs::path work = workDir();
   const fs::path out = work / "output";
-  for (const char* name : {"stem_obstacles", "default"}) {
+  for (const char* name : {"stem_obstacles", "default", "stem_heatmap"}) {
     SECTION(name) {
       const fs::path study = sourcePath("studies") + "/" + name + ".toml";
       const fs::path quick = work / study.filename();
