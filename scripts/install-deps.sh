@@ -8,6 +8,7 @@ PKGS=(build-essential cmake ninja-build ccache git pkg-config
       libcairo2-dev libfreetype-dev fonts-dejavu-core  # figures: cairo, the font read with FreeType
       fontconfig  # fc-match: the test that a rank with another font configuration writes the same bytes
       chromium chromium-driver  # the browser test of report.html (tests/browser)
+      libjs-three  # three.js, inlined into each study's interactive 3-D view (view.html)
       xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
       liborocos-kdl-dev libfcl-dev libceres-dev
       liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev

@@ -161,17 +161,11 @@ void writePlots(const std::string& dir, const std::string& stage, const ArmProbl
   }
 }
 
-// The 2-D grid map (drive kind: signed speed x |load|): mean residual per cell, flagged outlined.
-void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P,
-                  const ArmFit& f, const ArmResidualMap& m, std::vector<std::string>& files) {
-  if (P.grid.size() != 2) return;
-  report::HeatmapSpec h;
-  h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
-  h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
-  h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
-  h.value_label =
-      P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]" : "max |mean residual|";
-  bool first = true;
+// The cells of the 2-D grid map (drive kind: signed speed x |load|): the mean residual per cell
+// (one channel), or the largest |mean| over the channels.
+std::vector<report::HeatCell> gridCells(const ArmProblem& P, const ArmResidualMap& m) {
+  std::vector<report::HeatCell> cells;
+  if (P.grid.size() != 2) return cells;
   for (const auto& b : m.bins) {
     if (b.space != "grid") continue;
     double v = 0;
@@ -179,24 +173,72 @@ void writeGridMap(const std::string& dir, const std::string& stage, const ArmPro
       v = b.mean[0];
     else
       for (double x : b.mean) v = std::max(v, std::abs(x));
-    h.cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.flagged});
-    h.x_min = first ? b.lo[0] : std::min(h.x_min, b.lo[0]);
-    h.x_max = first ? b.hi[0] : std::max(h.x_max, b.hi[0]);
-    h.y_min = first ? b.lo[1] : std::min(h.y_min, b.lo[1]);
-    h.y_max = first ? b.hi[1] : std::max(h.y_max, b.hi[1]);
-    first = false;
+    cells.push_back({b.lo[0], b.hi[0], b.lo[1], b.hi[1], v, b.flagged});
   }
-  if (first) return;
+  return cells;
+}
+
+// The workspace map's cells: seen from above (x-y), the largest |mean residual| over z and the
+// channels.
+std::vector<report::HeatCell> workspaceCells(const ArmProblem& P, const ArmResidualMap& m) {
+  std::vector<report::HeatCell> out;
+  if (P.workspace.empty() || m.ws_dims[0] == 0) return out;
+  std::map<int, report::HeatCell> cells;
+  for (const auto& b : m.bins) {
+    if (b.space != "workspace") continue;
+    const int key = b.index[1] * m.ws_dims[0] + b.index[0];
+    auto it = cells.find(key);
+    if (it == cells.end())
+      it = cells.emplace(key, report::HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, false})
+               .first;
+    for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
+    it->second.flagged = it->second.flagged || b.flagged;
+  }
+  for (const auto& [k, c] : cells) out.push_back(c);
+  return out;
+}
+
+// The largest |value| of the before and after maps' cells: the one colour scale both share, so
+// that a colour means the same residual before and after the fit.
+double sharedScale(const std::vector<report::HeatCell>& a, const std::vector<report::HeatCell>& b) {
+  double s = 0;
+  for (const auto* cells : {&a, &b})
+    for (const report::HeatCell& c : *cells) s = std::max(s, std::abs(c.value));
+  return s;
+}
+
+// The 2-D grid map: mean residual per cell, flagged outlined, colour 0..scale (or -scale..scale).
+void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P,
+                  const ArmFit& f, const ArmResidualMap& m, double scale,
+                  std::vector<std::string>& files) {
+  report::HeatmapSpec h;
+  h.cells = gridCells(P, m);
+  if (h.cells.empty()) return;
+  h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
+  h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
+  h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
+  h.value_label = P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]"
+                                    : "max |mean residual| [" + P.fit_unit + "]";
+  h.x_min = h.cells.front().x_lo, h.x_max = h.cells.front().x_hi;
+  h.y_min = h.cells.front().y_lo, h.y_max = h.cells.front().y_hi;
+  for (const report::HeatCell& c : h.cells) {
+    h.x_min = std::min(h.x_min, c.x_lo);
+    h.x_max = std::max(h.x_max, c.x_hi);
+    h.y_min = std::min(h.y_min, c.y_lo);
+    h.y_max = std::max(h.y_max, c.y_hi);
+  }
   fs::create_directories(fs::path(dir) / "plots");
   h.diverging =
       P.channels() == 1;  // a signed mean residual; several channels: max |mean| (absolute)
+  h.scale = scale;
   writeFileAtomic((fs::path(dir) / "plots" / (stage + "_residual_map.svg")).string(),
                   report::heatmap(h).svg);
   files.push_back("plots/" + stage + "_residual_map.svg");
 }
 
 void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P,
-                       const ArmFit& f, const ArmResidualMap& m, std::vector<std::string>& files) {
+                       const ArmFit& f, const ArmResidualMap& m, double scale,
+                       std::vector<std::string>& files) {
   if (P.workspace.empty() || m.ws_dims[0] == 0) return;
   io::ImageGrid g;
   g.dims = m.ws_dims;
@@ -244,18 +286,8 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
     h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
     h.y_min = m.ws_origin[1];
     h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
-    std::map<int, report::HeatCell> cells;
-    for (const auto& b : m.bins) {
-      if (b.space != "workspace") continue;
-      const int key = b.index[1] * m.ws_dims[0] + b.index[0];
-      auto it = cells.find(key);
-      if (it == cells.end())
-        it = cells.emplace(key, report::HeatCell{b.lo[0], b.hi[0], b.lo[1], b.hi[1], 0.0, false})
-                 .first;
-      for (double v : b.mean) it->second.value = std::max(it->second.value, std::abs(v));
-      it->second.flagged = it->second.flagged || b.flagged;
-    }
-    for (const auto& [k, c] : cells) h.cells.push_back(c);
+    h.cells = workspaceCells(P, m);
+    h.scale = scale;
     fs::create_directories(fs::path(dir) / "plots");
     writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(),
                     report::heatmap(h).svg);
@@ -444,14 +476,20 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
                      o.lock);  // locks the folder first: the history read is the one appended to
   const HistoryFile history = readHistory((fs::path(o.out_dir) / "history.csv").string(), P.kind);
   const std::string dir = stage.dir();
-  writePlots(dir, "before", P, d.as_designed, s.files_written);
-  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
-  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, s.files_written);
   const bool after = o.command == "fit" && !d.added.empty();
+  // Before and after share each map's colour scale.
+  const std::vector<report::HeatCell> none;
+  const double ws_scale = sharedScale(workspaceCells(P, d.as_designed_map),
+                                      after ? workspaceCells(P, d.final_map) : none);
+  const double grid_scale =
+      sharedScale(gridCells(P, d.as_designed_map), after ? gridCells(P, d.final_map) : none);
+  writePlots(dir, "before", P, d.as_designed, s.files_written);
+  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, ws_scale, s.files_written);
+  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, grid_scale, s.files_written);
   if (after) {
     writePlots(dir, "after", P, d.final_fit, s.files_written);
-    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, s.files_written);
-    writeGridMap(dir, "after", P, d.final_fit, d.final_map, s.files_written);
+    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, ws_scale, s.files_written);
+    writeGridMap(dir, "after", P, d.final_fit, d.final_map, grid_scale, s.files_written);
   }
   writeResidualsCsv(dir, P, d, s.files_written);
   const auto rows =

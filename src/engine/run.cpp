@@ -17,6 +17,7 @@
 #include "io/files.hpp"
 #include "report/arm_drawing.hpp"
 #include "report/html_report.hpp"
+#include "report/view3d.hpp"
 #include "study/checkpoint.hpp"
 #include "study/scene.hpp"
 
@@ -233,6 +234,9 @@ struct StudyRun {
   std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
   std::string designs_md;                // each design drawn at its zero pose (report.md)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
+  std::vector<report::ViewCloud> view_clouds;                // the stages' maps for view.html
+  std::vector<report::ViewSolid> view_solids;                // ... and their own obstacles
+  bool view_written = false;
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
            std::chrono::steady_clock::time_point t)
@@ -313,6 +317,8 @@ struct StudyRun {
         a.answer = r.answer;
         a.warnings = r.warnings;
         answers.emplace_back(section.stage->name(), std::move(a));
+        for (report::ViewCloud& c : r.view) view_clouds.push_back(std::move(c));
+        view_solids.insert(view_solids.end(), r.view_solids.begin(), r.view_solids.end());
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -377,10 +383,40 @@ struct StudyRun {
                              scene_out.files().end());
   }
 
+  // view.html (docs/study-format.md "Outputs"): the stages' maps with the arm at its best pose and
+  // the study's obstacles, when a stage gave maps; without three.js, a note and no view.
+  void writeView() {
+    if (view_clouds.empty()) return;
+    std::string why;
+    const std::string three_js = report::threeJsSource(why);
+    if (three_js.empty()) {
+      std::fprintf(stderr, "armstudy: no view.html: %s\n", why.c_str());
+      return;
+    }
+    report::View3d view;
+    view.title = "3-D view: study " + study.name;
+    view.value_label = "manipulability";
+    view.clouds = std::move(view_clouds);
+    // The study's obstacles, then the stages' own ones (each name once: a stage's collision
+    // obstacles include the study's).
+    std::vector<report::ViewSolid> solids = report::viewSolids(study.obstacles);
+    solids.insert(solids.end(), view_solids.begin(), view_solids.end());
+    for (const report::ViewSolid& s : solids)
+      if (std::none_of(view.solids.begin(), view.solids.end(),
+                       [&](const report::ViewSolid& o) { return o.name == s.name; }))
+        view.solids.push_back(s);
+    writeFileAtomic((out / "view.html").string(), report::viewHtml(view, three_js));
+    sum.files_written.push_back("view.html");
+    view_written = true;
+  }
+
   // report.md: the answer first, then the warnings, then where the details are (each stage's
   // report).
   void writeAnswer() {
-    answer_md = "## Answer\n\n";
+    answer_md = view_written ? "**Interactive 3-D view:** [view.html](view.html) (the maps' "
+                               "points, the arm at its best pose and the obstacles; drag to "
+                               "rotate).\n\n## Answer\n\n"
+                             : "## Answer\n\n";
     bool any = false;
     for (const auto& [stage, r] : answers)
       for (const std::string& a : r.answer) {
@@ -480,6 +516,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
     if (!run.root) return;
     run.drawDesigns();
     run.writeScene();
+    run.writeView();
     run.writeAnswer();
     run.writeHtml();
     run.writeManifest(units);

@@ -20,6 +20,14 @@ constexpr const char* kReachStatusNames[] = {
     "self_collision", "torque",       "obstacle_collision"};
 static_assert(std::size(kReachStatusNames) == kReachStatusCount);
 const char* toString(ReachStatus s) { return enumName(s, kReachStatusNames); }
+constexpr const char* kReachStatusTexts[] = {"reachable",
+                                             "out of reach",
+                                             "blocked by joint limits",
+                                             "representation singularity",
+                                             "only in self-collision",
+                                             "torque",
+                                             "only in contact with an obstacle"};
+const char* describe(ReachStatus s) { return enumName(s, kReachStatusTexts); }
 
 constexpr const char* kIkAlgorithmNames[] = {"lm+slsqp", "lm", "slsqp"};
 const char* toString(IkAlgorithm a) { return enumName(a, kIkAlgorithmNames); }

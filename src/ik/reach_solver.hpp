@@ -45,6 +45,8 @@ enum class ReachStatus : std::uint8_t {
 };
 inline constexpr int kReachStatusCount = 7;
 const char* toString(ReachStatus s);
+// What a status means in words, as legends and reports say it ("only in self-collision").
+const char* describe(ReachStatus s);
 
 enum class IkAlgorithm {
   LmThenSlsqp,  // default: LM starts, SLSQP polish of near misses

@@ -88,18 +88,28 @@ std::string fixed(double v) {
 
 }  // namespace
 
+std::vector<Eigen::Vector3d> skeletonPoints(const Model& model,
+                                            const Eigen::Ref<const Eigen::VectorXd>& q) {
+  KinematicsWorkspace ws(model);
+  forwardKinematics(model, ws, q);
+  std::vector<Eigen::Vector3d> p{model.T_WB.translation()};
+  for (int i = 0; i < model.dof(); ++i) p.push_back(ws.p_WF[i]);
+  p.push_back(ws.p_WT);
+  return p;
+}
+
 io::PolyDataSet robotPolyData(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q) {
   io::PolyDataSet poly;
   KinematicsWorkspace ws(model);
   forwardKinematics(model, ws, q);
   std::vector<double> part, body;
   MeshBuilder mesh{poly, body};
-  std::vector<int> skeleton{mesh.add(model.T_WB.translation())};
-  for (int i = 0; i < model.dof(); ++i) {
-    mesh.value = i;
-    skeleton.push_back(mesh.add(ws.p_WF[i]));
+  const std::vector<Eigen::Vector3d> joints = skeletonPoints(model, q);
+  std::vector<int> skeleton;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    mesh.value = std::clamp(static_cast<int>(i) - 1, 0, model.dof() - 1);
+    skeleton.push_back(mesh.add(joints[i]));
   }
-  skeleton.push_back(mesh.add(ws.p_WT));
   poly.lines.push_back(skeleton);
   part.assign(poly.points.size(), 0.0);
   body.front() = -1;

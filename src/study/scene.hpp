@@ -20,6 +20,11 @@ namespace armstudy::scene {
 // field data with units and legend.
 io::PolyDataSet robotPolyData(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);
 
+// The arm's skeleton at q: the base origin, every joint frame origin and the TCP, in W [m] (part 0
+// of robotPolyData).
+std::vector<Eigen::Vector3d> skeletonPoints(const Model& model,
+                                            const Eigen::Ref<const Eigen::VectorXd>& q);
+
 // The obstacles' surfaces; point array "obstacle" (index into `obstacles`, legend names them).
 io::PolyDataSet obstaclePolyData(const std::vector<collision::Obstacle>& obstacles);
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/defaults.hpp"
+#include "report/view3d.hpp"
 #include "study/checkpoint.hpp"
 #include "study/metrics.hpp"
 #include "study/study.hpp"
@@ -66,6 +67,10 @@ struct StageResult {
   // The answer to the stage's question, with its numbers (Markdown sentences, one per item), and
   // what a reader must know before trusting it: report.md and report.html open with them.
   std::vector<std::string> answer, warnings;
+  // The stage's maps as points in the world frame, with the arm at its best pose: the study's
+  // interactive 3-D view (view.html) shows them with the study's obstacles.
+  std::vector<report::ViewCloud> view;
+  std::vector<report::ViewSolid> view_solids;  // the stage's own obstacles (e.g. a map's stem)
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

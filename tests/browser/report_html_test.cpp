@@ -2,7 +2,8 @@
 // a quick copy of each study (coarser grids, smaller audits) through the CLI, loads its report with
 // a small check script added, and fails on a console error, a broken image, an element overflowing
 // its figure, a figure without caption or a page wider than a laptop screen. Saves a screenshot of
-// each report beside it.
+// each report beside it. The 3-D view (view.html) of studies with maps loads with WebGL in
+// software (SwiftShader) and must draw a non-blank canvas that changes when the view is turned.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -81,6 +82,41 @@ window.addEventListener('load', () => {
 });
 </script>)";
 
+// The 3-D view after load: script errors, the test hook, the pixels of the canvas whose colour
+// differs from its corner's (the background), and the pixels that changed after a turn of 0.8 rad
+// about the vertical axis.
+const char* kViewScript = R"(<script>
+window.addEventListener('load', () => {
+  const r = {errors: window.__armstudyErrors, hook: !!window.armstudyView, pixels: 0, ink: 0, changed: 0};
+  const cv = document.getElementById('view');
+  const snap = () => {
+    const c = document.createElement('canvas');
+    c.width = cv.width;
+    c.height = cv.height;
+    const x = c.getContext('2d');
+    x.drawImage(cv, 0, 0);
+    return x.getImageData(0, 0, c.width, c.height).data;
+  };
+  if (cv && window.armstudyView && cv.width > 0 && cv.height > 0) {
+    const a = snap();
+    r.pixels = a.length / 4;
+    for (let i = 0; i < a.length; i += 4)  // a blank canvas is one colour (black or white)
+      if (Math.abs(a[i] - a[0]) + Math.abs(a[i + 1] - a[1]) + Math.abs(a[i + 2] - a[2]) > 24) ++r.ink;
+    window.armstudyView.rotate(0.8);
+    const b = snap();
+    for (let i = 0; i < a.length; i += 4)
+      if (a[i] !== b[i] || a[i + 1] !== b[i + 1] || a[i + 2] !== b[i + 2]) ++r.changed;
+  }
+  const p = document.createElement('pre');
+  p.id = 'armstudy-check';
+  p.textContent = JSON.stringify(r);
+  document.body.appendChild(p);
+});
+</script>)";
+
+// Shares of the canvas [1] a rendered view must cover, and must change when turned.
+constexpr double kMinInkShare = 0.005, kMinChangedShare = 0.005;
+
 struct Check {
   nlohmann::json result;  // what the script found; null when the browser gave nothing
   std::string log;
@@ -115,6 +151,32 @@ Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopW
   Check c;
   runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(kLaptopHeight) +
                  " --virtual-time-budget=10000 --dump-dom file://" + copy.string(),
+             c.log);
+  fs::remove(copy);
+  const std::string open = "<pre id=\"armstudy-check\">";
+  const std::size_t a = c.log.find(open);
+  const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
+  if (b != std::string::npos)
+    c.result =
+        nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
+  return c;
+}
+
+// Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
+Check checkView(const fs::path& page, const fs::path& work) {
+  std::string html = readFileOrThrow(page.string());
+  const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
+  REQUIRE(head != std::string::npos);
+  REQUIRE(body != std::string::npos);
+  html.insert(body, kViewScript);
+  html.insert(head + 6, kHeadScript);
+  const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
+  writeFileAtomic(copy.string(), html);
+  Check c;
+  runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kLaptopHeight) +
+                 " --use-angle=swiftshader --enable-unsafe-swiftshader"
+                 " --virtual-time-budget=10000 --dump-dom file://" +
+                 copy.string(),
              c.log);
   fs::remove(copy);
   const std::string open = "<pre id=\"armstudy-check\">";
@@ -290,4 +352,40 @@ TEST_CASE(
       CHECK(fs::file_size(shot) > 1000);
     }
   }
+}
+
+TEST_CASE("the 3-D view of a study with maps renders in Chromium and turns when rotated",
+          "[browser][report][cli]") {
+  const fs::path work = workDir();
+  const fs::path out = work / "output";
+  for (const char* name : {"stem_obstacles", "default", "stem_heatmap"}) {
+    SECTION(name) {
+      const fs::path study = sourcePath("studies") + "/" + name + ".toml";
+      const fs::path quick = work / study.filename();
+      writeFileAtomic(quick.string(),
+                      quickStudy(readFileOrThrow(study.string()), study.parent_path()));
+      std::string log;
+      REQUIRE(runCommand(binaryPath() + " run " + quick.string() +
+                             " --overwrite --threads 2 --output " + out.string(),
+                         log) == 0);
+      const fs::path dir = out / name;
+      // The view exists (three.js was found and inlined), is light, and report.html links it.
+      INFO(log);
+      REQUIRE(fs::exists(dir / "view.html"));
+      CHECK(fs::file_size(dir / "view.html") < 5u * 1024 * 1024);
+      CHECK(readFileOrThrow((dir / "report.html").string()).find("href=\"view.html\"") !=
+            std::string::npos);
+      const Check c = checkView(dir / "view.html", work);
+      INFO(c.log.substr(0, 2000));
+      REQUIRE_FALSE(c.result.is_null());
+      INFO("view check: " << c.result.dump());
+      CHECK(c.result["errors"].empty());
+      REQUIRE(c.result["hook"].get<bool>());
+      const double pixels = c.result["pixels"].get<double>();
+      REQUIRE(pixels > 0);
+      CHECK(c.result["ink"].get<double>() / pixels > kMinInkShare);
+      CHECK(c.result["changed"].get<double>() / pixels > kMinChangedShare);
+    }
+  }
+  fs::remove_all(work);
 }

@@ -18,6 +18,7 @@
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
+#include "study/scene.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -298,22 +299,45 @@ std::string manipulabilityUnit(metrics::MeasureSpace space) {
 // "a/b" as a percentage with one decimal, "-" when b is 0.
 std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
 
+// The tops of the colour scales the stage's designs share (their largest value over every
+// design's map), so that a colour means the same value in each design's figure.
+struct SharedScales {
+  double manipulability = 0;  // optimised and plain, absolute
+  double transmission = 0;    // beta along u, optimised
+};
+SharedScales sharedScales(const std::vector<MapFields>& fields) {
+  SharedScales sc;
+  auto top = [](double& hi, const std::vector<double>& v) {
+    for (double x : v)
+      if (!std::isnan(x)) hi = std::max(hi, x);
+  };
+  for (const MapFields& f : fields) {
+    top(sc.manipulability, f.manip_opt);
+    top(sc.manipulability, f.manip_plain);
+    top(sc.transmission, f.beta_opt);
+  }
+  return sc;
+}
+
 // Writes the heatmap figures (.svg and the same as .png) of normalised manipulability (plain and
-// optimised), transmission (optimised, scaled to its max) and reachability; returns the .svg
-// name per image key.
+// optimised), absolute manipulability and transmission (optimised, on the scales the designs
+// share) and reachability; returns the .svg name per image key.
 std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const MapFields& f,
-                                                 const FieldStats& beta_s, Writer& out) {
+                                                 const SharedScales& sc, const std::string& unit,
+                                                 Writer& out) {
   struct Img {
     const char* key;
     const std::vector<double>* v;
     double hi;
-    const char* label;
+    std::string label;
   };
   const Img imgs[] = {{"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0,
                        "normalised manipulability, optimised [1]"},
                       {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0,
                        "normalised manipulability, plain [1]"},
-                      {"transmission_optimised", &f.beta_opt, beta_s.any ? beta_s.max : 1.0,
+                      {"manipulability_optimised", &f.manip_opt, sc.manipulability,
+                       "manipulability, optimised [" + unit + "]"},
+                      {"transmission_optimised", &f.beta_opt, sc.transmission,
                        "transmission beta along u, optimised [m/rad]"},
                       {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
   std::map<std::string, std::string> png;  // what the report shows: the .svg figures
@@ -373,12 +397,13 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
      << statsRow("transmission beta along u, plain", s.bp) << "\n"
-     << "| optimised manipulability | plain manipulability | transmission (optimised) | status "
+     << "| optimised manipulability | plain manipulability | optimised manipulability, one "
+        "scale for all designs | transmission (optimised), one scale for all designs | status "
         "|\n"
-     << "|---|---|---|---|\n"
+     << "|---|---|---|---|---|\n"
      << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![]("
-     << png["manipulability_plain_normalised"] << ") | ![](" << png["transmission_optimised"]
-     << ") | ![](" << png["status"] << ") |\n\n";
+     << png["manipulability_plain_normalised"] << ") | ![](" << png["manipulability_optimised"]
+     << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["status"] << ") |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
@@ -433,6 +458,46 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
 
 }  // namespace
 
+// A design's stem map for the study's 3-D view: the cells' TCP positions on the cylinder around
+// the stem with their status and optimised manipulability, and the arm at the cell of the largest.
+report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFields& f,
+                            const std::string& unit) {
+  report::ViewCloud c;
+  c.name = "stem map: " + map.design;
+  c.value_unit = unit;
+  const double arc = map.grid.radius_m * map.grid.gamma_rad.step(), dz = map.grid.z_m.step();
+  c.point_size_m = std::max(0.005, std::min(arc > 0 ? arc : dz, dz > 0 ? dz : arc));
+  for (int k = 0; k < kReachStatusCount; ++k) {
+    const auto st = static_cast<ReachStatus>(k);
+    const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
+                       st == ReachStatus::ObstacleCollision;
+    c.status_names.push_back(drawn ? describe(st) : "");
+  }
+  int best = -1;
+  for (int j = 0; j < map.grid.z_m.count; ++j)
+    for (int i = 0; i < map.grid.gamma_rad.count; ++i) {
+      const int idx = map.grid.index(i, j);
+      const Eigen::Vector3d p = map.grid.cell(i, j).target.p_WT;
+      c.p_W.push_back({p.x(), p.y(), p.z()});
+      c.status.push_back(static_cast<int>(map.cells[idx].status));
+      c.value.push_back(f.manip_opt[idx]);
+      if (!std::isnan(f.manip_opt[idx]) && (best < 0 || f.manip_opt[idx] > f.manip_opt[best]))
+        best = idx;
+    }
+  if (best >= 0) {
+    const CellResult& cell = map.cells[best];
+    for (const Eigen::Vector3d& p :
+         scene::skeletonPoints(m, cell.optimised ? cell.q_opt : cell.q_plain))
+      c.arm_W.push_back({p.x(), p.y(), p.z()});
+    c.arm_caption = "arm: " + map.design +
+                    " at the stem map's cell of the largest optimised manipulability (" +
+                    fmt(f.manip_opt[best], 4) + ").";
+  } else {
+    c.arm_caption = "arm: " + map.design + " reaches no cell of the stem map.";
+  }
+  return c;
+}
+
 // Computes each design's map through the work units and writes its files, report section and
 // summary entry, then the comparison table, summary.json and report.md.
 StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOptions& options,
@@ -455,17 +520,36 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
          "mean normalised (plain) | mean normalised (optimised) | mean manipulability, optimised ["
       << manipulabilityUnit(options.measure_space)
       << "] | valley: lowest row mean, optimised |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  // Every design's map first: the figures share colour scales over all of them.
+  std::vector<DexterityMap> design_maps;
+  std::vector<MapFields> fields;
   for (const StudyDesign& sd : ctx.study.designs) {
-    const Model& m = sd.model;
-    DexterityMap map = unitMap(ctx, m, options, sum.units_resumed);
-    addMapMetrics(sum.metrics, map);
-    sum.timings.push_back({"dexterity/" + map.design + "/wall", map.seconds});
-    const MapFields f = mapFields(map);
+    design_maps.push_back(unitMap(ctx, sd.model, options, sum.units_resumed));
+    addMapMetrics(sum.metrics, design_maps.back());
+    sum.timings.push_back(
+        {"dexterity/" + design_maps.back().design + "/wall", design_maps.back().seconds});
+    fields.push_back(mapFields(design_maps.back()));
+  }
+  const SharedScales scales = sharedScales(fields);
+  // The 3-D view: the stem (and the row's plants, when collisions are checked) with each map.
+  StemRow stem;
+  stem.stem = true;
+  sum.view_solids = report::viewSolids(rowObstacles(options.grid, stem));
+  const std::vector<report::ViewSolid> plants = report::viewSolids(options.collision.obstacles);
+  sum.view_solids.insert(sum.view_solids.end(), plants.begin(), plants.end());
+  for (std::size_t di = 0; di < design_maps.size(); ++di)
+    sum.view.push_back(viewCloud(ctx.study.designs[di].model, design_maps[di], fields[di],
+                                 manipulabilityUnit(options.measure_space)));
+  for (std::size_t di = 0; di < design_maps.size(); ++di) {
+    const Model& m = ctx.study.designs[di].model;
+    DexterityMap& map = design_maps[di];
+    const MapFields& f = fields[di];
     for (const std::string& name :
          writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
       out.add(sub + "/" + name);
     const MapSummary s = summarise(map, f, options.grid);
-    std::map<std::string, std::string> png = writeHeatmaps(map, f, s.beta_s, out);
+    std::map<std::string, std::string> png =
+        writeHeatmaps(map, f, scales, manipulabilityUnit(options.measure_space), out);
     png["status"] = writeStatusMap(map, sub, out);
     cmp << comparisonRow(m, map, f, s, manipulabilityUnit(options.measure_space));
     const StatusCounts sc = statusCounts(map);

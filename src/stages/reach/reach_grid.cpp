@@ -20,6 +20,7 @@
 #include "stages/reach/reach_units.hpp"
 #include "study/checkpoint.hpp"
 #include "study/interleave.hpp"
+#include "study/scene.hpp"
 
 namespace armstudy {
 
@@ -345,7 +346,19 @@ void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, DesignP
              {"triangles", bs.triangles.size()}};
 }
 
-// The manipulability figure of design di in orientation k (2-D grids), colour 0..mmax.
+// The largest manipulability any design reaches on the grid (all orientations): the top of the
+// one colour scale every design's manipulability figure of the grid shares, so that a colour
+// means the same value in each of them.
+double sharedManipulabilityMax(const GridRun& r) {
+  double mmax = 0;
+  for (const PoseSweep& s : r.sweeps)
+    for (long i = 0; i < r.g.size(); ++i)
+      if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+  return mmax;
+}
+
+// The manipulability figure of design di in orientation k (2-D grids), colour 0..mmax (shared by
+// the grid's designs).
 std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double mmax,
                                  Writer& out) {
   const TaskGrid& g = r.g;
@@ -369,7 +382,8 @@ std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double
   return "![manipulability](" + mrel +
          ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
          s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
-         report::scientific(mmax) + " (yellow), grey = unreachable.*\n\n";
+         report::scientific(mmax) + " m^3 (yellow), the same scale for every design of the grid" +
+         ", grey = unreachable.*\n\n";
 }
 
 // Pieces no+1..2no of design di: the status (or reachable-fraction) and manipulability figures of
@@ -385,9 +399,7 @@ void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, DesignPa
     const long i = static_cast<long>(k) * r.points + p;
     per_k.add(s, i, g.position(g.pointOf(i)));
   }
-  double mmax = 0;
-  for (long i = 0; i < g.size(); ++i)
-    if (s.reachable(i)) mmax = std::max(mmax, s.manipulability[i]);
+  const double mmax = sharedManipulabilityMax(r);
   const long off = static_cast<long>(k) * r.points;
   report::RasterImage status_img =
       report::renderCellMap(r.d[plane.a], r.imageRows(), [&](int u, int v) {
@@ -782,6 +794,66 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
 
 }  // namespace
 
+// The view's status of a grid position over its orientations: reachable in one of them, else
+// reachable only in contact with an obstacle, else only in self-collision, else the first
+// orientation's status (not drawn).
+int positionStatus(const GridRun& r, const PoseSweep& s, long p) {
+  const int order[] = {static_cast<int>(ReachStatus::Reachable),
+                       static_cast<int>(ReachStatus::ObstacleCollision),
+                       static_cast<int>(ReachStatus::SelfCollision)};
+  for (const int want : order)
+    for (int k = 0; k < r.no; ++k)
+      if (s.status[static_cast<long>(k) * r.points + p] == want) return want;
+  return s.status[p];
+}
+
+// The grid's maps for the study's 3-D view: per design, the grid positions with their status and
+// largest manipulability over the orientations, and the arm at the reachable pose of the largest
+// manipulability.
+void addViewClouds(const GridRun& r) {
+  double step = INFINITY;
+  for (int a = 0; a < 3; ++a)
+    if (r.d[a] > 1) step = std::min(step, r.g.axes[a].step);
+  for (std::size_t di = 0; di < r.nd; ++di) {
+    const PoseSweep& s = r.sweeps[di];
+    report::ViewCloud c;
+    c.name = "grid " + r.g.name + ": " + s.design;
+    c.point_size_m = std::isfinite(step) ? step : 0.02;
+    for (int k = 0; k < kReachStatusCount; ++k) {
+      const auto st = static_cast<ReachStatus>(k);
+      const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
+                         st == ReachStatus::ObstacleCollision;
+      c.status_names.push_back(drawn ? describe(st) : "");
+    }
+    long best = -1;
+    for (long p = 0; p < r.points; ++p) {
+      const Eigen::Vector3d x = r.g.position(p);
+      c.p_W.push_back({x.x(), x.y(), x.z()});
+      c.status.push_back(positionStatus(r, s, p));
+      double v = NAN;
+      for (int k = 0; k < r.no; ++k) {
+        const long i = static_cast<long>(k) * r.points + p;
+        if (!s.reachable(i)) continue;
+        v = std::isnan(v) ? s.manipulability[i] : std::max(v, s.manipulability[i]);
+        if (best < 0 || s.manipulability[i] > s.manipulability[best]) best = i;
+      }
+      c.value.push_back(v);
+    }
+    if (best >= 0) {
+      const Eigen::Map<const Eigen::VectorXd> q(s.q.data() + best * s.dof, s.dof);
+      for (const Eigen::Vector3d& x : scene::skeletonPoints(*r.models[di], q))
+        c.arm_W.push_back({x.x(), x.y(), x.z()});
+      c.arm_caption = "arm: " + s.design +
+                      " at the grid's reachable pose of the largest "
+                      "manipulability (" +
+                      report::scientific(s.manipulability[best]) + " m^3).";
+    } else {
+      c.arm_caption = "arm: " + s.design + " reaches no pose of the grid.";
+    }
+    r.sum.view.push_back(std::move(c));
+  }
+}
+
 ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& g,
                         Progress& progress, StageResult& sum, Writer& out, std::string& md) {
   GridRun r(ctx, cfg, g, sum, out);
@@ -804,6 +876,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   compareReferenceReach(r, jg, md);
   md += images_md;
   if (r.sweeps.size() >= 2) jg["comparison"] = compareDesigns(r, jdesigns, md);
+  addViewClouds(r);
   return jg;
 }
 

@@ -412,21 +412,11 @@ report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string ti
   return f;
 }
 
-namespace {
-const char* const kStatusText[kReachStatusCount] = {"reachable",
-                                                    "out of reach",
-                                                    "blocked by joint limits",
-                                                    "representation singularity",
-                                                    "only in self-collision",
-                                                    "torque",
-                                                    "only in contact with an obstacle"};
-}  // namespace
-
 // Legend of the status map: the statuses that occur in it.
 std::vector<report::LegendEntry> statusLegend(const std::array<long, kReachStatusCount>& counts) {
   std::vector<report::LegendEntry> l;
   for (int k = 0; k < kReachStatusCount; ++k)
-    if (counts[k] > 0) l.push_back({report::categorical(k), kStatusText[k]});
+    if (counts[k] > 0) l.push_back({report::categorical(k), describe(static_cast<ReachStatus>(k))});
   return l;
 }
 
@@ -458,7 +448,7 @@ std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* 
   std::vector<std::string> legend;
   for (int k = 0; k < kReachStatusCount; ++k)
     legend.push_back("status " + std::to_string(k) + ": " + toString(static_cast<ReachStatus>(k)) +
-                     " (" + kStatusText[k] + ")");
+                     " (" + describe(static_cast<ReachStatus>(k)) + ")");
   legend.push_back(
       "manipulability: NaN where status != 0 (no solution); q, errors and margins there are the "
       "best attempt's");

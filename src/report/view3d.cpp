@@ -1,0 +1,356 @@
+#include "report/view3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "report/html_report.hpp"  // base64, htmlEscape
+#include "report/image.hpp"
+
+namespace armstudy::report {
+
+namespace {
+
+// A JSON string literal that is also safe inside a <script> element ("</" never appears).
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+      o += buf;
+    } else if (c == '/' && i > 0 && s[i - 1] == '<') {
+      o += "\\/";
+    } else {
+      o += c;
+    }
+  }
+  return o + "\"";
+}
+
+// Fixed-point text with `digits` decimals (the same bytes on every machine and run).
+std::string num(double v, int digits = 4) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string point(const std::array<double, 3>& p) {
+  return "[" + num(p[0]) + "," + num(p[1]) + "," + num(p[2]) + "]";
+}
+
+void putInt32(std::string& b, std::int32_t v) {
+  const auto u = static_cast<std::uint32_t>(v);
+  for (int k = 0; k < 4; ++k) b += static_cast<char>((u >> (8 * k)) & 0xff);  // little-endian
+}
+
+// The colour level of a value on the shared scale 0..hi: 0..254, 255 = no value.
+std::uint8_t level(double v, double hi) {
+  if (std::isnan(v)) return 255;
+  if (!(hi > 0)) return 0;
+  return static_cast<std::uint8_t>(std::lround(std::clamp(v / hi, 0.0, 1.0) * 254));
+}
+
+// One cloud as a JSON object: the points drawn (statuses shown, every `stride`-th of them) as
+// base64 arrays of positions [0.1 mm, int32], statuses and value levels [uint8].
+bool drawn(const ViewCloud& c, std::size_t i) {
+  const int s = c.status[i];
+  return s >= 0 && s < static_cast<int>(c.status_names.size()) && !c.status_names[s].empty();
+}
+
+std::string cloudJson(const ViewCloud& c, double hi, long stride, long& shown) {
+  std::string pos, st, lv;
+  long kept = 0;
+  for (std::size_t i = 0; i < c.p_W.size(); ++i) {
+    const int s = c.status[i];
+    if (!drawn(c, i)) continue;
+    if (kept++ % stride != 0) continue;
+    for (double x : c.p_W[i]) putInt32(pos, static_cast<std::int32_t>(std::lround(x * 1e4)));
+    st += static_cast<char>(s);
+    lv += static_cast<char>(level(c.value[i], hi));
+    ++shown;
+  }
+  std::string arm = "[", names, colours;
+  for (std::size_t i = 0; i < c.arm_W.size(); ++i) arm += (i ? "," : "") + point(c.arm_W[i]);
+  for (std::size_t k = 0; k < c.status_names.size(); ++k) {
+    names += (k ? "," : "") + jsonString(c.status_names[k]);
+    colours += (k ? "," : "") + jsonString(hex(categorical(static_cast<int>(k))));
+  }
+  return "{\"name\":" + jsonString(c.name) + ",\"unit\":" + jsonString(c.value_unit) +
+         ",\"hi\":" + jsonString(hi > 0 ? num(hi, 4) : "0") + ",\"size\":" + num(c.point_size_m) +
+         ",\"status_names\":[" + names + "],\"status_colours\":[" + colours + "]" + ",\"pos\":\"" +
+         base64(pos) + "\",\"status\":\"" + base64(st) + "\",\"level\":\"" + base64(lv) +
+         "\",\"arm\":" + arm + "],\"arm_caption\":" + jsonString(c.arm_caption) + "}";
+}
+
+// The scene as JSON for the page's script.
+std::string sceneJson(const View3d& v) {
+  std::map<std::string, double> hi;  // per unit: the maps of one unit share a colour scale
+  long total = 0;
+  for (const ViewCloud& c : v.clouds) {
+    double& h = hi[c.value_unit];
+    for (std::size_t i = 0; i < c.p_W.size(); ++i) {
+      if (drawn(c, i)) ++total;
+      if (!std::isnan(c.value[i])) h = std::max(h, c.value[i]);
+    }
+  }
+  const long stride = std::max(1L, (total + kViewMaxPoints - 1) / kViewMaxPoints);
+  long shown = 0;
+  std::string clouds;
+  for (const ViewCloud& c : v.clouds)
+    clouds += (clouds.empty() ? "" : ",\n") + cloudJson(c, hi.at(c.value_unit), stride, shown);
+  std::string solids;
+  for (const ViewSolid& s : v.solids) {
+    std::string pts;
+    for (int k = 0; k < s.points; ++k) pts += (k ? "," : "") + point(s.p_W[k]);
+    solids += std::string(solids.empty() ? "" : ",") + "{\"name\":" + jsonString(s.name) +
+              ",\"points\":[" + pts + "],\"radius\":" + num(s.radius_m) + "}";
+  }
+  std::string viridis_rgb;
+  for (int l = 0; l < 255; ++l) {
+    const Rgb c = viridis(l / 254.0);
+    viridis_rgb += {static_cast<char>(c.r), static_cast<char>(c.g), static_cast<char>(c.b)};
+  }
+  char stride_text[32];
+  std::snprintf(stride_text, sizeof stride_text, "%ld", stride);
+  return "{\"title\":" + jsonString(v.title) + ",\"value_label\":" + jsonString(v.value_label) +
+         ",\"stride\":" + stride_text + ",\"viridis\":\"" + base64(viridis_rgb) +
+         "\",\"solids\":[" + solids + "],\n\"clouds\":[" + clouds + "]}";
+}
+
+const char* kStyle = R"(
+body { font-family: sans-serif; margin: 0; color: #222; }
+header { padding: 6px 12px; }
+header h1 { font-size: 18px; margin: 4px 0; }
+header p { margin: 4px 0; font-size: 14px; }
+canvas#view { display: block; width: 100%; height: 70vh; background: #fff; border-top: 1px solid #ccc; border-bottom: 1px solid #ccc; touch-action: none; }
+#legend { padding: 6px 12px; font-size: 14px; display: flex; flex-wrap: wrap; gap: 4px 16px; align-items: center; }
+#legend .sw { display: inline-block; width: 12px; height: 12px; margin-right: 4px; vertical-align: middle; }
+#legend .bar { display: inline-block; width: 180px; height: 12px; vertical-align: middle; margin: 0 6px; }
+#info { padding: 0 12px; font-size: 13px; color: #555; }
+select { max-width: 100%; }
+)";
+
+// The page's script: three.js scene, the map chosen in the list, colours, the test hook.
+const char* kApp = R"JS(
+(function () {
+  const D = JSON.parse(document.getElementById('armstudy-view-data').textContent);
+  const bytes = b64 => { const s = atob(b64), a = new Uint8Array(s.length);
+    for (let i = 0; i < s.length; ++i) a[i] = s.charCodeAt(i); return a; };
+  const canvas = document.getElementById('view');
+  const renderer = new THREE.WebGLRenderer({canvas: canvas, antialias: true, preserveDrawingBuffer: true});
+  renderer.setPixelRatio(1);
+  renderer.setClearColor(0xffffff, 1);
+  const scene = new THREE.Scene();
+  const camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
+  camera.up.set(0, 0, 1);
+  scene.add(new THREE.AmbientLight(0xffffff, 0.55));
+  const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+  sun.position.set(1, 1, 2);
+  camera.add(sun);
+  scene.add(camera);
+  const controls = new THREE.OrbitControls(camera, canvas);
+  const render = () => renderer.render(scene, camera);
+  controls.addEventListener('change', render);
+  const viridis = bytes(D.viridis);
+  const clouds = D.clouds.map(c => ({name: c.name, unit: c.unit, hi: c.hi, size: c.size, arm: c.arm, caption: c.arm_caption,
+    names: c.status_names, status_colours_css: c.status_colours, colours: c.status_colours.map(h => new THREE.Color(h)),
+    pos: new Int32Array(bytes(c.pos).buffer), status: bytes(c.status), level: bytes(c.level)}));
+  const v3 = p => new THREE.Vector3(p[0], p[1], p[2]);
+  const up = new THREE.Vector3(0, 1, 0);
+  // A cylinder from a to b (three.js cylinders stand along +y).
+  function rod(a, b, r, material) {
+    const d = new THREE.Vector3().subVectors(b, a), len = d.length();
+    const m = new THREE.Mesh(new THREE.CylinderGeometry(r, r, Math.max(len, 1e-6), 16), material);
+    m.position.copy(a).addScaledVector(d, 0.5);
+    if (len > 0) m.quaternion.setFromUnitVectors(up, d.normalize());
+    return m;
+  }
+  function ball(c, r, material) {
+    const m = new THREE.Mesh(new THREE.SphereGeometry(r, 20, 14), material);
+    m.position.copy(c);
+    return m;
+  }
+  const obstacles = new THREE.Group();
+  const grey = new THREE.MeshLambertMaterial({color: 0x8d6e4a, transparent: true, opacity: 0.75, side: THREE.DoubleSide});
+  for (const s of D.solids) {
+    const p = s.points.map(v3), r = Math.max(s.radius, 0.002);
+    if (p.length === 1) obstacles.add(ball(p[0], r, grey));
+    if (p.length === 2) { obstacles.add(rod(p[0], p[1], r, grey)); obstacles.add(ball(p[0], r, grey)); obstacles.add(ball(p[1], r, grey)); }
+    if (p.length === 3) {
+      const g = new THREE.BufferGeometry().setFromPoints(p);
+      g.computeVertexNormals();
+      obstacles.add(new THREE.Mesh(g, grey));
+    }
+  }
+  scene.add(obstacles);
+  const armMaterial = new THREE.MeshLambertMaterial({color: 0x505a6e});
+  const jointMaterial = new THREE.MeshLambertMaterial({color: 0xd04a02});
+  let current = null, mode = 'status';
+  const legend = document.getElementById('legend'), info = document.getElementById('info');
+  function show(i) {
+    if (current) { scene.remove(current); current.traverse(o => { if (o.geometry) o.geometry.dispose(); }); }
+    const c = clouds[i];
+    current = new THREE.Group();
+    const pos = [], col = [], counts = {};
+    for (let k = 0; k < c.status.length; ++k) {
+      const s = c.status[k], l = c.level[k];
+      let rgb;
+      if (mode === 'status') rgb = c.colours[s];
+      else if (l === 255) continue;
+      else rgb = new THREE.Color(viridis[3 * l] / 255, viridis[3 * l + 1] / 255, viridis[3 * l + 2] / 255);
+      counts[s] = (counts[s] || 0) + 1;
+      pos.push(c.pos[3 * k] * 1e-4, c.pos[3 * k + 1] * 1e-4, c.pos[3 * k + 2] * 1e-4);
+      col.push(rgb.r, rgb.g, rgb.b);
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+    g.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
+    current.add(new THREE.Points(g, new THREE.PointsMaterial({size: c.size, vertexColors: THREE.VertexColors})));
+    const arm = c.arm.map(v3), r = 0.025;
+    for (let k = 0; k + 1 < arm.length; ++k) current.add(rod(arm[k], arm[k + 1], r, armMaterial));
+    for (const p of arm) current.add(ball(p, 1.3 * r, jointMaterial));
+    scene.add(current);
+    if (mode === 'status') {
+      legend.innerHTML = '';
+      for (const s of Object.keys(counts).map(Number).sort((a, b) => a - b)) {
+        const e = document.createElement('span');
+        e.innerHTML = '<span class="sw"></span>';
+        e.firstChild.style.background = c.status_colours_css[s];
+        e.appendChild(document.createTextNode(c.names[s] + ' (' + counts[s] + ')'));
+        legend.appendChild(e);
+      }
+    } else {
+      legend.textContent = '';
+      const stops = [];
+      for (let l = 0; l <= 254; l += 127) stops.push('rgb(' + viridis[3 * l] + ',' + viridis[3 * l + 1] + ',' + viridis[3 * l + 2] + ')');
+      const e = document.createElement('span');
+      e.appendChild(document.createTextNode(D.value_label + ' [' + c.unit + ']: 0'));
+      const bar = document.createElement('span');
+      bar.className = 'bar';
+      bar.style.background = 'linear-gradient(to right,' + stops.join(',') + ')';
+      e.appendChild(bar);
+      e.appendChild(document.createTextNode(c.hi + ' (one scale for every map of this page in ' + c.unit + ')'));
+      legend.appendChild(e);
+    }
+    const arms = document.createElement('span');
+    arms.textContent = c.caption;
+    legend.appendChild(arms);
+    info.textContent = pos.length / 3 + ' points shown' + (D.stride > 1 ? ' (every ' + D.stride + 'th point of each map)' : '') + '.';
+    render();
+  }
+  function fit() {
+    const box = new THREE.Box3();
+    for (const c of clouds) {
+      for (let k = 0; k < c.status.length; ++k) box.expandByPoint(new THREE.Vector3(c.pos[3 * k] * 1e-4, c.pos[3 * k + 1] * 1e-4, c.pos[3 * k + 2] * 1e-4));
+      for (const p of c.arm) box.expandByPoint(v3(p));
+    }
+    if (box.isEmpty()) box.expandByObject(obstacles);  // the maps and arms first; stems are tall
+    const centre = box.getCenter(new THREE.Vector3()), radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.1);
+    controls.target.copy(centre);
+    camera.position.copy(centre).add(new THREE.Vector3(1.0, -1.6, 0.9).normalize().multiplyScalar(2.6 * radius));
+    camera.near = radius / 100;
+    camera.far = radius * 100;
+    camera.lookAt(centre);
+    controls.update();
+  }
+  function resize() {
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    renderer.setSize(w, h, false);
+    camera.aspect = w / Math.max(h, 1);
+    camera.updateProjectionMatrix();
+    render();
+  }
+  const list = document.getElementById('map'), modes = document.getElementById('mode');
+  D.clouds.forEach((c, i) => { const o = document.createElement('option'); o.value = i; o.textContent = c.name; list.appendChild(o); });
+  list.addEventListener('change', () => show(Number(list.value)));
+  modes.addEventListener('change', () => { mode = modes.value; show(Number(list.value)); });
+  window.addEventListener('resize', resize);
+  fit();
+  resize();
+  show(0);
+  // For scripts and tests: turn the view about the vertical axis through the target.
+  window.armstudyView = {
+    rotate(rad) {
+      const off = camera.position.clone().sub(controls.target);
+      off.applyAxisAngle(new THREE.Vector3(0, 0, 1), rad);
+      camera.position.copy(controls.target).add(off);
+      camera.lookAt(controls.target);
+      controls.update();
+      render();
+    },
+    show(i, m) { if (m) { mode = m; modes.value = m; } list.value = i; show(i); },
+    render: render,
+    maps: clouds.length
+  };
+})();
+)JS";
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+std::string threeJsSource(std::string& why) {
+  why.clear();
+  std::string all;
+  for (const char* path : {ARMSTUDY_THREE_JS, ARMSTUDY_THREE_ORBIT_CONTROLS}) {
+    std::error_code ec;
+    if (std::string(path).empty() || !std::filesystem::is_regular_file(path, ec)) {
+      why = std::string("three.js not found (") + (*path ? path : "not found at configure time") +
+            "; Debian: apt-get install libjs-three)";
+      return "";
+    }
+    const std::string js = readText(path);
+    if (js.find("</script") != std::string::npos) {
+      why = std::string(path) + " cannot be inlined (it holds </script)";
+      return "";
+    }
+    all += "<script>\n" + js + "\n</script>\n";
+  }
+  return all;
+}
+
+std::vector<ViewSolid> viewSolids(const std::vector<collision::Obstacle>& obstacles) {
+  std::vector<ViewSolid> out;
+  for (const collision::Obstacle& o : obstacles) {
+    ViewSolid s{o.name, static_cast<int>(o.type), {}, o.radius_m};
+    for (int k = 0; k < s.points; ++k) s.p_W[k] = {o.p_W[k].x(), o.p_W[k].y(), o.p_W[k].z()};
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::string viewHtml(const View3d& view, const std::string& three_js) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+    << "<title>" << htmlEscape(view.title) << "</title>\n<style>" << kStyle << "</style>\n"
+    << "</head>\n<body>\n<header>\n<h1>" << htmlEscape(view.title) << "</h1>\n"
+    << "<p>Drag to rotate, wheel to zoom, right-drag to pan. The points are the map's grid "
+       "points in the world frame [m]; the arm (joint frame origins, base to tool) stands at "
+       "the map's reachable pose of the largest manipulability; obstacles brown. Details: <a "
+       "href=\"report.html\">report.html</a>.</p>\n"
+    << "<p><label>map <select id=\"map\"></select></label> <label>colour <select "
+       "id=\"mode\"><option value=\"status\">status</option><option "
+       "value=\"value\">manipulability</option></select></label></p>\n</header>\n"
+    << "<canvas id=\"view\"></canvas>\n<div id=\"legend\"></div>\n<p id=\"info\"></p>\n"
+    << three_js << "<script type=\"application/json\" id=\"armstudy-view-data\">" << sceneJson(view)
+    << "</script>\n<script>" << kApp << "</script>\n</body>\n</html>\n";
+  return h.str();
+}
+
+}  // namespace armstudy::report

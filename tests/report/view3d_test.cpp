@@ -1,0 +1,103 @@
+// The 3-D view's page (report/view3d): its data read back independently of the writer (the JSON
+// parsed with nlohmann, the base64 arrays decoded here) gives the points, statuses and levels put
+// in; maps beyond kViewMaxPoints are thinned to every k-th point; a name holding "</script>" does
+// not end the data early; the bytes are the same on a second call.
+#include "report/view3d.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+
+using namespace armstudy::report;
+
+namespace {
+
+constexpr double kPositionQuantum = 1e-4;  // [m] the page's position resolution (0.1 mm)
+
+std::string unbase64(const std::string& s) {
+  static const std::string abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  int bits = 0;
+  std::uint32_t acc = 0;
+  for (const char c : s) {
+    if (c == '=') break;
+    acc = (acc << 6) | static_cast<std::uint32_t>(abc.find(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+
+nlohmann::json pageData(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"armstudy-view-data\">";
+  const std::size_t a = html.find(open);
+  REQUIRE(a != std::string::npos);
+  const std::size_t b = html.find("</script>", a);
+  REQUIRE(b != std::string::npos);
+  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+}  // namespace
+
+TEST_CASE("view.html carries the maps' points, thinned beyond the cap, and reads back",
+          "[report]") {
+  View3d v;
+  v.title = "3-D view: test";
+  v.value_label = "manipulability";
+  ViewCloud c;
+  c.name = "grid </script><b>x</b>: design";
+  c.status_names = {"reachable", "", "", "", "only in self-collision"};
+  const long n = 2 * kViewMaxPoints + 7;
+  for (long i = 0; i < n; ++i) {
+    c.p_W.push_back({0.001 * (i % 1000) - 0.3, 0.5, 0.002 * (i / 1000)});
+    c.status.push_back(i % 5 == 0 ? 1 : (i % 2 ? 4 : 0));  // status 1 is not drawn
+    c.value.push_back(i % 2 ? NAN : 0.5 * (i % 7) / 6);
+  }
+  c.arm_W = {{0, 0, 0}, {0, 0, 0.5}, {0.2, 0.3, 0.9}};
+  v.clouds.push_back(c);
+  v.solids.push_back({"stem", 2, {{{0.2, 0.7, 0}, {0.2, 0.7, 2}, {0, 0, 0}}}, 0.012});
+  const std::string html = viewHtml(v, "<script>/* three.js */</script>\n");
+  CHECK(html == viewHtml(v, "<script>/* three.js */</script>\n"));
+  const nlohmann::json d = pageData(html);
+  REQUIRE(d["clouds"].size() == 1);
+  const auto& jc = d["clouds"][0];
+  CHECK(jc["name"] == c.name);
+  // The drawn points (status 0 or 4) in index order, every stride-th of them.
+  std::vector<long> drawn;
+  for (long i = 0; i < n; ++i)
+    if (c.status[i] != 1) drawn.push_back(i);
+  const long stride = d["stride"].get<long>();
+  CHECK(stride == (static_cast<long>(drawn.size()) + kViewMaxPoints - 1) / kViewMaxPoints);
+  const std::string pos = unbase64(jc["pos"]), st = unbase64(jc["status"]),
+                    lv = unbase64(jc["level"]);
+  const std::size_t kept = st.size();
+  CHECK(kept == (drawn.size() + stride - 1) / stride);
+  CHECK(static_cast<long>(kept) <= kViewMaxPoints);
+  REQUIRE(pos.size() == 12 * kept);
+  REQUIRE(lv.size() == kept);
+  const double hi = std::stod(jc["hi"].get<std::string>());
+  CHECK(hi == Approx(0.5));
+  for (std::size_t k = 0; k < kept; k += 997) {
+    const long i = drawn[k * stride];
+    for (int a = 0; a < 3; ++a) {
+      std::uint32_t u = 0;
+      for (int b = 0; b < 4; ++b)
+        u |= static_cast<std::uint32_t>(static_cast<unsigned char>(pos[12 * k + 4 * a + b]))
+             << (8 * b);
+      CHECK(static_cast<std::int32_t>(u) * kPositionQuantum ==
+            Approx(c.p_W[i][a]).margin(kPositionQuantum));
+    }
+    CHECK(static_cast<int>(static_cast<unsigned char>(st[k])) == c.status[i]);
+    const int level = static_cast<unsigned char>(lv[k]);
+    if (std::isnan(c.value[i]))
+      CHECK(level == 255);
+    else
+      CHECK(level == std::lround(254 * c.value[i] / hi));
+  }
+  CHECK(d["solids"][0]["name"] == "stem");
+  CHECK(d["clouds"][0]["arm"].size() == 3);
+}
