@@ -383,7 +383,8 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
      << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
      << "). Best manipulability (normalisation value): "
-     << (s.R ? fmt(f.best_manipulability, 5) : "-")
+     << (s.R ? formatG(f.best_manipulability, 4) + " " + manipulabilityUnit(options.measure_space)
+             : "-")
      << ". Valley of the optimised map (the row of lowest mean): "
      << valleyText(map, s, manipulabilityUnit(options.measure_space))
      << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
