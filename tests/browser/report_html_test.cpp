@@ -188,6 +188,25 @@ Check checkView(const fs::path& page, const fs::path& work) {
   return c;
 }
 
+// The 3-D view of a study with maps in `dir`: it exists (three.js was found and inlined), is light,
+// report.html links it, and it draws a non-blank canvas that changes when turned.
+void requireView(const fs::path& dir, const fs::path& work) {
+  REQUIRE(fs::exists(dir / "view.html"));
+  CHECK(fs::file_size(dir / "view.html") < 5u * 1024 * 1024);
+  CHECK(readFileOrThrow((dir / "report.html").string()).find("href=\"view.html\"") !=
+        std::string::npos);
+  const Check c = checkView(dir / "view.html", work);
+  INFO(c.log.substr(0, 2000));
+  REQUIRE_FALSE(c.result.is_null());
+  INFO("view check: " << c.result.dump());
+  CHECK(c.result["errors"].empty());
+  REQUIRE(c.result["hook"].get<bool>());
+  const double pixels = c.result["pixels"].get<double>();
+  REQUIRE(pixels > 0);
+  CHECK(c.result["ink"].get<double>() / pixels > kMinInkShare);
+  CHECK(c.result["changed"].get<double>() / pixels > kMinChangedShare);
+}
+
 // Everything the check found wrong, one line each ("" = nothing).
 std::string faults(const Check& c) {
   if (c.result.is_null()) return "the browser returned no check result:\n" + c.log.substr(0, 2000);
@@ -350,41 +369,14 @@ TEST_CASE(
                  log);
       CHECK(fs::exists(shot));
       CHECK(fs::file_size(shot) > 1000);
-    }
-  }
-}
-
-TEST_CASE("the 3-D view of a study with maps renders in Chromium and turns when rotated",
-          "[browser][report][cli]") {
-  const fs::path work = workDir();
-  const fs::path out = work / "output";
-  for (const char* name : {"stem_obstacles", "default", "stem_heatmap"}) {
-    SECTION(name) {
-      const fs::path study = sourcePath("studies") + "/" + name + ".toml";
-      const fs::path quick = work / study.filename();
-      writeFileAtomic(quick.string(),
-                      quickStudy(readFileOrThrow(study.string()), study.parent_path()));
-      std::string log;
-      REQUIRE(runCommand(binaryPath() + " run " + quick.string() +
-                             " --overwrite --threads 2 --output " + out.string(),
-                         log) == 0);
-      const fs::path dir = out / name;
-      // The view exists (three.js was found and inlined), is light, and report.html links it.
-      INFO(log);
-      REQUIRE(fs::exists(dir / "view.html"));
-      CHECK(fs::file_size(dir / "view.html") < 5u * 1024 * 1024);
-      CHECK(readFileOrThrow((dir / "report.html").string()).find("href=\"view.html\"") !=
-            std::string::npos);
-      const Check c = checkView(dir / "view.html", work);
-      INFO(c.log.substr(0, 2000));
-      REQUIRE_FALSE(c.result.is_null());
-      INFO("view check: " << c.result.dump());
-      CHECK(c.result["errors"].empty());
-      REQUIRE(c.result["hook"].get<bool>());
-      const double pixels = c.result["pixels"].get<double>();
-      REQUIRE(pixels > 0);
-      CHECK(c.result["ink"].get<double>() / pixels > kMinInkShare);
-      CHECK(c.result["changed"].get<double>() / pixels > kMinChangedShare);
+      // A study with reach grids or stem maps (not an exploration's) has its 3-D view.
+      const std::string text = readFileOrThrow(study.string());
+      if ((text.find("\n[[reach.grid]]") != std::string::npos ||
+           text.find("\n[dexterity]") != std::string::npos) &&
+          text.find("\n[explore") == std::string::npos) {
+        INFO(study.filename().string() + ": the 3-D view");
+        requireView(report.parent_path(), work);
+      }
     }
   }
   fs::remove_all(work);
