@@ -369,11 +369,13 @@ TEST_CASE(
                  log);
       CHECK(fs::exists(shot));
       CHECK(fs::file_size(shot) > 1000);
-      // A study with reach grids or stem maps (not an exploration's) has its 3-D view.
+      // A study with reach grids or stem maps (an exploration's too, where it writes one) has its
+      // 3-D view.
       const std::string text = readFileOrThrow(study.string());
-      if ((text.find("\n[[reach.grid]]") != std::string::npos ||
-           text.find("\n[dexterity]") != std::string::npos) &&
-          text.find("\n[explore") == std::string::npos) {
+      if (((text.find("\n[[reach.grid]]") != std::string::npos ||
+            text.find("\n[dexterity]") != std::string::npos) &&
+           text.find("\n[explore") == std::string::npos) ||
+          fs::exists(report.parent_path() / "view.html")) {
         INFO(study.filename().string() + ": the 3-D view");
         requireView(report.parent_path(), work);
       }
