@@ -43,10 +43,12 @@ console.error = (...a) => { window.__armstudyErrors.push(a.join(' ')); __armstud
 // After load: broken images, figures whose content sticks out, captions, page width.
 const char* kBodyScript = R"(<script>
 window.addEventListener('load', () => {
-  const r = {errors: window.__armstudyErrors, broken: [], overflow: [], uncaptioned: [], figures: 0,
-             images: document.images.length, pageOverflow: false};
-  for (const img of document.images)
+  const r = {errors: window.__armstudyErrors, broken: [], overflow: [], uncaptioned: [], noalt: [],
+             figures: 0, images: document.images.length, pageOverflow: false};
+  for (const img of document.images) {
     if (!(img.complete && img.naturalWidth > 0 && img.naturalHeight > 0)) r.broken.push((img.alt || img.src).slice(0, 120));
+    if (!img.alt.trim()) r.noalt.push(img.src.slice(0, 120));
+  }
   for (const f of document.querySelectorAll('figure')) {
     r.figures++;
     const fr = f.getBoundingClientRect();
@@ -211,7 +213,7 @@ void requireView(const fs::path& dir, const fs::path& work) {
 std::string faults(const Check& c) {
   if (c.result.is_null()) return "the browser returned no check result:\n" + c.log.substr(0, 2000);
   std::string f;
-  for (const char* key : {"errors", "broken", "overflow", "uncaptioned"})
+  for (const char* key : {"errors", "broken", "overflow", "uncaptioned", "noalt"})
     for (const auto& e : c.result[key]) f += std::string(key) + ": " + e.get<std::string>() + "\n";
   if (c.result["pageOverflow"].get<bool>())
     f += "the page is wider than the window (" + std::to_string(c.result.value("window", 0)) +
@@ -266,8 +268,11 @@ fs::path workDir() {
 
 }  // namespace
 
-TEST_CASE("the browser check finds a broken image, an overflowing figure and a console error",
-          "[browser][report]") {
+TEST_CASE(
+    "the browser check finds a broken image, an overflowing figure, an image without alt text and "
+    "a "
+    "console error",
+    "[browser][report]") {
   // The check itself must be able to fail: a page with each fault.
   const fs::path work = workDir();
   const fs::path page = work / "faulty.html";
@@ -277,12 +282,15 @@ TEST_CASE("the browser check finds a broken image, an overflowing figure and a c
       "<figure><img src=\"missing.png\" alt=\"missing\"><figcaption>a</figcaption></figure>"
       "<figure><div style=\"width:900px;height:10px\"></div><figcaption>b</figcaption></figure>"
       "<figure><img alt=\"x\" src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"></figure>"
+      "<figure><img src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"><figcaption>c"
+      "</figcaption></figure>"
       "<script>console.error('boom')</script></body></html>\n");
   const Check c = checkPage(page, work);
   REQUIRE_FALSE(c.result.is_null());
   CHECK(c.result["broken"].size() >= 1);
   CHECK(c.result["overflow"].size() >= 1);
   CHECK(c.result["uncaptioned"].size() == 1);
+  CHECK(c.result["noalt"].size() == 1);
   bool boom = false;
   for (const auto& e : c.result["errors"]) boom = boom || e.get<std::string>() == "boom";
   CHECK(boom);
@@ -316,6 +324,7 @@ TEST_CASE(
             (report.empty() || fs::last_write_time(e.path()) > fs::last_write_time(report)))
           report = e.path();
       REQUIRE_FALSE(report.empty());
+      CHECK(fs::file_size(report) < 5u * 1024 * 1024);  // a light page
       const Check c = checkPage(report, work);
       INFO(study.filename().string() + ": " + faults(c));
       CHECK(faults(c).empty());

@@ -402,9 +402,13 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
         "scale for all designs | transmission (optimised), one scale for all designs | status "
         "|\n"
      << "|---|---|---|---|---|\n"
-     << "| ![](" << png["manipulability_optimised_normalised"] << ") | ![]("
-     << png["manipulability_plain_normalised"] << ") | ![](" << png["manipulability_optimised"]
-     << ") | ![](" << png["transmission_optimised"] << ") | ![](" << png["status"] << ") |\n\n";
+     << "| ![" << m.name << ": optimised manipulability, normalised]("
+     << png["manipulability_optimised_normalised"] << ") | ![" << m.name
+     << ": plain manipulability, normalised](" << png["manipulability_plain_normalised"] << ") | !["
+     << m.name << ": optimised manipulability, shared scale](" << png["manipulability_optimised"]
+     << ") | ![" << m.name << ": optimised transmission, shared scale]("
+     << png["transmission_optimised"] << ") | ![" << m.name << ": status](" << png["status"]
+     << ") |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
