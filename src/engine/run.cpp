@@ -303,7 +303,8 @@ struct StudyRun {
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
   void runStages(const RunOptions& stage_options, const TimedUnitRunner& units) {
     const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-    const StageContext ctx{study, stage_options, stage_dir, units, sum.threads, root};
+    const StageContext ctx{study,       stage_options, stage_dir,     units,
+                           sum.threads, root,          sum.output_dir};
     try {
       for (const StudySection& section : study.sections) {
         StageResult r = section.stage->run(ctx, *section.settings);

@@ -56,34 +56,4 @@ void Writer::text(const std::string& rel, const std::string& content) {
   files_.push_back(rel);
 }
 
-void Writer::textLater(std::vector<std::pair<std::string, std::string>> files) {
-  if (files.empty()) return;
-  for (auto& [rel, content] : files) {
-    files_.push_back(rel);
-    rel = path(rel);
-  }
-  later_.push_back(std::async(std::launch::async, [files = std::move(files)] {
-    for (const auto& [file, content] : files) writeFileAtomic(file, content);
-  }));
-}
-
-void Writer::flush() {
-  std::vector<std::future<void>> later;
-  later.swap(later_);
-  std::exception_ptr first;
-  for (std::future<void>& f : later) {
-    try {
-      f.get();
-    } catch (...) {
-      if (!first) first = std::current_exception();
-    }
-  }
-  if (first) std::rethrow_exception(first);
-}
-
-Writer::~Writer() {
-  for (std::future<void>& f : later_)
-    if (f.valid()) f.wait();
-}
-
 }  // namespace armstudy

@@ -84,6 +84,10 @@ struct StageContext {
   // folder nobody reads: a stage may list files there without writing them when it only passes on
   // bytes that other ranks rendered (docs/distributed.md).
   bool writes_results = true;
+  // The study's output folder, the same on every rank (empty: output_dir): files that one rank
+  // renders for all (a reach grid's pieces) are written there by that rank.
+  std::string results_dir;
+  const std::string& resultsDir() const { return results_dir.empty() ? output_dir : results_dir; }
 };
 
 // What a stage's section reader gets from the study-file parser.

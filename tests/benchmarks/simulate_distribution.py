@@ -67,7 +67,7 @@ def load_phases(path, scale, group):
             cost = float(row.get("cpu_seconds") or row["seconds"]) * scale
             item = (cost, int(row.get("bytes") or 0))
             if unit.startswith("share:"):
-                # A grid's files loop: only rank 0 writes what the others rendered (the others list it).
+                # A grid's files loop: each rank writes the files it rendered; the names travel.
                 kind, key = ("files" if unit.startswith("share:files/") else "step"), unit
             else:
                 kind, key = "units", unit.rsplit("/", 1)[0] if "/" in unit else unit.split("-")[0]
@@ -444,8 +444,8 @@ def main():
         phases = pool_per_grid(phases)
     batches = [items for kind, items in phases if kind == "units"]
     steps = [items for kind, items in phases if kind != "units"]
-    # Every rank applies a search or audit step's rows; a files loop's bytes only rank 0 writes (its
-    # cost here: none beyond the transfer, as the writes run on a background thread).
+    # Every rank applies a search or audit step's rows; a files loop sends only the files' names
+    # (the rank that renders a piece writes its files in the chunk's recorded cost).
     step_apply = [0.0 if kind == "files" else a.apply for kind, _ in phases if kind != "units"]
     serial = a.serial_total * a.replicate / max(1, len(batches))
     units = sum(len(b) for b in batches)

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -438,29 +439,96 @@ TEST_CASE(
   fs::remove_all(dir);
 }
 
-TEST_CASE(
-    "the shipped compare_designs study (4 designs, 6 pairs, two grids with map searches and "
-    "audits) "
-    "on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
-    "[distributed][e2e][report]") {
+// Runs a shipped study as one process with 2 threads, then on 2 and 3 ranks and 2 ranks x 2
+// threads with `unit_size` (small, so that every rank computes and renders some of every step);
+// every run must write the single process's bytes. `expect` checks the scenario happened on the
+// single process's files.
+void shippedStudyOnRanks(
+    const std::string& study, int unit_size,
+    const std::function<void(const std::map<std::string, std::string>&)>& expect) {
   requireMpi();
-  const fs::path dir = freshDir("compare_designs");
-  const fs::path out = dir / "out" / "compare_designs";
-  // Small units, so that every rank computes and renders some of every step.
-  const std::string args = sourcePath("studies/compare_designs.toml") + " --output " +
-                           (dir / "out").string() + " --overwrite --unit-size 64";
+  const fs::path dir = freshDir(study);
+  const fs::path out = dir / "out" / study;
+  const std::string args = sourcePath("studies/" + study + ".toml") + " --output " +
+                           (dir / "out").string() + " --overwrite --unit-size " +
+                           std::to_string(unit_size);
   std::string log;
   REQUIRE(runCommand(binaryPath() + " run " + args + " --threads 2", log) == 0);
   const auto ref = resultFiles(out);
-  // The scenario: every design's maps and every pair's comparison figures are there.
-  REQUIRE(ref.size() > 100);
-  REQUIRE(ref.count("reach/canopy_wall/final_prototype_9dof.vti") == 1);
+  expect(ref);
   for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {3, 1}, {2, 2}}) {
-    INFO(ranks << " rank(s) x " << threads << " thread(s)");
+    INFO(study << " on " << ranks << " rank(s) x " << threads << " thread(s)");
     const int st = runCommand(mpirun(ranks, args + " --threads " + std::to_string(threads)), log);
     INFO(log);
     REQUIRE(st == 0);
     CHECK(differing(ref, resultFiles(out)).empty());
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE(
+    "the shipped compare_designs study (4 designs, 6 pairs, two grids with map searches and "
+    "audits) on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
+    "[distributed][e2e][report]") {
+  shippedStudyOnRanks("compare_designs", 64, [](const auto& ref) {
+    // The scenario: every design's maps and every pair's comparison figures are there.
+    REQUIRE(ref.size() > 100);
+    REQUIRE(ref.count("reach/canopy_wall/final_prototype_9dof.vti") == 1);
+  });
+}
+
+TEST_CASE(
+    "the shipped stem heatmap (three 27,331-cell maps with map searches, self-collision and "
+    "audits) on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
+    "[distributed][e2e][report]") {
+  shippedStudyOnRanks("stem_heatmap", 1024, [](const auto& ref) {
+    // The scenario: the three maps (the design and its two lift offsets) with their audits.
+    for (const char* d : {"first_prototype_9dof", "first_prototype_9dof+j1.z=0.6",
+                          "first_prototype_9dof+j1.z=0.9"}) {
+      REQUIRE(ref.count(std::string("dexterity/") + d + ".vti") == 1);
+      REQUIRE(ref.count(std::string("dexterity/") + d + "_audit.csv") == 1);
+    }
+  });
+}
+
+TEST_CASE(
+    "on 2 ranks each rank writes the reach grid files it renders itself (no single writer), and "
+    "the files are a single process's bytes",
+    "[distributed][e2e]") {
+  requireMpi();
+  const fs::path dir = freshDir("writers");
+  const fs::path out = dir / "out" / "regression";
+  const std::string args = sourcePath("studies/regression.toml") + " --output " +
+                           (dir / "out").string() + " --overwrite --unit-size 8 --threads 1";
+  std::string log;
+  REQUIRE(runCommand(binaryPath() + " run " + args, log) == 0);
+  const auto ref = resultFiles(out);
+  // Rank 1 runs under umask 077, so the files it creates are readable by their owner only: a
+  // file's mode says which rank wrote it.
+  const std::string run = binaryPath() + " run " + args;
+  const std::string cmd = "umask 022; OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+                          std::string(ARMSTUDY_MPIEXEC) + " --oversubscribe -np 1 " + run +
+                          " : -np 1 sh -c 'umask 077; exec " + run + "'";
+  const int st = runCommand(cmd, log);
+  INFO(log);
+  REQUIRE(st == 0);
+  CHECK(differing(ref, resultFiles(out)).empty());
+  int by_rank1 = 0, by_rank0 = 0;
+  std::string rank1_outside_reach;
+  for (const auto& [rel, bytes] : ref) {
+    const auto perms = fs::status(out / rel).permissions();
+    const bool private_file = (perms & fs::perms::others_read) == fs::perms::none;
+    if (private_file)
+      ++by_rank1;
+    else
+      ++by_rank0;
+    if (private_file && rel.rfind("reach/", 0) != 0) rank1_outside_reach += rel + " ";
+  }
+  INFO("files written by rank 1 outside reach/: " << rank1_outside_reach);
+  CHECK(by_rank1 > 10);  // rank 1 rendered and wrote pieces of the grids
+  CHECK(by_rank0 > 10);  // rank 0 its own pieces and the study's files
+  CHECK(rank1_outside_reach.empty());
+  CHECK((fs::status(out / "summary.json").permissions() & fs::perms::others_read) !=
+        fs::perms::none);
   fs::remove_all(dir);
 }

@@ -1,6 +1,6 @@
-// Writer (study/writer.hpp): files written in the background (textLater) are listed at once, in
-// call order, hold exactly their content after flush(), and a write that fails reaches flush()
-// (the oracle: the files read back, and a path that cannot be created).
+// Writer (study/writer.hpp): files written and files other writers wrote are listed in call order,
+// hold exactly their content, and a write that fails throws at once (the oracle: the files read
+// back, and a path that cannot be created).
 #include "study/writer.hpp"
 
 #include <unistd.h>
@@ -33,7 +33,7 @@ fs::path scratch(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("background writes are listed in call order and hold their content after flush",
+TEST_CASE("files are listed in call order and hold their content, with no temporaries left",
           "[writer]") {
   const fs::path dir = scratch("order");
   {
@@ -43,34 +43,31 @@ TEST_CASE("background writes are listed in call order and hold their content aft
     for (int i = 0; i < 50; ++i)
       batch.emplace_back("sub/f" + std::to_string(i) + ".bin",
                          std::string(1000 + i, char('a' + i % 26)));
-    w.textLater(batch);
+    for (const auto& [rel, content] : batch) w.text(rel, content);
     w.add("c.vti");
-    w.textLater({{"d.txt", "last"}});
-    // Listed at once, in call order.
+    w.text("d.txt", "last");
     REQUIRE(w.files().size() == 53);
     CHECK(w.files()[0] == "a.txt");
     CHECK(w.files()[1] == "sub/f0.bin");
     CHECK(w.files()[50] == "sub/f49.bin");
     CHECK(w.files()[51] == "c.vti");
     CHECK(w.files()[52] == "d.txt");
-    w.flush();
     for (const auto& [rel, content] : batch) CHECK(slurp(dir / rel) == content);
     CHECK(slurp(dir / "d.txt") == "last");
-    // No temporaries left behind.
     for (const auto& e : fs::recursive_directory_iterator(dir))
       CHECK(e.path().string().find(".tmp.") == std::string::npos);
   }
   fs::remove_all(dir);
 }
 
-TEST_CASE("a background write that fails reaches flush", "[writer]") {
+TEST_CASE("a write that fails throws and is not listed", "[writer]") {
   const fs::path dir = scratch("fail");
   fs::create_directories(dir);
   std::ofstream(dir / "blocker") << "a file where a folder would have to be";
   Writer w(dir.string());
-  w.textLater({{"ok.txt", "fine"}, {"blocker/inside.txt", "cannot be written"}});
-  CHECK_THROWS(w.flush());
+  w.text("ok.txt", "fine");
+  CHECK_THROWS(w.text("blocker/inside.txt", "cannot be written"));
   CHECK(slurp(dir / "ok.txt") == "fine");
-  w.flush();  // nothing left to wait for
+  CHECK(w.files() == std::vector<std::string>{"ok.txt"});
   fs::remove_all(dir);
 }

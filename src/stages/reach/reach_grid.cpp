@@ -467,12 +467,10 @@ void renderPair(const GridRun& r, std::size_t a, std::size_t b, Writer& out,
   }
 }
 
-// Renders item `it` of the shared loop (a design's piece, or a pair's images) into a scratch folder
-// inside the store and returns its part and files as bytes.
+// Renders item `it` of the shared loop (a design's piece, or a pair's images), writes its files
+// into the study's output folder and returns its part and the files' names as bytes.
 std::string renderItem(const GridRun& r, std::size_t it) {
-  const std::string scratch = r.out.path(".partial/render/" + r.g.name + "-" + std::to_string(it));
-  std::filesystem::remove_all(scratch);
-  Writer w(scratch);
+  Writer w(r.ctx.resultsDir());
   DesignPart part;
   if (it < r.designItems()) {
     const std::size_t di = it / static_cast<std::size_t>(r.pieces);
@@ -487,17 +485,14 @@ std::string renderItem(const GridRun& r, std::size_t it) {
     const auto [a, b] = r.pairs[r.image_pairs[it - r.designItems()]];
     renderPair(r, a, b, w, part.md);
   }
-  std::string bytes = packDesignPart(part, w);
-  std::filesystem::remove_all(scratch);
-  return bytes;
+  return packDesignPart(part, w);
 }
 
 // Each design's files, figures and report lines, and each compared pair's images, rendered by the
 // process that owns it (a loop shared among the processes of a distributed run, one piece or pair
-// per chunk): the files go to a scratch folder inside the store (<output>/.partial/render/), their
-// bytes travel with the design's summary entry (CBOR) and report lines, and process 0 then writes
-// them in design order (the others list them only), so the files and their order are those of a
-// single process.
+// per chunk), which writes the files into the study's output folder itself: only their names
+// travel, with the design's summary entry (CBOR) and report lines, and every process lists them in
+// design order, so the files and their order are those of a single process.
 void renderGrid(GridRun& r) {
   const std::size_t n_items = r.designItems() + (r.pair_images ? r.image_pairs.size() : 0);
   r.parts.assign(n_items, {});
@@ -527,18 +522,15 @@ void renderGrid(GridRun& r) {
     ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
   };
   runSharedLoop(&r.ctx.units, render);
-  std::error_code ec;  // the scratch folders' parents, when empty (the store may hold units)
-  std::filesystem::remove(r.out.path(".partial/render"), ec);
-  std::filesystem::remove(r.out.path(".partial"), ec);
 }
 
 // Joins each design's pieces in order: its summary entry (with the surfaces), report and image
-// lines and table rows; the rendered files are written on a background thread
-// (Writer::textLater) while the stage goes on. Returns the designs' summary entries.
+// lines and table rows, and lists the files their processes wrote. Returns the designs' summary
+// entries.
 ordered_json joinDesignParts(GridRun& r, std::string& md, std::string& images_md,
                              std::vector<std::vector<std::string>>& rows) {
   ordered_json jdesigns = ordered_json::array();
-  std::vector<std::pair<std::string, std::string>> design_files;
+  std::vector<std::string> design_files;
   for (std::size_t di = 0; di < r.nd; ++di) {
     DesignPart part;
     const std::size_t first = di * static_cast<std::size_t>(r.pieces);
@@ -561,7 +553,7 @@ ordered_json joinDesignParts(GridRun& r, std::string& md, std::string& images_md
     images_md += part.images_md;
     for (auto& row : part.rows) rows.push_back(std::move(row));
   }
-  r.out.textLater(std::move(design_files));
+  for (const std::string& f : design_files) r.out.add(f);
   return jdesigns;
 }
 
@@ -744,7 +736,7 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
   std::vector<std::vector<std::string>> crow;
   ordered_json jpairs = ordered_json::array();
   std::string pair_imgs;
-  std::vector<std::pair<std::string, std::string>> pair_files;
+  std::vector<std::string> pair_files;
   for (std::size_t p = 0; p < r.pairs.size(); ++p) {
     const auto [a, b] = r.pairs[p];
     long n_a = 0, n_b = 0, both = 0, neither = 0;
@@ -772,7 +764,7 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
       pair_imgs += part.md;
     }
   }
-  r.out.textLater(std::move(pair_files));
+  for (const std::string& f : pair_files) r.out.add(f);
   jcmp["pairs"] = jpairs;
   std::vector<std::vector<std::string>> brow;
   jcmp["best_variant"] = bestVariants(r, jdesigns, brow);

@@ -525,15 +525,11 @@ std::string packDesignPart(const DesignPart& part, const Writer& w) {
     for (const std::string& c : row) b.putString(c);
   }
   b.put<std::uint64_t>(w.files().size());
-  for (const std::string& rel : w.files()) {
-    b.putString(rel);
-    b.putString(readFileOrThrow(w.path(rel)));
-  }
+  for (const std::string& rel : w.files()) b.putString(rel);
   return b.bytes();
 }
 
-void unpackDesignPart(const std::string& bytes, DesignPart& part,
-                      std::vector<std::pair<std::string, std::string>>& files) {
+void unpackDesignPart(const std::string& bytes, DesignPart& part, std::vector<std::string>& files) {
   UnitReader rd(bytes, kDesignPartMagic);
   std::vector<std::uint8_t> cbor;
   rd.getVector(cbor);
@@ -546,10 +542,7 @@ void unpackDesignPart(const std::string& bytes, DesignPart& part,
     for (std::string& c : row) c = rd.getString();
     part.rows.push_back(std::move(row));
   }
-  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-    std::string rel = rd.getString();
-    files.emplace_back(std::move(rel), rd.getString());
-  }
+  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) files.push_back(rd.getString());
   ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
 }
 

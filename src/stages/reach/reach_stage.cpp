@@ -233,8 +233,9 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   if (!cfg.enabled) return sum;
   // The designs this stage evaluates ([reach] designs), in study order, with their tool axes.
   const Study selected = StageDesigns{cfg.designs, cfg.tool_axes}.select(all_ctx.study);
-  const StageContext ctx{selected,      all_ctx.options, all_ctx.output_dir,
-                         all_ctx.units, all_ctx.threads, all_ctx.writes_results};
+  const StageContext ctx{
+      selected,        all_ctx.options,        all_ctx.output_dir,  all_ctx.units,
+      all_ctx.threads, all_ctx.writes_results, all_ctx.resultsDir()};
   const Study& study = ctx.study;
   ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
   Writer out(ctx.output_dir);
@@ -264,7 +265,6 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return sum;
   }
-  out.flush();  // the grids' files written in the background (Writer::textLater)
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   reachAnswer(jr, sum.answer, sum.warnings);
   js["reach"] = jr;
