@@ -9,8 +9,15 @@
 #include <numeric>
 
 #include "common/errors.hpp"
+#include "study/shared_loop.hpp"
 
 namespace armstudy::dexterity {
+
+namespace {
+
+constexpr char kAuditMagic[] = "armstudy-dexterity-audit-v1";
+
+}  // namespace
 
 std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
   const std::vector<long> d = drawIndices(n, cells, seed);
@@ -19,7 +26,8 @@ std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
 
 DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options,
                                    const DexterityMap& map, const std::vector<int>& cells,
-                                   int starts, std::uint64_t seed, int threads) {
+                                   int starts, std::uint64_t seed, int threads,
+                                   const UnitRunner* runner) {
   const auto t0 = std::chrono::steady_clock::now();
   const StemGrid& g = options.grid;
   ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == g.size(),
@@ -32,46 +40,86 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
   const ik::WeightedObjective objective = options.buildObjective(model);
   const int G = g.gamma_rad.count;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
+  for (std::size_t k = 0; k < cells.size(); ++k) {  // the map's side, known to every process
+    const int idx = cells[k];
+    ARMSTUDY_CHECK(idx >= 0 && idx < g.size(), "audit cell out of range");
+    const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+    AuditCell& row = a.rows[k];
+    row.index = idx;
+    row.gamma_rad = cell.gamma;
+    row.z_m = cell.z;
+    const CellResult& m = map.cells[idx];
+    row.map_reachable = m.reachable;
+    row.map_status = m.status;
+    row.H_map = m.H_opt;
+    row.manipulability_map = m.opt.manipulability;
+  }
+  // The searches, shared among the processes of a distributed run (a cell per chunk: each is
+  // `starts` searches); the best objective travels in H_audit until every row is in.
+  SharedLoop loop;
+  loop.id = "dexterity-audit/" + map.design;
+  loop.items = static_cast<long>(cells.size());
+  loop.chunk = 1;
+  loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+    const std::vector<long> items = SharedLoop::itemsOf(mine);
+    const long n = static_cast<long>(items.size());
 #pragma omp parallel num_threads(nt)
-  {
-    KinematicsWorkspace ws(model);
-    ik::ObjectiveContext ctx(model, ws);
-    collision::CollisionWorkspace cws(model);
-    collision::CollisionWorkspace* cw = options.collisionFor(model).enabled() ? &cws : nullptr;
-    JointVector q0(model.dof());
+    {
+      KinematicsWorkspace ws(model);
+      ik::ObjectiveContext ctx(model, ws);
+      collision::CollisionWorkspace cws(model);
+      collision::CollisionWorkspace* cw = options.collisionFor(model).enabled() ? &cws : nullptr;
+      JointVector q0(model.dof());
 #pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < static_cast<int>(cells.size()); ++k) {
-      const int idx = cells[k];
-      ARMSTUDY_CHECK(idx >= 0 && idx < g.size(), "audit cell out of range");
-      const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-      AuditCell& row = a.rows[k];
-      row.index = idx;
-      row.gamma_rad = cell.gamma;
-      row.z_m = cell.z;
-      const CellResult& m = map.cells[idx];
-      row.map_reachable = m.reachable;
-      row.map_status = m.status;
-      row.H_map = m.H_opt;
-      row.manipulability_map = m.opt.manipulability;
-      double best = std::numeric_limits<double>::infinity();
-      for (int s = 0; s < starts; ++s) {
-        randomConfiguration(model, seed, static_cast<std::uint64_t>(idx), s, q0);
-        CellResult cand;
-        if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw)) continue;
-        ++row.on_pose;
-        if (!cand.reachable) continue;
-        ++row.solutions;
-        if (cand.H_opt < best) {
-          best = cand.H_opt;
-          row.manipulability_audit = cand.opt.manipulability;
+      for (long m = 0; m < n; ++m) {
+        AuditCell& row = a.rows[static_cast<std::size_t>(items[static_cast<std::size_t>(m)])];
+        const StemGrid::Cell cell = g.cell(row.index % G, row.index / G);
+        double best = std::numeric_limits<double>::infinity();
+        for (int s = 0; s < starts; ++s) {
+          randomConfiguration(model, seed, static_cast<std::uint64_t>(row.index), s, q0);
+          CellResult cand;
+          if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw)) continue;
+          ++row.on_pose;
+          if (!cand.reachable) continue;
+          ++row.solutions;
+          if (cand.H_opt < best) {
+            best = cand.H_opt;
+            row.manipulability_audit = cand.opt.manipulability;
+          }
         }
+        row.H_audit = best;
       }
-      row.audit_reachable = row.solutions > 0;
-      row.H_audit = row.audit_reachable ? best : std::numeric_limits<double>::quiet_NaN();
-      row.gap = row.map_reachable && row.audit_reachable
-                    ? (row.H_map - row.H_audit) / std::max(std::abs(row.H_audit), 1e-12)
-                    : std::numeric_limits<double>::quiet_NaN();
     }
+  };
+  loop.pack = [&](std::size_t, const ItemRange& r) {
+    UnitWriter w(kAuditMagic);
+    for (long t = r.begin; t < r.end; ++t) {
+      const AuditCell& row = a.rows[static_cast<std::size_t>(t)];
+      w.put<std::int32_t>(row.on_pose);
+      w.put<std::int32_t>(row.solutions);
+      w.put(row.manipulability_audit);
+      w.put(row.H_audit);
+    }
+    return w.bytes();
+  };
+  loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+    UnitReader rd(bytes, kAuditMagic);
+    for (long t = r.begin; t < r.end; ++t) {
+      AuditCell& row = a.rows[static_cast<std::size_t>(t)];
+      row.on_pose = rd.get<std::int32_t>();
+      row.solutions = rd.get<std::int32_t>();
+      row.manipulability_audit = rd.get<double>();
+      row.H_audit = rd.get<double>();
+    }
+    ARMSTUDY_CHECK(rd.finished(), "the audit's rows arrive whole");
+  };
+  runSharedLoop(runner, loop);
+  for (AuditCell& row : a.rows) {
+    row.audit_reachable = row.solutions > 0;
+    if (!row.audit_reachable) row.H_audit = std::numeric_limits<double>::quiet_NaN();
+    row.gap = row.map_reachable && row.audit_reachable
+                  ? (row.H_map - row.H_audit) / std::max(std::abs(row.H_audit), 1e-12)
+                  : std::numeric_limits<double>::quiet_NaN();
   }
   for (const AuditCell& r : a.rows) {
     if (r.map_reachable && r.audit_reachable) {
@@ -99,10 +147,10 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
 }
 
 DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options,
-                                 const DexterityMap& map, int threads) {
+                                 const DexterityMap& map, int threads, const UnitRunner* runner) {
   return auditDexterityCells(
       model, options, map, drawCells(options.grid.size(), options.audit_cells, options.audit_seed),
-      options.audit_starts, options.audit_seed, threads);
+      options.audit_starts, options.audit_seed, threads, runner);
 }
 
 }  // namespace armstudy::dexterity

@@ -50,13 +50,16 @@ struct DexterityAudit {
 std::vector<int> drawCells(int n, int cells, std::uint64_t seed);
 
 // Audits `map` (computed with `options`) on options.audit_cells cells with options.audit_starts
-// starts each (seed options.audit_seed). Deterministic for any thread count.
+// starts each (seed options.audit_seed). Deterministic for any thread and process count: the
+// cells are a loop the processes of `runner` share (null: this process alone).
 DexterityAudit auditDexterityMap(const Model& model, const DexterityOptions& options,
-                                 const DexterityMap& map, int threads);
+                                 const DexterityMap& map, int threads,
+                                 const UnitRunner* runner = nullptr);
 
 // The cells given explicitly (tests: every cell of a small grid).
 DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options,
                                    const DexterityMap& map, const std::vector<int>& cells,
-                                   int starts, std::uint64_t seed, int threads);
+                                   int starts, std::uint64_t seed, int threads,
+                                   const UnitRunner* runner = nullptr);
 
 }  // namespace armstudy::dexterity

@@ -30,6 +30,10 @@
 #include "study/checkpoint.hpp"
 #include "study/stage_designs.hpp"
 
+namespace armstudy {
+class UnitRunner;
+}
+
 namespace armstudy::dexterity {
 
 // (study) Random starts per stem cell still reached only in collision after the map search
@@ -125,6 +129,11 @@ struct CellResult {
   double min_distance_m = std::numeric_limits<double>::quiet_NaN();  // at q_opt, collision maps
 };
 
+// One cell as bytes (the units' and the shared search steps' format; found_by is not part of it)
+// and back; getCell marks `r` failed on a value out of range.
+void putCell(UnitWriter& w, const CellResult& c);
+void getCell(UnitReader& r, CellResult& c);
+
 // What the map search did (searchDexterityMap).
 struct MapSearchSummary {
   int seeding_cells = 0;        // cells that got seeded multi-starts
@@ -179,9 +188,11 @@ DexterityMap computeDexterityRows(const Model& model, const DexterityOptions& op
 // defaults::kMapImprovementRelative; rounds repeat, retrying only from neighbours that changed,
 // until no cell changes (at most options.propagation_rounds in all). Collision maps: then every
 // cell still reached only in collision gets options.collision_starts further random starts, and
-// the propagation resumes from the cells they freed. Updates map.cells and map.search.
+// the propagation resumes from the cells they freed. Updates map.cells and map.search. Each step
+// is a loop the processes of `runner` share (null: this process alone); the result does not depend
+// on who computed a cell (a step reads only the map before it).
 void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
-                        int threads);
+                        int threads, const UnitRunner* runner = nullptr);
 
 // One candidate for a cell from the configuration `seed`: solved onto the cell's pose by the
 // local solve, then optimised in the null space (redundant designs) and checked for collisions

@@ -6,6 +6,7 @@
 
 #include "common/errors.hpp"
 #include "dexterity/dexterity_map.hpp"
+#include "study/shared_loop.hpp"
 
 // The map search after the chained rows (dexterity_map.hpp, searchDexterityMap; docs/dexterity.md
 // "How a map value is found").
@@ -67,13 +68,18 @@ int neighbours(const StemGrid& g, int idx, int out[8]) {
   return n;
 }
 
-// What the search steps share: the model, the options, the objective and the per-thread set-up.
+// What the search steps share: the model, the options, the objective and the per-thread set-up,
+// and the runner whose processes share each step (null: this process alone).
 struct SearchContext {
   const Model& model;
   const DexterityOptions& options;
   ik::WeightedObjective objective;
   int threads;
   bool check;  // collisions checked
+  const UnitRunner* runner;
+  std::string id;  // the steps' loop ids start with it ("dexterity-search/<design>/")
+  mutable int steps = 0;
+  std::string stepId(const char* phase) const { return id + std::to_string(steps++) + "_" + phase; }
 };
 
 // One thread's workspaces for the search's solves (built once per parallel region).
@@ -91,92 +97,188 @@ struct ThreadSolver {
   collision::CollisionWorkspace cws;
 };
 
+// One step over a list of cells, per item: the candidates it tried, whether its cell improved (a
+// counter of the step) and whether it changed (then its new state is the step's output).
+struct StepItems {
+  explicit StepItems(std::size_t n) : tries(n, 0), improved(n, 0), changed(n, 0) {}
+  std::vector<long> tries;
+  std::vector<std::uint8_t> improved, changed;
+};
+
+constexpr char kStepMagic[] = "armstudy-dexterity-search-step-v1";
+
+// The items of chunk `r` that tried or changed anything, with the new state of each changed cell
+// (`at(t)`), as bytes; empty when there is nothing to apply.
+template <class At>
+std::string packStep(const ItemRange& r, const StepItems& it, At&& at) {
+  UnitWriter w(kStepMagic);
+  bool any = false;
+  for (long t = r.begin; t < r.end; ++t) {
+    if (it.tries[t] == 0 && !it.changed[t]) continue;
+    any = true;
+    w.put<std::int64_t>(t);
+    w.put<std::int64_t>(it.tries[t]);
+    w.put<std::uint8_t>(it.improved[t]);
+    w.put<std::uint8_t>(it.changed[t]);
+    if (!it.changed[t]) continue;
+    putCell(w, at(t));
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(at(t).found_by));
+  }
+  return any ? w.bytes() : std::string();
+}
+
+// The inverse, on a process that did not compute the chunk.
+template <class At>
+void unpackStep(const ItemRange& r, const std::string& bytes, StepItems& it, At&& at) {
+  if (bytes.empty()) return;
+  UnitReader rd(bytes, kStepMagic);
+  while (rd.ok() && !rd.finished()) {
+    const long t = static_cast<long>(rd.get<std::int64_t>());
+    ARMSTUDY_CHECK(rd.ok() && t >= r.begin && t < r.end, "a map search step's cells arrive whole");
+    it.tries[t] = static_cast<long>(rd.get<std::int64_t>());
+    it.improved[t] = rd.get<std::uint8_t>();
+    it.changed[t] = rd.get<std::uint8_t>();
+    if (!it.changed[t]) continue;
+    CellResult& c = at(t);
+    getCell(rd, c);
+    const auto source = rd.get<std::uint8_t>();
+    if (source > static_cast<std::uint8_t>(CellResult::Source::Neighbour)) rd.fail();
+    c.found_by = static_cast<CellResult::Source>(source);
+  }
+  ARMSTUDY_CHECK(rd.finished(), "a map search step's cells arrive whole");
+}
+
+// Runs one step over `n` items on sc.runner's processes: body(t, solver) computes item t on a
+// thread (into `it` and its cell); pack and unpack move the items' outcome (`at(t)`: item t's
+// cell).
+template <class Body, class At>
+void runStep(const SearchContext& sc, const char* phase, std::size_t n, long chunk, StepItems& it,
+             Body&& body, At&& at) {
+  SharedLoop loop;
+  loop.id = sc.stepId(phase);
+  loop.items = static_cast<long>(n);
+  loop.chunk = chunk;
+  loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
+    const std::vector<long> items = SharedLoop::itemsOf(mine);
+    const long m = static_cast<long>(items.size());
+#pragma omp parallel num_threads(sc.threads)
+    {
+      ThreadSolver solver(sc);
+#pragma omp for schedule(dynamic, 1)
+      for (long k = 0; k < m; ++k) body(items[static_cast<std::size_t>(k)], solver);
+    }
+  };
+  loop.pack = [&](std::size_t, const ItemRange& r) { return packStep(r, it, at); };
+  loop.unpack = [&](std::size_t, const ItemRange& r, const std::string& bytes) {
+    unpackStep(r, bytes, it, at);
+  };
+  runSharedLoop(sc.runner, loop);
+}
+
 // `starts` random configurations for each cell of `list` (start numbers first .. first + starts - 1
 // of the cell's counter-based stream: each cell depends only on its own index); a better
-// candidate replaces the cell and marks it in `changed`. Returns the cells improved.
+// candidate replaces the cell and marks it in `changed`. Returns the cells improved. A step shared
+// among the processes (chunks of a few cells: each is `starts` solves).
 int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
                 const std::vector<int>& list, int first, int starts,
-                std::vector<std::uint8_t>& changed, long& tries) {
+                std::vector<std::uint8_t>& changed, long& tries, const char* phase) {
   const StemGrid& g = sc.options.grid;
   const int G = g.gamma_rad.count;
-  long n_tries = 0;
+  StepItems it(list.size());
+  const auto cellOf = [&](long t) -> CellResult& { return cells[list[t]]; };
+  runStep(
+      sc, phase, list.size(), 4, it,
+      [&](long t, ThreadSolver& solver) {
+        const int idx = list[t];
+        const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+        CellResult& cur = cells[idx];
+        JointVector q0(sc.model.dof());
+        for (int s = first; s < first + starts; ++s) {
+          randomConfiguration(sc.model, sc.options.search_seed, static_cast<std::uint64_t>(idx), s,
+                              q0);
+          CellResult cand;
+          ++it.tries[t];
+          if (!solver.fromSeed(cell, q0, cand) || !better(cand, cur)) continue;
+          if (cur.found_by != CellResult::Source::MultiStart) it.improved[t] = 1;
+          adopt(cur, cand, CellResult::Source::MultiStart);
+          it.changed[t] = 1;
+        }
+      },
+      cellOf);
   int improved = 0;
-#pragma omp parallel num_threads(sc.threads) reduction(+ : n_tries, improved)
-  {
-    ThreadSolver solver(sc);
-    JointVector q0(sc.model.dof());
-#pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < static_cast<int>(list.size()); ++k) {
-      const int idx = list[k];
-      const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-      CellResult& cur = cells[idx];
-      for (int s = first; s < first + starts; ++s) {
-        randomConfiguration(sc.model, sc.options.search_seed, static_cast<std::uint64_t>(idx), s,
-                            q0);
-        CellResult cand;
-        ++n_tries;
-        if (!solver.fromSeed(cell, q0, cand) || !better(cand, cur)) continue;
-        if (cur.found_by != CellResult::Source::MultiStart) ++improved;
-        adopt(cur, cand, CellResult::Source::MultiStart);
-        changed[idx] = 1;
-      }
-    }
+  for (std::size_t t = 0; t < list.size(); ++t) {
+    tries += it.tries[t];
+    improved += it.improved[t];
+    if (it.changed[t]) changed[list[t]] = 1;
   }
-  tries += n_tries;
   return improved;
 }
 
 // Neighbour propagation, Jacobi rounds, until no cell changes or the round cap (counted over the
 // whole search). With `all_first`, the first round tries every better neighbour (the chain's
 // branch choices are not marked); later rounds only neighbours that changed in the round before.
+// A round is a step shared among the processes over the cells next to a source.
 void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
                std::vector<std::uint8_t>& changed, bool all_first, MapSearchSummary& sum) {
   const StemGrid& g = sc.options.grid;
   const int N = g.size(), G = g.gamma_rad.count;
   bool first = all_first;
   sum.converged = false;
+  int nb[8];
+  const auto source = [&](int j) { return cells[j].reachable && (first || changed[j]); };
   while (sum.rounds < sc.options.propagation_rounds) {
-    std::vector<CellResult> next = cells;
+    // The round's cells: those with a source among their neighbours (the others try nothing).
+    std::vector<int> active;
+    for (int idx = 0; idx < N; ++idx) {
+      const int count = neighbours(g, idx, nb);
+      for (int k = 0; k < count; ++k)
+        if (source(nb[k])) {
+          active.push_back(idx);
+          break;
+        }
+    }
+    StepItems it(active.size());
+    std::vector<CellResult> next(active.size());  // a changed cell's new state
+    runStep(
+        sc, "propagate", active.size(), 16, it,
+        [&](long t, ThreadSolver& solver) {
+          const int idx = active[t];
+          const CellResult& cur = cells[idx];
+          int nbt[8];
+          const int count = neighbours(g, idx, nbt);
+          CellResult best = cur;
+          for (int k = 0; k < count; ++k) {
+            const CellResult& src = cells[nbt[k]];
+            if (!source(nbt[k])) continue;
+            if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
+            // A neighbour whose optimum is this cell's posture (every joint within kMapSameBasin)
+            // would descend to this cell's optimum again.
+            if (cur.reachable &&
+                (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin)
+              continue;
+            CellResult cand;
+            ++it.tries[t];
+            if (!solver.fromSeed(g.cell(idx % G, idx / G), src.q_opt, cand) || !better(cand, best))
+              continue;
+            adopt(best, cand, CellResult::Source::Neighbour);
+            it.changed[t] = it.improved[t] = 1;
+          }
+          if (it.changed[t]) next[t] = std::move(best);
+        },
+        [&](long t) -> CellResult& { return next[t]; });
     std::vector<std::uint8_t> now(N, 0);
     long round_tries = 0;
     int round_improved = 0;
-#pragma omp parallel num_threads(sc.threads) reduction(+ : round_tries, round_improved)
-    {
-      ThreadSolver solver(sc);
-      int nb[8];
-#pragma omp for schedule(dynamic, 16)
-      for (int idx = 0; idx < N; ++idx) {
-        const CellResult& cur = cells[idx];
-        const int count = neighbours(g, idx, nb);
-        CellResult best = cur;
-        bool any = false;
-        for (int k = 0; k < count; ++k) {
-          const CellResult& src = cells[nb[k]];
-          if (!src.reachable || !(first || changed[nb[k]])) continue;
-          if (cur.reachable && !(src.H_opt < cur.H_opt)) continue;
-          // A neighbour whose optimum is this cell's posture (every joint within kMapSameBasin)
-          // would descend to this cell's optimum again.
-          if (cur.reachable &&
-              (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin)
-            continue;
-          CellResult cand;
-          ++round_tries;
-          if (!solver.fromSeed(g.cell(idx % G, idx / G), src.q_opt, cand) || !better(cand, best))
-            continue;
-          adopt(best, cand, CellResult::Source::Neighbour);
-          any = true;
-        }
-        if (any) {
-          next[idx] = std::move(best);
-          now[idx] = 1;
-          ++round_improved;
-        }
-      }
+    for (std::size_t t = 0; t < active.size(); ++t) {
+      round_tries += it.tries[t];
+      round_improved += it.improved[t];
+      if (!it.changed[t]) continue;
+      cells[active[t]] = std::move(next[t]);
+      now[active[t]] = 1;
     }
     ++sum.rounds;
     sum.neighbour_tries += round_tries;
     sum.neighbour_improved += round_improved;
-    cells.swap(next);
     changed.swap(now);
     first = false;
     if (round_improved == 0) {
@@ -193,14 +295,18 @@ bool inCollision(const CellResult& c) {
 }  // namespace
 
 void searchDexterityMap(const Model& model, const DexterityOptions& options, DexterityMap& map,
-                        int threads) {
+                        int threads, const UnitRunner* runner) {
   const auto t0 = std::chrono::steady_clock::now();
   const StemGrid& g = options.grid;
   const int N = g.size(), G = g.gamma_rad.count;
   ARMSTUDY_CHECK(static_cast<int>(map.cells.size()) == N, "dexterity map does not match its grid");
-  const SearchContext sc{model, options, options.buildObjective(model),
+  const SearchContext sc{model,
+                         options,
+                         options.buildObjective(model),
                          threads > 0 ? threads : omp_get_max_threads(),
-                         options.collisionFor(model).enabled()};
+                         options.collisionFor(model).enabled(),
+                         runner,
+                         "dexterity-search/" + map.design + "/"};
   MapSearchSummary& sum = map.search;
   sum = MapSearchSummary{};
   // Cells that changed in the last step: the sources of the next propagation round.
@@ -214,8 +320,8 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
       for (int ig = 0; ig < G; ig += st) seeding.push_back(g.index(ig, iz));
   }
   sum.seeding_cells = static_cast<int>(seeding.size());
-  sum.multistart_improved =
-      multiStarts(sc, map.cells, seeding, 0, options.seed_starts, changed, sum.multistart_tries);
+  sum.multistart_improved = multiStarts(sc, map.cells, seeding, 0, options.seed_starts, changed,
+                                        sum.multistart_tries, "multistart");
 
   // (2) Neighbour propagation.
   sum.converged = options.propagation_rounds == 0;
@@ -231,7 +337,7 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
   if (!colliding.empty()) {
     std::fill(changed.begin(), changed.end(), 0);
     multiStarts(sc, map.cells, colliding, options.seed_starts, options.collision_starts, changed,
-                sum.collision_tries);
+                sum.collision_tries, "collision_starts");
     for (int i : colliding) sum.collision_freed += map.cells[i].reachable ? 1 : 0;
     if (sum.collision_freed > 0 && options.propagation_rounds > 0)
       propagate(sc, map.cells, changed, false, sum);

@@ -166,7 +166,7 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
               map.cells.begin() + u.begin * G);
   // The search across rows needs every row: it runs once all units are in (deterministic, so a
   // resumed run ends in the same map).
-  searchDexterityMap(m, options, map, ctx.threads);
+  searchDexterityMap(m, options, map, ctx.threads, &ctx.units);
   return map;
 }
 
@@ -563,7 +563,8 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
     nlohmann::ordered_json d = designJson(m, options, map, f, s);
     addStatusJson(map, sc, d);
     md << rowSweep(m, options, map, ctx.threads, d);
-    if (options.audit_cells > 0) md << writeAudit(m, options, map, ctx.threads, sub, out, d);
+    if (options.audit_cells > 0)
+      md << writeAudit(m, options, map, ctx.threads, &ctx.units, sub, out, d);
     js["designs"].push_back(d);
     if (maps) maps->push_back(std::move(map));
   }

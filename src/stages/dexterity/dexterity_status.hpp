@@ -64,6 +64,7 @@ std::string reportIntro(const DexterityOptions& options);
 // <sub>/<design>_audit.csv, sets d["audit"] (with the verdicts per status and how many the audit
 // contradicted) and returns the report paragraph.
 std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                       int threads, const std::string& sub, Writer& out, nlohmann::ordered_json& d);
+                       int threads, const UnitRunner* runner, const std::string& sub, Writer& out,
+                       nlohmann::ordered_json& d);
 
 }  // namespace armstudy::dexterity
