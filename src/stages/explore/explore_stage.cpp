@@ -249,7 +249,9 @@ std::string geometryAndFilesMarkdown(const Outcome& r, const std::vector<std::st
   if (r.goals.size() >= 2)
     md +=
         "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
-  md += "- `parallel.svg`: parallel coordinates of parameters and objectives\n";
+  md +=
+      "- `parallel.svg`: parallel coordinates of parameters and objectives (each objective "
+      "turned so that better is up)\n";
   for (const std::string& n : written)
     md += "- `front/" + n + "/`: design file and the stages' outputs\n";
   return md;
