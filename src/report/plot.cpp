@@ -81,7 +81,9 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   // A title wider than everything else wraps; a single word longer than the canvas widens it.
   for (const auto& word : m.wrap(f.title, kTitleSize, 0))
     W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
-  const double mt = std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + vextra);
+  // Below the title: room for the upper half of the top tick labels (or the vertical labels).
+  const double mt =
+      std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + std::max(vextra, th / 2));
   const double iy0 = mt + bp, iy1 = mt + h - bp, ix0 = ml + bp, ix1 = ml + w - bp;
   s.image(map, ml, mt);
   for (double t : xt) {

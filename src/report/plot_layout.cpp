@@ -264,9 +264,10 @@ std::vector<double> fittingTicks(double lo, double hi, double length_px, double 
 double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1,
                   double y, double size) {
   if (title.empty()) return y;
-  for (const std::string& line : m.wrap(title, size, x1 - x0)) {
-    s.text(line, (x0 + x1) / 2, y, size, HAlign::centre, VAlign::top);
-    y += m.height(size);
+  const std::vector<std::string> lines = m.wrap(title, size, x1 - x0);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    s.text(lines[k], (x0 + x1) / 2, y, size, HAlign::centre, VAlign::top);
+    y += m.height(size) + (k + 1 < lines.size() ? kLeading : 0);
   }
   return y + kGap;
 }

@@ -30,6 +30,7 @@ constexpr double kLabelSize = 13;  // axis and colour-bar labels, legend
 constexpr double kTickSize = 11;   // tick labels
 constexpr double kTickLen = 5;
 constexpr double kGap = 6;             // between neighbouring pieces of text
+constexpr double kLeading = 2;         // between the lines of a wrapped title
 constexpr double kBarWidth = 16;       // colour bar
 constexpr double kSwatch = 22;         // legend sample
 constexpr double kMarkerStroke = 1.5;  // hollow markers' line width
