@@ -166,10 +166,10 @@ window.addEventListener('load', () => {
 });
 </script>)";
 
-// [px] overlap of two text boxes, across and along, that is not a fault. Chromium's boxes are the
-// font's ascent and descent rounded to whole pixels, a pixel deeper for glyphs such as '_', so
-// lines that the layout stacks at the font's height (cairo's unrounded extents) share up to 1.5 px.
-constexpr double kTextTolerance_px = 2;
+// [px] overlap of two text boxes, across and along, that is not a fault: Chromium's boxes are the
+// font's ascent and descent rounded to whole pixels (up to 0.6 px taller than cairo's, which the
+// layout uses), so boxes the layout sets edge to edge may share a fraction of a pixel.
+constexpr double kTextTolerance_px = 1;
 
 // Shares of the canvas [1] a rendered view must cover, and must change when turned.
 constexpr double kMinInkShare = 0.005, kMinChangedShare = 0.005;
