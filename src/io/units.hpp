@@ -11,6 +11,8 @@ namespace armstudy {
 
 enum class Dimension { Length, Angle, LinearVelocity, AngularVelocity, Dimensionless };
 const char* toString(Dimension d);
+// The SI unit of a dimension as written on an axis: "m", "rad", "m/s", "rad/s", "1".
+const char* siUnit(Dimension d);
 
 // Converts `text` to SI. Returns false with a message in `error` when the expression is malformed,
 // the unit is unknown, or the unit does not fit `dim`.

@@ -81,7 +81,9 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
   // A title wider than everything else wraps; a single word longer than the canvas widens it.
   for (const auto& word : m.wrap(f.title, kTitleSize, 0))
     W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
-  const double mt = std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + vextra);
+  // Below the title: room for the upper half of the top tick labels (or the vertical labels).
+  const double mt =
+      std::ceil(titleBlock(s, m, f.title, kPad, W - kPad, kPad) + std::max(vextra, th / 2));
   const double iy0 = mt + bp, iy1 = mt + h - bp, ix0 = ml + bp, ix1 = ml + w - bp;
   s.image(map, ml, mt);
   for (double t : xt) {
@@ -217,7 +219,10 @@ Range sharedXRange(const PlotSpec& spec) {
       for (const auto& l : p.lines)
         if (!l.horizontal) xr.add(l.value);
     }
-    if (!(xr.hi > xr.lo)) xr.pad(0.05);
+    if (!(xr.hi > xr.lo))
+      xr.pad(0.05);
+    else if (spec.x_margin > 0)
+      xr.pad(spec.x_margin);
   }
   return xr;
 }
@@ -290,7 +295,7 @@ void drawSeries(Scene& s, const Frame& f, const PlotPanel& pan, const std::array
       pts.push_back(run.back());
     }
     flush();
-    if (se.markers) s.dots(pts, c, 2.6);
+    if (se.markers) s.dots(pts, c, se.marker_size, se.marker);
   }
 }
 
@@ -299,18 +304,22 @@ double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx
   const double lh = m.height(kLabelSize);
   double ly = y;
   const double row = lh + 6;
-  auto entry = [&](const std::string& label, Rgb c, bool dashed, bool marker, bool line) {
+  auto entry = [&](const std::string& label, Rgb c, bool dashed, const PlotSeries* marker,
+                   bool line) {
     if (line) s.line(lx, ly + row / 2, lx + kSwatch, ly + row / 2, c, 2, dashed);
-    if (marker) s.dots({{lx + kSwatch / 2, ly + row / 2}}, c, 3);
+    if (marker)
+      s.dots({{lx + kSwatch / 2, ly + row / 2}}, c, std::max(3.0, marker->marker_size),
+             marker->marker);
     s.text(label, lx + kSwatch + kGap, ly + row / 2, kLabelSize, HAlign::left, VAlign::middle);
     ly += row;
   };
   for (std::size_t i = 0; i < pan.series.size(); ++i)
     if (!pan.series[i].label.empty())
       entry(pan.series[i].label, pan.series[i].colour.value_or(seriesColour(static_cast<int>(i))),
-            pan.series[i].dashed, pan.series[i].markers, pan.series[i].lines);
+            pan.series[i].dashed, pan.series[i].markers ? &pan.series[i] : nullptr,
+            pan.series[i].lines);
   for (const auto& l : pan.lines)
-    if (!l.label.empty()) entry(l.label, l.colour, true, false, true);
+    if (!l.label.empty()) entry(l.label, l.colour, true, nullptr, true);
   return ly;
 }
 

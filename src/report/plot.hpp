@@ -55,6 +55,7 @@ Drawing mapFigure(const RasterImage& map, const MapFigure& figure, Format format
 MapAxis cellAxis(std::string label, double from, double to, double step);
 
 // ---- X-y plots ----
+enum class Marker { dot, ring, square };  // filled circle, hollow circle, hollow square
 struct PlotSeries {
   std::string label;  // legend text; empty = not in the legend
   std::vector<double> x, y;
@@ -62,6 +63,8 @@ struct PlotSeries {
   bool lines = true;          // connect the points
   bool markers = false;       // a dot per point
   bool dashed = false;
+  Marker marker = Marker::dot;  // the markers' shape
+  double marker_size = 2.6;     // radius, or half the side of a square [px]
 };
 struct RefLine {  // a horizontal (y = value) or vertical (x = value) reference line
   double value = 0;
@@ -80,8 +83,9 @@ struct PlotSpec {
   std::string title, x_label;  // the panels share the x axis
   std::vector<PlotPanel> panels;
   std::vector<std::string> x_categories;  // if set: x values are indices 0..n-1 with these labels
-  double width = 720;                     // canvas width [px]; grows to fit text if needed
-  double panel_height = 260;              // plot area height of each panel [px]
+  double x_margin = 0;  // share of the x data range added on both sides (markers off the frame)
+  double width = 720;   // canvas width [px]; grows to fit text if needed
+  double panel_height = 260;  // plot area height of each panel [px]
 };
 Drawing plot(const PlotSpec& spec, Format format = Format::svg);
 // Distinct colours for series, in order (wraps after 10; never light grey).
@@ -106,6 +110,31 @@ struct HeatmapSpec {
   int value_digits = 2;  // significant digits of the cell text
 };
 Drawing heatmap(const HeatmapSpec& spec, Format format = Format::svg);
+
+// ---- Parallel coordinates: one vertical axis per quantity, one polyline per item ----
+// An objective's axis is turned so that better values are at the top (a minimised quantity grows
+// downwards) and marked "better" above; an axis without a goal grows upwards.
+enum class Better { none, higher, lower };
+struct ParallelAxis {
+  std::string label;  // name and unit, e.g. "link length [m]"
+  Better better = Better::none;
+};
+struct ParallelGroup {  // items drawn alike, one legend entry
+  std::string label;
+  Rgb colour;
+  double line_width = 1;
+  std::vector<std::vector<double>> items;  // per item a value per axis; NaN: not known (skipped)
+};
+struct ParallelSpec {
+  std::string title;
+  std::vector<ParallelAxis> axes;
+  std::vector<ParallelGroup> groups;  // drawn in order, the last on top
+  double axis_height = 280;           // [px]
+};
+Drawing parallelCoordinates(const ParallelSpec& spec, Format format = Format::svg);
+// The mark above a better-is-higher axis, and the wording of an x-y axis label with a goal.
+extern const char* const kBetterMark;
+std::string withBetter(const std::string& label, Better better);
 
 // Blue - white - red diverging colour map, t in [0, 1] (0.5 = white).
 Rgb diverging(double t);

@@ -86,9 +86,17 @@ void PolylineOp::svg(std::string& o, int id) const {
 }
 void DotsOp::svg(std::string& o, int) const {
   const DotsOp& d = *this;
-  o += "<g fill=\"" + hex(d.c) + "\" fill-opacity=\"0.75\">";
+  if (d.shape == Marker::dot)
+    o += "<g fill=\"" + hex(d.c) + "\" fill-opacity=\"0.75\">";
+  else
+    o +=
+        "<g fill=\"none\" stroke=\"" + hex(d.c) + "\" stroke-width=\"" + num(kMarkerStroke) + "\">";
   for (const auto& [x, y] : d.pts)
-    o += "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(d.r) + "\"/>";
+    if (d.shape == Marker::square)
+      o += "<rect x=\"" + num(x - d.r) + "\" y=\"" + num(y - d.r) + "\" width=\"" + num(2 * d.r) +
+           "\" height=\"" + num(2 * d.r) + "\"/>";
+    else
+      o += "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(d.r) + "\"/>";
   o += "</g>\n";
 }
 void ImageOp::svg(std::string& o, int) const {
@@ -154,12 +162,20 @@ void PolylineOp::draw(cairo_t* cr) const {
 }
 void DotsOp::draw(cairo_t* cr) const {
   const DotsOp& d = *this;
-  setColour(cr, d.c, 0.75);
+  setColour(cr, d.c, d.shape == Marker::dot ? 0.75 : 1);
   for (const auto& [x, y] : d.pts) {
     cairo_new_sub_path(cr);
-    cairo_arc(cr, x, y, d.r, 0, 2 * kPi);
+    if (d.shape == Marker::square)
+      cairo_rectangle(cr, x - d.r, y - d.r, 2 * d.r, 2 * d.r);
+    else
+      cairo_arc(cr, x, y, d.r, 0, 2 * kPi);
   }
-  cairo_fill(cr);
+  if (d.shape == Marker::dot) {
+    cairo_fill(cr);
+  } else {
+    cairo_set_line_width(cr, kMarkerStroke);
+    cairo_stroke(cr);
+  }
 }
 void ImageOp::draw(cairo_t* cr) const {
   const ImageOp& im = *this;
@@ -248,9 +264,10 @@ std::vector<double> fittingTicks(double lo, double hi, double length_px, double 
 double titleBlock(Scene& s, const Meter& m, const std::string& title, double x0, double x1,
                   double y, double size) {
   if (title.empty()) return y;
-  for (const std::string& line : m.wrap(title, size, x1 - x0)) {
-    s.text(line, (x0 + x1) / 2, y, size, HAlign::centre, VAlign::top);
-    y += m.height(size);
+  const std::vector<std::string> lines = m.wrap(title, size, x1 - x0);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    s.text(lines[k], (x0 + x1) / 2, y, size, HAlign::centre, VAlign::top);
+    y += m.height(size) + (k + 1 < lines.size() ? kLeading : 0);
   }
   return y + kGap;
 }

@@ -29,9 +29,11 @@ constexpr double kTitleSize = 15;
 constexpr double kLabelSize = 13;  // axis and colour-bar labels, legend
 constexpr double kTickSize = 11;   // tick labels
 constexpr double kTickLen = 5;
-constexpr double kGap = 6;        // between neighbouring pieces of text
-constexpr double kBarWidth = 16;  // colour bar
-constexpr double kSwatch = 22;    // legend sample
+constexpr double kGap = 6;             // between neighbouring pieces of text
+constexpr double kLeading = 2;         // between the lines of a wrapped title
+constexpr double kBarWidth = 16;       // colour bar
+constexpr double kSwatch = 22;         // legend sample
+constexpr double kMarkerStroke = 1.5;  // hollow markers' line width
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kPi = 3.14159265358979323846;
 
@@ -154,12 +156,13 @@ struct PolylineOp final : DrawOp {
   void svg(std::string& out, int id) const override;
   void draw(cairo_t* cr) const override;
 };
-struct DotsOp final : DrawOp {  // filled circles at 75 % opacity
-  DotsOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double r_)
-      : pts(std::move(pts_)), c(c_), r(r_) {}
+struct DotsOp final : DrawOp {  // filled circles at 75 % opacity, or hollow circles or squares
+  DotsOp(std::vector<std::pair<double, double>> pts_, Rgb c_, double r_, Marker shape_)
+      : pts(std::move(pts_)), c(c_), r(r_), shape(shape_) {}
   std::vector<std::pair<double, double>> pts;
   Rgb c;
-  double r;
+  double r;  // radius, or half the side of a square
+  Marker shape;
   void svg(std::string& out, int id) const override;
   void draw(cairo_t* cr) const override;
 };
@@ -220,8 +223,9 @@ class Scene {
     if (pts.size() >= 2)
       ops_.push_back(std::make_unique<PolylineOp>(std::move(pts), c, lw, dashed, clip));
   }
-  void dots(std::vector<std::pair<double, double>> pts, Rgb c, double r) {
-    if (!pts.empty()) ops_.push_back(std::make_unique<DotsOp>(std::move(pts), c, r));
+  void dots(std::vector<std::pair<double, double>> pts, Rgb c, double r,
+            Marker shape = Marker::dot) {
+    if (!pts.empty()) ops_.push_back(std::make_unique<DotsOp>(std::move(pts), c, r, shape));
   }
   void image(const RasterImage& img, double x, double y) {
     ops_.push_back(std::make_unique<ImageOp>(img, x, y));

@@ -4,6 +4,9 @@
 // its figure, a figure without caption or a page wider than a laptop screen. Saves a screenshot of
 // each report beside it. The 3-D view (view.html) of studies with maps loads with WebGL in
 // software (SwiftShader) and must draw a non-blank canvas that changes when the view is turned.
+// Every SVG figure a study writes is loaded too, and Chromium's own text layout (not the plotting
+// module's measurement) must find no two text boxes of a figure overlapping and none off its
+// canvas.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -14,6 +17,7 @@
 #include <regex>
 #include <sstream>
 
+#include "common/escape.hpp"
 #include "io/files.hpp"
 #include "test_support.hpp"
 
@@ -116,6 +120,57 @@ window.addEventListener('load', () => {
 });
 </script>)";
 
+// Every SVG figure of a page built by svgFiguresPage (each inline in a <div class="armstudy-svg"
+// data-file="...">), measured by Chromium's own text layout: each <text> element's box from
+// getBoundingClientRect() in the SVG's user units (viewBox, else width/height). A box that leaves
+// the canvas, or two boxes of one figure that overlap by more than TOLERANCE px both across and
+// along, is a fault.
+const char* kSvgScript = R"(<script>
+window.addEventListener('load', () => {
+  const tol = TOLERANCE;
+  const r = {files: 0, figures: 0, texts: 0, faults: []};
+  const f1 = v => v.toFixed(1);
+  for (const holder of document.querySelectorAll('div.armstudy-svg')) {
+    r.files++;
+    const name = holder.dataset.file, svg = holder.querySelector('svg');
+    if (!svg) { r.faults.push(name + ': no <svg> element'); continue; }
+    r.figures++;
+    const sr = svg.getBoundingClientRect();
+    const vb = svg.viewBox.baseVal && svg.viewBox.baseVal.width > 0 ? svg.viewBox.baseVal : null;
+    const W = vb ? vb.width : svg.width.baseVal.value, H = vb ? vb.height : svg.height.baseVal.value;
+    const ox = vb ? vb.x : 0, oy = vb ? vb.y : 0, sx = W / sr.width, sy = H / sr.height;
+    const boxes = [];
+    for (const t of svg.querySelectorAll('text')) {
+      const s = t.textContent.trim(), b = t.getBoundingClientRect();
+      if (!s || (b.width === 0 && b.height === 0)) continue;
+      const k = {s: s.slice(0, 60), x0: ox + (b.left - sr.left) * sx, y0: oy + (b.top - sr.top) * sy,
+                 x1: ox + (b.right - sr.left) * sx, y1: oy + (b.bottom - sr.top) * sy};
+      boxes.push(k);
+      r.texts++;
+      if (k.x0 < ox - tol || k.y0 < oy - tol || k.x1 > ox + W + tol || k.y1 > oy + H + tol)
+        r.faults.push(name + ": '" + k.s + "' [" + f1(k.x0) + ", " + f1(k.y0) + " .. " + f1(k.x1) + ", " +
+                      f1(k.y1) + "] leaves the canvas " + f1(W) + " x " + f1(H));
+    }
+    for (let i = 0; i < boxes.length; ++i)
+      for (let j = i + 1; j < boxes.length; ++j) {
+        const a = boxes[i], b = boxes[j];
+        const w = Math.min(a.x1, b.x1) - Math.max(a.x0, b.x0), h = Math.min(a.y1, b.y1) - Math.max(a.y0, b.y0);
+        if (w > tol && h > tol)
+          r.faults.push(name + ": '" + a.s + "' overlaps '" + b.s + "' by " + f1(w) + " x " + f1(h) + " px");
+      }
+  }
+  const p = document.createElement('pre');
+  p.id = 'armstudy-check';
+  p.textContent = JSON.stringify(r);
+  document.body.appendChild(p);
+});
+</script>)";
+
+// [px] overlap of two text boxes, across and along, that is not a fault: Chromium's boxes are the
+// font's ascent and descent rounded to whole pixels (up to 0.6 px taller than cairo's, which the
+// layout uses), so boxes the layout sets edge to edge may share a fraction of a pixel.
+constexpr double kTextTolerance_px = 1;
+
 // Shares of the canvas [1] a rendered view must cover, and must change when turned.
 constexpr double kMinInkShare = 0.005, kMinChangedShare = 0.005;
 
@@ -140,21 +195,13 @@ std::string unescapeText(std::string s) {
   return s;
 }
 
-// Loads `page` (a copy with the check scripts is written beside it) and returns the findings.
-Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth) {
-  std::string html = readFileOrThrow(page.string());
-  const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
-  REQUIRE(head != std::string::npos);
-  REQUIRE(body != std::string::npos);
-  html.insert(body, kBodyScript);
-  html.insert(head + 6, kHeadScript);
-  const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
-  writeFileAtomic(copy.string(), html);
+// Loads the page `file` in Chromium (extra command-line `flags`) and returns what its check script
+// wrote into <pre id="armstudy-check"> (the DOM after load, --dump-dom).
+Check runCheck(const fs::path& file, const fs::path& work, int width, const std::string& flags) {
   Check c;
   runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(kLaptopHeight) +
-                 " --virtual-time-budget=10000 --dump-dom file://" + copy.string(),
+                 flags + " --virtual-time-budget=10000 --dump-dom file://" + file.string(),
              c.log);
-  fs::remove(copy);
   const std::string open = "<pre id=\"armstudy-check\">";
   const std::size_t a = c.log.find(open);
   const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
@@ -164,30 +211,32 @@ Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopW
   return c;
 }
 
-// Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
-Check checkView(const fs::path& page, const fs::path& work) {
+// Loads `page` with `script` before </body> and kHeadScript (a copy is written beside it) and
+// returns the findings.
+Check checkWith(const fs::path& page, const fs::path& work, const char* script, int width,
+                const std::string& flags) {
   std::string html = readFileOrThrow(page.string());
   const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
   REQUIRE(head != std::string::npos);
   REQUIRE(body != std::string::npos);
-  html.insert(body, kViewScript);
+  html.insert(body, script);
   html.insert(head + 6, kHeadScript);
   const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
   writeFileAtomic(copy.string(), html);
-  Check c;
-  runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kLaptopHeight) +
-                 " --use-angle=swiftshader --enable-unsafe-swiftshader"
-                 " --virtual-time-budget=10000 --dump-dom file://" +
-                 copy.string(),
-             c.log);
+  Check c = runCheck(copy, work, width, flags);
   fs::remove(copy);
-  const std::string open = "<pre id=\"armstudy-check\">";
-  const std::size_t a = c.log.find(open);
-  const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
-  if (b != std::string::npos)
-    c.result =
-        nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
   return c;
+}
+
+// Loads a report page with kBodyScript and returns the findings.
+Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth) {
+  return checkWith(page, work, kBodyScript, width, "");
+}
+
+// Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
+Check checkView(const fs::path& page, const fs::path& work) {
+  return checkWith(page, work, kViewScript, kLaptopWidth,
+                   " --use-angle=swiftshader --enable-unsafe-swiftshader");
 }
 
 // The 3-D view of a study with maps in `dir`: it exists (three.js was found and inlined), is light,
@@ -207,6 +256,47 @@ void requireView(const fs::path& dir, const fs::path& work) {
   REQUIRE(pixels > 0);
   CHECK(c.result["ink"].get<double>() / pixels > kMinInkShare);
   CHECK(c.result["changed"].get<double>() / pixels > kMinChangedShare);
+}
+
+// Every .svg file under `dir` (sorted) inline in one page `page`, each in a <div
+// class="armstudy-svg" data-file="<path under dir>">, with kSvgScript; returns the number of files.
+std::size_t svgFiguresPage(const fs::path& dir, const fs::path& page) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".svg") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::string html =
+      "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><style>body{margin:0} "
+      "div.armstudy-svg svg{display:block}</style></head><body>\n";
+  for (const fs::path& f : files) {
+    std::string svg = readFileOrThrow(f.string());
+    if (svg.rfind("<?xml", 0) == 0) svg.erase(0, svg.find("?>") + 2);  // the XML prolog
+    html += "<div class=\"armstudy-svg\" data-file=\"" + xmlEscape(fs::relative(f, dir).string()) +
+            "\">" + svg + "</div>\n";
+  }
+  std::string script = kSvgScript;
+  script.replace(script.find("TOLERANCE"), 9, std::to_string(kTextTolerance_px));
+  writeFileAtomic(page.string(), html + script + "</body></html>\n");
+  return files.size();
+}
+
+// The text faults of every SVG figure under `dir` as Chromium lays them out ("" = none); `files`:
+// how many SVG files there were, `texts`: how many text boxes the browser measured.
+std::string svgFigureFaults(const fs::path& dir, const fs::path& work, std::size_t& files,
+                            int& texts) {
+  const fs::path page = work / "svg_figures.html";
+  files = svgFiguresPage(dir, page);
+  const Check c = runCheck(page, work, kLaptopWidth, "");
+  fs::remove(page);
+  texts = 0;
+  if (c.result.is_null()) return "the browser returned no check result:\n" + c.log.substr(0, 2000);
+  texts = c.result.value("texts", 0);
+  std::string f;
+  if (c.result.value("figures", 0) != static_cast<int>(files))
+    f += std::to_string(c.result.value("figures", 0)) + " SVG figures of " + std::to_string(files) +
+         " loaded\n";
+  for (const auto& e : c.result["faults"]) f += e.get<std::string>() + "\n";
+  return f;
 }
 
 // Everything the check found wrong, one line each ("" = nothing).
@@ -298,6 +388,51 @@ TEST_CASE(
 }
 
 TEST_CASE(
+    "the browser's SVG text check finds overprinted labels and text off the canvas, and passes a "
+    "clean figure",
+    "[browser][report]") {
+  // The check itself must be able to fail: one figure with each fault, one without.
+  const fs::path work = workDir();
+  const fs::path figs = work / "figures";
+  fs::create_directories(figs / "sub");
+  const std::string head =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+      "font-family=\"'DejaVu Sans', Verdana, sans-serif\" font-size=\"13\" ";
+  writeFileAtomic((figs / "clean.svg").string(),
+                  head +
+                      "width=\"300\" height=\"100\" viewBox=\"0 0 300 100\">"
+                      "<text x=\"10\" y=\"30\">stem map coverage</text>"
+                      "<text x=\"10\" y=\"60\">fruits feasible</text></svg>\n");
+  writeFileAtomic((figs / "sub" / "overlap.svg").string(),  // no viewBox: width and height
+                  head +
+                      "width=\"300\" height=\"100\"><text x=\"10\" y=\"30\">stem map "
+                      "coverage</text><text x=\"60\" y=\"34\">fruits feasible</text></svg>\n");
+  writeFileAtomic((figs / "offcanvas.svg").string(),
+                  head +
+                      "width=\"600\" height=\"200\" viewBox=\"0 0 300 100\">"
+                      "<text x=\"250\" y=\"60\">stem map manipulability</text>"
+                      "<text x=\"40\" y=\"60\" transform=\"rotate(-90 40 60)\">reads upwards "
+                      "past the top</text></svg>\n");
+  std::size_t files = 0;
+  int texts = 0;
+  const std::string f = svgFigureFaults(figs, work, files, texts);
+  INFO(f);
+  CHECK(files == 3);
+  CHECK(texts == 6);
+  CHECK(f.find("sub/overlap.svg: 'stem map coverage' overlaps 'fruits feasible'") !=
+        std::string::npos);
+  CHECK(f.find("offcanvas.svg: 'stem map manipulability'") != std::string::npos);
+  CHECK(f.find("offcanvas.svg: 'reads upwards past the top'") != std::string::npos);
+  CHECK(f.find("clean.svg") == std::string::npos);
+  std::istringstream lines(f);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) ++n;
+  CHECK(n == 3);
+  fs::remove_all(work);
+}
+
+TEST_CASE(
     "every shipped study's report.html loads in Chromium without errors, broken images or overflow",
     "[browser][report][cli]") {
   const fs::path work = workDir();
@@ -325,6 +460,16 @@ TEST_CASE(
           report = e.path();
       REQUIRE_FALSE(report.empty());
       CHECK(fs::file_size(report) < 5u * 1024 * 1024);  // a light page
+      // Every SVG figure the study wrote, as Chromium lays out its text: no overlap, none off the
+      // canvas.
+      {
+        std::size_t files = 0;
+        int texts = 0;
+        const std::string f = svgFigureFaults(report.parent_path(), work, files, texts);
+        INFO(study.filename().string() + ": SVG figures: " + f);
+        CHECK(f.empty());
+        if (files > 0) CHECK(texts > 0);
+      }
       const Check c = checkPage(report, work);
       INFO(study.filename().string() + ": " + faults(c));
       CHECK(faults(c).empty());

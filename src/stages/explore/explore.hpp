@@ -36,6 +36,7 @@ enum class Goal { None, Maximise, Minimise };
 struct Objective {
   std::string label;
   std::string metric;
+  std::string unit;  // of the metric, on the figures' axes ("1", "m"); empty: not known
   Goal goal = Goal::None;
   double min = -1e300, max = 1e300;
   double weight = 1;  // in the scalarised NLopt objective (sum of weight * value, sign by goal)

@@ -45,6 +45,19 @@ Parameter readParameter(TableReader& r, const Model& base) {
   return p;
 }
 
+// The unit of the metrics whose unit their name tells: shares and ratios [1], the built-in link
+// length [m], drive currents [A]; "" for the others (the study file gives it as `unit`).
+std::string defaultUnit(const std::string& metric) {
+  auto ends = [&](const std::string& tail) {
+    return metric.size() >= tail.size() &&
+           metric.compare(metric.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (metric == "cost/link_length") return "m";
+  if (ends("_fraction") || ends("_ratio")) return "1";
+  if (ends("_A")) return "A";
+  return "";
+}
+
 }  // namespace
 
 std::string ExploreOptions::validate() const {
@@ -113,6 +126,7 @@ ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
                "a stage metric names the candidate as {design}, e.g. "
                "\"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
     ob.label = orr.string("label", ob.metric);
+    ob.unit = orr.string("unit", defaultUnit(ob.metric));
     const std::string goal = orr.string("goal", "");
     if (goal == "max")
       ob.goal = Goal::Maximise;

@@ -1,138 +1,119 @@
 #include "stages/explore/explore_plots.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <sstream>
+#include <cmath>
+#include <limits>
 
-#include "common/format.hpp"
+#include "io/design_io.hpp"
 
 namespace armstudy::explore {
 
+using report::Better;
+
 namespace {
 
-constexpr double kW = 640, kH = 420, kMargin = 60;
+const report::Rgb kFrontColour{214, 39, 40}, kBaseColour{31, 119, 180}, kOtherColour{150, 150, 150};
 
-std::string f(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2f", v);
-  return b;
+Better better(Goal g) {
+  return g == Goal::Maximise ? Better::higher : g == Goal::Minimise ? Better::lower : Better::none;
 }
-std::string label(double v) { return formatG(v, 4); }
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char ch : s)
-    o += ch == '<' ? "&lt;" : ch == '>' ? "&gt;" : ch == '&' ? "&amp;" : std::string(1, ch);
-  return o;
+
+bool onFront(const std::vector<std::size_t>& front, std::size_t i) {
+  return std::find(front.begin(), front.end(), i) != front.end();
 }
-void range(const std::vector<double>& v, double& lo, double& hi) {
-  lo = *std::min_element(v.begin(), v.end());
-  hi = *std::max_element(v.begin(), v.end());
-  if (hi - lo < 1e-12) lo -= 0.5, hi += 0.5;
+
+// A parameter's axis label: its design entry key with its SI unit.
+std::string parameterAxisLabel(const ExploreOptions& o, const Parameter& p) {
+  Dimension d = Dimension::Dimensionless;
+  std::string error;
+  if (!modelEntryDimension(o.base, p.key, d, error)) return p.key;
+  return p.key + " [" + siUnit(d) + "]";
 }
-std::string header(const std::string& title) {
-  return "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + f(kW) + "\" height=\"" + f(kH) +
-         "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" "
-         "fill=\"white\"/>\n"
-         "<text x=\"" +
-         f(kW / 2) + "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" + esc(title) +
-         "</text>\n";
+
+// A candidate's values on the parallel axes: its parameters (the base design's from the base
+// model), then its objectives.
+std::vector<double> parallelRow(const ExploreOptions& o, const Candidate& k) {
+  std::vector<double> row;
+  for (std::size_t p = 0; p < o.parameters.size(); ++p) {
+    double v = std::numeric_limits<double>::quiet_NaN();
+    std::string error;
+    if (p < k.params.size())
+      v = k.params[p];
+    else if (!modelEntryValue(o.base, o.parameters[p].key, v, error))
+      v = std::numeric_limits<double>::quiet_NaN();
+    row.push_back(v);
+  }
+  row.insert(row.end(), k.values.begin(), k.values.end());
+  return row;
 }
 
 }  // namespace
 
-std::string scatterSvg(const std::vector<Candidate>& c, const std::vector<std::size_t>& front,
-                       std::size_t base, const ExploreOptions& o, std::size_t kx, std::size_t ky) {
-  std::vector<double> xs, ys;
-  for (const Candidate& k : c) xs.push_back(k.values[kx]), ys.push_back(k.values[ky]);
-  double x0, x1, y0, y1;
-  range(xs, x0, x1);
-  range(ys, y0, y1);
-  auto X = [&](double v) { return kMargin + (v - x0) / (x1 - x0) * (kW - 2 * kMargin); };
-  auto Y = [&](double v) { return kH - kMargin - (v - y0) / (y1 - y0) * (kH - 2 * kMargin); };
-  std::ostringstream s;
-  s << header("Pareto front: " + o.objectives[ky].label + " vs " + o.objectives[kx].label);
-  s << "<rect x=\"" << f(kMargin) << "\" y=\"" << f(kMargin) << "\" width=\"" << f(kW - 2 * kMargin)
-    << "\" height=\"" << f(kH - 2 * kMargin) << "\" fill=\"none\" stroke=\"black\"/>\n";
-  s << "<text x=\"" << f(kW / 2) << "\" y=\"" << f(kH - 15) << "\" text-anchor=\"middle\">"
-    << esc(o.objectives[kx].label) << "</text>\n";
-  s << "<text x=\"15\" y=\"" << f(kH / 2) << "\" text-anchor=\"middle\" transform=\"rotate(-90 15 "
-    << f(kH / 2) << ")\">" << esc(o.objectives[ky].label) << "</text>\n";
-  s << "<text x=\"" << f(kMargin) << "\" y=\"" << f(kH - kMargin + 14) << "\">" << label(x0)
-    << "</text>\n";
-  s << "<text x=\"" << f(kW - kMargin) << "\" y=\"" << f(kH - kMargin + 14)
-    << "\" text-anchor=\"end\">" << label(x1) << "</text>\n";
-  s << "<text x=\"" << f(kMargin - 4) << "\" y=\"" << f(kH - kMargin) << "\" text-anchor=\"end\">"
-    << label(y0) << "</text>\n";
-  s << "<text x=\"" << f(kMargin - 4) << "\" y=\"" << f(kMargin + 8) << "\" text-anchor=\"end\">"
-    << label(y1) << "</text>\n";
-  for (std::size_t i = 0; i < c.size(); ++i)
-    s << "<circle cx=\"" << f(X(xs[i])) << "\" cy=\"" << f(Y(ys[i])) << "\" r=\"3\" "
-      << (c[i].feasible ? "fill=\"#999\"" : "fill=\"none\" stroke=\"#999\"") << "/>\n";
-  for (std::size_t i : front)
-    s << "<circle cx=\"" << f(X(xs[i])) << "\" cy=\"" << f(Y(ys[i]))
-      << "\" r=\"4\" fill=\"#d62728\"/>\n";
-  s << "<rect x=\"" << f(X(xs[base]) - 5) << "\" y=\"" << f(Y(ys[base]) - 5)
-    << "\" width=\"10\" height=\"10\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
-  s << "<text x=\"" << f(kW - kMargin) << "\" y=\"" << f(kMargin - 6)
-    << "\" text-anchor=\"end\"><tspan fill=\"#d62728\">front</tspan>, <tspan "
-       "fill=\"#999\">other</tspan>, "
-       "<tspan fill=\"#1f77b4\">base design (square)</tspan></text>\n</svg>\n";
-  return s.str();
+std::string objectiveAxisLabel(const Objective& ob) {
+  if (ob.unit.empty() || ob.label.find('[') != std::string::npos) return ob.label;
+  return ob.label + " [" + ob.unit + "]";
 }
 
-std::string parallelSvg(const std::vector<Candidate>& c, const std::vector<std::size_t>& front,
-                        std::size_t base, const ExploreOptions& o) {
-  // Axes: parameters (the base design's own values are unknown here: it is drawn on objectives
-  // only) then objectives.
-  std::vector<std::string> names;
-  std::vector<std::vector<double>>
-      cols;  // per axis, per candidate (NaN-free: base params -> skipped)
-  const std::size_t np = o.parameters.size();
-  for (std::size_t p = 0; p < np; ++p) names.push_back(o.parameters[p].key);
-  for (const Objective& ob : o.objectives) names.push_back(ob.label);
-  std::vector<double> lo(names.size()), hi(names.size());
-  for (std::size_t a = 0; a < names.size(); ++a) {
-    std::vector<double> v;
-    for (const Candidate& k : c) {
-      if (a < np && k.params.empty()) continue;
-      v.push_back(a < np ? k.params[a] : k.values[a - np]);
-    }
-    if (v.empty()) v.push_back(0);
-    range(v, lo[a], hi[a]);
+report::Drawing frontScatterFigure(const std::vector<Candidate>& c,
+                                   const std::vector<std::size_t>& front, std::size_t base,
+                                   const ExploreOptions& o, std::size_t kx, std::size_t ky) {
+  report::PlotSeries other, infeasible, on_front, base_design;
+  other.label = "other designs";
+  infeasible.label = "designs breaking a constraint";
+  on_front.label = "Pareto front";
+  base_design.label = "base design";
+  for (report::PlotSeries* s : {&other, &infeasible, &on_front, &base_design})
+    s->lines = false, s->markers = true;
+  other.colour = infeasible.colour = kOtherColour;
+  infeasible.marker = report::Marker::ring;
+  on_front.colour = kFrontColour;
+  on_front.marker_size = 3.6;
+  base_design.colour = kBaseColour;
+  base_design.marker = report::Marker::square;
+  base_design.marker_size = 5;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    report::PlotSeries& s = i == base           ? base_design
+                            : onFront(front, i) ? on_front
+                            : c[i].feasible     ? other
+                                                : infeasible;
+    s.x.push_back(c[i].values[kx]);
+    s.y.push_back(c[i].values[ky]);
   }
-  const double dx = names.size() > 1 ? (kW - 2 * kMargin) / (names.size() - 1) : 0;
-  auto X = [&](std::size_t a) { return kMargin + a * dx; };
-  auto Y = [&](std::size_t a, double v) {
-    return kH - kMargin - (v - lo[a]) / (hi[a] - lo[a]) * (kH - 2 * kMargin);
-  };
-  std::ostringstream s;
-  s << header("Parallel coordinates: parameters and objectives");
-  for (std::size_t a = 0; a < names.size(); ++a) {
-    s << "<line x1=\"" << f(X(a)) << "\" y1=\"" << f(kMargin) << "\" x2=\"" << f(X(a)) << "\" y2=\""
-      << f(kH - kMargin) << "\" stroke=\"black\"/>\n";
-    s << "<text x=\"" << f(X(a)) << "\" y=\"" << f(kH - kMargin + 14)
-      << "\" text-anchor=\"middle\">" << esc(names[a]) << "</text>\n";
-    s << "<text x=\"" << f(X(a)) << "\" y=\"" << f(kH - kMargin + 28)
-      << "\" text-anchor=\"middle\">" << label(lo[a]) << "</text>\n";
-    s << "<text x=\"" << f(X(a)) << "\" y=\"" << f(kMargin - 6) << "\" text-anchor=\"middle\">"
-      << label(hi[a]) << "</text>\n";
-  }
-  auto line = [&](std::size_t i, const char* colour, double width) {
-    std::string pts;
-    for (std::size_t a = 0; a < names.size(); ++a) {
-      if (a < np && c[i].params.empty()) continue;
-      const double v = a < np ? c[i].params[a] : c[i].values[a - np];
-      pts += f(X(a)) + "," + f(Y(a, v)) + " ";
-    }
-    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << colour
-      << "\" stroke-width=\"" << f(width) << "\"/>\n";
-  };
+  report::PlotSpec spec;
+  const Objective &ox = o.objectives[kx], &oy = o.objectives[ky];
+  spec.title = "Pareto front: " + ox.label + " and " + oy.label;
+  spec.x_label = report::withBetter(objectiveAxisLabel(ox), better(ox.goal));
+  report::PlotPanel panel;
+  panel.y_label = report::withBetter(objectiveAxisLabel(oy), better(oy.goal));
+  for (report::PlotSeries* s : {&other, &infeasible, &on_front, &base_design})
+    if (!s->x.empty()) panel.series.push_back(*s);
+  spec.panels = {panel};
+  spec.width = 640;
+  spec.x_margin = 0.06;  // as the y axis: no marker on the frame
+  return report::plot(spec);
+}
+
+report::Drawing parallelFigure(const std::vector<Candidate>& c,
+                               const std::vector<std::size_t>& front, std::size_t base,
+                               const ExploreOptions& o) {
+  report::ParallelSpec spec;
+  spec.title =
+      "Parameters and objectives of every candidate (each objective turned so that "
+      "better is up)";
+  for (const Parameter& p : o.parameters) spec.axes.push_back({parameterAxisLabel(o, p)});
+  for (const Objective& ob : o.objectives)
+    spec.axes.push_back({objectiveAxisLabel(ob), better(ob.goal)});
+  report::ParallelGroup other{"other designs", kOtherColour, 0.8, {}},
+      on_front{"Pareto front", kFrontColour, 1.6, {}},
+      base_design{"base design", kBaseColour, 2.4, {}};
   for (std::size_t i = 0; i < c.size(); ++i)
-    if (i != base && !std::count(front.begin(), front.end(), i)) line(i, "#bbb", 0.8);
-  for (std::size_t i : front) line(i, "#d62728", 1.6);
-  line(base, "#1f77b4", 2.0);
-  s << "</svg>\n";
-  return s.str();
+    (i == base           ? base_design
+     : onFront(front, i) ? on_front
+                         : other)
+        .items.push_back(parallelRow(o, c[i]));
+  for (report::ParallelGroup* g : {&other, &on_front, &base_design})
+    if (!g->items.empty()) spec.groups.push_back(*g);
+  return report::parallelCoordinates(spec);
 }
 
 }  // namespace armstudy::explore

@@ -249,7 +249,9 @@ std::string geometryAndFilesMarkdown(const Outcome& r, const std::vector<std::st
   if (r.goals.size() >= 2)
     md +=
         "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
-  md += "- `parallel.svg`: parallel coordinates of parameters and objectives\n";
+  md +=
+      "- `parallel.svg`: parallel coordinates of parameters and objectives (each objective "
+      "turned so that better is up)\n";
   for (const std::string& n : written)
     md += "- `front/" + n + "/`: design file and the stages' outputs\n";
   return md;
@@ -299,11 +301,10 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   const bool base_on_front = std::find(front.begin(), front.end(), base_index) != front.end();
   const Outcome r{o, c, std::move(front), base_index, goalObjectives(o), base_on_front};
   out.text("explore/candidates.csv", candidatesCsv(r));
-  // Plots (explore_plots.hpp: minimal SVG kept in this folder).
   if (r.goals.size() >= 2)
     out.text("explore/front_scatter.svg",
-             scatterSvg(r.c, r.front, base_index, o, r.goals[0], r.goals[1]));
-  out.text("explore/parallel.svg", parallelSvg(r.c, r.front, base_index, o));
+             frontScatterFigure(r.c, r.front, base_index, o, r.goals[0], r.goals[1]).svg);
+  out.text("explore/parallel.svg", parallelFigure(r.c, r.front, base_index, o).svg);
   const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out);
   out.text("explore/explore.md", exploreMarkdown(ctx, ev, r, written));
   addExploreMetrics(r, res.metrics);
