@@ -29,6 +29,17 @@ constexpr const char* kReachStatusTexts[] = {"reachable",
                                              "only in contact with an obstacle"};
 const char* describe(ReachStatus s) { return enumName(s, kReachStatusTexts); }
 
+std::vector<std::string> statusNamesShownOnMaps() {
+  std::vector<std::string> names;
+  for (int k = 0; k < kReachStatusCount; ++k) {
+    const auto st = static_cast<ReachStatus>(k);
+    const bool shown = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
+                       st == ReachStatus::ObstacleCollision;
+    names.push_back(shown ? describe(st) : "");
+  }
+  return names;
+}
+
 constexpr const char* kIkAlgorithmNames[] = {"lm+slsqp", "lm", "slsqp"};
 const char* toString(IkAlgorithm a) { return enumName(a, kIkAlgorithmNames); }
 

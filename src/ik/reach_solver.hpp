@@ -47,6 +47,9 @@ inline constexpr int kReachStatusCount = 7;
 const char* toString(ReachStatus s);
 // What a status means in words, as legends and reports say it ("only in self-collision").
 const char* describe(ReachStatus s);
+// Per status (index), its describe() text where a map shows its poses as points (a posture on the
+// pose: collision-free or only in collision), "" for the others.
+std::vector<std::string> statusNamesShownOnMaps();
 
 enum class IkAlgorithm {
   LmThenSlsqp,  // default: LM starts, SLSQP polish of near misses

@@ -472,12 +472,7 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
   c.value_unit = unit;
   const double arc = map.grid.radius_m * map.grid.gamma_rad.step(), dz = map.grid.z_m.step();
   c.point_size_m = std::max(0.005, std::min(arc > 0 ? arc : dz, dz > 0 ? dz : arc));
-  for (int k = 0; k < kReachStatusCount; ++k) {
-    const auto st = static_cast<ReachStatus>(k);
-    const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
-                       st == ReachStatus::ObstacleCollision;
-    c.status_names.push_back(drawn ? describe(st) : "");
-  }
+  c.status_names = statusNamesShownOnMaps();
   int best = -1;
   for (int j = 0; j < map.grid.z_m.count; ++j)
     for (int i = 0; i < map.grid.gamma_rad.count; ++i) {

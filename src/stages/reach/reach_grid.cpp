@@ -811,12 +811,7 @@ void addViewClouds(const GridRun& r) {
     report::ViewCloud c;
     c.name = "grid " + r.g.name + ": " + s.design;
     c.point_size_m = std::isfinite(step) ? step : 0.02;
-    for (int k = 0; k < kReachStatusCount; ++k) {
-      const auto st = static_cast<ReachStatus>(k);
-      const bool drawn = st == ReachStatus::Reachable || st == ReachStatus::SelfCollision ||
-                         st == ReachStatus::ObstacleCollision;
-      c.status_names.push_back(drawn ? describe(st) : "");
-    }
+    c.status_names = statusNamesShownOnMaps();
     long best = -1;
     for (long p = 0; p < r.points; ++p) {
       const Eigen::Vector3d x = r.g.position(p);
