@@ -146,14 +146,14 @@ TEST_CASE(
   p.x_label = "model";
   for (int k = 0; k < 9; ++k)
     p.x_categories.push_back("nominal + offsets + elasticity step " + std::to_string(k));
-  PlotPanel a{"position", "TCP error [mm]", {}, {}, false};
+  PlotPanel a{"position", "TCP error [mm]", {}, {}, false, std::nullopt};
   PlotSeries s;
   s.label = "RMS";
   s.markers = true;
   for (int k = 0; k < 9; ++k) s.x.push_back(k), s.y.push_back(10.0 / (k + 1));
   a.series.push_back(s);
   a.lines.push_back({1.0, "requirement", true, Rgb{214, 39, 40}});
-  PlotPanel b{"orientation", "TCP error [deg]", {s}, {}, false};
+  PlotPanel b{"orientation", "TCP error [deg]", {s}, {}, false, std::nullopt};
   p.panels = {a, b};
   const Drawing d = plot(p, Format::svg_and_png);
   INFO(layoutFault(d));

@@ -184,7 +184,7 @@ report::PlotSpec frictionPlot(const Model& model, const FruitResult& f, const st
   report::PlotSpec fp;
   fp.title = what + ": " + model.joints[jf].name + " with and without friction";
   fp.x_label = "t [s]";
-  fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false}};
+  fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false, std::nullopt}};
   fp.panels[0].series[1].dashed = true;
   return fp;
 }
