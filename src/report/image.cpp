@@ -79,6 +79,12 @@ Rgb categorical(int k) {
   return c[((k % 8) + 8) % 8];
 }
 
+Rgb okabeIto(int k) {
+  static const Rgb c[8] = {{213, 94, 0},    {0, 158, 115},  {0, 114, 178}, {230, 159, 0},
+                           {204, 121, 167}, {86, 180, 233}, {0, 0, 0},     {240, 228, 66}};
+  return c[((k % 8) + 8) % 8];
+}
+
 std::string hex(Rgb c) {
   char buf[8];
   std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);

@@ -40,6 +40,10 @@ RasterImage renderCellMap(int nx, int ny, const std::function<Rgb(int i, int j)>
 Rgb viridis(double t);
 // Distinct colours for categories 0..7 (wraps).
 Rgb categorical(int k);
+// The Okabe-Ito colours (Okabe & Ito 2008, "Color Universal Design"), told apart with every common
+// colour-vision deficiency, k = 0..7 (wraps): vermillion, bluish green, blue, orange, reddish
+// purple, sky blue, black, yellow.
+Rgb okabeIto(int k);
 std::string hex(Rgb c);  // "#rrggbb"
 
 // PNG bytes of an image (via vtkPNGWriter), and an atomic write to a file.

@@ -14,11 +14,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "plot_checks.hpp"
+
 using namespace armstudy::report;
+using armstudy::test::findText;
+using armstudy::test::layoutFault;
 
 namespace {
-
-constexpr double kTouch = 0.5;  // [px^2] boxes that share no more than this area only touch
 
 // Decoded PNG as RGB rows (top row first).
 struct Pixels {
@@ -51,27 +53,6 @@ bool wellFormedSvg(const std::string& svg) {
   std::istringstream stream(svg);
   p->SetStream(&stream);
   return p->Parse() == 1 && std::string(p->GetRootElement()->GetName()) == "svg";
-}
-
-// Every text box on the canvas and no two overlapping; the first fault found, or "".
-std::string layoutFault(const Drawing& d) {
-  for (const TextBox& b : d.texts)
-    if (b.x0 < 0 || b.y0 < 0 || b.x1 > d.width || b.y1 > d.height)
-      return "'" + b.text + "' leaves the canvas";
-  for (std::size_t i = 0; i < d.texts.size(); ++i)
-    for (std::size_t j = i + 1; j < d.texts.size(); ++j) {
-      const TextBox &a = d.texts[i], &b = d.texts[j];
-      const double w = std::min(a.x1, b.x1) - std::max(a.x0, b.x0),
-                   h = std::min(a.y1, b.y1) - std::max(a.y0, b.y0);
-      if (w > 0 && h > 0 && w * h > kTouch) return "'" + a.text + "' overlaps '" + b.text + "'";
-    }
-  return "";
-}
-
-const TextBox* findText(const Drawing& d, const std::string& t) {
-  for (const TextBox& b : d.texts)
-    if (b.text == t) return &b;
-  return nullptr;
 }
 
 MapFigure mapOf10x4(std::string title, std::string scale_label) {

@@ -155,6 +155,71 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
   return out;
 }
 
+std::string fruitOutcome(const Model& model, const FruitResult& f) {
+  if (!f.evaluated()) return "not tracked: " + f.status;
+  const DriveFeasibility& r = f.with_friction;
+  if (r.feasible) return "picked";
+  return "drive limit: " + model.joints[r.failing_joint].name + " " + toString(r.failing_quantity);
+}
+
+report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
+                                   const std::vector<const DesignResult*>& results) {
+  // One colour per outcome over all designs: "picked" first, the failures in name order.
+  std::vector<std::string> outcomes{"picked"};
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+  for (std::size_t k = 0; k < models.size(); ++k)
+    for (const FruitResult& f : results[k]->fruits) {
+      const std::string o = fruitOutcome(*models[k], f);
+      if (std::find(outcomes.begin(), outcomes.end(), o) == outcomes.end()) outcomes.push_back(o);
+      z_lo = std::min(z_lo, f.p_fruit_W.z());
+      z_hi = std::max(z_hi, f.p_fruit_W.z());
+    }
+  if (!(z_hi >= z_lo)) z_lo = z_hi = 0;  // no fruit
+  std::sort(outcomes.begin() + 1, outcomes.end());
+  // Picked in bluish green, the first failure in vermillion, the next ones in blue, orange, ...
+  const auto colour = [&](const std::string& o) {
+    const int at =
+        static_cast<int>(std::find(outcomes.begin(), outcomes.end(), o) - outcomes.begin());
+    return report::okabeIto(at == 0 ? 1 : at == 1 ? 0 : at);
+  };
+  const double pad = std::max(0.05, 0.06 * (z_hi - z_lo));
+  report::PlotSpec p;
+  p.title = "What became of each fruit";
+  p.x_label = "y along the row, world frame [m]";
+  p.panel_height = 200;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    report::PlotPanel panel;
+    panel.title = models[k]->name;
+    panel.y_label = "z (height) [m]";
+    panel.y_range = std::array<double, 2>{z_lo - pad, z_hi + pad};
+    for (const std::string& o : outcomes) {
+      report::PlotSeries s;
+      s.label = o;
+      s.colour = colour(o);
+      s.lines = false;
+      s.markers = true;
+      for (const FruitResult& f : results[k]->fruits)
+        if (fruitOutcome(*models[k], f) == o) {
+          s.x.push_back(f.p_fruit_W.y());
+          s.y.push_back(f.p_fruit_W.z());
+        }
+      if (!s.x.empty()) panel.series.push_back(std::move(s));
+    }
+    p.panels.push_back(std::move(panel));
+  }
+  return report::plot(p);
+}
+
+std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
+                                    const std::vector<const DesignResult*>& results, Writer& out) {
+  if (models.empty()) return "";
+  out.text("harvest/fruits.svg", fruitOutcomeFigure(models, results).svg);
+  return "Every fruit at its position in the row (world frame: y along the row, z up), marked by "
+         "what became of it; one panel per design on the same axes, the fruit numbers and "
+         "positions in the tables below and in `<design>_fruits.csv`.\n\n"
+         "![What became of each fruit, per design](fruits.svg)\n\n";
+}
+
 namespace {
 
 // The holding load sampled over a grid: the VTK image with its point arrays, and its counts.
