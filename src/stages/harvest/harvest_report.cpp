@@ -308,6 +308,11 @@ HoldingImage holdingImage(const Model& model, const HarvestGrid& g, const Design
   return hi;
 }
 
+// The holding map's colours: the status colours of every map (reachable, torque limit, out of
+// reach).
+const report::Rgb kHoldable = report::categorical(0), kDriveLimit = report::categorical(5),
+                  kUnreachable = report::categorical(1);
+
 // Writes the status and revolute current-ratio maps over the first two axes with more than one
 // value (the first slice of a 3-D grid) and returns their report paragraph; without two such
 // axes, only the paragraph with the counts.
@@ -336,9 +341,7 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   };
   const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
     const int s = static_cast<int>(status[index(u, v)]);
-    return s == 0   ? report::Rgb{200, 200, 200}
-           : s == 1 ? report::Rgb{60, 170, 90}
-                    : report::Rgb{215, 50, 40};
+    return s == 0 ? kUnreachable : s == 1 ? kHoldable : kDriveLimit;
   });
   // Figures with axes and legends (.svg, shown in the report; the same as .png).
   const char* an[3] = {"x", "y", "z"};
@@ -352,9 +355,8 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
     return f;
   };
   report::MapFigure status_fig = figure(model.name + ": static holding");
-  status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
-                       {report::Rgb{215, 50, 40}, "drive limit"},
-                       {report::Rgb{200, 200, 200}, "unreachable"}};
+  status_fig.legend = {
+      {kHoldable, "holdable"}, {kDriveLimit, "drive limit"}, {kUnreachable, "unreachable"}};
   const report::Drawing status_d =
       report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
   out.text("harvest/" + base + "_holding_map.png", status_d.png);
@@ -373,8 +375,10 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   md << "Static holding (gravity + payload) over the grid, tool heading "
      << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << hi.reachable << " of " << np
      << " points reachable, " << hi.limited << " of them drive-limited (|I| > continuous current). "
-     << "Map axes: " << an[a0] << " to the right, " << an[a1]
-     << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
+     << "Map axes: " << an[a0] << " to the right, " << an[a1] << " upwards; "
+     << report::hex(kHoldable) << " holdable, " << report::hex(kDriveLimit) << " drive limit, "
+     << report::hex(kUnreachable)
+     << " unreachable. Second map: "
         "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
         "ratio is "
         "nearly constant, it carries the whole arm).\n\n"
