@@ -325,13 +325,15 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const s
     h.title = title + " - workspace cells, max |mean residual| over z (flagged outlined)";
     h.x_label = "x [m]";
     h.y_label = "y [m]";
-    h.value_label = "|mean residual| [" + P.fit_unit + "]";
+    const PlotUnit u = residualUnit(P.fit_unit);  // mm for TCP positions
+    h.value_label = "|mean residual| [" + u.name + "]";
     h.x_min = m.ws_origin[0];
     h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
     h.y_min = m.ws_origin[1];
     h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
     h.cells = workspaceCells(P, m);
-    h.scale = scale;
+    for (report::HeatCell& c : h.cells) c.value *= u.scale;
+    h.scale = u.scale * scale;
     fs::create_directories(fs::path(dir) / "plots");
     writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(),
                     report::heatmap(h).svg);
