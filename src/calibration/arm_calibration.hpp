@@ -315,5 +315,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem
 std::string setDesignEntry(const std::string& text, const std::string& header,
                            const std::string& match_key, const std::string& match_value,
                            const std::string& key, const std::string& value_text);
+// Which design design text is: a calibrated copy (a line setDesignEntry wrote, marked
+// "# calibrated") or the design as given.
+ShownDesign shownDesign(const std::string& text);
 
 }  // namespace armstudy::calibration

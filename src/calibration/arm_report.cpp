@@ -575,6 +575,18 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
   return s;
 }
 
+ShownDesign shownDesign(const std::string& text) {
+  std::istringstream is(text);
+  for (std::string l; std::getline(is, l);) {
+    const auto end = l.find_last_not_of(" \t\r");
+    const std::string mark = "   # calibrated";
+    if (end != std::string::npos && end + 1 >= mark.size() &&
+        l.compare(end + 1 - mark.size(), mark.size(), mark) == 0)
+      return ShownDesign::calibrated_copy;
+  }
+  return ShownDesign::as_designed;
+}
+
 std::string setDesignEntry(const std::string& text, const std::string& header,
                            const std::string& match_key, const std::string& match_value,
                            const std::string& key, const std::string& value_text) {

@@ -230,3 +230,41 @@ TEST_CASE(
   }
   fs::remove_all(root);
 }
+
+TEST_CASE(
+    "armstudy compare of a calibrated copy (studies/arm_calibration.sh) titles its figures for the "
+    "calibrated design, a compare of the design as given for that one",
+    "[calibration][cli][report]") {
+  const fs::path d = test::emptyTempDir("calibration_figures_cli");
+  const std::string design = test::sourcePath("designs/final_prototype_7dof.toml"),
+                    data = (d / "tcp.csv").string(), out = (d / "tcp").string();
+  std::string log;
+  REQUIRE(test::runCommand(test::binaryPath() + " synth " + design +
+                               " --kind tcp --rows 30 --noise 2e-4 --seed 1"
+                               " --hide joint_offset.j3:offset=0.01 --out " +
+                               data,
+                           log) == 0);
+  const auto firstPanel = [&](const std::string& file) {
+    const auto p = panelTitles(svgTexts(readFileOrThrow((d / "tcp/plots" / file).string())));
+    return p.empty() ? std::string() : p.front().text;
+  };
+  const auto titleOf = [&](const std::string& file) {
+    return title(svgTexts(readFileOrThrow((d / "tcp/plots" / file).string())));
+  };
+  REQUIRE(test::runCommand(test::binaryPath() + " compare " + design + " --kind tcp --data " +
+                               data + " --out " + out,
+                           log) == 0);
+  CHECK(firstPanel("residual_vs_predicted_x.svg") == "before: as designed");
+  CHECK(titleOf("before_residual_vs_q1.svg").rfind("before: as designed", 0) == 0);
+  REQUIRE(test::runCommand(test::binaryPath() + " fit " + design + " --kind tcp --data " + data +
+                               " --auto --out " + out,
+                           log) == 0);
+  REQUIRE(test::runCommand(test::binaryPath() + " compare " + out +
+                               "/final_prototype_7dof_calibrated.toml --kind tcp --data " + data +
+                               " --out " + out,
+                           log) == 0);
+  INFO(log);
+  CHECK(firstPanel("residual_vs_predicted_x.svg") == "calibrated design (check run)");
+  CHECK(titleOf("before_residual_vs_q1.svg").rfind("calibrated design (check run)", 0) == 0);
+  fs::remove_all(d);
+}
