@@ -166,15 +166,17 @@ report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
                                    const std::vector<const DesignResult*>& results) {
   // One colour per outcome over all designs: "picked" first, the failures in name order.
   std::vector<std::string> outcomes{"picked"};
-  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo, y_lo = z_lo, y_hi = z_hi;
   for (std::size_t k = 0; k < models.size(); ++k)
     for (const FruitResult& f : results[k]->fruits) {
       const std::string o = fruitOutcome(*models[k], f);
       if (std::find(outcomes.begin(), outcomes.end(), o) == outcomes.end()) outcomes.push_back(o);
       z_lo = std::min(z_lo, f.p_fruit_W.z());
       z_hi = std::max(z_hi, f.p_fruit_W.z());
+      y_lo = std::min(y_lo, f.p_fruit_W.y());
+      y_hi = std::max(y_hi, f.p_fruit_W.y());
     }
-  if (!(z_hi >= z_lo)) z_lo = z_hi = 0;  // no fruit
+  if (!(z_hi >= z_lo)) z_lo = z_hi = y_lo = y_hi = 0;  // no fruit
   std::sort(outcomes.begin() + 1, outcomes.end());
   // Picked in bluish green, the first failure in vermillion, the next ones in blue, orange, ...
   const auto colour = [&](const std::string& o) {
@@ -192,6 +194,14 @@ report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
     panel.title = models[k]->name;
     panel.y_label = "z (height) [m]";
     panel.y_range = std::array<double, 2>{z_lo - pad, z_hi + pad};
+    // The row's extent, padded (a series drawn neither as line nor as dots), so that no fruit
+    // sits on the frame.
+    const double ypad = std::max(0.05, 0.06 * (y_hi - y_lo));
+    report::PlotSeries extent;
+    extent.lines = false;
+    extent.x = {y_lo - ypad, y_hi + ypad};
+    extent.y = {z_lo, z_lo};
+    panel.series.push_back(std::move(extent));
     for (const std::string& o : outcomes) {
       report::PlotSeries s;
       s.label = o;
