@@ -42,7 +42,8 @@ Rgb viridis(double t);
 // 2 joint limits, 3 representation singularity, 4 self-collision, 5 torque / drive limit, 6
 // obstacle collision): the Okabe-Ito colours (okabeIto) but light grey for "out of reach", in an
 // order that keeps every pair apart for red-green colour-blind readers (bluish green, light grey,
-// orange, blue, vermillion, sky blue, black, reddish purple).
+// orange, vermillion, blue, sky blue, black, reddish purple): self-collision (blue) stands apart
+// from both reachable (bluish green) and joint limits (orange), the statuses it borders.
 Rgb categorical(int k);
 // The Okabe-Ito colours (Okabe & Ito 2008, "Color Universal Design"), told apart with every common
 // colour-vision deficiency, k = 0..7 (wraps): vermillion, bluish green, blue, orange, reddish
