@@ -282,6 +282,13 @@ std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
 
 // ---- outputs (compare/fit): result.json, residuals.csv, plots/*.svg, history.csv,
 // error_ladder.svg, workspace_cells.vti + residual_points.vtp ----
+// Which design a report's "before" model is: the design as given (the calibration's starting
+// point) or a calibrated copy compared with the data it was calibrated on (its check run).
+enum class ShownDesign { as_designed, calibrated_copy };
+// The title of the figures of a report's before (after = false) or after model: "before: as
+// designed", "calibrated design (check run)", "after: calibrated (+effect, ...)".
+std::string armModelTitle(ShownDesign shown, bool after, const ArmDiagnosis& d);
+
 struct ArmReportOptions {
   std::string out_dir;
   std::string command;  // compare | fit
@@ -290,6 +297,7 @@ struct ArmReportOptions {
   // False inside a study run, whose output folder is locked already (no `<out_dir>.lock` is left
   // among its results).
   bool lock = true;
+  ShownDesign shown = ShownDesign::as_designed;
 };
 struct ArmReportSummary {
   std::vector<std::string> files_written;
@@ -307,5 +315,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem
 std::string setDesignEntry(const std::string& text, const std::string& header,
                            const std::string& match_key, const std::string& match_value,
                            const std::string& key, const std::string& value_text);
+// Which design design text is: a calibrated copy (a line setDesignEntry wrote, marked
+// "# calibrated") or the design as given.
+ShownDesign shownDesign(const std::string& text);
 
 }  // namespace armstudy::calibration

@@ -1,5 +1,6 @@
 // Outputs of compare/fit, the one report writer of every kind (drive, tcp, trajectory):
 // docs/calibration.md, "Outputs".
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -111,53 +112,96 @@ json regionsJson(const ArmResidualMap& m, bool flagged_only) {
   return a;
 }
 
-void writePlots(const std::string& dir, const std::string& stage, const ArmProblem& P,
-                const ArmFit& f, std::vector<std::string>& files) {
-  fs::create_directories(fs::path(dir) / "plots");
-  auto put = [&](const std::string& name, const std::string& svg) {
-    writeFileAtomic((fs::path(dir) / "plots" / (stage + "_" + name)).string(), svg);
-    files.push_back("plots/" + stage + "_" + name);
-  };
+// The unit residual figures use: millimetres for lengths (a TCP error of a few mm is invisible on
+// a metre scale), else the channel's own unit.
+struct PlotUnit {
+  double scale = 1;  // figure value = scale * native value
+  std::string name;
+};
+PlotUnit residualUnit(const std::string& unit) {
+  if (unit == "m") return {1e3, "mm"};
+  return {1, unit};
+}
+
+// One y range for channel c of every model shown (before and after on one scale), in the plotted
+// unit, padded by 6 %; symmetric about zero so that a bias shows as an offset.
+std::array<double, 2> residualRange(const std::vector<const ArmFit*>& fits, int c, double scale) {
+  double a = 0;
+  for (const ArmFit* f : fits)
+    for (int i = 0; i < f->residual.rows(); ++i)
+      if (std::isfinite(f->residual(i, c))) a = std::max(a, std::abs(scale * f->residual(i, c)));
+  if (!(a > 0)) a = 1;
+  return {-1.06 * a, 1.06 * a};
+}
+
+// plots/residual_vs_predicted_<channel>.svg: measured - predicted against the predicted value,
+// one panel per model in the order given (before, then after), on one y range.
+void writeResidualFigures(const std::string& dir, const ArmProblem& P,
+                          const std::vector<std::pair<std::string, const ArmFit*>>& models,
+                          std::vector<std::string>& files) {
+  std::vector<const ArmFit*> fits;
+  for (const auto& m : models) fits.push_back(m.second);
   for (int c = 0; c < P.channels(); ++c) {
+    const PlotUnit u = residualUnit(P.channel_units[c]);
+    const std::string& name = P.channel_names[c];
     report::PlotSpec p;
-    p.title = stage + ": " + f.label + " - " + P.channel_names[c];
-    p.x_label = "predicted " + P.channel_names[c] + " [" + P.channel_units[c] + "]";
-    report::PlotPanel panel;
-    panel.y_label = "measured [" + P.channel_units[c] + "]";
-    panel.diagonal = true;
-    report::PlotSeries s;
-    s.label = "measured samples";
-    s.lines = false;
-    s.markers = true;
-    for (int i = 0; i < P.rows(); ++i) {
-      s.x.push_back(f.predicted(i, c));
-      s.y.push_back(P.measured(i, c));
+    p.title = "residual of " + name + " against its prediction";
+    p.x_label = "predicted " + name + " [" + P.channel_units[c] + "]";
+    p.panel_height = 200;
+    const std::array<double, 2> range = residualRange(fits, c, u.scale);
+    for (const auto& [title, f] : models) {
+      report::PlotPanel panel;
+      panel.title = title;
+      panel.y_label = "measured - predicted [" + u.name + "]";
+      panel.y_range = range;
+      panel.lines.push_back(report::RefLine{0.0, "zero", true, report::Rgb{90, 90, 90}});
+      report::PlotSeries s;
+      s.label = "samples";
+      s.lines = false;
+      s.markers = true;
+      for (int i = 0; i < P.rows(); ++i) {
+        s.x.push_back(f->predicted(i, c));
+        s.y.push_back(u.scale * f->residual(i, c));
+      }
+      panel.series.push_back(s);
+      p.panels.push_back(panel);
     }
-    panel.series.push_back(s);
-    p.panels.push_back(panel);
-    put("measured_vs_predicted_" + P.channel_names[c] + ".svg", report::plot(p).svg);
+    const std::string rel = "plots/residual_vs_predicted_" + name + ".svg";
+    writeFileAtomic((fs::path(dir) / rel).string(), report::plot(p).svg);
+    files.push_back(rel);
   }
-  // One panel per channel: channels of different units never share an axis.
+}
+
+// plots/<stage>_residual_vs_<variable>.svg: one panel per channel (channels of different units
+// never share an axis), each channel on the range `ranges` shares with the other stage's figure.
+void writeVariablePlots(const std::string& dir, const std::string& stage, const std::string& title,
+                        const ArmProblem& P, const ArmFit& f,
+                        const std::vector<std::array<double, 2>>& ranges,
+                        std::vector<std::string>& files) {
   for (const BinVariable& v : P.variables) {
     report::PlotSpec p;
-    p.title = stage + ": residual vs " + v.name;
+    p.title = title + " - residual vs " + v.name;
     p.x_label = v.name + " [" + v.unit + "]";
     p.panel_height = P.channels() > 1 ? 150 : 260;
     for (int c = 0; c < P.channels(); ++c) {
+      const PlotUnit u = residualUnit(P.channel_units[c]);
       report::PlotPanel panel;
       panel.title = P.channel_names[c];
-      panel.y_label = "residual [" + P.channel_units[c] + "]";
+      panel.y_label = "residual [" + u.name + "]";
+      panel.y_range = ranges[c];
       panel.lines.push_back(report::RefLine{0.0, "zero", true, report::Rgb{90, 90, 90}});
       report::PlotSeries s;
       s.label = "measured - predicted";
       s.lines = false;
       s.markers = true;
       s.x = v.values;
-      for (int i = 0; i < P.rows(); ++i) s.y.push_back(f.residual(i, c));
+      for (int i = 0; i < P.rows(); ++i) s.y.push_back(u.scale * f.residual(i, c));
       panel.series.push_back(s);
       p.panels.push_back(panel);
     }
-    put("residual_vs_" + v.name + ".svg", report::plot(p).svg);
+    const std::string rel = "plots/" + stage + "_residual_vs_" + v.name + ".svg";
+    writeFileAtomic((fs::path(dir) / rel).string(), report::plot(p).svg);
+    files.push_back(rel);
   }
 }
 
@@ -208,13 +252,13 @@ double sharedScale(const std::vector<report::HeatCell>& a, const std::vector<rep
 }
 
 // The 2-D grid map: mean residual per cell, flagged outlined, colour 0..scale (or -scale..scale).
-void writeGridMap(const std::string& dir, const std::string& stage, const ArmProblem& P,
-                  const ArmFit& f, const ArmResidualMap& m, double scale,
+void writeGridMap(const std::string& dir, const std::string& stage, const std::string& title,
+                  const ArmProblem& P, const ArmResidualMap& m, double scale,
                   std::vector<std::string>& files) {
   report::HeatmapSpec h;
   h.cells = gridCells(P, m);
   if (h.cells.empty()) return;
-  h.title = stage + ": " + f.label + " - mean residual per cell (flagged outlined)";
+  h.title = title + " - mean residual per cell (flagged outlined)";
   h.x_label = P.grid[0].name + " [" + P.grid[0].unit + "]";
   h.y_label = P.grid[1].name + " [" + P.grid[1].unit + "]";
   h.value_label = P.channels() == 1 ? "mean residual [" + P.channel_units[0] + "]"
@@ -236,8 +280,8 @@ void writeGridMap(const std::string& dir, const std::string& stage, const ArmPro
   files.push_back("plots/" + stage + "_residual_map.svg");
 }
 
-void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const ArmProblem& P,
-                       const ArmFit& f, const ArmResidualMap& m, double scale,
+void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const std::string& title,
+                       const ArmProblem& P, const ArmFit& f, const ArmResidualMap& m, double scale,
                        std::vector<std::string>& files) {
   if (P.workspace.empty() || m.ws_dims[0] == 0) return;
   io::ImageGrid g;
@@ -278,16 +322,18 @@ void writeWorkspaceVtk(const std::string& dir, const std::string& stage, const A
                      "mean_residual_max_abs, mean_over_threshold_max: NaN where n = 0"});
   {  // Heatmap: the cells seen from above (x-y), the largest |mean residual| over z and channels.
     report::HeatmapSpec h;  // absolute values: a sequential scale
-    h.title = stage + ": workspace cells, max |mean residual| over z (flagged outlined)";
+    h.title = title + " - workspace cells, max |mean residual| over z (flagged outlined)";
     h.x_label = "x [m]";
     h.y_label = "y [m]";
-    h.value_label = "|mean residual| [" + P.fit_unit + "]";
+    const PlotUnit u = residualUnit(P.fit_unit);  // mm for TCP positions
+    h.value_label = "|mean residual| [" + u.name + "]";
     h.x_min = m.ws_origin[0];
     h.x_max = m.ws_origin[0] + m.ws_dims[0] * m.ws_cell[0];
     h.y_min = m.ws_origin[1];
     h.y_max = m.ws_origin[1] + m.ws_dims[1] * m.ws_cell[1];
     h.cells = workspaceCells(P, m);
-    h.scale = scale;
+    for (report::HeatCell& c : h.cells) c.value *= u.scale;
+    h.scale = u.scale * scale;
     fs::create_directories(fs::path(dir) / "plots");
     writeFileAtomic((fs::path(dir) / "plots" / (stage + "_workspace_map.svg")).string(),
                     report::heatmap(h).svg);
@@ -464,6 +510,16 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
 
 }  // namespace
 
+std::string armModelTitle(ShownDesign shown, bool after, const ArmDiagnosis& d) {
+  if (after) {
+    std::string added;
+    for (const auto& a : d.added) added += (added.empty() ? "+" : ", +") + a;
+    return "after: calibrated" + (added.empty() ? std::string() : " (" + added + ")");
+  }
+  return shown == ShownDesign::calibrated_copy ? "calibrated design (check run)"
+                                               : "before: as designed";
+}
+
 // Writes plots, maps, residuals, history, the error ladder and result.json into a staging folder,
 // then moves the complete result into place.
 ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
@@ -483,13 +539,28 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
                                       after ? workspaceCells(P, d.final_map) : none);
   const double grid_scale =
       sharedScale(gridCells(P, d.as_designed_map), after ? gridCells(P, d.final_map) : none);
-  writePlots(dir, "before", P, d.as_designed, s.files_written);
-  writeWorkspaceVtk(dir, "before", P, d.as_designed, d.as_designed_map, ws_scale, s.files_written);
-  writeGridMap(dir, "before", P, d.as_designed, d.as_designed_map, grid_scale, s.files_written);
+  // The figures' titles name the model they show, before then after.
+  const std::string before_title = armModelTitle(o.shown, false, d);
+  const std::string after_title = armModelTitle(o.shown, true, d);
+  std::vector<std::pair<std::string, const ArmFit*>> models{{before_title, &d.as_designed}};
+  if (after) models.emplace_back(after_title, &d.final_fit);
+  fs::create_directories(fs::path(dir) / "plots");
+  writeResidualFigures(dir, P, models, s.files_written);
+  std::vector<std::array<double, 2>> ranges;  // per channel, shared by before and after
+  for (int c = 0; c < P.channels(); ++c) {
+    std::vector<const ArmFit*> fits;
+    for (const auto& m : models) fits.push_back(m.second);
+    ranges.push_back(residualRange(fits, c, residualUnit(P.channel_units[c]).scale));
+  }
+  writeVariablePlots(dir, "before", before_title, P, d.as_designed, ranges, s.files_written);
+  writeWorkspaceVtk(dir, "before", before_title, P, d.as_designed, d.as_designed_map, ws_scale,
+                    s.files_written);
+  writeGridMap(dir, "before", before_title, P, d.as_designed_map, grid_scale, s.files_written);
   if (after) {
-    writePlots(dir, "after", P, d.final_fit, s.files_written);
-    writeWorkspaceVtk(dir, "after", P, d.final_fit, d.final_map, ws_scale, s.files_written);
-    writeGridMap(dir, "after", P, d.final_fit, d.final_map, grid_scale, s.files_written);
+    writeVariablePlots(dir, "after", after_title, P, d.final_fit, ranges, s.files_written);
+    writeWorkspaceVtk(dir, "after", after_title, P, d.final_fit, d.final_map, ws_scale,
+                      s.files_written);
+    writeGridMap(dir, "after", after_title, P, d.final_map, grid_scale, s.files_written);
   }
   writeResidualsCsv(dir, P, d, s.files_written);
   const auto rows =
@@ -502,6 +573,18 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& P,
   writeFileAtomic((fs::path(dir) / "result.json").string(), s.json + "\n");
   stage.commit();
   return s;
+}
+
+ShownDesign shownDesign(const std::string& text) {
+  std::istringstream is(text);
+  for (std::string l; std::getline(is, l);) {
+    const auto end = l.find_last_not_of(" \t\r");
+    const std::string mark = "   # calibrated";
+    if (end != std::string::npos && end + 1 >= mark.size() &&
+        l.compare(end + 1 - mark.size(), mark.size(), mark) == 0)
+      return ShownDesign::calibrated_copy;
+  }
+  return ShownDesign::as_designed;
 }
 
 std::string setDesignEntry(const std::string& text, const std::string& header,

@@ -88,8 +88,8 @@ DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
     s.calibrated_design_path = f.calibrated_design_path;
     return s;
   }
-  const ArmReportSummary r =
-      writeArmReport(d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock}, "");
+  const ArmReportSummary r = writeArmReport(
+      d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock, o.shown}, "");
   s.files_written = r.files_written;
   s.json = r.json;
   return s;

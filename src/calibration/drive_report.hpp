@@ -13,8 +13,9 @@ struct DriveReportOptions {
   std::string out_dir;
   std::string command;  // "compare" or "fit"
   bool write_calibrated_design = false;
-  std::string calibrated_design_path;  // default <out_dir>/<design>_calibrated.toml
-  bool lock = true;                    // ArmReportOptions::lock
+  std::string calibrated_design_path;            // default <out_dir>/<design>_calibrated.toml
+  bool lock = true;                              // ArmReportOptions::lock
+  ShownDesign shown = ShownDesign::as_designed;  // ArmReportOptions::shown
 };
 
 struct DriveReportSummary {

@@ -3,6 +3,7 @@
 // efforts/currents).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <tuple>
 
@@ -233,6 +234,9 @@ void addCompareCommand(CLI::App* cmd, Action& action) {
     o.workspace_bins = a->workspace_bins;
     const auto d = calibration::compareArm(*P, o);
     calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
+    // The compare of a calibrated copy (its check run) titles its figures for that design.
+    if (std::filesystem::is_regular_file(a->design))
+      ro.shown = calibration::shownDesign(readFileOrThrow(a->design));
     calibration::writeArmReport(d, *P, ro, "");
     printArm(d, *P);
     std::printf("results in %s/ (result.json, plots/, history.csv, error_ladder.svg%s)\n",

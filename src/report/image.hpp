@@ -38,8 +38,17 @@ RasterImage renderCellMap(int nx, int ny, const std::function<Rgb(int i, int j)>
 
 // Perceptually ordered colour map (viridis), t in [0, 1] (clamped).
 Rgb viridis(double t);
-// Distinct colours for categories 0..7 (wraps).
+// Colours for categories 0..7 (wraps), indexed by status (ReachStatus: 0 reachable, 1 out of reach,
+// 2 joint limits, 3 representation singularity, 4 self-collision, 5 torque / drive limit, 6
+// obstacle collision): the Okabe-Ito colours (okabeIto) but light grey for "out of reach", in an
+// order that keeps every pair apart for red-green colour-blind readers (bluish green, light grey,
+// orange, vermillion, blue, sky blue, black, reddish purple): self-collision (blue) stands apart
+// from both reachable (bluish green) and joint limits (orange), the statuses it borders.
 Rgb categorical(int k);
+// The Okabe-Ito colours (Okabe & Ito 2008, "Color Universal Design"), told apart with every common
+// colour-vision deficiency, k = 0..7 (wraps): vermillion, bluish green, blue, orange, reddish
+// purple, sky blue, black, yellow.
+Rgb okabeIto(int k);
 std::string hex(Rgb c);  // "#rrggbb"
 
 // PNG bytes of an image (via vtkPNGWriter), and an atomic write to a file.

@@ -257,6 +257,7 @@ PanelPlans planPanels(const PlotSpec& spec, const Meter& m, Range& xr) {
       p.yr.add(xr.lo), p.yr.add(xr.hi);
     }
     p.yr.pad(0.06);
+    if (pan.y_range) p.yr = Range{(*pan.y_range)[0], (*pan.y_range)[1]};
     p.yt = yTicks(m, p.yr, ph);
     pl.ytw = std::max(pl.ytw, widestTick(m, p.yt));
     p.ylines = m.wrap(pan.y_label, kLabelSize, ph);

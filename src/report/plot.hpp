@@ -5,6 +5,7 @@
 // when asked, drawn with cairo as PNG; every piece of text is placed from its measured extents in
 // the figures' font (DejaVu Sans from its file), so labels never overprint each other and never
 // leave the canvas. Each Drawing lists the boxes of the text it drew, for checks.
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -78,6 +79,9 @@ struct PlotPanel {
   std::vector<PlotSeries> series;
   std::vector<RefLine> lines;
   bool diagonal = false;  // y = x (measured vs predicted); x and y share one range
+  // A fixed y range {lo, hi} (e.g. one range for the panels or figures that compare before and
+  // after); default: the data's range, padded.
+  std::optional<std::array<double, 2>> y_range;
 };
 struct PlotSpec {
   std::string title, x_label;  // the panels share the x axis

@@ -27,6 +27,7 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
+#include "report/image.hpp"
 #include "stages/dexterity/dexterity_output.hpp"
 #include "test_support.hpp"
 
@@ -270,12 +271,17 @@ transmission = 0.05
     CHECK((Eigen::Vector3d(p[0], p[1], p[2]) - cell.target.p_WT).norm() < kGeometryTolerance);
     ++k;
   }
-  // PNG of the reachable figure, read back with vtkPNGReader: the cell map (found by its 2 px grey
-  // frame, a run of frame-grey pixels as wide as the map) holds cell (i_gamma, i_z) as a square
-  // block (gamma to the right, z upwards) in viridis(1) when reachable, viridis(0) when not (the
-  // flag is 0 there, not NaN); the colour bar right of the map ends in viridis(0) at the bottom.
+  // PNG of the normalised optimised manipulability figure, read back with vtkPNGReader: the cell
+  // map (found by its 2 px grey frame, a run of frame-grey pixels as wide as the map) holds cell
+  // (i_gamma, i_z) as a square block (gamma to the right, z upwards) in viridis of its value, grey
+  // where it is not reachable; the colour bar right of the map ends in viridis(0) at the bottom.
+  // The reachable figure exists only when it has two colours (some cells reachable, some not).
+  long reachable = 0;
+  for (double r : f.reachable) reachable += r > 0;
+  CHECK(std::filesystem::exists(base + "first_prototype_9dof_reachable.png") ==
+        (reachable > 0 && reachable < static_cast<long>(f.reachable.size())));
   vtkNew<vtkPNGReader> png;
-  png->SetFileName((base + "first_prototype_9dof_reachable.png").c_str());
+  png->SetFileName((base + "first_prototype_9dof_manipulability_optimised_normalised.png").c_str());
   png->Update();
   vtkImageData* pi = png->GetOutput();
   int pd[3];
@@ -307,8 +313,9 @@ transmission = 0.05
     for (int i = 0; i < G; ++i) {
       const auto c = pixel(x0 + kMapBorderPixels + i * block + block / 2,
                            y0 + kMapBorderPixels + (Z - 1 - j) * block + block / 2);
-      const bool reach = f.reachable[static_cast<std::size_t>(map.grid.index(i, j))] != 0;
-      CHECK(c == (reach ? std::array<int, 3>{253, 231, 37} : std::array<int, 3>{68, 1, 84}));
+      const double v = f.manip_opt_norm[static_cast<std::size_t>(map.grid.index(i, j))];
+      const report::Rgb want = std::isnan(v) ? report::Rgb{160, 160, 160} : report::viridis(v);
+      CHECK(c == std::array<int, 3>{want.r, want.g, want.b});
     }
   // The colour bar: the first column right of the map whose bottom pixel is (close to) viridis(0).
   const int map_bottom = y0 + Z * block + 2 * kMapBorderPixels - 2;

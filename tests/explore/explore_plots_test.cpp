@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "io/design_io.hpp"
-#include "layout_check.hpp"
+#include "plot_checks.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;

@@ -14,9 +14,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "layout_check.hpp"
+#include "plot_checks.hpp"
 
 using namespace armstudy::report;
+using armstudy::test::findText;
 using armstudy::test::layoutFault;
 
 namespace {
@@ -52,12 +53,6 @@ bool wellFormedSvg(const std::string& svg) {
   std::istringstream stream(svg);
   p->SetStream(&stream);
   return p->Parse() == 1 && std::string(p->GetRootElement()->GetName()) == "svg";
-}
-
-const TextBox* findText(const Drawing& d, const std::string& t) {
-  for (const TextBox& b : d.texts)
-    if (b.text == t) return &b;
-  return nullptr;
 }
 
 MapFigure mapOf10x4(std::string title, std::string scale_label) {
@@ -132,14 +127,14 @@ TEST_CASE(
   p.x_label = "model";
   for (int k = 0; k < 9; ++k)
     p.x_categories.push_back("nominal + offsets + elasticity step " + std::to_string(k));
-  PlotPanel a{"position", "TCP error [mm]", {}, {}, false};
+  PlotPanel a{"position", "TCP error [mm]", {}, {}, false, std::nullopt};
   PlotSeries s;
   s.label = "RMS";
   s.markers = true;
   for (int k = 0; k < 9; ++k) s.x.push_back(k), s.y.push_back(10.0 / (k + 1));
   a.series.push_back(s);
   a.lines.push_back({1.0, "requirement", true, Rgb{214, 39, 40}});
-  PlotPanel b{"orientation", "TCP error [deg]", {s}, {}, false};
+  PlotPanel b{"orientation", "TCP error [deg]", {s}, {}, false, std::nullopt};
   p.panels = {a, b};
   const Drawing d = plot(p, Format::svg_and_png);
   INFO(layoutFault(d));

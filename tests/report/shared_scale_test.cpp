@@ -142,6 +142,6 @@ TEST_CASE("a fit's before and after residual maps share one colour scale with it
   REQUIRE(a.ticks.size() >= 2);
   CHECK(a.ticks == b.ticks);
   CHECK(a.label == b.label);
-  CHECK(a.label.find("[m]") != std::string::npos);
+  CHECK(a.label.find("[mm]") != std::string::npos);  // TCP residuals in mm
   fs::remove_all(work);
 }

@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "calibration/drive_report.hpp"
 #include "calibration/identification_report.hpp"
@@ -185,6 +186,7 @@ std::string writeDriveEntry(const Work& w, const std::string& cal_dir, EntrySumm
     co.out_dir = cal_dir;
     co.command = "compare";
     co.lock = false;
+    co.shown = ShownDesign::calibrated_copy;
     writeDriveReport(c, cal, *e.drive_data, co);
     s.calibrated_rmse = c.as_designed_cmp.current.rmse;
     s.calibrated_flagged = c.as_designed_cmp.map.flagged();
@@ -242,7 +244,8 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
     const Model cal = loadDesign(cal_path);
     const auto Pc = makeArmProblem(cal, e.arm_data);
     const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
-    writeArmReport(c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false}, "");
+    writeArmReport(
+        c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false, ShownDesign::calibrated_copy}, "");
     s.calibrated_rmse = c.as_designed.train_rmse;
     s.calibrated_flagged = c.as_designed_map.flagged();
   }
@@ -349,7 +352,38 @@ std::string g4(double v) {
   return formatG(v, 4);
 }
 
-std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries) {
+// The figures of an entry (paths relative to the stage folder) in reading order: the error ladder,
+// the residuals against their predictions (before and after in one figure), then each figure of
+// the model before the fit followed by its counterpart after it, then the calibrated copy's check
+// run in the same order, then any other figure.
+std::vector<std::string> entryFigures(const EntrySummary& s, const std::string& stage_dir) {
+  std::vector<std::string> svgs;
+  for (const std::string& f : s.files)
+    if (fs::path(f).extension() == ".svg") svgs.push_back(relativeTo(f, stage_dir));
+  const auto rank = [&](const std::string& f) {
+    const std::string rest = f.substr(s.name.size() + 1);
+    const bool check = rest.rfind("calibrated/", 0) == 0;
+    const std::string name = fs::path(rest).filename().string();
+    int order = 3;
+    std::string key = name;
+    if (name == "error_ladder.svg") {
+      order = 0;
+    } else if (name.rfind("residual_vs_predicted_", 0) == 0) {
+      order = 1;
+    } else if (name.rfind("before_", 0) == 0 || name.rfind("after_", 0) == 0) {
+      order = 2;
+      const bool after = name[0] == 'a';
+      key = name.substr(after ? 6 : 7) + (after ? "/1" : "/0");
+    }
+    return std::make_tuple(check, order, key);
+  };
+  std::stable_sort(svgs.begin(), svgs.end(),
+                   [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  return svgs;
+}
+
+std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
+                        const std::string& stage_dir) {
   std::ostringstream md;
   md << "# Model versus measurement: " << study << "\n\n"
      << "Each entry compares a design's model with measured data, ranks the candidate effects that "
@@ -410,6 +444,7 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
        << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
                            : std::string())
        << ".\n\n";
+    for (const std::string& f : entryFigures(s, stage_dir)) md << "![" << f << "](" << f << ")\n\n";
   }
   return md.str();
 }
@@ -488,7 +523,7 @@ StageResult runCalibrationStage(const StageContext& ctx,
     addMetrics(*done[i], sum.metrics);
     sum.answer.push_back(entryAnswer(*done[i]));
   }
-  writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries));
+  writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries, "calibration"));
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");
   sum.files.push_back("calibration/report.md");
   sum.files.push_back("calibration/summary.json");

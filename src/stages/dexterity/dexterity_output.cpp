@@ -341,7 +341,14 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
                        "transmission beta along u, optimised [m/rad]"},
                       {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
   std::map<std::string, std::string> png;  // what the report shows: the .svg figures
+  long reachable = 0;
+  for (double r : f.reachable) reachable += r > 0;
   for (const Img& im : imgs) {
+    // A reachable map of one value (every cell reachable, or none) would be one colour: the
+    // report's status cell says it in words instead.
+    if (im.v == &f.reachable &&
+        (reachable == 0 || reachable == static_cast<long>(f.reachable.size())))
+      continue;
     // <design>_<key>.svg: the figure with axes and colour bar; .png: the same figure.
     const std::string name = map.design + "_" + im.key;
     const report::RasterImage cells = heatmapCells(map, *im.v, im.hi);
@@ -407,8 +414,7 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << ": plain manipulability, normalised](" << png["manipulability_plain_normalised"] << ") | !["
      << m.name << ": optimised manipulability, shared scale](" << png["manipulability_optimised"]
      << ") | ![" << m.name << ": optimised transmission, shared scale]("
-     << png["transmission_optimised"] << ") | ![" << m.name << ": status](" << png["status"]
-     << ") |\n\n";
+     << png["transmission_optimised"] << ") | " << png["status"] << " |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved

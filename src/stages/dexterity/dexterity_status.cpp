@@ -107,6 +107,12 @@ std::string limitingEffect(const DexterityMap& map, const StatusCounts& c, Half 
 }
 
 std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writer& out) {
+  const StatusCounts c = statusCounts(map);
+  for (ReachStatus s : kCellStatuses)
+    if (c.count(Half::Negative, s) + c.count(Half::NonNegative, s) ==
+        static_cast<long>(map.cells.size()))
+      return "100 % of the " + std::to_string(map.cells.size()) + " cells " + describe(s) +
+             " (no map drawn)";
   const int G = map.grid.gamma_rad.count, Z = map.grid.z_m.count;
   const report::RasterImage cells = report::renderCellMap(G, Z, [&](int i, int j) {
     return report::categorical(static_cast<int>(map.cells[map.grid.index(i, j)].status));
@@ -118,7 +124,6 @@ std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writ
   f.x = report::cellAxis("gamma [deg]", ga.min * kRadToDeg, ga.max * kRadToDeg,
                          ga.step() * kRadToDeg);
   f.y = report::cellAxis("z [m]", za.min, za.max, za.step());
-  const StatusCounts c = statusCounts(map);
   for (ReachStatus s : kCellStatuses)
     if (c.count(Half::Negative, s) + c.count(Half::NonNegative, s) > 0)
       f.legend.push_back({report::categorical(static_cast<int>(s)), toString(s)});
@@ -126,7 +131,7 @@ std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writ
   const std::string name = map.design + "_status";
   out.text(sub + "/" + name + ".svg", fig.svg);
   out.text(sub + "/" + name + ".png", fig.png);
-  return name + ".svg";
+  return "![" + map.design + ": status](" + name + ".svg)";
 }
 
 std::string statusMarkdown(const DexterityMap& map, const StatusCounts& c) {

@@ -39,7 +39,9 @@ std::string mostFrequentPair(const DexterityMap& map, ReachStatus status, const 
 // "reach"); "nothing" when every cell is reachable.
 std::string limitingEffect(const DexterityMap& map, const StatusCounts& c, Half h);
 
-// Writes <design>_status.svg/.png (one colour per status) under `sub`; returns the .svg name.
+// Writes <design>_status.svg/.png (one colour per status) under `sub` and returns the report's
+// table cell showing it; a map whose cells all have one status would be one colour, so it is not
+// drawn and the cell says it in words ("100 % of the 49 cells reachable").
 std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writer& out);
 
 // The report paragraph: the status table per half circle and the colliding pairs.

@@ -155,6 +155,81 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
   return out;
 }
 
+std::string fruitOutcome(const Model& model, const FruitResult& f) {
+  if (!f.evaluated()) return "not tracked: " + f.status;
+  const DriveFeasibility& r = f.with_friction;
+  if (r.feasible) return "picked";
+  return "drive limit: " + model.joints[r.failing_joint].name + " " + toString(r.failing_quantity);
+}
+
+report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
+                                   const std::vector<const DesignResult*>& results) {
+  // One colour per outcome over all designs: "picked" first, the failures in name order.
+  std::vector<std::string> outcomes{"picked"};
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo, y_lo = z_lo, y_hi = z_hi;
+  for (std::size_t k = 0; k < models.size(); ++k)
+    for (const FruitResult& f : results[k]->fruits) {
+      const std::string o = fruitOutcome(*models[k], f);
+      if (std::find(outcomes.begin(), outcomes.end(), o) == outcomes.end()) outcomes.push_back(o);
+      z_lo = std::min(z_lo, f.p_fruit_W.z());
+      z_hi = std::max(z_hi, f.p_fruit_W.z());
+      y_lo = std::min(y_lo, f.p_fruit_W.y());
+      y_hi = std::max(y_hi, f.p_fruit_W.y());
+    }
+  if (!(z_hi >= z_lo)) z_lo = z_hi = y_lo = y_hi = 0;  // no fruit
+  std::sort(outcomes.begin() + 1, outcomes.end());
+  // Picked in bluish green, the first failure in vermillion, the next ones in blue, orange, ...
+  const auto colour = [&](const std::string& o) {
+    const int at =
+        static_cast<int>(std::find(outcomes.begin(), outcomes.end(), o) - outcomes.begin());
+    return report::okabeIto(at == 0 ? 1 : at == 1 ? 0 : at);
+  };
+  const double pad = std::max(0.05, 0.06 * (z_hi - z_lo));
+  report::PlotSpec p;
+  p.title = "What became of each fruit";
+  p.x_label = "y along the row, world frame [m]";
+  p.panel_height = 200;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    report::PlotPanel panel;
+    panel.title = models[k]->name;
+    panel.y_label = "z (height) [m]";
+    panel.y_range = std::array<double, 2>{z_lo - pad, z_hi + pad};
+    // The row's extent, padded (a series drawn neither as line nor as dots), so that no fruit
+    // sits on the frame.
+    const double ypad = std::max(0.05, 0.06 * (y_hi - y_lo));
+    report::PlotSeries extent;
+    extent.lines = false;
+    extent.x = {y_lo - ypad, y_hi + ypad};
+    extent.y = {z_lo, z_lo};
+    panel.series.push_back(std::move(extent));
+    for (const std::string& o : outcomes) {
+      report::PlotSeries s;
+      s.label = o;
+      s.colour = colour(o);
+      s.lines = false;
+      s.markers = true;
+      for (const FruitResult& f : results[k]->fruits)
+        if (fruitOutcome(*models[k], f) == o) {
+          s.x.push_back(f.p_fruit_W.y());
+          s.y.push_back(f.p_fruit_W.z());
+        }
+      if (!s.x.empty()) panel.series.push_back(std::move(s));
+    }
+    p.panels.push_back(std::move(panel));
+  }
+  return report::plot(p);
+}
+
+std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
+                                    const std::vector<const DesignResult*>& results, Writer& out) {
+  if (models.empty()) return "";
+  out.text("harvest/fruits.svg", fruitOutcomeFigure(models, results).svg);
+  return "Every fruit at its position in the row (world frame: y along the row, z up), marked by "
+         "what became of it; one panel per design on the same axes, the fruit numbers and "
+         "positions in the tables below and in `<design>_fruits.csv`.\n\n"
+         "![What became of each fruit, per design](fruits.svg)\n\n";
+}
+
 namespace {
 
 // The holding load sampled over a grid: the VTK image with its point arrays, and its counts.
@@ -243,6 +318,11 @@ HoldingImage holdingImage(const Model& model, const HarvestGrid& g, const Design
   return hi;
 }
 
+// The holding map's colours: the status colours of every map (reachable, torque limit, out of
+// reach).
+const report::Rgb kHoldable = report::categorical(0), kDriveLimit = report::categorical(5),
+                  kUnreachable = report::categorical(1);
+
 // Writes the status and revolute current-ratio maps over the first two axes with more than one
 // value (the first slice of a 3-D grid) and returns their report paragraph; without two such
 // axes, only the paragraph with the counts.
@@ -271,9 +351,7 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   };
   const auto statusImg = report::renderCellMap(img.dims[a0], img.dims[a1], [&](int u, int v) {
     const int s = static_cast<int>(status[index(u, v)]);
-    return s == 0   ? report::Rgb{200, 200, 200}
-           : s == 1 ? report::Rgb{60, 170, 90}
-                    : report::Rgb{215, 50, 40};
+    return s == 0 ? kUnreachable : s == 1 ? kHoldable : kDriveLimit;
   });
   // Figures with axes and legends (.svg, shown in the report; the same as .png).
   const char* an[3] = {"x", "y", "z"};
@@ -287,9 +365,8 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
     return f;
   };
   report::MapFigure status_fig = figure(model.name + ": static holding");
-  status_fig.legend = {{report::Rgb{60, 170, 90}, "holdable"},
-                       {report::Rgb{215, 50, 40}, "drive limit"},
-                       {report::Rgb{200, 200, 200}, "unreachable"}};
+  status_fig.legend = {
+      {kHoldable, "holdable"}, {kDriveLimit, "drive limit"}, {kUnreachable, "unreachable"}};
   const report::Drawing status_d =
       report::mapFigure(statusImg, status_fig, report::Format::svg_and_png);
   out.text("harvest/" + base + "_holding_map.png", status_d.png);
@@ -308,8 +385,10 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   md << "Static holding (gravity + payload) over the grid, tool heading "
      << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << hi.reachable << " of " << np
      << " points reachable, " << hi.limited << " of them drive-limited (|I| > continuous current). "
-     << "Map axes: " << an[a0] << " to the right, " << an[a1]
-     << " upwards; green = holdable, red = drive limit, grey = unreachable. Second map: "
+     << "Map axes: " << an[a0] << " to the right, " << an[a1] << " upwards; "
+     << report::hex(kHoldable) << " holdable, " << report::hex(kDriveLimit) << " drive limit, "
+     << report::hex(kUnreachable)
+     << " unreachable. Second map: "
         "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
         "ratio is "
         "nearly constant, it carries the whole arm).\n\n"

@@ -37,6 +37,17 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
                                               const std::vector<JointVector>& rows, double dt,
                                               const std::string& suffix, int stride);
 
+// What became of a fruit: "picked" (tracked, every drive within its limits), the drive check that
+// failed first ("drive limit: j8 motor_speed"), or the planning / tracking status that stopped it.
+std::string fruitOutcome(const Model& model, const FruitResult& f);
+// Every fruit of every design at its position (y along the row, z up, world frame), marked by its
+// outcome; one panel per design on the same axes, one colour per outcome in every panel.
+report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
+                                   const std::vector<const DesignResult*>& results);
+// Writes fruitOutcomeFigure as harvest/fruits.svg; returns the report paragraph that shows it.
+std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
+                                    const std::vector<const DesignResult*>& results, Writer& out);
+
 // The static holding load over the [harvest.grid]: <design>_holding.vti and, for a grid with two
 // axes of more than one value, status and current-ratio maps (.png raw, .svg with axes). Adds the
 // holding metrics to M; returns the report paragraph and the numbers for summary.json.

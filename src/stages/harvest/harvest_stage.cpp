@@ -184,7 +184,7 @@ report::PlotSpec frictionPlot(const Model& model, const FruitResult& f, const st
   report::PlotSpec fp;
   fp.title = what + ": " + model.joints[jf].name + " with and without friction";
   fp.x_label = "t [s]";
-  fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false}};
+  fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false, std::nullopt}};
   fp.panels[0].series[1].dashed = true;
   return fp;
 }
@@ -357,9 +357,10 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
   const GreenhouseRow row = sampleGreenhouseRow(options.row);
   const double dt = 1.0 / options.rate_Hz;
   const int stride = std::max(1, static_cast<int>(std::lround(options.rate_Hz / 200.0)));
-  std::ostringstream md;
-  md << reportIntro(ctx, options, row);
+  std::ostringstream md;  // the designs' sections
   ordered_json js = summaryHead(ctx, options, row);
+  std::vector<const Model*> models;
+  std::vector<DesignResult> done;
 
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& model = sd.model;
@@ -386,10 +387,16 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
                     {"max_current_ratio", h.max_ratio}};
     }
     js["designs"].push_back(dj);
-    if (results) results->push_back(std::move(d));
+    models.push_back(&model);
+    done.push_back(std::move(d));
   }
+  std::vector<const DesignResult*> done_ptrs;
+  for (const DesignResult& d : done) done_ptrs.push_back(&d);
   harvestAnswer(js, sum);
-  out.text("harvest/report.md", md.str());
+  out.text("harvest/report.md", reportIntro(ctx, options, row) +
+                                    writeFruitOutcomeFigure(models, done_ptrs, out) + md.str());
+  if (results)
+    for (DesignResult& d : done) results->push_back(std::move(d));
   out.text("harvest/summary.json", js.dump(2) + "\n");
   sum.files = out.files();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,6 +1,7 @@
 #include "stages/reach/reach_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -401,6 +402,21 @@ void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, DesignPa
   }
   const double mmax = sharedManipulabilityMax(r);
   const long off = static_cast<long>(k) * r.points;
+  // A status map whose cells all have one status would be one colour: a sentence says it instead.
+  if (plane.projected < 0) {
+    long n = 0;
+    for (long c : per_k.status) n += c;
+    for (int st = 0; st < kReachStatusCount; ++st)
+      if (n > 0 && per_k.status[st] == n) {
+        images_md += "*" + s.design + ", " + orientationText(g, k) + ": 100 % of the " +
+                     std::to_string(n) + " cells " + describe(static_cast<ReachStatus>(st)) +
+                     " (no map drawn).*\n\n";
+        // (Nothing reachable: the manipulability map would be one colour too.)
+        if (mmax > 0 && st == static_cast<int>(ReachStatus::Reachable))
+          images_md += manipulabilityFigure(r, di, k, mmax, out);
+        return;
+      }
+  }
   report::RasterImage status_img =
       report::renderCellMap(r.d[plane.a], r.imageRows(), [&](int u, int v) {
         if (plane.projected >= 0) {
@@ -438,6 +454,21 @@ void renderPair(const GridRun& r, std::size_t a, std::size_t b, Writer& out,
   const std::vector<PoseSweep>& sweeps = r.sweeps;
   for (int k = 0; k < r.no; ++k) {
     const long off = static_cast<long>(k) * r.points;
+    // Both, only a, only b, neither; a map of one of them would be one colour: said in words.
+    std::array<long, 4> in{};
+    for (long p = 0; p < r.points; ++p) {
+      const bool ra = sweeps[a].reachable(off + p), rb = sweeps[b].reachable(off + p);
+      ++in[ra && rb ? 0 : ra ? 1 : rb ? 2 : 3];
+    }
+    const std::string names[4] = {"reached by both", "reached only by " + sweeps[a].design,
+                                  "reached only by " + sweeps[b].design, "reached by neither"};
+    const auto sole = std::find(in.begin(), in.end(), r.points);
+    if (r.points > 0 && sole != in.end()) {
+      pair_imgs += "*" + sweeps[a].design + " vs " + sweeps[b].design + ", " +
+                   orientationText(g, k) + ": 100 % of the " + std::to_string(r.points) +
+                   " cells " + names[sole - in.begin()] + " (no map drawn).*\n\n";
+      continue;
+    }
     report::RasterImage img =
         report::renderCellMap(r.d[r.plane.a], r.imageRows(), [&](int u, int v) {
           report::Rgb col;

@@ -1,6 +1,5 @@
 #pragma once
-// Checks on a laid-out figure (report/plot.hpp's Drawing): its text boxes as the layout measured
-// them.
+// Checks on a laid-out figure (report/plot.hpp's Drawing), shared by the tests of the figures.
 #include <algorithm>
 #include <string>
 
@@ -23,6 +22,12 @@ inline std::string layoutFault(const report::Drawing& d) {
       if (w > 0 && h > 0 && w * h > kTouch) return "'" + a.text + "' overlaps '" + b.text + "'";
     }
   return "";
+}
+
+inline const report::TextBox* findText(const report::Drawing& d, const std::string& t) {
+  for (const report::TextBox& b : d.texts)
+    if (b.text == t) return &b;
+  return nullptr;
 }
 
 }  // namespace armstudy::test

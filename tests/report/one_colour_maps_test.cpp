@@ -1,0 +1,121 @@
+// No map that shows nothing: in the shipped stem_ellipsoids and regression studies (whose reach and
+// dexterity maps include ones where every cell has the same status), no figure's cell map is a
+// single colour; the reports say "100 % of the N cells ..." instead, and what the reports, the
+// manifest and the study page point to exists.
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
+#include "io/files.hpp"
+#include "test_support.hpp"
+
+using namespace armstudy;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMapFrame = 2;  // [px] renderCellMap's grey frame around the cells
+
+std::string unbase64(const std::string& s) {
+  static const std::string abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  int bits = 0, acc = 0;
+  for (char c : s) {
+    const auto v = abc.find(c);
+    if (v == std::string::npos) continue;  // padding
+    acc = (acc << 6) | static_cast<int>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<char>((acc >> bits) & 0xff));
+    }
+  }
+  return out;
+}
+
+// The distinct colours inside the frame of each cell map an SVG embeds (as a PNG data URI).
+std::vector<std::set<unsigned>> mapColours(const std::string& svg) {
+  std::vector<std::set<unsigned>> out;
+  const std::string key = "xlink:href=\"data:image/png;base64,";
+  for (auto at = svg.find(key); at != std::string::npos; at = svg.find(key, at + 1)) {
+    const auto b = at + key.size();
+    const std::string png = unbase64(svg.substr(b, svg.find('"', b) - b));
+    vtkNew<vtkPNGReader> r;
+    r->SetMemoryBuffer(png.data());
+    r->SetMemoryBufferLength(static_cast<vtkIdType>(png.size()));
+    r->Update();
+    vtkImageData* d = r->GetOutput();
+    int dims[3];
+    d->GetDimensions(dims);
+    std::set<unsigned> colours;
+    for (int y = kMapFrame; y < dims[1] - kMapFrame; ++y)
+      for (int x = kMapFrame; x < dims[0] - kMapFrame; ++x) {
+        const auto* c = static_cast<unsigned char*>(d->GetScalarPointer(x, y, 0));
+        colours.insert((unsigned{c[0]} << 16) | (unsigned{c[1]} << 8) | c[2]);
+      }
+    out.push_back(colours);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "no map that shows nothing: a map of one status is said in words, not drawn in one colour, "
+    "and the reports point only to files that exist",
+    "[report][study]") {
+  const fs::path root = test::emptyTempDir("one_colour_maps");
+  RunOptions ro;
+  ro.output_root = root.string();
+  ro.threads = 2;
+  ro.progress = false;
+  std::vector<fs::path> outs;
+  for (const char* study : {"studies/stem_ellipsoids.toml", "studies/regression.toml"}) {
+    const Study s = loadStudy(test::sourcePath(study));
+    (void)runStudy(s, ro);
+    outs.push_back(root / s.name);
+  }
+  int maps = 0;
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    if (e.path().extension() != ".svg") continue;
+    for (const auto& colours : mapColours(readFileOrThrow(e.path().string()))) {
+      INFO(e.path().string());
+      CHECK(colours.size() >= 2);
+      ++maps;
+    }
+  }
+  CHECK(maps > 10);
+  // Where a map was left out, the report says what it would have shown.
+  static const std::regex said(R"(100 % of the ([0-9]+) cells reachable)");
+  CHECK(std::regex_search(readFileOrThrow((outs[0] / "dexterity/report.md").string()), said));
+  CHECK(std::regex_search(readFileOrThrow((outs[1] / "reach/report.md").string()), said));
+  // Every image a Markdown report shows and every file the manifest lists exists.
+  static const std::regex image(R"(!\[[^\]]*\]\(([^)]+)\))");
+  for (const fs::path& out : outs) {
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+      if (e.path().extension() != ".md") continue;
+      const std::string md = readFileOrThrow(e.path().string());
+      for (auto it = std::sregex_iterator(md.begin(), md.end(), image);
+           it != std::sregex_iterator(); ++it) {
+        INFO(e.path().string() << ": " << (*it)[1]);
+        CHECK(fs::exists(e.path().parent_path() / (*it)[1].str()));
+      }
+    }
+    const auto manifest = nlohmann::json::parse(readFileOrThrow((out / "manifest.json").string()));
+    REQUIRE(manifest.contains("files"));
+    for (const auto& f : manifest["files"]) {
+      const std::string rel = f.is_string() ? f.get<std::string>() : f["path"].get<std::string>();
+      INFO(rel);
+      CHECK(fs::exists(out / rel));
+    }
+  }
+  fs::remove_all(root);
+}
