@@ -58,6 +58,61 @@ std::string defaultUnit(const std::string& metric) {
   return "";
 }
 
+// One [[explore.constraint]]: a linear combination of parameters between min and max.
+LinearConstraint readConstraint(TableReader& cr, const ExploreOptions& o) {
+  LinearConstraint c;
+  c.line = cr.line();
+  const toml::table* terms = cr.table("terms");
+  if (!terms || terms->empty())
+    cr.fail("terms", "needs terms = { \"<parameter key>\" = weight, ... }");
+  for (auto&& [key, v] : *terms) {
+    std::size_t idx = o.parameters.size();
+    for (std::size_t i = 0; i < o.parameters.size(); ++i)
+      if (o.parameters[i].key == key.str()) idx = i;
+    if (idx == o.parameters.size())
+      cr.fail("terms", "'" + std::string(key.str()) + "' is not a parameter");
+    const auto w = v.value<double>();
+    if (!w || !std::isfinite(*w)) cr.fail("terms", "weights are plain numbers");
+    c.terms.emplace_back(idx, *w);
+  }
+  // Bounds carry the unit of the first parameter term (constraints between lengths or angles).
+  Dimension dim;
+  std::string err;
+  modelEntryDimension(o.base, o.parameters[c.terms[0].first].key, dim, err);
+  if (!cr.has("min") && !cr.has("max")) cr.fail("terms", "a constraint needs min or max");
+  c.min = cr.quantity("min", dim, -1e300);
+  c.max = cr.quantity("max", dim, 1e300);
+  cr.finish();
+  return c;
+}
+
+// One [[explore.objective]]: a metric with a goal, or bounds that make it a constraint.
+Objective readObjective(TableReader& orr) {
+  Objective ob;
+  ob.line = orr.line();
+  ob.metric = orr.string("metric");
+  if (ob.metric != "cost/link_length" && ob.metric.find("{design}") == std::string::npos)
+    orr.fail("metric",
+             "a stage metric names the candidate as {design}, e.g. "
+             "\"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
+  ob.label = orr.string("label", ob.metric);
+  ob.unit = orr.string("unit", defaultUnit(ob.metric));
+  const std::string goal = orr.string("goal", "");
+  if (goal == "max")
+    ob.goal = Goal::Maximise;
+  else if (goal == "min")
+    ob.goal = Goal::Minimise;
+  else if (!goal.empty())
+    orr.fail("goal", "goal is \"max\" or \"min\"");
+  ob.min = orr.number("min", -1e300);
+  ob.max = orr.number("max", 1e300);
+  ob.weight = orr.number("weight", 1.0);
+  if (ob.goal == Goal::None && !orr.has("min") && !orr.has("max"))
+    orr.fail("metric", "an objective needs a goal, or min/max to be a constraint");
+  orr.finish();
+  return ob;
+}
+
 }  // namespace
 
 std::string ExploreOptions::validate() const {
@@ -89,59 +144,12 @@ ExploreOptions readExploreOptions(TableReader& r, const SectionInput& in) {
       if (q.key == p.key) pr.fail("key", "parameter '" + p.key + "' is given twice");
     o.parameters.push_back(std::move(p));
   });
-  r.forEachTable("constraint", [&](TableReader& cr) {
-    LinearConstraint c;
-    c.line = cr.line();
-    const toml::table* terms = cr.table("terms");
-    if (!terms || terms->empty())
-      cr.fail("terms", "needs terms = { \"<parameter key>\" = weight, ... }");
-    for (auto&& [key, v] : *terms) {
-      std::size_t idx = o.parameters.size();
-      for (std::size_t i = 0; i < o.parameters.size(); ++i)
-        if (o.parameters[i].key == key.str()) idx = i;
-      if (idx == o.parameters.size())
-        cr.fail("terms", "'" + std::string(key.str()) + "' is not a parameter");
-      const auto w = v.value<double>();
-      if (!w || !std::isfinite(*w)) cr.fail("terms", "weights are plain numbers");
-      c.terms.emplace_back(idx, *w);
-    }
-    // Bounds carry the unit of the first parameter term (constraints between lengths or angles).
-    Dimension dim;
-    std::string err;
-    modelEntryDimension(o.base, o.parameters[c.terms[0].first].key, dim, err);
-    if (!cr.has("min") && !cr.has("max")) cr.fail("terms", "a constraint needs min or max");
-    c.min = cr.quantity("min", dim, -1e300);
-    c.max = cr.quantity("max", dim, 1e300);
-    cr.finish();
-    o.constraints.push_back(std::move(c));
-  });
+  r.forEachTable("constraint",
+                 [&](TableReader& cr) { o.constraints.push_back(readConstraint(cr, o)); });
   const toml::array* os = r.array("objective");
   if (!os || os->empty()) r.fail("objective", "needs at least one [[explore.objective]]");
-  r.forEachTable("objective", [&](TableReader& orr) {
-    Objective ob;
-    ob.line = orr.line();
-    ob.metric = orr.string("metric");
-    if (ob.metric != "cost/link_length" && ob.metric.find("{design}") == std::string::npos)
-      orr.fail("metric",
-               "a stage metric names the candidate as {design}, e.g. "
-               "\"reach/row/{design}/reachable_fraction\" (or use \"cost/link_length\")");
-    ob.label = orr.string("label", ob.metric);
-    ob.unit = orr.string("unit", defaultUnit(ob.metric));
-    const std::string goal = orr.string("goal", "");
-    if (goal == "max")
-      ob.goal = Goal::Maximise;
-    else if (goal == "min")
-      ob.goal = Goal::Minimise;
-    else if (!goal.empty())
-      orr.fail("goal", "goal is \"max\" or \"min\"");
-    ob.min = orr.number("min", -1e300);
-    ob.max = orr.number("max", 1e300);
-    ob.weight = orr.number("weight", 1.0);
-    if (ob.goal == Goal::None && !orr.has("min") && !orr.has("max"))
-      orr.fail("metric", "an objective needs a goal, or min/max to be a constraint");
-    orr.finish();
-    o.objectives.push_back(std::move(ob));
-  });
+  r.forEachTable("objective",
+                 [&](TableReader& orr) { o.objectives.push_back(readObjective(orr)); });
   if (r.has("stages")) {
     o.stages = r.stringArray("stages");
   } else {
