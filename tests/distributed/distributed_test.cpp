@@ -481,8 +481,8 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "on 2 ranks each rank writes the reach grid files it renders itself (no single writer), and "
-    "the files are a single process's bytes",
+    "on 2 ranks each rank writes the reach grid and stem map files it renders itself (no single "
+    "writer), and the files are a single process's bytes",
     "[distributed][e2e]") {
   requireMpi();
   const fs::path dir = freshDir("writers");
@@ -502,21 +502,27 @@ TEST_CASE(
   INFO(log);
   REQUIRE(st == 0);
   CHECK(differing(ref, resultFiles(out)).empty());
-  int by_rank1 = 0, by_rank0 = 0;
-  std::string rank1_outside_reach;
+  int by_rank1 = 0, by_rank0 = 0, dexterity_by_rank1 = 0, dexterity_by_rank0 = 0;
+  std::string rank1_elsewhere;
   for (const auto& [rel, bytes] : ref) {
     const auto perms = fs::status(out / rel).permissions();
     const bool private_file = (perms & fs::perms::others_read) == fs::perms::none;
+    const bool dexterity = rel.rfind("dexterity/", 0) == 0;
     if (private_file)
       ++by_rank1;
     else
       ++by_rank0;
-    if (private_file && rel.rfind("reach/", 0) != 0) rank1_outside_reach += rel + " ";
+    if (dexterity) ++(private_file ? dexterity_by_rank1 : dexterity_by_rank0);
+    if (private_file && rel.rfind("reach/", 0) != 0 && !dexterity) rank1_elsewhere += rel + " ";
   }
-  INFO("files written by rank 1 outside reach/: " << rank1_outside_reach);
+  INFO("files written by rank 1 outside reach/ and dexterity/: " << rank1_elsewhere);
   CHECK(by_rank1 > 10);  // rank 1 rendered and wrote pieces of the grids
   CHECK(by_rank0 > 10);  // rank 0 its own pieces and the study's files
-  CHECK(rank1_outside_reach.empty());
+  // The four stem maps: rank 1 renders designs 1 and 3, rank 0 designs 0 and 2 and the stage's
+  // summary and report.
+  CHECK(dexterity_by_rank1 > 4);
+  CHECK(dexterity_by_rank0 > 4);
+  CHECK(rank1_elsewhere.empty());
   CHECK((fs::status(out / "summary.json").permissions() & fs::perms::others_read) !=
         fs::perms::none);
   fs::remove_all(dir);

@@ -18,6 +18,7 @@
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
+#include "study/rendered_part.hpp"
 #include "study/scene.hpp"
 #include "study/writer.hpp"
 
@@ -467,6 +468,51 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   return d;
 }
 
+// A design's part of the stage that every process computes alike: its summary numbers, its
+// summary entry without the audit, the row sweep's report section and the audit.
+struct DesignWork {
+  MapSummary s;
+  StatusCounts counts;
+  nlohmann::ordered_json d;
+  std::string comparison_row, row_sweep_md;
+  std::optional<DexterityAudit> audit;
+};
+
+DesignWork designWork(const StageContext& ctx, const DexterityOptions& options, const Model& m,
+                      const DexterityMap& map, const MapFields& f) {
+  DesignWork w;
+  w.s = summarise(map, f, options.grid);
+  w.counts = statusCounts(map);
+  w.comparison_row = comparisonRow(m, map, f, w.s, manipulabilityUnit(options.measure_space));
+  w.d = designJson(m, options, map, f, w.s);
+  addStatusJson(map, w.counts, w.d);
+  w.row_sweep_md = rowSweep(m, options, map, ctx.threads, w.d);
+  if (options.audit_cells > 0)
+    w.audit = auditDexterityMap(m, options, map, ctx.threads, &ctx.units);
+  return w;
+}
+
+// Renders a design's files (VTK, heat maps, status map, audit cells) into the study's output
+// folder and returns its report section and summary entry with the files' names, packed.
+std::string renderDesign(const StageContext& ctx, const DexterityOptions& options, const Model& m,
+                         const DexterityMap& map, const MapFields& f, const SharedScales& scales,
+                         const DesignWork& w) {
+  Writer out(ctx.resultsDir());
+  const std::string dir = (std::filesystem::path(ctx.resultsDir()) / kSub).string();
+  for (const std::string& name :
+       writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
+    out.add(std::string(kSub) + "/" + name);
+  std::map<std::string, std::string> png =
+      writeHeatmaps(map, f, scales, manipulabilityUnit(options.measure_space), out);
+  png["status"] = writeStatusMap(map, kSub, out);
+  RenderedPart part;
+  part.jd = w.d;
+  part.md =
+      designMarkdown(m, options, map, f, w.s, png) + statusMarkdown(map, w.counts) + w.row_sweep_md;
+  if (w.audit) part.md += writeAudit(m, options, *w.audit, kSub, out, part.jd);
+  return packRenderedPart(part, out);
+}
+
 }  // namespace
 
 // A design's stem map for the study's 3-D view: the cells' TCP positions on the cylinder around
@@ -513,11 +559,9 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
   const StageContext ctx{
       selected,        all_ctx.options,        all_ctx.output_dir,  all_ctx.units,
       all_ctx.threads, all_ctx.writes_results, all_ctx.resultsDir()};
-  namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;
   const std::string sub = kSub;
-  const std::string dir = (fs::path(ctx.output_dir) / sub).string();
   Writer out(ctx.output_dir);
   nlohmann::ordered_json js = settingsJson(options);
   std::ostringstream md, cmp;
@@ -547,28 +591,28 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
   for (std::size_t di = 0; di < design_maps.size(); ++di)
     sum.view.push_back(viewCloud(ctx.study.designs[di].model, design_maps[di], fields[di],
                                  manipulabilityUnit(options.measure_space)));
+  // What every process computes alike, in design order (the audits are loops shared among them).
+  std::vector<DesignWork> work;
+  for (std::size_t di = 0; di < design_maps.size(); ++di)
+    work.push_back(
+        designWork(ctx, options, ctx.study.designs[di].model, design_maps[di], fields[di]));
+  // Each design's files, rendered by the process that owns it (study/rendered_part.hpp).
+  const std::vector<std::string> parts =
+      renderShared(&ctx.units, std::string("files/") + kSub, design_maps.size(), ctx.threads,
+                   [&](std::size_t di) {
+                     return renderDesign(ctx, options, ctx.study.designs[di].model, design_maps[di],
+                                         fields[di], scales, work[di]);
+                   });
+  std::vector<std::string> files;
   for (std::size_t di = 0; di < design_maps.size(); ++di) {
-    const Model& m = ctx.study.designs[di].model;
-    DexterityMap& map = design_maps[di];
-    const MapFields& f = fields[di];
-    for (const std::string& name :
-         writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
-      out.add(sub + "/" + name);
-    const MapSummary s = summarise(map, f, options.grid);
-    std::map<std::string, std::string> png =
-        writeHeatmaps(map, f, scales, manipulabilityUnit(options.measure_space), out);
-    png["status"] = writeStatusMap(map, sub, out);
-    cmp << comparisonRow(m, map, f, s, manipulabilityUnit(options.measure_space));
-    const StatusCounts sc = statusCounts(map);
-    md << designMarkdown(m, options, map, f, s, png) << statusMarkdown(map, sc);
-    nlohmann::ordered_json d = designJson(m, options, map, f, s);
-    addStatusJson(map, sc, d);
-    md << rowSweep(m, options, map, ctx.threads, d);
-    if (options.audit_cells > 0)
-      md << writeAudit(m, options, map, ctx.threads, &ctx.units, sub, out, d);
-    js["designs"].push_back(d);
-    if (maps) maps->push_back(std::move(map));
+    RenderedPart part;
+    unpackRenderedPart(parts[di], part, files);
+    md << part.md;
+    cmp << work[di].comparison_row;
+    js["designs"].push_back(std::move(part.jd));
+    if (maps) maps->push_back(std::move(design_maps[di]));
   }
+  for (const std::string& f : files) out.add(f);
   dexterityAnswer(ctx.study, options, sum);
   if (ctx.study.designs.size() > 1)
     md << "## Side by side\n\n" << cmp.str() << "\n";

@@ -181,14 +181,11 @@ void addStatusJson(const DexterityMap& map, const StatusCounts& c, nlohmann::ord
   d["status"] = js;
 }
 
-// Audits the map against an independent search: writes <design>_audit.csv, sets d["audit"] and
-// returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                       int threads, const UnitRunner* runner, const std::string& sub, Writer& out,
-                       nlohmann::ordered_json& d) {
+// The audit's files: writes <design>_audit.csv, sets d["audit"] and returns the report paragraph.
+std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityAudit& a,
+                       const std::string& sub, Writer& out, nlohmann::ordered_json& d) {
   const StemGrid& g = options.grid;
   const int G = g.gamma_rad.count;
-  const DexterityAudit a = auditDexterityMap(m, options, map, threads, runner);
   nlohmann::ordered_json aj;
   aj["cells"] = a.cells;
   aj["starts_per_cell"] = a.starts;

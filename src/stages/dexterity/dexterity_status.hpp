@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "dexterity/dexterity_audit.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "study/writer.hpp"
 
@@ -62,11 +63,10 @@ std::string rowSweep(const Model& m, const DexterityOptions& options, const Dext
 nlohmann::ordered_json settingsJson(const DexterityOptions& options);
 std::string reportIntro(const DexterityOptions& options);
 
-// Audits the map against an independent search (dexterity_audit.hpp): writes
+// The files of an audit (auditDexterityMap, dexterity_audit.hpp): writes
 // <sub>/<design>_audit.csv, sets d["audit"] (with the verdicts per status and how many the audit
 // contradicted) and returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                       int threads, const UnitRunner* runner, const std::string& sub, Writer& out,
-                       nlohmann::ordered_json& d);
+std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityAudit& a,
+                       const std::string& sub, Writer& out, nlohmann::ordered_json& d);
 
 }  // namespace armstudy::dexterity

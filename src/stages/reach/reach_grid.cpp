@@ -21,15 +21,13 @@
 #include "stages/reach/reach_units.hpp"
 #include "study/checkpoint.hpp"
 #include "study/interleave.hpp"
+#include "study/rendered_part.hpp"
 #include "study/scene.hpp"
 
 namespace armstudy {
 
 using nlohmann::ordered_json;
 
-namespace {
-constexpr std::string_view kDesignPartMagic = "armstudy-reach-design-parts-1";
-}  // namespace
 using namespace reach_report;
 using namespace reach_units;
 
@@ -276,7 +274,7 @@ void writeDesignVti(const GridRun& r, std::size_t di,
 }
 
 // Piece 0 of design di: its summary entry, report lines, table rows, VTK map and best robot.
-void renderMain(const GridRun& r, std::size_t di, Writer& out, DesignPart& part) {
+void renderMain(const GridRun& r, std::size_t di, Writer& out, RenderedPart& part) {
   const TaskGrid& g = r.g;
   const PoseSweep& s = r.sweeps[di];
   const StudyDesign& sd = r.study.designs[di];
@@ -321,7 +319,7 @@ void renderMain(const GridRun& r, std::size_t di, Writer& out, DesignPart& part)
 }
 
 // Pieces 1..no of design di: the boundary surface of orientation k (3-D grids).
-void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, DesignPart& part) {
+void renderSurface(const GridRun& r, std::size_t di, int k, Writer& out, RenderedPart& part) {
   const TaskGrid& g = r.g;
   if (!(r.cfg.outputs.surface && g.spatialDimension() == 3)) return;
   const PoseSweep& s = r.sweeps[di];
@@ -389,7 +387,7 @@ std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double
 
 // Pieces no+1..2no of design di: the status (or reachable-fraction) and manipulability figures of
 // orientation k.
-void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, DesignPart& part) {
+void renderImages(const GridRun& r, std::size_t di, int k, Writer& out, RenderedPart& part) {
   if (!r.cfg.outputs.images) return;
   const TaskGrid& g = r.g;
   const ImagePlane& plane = r.plane;
@@ -502,7 +500,7 @@ void renderPair(const GridRun& r, std::size_t a, std::size_t b, Writer& out,
 // into the study's output folder and returns its part and the files' names as bytes.
 std::string renderItem(const GridRun& r, std::size_t it) {
   Writer w(r.ctx.resultsDir());
-  DesignPart part;
+  RenderedPart part;
   if (it < r.designItems()) {
     const std::size_t di = it / static_cast<std::size_t>(r.pieces);
     const int piece = static_cast<int>(it % static_cast<std::size_t>(r.pieces));
@@ -516,43 +514,18 @@ std::string renderItem(const GridRun& r, std::size_t it) {
     const auto [a, b] = r.pairs[r.image_pairs[it - r.designItems()]];
     renderPair(r, a, b, w, part.md);
   }
-  return packDesignPart(part, w);
+  return packRenderedPart(part, w);
 }
 
 // Each design's files, figures and report lines, and each compared pair's images, rendered by the
 // process that owns it (a loop shared among the processes of a distributed run, one piece or pair
-// per chunk), which writes the files into the study's output folder itself: only their names
-// travel, with the design's summary entry (CBOR) and report lines, and every process lists them in
-// design order, so the files and their order are those of a single process.
+// per chunk, study/rendered_part.hpp), which writes the files into the study's output folder
+// itself: only their names travel, with the design's summary entry and report lines, and every
+// process lists them in design order, so the files and their order are those of a single process.
 void renderGrid(GridRun& r) {
   const std::size_t n_items = r.designItems() + (r.pair_images ? r.image_pairs.size() : 0);
-  r.parts.assign(n_items, {});
-  SharedLoop render;
-  render.id = "files/" + r.g.name;
-  render.items = static_cast<long>(n_items);
-  render.chunk = 1;
-  render.compute = [&r](const std::vector<SharedLoop::Chunk>& mine) {
-    // Items are independent (each its own scratch folder and bytes), so this process's share
-    // renders on its threads as well.
-    const std::vector<long> items = SharedLoop::itemsOf(mine);
-    parallelFor(static_cast<int>(items.size()), r.ctx.threads, [&](int k) {
-      const auto it = static_cast<std::size_t>(items[static_cast<std::size_t>(k)]);
-      r.parts[it] = renderItem(r, it);
-    });
-  };
-  render.pack = [&r](std::size_t, const ItemRange& range) {
-    UnitWriter b(kDesignPartMagic);
-    for (long di = range.begin; di < range.end; ++di)
-      b.putString(r.parts[static_cast<std::size_t>(di)]);
-    return b.bytes();
-  };
-  render.unpack = [&r](std::size_t, const ItemRange& range, const std::string& bytes) {
-    UnitReader rd(bytes, kDesignPartMagic);
-    for (long di = range.begin; di < range.end; ++di)
-      r.parts[static_cast<std::size_t>(di)] = rd.getString();
-    ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
-  };
-  runSharedLoop(&r.ctx.units, render);
+  r.parts = renderShared(&r.ctx.units, "files/" + r.g.name, n_items, r.ctx.threads,
+                         [&r](std::size_t it) { return renderItem(r, it); });
 }
 
 // Joins each design's pieces in order: its summary entry (with the surfaces), report and image
@@ -563,20 +536,20 @@ ordered_json joinDesignParts(GridRun& r, std::string& md, std::string& images_md
   ordered_json jdesigns = ordered_json::array();
   std::vector<std::string> design_files;
   for (std::size_t di = 0; di < r.nd; ++di) {
-    DesignPart part;
+    RenderedPart part;
     const std::size_t first = di * static_cast<std::size_t>(r.pieces);
-    unpackDesignPart(r.parts[first], part, design_files);
+    unpackRenderedPart(r.parts[first], part, design_files);
     ordered_json jsurf = ordered_json::array();
     for (int k = 0; k < r.no; ++k) {
-      DesignPart surface;
-      unpackDesignPart(r.parts[first + 1 + static_cast<std::size_t>(k)], surface, design_files);
+      RenderedPart surface;
+      unpackRenderedPart(r.parts[first + 1 + static_cast<std::size_t>(k)], surface, design_files);
       if (!surface.jd.is_null()) jsurf.push_back(std::move(surface.jd));
     }
     if (r.cfg.outputs.surface && r.g.spatialDimension() == 3) part.jd["surface"] = std::move(jsurf);
     for (int k = 0; k < r.no; ++k) {
-      DesignPart figures;
-      unpackDesignPart(r.parts[first + 1 + static_cast<std::size_t>(r.no + k)], figures,
-                       design_files);
+      RenderedPart figures;
+      unpackRenderedPart(r.parts[first + 1 + static_cast<std::size_t>(r.no + k)], figures,
+                         design_files);
       part.images_md += figures.images_md;
     }
     jdesigns.push_back(std::move(part.jd));
@@ -790,8 +763,9 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
                     report::percent(neither / N)});
     const auto img = std::find(r.image_pairs.begin(), r.image_pairs.end(), p);
     if (r.pair_images && img != r.image_pairs.end()) {  // the images the render loop made
-      DesignPart part;
-      unpackDesignPart(r.parts[r.designItems() + (img - r.image_pairs.begin())], part, pair_files);
+      RenderedPart part;
+      unpackRenderedPart(r.parts[r.designItems() + (img - r.image_pairs.begin())], part,
+                         pair_files);
       pair_imgs += part.md;
     }
   }

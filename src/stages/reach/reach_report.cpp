@@ -510,40 +510,4 @@ std::vector<std::string> obstacleRow(const collision::Obstacle& o) {
   return {o.name, ssvTypeName(o.type), pts, report::fixed(o.radius_m * 1e3, 1)};
 }
 
-namespace {
-constexpr std::string_view kDesignPartMagic = "armstudy-reach-design-part-1";
-}  // namespace
-
-std::string packDesignPart(const DesignPart& part, const Writer& w) {
-  UnitWriter b(kDesignPartMagic);
-  b.putVector(nlohmann::ordered_json::to_cbor(part.jd));
-  b.putString(part.md);
-  b.putString(part.images_md);
-  b.put<std::uint64_t>(part.rows.size());
-  for (const auto& row : part.rows) {
-    b.put<std::uint64_t>(row.size());
-    for (const std::string& c : row) b.putString(c);
-  }
-  b.put<std::uint64_t>(w.files().size());
-  for (const std::string& rel : w.files()) b.putString(rel);
-  return b.bytes();
-}
-
-void unpackDesignPart(const std::string& bytes, DesignPart& part, std::vector<std::string>& files) {
-  UnitReader rd(bytes, kDesignPartMagic);
-  std::vector<std::uint8_t> cbor;
-  rd.getVector(cbor);
-  ARMSTUDY_CHECK(rd.ok(), "a design's files arrive whole");
-  part.jd = nlohmann::ordered_json::from_cbor(cbor);
-  part.md = rd.getString();
-  part.images_md = rd.getString();
-  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-    std::vector<std::string> row(rd.get<std::uint64_t>());
-    for (std::string& c : row) c = rd.getString();
-    part.rows.push_back(std::move(row));
-  }
-  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) files.push_back(rd.getString());
-  ARMSTUDY_CHECK(rd.finished(), "a design's files arrive whole");
-}
-
 }  // namespace armstudy::reach_report

@@ -157,18 +157,4 @@ const char* ssvTypeName(SsvType t);
 nlohmann::ordered_json obstacleJson(const collision::Obstacle& o);
 std::vector<std::string> obstacleRow(const collision::Obstacle& o);
 
-// One design's part of a grid's report (rendered by the process that owns the design, docs/
-// distributed.md "Files"): its summary entry, its report and image lines, its table rows, and the
-// names of the files it wrote.
-struct DesignPart {
-  nlohmann::ordered_json jd;
-  std::string md, images_md;
-  std::vector<std::vector<std::string>> rows;
-};
-// The part and the names of the files `w` lists as bytes (the entry as CBOR).
-std::string packDesignPart(const DesignPart& part, const Writer& w);
-// The inverse: fills `part` and appends the files' names (relative to the output folder) to
-// `files`, in the order they were written.
-void unpackDesignPart(const std::string& bytes, DesignPart& part, std::vector<std::string>& files);
-
 }  // namespace armstudy::reach_report
