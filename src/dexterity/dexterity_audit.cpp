@@ -78,12 +78,14 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
         for (int s = 0; s < starts; ++s) {
           randomConfiguration(model, seed, static_cast<std::uint64_t>(row.index), s, q0);
           CellResult cand;
-          if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw)) continue;
+          if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw, false))
+            continue;
           ++row.on_pose;
           if (!cand.reachable) continue;
           ++row.solutions;
           if (cand.H_opt < best) {
             best = cand.H_opt;
+            measureCell(model, ws, options, cell, cand);
             row.manipulability_audit = cand.opt.manipulability;
           }
         }

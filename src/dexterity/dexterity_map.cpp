@@ -168,24 +168,20 @@ bool onPose(const ik::PoseSolveResult& s, const DexterityOptions& options) {
          s.error.orientation_rad <= options.orientation_tolerance_rad;
 }
 
-// The cell's results once r.q_plain (and its errors) hold a reachable plain solution: plain
-// measures, then (redundant designs) the null-space optimisation from `start` (the plain
+// The cell's results once r.q_plain (and its errors) hold a reachable plain solution: the plain
+// objective, then (redundant designs) the null-space optimisation from `start` (the plain
 // configuration when null), retried from the plain configuration when `start` led to a worse
-// optimum, so the optimised configuration is never worse than the plain one.
+// optimum, so the optimised configuration is never worse than the plain one. The measures of
+// both postures are measureCell's.
 void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                 const ik::WeightedObjective& objective, const DexterityOptions& options,
                 const StemGrid::Cell& cell, const JointVector& w_inv, const JointVector* start,
                 CellResult& r) {
-  const Eigen::Vector3d u = options.fixed_direction ? options.direction_W : cell.u_W;
-  ctx.u_W = u;
+  ctx.u_W = options.fixed_direction ? options.direction_W : cell.u_W;
   forwardKinematicsAndJacobian(model, ws, r.q_plain);
-  r.plain = metrics::tcpMeasures(ws, options.measure_space, u, true);
-  r.ellipsoid_plain = metrics::translationalEllipsoid(ws);
   ctx.prepare(r.q_plain);
   r.H_plain = objective.evaluate(ctx, nullptr);
   r.q_opt = r.q_plain;
-  r.opt = r.plain;
-  r.ellipsoid_opt = r.ellipsoid_plain;
   r.H_opt = r.H_plain;
   if (model.dof() <= ik::taskDim(cell.target.kind) || objective.empty()) return;
   const JointVector& from = start ? *start : r.q_plain;
@@ -199,17 +195,25 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.nullspace_iterations = o.iterations;
   r.q_opt = o.q;
   r.H_opt = o.H_final;
+}
+
+}  // namespace
+
+void measureCell(const Model& model, KinematicsWorkspace& ws, const DexterityOptions& options,
+                 const StemGrid::Cell& cell, CellResult& r) {
+  const Eigen::Vector3d u = options.fixed_direction ? options.direction_W : cell.u_W;
+  forwardKinematicsAndJacobian(model, ws, r.q_plain);
+  r.plain = metrics::tcpMeasures(ws, options.measure_space, u, true);
+  r.ellipsoid_plain = metrics::translationalEllipsoid(ws);
   forwardKinematicsAndJacobian(model, ws, r.q_opt);
   r.opt = metrics::tcpMeasures(ws, options.measure_space, u, true);
   r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
 }
 
-}  // namespace
-
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                   const ik::WeightedObjective& objective, const DexterityOptions& options,
                   const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
-                  collision::CollisionWorkspace* cws) {
+                  collision::CollisionWorkspace* cws, bool measure) {
   const JointVector w_inv = weightInverse(options, model.dof());
   const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
   // On the pose as exactly as the null-space stage needs (a seed that only gets within the
@@ -225,6 +229,7 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveCont
   out.orientation_error_rad = s.error.orientation_rad;
   finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
   settleCollision(model, ws, cws, options.collision, out);
+  if (measure) measureCell(model, ws, options, cell, out);
   return true;
 }
 
@@ -283,6 +288,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   }
   finishCell(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr, r);
   settleCollision(model, ws, cws, options.collision, r);
+  measureCell(model, ws, options, cell, r);
   return r;
 }
 

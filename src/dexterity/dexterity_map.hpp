@@ -198,11 +198,18 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
 // local solve, then optimised in the null space (redundant designs) and checked for collisions
 // (settleCollision, with `cws` non-null for collision maps). False when the seed does not lead
 // onto the pose; a candidate in collision returns true with out.reachable false. `out` holds the
-// candidate's plain (the solved pose) and optimised results.
+// candidate's plain (the solved pose) and optimised results; without `measure`, their measures
+// (out.plain, out.opt and the ellipsoids) are left for measureCell, so that a search pays them
+// only for the candidates it adopts.
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                   const ik::WeightedObjective& objective, const DexterityOptions& options,
                   const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
-                  collision::CollisionWorkspace* cws = nullptr);
+                  collision::CollisionWorkspace* cws = nullptr, bool measure = true);
+
+// The measures of a cell's plain and optimised postures (r.plain, r.opt, the ellipsoids) from
+// r.q_plain and r.q_opt.
+void measureCell(const Model& model, KinematicsWorkspace& ws, const DexterityOptions& options,
+                 const StemGrid::Cell& cell, CellResult& r);
 
 // Solves and optimises one cell. The plain configuration: a local damped Newton solve from
 // `warm_plain` (the previous cell's plain solution, may be null) when that lands on the pose (so

@@ -86,10 +86,14 @@ struct SearchContext {
 struct ThreadSolver {
   explicit ThreadSolver(const SearchContext& sc)
       : sc(sc), ws(sc.model), ctx(sc.model, ws), cws(sc.model) {}
-  // The cell's optimum descended from q0 (dexterity::cellFromSeed).
+  // The cell's optimum descended from q0 (dexterity::cellFromSeed), without its measures.
   bool fromSeed(const StemGrid::Cell& cell, const JointVector& q0, CellResult& out) {
     return cellFromSeed(sc.model, ws, ctx, sc.objective, sc.options, cell, q0, out,
-                        sc.check ? &cws : nullptr);
+                        sc.check ? &cws : nullptr, false);
+  }
+  // The measures of a candidate about to be adopted (dexterity::measureCell).
+  void measure(const StemGrid::Cell& cell, CellResult& c) {
+    measureCell(sc.model, ws, sc.options, cell, c);
   }
   const SearchContext& sc;
   KinematicsWorkspace ws;
@@ -199,6 +203,7 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
           CellResult cand;
           ++it.tries[t];
           if (!solver.fromSeed(cell, q0, cand) || !better(cand, cur)) continue;
+          solver.measure(cell, cand);
           if (cur.found_by != CellResult::Source::MultiStart) it.improved[t] = 1;
           adopt(cur, cand, CellResult::Source::MultiStart);
           it.changed[t] = 1;
@@ -258,8 +263,9 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
               continue;
             CellResult cand;
             ++it.tries[t];
-            if (!solver.fromSeed(g.cell(idx % G, idx / G), src.q_opt, cand) || !better(cand, best))
-              continue;
+            const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+            if (!solver.fromSeed(cell, src.q_opt, cand) || !better(cand, best)) continue;
+            solver.measure(cell, cand);
             adopt(best, cand, CellResult::Source::Neighbour);
             it.changed[t] = it.improved[t] = 1;
           }

@@ -50,9 +50,7 @@ void settleCollision(const Model& model, KinematicsWorkspace& ws,
   if (r.q_opt != r.q_plain) {
     const Contact p = contactAt(model, ws, *cws, col, r.q_plain);
     if (p.d_min > col.clearance_m) {  // the descent ended in contact: keep its start
-      r.q_opt = r.q_plain;
-      r.opt = r.plain;
-      r.ellipsoid_opt = r.ellipsoid_plain;
+      r.q_opt = r.q_plain;            // (its measures follow it: measureCell)
       r.H_opt = r.H_plain;
       r.optimised = false;
       r.min_distance_m = p.d_min;

@@ -36,11 +36,6 @@ Eigen::Vector3d rotationBetween(const Eigen::Vector3d& a, const Eigen::Vector3d&
   return (angle / s) * c;
 }
 
-Eigen::Vector3d rotationVector(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
 double taskManipulability(const TaskJacobian& J) {
   const SmallMat A = J * J.transpose();
   const Eigen::LLT<SmallMat> llt(A);
@@ -85,7 +80,7 @@ bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q
 }
 
 void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
-                          TaskVec& e, Basis* S_out) {
+                          TaskVec& e, Basis* S_out, PoseError* pe) {
   const int n = ws.n;
   const int m = taskDim(target.kind);
   J.resize(m, n);
@@ -105,13 +100,18 @@ void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& targe
     const Eigen::Vector3d rv = rotationBetween(a, target.axis_W.normalized());
     J.bottomRows<2>() = S.transpose() * ws.J_W_tcp.bottomRows<3>();
     e.tail<2>() = S.transpose() * rv;
+    if (pe) pe->orientation_rad = rv.norm();
   } else if (target.kind == PoseTaskKind::FullPose) {
     S = Eigen::Matrix3d::Identity();
     J.bottomRows<3>() = ws.J_W_tcp.bottomRows<3>();
-    e.tail<3>() = rotationVector(target.R_WT * ws.R_WT.transpose());
+    const Eigen::AngleAxisd aa(target.R_WT * ws.R_WT.transpose());
+    e.tail<3>() = aa.angle() * aa.axis();
+    if (pe) pe->orientation_rad = aa.angle();
   } else {
     S.resize(3, 0);
+    if (pe) pe->orientation_rad = 0;
   }
+  if (pe) pe->position_m = (target.p_WT - ws.p_WT).norm();
   if (S_out) *S_out = S;
 }
 
@@ -353,8 +353,11 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   for (int it = 0; it < options.max_iterations; ++it) {
     // Descent direction in the null space: Algorithm 5.3 with wdot = 0 and alpha = 1,
     // d = -N W^-1 grad^T (eq. 5.46).
+    // (The manipulability is only needed when the damping is on.)
+    const bool damped = options.damping_lambda0 > 0 && options.damping_m0 > 0;
     const double lambda =
-        adaptiveDamping(taskManipulability(J), options.damping_lambda0, options.damping_m0);
+        damped ? adaptiveDamping(taskManipulability(J), options.damping_lambda0, options.damping_m0)
+               : 0.0;
     if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), grad, 1.0, lambda, d)) {
       res.status = NullspaceStatus::Converged;
       break;
@@ -377,8 +380,8 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
       TaskVec ec;
       for (int c = 0; c <= options.correction_iterations; ++c) {
         forwardKinematicsAndJacobian(model, ws, q_try);
-        taskJacobianAndError(ws, target, Jc, ec);
-        const PoseError pe = poseError(ws, target);
+        PoseError pe;
+        taskJacobianAndError(ws, target, Jc, ec, nullptr, &pe);
         if (pe.position_m <= tol_p && pe.orientation_rad <= tol_o) {
           on_pose = true;
           break;

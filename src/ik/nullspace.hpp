@@ -39,18 +39,22 @@ struct PoseTarget {
 using TaskJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
 using TaskVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
-// Task Jacobian rows (m x n) and error e = w_d - f(q) in the same rows (eq. 5.50b): position error,
-// and the rotation vector that takes the current tool axis/frame onto the desired one, expressed in
-// an orthonormal basis S of the constrained angular directions. Requires tcpJacobian. S (3 x m_rot)
-// is returned so desired angular velocities can be mapped the same way.
-void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
-                          TaskVec& e,
-                          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr);
-
+// How far the tool is from a target.
 struct PoseError {
   double position_m = 0;
   double orientation_rad = 0;  // angle between tool axes (PositionAxis) or frames (FullPose)
 };
+
+// Task Jacobian rows (m x n) and error e = w_d - f(q) in the same rows (eq. 5.50b): position error,
+// and the rotation vector that takes the current tool axis/frame onto the desired one, expressed in
+// an orthonormal basis S of the constrained angular directions. Requires tcpJacobian. S (3 x m_rot)
+// is returned so desired angular velocities can be mapped the same way. With `pe`, also
+// poseError(ws, target) (the same numbers, from the rotation computed here once).
+void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
+                          TaskVec& e,
+                          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr,
+                          PoseError* pe = nullptr);
+
 PoseError poseError(const KinematicsWorkspace& ws, const PoseTarget& target);
 
 // Thesis eq. (5.67): lambda = lambda0 (1 - m/m0)^2 for m < m0, else 0. lambda0 = 0 disables.

@@ -6,7 +6,9 @@
 #include <random>
 #include <sstream>
 
+#include "collision/collision.hpp"
 #include "dexterity/dexterity_audit.hpp"
+#include "dexterity/stem_grid.hpp"
 #include "io/design_io.hpp"
 #include "test_support.hpp"
 
@@ -100,7 +102,7 @@ TEST_CASE(
   const double share = shareWithin(computeDexterityMap(m, o, 2), best, contradicted);
   CHECK(share >= kRequiredShare);
   CHECK(contradicted == 0);
-  // The same oracle tells the pre-issue-12 map (chained rows only) apart: the test can fail.
+  // The same oracle tells the map of the chained rows alone apart: the test can fail.
   DexterityOptions chain = o;
   chain.seed_starts = 0;
   chain.propagation_rounds = 0;
@@ -194,4 +196,55 @@ TEST_CASE("the built-in audit agrees with a brute-force search over every cell o
   CHECK(d1 == d2);
   CHECK(std::adjacent_find(d1.begin(), d1.end(), [](int x, int y) { return x >= y; }) == d1.end());
   CHECK(drawCells(10, 50, 3).size() == 10);
+}
+
+TEST_CASE(
+    "a search candidate measured only when adopted (measureCell) has the measures of one measured "
+    "at once, bit for bit, also where the collision check put the descent back to its start",
+    "[dexterity][map_search]") {
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  DexterityOptions o = regionOptions();
+  o.collision.self = true;  // settleCollision may hand the plain posture to the optimised one
+  StemRow row;
+  row.stem = true;
+  o.collision.obstacles = rowObstacles(o.grid, row);
+  REQUIRE(o.collisionFor(m).enabled());
+  KinematicsWorkspace ws(m);
+  ik::ObjectiveContext ctx(m, ws);
+  collision::CollisionWorkspace cws(m);
+  const ik::WeightedObjective obj = o.buildObjective(m);
+  const int G = o.grid.gamma_rad.count;
+  JointVector q0(m.dof());
+  int candidates = 0, in_collision = 0, put_back = 0;
+  for (int idx = 0; idx < o.grid.size(); ++idx) {
+    const StemGrid::Cell cell = o.grid.cell(idx % G, idx / G);
+    for (int s = 0; s < 4; ++s) {
+      randomConfiguration(m, o.search_seed, static_cast<std::uint64_t>(idx), s, q0);
+      CellResult now, later;
+      const bool a = cellFromSeed(m, ws, ctx, obj, o, cell, q0, now, &cws, true);
+      const bool b = cellFromSeed(m, ws, ctx, obj, o, cell, q0, later, &cws, false);
+      REQUIRE(a == b);
+      if (!a) continue;
+      measureCell(m, ws, o, cell, later);
+      ++candidates;
+      in_collision += !now.reachable;
+      put_back += now.reachable && !now.optimised && now.q_opt == now.q_plain;
+      CHECK(later.q_opt == now.q_opt);
+      CHECK(later.H_opt == now.H_opt);
+      for (const auto& [x, y] : {std::pair{&now.plain, &later.plain}, {&now.opt, &later.opt}}) {
+        CHECK(x->manipulability == y->manipulability);
+        CHECK(x->transmission == y->transmission);
+        CHECK(x->inverse_condition == y->inverse_condition);
+        CHECK(x->sigma_min == y->sigma_min);
+      }
+      CHECK(later.ellipsoid_opt.lengths == now.ellipsoid_opt.lengths);
+      CHECK(later.ellipsoid_opt.axes_W == now.ellipsoid_opt.axes_W);
+      CHECK(later.ellipsoid_plain.lengths == now.ellipsoid_plain.lengths);
+    }
+  }
+  INFO(candidates << " candidates, " << in_collision << " in collision, " << put_back
+                  << " put back to their start");
+  CHECK(candidates > 100);
+  CHECK(in_collision > 0);
+  CHECK(put_back > 0);
 }
