@@ -280,7 +280,7 @@ void renderMain(const GridRun& r, std::size_t di, Writer& out, RenderedPart& par
   const StudyDesign& sd = r.study.designs[di];
   Stats all;
   std::vector<Stats> per(r.no);
-  const std::vector<ManipulabilityParts> mparts = manipulabilityParts(sd.model, g, s);
+  const std::vector<ManipulabilityParts> mparts = manipulabilityParts(sd.model, g, s, 1);
   for (long i = 0; i < g.size(); ++i) {
     const Eigen::Vector3d p = g.position(g.pointOf(i));
     all.add(s, i, p);
@@ -774,7 +774,8 @@ ordered_json compareDesigns(GridRun& r, const ordered_json& jdesigns, std::strin
   std::vector<std::vector<std::string>> brow;
   jcmp["best_variant"] = bestVariants(r, jdesigns, brow);
   std::string dexterity_md;
-  jcmp["dexterity"] = dexterityComparison(r.models, r.g, r.sweeps, r.pairs, dexterity_md);
+  jcmp["dexterity"] =
+      dexterityComparison(r.models, r.g, r.sweeps, r.pairs, r.ctx.threads, dexterity_md);
   md += "Per pose, which designs reach it (all orientations together):\n\n" +
         report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n" +
         dexterity_md;

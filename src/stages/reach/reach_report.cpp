@@ -141,16 +141,21 @@ io::NamedArray arrayOf(const std::string& name, io::ArrayType type, const TaskGr
 }
 
 std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const TaskGrid& g,
-                                                     const PoseSweep& s) {
+                                                     const PoseSweep& s, int threads) {
   std::vector<ManipulabilityParts> parts(static_cast<std::size_t>(g.size()));
-  KinematicsWorkspace kin(model);
-  JointVector q(s.dof);
-  for (long i = 0; i < g.size(); ++i) {
-    if (!s.reachable(i)) continue;
-    for (int c = 0; c < s.dof; ++c) q[c] = s.q[static_cast<std::size_t>(i) * s.dof + c];
-    forwardKinematicsAndJacobian(model, kin, q);
-    parts[static_cast<std::size_t>(i)] =
-        taskManipulabilityParts(kin, taskTarget(g.task_space, g.pose(i)));
+  const long n = g.size();
+#pragma omp parallel num_threads(threads)
+  {
+    KinematicsWorkspace kin(model);
+    JointVector q(s.dof);
+#pragma omp for schedule(static, 256)
+    for (long i = 0; i < n; ++i) {
+      if (!s.reachable(i)) continue;
+      for (int c = 0; c < s.dof; ++c) q[c] = s.q[static_cast<std::size_t>(i) * s.dof + c];
+      forwardKinematicsAndJacobian(model, kin, q);
+      parts[static_cast<std::size_t>(i)] =
+          taskManipulabilityParts(kin, taskTarget(g.task_space, g.pose(i)));
+    }
   }
   return parts;
 }
@@ -251,10 +256,10 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
 nlohmann::ordered_json dexterityComparison(
     const std::vector<const Model*>& models, const TaskGrid& g,
     const std::vector<PoseSweep>& sweeps,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, std::string& md) {
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads, std::string& md) {
   std::vector<std::vector<ManipulabilityParts>> parts;
   for (std::size_t d = 0; d < sweeps.size(); ++d)
-    parts.push_back(manipulabilityParts(*models[d], g, sweeps[d]));
+    parts.push_back(manipulabilityParts(*models[d], g, sweeps[d], threads));
   const bool rot = g.task_space.hasOrientation();
   ordered_json out = ordered_json::array();
   std::vector<std::vector<std::string>> rows;
