@@ -16,6 +16,7 @@
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
+#include "study_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -160,15 +161,9 @@ TEST_CASE(
     "arm calibration figures: TCP residuals in mm, before and after on one range in order, the "
     "check run titled for the calibrated design, before ahead of after on the pages",
     "[calibration][study][report]") {
-  const Study s = loadStudy(test::sourcePath("studies/arm_calibration.toml"));
   const fs::path root = test::emptyTempDir("calibration_figures");
-  RunOptions ro;
-  ro.output_root = root.string();
-  ro.threads = 2;
-  ro.overwrite = true;
-  ro.progress = false;
-  (void)runStudy(s, ro);
-  const fs::path out = root / s.name, tcp = out / "calibration/tcp";
+  const fs::path out = test::runShippedStudy("studies/arm_calibration.toml", root),
+                 tcp = out / "calibration/tcp";
   const nlohmann::json result =
       nlohmann::json::parse(readFileOrThrow((tcp / "result.json").string()));
 

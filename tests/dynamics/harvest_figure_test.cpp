@@ -16,6 +16,7 @@
 #include "io/files.hpp"
 #include "plot_checks.hpp"
 #include "stages/harvest/harvest_report.hpp"
+#include "study_support.hpp"
 #include "test_support.hpp"
 #include "trajectory/greenhouse_row.hpp"
 
@@ -132,14 +133,9 @@ TEST_CASE(
     "harvest fruit figure: every fruit at its position with the outcome its CSV gives, one "
     "colour per outcome, the designs on one scale, no text overlapping",
     "[harvest][report]") {
-  const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));
   const fs::path root = test::emptyTempDir("harvest_figure");
-  RunOptions ro;
-  ro.output_root = root.string();
-  ro.threads = 2;
-  ro.progress = false;
-  (void)runStudy(s, ro);
-  const fs::path out = root / s.name / "harvest";
+  const fs::path out = test::runShippedStudy("studies/harvest_torque.toml", root) / "harvest";
+  const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));  // its settings
   REQUIRE(fs::exists(out / "fruits.svg"));
   const std::string svg = readFileOrThrow((out / "fruits.svg").string());
 

@@ -2,10 +2,6 @@
 // dexterity maps include ones where every cell has the same status), no figure's cell map is a
 // single colour; the reports say "100 % of the N cells ..." instead, and what the reports, the
 // manifest and the study page point to exists.
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPNGReader.h>
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -15,6 +11,8 @@
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
+#include "plot_checks.hpp"
+#include "study_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -47,19 +45,12 @@ std::vector<std::set<unsigned>> mapColours(const std::string& svg) {
   const std::string key = "xlink:href=\"data:image/png;base64,";
   for (auto at = svg.find(key); at != std::string::npos; at = svg.find(key, at + 1)) {
     const auto b = at + key.size();
-    const std::string png = unbase64(svg.substr(b, svg.find('"', b) - b));
-    vtkNew<vtkPNGReader> r;
-    r->SetMemoryBuffer(png.data());
-    r->SetMemoryBufferLength(static_cast<vtkIdType>(png.size()));
-    r->Update();
-    vtkImageData* d = r->GetOutput();
-    int dims[3];
-    d->GetDimensions(dims);
+    const test::Pixels px = test::decode(unbase64(svg.substr(b, svg.find('"', b) - b)));
     std::set<unsigned> colours;
-    for (int y = kMapFrame; y < dims[1] - kMapFrame; ++y)
-      for (int x = kMapFrame; x < dims[0] - kMapFrame; ++x) {
-        const auto* c = static_cast<unsigned char*>(d->GetScalarPointer(x, y, 0));
-        colours.insert((unsigned{c[0]} << 16) | (unsigned{c[1]} << 8) | c[2]);
+    for (int y = kMapFrame; y < px.h - kMapFrame; ++y)
+      for (int x = kMapFrame; x < px.w - kMapFrame; ++x) {
+        const report::Rgb c = px.at(x, y);
+        colours.insert((unsigned{c.r} << 16) | (unsigned{c.g} << 8) | c.b);
       }
     out.push_back(colours);
   }
@@ -73,16 +64,9 @@ TEST_CASE(
     "and the reports point only to files that exist",
     "[report][study]") {
   const fs::path root = test::emptyTempDir("one_colour_maps");
-  RunOptions ro;
-  ro.output_root = root.string();
-  ro.threads = 2;
-  ro.progress = false;
   std::vector<fs::path> outs;
-  for (const char* study : {"studies/stem_ellipsoids.toml", "studies/regression.toml"}) {
-    const Study s = loadStudy(test::sourcePath(study));
-    (void)runStudy(s, ro);
-    outs.push_back(root / s.name);
-  }
+  for (const char* study : {"studies/stem_ellipsoids.toml", "studies/regression.toml"})
+    outs.push_back(test::runShippedStudy(study, root));
   int maps = 0;
   for (const auto& e : fs::recursive_directory_iterator(root)) {
     if (e.path().extension() != ".svg") continue;

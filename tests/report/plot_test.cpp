@@ -17,36 +17,12 @@
 #include "plot_checks.hpp"
 
 using namespace armstudy::report;
+using armstudy::test::decode;
 using armstudy::test::findText;
 using armstudy::test::layoutFault;
+using armstudy::test::Pixels;
 
 namespace {
-
-// Decoded PNG as RGB rows (top row first).
-struct Pixels {
-  int w = 0, h = 0;
-  std::vector<Rgb> p;
-  Rgb at(int x, int y) const { return p[static_cast<std::size_t>(y) * w + x]; }
-};
-Pixels decode(const std::string& png) {
-  vtkNew<vtkPNGReader> r;
-  r->SetMemoryBuffer(png.data());
-  r->SetMemoryBufferLength(static_cast<vtkIdType>(png.size()));
-  r->Update();
-  vtkImageData* d = r->GetOutput();
-  int dims[3];
-  d->GetDimensions(dims);
-  Pixels px;
-  px.w = dims[0];
-  px.h = dims[1];
-  const int nc = d->GetNumberOfScalarComponents();
-  for (int y = 0; y < px.h; ++y)
-    for (int x = 0; x < px.w; ++x) {
-      const auto* c = static_cast<unsigned char*>(d->GetScalarPointer(x, px.h - 1 - y, 0));
-      px.p.push_back(nc >= 3 ? Rgb{c[0], c[1], c[2]} : Rgb{c[0], c[0], c[0]});
-    }
-  return px;
-}
 
 bool wellFormedSvg(const std::string& svg) {
   vtkNew<vtkXMLDataParser> p;

@@ -15,6 +15,7 @@
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
 #include "report/image.hpp"
+#include "study_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -99,12 +100,8 @@ TEST_CASE(
     "deuteranopes, one colour per status in every map",
     "[report][oracle][study]") {
   const fs::path root = test::emptyTempDir("status_colours");
-  RunOptions ro;
-  ro.output_root = root.string();
-  ro.threads = 2;
-  ro.progress = false;
   for (const char* study : {"studies/stem_heatmap_panda.toml", "studies/harvest_torque.toml"})
-    (void)runStudy(loadStudy(test::sourcePath(study)), ro);
+    (void)test::runShippedStudy(study, root);
   std::map<std::string, std::string> colour_of;  // legend label -> colour, over every map
   int maps = 0;
   bool reach_and_collision = false;
