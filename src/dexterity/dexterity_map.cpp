@@ -205,6 +205,11 @@ void measureCell(const Model& model, KinematicsWorkspace& ws, const DexterityOpt
   forwardKinematicsAndJacobian(model, ws, r.q_plain);
   r.plain = metrics::tcpMeasures(ws, options.measure_space, u, true);
   r.ellipsoid_plain = metrics::translationalEllipsoid(ws);
+  if (r.q_opt == r.q_plain) {  // not optimised, or put back to its start
+    r.opt = r.plain;
+    r.ellipsoid_opt = r.ellipsoid_plain;
+    return;
+  }
   forwardKinematicsAndJacobian(model, ws, r.q_opt);
   r.opt = metrics::tcpMeasures(ws, options.measure_space, u, true);
   r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
