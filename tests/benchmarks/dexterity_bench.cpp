@@ -16,6 +16,7 @@
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "kdl_support.hpp"
+#include "study/stage.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;

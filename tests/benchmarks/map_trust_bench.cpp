@@ -18,6 +18,8 @@
 #include "dexterity/dexterity_audit.hpp"
 #include "engine/study_file.hpp"
 #include "reach/reach_audit.hpp"
+#include "stages/reach/reach_config.hpp"
+#include "study/stage.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
