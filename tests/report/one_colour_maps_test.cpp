@@ -4,6 +4,7 @@
 // manifest and the study page point to exists.
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -100,6 +101,48 @@ TEST_CASE(
       INFO(rel);
       CHECK(fs::exists(out / rel));
     }
+  }
+  fs::remove_all(root);
+}
+
+TEST_CASE(
+    "a design that reaches no stem cell gets no manipulability or transmission maps (they would "
+    "be all grey): the report says so, and shows only files that exist",
+    "[report][study][dexterity]") {
+  const fs::path root = test::emptyTempDir("no_reachable_cell");
+  const fs::path study = root / "far.toml";
+  {
+    std::ofstream f(study);
+    f << "[study]\nname = \"far\"\n\n[[design]]\nfile = \""
+      << test::sourcePath("designs/first_prototype_9dof.toml")
+      << "\"\n\n[dexterity]\nstem_x = \"5 m\"\nstem_y = \"0.7 m\"\nradius = \"0.15 m\"\n"
+         "gamma = { min = \"-pi/2\", max = \"pi/2\", step = \"45 deg\" }\n"
+         "z = { min = \"0.8 m\", max = \"1.0 m\", step = \"0.1 m\" }\n";
+  }
+  RunOptions ro;
+  ro.output_root = (root / "out").string();
+  ro.threads = 2;
+  ro.progress = false;
+  (void)runStudy(loadStudy(study.string()), ro);
+  const fs::path out = root / "out" / "far" / "dexterity";
+  const nlohmann::json summary =
+      nlohmann::json::parse(readFileOrThrow((out / "summary.json").string()));
+  REQUIRE(summary["designs"][0]["reachable"].get<int>() == 0);  // the scenario: nothing reached
+  int value_maps = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    value_maps += name.find("_manipulability_") != std::string::npos ||
+                  name.find("_transmission_") != std::string::npos;
+  }
+  CHECK(value_maps == 0);
+  const std::string md = readFileOrThrow((out / "report.md").string());
+  CHECK(md.find("no manipulability or transmission map is drawn") != std::string::npos);
+  static const std::regex image(R"(!\[[^\]]*\]\(([^)]*)\))");
+  for (auto it = std::sregex_iterator(md.begin(), md.end(), image); it != std::sregex_iterator();
+       ++it) {
+    INFO((*it)[1]);
+    CHECK(!(*it)[1].str().empty());
+    CHECK(fs::exists(out / (*it)[1].str()));
   }
   fs::remove_all(root);
 }

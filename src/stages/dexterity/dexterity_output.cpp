@@ -344,6 +344,8 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
   std::map<std::string, std::string> png;  // what the report shows: the .svg figures
   long reachable = 0;
   for (double r : f.reachable) reachable += r > 0;
+  // No cell reached: every value map would be all grey; designMarkdown says so instead.
+  if (reachable == 0) return png;
   for (const Img& im : imgs) {
     // A reachable map of one value (every cell reachable, or none) would be one colour: the
     // report's status cell says it in words instead.
@@ -405,17 +407,22 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
-     << statsRow("transmission beta along u, plain", s.bp) << "\n"
-     << "| optimised manipulability | plain manipulability | optimised manipulability, one "
-        "scale for all designs | transmission (optimised), one scale for all designs | status "
-        "|\n"
-     << "|---|---|---|---|---|\n"
-     << "| ![" << m.name << ": optimised manipulability, normalised]("
-     << png["manipulability_optimised_normalised"] << ") | ![" << m.name
-     << ": plain manipulability, normalised](" << png["manipulability_plain_normalised"] << ") | !["
-     << m.name << ": optimised manipulability, shared scale](" << png["manipulability_optimised"]
-     << ") | ![" << m.name << ": optimised transmission, shared scale]("
-     << png["transmission_optimised"] << ") | " << png["status"] << " |\n\n";
+     << statsRow("transmission beta along u, plain", s.bp) << "\n";
+  if (s.R == 0)
+    md << "No cell is reachable, so no manipulability or transmission map is drawn. Status: "
+       << png["status"] << "\n\n";
+  else
+    md << "| optimised manipulability | plain manipulability | optimised manipulability, one "
+          "scale for all designs | transmission (optimised), one scale for all designs | status "
+          "|\n"
+       << "|---|---|---|---|---|\n"
+       << "| ![" << m.name << ": optimised manipulability, normalised]("
+       << png["manipulability_optimised_normalised"] << ") | ![" << m.name
+       << ": plain manipulability, normalised](" << png["manipulability_plain_normalised"]
+       << ") | ![" << m.name << ": optimised manipulability, shared scale]("
+       << png["manipulability_optimised"] << ") | ![" << m.name
+       << ": optimised transmission, shared scale](" << png["transmission_optimised"] << ") | "
+       << png["status"] << " |\n\n";
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
