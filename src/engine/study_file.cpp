@@ -138,7 +138,9 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
            abg[2]};
   m.name = r.string("name", m.name);
   if (!isPlainName(m.name, kDesignNamePunctuation))
-    r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+    r.fail("name",
+           "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name "
+           "files)");
   m.finalize();
 }
 
