@@ -89,10 +89,15 @@ struct Targets {
   std::string dir;
 };
 
-std::string linkHtml(const std::string& text, const std::string& url, const Targets& t);
+// Emphasis and links nest at most this deep; deeper text is shown as it is written (user text
+// such as 100,000 "**" would otherwise recurse until the stack overflows).
+constexpr int kMaxInlineDepth = 8;
+
+std::string linkHtml(const std::string& text, const std::string& url, const Targets& t, int depth);
 std::string imageHtml(const std::string& alt, const std::string& url, const Targets& t);
 
-std::string inlineMd(const std::string& s, const Targets& t) {
+std::string inlineMd(const std::string& s, const Targets& t, int depth = 0) {
+  if (depth > kMaxInlineDepth) return htmlEscape(s);
   std::string o;
   std::size_t i = 0;
   auto closing = [&](std::size_t from, const std::string& what) { return s.find(what, from); };
@@ -119,7 +124,7 @@ std::string inlineMd(const std::string& s, const Targets& t) {
       const std::size_t rp = rb == std::string::npos ? rb : closing(rb + 2, ")");
       if (rb != std::string::npos && rp != std::string::npos) {
         const std::string text = s.substr(lb + 1, rb - lb - 1), url = s.substr(rb + 2, rp - rb - 2);
-        o += img ? imageHtml(text, url, t) : linkHtml(text, url, t);
+        o += img ? imageHtml(text, url, t) : linkHtml(text, url, t, depth + 1);
         i = rp + 1;
         continue;
       }
@@ -127,7 +132,7 @@ std::string inlineMd(const std::string& s, const Targets& t) {
     if (c == '*' && i + 1 < s.size() && s[i + 1] == '*') {
       const std::size_t e = closing(i + 2, "**");
       if (e != std::string::npos && e > i + 2) {
-        o += "<strong>" + inlineMd(s.substr(i + 2, e - i - 2), t) + "</strong>";
+        o += "<strong>" + inlineMd(s.substr(i + 2, e - i - 2), t, depth + 1) + "</strong>";
         i = e + 2;
         continue;
       }
@@ -137,7 +142,7 @@ std::string inlineMd(const std::string& s, const Targets& t) {
       while ((e = closing(e, "*")) != std::string::npos && e + 1 < s.size() && s[e + 1] == '*')
         e += 2;
       if (e != std::string::npos && e > i + 1 && s[e - 1] != ' ') {
-        o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), t) + "</em>";
+        o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), t, depth + 1) + "</em>";
         i = e + 1;
         continue;
       }
@@ -149,10 +154,10 @@ std::string inlineMd(const std::string& s, const Targets& t) {
 }
 
 // A link that reportLinkTarget keeps, else its text alone.
-std::string linkHtml(const std::string& text, const std::string& url, const Targets& t) {
+std::string linkHtml(const std::string& text, const std::string& url, const Targets& t, int depth) {
   const std::string href = reportLinkTarget(url, t.dir);
-  if (href.empty()) return inlineMd(text, t);
-  return "<a href=\"" + htmlEscape(href) + "\">" + inlineMd(text, t) + "</a>";
+  if (href.empty()) return inlineMd(text, t, depth);
+  return "<a href=\"" + htmlEscape(href) + "\">" + inlineMd(text, t, depth) + "</a>";
 }
 
 // An image inside the output folder that `t.image` resolves, else its alt text alone.

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -263,4 +264,28 @@ TEST_CASE("report.html inlines only images inside the output folder, symbolic li
     CHECK(html.find(alt) != std::string::npos);
   }
   fs::remove_all(top);
+}
+
+TEST_CASE("deeply nested emphasis and links in user text render as text, without a crash",
+          "[report][html][hardening]") {
+  const auto img = [](const std::string& u) { return "IMG:" + u; };
+  constexpr int kMaxNesting = 10;  // the renderer's depth limit and a margin
+  std::string stars, brackets;
+  for (int k = 0; k < 100000; ++k) stars += "**";
+  for (int k = 0; k < 20000; ++k) brackets += "[*";
+  for (const std::string& text : {stars + "x", "*" + stars + "x*", brackets + "x](a)"}) {
+    const std::string html = markdownToHtml("# Study\n\n" + text + "\n", "p-", img);
+    CHECK(html.find("x") != std::string::npos);
+    int depth = 0, deepest = 0;  // of <strong>, <em> and <a> elements
+    for (std::size_t at = html.find('<'); at != std::string::npos; at = html.find('<', at + 1)) {
+      if (html.compare(at, 3, "<a ") == 0 || html.compare(at, 4, "<em>") == 0 ||
+          html.compare(at, 8, "<strong>") == 0)
+        deepest = std::max(deepest, ++depth);
+      else if (html.compare(at, 4, "</a>") == 0 || html.compare(at, 5, "</em>") == 0 ||
+               html.compare(at, 9, "</strong>") == 0)
+        --depth;
+    }
+    CHECK(depth == 0);
+    CHECK(deepest <= kMaxNesting);
+  }
 }
