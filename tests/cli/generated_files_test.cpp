@@ -172,3 +172,34 @@ TEST_CASE("scene.py holds names as Python string literals: python3 runs none of 
   CHECK(runSceneWithPython(d / "scene.py", d) == expected);
   CHECK(script.find("    \"reach/plain_name+j4.x=0.35.vti\",\n") != std::string::npos);
 }
+
+TEST_CASE("an explore parameter over a joint whose name is not plain is refused at once",
+          "[cli][hardening][names]") {
+  const fs::path d = emptyTempDir("hostile_explore");
+  fs::create_directories(d / "studies");
+  fs::create_directory_symlink(sourcePath("designs"), d / "designs");
+  std::string design = armstudy::readFileOrThrow(sourcePath("designs/final_prototype_7dof.toml"));
+  std::string study = armstudy::readFileOrThrow(sourcePath("studies/explore_final_prototype.toml"));
+  auto replaceAll = [](std::string& s, const std::string& from, const std::string& to) {
+    int n = 0;
+    for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+      s.replace(at, from.size(), to), ++n;
+    return n;
+  };
+  REQUIRE(replaceAll(design, "\"j4\"", tomlString(kHostileJoint)) >= 1);
+  REQUIRE(replaceAll(study, "\"../designs/final_prototype_7dof.toml\"", "\"hostile7.toml\"") == 1);
+  REQUIRE(replaceAll(study, "\"joint.j4.x\"", tomlString("joint." + kHostileJoint + ".x")) >= 1);
+  std::ofstream(d / "studies" / "hostile7.toml") << design;
+  std::ofstream(d / "studies" / "explore_hostile.toml") << study;
+  const fs::path out = d / "out";
+  std::string log;
+  const int rc = runCommand("cd " + d.string() + " && timeout 120 " + binaryPath() +
+                                " run studies/explore_hostile.toml --output " + out.string(),
+                            log);
+  INFO(log);
+  CHECK(rc == 2);
+  CHECK(log.find("explore_hostile.toml") != std::string::npos);
+  CHECK(log.find("joint.j2\"") != std::string::npos);
+  CHECK(log.find("plain name") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+}
