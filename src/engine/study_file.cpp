@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "common/names.hpp"
 #include "engine/registry.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -136,9 +137,10 @@ void readUrdfPlacement(TableReader& r, const std::string& path, Model& m) {
            abg[1],
            abg[2]};
   m.name = r.string("name", m.name);
-  for (char c : m.name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
-      r.fail("name", "design names use letters, digits, '_', '-' and '.' only (they name files)");
+  if (!isPlainName(m.name, kDesignNamePunctuation))
+    r.fail("name",
+           "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name "
+           "files)");
   m.finalize();
 }
 

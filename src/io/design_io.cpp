@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "collision/collision_model.hpp"
+#include "common/names.hpp"
 #include "drive/friction.hpp"
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
@@ -161,8 +162,9 @@ void validateDriveEffects(const Model& m, const std::string& file, int effects_l
 // [design]: the design's name, description, source and assumptions.
 void readDesignHeader(TableReader& top, Model& m) {
   TableReader r = top.requiredTable("design");
-  m.name = r.name("name", "design", "_-.",
-                  "design names use letters, digits, '_', '-' and '.' only (they name files)");
+  m.name = r.name(
+      "name", "design", kDesignNamePunctuation,
+      "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name files)");
   m.description = r.string("description", "");
   m.source = r.string("source", "");
   m.assumptions = r.stringArray("assumptions");

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "common/names.hpp"
 #include "io/files.hpp"
 
 namespace armstudy::io {
@@ -186,9 +187,7 @@ std::string TableReader::name(const std::string& key, const std::string& what,
                               const std::string& punctuation, const std::string& rule) {
   std::string s = string(key);
   if (s.empty()) fail(key, what + " name is empty");
-  for (char c : s)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || punctuation.find(c) != std::string::npos))
-      fail(key, rule);
+  if (!isPlainName(s, punctuation)) fail(key, rule);
   return s;
 }
 

@@ -8,6 +8,7 @@
 
 #include "io/files.hpp"
 #include "report/image.hpp"
+#include "report/markdown.hpp"
 
 namespace armstudy::report {
 namespace {
@@ -80,8 +81,23 @@ bool endsWith(const std::string& s, const std::string& e) {
 }
 
 // ---- inline Markdown ----
-std::string inlineMd(const std::string& s,
-                     const std::function<std::string(const std::string&)>& image) {
+// Where a Markdown text's links and images lead: the text was written in folder `dir` of the
+// output folder (markdown.hpp reportLinkTarget, reportImagePath); `image` gives an image's src
+// from its path relative to the output folder, "" to show its alt text instead.
+struct Targets {
+  const std::function<std::string(const std::string&)>& image;
+  std::string dir;
+};
+
+// Emphasis and links nest at most this deep; deeper text is shown as it is written (user text
+// such as 100,000 "**" would otherwise recurse until the stack overflows).
+constexpr int kMaxInlineDepth = 8;
+
+std::string linkHtml(const std::string& text, const std::string& url, const Targets& t, int depth);
+std::string imageHtml(const std::string& alt, const std::string& url, const Targets& t);
+
+std::string inlineMd(const std::string& s, const Targets& t, int depth = 0) {
+  if (depth > kMaxInlineDepth) return htmlEscape(s);
   std::string o;
   std::size_t i = 0;
   auto closing = [&](std::size_t from, const std::string& what) { return s.find(what, from); };
@@ -108,10 +124,7 @@ std::string inlineMd(const std::string& s,
       const std::size_t rp = rb == std::string::npos ? rb : closing(rb + 2, ")");
       if (rb != std::string::npos && rp != std::string::npos) {
         const std::string text = s.substr(lb + 1, rb - lb - 1), url = s.substr(rb + 2, rp - rb - 2);
-        if (img)
-          o += "<img src=\"" + htmlEscape(image(url)) + "\" alt=\"" + htmlEscape(text) + "\">";
-        else
-          o += "<a href=\"" + htmlEscape(url) + "\">" + inlineMd(text, image) + "</a>";
+        o += img ? imageHtml(text, url, t) : linkHtml(text, url, t, depth + 1);
         i = rp + 1;
         continue;
       }
@@ -119,7 +132,7 @@ std::string inlineMd(const std::string& s,
     if (c == '*' && i + 1 < s.size() && s[i + 1] == '*') {
       const std::size_t e = closing(i + 2, "**");
       if (e != std::string::npos && e > i + 2) {
-        o += "<strong>" + inlineMd(s.substr(i + 2, e - i - 2), image) + "</strong>";
+        o += "<strong>" + inlineMd(s.substr(i + 2, e - i - 2), t, depth + 1) + "</strong>";
         i = e + 2;
         continue;
       }
@@ -129,7 +142,7 @@ std::string inlineMd(const std::string& s,
       while ((e = closing(e, "*")) != std::string::npos && e + 1 < s.size() && s[e + 1] == '*')
         e += 2;
       if (e != std::string::npos && e > i + 1 && s[e - 1] != ' ') {
-        o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), image) + "</em>";
+        o += "<em>" + inlineMd(s.substr(i + 1, e - i - 1), t, depth + 1) + "</em>";
         i = e + 1;
         continue;
       }
@@ -138,6 +151,21 @@ std::string inlineMd(const std::string& s,
     ++i;
   }
   return o;
+}
+
+// A link that reportLinkTarget keeps, else its text alone.
+std::string linkHtml(const std::string& text, const std::string& url, const Targets& t, int depth) {
+  const std::string href = reportLinkTarget(url, t.dir);
+  if (href.empty()) return inlineMd(text, t, depth);
+  return "<a href=\"" + htmlEscape(href) + "\">" + inlineMd(text, t, depth) + "</a>";
+}
+
+// An image inside the output folder that `t.image` resolves, else its alt text alone.
+std::string imageHtml(const std::string& alt, const std::string& url, const Targets& t) {
+  const std::string rel = reportImagePath(url, t.dir);
+  const std::string src = rel.empty() ? "" : t.image(rel);
+  if (src.empty()) return htmlEscape(alt);
+  return "<img src=\"" + htmlEscape(src) + "\" alt=\"" + htmlEscape(alt) + "\">";
 }
 
 std::vector<std::string> tableCells(const std::string& line) {
@@ -245,8 +273,8 @@ class MarkdownToHtml {
  public:
   using Image = std::function<std::string(const std::string&)>;
   MarkdownToHtml(const std::string& md, const std::string& id_prefix, const Image& image,
-                 std::vector<Heading>* headings)
-      : id_prefix_(id_prefix), image_(image), headings_(headings) {
+                 std::vector<Heading>* headings, const std::string& dir)
+      : id_prefix_(id_prefix), targets_{image, dir}, headings_(headings) {
     std::istringstream in(md);
     std::string l;
     while (std::getline(in, l)) {
@@ -308,22 +336,22 @@ class MarkdownToHtml {
     para_.clear();
     const std::vector<std::string> imgs = onlyImages(s);
     if (imgs.empty()) {
-      o_ << "<p>" << inlineMd(s, image_) << "</p>\n";
+      o_ << "<p>" << inlineMd(s, targets_) << "</p>\n";
       return;
     }
     std::size_t end = i_;
     const std::string next = nextParagraph(i_, end);
     std::string caption;
     if (wholeItalic(next)) {
-      caption = inlineMd(next.substr(1, next.size() - 2), image_);
+      caption = inlineMd(next.substr(1, next.size() - 2), targets_);
       i_ = end;
     }
     o_ << (imgs.size() > 1 ? "<div class=\"gallery\">\n" : "");
     for (const auto& im : imgs) {
       const std::size_t rb = im.find("](");
       const std::string alt = im.substr(2, rb - 2);
-      o_ << "<figure>" << inlineMd(im, image_) << "<figcaption>"
-         << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, image_) : caption)
+      o_ << "<figure>" << inlineMd(im, targets_) << "<figcaption>"
+         << (caption.empty() || imgs.size() > 1 ? inlineMd(alt, targets_) : caption)
          << "</figcaption></figure>\n";
     }
     if (imgs.size() > 1 && !caption.empty()) o_ << "<p class=\"caption\">" << caption << "</p>\n";
@@ -342,7 +370,7 @@ class MarkdownToHtml {
     const std::size_t level = l.find_first_not_of('#');
     const std::string text = l.substr(level + 1);
     const std::string id = id_prefix_ + std::to_string(n_heading_++);
-    o_ << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, image_) << "</h"
+    o_ << "<h" << level + 1 << " id=\"" << id << "\">" << inlineMd(text, targets_) << "</h"
        << level + 1 << ">\n";
     if (headings_) headings_->push_back({static_cast<int>(level), id, text});
     ++i_;
@@ -356,7 +384,7 @@ class MarkdownToHtml {
       right[c] = !seps[c].empty() && seps[c].back() == ':';
     o_ << "<div class=\"table-wrap\"><table>\n<thead><tr>";
     for (std::size_t c = 0; c < head.size(); ++c)
-      o_ << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], image_)
+      o_ << "<th" << (right[c] ? " class=\"num\"" : "") << ">" << inlineMd(head[c], targets_)
          << "</th>";
     o_ << "</tr></thead>\n<tbody>\n";
     for (i_ += 2; i_ < lines_.size() && !lines_[i_].empty() && lines_[i_][0] == '|'; ++i_) {
@@ -364,7 +392,7 @@ class MarkdownToHtml {
       o_ << "<tr>";
       for (std::size_t c = 0; c < std::max(cells.size(), head.size()); ++c)
         o_ << "<td" << (c < right.size() && right[c] ? " class=\"num\"" : "") << ">"
-           << (c < cells.size() ? inlineMd(cells[c], image_) : "") << "</td>";
+           << (c < cells.size() ? inlineMd(cells[c], targets_) : "") << "</td>";
       o_ << "</tr>\n";
     }
     o_ << "</tbody></table></div>\n";
@@ -378,14 +406,14 @@ class MarkdownToHtml {
       while (i_ + 1 < lines_.size() && lines_[i_ + 1].rfind("  ", 0) == 0 &&
              !isBlank(lines_[i_ + 1]))
         item += " " + lines_[++i_].substr(2);
-      o_ << "<li>" << inlineMd(item, image_) << "</li>\n";
+      o_ << "<li>" << inlineMd(item, targets_) << "</li>\n";
     }
     o_ << "</ul>\n";
   }
 
   std::vector<std::string> lines_;
   const std::string& id_prefix_;
-  const Image& image_;
+  Targets targets_;
   std::vector<Heading>* headings_;
   std::ostringstream o_;
   std::vector<std::string> para_;
@@ -397,15 +425,15 @@ class MarkdownToHtml {
 
 std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
                            const std::function<std::string(const std::string&)>& image,
-                           std::vector<Heading>* headings) {
-  return MarkdownToHtml(md, id_prefix, image, headings).run();
+                           std::vector<Heading>* headings, const std::string& dir) {
+  return MarkdownToHtml(md, id_prefix, image, headings, dir).run();
 }
 
 namespace {
 
 // The page around the contents (`nav_html`) and the stages (`body_html`): head, style, the answer
 // block, and the script that enlarges a figure on a click (another click or Escape puts it back).
-std::string page(const std::string& study_name, const std::string& answer_md,
+std::string page(const std::string& study_name, const std::string& answer_html,
                  const std::string& nav_html, const std::string& body_html) {
   std::ostringstream head;
   head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -414,10 +442,8 @@ std::string page(const std::string& study_name, const std::string& answer_md,
        << htmlEscape(study_name) << "</title>\n<style>" << kCss
        << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name)
        << "</h1></header>\n<main>\n";
-  if (!answer_md.empty())
-    head << "<section class=\"answer\" id=\"answer\">\n"
-         << markdownToHtml(answer_md, "answer-", [](const std::string& u) { return u; })
-         << "</section>\n";
+  if (!answer_html.empty())
+    head << "<section class=\"answer\" id=\"answer\">\n" << answer_html << "</section>\n";
   head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
           "the same text).</p>\n";
   const std::string tail =
@@ -432,32 +458,76 @@ std::string page(const std::string& study_name, const std::string& answer_md,
   return out;
 }
 
-}  // namespace
+// The figures of one report.html: each image's src (a data URI within the page's budget, else a
+// link), only for files inside the output folder with symbolic links resolved.
+class Figures {
+ public:
+  explicit Figures(const std::string& output_dir) : root_(output_dir) {
+    std::error_code ec;
+    base_ = fs::weakly_canonical(fs::absolute(root_), ec);
+    if (ec) base_.clear();
+  }
 
-std::string htmlReport(const std::string& output_dir, const std::string& study_name,
-                       const std::vector<HtmlStage>& stages, const std::string& answer_md) {
-  const fs::path root(output_dir);
-  std::set<std::string> shown;  // figures a report already shows (relative to the output folder)
-  std::size_t inlined = 0;      // bytes of the figures carried so far
-  auto dataUri = [&](const std::string& rel) -> std::string {
-    const fs::path p = root / rel;
+  // True when root/rel, symbolic links resolved (a missing tail as written), is inside the folder.
+  bool inside(const std::string& rel) const {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(base_ / rel, ec);
+    if (ec || base_.empty()) return false;
+    const fs::path r = p.lexically_relative(base_);
+    return !r.empty() && *r.begin() != "..";
+  }
+
+  // The src of the figure `rel` (relative to the output folder): its data URI when it is an .svg
+  // or .png file within the limits, else `rel` (a link); "" when it is outside the folder.
+  std::string src(const std::string& rel) {
+    if (!inside(rel)) return "";
+    const fs::path p = root_ / rel;
     std::string mime;
     if (endsWith(rel, ".svg"))
       mime = "image/svg+xml";
     else if (endsWith(rel, ".png"))
       mime = "image/png";
-    if (mime.empty() || !fs::exists(p)) return rel;  // left as a link
+    std::error_code ec;
+    if (mime.empty() || !fs::is_regular_file(p, ec)) return rel;  // left as a link
     shown.insert(fs::path(rel).lexically_normal().generic_string());
     const std::size_t size = fs::file_size(p);
-    if (size > kInlineFigureBytes || inlined + size > kInlineTotalBytes) return rel;  // linked
-    inlined += size;
+    if (size > kInlineFigureBytes || inlined_ + size > kInlineTotalBytes) return rel;  // linked
+    inlined_ += size;
     const std::string bytes = readFileOrThrow(p.string());
     std::string uri;
     uri.reserve(5 + mime.size() + 8 + (bytes.size() + 2) / 3 * 4);
     uri.append("data:").append(mime).append(";base64,");
     appendBase64(uri, bytes);
     return uri;
-  };
+  }
+
+  // `rel` as a link when it is inside the folder, else "".
+  std::string link(const std::string& rel) const { return inside(rel) ? rel : ""; }
+
+  std::set<std::string> shown;  // figures a report already shows (relative to the output folder)
+
+ private:
+  fs::path root_, base_;
+  std::size_t inlined_ = 0;  // bytes of the figures carried so far
+};
+
+}  // namespace
+
+std::string htmlReport(const std::string& output_dir, const std::string& study_name,
+                       const std::vector<HtmlStage>& stages, const std::string& answer_md) {
+  const fs::path root(output_dir);
+  Figures figures(output_dir);
+  const std::function<std::string(const std::string&)> dataUri =
+                                                           [&](const std::string&rel) {
+                                                             return figures.src(rel);
+                                                           },
+                                                       linked = [&](const std::string&rel) {
+                                                         return figures.link(rel);
+                                                       };
+  std::set<std::string>& shown = figures.shown;
+  // The answer's images are linked, not carried (it opens the page).
+  const std::string answer_html =
+      answer_md.empty() ? "" : markdownToHtml(answer_md, "answer-", linked);
   std::ostringstream body, nav;
   nav << "<nav class=\"contents\"><strong>Contents</strong>\n<ul>\n";
   int sec = 0;
@@ -471,19 +541,14 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       if (!endsWith(f, ".md")) continue;
       const fs::path p = root / f;
       if (!fs::exists(p)) continue;
-      const fs::path dir = fs::path(f).parent_path();
+      const std::string dir = fs::path(f).parent_path().generic_string();
       std::vector<Heading> hs;
-      body << markdownToHtml(
-          readFileOrThrow(p.string()), sid + "-" + std::to_string(md_count++) + "-",
-          [&](const std::string& url) {
-            if (url.find("://") != std::string::npos) return url;
-            return dataUri((dir / url).lexically_normal().generic_string());
-          },
-          &hs);
+      body << markdownToHtml(readFileOrThrow(p.string()),
+                             sid + "-" + std::to_string(md_count++) + "-", dataUri, &hs, dir);
       for (const Heading& h : hs)
         if (h.level <= 3)
           nav << "<li class=\"l" << h.level << "\"><a href=\"#" << h.id << "\">"
-              << inlineMd(h.text, [](const std::string& u) { return u; }) << "</a></li>\n";
+              << inlineMd(h.text, Targets{linked, dir}) << "</a></li>\n";
     }
     // Figures no report shows (one per figure: an .svg, else its .png).
     std::vector<std::string> more;
@@ -502,10 +567,13 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     if (!more.empty()) {
       body << "<h3 id=\"" << sid << "-more\">Figures</h3>\n<div class=\"gallery\">\n";
       nav << "<li class=\"l3\"><a href=\"#" << sid << "-more\">Figures</a></li>\n";
-      for (const std::string& f : more)
-        body << "<figure><img src=\"" << htmlEscape(dataUri(f)) << "\" alt=\"" << htmlEscape(f)
+      for (const std::string& f : more) {
+        const std::string src = dataUri(f);
+        if (src.empty()) continue;  // outside the output folder
+        body << "<figure><img src=\"" << htmlEscape(src) << "\" alt=\"" << htmlEscape(f)
              << "\"><figcaption>" << htmlEscape(slugless(fs::path(f).stem().string())) << " (<code>"
              << htmlEscape(f) << "</code>)</figcaption></figure>\n";
+      }
       body << "</div>\n";
     }
     // Data files for ParaView and scripts.
@@ -532,7 +600,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   }
   nav << "</ul></nav>\n";
   // One copy of the body into the page (it holds the inlined figures).
-  return page(study_name, answer_md, std::move(nav).str(), std::move(body).str());
+  return page(study_name, answer_html, std::move(nav).str(), std::move(body).str());
 }
 
 }  // namespace armstudy::report

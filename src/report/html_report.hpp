@@ -28,16 +28,18 @@ inline constexpr std::size_t kInlineTotalBytes = 3 * 1024 * 1024;
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
                        const std::vector<HtmlStage>& stages, const std::string& answer_md = "");
 
-// Markdown (the subset above) to HTML. Images are resolved with `image` (returns the src to use,
-// e.g. a data URI); headings get ids "<id_prefix><n>" and are listed in `headings` as
-// (level, id, text) when it is given.
+// Markdown (the subset above) to HTML, written in folder `dir` of the output folder. Links and
+// images are kept as report/markdown.hpp reportLinkTarget and reportImagePath allow (else their
+// text is shown); an image's path relative to the output folder is resolved with `image` (returns
+// the src to use, e.g. a data URI, or "" to show the alt text); headings get ids
+// "<id_prefix><n>" and are listed in `headings` as (level, id, text) when it is given.
 struct Heading {
   int level = 1;
   std::string id, text;
 };
 std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
                            const std::function<std::string(const std::string&)>& image,
-                           std::vector<Heading>* headings = nullptr);
+                           std::vector<Heading>* headings = nullptr, const std::string& dir = "");
 
 std::string base64(const std::string& bytes);
 std::string htmlEscape(const std::string& s);

@@ -1,7 +1,10 @@
 #include "report/markdown.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string_view>
 
 namespace armstudy::report {
 
@@ -33,6 +36,54 @@ std::string markdownTable(const std::vector<std::string>& header,
     out.append("\n");
   }
   return out;
+}
+
+namespace {
+
+bool startsWithNoCase(const std::string& s, const std::string& prefix) {
+  if (s.size() < prefix.size()) return false;
+  for (std::size_t i = 0; i < prefix.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
+  return true;
+}
+
+bool plainPathCharacters(const std::string& s) {
+  for (const char c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) &&
+        std::string_view("-_.~/+=,").find(c) == std::string_view::npos)
+      return false;
+  return true;
+}
+
+// `path` (written in folder `dir`) relative to the output folder; "" when it is not a plain
+// relative path or leaves the folder.
+std::string insideOutput(const std::string& path, const std::string& dir) {
+  if (path.empty() || path[0] == '/' || !plainPathCharacters(path)) return "";
+  const std::filesystem::path p = (std::filesystem::path(dir) / path).lexically_normal();
+  const std::string s = p.generic_string();
+  if (s.empty() || p.is_absolute() || s == ".." || s.rfind("../", 0) == 0) return "";
+  return s;
+}
+
+}  // namespace
+
+std::string reportLinkTarget(const std::string& url, const std::string& dir) {
+  if (startsWithNoCase(url, "http://") || startsWithNoCase(url, "https://")) {
+    for (const char c : url)
+      if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f || c == '\\') return "";
+    return url;
+  }
+  const std::size_t hash = url.find('#');
+  const std::string path = url.substr(0, hash),
+                    fragment = hash == std::string::npos ? "" : url.substr(hash);
+  if (!plainPathCharacters(fragment.empty() ? fragment : fragment.substr(1))) return "";
+  if (path.empty()) return fragment;  // "#id": in the same page ("" when both are empty)
+  const std::string inside = insideOutput(path, dir);
+  return inside.empty() ? "" : inside + fragment;
+}
+
+std::string reportImagePath(const std::string& url, const std::string& dir) {
+  return insideOutput(url, dir);
 }
 
 std::string fixed(double value, int decimals) {

@@ -16,7 +16,8 @@ namespace armstudy::report {
 
 namespace {
 
-// A JSON string literal that is also safe inside a <script> element ("</" never appears).
+// A JSON string literal that is also safe inside a <script> element: "</" and "<!" never appear
+// (no end tag, no "<!--" that would change how the element's end is found).
 std::string jsonString(const std::string& s) {
   std::string o = "\"";
   for (std::size_t i = 0; i < s.size(); ++i) {
@@ -30,6 +31,8 @@ std::string jsonString(const std::string& s) {
       o += buf;
     } else if (c == '/' && i > 0 && s[i - 1] == '<') {
       o += "\\/";
+    } else if (c == '!' && i > 0 && s[i - 1] == '<') {
+      o += "\\u0021";
     } else {
       o += c;
     }

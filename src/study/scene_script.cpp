@@ -1,4 +1,5 @@
 // The pvpython scene script of a study (study/scene.hpp, docs/paraview.md).
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -9,8 +10,59 @@ namespace armstudy::scene {
 
 namespace {
 
+// The code point `cp` of the UTF-8 sequence starting at s[i] and its length (2 to 4: a valid
+// sequence, not overlong, no surrogate); else 1 and the byte itself.
+std::size_t utf8Next(const std::string& s, std::size_t i, unsigned& cp) {
+  const auto c = static_cast<unsigned char>(s[i]);
+  cp = c;
+  const std::size_t n = c >= 0xc2 && c <= 0xdf   ? 2
+                        : c >= 0xe0 && c <= 0xef ? 3
+                        : c >= 0xf0 && c <= 0xf4 ? 4
+                                                 : 1;
+  if (n == 1 || i + n > s.size()) return 1;
+  unsigned v = c & (0x7f >> n);
+  for (std::size_t k = 1; k < n; ++k) {
+    const auto b = static_cast<unsigned char>(s[i + k]);
+    if ((b & 0xc0) != 0x80) return 1;
+    v = (v << 6) | (b & 0x3f);
+  }
+  const bool overlong = (n == 3 && v < 0x800) || (n == 4 && v < 0x10000);
+  if (overlong || (v >= 0xd800 && v <= 0xdfff) || v > 0x10ffff) return 1;
+  cp = v;
+  return n;
+}
+
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// A Python string literal of `s` in ASCII: quotes, backslashes and control characters escaped,
+// other characters as \u / \U escapes of their UTF-8 code points, bytes that are not UTF-8 as
+// the lone surrogates Python gives undecodable file-name bytes (\udc80-\udcff). Text, never code.
+std::string pythonString(const std::string& s) {
+  std::string o = "\"";
+  char buf[16];
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += static_cast<char>(c);
+      ++i;
+      continue;
+    }
+    if (c >= 0x20 && c < 0x7f) {
+      o += static_cast<char>(c);
+      ++i;
+      continue;
+    }
+    unsigned cp = 0;
+    const std::size_t n = utf8Next(s, i, cp);
+    if (n == 1 && c >= 0x80) cp = 0xdc00 | c;  // not UTF-8: as Python's surrogateescape
+    std::snprintf(buf, sizeof buf, cp > 0xffff ? "\\U%08x" : cp > 0xff ? "\\u%04x" : "\\x%02x", cp);
+    o += buf;
+    i += n;
+  }
+  return o + "\"";
 }
 
 // What the script does with the listed files; FILES and WORLD are filled in before it.
@@ -305,16 +357,17 @@ bool isSpatialFile(const std::string& rel) {
 }
 
 std::string sceneScript(const std::string& study_name, const std::vector<std::string>& files) {
-  std::string s = "# ParaView scene of the armstudy study \"" + study_name +
-                  "\" (docs/paraview.md), written by `armstudy run`.\n"
+  std::string s = "# ParaView scene of the armstudy study " + pythonString(study_name) +
+                  " (docs/paraview.md), written by `armstudy run`.\n"
                   "#   pvpython scene.py                         an interactive window\n"
                   "#   pvpython scene.py --screenshot scene.png  renders offscreen into a PNG "
                   "(--no-bars: without colour bars)\n"
                   "#   paraview --script=scene.py                in the ParaView GUI\n"
-                  "WORLD = \"" +
-                  std::string(io::kWorldMetres) + "\"\nFILES = [\n";
-  for (const std::string& f : files)
-    if (isSpatialFile(f) && f.find("/step_") == std::string::npos) s += "    \"" + f + "\",\n";
+                  "WORLD = " +
+                  pythonString(io::kWorldMetres) + "\nFILES = [\n";
+  for (const std::string& f : files)  // as literals: a name is text, never code
+    if (isSpatialFile(f) && f.find("/step_") == std::string::npos)
+      s += "    " + pythonString(f) + ",\n";
   s += "]\n";
   return s + kScriptBody;
 }

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -107,4 +108,184 @@ TEST_CASE("report.html links a figure over the inline limit and the figures afte
   CHECK(html.find("src=\"images/f" + std::to_string(n - 1) + ".svg\"") != std::string::npos);
   CHECK(html.size() < report::kInlineTotalBytes * 4 / 3 + 200 * 1024);  // base64 of the budget
   fs::remove_all(d);
+}
+
+namespace {
+
+// The href values of <a> elements in `html`, as a browser reads them (the entities of htmlEscape
+// decoded).
+std::vector<std::string> hrefs(const std::string& html) {
+  std::vector<std::string> out;
+  for (std::size_t at = html.find("<a href=\""); at != std::string::npos;
+       at = html.find("<a href=\"", at + 1)) {
+    const std::size_t from = at + 9, to = html.find('"', from);
+    std::string v = html.substr(from, to - from);
+    for (const auto& [entity, c] : {std::pair<std::string, std::string>{"&quot;", "\""},
+                                    {"&lt;", "<"},
+                                    {"&gt;", ">"},
+                                    {"&amp;", "&"}})
+      for (std::size_t k = v.find(entity); k != std::string::npos; k = v.find(entity, k + 1))
+        v.replace(k, entity.size(), c);
+    out.push_back(v);
+  }
+  return out;
+}
+
+// The scheme a browser finds in an href: tabs and newlines removed, leading spaces and control
+// characters skipped, lower case, up to the first ':' (empty when there is none before / ? #).
+std::string browserScheme(std::string href) {
+  std::erase_if(href, [](char c) { return c == '\t' || c == '\n' || c == '\r'; });
+  std::size_t a = 0;
+  while (a < href.size() && static_cast<unsigned char>(href[a]) <= 0x20) ++a;
+  const std::size_t colon = href.find(':', a), stop = href.find_first_of("/?#", a);
+  if (colon == std::string::npos || (stop != std::string::npos && stop < colon)) return "";
+  std::string s = href.substr(a, colon - a);
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("report Markdown links: only http(s) and relative paths inside the output folder",
+          "[report][html][hardening]") {
+  const fs::path d =
+      fs::temp_directory_path() / ("armstudy_html_links_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d / "reach");
+  struct Case {
+    std::string url;
+    bool kept;
+    std::string href;  // where a kept link in reach/report.md points (from the output folder)
+  };
+  const Case cases[] = {
+      {"javascript:alert.name", false, ""},
+      {"JaVaScRiPt:alert.name", false, ""},
+      {" javascript:alert.name", false, ""},
+      {"java\tscript:alert.name", false, ""},
+      {"java&#x09;script:alert.name", false, ""},
+      {"&#106;avascript:alert.name", false, ""},
+      {"&#x6A;avascript&#58;alert.name", false, ""},
+      {"data:text/html;base64,PHNjcmlwdD5hbGVydCgxKTwvc2NyaXB0Pg==", false, ""},
+      {"file:///etc/passwd", false, ""},
+      {"vbscript:msgbox.name", false, ""},
+      {"//evil.example/x", false, ""},
+      {"/etc/passwd", false, ""},
+      {"\\\\evil.example\\x", false, ""},
+      {"../../etc/passwd", false, ""},
+      {"../../report.md", false, ""},
+      {"%2e%2e/%2e%2e/etc/passwd", false, ""},
+      {"https://example.org/a?b=c", true, "https://example.org/a?b=c"},
+      {"HTTP://example.org/", true, "HTTP://example.org/"},
+      {"grid.vti", true, "reach/grid.vti"},
+      {"../view.html", true, "view.html"},
+      {"#frag", true, "#frag"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.url);
+    // In a stage's report (a paragraph and a table cell, where joint names and references'
+    // sources appear) and, refused ones, in the study's answer.
+    writeFileAtomic(
+        (d / "reach/report.md").string(),
+        "Text [the link](" + c.url + ") end.\n\n| a |\n| --- |\n| [cell](" + c.url + ") |\n");
+    const std::string html = htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
+                                        c.kept ? "" : "Answer [the link](" + c.url + ") end.\n");
+    std::vector<std::string> links;  // the stage's and the answer's (not the contents' #s0...)
+    for (const std::string& h : hrefs(html))
+      if (h.rfind("#s0", 0) != 0) links.push_back(h);
+    for (const std::string& h : links) {
+      INFO(h);
+      const std::string scheme = browserScheme(h);
+      CHECK((scheme.empty() || scheme == "http" || scheme == "https"));
+      CHECK(h.rfind("/", 0) != 0);
+      CHECK(h.find("..") == std::string::npos);
+    }
+    if (c.kept) {
+      CHECK(links == std::vector<std::string>{c.href, c.href});
+    } else {
+      CHECK(links.empty());
+      CHECK(html.find("Text the link end.") != std::string::npos);  // shown as its text
+      CHECK(html.find("<td>cell</td>") != std::string::npos);
+      CHECK(html.find("Answer the link end.") != std::string::npos);
+    }
+  }
+  fs::remove_all(d);
+}
+
+TEST_CASE("report.html inlines only images inside the output folder, symbolic links resolved",
+          "[report][html][hardening]") {
+  const fs::path top =
+      fs::temp_directory_path() / ("armstudy_html_images_" + std::to_string(getpid()));
+  fs::remove_all(top);
+  const fs::path d = top / "out", secret_dir = top / "elsewhere";
+  fs::create_directories(d / "reach" / "images");
+  fs::create_directories(secret_dir);
+  const std::string own = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"4\" height=\"4\"/>\n";
+  const std::string secret =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\"><text>SECRET-OUTSIDE</text></svg>\n";
+  writeFileAtomic((d / "reach/images/own.svg").string(), own);
+  writeFileAtomic((secret_dir / "secret.svg").string(), secret);
+  writeFileAtomic((secret_dir / "secret.png").string(), secret);
+  // Symbolic links inside the output folder that lead out of it: a file and a folder.
+  fs::create_symlink(secret_dir / "secret.svg", d / "reach/images/link.svg");
+  fs::create_directory_symlink(secret_dir, d / "reach/linked_folder");
+  REQUIRE(fs::is_symlink(d / "reach/images/link.svg"));
+  REQUIRE(fs::is_symlink(d / "reach/linked_folder"));
+  const std::string abs_svg = (secret_dir / "secret.svg").string();
+  const std::string md =
+      "# Reach\n\n![own](images/own.svg)\n\n"
+      "Absolute: ![a](" +
+      abs_svg +
+      ") and up: ![b](../../elsewhere/secret.svg) ![c](../../elsewhere/"
+      "secret.png)\n\nLinks: ![d](images/link.svg) "
+      "![e](linked_folder/secret.svg)\n\n"
+      "| joint | source |\n| --- | --- |\n| ![f](" +
+      abs_svg +
+      ") | ![g](images/link.svg) |\n\n"
+      "Remote: ![h](https://example.org/pixel.png) "
+      "![i](data:image/svg+xml;base64,AAAA)\n";
+  writeFileAtomic((d / "reach/report.md").string(), md);
+  const std::string answer = "Answer ![j](" + abs_svg + ") ![k](reach/images/link.svg)\n";
+  const std::string html = htmlReport(
+      d.string(), "s",
+      {{"reach", {"reach/report.md", "reach/images/own.svg", "reach/images/link.svg"}}}, answer);
+  CHECK(html.find("data:image/svg+xml;base64," + base64(own)) != std::string::npos);
+  CHECK(html.find(base64(secret)) == std::string::npos);  // neither the .svg nor the .png
+  CHECK(html.find("SECRET-OUTSIDE") == std::string::npos);
+  CHECK(html.find("elsewhere") == std::string::npos);  // not even linked
+  CHECK(html.find(abs_svg) == std::string::npos);
+  CHECK(html.find("src=\"reach/images/link.svg\"") == std::string::npos);
+  CHECK(html.find("linked_folder") == std::string::npos);
+  CHECK(html.find("example.org") == std::string::npos);  // nothing fetched
+  CHECK(html.find("src=\"data:image/svg+xml;base64,AAAA") == std::string::npos);
+  // Each refused image is shown as its alt text.
+  for (const char* alt : {"Absolute: a and up: b c", "Links: d e", "<td>f</td><td>g</td>",
+                          "Remote: h i", "Answer j k"}) {
+    INFO(alt);
+    CHECK(html.find(alt) != std::string::npos);
+  }
+  fs::remove_all(top);
+}
+
+TEST_CASE("deeply nested emphasis and links in user text render as text, without a crash",
+          "[report][html][hardening]") {
+  const auto img = [](const std::string& u) { return "IMG:" + u; };
+  constexpr int kMaxNesting = 10;  // the renderer's depth limit and a margin
+  std::string stars, brackets;
+  for (int k = 0; k < 100000; ++k) stars += "**";
+  for (int k = 0; k < 20000; ++k) brackets += "[*";
+  for (const std::string& text : {stars + "x", "*" + stars + "x*", brackets + "x](a)"}) {
+    const std::string html = markdownToHtml("# Study\n\n" + text + "\n", "p-", img);
+    CHECK(html.find("x") != std::string::npos);
+    int depth = 0, deepest = 0;  // of <strong>, <em> and <a> elements
+    for (std::size_t at = html.find('<'); at != std::string::npos; at = html.find('<', at + 1)) {
+      if (html.compare(at, 3, "<a ") == 0 || html.compare(at, 4, "<em>") == 0 ||
+          html.compare(at, 8, "<strong>") == 0)
+        deepest = std::max(deepest, ++depth);
+      else if (html.compare(at, 4, "</a>") == 0 || html.compare(at, 5, "</em>") == 0 ||
+               html.compare(at, 9, "</strong>") == 0)
+        --depth;
+    }
+    CHECK(depth == 0);
+    CHECK(deepest <= kMaxNesting);
+  }
 }

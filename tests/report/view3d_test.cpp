@@ -101,3 +101,37 @@ TEST_CASE("view.html carries the maps' points, thinned beyond the cap, and reads
   CHECK(d["solids"][0]["name"] == "stem");
   CHECK(d["clouds"][0]["arm"].size() == 3);
 }
+
+TEST_CASE("view.html keeps user strings as data: no end tag and no comment opener in its JSON",
+          "[report][hardening]") {
+  View3d v;
+  v.title = "3-D view: </title><script>alert(1)</script>";
+  v.value_label = "manipulability";
+  ViewCloud c;
+  // A joint or design name: "<!--" then "<script>" would keep the data element open past its
+  // "</script>" (the HTML parser's escaped script state), running what follows.
+  const std::string hostile = "j2<!--<script>\"</script><!-- x --></SCRIPT>\\u2028";
+  c.name = hostile;
+  c.arm_caption = hostile;
+  c.status_names = {hostile};
+  c.p_W = {{0, 0, 0}};
+  c.status = {0};
+  c.value = {0.5};
+  c.arm_W = {{0, 0, 0}, {0, 0, 0.5}};
+  v.clouds.push_back(c);
+  v.solids.push_back({hostile, 1, {{{0.2, 0.7, 0}, {0, 0, 0}, {0, 0, 0}}}, 0.012});
+  const std::string html = viewHtml(v, "");
+  const std::string open = "<script type=\"application/json\" id=\"armstudy-view-data\">";
+  const std::size_t a = html.find(open) + open.size(), b = html.find("</script>", a);
+  REQUIRE(b != std::string::npos);
+  std::string data = html.substr(a, b - a);
+  for (char& ch : data) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  CHECK(data.find("<!") == std::string::npos);
+  CHECK(data.find("</") == std::string::npos);
+  const nlohmann::json d = pageData(html);  // the strings read back as they were
+  CHECK(d["clouds"][0]["name"] == hostile);
+  CHECK(d["clouds"][0]["arm_caption"] == hostile);
+  CHECK(d["clouds"][0]["status_names"][0] == hostile);
+  CHECK(d["solids"][0]["name"] == hostile);
+  CHECK(html.find("<title>3-D view: &lt;/title&gt;&lt;script&gt;") != std::string::npos);
+}

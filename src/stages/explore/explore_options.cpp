@@ -3,6 +3,7 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/variant.hpp"
 #include "stages/explore/explore.hpp"
 
 namespace armstudy::explore {
@@ -21,6 +22,7 @@ Parameter readParameter(TableReader& r, const Model& base) {
   Dimension dim;
   std::string err;
   if (!modelEntryDimension(base, p.key, dim, err)) r.fail("key", err);
+  checkVariantName(base.name, {{p.key, 0.0}}, r.file(), p.line);  // candidates' names name files
   if (r.has("values")) {
     if (r.has("from") || r.has("to")) r.fail("values", "give either values or from/to, not both");
     const toml::array* a = r.array("values");
