@@ -75,6 +75,7 @@ std::string lockPathBeside(const std::string& out_dir) {
 }  // namespace
 
 StagedOutput::StagedOutput(const std::string& out_dir, bool lock) : out_(out_dir) {
+  checkOutputFolder(out_dir);  // before the lock file beside it is made
   if (lock) lock_.emplace(lockPathBeside(out_dir), out_dir);
   staging_ = makeStagingFolder(out_dir);
 }

@@ -322,6 +322,7 @@ void addSynthCommand(CLI::App* cmd, Action& action) {
             [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
               if (*kind == "drive" && joint->empty())
                 throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
+              checkOutputPath(*out);
               const Model m = loadAnyDesign(*design, src->urdf());
               if (*kind == "tcp") {
                 calibration::TcpSynthOptions so = arm->tcp;

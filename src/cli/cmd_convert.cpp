@@ -22,6 +22,7 @@ void addConvertCommand(CLI::App* cmd, Action& action) {
     const bool out_toml = a->out.size() > 5 && a->out.substr(a->out.size() - 5) == ".toml";
     if (!out_urdf && !out_toml)
       throw InputError(a->out, 0, "OUT", "the output must end in .urdf or .toml");
+    checkOutputPath(a->out);
     std::vector<std::string> warnings;
     UrdfInfo info;
     const Model m = loadAnyDesign(a->in, a->src.urdf(), &info, &warnings);

@@ -44,6 +44,7 @@ void addDrawCommand(CLI::App* cmd, Action& action) {
   cmd->add_flag("--deg", a->deg, "Revolute joint values in degrees");
   cmd->add_option("--out", a->out, "The file to write: arm.svg (or arm.png)")->required();
   setAction(cmd, action, [a] {
+    checkOutputPath(a->out);
     UrdfOptions uo = a->src.urdf();
     uo.collision = false;
     const Model m = loadAnyDesign(a->path, uo);

@@ -60,6 +60,7 @@ void addCheckCommand(CLI::App* cmd, Action& action) {
   cmd->add_flag("--all", a->all, "List every metric, not only those that moved");
   setAction(cmd, action, [a] {
     const Study s = loadStudy(a->path);
+    if (!a->json_out.empty()) checkOutputPath(a->json_out);
     if (!std::filesystem::exists(s.regression.baseline_path))
       throw InputError(s.regression.baseline_path, 0, "",
                        "no baseline recorded for study '" + s.name + "'; run `armstudy baseline " +

@@ -70,14 +70,17 @@ static void removePreviousResults(const std::filesystem::path& dir) {
   if (!fs::exists(man)) return;
   try {
     const auto j = nlohmann::json::parse(readFileOrThrow(man.string()));
-    // Only files inside the folder: canonical paths (symbolic links resolved), compared by path
-    // components, never by string prefix (out/mini_other is not inside out/mini).
+    // Only regular files inside the folder: canonical paths (symbolic links resolved), compared by
+    // path components, never by string prefix (out/mini_other is not inside out/mini). Entries
+    // that name the folder itself ("."), a subfolder or anything else are left alone, so a
+    // manifest cannot stop the run.
     const fs::path base = fs::weakly_canonical(dir);
     for (const auto& f : j.value("files", std::vector<std::string>{})) {
-      const fs::path p = fs::weakly_canonical(dir / f);
+      std::error_code ec;
+      const fs::path p = fs::weakly_canonical(dir / f, ec);
       const fs::path rel = p.lexically_relative(base);
-      if (rel.empty() || *rel.begin() == ".." || rel.is_absolute()) continue;
-      fs::remove(p);
+      if (ec || rel.empty() || rel == "." || *rel.begin() == ".." || rel.is_absolute()) continue;
+      if (fs::is_regular_file(fs::symlink_status(p, ec))) fs::remove(p, ec);
     }
   } catch (const nlohmann::json::exception&) {
     // An unreadable manifest lists nothing to remove; new files replace old ones by name.

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
@@ -53,21 +55,65 @@ std::string contentHash(const std::string& bytes) {
 
 std::string fileHash(const std::string& path) { return contentHash(readFileOrThrow(path)); }
 
+namespace {
+
+// InputError naming `path` when something other than a regular file or a symbolic link is there:
+// renaming over it would replace a device, FIFO or socket with a regular file (a folder would
+// fail half-way). A link is replaced by the new file, never followed, so its target stays as it
+// was.
+void refuseSpecialTarget(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) return;
+  const char* what = S_ISDIR(st.st_mode)    ? "a folder"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO"
+                     : S_ISCHR(st.st_mode)  ? "a character device"
+                     : S_ISBLK(st.st_mode)  ? "a block device"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                                            : "not a regular file";
+  throw InputError(path, 0, "",
+                   std::string("the output path is ") + what +
+                       "; armstudy writes only regular files and leaves this one as it is: "
+                       "choose another output path");
+}
+
+// A new temporary for writing `tmp`: created exclusively, never through a symbolic link (one left
+// or planted at that name is removed first, not followed).
+int openTemporary(const std::string& tmp) {
+  constexpr int kFlags = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
+  int fd = ::open(tmp.c_str(), kFlags, 0666);
+  if (fd < 0 && errno == EEXIST && ::unlink(tmp.c_str()) == 0)
+    fd = ::open(tmp.c_str(), kFlags, 0666);
+  return fd;
+}
+
+bool writeAll(int fd, const std::string& content) {
+  std::size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return ::fsync(fd) == 0;
+}
+
+}  // namespace
+
+void checkOutputPath(const std::string& path) { refuseSpecialTarget(path); }
+
 void writeFileAtomic(const std::string& path, const std::string& content) {
   namespace fs = std::filesystem;
+  refuseSpecialTarget(path);
   const fs::path target(path);
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-    const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
-                    std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-    std::fclose(f);
-    if (!ok) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write " + tmp);
-    }
+  const int fd = openTemporary(tmp);
+  if (fd < 0) throw std::runtime_error("cannot write " + tmp + ": " + std::strerror(errno));
+  const bool ok = writeAll(fd, content);
+  const int err = errno;
+  if (::close(fd) != 0 || !ok) {
+    ::unlink(tmp.c_str());
+    throw std::runtime_error("cannot write " + tmp + ": " + std::strerror(ok ? errno : err));
   }
   fs::rename(tmp, target);
 }
@@ -92,10 +138,19 @@ bool isAtomicTemporary(const std::string& name) {
 
 }  // namespace
 
+void checkOutputFolder(const std::string& folder) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(folder, ec);
+  if (fs::exists(st) && !fs::is_directory(st))
+    throw InputError(folder, 0, "",
+                     std::string("the output folder is ") +
+                         (fs::is_regular_file(st) ? "a file" : "a FIFO, device or socket") +
+                         ", not a folder; armstudy leaves it as it is: choose another --out");
+}
+
 std::string makeStagingFolder(const std::string& folder) {
+  checkOutputFolder(folder);
   const fs::path target = resolvedFolder(folder);
-  if (fs::exists(target) && !fs::is_directory(target))
-    throw InputError(folder, 0, "", "the output folder is a file, not a folder");
   const std::string prefix = target.filename().string() + ".staging.",
                     aside = target.filename().string() + ".previous.";
   // The process id after `p` in `name`, when `name` is p<digits> and that process no longer exists.
@@ -184,7 +239,11 @@ void publishFolder(const std::string& staging, const std::string& folder) {
 }
 
 FileLock::FileLock(const std::string& path, const std::string& subject) {
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd_ < 0 && errno == ELOOP)
+    throw InputError(path, 0, "",
+                     "the lock file is a symbolic link; armstudy never writes through links "
+                     "there: remove it");
   if (fd_ < 0) throw InputError(subject, 0, "", "cannot write into the output folder");
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(fd_);
@@ -201,8 +260,34 @@ FileLock::~FileLock() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+namespace {
+
+// One pass over `folder` (the folder itself may be a link): an InputError naming the first
+// symbolic link below it, through which the run would write out of the folder or onto another of
+// its files; otherwise the temporaries of writeFileAtomic ("<name>.tmp.<pid>") a killed run left
+// behind, which are removed. Returns their number.
+int checkOutputFolderEntries(const std::string& folder) {
+  std::vector<fs::path> stale;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    std::error_code st;
+    if (it->is_symlink(st))
+      throw InputError(it->path().string(), 0, "",
+                       "a symbolic link inside the output folder " + folder +
+                           "; armstudy never writes through links there: remove it (or choose "
+                           "another --output)");
+    if (isAtomicTemporary(it->path().filename().string()) && it->is_regular_file(st))
+      stale.push_back(it->path());
+  }
+  int removed = 0;
+  for (const fs::path& p : stale) removed += fs::remove(p, ec) ? 1 : 0;
+  return removed;
+}
+
+}  // namespace
+
 OutputFolderLock::OutputFolderLock(const std::string& folder) {
-  namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec || !fs::is_directory(folder))
@@ -210,17 +295,7 @@ OutputFolderLock::OutputFolderLock(const std::string& folder) {
         folder, 0, "",
         "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
   lock_.emplace((fs::path(folder) / ".armstudy.lock").string(), folder);
-  // Temporaries of writeFileAtomic ("<name>.tmp.<pid>") left by a killed run: no other run can be
-  // writing here now.
-  for (auto it = fs::recursive_directory_iterator(folder, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    const auto dot = name.rfind(".tmp.");
-    if (dot == std::string::npos || dot + 5 >= name.size() || !it->is_regular_file()) continue;
-    if (name.find_first_not_of("0123456789", dot + 5) != std::string::npos) continue;
-    std::error_code rm;
-    if (fs::remove(it->path(), rm)) ++removed_;
-  }
+  removed_ = checkOutputFolderEntries(folder);  // no other run can be writing here now
 }
 
 OutputFolderLock::~OutputFolderLock() = default;

@@ -13,9 +13,17 @@ std::string readFileOrThrow(const std::string& path);
 std::string contentHash(const std::string& bytes);
 std::string fileHash(const std::string& path);
 
-// Writes `content` to `path` atomically: a temporary file beside it, flushed, then renamed over
-// the target. An interrupted run never leaves a half-written file. Creates parent folders.
+// Writes `content` to `path` atomically: a temporary file beside it ("<path>.tmp.<pid>", created
+// exclusively, never through a symbolic link), flushed, then renamed over the target. An
+// interrupted run never leaves a half-written file. Creates parent folders. The one writer for
+// every output file, user paths (`--out`) included: an existing folder, FIFO, device or socket at
+// `path` is refused with an InputError naming it (the node stays as it is, nothing is written); a
+// symbolic link at `path` is replaced by the new file, never followed (its target stays as it
+// was).
 void writeFileAtomic(const std::string& path, const std::string& content);
+// The check writeFileAtomic makes before writing, for commands that check an output path before
+// their work: an InputError naming `path` when a folder, FIFO, device or socket is there.
+void checkOutputPath(const std::string& path);
 
 // An output folder published as a whole: a run writes its complete result into a
 // staging folder beside the output folder, then publishFolder swaps it in, so a reader of the
@@ -26,6 +34,9 @@ void writeFileAtomic(const std::string& path, const std::string& content);
 // exist (a run killed before or after its swap) are removed first. InputError naming `folder` when
 // the staging folder cannot be created.
 std::string makeStagingFolder(const std::string& folder);
+// InputError naming `folder` when something other than a folder (or a link to one) is there, a
+// file, FIFO or device: a command that writes a whole folder checks before it writes anything.
+void checkOutputFolder(const std::string& folder);
 // Moves the complete folder `staging` into place as `folder` in one step. Entries of `folder` that
 // `staging` does not have are hard-linked (or copied) into it first, so files the new result does
 // not replace stay; writeFileAtomic temporaries are left behind. Then the two folders are
@@ -56,8 +67,10 @@ class FileLock {
 // Exclusive use of an output folder for one process: creates the folder (an
 // InputError naming it when that fails), takes an advisory lock on <folder>/.armstudy.lock
 // (InputError "another armstudy run is writing to <folder>" when another process holds it; the
-// kernel releases it when a process dies, even by SIGKILL), then removes the temporaries
-// (`*.tmp.<pid>`) that writeFileAtomic of a killed run left behind. The destructor releases the
+// kernel releases it when a process dies, even by SIGKILL; the lock file is opened without
+// following a link), refuses a symbolic link anywhere below the folder (an InputError naming it:
+// the run would write through it), then removes the temporaries (`*.tmp.<pid>`) that
+// writeFileAtomic of a killed run left behind. The destructor releases the
 // lock (the empty lock file stays).
 class OutputFolderLock {
  public:

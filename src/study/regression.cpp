@@ -147,10 +147,13 @@ CheckResult compareToBaseline(const Baseline& base, const StudyMetrics& now,
       row.baseline = count(b->second);
       row.verdict = Verdict::Missing;
     } else if (b->second.size() != n->second.size()) {
-      row.baseline = static_cast<double>(b->second.size());
-      row.now = static_cast<double>(n->second.size());
-      row.flips = static_cast<int>(std::max(b->second.size(), n->second.size()));
-      row.verdict = Verdict::Fail;  // the grid itself changed
+      // Entries of strings of different lengths cannot be paired: the baseline was edited or
+      // recorded for another grid.
+      throw InputError(spec.baseline_path, 0, "flags." + name,
+                       "holds " + std::to_string(b->second.size()) +
+                           " per-pose flags, the run gives " + std::to_string(n->second.size()) +
+                           "; the baseline was edited or recorded for another grid: re-record it "
+                           "with `armstudy baseline`");
     } else {
       row.baseline = count(b->second);
       row.now = count(n->second);

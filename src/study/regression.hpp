@@ -60,6 +60,8 @@ struct CheckResult {
   int failures() const;
 };
 
+// InputError(spec.baseline_path, "flags.<metric>") when a per-pose flag string of the baseline
+// has another length than the run's.
 CheckResult compareToBaseline(const Baseline& baseline, const StudyMetrics& now,
                               const RegressionSpec& spec);
 std::string checkTable(const CheckResult& r, bool only_moved);  // human-readable table

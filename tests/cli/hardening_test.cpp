@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +13,8 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/files.hpp"
 #include "report/image.hpp"
@@ -95,10 +98,15 @@ TEST_CASE("overwriting never removes files outside the output folder a manifest 
   fs::create_directory_symlink(other, mine / "link");
   std::ofstream(mine / "manifest.json")
       << R"({"files": ["../regression_other/keep.txt", "../../outside.txt", "link/keep.txt", "/etc/hostname"]})";
+  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                          " --overwrite --threads 2 --output " + out.string();
   std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/regression.toml") +
-                         " --overwrite --threads 2 --output " + out.string(),
-                     log) == 0);
+  // A link inside the output folder stops the run before anything is removed or written.
+  CHECK(runCommand(run, log) == 2);
+  CHECK(log.find((mine / "link").string()) != std::string::npos);
+  CHECK(fs::exists(other / "keep.txt"));
+  fs::remove(mine / "link");
+  REQUIRE(runCommand(run, log) == 0);
   CHECK(fs::exists(other / "keep.txt"));
   CHECK(fs::exists(d / "outside.txt"));
   CHECK(fs::exists(mine / "manifest.json"));  // the new run's
@@ -238,4 +246,120 @@ TEST_CASE(
   REQUIRE(runCommand(fit, log) == 0);  // the lock released: the next fit runs
   const std::string h2 = files(res).at("history.csv");
   CHECK(std::count(h2.begin(), h2.end(), '\n') == std::count(h1.begin(), h1.end(), '\n') + 1);
+}
+
+namespace {
+// What is at `path` (not following a link): the file type bits and, for a device, its number.
+std::pair<mode_t, dev_t> nodeKind(const fs::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return {0, 0};
+  return {st.st_mode & S_IFMT, st.st_rdev};
+}
+
+// Every entry below `dir` (links not followed), by relative path.
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    out.push_back(fs::relative(e.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+}  // namespace
+
+TEST_CASE("--out onto a FIFO, a device or a folder leaves the node as it was",
+          "[cli][hardening][writer]") {
+  const fs::path d = freshDir("writer_nodes");
+  const std::string design = sourcePath("designs/first_prototype_6dof.toml");
+  // The test's own nodes (never the system's): a FIFO, a character device like /dev/null (1, 3;
+  // the suite runs as root: a failing mknod fails the test) and a folder, each under names the
+  // commands accept.
+  const std::vector<std::string> names = {"fifo", "null", "folder"};
+  for (const std::string& n : names) {
+    for (const std::string ext : {".svg", ".toml", ".csv", ""}) {
+      const fs::path p = d / (n + ext);
+      if (n == "fifo") REQUIRE(::mkfifo(p.c_str(), 0600) == 0);
+      if (n == "null") REQUIRE(::mknod(p.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0);
+      if (n == "folder") REQUIRE(fs::create_directory(p));
+    }
+  }
+  std::string log;
+  const std::string tcp = (d / "data" / "tcp.csv").string();
+  fs::create_directories(d / "data");
+  REQUIRE(runCommand(binaryPath() + " synth " + sourcePath("designs/final_prototype_7dof.toml") +
+                         " --kind tcp --rows 20 --out " + tcp,
+                     log) == 0);
+  const auto before = entries(d);
+  for (const std::string& n : names) {
+    const std::string at = (d / n).string();
+    std::vector<std::string> commands = {
+        "draw " + design + " --out " + at + ".svg",
+        "convert " + design + " " + at + ".toml",
+        "synth " + design + " --kind tcp --rows 5 --out " + at + ".csv",
+    };
+    if (n != "folder")  // a fit's --out is a folder
+      commands.push_back("fit " + sourcePath("designs/final_prototype_7dof.toml") +
+                         " --kind tcp --data " + tcp + " --out " + at);
+    for (const std::string& c : commands) {
+      INFO(c);
+      const std::string target = c.substr(c.rfind(' ') + 1);
+      const auto kind = nodeKind(target);
+      CHECK(runCommand("timeout 60 " + binaryPath() + " " + c, log) == 2);
+      INFO(log);
+      CHECK(log.find(target) != std::string::npos);
+      CHECK(nodeKind(target) == kind);
+    }
+  }
+  CHECK(entries(d) == before);  // no temporaries, no lock file beside a refused --out
+  CHECK(nodeKind(d / "null.svg") == std::make_pair(mode_t(S_IFCHR), makedev(1, 3)));
+  CHECK(nodeKind(d / "fifo.csv").first == S_IFIFO);
+}
+
+TEST_CASE("a run never writes through a symbolic link planted inside its output folder",
+          "[cli][hardening][writer]") {
+  const fs::path d = freshDir("writer_links");
+  const fs::path out = d / "out", mine = out / "regression", outside = d / "outside";
+  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                          " --threads 2 --output " + out.string();
+  // A link at a result file's path, at a subfolder's path, at the checkpoint store's and at the
+  // lock file's, each pointing outside the output folder.
+  const std::vector<std::pair<std::string, bool>> plants = {
+      {"designs.json", false}, {"reach", true}, {".partial", true}, {".armstudy.lock", false}};
+  for (const auto& [rel, folder] : plants) {
+    INFO(rel);
+    fs::remove_all(d);
+    fs::create_directories(mine);
+    fs::create_directories(outside / "folder");
+    std::ofstream(outside / "file.json") << "not armstudy's\n";
+    if (folder)
+      fs::create_directory_symlink(outside / "folder", mine / rel);
+    else
+      fs::create_symlink(outside / "file.json", mine / rel);
+    const auto outside_before = entries(outside);
+    std::string log;
+    CHECK(runCommand(run, log) == 2);
+    INFO(log);
+    CHECK(log.find((mine / rel).string()) != std::string::npos);
+    CHECK(log.find("symbolic link") != std::string::npos);
+    CHECK(entries(outside) == outside_before);
+    CHECK(armstudy::readFileOrThrow((outside / "file.json").string()) == "not armstudy's\n");
+    CHECK(fs::is_symlink(mine / rel));  // left for the user to remove
+    CHECK_FALSE(fs::exists(mine / "manifest.json"));
+  }
+}
+
+TEST_CASE("--overwrite with a manifest that lists the folder itself or a subfolder runs",
+          "[cli][hardening][writer]") {
+  const fs::path d = freshDir("writer_manifest");
+  const fs::path out = d / "out", mine = out / "regression";
+  fs::create_directories(mine / "notes");
+  std::ofstream(mine / "notes" / "keep.txt") << "a user's note\n";
+  std::ofstream(mine / "manifest.json") << R"({"files": [".", "", "notes", "./", "reach/.."]})";
+  std::string log;
+  const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") +
+                          " --overwrite --threads 2 --output " + out.string();
+  CHECK(runCommand(run, log) == 0);
+  INFO(log);
+  CHECK(fs::exists(mine / "notes" / "keep.txt"));
+  const std::string manifest = armstudy::readFileOrThrow((mine / "manifest.json").string());
+  CHECK(manifest.find("designs.json") != std::string::npos);  // the new run's
 }

@@ -88,6 +88,33 @@ TEST_CASE("a changed design table fails the check and names what moved",
   CHECK(log.find("check FAILED") != std::string::npos);
 }
 
+TEST_CASE("a baseline flag string one entry short is an input error, not moved results",
+          "[study][regression][e2e][bad-input]") {
+  const fs::path dir = freshDir("short_flags");
+  // The shipped baseline with one per-pose flag string shortened by one character.
+  std::string baseline = readFileOrThrow(sourcePath("studies/regression.baseline.json"));
+  const std::string key = "\"dexterity/final_prototype_7dof/reachable\": \"";
+  const auto at = baseline.find(key);
+  REQUIRE(at != std::string::npos);
+  baseline.erase(at + key.size(), 1);
+  const std::string bad = (dir / "short.baseline.json").string();
+  std::ofstream(bad) << baseline;
+  std::string study = readFileOrThrow(sourcePath("studies/regression.toml"));
+  study = std::regex_replace(study, std::regex("\\.\\./designs/"), sourcePath("designs/"));
+  study = std::regex_replace(study, std::regex("\\[regression\\]"),
+                             "[regression]\nbaseline = \"" + bad + "\"");
+  std::ofstream(dir / "regression.toml") << study;
+  std::string log;
+  const int st = runCommand(binaryPath() + " check " + (dir / "regression.toml").string() +
+                                " --threads 2 --output " + (dir / "out").string(),
+                            log);
+  INFO(log);
+  CHECK(st == 2);
+  CHECK(log.find(bad) != std::string::npos);
+  CHECK(log.find("dexterity/final_prototype_7dof/reachable") != std::string::npos);
+  CHECK(log.find("check FAILED") == std::string::npos);
+}
+
 TEST_CASE("results are byte-identical with 1 and 2 threads and from run to run", "[study][e2e]") {
   const fs::path dir = freshDir("threads");
   const std::string study = writeResumeStudy(dir);

@@ -78,8 +78,23 @@ TEST_CASE("per-pose flips are counted against the allowed number", "[study][regr
   r = compareToBaseline(b, now, sampleSpec());
   CHECK_FALSE(r.passed());
   CHECK(row(r, "reach/a/grid0/reachable").flipped == std::vector<std::size_t>{0, 1});
-  now.flags["reach/a/grid0/reachable"] = {1, 0, 1};  // the grid changed size
-  CHECK_FALSE(compareToBaseline(b, now, sampleSpec()).passed());
+}
+
+TEST_CASE("a flag string of another length than the run's is an error naming baseline and key",
+          "[study][regression][bad-input]") {
+  const Baseline b = sampleBaseline();
+  StudyMetrics now = b.metrics;
+  now.flags["reach/a/grid0/reachable"] = {1, 0, 1};  // the baseline's string is longer
+  RegressionSpec spec = sampleSpec();
+  spec.baseline_path = "studies/s.baseline.json";
+  try {
+    compareToBaseline(b, now, spec);
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK(e.file() == "studies/s.baseline.json");
+    CHECK(e.key() == "flags.reach/a/grid0/reachable");
+    CHECK_THAT(e.message(), Catch::Contains("5 per-pose flags") && Catch::Contains("gives 3"));
+  }
 }
 
 TEST_CASE("missing and new metrics fail the check", "[study][regression]") {
