@@ -32,6 +32,9 @@ namespace fs = std::filesystem;
 // Nested arrays and tables a study dict may hold: as many as the TOML reader lets a study file
 // hold (toml++'s cap).
 constexpr int kMaxNesting = TOML_MAX_NESTED_VALUES;
+// Values a study dict may hold in all: far more than any study, and it ends a dict whose lists
+// repeat one another (a list of the same list, 30 deep, would expand to 2^30 values).
+constexpr long kMaxValues = 1000000;
 
 namespace {
 
@@ -122,7 +125,12 @@ std::string typeName(const py::handle& v) {
 }
 
 std::string shortRepr(const py::handle& v) {
-  const std::string r = py::repr(v).cast<std::string>();
+  std::string r;
+  try {
+    r = py::repr(v).cast<std::string>();
+  } catch (py::error_already_set&) {
+    return "a " + typeName(v);
+  }
   return r.size() > 40 ? r.substr(0, 37) + "..." : r;
 }
 
@@ -154,14 +162,18 @@ double number(const py::handle& v) {
   return x;
 }
 
-toml::table toTable(const py::dict& d, const std::string& at, int depth);
-toml::array toArray(const py::handle& sequence, const std::string& at, int depth);
+toml::table toTable(const py::dict& d, const std::string& at, int depth, long& values);
+toml::array toArray(const py::handle& sequence, const std::string& at, int depth, long& values);
 
 // Converts one value of the dict at key path `at` (`depth` containers deep) and hands the TOML
-// value to `add`. Nesting is capped like the TOML reader's (which also ends a dict that holds
-// itself); a value TOML cannot hold is an input error naming the path.
+// value to `add`; `values` counts the values converted. Nesting is capped like the TOML reader's
+// (which also ends a dict that holds itself); a value TOML cannot hold is an input error naming the
+// path.
 template <class Add>
-void convertValue(const py::handle& v, const std::string& at, int depth, Add&& add) {
+void convertValue(const py::handle& v, const std::string& at, int depth, long& values, Add&& add) {
+  if (++values > kMaxValues)
+    dictError(at, "the study dict holds more than " + std::to_string(kMaxValues) +
+                      " values (do its lists repeat one another?)");
   if (depth > kMaxNesting)
     dictError(at, "nested deeper than " + std::to_string(kMaxNesting) +
                       " levels (does a dict or list contain itself?)");
@@ -172,9 +184,9 @@ void convertValue(const py::handle& v, const std::string& at, int depth, Add&& a
     else if (py::isinstance<py::str>(v))
       add(utf8(v, at));
     else if (py::isinstance<py::dict>(v))
-      add(toTable(py::reinterpret_borrow<py::dict>(v), at, depth + 1));
+      add(toTable(py::reinterpret_borrow<py::dict>(v), at, depth + 1, values));
     else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v))
-      add(toArray(v, at, depth + 1));
+      add(toArray(v, at, depth + 1, values));
     else if (py::hasattr(v, "__index__"))
       add(integer(v, at));
     else if (py::hasattr(v, "__float__"))
@@ -187,23 +199,24 @@ void convertValue(const py::handle& v, const std::string& at, int depth, Add&& a
   }
 }
 
-toml::table toTable(const py::dict& d, const std::string& at, int depth) {
+toml::table toTable(const py::dict& d, const std::string& at, int depth, long& values) {
   toml::table t;
   for (const auto& [k, v] : d) {
     if (!py::isinstance<py::str>(k))
       dictError(at, "key " + shortRepr(k) + " is not a string (study keys are)");
     const std::string key = utf8(k, at);
     const std::string path = at.empty() ? key : at + "." + key;
-    convertValue(v, path, depth, [&](auto&& x) { t.insert(key, std::forward<decltype(x)>(x)); });
+    convertValue(v, path, depth, values,
+                 [&](auto&& x) { t.insert(key, std::forward<decltype(x)>(x)); });
   }
   return t;
 }
 
-toml::array toArray(const py::handle& sequence, const std::string& at, int depth) {
+toml::array toArray(const py::handle& sequence, const std::string& at, int depth, long& values) {
   toml::array a;
   const py::sequence items = py::reinterpret_borrow<py::sequence>(sequence);
   for (std::size_t i = 0; i < items.size(); ++i)
-    convertValue(items[i], at + "[" + std::to_string(i) + "]", depth,
+    convertValue(items[i], at + "[" + std::to_string(i) + "]", depth, values,
                  [&](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
   return a;
 }
@@ -223,7 +236,8 @@ void findLine(const toml::node& node, const std::string& at, int line, std::stri
 // a message's line turned into the dict's key path.
 Study studyFromDict(const py::dict& study, const std::string& folder) {
   std::ostringstream text;
-  text << toTable(study, "", 0) << "\n";
+  long values = 0;
+  text << toTable(study, "", 0, values) << "\n";
   try {
     return loadStudyText(text.str(), kDictLabel, folder);
   } catch (const InputError& e) {

@@ -71,10 +71,21 @@ def deep(kind, depth):
     s["reach"]["grid"][0]["x"] = v
     return s
 
+def repeated(levels):
+    s = tiny_study()
+    v = "0.2 m"
+    for _ in range(levels):
+        v = [v, v]  # one list twice: 2^levels values once expanded
+    s["reach"]["grid"][0]["x"] = v
+    return s
+
 studies = [self_reference(), deep("list", 100000), deep("dict", 100000), deep("list", 257),
-           deep("list", 250), deep("dict", 250)]
+           deep("list", 250), deep("dict", 250), repeated(40)]
 print(json.dumps([outcome(lambda s=s: armstudy.check_study(s)) for s in studies]))
-""")
+""", timeout=120)
+        self.assertEqual(results[6]["raised"], "InputError", results[6])
+        self.assertIn("more than 1000000 values", results[6]["message"])
+        results = results[:6]
         for r in results[:4]:
             self.assertEqual(r["raised"], "InputError", r)
             self.assertTrue(r["key"].startswith("reach.grid[0].x"), r)
