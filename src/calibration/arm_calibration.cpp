@@ -30,7 +30,7 @@ int ArmResidualMap::flagged() const {
 
 std::string CvSettings::validate(bool bins_ok) const {
   if (folds < 2) return "folds must be at least 2";
-  if (!bins_ok) return "bin counts must be positive";
+  if (!bins_ok) return "bin counts must be within 1.." + std::to_string(defaults::kMaxResidualBins);
   if (!(significance_z > 0)) return "significance z must be positive";
   if (!(min_relative_improvement >= 0 && min_relative_improvement < 1))
     return "minimum relative improvement must lie in [0, 1)";

@@ -132,8 +132,10 @@ struct CvSettings {
   double significance_z = defaults::kSignificanceZ;
   double min_relative_improvement = defaults::kMinRelativeImprovement;
   bool auto_add = false;  // add the best significant effect until none is left
-  // "" when valid; `bins_ok`: the kind's residual-map bin counts are positive.
+  // "" when valid; `bins_ok`: the kind's residual-map bin counts are within binsOk's range.
   std::string validate(bool bins_ok) const;
+  // A residual-map bin count within 1..defaults::kMaxResidualBins.
+  static bool binsOk(int bins) { return bins >= 1 && bins <= defaults::kMaxResidualBins; }
 };
 
 struct ArmFitOptions : CvSettings {
@@ -141,7 +143,7 @@ struct ArmFitOptions : CvSettings {
   int workspace_bins = defaults::kArmWorkspaceBins;
   std::vector<std::string> add;  // effect instances to add, in this order
   std::string validate() const {
-    return CvSettings::validate(variable_bins >= 1 && workspace_bins >= 1);
+    return CvSettings::validate(binsOk(variable_bins) && binsOk(workspace_bins));
   }
 };
 

@@ -90,7 +90,9 @@ struct DriveFitOptions : CvSettings {
   int load_bins = defaults::kLoadBins;
   std::vector<drive::Effect>
       add;  // effects to add (in this order, after the refit), significant or not
-  std::string validate() const { return CvSettings::validate(speed_bins >= 1 && load_bins >= 1); }
+  std::string validate() const {
+    return CvSettings::validate(binsOk(speed_bins) && binsOk(load_bins));
+  }
 };
 
 using ModelFit = ArmFit;

@@ -165,7 +165,8 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
                  double& reference_reach_m) {
   const std::string file = r.string("file");
   const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : dir / file;
-  if (!fs::exists(resolved))
+  std::error_code ec;  // a name too long for the file system reads as not there
+  if (!fs::exists(resolved, ec))
     r.fail("file",
            "design file '" + file + "' does not exist (looked for " + resolved.string() + ")");
   const UrdfOptions uo = readUrdfOptions(r, path, dir);

@@ -1,6 +1,7 @@
 #include "io/design_io.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -162,9 +163,8 @@ void validateDriveEffects(const Model& m, const std::string& file, int effects_l
 // [design]: the design's name, description, source and assumptions.
 void readDesignHeader(TableReader& top, Model& m) {
   TableReader r = top.requiredTable("design");
-  m.name = r.name(
-      "name", "design", kDesignNamePunctuation,
-      "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name files)");
+  m.name = r.string("name");
+  if (const std::string bad = designNameError(m.name); !bad.empty()) r.fail("name", bad);
   m.description = r.string("description", "");
   m.source = r.string("source", "");
   m.assumptions = r.stringArray("assumptions");
@@ -483,6 +483,13 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   return o.str();
 }
 
+std::string designNameError(const std::string& name) {
+  if (name.empty()) return "design name is empty";
+  if (!isPlainName(name, kDesignNamePunctuation))
+    return "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name files)";
+  return "";
+}
+
 void validateModel(const Model& m, const std::string& file) {
   for (const Joint& j : m.joints) {
     const std::string k = "joint." + j.name;
@@ -545,6 +552,8 @@ bool setModelEntry(Model& m, const std::string& key, double value_si, std::strin
   Dimension dim;
   double* p = entryPointer(m, key, dim, error);
   if (!p) return false;
+  error = implausible(value_si, &dim);
+  if (!error.empty()) return false;
   *p = value_si;
   m.finalize();
   return true;

@@ -22,13 +22,18 @@ class TableReader;
 Eigen::Vector3d readToolAxis(io::TableReader& r, const std::string& key,
                              const Eigen::Vector3d& fallback);
 
+// "" when `name` may name a design (it names files: letters, digits, '_', '-' and '.'), else
+// the reason.
+std::string designNameError(const std::string& name);
+
 // Validates an assembled model (limits ordered and finite, unique names, ...). Used after a
 // variant overrides entries. Throws InputError naming `file` and the offending key.
 void validateModel(const Model& model, const std::string& file);
 
 // Sets one table entry addressed by a dotted key, as study variants do:
 //   joint.<name>.<x|y|z|alpha|beta|gamma|min|max|max_velocity>, tcp.<x..gamma>, base.<x..gamma>,
-//   payload.mass. `value_si` is already in SI. Returns false with a message for an unknown key.
+//   payload.mass. `value_si` is already in SI. Returns false with a message for an unknown key or
+//   a value that is not finite or beyond the plausible magnitude of the entry's dimension.
 bool setModelEntry(Model& model, const std::string& key, double value_si, std::string& error);
 // The current value (SI) of an entry key; false with a message for an unknown key.
 bool modelEntryValue(const Model& model, const std::string& key, double& value_si,

@@ -1,5 +1,6 @@
 # Typed stub of the armstudy extension module (docs/python.md). Arrays are float64 numpy arrays;
 # "N" is the batch axis, dropped when a single configuration (dof,) or pose (6,) is given.
+import os
 from typing import Any, Mapping, Optional, Sequence, TypedDict, Union
 
 import numpy as np
@@ -135,8 +136,9 @@ def load_design(
 ) -> Design: ...
 def parse_design(text: str, label: str = "<string>") -> Design: ...
 def read_map(path: str) -> dict[str, Any]: ...
+def check_study(study: Union[str, os.PathLike[str], Mapping[str, Any]], folder: str = ".") -> dict[str, Any]: ...
 def run_study(
-    study: Union[str, Mapping[str, Any]],
+    study: Union[str, os.PathLike[str], Mapping[str, Any]],
     output: str = "output",
     threads: int = 0,
     overwrite: bool = False,

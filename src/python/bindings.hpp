@@ -37,7 +37,13 @@ Rows readRows(const py::handle& object, long cols, const char* what);
 // An array of shape (n, extra...) or (extra...) when rows.single.
 py::array_t<double> makeResult(const Rows& rows, std::vector<py::ssize_t> extra);
 
-// OpenMP threads for a batch call: `threads` (0 = the OpenMP default), at least 1.
+// A module function's argument `name` within lo..hi (the CLI's bound for the same option), else
+// InputError("arguments", 0, name, "must be within lo..hi<note>, got value").
+void checkArgument(const char* name, long long value, long long lo, long long hi,
+                   const char* note = "");
+
+// OpenMP threads for a batch call: `threads` (0 = the OpenMP default), at least 1; InputError
+// beyond the CLI's --threads bound.
 int threadCount(int threads);
 
 void bindDesign(py::module_& m);

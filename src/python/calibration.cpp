@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <stdexcept>
+#include <utility>
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/calibration_run.hpp"
@@ -127,6 +128,16 @@ py::dict diagnosisDict(const ArmDiagnosis& d, const ArmProblem& P) {
   return out;
 }
 
+// The residual-map bin counts within the CLI's bounds (--speed-bins, ...), checked before any
+// bins are allocated.
+void checkBins(int variable_bins, int workspace_bins, int speed_bins, int load_bins) {
+  const std::pair<const char*, int> bins[] = {{"variable_bins", variable_bins},
+                                              {"workspace_bins", workspace_bins},
+                                              {"speed_bins", speed_bins},
+                                              {"load_bins", load_bins}};
+  for (const auto& [name, value] : bins) checkArgument(name, value, 1, defaults::kMaxResidualBins);
+}
+
 ArmFitOptions fitOptions(int folds, std::uint64_t seed, int variable_bins, int workspace_bins) {
   ArmFitOptions o;
   o.folds = folds;
@@ -157,6 +168,7 @@ std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind, con
 py::dict compare(const Design& design, const py::object& data, const std::string& kind,
                  const py::handle& pose, const std::string& joint, int variable_bins,
                  int workspace_bins, int speed_bins, int load_bins) {
+  checkBins(variable_bins, workspace_bins, speed_bins, load_bins);
   const std::unique_ptr<ArmProblem> P =
       problem(*design.model, kind, data, pose, joint, speed_bins, load_bins);
   ArmFitOptions o =
@@ -174,6 +186,7 @@ py::dict fit(const Design& design, const py::object& data, const std::string& ki
              const py::handle& pose, const std::string& joint, const std::vector<std::string>& add,
              bool auto_add, int folds, std::uint64_t seed, int variable_bins, int workspace_bins,
              int speed_bins, int load_bins) {
+  checkBins(variable_bins, workspace_bins, speed_bins, load_bins);
   const std::unique_ptr<ArmProblem> P =
       problem(*design.model, kind, data, pose, joint, speed_bins, load_bins);
   ArmFitOptions o = fitOptions(folds, seed, variable_bins, workspace_bins);

@@ -106,9 +106,13 @@ py::array_t<double> limitArray(const Model& m, double JointLimits::*field) {
   return a;
 }
 
-// A copy of the design with table entries set (study variants' keys), validated.
+// A copy of the design with table entries set (study variants' keys; values finite and plausible
+// for their dimension, as a study's variants), validated; `name` checked as design files' names.
 Design withEntries(const Design& d, const std::map<std::string, double>& entries,
                    const std::string& name) {
+  if (!name.empty())
+    if (const std::string bad = designNameError(name); !bad.empty())
+      throw InputError("arguments", 0, "name", bad);
   Model m = *d.model;
   for (const auto& [key, value] : entries) {
     std::string error;

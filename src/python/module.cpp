@@ -42,10 +42,16 @@ py::array_t<double> makeResult(const Rows& rows, std::vector<py::ssize_t> extra)
   return py::array_t<double>(extra);
 }
 
+void checkArgument(const char* name, long long value, long long lo, long long hi,
+                   const char* note) {
+  if (value < lo || value > hi)
+    throw InputError("arguments", 0, name,
+                     "must be within " + std::to_string(lo) + ".." + std::to_string(hi) + note +
+                         ", got " + std::to_string(value));
+}
+
 int threadCount(int threads) {
-  if (threads < 0 || threads > defaults::kMaxThreads)
-    throw std::invalid_argument("threads must be within 0.." +
-                                std::to_string(defaults::kMaxThreads) + " (0 = all cores)");
+  checkArgument("threads", threads, 0, defaults::kMaxThreads, " (0 = all cores)");
   return threads > 0 ? threads : std::max(1, omp_get_max_threads());
 }
 

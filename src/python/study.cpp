@@ -11,19 +11,30 @@
 #include <vtkStringArray.h>
 #include <vtkXMLImageDataReader.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/toml_reader.hpp"
 #include "python/bindings.hpp"
+#include "study/stage.hpp"
 
 namespace armstudy::python {
 
 namespace fs = std::filesystem;
+
+// Nested arrays and tables a study dict may hold: as many as the TOML reader lets a study file
+// hold (toml++'s cap).
+constexpr int kMaxNesting = TOML_MAX_NESTED_VALUES;
+// Values a study dict may hold in all: far more than any study, and it ends a dict whose lists
+// repeat one another (a list of the same list, 30 deep, would expand to 2^30 values).
+constexpr long kMaxValues = 1000000;
 
 namespace {
 
@@ -103,51 +114,111 @@ py::dict readMap(const std::string& path) {
 
 // ---- a study given as a dict: TOML text, and key paths in its messages ----
 
-void insertValue(toml::table& t, const std::string& key, const py::handle& v,
-                 const std::string& at);
+const char* const kDictLabel = "study dict";
 
-toml::array toArray(const py::list& list, const std::string& at);
-
-void addToArray(toml::array& a, const py::handle& v, const std::string& at) {
-  if (py::isinstance<py::bool_>(v))
-    a.push_back(v.cast<bool>());
-  else if (py::isinstance<py::int_>(v))
-    a.push_back(v.cast<std::int64_t>());
-  else if (py::isinstance<py::float_>(v) || py::hasattr(v, "__float__"))
-    a.push_back(v.cast<double>());
-  else if (py::isinstance<py::str>(v))
-    a.push_back(v.cast<std::string>());
-  else if (py::isinstance<py::dict>(v)) {
-    toml::table sub;
-    for (const auto& [k, x] : v.cast<py::dict>())
-      insertValue(sub, py::str(k), x, at + "." + std::string(py::str(k)));
-    a.push_back(std::move(sub));
-  } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v))
-    a.push_back(toArray(py::list(py::reinterpret_borrow<py::object>(v)), at));
-  else
-    throw InputError("study dict", 0, at,
-                     "unsupported value type " + std::string(py::str(v.get_type())));
+[[noreturn]] void dictError(const std::string& at, const std::string& message) {
+  throw InputError(kDictLabel, 0, at, message);
 }
 
-toml::array toArray(const py::list& list, const std::string& at) {
-  toml::array a;
-  for (std::size_t i = 0; i < list.size(); ++i)
-    addToArray(a, list[i], at + "[" + std::to_string(i) + "]");
-  return a;
+std::string typeName(const py::handle& v) {
+  return py::str(py::type::of(v).attr("__name__")).cast<std::string>();
 }
 
-void insertValue(toml::table& t, const std::string& key, const py::handle& v,
-                 const std::string& at) {
-  if (py::isinstance<py::dict>(v)) {
-    toml::table sub;
-    for (const auto& [k, x] : v.cast<py::dict>())
-      insertValue(sub, py::str(k), x, at + "." + std::string(py::str(k)));
-    t.insert(key, std::move(sub));
-    return;
+std::string shortRepr(const py::handle& v) {
+  std::string r;
+  try {
+    r = py::repr(v).cast<std::string>();
+  } catch (py::error_already_set&) {
+    return "a " + typeName(v);
   }
-  toml::array one;
-  addToArray(one, v, at);
-  t.insert(key, std::move(*one.get(0)));
+  return r.size() > 40 ? r.substr(0, 37) + "..." : r;
+}
+
+std::string utf8(const py::handle& v, const std::string& at) {
+  Py_ssize_t size = 0;
+  const char* text = PyUnicode_AsUTF8AndSize(v.ptr(), &size);
+  if (!text) {
+    PyErr_Clear();
+    dictError(at, "the string is not valid Unicode text (it holds a lone surrogate)");
+  }
+  return std::string(text, static_cast<std::size_t>(size));
+}
+
+// An integer (int, numpy integers: anything with __index__) in TOML's 64-bit range.
+std::int64_t integer(const py::handle& v, const std::string& at) {
+  const py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow)
+    dictError(at, "integer " + shortRepr(i) + " is beyond the 64-bit range a TOML integer holds");
+  if (x == -1 && PyErr_Occurred()) throw py::error_already_set();
+  return x;
+}
+
+double number(const py::handle& v) {
+  const double x = PyFloat_AsDouble(v.ptr());
+  if (x == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+  return x;
+}
+
+toml::table toTable(const py::dict& d, const std::string& at, int depth, long& values);
+toml::array toArray(const py::handle& sequence, const std::string& at, int depth, long& values);
+
+// Converts one value of the dict at key path `at` (`depth` containers deep) and hands the TOML
+// value to `add`; `values` counts the values converted. Nesting is capped like the TOML reader's
+// (which also ends a dict that holds itself); a value TOML cannot hold is an input error naming the
+// path.
+template <class Add>
+void convertValue(const py::handle& v, const std::string& at, int depth, long& values, Add&& add) {
+  if (++values > kMaxValues)
+    dictError(at, "the study dict holds more than " + std::to_string(kMaxValues) +
+                      " values (do its lists repeat one another?)");
+  if (depth > kMaxNesting)
+    dictError(at, "nested deeper than " + std::to_string(kMaxNesting) +
+                      " levels (does a dict or list contain itself?)");
+  if (v.is_none()) dictError(at, "None is not a study value (leave the key out for its default)");
+  try {
+    if (py::isinstance<py::bool_>(v))
+      add(v.ptr() == Py_True);
+    else if (py::isinstance<py::str>(v))
+      add(utf8(v, at));
+    else if (py::isinstance<py::dict>(v))
+      add(toTable(py::reinterpret_borrow<py::dict>(v), at, depth + 1, values));
+    else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v))
+      add(toArray(v, at, depth + 1, values));
+    else if (py::hasattr(v, "__index__"))
+      add(integer(v, at));
+    else if (py::hasattr(v, "__float__"))
+      add(number(v));
+    else
+      dictError(at, "a value of type " + typeName(v) +
+                        " is not a study value (numbers, strings, booleans, lists and dicts are)");
+  } catch (py::error_already_set& e) {
+    dictError(at, shortRepr(v) + " could not be read: " + std::string(e.what()).substr(0, 200));
+  }
+}
+
+toml::table toTable(const py::dict& d, const std::string& at, int depth, long& values) {
+  toml::table t;
+  for (const auto& [k, v] : d) {
+    if (!py::isinstance<py::str>(k))
+      dictError(at, "key " + shortRepr(k) + " is not a string (study keys are)");
+    const std::string key = utf8(k, at);
+    const std::string path = at.empty() ? key : at + "." + key;
+    convertValue(v, path, depth, values,
+                 [&](auto&& x) { t.insert(key, std::forward<decltype(x)>(x)); });
+  }
+  return t;
+}
+
+toml::array toArray(const py::handle& sequence, const std::string& at, int depth, long& values) {
+  toml::array a;
+  const py::sequence items = py::reinterpret_borrow<py::sequence>(sequence);
+  for (std::size_t i = 0; i < items.size(); ++i)
+    convertValue(items[i], at + "[" + std::to_string(i) + "]", depth, values,
+                 [&](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
+  return a;
 }
 
 // The dotted key path of the deepest node starting on `line` of the parsed text ("" if none).
@@ -161,14 +232,47 @@ void findLine(const toml::node& node, const std::string& at, int line, std::stri
       findLine(*a->get(i), at + "[" + std::to_string(i) + "]", line, found);
 }
 
+// A study dict read as the study file it stands for: its TOML text through the study reader, with
+// a message's line turned into the dict's key path.
+Study studyFromDict(const py::dict& study, const std::string& folder) {
+  std::ostringstream text;
+  long values = 0;
+  text << toTable(study, "", 0, values) << "\n";
+  try {
+    return loadStudyText(text.str(), kDictLabel, folder);
+  } catch (const InputError& e) {
+    if (e.file() != kDictLabel || e.line() <= 0) throw;
+    const toml::table parsed = io::parseTomlText(text.str(), kDictLabel);
+    std::string key;
+    findLine(parsed, "", e.line(), key);
+    throw InputError(kDictLabel, 0, key.empty() ? e.key() : key, e.message());
+  }
+}
+
+// `study`: a study file path (str or os.PathLike) or a dict with the study file's tables.
+Study readStudy(const py::object& study, const std::string& folder) {
+  if (py::isinstance<py::dict>(study)) return studyFromDict(study, folder);
+  py::object path = study;
+  if (!py::isinstance<py::str>(path) && py::hasattr(path, "__fspath__"))
+    path = py::module_::import("os").attr("fspath")(path);
+  if (!py::isinstance<py::str>(path))
+    throw InputError(
+        "arguments", 0, "study",
+        "expected a study file path or a dict, got a value of type " + typeName(study));
+  return loadStudy(utf8(path, "study"));
+}
+
 RunOptions runOptions(const std::string& output, int threads, bool overwrite, long unit_size) {
+  checkArgument("threads", threads, 0, defaults::kMaxThreads, " (0 = all cores)");
+  checkArgument("unit_size", unit_size, 0, defaults::kMaxUnitItems, " (0 = each stage's default)");
   RunOptions o;
   o.output_root = output;
   o.threads = threads;
   o.overwrite = overwrite;
   o.unit_items = unit_size;
   o.progress = false;
-  if (const std::string error = o.validate(); !error.empty()) throw std::invalid_argument(error);
+  if (const std::string error = o.validate(); !error.empty())
+    throw InputError("arguments", 0, "output", error);
   return o;
 }
 
@@ -197,37 +301,29 @@ py::dict summaryDict(const Study& study, const RunSummary& sum) {
 py::dict run(const py::object& study, const std::string& output, int threads, bool overwrite,
              long unit_size, const std::string& folder) {
   const RunOptions options = runOptions(output, threads, overwrite, unit_size);
-  if (!py::isinstance<py::dict>(study)) {
-    const std::string path = study.cast<std::string>();
-    const Study s = loadStudy(path);
-    RunSummary sum;
-    {
-      py::gil_scoped_release release;
-      sum = runStudy(s, options);
-    }
-    return summaryDict(s, sum);
-  }
-  toml::table root;
-  for (const auto& [k, v] : study.cast<py::dict>()) insertValue(root, py::str(k), v, py::str(k));
-  std::ostringstream text;
-  text << root << "\n";
-  const std::string label = "study dict";
-  std::optional<Study> s;
-  try {
-    s.emplace(loadStudyText(text.str(), label, folder));
-  } catch (const InputError& e) {
-    if (e.file() != label || e.line() <= 0) throw;
-    const toml::table parsed = io::parseTomlText(text.str(), label);
-    std::string key;
-    findLine(parsed, "", e.line(), key);
-    throw InputError(label, 0, key.empty() ? e.key() : key, e.message());
-  }
+  const Study s = readStudy(study, folder);
   RunSummary sum;
   {
     py::gil_scoped_release release;
-    sum = runStudy(*s, options);
+    sum = runStudy(s, options);
   }
-  return summaryDict(*s, sum);
+  return summaryDict(s, sum);
+}
+
+// What a study holds once read and validated (check_study): nothing is run or written.
+py::dict check(const py::object& study, const std::string& folder) {
+  const Study s = readStudy(study, folder);
+  py::dict out;
+  py::list designs, stages, inputs;
+  for (const StudyDesign& d : s.designs) designs.append(d.model.name);
+  for (const StudySection& section : s.sections) stages.append(section.stage->name());
+  for (const InputFile& f : s.inputs) inputs.append(f.path);
+  out["study"] = s.name;
+  out["description"] = s.description;
+  out["designs"] = designs;
+  out["stages"] = stages;
+  out["inputs"] = inputs;
+  return out;
 }
 
 }  // namespace
@@ -237,9 +333,15 @@ void bindStudy(py::module_& m) {
         py::arg("overwrite") = false, py::arg("unit_size") = 0, py::arg("folder") = ".",
         R"(Runs a study as `armstudy run` does, writing the same files into output/<name>/.
 study: a study file path, or a dict with the study file's tables (relative paths in it resolve
-against `folder`; an error names the dict's key path, e.g. 'reach.grid[0].step').
+against `folder`; an error names the dict's key path, e.g. 'reach.grid[0].step'). threads and
+unit_size have the CLI's bounds (0..256, 0..1e9); beyond them InputError names the argument.
 Returns a dict: study, output_dir, designs, threads, files, timings, metrics (the summary
 scalars), flags (per-pose uint8 arrays), maps ({file: read_map(file)} for every .vti written).)");
+  m.def("check_study", &check, py::arg("study"), py::arg("folder") = ".",
+        R"(Reads and validates a study (a file path or a dict, as run_study) without running it:
+the designs and data it names are loaded and checked, nothing is written. Returns a dict: study,
+description, designs (names, variants included), stages (the sections present), inputs (files
+read). Raises InputError as run_study would.)");
   m.def(
       "read_map", &readMap, py::arg("path"),
       R"(Reads a .vti map: dims, origin, spacing, axes {x, y, z}, arrays {name: (nz, ny, nx[, c])},

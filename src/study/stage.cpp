@@ -10,6 +10,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
@@ -29,8 +30,12 @@ bool readSectionTable(const SectionInput& in, const std::string& key,
 
 std::string RunOptions::validate() const {
   if (output_root.empty()) return "output root is empty";
-  if (threads < 0) return "thread count must not be negative";
-  if (unit_items < 0) return "unit size must not be negative";
+  if (threads < 0 || threads > defaults::kMaxThreads)
+    return "thread count must be within 0.." + std::to_string(defaults::kMaxThreads) +
+           " (0 = all cores)";
+  if (unit_items < 0 || unit_items > defaults::kMaxUnitItems)
+    return "unit size must be within 0.." + std::to_string(defaults::kMaxUnitItems) +
+           " (0 = each stage's default)";
   if (search_group_ranks < 0) return "search group ranks must not be negative";
   return "";
 }

@@ -19,7 +19,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr long long kMaxFolds = 1000;
-constexpr long long kMaxBins = 1000;
 
 bool validName(const std::string& s) {
   if (s.empty()) return false;
@@ -283,8 +282,8 @@ void readDriveKeys(TableReader& r, const Model& model, const FitKeys& fit, Calib
   o.folds = fit.folds;
   o.seed = fit.seed;
   o.auto_add = fit.auto_add;
-  o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, kMaxBins);
-  o.load_bins = readCount(r, "load_bins", o.load_bins, 1, kMaxBins);
+  o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, defaults::kMaxResidualBins);
+  o.load_bins = readCount(r, "load_bins", o.load_bins, 1, defaults::kMaxResidualBins);
   for (const std::string& n : fit.add)
     o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
   ARMSTUDY_CHECK(o.validate().empty(), "calibration drive options were checked one by one");
@@ -301,8 +300,9 @@ void readArmKeys(TableReader& r, const FitKeys& fit, CalibrationEntry& e) {
   o.seed = fit.seed;
   o.auto_add = fit.auto_add;
   o.add = fit.add;
-  o.variable_bins = readCount(r, "variable_bins", o.variable_bins, 1, kMaxBins);
-  o.workspace_bins = readCount(r, "workspace_bins", o.workspace_bins, 1, kMaxBins);
+  o.variable_bins = readCount(r, "variable_bins", o.variable_bins, 1, defaults::kMaxResidualBins);
+  o.workspace_bins =
+      readCount(r, "workspace_bins", o.workspace_bins, 1, defaults::kMaxResidualBins);
   ARMSTUDY_CHECK(o.validate().empty(), "calibration arm options were checked one by one");
 }
 
