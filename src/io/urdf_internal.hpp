@@ -12,6 +12,12 @@
 #include "io/urdf_io.hpp"
 #include "model/model.hpp"
 
+namespace armstudy::defaults {
+// Elements inside elements a URDF may nest (as toml++ nests TOML tables and arrays): the XML
+// parsers recurse once per level. A URDF needs about six.
+inline constexpr int kMaxXmlNesting = 256;
+}  // namespace armstudy::defaults
+
 namespace armstudy::urdf_detail {
 
 // Lines of the URDF's elements (urdfdom keeps none), found with tinyxml, the parser urdfdom uses.

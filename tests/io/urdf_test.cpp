@@ -1616,9 +1616,9 @@ void writeAsciiStl(const std::string& path, const std::vector<std::string>& v,
 }
 
 // The 12 triangles of a box with corners k (bit 0 = +x, bit 1 = +y, bit 2 = +z).
-const std::vector<std::array<int, 3>> kBoxTriangles = {
-    {0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+const std::vector<std::array<int, 3>> kBoxTriangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                                       {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                                       {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
 
 // Corners of a 0.1 m cube, corner 0 moved to x0 along x.
 std::vector<Eigen::Vector3f> cubeCorners(float x0 = 0) {
@@ -1631,7 +1631,8 @@ std::vector<Eigen::Vector3f> cubeCorners(float x0 = 0) {
 
 // A one-joint arm whose link l1 (line 3) has one collision element: `geometry` at `origin_xyz`.
 std::string meshArm(const std::string& geometry, const std::string& origin_xyz = "0 0 0") {
-  return "<robot name=\"mesharm\">\n  <link name=\"base\"/>\n  <link name=\"l1\"><collision><origin "
+  return "<robot name=\"mesharm\">\n  <link name=\"base\"/>\n  <link "
+         "name=\"l1\"><collision><origin "
          "xyz=\"" +
          origin_xyz + "\"/><geometry>" + geometry +
          "</geometry></collision></link>\n"
@@ -1672,7 +1673,8 @@ TEST_CASE("URDF bad: elements nested 60,000 deep are refused before the XML pars
   std::string nest;
   for (int k = 0; k < 253; ++k) nest += "<x>";
   for (int k = 0; k < 253; ++k) nest += "</x>";
-  ok.replace(ok.find("<link name=\"base\"/>"), 19, "<link name=\"base\"><v>" + nest + "</v></link>");
+  ok.replace(ok.find("<link name=\"base\"/>"), 19,
+             "<link name=\"base\"><v>" + nest + "</v></link>");
   CHECK(importUrdfText(ok, "deep_ok.urdf", chain("base", "tool")).dof() == 2);
 }
 
