@@ -1,5 +1,5 @@
 // One libFuzzer binary per reader: compiled with
-// -DARMSTUDY_FUZZ_TARGET=<design|study|csv|baseline|urdf> and -fsanitize=fuzzer,address,undefined
+// -DARMSTUDY_FUZZ_TARGET=<design|study|csv|baseline|urdf|urdf_mesh> and -fsanitize=fuzzer,address,undefined
 // (CMake option ARMSTUDY_FUZZ, clang; README "Fuzzing").
 #include "fuzz_targets.hpp"
 
