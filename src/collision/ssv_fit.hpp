@@ -19,8 +19,9 @@
 #include "model/model.hpp"
 
 namespace armstudy::defaults {
-// The largest collision mesh file read (16 MiB; fit-ssv and URDF meshes): assimp holds about 30
-// bytes per byte of a binary STL while reading it, so one mesh stays under about 0.5 GB.
+// The largest collision mesh file read (16 MiB; fit-ssv and URDF meshes): reading and fitting a
+// binary STL takes about 43 bytes of memory per byte of it (docs/hardening.md), so one mesh stays
+// under about 0.75 GB.
 inline constexpr unsigned long long kMaxMeshFileBytes = 16ull << 20;
 }  // namespace armstudy::defaults
 

@@ -27,6 +27,18 @@ struct XmlIndex {
   std::set<std::string> joints_without_bounds;  // <limit> without lower or upper
 };
 
+// The tag structure of an XML text (a URDF, a DAE mesh), read without building a tree: the line
+// of the first tag that does not close the element open before it or has no element name, of a
+// comment, CDATA section or tag left unterminated, or of an element left open (0 when the tags
+// match).
+struct XmlTagScan {
+  int problem_line = 0;
+};
+// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
+// InputError(file, line, "xml") at the first too deep one: the XML parsers (TinyXML, assimp's)
+// recurse once per level, and 60,000 nested elements overflow the stack.
+XmlTagScan scanXmlTags(const std::string& text, const std::string& file);
+
 Eigen::Isometry3d toIso(const urdf::Pose& p);
 
 // One link's part of a body: the link and the transform from the body frame F to the link frame L.

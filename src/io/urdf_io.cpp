@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -44,6 +45,85 @@ bool isUrdfPath(const std::string& path) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".urdf";
 }
+
+namespace urdf_detail {
+
+namespace {
+
+// The end of the markup starting at text[i] ('<'), one past its '>', or npos when unterminated;
+// quoted attribute values may hold '>'.
+std::size_t markupEnd(const std::string& text, std::size_t i) {
+  for (const auto& [open, close] :
+       {std::pair<const char*, const char*>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
+    if (text.compare(i, std::strlen(open), open) == 0) {
+      const std::size_t e = text.find(close, i + std::strlen(open));
+      return e == std::string::npos ? e : e + std::strlen(close);
+    }
+  char quote = 0;
+  for (std::size_t j = i + 1; j < text.size(); ++j) {
+    const char c = text[j];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if ((c == '"' || c == '\'') && text[i + 1] != '!') {
+      quote = c;
+    } else if (c == '>') {
+      return j + 1;
+    }
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
+// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
+// InputError at the line of the first too deep one: the XML parsers recurse once per level, and a
+// file of 60,000 nested elements would overflow the stack.
+XmlTagScan scanXmlTags(const std::string& text, const std::string& file) {
+  XmlTagScan out;
+  std::vector<std::pair<std::string, int>> open;  // element name, line
+  int line = 1;                                   // the line at text[i]
+  std::size_t i = 0;
+  auto problem = [&](int at) {
+    if (!out.problem_line) out.problem_line = at;
+  };
+  auto lines = [&](std::size_t a, std::size_t b) {
+    return static_cast<int>(
+        std::count(text.begin() + static_cast<long>(a), text.begin() + static_cast<long>(b), '\n'));
+  };
+  for (std::size_t lt; (lt = text.find('<', i)) != std::string::npos;) {
+    const std::size_t end = markupEnd(text, lt);
+    const std::size_t stop = end == std::string::npos ? text.size() : end;
+    const int tag_line = line + lines(i, lt);
+    line = tag_line + lines(lt, stop);
+    i = stop;
+    if (end == std::string::npos) {
+      problem(tag_line);
+      break;
+    }
+    if (text[lt + 1] == '!' || text[lt + 1] == '?') continue;
+    const bool closing = text[lt + 1] == '/';
+    const std::size_t name_at = lt + (closing ? 2 : 1);
+    const std::size_t name_end = text.find_first_of(" \t\r\n/>", name_at);
+    const std::string name = text.substr(name_at, name_end - name_at);
+    const unsigned char first = name.empty() ? 0 : static_cast<unsigned char>(name[0]);
+    if (!(std::isalpha(first) || first == '_' || first == ':' || first >= 0x80))
+      problem(tag_line);  // no element name: a stray '<'
+    if (closing) {
+      if (open.empty() || open.back().first != name) problem(tag_line);
+      if (!open.empty()) open.pop_back();
+    } else if (text[end - 2] != '/') {
+      open.emplace_back(name, tag_line);
+      if (open.size() > static_cast<std::size_t>(defaults::kMaxXmlNesting))
+        throw InputError(file, tag_line, "xml",
+                         "elements nested more than " + std::to_string(defaults::kMaxXmlNesting) +
+                             " deep (<" + name + "> here; a robot description needs a few)");
+    }
+  }
+  if (!open.empty()) problem(open.back().second);
+  return out;
+}
+
+}  // namespace urdf_detail
 
 namespace {
 
@@ -139,81 +219,6 @@ void checkNumbers(const TiXmlElement* e, const NumberSchema& schema, const std::
 bool limitWithoutBounds(const TiXmlElement* joint) {
   const TiXmlElement* l = joint->FirstChildElement("limit");
   return l && (!l->Attribute("lower") || !l->Attribute("upper"));
-}
-
-// The tag structure of an XML text, read without building a tree: the line of the first tag that
-// does not close the element open before it, of a comment, CDATA section or tag left
-// unterminated, or of an element left open (0 when the tags match).
-struct XmlTagScan {
-  int problem_line = 0;
-};
-
-// The end of the markup starting at text[i] ('<'), one past its '>', or npos when unterminated;
-// quoted attribute values may hold '>'.
-std::size_t markupEnd(const std::string& text, std::size_t i) {
-  for (const auto& [open, close] :
-       {std::pair<const char*, const char*>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
-    if (text.compare(i, std::strlen(open), open) == 0) {
-      const std::size_t e = text.find(close, i + std::strlen(open));
-      return e == std::string::npos ? e : e + std::strlen(close);
-    }
-  char quote = 0;
-  for (std::size_t j = i + 1; j < text.size(); ++j) {
-    const char c = text[j];
-    if (quote) {
-      if (c == quote) quote = 0;
-    } else if ((c == '"' || c == '\'') && text[i + 1] != '!') {
-      quote = c;
-    } else if (c == '>') {
-      return j + 1;
-    }
-  }
-  return std::string::npos;
-}
-
-// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
-// InputError at the line of the first too deep one: the XML parsers recurse once per level, and a
-// file of 60,000 nested elements would overflow the stack.
-XmlTagScan scanXmlTags(const std::string& text, const std::string& file) {
-  XmlTagScan out;
-  std::vector<std::pair<std::string, int>> open;  // element name, line
-  int line = 1;                                   // the line at text[i]
-  std::size_t i = 0;
-  auto problem = [&](int at) {
-    if (!out.problem_line) out.problem_line = at;
-  };
-  auto lines = [&](std::size_t a, std::size_t b) {
-    return static_cast<int>(
-        std::count(text.begin() + static_cast<long>(a), text.begin() + static_cast<long>(b), '\n'));
-  };
-  for (std::size_t lt; (lt = text.find('<', i)) != std::string::npos;) {
-    const std::size_t end = markupEnd(text, lt);
-    const std::size_t stop = end == std::string::npos ? text.size() : end;
-    const int tag_line = line + lines(i, lt);
-    line = tag_line + lines(lt, stop);
-    i = stop;
-    if (end == std::string::npos) {
-      problem(tag_line);
-      break;
-    }
-    if (text[lt + 1] == '!' || text[lt + 1] == '?') continue;
-    const bool closing = text[lt + 1] == '/';
-    const std::size_t name_at = lt + (closing ? 2 : 1);
-    const std::size_t name_end = text.find_first_of(" \t\r\n/>", name_at);
-    const std::string name = text.substr(name_at, name_end - name_at);
-    if (closing) {
-      if (open.empty() || open.back().first != name) problem(tag_line);
-      if (!open.empty()) open.pop_back();
-    } else if (text[end - 2] != '/') {
-      open.emplace_back(name, tag_line);
-      if (open.size() > static_cast<std::size_t>(defaults::kMaxXmlNesting))
-        throw InputError(file, tag_line, "xml",
-                         "elements nested more than " + std::to_string(defaults::kMaxXmlNesting) +
-                             " deep (<" + name + "> here); a URDF needs a few levels");
-    }
-  }
-  if (!open.empty()) problem(open.back().second);
-  return out;
 }
 
 XmlIndex indexAndCheck(const std::string& text, const std::string& file) {

@@ -84,8 +84,8 @@ struct CollisionSite {
 
 // The bytes of the mesh file at `path` (which exists). A file that is not regular (a FIFO, a
 // device: a read could block forever), that is empty (so also a kernel file of /proc that reads as
-// empty and may never end) or that is larger than defaults::kMaxMeshFileBytes (assimp holds about
-// 30 bytes per byte of an STL while reading it) is an InputError at the link.
+// empty and may never end) or that is larger than defaults::kMaxMeshFileBytes (reading and fitting
+// an STL takes about 43 bytes of memory per byte of it) is an InputError at the link.
 std::string readMeshFile(const std::string& path, const std::string& uri, const CollisionSite& at) {
   const std::string what = "mesh '" + uri + "' (" + path + "): ";
   std::error_code ec;
@@ -215,6 +215,16 @@ bool fileMesh(const urdf::Mesh& me, const Isometry3d& T, const std::string& link
   collision::TriangleMesh raw;
   std::string bytes;
   if (err.empty()) bytes = readMeshFile(path, me.filename, at);
+  if (const auto b = bytes.find_first_not_of(" \t\r\n");
+      b != std::string::npos && bytes[b] == '<') {
+    try {  // an XML mesh (DAE): assimp's reader recurses once per level, as TinyXML does
+      scanXmlTags(bytes, path);
+    } catch (const InputError& e) {
+      throw InputError(at.file, at.line, at.key,
+                       "mesh '" + me.filename + "' (" + path + ":" + std::to_string(e.line()) +
+                           "): " + e.message());
+    }
+  }
   if (!err.empty() || !loadMesh(bytes, path, raw, err)) {
     warnings.push_back("URDF import: link '" + link + "' gets no collision volume from mesh '" +
                        me.filename + "': " + err);

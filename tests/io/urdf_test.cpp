@@ -1821,3 +1821,17 @@ TEST_CASE("URDF the shipped TX40 converts to TOML and back with the same FK as t
   CHECK(e.fk < kUrdfOracleTolerance);
   CHECK(e.id < kUrdfOracleTolerance);
 }
+
+TEST_CASE("URDF bad: a DAE mesh nested 100,000 deep is refused before assimp parses it",
+          "[urdf][bad][collision][hardening]") {
+  std::string dae =
+      "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
+      "version=\"1.4.1\">\n<library_visual_scenes><visual_scene id=\"s\">\n";
+  for (int k = 0; k < 100000; ++k) dae += "<node>";
+  for (int k = 0; k < 100000; ++k) dae += "</node>";
+  dae += "</visual_scene></library_visual_scenes>\n</COLLADA>\n";
+  const std::string mesh = tempPath("deep.dae");
+  writeText(mesh, dae);
+  const InputError e = meshImportError("deep_dae.urdf", meshArm(meshElement(mesh)));
+  CHECK_THAT(e.message(), Catch::Contains(mesh + ":4") && Catch::Contains("nested more than 256"));
+}
