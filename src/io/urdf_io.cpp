@@ -22,6 +22,7 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 #include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
 
@@ -172,7 +173,23 @@ const NumberSchema kLinkNumbers = {{"inertial/origin", {"xyz", "rpy"}},
                                    {"collision/geometry/sphere", {"radius"}},
                                    {"collision/geometry/mesh", {"scale"}}};
 
-// Every number of attribute `attr` of element `e` must be finite: report the element and its line.
+// The dimension whose plausible magnitude (io/units.hpp) bounds a URDF attribute: lengths and
+// positions (limits of prismatic joints too: both bounds are 1e3), angles, velocities; nullptr for
+// plain numbers (masses, inertias, efforts, scales, gains).
+const Dimension* attributeDimension(const std::string& attr) {
+  static const Dimension length = Dimension::Length, angle = Dimension::Angle,
+                         velocity = Dimension::AngularVelocity;
+  static const std::set<std::string> lengths = {
+      "xyz",   "size",  "radius",           "length",           "rising",
+      "lower", "upper", "soft_lower_limit", "soft_upper_limit", "falling"};
+  if (lengths.count(attr)) return &length;
+  if (attr == "rpy") return &angle;
+  if (attr == "velocity") return &velocity;
+  return nullptr;
+}
+
+// Every number of attribute `attr` of element `e` must be finite and plausible: report the element
+// and its line.
 void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& owner,
                     const std::string& file) {
   const char* v = e->Attribute(attr);
@@ -181,17 +198,19 @@ void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& 
   in.imbue(std::locale::classic());
   std::string tok;
   while (in >> tok) {
-    bool ok = true;
+    std::string problem;
     try {
       std::size_t used = 0;
       const double d = std::stod(tok, &used);
-      ok = used == tok.size() && std::isfinite(d);
+      if (used != tok.size() || !std::isfinite(d))
+        problem = "'" + tok + "' is not a finite number";
+      else if (const std::string p = implausible(d, attributeDimension(attr)); !p.empty())
+        problem = "'" + tok + "': " + p;
     } catch (const std::exception&) {
-      ok = false;
+      problem = "'" + tok + "' is not a finite number";
     }
-    if (!ok)
-      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr,
-                       "'" + tok + "' is not a finite number");
+    if (!problem.empty())
+      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr, problem);
   }
 }
 

@@ -163,14 +163,6 @@ void requirePlausible(const std::vector<Vector3d>& points, const std::string& wh
   if (!problem.empty()) throw InputError(at.file, at.line, at.key, what + ": " + problem);
 }
 
-// A length of a collision primitive (radius, cylinder length, box side) must be finite and
-// plausible (io/units.hpp), or an InputError at the link.
-void requirePlausibleLength(double value, const std::string& what, const CollisionSite& at) {
-  const Dimension length = Dimension::Length;
-  const std::string problem = implausible(value, &length);
-  if (!problem.empty()) throw InputError(at.file, at.line, at.key, what + ": " + problem);
-}
-
 void addFitted(Model& m, int body, const std::string& name, const collision::SsvFitSummary& fit) {
   int k = 0;
   for (const auto& f : fit.volumes) {
@@ -240,28 +232,6 @@ bool fileMesh(const urdf::Mesh& me, const Isometry3d& T, const std::string& link
   return true;
 }
 
-// The lengths of a primitive (sphere, cylinder, box): each finite and plausible.
-void requirePlausibleGeometry(const urdf::Geometry& g, const CollisionSite& at) {
-  switch (g.type) {
-    case urdf::Geometry::SPHERE:
-      requirePlausibleLength(static_cast<const urdf::Sphere&>(g).radius, "<sphere radius>", at);
-      break;
-    case urdf::Geometry::CYLINDER: {
-      const auto& c = static_cast<const urdf::Cylinder&>(g);
-      requirePlausibleLength(c.radius, "<cylinder radius>", at);
-      requirePlausibleLength(c.length, "<cylinder length>", at);
-      break;
-    }
-    case urdf::Geometry::BOX: {
-      const auto& b = static_cast<const urdf::Box&>(g);
-      for (double d : {b.dim.x, b.dim.y, b.dim.z}) requirePlausibleLength(d, "<box size>", at);
-      break;
-    }
-    default:
-      break;
-  }
-}
-
 }  // namespace
 
 void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& file,
@@ -275,11 +245,9 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
     ++idx;
     const int line = xml.links.count(lb.link->name) ? xml.links.at(lb.link->name) : 0;
     const CollisionSite at{file, line, "link '" + lb.link->name + "'/collision"};
-    const auto& xyz = c->origin.position;
-    requirePlausible({Vector3d(xyz.x, xyz.y, xyz.z)}, "<origin xyz>", at);
-    requirePlausibleGeometry(*c->geometry, at);
     const Isometry3d T = lb.T_FL * toIso(c->origin);
-    // The geometry placed in the body frame (the joints' origins before it included).
+    // Each number is plausible (indexAndCheck); the geometry placed in the body frame (the fixed
+    // joints' origins before it included) must be too.
     const std::string placed = "the collision geometry placed in the body frame";
     collision::TriangleMesh tm;
     switch (c->geometry->type) {

@@ -1729,16 +1729,24 @@ TEST_CASE("URDF bad: mesh vertices that are not finite or not plausible, and far
   // 1e308 in an ASCII STL is infinite in assimp's single precision.
   CHECK_THAT(meshImportError("huge.urdf", meshArm(meshElement(huge))).message(),
              Catch::Contains("huge_ascii.stl") && Catch::Contains("not finite"));
-  // A plausible mesh (and a box) placed 1e308 m away by the <collision> origin.
-  CHECK_THAT(meshImportError("origin.urdf", meshArm(meshElement(good), "0 0 1e308")).message(),
-             Catch::Contains("<origin xyz>") && Catch::Contains("not plausible"));
-  CHECK_THAT(
-      meshImportError("box.urdf", meshArm("<box size=\"0.1 0.1 0.1\"/>", "0 0 1e308")).message(),
-      Catch::Contains("not plausible"));
-  CHECK_THAT(meshImportError("bigbox.urdf", meshArm("<box size=\"0.1 1e30 0.1\"/>")).message(),
-             Catch::Contains("<box size>") && Catch::Contains("not plausible"));
-  CHECK_THAT(meshImportError("bigsphere.urdf", meshArm("<sphere radius=\"1e300\"/>")).message(),
-             Catch::Contains("<sphere radius>") && Catch::Contains("not plausible"));
+  // A plausible mesh (and a box) placed 1e308 m away by the <collision> origin, and primitives
+  // of implausible size: refused where the XML gives the number, before any fit.
+  struct Case {
+    std::string urdf, key;
+  };
+  for (const Case& c :
+       {Case{meshArm(meshElement(good), "0 0 1e308"), "link 'l1'/origin@xyz"},
+        Case{meshArm("<box size=\"0.1 0.1 0.1\"/>", "0 0 1e308"), "link 'l1'/origin@xyz"},
+        Case{meshArm("<box size=\"0.1 1e30 0.1\"/>"), "link 'l1'/box@size"},
+        Case{meshArm("<sphere radius=\"1e300\"/>"), "link 'l1'/sphere@radius"}}) {
+    const InputError e =
+        expectInputError([&] { importUrdfText(c.urdf, "far.urdf", chain("", "", true)); });
+    INFO(e.what());
+    CHECK(e.file() == "far.urdf");
+    CHECK(e.line() == 3);
+    CHECK(e.key() == c.key);
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
 
   // fit-ssv refuses the same vertices with the same check (exit 2 naming the mesh file).
   const std::string design = tempPath("fit_design.toml"), out = tempPath("fit_out.toml");
@@ -1820,6 +1828,25 @@ TEST_CASE("URDF the shipped TX40 converts to TOML and back with the same FK as t
   const Errors e = compareWithKdl(t, kdl.chain, true, 40);
   CHECK(e.fk < kUrdfOracleTolerance);
   CHECK(e.id < kUrdfOracleTolerance);
+}
+
+TEST_CASE("URDF bad: joint origins and limits beyond the plausible magnitudes are refused",
+          "[urdf][bad][hardening]") {
+  struct Case {
+    std::string urdf, key;
+  };
+  std::string limit = smallArm();
+  limit.replace(limit.find("upper=\"2\""), 9, "upper=\"1e300\"");
+  for (const Case& c : {Case{smallArm("", "revolute", "0 0 1e308"), "joint 'j1'/origin@xyz"},
+                        Case{limit, "joint 'j1'/limit@upper"}}) {
+    const InputError e =
+        expectInputError([&] { importUrdfText(c.urdf, "far.urdf", chain("base", "tool")); });
+    INFO(e.what());
+    CHECK(e.file() == "far.urdf");
+    CHECK(e.line() > 0);
+    CHECK(e.key() == c.key);
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
 }
 
 TEST_CASE("URDF bad: a DAE mesh nested 100,000 deep is refused before assimp parses it",
