@@ -7,6 +7,7 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 #include "io/urdf_io.hpp"
 
 namespace armstudy::cli {
@@ -51,7 +52,8 @@ void addFitSsvCommand(CLI::App* cmd, Action& action) {
     o.margin_m = a->margin_mm * 1e-3;
     if (const std::string err = o.validate(); !err.empty())
       throw InputError("--max-volumes", 0, "fit-ssv", err);
-    const collision::TriangleMesh mesh = collision::loadTriangleMesh(a->mesh, a->scale);
+    const collision::TriangleMesh mesh =
+        collision::loadTriangleMesh(a->mesh, a->scale, kMaxLength_m);
     const collision::SsvFitSummary fit = collision::fitSsvs(mesh, o);
     const std::string label = std::filesystem::path(a->mesh).filename().string() + " (" +
                               fileHash(a->mesh) + ", scale " + std::to_string(a->scale) + ")";

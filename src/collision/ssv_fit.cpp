@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -254,13 +255,33 @@ std::string SsvFitOptions::validate() const {
   return "";
 }
 
-TriangleMesh loadTriangleMesh(const std::string& path, double scale) {
+std::string meshVertexProblem(const std::vector<Vector3d>& points, double max_abs_m) {
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Vector3d& p = points[k];
+    const bool finite = p.allFinite();
+    if (finite && p.cwiseAbs().maxCoeff() <= max_abs_m) continue;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "point %zu of %zu at (%.6g, %.6g, %.6g) m %s %.0e m", k + 1,
+                  points.size(), p.x(), p.y(), p.z(),
+                  finite ? "is not plausible: each coordinate must be at most"
+                         : "is not finite (NaN or Inf); each coordinate must be at most",
+                  max_abs_m);
+    return buf;
+  }
+  return "";
+}
+
+TriangleMesh loadTriangleMesh(const std::string& path, double scale, double max_abs_m) {
   namespace fs = std::filesystem;
   auto fail = [&](const std::string& msg) { throw InputError(path, 0, "mesh", msg); };
   if (!(scale > 0) || !std::isfinite(scale)) fail("mesh scale must be positive");
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail("cannot open mesh file (missing or not a file)");
-  if (fs::file_size(path, ec) == 0) fail("mesh file is empty");
+  const auto size = fs::file_size(path, ec);
+  if (size == 0) fail("mesh file is empty");
+  if (size > defaults::kMaxMeshFileBytes)
+    fail("mesh file of " + std::to_string(size) + " bytes exceeds the limit for a mesh of " +
+         std::to_string(defaults::kMaxMeshFileBytes) + " bytes");
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return std::tolower(ch); });
@@ -275,6 +296,10 @@ TriangleMesh loadTriangleMesh(const std::string& path, double scale) {
   }
   if (!ok) fail("cannot read mesh (not a valid, orientable " + ext.substr(1) + " surface)");
   if (sm.number_of_faces() == 0 || sm.number_of_vertices() == 0) fail("mesh has no faces (empty)");
+  std::vector<Vector3d> points;
+  for (auto v : sm.vertices()) points.push_back(toEigen(sm.point(v)) * scale);
+  if (const std::string p = meshVertexProblem(points, max_abs_m); !p.empty())
+    fail("mesh vertex (scaled): " + p);
   if (!CGAL::is_closed(sm))
     fail("mesh is not closed (it has border edges): export the link as a watertight solid");
   if (!CGAL::is_triangle_mesh(sm)) PMP::triangulate_faces(sm);
@@ -282,9 +307,7 @@ TriangleMesh loadTriangleMesh(const std::string& path, double scale) {
   std::map<SurfaceMesh::Vertex_index, int> index;
   for (auto v : sm.vertices()) {
     index[v] = static_cast<int>(out.vertices.size());
-    const Vector3d p = toEigen(sm.point(v)) * scale;
-    if (!p.allFinite()) fail("mesh has non-finite coordinates");
-    out.vertices.push_back(p);
+    out.vertices.push_back(toEigen(sm.point(v)) * scale);
   }
   for (auto f : sm.faces()) {
     std::array<int, 3> tri{};

@@ -18,6 +18,13 @@
 
 #include "model/model.hpp"
 
+namespace armstudy::defaults {
+// The largest collision mesh file read (16 MiB; fit-ssv and URDF meshes): reading and fitting a
+// binary STL takes about 43 bytes of memory per byte of it (docs/hardening.md), so one mesh stays
+// under about 0.75 GB.
+inline constexpr unsigned long long kMaxMeshFileBytes = 16ull << 20;
+}  // namespace armstudy::defaults
+
 namespace armstudy::collision {
 
 struct TriangleMesh {
@@ -25,11 +32,17 @@ struct TriangleMesh {
   std::vector<std::array<int, 3>> triangles;
 };
 
+// Empty when every point is finite with coordinates of at most `max_abs_m` (callers reading files
+// pass io/units.hpp kMaxLength_m), else which point is not and why. fitSsvs needs such points: a
+// coordinate of 1e308 overflows its sums.
+std::string meshVertexProblem(const std::vector<Eigen::Vector3d>& points, double max_abs_m);
+
 // Reads a closed triangle mesh (.stl ASCII/binary or .off; other extensions are rejected).
-// Throws InputError(path, 0, "mesh", ...) for a missing, unreadable or empty file, a mesh without
-// faces, or a mesh that is not closed (has border edges). `scale` converts file units to metres
-// (e.g. 0.001 for millimetres).
-TriangleMesh loadTriangleMesh(const std::string& path, double scale = 1.0);
+// Throws InputError(path, 0, "mesh", ...) for a missing, unreadable, empty or special file, a file
+// larger than defaults::kMaxMeshFileBytes, a mesh without faces, a mesh that is not closed (has
+// border edges), or a vertex that meshVertexProblem refuses after scaling. `scale` converts file
+// units to metres (e.g. 0.001 for millimetres).
+TriangleMesh loadTriangleMesh(const std::string& path, double scale, double max_abs_m);
 
 struct SsvFitOptions {
   int max_volumes = 4;           // upper bound on the number of SSVs (a plate counts as two)

@@ -268,9 +268,12 @@ void readInertias(TableReader& top, Model& m) {
     li.I_com_kgm2 << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(li.I_com_kgm2);
     const Eigen::Vector3d ev = es.eigenvalues();
-    if (li.mass_kg > 0 && ev.minCoeff() <= 0)
-      r.fail("inertia", "inertia tensor is not positive definite");
     const double tol = 1e-12 * ev.cwiseAbs().maxCoeff();
+    // A point mass (all zero, as URDFs give small parts) or a thin rod (one moment zero) is a
+    // physical body; a negative moment is not.
+    if (ev.minCoeff() < -tol)
+      r.fail("inertia",
+             "inertia tensor is not positive semidefinite (a negative principal moment)");
     if (ev[0] + ev[1] < ev[2] - tol || ev[0] + ev[2] < ev[1] - tol || ev[1] + ev[2] < ev[0] - tol)
       r.fail("inertia", "principal moments break the triangle inequality (not a physical body)");
   });

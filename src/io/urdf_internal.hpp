@@ -12,6 +12,12 @@
 #include "io/urdf_io.hpp"
 #include "model/model.hpp"
 
+namespace armstudy::defaults {
+// Elements inside elements a URDF may nest (as toml++ nests TOML tables and arrays): the XML
+// parsers recurse once per level. A URDF needs about six.
+inline constexpr int kMaxXmlNesting = 256;
+}  // namespace armstudy::defaults
+
 namespace armstudy::urdf_detail {
 
 // Lines of the URDF's elements (urdfdom keeps none), found with tinyxml, the parser urdfdom uses.
@@ -20,6 +26,18 @@ struct XmlIndex {
   std::map<std::string, int> links, joints;     // element name -> line
   std::set<std::string> joints_without_bounds;  // <limit> without lower or upper
 };
+
+// The tag structure of an XML text (a URDF, a DAE mesh), read without building a tree: the line
+// of the first tag that does not close the element open before it or has no element name, of a
+// comment, CDATA section or tag left unterminated, or of an element left open (0 when the tags
+// match).
+struct XmlTagScan {
+  int problem_line = 0;
+};
+// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
+// InputError(file, line, "xml") at the first too deep one: the XML parsers (TinyXML, assimp's)
+// recurse once per level, and 60,000 nested elements overflow the stack.
+XmlTagScan scanXmlTags(const std::string& text, const std::string& file);
 
 Eigen::Isometry3d toIso(const urdf::Pose& p);
 

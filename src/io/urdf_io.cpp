@@ -9,8 +9,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -20,6 +22,7 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 #include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
 
@@ -43,6 +46,85 @@ bool isUrdfPath(const std::string& path) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".urdf";
 }
+
+namespace urdf_detail {
+
+namespace {
+
+// The end of the markup starting at text[i] ('<'), one past its '>', or npos when unterminated;
+// quoted attribute values may hold '>'.
+std::size_t markupEnd(const std::string& text, std::size_t i) {
+  for (const auto& [open, close] :
+       {std::pair<const char*, const char*>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
+    if (text.compare(i, std::strlen(open), open) == 0) {
+      const std::size_t e = text.find(close, i + std::strlen(open));
+      return e == std::string::npos ? e : e + std::strlen(close);
+    }
+  char quote = 0;
+  for (std::size_t j = i + 1; j < text.size(); ++j) {
+    const char c = text[j];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if ((c == '"' || c == '\'') && text[i + 1] != '!') {
+      quote = c;
+    } else if (c == '>') {
+      return j + 1;
+    }
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
+// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
+// InputError at the line of the first too deep one: the XML parsers recurse once per level, and a
+// file of 60,000 nested elements would overflow the stack.
+XmlTagScan scanXmlTags(const std::string& text, const std::string& file) {
+  XmlTagScan out;
+  std::vector<std::pair<std::string, int>> open;  // element name, line
+  int line = 1;                                   // the line at text[i]
+  std::size_t i = 0;
+  auto problem = [&](int at) {
+    if (!out.problem_line) out.problem_line = at;
+  };
+  auto lines = [&](std::size_t a, std::size_t b) {
+    return static_cast<int>(
+        std::count(text.begin() + static_cast<long>(a), text.begin() + static_cast<long>(b), '\n'));
+  };
+  for (std::size_t lt; (lt = text.find('<', i)) != std::string::npos;) {
+    const std::size_t end = markupEnd(text, lt);
+    const std::size_t stop = end == std::string::npos ? text.size() : end;
+    const int tag_line = line + lines(i, lt);
+    line = tag_line + lines(lt, stop);
+    i = stop;
+    if (end == std::string::npos) {
+      problem(tag_line);
+      break;
+    }
+    if (text[lt + 1] == '!' || text[lt + 1] == '?') continue;
+    const bool closing = text[lt + 1] == '/';
+    const std::size_t name_at = lt + (closing ? 2 : 1);
+    const std::size_t name_end = text.find_first_of(" \t\r\n/>", name_at);
+    const std::string name = text.substr(name_at, name_end - name_at);
+    const unsigned char first = name.empty() ? 0 : static_cast<unsigned char>(name[0]);
+    if (!(std::isalpha(first) || first == '_' || first == ':' || first >= 0x80))
+      problem(tag_line);  // no element name: a stray '<'
+    if (closing) {
+      if (open.empty() || open.back().first != name) problem(tag_line);
+      if (!open.empty()) open.pop_back();
+    } else if (text[end - 2] != '/') {
+      open.emplace_back(name, tag_line);
+      if (open.size() > static_cast<std::size_t>(defaults::kMaxXmlNesting))
+        throw InputError(file, tag_line, "xml",
+                         "elements nested more than " + std::to_string(defaults::kMaxXmlNesting) +
+                             " deep (<" + name + "> here; a robot description needs a few)");
+    }
+  }
+  if (!open.empty()) problem(open.back().second);
+  return out;
+}
+
+}  // namespace urdf_detail
 
 namespace {
 
@@ -91,7 +173,23 @@ const NumberSchema kLinkNumbers = {{"inertial/origin", {"xyz", "rpy"}},
                                    {"collision/geometry/sphere", {"radius"}},
                                    {"collision/geometry/mesh", {"scale"}}};
 
-// Every number of attribute `attr` of element `e` must be finite: report the element and its line.
+// The dimension whose plausible magnitude (io/units.hpp) bounds a URDF attribute: lengths and
+// positions (limits of prismatic joints too: both bounds are 1e3), angles, velocities; nullptr for
+// plain numbers (masses, inertias, efforts, scales, gains).
+const Dimension* attributeDimension(const std::string& attr) {
+  static const Dimension length = Dimension::Length, angle = Dimension::Angle,
+                         velocity = Dimension::AngularVelocity;
+  static const std::set<std::string> lengths = {
+      "xyz",   "size",  "radius",           "length",           "rising",
+      "lower", "upper", "soft_lower_limit", "soft_upper_limit", "falling"};
+  if (lengths.count(attr)) return &length;
+  if (attr == "rpy") return &angle;
+  if (attr == "velocity") return &velocity;
+  return nullptr;
+}
+
+// Every number of attribute `attr` of element `e` must be finite and plausible: report the element
+// and its line.
 void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& owner,
                     const std::string& file) {
   const char* v = e->Attribute(attr);
@@ -100,17 +198,19 @@ void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& 
   in.imbue(std::locale::classic());
   std::string tok;
   while (in >> tok) {
-    bool ok = true;
+    std::string problem;
     try {
       std::size_t used = 0;
       const double d = std::stod(tok, &used);
-      ok = used == tok.size() && std::isfinite(d);
+      if (used != tok.size() || !std::isfinite(d))
+        problem = "'" + tok + "' is not a finite number";
+      else if (const std::string p = implausible(d, attributeDimension(attr)); !p.empty())
+        problem = "'" + tok + "': " + p;
     } catch (const std::exception&) {
-      ok = false;
+      problem = "'" + tok + "' is not a finite number";
     }
-    if (!ok)
-      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr,
-                       "'" + tok + "' is not a finite number");
+    if (!problem.empty())
+      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr, problem);
   }
 }
 
@@ -141,11 +241,17 @@ bool limitWithoutBounds(const TiXmlElement* joint) {
 }
 
 XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
+  const XmlTagScan tags = scanXmlTags(text, file);
   TiXmlDocument doc;
   doc.Parse(text.c_str());
-  if (doc.Error())
-    throw InputError(file, doc.ErrorRow(), "xml",
-                     std::string("not well-formed XML: ") + doc.ErrorDesc());
+  if (doc.Error()) {
+    // TinyXML gives no row for some errors (a comment never closed, say) and a later one for
+    // others (a stray '<'): the earlier of its row and the scan's line.
+    int line = doc.ErrorRow() > 0 ? doc.ErrorRow() : 1;
+    if (tags.problem_line > 0 && (doc.ErrorRow() <= 0 || tags.problem_line < line))
+      line = tags.problem_line;
+    throw InputError(file, line, "xml", std::string("not well-formed XML: ") + doc.ErrorDesc());
+  }
   const TiXmlElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw InputError(file, 1, "robot", "no <robot> element: not a URDF file");
   XmlIndex out;

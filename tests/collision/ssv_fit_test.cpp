@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -164,7 +165,7 @@ TEST_CASE("fitted SSVs contain every vertex of the mesh they were fitted to") {
       writeOff(path, c.mesh);
       SsvFitOptions o;
       o.max_volumes = max_volumes;
-      const SsvFitSummary fit = fitSsvs(loadTriangleMesh(path), o);
+      const SsvFitSummary fit = fitSsvs(loadTriangleMesh(path, 1.0, kMaxLength_m), o);
       REQUIRE(!fit.volumes.empty());
       REQUIRE(static_cast<int>(fit.volumes.size()) <= max_volumes);
       REQUIRE(fit.mesh_vertices == static_cast<int>(c.mesh.v.size()));
@@ -180,7 +181,7 @@ TEST_CASE("a long tube is fitted by a capsule close to its own size") {
   writeOff(dir.file("tube.off"), m);
   SsvFitOptions o;
   o.max_volumes = 1;
-  const SsvFitSummary fit = fitSsvs(loadTriangleMesh(dir.file("tube.off")), o);
+  const SsvFitSummary fit = fitSsvs(loadTriangleMesh(dir.file("tube.off"), 1.0, kMaxLength_m), o);
   REQUIRE(fit.volumes.size() == 1);
   CHECK(fit.volumes[0].type == SsvType::Line);
   // Circumradius of the 24-gon is the tube radius: the capsule radius is that (plus rounding).
@@ -190,7 +191,7 @@ TEST_CASE("a long tube is fitted by a capsule close to its own size") {
   CHECK((fit.volumes[0].p[1] - fit.volumes[0].p[0]).norm() == Approx(0.4).margin(1e-6));
   // A margin adds clearance to the radius.
   o.margin_m = 0.01;
-  const SsvFitSummary wide = fitSsvs(loadTriangleMesh(dir.file("tube.off")), o);
+  const SsvFitSummary wide = fitSsvs(loadTriangleMesh(dir.file("tube.off"), 1.0, kMaxLength_m), o);
   CHECK(wide.volumes[0].radius_m == Approx(0.05).margin(1e-6));
 }
 
@@ -199,8 +200,8 @@ TEST_CASE("STL (ASCII, in millimetres) and OFF of the same solid give the same f
   const TestMesh m = bracket();
   writeOff(dir.file("b.off"), m);
   writeAsciiStl(dir.file("b.stl"), m, 1000.0);
-  const TriangleMesh off = loadTriangleMesh(dir.file("b.off"));
-  const TriangleMesh stl = loadTriangleMesh(dir.file("b.stl"), 0.001);
+  const TriangleMesh off = loadTriangleMesh(dir.file("b.off"), 1.0, kMaxLength_m);
+  const TriangleMesh stl = loadTriangleMesh(dir.file("b.stl"), 0.001, kMaxLength_m);
   REQUIRE(stl.vertices.size() == m.v.size());  // STL corners are shared again
   SsvFitOptions o;
   const SsvFitSummary a = fitSsvs(off, o), b = fitSsvs(stl, o);
@@ -213,7 +214,7 @@ TEST_CASE("missing, empty, unsupported and non-closed meshes are InputErrors") {
   TempDir dir;
   auto expectError = [&](const std::string& path, const std::string& words) {
     try {
-      loadTriangleMesh(path);
+      loadTriangleMesh(path, 1.0, kMaxLength_m);
       FAIL("expected an InputError for " << path);
     } catch (const InputError& e) {
       INFO(e.what());

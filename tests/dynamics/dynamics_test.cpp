@@ -349,10 +349,17 @@ TEST_CASE("bad inertial and drive data are input errors naming file, line and ke
   expectError(designText("[[inertia]]\nlink = \"j1\"\nmass = -1.0\n" + com +
                          "inertia = [0.005, 0.005, 0.01, 0, 0, 0]\n"),
               "mass");
-  // Not positive definite (a zero principal moment) and indefinite.
-  expectError(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
-                         "inertia = [0.005, 0.005, 0.0, 0, 0, 0]\n"),
-              "inertia");
+  // Indefinite (a negative principal moment). A zero moment (a thin rod, a point mass) is a body.
+  CHECK(parseDesign(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
+                               "inertia = [0.005, 0.005, 0.0, 0, 0, 0]\n"),
+                    "rod.toml")
+            .inertias[0]
+            .given);
+  CHECK(parseDesign(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
+                               "inertia = [0, 0, 0, 0, 0, 0]\n"),
+                    "point.toml")
+            .inertias[0]
+            .given);
   expectError(designText("[[inertia]]\nlink = \"j1\"\nmass = 1.0\n" + com +
                          "inertia = [0.01, 0.01, 0.01, 0.02, 0, 0]\n"),
               "inertia");

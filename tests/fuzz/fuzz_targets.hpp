@@ -84,6 +84,35 @@ inline void urdf(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+// A collision mesh of a URDF (STL bytes, binary or ASCII), read through the importer: the bytes
+// become link.stl in a scratch folder, beside a one-joint URDF whose link names it; the mesh is
+// read with assimp, checked and fitted with swept-sphere volumes. The error must name the URDF.
+inline void urdf_mesh(const std::uint8_t* data, std::size_t size) {
+  namespace fs = std::filesystem;
+  static const fs::path dir = [] {
+    const fs::path d =
+        fs::temp_directory_path() / ("armstudy_fuzz_urdf_mesh." + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  const std::string file = (dir / "fuzz_mesh.urdf").string();
+  {
+    std::ofstream out(dir / "link.stl", std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  const std::string urdf =
+      "<robot name=\"fuzz\"><link name=\"base\"/><link name=\"l1\"><collision><geometry>"
+      "<mesh filename=\"link.stl\" scale=\"0.001 0.001 0.001\"/></geometry></collision></link>"
+      "<joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/>"
+      "<axis xyz=\"0 0 1\"/><limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/>"
+      "</joint></robot>";
+  try {
+    (void)importUrdfText(urdf, file, UrdfOptions{});
+  } catch (const InputError& e) {
+    requireNamed(e, file);
+  }
+}
+
 #ifndef ARMSTUDY_CORE_ONLY
 // A study file, in a scratch copy of the repository's layout (studies/ beside designs/, the
 // shipped data reachable as studies/data) so its relative paths resolve. The error may name the

@@ -189,6 +189,15 @@ TEST_CASE("fuzz URDF reader: the real arms and 5000 mutations accepted or reject
         5000);
 }
 
+TEST_CASE(
+    "fuzz URDF mesh reading: a binary and an ASCII STL and 2000 mutations accepted or rejected "
+    "naming the URDF",
+    "[fuzz]") {
+  // Seeds: tests/fuzz/corpus/urdf_mesh/ (a 50 mm cube in millimetres, binary and ASCII). Flipped
+  // bytes of a binary STL give NaN, infinite and huge vertices and wrong triangle counts.
+  check("urdf_mesh", fuzz::urdf_mesh, {}, 2000);
+}
+
 TEST_CASE("fuzz harness: a reader that throws anything but a named InputError is a finding",
           "[fuzz]") {
   // The oracle of the tests above can fail: a target throwing std::out_of_range, and one whose

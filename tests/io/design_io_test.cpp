@@ -166,10 +166,10 @@ TEST_CASE("bad design input names file, line and key", "[io][design][bad-input]"
         std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,3,0,0,0]\n",
         30, "inertia[0].inertia", "triangle");
   }
-  SECTION("inertia not positive definite") {
+  SECTION("inertia with a negative principal moment") {
     expectError(
         std::string(kGood) + "[[inertia]]\nlink = \"elbow\"\nmass = 1\ninertia = [1,1,-1,0,0,0]\n",
-        30, "inertia[0].inertia", "positive definite");
+        30, "inertia[0].inertia", "positive semidefinite");
   }
   SECTION("zero gear ratio") {
     expectError(std::string(kGood) +

@@ -1,7 +1,9 @@
 // URDF in and out. Oracle: orocos-kdl built from the same URDF by kdl_parser (an
 // independent URDF implementation), never armstudy's own reading of the file.
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstring>
@@ -1573,4 +1575,290 @@ TEST_CASE("URDF the shipped robots keep their default tip and link frames throug
     INFO("largest frame difference " << d);
     CHECK(d < kUrdfOracleTolerance);
   }
+}
+
+// ---- hostile input: XML structure, mesh files and mesh content ----
+
+namespace {
+
+// The TX40 read through convert (URDF -> TOML -> URDF) agrees with the URDF to this, in m and in
+// rotation-matrix entries: the numbers travel with 17 significant digits.
+constexpr double kRoundTripTolerance = 1e-12;
+
+// A binary STL of the corners `v` (indices into them, 3 per triangle).
+void writeBinaryStl(const std::string& path, const std::vector<Eigen::Vector3f>& v,
+                    const std::vector<std::array<int, 3>>& tris) {
+  std::ofstream out(path, std::ios::binary);
+  const std::string header(80, ' ');
+  out.write(header.data(), 80);
+  const std::uint32_t n = static_cast<std::uint32_t>(tris.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : tris) {
+    const float normal[3] = {0, 0, 0};
+    out.write(reinterpret_cast<const char*>(normal), 12);
+    for (int k : t) out.write(reinterpret_cast<const char*>(v[k].data()), 12);
+    const char attr[2] = {0, 0};
+    out.write(attr, 2);
+  }
+}
+
+// An ASCII STL of the corners written as the strings `v` ("x y z").
+void writeAsciiStl(const std::string& path, const std::vector<std::string>& v,
+                   const std::vector<std::array<int, 3>>& tris) {
+  std::ofstream out(path);
+  out << "solid part\n";
+  for (const auto& t : tris) {
+    out << "facet normal 0 0 0\nouter loop\n";
+    for (int k : t) out << "vertex " << v[k] << "\n";
+    out << "endloop\nendfacet\n";
+  }
+  out << "endsolid part\n";
+}
+
+// The 12 triangles of a box with corners k (bit 0 = +x, bit 1 = +y, bit 2 = +z).
+const std::vector<std::array<int, 3>> kBoxTriangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                                       {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                                       {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+
+// Corners of a 0.1 m cube, corner 0 moved to x0 along x.
+std::vector<Eigen::Vector3f> cubeCorners(float x0 = 0) {
+  std::vector<Eigen::Vector3f> v;
+  for (int k = 0; k < 8; ++k)
+    v.emplace_back(k & 1 ? 0.1f : 0.f, k & 2 ? 0.1f : 0.f, k & 4 ? 0.1f : 0.f);
+  v[0].x() = x0;
+  return v;
+}
+
+// A one-joint arm whose link l1 (line 3) has one collision element: `geometry` at `origin_xyz`.
+std::string meshArm(const std::string& geometry, const std::string& origin_xyz = "0 0 0") {
+  return "<robot name=\"mesharm\">\n  <link name=\"base\"/>\n  <link "
+         "name=\"l1\"><collision><origin "
+         "xyz=\"" +
+         origin_xyz + "\"/><geometry>" + geometry +
+         "</geometry></collision></link>\n"
+         "  <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/>"
+         "<axis xyz=\"0 0 1\"/><limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/>"
+         "</joint>\n</robot>\n";
+}
+std::string meshElement(const std::string& path) { return "<mesh filename=\"" + path + "\"/>"; }
+
+// The InputError of importing `urdf` (written to a file of that name in the scratch folder) with
+// collision volumes: it names the file, the link l1 (line 3) and its collision element.
+InputError meshImportError(const std::string& name, const std::string& urdf) {
+  const std::string f = tempPath(name);
+  writeText(f, urdf);
+  const InputError e = expectInputError([&] { importUrdf(f, chain("", "", true)); });
+  INFO(e.what());
+  CHECK(e.file() == f);
+  CHECK(e.line() == 3);
+  CHECK(e.key() == "link 'l1'/collision");
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("URDF bad: elements nested 60,000 deep are refused before the XML parser recurses",
+          "[urdf][bad][hardening]") {
+  std::string deep = "<robot name=\"deep\">\n  <link name=\"a\"/>\n";
+  for (int k = 0; k < 60000; ++k) deep += "<x>";
+  for (int k = 0; k < 60000; ++k) deep += "</x>";
+  deep += "\n</robot>\n";
+  const InputError e = expectInputError([&] { importUrdfText(deep, "deep.urdf", {}); });
+  CHECK(e.file() == "deep.urdf");
+  CHECK(e.line() == 3);
+  CHECK(e.key() == "xml");
+  CHECK_THAT(e.message(), Catch::Contains("nested more than 256"));
+  // 256 levels (the <robot> element and 255 below it) are still read by the XML parser.
+  std::string ok = smallArm();
+  std::string nest;
+  for (int k = 0; k < 253; ++k) nest += "<x>";
+  for (int k = 0; k < 253; ++k) nest += "</x>";
+  ok.replace(ok.find("<link name=\"base\"/>"), 19,
+             "<link name=\"base\"><v>" + nest + "</v></link>");
+  CHECK(importUrdfText(ok, "deep_ok.urdf", chain("base", "tool")).dof() == 2);
+}
+
+TEST_CASE("URDF bad: XML syntax errors name the line, also where TinyXML gives none",
+          "[urdf][bad][hardening]") {
+  struct Case {
+    std::string text;
+    int line;
+  };
+  const std::string head = "<robot name=\"x\">\n<link name=\"a\"/>\n";
+  const Case cases[] = {
+      {head + "<!-- a comment never closed\n</robot>\n", 3},
+      {head + "<![CDATA[ never closed\n</robot>\n", 3},
+      {head + "<\n</robot>\n", 3},
+      {head + "<link name=\"b\">\n</robot", 4},
+      {head + "<link name=\"b\">\n</lnk>\n</robot>\n", 4},
+      {head + "<link name=\"b\" foo/>\n</robot>\n", 3},
+      {"\n\n", 1},
+  };
+  for (const Case& c : cases) {
+    INFO(c.text);
+    const InputError e = expectInputError([&] { importUrdfText(c.text, "syntax.urdf", {}); });
+    INFO(e.what());
+    CHECK(e.file() == "syntax.urdf");
+    CHECK(e.key() == "xml");
+    CHECK(e.line() == c.line);
+  }
+}
+
+TEST_CASE("URDF bad: mesh vertices that are not finite or not plausible, and far origins",
+          "[urdf][bad][collision][hardening]") {
+  // The same cube imports when its vertices are plausible: only the vertex or origin differs.
+  const std::string good = tempPath("cube.stl");
+  writeBinaryStl(good, cubeCorners(), kBoxTriangles);
+  REQUIRE(importUrdfText(meshArm(meshElement(good)), "cube.urdf", chain("", "", true))
+              .collision.volumes.size() >= 1);
+
+  const std::string nan = tempPath("nan.stl"), far = tempPath("far.stl");
+  writeBinaryStl(nan, cubeCorners(std::numeric_limits<float>::quiet_NaN()), kBoxTriangles);
+  writeBinaryStl(far, cubeCorners(1e30f), kBoxTriangles);
+  std::vector<std::string> ascii;
+  for (const auto& p : cubeCorners())
+    ascii.push_back(std::to_string(p.x()) + " " + std::to_string(p.y()) + " " +
+                    std::to_string(p.z()));
+  ascii[0] = "1e308 0 0";
+  const std::string huge = tempPath("huge_ascii.stl");
+  writeAsciiStl(huge, ascii, kBoxTriangles);
+  CHECK_THAT(meshImportError("nan.urdf", meshArm(meshElement(nan))).message(),
+             Catch::Contains("nan.stl") && Catch::Contains("not finite"));
+  CHECK_THAT(meshImportError("far.urdf", meshArm(meshElement(far))).message(),
+             Catch::Contains("far.stl") && Catch::Contains("not plausible"));
+  // 1e308 in an ASCII STL is infinite in assimp's single precision.
+  CHECK_THAT(meshImportError("huge.urdf", meshArm(meshElement(huge))).message(),
+             Catch::Contains("huge_ascii.stl") && Catch::Contains("not finite"));
+  // A plausible mesh (and a box) placed 1e308 m away by the <collision> origin, and primitives
+  // of implausible size: refused where the XML gives the number, before any fit.
+  struct Case {
+    std::string urdf, key;
+  };
+  for (const Case& c :
+       {Case{meshArm(meshElement(good), "0 0 1e308"), "link 'l1'/origin@xyz"},
+        Case{meshArm("<box size=\"0.1 0.1 0.1\"/>", "0 0 1e308"), "link 'l1'/origin@xyz"},
+        Case{meshArm("<box size=\"0.1 1e30 0.1\"/>"), "link 'l1'/box@size"},
+        Case{meshArm("<sphere radius=\"1e300\"/>"), "link 'l1'/sphere@radius"}}) {
+    const InputError e =
+        expectInputError([&] { importUrdfText(c.urdf, "far.urdf", chain("", "", true)); });
+    INFO(e.what());
+    CHECK(e.file() == "far.urdf");
+    CHECK(e.line() == 3);
+    CHECK(e.key() == c.key);
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
+
+  // fit-ssv refuses the same vertices with the same check (exit 2 naming the mesh file).
+  const std::string design = tempPath("fit_design.toml"), out = tempPath("fit_out.toml");
+  fs::copy_file(test::sourcePath("designs/first_prototype_6dof.toml"), design,
+                fs::copy_options::overwrite_existing);
+  std::string log;
+  REQUIRE(test::runCommand(test::binaryPath() + " fit-ssv " + design + " --link base --mesh " +
+                               good + " --out " + out,
+                           log) == 0);
+  fs::remove(out);
+  for (const std::string& mesh : {nan, far, huge}) {
+    INFO(mesh);
+    CHECK(test::runCommand(test::binaryPath() + " fit-ssv " + design + " --link base --mesh " +
+                               mesh + " --out " + out,
+                           log) == 2);
+    INFO(log);
+    CHECK_THAT(log, Catch::Contains(mesh) &&
+                        (Catch::Contains("not finite") || Catch::Contains("not plausible")));
+    CHECK_FALSE(fs::exists(out));
+  }
+}
+
+TEST_CASE("URDF bad: a FIFO, an empty file or an oversized file as a mesh is refused, not read",
+          "[urdf][bad][collision][hardening]") {
+  const fs::path dir = scratchDir() / "special_meshes";
+  fs::create_directories(dir);
+  const std::string fifo = (dir / "link.stl").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);  // the scenario needs the FIFO: fail without it
+  REQUIRE(fs::is_fifo(fifo));
+  const std::string empty = (dir / "empty.stl").string();
+  std::ofstream(empty).close();
+  const std::string big = (dir / "big.stl").string();
+  fs::resize_file((std::ofstream(big), big), defaults::kMaxMeshFileBytes + 1);  // sparse
+  struct Case {
+    std::string mesh, words;
+  };
+  for (const Case& c : {Case{fifo, "not a regular file"}, Case{empty, "empty"},
+                        Case{big, "exceeds the limit for a collision mesh"}}) {
+    const std::string urdf = (dir / ("arm_" + fs::path(c.mesh).stem().string() + ".urdf")).string();
+    writeText(urdf, meshArm(meshElement(c.mesh)));
+    std::string log;
+    // `timeout` turns a read that blocks on the FIFO into a failure, not a hung suite.
+    CHECK(test::runCommand("timeout 20 " + test::binaryPath() + " describe " + urdf, log) == 2);
+    INFO(log);
+    CHECK_THAT(log, Catch::Contains(urdf + ":3") && Catch::Contains("link 'l1'/collision") &&
+                        Catch::Contains(c.mesh) && Catch::Contains(c.words));
+  }
+}
+
+TEST_CASE("URDF the shipped TX40 converts to TOML and back with the same FK as the URDF",
+          "[urdf][cli]") {
+  const std::string tx40 = robotFile("../datasets/staubli_tx40/urdf/tx40_mdh_modified.urdf");
+  const std::string toml = tempPath("tx40.toml"), back = tempPath("tx40_back.urdf");
+  std::string log;
+  REQUIRE(test::runCommand(test::binaryPath() + " convert " + tx40 + " " + toml, log) == 0);
+  INFO(log);
+  REQUIRE(test::runCommand(test::binaryPath() + " convert " + toml + " " + back, log) == 0);
+  const Model a = importUrdf(tx40, chain("", "", false));
+  const Model t = loadDesign(toml);
+  const Model b = importUrdf(back, chain("", "", false));
+  REQUIRE(t.dof() == 6);
+  REQUIRE(b.dof() == 6);
+  KinematicsWorkspace wa(a), wt(t), wb(b);
+  std::mt19937_64 rng(40);
+  double worst = 0;
+  for (int k = 0; k < kRandomConfigurations; ++k) {
+    const Eigen::VectorXd q = test::randomConfiguration(a, rng);
+    forwardKinematics(a, wa, q);
+    forwardKinematics(t, wt, q);
+    forwardKinematics(b, wb, q);
+    for (const KinematicsWorkspace* w : {&wt, &wb})
+      worst = std::max({worst, (w->p_WT - wa.p_WT).cwiseAbs().maxCoeff(),
+                        (w->R_WT - wa.R_WT).cwiseAbs().maxCoeff()});
+  }
+  INFO("largest FK difference from the URDF " << worst);
+  CHECK(worst < kRoundTripTolerance);
+  // The TOML design against KDL on the URDF, dynamics included (link_6 is a point mass).
+  const KdlOracle kdl(kdlTreeFromFile(tx40), "base_link", "tool0");
+  const Errors e = compareWithKdl(t, kdl.chain, true, 40);
+  CHECK(e.fk < kUrdfOracleTolerance);
+  CHECK(e.id < kUrdfOracleTolerance);
+}
+
+TEST_CASE("URDF bad: joint origins and limits beyond the plausible magnitudes are refused",
+          "[urdf][bad][hardening]") {
+  struct Case {
+    std::string urdf, key;
+  };
+  std::string limit = smallArm();
+  limit.replace(limit.find("upper=\"2\""), 9, "upper=\"1e300\"");
+  for (const Case& c : {Case{smallArm("", "revolute", "0 0 1e308"), "joint 'j1'/origin@xyz"},
+                        Case{limit, "joint 'j1'/limit@upper"}}) {
+    const InputError e =
+        expectInputError([&] { importUrdfText(c.urdf, "far.urdf", chain("base", "tool")); });
+    INFO(e.what());
+    CHECK(e.file() == "far.urdf");
+    CHECK(e.line() > 0);
+    CHECK(e.key() == c.key);
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
+}
+
+TEST_CASE("URDF bad: a DAE mesh nested 100,000 deep is refused before assimp parses it",
+          "[urdf][bad][collision][hardening]") {
+  std::string dae =
+      "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
+      "version=\"1.4.1\">\n<library_visual_scenes><visual_scene id=\"s\">\n";
+  for (int k = 0; k < 100000; ++k) dae += "<node>";
+  for (int k = 0; k < 100000; ++k) dae += "</node>";
+  dae += "</visual_scene></library_visual_scenes>\n</COLLADA>\n";
+  const std::string mesh = tempPath("deep.dae");
+  writeText(mesh, dae);
+  const InputError e = meshImportError("deep_dae.urdf", meshArm(meshElement(mesh)));
+  CHECK_THAT(e.message(), Catch::Contains(mesh + ":4") && Catch::Contains("nested more than 256"));
 }
