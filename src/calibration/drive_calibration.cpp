@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "common/rng.hpp"
@@ -491,6 +492,10 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
   for (double l : loads)
     if (!(l >= 0)) throw InputError("", 0, "loads", "load levels must not be negative");
   if (o.series < 1) throw InputError("", 0, "series", "at least one test series");
+  if (double(o.series) * double(levels.size() * loads.size()) > defaults::kMaxSynthRows)
+    throw InputError("", 0, "series",
+                     "series x speed levels x load levels exceeds " +
+                         std::to_string(defaults::kMaxSynthRows) + " rows");
   if (!(o.noise_A >= 0) || !(o.noise_rho >= 0 && o.noise_rho < 1))
     throw InputError("", 0, "noise", "noise must be >= 0 and its correlation in [0, 1)");
   rng::SplitMix64 rng{o.seed};

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "io/csv_io.hpp"
@@ -45,6 +46,14 @@ LogTable readLogFile(const LogFile& f, const std::string& time_column) {
   return out;
 }
 
+// Empty when a sample period h [s] lies within the plausible ones, else the reason.
+std::string implausiblePeriod(double h) {
+  if (h >= defaults::kMinLogSamplePeriod_s && h <= defaults::kMaxLogSamplePeriod_s) return {};
+  return "a sample period of " + formatG(h, 6) + " s is not plausible (" +
+         formatG(defaults::kMinLogSamplePeriod_s, 6) + " to " +
+         formatG(defaults::kMaxLogSamplePeriod_s, 6) + " s)";
+}
+
 // The sample period of a time column (its median step): time must increase strictly, and a step
 // over twice the median is a gap (missing samples); a spread of the steps beyond the sampling
 // tolerance (controller jitter) is a warning: differences then use the actual times.
@@ -61,6 +70,8 @@ double samplePeriod(const LogTable& t, const std::string& file, const std::strin
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
                    sorted.end());
   const double h = sorted[sorted.size() / 2];
+  if (const std::string bad = implausiblePeriod(h); !bad.empty())
+    throw InputError(file, t.lines[1], column, "the median time step: " + bad);
   double lo = h, hi = h;
   for (int i = 1; i < R; ++i) {
     if (steps[i - 1] > defaults::kMaxLogStepRatio * h)
@@ -121,12 +132,46 @@ void checkSpec(const JointLogSpec& s) {
   if (lu.rank() < n)
     fail("coupling", "the coupling matrix is singular (rank " + std::to_string(lu.rank()) + " of " +
                          std::to_string(n) + "): motor positions do not determine the joints");
-  if (!(s.time_column.empty() ? s.sample_period_s > 0 : true))
-    fail("sample_period", "sample period must be positive");
+  if (s.time_column.empty())
+    if (const std::string bad = implausiblePeriod(s.sample_period_s); !bad.empty())
+      fail("sample_period", bad);
   if (s.filter_order < 2 || s.filter_order % 2)
     fail("filter.order", "the filter order must be even and at least 2");
   if (s.decimate < 1) fail("filter.decimate", "decimation must be at least 1");
   if (!(s.trim_s >= 0)) fail("filter.trim", "trim must not be negative");
+}
+
+// The two files hold one row per sample each, and at least kMinLogRows of them.
+void checkRows(const JointLogSpec& s, const LogTable& pos, const LogTable& eff) {
+  const std::size_t R = pos.lines.size();
+  if (eff.lines.size() != R) {
+    const bool pos_short = R < eff.lines.size();
+    const LogTable& shorter = pos_short ? pos : eff;
+    throw InputError(pos_short ? s.positions.path : s.efforts.path, shorter.lines.back() + 1,
+                     (pos_short ? s.positions : s.efforts).columns.front(),
+                     "the positions have " + std::to_string(R) + " rows and the efforts " +
+                         std::to_string(eff.lines.size()) +
+                         ": the two files must have one row per sample each");
+  }
+  if (R < static_cast<std::size_t>(defaults::kMinLogRows))
+    throw InputError(s.positions.path, R ? pos.lines.back() : 1,
+                     s.time_column.empty() ? s.positions.columns.front() : s.time_column,
+                     "the log has " + std::to_string(R) + " row" + (R == 1 ? "" : "s") +
+                         "; velocities and accelerations need at least " +
+                         std::to_string(defaults::kMinLogRows));
+}
+
+// Samples cut at each end: trim / h, computed in double (any trim and period compare without
+// overflow); a trim that leaves fewer than kMinLogRows is an input error naming filter.trim.
+int trimSamples(const JointLogSpec& s, double h, int rows) {
+  const double trim = std::max(0.0, std::ceil(s.trim_s / h - 1e-9));
+  if (!(rows - 2 * trim >= defaults::kMinLogRows))
+    throw InputError(s.study_file, s.study_line, keyOf(s, "filter.trim"),
+                     "a trim of " + formatG(s.trim_s, 6) + " s is " + formatG(trim, 6) +
+                         " samples at each end of a log of " + std::to_string(rows) +
+                         " rows: fewer than " + std::to_string(defaults::kMinLogRows) +
+                         " are left");
+  return static_cast<int>(trim);
 }
 
 }  // namespace
@@ -143,7 +188,9 @@ std::vector<double> zeroPhaseLowPass(const std::vector<double>& x, double h, dou
   const int n = static_cast<int>(x.size());
   if (n < 2) return x;
   // Odd reflection at both ends (continues value and slope), then biquad sections forward and back.
-  const int pad = std::min(n - 1, 3 * order * static_cast<int>(std::ceil(1.0 / (fc * h))));
+  // In double: 1 / (fc h) may exceed any int.
+  const int pad =
+      static_cast<int>(std::min<double>(n - 1, 3.0 * order * std::ceil(1.0 / (fc * h))));
   std::vector<double> y;
   y.reserve(n + 2 * pad);
   for (int i = pad; i >= 1; --i) y.push_back(2 * x[0] - x[i]);
@@ -196,16 +243,8 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   const std::vector<int> map = jointMap(s, model);
   const LogTable pos = readLogFile(s.positions, s.time_column);
   const LogTable eff = readLogFile(s.efforts, "");
+  checkRows(s, pos, eff);
   const int R = static_cast<int>(pos.lines.size());
-  if (eff.lines.size() != pos.lines.size()) {
-    const bool pos_short = R < static_cast<int>(eff.lines.size());
-    const LogTable& shorter = pos_short ? pos : eff;
-    throw InputError(pos_short ? s.positions.path : s.efforts.path, shorter.lines.back() + 1,
-                     (pos_short ? s.positions : s.efforts).columns.front(),
-                     "the positions have " + std::to_string(R) + " rows and the efforts " +
-                         std::to_string(eff.lines.size()) +
-                         ": the two files must have one row per sample each");
-  }
   std::vector<std::string> warnings;
   const double h = s.time_column.empty()
                        ? s.sample_period_s
@@ -228,7 +267,7 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
       tau(i, map[c]) = ti[static_cast<Eigen::Index>(c)];
     }
   }
-  const int trim = static_cast<int>(std::ceil(s.trim_s / h - 1e-9));
+  const int trim = trimSamples(s, h, R);
   std::vector<int> keep;
   for (int i = trim; i < R - trim; i += s.decimate) keep.push_back(i);
   if (keep.size() < 3)

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
 #include "dynamics/dynamics.hpp"
@@ -280,7 +281,8 @@ std::unique_ptr<ArmProblem> makeTcpProblem(const Model& model, const TcpData& da
 }
 
 TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& o) {
-  if (o.rows < 1) throw InputError("", 0, "rows", "at least one row");
+  if (o.rows < 1 || o.rows > defaults::kMaxSynthRows)
+    throw InputError("", 0, "rows", "1 to " + std::to_string(defaults::kMaxSynthRows) + " rows");
   if (!(o.noise_m >= 0) || !(o.noise_rad >= 0))
     throw InputError("", 0, "noise", "noise must not be negative");
   if (!(o.range_fraction > 0 && o.range_fraction <= 1))

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "calibration/drive_calibration.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
@@ -589,6 +590,8 @@ std::unique_ptr<ArmProblem> makeTrajectoryProblem(const Model& model, const Traj
 TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& o) {
   if (!(o.duration_s > 0) || !(o.rate_Hz > 0))
     throw InputError("", 0, "duration", "duration and rate must be positive");
+  if (!(o.duration_s * o.rate_Hz <= defaults::kMaxTrajectorySamples))
+    throw InputError("", 0, "duration", "duration x rate exceeds 1e6 samples");
   if (!(o.noise >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
   if (o.harmonics < 1) throw InputError("", 0, "harmonics", "at least one harmonic");
   const int n = model.dof();

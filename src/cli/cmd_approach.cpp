@@ -3,11 +3,42 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
+#include "io/units.hpp"
 #include "trajectory/approach_planner.hpp"
 
 namespace armstudy::cli {
+
+void checkSampling(double duration_s, double rate_Hz) {
+  auto fail = [](const char* option, const std::string& why) {
+    throw InputError("command line", 0, option, why);
+  };
+  if (!(duration_s > 0 && duration_s <= defaults::kMaxDuration_s))
+    fail("--duration", "the duration lies in (0, " + formatG(defaults::kMaxDuration_s, 6) + "] s");
+  if (!(rate_Hz > 0 && rate_Hz <= defaults::kMaxSampleRate_Hz))
+    fail("--rate",
+         "the sample rate lies in (0, " + formatG(defaults::kMaxSampleRate_Hz, 6) + "] Hz");
+  if (!(duration_s * rate_Hz >= 1))
+    fail("--rate", "duration x rate must give at least one step (rate >= 1 / duration)");
+  if (duration_s * rate_Hz > defaults::kMaxTrajectorySamples)
+    fail("--rate",
+         "duration x rate exceeds " + formatG(defaults::kMaxTrajectorySamples, 6) + " samples");
+}
+
+namespace {
+
+// Every value of a point option is a plausible length.
+void checkLengths(const std::vector<double>& values, const char* option) {
+  const Dimension dim = Dimension::Length;
+  for (double v : values)
+    if (const std::string bad = implausible(v, &dim); !bad.empty())
+      throw InputError("command line", 0, option, bad);
+}
+
+}  // namespace
 
 void addApproachCommand(CLI::App* cmd, Action& action) {
   struct Args {
@@ -47,10 +78,13 @@ void addApproachCommand(CLI::App* cmd, Action& action) {
   cmd->add_option("--rate", a->rate_hz, "Samples per second")->capture_default_str();
   cmd->add_option("--out", a->out, "Write the CSV to this file instead of stdout");
   setAction(cmd, action, [a] {
+    checkSampling(a->opt.duration_s, a->rate_hz);
+    checkLengths(a->start, "--start");
+    checkLengths(a->stem, "--stem");
+    checkLengths(a->fruit, "--fruit");
+    checkLengths(a->reference, "--reference");
     std::string err;
     if (!a->opt.validate(err)) throw InputError("command line", 0, "approach", err);
-    if (!(a->rate_hz > 0))
-      throw InputError("command line", 0, "rate", "sample rate must be positive");
     ApproachProblem pb;
     pb.p_start_W = Eigen::Vector3d(a->start[0], a->start[1], a->start[2]);
     pb.stem_xy_W = Eigen::Vector2d(a->stem[0], a->stem[1]);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <new>
 #include <sstream>
 #include <tuple>
 
@@ -270,6 +272,30 @@ void addFitCommand(CLI::App* cmd, Action& action) {
   });
 }
 
+// The sizes synth's options ask for, bounded before anything is allocated (README "Input limits").
+void checkSynthSizes(const std::string& kind, const ArmSynthArgs& a) {
+  if (kind == "tcp" && !(a.tcp.rows >= 1 && a.tcp.rows <= defaults::kMaxSynthRows))
+    throw InputError("command line", 0, "--rows",
+                     "the number of poses lies in 1 to " + std::to_string(defaults::kMaxSynthRows));
+  if (kind == "trajectory") checkSampling(a.traj.duration_s, a.traj.rate_Hz);
+}
+
+// `run`, with an allocation failure reported as an input error naming the options that set the
+// size of the synthesized data.
+Action sizedBy(std::shared_ptr<std::string> kind, Action run) {
+  return [kind, run] {
+    try {
+      return run();
+    } catch (const std::bad_alloc&) {
+      const char* options = *kind == "tcp"          ? "--rows"
+                            : *kind == "trajectory" ? "--duration, --rate"
+                                                    : "--series, --speeds, --loads";
+      throw InputError("command line", 0, options,
+                       "not enough memory for the data these options ask for");
+    }
+  };
+}
+
 void addSynthCommand(CLI::App* cmd, Action& action) {
   auto joint = std::make_shared<std::string>();
   auto design = std::make_shared<std::string>();
@@ -319,10 +345,12 @@ void addSynthCommand(CLI::App* cmd, Action& action) {
   cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
   cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");
   setAction(cmd, action,
-            [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm, noise, src] {
+            sizedBy(kind, [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm,
+                           noise, src] {
               if (*kind == "drive" && joint->empty())
                 throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
               checkOutputPath(*out);
+              checkSynthSizes(*kind, *arm);
               const Model m = loadAnyDesign(*design, src->urdf());
               if (*kind == "tcp") {
                 calibration::TcpSynthOptions so = arm->tcp;
@@ -373,7 +401,7 @@ void addSynthCommand(CLI::App* cmd, Action& action) {
               writeFileAtomic(*out, calibration::driveDataToCsv(data));
               std::printf("wrote %d rows to %s\n", data.rows(), out->c_str());
               return 0;
-            });
+            }));
 }
 
 }  // namespace armstudy::cli

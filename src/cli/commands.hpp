@@ -42,4 +42,9 @@ void addApproachCommand(CLI::App* cmd, Action& action);
 void addFitSsvCommand(CLI::App* cmd, Action& action);
 void addConvertCommand(CLI::App* cmd, Action& action);
 
+// A sampled time span of the command line (approach; synth --kind trajectory): --duration in
+// (0, defaults::kMaxDuration_s], --rate in (0, defaults::kMaxSampleRate_Hz], and duration x rate
+// from 1 to defaults::kMaxTrajectorySamples samples; else an InputError naming the option.
+void checkSampling(double duration_s, double rate_Hz);
+
 }  // namespace armstudy::cli

@@ -12,6 +12,14 @@ inline constexpr unsigned long long kMaxInputFileBytes =
     256ull << 20;  // any file armstudy reads (256 MiB)
 inline constexpr double kMaxTrajectorySamples =
     1e6;  // duration x rate of one trajectory (held in memory: ~200 MB)
+inline constexpr double kMaxSampleRate_Hz = 1e5;  // approach and synth --rate, a tracking rate
+inline constexpr double kMaxDuration_s = 1e4;     // approach and synth --duration
+inline constexpr int kMaxSynthRows = 1000000;     // synth --rows (poses held in memory)
+// Weights and gains (joint weights of a weighted pseudo-inverse, objective weights, null-space and
+// drift gains, the collision potential's H_0): a positive one lies in this range. A subnormal
+// weight passes "> 0" yet its inverse is infinite; the range is orders beyond any shipped study.
+inline constexpr double kMinWeight = 1e-6;
+inline constexpr double kMaxWeight = 1e6;
 
 // Kinematics
 inline constexpr int kMaxDof = 12;  // largest chain the fixed-size workspace holds
@@ -113,6 +121,11 @@ inline constexpr double kUniformSamplingTolerance = 0.01;  // relative spread of
 // fraction of the joint's peak speed in the data (rule fixed before any data set was fitted).
 inline constexpr double kFrictionWidthFraction = 0.01;
 inline constexpr double kMaxLogStepRatio = 2.0;  // a log's time step over this x median: a gap
+// A joint log's sample period (sample_period or the median step of its time column) [s]: a log
+// sampled faster than 1 MHz or slower than once in 1000 s is a wrong unit, not a robot's log.
+inline constexpr double kMinLogSamplePeriod_s = 1e-6;
+inline constexpr double kMaxLogSamplePeriod_s = 1e3;
+inline constexpr int kMinLogRows = 3;  // a log needs this many rows for its second differences
 // Dynamics
 inline constexpr double kStandardGravity_mps2 =
     9.81;  // |g|, default gravity (0, 0, -g) in W (study)

@@ -10,6 +10,7 @@
 
 #include "collision/collision_term.hpp"
 #include "collision/reach_collision.hpp"
+#include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/first_exception.hpp"
 #include "dexterity/stem_collision.hpp"
@@ -89,7 +90,8 @@ std::string DexterityOptions::validate() const {
     if (std::abs(nrm - 1.0) > 1e-6) return "transmission direction u must be a unit vector";
   }
   for (double w : joint_weights)
-    if (!std::isfinite(w) || w <= 0) return "joint weights must be finite and > 0";
+    if (!(w >= defaults::kMinWeight && w <= defaults::kMaxWeight))
+      return "joint weights must lie in [1e-6, 1e6]";
   if (!(position_tolerance_m > 0) || !(orientation_tolerance_rad > 0))
     return "tolerances must be > 0";
   if (cold_starts < 1) return "cold_starts must be >= 1";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/defaults.hpp"
 #include "common/enum_names.hpp"
 #include "common/errors.hpp"
 
@@ -163,7 +164,8 @@ std::string RedundancyOptions::validate(int dof) const {
     if (static_cast<int>(joint_weights.size()) != dof)
       return "joint_weights needs one weight per joint (" + std::to_string(dof) + ")";
     for (double w : joint_weights)
-      if (!std::isfinite(w) || w <= 0) return "joint weights must be finite and > 0";
+      if (!(w >= defaults::kMinWeight && w <= defaults::kMaxWeight))
+        return "joint weights must lie in [1e-6, 1e6]";
   }
   if (!std::isfinite(alpha) || alpha < 0) return "null-space gain alpha must be finite and >= 0";
   if (!std::isfinite(drift_gain) || drift_gain < 0) return "drift gain must be finite and >= 0";

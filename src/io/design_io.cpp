@@ -489,7 +489,8 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
 std::string designNameError(const std::string& name) {
   if (name.empty()) return "design name is empty";
   if (!isPlainName(name, kDesignNamePunctuation))
-    return "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name files)";
+    return "design names use letters, digits, '_', '-' and '.' only, not dots alone (they name "
+           "files)";
   return "";
 }
 

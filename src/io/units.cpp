@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "common/defaults.hpp"
 #include "common/enum_names.hpp"
 
 namespace armstudy {
@@ -228,6 +229,16 @@ std::string implausible(double value_si, const Dimension* dim) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "value %.6g is not plausible: |value| must be at most %.0e%s",
                 value_si, limit, dim ? (std::string(" (SI, ") + toString(*dim) + ")").c_str() : "");
+  return buf;
+}
+
+std::string implausibleWeight(double w, bool zero_allowed) {
+  if (!std::isfinite(w)) return "value is not finite (NaN or Inf)";
+  if ((zero_allowed && w == 0) || (w >= defaults::kMinWeight && w <= defaults::kMaxWeight))
+    return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%.6g is not a plausible weight or gain: it lies in [%g, %g]%s", w,
+                defaults::kMinWeight, defaults::kMaxWeight, zero_allowed ? " or is 0" : "");
   return buf;
 }
 

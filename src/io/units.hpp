@@ -34,5 +34,8 @@ double plausibleMagnitude(Dimension dim);
 // Empty when |value_si| is within plausibleMagnitude(dim) (or kMaxPlainNumber for plain numbers,
 // dim = nullptr), else the message for the input error.
 std::string implausible(double value_si, const Dimension* dim);
+// Empty when `w` is a plausible weight or gain: within [defaults::kMinWeight,
+// defaults::kMaxWeight], or 0 where `zero_allowed` (a term switched off); else the message.
+std::string implausibleWeight(double w, bool zero_allowed);
 
 }  // namespace armstudy

@@ -14,6 +14,7 @@
 #include "calibration/arm_calibration.hpp"
 #include "calibration/calibration_run.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "dynamics/dynamics.hpp"
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
@@ -529,4 +530,113 @@ TEST_CASE("a time column with controller jitter is read with the actual times an
     warned = warned || w.find("time steps vary") != std::string::npos;
   CHECK(warned);
   CHECK(d.rows() > 100);
+}
+
+namespace {
+
+// Keeps the header and the first `rows` rows of a log file.
+void keepRows(const fs::path& p, int rows) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  in.close();
+  std::ofstream out(p);
+  for (int i = 0; i <= rows && i < static_cast<int>(lines.size()); ++i) out << lines[i] << "\n";
+}
+
+// Adds a time column `t` (the row index times h) to the positions file.
+void addTimeColumn(const fs::path& p, double h) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  in.close();
+  std::ofstream out(p);
+  out.precision(17);
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    out << lines[i] << "," << (i == 0 ? std::string("t") : formatG(h * double(i - 1), 17)) << "\n";
+}
+
+}  // namespace
+
+TEST_CASE("counts a joint log's settings imply are checked before any index is formed") {
+  SECTION("one row with a time column") {
+    BadLog b("onerow");
+    addTimeColumn(b.dir / "pos.csv", 1e-3);
+    keepRows(b.dir / "pos.csv", 1);
+    keepRows(b.dir / "eff.csv", 1);
+    b.spec.time_column = "t";
+    const InputError e = b.error();
+    CHECK(e.file() == (b.dir / "pos.csv").string());
+    CHECK(e.line() == 2);
+    CHECK(e.key() == "t");
+    CHECK_THAT(e.message(), Catch::Contains("1 row") && Catch::Contains("at least 3"));
+  }
+  SECTION("two rows without a time column") {
+    BadLog b("tworows");
+    keepRows(b.dir / "pos.csv", 2);
+    keepRows(b.dir / "eff.csv", 2);
+    const InputError e = b.error();
+    CHECK(e.file() == (b.dir / "pos.csv").string());
+    CHECK(e.key() == "m1");
+    CHECK_THAT(e.message(), Catch::Contains("2 rows"));
+  }
+  // 400 rows at 1 ms; trims whose sample count overflows an int (430,000 s at 0.2 ms is 2.15e9
+  // samples) or any integer.
+  for (const double trim : {0.2, 430000.0, 1e300}) {
+    DYNAMIC_SECTION("a trim of " << trim << " s") {
+      BadLog b("trim");
+      b.spec.trim_s = trim;
+      if (trim == 430000.0) {
+        b.spec.sample_period_s = 2e-4;
+        b.spec.cutoff_Hz = 100;
+      }
+      const InputError e = b.error();
+      CHECK(e.file() == b.spec.study_file);
+      CHECK(e.line() == 7);
+      CHECK(e.key() == "filter.trim");
+      CHECK_THAT(e.message(), Catch::Contains("samples at each end"));
+    }
+  }
+  SECTION("a sample period of 1e-12 s with a trim of 0.1 s (1e11 samples)") {
+    BadLog b("period");
+    b.spec.sample_period_s = 1e-12;
+    b.spec.trim_s = 0.1;
+    const InputError e = b.error();
+    CHECK(e.file() == b.spec.study_file);
+    CHECK(e.key() == "sample_period");
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
+  SECTION("a time column stepping 1e-12 s") {
+    BadLog b("timestep");
+    addTimeColumn(b.dir / "pos.csv", 1e-12);
+    b.spec.time_column = "t";
+    b.spec.trim_s = 0.1;
+    const InputError e = b.error();
+    CHECK(e.file() == (b.dir / "pos.csv").string());
+    CHECK(e.key() == "t");
+    CHECK_THAT(e.message(), Catch::Contains("not plausible"));
+  }
+  SECTION("the filter's start-up length for a cut-off far below the sample rate") {
+    // 3 x order x 1 / (fc h) = 3e9 samples of padding, more than an int holds: the whole log
+    // pads instead.
+    const std::vector<double> x = {1, 2, 3, 4, 5};
+    const std::vector<double> y = zeroPhaseLowPass(x, 1e-6, 2e-3, 2);
+    REQUIRE(y.size() == x.size());
+    for (double v : y) CHECK(std::isfinite(v));
+  }
+}
+
+TEST_CASE("a study's trim that leaves no sample is exit 2 naming the key, nothing written") {
+  const fs::path dir = tmp("studytrim");
+  writeSyntheticLogs(dir, Planted{}, 1e-3, 400);
+  const fs::path p = measuredStudy(dir, "filter = { cutoff = \"50 Hz\" }",
+                                   "filter = { cutoff = \"50 Hz\", trim = \"1e300 s\" }");
+  std::string out;
+  CHECK(test::runCommand(
+            test::binaryPath() + " run " + p.string() + " --output " + (dir / "out").string(),
+            out) == 2);
+  INFO(out);
+  CHECK_THAT(
+      out, Catch::Contains("study.toml") && Catch::Contains("calibration[0].measured.filter.trim"));
+  CHECK(!fs::exists(dir / "out"));
 }

@@ -20,6 +20,7 @@
 #include "io/design_io.hpp"
 #include "io/urdf_io.hpp"
 #ifndef ARMSTUDY_CORE_ONLY
+#include "calibration/joint_log.hpp"
 #include "engine/study_file.hpp"
 #endif
 #include "study/regression.hpp"
@@ -139,6 +140,45 @@ inline void study(const std::uint8_t* data, std::size_t size) {
   } catch (const InputError& e) {
     if (e.file().empty())
       throw UnnamedInputError(std::string("InputError names no file: ") + e.what());
+  }
+}
+
+// A measured joint log of the 6-joint first prototype: one CSV holding the time column `t`, the
+// positions q1..q6 and the efforts e1..e6, read through the joint-log reader twice, by its time
+// column and by a sample period of 1 ms, filtered, decimated by 2 and trimmed by 5 ms. The error
+// names the log or the settings' study file.
+inline void jointLog(const std::uint8_t* data, std::size_t size) {
+  namespace fs = std::filesystem;
+  static const Model model =
+      loadDesign(std::string(ARMSTUDY_SOURCE_DIR) + "/designs/first_prototype_6dof.toml");
+  static const std::string file =
+      (fs::temp_directory_path() /
+       ("armstudy_fuzz_joint_log." + std::to_string(::getpid()) + ".csv"))
+          .string();
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  calibration::JointLogSpec s;
+  s.study_file = "fuzz_study.toml";
+  s.study_line = 1;
+  s.study_key = "calibration[0].measured";
+  for (const Joint& j : model.joints) s.joints.push_back(j.name);
+  s.positions = {file, {"q1", "q2", "q3", "q4", "q5", "q6"}, 1.0};
+  s.efforts = {file, {"e1", "e2", "e3", "e4", "e5", "e6"}, 1.0};
+  s.coupling = Eigen::MatrixXd::Identity(6, 6);
+  s.offsets = Eigen::VectorXd::Zero(6);
+  s.cutoff_Hz = 50;
+  s.decimate = 2;
+  s.trim_s = 5e-3;
+  for (const bool timed : {true, false}) {
+    s.time_column = timed ? "t" : "";
+    s.sample_period_s = timed ? 0.0 : 1e-3;
+    try {
+      (void)calibration::readJointLog(s, model);
+    } catch (const InputError& e) {
+      if (e.file() != file) requireNamed(e, s.study_file);
+    }
   }
 }
 #endif

@@ -166,6 +166,15 @@ TEST_CASE("fuzz study reader: shipped studies and 800 mutations accepted or reje
           "[fuzz]") {
   check("study", fuzz::study, {{"studies", ".toml"}}, 800);
 }
+
+TEST_CASE(
+    "fuzz joint-log reader: seed logs and 3000 mutations accepted or rejected naming the log or "
+    "the study",
+    "[fuzz]") {
+  // Seeds: tests/fuzz/corpus/joint_log/ (a smooth log, one with jitter, and a one-row log that
+  // crashed the reader with a time column).
+  check("joint_log", fuzz::jointLog, {}, 3000);
+}
 #endif
 
 TEST_CASE("fuzz CSV reader: shipped data and 30000 mutations accepted or rejected naming the file",

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "io/toml_reader.hpp"
+#include "io/units.hpp"
 
 namespace armstudy::dexterity {
 
@@ -48,6 +49,14 @@ double nonNegative(io::TableReader& r, const std::string& key, double fallback, 
   if (!r.has(key)) return fallback;
   const double v = r.quantity(key, dim);  // rejects NaN/Inf
   if (v < 0) r.fail(key, "must be >= 0");
+  return v;
+}
+
+// An objective weight: 0 (the term off) or plausible (io/units.hpp implausibleWeight).
+double weight(io::TableReader& r, const std::string& key, double fallback) {
+  if (!r.has(key)) return fallback;
+  const double v = r.quantity(key, Dimension::Dimensionless);
+  if (const std::string bad = implausibleWeight(v, true); !bad.empty()) r.fail(key, bad);
   return v;
 }
 
@@ -173,11 +182,10 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   }
   if (const toml::table* t = r.table("objective")) {
     io::TableReader ob(*t, r.file(), r.keyPath("objective"));
-    o.w_joint_limits = nonNegative(ob, "joint_limits", o.w_joint_limits, Dimension::Dimensionless);
-    o.w_manipulability =
-        nonNegative(ob, "manipulability", o.w_manipulability, Dimension::Dimensionless);
-    o.w_transmission = nonNegative(ob, "transmission", o.w_transmission, Dimension::Dimensionless);
-    o.w_collision = nonNegative(ob, "collision", o.w_collision, Dimension::Dimensionless);
+    o.w_joint_limits = weight(ob, "joint_limits", o.w_joint_limits);
+    o.w_manipulability = weight(ob, "manipulability", o.w_manipulability);
+    o.w_transmission = weight(ob, "transmission", o.w_transmission);
+    o.w_collision = weight(ob, "collision", o.w_collision);
     o.collision_safety_distance_m =
         positive(ob, "collision_safety_distance", o.collision_safety_distance_m, Dimension::Length);
     if (o.w_collision > 0 && !o.collision.enabled())
@@ -194,7 +202,8 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
     if (sv.has("joint_weights")) {
       o.joint_weights = sv.numberArray("joint_weights");
       for (double w : o.joint_weights)
-        if (!(w > 0)) sv.fail("joint_weights", "joint weights must be > 0");
+        if (const std::string bad = implausibleWeight(w, false); !bad.empty())
+          sv.fail("joint_weights", "joint weight " + bad);
     }
     o.position_tolerance_m =
         positive(sv, "position_tolerance", o.position_tolerance_m, Dimension::Length);

@@ -18,6 +18,7 @@
 #include "io/approach_io.hpp"
 #include "io/files.hpp"
 #include "io/toml_reader.hpp"
+#include "io/units.hpp"
 #include "io/vtk_io.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
@@ -134,8 +135,10 @@ HarvestOptions readHarvestOptions(TableReader& r, const SectionInput& in) {
     TableReader orr(*t, r.file(), r.keyPath("objective"));
     o.w_joint_limits = orr.number("joint_limits", o.w_joint_limits);
     o.w_manipulability = orr.number("manipulability", o.w_manipulability);
-    if (!(o.w_joint_limits >= 0)) orr.fail("joint_limits", "weight must be >= 0");
-    if (!(o.w_manipulability >= 0)) orr.fail("manipulability", "weight must be >= 0");
+    if (const std::string bad = implausibleWeight(o.w_joint_limits, true); !bad.empty())
+      orr.fail("joint_limits", bad);
+    if (const std::string bad = implausibleWeight(o.w_manipulability, true); !bad.empty())
+      orr.fail("manipulability", bad);
     orr.finish();
   }
   if (const toml::table* t = r.table("grid")) {

@@ -6,6 +6,7 @@
 
 #include "common/defaults.hpp"
 #include "io/toml_reader.hpp"
+#include "io/units.hpp"
 #include "stages/tracking/tracking_stage.hpp"
 
 namespace armstudy::tracking {
@@ -14,7 +15,6 @@ using io::TableReader;
 
 namespace {
 
-constexpr double kMaxRate_Hz = 1e5;
 constexpr int kMaxSnapshots = 1000;
 
 bool validName(const std::string& s) {
@@ -35,30 +35,33 @@ Eigen::Vector3d readPoint(TableReader& r, const std::string& key) {
 
 void readNullspace(TableReader& r, const Model& model, TrackingEntry& e) {
   ik::RedundancyOptions& ro = e.redundancy;
-  ro.alpha = r.number("gain", ro.alpha);
-  if (ro.alpha < 0) r.fail("gain", "null-space gain alpha must be >= 0 [1/s]");
-  ro.drift_gain = r.number("drift_gain", ro.drift_gain);
-  if (ro.drift_gain < 0) r.fail("drift_gain", "drift gain K must be >= 0 [1/s]");
+  // A weight or gain read at `key`: plausible (io/units.hpp), 0 only where `zero_allowed`.
+  auto weight = [&](const std::string& key, double fallback, bool zero_allowed) {
+    const double w = r.number(key, fallback);
+    if (const std::string bad = implausibleWeight(w, zero_allowed); !bad.empty()) r.fail(key, bad);
+    return w;
+  };
+  ro.alpha = weight("gain", ro.alpha, true);                  // alpha [1/s]
+  ro.drift_gain = weight("drift_gain", ro.drift_gain, true);  // K [1/s]
   if (r.has("joint_weights")) {
     ro.joint_weights = r.numberArray("joint_weights");
     if (static_cast<int>(ro.joint_weights.size()) != model.dof())
       r.fail("joint_weights",
              "expected one weight per joint (" + std::to_string(model.dof()) + ")");
     for (double w : ro.joint_weights)
-      if (!(w > 0)) r.fail("joint_weights", "joint weights must be > 0");
+      if (const std::string bad = implausibleWeight(w, false); !bad.empty())
+        r.fail("joint_weights", "joint weight " + bad);
   }
   ro.damping_lambda0 = r.number("damping_lambda0", ro.damping_lambda0);
   if (ro.damping_lambda0 < 0) r.fail("damping_lambda0", "must be >= 0");
   ro.damping_m0 = r.number("damping_m0", ro.damping_m0);
   if (ro.damping_m0 < 0) r.fail("damping_m0", "must be >= 0");
-  e.w_joint_limits = r.number("joint_limits", e.w_joint_limits);
-  if (e.w_joint_limits < 0) r.fail("joint_limits", "weight must be >= 0");
+  e.w_joint_limits = weight("joint_limits", e.w_joint_limits, true);
   e.joint_limit_activation = r.number("joint_limit_activation", e.joint_limit_activation);
   if (!(e.joint_limit_activation > 0 && e.joint_limit_activation < 0.5))
     r.fail("joint_limit_activation",
            "must lie in (0, 0.5) (fraction of the range inside each limit)");
-  e.w_manipulability = r.number("manipulability", e.w_manipulability);
-  if (e.w_manipulability < 0) r.fail("manipulability", "weight must be >= 0");
+  e.w_manipulability = weight("manipulability", e.w_manipulability, true);
 }
 
 void readAvoidance(TableReader& r, TrackingEntry& e) {
@@ -68,10 +71,12 @@ void readAvoidance(TableReader& r, TrackingEntry& e) {
   e.avoidance.weight = r.number("weight", e.avoidance.weight);
   if (!(e.avoidance.weight > 0))
     r.fail("weight", "weight w_c must be > 0 (with 0 both runs would be the same)");
+  if (const std::string bad = implausibleWeight(e.avoidance.weight, false); !bad.empty())
+    r.fail("weight", bad);
   p.blend_t = r.number("blend", p.blend_t);
   if (!(p.blend_t > 0 && p.blend_t < 1)) r.fail("blend", "blend parameter t must lie in (0, 1)");
   p.h0 = r.number("h0", p.h0);
-  if (!(p.h0 > 0)) r.fail("h0", "H_0 must be > 0");
+  if (const std::string bad = implausibleWeight(p.h0, false); !bad.empty()) r.fail("h0", bad);
   p.self = r.boolean("self", p.self);
 }
 
@@ -130,7 +135,7 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
   e.duration_s = r.number("duration");
   if (!(e.duration_s > 0)) r.fail("duration", "duration must be > 0 [s]");
   e.rate_Hz = r.number("rate", e.rate_Hz);
-  if (!(e.rate_Hz > 0) || e.rate_Hz > kMaxRate_Hz)
+  if (!(e.rate_Hz > 0) || e.rate_Hz > defaults::kMaxSampleRate_Hz)
     r.fail("rate", "rate must lie in (0, 100000] Hz");
   if (e.duration_s * e.rate_Hz > defaults::kMaxTrajectorySamples)
     r.fail("duration", "duration x rate exceeds 1e6 samples");
