@@ -20,7 +20,7 @@ std::string cli(const std::string& args, int& status) {
 fs::path freshDir(const std::string& name) { return armstudy::test::emptyTempDir("cli_" + name); }
 }  // namespace
 
-TEST_CASE("--help teaches the commands", "[cli]") {
+TEST_CASE("armstudy --help teaches the commands", "[cli]") {
   int st = 0;
   const std::string out = cli("--help", st);
   CHECK(st == 0);

@@ -266,7 +266,7 @@ std::vector<std::string> entries(const fs::path& dir) {
 }
 }  // namespace
 
-TEST_CASE("--out onto a FIFO, a device or a folder leaves the node as it was",
+TEST_CASE("an --out onto a FIFO, a device or a folder leaves the node as it was",
           "[cli][hardening][writer]") {
   const fs::path d = freshDir("writer_nodes");
   const std::string design = sourcePath("designs/first_prototype_6dof.toml");
@@ -347,8 +347,9 @@ TEST_CASE("a run never writes through a symbolic link planted inside its output 
   }
 }
 
-TEST_CASE("--overwrite with a manifest that lists the folder itself or a subfolder runs",
-          "[cli][hardening][writer]") {
+TEST_CASE(
+    "a run with --overwrite and a manifest that lists the folder itself or a subfolder goes on",
+    "[cli][hardening][writer]") {
   const fs::path d = freshDir("writer_manifest");
   const fs::path out = d / "out", mine = out / "regression";
   fs::create_directories(mine / "notes");

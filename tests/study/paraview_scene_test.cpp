@@ -17,12 +17,14 @@
 
 #include <array>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <thread>
 
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
@@ -292,9 +294,15 @@ TEST_CASE("scene.py lists the world files and renders offscreen with ParaView's 
         runner + " " + (out / "scene.py").string() + " --screenshot " + png.string() + extra;
     int rc = runCommand(command, log);
     // xvfb-run -a picks a free display but races with another xvfb-run starting at the same
-    // moment ("bad X server connection"): try once more.
-    if (rc != 0 && xvfb) rc = runCommand(command, log);
-    INFO(command << "\n" << log);
+    // moment, and a server slow to start on a loaded machine refuses the first connection ("bad X
+    // server connection"): try twice more, after a pause, keeping every attempt's output.
+    std::string all = log;
+    for (int attempt = 0; rc != 0 && xvfb && attempt < 2; ++attempt) {
+      std::this_thread::sleep_for(std::chrono::seconds(3));
+      rc = runCommand(command, log);
+      all += "\n--- again ---\n" + log;
+    }
+    INFO(command << "\n" << all);
     REQUIRE(rc == 0);
     REQUIRE(fs::exists(png));
     return png;
