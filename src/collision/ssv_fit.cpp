@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include "collision/collision_model.hpp"
@@ -33,8 +34,6 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<K::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 using Eigen::Vector3d;
-
-constexpr double kPi = 3.14159265358979323846;
 
 K::Point_3 toCgal(const Vector3d& v) { return K::Point_3(v.x(), v.y(), v.z()); }
 Vector3d toEigen(const K::Point_3& p) { return Vector3d(p.x(), p.y(), p.z()); }
@@ -188,7 +187,8 @@ Candidate plateCandidate(const std::vector<Vector3d>& pts, double margin) {
   const double r = out.volumes[0].radius_m;
   const double w = hi.x() - lo.x(), h = hi.y() - lo.y();
   // Steiner formula of the rectangle swept by a sphere.
-  out.volume_m3 = 2 * w * h * r + kPi * (w + h) * r * r + 4.0 / 3.0 * kPi * r * r * r;
+  out.volume_m3 =
+      2 * w * h * r + std::numbers::pi * (w + h) * r * r + 4.0 / 3.0 * std::numbers::pi * r * r * r;
   return out;
 }
 
@@ -236,13 +236,13 @@ std::vector<Vector3d> hullVertices(const std::vector<Vector3d>& pts) {
 
 double ssvVolume(const FittedSsv& v) {
   const double r = v.radius_m;
-  const double ball = 4.0 / 3.0 * kPi * r * r * r;
+  const double ball = 4.0 / 3.0 * std::numbers::pi * r * r * r;
   if (v.type == SsvType::Point) return ball;
-  if (v.type == SsvType::Line) return kPi * r * r * (v.p[1] - v.p[0]).norm() + ball;
+  if (v.type == SsvType::Line) return std::numbers::pi * r * r * (v.p[1] - v.p[0]).norm() + ball;
   const double area = 0.5 * (v.p[1] - v.p[0]).cross(v.p[2] - v.p[0]).norm();
   const double perim =
       (v.p[1] - v.p[0]).norm() + (v.p[2] - v.p[1]).norm() + (v.p[0] - v.p[2]).norm();
-  return 2 * area * r + 0.5 * kPi * perim * r * r + ball;
+  return 2 * area * r + 0.5 * std::numbers::pi * perim * r * r + ball;
 }
 
 double ssvSignedDistance(const FittedSsv& v, const Vector3d& x) {

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <limits>
 #include <nlopt.hpp>
+#include <numbers>
 #include <vector>
 
 #include "common/enum_names.hpp"
@@ -66,9 +67,7 @@ using namespace ik_detail;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-inline double wrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
+inline double wrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
 
 Context makeContext(const Model* model, const IkTarget& t, double w_o) {
   const auto& s = t.task_space.selected;

@@ -37,18 +37,17 @@ struct Unit {
   Dimension dim;
   double to_si;
 };
-constexpr double kPi = std::numbers::pi;
 const Unit kUnits[] = {
     {"m", Dimension::Length, 1.0},
     {"cm", Dimension::Length, 1e-2},
     {"mm", Dimension::Length, 1e-3},
     {"rad", Dimension::Angle, 1.0},
-    {"deg", Dimension::Angle, kPi / 180.0},
+    {"deg", Dimension::Angle, std::numbers::pi / 180.0},
     {"m/s", Dimension::LinearVelocity, 1.0},
     {"mm/s", Dimension::LinearVelocity, 1e-3},
     {"rad/s", Dimension::AngularVelocity, 1.0},
-    {"deg/s", Dimension::AngularVelocity, kPi / 180.0},
-    {"rpm", Dimension::AngularVelocity, 2.0 * kPi / 60.0},
+    {"deg/s", Dimension::AngularVelocity, std::numbers::pi / 180.0},
+    {"rpm", Dimension::AngularVelocity, 2.0 * std::numbers::pi / 60.0},
 };
 
 // Recursive-descent parser for: expr := term (('+'|'-') term)*; term := factor (('*'|'/') factor)*;
@@ -127,7 +126,7 @@ class ExprParser {
     }
     if (s_.compare(pos_, 2, "pi") == 0) {
       pos_ += 2;
-      v = kPi;
+      v = std::numbers::pi;
       return true;
     }
     if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {

@@ -120,7 +120,7 @@ void TextOp::draw(cairo_t* cr) const {
   setColour(cr, t.c);
   cairo_set_font_size(cr, t.size);
   cairo_translate(cr, t.x, t.y);
-  if (t.upward) cairo_rotate(cr, -kPi / 2);
+  if (t.upward) cairo_rotate(cr, -std::numbers::pi / 2);
   cairo_move_to(cr, 0, 0);
   cairo_show_text(cr, t.s.c_str());
   cairo_restore(cr);
@@ -168,7 +168,7 @@ void DotsOp::draw(cairo_t* cr) const {
     if (d.shape == Marker::square)
       cairo_rectangle(cr, x - d.r, y - d.r, 2 * d.r, 2 * d.r);
     else
-      cairo_arc(cr, x, y, d.r, 0, 2 * kPi);
+      cairo_arc(cr, x, y, d.r, 0, 2 * std::numbers::pi);
   }
   if (d.shape == Marker::dot) {
     cairo_fill(cr);

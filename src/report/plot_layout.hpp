@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,7 +36,6 @@ constexpr double kBarWidth = 16;       // colour bar
 constexpr double kSwatch = 22;         // legend sample
 constexpr double kMarkerStroke = 1.5;  // hollow markers' line width
 constexpr const char* kFont = "DejaVu Sans";
-constexpr double kPi = 3.14159265358979323846;
 
 inline std::string tickText(double v) { return formatG(v, 6); }
 

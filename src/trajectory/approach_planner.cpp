@@ -11,17 +11,15 @@
 namespace armstudy {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 // Footnote of eq. (5.14): atan2 in (-pi, pi] mapped to [0, 2 pi) by adding 2 pi to negative values.
 double polarAngle(double xi, double eta) {
   const double phi = std::atan2(eta, xi);
-  return phi < 0 ? phi + kTwoPi : phi;
+  return phi < 0 ? phi + 2.0 * std::numbers::pi : phi;
 }
 
 double wrapToPi(double x) {
-  x = std::fmod(x + std::numbers::pi, kTwoPi);
-  if (x < 0) x += kTwoPi;
+  x = std::fmod(x + std::numbers::pi, 2.0 * std::numbers::pi);
+  if (x < 0) x += 2.0 * std::numbers::pi;
   return x - std::numbers::pi;
 }
 

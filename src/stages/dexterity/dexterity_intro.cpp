@@ -1,6 +1,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/angles.hpp"
 #include "common/format.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
 
@@ -9,8 +10,6 @@
 namespace armstudy::dexterity {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 std::vector<std::string> obstacleNames(const std::vector<collision::Obstacle>& obstacles) {
   std::vector<std::string> n;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <sstream>
 
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "io/files.hpp"
@@ -26,7 +27,6 @@ namespace armstudy::dexterity {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 // Unreachable cells in the heatmap images.
 constexpr report::Rgb kUnreachableGrey{160, 160, 160};

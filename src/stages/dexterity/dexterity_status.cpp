@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "common/angles.hpp"
 #include "common/format.hpp"
 #include "dexterity/dexterity_audit.hpp"
 #include "report/image.hpp"
@@ -13,8 +14,6 @@
 namespace armstudy::dexterity {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 // The statuses a stem cell can have, in the order the report lists them.
 constexpr ReachStatus kCellStatuses[] = {

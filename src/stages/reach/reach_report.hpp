@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/angles.hpp"
 #include "io/vtk_io.hpp"
 #include "reach/reach_sweep.hpp"
 #include "report/plot.hpp"
@@ -18,7 +19,6 @@
 
 namespace armstudy::reach_report {
 
-inline constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 inline const char* const kAxis[3] = {"x", "y", "z"};
 
 struct Extent {
