@@ -192,40 +192,6 @@ void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
 
 const char* const kSub = "dexterity";  // the stage's output folder
 
-// The stage's answer (StageResult::answer) from its metrics: the designs ranked by the mean
-// optimised manipulability over the cells each reaches, with their reachable shares; a design
-// that reaches no cell is a warning.
-void dexterityAnswer(const Study& study, const DexterityOptions& options, StageResult& sum) {
-  struct Row {
-    std::string design;
-    double mean, reach;
-  };
-  std::vector<Row> rows;
-  for (const StudyDesign& sd : study.designs) {
-    const std::string p = "dexterity/" + sd.model.name;
-    rows.push_back({sd.model.name, sum.metrics.scalars.at(p + "/manipulability_mean_optimised"),
-                    sum.metrics.scalars.at(p + "/reachable_fraction")});
-    if (rows.back().reach == 0)
-      sum.warnings.push_back("`" + sd.model.name + "` reaches none of the " +
-                             std::to_string(options.grid.size()) + " cells around the stem.");
-  }
-  rows.erase(std::remove_if(rows.begin(), rows.end(), [](const Row& r) { return r.reach == 0; }),
-             rows.end());
-  if (rows.empty()) return;
-  std::stable_sort(rows.begin(), rows.end(),
-                   [](const Row& a, const Row& b) { return a.mean > b.mean; });
-  auto item = [](const Row& r) {
-    return "`" + r.design + "` " + formatG(r.mean, 3) + " (reaching " + report::percent(r.reach) +
-           " of the cells)";
-  };
-  std::string a = "Around the stem (" + std::to_string(options.grid.size()) + " cells, " +
-                  metrics::toString(options.measure_space) +
-                  " manipulability, optimised in the null space): " +
-                  (rows.size() > 1 ? "highest mean " : "mean ") + item(rows[0]);
-  for (std::size_t k = 1; k < rows.size(); ++k) a += (k == 1 ? "; then " : ", ") + item(rows[k]);
-  sum.answer.push_back(a + ".");
-}
-
 // What the report and summary.json say about one design's map: field statistics, reachable cells
 // by the sign of gamma, and means over the reachable cells.
 struct MapSummary {
@@ -261,6 +227,15 @@ void findValley(const DexterityMap& map, const MapFields& f, MapSummary& s) {
 }
 
 // "z 0.65 m (row mean 0.660, 0.519 m^3)", or "-"; "at the edge" when it is the first or last row.
+// The valley's height [m], NaN when the map has none inside its grid (too few rows, no reachable
+// row, or the lowest row mean on the grid's edge).
+double valleyHeight(const StemGrid& grid, const MapSummary& s) {
+  const int n = grid.z_m.count;
+  if (s.valley_row < 0 || n < 3 || s.valley_row == 0 || s.valley_row == n - 1)
+    return std::numeric_limits<double>::quiet_NaN();
+  return grid.z_m.value(s.valley_row);
+}
+
 std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit) {
   if (s.valley_row < 0 || map.grid.z_m.count < 3) return "-";  // a valley needs rows around it
   const bool edge = s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1;
@@ -620,7 +595,9 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
     if (maps) maps->push_back(std::move(design_maps[di]));
   }
   for (const std::string& f : files) out.add(f);
-  dexterityAnswer(ctx.study, options, sum);
+  std::vector<double> valley_z_m;
+  for (const DesignWork& w : work) valley_z_m.push_back(valleyHeight(options.grid, w.s));
+  dexterityAnswer(ctx.study, options, valley_z_m, sum);
   if (ctx.study.designs.size() > 1)
     md << "## Side by side\n\n" << cmp.str() << "\n";
   else

@@ -53,4 +53,12 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
 StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
                               std::vector<DexterityMap>* maps = nullptr);
 
+// The stage's answer (StageResult::answer) from its metrics: the designs ranked by the mean
+// optimised manipulability over the cells each reaches, with their reachable shares and the height
+// of each map's valley (`valley_z_m` per study design, NaN: none inside the grid). Designs whose
+// means lie within the audit's tolerance (defaults::kAuditTolerance, relative) of the highest are
+// level: the map does not resolve a smaller difference. A design that reaches no cell is a warning.
+void dexterityAnswer(const Study& study, const DexterityOptions& options,
+                     const std::vector<double>& valley_z_m, StageResult& sum);
+
 }  // namespace armstudy::dexterity
