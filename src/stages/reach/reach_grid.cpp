@@ -297,6 +297,7 @@ void renderMain(const GridRun& r, std::size_t di, Writer& out, RenderedPart& par
   for (const auto& [k, v] : sd.overrides) ov[k] = v;
   jd["overrides"] = ov;
   jd.update(all.json());
+  jd["boundary_poses"] = boundaryPoses(g, s);
   ordered_json jper = ordered_json::array();
   const auto share = [](const Stats& st, ReachStatus k) {
     return report::percent(st.n ? double(st.status[static_cast<int>(k)]) / st.n : 0);

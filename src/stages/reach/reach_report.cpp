@@ -176,35 +176,82 @@ int agreement(const std::vector<double>& ratios) {
 }
 }  // namespace
 
+long boundaryPoses(const TaskGrid& g, const PoseSweep& s) {
+  const std::array<int, 3> n = g.dims();
+  const long stride[3] = {1, n[0], static_cast<long>(n[0]) * n[1]};
+  long count = 0;
+  for (long i = 0; i < g.size(); ++i) {
+    if (!s.reachable(i)) continue;
+    const long p = g.pointOf(i);
+    const long c[3] = {p % n[0], (p / n[0]) % n[1], p / stride[2]};
+    bool edge = false;
+    for (int a = 0; a < 3 && !edge; ++a)
+      for (int d : {-1, 1}) {
+        const long cc = c[a] + d;
+        if (cc >= 0 && cc < n[a] && !s.reachable(i + d * stride[a])) edge = true;
+      }
+    count += edge;
+  }
+  return count;
+}
+
 namespace {
-// "`a` reaches the most, 95.6 % (`b` 81.8 %, `c` 0.0 %)" over one grid's or list's designs.
-std::string coverageSentence(const ordered_json& designs, long poses, const std::string& what,
-                             std::vector<std::string>& warnings) {
-  std::vector<std::pair<double, std::string>> f;
+// "`a` reaches the most, 95.6 % (`b` 81.8 %, `c` 0.0 %)" over one grid's or list's designs. On a
+// grid, designs are level with the first when their difference in reachable poses is at most half
+// the two designs' boundary poses (`boundary_poses`: the reach boundary is known to within one grid
+// spacing); `pairs` (the comparison's a_only/b_only counts) then says what each reaches alone.
+std::string coverageSentence(const ordered_json& designs, const ordered_json& pairs, long poses,
+                             const std::string& what, std::vector<std::string>& warnings) {
+  struct Entry {
+    double fraction;
+    std::string design;
+    long reachable, boundary;
+  };
+  std::vector<Entry> f;
   for (const auto& d : designs) {
-    const double x = d.value("fraction", 0.0);
-    f.push_back({x, d.value("design", std::string())});
-    if (d.value("reachable", 0L) == 0)
-      warnings.push_back("`" + f.back().second + "` reaches none of the " + std::to_string(poses) +
+    f.push_back({d.value("fraction", 0.0), d.value("design", std::string()),
+                 d.value("reachable", 0L), d.value("boundary_poses", 0L)});
+    if (f.back().reachable == 0)
+      warnings.push_back("`" + f.back().design + "` reaches none of the " + std::to_string(poses) +
                          " poses of " + what + ".");
   }
   std::stable_sort(f.begin(), f.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
+                   [](const Entry& a, const Entry& b) { return a.fraction > b.fraction; });
   if (f.empty()) return "";
+  const std::string of = " of the " + std::to_string(poses) + " poses of " + what;
   if (f.size() == 1)
-    return "`" + f[0].second + "` reaches " + report::percent(f[0].first) + " of the " +
-           std::to_string(poses) + " poses of " + what + ".";
-  std::string top, rest;
+    return "`" + f[0].design + "` reaches " + report::percent(f[0].fraction) + of + ".";
+  auto level = [&](const Entry& e) {
+    return report::percent(e.fraction) == report::percent(f[0].fraction) ||
+           2 * (f[0].reachable - e.reachable) <= f[0].boundary + e.boundary;
+  };
   std::size_t k = 0;
-  for (; k < f.size() && report::percent(f[k].first) == report::percent(f[0].first); ++k)
-    top += std::string(k ? ", " : "") + "`" + f[k].second + "`";
+  std::string top, rest;
+  for (; k < f.size() && level(f[k]); ++k)
+    top += std::string(k ? ", " : "") + "`" + f[k].design + "` " + report::percent(f[k].fraction);
   for (std::size_t j = k; j < f.size(); ++j)
-    rest += std::string(j > k ? ", " : "") + "`" + f[j].second + "` " + report::percent(f[j].first);
-  if (k == f.size())
-    return "every design (" + top + ") reaches " + report::percent(f[0].first) + " of the " +
-           std::to_string(poses) + " poses of " + what + ".";
-  return top + (k > 1 ? " reach" : " reaches") + " the most of the " + std::to_string(poses) +
-         " poses of " + what + ", " + report::percent(f[0].first) + " (then " + rest + ").";
+    rest +=
+        std::string(j > k ? ", " : "") + "`" + f[j].design + "` " + report::percent(f[j].fraction);
+  std::string a;
+  if (k == 1)
+    a = "`" + f[0].design + "` reaches the most" + of + ", " + report::percent(f[0].fraction);
+  else
+    a = std::string(k == f.size() ? "Level" : "Level at the top") + of + ": " + top;
+  if (k < f.size()) a += (k == 1 ? " (then " : "; then ") + rest + (k == 1 ? ")" : "");
+  if (k > 1) {
+    const long diff = f[0].reachable - f[k - 1].reachable;
+    a += ". The difference, " + std::to_string(diff) + " poses, is inside the grid's resolution (" +
+         "half the poses on the reach boundaries, where one grid spacing decides)";
+    for (const auto& pr : pairs)
+      for (std::size_t x = 0; x < k; ++x)
+        for (std::size_t y = x + 1; y < k; ++y)
+          if ((pr.value("a", "") == f[x].design && pr.value("b", "") == f[y].design) ||
+              (pr.value("a", "") == f[y].design && pr.value("b", "") == f[x].design))
+            a += "; only `" + pr.value("a", std::string()) + "` reaches " +
+                 std::to_string(pr.value("a_only", 0L)) + ", only `" +
+                 pr.value("b", std::string()) + "` " + std::to_string(pr.value("b_only", 0L));
+  }
+  return a + ".";
 }
 }  // namespace
 
@@ -216,8 +263,11 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
       const std::string what =
           std::string(kind[0] == 'g' ? "grid `" : "pose list `") + g.value("name", "") + "`";
       const long poses = g.value("poses", 0L);
+      const ordered_json pairs = g.contains("comparison") && g["comparison"].contains("pairs")
+                                     ? g["comparison"]["pairs"]
+                                     : ordered_json::array();
       std::string a =
-          coverageSentence(g.value("designs", ordered_json::array()), poses, what, warnings);
+          coverageSentence(g.value("designs", ordered_json::array()), pairs, poses, what, warnings);
       if (a.empty()) continue;
       a[0] = a[0] == '`' ? a[0] : static_cast<char>(std::toupper(static_cast<unsigned char>(a[0])));
       std::string verdicts;

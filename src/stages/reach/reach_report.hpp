@@ -123,6 +123,9 @@ std::vector<ManipulabilityParts> manipulabilityParts(const Model& model, const T
 void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s,
                    const std::vector<ManipulabilityParts>& parts, const TaskGrid& g, long points,
                    int k, const std::string& sfx);
+// Reachable poses of a grid with an unreachable neighbour (one step along an axis, same
+// orientation): where the reach boundary lies, known to within one grid spacing.
+long boundaryPoses(const TaskGrid& g, const PoseSweep& s);
 // The stage's answer and warnings (StageResult::answer/warnings) from its summary: per grid and
 // pose list, which design reaches most and by how much, and the dexterity verdicts where both
 // reach; a design that reaches nothing is a warning.

@@ -1,0 +1,91 @@
+// The reach answer calls designs level when their reachable counts differ by less than the grid
+// resolves (half the poses on their reach boundaries), and says what each reaches alone.
+// boundaryPoses is checked against a disc's boundary counted by brute force here.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "stages/reach/reach_report.hpp"
+
+using namespace armstudy;
+using nlohmann::ordered_json;
+
+namespace {
+
+ordered_json designEntry(const std::string& name, long reachable, long poses, long boundary) {
+  return {{"design", name},
+          {"reachable", reachable},
+          {"fraction", double(reachable) / double(poses)},
+          {"boundary_poses", boundary}};
+}
+
+std::string answerFor(long poses, const ordered_json& designs, const ordered_json& pairs) {
+  ordered_json g = {{"name", "row"}, {"poses", poses}, {"designs", designs}};
+  g["comparison"] = {{"pairs", pairs}};
+  ordered_json summary = {{"grids", ordered_json::array({g})}};
+  std::vector<std::string> answer, warnings;
+  reach_report::reachAnswer(summary, answer, warnings);
+  REQUIRE(answer.size() == 1);
+  return answer[0];
+}
+
+}  // namespace
+
+TEST_CASE("boundaryPoses counts the reachable poses beside an unreachable one", "[reach]") {
+  TaskGrid g;
+  const int n = 21;
+  g.axes[0] = {0.0, 2.0, 0.1};
+  g.axes[1] = {0.0, 2.0, 0.1};
+  g.axes[2] = {0.0, 0.0, 1.0};
+  g.orientations = {Orientation{}, Orientation{}};
+  REQUIRE(g.dims()[0] == n);
+  PoseSweep s;
+  s.size = g.size();
+  s.status.assign(static_cast<std::size_t>(s.size),
+                  static_cast<std::uint8_t>(ReachStatus::OutOfReach));
+  auto inside = [](int i, int j) { return std::hypot(i - 10, j - 10) <= 7.5; };
+  for (int o = 0; o < 2; ++o)  // the second orientation reaches nothing
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        if (o == 0 && inside(i, j))
+          s.status[static_cast<std::size_t>(j * n + i)] =
+              static_cast<std::uint8_t>(ReachStatus::Reachable);
+  long expected = 0;  // brute force on (i, j): a 4-neighbour outside the disc
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      if (inside(i, j) &&
+          (!inside(i - 1, j) || !inside(i + 1, j) || !inside(i, j - 1) || !inside(i, j + 1)))
+        ++expected;
+  CHECK(expected > 20);
+  CHECK(reach_report::boundaryPoses(g, s) == expected);
+  // A region that fills the grid has no boundary: its edge is the grid's, and the other
+  // orientation (which reaches nothing) is not a neighbour.
+  std::fill(s.status.begin(), s.status.begin() + n * n,
+            static_cast<std::uint8_t>(ReachStatus::Reachable));
+  CHECK(reach_report::boundaryPoses(g, s) == 0);
+}
+
+TEST_CASE("reach answer: a difference inside the boundary's resolution is level", "[reach]") {
+  // ur5_vs_first_prototype's Fig. 3.8 row: 4002 and 3944 of 7268 poses, boundaries 214 and 212.
+  const ordered_json pairs = ordered_json::array(
+      {{{"a", "six"}, {"b", "ur5"}, {"a_only", 763}, {"b_only", 705}, {"both", 3239}}});
+  const std::string a = answerFor(
+      7268,
+      ordered_json::array({designEntry("six", 4002, 7268, 214), designEntry("ur5", 3944, 7268, 212),
+                           designEntry("flange", 3478, 7268, 190)}),
+      pairs);
+  INFO(a);
+  CHECK(a.find("Level at the top") != std::string::npos);
+  CHECK(a.find("reaches the most") == std::string::npos);
+  CHECK(a.find("only `six` reaches 763, only `ur5` 705") != std::string::npos);
+  CHECK(a.find("then `flange`") != std::string::npos);
+  // Twice the difference beyond the two boundaries: a winner.
+  const std::string b = answerFor(
+      7268,
+      ordered_json::array({designEntry("six", 4002, 7268, 50), designEntry("ur5", 3944, 7268, 50)}),
+      pairs);
+  INFO(b);
+  CHECK(b.find("`six` reaches the most") != std::string::npos);
+  CHECK(b.find("Level") == std::string::npos);
+}
