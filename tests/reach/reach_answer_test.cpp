@@ -89,3 +89,28 @@ TEST_CASE("reach answer: a difference inside the boundary's resolution is level"
   CHECK(b.find("`six` reaches the most") != std::string::npos);
   CHECK(b.find("Level") == std::string::npos);
 }
+
+TEST_CASE("reach answer: a largest reach off its reference by more than a grid step is a warning",
+          "[reach]") {
+  auto run = [](double found, double step) {
+    ordered_json g = {{"name", "line"},
+                      {"poses", 101},
+                      {"designs", ordered_json::array({designEntry("ur5", 70, 101, 1)})}};
+    g["reference_reach"] = ordered_json::array({{{"design", "ur5"},
+                                                 {"reference_reach_m", 0.85},
+                                                 {"largest_reach_found_m", found},
+                                                 {"difference_m", found - 0.85},
+                                                 {"resolution_m", step}}});
+    ordered_json summary = {{"grids", ordered_json::array({g})}};
+    std::vector<std::string> answer, warnings;
+    reach_report::reachAnswer(summary, answer, warnings);
+    return std::make_pair(answer, warnings);
+  };
+  const auto [answer, warnings] = run(0.95, 0.005);  // the shipped UR5 line: +100 mm at 5 mm
+  REQUIRE(answer.size() == 2);
+  CHECK(answer[1].find("950 mm against the reference 850 mm (+100 mm, +11.8 %") !=
+        std::string::npos);
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings[0].find("larger than the grid resolves") != std::string::npos);
+  CHECK(run(0.853, 0.005).second.empty());  // within one step: no warning
+}

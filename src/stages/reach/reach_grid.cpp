@@ -638,6 +638,9 @@ void compareReferenceReach(const GridRun& r, ordered_json& jg, std::string& md) 
         found = std::max(found, std::hypot(p_B.x(), p_B.y()));
       }
     const double ref = sd.reference_reach_m, diff = found - ref;
+    double resolution = 0;  // the largest reach is known to within one step of the grid
+    for (const AxisRange& a : r.g.axes)
+      if (a.count() > 1) resolution = std::max(resolution, a.step);
     rows.push_back({sd.model.name, report::fixed(ref, 3), found < 0 ? "-" : report::fixed(found, 3),
                     found < 0
                         ? "-"
@@ -647,7 +650,8 @@ void compareReferenceReach(const GridRun& r, ordered_json& jg, std::string& md) 
         {{"design", sd.model.name},
          {"reference_reach_m", ref},
          {"largest_reach_found_m", found < 0 ? ordered_json(nullptr) : ordered_json(found)},
-         {"difference_m", found < 0 ? ordered_json(nullptr) : ordered_json(diff)}});
+         {"difference_m", found < 0 ? ordered_json(nullptr) : ordered_json(diff)},
+         {"resolution_m", resolution}});
   }
   if (rows.empty()) return;
   md +=

@@ -253,6 +253,36 @@ std::string coverageSentence(const ordered_json& designs, const ordered_json& pa
   }
   return a + ".";
 }
+// Each design's largest reach found against its reference_reach_m (summary.json
+// `reference_reach`): a sentence of the answer, and a warning when they differ by more than the
+// grid resolves (one step).
+void referenceReachAnswer(const ordered_json& refs, const std::string& what,
+                          std::vector<std::string>& answer, std::vector<std::string>& warnings) {
+  for (const auto& r : refs) {
+    const std::string design = "`" + r.value("design", std::string()) + "`";
+    const double ref = r.value("reference_reach_m", 0.0), res = r.value("resolution_m", 0.0);
+    const std::string ref_text = report::fixed(ref * 1e3, 0) + " mm";
+    if (!r.contains("largest_reach_found_m") || r["largest_reach_found_m"].is_null()) {
+      warnings.push_back(design + " reaches no pose of " + what +
+                         ": its reach cannot be compared " + "with the reference " + ref_text +
+                         ".");
+      continue;
+    }
+    const double found = r["largest_reach_found_m"].get<double>(), diff = found - ref;
+    const std::string sign = diff >= 0 ? "+" : "";
+    const std::string text = design + " largest reach found on " + what + ": " +
+                             report::fixed(found * 1e3, 0) + " mm against the reference " +
+                             ref_text + " (" + sign + report::fixed(diff * 1e3, 0) + " mm, " +
+                             sign + report::fixed(100 * diff / ref, 1) + " %; the grid resolves " +
+                             report::fixed(res * 1e3, 0) + " mm)";
+    answer.push_back(text + ".");
+    if (std::abs(diff) > res)
+      warnings.push_back(text +
+                         ": the difference is larger than the grid resolves; check the "
+                         "reference's definition (base axis to flange or to the TCP) and "
+                         "the design's tool.");
+  }
+}
 }  // namespace
 
 void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
@@ -289,6 +319,8 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
              "and rotational parts agree): " +
              verdicts + ".";
       answer.push_back(a);
+      if (g.contains("reference_reach"))
+        referenceReachAnswer(g["reference_reach"], what, answer, warnings);
     }
   }
   if (summary.contains("designs_without_collision_volumes") &&
