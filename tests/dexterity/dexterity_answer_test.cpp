@@ -18,6 +18,8 @@ namespace {
 // A study of designs named `names` whose metrics are the given means (all reaching every cell).
 std::string answerFor(const std::vector<std::string>& names, const std::vector<double>& means,
                       const std::vector<double>& valleys) {
+  std::vector<DesignAnswerFacts> facts;
+  for (double v : valleys) facts.push_back({v, {}});
   Study study;
   StageResult sum;
   for (std::size_t k = 0; k < names.size(); ++k) {
@@ -27,7 +29,7 @@ std::string answerFor(const std::vector<std::string>& names, const std::vector<d
     sum.metrics.scalars["dexterity/" + names[k] + "/manipulability_mean_optimised"] = means[k];
     sum.metrics.scalars["dexterity/" + names[k] + "/reachable_fraction"] = 1.0;
   }
-  dexterityAnswer(study, DexterityOptions{}, valleys, sum);
+  dexterityAnswer(study, DexterityOptions{}, facts, sum);
   REQUIRE(sum.answer.size() == 1);
   return sum.answer[0];
 }
@@ -73,4 +75,31 @@ TEST_CASE("dexterity answer: a difference beyond the tolerance names the highest
   INFO(b);
   CHECK(b.find("level with each other, `x`") != std::string::npos);
   CHECK(b.find("; then `y`") != std::string::npos);
+}
+
+TEST_CASE("dexterity answer: a row around the stem answers which half can be approached first",
+          "[dexterity][report]") {
+  // stem_row's figures: 75 and 27 of 105 cells at 0.192 m; without stems 105 and 81; a sweep.
+  Study study;
+  StudyDesign sd;
+  sd.model.name = "nine";
+  study.designs.push_back(sd);
+  StageResult sum;
+  sum.metrics.scalars["dexterity/nine/manipulability_mean_optimised"] = 0.553;
+  sum.metrics.scalars["dexterity/nine/reachable_fraction"] = 0.472;
+  DesignAnswerFacts f;
+  f.valley_z_m = std::numeric_limits<double>::quiet_NaN();
+  f.row = {{0.192, 75, 105, 27, 105, "neighbouring stems", "neighbouring stems"},
+           {0.0, 105, 105, 81, 105, "nothing", "self-collision"},
+           {0.13, 69, 105, 33, 105, "a", "b"},
+           {0.25, 87, 105, 48, 105, "a", "b"}};
+  dexterityAnswer(study, DexterityOptions{}, {f}, sum);
+  REQUIRE(sum.answer.size() == 2);
+  const std::string& a = sum.answer[0];
+  INFO(a);
+  CHECK(a.find("near half") != std::string::npos);
+  CHECK(a.find("71.4 % (75 of 105 cells)") != std::string::npos);  // 75/105
+  CHECK(a.find("far half at 25.7 % (27 of 105 cells)") != std::string::npos);
+  CHECK(a.find("without neighbouring stems 100.0 % and 77.1 %") != std::string::npos);
+  CHECK(a.find("near half 65.7 %-82.9 %, the far half 31.4 %-45.7 %") != std::string::npos);
 }

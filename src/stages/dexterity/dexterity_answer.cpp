@@ -14,8 +14,50 @@
 
 namespace armstudy::dexterity {
 
+namespace {
+
+double ratio(long a, long n) { return n ? double(a) / double(n) : 0.0; }
+
+std::string share(long a, long n) {
+  return report::percent(ratio(a, n)) + " (" + std::to_string(a) + " of " + std::to_string(n) +
+         " cells)";
+}
+
+// Which half of the plant a design can approach (thesis section 3.2.1): the near and far half at
+// the map's own spacing with what limits each, without neighbouring stems, and the range over the
+// row sweep's spacings.
+std::string rowHalvesAnswer(const std::string& design, const std::vector<RowHalves>& row) {
+  const RowHalves& m = row[0];
+  std::string a = "`" + design + "` can approach the near half of the plant (|gamma| < 90 deg, " +
+                  "the robot's side of the row) at " + share(m.near_reachable, m.near_cells) +
+                  " and the far half at " + share(m.far_reachable, m.far_cells);
+  if (m.spacing_m > 0) a += ", with the neighbouring stems at " + fmt(m.spacing_m, 3) + " m";
+  a += " (near half limited by " + m.near_limited_by + ", far half by " + m.far_limited_by + ")";
+  double near_lo = 2, near_hi = -1, far_lo = 2, far_hi = -1, s_lo = 1e9, s_hi = -1;
+  for (std::size_t k = 1; k < row.size(); ++k) {
+    const RowHalves& r = row[k];
+    if (r.spacing_m <= 0) {
+      a += "; without neighbouring stems " +
+           report::percent(ratio(r.near_reachable, r.near_cells)) + " and " +
+           report::percent(ratio(r.far_reachable, r.far_cells));
+      continue;
+    }
+    const double n = ratio(r.near_reachable, r.near_cells), f = ratio(r.far_reachable, r.far_cells);
+    near_lo = std::min(near_lo, n), near_hi = std::max(near_hi, n);
+    far_lo = std::min(far_lo, f), far_hi = std::max(far_hi, f);
+    s_lo = std::min(s_lo, r.spacing_m), s_hi = std::max(s_hi, r.spacing_m);
+  }
+  if (s_hi > 0)
+    a += "; with the stems " + fmt(s_lo, 3) + "-" + fmt(s_hi, 3) + " m apart the near half " +
+         report::percent(near_lo) + "-" + report::percent(near_hi) + ", the far half " +
+         report::percent(far_lo) + "-" + report::percent(far_hi);
+  return a + ".";
+}
+
+}  // namespace
+
 void dexterityAnswer(const Study& study, const DexterityOptions& options,
-                     const std::vector<double>& valley_z_m, StageResult& sum) {
+                     const std::vector<DesignAnswerFacts>& facts, StageResult& sum) {
   struct Row {
     std::string design;
     double mean, reach, valley_z_m;
@@ -26,11 +68,15 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options,
     const std::string& name = study.designs[di].model.name;
     const std::string p = "dexterity/" + name;
     rows.push_back({name, sum.metrics.scalars.at(p + "/manipulability_mean_optimised"),
-                    sum.metrics.scalars.at(p + "/reachable_fraction"), valley_z_m[di], di});
+                    sum.metrics.scalars.at(p + "/reachable_fraction"), facts[di].valley_z_m, di});
     if (rows.back().reach == 0)
       sum.warnings.push_back("`" + name + "` reaches none of the " +
                              std::to_string(options.grid.size()) + " cells around the stem.");
   }
+  // The row's question (which half can be approached) first, then the ranking.
+  for (std::size_t di = 0; di < study.designs.size(); ++di)
+    if (!facts[di].row.empty())
+      sum.answer.push_back(rowHalvesAnswer(study.designs[di].model.name, facts[di].row));
   rows.erase(std::remove_if(rows.begin(), rows.end(), [](const Row& r) { return r.reach == 0; }),
              rows.end());
   if (rows.empty()) return;

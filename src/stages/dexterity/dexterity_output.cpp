@@ -474,6 +474,19 @@ DesignWork designWork(const StageContext& ctx, const DexterityOptions& options, 
   return w;
 }
 
+DesignAnswerFacts answerFacts(const DexterityOptions& options, const DesignWork& w) {
+  DesignAnswerFacts f;
+  f.valley_z_m = valleyHeight(options.grid, w.s);
+  if (w.d.contains("row_sweep"))
+    for (const auto& r : w.d["row_sweep"])
+      f.row.push_back({r["spacing_m"].is_null() ? -1.0 : r["spacing_m"].get<double>(),
+                       r.value("near_reachable", 0L), r.value("near_cells", 0L),
+                       r.value("far_reachable", 0L), r.value("far_cells", 0L),
+                       r.value("near_limited_by", std::string()),
+                       r.value("far_limited_by", std::string())});
+  return f;
+}
+
 // Renders a design's files (VTK, heat maps, status map, audit cells) into the study's output
 // folder and returns its report section and summary entry with the files' names, packed.
 std::string renderDesign(const StageContext& ctx, const DexterityOptions& options, const Model& m,
@@ -595,9 +608,9 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
     if (maps) maps->push_back(std::move(design_maps[di]));
   }
   for (const std::string& f : files) out.add(f);
-  std::vector<double> valley_z_m;
-  for (const DesignWork& w : work) valley_z_m.push_back(valleyHeight(options.grid, w.s));
-  dexterityAnswer(ctx.study, options, valley_z_m, sum);
+  std::vector<DesignAnswerFacts> facts;
+  for (const DesignWork& w : work) facts.push_back(answerFacts(options, w));
+  dexterityAnswer(ctx.study, options, facts, sum);
   if (ctx.study.designs.size() > 1)
     md << "## Side by side\n\n" << cmp.str() << "\n";
   else

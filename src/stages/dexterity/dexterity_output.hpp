@@ -53,12 +53,26 @@ bool deserializeRows(const std::string& bytes, DexterityMap& map, ItemRange& row
 StageResult runDexterityStage(const StageContext& ctx, const DexterityOptions& options,
                               std::vector<DexterityMap>* maps = nullptr);
 
+// The approachable cells of the near and far half of the circle at one spacing of the row sweep
+// (summary.json `row_sweep`; spacing < 0: no stems, 0: the map's own stem only).
+struct RowHalves {
+  double spacing_m = 0;
+  long near_reachable = 0, near_cells = 0, far_reachable = 0, far_cells = 0;
+  std::string near_limited_by, far_limited_by;
+};
+// What the answer says of one design besides its metrics.
+struct DesignAnswerFacts {
+  double valley_z_m = 0;       // NaN: no valley inside the grid
+  std::vector<RowHalves> row;  // empty without [dexterity.row]; the map's own spacing first
+};
 // The stage's answer (StageResult::answer) from its metrics: the designs ranked by the mean
 // optimised manipulability over the cells each reaches, with their reachable shares and the height
-// of each map's valley (`valley_z_m` per study design, NaN: none inside the grid). Designs whose
-// means lie within the audit's tolerance (defaults::kAuditTolerance, relative) of the highest are
-// level: the map does not resolve a smaller difference. A design that reaches no cell is a warning.
+// of each map's valley. Designs whose means lie within the audit's tolerance
+// (defaults::kAuditTolerance, relative) of the highest are level: the map does not resolve a
+// smaller difference. With a row around the stem, per design which half of the plant it can
+// approach (thesis section 3.2.1). A design that reaches no cell is a warning. `facts` follows
+// the study's designs.
 void dexterityAnswer(const Study& study, const DexterityOptions& options,
-                     const std::vector<double>& valley_z_m, StageResult& sum);
+                     const std::vector<DesignAnswerFacts>& facts, StageResult& sum);
 
 }  // namespace armstudy::dexterity
