@@ -436,9 +436,8 @@ struct StudyRun {
         any = true;
       }
     if (!any) answer_md += "None.\n";
-    std::string md = "# Study `" + study.name + "`\n\n";
-    if (!study.description.empty()) md += study.description + "\n\n";
-    md += answer_md + "\n" + designs_md + "## Details\n\n";
+    std::string md = "# Study `" + study.name + "`\n\n" + leadMarkdown() + answer_md + "\n" +
+                     designs_md + "## Details\n\n";
     for (const auto& [stage, r] : answers)
       for (const std::string& f : r.files)  // the stage's own reports, one folder down
         if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 &&
@@ -449,11 +448,20 @@ struct StudyRun {
     sum.files_written.push_back("report.md");
   }
 
+  // The study's description and question: the head of report.md and report.html.
+  std::string leadMarkdown() const {
+    std::string md;
+    if (!study.description.empty()) md += study.description + "\n\n";
+    if (!study.question.empty()) md += "**Question:** " + study.question + "\n\n";
+    return md;
+  }
+
   // report.html from the stages' pages, timed.
   void writeHtml() {
     const auto html0 = std::chrono::steady_clock::now();
-    writeFileAtomic((out / "report.html").string(),
-                    report::htmlReport(sum.output_dir, study.name, pages, answer_md));
+    writeFileAtomic(
+        (out / "report.html").string(),
+        report::htmlReport(sum.output_dir, study.name, pages, answer_md, leadMarkdown()));
     sum.files_written.push_back("report.html");
     // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
     sum.timings.push_back(

@@ -79,13 +79,14 @@ std::vector<collision::Obstacle> readObstacles(TableReader& top) {
 
 namespace fs = std::filesystem;
 
-// [study]: the study's name and description.
+// [study]: the study's name, description and question.
 void readStudyHeader(TableReader& top, Study& s) {
   TableReader r = top.requiredTable("study");
   s.name =
       r.name("name", "study", "_-",
              "study names use letters, digits, '_' and '-' only (they name the output folder)");
   s.description = r.string("description", "");
+  s.question = r.string("question", "");
   r.finish();
 }
 

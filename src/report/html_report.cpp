@@ -433,15 +433,16 @@ namespace {
 
 // The page around the contents (`nav_html`) and the stages (`body_html`): head, style, the answer
 // block, and the script that enlarges a figure on a click (another click or Escape puts it back).
-std::string page(const std::string& study_name, const std::string& answer_html,
-                 const std::string& nav_html, const std::string& body_html) {
+std::string page(const std::string& study_name, const std::string& lead_html,
+                 const std::string& answer_html, const std::string& nav_html,
+                 const std::string& body_html) {
   std::ostringstream head;
   head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
        << "<meta name=\"viewport\" content=\"width=device-width, "
           "initial-scale=1\">\n<title>armstudy: "
        << htmlEscape(study_name) << "</title>\n<style>" << kCss
-       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name)
-       << "</h1></header>\n<main>\n";
+       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name) << "</h1>\n"
+       << lead_html << "</header>\n<main>\n";
   if (!answer_html.empty())
     head << "<section class=\"answer\" id=\"answer\">\n" << answer_html << "</section>\n";
   head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
@@ -514,7 +515,8 @@ class Figures {
 }  // namespace
 
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
-                       const std::vector<HtmlStage>& stages, const std::string& answer_md) {
+                       const std::vector<HtmlStage>& stages, const std::string& answer_md,
+                       const std::string& lead_md) {
   const fs::path root(output_dir);
   Figures figures(output_dir);
   const std::function<std::string(const std::string&)> dataUri =
@@ -528,6 +530,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   // The answer's images are linked, not carried (it opens the page).
   const std::string answer_html =
       answer_md.empty() ? "" : markdownToHtml(answer_md, "answer-", linked);
+  const std::string lead_html = lead_md.empty() ? "" : markdownToHtml(lead_md, "lead-", linked);
   std::ostringstream body, nav;
   nav << "<nav class=\"contents\"><strong>Contents</strong>\n<ul>\n";
   int sec = 0;
@@ -600,7 +603,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   }
   nav << "</ul></nav>\n";
   // One copy of the body into the page (it holds the inlined figures).
-  return page(study_name, answer_html, std::move(nav).str(), std::move(body).str());
+  return page(study_name, lead_html, answer_html, std::move(nav).str(), std::move(body).str());
 }
 
 }  // namespace armstudy::report

@@ -23,10 +23,12 @@ inline constexpr std::size_t kInlineFigureBytes = 100 * 1024;
 inline constexpr std::size_t kInlineTotalBytes = 3 * 1024 * 1024;
 
 // The page for a study whose results are in `output_dir`. Reads the listed Markdown and figure
-// files from there. `answer_md` (the study's answer and warnings, Markdown) opens the page, above
-// the contents.
+// files from there. `lead_md` (the study's description and question, Markdown) heads the page
+// under its title; `answer_md` (the study's answer and warnings, Markdown) follows, above the
+// contents.
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
-                       const std::vector<HtmlStage>& stages, const std::string& answer_md = "");
+                       const std::vector<HtmlStage>& stages, const std::string& answer_md = "",
+                       const std::string& lead_md = "");
 
 // Markdown (the subset above) to HTML, written in folder `dir` of the output folder. Links and
 // images are kept as report/markdown.hpp reportLinkTarget and reportImagePath allow (else their

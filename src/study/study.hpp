@@ -45,6 +45,8 @@ struct StudySection {
 struct Study {
   std::string name;
   std::string description;
+  // The question the study answers (report.md and report.html open with it, above the answer).
+  std::string question;
   std::string file;
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order

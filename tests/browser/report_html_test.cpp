@@ -481,6 +481,15 @@ TEST_CASE(
         CHECK(z["zoomed"].get<double>() >= 0.9 * z["window"].get<double>() - 24);
         CHECK(z["after"].get<double>() == Approx(z["before"].get<double>()));
       }
+      // The study's question heads the page, above the answer (every shipped study states one).
+      {
+        const std::string html = readFileOrThrow(report.string());
+        const std::string text = readFileOrThrow(study.string());
+        CHECK(text.find("\nquestion = \"") != std::string::npos);
+        const std::size_t q = html.find("<strong>Question:</strong>");
+        CHECK(q != std::string::npos);
+        CHECK(q < html.find("</header>"));
+      }
       // The answer opens the page: within the first 1,000 px, and it names, for every reach grid,
       // the design summary.json ranks first by reachable share, with that share as printed.
       INFO("answer block at " << c.result.value("answerTop", -1.0)

@@ -289,3 +289,19 @@ TEST_CASE("deeply nested emphasis and links in user text render as text, without
     CHECK(deepest <= kMaxNesting);
   }
 }
+
+TEST_CASE("the study's description and question head report.html, above the answer",
+          "[report][html]") {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_lead_" + std::to_string(getpid()));
+  fs::create_directories(d / "reach");
+  writeFileAtomic((d / "reach/report.md").string(), "# Reach\n\nbody\n");
+  const std::string html =
+      htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}}, "## Answer\n\n- yes\n",
+                 "What it is.\n\n**Question:** Which half?\n");
+  const std::size_t q = html.find("<strong>Question:</strong> Which half?");
+  REQUIRE(q != std::string::npos);
+  CHECK(html.find("What it is.") < q);
+  CHECK(q < html.find("</header>"));
+  CHECK(html.find("</header>") < html.find("id=\"answer\""));
+  fs::remove_all(d);
+}
