@@ -275,8 +275,15 @@ TEST_CASE("a study reads current logs, logged velocities and a compensated lift"
   const int rc = test::runCommand(
       test::binaryPath() + " run " + p.string() + " --output " + (log.dir / "out").string(), out);
   INFO(out);
-  CHECK(rc == 0);
-  CHECK(out.find("N m|N") == std::string::npos);
+  REQUIRE(rc == 0);
+  std::ifstream in(log.dir / "out" / "robot" / "calibration" / "report.md");
+  std::stringstream report;
+  report << in.rdbuf();
+  // The report names the logged velocities' difference and the compensated lift; one unit per
+  // channel kind, never "N m|N".
+  CHECK_THAT(report.str(), Catch::Contains("logged velocities used") &&
+                               Catch::Contains("j1: its controller compensates gravity"));
+  CHECK(report.str().find("N m|N") == std::string::npos);
 }
 
 TEST_CASE("bad robot logs in a study exit 2 naming file, line and key; nothing written") {
