@@ -232,17 +232,17 @@ void checkTimeAgainst(const JointLogSpec& s, const LogTable& pos, double h, cons
   if (std::abs(hf - h) > defaults::kUniformSamplingTolerance * h)
     throw InputError(path, f.lines[1], o.time_column,
                      "the " + std::string(o.what) + " are sampled every " + formatG(hf, 6) +
-                         " s (median step) and the positions in " + s.positions.path +
-                         " every " + formatG(h, 6) + " s: the rates differ" + hint);
+                         " s (median step) and the positions in " + s.positions.path + " every " +
+                         formatG(h, 6) + " s: the rates differ" + hint);
   const std::size_t R = std::min(f.time.size(), pos.time.size());
   for (std::size_t i = 0; i < R; ++i)
     if (std::abs(f.time[i] - pos.time[i]) > 0.5 * h)
       throw InputError(path, f.lines[i], o.time_column,
-                       "time " + formatG(f.time[i], 9) + " s here and " +
-                           formatG(pos.time[i], 9) + " s on line " +
-                           std::to_string(pos.lines[i]) + " of " + s.positions.path +
-                           ": the files are offset by " + formatG(f.time[i] - pos.time[i], 6) +
-                           " s (more than half a step)" + hint);
+                       "time " + formatG(f.time[i], 9) + " s here and " + formatG(pos.time[i], 9) +
+                           " s on line " + std::to_string(pos.lines[i]) + " of " +
+                           s.positions.path + ": the files are offset by " +
+                           formatG(f.time[i] - pos.time[i], 6) + " s (more than half a step)" +
+                           hint);
 }
 
 // Linear interpolation of a timed table's values at the times t (all within its span).
@@ -252,9 +252,8 @@ Eigen::MatrixXd interpolateAt(const LogTable& f, const std::vector<double>& t) {
   for (std::size_t i = 0; i < t.size(); ++i) {
     while (k + 2 < f.time.size() && f.time[k + 1] < t[i]) ++k;
     const double a = (t[i] - f.time[k]) / (f.time[k + 1] - f.time[k]);
-    out.row(static_cast<Eigen::Index>(i)) =
-        (1 - a) * f.values.row(static_cast<Eigen::Index>(k)) +
-        a * f.values.row(static_cast<Eigen::Index>(k + 1));
+    out.row(static_cast<Eigen::Index>(i)) = (1 - a) * f.values.row(static_cast<Eigen::Index>(k)) +
+                                            a * f.values.row(static_cast<Eigen::Index>(k + 1));
   }
   return out;
 }
@@ -268,8 +267,8 @@ void resampleOnto(const JointLogSpec& s, LogTable& pos, std::vector<OtherFile>& 
   double lo = pos.time.front(), hi = pos.time.back();
   for (const OtherFile& o : others) {
     if (o.time_column.empty())
-      throw InputError(o.file->path, 1, s.time_column.empty() ? o.file->columns.front()
-                                                              : s.time_column,
+      throw InputError(o.file->path, 1,
+                       s.time_column.empty() ? o.file->columns.front() : s.time_column,
                        std::string("resampling needs a time column in the ") + o.what +
                            " file (its own time_column, or the log's)");
     lo = std::max(lo, o.table.time.front());
@@ -399,14 +398,13 @@ void alignFiles(const JointLogSpec& s, LogTable& pos, double h, std::vector<Othe
     if (o.time_column.empty()) continue;
     if (pos.time.empty())
       throw InputError(o.file->path, 1, o.time_column,
-                       std::string("the ") + o.what + " file has a time column '" +
-                           o.time_column +
+                       std::string("the ") + o.what + " file has a time column '" + o.time_column +
                            "' but the positions have none to compare it with (give the log's "
                            "time_column)");
     if (o.table.lines.size() < static_cast<std::size_t>(defaults::kMinLogRows))
       throw InputError(o.file->path, o.table.lines.empty() ? 1 : o.table.lines.back(),
-                       o.time_column, "fewer than " + std::to_string(defaults::kMinLogRows) +
-                                          " rows");
+                       o.time_column,
+                       "fewer than " + std::to_string(defaults::kMinLogRows) + " rows");
     if (s.resample)
       samplePeriod(o.table, o.file->path, o.time_column, warnings);  // gaps and order
     else
@@ -414,8 +412,8 @@ void alignFiles(const JointLogSpec& s, LogTable& pos, double h, std::vector<Othe
   }
   if (s.resample) {
     resampleOnto(s, pos, others);
-    warnings.push_back("resampled onto the positions' times (" + s.positions.path + "): " +
-                       std::to_string(pos.lines.size()) + " rows inside every file's span");
+    warnings.push_back("resampled onto the positions' times (" + s.positions.path +
+                       "): " + std::to_string(pos.lines.size()) + " rows inside every file's span");
   }
   for (const OtherFile& o : others) checkRows(s, pos, o.table, *o.file, o.what);
   checkMinRows(s, pos);
@@ -458,8 +456,9 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   // Currents to motor (or joint-side) torques: kt i, times the joint-side ratio.
   Eigen::VectorXd effort_scale = Eigen::VectorXd::Ones(N);
   for (Eigen::Index c = 0; c < N && !s.torque_constants.empty(); ++c)
-    effort_scale[c] = s.torque_constants[static_cast<std::size_t>(c)] *
-                      (s.effort_ratios.empty() ? 1.0 : s.effort_ratios[static_cast<std::size_t>(c)]);
+    effort_scale[c] =
+        s.torque_constants[static_cast<std::size_t>(c)] *
+        (s.effort_ratios.empty() ? 1.0 : s.effort_ratios[static_cast<std::size_t>(c)]);
   // Convert every sample to the joint side, in design joint order.
   Eigen::MatrixXd q(R, n), tau(R, n), qd_log(R, n), qdd_log(R, n);
   Eigen::VectorXd qi, ti, vi, ai;
@@ -518,8 +517,8 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
                   (rev ? " rad/s" : " m/s");
       std::vector<double> al = acc ? lowPass(qdd_log, j) : centralDifference(vl, time);
       const double arms = rmsDifference(al, a, keep);
-      acc_note += (acc_note.empty() ? "" : ", ") + model.joints[j].name + " " +
-                  formatG(arms, 3) + (rev ? " rad/s^2" : " m/s^2");
+      acc_note += (acc_note.empty() ? "" : ", ") + model.joints[j].name + " " + formatG(arms, 3) +
+                  (rev ? " rad/s^2" : " m/s^2");
       v = vl;
       a = al;
     }
@@ -533,13 +532,12 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   d.warnings = warnings;
   if (vel) {
     d.warnings.push_back("logged velocities used (" + s.velocities.path +
-                         "); RMS of logged minus differentiated positions, per joint: " +
-                         vel_note);
-    d.warnings.push_back(std::string(acc ? "logged accelerations used" :
-                                           "accelerations differentiated from the logged "
-                                           "velocities") +
-                         "; RMS against the twice-differentiated positions, per joint: " +
-                         acc_note);
+                         "); RMS of logged minus differentiated positions, per joint: " + vel_note);
+    d.warnings.push_back(
+        std::string(acc ? "logged accelerations used"
+                        : "accelerations differentiated from the logged "
+                          "velocities") +
+        "; RMS against the twice-differentiated positions, per joint: " + acc_note);
   }
   d.joint_named_channels = true;
   d.gravity_compensated.assign(n, false);

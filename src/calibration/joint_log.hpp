@@ -49,8 +49,8 @@ struct JointLogSpec {
   std::vector<std::string> joints;  // design joint names, one per logged column
   LogFile positions, efforts;
   LogFile velocities, accelerations;  // optional (path empty): same side and coupling as positions
-  std::string time_column;  // in the positions file; empty: sample_period_s
-  bool resample = false;    // interpolate the other files onto the positions' times
+  std::string time_column;            // in the positions file; empty: sample_period_s
+  bool resample = false;              // interpolate the other files onto the positions' times
   // Efforts logged as motor current [A]: the torque constant per logged column [N m/A or N/A],
   // sign included, never 0 (empty: the efforts are torques or forces), and for a joint-side log
   // the reduction ratio per column (tau = ratio x kt x current; empty: 1).

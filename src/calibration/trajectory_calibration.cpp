@@ -118,10 +118,10 @@ class TrajectoryProblem : public ArmProblem {
     const int n = model.dof();
     int revolute = 0;
     for (const auto& jt : model.joints) revolute += jt.type == JointType::Revolute;
-    fit_unit = data.currents         ? "A"
-               : revolute == n       ? "N m"
-               : revolute == 0       ? "N"
-                                     : "N m and N";  // revolute and prismatic channels together
+    fit_unit = data.currents   ? "A"
+               : revolute == n ? "N m"
+               : revolute == 0 ? "N"
+                               : "N m and N";  // revolute and prismatic channels together
     drive_.assign(n, nullptr);
     for (const Drive& d : model.drives) {
       const int j = model.jointIndex(d.joint);

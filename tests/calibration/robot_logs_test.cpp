@@ -135,8 +135,8 @@ TEST_CASE("current logs with signed torque constants and ratios give the joint t
 TEST_CASE("logged velocities replace the differentiated ones and their difference is reported") {
   const double bias = 0.01;  // rad/s on joint 3 only
   RobotLog log("velocities", false, bias);
-  log.spec.velocities = {(log.dir / "vel.csv").string(), {"v1", "v2", "v3", "v4", "v5", "v6"},
-                         1.0, ""};
+  log.spec.velocities = {
+      (log.dir / "vel.csv").string(), {"v1", "v2", "v3", "v4", "v5", "v6"}, 1.0, ""};
   const TrajectoryData d = readJointLog(log.spec, lift6());
   REQUIRE(d.velocity_difference_rms.size() == 6);
   for (int j = 0; j < 6; ++j) {
@@ -332,9 +332,10 @@ TEST_CASE("bad robot logs in a study exit 2 naming file, line and key; nothing w
     std::ofstream o(log.dir / "cur.csv");
     o.precision(17);
     for (std::size_t i = 0; i < lines.size(); ++i)
-      o << (i == 0 ? lines[i]
-                   : std::to_string(1e-3 * double(i - 1) + (i > 1000 ? 1.0 : 0.0)) +  // from line 1002
-                         lines[i].substr(lines[i].find(',')))
+      o << (i == 0
+                ? lines[i]
+                : std::to_string(1e-3 * double(i - 1) + (i > 1000 ? 1.0 : 0.0)) +  // from line 1002
+                      lines[i].substr(lines[i].find(',')))
         << "\n";
     o.close();
     const fs::path p = robotStudy(log, "", "");

@@ -137,10 +137,9 @@ LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& 
       spec.torque_constants = r.numberArray("torque_constants");
       for (std::size_t c = 0; c < spec.torque_constants.size(); ++c)
         if (spec.torque_constants[c] == 0)
-          r.fail("torque_constants", "the torque constant of column '" +
-                                         (c < f.columns.size() ? f.columns[c] : "?") +
-                                         "' (entry " + std::to_string(c + 1) +
-                                         ") is 0: current would give no torque");
+          r.fail("torque_constants",
+                 "the torque constant of column '" + (c < f.columns.size() ? f.columns[c] : "?") +
+                     "' (entry " + std::to_string(c + 1) + ") is 0: current would give no torque");
       if (r.has("ratios")) spec.effort_ratios = r.numberArray("ratios");
     } else {
       for (const char* k : {"torque_constants", "ratios"})
@@ -213,8 +212,7 @@ JointLogSpec readMeasured(TableReader& e, const fs::path& dir) {
     for (std::size_t a = 0; a < s.gravity_compensated.size(); ++a)
       for (std::size_t b = 0; b < a; ++b)
         if (s.gravity_compensated[a] == s.gravity_compensated[b])
-          r.fail("gravity_compensated",
-                 "joint '" + s.gravity_compensated[a] + "' is listed twice");
+          r.fail("gravity_compensated", "joint '" + s.gravity_compensated[a] + "' is listed twice");
   }
   s.resample = r.boolean("resample", false);
   if (!s.positions.time_column.empty()) {
