@@ -286,7 +286,7 @@ TEST_CASE("a study reads current logs, logged velocities and a compensated lift"
   CHECK(report.str().find("N m|N") == std::string::npos);
 }
 
-TEST_CASE("bad robot logs in a study exit 2 naming file, line and key; nothing written") {
+TEST_CASE("bad robot logs in a study exit 2 naming file, line and key and write nothing") {
   struct Case {
     std::string name, from, to, file, key;
     std::string line_of;  // the study line it names (empty: not checked)
