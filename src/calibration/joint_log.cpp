@@ -24,12 +24,14 @@ struct LogTable {
   std::vector<int> lines;
 };
 
-// The columns of one log file (and its time column), every row on consecutive lines: a blank
-// line inside a sampled log would shift one file against the other.
-LogTable readLogFile(const LogFile& f, const std::string& time_column) {
+// The columns of one log file (and its time column: required when `time_required`, else read when
+// the file has it), every row on consecutive lines: a blank line inside a sampled log would shift
+// one file against the other.
+LogTable readLogFile(const LogFile& f, const std::string& time_column, bool time_required) {
   io::CsvSchema schema;
   schema.required = f.columns;
-  if (!time_column.empty()) schema.required.push_back(time_column);
+  if (!time_column.empty())
+    (time_required ? schema.required : schema.optional).push_back(time_column);
   const io::CsvTable t = io::readCsv(f.path, schema);
   LogTable out;
   out.lines = t.row_lines;
@@ -42,7 +44,7 @@ LogTable readLogFile(const LogFile& f, const std::string& time_column) {
     const std::vector<double>& v = t.column(f.columns[c]);
     for (int i = 0; i < t.rows(); ++i) out.values(i, static_cast<Eigen::Index>(c)) = v[i] * f.scale;
   }
-  if (!time_column.empty()) out.time = t.column(time_column);
+  if (!time_column.empty() && t.has(time_column)) out.time = t.column(time_column);
   return out;
 }
 
@@ -116,6 +118,50 @@ std::vector<int> jointMap(const JointLogSpec& s, const Model& model) {
   return map;
 }
 
+// The current-to-torque conversion, the optional velocity and acceleration files and the
+// gravity-compensated joints of a spec.
+void checkConversion(const JointLogSpec& s) {
+  const std::size_t n = s.joints.size();
+  auto fail = [&](const std::string& key, const std::string& msg) {
+    throw InputError(s.study_file, s.study_line, keyOf(s, key), msg);
+  };
+  auto perJoint = [&](const std::vector<double>& v, const std::string& key, const char* what) {
+    if (v.empty()) return;
+    if (v.size() != n)
+      fail(key, "one " + std::string(what) + " per logged joint (" + std::to_string(n) + "), not " +
+                    std::to_string(v.size()));
+    for (std::size_t c = 0; c < n; ++c)
+      if (!std::isfinite(v[c]) || v[c] == 0)
+        fail(key, std::string("the ") + what + " of joint '" + s.joints[c] + "' (entry " +
+                      std::to_string(c + 1) + ") is " + formatG(v[c], 6) +
+                      ": give a finite value other than 0 (its sign is the motor's direction)");
+  };
+  perJoint(s.torque_constants, "efforts.torque_constants", "torque constant");
+  perJoint(s.effort_ratios, "efforts.ratios", "reduction ratio");
+  if (!s.effort_ratios.empty() && s.torque_constants.empty())
+    fail("efforts.ratios", "efforts.ratios belong to efforts logged as current (unit = \"A\")");
+  if (!s.effort_ratios.empty() && s.motor_side)
+    fail("efforts.ratios",
+         "a motor-side log takes its ratios from 'ratios' or 'coupling_matrix' (tau = R^T kt i)");
+  for (const auto* f : {&s.velocities, &s.accelerations})
+    if (!f->path.empty() && f->columns.size() != n)
+      fail(f == &s.velocities ? "velocities.columns" : "accelerations.columns",
+           "one column per joint");
+  if (!s.accelerations.path.empty() && s.velocities.path.empty())
+    fail("accelerations", "logged accelerations need logged velocities too");
+  for (std::size_t a = 0; a < s.gravity_compensated.size(); ++a) {
+    const std::string& g = s.gravity_compensated[a];
+    if (std::find(s.joints.begin(), s.joints.end(), g) == s.joints.end()) {
+      std::string names;
+      for (const auto& j : s.joints) names += (names.empty() ? "" : ", ") + j;
+      fail("gravity_compensated", "'" + g + "' is not a logged joint (the log has: " + names + ")");
+    }
+    for (std::size_t b = 0; b < a; ++b)
+      if (s.gravity_compensated[b] == g)
+        fail("gravity_compensated", "joint '" + g + "' is listed twice");
+  }
+}
+
 void checkSpec(const JointLogSpec& s) {
   const auto n = static_cast<Eigen::Index>(s.joints.size());
   auto fail = [&](const std::string& key, const std::string& msg) {
@@ -139,26 +185,112 @@ void checkSpec(const JointLogSpec& s) {
     fail("filter.order", "the filter order must be even and at least 2");
   if (s.decimate < 1) fail("filter.decimate", "decimation must be at least 1");
   if (!(s.trim_s >= 0)) fail("filter.trim", "trim must not be negative");
+  checkConversion(s);
 }
 
-// The two files hold one row per sample each, and at least kMinLogRows of them.
-void checkRows(const JointLogSpec& s, const LogTable& pos, const LogTable& eff) {
+// Every file holds one row per sample (as many as the positions), and at least kMinLogRows.
+void checkRows(const JointLogSpec& s, const LogTable& pos, const LogTable& other,
+               const LogFile& file, const char* what) {
   const std::size_t R = pos.lines.size();
-  if (eff.lines.size() != R) {
-    const bool pos_short = R < eff.lines.size();
-    const LogTable& shorter = pos_short ? pos : eff;
-    throw InputError(pos_short ? s.positions.path : s.efforts.path, shorter.lines.back() + 1,
-                     (pos_short ? s.positions : s.efforts).columns.front(),
-                     "the positions have " + std::to_string(R) + " rows and the efforts " +
-                         std::to_string(eff.lines.size()) +
-                         ": the two files must have one row per sample each");
+  if (other.lines.size() != R) {
+    const bool pos_short = R < other.lines.size();
+    const LogTable& shorter = pos_short ? pos : other;
+    throw InputError(pos_short ? s.positions.path : file.path, shorter.lines.back() + 1,
+                     (pos_short ? s.positions : file).columns.front(),
+                     "the positions have " + std::to_string(R) + " rows and the " + what + " " +
+                         std::to_string(other.lines.size()) +
+                         ": the files must have one row per sample each");
   }
+}
+
+void checkMinRows(const JointLogSpec& s, const LogTable& pos) {
+  const std::size_t R = pos.lines.size();
   if (R < static_cast<std::size_t>(defaults::kMinLogRows))
     throw InputError(s.positions.path, R ? pos.lines.back() : 1,
                      s.time_column.empty() ? s.positions.columns.front() : s.time_column,
                      "the log has " + std::to_string(R) + " row" + (R == 1 ? "" : "s") +
                          "; velocities and accelerations need at least " +
                          std::to_string(defaults::kMinLogRows));
+}
+
+// One log file besides the positions, with its table and time column.
+struct OtherFile {
+  const LogFile* file;
+  const char* what;
+  LogTable table;
+  std::string time_column;  // empty: the file has none
+};
+
+// A file's time column against the positions' (period h): its own gaps and rate, then row by row
+// its offset (more than half a step apart).
+void checkTimeAgainst(const JointLogSpec& s, const LogTable& pos, double h, const OtherFile& o,
+                      std::vector<std::string>& warnings) {
+  const LogTable& f = o.table;
+  const std::string& path = o.file->path;
+  const double hf = samplePeriod(f, path, o.time_column, warnings);
+  const std::string hint = " (resample = true interpolates it onto the positions' times)";
+  if (std::abs(hf - h) > defaults::kUniformSamplingTolerance * h)
+    throw InputError(path, f.lines[1], o.time_column,
+                     "the " + std::string(o.what) + " are sampled every " + formatG(hf, 6) +
+                         " s (median step) and the positions in " + s.positions.path + " every " +
+                         formatG(h, 6) + " s: the rates differ" + hint);
+  const std::size_t R = std::min(f.time.size(), pos.time.size());
+  for (std::size_t i = 0; i < R; ++i)
+    if (std::abs(f.time[i] - pos.time[i]) > 0.5 * h)
+      throw InputError(path, f.lines[i], o.time_column,
+                       "time " + formatG(f.time[i], 9) + " s here and " + formatG(pos.time[i], 9) +
+                           " s on line " + std::to_string(pos.lines[i]) + " of " +
+                           s.positions.path + ": the files are offset by " +
+                           formatG(f.time[i] - pos.time[i], 6) + " s (more than half a step)" +
+                           hint);
+}
+
+// Linear interpolation of a timed table's values at the times t (all within its span).
+Eigen::MatrixXd interpolateAt(const LogTable& f, const std::vector<double>& t) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(t.size()), f.values.cols());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    while (k + 2 < f.time.size() && f.time[k + 1] < t[i]) ++k;
+    const double a = (t[i] - f.time[k]) / (f.time[k + 1] - f.time[k]);
+    out.row(static_cast<Eigen::Index>(i)) = (1 - a) * f.values.row(static_cast<Eigen::Index>(k)) +
+                                            a * f.values.row(static_cast<Eigen::Index>(k + 1));
+  }
+  return out;
+}
+
+// resample = true: the positions rows inside every timed file's span are kept, and every other
+// file is interpolated at their times (each needs a time column).
+void resampleOnto(const JointLogSpec& s, LogTable& pos, std::vector<OtherFile>& others) {
+  if (pos.time.empty())
+    throw InputError(s.study_file, s.study_line, keyOf(s, "resample"),
+                     "resampling needs a time column in the positions file (time_column)");
+  double lo = pos.time.front(), hi = pos.time.back();
+  for (const OtherFile& o : others) {
+    if (o.time_column.empty())
+      throw InputError(o.file->path, 1,
+                       s.time_column.empty() ? o.file->columns.front() : s.time_column,
+                       std::string("resampling needs a time column in the ") + o.what +
+                           " file (its own time_column, or the log's)");
+    lo = std::max(lo, o.table.time.front());
+    hi = std::min(hi, o.table.time.back());
+  }
+  std::vector<int> rows;
+  for (int i = 0; i < static_cast<int>(pos.time.size()); ++i)
+    if (pos.time[i] >= lo && pos.time[i] <= hi) rows.push_back(i);
+  LogTable kept;
+  kept.values.resize(static_cast<Eigen::Index>(rows.size()), pos.values.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    kept.values.row(static_cast<Eigen::Index>(k)) = pos.values.row(rows[k]);
+    kept.time.push_back(pos.time[rows[k]]);
+    kept.lines.push_back(pos.lines[rows[k]]);
+  }
+  pos = kept;
+  for (OtherFile& o : others) {
+    if (pos.time.empty()) break;
+    o.table.values = interpolateAt(o.table, pos.time);
+    o.table.time = pos.time;
+    o.table.lines = pos.lines;
+  }
 }
 
 // Samples cut at each end: trim / h, computed in double (any trim and period compare without
@@ -238,17 +370,80 @@ std::vector<double> centralDifference(const std::vector<double>& x, double h) {
   return d;
 }
 
+namespace {
+
+// The other files of a log, read with their time columns (a file's own, else the log's when the
+// file has that column).
+std::vector<OtherFile> readOtherFiles(const JointLogSpec& s) {
+  std::vector<OtherFile> out;
+  auto add = [&](const LogFile& f, const char* what) {
+    if (f.path.empty()) return;
+    const bool own = !f.time_column.empty();
+    const std::string col = own ? f.time_column : s.time_column;
+    OtherFile o{&f, what, readLogFile(f, col, own), {}};
+    if (!o.table.time.empty()) o.time_column = col;
+    out.push_back(std::move(o));
+  };
+  add(s.efforts, "efforts");
+  add(s.velocities, "velocities");
+  add(s.accelerations, "accelerations");
+  return out;
+}
+
+// Time columns of the other files: each against the positions' (or resampled onto them), then
+// one row per sample in every file.
+void alignFiles(const JointLogSpec& s, LogTable& pos, double h, std::vector<OtherFile>& others,
+                std::vector<std::string>& warnings) {
+  for (const OtherFile& o : others) {
+    if (o.time_column.empty()) continue;
+    if (pos.time.empty())
+      throw InputError(o.file->path, 1, o.time_column,
+                       std::string("the ") + o.what + " file has a time column '" + o.time_column +
+                           "' but the positions have none to compare it with (give the log's "
+                           "time_column)");
+    if (o.table.lines.size() < static_cast<std::size_t>(defaults::kMinLogRows))
+      throw InputError(o.file->path, o.table.lines.empty() ? 1 : o.table.lines.back(),
+                       o.time_column,
+                       "fewer than " + std::to_string(defaults::kMinLogRows) + " rows");
+    if (s.resample)
+      samplePeriod(o.table, o.file->path, o.time_column, warnings);  // gaps and order
+    else
+      checkTimeAgainst(s, pos, h, o, warnings);
+  }
+  if (s.resample) {
+    resampleOnto(s, pos, others);
+    warnings.push_back("resampled onto the positions' times (" + s.positions.path +
+                       "): " + std::to_string(pos.lines.size()) + " rows inside every file's span");
+  }
+  for (const OtherFile& o : others) checkRows(s, pos, o.table, *o.file, o.what);
+  checkMinRows(s, pos);
+}
+
+// RMS over the kept rows of a minus b.
+double rmsDifference(const std::vector<double>& a, const std::vector<double>& b,
+                     const std::vector<int>& keep) {
+  double sum = 0;
+  for (int k : keep) sum += (a[k] - b[k]) * (a[k] - b[k]);
+  return keep.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(keep.size()));
+}
+
+}  // namespace
+
 TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   checkSpec(s);
   const std::vector<int> map = jointMap(s, model);
-  const LogTable pos = readLogFile(s.positions, s.time_column);
-  const LogTable eff = readLogFile(s.efforts, "");
-  checkRows(s, pos, eff);
-  const int R = static_cast<int>(pos.lines.size());
+  LogTable pos = readLogFile(s.positions, s.time_column, !s.time_column.empty());
+  std::vector<OtherFile> others = readOtherFiles(s);
   std::vector<std::string> warnings;
+  if (pos.lines.size() < static_cast<std::size_t>(defaults::kMinLogRows)) checkMinRows(s, pos);
   const double h = s.time_column.empty()
                        ? s.sample_period_s
                        : samplePeriod(pos, s.positions.path, s.time_column, warnings);
+  alignFiles(s, pos, h, others, warnings);
+  const LogTable& eff = others[0].table;
+  const LogTable* vel = s.velocities.path.empty() ? nullptr : &others[1].table;
+  const LogTable* acc = s.accelerations.path.empty() ? nullptr : &others[2].table;
+  const int R = static_cast<int>(pos.lines.size());
   std::vector<double> time = pos.time;
   if (time.empty())
     for (int i = 0; i < R; ++i) time.push_back(i * h);
@@ -257,14 +452,28 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
                      "the cut-off must lie below half the sample rate after decimation (" +
                          std::to_string(0.5 / (h * s.decimate)) + " Hz)");
   const int n = model.dof();
+  const auto N = static_cast<Eigen::Index>(map.size());
+  // Currents to motor (or joint-side) torques: kt i, times the joint-side ratio.
+  Eigen::VectorXd effort_scale = Eigen::VectorXd::Ones(N);
+  for (Eigen::Index c = 0; c < N && !s.torque_constants.empty(); ++c)
+    effort_scale[c] =
+        s.torque_constants[static_cast<std::size_t>(c)] *
+        (s.effort_ratios.empty() ? 1.0 : s.effort_ratios[static_cast<std::size_t>(c)]);
   // Convert every sample to the joint side, in design joint order.
-  Eigen::MatrixXd q(R, n), tau(R, n);
-  Eigen::VectorXd qi, ti;
+  Eigen::MatrixXd q(R, n), tau(R, n), qd_log(R, n), qdd_log(R, n);
+  Eigen::VectorXd qi, ti, vi, ai;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(N);
   for (int i = 0; i < R; ++i) {
-    motorToJoint(s.coupling, pos.values.row(i).transpose(), eff.values.row(i).transpose(), qi, ti);
+    const Eigen::VectorXd e = eff.values.row(i).transpose().cwiseProduct(effort_scale);
+    if (vel) motorToJoint(s.coupling, vel->values.row(i).transpose(), zero, vi, ti);
+    if (acc) motorToJoint(s.coupling, acc->values.row(i).transpose(), zero, ai, ti);
+    motorToJoint(s.coupling, pos.values.row(i).transpose(), e, qi, ti);
     for (std::size_t c = 0; c < map.size(); ++c) {
-      q(i, map[c]) = qi[static_cast<Eigen::Index>(c)] + s.offsets[static_cast<Eigen::Index>(c)];
-      tau(i, map[c]) = ti[static_cast<Eigen::Index>(c)];
+      const auto C = static_cast<Eigen::Index>(c);
+      q(i, map[c]) = qi[C] + s.offsets[C];
+      tau(i, map[c]) = ti[C];
+      if (vel) qd_log(i, map[c]) = vi[C];
+      if (acc) qdd_log(i, map[c]) = ai[C];
     }
   }
   const int trim = trimSamples(s, h, R);
@@ -276,7 +485,13 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
                          " after trimming and decimation");
   TrajectoryData d;
   d.file = s.positions.path;
-  d.hash = fileHash(s.positions.path) + "+" + fileHash(s.efforts.path);
+  d.hash = fileHash(s.positions.path);
+  std::vector<std::string> hashed = {s.positions.path};  // each file once
+  for (const LogFile* f : {&s.efforts, &s.velocities, &s.accelerations})
+    if (!f->path.empty() && std::find(hashed.begin(), hashed.end(), f->path) == hashed.end()) {
+      d.hash += "+" + fileHash(f->path);
+      hashed.push_back(f->path);
+    }
   d.qdd_given = false;
   d.currents = false;
   const int K = static_cast<int>(keep.size());
@@ -284,13 +499,29 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   d.qd.resize(K, n);
   d.qdd.resize(K, n);
   d.measured.resize(K, n);
+  auto lowPass = [&](const Eigen::MatrixXd& m, int j) {
+    return zeroPhaseLowPass(std::vector<double>(m.col(j).data(), m.col(j).data() + R), h,
+                            s.cutoff_Hz, s.filter_order);
+  };
+  std::string vel_note, acc_note;
   for (int j = 0; j < n; ++j) {
-    const std::vector<double> qf = zeroPhaseLowPass(
-        std::vector<double>(q.col(j).data(), q.col(j).data() + R), h, s.cutoff_Hz, s.filter_order);
-    const std::vector<double> tf =
-        zeroPhaseLowPass(std::vector<double>(tau.col(j).data(), tau.col(j).data() + R), h,
-                         s.cutoff_Hz, s.filter_order);
-    const std::vector<double> v = centralDifference(qf, time), a = centralDifference(v, time);
+    const std::vector<double> qf = lowPass(q, j), tf = lowPass(tau, j);
+    std::vector<double> v = centralDifference(qf, time);
+    std::vector<double> a = centralDifference(v, time);
+    if (vel) {
+      const std::vector<double> vl = lowPass(qd_log, j);
+      const double rms = rmsDifference(vl, v, keep);
+      d.velocity_difference_rms.push_back(rms);
+      const bool rev = model.joints[j].type == JointType::Revolute;
+      vel_note += (vel_note.empty() ? "" : ", ") + model.joints[j].name + " " + formatG(rms, 3) +
+                  (rev ? " rad/s" : " m/s");
+      std::vector<double> al = acc ? lowPass(qdd_log, j) : centralDifference(vl, time);
+      const double arms = rmsDifference(al, a, keep);
+      acc_note += (acc_note.empty() ? "" : ", ") + model.joints[j].name + " " + formatG(arms, 3) +
+                  (rev ? " rad/s^2" : " m/s^2");
+      v = vl;
+      a = al;
+    }
     for (int k = 0; k < K; ++k) {
       d.q(k, j) = qf[keep[k]];
       d.qd(k, j) = v[keep[k]];
@@ -299,6 +530,23 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
     }
   }
   d.warnings = warnings;
+  if (vel) {
+    d.warnings.push_back("logged velocities used (" + s.velocities.path +
+                         "); RMS of logged minus differentiated positions, per joint: " + vel_note);
+    d.warnings.push_back(
+        std::string(acc ? "logged accelerations used"
+                        : "accelerations differentiated from the logged "
+                          "velocities") +
+        "; RMS against the twice-differentiated positions, per joint: " + acc_note);
+  }
+  d.joint_named_channels = true;
+  d.gravity_compensated.assign(n, false);
+  for (const std::string& g : s.gravity_compensated) {
+    d.gravity_compensated[model.jointIndex(g)] = true;
+    d.warnings.push_back("joint " + g +
+                         ": its controller compensates gravity, so its model effort excludes the "
+                         "gravity term");
+  }
   for (int k = 0; k < K; ++k) {
     d.t.push_back(time[keep[k]]);
     d.lines.push_back(pos.lines[keep[k]]);

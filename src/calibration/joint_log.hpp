@@ -9,12 +9,22 @@
 // the reduction ratios plus the coupling entries), q = R^-1 theta_m + offset and tau = R^T tau_m
 // (power balance: tau^T qd = tau_m^T theta_m_dot).
 //
+// Current logs: efforts in A become motor torques kt_j i_j (torque constant per logged column, sign
+// included) before the motor-to-joint step; a joint-side current log gives tau_j = r_j kt_j i_j.
+//
 // Velocity and acceleration: both channels (positions and efforts) go through the same zero-phase
 // low-pass (a Butterworth filter of even order run forward and backward, so no delay and gain
 // |H(f)|^2, 1/2 at the cut-off), then qd and qdd are central differences of the filtered position,
 // the samples are decimated (every k-th) and `trim` is cut from both ends, where the filter and the
 // differences see the border. A time column may jitter (warned; differences use the actual times);
-// a step over twice the median one is a gap, an input error.
+// a step over twice the median one is a gap, an input error. Logged velocities (and accelerations)
+// go through the same conversion and filter and replace the differences (accelerations without a
+// log: differences of the logged velocity); the RMS of logged minus differentiated is reported.
+//
+// Time columns: every file with one (its own `time_column`, else the log's when the file has that
+// column) is checked against the positions' time: its own gaps, its rate (median step) and, row by
+// row, its offset (more than half a step apart). With `resample`, each such file is interpolated
+// linearly onto the positions' times instead (positions rows outside every file's span dropped).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -26,9 +36,10 @@ namespace armstudy::calibration {
 
 // One CSV file of a log: its path and the columns (header names) in the order of `joints`.
 struct LogFile {
-  std::string path;
+  std::string path;  // empty: the file is not logged (velocities, accelerations)
   std::vector<std::string> columns;
-  double scale = 1.0;  // file unit -> SI
+  double scale = 1.0;       // file unit -> SI
+  std::string time_column;  // this file's own time column (empty: JointLogSpec::time_column)
 };
 
 struct JointLogSpec {
@@ -37,7 +48,15 @@ struct JointLogSpec {
   std::string study_key;            // key path of the spec's table (errors: <study_key>.<key>)
   std::vector<std::string> joints;  // design joint names, one per logged column
   LogFile positions, efforts;
-  std::string time_column;  // in the positions file; empty: sample_period_s
+  LogFile velocities, accelerations;  // optional (path empty): same side and coupling as positions
+  std::string time_column;            // in the positions file; empty: sample_period_s
+  bool resample = false;              // interpolate the other files onto the positions' times
+  // Efforts logged as motor current [A]: the torque constant per logged column [N m/A or N/A],
+  // sign included, never 0 (empty: the efforts are torques or forces), and for a joint-side log
+  // the reduction ratio per column (tau = ratio x kt x current; empty: 1).
+  std::vector<double> torque_constants, effort_ratios;
+  // Joints whose controller compensates gravity: their logged effort excludes the gravity term.
+  std::vector<std::string> gravity_compensated;
   double sample_period_s = 0;
   bool motor_side = false;
   Eigen::MatrixXd coupling;  // R (joints x joints), theta_m = R q; identity for joint side

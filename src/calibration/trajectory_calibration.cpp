@@ -115,8 +115,13 @@ class TrajectoryProblem : public ArmProblem {
   TrajectoryProblem(const Model& model, const TrajectoryData& data) : model_(model), data_(data) {
     setSource("trajectory", model.name, data);
     measured = data.measured;
-    fit_unit = data.currents ? "A" : "N m|N";
     const int n = model.dof();
+    int revolute = 0;
+    for (const auto& jt : model.joints) revolute += jt.type == JointType::Revolute;
+    fit_unit = data.currents   ? "A"
+               : revolute == n ? "N m"
+               : revolute == 0 ? "N"
+                               : "N m and N";  // revolute and prismatic channels together
     drive_.assign(n, nullptr);
     for (const Drive& d : model.drives) {
       const int j = model.jointIndex(d.joint);
@@ -124,7 +129,9 @@ class TrajectoryProblem : public ArmProblem {
     }
     for (int j = 0; j < n; ++j) {
       const bool rev = model.joints[j].type == JointType::Revolute;
-      channel_names.push_back((data.currents ? "current" : "tau") + std::to_string(j + 1));
+      channel_names.push_back(data.joint_named_channels
+                                  ? model.joints[j].name
+                                  : (data.currents ? "current" : "tau") + std::to_string(j + 1));
       channel_units.push_back(data.currents ? "A" : (rev ? "N m" : "N"));
       if (data.currents && !drive_[j])
         throw InputError(model.file, model.joints[j].source_line, "drive",
@@ -343,10 +350,17 @@ class TrajectoryProblem : public ArmProblem {
     if (payload) addPayloadParameters(m, *payload, rbm);
     DynamicsWorkspace ws(rbm);
     Eigen::MatrixXd out(data_.rows(), m.dof());
-    Eigen::VectorXd Q(m.dof());
+    Eigen::VectorXd Q(m.dof()), g(m.dof());
+    bool compensated = false;
+    for (bool c : data_.gravity_compensated) compensated = compensated || c;
     for (int i = 0; i < data_.rows(); ++i) {
       inverseDynamics(rbm, ws, data_.q.row(i).transpose(), data_.qd.row(i).transpose(),
                       data_.qdd.row(i).transpose(), Q);
+      if (compensated) {  // the controller supplies these joints' gravity terms
+        gravityForces(rbm, ws, data_.q.row(i).transpose(), g);
+        for (int j = 0; j < m.dof(); ++j)
+          if (data_.gravity_compensated[static_cast<std::size_t>(j)]) Q[j] -= g[j];
+      }
       out.row(i) = Q.transpose();
     }
     return out;

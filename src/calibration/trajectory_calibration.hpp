@@ -38,6 +38,13 @@ struct TrajectoryData {
   // (theta_m = R q, rows motors, design joint order) of motor-side logs (empty when none).
   double friction_width_fraction = 0;
   Eigen::MatrixXd coupling;
+  // Per design joint: true where the joint's controller compensates gravity (the measured effort
+  // excludes the gravity term, so the model's does too). Empty: none.
+  std::vector<bool> gravity_compensated;
+  // Measured logs with logged velocities: per design joint, the RMS of logged minus
+  // differentiated velocity [rad/s | m/s] (empty when the velocities are differentiated).
+  std::vector<double> velocity_difference_rms;
+  bool joint_named_channels = false;  // channels labelled by joint name (measured logs)
   int rows() const { return static_cast<int>(t.size()); }
 };
 

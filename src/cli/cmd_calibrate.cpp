@@ -333,7 +333,7 @@ void addSynthCommand(CLI::App* cmd, Action& action) {
   auto noise = std::make_shared<double>(std::nan(""));
   cmd->add_option("--noise", *noise,
                   "Noise standard deviation: drive [A] (default 0.01), tcp [m] (1e-4), trajectory "
-                  "[N m|N or A] (0.05)");
+                  "[N m per revolute joint, N per prismatic one, or A] (0.05)");
   cmd->add_option("--noise-correlation", o->noise_rho,
                   "AR(1) correlation of successive noise samples");
   cmd->add_option("--seed", o->seed, "Random seed");

@@ -58,7 +58,7 @@ const Command kCommands[] = {
      "  tcp: joint positions uniform in the central part of the limits, measured TCP = forward\n"
      "       kinematics with the hidden effects + noise (--rows, --noise [m], --orientation)\n"
      "  trajectory: smooth random sum-of-sines joint motion, efforts by inverse dynamics + drive chain\n"
-     "       with the hidden effects + noise (--duration, --rate, --noise [N m|N or A], --currents, --no-qdd)\n"
+     "       with the hidden effects + noise (--duration, --rate, --noise [N m, N or A], --currents, --no-qdd)\n"
      "Examples: armstudy synth designs/final_prototype_9dof.toml --drive j6 --hide stribeck:stribeck_velocity=60 --out bed.csv\n"
      "          armstudy synth designs/final_prototype_7dof.toml --kind tcp --hide joint_offset.j3:offset=0.01 --out tcp.csv\n"
      "          armstudy synth designs/final_prototype_7dof.toml --kind trajectory --hide payload --out run.csv"},

@@ -41,7 +41,7 @@ TEST_CASE(
     CHECK(std::max(c, v) == 2);
     // The held-out (time block) torque RMSE falls at least 4x from the rigid-body model to the
     // final one.
-    CHECK(m.at("factor/tau" + j).get<double>() >= 4.0);
+    CHECK(m.at("factor/" + joint).get<double>() >= 4.0);
     // Fitted vs the source's table: viscous within 15 %, Coulomb within 20 %.
     CHECK(std::abs(m.at("reference_difference/" + joint + ".viscous").get<double>()) <= 0.15);
     CHECK(std::abs(m.at("reference_difference/" + joint + ".coulomb").get<double>()) <= 0.20);
@@ -50,9 +50,9 @@ TEST_CASE(
     CHECK(m.contains("width_sweep/3.16/" + joint + ".viscous"));
   }
   // The hand check's order of magnitude: about 29 / 19 / 11 N m for the URDF as given.
-  CHECK(m.at("ladder/0/tau1").get<double>() == Approx(29.0).epsilon(0.1));
-  CHECK(m.at("ladder/0/tau2").get<double>() == Approx(18.6).epsilon(0.1));
-  CHECK(m.at("ladder/0/tau3").get<double>() == Approx(10.4).epsilon(0.1));
+  CHECK(m.at("ladder/0/joint_1").get<double>() == Approx(29.0).epsilon(0.1));
+  CHECK(m.at("ladder/0/joint_2").get<double>() == Approx(18.6).epsilon(0.1));
+  CHECK(m.at("ladder/0/joint_3").get<double>() == Approx(10.4).epsilon(0.1));
   CHECK(fs::exists(out / "staubli_tx40_identification/calibration/tx40/identification.md"));
   CHECK(
       fs::exists(out / "staubli_tx40_identification/calibration/tx40/residuals_before_after.svg"));

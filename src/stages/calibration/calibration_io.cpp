@@ -93,8 +93,20 @@ std::vector<std::string> readColumns(TableReader& r, const std::string& key,
   return out;
 }
 
+// Units of each logged quantity (name, factor to SI).
+std::vector<std::pair<std::string, double>> logUnits(const std::string& key) {
+  if (key == "positions") return {{"rad", 1.0}, {"deg", M_PI / 180}, {"m", 1.0}, {"mm", 1e-3}};
+  if (key == "velocities")
+    return {{"rad/s", 1.0}, {"deg/s", M_PI / 180}, {"m/s", 1.0}, {"mm/s", 1e-3}};
+  if (key == "accelerations")
+    return {{"rad/s^2", 1.0}, {"deg/s^2", M_PI / 180}, {"m/s^2", 1.0}, {"mm/s^2", 1e-3}};
+  return {{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}, {"A", 1.0}, {"mA", 1e-3}};
+}
+
+// One logged file's table: file, columns, unit, optional own time column; for efforts logged as
+// current (unit A or mA) the torque constants per column and, joint side, the reduction ratios.
 LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& dir,
-                        bool positions) {
+                        JointLogSpec& spec) {
   TableReader r = m.requiredTable(key, " (file, columns and unit of the logged " + key + ")");
   LogFile f;
   const std::string file = r.string("file");
@@ -102,26 +114,38 @@ LogFile readLogFileSpec(TableReader& m, const std::string& key, const fs::path& 
   if (!fs::is_regular_file(f.path))
     r.fail("file", "log file '" + file + "' does not exist (looked for " + f.path + ")");
   f.columns = readColumns(r, "columns", f.path);
-  if (!r.has("unit"))
-    r.fail("unit", std::string("missing 'unit' of the logged ") + key +
-                       (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  const auto units = logUnits(key);
+  std::string names;
+  for (const auto& u : units) names += (names.empty() ? "" : ", ") + u.first;
+  if (!r.has("unit")) r.fail("unit", "missing 'unit' of the logged " + key + " (" + names + ")");
   const std::string unit = r.string("unit");
-  const std::vector<std::pair<std::string, double>> units =
-      positions
-          ? std::vector<std::pair<std::string, double>>{{"rad", 1.0},
-                                                        {"deg", M_PI / 180},
-                                                        {"m", 1.0},
-                                                        {"mm", 1e-3}}
-          : std::vector<std::pair<std::string, double>>{{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}};
   bool known = false;
   for (const auto& u : units)
     if (u.first == unit) {
       f.scale = u.second;
       known = true;
     }
-  if (!known)
-    r.fail("unit",
-           "unknown unit '" + unit + "'" + (positions ? " (rad, deg, m or mm)" : " (N m or N)"));
+  if (!known) r.fail("unit", "unknown unit '" + unit + "' (" + names + ")");
+  if (r.has("time_column")) f.time_column = r.string("time_column");
+  if (key == "efforts") {
+    const bool current = unit == "A" || unit == "mA";
+    if (current) {
+      if (!r.has("torque_constants"))
+        r.fail("torque_constants",
+               "efforts logged as current need 'torque_constants' (N m/A, or N/A for a linear "
+               "motor; one per column, sign included)");
+      spec.torque_constants = r.numberArray("torque_constants");
+      for (std::size_t c = 0; c < spec.torque_constants.size(); ++c)
+        if (spec.torque_constants[c] == 0)
+          r.fail("torque_constants",
+                 "the torque constant of column '" + (c < f.columns.size() ? f.columns[c] : "?") +
+                     "' (entry " + std::to_string(c + 1) + ") is 0: current would give no torque");
+      if (r.has("ratios")) spec.effort_ratios = r.numberArray("ratios");
+    } else {
+      for (const char* k : {"torque_constants", "ratios"})
+        rejectKey(r, k, std::string("'") + k + "' belongs to efforts logged as current (unit A)");
+    }
+  }
   r.finish();
   return f;
 }
@@ -175,9 +199,28 @@ JointLogSpec readMeasured(TableReader& e, const fs::path& dir) {
   s.study_key = r.path();
   s.joints = r.stringArray("joints");
   const auto n = static_cast<Eigen::Index>(s.joints.size());
-  s.positions = readLogFileSpec(r, "positions", dir, true);
-  s.efforts = readLogFileSpec(r, "efforts", dir, false);
-  if (r.has("time_column")) {
+  s.positions = readLogFileSpec(r, "positions", dir, s);
+  s.efforts = readLogFileSpec(r, "efforts", dir, s);
+  if (r.has("velocities")) s.velocities = readLogFileSpec(r, "velocities", dir, s);
+  if (r.has("accelerations")) {
+    if (!r.has("velocities"))
+      r.fail("accelerations", "logged accelerations need logged velocities too");
+    s.accelerations = readLogFileSpec(r, "accelerations", dir, s);
+  }
+  if (r.has("gravity_compensated")) {
+    s.gravity_compensated = r.stringArray("gravity_compensated");
+    for (std::size_t a = 0; a < s.gravity_compensated.size(); ++a)
+      for (std::size_t b = 0; b < a; ++b)
+        if (s.gravity_compensated[a] == s.gravity_compensated[b])
+          r.fail("gravity_compensated", "joint '" + s.gravity_compensated[a] + "' is listed twice");
+  }
+  s.resample = r.boolean("resample", false);
+  if (!s.positions.time_column.empty()) {
+    if (r.has("time_column"))
+      r.fail("time_column", "the positions' time column is given twice (here and in positions)");
+    if (r.has("sample_period")) r.fail("sample_period", "give either sample_period or time_column");
+    s.time_column = s.positions.time_column;
+  } else if (r.has("time_column")) {
     if (r.has("sample_period")) r.fail("sample_period", "give either sample_period or time_column");
     s.time_column = r.string("time_column");
   } else {
