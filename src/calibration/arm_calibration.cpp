@@ -11,6 +11,7 @@
 #include "calibration/arm_patterns.hpp"
 #include "calibration/least_squares.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration {
 
@@ -49,6 +50,9 @@ const EffectValue* findValue(const EffectValues& values, int effect) {
 }
 
 namespace {
+
+constexpr double kFloorSteps = 4;       // a residual within 4 logging steps is at the floor
+constexpr double kOffGridShare = 0.01;  // values allowed off the resolution grid
 
 // Per-channel residual weights 1 / sigma_c (native units), guarded against a zero noise estimate.
 Eigen::VectorXd noiseWeights(const ArmProblem& P, const std::vector<double>& sigma) {
@@ -100,6 +104,48 @@ std::string identifiability(const ArmProblem& P) {
   std::string out;
   for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
   return out;
+}
+
+// The logging resolution of one channel: the step of the grid its values lie on (all but
+// kOffGridShare of them within 1e-6 steps of a multiple of the smallest nonzero difference between
+// sorted values, counted from the smallest value); 0 when there is none (filtered or continuous
+// data).
+double loggingResolution(const Eigen::VectorXd& v) {
+  std::vector<double> x(v.data(), v.data() + v.size());
+  std::sort(x.begin(), x.end());
+  if (x.size() < 2 || !(x.back() > x.front())) return 0.0;
+  const double range = x.back() - x.front();
+  double q = kInf;
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i] - x[i - 1] > 1e-9 * range) q = std::min(q, x[i] - x[i - 1]);
+  if (!std::isfinite(q) || range / q > 1e6) return 0.0;
+  std::size_t off = 0;
+  for (double y : x) {
+    const double k = (y - x.front()) / q;
+    off += std::abs(k - std::round(k)) > 1e-6 * std::max(1.0, k) + 1e-6;
+  }
+  return off <= kOffGridShare * x.size() ? q : 0.0;
+}
+
+// Per channel: the resolution and whether the design's residual is at that floor (RMS within
+// kFloorSteps resolution steps); warned once per channel at the floor.
+void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDiagnosis& d) {
+  d.channel_resolution.assign(P.channels(), 0.0);
+  d.channel_at_floor.assign(P.channels(), 0);
+  for (int c = 0; c < P.channels(); ++c) {
+    const double q = loggingResolution(P.measured.col(c));
+    d.channel_resolution[c] = q;
+    const double r = P.rows() ? std::sqrt(residual.col(c).squaredNorm() / P.rows()) : 0.0;
+    if (q > 0 && r <= kFloorSteps * q) {
+      d.channel_at_floor[c] = 1;
+      d.warnings.push_back(
+          "channel " + P.channel_names[c] + " is at the logging resolution (its values lie on " +
+          "steps of " + formatG(q, 3) + " " + P.channel_units[c] +
+          "; the design's residual is " + formatG(r, 3) + " " + P.channel_units[c] +
+          " RMS, within " + formatG(kFloorSteps, 2) + " steps): not identifiable from these " +
+          "logs, no effect is added for it");
+    }
+  }
 }
 
 }  // namespace
@@ -173,6 +219,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     sigma = channelNoise(sat, lev_w);
   }
   d.channel_noise = sigma;
+  floorOfChannels(P, P.measured - pred0, d);
   if (enough) d.saturated_residual = sat;
   double rho_sum = 0;
   for (int c = 0; c < C; ++c) {
@@ -199,8 +246,22 @@ namespace {
 
 // Whether a candidate's columns add anything to the model's basis; warns on the columns that
 // have no effect or cannot be told apart from the basis.
-bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, const ArmEffect& info,
-                  ArmCandidate& cand) {
+bool identifiable(const ArmProblem& P, const EffectValues& current, const Eigen::MatrixXd& cols,
+                  const Eigen::MatrixXd& basis, const ArmEffect& info, ArmCandidate& cand) {
+  // The effects of the model a column cannot be told apart from (each one's own columns explain
+  // it to R^2 > kCollinearR2): named, so the pair is reported before either value is trusted.
+  auto partners = [&](const Eigen::VectorXd& col) {
+    std::vector<std::string> out;
+    int k0 = 0;
+    for (const EffectValue& v : current) {
+      const int n = static_cast<int>(v.x.size());
+      if (k0 + n <= basis.cols() && n > 0 &&
+          r2OnBasis(col, basis.middleCols(k0, n)) > defaults::kCollinearR2)
+        out.push_back(P.catalogue[v.effect].name);
+      k0 += n;
+    }
+    return out;
+  };
   bool dead = true;
   for (int j = 0; j < cols.cols(); ++j) {
     const double r2 = r2OnBasis(cols.col(j), basis);
@@ -211,11 +272,21 @@ bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, con
           "needs is constant or zero)");
       continue;
     }
-    if (r2 > defaults::kCollinearR2)
+    if (r2 > defaults::kCollinearR2) {
+      const std::vector<std::string> who = partners(cols.col(j));
+      std::string names;
+      for (const std::string& w : who) {
+        names += (names.empty() ? "" : ", ") + w;
+        if (std::find(cand.indistinguishable.begin(), cand.indistinguishable.end(), w) ==
+            cand.indistinguishable.end())
+          cand.indistinguishable.push_back(w);
+      }
       cand.warnings.push_back("parameter '" + info.params[j].key +
-                              "' cannot be told apart from the terms already in "
-                              "the model (R^2 = " +
-                              fmt(r2) + ") with this data");
+                              "' cannot be told apart from " +
+                              (names.empty() ? std::string("the terms already in the model")
+                                             : "'" + names + "' already in the model") +
+                              " (R^2 = " + fmt(r2) + ") with this data");
+    }
     if (r2 <= defaults::kUnidentifiableR2) dead = false;
   }
   return !dead;
@@ -260,6 +331,50 @@ double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit&
   return b > 0 ? (std::sqrt(b) - std::sqrt(f)) / std::sqrt(b) : 0.0;
 }
 
+// Why the fitted values describe no possible body or drive ("" when they do): a parameter on its
+// physical lower bound (the value it would take without the bound is given: the bounded fit only
+// stopped there), or a rigid body whose pseudo-inertia [[tr(I)/2 1 - I, h], [h^T, m]] is not
+// positive semidefinite (Wensing et al. 2017: mass >= 0, inertia positive semidefinite about the
+// centre and the triangle inequalities in one condition).
+std::string impossibility(const ArmProblem& P, const EffectValues& values) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const ArmEffect& info = P.catalogue[values[k].effect];
+    for (std::size_t j = 0; j < info.params.size(); ++j) {
+      const ArmParam& ap = info.params[j];
+      if (ap.physical.empty() || !std::isfinite(ap.lower)) continue;
+      const double x = values[k].x[j];
+      if (x > ap.lower + 1e-9 * (1 + std::abs(ap.lower)) + 1e-3 * ap.step) continue;
+      // The value without the bound: the same set fitted with the physical bounds lifted.
+      NoiseWeighted free(P, P.weight);
+      for (ArmEffect& e : free.catalogue)
+        for (ArmParam& q : e.params)
+          if (!q.physical.empty()) q.lower = -kInf;
+      const Solved s = fitSet(free, values);
+      return info.name + "." + ap.key + " would be " + fmt(ap.design + s.v[k].x[j]) + " " +
+             ap.unit + " (bound " + fmt(ap.design + ap.lower) + "): " + ap.physical;
+    }
+    if (info.rigid_body && values[k].x.size() == 10) {
+      Eigen::Matrix<double, 10, 1> pi;
+      for (int i = 0; i < 10; ++i) pi[i] = info.body_design[i] + values[k].x[i];
+      Eigen::Matrix3d I;
+      I << pi[4], pi[7], pi[8], pi[7], pi[5], pi[9], pi[8], pi[9], pi[6];
+      Eigen::Matrix4d J = Eigen::Matrix4d::Zero();
+      J.topLeftCorner<3, 3>() = 0.5 * I.trace() * Eigen::Matrix3d::Identity() - I;
+      J.topRightCorner<3, 1>() = pi.segment<3>(1);
+      J.bottomLeftCorner<1, 3>() = pi.segment<3>(1).transpose();
+      J(3, 3) = pi[0];
+      const double ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J).eigenvalues()[0];
+      if (ev < -1e-9 * (1 + J.norm()))
+        return info.name + " would be a body of mass " + fmt(pi[0]) + " kg, first moment (" +
+               fmt(pi[1]) + ", " + fmt(pi[2]) + ", " + fmt(pi[3]) +
+               ") kg m and inertia (xx yy zz) (" + fmt(pi[4]) + ", " + fmt(pi[5]) + ", " +
+               fmt(pi[6]) + ") kg m^2: its pseudo-inertia has the eigenvalue " + fmt(ev) +
+               " < 0, no physical body has these parameters";
+    }
+  }
+  return "";
+}
+
 // Catalogue effect e added to the current model: identifiability, fit, improvement and
 // significance; its columns outside the basis go into resid_cols when identifiable.
 ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const EffectValues& current,
@@ -272,9 +387,29 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
   cand.effect = e;
   cand.name = info.name;
   const Eigen::MatrixXd cols = candidateColumns(P, current, e);
-  if (!identifiable(cols, basis, info, cand)) {
+  if (!identifiable(P, current, cols, basis, info, cand)) {
     cand.status = "unidentifiable";
     return cand;
+  }
+  if (!eng.at_floor.empty()) {  // every channel it touches at the logging resolution: not fitted
+    bool live = false;
+    std::string where;
+    for (int c = 0; c < P.channels(); ++c) {
+      bool touched = false;
+      for (int i = 0; i < P.rows() && !touched; ++i)
+        touched = cols.row(i * P.channels() + c).cwiseAbs().maxCoeff() > 0;
+      if (!touched) continue;
+      if (eng.at_floor[c])
+        where += (where.empty() ? "" : ", ") + P.channel_names[c];
+      else
+        live = true;
+    }
+    if (!live && !where.empty()) {
+      cand.status = "at_floor";
+      cand.warnings.push_back("not identifiable from these logs: " + where +
+                              " at the logging resolution");
+      return cand;
+    }
   }
   Eigen::MatrixXd rc = cols;
   if (basis.cols() > 0) rc = cols - basis * basis.colPivHouseholderQr().solve(cols);
@@ -294,6 +429,11 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
     cand.status = "too_few_rows";
     cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) +
                             " parameters");
+    return cand;
+  }
+  if (const std::string why = impossibility(P, cand.fit.values); !why.empty()) {
+    cand.status = "impossible";
+    cand.warnings.push_back("refused: " + why);
     return cand;
   }
   cand.improvement = touchedImprovement(P, base, cand.fit);
@@ -387,14 +527,55 @@ void significantFirst(std::vector<ArmCandidate>& ranking) {
                         [](const ArmCandidate& c) { return c.significant; });
 }
 
+// Per channel, the strongest significant pattern of the final residuals as a remainder.
+std::vector<ArmRemainder> remaindersOf(const ArmProblem& P, const ArmDiagnosis& d,
+                                       const ArmFit& fin) {
+  std::vector<ArmRemainder> out;
+  const int R = P.rows();
+  for (int c = 0; c < P.channels(); ++c) {
+    const ArmPattern* best = nullptr;
+    for (const ArmPattern& p : d.patterns)
+      if (p.significant && p.channel == P.channel_names[c] &&
+          (!best || p.sum_squares > best->sum_squares))
+        best = &p;
+    if (!best || R == 0 || fin.heldout_residual.rows() != R ||
+        d.as_designed.heldout_residual.rows() != R)
+      continue;
+    ArmRemainder r;
+    r.channel = best->channel;
+    r.unit = P.channel_units[c];
+    r.variable = best->variable;
+    r.description = best->description;
+    r.rms = d.channel_noise[c] * std::sqrt(best->sum_squares / R);
+    const double ms_final = fin.heldout_residual.col(c).squaredNorm() / R,
+                 ms_design = d.as_designed.heldout_residual.col(c).squaredNorm() / R;
+    r.rmse_final = std::sqrt(ms_final);
+    r.rmse_design = std::sqrt(ms_design);
+    r.share_final = ms_final > 0 ? std::min(1.0, r.rms * r.rms / ms_final) : 0.0;
+    r.share_design = ms_design > 0 ? std::min(1.0, r.rms * r.rms / ms_design) : 0.0;
+    r.explained_by_catalogue = ms_final <= 0.25 * ms_design;
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::string ArmRemainder::text() const {
+  return "unexplained remainder in " + channel + " following " + variable + ": " +
+         formatG(rms, 3) + " " + unit + " RMS, " + formatG(100 * share_final, 3) +
+         " % of the channel's remaining held-out mean square (" +
+         formatG(100 * share_design, 3) + " % of the design's); the channel's held-out RMSE went " + formatG(rmse_design, 3) +
+         " -> " + formatG(rmse_final, 3) + " " + unit +
+         (explained_by_catalogue ? " with the catalogue effects" : "") + " (" + description + ")";
+}
 
 ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   ArmDiagnosis d = compareArm(P0, o);
   const bool identifiable =
       d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
-  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
+  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight, d.channel_at_floor};
   EffectValues current;
   Solved cur_solved = gaussNewton(P, {});
   ArmFit cur = d.as_designed;
@@ -465,6 +646,8 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   d.patterns = searchPatterns(P, cur.residual, cur.predicted, d.channel_noise, d.noise_rho);
   const bool candidate_left = !ranking.empty() && ranking.front().significant;
   d.unexplained_found = !candidate_left && !d.patterns.empty() && d.patterns.front().significant;
+  d.remainders = remaindersOf(P, d, cur);
+  for (const ArmRemainder& r : d.remainders) d.warnings.push_back(r.text());
   std::string verdict;
   if (!named.empty()) {
     verdict = (named.size() > 1 ? "missing effects: " : "missing effect: ");
@@ -472,8 +655,14 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   }
   if (d.unexplained_found) {
     const ArmPattern& p = d.patterns.front();
-    const std::string u = "unexplained effect in channel " + p.channel + " against " + p.variable +
-                          " (" + p.description + "): no catalogue effect explains it";
+    bool halved = false;  // catalogue effects halved the channel's error: a remainder of them
+    for (const ArmRemainder& r : d.remainders)
+      halved = halved || (r.channel == p.channel && r.explained_by_catalogue);
+    const std::string u =
+        halved ? "a remainder in channel " + p.channel + " against " + p.variable + " (" +
+                     p.description + ") after the catalogue effects halved its error"
+               : "unexplained effect in channel " + p.channel + " against " + p.variable + " (" +
+                     p.description + "): no catalogue effect explains it";
     verdict = verdict.empty() ? u : verdict + "; then " + u;
   }
   d.verdict = verdict.empty() ? "no significant missing effect" : verdict;

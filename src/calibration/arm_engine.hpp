@@ -43,6 +43,7 @@ struct Engine {
   std::vector<int> folds;
   int k = 5;
   Eigen::VectorXd report_weight;  // the problem's own channel weights (fit units)
+  std::vector<char> at_floor;     // per channel: at the logging resolution (no effect for it)
 
   ArmFit make(const Solved& s, const std::string& label, bool& ok) const;  // the fit's statistics
 };

@@ -284,6 +284,8 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
 // nearly linear in the position over the motion, is absorbed by rotor_inertia to 89 %).
 constexpr double kPatternExplainedDrop =
     0.5;  // share of a pattern's sum of squares a candidate must remove
+constexpr double kHalvedMeanSquare =
+    0.25;  // held-out mean square of the channel left by a candidate that halves its RMSE
 
 void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
                        const ArmFit& current, const std::vector<double>& sigma, double rho,
@@ -322,9 +324,29 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
       }
     return out > in;
   };
+  // The selection rule (docs/calibration.md "Selection rule"): a candidate whose fit halves the
+  // held-out RMSE of a channel is a physical effect of that channel even when a
+  // pattern remains (friction of a joint whose fastest moves leave a small remainder); what it
+  // leaves is reported as a remainder, never as "no catalogue effect explains it". Its value is
+  // physically possible: impossible candidates are refused before (status "impossible").
+  auto halves = [&](const ArmCandidate& c) {
+    if (current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
+    for (int k = 0; k < P.channels(); ++k) {
+      const double b = current.heldout_residual.col(k).squaredNorm(),
+                   a = c.fit.heldout_residual.col(k).squaredNorm();
+      if (b > 0 && a <= kHalvedMeanSquare * b) return true;
+    }
+    return false;
+  };
   std::vector<std::string> demoted;
   for (ArmCandidate& c : ranking) {
     if (!c.significant || elsewhere(c)) continue;
+    if (halves(c)) {
+      c.warnings.push_back("halves the held-out error of a channel and leaves the strongest "
+                           "residual pattern (" +
+                           seen.front()->description + "): the rest is reported as a remainder");
+      continue;
+    }
     const std::vector<ArmPattern> after =
         searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
     bool explains = false;
