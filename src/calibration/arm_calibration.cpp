@@ -336,7 +336,8 @@ double touchedImprovement(const ArmProblem& P, const ArmFit& base, const ArmFit&
 // stopped there), or a rigid body whose pseudo-inertia [[tr(I)/2 1 - I, h], [h^T, m]] is not
 // positive semidefinite (Wensing et al. 2017: mass >= 0, inertia positive semidefinite about the
 // centre and the triangle inequalities in one condition).
-std::string impossibility(const ArmProblem& P, const EffectValues& values) {
+std::string impossibility(const ArmProblem& P, const ArmFit& fit) {
+  const EffectValues& values = fit.values;
   for (std::size_t k = 0; k < values.size(); ++k) {
     const ArmEffect& info = P.catalogue[values[k].effect];
     for (std::size_t j = 0; j < info.params.size(); ++j) {
@@ -363,13 +364,20 @@ std::string impossibility(const ArmProblem& P, const EffectValues& values) {
       J.topRightCorner<3, 1>() = pi.segment<3>(1);
       J.bottomLeftCorner<1, 3>() = pi.segment<3>(1).transpose();
       J(3, 3) = pi[0];
+      // Within its uncertainty of a possible body: a point mass lies on the cone's boundary, so
+      // its fitted parameters leave it by the noise; the tolerance is the sum of the 95 %
+      // half-widths of the inertia parameters.
+      double tol = 1e-9 * (1 + J.norm());
+      for (const FittedParameter& f : fit.params)
+        if (f.key.rfind(info.name + ".inertia_", 0) == 0 && std::isfinite(f.ci_high - f.ci_low))
+          tol += 0.5 * (f.ci_high - f.ci_low);
       const double ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J).eigenvalues()[0];
-      if (ev < -1e-9 * (1 + J.norm()))
+      if (ev < -tol)
         return info.name + " would be a body of mass " + fmt(pi[0]) + " kg, first moment (" +
                fmt(pi[1]) + ", " + fmt(pi[2]) + ", " + fmt(pi[3]) +
                ") kg m and inertia (xx yy zz) (" + fmt(pi[4]) + ", " + fmt(pi[5]) + ", " +
                fmt(pi[6]) + ") kg m^2: its pseudo-inertia has the eigenvalue " + fmt(ev) +
-               " < 0, no physical body has these parameters";
+               " < 0 beyond its uncertainty (" + fmt(tol) + "): no physical body has these parameters";
     }
   }
   return "";
@@ -431,7 +439,7 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
                             " parameters");
     return cand;
   }
-  if (const std::string why = impossibility(P, cand.fit.values); !why.empty()) {
+  if (const std::string why = impossibility(P, cand.fit); !why.empty()) {
     cand.status = "impossible";
     cand.warnings.push_back("refused: " + why);
     return cand;

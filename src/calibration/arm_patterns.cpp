@@ -304,16 +304,22 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
         x.variable == seen.front()->variable && x.kind == seen.front()->kind)
       outside = true;
   const double drop = outside ? 1.0 : kPatternExplainedDrop;
-  // A pattern no combination of catalogue effects explains does not hold back a candidate whose
-  // held-out gain lies mostly in the other channels (it explains something else, such as the
-  // friction of another joint); one that gains mostly in the pattern's channel only absorbs part of
-  // it.
+  // A pattern does not hold back a candidate that does not touch its channel (the friction of
+  // another joint), nor, when no combination of catalogue effects explains the pattern, one whose
+  // held-out gain lies mostly in the other channels; one that gains mostly in the pattern's
+  // channel must explain it (or halve a channel's error, below).
   int pc = -1;
   for (int c = 0; c < P.channels(); ++c)
     if (P.channel_names[c] == seen.front()->channel) pc = c;
   auto elsewhere = [&](const ArmCandidate& c) {
-    if (!outside || pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows())
+    if (pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows())
       return false;
+    // A candidate that does not change the pattern channel's prediction cannot explain it.
+    const double scale = current.predicted.col(pc).cwiseAbs().maxCoeff();
+    if ((c.fit.predicted.col(pc) - current.predicted.col(pc)).cwiseAbs().maxCoeff() <=
+        1e-12 * (1 + scale))
+      return true;
+    if (!outside) return false;
     double in = 0, out = 0;
     for (int i = 0; i < P.rows(); ++i)
       for (int k = 0; k < P.channels(); ++k) {
