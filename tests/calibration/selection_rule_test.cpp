@@ -53,7 +53,7 @@ TEST_CASE(
     "added, the rest is a remainder") {
   const Model& m = design6();
   const int j3 = m.jointIndex("j3");
-  const double b = 2.0, k3 = 0.08;  // N m s/rad, N m s^3/rad^3
+  const double b = 2.0, k3 = 0.5;  // N m s/rad, N m s^3/rad^3
   const TrajectoryData data = dataWith(m, 0.05, 5, [&](const TrajectoryData& d, int i, int j) {
     if (j != j3) return 0.0;
     const double v = d.qd(i, j);
