@@ -67,4 +67,13 @@ Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& curren
 ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res,
                            const std::vector<double>& sigma, double rho, const ArmFitOptions& o);
 
+// arm_checks.cpp: per channel the logging resolution and whether the design's residual is at that
+// floor (warned in d); why fitted values describe no possible body ("" when they do); the
+// remainders of the final fit, one per channel with a significant pattern left.
+double loggingResolution(const Eigen::VectorXd& v);
+void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDiagnosis& d);
+std::string impossibility(const ArmProblem& P, const ArmFit& fit);
+std::vector<ArmRemainder> remaindersOf(const ArmProblem& P, const ArmDiagnosis& d,
+                                       const ArmFit& fin);
+
 }  // namespace armstudy::calibration::arm_detail

@@ -312,8 +312,7 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
   for (int c = 0; c < P.channels(); ++c)
     if (P.channel_names[c] == seen.front()->channel) pc = c;
   auto elsewhere = [&](const ArmCandidate& c) {
-    if (pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows())
-      return false;
+    if (pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
     // A candidate that does not change the pattern channel's prediction cannot explain it.
     const double scale = current.predicted.col(pc).cwiseAbs().maxCoeff();
     if ((c.fit.predicted.col(pc) - current.predicted.col(pc)).cwiseAbs().maxCoeff() <=
@@ -348,9 +347,10 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
   for (ArmCandidate& c : ranking) {
     if (!c.significant || elsewhere(c)) continue;
     if (halves(c)) {
-      c.warnings.push_back("halves the held-out error of a channel and leaves the strongest "
-                           "residual pattern (" +
-                           seen.front()->description + "): the rest is reported as a remainder");
+      c.warnings.push_back(
+          "halves the held-out error of a channel and leaves the strongest "
+          "residual pattern (" +
+          seen.front()->description + "): the rest is reported as a remainder");
       continue;
     }
     const std::vector<ArmPattern> after =

@@ -223,14 +223,14 @@ std::vector<std::string> jointAnswers(const ArmDiagnosis& d, const ArmProblem& P
                     c < static_cast<int>(b.channel_region_heldout.size());
     if (ok) {
       const double x = a.channel_region_heldout[c].rmse, y = b.channel_region_heldout[c].rmse;
-      s += "; held-out error " + formatG(x, 3) + " -> " + formatG(y, 3) + " " +
-           P.channel_units[c] + (y > 0 ? " (" + formatG(x / y, 3) + "x lower)" : "");
+      s += "; held-out error " + formatG(x, 3) + " -> " + formatG(y, 3) + " " + P.channel_units[c] +
+           (y > 0 ? " (" + formatG(x / y, 3) + "x lower)" : "");
     }
     bool rem = false;
     for (const ArmRemainder& r : d.remainders)
       if (r.channel == P.channel_names[c]) {
-        s += "; remainder " + formatG(r.rms, 3) + " " + r.unit + " following " + r.variable +
-             " (" + formatG(100 * r.share_final, 3) + " % of what is left)";
+        s += "; remainder " + formatG(r.rms, 3) + " " + r.unit + " following " + r.variable + " (" +
+             formatG(100 * r.share_final, 3) + " % of what is left)";
         rem = true;
       }
     if (!rem) s += "; no significant remainder";

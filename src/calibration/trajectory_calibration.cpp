@@ -192,8 +192,8 @@ class TrajectoryProblem : public ArmProblem {
       const Eigen::Vector3d c0 = model.p_payload_com_T;
       const Eigen::Matrix3d I0 =
           m0 * (c0.squaredNorm() * Eigen::Matrix3d::Identity() - c0 * c0.transpose());
-      e.body_design = {m0,      m0 * c0.x(), m0 * c0.y(), m0 * c0.z(), I0(0, 0),
-                       I0(1, 1), I0(2, 2),  I0(0, 1),    I0(0, 2),    I0(1, 2)};
+      e.body_design = {m0,       m0 * c0.x(), m0 * c0.y(), m0 * c0.z(), I0(0, 0),
+                       I0(1, 1), I0(2, 2),    I0(0, 1),    I0(0, 2),    I0(1, 2)};
       add(e, {TrajEffect::Payload});
     }
     if (!per_joint_armature) {
@@ -333,8 +333,8 @@ class TrajectoryProblem : public ArmProblem {
         const char* unit = si.term == SideTerm::Coulomb   ? "N m"
                            : si.term == SideTerm::Viscous ? "N m s/rad"
                                                           : "kg m^2";
-        e.params = {
-            {si.key, unit, physicalLower(si.term), kInfD, si.typical, 1e-4, 0, physicalReason(si.term)}};
+        e.params = {{si.key, unit, physicalLower(si.term), kInfD, si.typical, 1e-4, 0,
+                     physicalReason(si.term)}};
         add(e, {TrajEffect::Motor, k, drive::Effect::Coulomb, si.term});
       }
     }

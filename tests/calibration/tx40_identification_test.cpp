@@ -65,8 +65,8 @@ TEST_CASE(
   INFO(verdict);
   CHECK(verdict.find("joint_4.viscous") != std::string::npos);
   CHECK(verdict.find("no catalogue effect explains it") == std::string::npos);
-  const std::string report = armstudy::readFileOrThrow(
-      (out / "staubli_tx40_identification/report.md").string());
+  const std::string report =
+      armstudy::readFileOrThrow((out / "staubli_tx40_identification/report.md").string());
   CHECK(report.find("None.") == std::string::npos);
   CHECK(report.find("**joint_4**: joint_4.viscous") != std::string::npos);
   CHECK(report.find("remainder in tau4") != std::string::npos);
