@@ -11,6 +11,7 @@
 #include "calibration/arm_patterns.hpp"
 #include "calibration/least_squares.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration {
 
@@ -173,6 +174,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
     sigma = channelNoise(sat, lev_w);
   }
   d.channel_noise = sigma;
+  floorOfChannels(P, P.measured - pred0, d);
   if (enough) d.saturated_residual = sat;
   double rho_sum = 0;
   for (int c = 0; c < C; ++c) {
@@ -183,7 +185,7 @@ ArmDiagnosis compareArm(const ArmProblem& P, const ArmFitOptions& o) {
   d.noise_rho = rho_sum / C;
 
   const NoiseWeighted W(P, noiseWeights(P, d.channel_noise));
-  Engine eng{W, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P.weight};
+  Engine eng{W, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P.weight, {}};
   bool ok = false;
   d.as_designed = eng.make(gaussNewton(W, {}), "as designed", ok);
   ARMSTUDY_CHECK(ok, "no parameters to fit");
@@ -199,8 +201,22 @@ namespace {
 
 // Whether a candidate's columns add anything to the model's basis; warns on the columns that
 // have no effect or cannot be told apart from the basis.
-bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, const ArmEffect& info,
-                  ArmCandidate& cand) {
+bool identifiable(const ArmProblem& P, const EffectValues& current, const Eigen::MatrixXd& cols,
+                  const Eigen::MatrixXd& basis, const ArmEffect& info, ArmCandidate& cand) {
+  // The effects of the model a column cannot be told apart from (each one's own columns explain
+  // it to R^2 > kCollinearR2): named, so the pair is reported before either value is trusted.
+  auto partners = [&](const Eigen::VectorXd& col) {
+    std::vector<std::string> out;
+    int k0 = 0;
+    for (const EffectValue& v : current) {
+      const int n = static_cast<int>(v.x.size());
+      if (k0 + n <= basis.cols() && n > 0 &&
+          r2OnBasis(col, basis.middleCols(k0, n)) > defaults::kCollinearR2)
+        out.push_back(P.catalogue[v.effect].name);
+      k0 += n;
+    }
+    return out;
+  };
   bool dead = true;
   for (int j = 0; j < cols.cols(); ++j) {
     const double r2 = r2OnBasis(cols.col(j), basis);
@@ -211,11 +227,20 @@ bool identifiable(const Eigen::MatrixXd& cols, const Eigen::MatrixXd& basis, con
           "needs is constant or zero)");
       continue;
     }
-    if (r2 > defaults::kCollinearR2)
-      cand.warnings.push_back("parameter '" + info.params[j].key +
-                              "' cannot be told apart from the terms already in "
-                              "the model (R^2 = " +
-                              fmt(r2) + ") with this data");
+    if (r2 > defaults::kCollinearR2) {
+      const std::vector<std::string> who = partners(cols.col(j));
+      std::string names;
+      for (const std::string& w : who) {
+        names += (names.empty() ? "" : ", ") + w;
+        if (std::find(cand.indistinguishable.begin(), cand.indistinguishable.end(), w) ==
+            cand.indistinguishable.end())
+          cand.indistinguishable.push_back(w);
+      }
+      cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from " +
+                              (names.empty() ? std::string("the terms already in the model")
+                                             : "'" + names + "' already in the model") +
+                              " (R^2 = " + fmt(r2) + ") with this data");
+    }
     if (r2 <= defaults::kUnidentifiableR2) dead = false;
   }
   return !dead;
@@ -272,9 +297,29 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
   cand.effect = e;
   cand.name = info.name;
   const Eigen::MatrixXd cols = candidateColumns(P, current, e);
-  if (!identifiable(cols, basis, info, cand)) {
+  if (!identifiable(P, current, cols, basis, info, cand)) {
     cand.status = "unidentifiable";
     return cand;
+  }
+  if (!eng.at_floor.empty()) {  // every channel it touches at the logging resolution: not fitted
+    bool live = false;
+    std::string where;
+    for (int c = 0; c < P.channels(); ++c) {
+      bool touched = false;
+      for (int i = 0; i < P.rows() && !touched; ++i)
+        touched = cols.row(i * P.channels() + c).cwiseAbs().maxCoeff() > 0;
+      if (!touched) continue;
+      if (eng.at_floor[c])
+        where += (where.empty() ? "" : ", ") + P.channel_names[c];
+      else
+        live = true;
+    }
+    if (!live && !where.empty()) {
+      cand.status = "at_floor";
+      cand.warnings.push_back("not identifiable from these logs: " + where +
+                              " at the logging resolution");
+      return cand;
+    }
   }
   Eigen::MatrixXd rc = cols;
   if (basis.cols() > 0) rc = cols - basis * basis.colPivHouseholderQr().solve(cols);
@@ -294,6 +339,11 @@ ArmCandidate scoreCandidate(const ArmProblem& P, const Engine& eng, const Effect
     cand.status = "too_few_rows";
     cand.warnings.push_back("too few rows to fit and cross-validate " + std::to_string(p) +
                             " parameters");
+    return cand;
+  }
+  if (const std::string why = impossibility(P, cand.fit); !why.empty()) {
+    cand.status = "impossible";
+    cand.warnings.push_back("refused: " + why);
     return cand;
   }
   cand.improvement = touchedImprovement(P, base, cand.fit);
@@ -394,7 +444,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   const bool identifiable =
       d.identifiable.empty();  // otherwise ranked (statuses shown), nothing added
   const NoiseWeighted P(P0, noiseWeights(P0, d.channel_noise));
-  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight};
+  Engine eng{P, foldAssignment(P.rows(), o.folds, o.seed), o.folds, P0.weight, d.channel_at_floor};
   EffectValues current;
   Solved cur_solved = gaussNewton(P, {});
   ArmFit cur = d.as_designed;
@@ -465,6 +515,8 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   d.patterns = searchPatterns(P, cur.residual, cur.predicted, d.channel_noise, d.noise_rho);
   const bool candidate_left = !ranking.empty() && ranking.front().significant;
   d.unexplained_found = !candidate_left && !d.patterns.empty() && d.patterns.front().significant;
+  d.remainders = remaindersOf(P, d, cur);
+  for (const ArmRemainder& r : d.remainders) d.warnings.push_back(r.text());
   std::string verdict;
   if (!named.empty()) {
     verdict = (named.size() > 1 ? "missing effects: " : "missing effect: ");
@@ -472,8 +524,14 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   }
   if (d.unexplained_found) {
     const ArmPattern& p = d.patterns.front();
-    const std::string u = "unexplained effect in channel " + p.channel + " against " + p.variable +
-                          " (" + p.description + "): no catalogue effect explains it";
+    bool halved = false;  // catalogue effects halved the channel's error: a remainder of them
+    for (const ArmRemainder& r : d.remainders)
+      halved = halved || (r.channel == p.channel && r.explained_by_catalogue);
+    const std::string u =
+        halved ? "a remainder in channel " + p.channel + " against " + p.variable + " (" +
+                     p.description + ") after the catalogue effects halved its error"
+               : "unexplained effect in channel " + p.channel + " against " + p.variable + " (" +
+                     p.description + "): no catalogue effect explains it";
     verdict = verdict.empty() ? u : verdict + "; then " + u;
   }
   d.verdict = verdict.empty() ? "no significant missing effect" : verdict;
@@ -530,32 +588,6 @@ EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
                        "parameter '" + key + "' does not belong to the effect '" + name + "'");
   }
   return v;
-}
-
-std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
-                                            const std::vector<double>& y, int m, int degree) {
-  const int n = static_cast<int>(t.size());
-  ARMSTUDY_CHECK(n == static_cast<int>(y.size()), "same length");
-  const int w = std::min(2 * m + 1, n);
-  const int deg = std::min(degree, w - 1);
-  std::vector<double> out(n, 0.0);
-  for (int i = 0; i < n; ++i) {
-    const int start = std::clamp(i - m, 0, n - w);
-    Eigen::MatrixXd A(w, deg + 1);
-    Eigen::VectorXd b(w);
-    for (int k = 0; k < w; ++k) {
-      const double dt = t[start + k] - t[i];
-      double pw = 1;
-      for (int p = 0; p <= deg; ++p) {
-        A(k, p) = pw;
-        pw *= dt;
-      }
-      b[k] = y[start + k];
-    }
-    const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
-    out[i] = deg >= 1 ? c[1] : 0.0;  // derivative of the local polynomial at t_i
-  }
-  return out;
 }
 
 }  // namespace armstudy::calibration

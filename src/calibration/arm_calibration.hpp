@@ -46,6 +46,9 @@ struct ArmParam {
   // design's own value (its parameters are reported as absolute friction values, thesis Table 4.4);
   // the tcp and trajectory kinds report the change itself (0 here).
   double design = 0;
+  // Non-empty: the lower bound is the physically possible limit ("a mass is above zero", "friction
+  // is not negative"): a fit that ends on it is refused with the value it would take without it.
+  std::string physical = "";
 };
 
 // One candidate effect instance, e.g. "joint_offset.j3", "payload", "j5.stribeck".
@@ -57,6 +60,11 @@ struct ArmEffect {
   std::vector<ArmParam> params;  // fitted linearly (Gauss-Newton)
   ArmParam profile;              // a nonlinear parameter profiled on profile_grid (if not empty)
   std::vector<double> profile_grid;
+  // A rigid body whose params are the ten standard inertial parameters (m, m c, I about the
+  // frame's origin: xx yy zz xy xz yz) added to body_design: the sum must have a positive
+  // semidefinite pseudo-inertia (Wensing et al. 2017), else the candidate is refused.
+  bool rigid_body = false;
+  std::array<double, 10> body_design{};
   bool hasProfile() const { return !profile_grid.empty(); }
 };
 
@@ -224,11 +232,30 @@ struct ArmPattern {
   std::string description;
 };
 
+// What stands in a channel after the last effect: the strongest significant pattern of its final
+// residuals, with its size (RMS of the pattern's part, channel unit), its share of the channel's
+// final held-out mean square and of the design's, and the variable it follows. `explained_by_
+// catalogue`: added effects halved the channel's held-out RMSE (the remainder is what they leave,
+// not an effect outside the catalogue).
+struct ArmRemainder {
+  std::string channel, unit, variable, description;
+  double rms = 0, share_final = 0, share_design = 0;
+  double rmse_design = 0, rmse_final = 0;  // the channel's held-out RMSE before and after
+  bool explained_by_catalogue = false;
+  std::string text() const;  // one sentence, for warnings and answers
+};
+
 struct ArmDiagnosis {
   std::string kind, design, file;
   std::vector<std::string> warnings;
   double noise_estimate = 0;          // fit units
   std::vector<double> channel_noise;  // native units; residual weights are 1 / channel_noise
+  // Per channel: the logging resolution seen in the data (the grid step its values lie on; 0 when
+  // they lie on none) and whether the channel is at that floor (its residual as designed within
+  // kFloorSteps steps): such a channel is not identifiable from these logs, no effect is added
+  // for it.
+  std::vector<double> channel_resolution;
+  std::vector<char> channel_at_floor;
   Eigen::MatrixXd
       saturated_residual;  // of the most flexible model (noise estimate); empty if too few rows
   double noise_rho = 0;
@@ -249,6 +276,7 @@ struct ArmDiagnosis {
   // no catalogue effect is left that would explain it.
   std::vector<ArmPattern> patterns;
   bool unexplained_found = false;
+  std::vector<ArmRemainder> remainders;  // one per channel with a significant pattern left
   double rmse_before = 0, rmse_after = 0;
   // Empty when the data can identify the model; otherwise why not (every row the same operating
   // point, a joint that never moves, nothing to fit): said plainly, and no calibrated design.

@@ -489,3 +489,33 @@ ArmFit Engine::make(const Solved& s, const std::string& label, bool& ok) const {
 }
 
 }  // namespace armstudy::calibration::arm_detail
+
+namespace armstudy::calibration {
+
+std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
+                                            const std::vector<double>& y, int m, int degree) {
+  const int n = static_cast<int>(t.size());
+  ARMSTUDY_CHECK(n == static_cast<int>(y.size()), "same length");
+  const int w = std::min(2 * m + 1, n);
+  const int deg = std::min(degree, w - 1);
+  std::vector<double> out(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    const int start = std::clamp(i - m, 0, n - w);
+    Eigen::MatrixXd A(w, deg + 1);
+    Eigen::VectorXd b(w);
+    for (int k = 0; k < w; ++k) {
+      const double dt = t[start + k] - t[i];
+      double pw = 1;
+      for (int p = 0; p <= deg; ++p) {
+        A(k, p) = pw;
+        pw *= dt;
+      }
+      b[k] = y[start + k];
+    }
+    const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
+    out[i] = deg >= 1 ? c[1] : 0.0;  // derivative of the local polynomial at t_i
+  }
+  return out;
+}
+
+}  // namespace armstudy::calibration

@@ -43,6 +43,7 @@ struct Engine {
   std::vector<int> folds;
   int k = 5;
   Eigen::VectorXd report_weight;  // the problem's own channel weights (fit units)
+  std::vector<char> at_floor;     // per channel: at the logging resolution (no effect for it)
 
   ArmFit make(const Solved& s, const std::string& label, bool& ok) const;  // the fit's statistics
 };
@@ -65,5 +66,14 @@ EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan);
 Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& current, int e);
 ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res,
                            const std::vector<double>& sigma, double rho, const ArmFitOptions& o);
+
+// arm_checks.cpp: per channel the logging resolution and whether the design's residual is at that
+// floor (warned in d); why fitted values describe no possible body ("" when they do); the
+// remainders of the final fit, one per channel with a significant pattern left.
+double loggingResolution(const Eigen::VectorXd& v);
+void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDiagnosis& d);
+std::string impossibility(const ArmProblem& P, const ArmFit& fit);
+std::vector<ArmRemainder> remaindersOf(const ArmProblem& P, const ArmDiagnosis& d,
+                                       const ArmFit& fin);
 
 }  // namespace armstudy::calibration::arm_detail

@@ -284,6 +284,8 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
 // nearly linear in the position over the motion, is absorbed by rotor_inertia to 89 %).
 constexpr double kPatternExplainedDrop =
     0.5;  // share of a pattern's sum of squares a candidate must remove
+constexpr double kHalvedMeanSquare =
+    0.25;  // held-out mean square of the channel left by a candidate that halves its RMSE
 
 void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
                        const ArmFit& current, const std::vector<double>& sigma, double rho,
@@ -302,16 +304,21 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
         x.variable == seen.front()->variable && x.kind == seen.front()->kind)
       outside = true;
   const double drop = outside ? 1.0 : kPatternExplainedDrop;
-  // A pattern no combination of catalogue effects explains does not hold back a candidate whose
-  // held-out gain lies mostly in the other channels (it explains something else, such as the
-  // friction of another joint); one that gains mostly in the pattern's channel only absorbs part of
-  // it.
+  // A pattern does not hold back a candidate that does not touch its channel (the friction of
+  // another joint), nor, when no combination of catalogue effects explains the pattern, one whose
+  // held-out gain lies mostly in the other channels; one that gains mostly in the pattern's
+  // channel must explain it (or halve a channel's error, below).
   int pc = -1;
   for (int c = 0; c < P.channels(); ++c)
     if (P.channel_names[c] == seen.front()->channel) pc = c;
   auto elsewhere = [&](const ArmCandidate& c) {
-    if (!outside || pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows())
-      return false;
+    if (pc < 0 || current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
+    // A candidate that does not change the pattern channel's prediction cannot explain it.
+    const double scale = current.predicted.col(pc).cwiseAbs().maxCoeff();
+    if ((c.fit.predicted.col(pc) - current.predicted.col(pc)).cwiseAbs().maxCoeff() <=
+        1e-12 * (1 + scale))
+      return true;
+    if (!outside) return false;
     double in = 0, out = 0;
     for (int i = 0; i < P.rows(); ++i)
       for (int k = 0; k < P.channels(); ++k) {
@@ -322,9 +329,30 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
       }
     return out > in;
   };
+  // The selection rule (docs/calibration.md "Selection rule"): a candidate whose fit halves the
+  // held-out RMSE of a channel is a physical effect of that channel even when a
+  // pattern remains (friction of a joint whose fastest moves leave a small remainder); what it
+  // leaves is reported as a remainder, never as "no catalogue effect explains it". Its value is
+  // physically possible: impossible candidates are refused before (status "impossible").
+  auto halves = [&](const ArmCandidate& c) {
+    if (current.heldout_residual.rows() != c.fit.heldout_residual.rows()) return false;
+    for (int k = 0; k < P.channels(); ++k) {
+      const double b = current.heldout_residual.col(k).squaredNorm(),
+                   a = c.fit.heldout_residual.col(k).squaredNorm();
+      if (b > 0 && a <= kHalvedMeanSquare * b) return true;
+    }
+    return false;
+  };
   std::vector<std::string> demoted;
   for (ArmCandidate& c : ranking) {
     if (!c.significant || elsewhere(c)) continue;
+    if (halves(c)) {
+      c.warnings.push_back(
+          "halves the held-out error of a channel and leaves the strongest "
+          "residual pattern (" +
+          seen.front()->description + "): the rest is reported as a remainder");
+      continue;
+    }
     const std::vector<ArmPattern> after =
         searchPatterns(P, c.fit.residual, c.fit.predicted, sigma, rho);
     bool explains = false;

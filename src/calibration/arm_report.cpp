@@ -493,7 +493,18 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
   if (o.command == "fit") {
     j["unexplained_found"] = d.unexplained_found;
     j["patterns"] = patternsJson(d.patterns);
+    json rem = json::array();
+    for (const ArmRemainder& r : d.remainders)
+      rem.push_back({{"channel", r.channel},
+                     {"variable", r.variable},
+                     {"rms", r.rms},
+                     {"unit", r.unit},
+                     {"share_final", r.share_final},
+                     {"share_design", r.share_design},
+                     {"text", r.text()}});
+    j["remainders"] = rem;
   }
+  j["channel_resolution"] = d.channel_resolution;
   json ladder = json::array();
   for (const auto& f : d.ladder) ladder.push_back(fitJson(P, f));
   j["ladder"] = ladder;

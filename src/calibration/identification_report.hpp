@@ -25,6 +25,10 @@ struct IdentificationReport {
   std::string svg;       // residuals_before_after.svg
   std::vector<std::pair<std::string, double>>
       metrics;  // name -> value (per-joint ladder, fits, sweep)
+  // The answer in the user's terms, one sentence per joint (by name: the effect named first, the
+  // held-out error before -> after and the factor, the remainder), then the fitted values next to
+  // the reference's.
+  std::vector<std::string> answer;
 };
 
 IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProblem& P,

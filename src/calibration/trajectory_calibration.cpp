@@ -46,6 +46,17 @@ constexpr SideInfo kJointTerms[] = {
      "a residual proportional to the joint's own acceleration (rotor inertia reflected through the "
      "ratio)"}};
 
+// The physically possible lower bound of a joint-side or motor term (friction and inertia are not
+// negative; an offset has none) and why.
+double physicalLower(SideTerm t) {
+  return t == SideTerm::Offset ? -std::numeric_limits<double>::infinity() : 0.0;
+}
+const char* physicalReason(SideTerm t) {
+  return t == SideTerm::Offset    ? ""
+         : t == SideTerm::Inertia ? "an armature is not negative"
+                                  : "friction is not negative";
+}
+
 // Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
 // fields).
 void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
@@ -171,7 +182,7 @@ class TrajectoryProblem : public ArmProblem {
       // origin: mass m, first moment m c, inertia I: the efforts are linear in all ten,
       // so each is identifiable from a design without payload (m = 0). Typical values: 0.5 kg at
       // c = (0.02, -0.02, 0.06) m as a point mass, I = m (|c|^2 1 - c c^T).
-      e.params = {{"mass", "kg", -model.payload_kg, kInfD, 0.5, 1e-4},
+      e.params = {{"mass", "kg", -model.payload_kg, kInfD, 0.5, 1e-4, 0, "a mass is above zero"},
                   {"first_moment_x", "kg m", -kInfD, kInfD, 0.01, 1e-5},
                   {"first_moment_y", "kg m", -kInfD, kInfD, -0.01, 1e-5},
                   {"first_moment_z", "kg m", -kInfD, kInfD, 0.03, 1e-5},
@@ -181,6 +192,15 @@ class TrajectoryProblem : public ArmProblem {
                   {"inertia_xy", "kg m^2", -kInfD, kInfD, 0.0002, 1e-6},
                   {"inertia_xz", "kg m^2", -kInfD, kInfD, -0.0006, 1e-6},
                   {"inertia_yz", "kg m^2", -kInfD, kInfD, 0.0006, 1e-6}};
+      // The design's payload (a point mass m0 at c0) in the same parameters: the fitted body is
+      // the sum, and its pseudo-inertia must be positive semidefinite.
+      e.rigid_body = true;
+      const double m0 = std::max(0.0, model.payload_kg);
+      const Eigen::Vector3d c0 = model.p_payload_com_T;
+      const Eigen::Matrix3d I0 =
+          m0 * (c0.squaredNorm() * Eigen::Matrix3d::Identity() - c0 * c0.transpose());
+      e.body_design = {m0,       m0 * c0.x(), m0 * c0.y(), m0 * c0.z(), I0(0, 0),
+                       I0(1, 1), I0(2, 2),    I0(0, 1),    I0(0, 2),    I0(1, 2)};
       add(e, {TrajEffect::Payload});
     }
     if (!per_joint_armature) {
@@ -193,7 +213,7 @@ class TrajectoryProblem : public ArmProblem {
                                           drive_[j]->rotor_inertia_kgm2
                                     : 0.0;
         e.params.push_back({"armature_" + model.joints[j].name, rev ? "kg m^2" : "kg", -a0, kInfD,
-                            rev ? 0.05 : 0.5, 1e-4});
+                            rev ? 0.05 : 0.5, 1e-4, 0, "a rotor inertia is not negative"});
       }
       add(e, {TrajEffect::RotorInertia});
     }
@@ -217,7 +237,8 @@ class TrajectoryProblem : public ArmProblem {
       e.pattern =
           "gravity and inertia torques of extra mass at the link's centre of mass (joints up to "
           "this one)";
-      e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4}};
+      e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4, 0,
+                   "a link's mass is above zero"}};
       add(e, {TrajEffect::LinkMass, j});
     }
   }
@@ -282,7 +303,8 @@ class TrajectoryProblem : public ArmProblem {
         e.effect = si.name;
         e.joint = model.joints[j].name;
         e.pattern = std::string(si.pattern) + " (joint " + model.joints[j].name + ")";
-        e.params = {{si.key, rev ? si.unit_rev : si.unit_pri, -kInfD, kInfD, si.typical, 1e-4}};
+        e.params = {{si.key, rev ? si.unit_rev : si.unit_pri, physicalLower(si.term), kInfD,
+                     si.typical, 1e-4, 0, physicalReason(si.term)}};
         add(e, {TrajEffect::JointSide, j, drive::Effect::Coulomb, si.term});
       }
     }
@@ -318,7 +340,8 @@ class TrajectoryProblem : public ArmProblem {
         const char* unit = si.term == SideTerm::Coulomb   ? "N m"
                            : si.term == SideTerm::Viscous ? "N m s/rad"
                                                           : "kg m^2";
-        e.params = {{si.key, unit, -kInfD, kInfD, si.typical, 1e-4}};
+        e.params = {{si.key, unit, physicalLower(si.term), kInfD, si.typical, 1e-4, 0,
+                     physicalReason(si.term)}};
         add(e, {TrajEffect::Motor, k, drive::Effect::Coulomb, si.term});
       }
     }

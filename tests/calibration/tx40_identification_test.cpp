@@ -49,6 +49,27 @@ TEST_CASE(
     CHECK(m.contains("width_sweep/0.316/" + joint + ".coulomb"));
     CHECK(m.contains("width_sweep/3.16/" + joint + ".viscous"));
   }
+  // Joint 4 (the selection rule, docs/calibration.md): its friction halves the channel's error and
+  // is added although a small remainder stands; the values meet the source's table too. The
+  // verdict never calls a channel the catalogue halved "no catalogue effect explains it", and the
+  // remainders are the study's warnings.
+  CHECK(m.at("first_ranking/joint_4/viscous").get<int>() <= 2);
+  CHECK(m.at("factor/tau4").get<double>() >= 2.0);
+  CHECK(std::abs(m.at("reference_difference/joint_4.viscous").get<double>()) <= 0.15);
+  CHECK(std::abs(m.at("reference_difference/joint_4.coulomb").get<double>()) <= 0.20);
+  for (const std::string k : {"viscous", "coulomb"}) {
+    INFO("motor_joint_6." << k);
+    CHECK(std::abs(m.at("reference_difference/motor_joint_6." + k).get<double>()) <= 0.20);
+  }
+  const std::string verdict = s.at("verdict").get<std::string>();
+  INFO(verdict);
+  CHECK(verdict.find("joint_4.viscous") != std::string::npos);
+  CHECK(verdict.find("no catalogue effect explains it") == std::string::npos);
+  const std::string report =
+      armstudy::readFileOrThrow((out / "staubli_tx40_identification/report.md").string());
+  CHECK(report.find("None.") == std::string::npos);
+  CHECK(report.find("**joint_4**: joint_4.viscous") != std::string::npos);
+  CHECK(report.find("remainder in tau4") != std::string::npos);
   // The hand check's order of magnitude: about 29 / 19 / 11 N m for the URDF as given.
   CHECK(m.at("ladder/0/joint_1").get<double>() == Approx(29.0).epsilon(0.1));
   CHECK(m.at("ladder/0/joint_2").get<double>() == Approx(18.6).epsilon(0.1));

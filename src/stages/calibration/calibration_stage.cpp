@@ -211,6 +211,7 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
           identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
       extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
       s.extra_metrics = ir.metrics;
+      s.answers = ir.answer;
     }
     const ArmFitFiles f = writeArmFit(d, P, w.model, w.folder, "", false, extra);
     cal_path = f.calibrated_design_path;
@@ -234,6 +235,7 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
   }
   s.added = d.added;
   s.warnings = d.warnings;
+  for (const ArmRemainder& r : d.remainders) s.remainders.push_back(r.text());
   s.verdict = e.fit ? d.verdict : "compare only";
   if (e.fit) {
     s.rmse_before = d.rmse_before;
@@ -522,6 +524,10 @@ StageResult runCalibrationStage(const StageContext& ctx,
     js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
     addMetrics(*done[i], sum.metrics);
     sum.answer.push_back(entryAnswer(*done[i]));
+    for (const std::string& a : done[i]->answers)
+      sum.answer.push_back("`" + done[i]->name + "`, " + a);
+    for (const std::string& r : done[i]->remainders)
+      sum.warnings.push_back("`" + done[i]->name + "`: " + r);
   }
   writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries, "calibration"));
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");

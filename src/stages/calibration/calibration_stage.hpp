@@ -104,6 +104,9 @@ struct EntrySummary {
   // Measured logs: the identification report's numbers (per-joint ladder, fitted values, width
   // sweep).
   std::vector<std::pair<std::string, double>> extra_metrics;
+  // The answer per joint in the user's terms (measured logs; empty otherwise) and the remainders
+  // that stand after the fit (they go into the study's warnings).
+  std::vector<std::string> answers, remainders;
 };
 
 std::string entrySummaryToJson(const EntrySummary& s);

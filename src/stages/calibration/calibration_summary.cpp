@@ -60,6 +60,8 @@ std::string entrySummaryToJson(const EntrySummary& s) {
   j["notes"] = s.notes;
   j["warnings"] = s.warnings;
   j["files"] = s.files;
+  if (!s.answers.empty()) j["answers"] = s.answers;
+  if (!s.remainders.empty()) j["remainders"] = s.remainders;
   if (!s.extra_metrics.empty()) {
     ordered_json m = ordered_json::object();
     for (const auto& [k, v] : s.extra_metrics) m[k] = finite(v);
@@ -110,6 +112,8 @@ EntrySummary entrySummaryFromJson(const std::string& text) {
   s.notes = j.at("notes").get<std::vector<std::string>>();
   s.warnings = j.at("warnings").get<std::vector<std::string>>();
   s.files = j.at("files").get<std::vector<std::string>>();
+  if (j.contains("answers")) s.answers = j.at("answers").get<std::vector<std::string>>();
+  if (j.contains("remainders")) s.remainders = j.at("remainders").get<std::vector<std::string>>();
   if (j.contains("identification"))
     for (const auto& [k, v] : j.at("identification").items())
       s.extra_metrics.emplace_back(k, number(v));
