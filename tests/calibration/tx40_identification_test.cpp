@@ -54,7 +54,7 @@ TEST_CASE(
   // verdict never calls a channel the catalogue halved "no catalogue effect explains it", and the
   // remainders are the study's warnings.
   CHECK(m.at("first_ranking/joint_4/viscous").get<int>() <= 2);
-  CHECK(m.at("factor/tau4").get<double>() >= 2.0);
+  CHECK(m.at("factor/joint_4").get<double>() >= 2.0);
   CHECK(std::abs(m.at("reference_difference/joint_4.viscous").get<double>()) <= 0.15);
   CHECK(std::abs(m.at("reference_difference/joint_4.coulomb").get<double>()) <= 0.20);
   for (const std::string k : {"viscous", "coulomb"}) {
@@ -69,7 +69,7 @@ TEST_CASE(
       armstudy::readFileOrThrow((out / "staubli_tx40_identification/report.md").string());
   CHECK(report.find("None.") == std::string::npos);
   CHECK(report.find("**joint_4**: joint_4.viscous") != std::string::npos);
-  CHECK(report.find("remainder in tau4") != std::string::npos);
+  CHECK(report.find("remainder in joint_4") != std::string::npos);
   // The hand check's order of magnitude: about 29 / 19 / 11 N m for the URDF as given.
   CHECK(m.at("ladder/0/joint_1").get<double>() == Approx(29.0).epsilon(0.1));
   CHECK(m.at("ladder/0/joint_2").get<double>() == Approx(18.6).epsilon(0.1));
