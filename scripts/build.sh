@@ -5,9 +5,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TARGET=()
+STUDY=0
+# The study build configures without the tests, the benchmarks and the Python module (whose
+# packages it does not install); the full build turns them on again in the same build folder.
+PARTS=(-DARMSTUDY_BUILD_TESTS=ON -DARMSTUDY_BUILD_BENCHMARKS=ON -DARMSTUDY_PYTHON=ON)
 if [ "${1:-}" = "--study" ]; then
+  STUDY=1
   bash scripts/install-deps.sh --study
   TARGET=(--target armstudy)
+  PARTS=(-DARMSTUDY_BUILD_TESTS=OFF -DARMSTUDY_BUILD_BENCHMARKS=OFF -DARMSTUDY_PYTHON=OFF)
 else
   bash scripts/install-deps.sh
   bash scripts/unpack-paraview.sh build/paraview  # pvpython for the scene render test
@@ -15,6 +21,8 @@ fi
 GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
 if [ ! -f build/CMakeCache.txt ]; then
-  cmake -S . -B build "${GEN[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B build "${GEN[@]}" -DCMAKE_BUILD_TYPE=Release "${PARTS[@]}" >/dev/null
+elif [ "$STUDY" = 0 ] && grep -qE '^ARMSTUDY_(BUILD_TESTS|BUILD_BENCHMARKS|PYTHON):BOOL=OFF' build/CMakeCache.txt; then
+  cmake -S . -B build "${PARTS[@]}" >/dev/null  # configured by the study build: everything on
 fi
 cmake --build build --parallel "$(nproc)" "${TARGET[@]}"

@@ -3,23 +3,27 @@
 # sudo when not root. Safe to run repeatedly.
 #   scripts/install-deps.sh          # everything: the build, the Python module and the test tools
 #   scripts/install-deps.sh --study  # what configuring and building the armstudy program needs
-#                                    # (./run-study.sh): no browser, Xvfb, formatter or oracles' Python
+#                                    # (./run-study.sh): no test oracles, browser, Xvfb, formatter,
+#                                    # benchmark peers or Python module
 set -euo pipefail
 STUDY_ONLY=0
 [ "${1:-}" = "--study" ] && STUDY_ONLY=1
 PKGS=(build-essential cmake ninja-build ccache git pkg-config
       libeigen3-dev libnlopt-cxx-dev libcgal-dev libgmp-dev libmpfr-dev libvtk9-dev
-      libtomlplusplus-dev libcli11-dev nlohmann-json3-dev catch2
+      libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
       libcairo2-dev libfreetype-dev fonts-dejavu-core  # figures: cairo, the font read with FreeType
-      fontconfig  # fc-match: the test that a rank with another font configuration writes the same bytes
       libjs-three  # three.js, inlined into each study's interactive 3-D view (view.html)
-      liborocos-kdl-dev libfcl-dev libceres-dev
-      liburdfdom-dev liburdfdom-tools libtinyxml-dev libconsole-bridge-dev libassimp-dev libkdl-parser-dev
-      libopenmpi-dev openmpi-bin
-      python3  # the distribution simulator's tests (tests/study/interleave_test.cpp)
-      python3-dev pybind11-dev python3-numpy)  # the Python module (src/python, docs/python.md)
-# Only the tests and CI use these (the study command does not install them):
-TEST_PKGS=(chromium chromium-driver  # the browser test of report.html (tests/browser)
+      liburdfdom-dev libtinyxml-dev libconsole-bridge-dev libassimp-dev  # URDF import, meshes
+      libopenmpi-dev openmpi-bin)  # distributed runs (docs/distributed.md)
+# Only the tests, the benchmarks, the Python module and CI use these (the study command does not
+# install them, and configures without tests, benchmarks and Python module):
+TEST_PKGS=(catch2
+           liborocos-kdl-dev libkdl-parser-dev liburdfdom-tools  # the kinematics and URDF oracles
+           libfcl-dev libceres-dev  # peers of the collision and calibration benchmarks
+           fontconfig  # fc-match: the test that a rank with another font configuration writes the same bytes
+           python3  # the distribution simulator's tests (tests/study/interleave_test.cpp)
+           python3-dev pybind11-dev python3-numpy  # the Python module (src/python, docs/python.md)
+           chromium chromium-driver  # the browser test of report.html (tests/browser)
            xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
            clang-format  # scripts/check-format.sh, run by .ci/run
            python3-pykdl)  # orocos-kdl from Python: the oracle of the Python module's tests
