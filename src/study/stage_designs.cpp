@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/toml_reader.hpp"
 
@@ -41,8 +42,27 @@ Study StageDesigns::select(const Study& study) const {
                     s.designs.end());
   for (StudyDesign& sd : s.designs)
     for (const auto& [name, axis] : tool_axes)
-      if (sd.model.name == name) sd.model.tool_axis_T = axis;
+      if (sd.model.name == name) {
+        sd.model.tool_axis_T = axis;
+        sd.model.tool_axis_from = "the stage's tool_axis table";
+        sd.model.tool_axis_open.clear();
+      }
   return s;
+}
+
+void StageDesigns::requireToolAxes(const std::vector<const Model*>& evaluated,
+                                   const std::string& file, int line,
+                                   const std::string& section) const {
+  for (const Model* m : evaluated) {
+    if (m->tool_axis_open.empty()) continue;
+    const bool given = std::find_if(tool_axes.begin(), tool_axes.end(), [&](const auto& t) {
+                         return t.first == m->name;
+                       }) != tool_axes.end();
+    if (!given)
+      throw InputError(file, line, section,
+                       "this stage points the tool axis at its targets, and " + m->tool_axis_open +
+                           " (here: [" + section + ".tool_axis] " + m->name + " = \"y\", say)");
+  }
 }
 
 StageDesigns readStageDesigns(io::TableReader& r, const std::string& file,
