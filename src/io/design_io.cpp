@@ -372,7 +372,9 @@ Model loadDesign(const std::string& path) { return loadAnyDesign(path, UrdfOptio
 Model loadAnyDesign(const std::string& path, const UrdfOptions& urdf, UrdfInfo* info,
                     std::vector<std::string>* warnings) {
   if (isUrdfPath(path)) return importUrdf(path, urdf, info, warnings);
-  return parseDesignWithUrdfInfo(readFileOrThrow(path), path, info);
+  const std::string text = readFileOrThrow(path);
+  rejectUnexpandedXacro(text, path);
+  return parseDesignWithUrdfInfo(text, path, info);
 }
 
 namespace {

@@ -41,6 +41,32 @@ Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a) {
   return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), a).toRotationMatrix();
 }
 
+void rejectUnexpandedXacro(const std::string& text, const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::size_t at = text.find("<xacro:");
+  // A URDF written by xacro may keep the namespace declaration; its elements are what tells.
+  const bool xacro = ext == ".xacro" || at != std::string::npos;
+  if (!xacro) return;
+  const int line =
+      at == std::string::npos
+          ? 1
+          : 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const std::string stem = fs::path(path).stem().string();
+  const std::string out = (fs::path(path).parent_path() /
+                           (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".urdf") == 0
+                                ? stem
+                                : stem + ".urdf"))
+                              .string();
+  throw InputError(path, line, "xacro",
+                   "a xacro file (URDF with macros), which armstudy does not expand: expand it "
+                   "first with `xacro " +
+                       path + " -o " + out +
+                       "` (the ROS package xacro; `pip install xacro` gives it without ROS; add "
+                       "NAME:=VALUE for the file's arguments), then use " +
+                       out);
+}
+
 bool isUrdfPath(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -274,9 +300,20 @@ struct UrdfImport {
                          "or make a revolute joint without stops type=\"continuous\"");
       J.limits.q_min = j.limits->lower;
       J.limits.q_max = j.limits->upper;
-      if (!(J.limits.q_min < J.limits.q_max))
+      if (!(J.limits.q_min < J.limits.q_max)) {
+        char range[96];
+        std::snprintf(range, sizeof range, "lower = %g, upper = %g", J.limits.q_min,
+                      J.limits.q_max);
+        const std::string fix =
+            J.limits.q_min > J.limits.q_max
+                ? "the bounds are swapped: write lower=\"" + std::to_string(J.limits.q_max) +
+                      "\" upper=\"" + std::to_string(J.limits.q_min) + "\""
+                : "the joint cannot move: give its range, make a revolute joint without stops "
+                  "type=\"continuous\", or a joint that never moves type=\"fixed\"";
         throw InputError(file, jointLine(j.name), jl + "/limit",
-                         "lower limit must be below upper limit (armstudy sweeps the joint range)");
+                         std::string(range) + ": the lower limit must be below the upper one "
+                         "(armstudy sweeps the joint range); " + fix);
+      }
     }
     if (j.limits) {
       J.limits.qd_max = std::max(0.0, j.limits->velocity);
@@ -420,6 +457,7 @@ UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& o) {
 // Checks the XML, parses it with urdfdom, then builds the model along the chain base -> tip.
 Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
                      UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
+  rejectUnexpandedXacro(text, file);
   const XmlIndex xml = indexAndCheck(text, file);
   UrdfImport im(text, file, o, xml, parseWithUrdfdom(text, file, xml));
   im.chooseBaseAndTip();

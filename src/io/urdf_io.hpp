@@ -108,6 +108,10 @@ std::pair<std::string, std::string> parsePackageOption(const std::string& text,
 
 bool isUrdfPath(const std::string& path);
 
+// A xacro file (extension .xacro, or <xacro:...> elements in the text) is an InputError at its
+// first xacro element with the `xacro` command that expands it into a URDF.
+void rejectUnexpandedXacro(const std::string& text, const std::string& path);
+
 // Imports the chain. Throws InputError (file, line, element) on bad input. Notes (missing meshes,
 // ignored branches) go into the model's assumptions and into `warnings` when given.
 Model importUrdf(const std::string& path, const UrdfOptions& options, UrdfInfo* info = nullptr,

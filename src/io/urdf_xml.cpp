@@ -247,6 +247,14 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
                          std::string(role) + " link '" + link + "' is not defined in this file");
     }
     checkNumbers(e, kJointNumbers, label, file);
+    // urdfdom refuses these too, without saying what to write.
+    if ((std::string(type) == "revolute" || std::string(type) == "prismatic") &&
+        !e->FirstChildElement("limit"))
+      throw InputError(file, e->Row(), label + "/limit",
+                       "a " + std::string(type) +
+                           " joint needs <limit lower=\"..\" upper=\"..\" effort=\"..\" "
+                           "velocity=\"..\"/> (URDF); add it, or make a revolute joint without "
+                           "stops type=\"continuous\"");
     if (limitWithoutBounds(e)) out.joints_without_bounds.insert(name);
   }
   for (const auto& [name, e] : idx.links) checkNumbers(e, kLinkNumbers, elementLabel(e), file);
