@@ -304,10 +304,12 @@ struct UrdfImport {
         char range[96];
         std::snprintf(range, sizeof range, "lower = %g, upper = %g", J.limits.q_min,
                       J.limits.q_max);
+        char swapped[96];
+        std::snprintf(swapped, sizeof swapped, "lower=\"%g\" upper=\"%g\"", J.limits.q_max,
+                      J.limits.q_min);
         const std::string fix =
             J.limits.q_min > J.limits.q_max
-                ? "the bounds are swapped: write lower=\"" + std::to_string(J.limits.q_max) +
-                      "\" upper=\"" + std::to_string(J.limits.q_min) + "\""
+                ? "the bounds are swapped: write " + std::string(swapped)
                 : "the joint cannot move: give its range, make a revolute joint without stops "
                   "type=\"continuous\", or a joint that never moves type=\"fixed\"";
         throw InputError(file, jointLine(j.name), jl + "/limit",
