@@ -9,6 +9,7 @@
 #include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "io/design_io.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy::cli {
 
@@ -115,8 +116,8 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
       const ArmToolAxis a = lastJointAxisInTcp(m);
       j["last_joint_axis_tcp"] = {a.axis_T.x(), a.axis_T.y(), a.axis_T.z()};
       j["tcp_off_last_axis_m"] = a.off_axis_m;
-      j["tool_axis_from"] = m.tool_axis_from;
-      j["tool_axis_open"] = m.tool_axis_open;
+      j["tool_axis_from"] = notes::toolAxisFrom(m);
+      j["tool_axis_open"] = notes::toolAxisOpen(m);
       std::cout << j.dump(2) << "\n";
       return 0;
     }
@@ -152,9 +153,9 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
         "tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their "
         "targets; from %s)\n",
         m.tool_axis_T.x() + 0.0, m.tool_axis_T.y() + 0.0, m.tool_axis_T.z() + 0.0,
-        m.tool_axis_from.c_str());
-    if (!m.tool_axis_open.empty())
-      std::printf("tool axis open: %s\n", m.tool_axis_open.c_str());
+        notes::toolAxisFrom(m).c_str());
+    if (!notes::toolAxisOpen(m).empty())
+      std::printf("tool axis open: %s\n", notes::toolAxisOpen(m).c_str());
     if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
     if (!m.inertias.empty()) {
       std::printf("link inertias: given; mass per body (the link after each joint):");
@@ -163,13 +164,13 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
                     m.inertias[i].given ? m.inertias[i].mass_kg : 0.0);
       std::printf("\n");
     }
-    if (!m.lumped_bodies.empty()) {
+    if (!notes::all(m, notes::kLumped).empty()) {
       std::printf("lumped onto chain links (masses off the chain, for dynamics):\n");
-      for (const auto& l : m.lumped_bodies) std::printf("  - %s\n", l.c_str());
+      for (const auto& l : notes::all(m, notes::kLumped)) std::printf("  - %s\n", l.c_str());
     }
-    if (!m.links_without_collision.empty()) {
+    if (!notes::all(m, notes::kNoCollision).empty()) {
       std::printf("links without collision volumes (self-collision does not cover them):\n");
-      for (const auto& l : m.links_without_collision) std::printf("  - %s\n", l.c_str());
+      for (const auto& l : notes::all(m, notes::kNoCollision)) std::printf("  - %s\n", l.c_str());
     }
     if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());
     if (!m.assumptions.empty()) {

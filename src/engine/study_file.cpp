@@ -13,6 +13,7 @@
 #include "io/toml_reader.hpp"
 #include "io/urdf_io.hpp"
 #include "io/variant.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 
@@ -182,8 +183,7 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
   }
   if (r.has("tool_axis")) {  // any design: override its file's axis
     m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);
-    m.tool_axis_from = "tool_axis of the study's [[design]] entry";
-    m.tool_axis_open.clear();
+    notes::toolAxisNamed(m, "tool_axis of the study's [[design]] entry");
   }
   reference_reach_m = r.quantity("reference_reach_m", Dimension::Length, 0.0);
   if (r.has("reference_reach_m") && !(reference_reach_m > 0))

@@ -60,9 +60,10 @@ LinkInertia mergeInertials(const std::vector<LinkInBody>& links);
 // head, fingers) whose joints are held at a stated position.
 struct OffChainLink {
   urdf::LinkConstSharedPtr link;
-  std::string chain_link;          // the chain link it hangs from
-  Eigen::Isometry3d T_CL = Eigen::Isometry3d::Identity();// the chain link's frame -> this link's frame
-  std::vector<std::string> held;   // the movable joints on the way, "'name' at q"
+  std::string chain_link;  // the chain link it hangs from
+  Eigen::Isometry3d T_CL =
+      Eigen::Isometry3d::Identity();  // the chain link's frame -> this link's frame
+  std::vector<std::string> held;      // the movable joints on the way, "'name' at q"
 };
 // Every link below the chain's links that is not on it (`on_chain`), with its transform from the
 // chain link it hangs from. Branch joints are held at q = 0, clamped into their limits (a

@@ -25,6 +25,7 @@
 #include "io/units.hpp"
 #include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 namespace fs = std::filesystem;
@@ -48,16 +49,15 @@ void rejectUnexpandedXacro(const std::string& text, const std::string& path) {
   // A URDF written by xacro may keep the namespace declaration; its elements are what tells.
   const bool xacro = ext == ".xacro" || at != std::string::npos;
   if (!xacro) return;
-  const int line =
-      at == std::string::npos
-          ? 1
-          : 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const int line = at == std::string::npos
+                       ? 1
+                       : 1 + static_cast<int>(std::count(
+                                 text.begin(), text.begin() + static_cast<long>(at), '\n'));
   const std::string stem = fs::path(path).stem().string();
-  const std::string out = (fs::path(path).parent_path() /
-                           (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".urdf") == 0
-                                ? stem
-                                : stem + ".urdf"))
-                              .string();
+  const std::string out =
+      (fs::path(path).parent_path() /
+       (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".urdf") == 0 ? stem : stem + ".urdf"))
+          .string();
   throw InputError(path, line, "xacro",
                    "a xacro file (URDF with macros), which armstudy does not expand: expand it "
                    "first with `xacro " +
@@ -72,7 +72,6 @@ bool isUrdfPath(const std::string& path) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".urdf";
 }
-
 
 namespace {
 
@@ -313,8 +312,10 @@ struct UrdfImport {
                 : "the joint cannot move: give its range, make a revolute joint without stops "
                   "type=\"continuous\", or a joint that never moves type=\"fixed\"";
         throw InputError(file, jointLine(j.name), jl + "/limit",
-                         std::string(range) + ": the lower limit must be below the upper one "
-                         "(armstudy sweeps the joint range); " + fix);
+                         std::string(range) +
+                             ": the lower limit must be below the upper one "
+                             "(armstudy sweeps the joint range); " +
+                             fix);
       }
     }
     if (j.limits) {
@@ -335,9 +336,10 @@ struct UrdfImport {
           on_chain.count(link->parent_joint->parent_link_name))
         warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
                            link->parent_joint->name + "') is off the chain " + base->name + " -> " +
-                           tip->name + ": its masses ride on the chain link it hangs from "
-                                       "(branch joints held at 0, clamped into their limits), "
-                                       "its collision geometry is not checked");
+                           tip->name +
+                           ": its masses ride on the chain link it hangs from "
+                           "(branch joints held at 0, clamped into their limits), "
+                           "its collision geometry is not checked");
   }
 
   // Inertias: the body after joint i carries its link, the links folded onto it and the links
@@ -355,9 +357,10 @@ struct UrdfImport {
       for (const auto& h : o.held) held += (held.empty() ? "" : ", ") + h;
       char kg[32];
       std::snprintf(kg, sizeof kg, "%.4g kg", o.link->inertial->mass);
-      m.lumped_bodies.push_back("'" + o.link->name + "' (" + kg + ") onto '" + o.chain_link +
-                                "' (body of joint '" + m.joints[b - 1].name + "')" +
-                                (held.empty() ? ", rigidly" : ", joints held: " + held));
+      notes::add(m, notes::kLumped,
+                 "'" + o.link->name + "' (" + kg + ") onto '" + o.chain_link +
+                     "' (body of joint '" + m.joints[b - 1].name + "')" +
+                     (held.empty() ? ", rigidly" : ", joints held: " + held));
     }
     bool any_inertia = false;
     std::vector<LinkInertia> inertias;
@@ -382,12 +385,12 @@ struct UrdfImport {
           const bool geometry = !lb.link->collision_array.empty();
           any_geometry = any_geometry || geometry;
           if (geometry && m.collision.volumes.size() == before)
-            m.links_without_collision.push_back("'" + lb.link->name +
-                                                "' (collision mesh not found or unreadable)");
+            notes::add(m, notes::kNoCollision,
+                       "'" + lb.link->name + "' (collision mesh not found or unreadable)");
         }
         if (!any_geometry && m.collision.volumes.size() == before_body)
-          m.links_without_collision.push_back("'" + bodies[b].front().link->name +
-                                              "' (no <collision> element)");
+          notes::add(m, notes::kNoCollision,
+                     "'" + bodies[b].front().link->name + "' (no <collision> element)");
       }
     // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
     m.file_hash =

@@ -84,12 +84,12 @@ Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a);
 
 // The last joint's axis seen from the TCP (describe, the default tool axis of a URDF arm).
 struct ArmToolAxis {
-  std::string joint;                           // the last joint ("" without joints)
+  std::string joint;                                  // the last joint ("" without joints)
   Eigen::Vector3d axis_T = Eigen::Vector3d::UnitZ();  // unit, in the TCP frame, towards the TCP
-  double off_axis_m = 0;                       // the TCP's distance from the axis
-  double along_m = 0;                          // the TCP's position along the axis
-  bool on_axis = false;                        // off_axis_m <= defaults::kToolOnAxis_m
-  std::string nearest;                         // the nearest signed TCP axis ("y", "-z")
+  double off_axis_m = 0;                              // the TCP's distance from the axis
+  double along_m = 0;                                 // the TCP's position along the axis
+  bool on_axis = false;                               // off_axis_m <= defaults::kToolOnAxis_m
+  std::string nearest;                                // the nearest signed TCP axis ("y", "-z")
   double nearest_angle_rad = 0;
 };
 // The last joint's axis in the TCP frame of `m` (finalized). Its direction points from the joint's

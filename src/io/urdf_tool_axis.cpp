@@ -4,6 +4,7 @@
 #include <string>
 
 #include "io/urdf_io.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 
@@ -62,25 +63,28 @@ void applyToolAxisFromArm(Model& m) {
                                 : vecText(a.axis_T);
   if (a.on_axis) {
     m.tool_axis_T = a.axis_T;
-    m.tool_axis_from = "the last joint's axis ('" + a.joint + "'), TCP " + named +
-                       ": the TCP lies on it (" + mm + " off it, within " +
-                       std::to_string(static_cast<int>(defaults::kToolOnAxis_m * 1e3)) + " mm)";
-    m.tool_axis_open.clear();
+    notes::toolAxisNamed(m, "the last joint's axis ('" + a.joint + "'), TCP " + named +
+                                ": the TCP lies on it (" + mm + " off it, within " +
+                                std::to_string(static_cast<int>(defaults::kToolOnAxis_m * 1e3)) +
+                                " mm)");
     return;
   }
   m.tool_axis_T = Eigen::Vector3d::UnitZ();
-  m.tool_axis_from = "not taken from the arm: the TCP is " + std::string(mm) +
-                     " off the last joint's axis";
+  notes::set(
+      m, notes::kToolAxisFrom,
+      "not taken from the arm: the TCP is " + std::string(mm) + " off the last joint's axis");
   char deg[32];
   std::snprintf(deg, sizeof deg, "%.1f deg", a.nearest_angle_rad * 180.0 / M_PI);
-  m.tool_axis_open =
-      "the TCP of design '" + m.name + "' is " + mm + " off the last joint's axis ('" + a.joint +
-      "', " + vecText(a.axis_T) +
-      " in the TCP frame), so the tool axis is not taken from the arm; candidates: \"" +
-      a.nearest + "\" (the TCP axis nearest the joint's axis, " + deg +
-      " from it), \"z\" (the TCP z axis) or the joint's axis " + vecText(a.axis_T) +
-      "; name one with tool_axis in the study's [[design]] entry (or the stage's [<stage>.tool_axis] "
-      "table, or [tcp] tool_axis of a design TOML), or choose a tip on the axis (--tip, tip_link)";
+  notes::set(m, notes::kToolAxisOpen,
+             "the TCP of design '" + m.name + "' is " + mm + " off the last joint's axis ('" +
+                 a.joint + "', " + vecText(a.axis_T) +
+                 " in the TCP frame), so the tool axis is not taken from the arm; candidates: \"" +
+                 a.nearest + "\" (the TCP axis nearest the joint's axis, " + deg +
+                 " from it), \"z\" (the TCP z axis) or the joint's axis " + vecText(a.axis_T) +
+                 "; name one with tool_axis in the study's [[design]] entry (or the stage's "
+                 "[<stage>.tool_axis] "
+                 "table, or [tcp] tool_axis of a design TOML), or choose a tip on the axis (--tip, "
+                 "tip_link)");
 }
 
 }  // namespace armstudy

@@ -284,6 +284,5 @@ XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
   return out;  // the document dies here: keep lines, not elements
 }
 
-
 }  // namespace urdf_detail
 }  // namespace armstudy

@@ -104,12 +104,6 @@ struct Model {
   // (the spray axis of the spraying task, the approach axis of the stem tasks); the roll about it
   // is free. `[tcp] tool_axis` in the design file, overridable per study design entry; default z.
   Eigen::Vector3d tool_axis_T = Eigen::Vector3d::UnitZ();
-  // Where tool_axis_T comes from, in words (describe, the run's design notes).
-  std::string tool_axis_from = "the default (z), no tool axis given";
-  // Non-empty while the design leaves its tool axis open (a URDF arm whose TCP is off its last
-  // joint's axis, io/urdf_io.hpp): the candidates and the key that names one. A tool-axis task
-  // refuses such a design (study/stage_designs.hpp).
-  std::string tool_axis_open;
   PoseXYZABG base;         // pose of the robot base frame B in the task/world frame W
   Eigen::Isometry3d T_WB;  // precomputed from base
 
@@ -119,12 +113,6 @@ struct Model {
   std::vector<Drive> drives;
   std::vector<std::string> effects;  // enabled model effects (docs/calibration.md)
   CollisionModel collision;          // [[collision]] volumes; empty = no collision model
-  // Links whose collision geometry gave no volume, with why ("'wrist' (mesh not found)"): a
-  // URDF import fills it; a run warns that self-collision does not cover them.
-  std::vector<std::string> links_without_collision;
-  // Bodies rigidly attached to a chain link (fixed links beyond the tip, branches off the chain)
-  // whose masses were lumped onto it, one line each (describe).
-  std::vector<std::string> lumped_bodies;
 
   int dof() const { return static_cast<int>(joints.size()); }
   int jointIndex(const std::string& joint_name) const;  // -1 when absent

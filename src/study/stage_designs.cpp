@@ -5,6 +5,7 @@
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/toml_reader.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 
@@ -44,8 +45,7 @@ Study StageDesigns::select(const Study& study) const {
     for (const auto& [name, axis] : tool_axes)
       if (sd.model.name == name) {
         sd.model.tool_axis_T = axis;
-        sd.model.tool_axis_from = "the stage's tool_axis table";
-        sd.model.tool_axis_open.clear();
+        notes::toolAxisNamed(sd.model, "the stage's tool_axis table");
       }
   return s;
 }
@@ -54,14 +54,15 @@ void StageDesigns::requireToolAxes(const std::vector<const Model*>& evaluated,
                                    const std::string& file, int line,
                                    const std::string& section) const {
   for (const Model* m : evaluated) {
-    if (m->tool_axis_open.empty()) continue;
+    const std::string open = notes::toolAxisOpen(*m);
+    if (open.empty()) continue;
     const bool given = std::find_if(tool_axes.begin(), tool_axes.end(), [&](const auto& t) {
                          return t.first == m->name;
                        }) != tool_axes.end();
     if (!given)
       throw InputError(file, line, section,
-                       "this stage points the tool axis at its targets, and " + m->tool_axis_open +
-                           " (here: [" + section + ".tool_axis] " + m->name + " = \"y\", say)");
+                       "this stage points the tool axis at its targets, and " + open + " (here: [" +
+                           section + ".tool_axis] " + m->name + " = \"y\", say)");
   }
 }
 

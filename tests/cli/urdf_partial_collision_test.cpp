@@ -37,8 +37,9 @@ std::string partialArm() {
 
 }  // namespace
 
-TEST_CASE("URDF partial collision model: the links without volumes are named in the CLI output "
-          "and on the report's first screen") {
+TEST_CASE(
+    "URDF partial collision model: the links without volumes are named in the CLI output "
+    "and on the report's first screen") {
   const fs::path dir = test::emptyTempDir("urdf_partial_collision");
   std::ofstream(dir / "partial.urdf") << partialArm();
   std::ofstream(dir / "study.toml")

@@ -43,15 +43,15 @@ TEST_CASE("URDF limits: a missing <limit>, 0/0 and swapped limits name the joint
   CHECK(none.find("needs <limit lower=") != std::string::npos);
   CHECK(none.find("type=\"continuous\"") != std::string::npos);
   CHECK(none.find("@4") != std::string::npos);  // the joint's line
-  const std::string zero = importError(
-      oneJoint("<limit lower=\"0\" upper=\"0\" effort=\"1\" velocity=\"1\"/>"));
+  const std::string zero =
+      importError(oneJoint("<limit lower=\"0\" upper=\"0\" effort=\"1\" velocity=\"1\"/>"));
   INFO(zero);
   CHECK(zero.find("joint 'elbow'/limit") == 0);
   CHECK(zero.find("lower = 0, upper = 0") != std::string::npos);
   CHECK(zero.find("cannot move") != std::string::npos);
   CHECK(zero.find("type=\"fixed\"") != std::string::npos);
-  const std::string swapped = importError(
-      oneJoint("<limit lower=\"1.5\" upper=\"-1.5\" effort=\"1\" velocity=\"1\"/>"));
+  const std::string swapped =
+      importError(oneJoint("<limit lower=\"1.5\" upper=\"-1.5\" effort=\"1\" velocity=\"1\"/>"));
   INFO(swapped);
   CHECK(swapped.find("joint 'elbow'/limit") == 0);
   CHECK(swapped.find("swapped: write lower=\"-1.5") != std::string::npos);
@@ -74,8 +74,7 @@ TEST_CASE("URDF xacro: a .urdf.xacro file gets the xacro command, not a TOML syn
   }
   INFO(why);
   CHECK(why.find(":3") != std::string::npos);  // the first xacro element's line
-  CHECK(why.find("`xacro " + f + " -o " + (dir / "arm.urdf").string() + "`") !=
-        std::string::npos);
+  CHECK(why.find("`xacro " + f + " -o " + (dir / "arm.urdf").string() + "`") != std::string::npos);
   CHECK(why.find("TOML") == std::string::npos);
   // The same text named .urdf: the xacro elements tell.
   const std::string u = (dir / "arm.urdf").string();

@@ -14,9 +14,9 @@
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
-#include <map>
 #include <kdl_parser/kdl_parser.hpp>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -111,7 +111,8 @@ KDL::JntArray treeTorques(const KDL::Tree& tree, const KDL::Chain& chain, const 
   std::vector<unsigned> at;
   for (const KDL::Segment& s : chain.segments)
     if (s.getJoint().getType() != KDL::Joint::None) at.push_back(qnr.at(s.getJoint().getName()));
-  for (unsigned i = 0; i < at.size(); ++i) tq(at[i]) = q(i), tqd(at[i]) = qd(i), tqdd(at[i]) = qdd(i);
+  for (unsigned i = 0; i < at.size(); ++i)
+    tq(at[i]) = q(i), tqd(at[i]) = qd(i), tqdd(at[i]) = qdd(i);
   KDL::TreeIdSolver_RNE id(tree, KDL::Vector(0, 0, -kKdlGravity));
   REQUIRE(id.CartToJnt(tq, tqd, tqdd, KDL::WrenchMap(), tt) >= 0);
   for (unsigned i = 0; i < at.size(); ++i) out(i) = tt(at[i]);

@@ -10,6 +10,7 @@
 #include "common/errors.hpp"
 #include "engine/study_file.hpp"
 #include "io/urdf_io.hpp"
+#include "model/model_notes.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -34,7 +35,8 @@ std::string arm(const std::string& axis, const std::string& xyz, const std::stri
            "\"/><limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"1\"/></joint>\n";
   };
   return "<robot name=\"axis_arm\">\n" + link("base") + link("upper") + link("fore") +
-         link("wrist") + "<link name=\"tool\"/>\n" + joint("j1", "base", "upper", "0 0 0.3", "0 0 1") +
+         link("wrist") + "<link name=\"tool\"/>\n" +
+         joint("j1", "base", "upper", "0 0 0.3", "0 0 1") +
          joint("j2", "upper", "fore", "0 0 0.2", "0 1 0") +
          joint("j3", "fore", "wrist", "0.4 0 0", axis) +
          "<joint name=\"tool_joint\" type=\"fixed\"><parent link=\"wrist\"/><child "
@@ -50,10 +52,10 @@ Model load(const std::string& text, const std::string& tip = "") {
 }
 
 void requireAxis(const Model& m, const Eigen::Vector3d& expected) {
-  INFO("tool axis " << m.tool_axis_T.transpose() << " from " << m.tool_axis_from);
-  REQUIRE(m.tool_axis_open.empty());
+  INFO("tool axis " << m.tool_axis_T.transpose() << " from " << notes::toolAxisFrom(m));
+  REQUIRE(notes::toolAxisOpen(m).empty());
   REQUIRE((m.tool_axis_T - expected).norm() <= kExact);
-  REQUIRE(m.tool_axis_from.find("last joint's axis") != std::string::npos);
+  REQUIRE(notes::toolAxisFrom(m).find("last joint's axis") != std::string::npos);
 }
 
 // A study with the arm at `urdf` and one spraying grid; `entry` adds keys to the [[design]].
@@ -90,16 +92,18 @@ TEST_CASE("URDF tool axis: a tool frame turned by a fixed joint's rpy carries th
   requireAxis(m, Eigen::Vector3d(0, std::cos(0.3), std::sin(0.3)));
 }
 
-TEST_CASE("URDF tool axis: a TCP off the last joint's axis leaves it open, and a spraying study "
-          "refuses with the candidates") {
+TEST_CASE(
+    "URDF tool axis: a TCP off the last joint's axis leaves it open, and a spraying study "
+    "refuses with the candidates") {
   const fs::path dir = test::emptyTempDir("urdf_tool_axis");
   const std::string off = arm("0 0 1", "0.05 0 0.1");  // 50 mm off the wrist's axis
   const Model m = load(off, "tool");
-  INFO(m.tool_axis_open);
-  REQUIRE(!m.tool_axis_open.empty());
-  REQUIRE(m.tool_axis_open.find("50.0 mm off") != std::string::npos);
-  REQUIRE(m.tool_axis_open.find("candidates: \"z\"") != std::string::npos);
-  REQUIRE(m.tool_axis_open.find("tool_axis") != std::string::npos);
+  const std::string open = notes::toolAxisOpen(m);
+  INFO(open);
+  REQUIRE(!open.empty());
+  REQUIRE(open.find("50.0 mm off") != std::string::npos);
+  REQUIRE(open.find("candidates: \"z\"") != std::string::npos);
+  REQUIRE(open.find("tool_axis") != std::string::npos);
   std::ofstream(dir / "off.urdf") << off;
   std::string why;
   try {
@@ -112,14 +116,13 @@ TEST_CASE("URDF tool axis: a TCP off the last joint's axis leaves it open, and a
   REQUIRE(why.find("50.0 mm off the last joint's axis ('j3'") != std::string::npos);
   REQUIRE(why.find("[reach.tool_axis]") != std::string::npos);
   // Named in the entry, the study loads with that axis.
-  const Study s =
-      loadStudyText(sprayStudy("off.urdf", "tool_axis = \"x\""), (dir / "s.toml").string(),
-                    dir.string());
+  const Study s = loadStudyText(sprayStudy("off.urdf", "tool_axis = \"x\""),
+                                (dir / "s.toml").string(), dir.string());
   REQUIRE((s.designs[0].model.tool_axis_T - Eigen::Vector3d::UnitX()).norm() <= kExact);
   // The entry's TCP offset puts the TCP back on the axis (50 mm back along the tool x): loads.
   const Study back = loadStudyText(sprayStudy("off.urdf", "tcp = { x = \"-50 mm\" }"),
                                    (dir / "s.toml").string(), dir.string());
-  REQUIRE(back.designs[0].model.tool_axis_open.empty());
+  REQUIRE(notes::toolAxisOpen(back.designs[0].model).empty());
   REQUIRE((back.designs[0].model.tool_axis_T - Eigen::Vector3d::UnitZ()).norm() <= kExact);
 }
 
@@ -129,7 +132,7 @@ TEST_CASE("URDF tool axis: the UR5 gets its flange axis at its default tip and a
   o.collision = false;
   o.base_link = "base_link";
   const Model tip = importUrdf(ur5, o);  // wrist_3_link: the flange axis is its y
-  INFO(tip.source << ": " << tip.tool_axis_from);
+  INFO(tip.source << ": " << notes::toolAxisFrom(tip));
   requireAxis(tip, Eigen::Vector3d::UnitY());
   o.tip_link = "tool0";
   requireAxis(importUrdf(ur5, o), Eigen::Vector3d::UnitZ());

@@ -12,6 +12,7 @@
 
 #include "dynamics/dynamics.hpp"
 #include "io/urdf_io.hpp"
+#include "model/model_notes.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -66,8 +67,9 @@ std::string treeArm() {
 
 }  // namespace
 
-TEST_CASE("URDF tree masses: joint torques with a fixed tool and a side branch equal KDL's tree "
-          "inverse dynamics") {
+TEST_CASE(
+    "URDF tree masses: joint torques with a fixed tool and a side branch equal KDL's tree "
+    "inverse dynamics") {
   const std::string text = treeArm();
   UrdfOptions o;
   o.collision = false;
@@ -78,9 +80,10 @@ TEST_CASE("URDF tree masses: joint torques with a fixed tool and a side branch e
   // What was lumped, by name: the tool and flange beyond the tip, head and camera on l1 with the
   // neck held at 0.2, the marker on l2.
   std::string lumped;
-  for (const auto& l : m.lumped_bodies) lumped += l + "\n";
+  for (const auto& l : notes::all(m, notes::kLumped)) lumped += l + "\n";
   INFO(lumped);
-  REQUIRE(m.lumped_bodies.size() == 4);  // tool, head, camera, marker (the flange has no mass)
+  REQUIRE(notes::all(m, notes::kLumped).size() ==
+          4);  // tool, head, camera, marker (the flange has no mass)
   REQUIRE(lumped.find("'head' (1.5 kg) onto 'l1'") != std::string::npos);
   REQUIRE(lumped.find("'neck' at 0.2") != std::string::npos);
   REQUIRE(lumped.find("'tool' (1 kg) onto 'l3'") != std::string::npos);

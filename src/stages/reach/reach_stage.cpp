@@ -8,6 +8,7 @@
 
 #include "common/errors.hpp"
 #include "io/vtk_io.hpp"
+#include "model/model_notes.hpp"
 #include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
 #include "stages/reach/reach_grid.hpp"
@@ -119,10 +120,10 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
                           std::vector<std::string>& warnings) {
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& m = sd.model;
-    if (m.links_without_collision.empty()) continue;
+    const std::vector<std::string> missing = notes::all(m, notes::kNoCollision);
+    if (missing.empty()) continue;
     std::string links;
-    for (const std::string& l : m.links_without_collision)
-      links += (links.empty() ? "" : ", ") + l;
+    for (const std::string& l : missing) links += (links.empty() ? "" : ", ") + l;
     const int with = linksWithVolumes(m), all = m.dof() + 1;
     const bool checked = cfg.collision.self && !m.collision.empty();
     const std::string w =
@@ -161,13 +162,13 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
       cover += std::string(cover.empty() ? "" : ", ") + "`" + sd.model.name + "` " +
                std::to_string(linksWithVolumes(sd.model)) + " of " +
                std::to_string(sd.model.dof() + 1);
-    md +=
-        "Self-collision: on for the links with collision volumes (" + cover + " links). A pose counts as reachable only with a collision-free solution (every "
-        "self-collision "
-        "distance of the design's swept-sphere volumes > 0, other postures tried through the "
-        "redundancy); poses "
-        "reachable only in collision are counted separately, with the colliding pair in "
-        "summary.json.\n\n";
+    md += "Self-collision: on for the links with collision volumes (" + cover +
+          " links). A pose counts as reachable only with a collision-free solution (every "
+          "self-collision "
+          "distance of the design's swept-sphere volumes > 0, other postures tried through the "
+          "redundancy); poses "
+          "reachable only in collision are counted separately, with the colliding pair in "
+          "summary.json.\n\n";
   }
   if (obst_on) {
     md += "Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
