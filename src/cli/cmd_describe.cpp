@@ -9,6 +9,7 @@
 #include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "io/design_io.hpp"
+#include "io/urdf_arm.hpp"
 #include "model/model_notes.hpp"
 
 namespace armstudy::cli {

@@ -13,6 +13,7 @@
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "model/model_notes.hpp"
 

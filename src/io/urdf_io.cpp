@@ -23,6 +23,7 @@
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "io/units.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
 #include "model/model_notes.hpp"

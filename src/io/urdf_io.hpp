@@ -6,10 +6,8 @@
 // base to tip): each joint frame is the URDF joint origin rotated by a fixed R_a with R_a e_z =
 // axis, so the armstudy body frame i is F_i = L_i R_a (L_i = URDF child link frame), and every
 // quantity of the link (inertial, collision geometry, the next joint origin) is re-expressed in
-// F_i. Fixed joints on the chain are folded into the neighbouring transforms. Links off the chain
-// below a chain link (fixed links beyond the tip, branches such as a head or fingers, their joints
-// held at q = 0 clamped into their limits) add their masses to that link's body (Model::
-// lumped_bodies lists them); their collision geometry is not checked (a warning names them).
+// F_i. Fixed joints on the chain are folded into the neighbouring transforms; branches off the
+// chain are ignored with a note in the design's assumptions.
 //
 // Export: one URDF link per body (base, the body after each joint, the TCP frame), inertials at
 // the COM, limits with velocity and effort. A link named after an imported URDF link is that
@@ -30,10 +28,6 @@ namespace defaults {
 inline constexpr double kContinuousJointRange_rad = 2 * 3.14159265358979323846;
 // Assumption: at most this many swept-sphere volumes are fitted to one collision mesh or box.
 inline constexpr int kUrdfSsvMaxVolumesPerMesh = 3;
-// Assumption: a URDF arm's TCP lies on its last joint's axis when it is at most 1 mm from it; a
-// direction within 1e-6 rad of a TCP frame axis is that axis exactly.
-inline constexpr double kToolOnAxis_m = 1e-3;
-inline constexpr double kToolAxisSnap_rad = 1e-6;
 }  // namespace defaults
 
 struct UrdfOptions {
@@ -82,35 +76,11 @@ UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& options);
 // frame rotated by R_a, so that its z axis is the URDF axis (UrdfJointInfo::R_FL = R_a^T).
 Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a);
 
-// The last joint's axis seen from the TCP (describe, the default tool axis of a URDF arm).
-struct ArmToolAxis {
-  std::string joint;                                  // the last joint ("" without joints)
-  Eigen::Vector3d axis_T = Eigen::Vector3d::UnitZ();  // unit, in the TCP frame, towards the TCP
-  double off_axis_m = 0;                              // the TCP's distance from the axis
-  double along_m = 0;                                 // the TCP's position along the axis
-  bool on_axis = false;                               // off_axis_m <= defaults::kToolOnAxis_m
-  std::string nearest;                                // the nearest signed TCP axis ("y", "-z")
-  double nearest_angle_rad = 0;
-};
-// The last joint's axis in the TCP frame of `m` (finalized). Its direction points from the joint's
-// origin towards the TCP along the axis (the URDF axis direction when the TCP is within
-// defaults::kToolOnAxis_m of the origin along it).
-ArmToolAxis lastJointAxisInTcp(const Model& m);
-
-// The default tool axis of a design imported from URDF: the last joint's axis in the TCP frame when
-// the TCP lies on it (Model::tool_axis_from says so); otherwise tool_axis_T stays z and
-// Model::tool_axis_open holds the candidates and the keys that name one.
-void applyToolAxisFromArm(Model& m);
-
 // Parses "NAME=DIR" (the --package option). Throws InputError naming `option` when malformed.
 std::pair<std::string, std::string> parsePackageOption(const std::string& text,
                                                        const std::string& option);
 
 bool isUrdfPath(const std::string& path);
-
-// A xacro file (extension .xacro, or <xacro:...> elements in the text) is an InputError at its
-// first xacro element with the `xacro` command that expands it into a URDF.
-void rejectUnexpandedXacro(const std::string& text, const std::string& path);
 
 // Imports the chain. Throws InputError (file, line, element) on bad input. Notes (missing meshes,
 // ignored branches) go into the model's assumptions and into `warnings` when given.

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "model/model_notes.hpp"
 

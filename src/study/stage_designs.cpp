@@ -50,22 +50,6 @@ Study StageDesigns::select(const Study& study) const {
   return s;
 }
 
-void StageDesigns::requireToolAxes(const std::vector<const Model*>& evaluated,
-                                   const std::string& file, int line,
-                                   const std::string& section) const {
-  for (const Model* m : evaluated) {
-    const std::string open = notes::toolAxisOpen(*m);
-    if (open.empty()) continue;
-    const bool given = std::find_if(tool_axes.begin(), tool_axes.end(), [&](const auto& t) {
-                         return t.first == m->name;
-                       }) != tool_axes.end();
-    if (!given)
-      throw InputError(file, line, section,
-                       "this stage points the tool axis at its targets, and " + open + " (here: [" +
-                           section + ".tool_axis] " + m->name + " = \"y\", say)");
-  }
-}
-
 StageDesigns readStageDesigns(io::TableReader& r, const std::string& file,
                               const std::vector<const Model*>& models) {
   StageDesigns d;

@@ -25,11 +25,6 @@ struct StageDesigns {
   Study select(const Study& study) const;
   // The models of `models` this stage evaluates, in study order.
   std::vector<const Model*> evaluated(const std::vector<const Model*>& models) const;
-  // A stage whose task points the tool axis refuses a design that leaves its axis open
-  // (Model::tool_axis_open: a URDF arm whose TCP is off its last joint's axis) and gets none from
-  // this stage: InputError at `line` of the study `file`, key `section`, with the candidates.
-  void requireToolAxes(const std::vector<const Model*>& evaluated, const std::string& file,
-                       int line, const std::string& section) const;
 };
 
 // Reads `designs` and the table `tool_axis` of a stage's section `r` (`file` names the study file

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/errors.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "test_support.hpp"
 

@@ -9,6 +9,7 @@
 
 #include "common/errors.hpp"
 #include "engine/study_file.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "model/model_notes.hpp"
 #include "test_support.hpp"

@@ -9,6 +9,7 @@
 #include "io/pose_list_io.hpp"
 #include "io/toml_reader.hpp"
 #include "study/stage_designs.hpp"
+#include "study/tool_axis_check.hpp"
 
 namespace armstudy {
 
@@ -268,7 +269,7 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   };
   for (const auto& g : cfg.grids) points_axis = points_axis || axisTask(g.task_space);
   for (const auto& p : cfg.pose_lists) points_axis = points_axis || axisTask(p.task_space);
-  if (points_axis) stage_designs.requireToolAxes(evaluated, top.file(), r.line(), "reach");
+  if (points_axis) requireToolAxes(stage_designs, evaluated, top.file(), r.line(), "reach");
   r.finish();
   if (cfg.grids.empty() && cfg.pose_lists.empty())
     throw InputError(top.file(), r.line(), "reach",
