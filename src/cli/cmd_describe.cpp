@@ -148,7 +148,7 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
           "deg; TCP %.1f mm off the axis, %.1f mm along it)\n",
           a.axis_T.x() + 0.0, a.axis_T.y() + 0.0, a.axis_T.z() + 0.0, a.joint.c_str(),
           a.nearest.c_str(), a.nearest_angle_rad * 180.0 / M_PI, a.off_axis_m * 1e3,
-          a.along_m * 1e3);
+          a.along_m * 1e3 + 0.0);
     }
     std::printf(
         "tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their "

@@ -352,7 +352,8 @@ struct UrdfImport {
       for (const auto& lb : bodies[b]) body_of[lb.link->name] = {b, lb.T_FL};
     for (const OffChainLink& o : offChainLinks(*robot, on_chain)) {
       const auto& [b, T_FC] = body_of.at(o.chain_link);
-      if (b == 0 || !o.link->inertial) continue;  // the base does not move: its masses do nothing
+      // The base does not move: masses on it do nothing; massless links add nothing.
+      if (b == 0 || !o.link->inertial || !(o.link->inertial->mass > 0)) continue;
       masses[b].push_back({o.link, T_FC * o.T_CL});
       std::string held;
       for (const auto& h : o.held) held += (held.empty() ? "" : ", ") + h;
