@@ -76,16 +76,21 @@ void applyToolAxisFromArm(Model& m) {
       "not taken from the arm: the TCP is " + std::string(mm) + " off the last joint's axis");
   char deg[32];
   std::snprintf(deg, sizeof deg, "%.1f deg", a.nearest_angle_rad * 180.0 / M_PI);
+  // The candidates: the TCP axis nearest the joint's axis, z (the TCP's own default), and the
+  // joint's axis itself when no TCP axis is parallel to it.
+  std::string candidates =
+      "\"" + a.nearest + "\" (the TCP axis nearest the joint's axis, " + deg + " from it)";
+  if (a.nearest != "z") candidates += ", \"z\" (the TCP z axis)";
+  if (a.nearest_angle_rad > defaults::kToolAxisSnap_rad)
+    candidates += ", " + vecText(a.axis_T) + " (the joint's axis)";
   notes::set(m, notes::kToolAxisOpen,
              "the TCP of design '" + m.name + "' is " + mm + " off the last joint's axis ('" +
                  a.joint + "', " + vecText(a.axis_T) +
-                 " in the TCP frame), so the tool axis is not taken from the arm; candidates: \"" +
-                 a.nearest + "\" (the TCP axis nearest the joint's axis, " + deg +
-                 " from it), \"z\" (the TCP z axis) or the joint's axis " + vecText(a.axis_T) +
+                 " in the TCP frame), so the tool axis is not taken from the arm; candidates: " +
+                 candidates +
                  "; name one with tool_axis in the study's [[design]] entry (or the stage's "
-                 "[<stage>.tool_axis] "
-                 "table, or [tcp] tool_axis of a design TOML), or choose a tip on the axis (--tip, "
-                 "tip_link)");
+                 "tool_axis table, or [tcp] tool_axis of a design TOML), or choose a tip on the "
+                 "joint's axis (--tip, tip_link)");
 }
 
 }  // namespace armstudy

@@ -17,8 +17,9 @@ void requireToolAxes(const StageDesigns& d, const std::vector<const Model*>& eva
                        }) != d.tool_axes.end();
     if (!given)
       throw InputError(file, line, section,
-                       "this stage points the tool axis at its targets, and " + open + " (here: [" +
-                           section + ".tool_axis] " + m->name + " = \"y\", say)");
+                       "this stage points the tool axis at its targets, and " + open +
+                           " (for this stage only: [" + section + ".tool_axis] " + m->name +
+                           " = \"" + "<axis>\")");
   }
 }
 
