@@ -37,7 +37,7 @@ std::string importError(const std::string& text) {
 
 }  // namespace
 
-TEST_CASE("URDF limits: a missing <limit>, 0/0 and swapped limits name the joint and the fix") {
+TEST_CASE("URDF limits: a missing <limit> or 0/0 or swapped limits name the joint and the fix") {
   const std::string none = importError(oneJoint(""));
   INFO(none);
   CHECK(none.find("joint 'elbow'/limit") == 0);
@@ -60,7 +60,7 @@ TEST_CASE("URDF limits: a missing <limit>, 0/0 and swapped limits name the joint
             .empty());
 }
 
-TEST_CASE("URDF xacro: a .urdf.xacro file gets the xacro command, not a TOML syntax error") {
+TEST_CASE("URDF xacro: a .urdf.xacro file gets the xacro command and no TOML syntax error") {
   const fs::path dir = test::emptyTempDir("urdf_xacro");
   const std::string xacro =
       "<?xml version=\"1.0\"?>\n<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\" "

@@ -69,7 +69,7 @@ std::string sprayStudy(const std::string& urdf, const std::string& entry) {
 
 }  // namespace
 
-TEST_CASE("URDF tool axis: the last joint's axis x, y or z of the TCP frame is the default") {
+TEST_CASE("URDF tool axis: the last joint's axis x or y or z of the TCP frame is the default") {
   // The wrist turns about x, y or z of its link; the TCP 0.1 m along that axis.
   requireAxis(load(arm("1 0 0", "0.1 0 0"), "tool"), Eigen::Vector3d::UnitX());
   requireAxis(load(arm("0 1 0", "0 0.1 0"), "tool"), Eigen::Vector3d::UnitY());
@@ -94,7 +94,7 @@ TEST_CASE("URDF tool axis: a tool frame turned by a fixed joint's rpy carries th
 }
 
 TEST_CASE(
-    "URDF tool axis: a TCP off the last joint's axis leaves it open, and a spraying study "
+    "URDF tool axis: a TCP off the last joint's axis leaves it open and a spraying study "
     "refuses with the candidates") {
   const fs::path dir = test::emptyTempDir("urdf_tool_axis");
   const std::string off = arm("0 0 1", "0.05 0 0.1");  // 50 mm off the wrist's axis
