@@ -9,6 +9,8 @@
 #include "common/errors.hpp"
 #include "engine/run.hpp"
 #include "io/design_io.hpp"
+#include "io/urdf_arm.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy::cli {
 
@@ -112,6 +114,11 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
       }
       auto j = nlohmann::ordered_json::parse(modelToJson(m));
       j["urdf_chains"] = chainsJson(*chains, src->tip);
+      const ArmToolAxis a = lastJointAxisInTcp(m);
+      j["last_joint_axis_tcp"] = {a.axis_T.x(), a.axis_T.y(), a.axis_T.z()};
+      j["tcp_off_last_axis_m"] = a.off_axis_m;
+      j["tool_axis_from"] = notes::toolAxisFrom(m);
+      j["tool_axis_open"] = notes::toolAxisOpen(m);
       std::cout << j.dump(2) << "\n";
       return 0;
     }
@@ -134,12 +141,38 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
     const double d = 180.0 / M_PI;
     std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)",
                 m.tcp.x, m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
+    if (chains) {
+      const ArmToolAxis a = lastJointAxisInTcp(m);
+      std::printf(
+          "last joint axis (TCP frame): %.4f %.4f %.4f  (joint '%s'; nearest TCP axis %s, %.3g "
+          "deg; TCP %.1f mm off the axis, %.1f mm along it)\n",
+          a.axis_T.x() + 0.0, a.axis_T.y() + 0.0, a.axis_T.z() + 0.0, a.joint.c_str(),
+          a.nearest.c_str(), a.nearest_angle_rad * 180.0 / M_PI, a.off_axis_m * 1e3,
+          a.along_m * 1e3 + 0.0);
+    }
     std::printf(
         "tool axis (TCP frame): %.4f %.4f %.4f  (what the spraying and stem tasks point at their "
-        "targets)\n",
-        m.tool_axis_T.x(), m.tool_axis_T.y(), m.tool_axis_T.z());
+        "targets; from %s)\n",
+        m.tool_axis_T.x() + 0.0, m.tool_axis_T.y() + 0.0, m.tool_axis_T.z() + 0.0,
+        notes::toolAxisFrom(m).c_str());
+    if (!notes::toolAxisOpen(m).empty())
+      std::printf("tool axis open: %s\n", notes::toolAxisOpen(m).c_str());
     if (!m.drives.empty()) std::printf("\ndrives: %zu\n", m.drives.size());
-    if (!m.inertias.empty()) std::printf("link inertias: given\n");
+    if (!m.inertias.empty()) {
+      std::printf("link inertias: given; mass per body (the link after each joint):");
+      for (std::size_t i = 0; i < m.inertias.size() && i < m.joints.size(); ++i)
+        std::printf("%s %s %.4g kg", i ? "," : "", m.joints[i].name.c_str(),
+                    m.inertias[i].given ? m.inertias[i].mass_kg : 0.0);
+      std::printf("\n");
+    }
+    if (!notes::all(m, notes::kLumped).empty()) {
+      std::printf("lumped onto chain links (masses off the chain, for dynamics):\n");
+      for (const auto& l : notes::all(m, notes::kLumped)) std::printf("  - %s\n", l.c_str());
+    }
+    if (!notes::all(m, notes::kNoCollision).empty()) {
+      std::printf("links without collision volumes (self-collision does not cover them):\n");
+      for (const auto& l : notes::all(m, notes::kNoCollision)) std::printf("  - %s\n", l.c_str());
+    }
     if (!m.collision.empty()) std::printf("collision volumes: %zu\n", m.collision.volumes.size());
     if (!m.assumptions.empty()) {
       std::printf("\nassumptions (values the thesis does not give):\n");

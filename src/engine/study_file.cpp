@@ -11,8 +11,10 @@
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "io/variant.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 
@@ -177,9 +179,14 @@ Model readDesign(TableReader& r, const std::string& path, const fs::path& dir,
       if (r.has(k))
         r.fail(k, "base_link, tip_link, packages, base, tcp and name belong to URDF design files");
   Model m = loadDesignOfEntry(r, resolved.lexically_normal().string(), uo, urdf);
-  if (urdf) readUrdfPlacement(r, path, m);
-  m.tool_axis_T =
-      readToolAxis(r, "tool_axis", m.tool_axis_T);  // any design: override its file's axis
+  if (urdf) {
+    readUrdfPlacement(r, path, m);
+    applyToolAxisFromArm(m);  // the entry's TCP decides whether it lies on the last joint's axis
+  }
+  if (r.has("tool_axis")) {  // any design: override its file's axis
+    m.tool_axis_T = readToolAxis(r, "tool_axis", m.tool_axis_T);
+    notes::toolAxisNamed(m, "tool_axis of the study's [[design]] entry");
+  }
   reference_reach_m = r.quantity("reference_reach_m", Dimension::Length, 0.0);
   if (r.has("reference_reach_m") && !(reference_reach_m > 0))
     r.fail("reference_reach_m", "a reference reach must be above 0 (m, or a string with its unit)");

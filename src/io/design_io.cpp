@@ -13,7 +13,9 @@
 #include "io/files.hpp"
 #include "io/ssv_io.hpp"
 #include "io/toml_reader.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 namespace {
@@ -239,6 +241,11 @@ void readTcpAndBase(TableReader& top, const std::string& file, Model& m, UrdfInf
     TableReader r = top.requiredTable("tcp", " (TCP offset from the last frame)");
     m.tcp = readPose(r, false);
     m.tool_axis_T = readToolAxis(r, "tool_axis", Eigen::Vector3d::UnitZ());
+    // A design converted from URDF carries where its axis came from (or that it is open): the
+    // file's own [tcp] tool_axis replaces that.
+    if (r.has("tool_axis") &&
+        !(notes::toolAxisOpen(m).empty() && notes::last(m, notes::kToolAxisFrom).empty()))
+      notes::toolAxisNamed(m, "[tcp] tool_axis of the design file");
     urdf.tcp_link = r.string("link", "");
     r.finish();
   }
@@ -371,7 +378,9 @@ Model loadDesign(const std::string& path) { return loadAnyDesign(path, UrdfOptio
 Model loadAnyDesign(const std::string& path, const UrdfOptions& urdf, UrdfInfo* info,
                     std::vector<std::string>* warnings) {
   if (isUrdfPath(path)) return importUrdf(path, urdf, info, warnings);
-  return parseDesignWithUrdfInfo(readFileOrThrow(path), path, info);
+  const std::string text = readFileOrThrow(path);
+  rejectUnexpandedXacro(text, path);
+  return parseDesignWithUrdfInfo(text, path, info);
 }
 
 namespace {
@@ -439,7 +448,8 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
   o << "\n[tcp]\n";
   if (!info.tcp_link.empty()) o << "link = " << quoted(info.tcp_link) << "\n";
   writePose(o, m.tcp, false);
-  if (m.tool_axis_T != Eigen::Vector3d::UnitZ())
+  if (notes::toolAxisOpen(m).empty() &&
+      (m.tool_axis_T != Eigen::Vector3d::UnitZ() || !info.joints.empty()))
     o << "tool_axis = [" << num(m.tool_axis_T.x()) << ", " << num(m.tool_axis_T.y()) << ", "
       << num(m.tool_axis_T.z()) << "]\n";
   for (std::size_t i = 0; i < m.inertias.size(); ++i) {

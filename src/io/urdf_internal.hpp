@@ -39,6 +39,11 @@ struct XmlTagScan {
 // recurse once per level, and 60,000 nested elements overflow the stack.
 XmlTagScan scanXmlTags(const std::string& text, const std::string& file);
 
+// Checks the XML of a URDF (well-formed, one <robot>, named and unique links and joints, known
+// joint types, defined parents and children, finite and plausible numbers, a tree) and indexes
+// its element lines. Throws InputError at the element.
+XmlIndex indexAndCheck(const std::string& text, const std::string& file);
+
 Eigen::Isometry3d toIso(const urdf::Pose& p);
 
 // One link's part of a body: the link and the transform from the body frame F to the link frame L.
@@ -46,6 +51,25 @@ struct LinkInBody {
   urdf::LinkConstSharedPtr link;
   Eigen::Isometry3d T_FL;
 };
+
+// Inertials of the links of one body, merged into one rigid body about its COM, in frame F (the
+// parallel-axis theorem for each link's inertia at its own COM).
+LinkInertia mergeInertials(const std::vector<LinkInBody>& links);
+
+// A link off the chain that rides on a chain link: a fixed link beyond the tip, or a branch (a
+// head, fingers) whose joints are held at a stated position.
+struct OffChainLink {
+  urdf::LinkConstSharedPtr link;
+  std::string chain_link;  // the chain link it hangs from
+  Eigen::Isometry3d T_CL =
+      Eigen::Isometry3d::Identity();  // the chain link's frame -> this link's frame
+  std::vector<std::string> held;      // the movable joints on the way, "'name' at q"
+};
+// Every link below the chain's links that is not on it (`on_chain`), with its transform from the
+// chain link it hangs from. Branch joints are held at q = 0, clamped into their limits (a
+// continuous joint at 0; floating and planar joints at their origin).
+std::vector<OffChainLink> offChainLinks(const urdf::ModelInterface& robot,
+                                        const std::set<std::string>& on_chain);
 
 // The collision volumes of one link of body `body`: primitives as swept-sphere volumes, meshes
 // (resolved through package:// folders, read with assimp) fitted with swept-sphere volumes (CGAL).

@@ -23,8 +23,10 @@
 #include "common/errors.hpp"
 #include "io/files.hpp"
 #include "io/units.hpp"
+#include "io/urdf_arm.hpp"
 #include "io/urdf_internal.hpp"
 #include "kinematics/kinematics.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 namespace fs = std::filesystem;
@@ -41,90 +43,36 @@ Eigen::Matrix3d urdfAxisFrame(const Eigen::Vector3d& a) {
   return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), a).toRotationMatrix();
 }
 
+void rejectUnexpandedXacro(const std::string& text, const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::size_t at = text.find("<xacro:");
+  // A URDF written by xacro may keep the namespace declaration; its elements are what tells.
+  const bool xacro = ext == ".xacro" || at != std::string::npos;
+  if (!xacro) return;
+  const int line = at == std::string::npos
+                       ? 1
+                       : 1 + static_cast<int>(std::count(
+                                 text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const std::string stem = fs::path(path).stem().string();
+  const std::string out =
+      (fs::path(path).parent_path() /
+       (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".urdf") == 0 ? stem : stem + ".urdf"))
+          .string();
+  throw InputError(path, line, "xacro",
+                   "a xacro file (URDF with macros), which armstudy does not expand: expand it "
+                   "first with `xacro " +
+                       path + " -o " + out +
+                       "` (the ROS package xacro; `pip install xacro` gives it without ROS; add "
+                       "NAME:=VALUE for the file's arguments), then use " +
+                       out);
+}
+
 bool isUrdfPath(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".urdf";
 }
-
-namespace urdf_detail {
-
-namespace {
-
-// The end of the markup starting at text[i] ('<'), one past its '>', or npos when unterminated;
-// quoted attribute values may hold '>'.
-std::size_t markupEnd(const std::string& text, std::size_t i) {
-  for (const auto& [open, close] :
-       {std::pair<const char*, const char*>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
-    if (text.compare(i, std::strlen(open), open) == 0) {
-      const std::size_t e = text.find(close, i + std::strlen(open));
-      return e == std::string::npos ? e : e + std::strlen(close);
-    }
-  char quote = 0;
-  for (std::size_t j = i + 1; j < text.size(); ++j) {
-    const char c = text[j];
-    if (quote) {
-      if (c == quote) quote = 0;
-    } else if ((c == '"' || c == '\'') && text[i + 1] != '!') {
-      quote = c;
-    } else if (c == '>') {
-      return j + 1;
-    }
-  }
-  return std::string::npos;
-}
-
-}  // namespace
-
-// Scans the tags of `text`. Elements nested more than defaults::kMaxXmlNesting deep are an
-// InputError at the line of the first too deep one: the XML parsers recurse once per level, and a
-// file of 60,000 nested elements would overflow the stack.
-XmlTagScan scanXmlTags(const std::string& text, const std::string& file) {
-  XmlTagScan out;
-  std::vector<std::pair<std::string, int>> open;  // element name, line
-  int line = 1;                                   // the line at text[i]
-  std::size_t i = 0;
-  auto problem = [&](int at) {
-    if (!out.problem_line) out.problem_line = at;
-  };
-  auto lines = [&](std::size_t a, std::size_t b) {
-    return static_cast<int>(
-        std::count(text.begin() + static_cast<long>(a), text.begin() + static_cast<long>(b), '\n'));
-  };
-  for (std::size_t lt; (lt = text.find('<', i)) != std::string::npos;) {
-    const std::size_t end = markupEnd(text, lt);
-    const std::size_t stop = end == std::string::npos ? text.size() : end;
-    const int tag_line = line + lines(i, lt);
-    line = tag_line + lines(lt, stop);
-    i = stop;
-    if (end == std::string::npos) {
-      problem(tag_line);
-      break;
-    }
-    if (text[lt + 1] == '!' || text[lt + 1] == '?') continue;
-    const bool closing = text[lt + 1] == '/';
-    const std::size_t name_at = lt + (closing ? 2 : 1);
-    const std::size_t name_end = text.find_first_of(" \t\r\n/>", name_at);
-    const std::string name = text.substr(name_at, name_end - name_at);
-    const unsigned char first = name.empty() ? 0 : static_cast<unsigned char>(name[0]);
-    if (!(std::isalpha(first) || first == '_' || first == ':' || first >= 0x80))
-      problem(tag_line);  // no element name: a stray '<'
-    if (closing) {
-      if (open.empty() || open.back().first != name) problem(tag_line);
-      if (!open.empty()) open.pop_back();
-    } else if (text[end - 2] != '/') {
-      open.emplace_back(name, tag_line);
-      if (open.size() > static_cast<std::size_t>(defaults::kMaxXmlNesting))
-        throw InputError(file, tag_line, "xml",
-                         "elements nested more than " + std::to_string(defaults::kMaxXmlNesting) +
-                             " deep (<" + name + "> here; a robot description needs a few)");
-    }
-  }
-  if (!open.empty()) problem(open.back().second);
-  return out;
-}
-
-}  // namespace urdf_detail
 
 namespace {
 
@@ -141,182 +89,6 @@ class CaptureHandler : public console_bridge::OutputHandler {
   }
   std::vector<std::string> messages;
 };
-
-std::string elementLabel(const TiXmlElement* e) {
-  const char* name = e->Attribute("name");
-  return std::string(e->Value()) + (name ? " '" + std::string(name) + "'" : std::string());
-}
-
-// Where URDF defines numbers: element paths below <joint> and <link>, with their numeric
-// attributes. Other elements (vendor extensions such as <verbose>, <selfCollide>) are not URDF's
-// and are ignored, as urdfdom does.
-using NumberSchema = std::vector<std::pair<const char*, std::vector<const char*>>>;
-const NumberSchema kJointNumbers = {
-    {"origin", {"xyz", "rpy"}},
-    {"axis", {"xyz"}},
-    {"limit", {"lower", "upper", "effort", "velocity"}},
-    {"dynamics", {"damping", "friction"}},
-    {"mimic", {"multiplier", "offset"}},
-    {"calibration", {"rising", "falling"}},
-    {"safety_controller", {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}}};
-const NumberSchema kLinkNumbers = {{"inertial/origin", {"xyz", "rpy"}},
-                                   {"inertial/mass", {"value"}},
-                                   {"inertial/inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
-                                   {"visual/origin", {"xyz", "rpy"}},
-                                   {"visual/geometry/box", {"size"}},
-                                   {"visual/geometry/cylinder", {"radius", "length"}},
-                                   {"visual/geometry/sphere", {"radius"}},
-                                   {"visual/geometry/mesh", {"scale"}},
-                                   {"collision/origin", {"xyz", "rpy"}},
-                                   {"collision/geometry/box", {"size"}},
-                                   {"collision/geometry/cylinder", {"radius", "length"}},
-                                   {"collision/geometry/sphere", {"radius"}},
-                                   {"collision/geometry/mesh", {"scale"}}};
-
-// The dimension whose plausible magnitude (io/units.hpp) bounds a URDF attribute: lengths and
-// positions (limits of prismatic joints too: both bounds are 1e3), angles, velocities; nullptr for
-// plain numbers (masses, inertias, efforts, scales, gains).
-const Dimension* attributeDimension(const std::string& attr) {
-  static const Dimension length = Dimension::Length, angle = Dimension::Angle,
-                         velocity = Dimension::AngularVelocity;
-  static const std::set<std::string> lengths = {
-      "xyz",   "size",  "radius",           "length",           "rising",
-      "lower", "upper", "soft_lower_limit", "soft_upper_limit", "falling"};
-  if (lengths.count(attr)) return &length;
-  if (attr == "rpy") return &angle;
-  if (attr == "velocity") return &velocity;
-  return nullptr;
-}
-
-// Every number of attribute `attr` of element `e` must be finite and plausible: report the element
-// and its line.
-void checkAttribute(const TiXmlElement* e, const char* attr, const std::string& owner,
-                    const std::string& file) {
-  const char* v = e->Attribute(attr);
-  if (!v) return;
-  std::istringstream in(v);
-  in.imbue(std::locale::classic());
-  std::string tok;
-  while (in >> tok) {
-    std::string problem;
-    try {
-      std::size_t used = 0;
-      const double d = std::stod(tok, &used);
-      if (used != tok.size() || !std::isfinite(d))
-        problem = "'" + tok + "' is not a finite number";
-      else if (const std::string p = implausible(d, attributeDimension(attr)); !p.empty())
-        problem = "'" + tok + "': " + p;
-    } catch (const std::exception&) {
-      problem = "'" + tok + "' is not a finite number";
-    }
-    if (!problem.empty())
-      throw InputError(file, e->Row(), owner + "/" + e->Value() + "@" + attr, problem);
-  }
-}
-
-// The elements at `path` ("a/b/c") below `e`, each checked for the attributes `attrs`.
-void checkAt(const TiXmlElement* e, const std::string& path, const std::vector<const char*>& attrs,
-             const std::string& owner, const std::string& file) {
-  const auto slash = path.find('/');
-  const std::string head = path.substr(0, slash);
-  for (const TiXmlElement* c = e->FirstChildElement(head.c_str()); c;
-       c = c->NextSiblingElement(head.c_str())) {
-    if (slash != std::string::npos) {
-      checkAt(c, path.substr(slash + 1), attrs, owner, file);
-      continue;
-    }
-    for (const char* a : attrs) checkAttribute(c, a, owner, file);
-  }
-}
-
-void checkNumbers(const TiXmlElement* e, const NumberSchema& schema, const std::string& owner,
-                  const std::string& file) {
-  for (const auto& [path, attrs] : schema) checkAt(e, path, attrs, owner, file);
-}
-
-// Joints whose <limit> lacks lower or upper (URDF reads them as 0).
-bool limitWithoutBounds(const TiXmlElement* joint) {
-  const TiXmlElement* l = joint->FirstChildElement("limit");
-  return l && (!l->Attribute("lower") || !l->Attribute("upper"));
-}
-
-XmlIndex indexAndCheck(const std::string& text, const std::string& file) {
-  const XmlTagScan tags = scanXmlTags(text, file);
-  TiXmlDocument doc;
-  doc.Parse(text.c_str());
-  if (doc.Error()) {
-    // TinyXML gives no row for some errors (a comment never closed, say) and a later one for
-    // others (a stray '<'): the earlier of its row and the scan's line.
-    int line = doc.ErrorRow() > 0 ? doc.ErrorRow() : 1;
-    if (tags.problem_line > 0 && (doc.ErrorRow() <= 0 || tags.problem_line < line))
-      line = tags.problem_line;
-    throw InputError(file, line, "xml", std::string("not well-formed XML: ") + doc.ErrorDesc());
-  }
-  const TiXmlElement* robot = doc.FirstChildElement("robot");
-  if (!robot) throw InputError(file, 1, "robot", "no <robot> element: not a URDF file");
-  XmlIndex out;
-  out.robot_line = robot->Row();
-  struct {
-    std::map<std::string, const TiXmlElement*> links, joints;
-  } idx;
-  static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic",
-                                               "fixed",    "floating",   "planar"};
-  for (const TiXmlElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const std::string tag = e->Value();
-    if (tag != "link" && tag != "joint") continue;
-    const char* name = e->Attribute("name");
-    if (!name) throw InputError(file, e->Row(), tag, "<" + tag + "> without a name");
-    auto& map = tag == "link" ? idx.links : idx.joints;
-    if (map.count(name))
-      throw InputError(file, e->Row(), elementLabel(e), tag + " name '" + name + "' is used twice");
-    map[name] = e;
-  }
-  for (const auto& [name, e] : idx.joints) {
-    const std::string label = elementLabel(e);
-    const char* type = e->Attribute("type");
-    if (!type || !kTypes.count(type))
-      throw InputError(file, e->Row(), label + "@type",
-                       "unknown joint type '" + std::string(type ? type : "") +
-                           "' (URDF: revolute, continuous, prismatic, fixed, floating, planar)");
-    for (const char* role : {"parent", "child"}) {
-      const TiXmlElement* r = e->FirstChildElement(role);
-      const char* link = r ? r->Attribute("link") : nullptr;
-      if (!link)
-        throw InputError(file, e->Row(), label + "/" + role,
-                         std::string("joint has no <") + role + " link=...>");
-      if (!idx.links.count(link))
-        throw InputError(file, r->Row(), label + "/" + role,
-                         std::string(role) + " link '" + link + "' is not defined in this file");
-    }
-    checkNumbers(e, kJointNumbers, label, file);
-    if (limitWithoutBounds(e)) out.joints_without_bounds.insert(name);
-  }
-  for (const auto& [name, e] : idx.links) checkNumbers(e, kLinkNumbers, elementLabel(e), file);
-  // Each link has at most one parent joint; following parents from any link must reach a root.
-  std::map<std::string, std::string> parent_of;  // child link -> joint
-  for (const auto& [name, e] : idx.joints) {
-    const std::string child = e->FirstChildElement("child")->Attribute("link");
-    if (parent_of.count(child))
-      throw InputError(file, e->Row(), elementLabel(e),
-                       "link '" + child + "' has two parent joints ('" + parent_of[child] +
-                           "' and '" + name + "'): a URDF is a tree");
-    parent_of[child] = name;
-  }
-  for (const auto& [link, joint] : parent_of) {
-    std::set<std::string> seen{link};
-    std::string cur = link;
-    while (parent_of.count(cur)) {
-      const TiXmlElement* j = idx.joints.at(parent_of[cur]);
-      cur = j->FirstChildElement("parent")->Attribute("link");
-      if (!seen.insert(cur).second)
-        throw InputError(file, j->Row(), elementLabel(j),
-                         "the joints form a cycle through link '" + cur + "'");
-    }
-  }
-  for (const auto& [name, e] : idx.links) out.links[name] = e->Row();
-  for (const auto& [name, e] : idx.joints) out.joints[name] = e->Row();
-  return out;  // the document dies here: keep lines, not elements
-}
 
 PoseXYZABG poseFromIso(const Isometry3d& T) {
   PoseXYZABG p;
@@ -336,41 +108,6 @@ std::string sanitizeName(const std::string& s) {
     o +=
         (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
   return o.empty() ? "urdf_robot" : o;
-}
-
-// Inertials of the links of one body, merged into one rigid body about its COM, in frame F.
-LinkInertia mergeInertials(const std::vector<LinkInBody>& links) {
-  LinkInertia out;
-  double mass = 0;
-  Vector3d mc = Vector3d::Zero();
-  struct Part {
-    double m;
-    Vector3d c;
-    Matrix3d I;
-  };
-  std::vector<Part> parts;
-  for (const auto& lb : links) {
-    const auto& in = lb.link->inertial;
-    if (!in) continue;
-    out.given = true;
-    const Isometry3d T = lb.T_FL * toIso(in->origin);  // inertial frame in F
-    Matrix3d I;
-    I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
-    const Matrix3d R = T.linear();
-    parts.push_back({in->mass, T.translation(), R * I * R.transpose()});
-    mass += in->mass;
-    mc += in->mass * T.translation();
-  }
-  if (!out.given) return out;
-  out.mass_kg = mass;
-  out.p_com_m = mass > 0 ? Vector3d(mc / mass) : parts.front().c;
-  Matrix3d I = Matrix3d::Zero();
-  for (const Part& p : parts) {  // parallel-axis theorem to the common COM
-    const Vector3d d = p.c - out.p_com_m;
-    I += p.I + p.m * (d.squaredNorm() * Matrix3d::Identity() - d * d.transpose());
-  }
-  out.I_com_kgm2 = I;
-  return out;
 }
 
 // "no link named ..." with what the file has: its links.
@@ -563,9 +300,24 @@ struct UrdfImport {
                          "or make a revolute joint without stops type=\"continuous\"");
       J.limits.q_min = j.limits->lower;
       J.limits.q_max = j.limits->upper;
-      if (!(J.limits.q_min < J.limits.q_max))
+      if (!(J.limits.q_min < J.limits.q_max)) {
+        char range[96];
+        std::snprintf(range, sizeof range, "lower = %g, upper = %g", J.limits.q_min,
+                      J.limits.q_max);
+        char swapped[96];
+        std::snprintf(swapped, sizeof swapped, "lower=\"%g\" upper=\"%g\"", J.limits.q_max,
+                      J.limits.q_min);
+        const std::string fix =
+            J.limits.q_min > J.limits.q_max
+                ? "the bounds are swapped: write " + std::string(swapped)
+                : "the joint cannot move: give its range, make a revolute joint without stops "
+                  "type=\"continuous\", or a joint that never moves type=\"fixed\"";
         throw InputError(file, jointLine(j.name), jl + "/limit",
-                         "lower limit must be below upper limit (armstudy sweeps the joint range)");
+                         std::string(range) +
+                             ": the lower limit must be below the upper one "
+                             "(armstudy sweeps the joint range); " +
+                             fix);
+      }
     }
     if (j.limits) {
       J.limits.qd_max = std::max(0.0, j.limits->velocity);
@@ -578,22 +330,44 @@ struct UrdfImport {
     bodies.push_back({{robot->getLink(j.child_link_name), T_acc}});
   }
 
-  // A warning for each branch off the chain (fingers, sensors, tool frames): they are ignored.
+  // A warning for each branch off the chain (fingers, sensors, tool frames): masses lumped only.
   void warnBranches() {
     for (const auto& [name, link] : robot->links_)
       if (!on_chain.count(name) && link->parent_joint &&
           on_chain.count(link->parent_joint->parent_link_name))
         warnings.push_back("URDF import: branch at link '" + name + "' (joint '" +
                            link->parent_joint->name + "') is off the chain " + base->name + " -> " +
-                           tip->name + " and ignored");
+                           tip->name +
+                           ": its masses ride on the chain link it hangs from "
+                           "(branch joints held at 0, clamped into their limits), "
+                           "its collision geometry is not checked");
   }
 
-  // Inertias: the body after joint i carries its link and the links folded onto it.
+  // Inertias: the body after joint i carries its link, the links folded onto it and the links
+  // off the chain that ride on them (fixed links beyond the tip, branches with their joints held).
   void mergeBodyInertias() {
+    std::vector<std::vector<LinkInBody>> masses(bodies.begin(), bodies.end());
+    std::map<std::string, std::pair<std::size_t, Isometry3d>> body_of;  // chain link -> body, T_FL
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+      for (const auto& lb : bodies[b]) body_of[lb.link->name] = {b, lb.T_FL};
+    for (const OffChainLink& o : offChainLinks(*robot, on_chain)) {
+      const auto& [b, T_FC] = body_of.at(o.chain_link);
+      // The base does not move: masses on it do nothing; massless links add nothing.
+      if (b == 0 || !o.link->inertial || !(o.link->inertial->mass > 0)) continue;
+      masses[b].push_back({o.link, T_FC * o.T_CL});
+      std::string held;
+      for (const auto& h : o.held) held += (held.empty() ? "" : ", ") + h;
+      char kg[32];
+      std::snprintf(kg, sizeof kg, "%.4g kg", o.link->inertial->mass);
+      notes::add(m, notes::kLumped,
+                 "'" + o.link->name + "' (" + kg + ") onto '" + o.chain_link +
+                     "' (body of joint '" + m.joints[b - 1].name + "')" +
+                     (held.empty() ? ", rigidly" : ", joints held: " + held));
+    }
     bool any_inertia = false;
     std::vector<LinkInertia> inertias;
-    for (std::size_t b = 1; b < bodies.size(); ++b) {
-      inertias.push_back(mergeInertials(bodies[b]));
+    for (std::size_t b = 1; b < masses.size(); ++b) {
+      inertias.push_back(mergeInertials(masses[b]));
       any_inertia = any_inertia || inertias.back().given;
     }
     if (any_inertia) m.inertias = inertias;
@@ -604,9 +378,22 @@ struct UrdfImport {
   void addCollisionAndHash() {
     std::string mesh_hashes;
     if (o.collision)
-      for (std::size_t b = 0; b < bodies.size(); ++b)
-        for (const auto& lb : bodies[b])
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        const std::size_t before_body = m.collision.volumes.size();
+        bool any_geometry = false;
+        for (const auto& lb : bodies[b]) {
+          const std::size_t before = m.collision.volumes.size();
           addCollision(m, static_cast<int>(b) - 1, lb, file, o, xml, warnings, mesh_hashes);
+          const bool geometry = !lb.link->collision_array.empty();
+          any_geometry = any_geometry || geometry;
+          if (geometry && m.collision.volumes.size() == before)
+            notes::add(m, notes::kNoCollision,
+                       "'" + lb.link->name + "' (collision mesh not found or unreadable)");
+        }
+        if (!any_geometry && m.collision.volumes.size() == before_body)
+          notes::add(m, notes::kNoCollision,
+                     "'" + bodies[b].front().link->name + "' (no <collision> element)");
+      }
     // The design hash covers what the model is made of: the URDF text, the chain and the meshes.
     m.file_hash =
         contentHash(text + "\nchain " + base->name + " " + tip->name + "\n" + mesh_hashes);
@@ -677,6 +464,7 @@ UrdfChains findUrdfChains(const std::string& path, const UrdfOptions& o) {
 // Checks the XML, parses it with urdfdom, then builds the model along the chain base -> tip.
 Model importUrdfText(const std::string& text, const std::string& file, const UrdfOptions& o,
                      UrdfInfo* info_out, std::vector<std::string>* warnings_out) {
+  rejectUnexpandedXacro(text, file);
   const XmlIndex xml = indexAndCheck(text, file);
   UrdfImport im(text, file, o, xml, parseWithUrdfdom(text, file, xml));
   im.chooseBaseAndTip();
@@ -688,6 +476,7 @@ Model importUrdfText(const std::string& text, const std::string& file, const Urd
   im.m.finalize();
   if (!im.m.collision.empty()) im.allowTouchingPairs();
   im.addAssumptions();
+  applyToolAxisFromArm(im.m);
   if (warnings_out) *warnings_out = im.warnings;
   if (info_out) *info_out = im.info;
   im.m.finalize();

@@ -6,8 +6,9 @@
 // base to tip): each joint frame is the URDF joint origin rotated by a fixed R_a with R_a e_z =
 // axis, so the armstudy body frame i is F_i = L_i R_a (L_i = URDF child link frame), and every
 // quantity of the link (inertial, collision geometry, the next joint origin) is re-expressed in
-// F_i. Fixed joints on the chain are folded into the neighbouring transforms; branches off the
-// chain are ignored with a note in the design's assumptions.
+// F_i. Fixed joints on the chain are folded into the neighbouring transforms; the kinematics and
+// collision geometry of branches off the chain are ignored with a note in the design's
+// assumptions, their masses ride on the chain (io/urdf_arm.hpp).
 //
 // Export: one URDF link per body (base, the body after each joint, the TCP frame), inertials at
 // the COM, limits with velocity and effort. A link named after an imported URDF link is that

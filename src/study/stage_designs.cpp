@@ -2,8 +2,10 @@
 
 #include <algorithm>
 
+#include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/toml_reader.hpp"
+#include "model/model_notes.hpp"
 
 namespace armstudy {
 
@@ -41,7 +43,10 @@ Study StageDesigns::select(const Study& study) const {
                     s.designs.end());
   for (StudyDesign& sd : s.designs)
     for (const auto& [name, axis] : tool_axes)
-      if (sd.model.name == name) sd.model.tool_axis_T = axis;
+      if (sd.model.name == name) {
+        sd.model.tool_axis_T = axis;
+        notes::toolAxisNamed(sd.model, "the stage's tool_axis table");
+      }
   return s;
 }
 

@@ -5,6 +5,7 @@
 
 #include "io/toml_reader.hpp"
 #include "io/units.hpp"
+#include "study/tool_axis_check.hpp"
 
 namespace armstudy::dexterity {
 
@@ -162,6 +163,8 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   else
     r.fail("task",
            "expected \"position_axis\" (tool axis towards the stem, roll free) or \"full\"");
+  if (g.task == ik::PoseTaskKind::PositionAxis)
+    requireToolAxes(o.designs, designs, r.file(), r.line(), r.path());
   g.roll_rad = r.quantity("roll", Dimension::Angle, 0.0);
   if (r.has("roll") && g.task != ik::PoseTaskKind::FullPose)
     r.fail("roll", "roll is only used with task = \"full\"");

@@ -9,6 +9,7 @@
 #include "io/pose_list_io.hpp"
 #include "io/toml_reader.hpp"
 #include "study/stage_designs.hpp"
+#include "study/tool_axis_check.hpp"
 
 namespace armstudy {
 
@@ -262,6 +263,13 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   std::set<std::string> names;
   readGrids(r, top, default_space, names, cfg);
   readPoseLists(r, top, study_dir, default_space, names, cfg, files_read);
+  bool points_axis = false;  // the spraying-type tasks: position, the tool axis, the roll free
+  auto axisTask = [](const TaskSpace& t) {
+    return t.selected[3] && !t.selected[4] && t.selected[5];
+  };
+  for (const auto& g : cfg.grids) points_axis = points_axis || axisTask(g.task_space);
+  for (const auto& p : cfg.pose_lists) points_axis = points_axis || axisTask(p.task_space);
+  if (points_axis) requireToolAxes(stage_designs, evaluated, top.file(), r.line(), "reach");
   r.finish();
   if (cfg.grids.empty() && cfg.pose_lists.empty())
     throw InputError(top.file(), r.line(), "reach",

@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "common/errors.hpp"
 #include "io/vtk_io.hpp"
+#include "model/model_notes.hpp"
 #include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
 #include "stages/reach/reach_grid.hpp"
@@ -104,8 +106,39 @@ void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered
                  without.c_str());
 }
 
+// The links (base and the body after each joint) of `m` that carry collision volumes.
+int linksWithVolumes(const Model& m) {
+  std::set<int> links;
+  for (const CollisionVolume& v : m.collision.volumes) links.insert(v.link);
+  return static_cast<int>(links.size());
+}
+
+// Designs whose links lack collision volumes (a URDF's meshes not found, links without
+// <collision>): a warning naming them, at the top of the report, in the answer's warnings and on
+// stderr, whether self-collision is on (it then covers fewer links) or off.
+void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::string& md,
+                          std::vector<std::string>& warnings) {
+  for (const StudyDesign& sd : ctx.study.designs) {
+    const Model& m = sd.model;
+    const std::vector<std::string> missing = notes::all(m, notes::kNoCollision);
+    if (missing.empty()) continue;
+    std::string links;
+    for (const std::string& l : missing) links += (links.empty() ? "" : ", ") + l;
+    const int with = linksWithVolumes(m), all = m.dof() + 1;
+    const bool checked = cfg.collision.self && !m.collision.empty();
+    const std::string w =
+        "`" + m.name + "`: " + std::to_string(all - with) + " of " + std::to_string(all) +
+        " links have no collision volume: " + links + "; " +
+        (checked ? "self-collision covers the other " + std::to_string(with) + " links only"
+                 : std::string("self-collision is off for this design"));
+    md += "**Warning:** " + w + ".\n\n";
+    warnings.push_back(w);
+    if (ctx.writes_results) std::fprintf(stderr, "armstudy: warning: %s\n", w.c_str());
+  }
+}
+
 // The map colours, and what the collision and obstacle checks mean.
-std::string checksText(const ReachConfig& cfg) {
+std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfig& cfg) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   // Only a literal selection of Cardan angles can be representation singular.
   bool cardan = false;
@@ -123,14 +156,20 @@ std::string checksText(const ReachConfig& cfg) {
                : "") +
       " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
       (obst_on ? ", brown" : "") + ").\n\n";
-  if (self_on)
-    md +=
-        "Self-collision: on. A pose counts as reachable only with a collision-free solution (every "
-        "self-collision "
-        "distance of the design's swept-sphere volumes > 0, other postures tried through the "
-        "redundancy); poses "
-        "reachable only in collision are counted separately, with the colliding pair in "
-        "summary.json.\n\n";
+  if (self_on) {
+    std::string cover;
+    for (const StudyDesign& sd : designs)
+      cover += std::string(cover.empty() ? "" : ", ") + "`" + sd.model.name + "` " +
+               std::to_string(linksWithVolumes(sd.model)) + " of " +
+               std::to_string(sd.model.dof() + 1);
+    md += "Self-collision: on for the links with collision volumes (" + cover +
+          " links). A pose counts as reachable only with a collision-free solution (every "
+          "self-collision "
+          "distance of the design's swept-sphere volumes > 0, other postures tried through the "
+          "redundancy); poses "
+          "reachable only in collision are counted separately, with the colliding pair in "
+          "summary.json.\n\n";
+  }
   if (obst_on) {
     md += "Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
           " in the task frame, checked against every link's swept-sphere volumes; a pose counts as "
@@ -251,7 +290,9 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   jr["settings"] = settingsJson(cfg);
   std::string md = taskText(study, cfg);
   warnWithoutVolumes(ctx, cfg, jr, md);
-  md += checksText(cfg);
+  std::vector<std::string> partial;
+  warnPartialCollision(ctx, cfg, md, partial);
+  md += checksText(study.designs, cfg);
   md += designDrawings(ctx, cfg, out);
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids)
@@ -267,6 +308,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   reachAnswer(jr, sum.answer, sum.warnings);
+  sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
   out.text("reach/report.md", md);
