@@ -43,8 +43,14 @@ void checkArgument(const char* name, long long value, long long lo, long long hi
                    const char* note = "");
 
 // OpenMP threads for a batch call: `threads` (0 = the OpenMP default), at least 1; InputError
-// beyond the CLI's --threads bound.
+// beyond the CLI's --threads bound. Always 1 in a process forked from this one (forkedChild).
 int threadCount(int threads);
+
+// True in a process forked (os.fork, a fork-based multiprocessing pool) after the module was
+// imported. The OpenMP runtime (libgomp) is not fork-safe: a parallel region of more than one
+// thread in the child waits forever for the parent's pool threads, which do not exist there. So a
+// forked child runs every call on one thread (a pool is one process per core anyway).
+bool forkedChild();
 
 void bindDesign(py::module_& m);
 void bindKernels(py::class_<Design>& design);

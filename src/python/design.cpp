@@ -126,6 +126,37 @@ Design withEntries(const Design& d, const std::map<std::string, double>& entries
   return out;
 }
 
+// Pickling (multiprocessing hands designs to workers): the design TOML (designToToml: numbers with
+// 17 significant digits, so the model is the same bit for bit, URDF facts included), the file and
+// hash it came from, the import notes, and the design-file lines of joints and volumes.
+py::tuple designState(const Design& d) {
+  const Model& m = *d.model;
+  std::vector<int> joint_lines, volume_lines;
+  for (const Joint& j : m.joints) joint_lines.push_back(j.source_line);
+  for (const CollisionVolume& v : m.collision.volumes) volume_lines.push_back(v.source_line);
+  return py::make_tuple(1, designToToml(m, d.info), m.file, m.file_hash, d.warnings, joint_lines,
+                        volume_lines);
+}
+
+Design designFromState(const py::tuple& state) {
+  if (state.size() != 7 || state[0].cast<int>() != 1)
+    throw std::invalid_argument("Design.__setstate__: not a pickled armstudy.Design");
+  Design d;
+  Model m = parseDesignWithUrdfInfo(state[1].cast<std::string>(), state[2].cast<std::string>(),
+                                    &d.info);
+  m.file = state[2].cast<std::string>();
+  m.file_hash = state[3].cast<std::string>();
+  d.warnings = state[4].cast<std::vector<std::string>>();
+  const auto joint_lines = state[5].cast<std::vector<int>>();
+  const auto volume_lines = state[6].cast<std::vector<int>>();
+  for (std::size_t i = 0; i < joint_lines.size() && i < m.joints.size(); ++i)
+    m.joints[i].source_line = joint_lines[i];
+  for (std::size_t i = 0; i < volume_lines.size() && i < m.collision.volumes.size(); ++i)
+    m.collision.volumes[i].source_line = volume_lines[i];
+  d.model = std::make_shared<const Model>(std::move(m));
+  return d;
+}
+
 }  // namespace
 
 void bindDesign(py::module_& m) {
@@ -183,6 +214,7 @@ frame W (the design's base placed in it).)");
       .def("with_entries", &withEntries, py::arg("entries"), py::arg("name") = "",
            R"(A copy with table entries set, as a study variant does: keys such as
 'joint.j3.min', 'joint.j2.z', 'tcp.z', 'base.y', 'payload.mass'; values in SI.)")
+      .def(py::pickle(&designState, &designFromState))
       .def("__repr__", [](const Design& d) {
         return "<armstudy.Design '" + d.model->name + "', " + std::to_string(d.model->dof()) +
                " joints>";

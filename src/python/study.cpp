@@ -267,7 +267,7 @@ RunOptions runOptions(const std::string& output, int threads, bool overwrite, lo
   checkArgument("unit_size", unit_size, 0, defaults::kMaxUnitItems, " (0 = each stage's default)");
   RunOptions o;
   o.output_root = output;
-  o.threads = threads;
+  o.threads = forkedChild() ? 1 : threads;  // bindings.hpp: one thread after a fork
   o.overwrite = overwrite;
   o.unit_items = unit_size;
   o.progress = false;
