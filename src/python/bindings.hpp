@@ -52,10 +52,14 @@ int threadCount(int threads);
 // forked child runs every call on one thread (a pool is one process per core anyway).
 bool forkedChild();
 
+// `o` itself, or os.fspath(o) for an os.PathLike (pathlib.Path): what a path argument accepts.
+py::object pathLike(const py::object& o);
+
 void bindDesign(py::module_& m);
 void bindKernels(py::class_<Design>& design);
 void bindSolve(py::module_& m, py::class_<Design>& design);
 void bindStudy(py::module_& m);
+void bindPoses(py::module_& m);
 void bindCalibration(py::module_& m);
 
 }  // namespace armstudy::python

@@ -1,5 +1,6 @@
 // Designs: loading (TOML or URDF), inspecting joints, limits and collision volumes, converting.
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
 
@@ -30,11 +31,13 @@ py::array_t<double> vector3(const Eigen::Vector3d& v) {
 }
 
 UrdfOptions urdfOptions(const std::string& base, const std::string& tip,
-                        const std::map<std::string, std::string>& packages, bool collision) {
+                        const std::map<std::string, std::filesystem::path>& packages,
+                        bool collision) {
   UrdfOptions u;
   u.base_link = base;
   u.tip_link = tip;
-  for (const auto& [name, dir] : packages) {
+  for (const auto& [name, folder] : packages) {
+    const std::string dir = folder.string();
     if (!std::filesystem::is_directory(dir))
       throw InputError("packages", 0, "package",
                        "folder '" + dir + "' for package '" + name + "' does not exist (" +
@@ -45,11 +48,11 @@ UrdfOptions urdfOptions(const std::string& base, const std::string& tip,
   return u;
 }
 
-Design load(const std::string& path, const std::string& base, const std::string& tip,
-            const std::map<std::string, std::string>& packages, bool collision) {
+Design load(const std::filesystem::path& path, const std::string& base, const std::string& tip,
+            const std::map<std::string, std::filesystem::path>& packages, bool collision) {
   Design d;
-  d.model = std::make_shared<const Model>(
-      loadAnyDesign(path, urdfOptions(base, tip, packages, collision), &d.info, &d.warnings));
+  d.model = std::make_shared<const Model>(loadAnyDesign(
+      path.string(), urdfOptions(base, tip, packages, collision), &d.info, &d.warnings));
   return d;
 }
 
@@ -142,8 +145,8 @@ Design designFromState(const py::tuple& state) {
   if (state.size() != 7 || state[0].cast<int>() != 1)
     throw std::invalid_argument("Design.__setstate__: not a pickled armstudy.Design");
   Design d;
-  Model m = parseDesignWithUrdfInfo(state[1].cast<std::string>(), state[2].cast<std::string>(),
-                                    &d.info);
+  Model m =
+      parseDesignWithUrdfInfo(state[1].cast<std::string>(), state[2].cast<std::string>(), &d.info);
   m.file = state[2].cast<std::string>();
   m.file_hash = state[3].cast<std::string>();
   d.warnings = state[4].cast<std::vector<std::string>>();
@@ -165,39 +168,65 @@ void bindDesign(py::module_& m) {
 Load one with armstudy.load_design (TOML or URDF) or armstudy.parse_design (TOML text).
 Joint values are SI: radians for revolute, metres for prismatic joints; poses are in the world
 frame W (the design's base placed in it).)");
-  design.def_property_readonly("name", [](const Design& d) { return d.model->name; })
-      .def_property_readonly("description", [](const Design& d) { return d.model->description; })
-      .def_property_readonly("file", [](const Design& d) { return d.model->file; })
-      .def_property_readonly("file_hash", [](const Design& d) { return d.model->file_hash; })
-      .def_property_readonly("assumptions", [](const Design& d) { return d.model->assumptions; })
+  design
+      .def_property_readonly(
+          "name", [](const Design& d) { return d.model->name; },
+          "The design name (a variant's own name).")
+      .def_property_readonly(
+          "description", [](const Design& d) { return d.model->description; },
+          "The design file's description.")
+      .def_property_readonly(
+          "file", [](const Design& d) { return d.model->file; },
+          "The design file it was loaded from (a label for parse_design).")
+      .def_property_readonly(
+          "file_hash", [](const Design& d) { return d.model->file_hash; },
+          "Content hash of that file (manifests, checkpoints).")
+      .def_property_readonly(
+          "assumptions", [](const Design& d) { return d.model->assumptions; },
+          "The design file's stated assumptions.")
       .def_property_readonly(
           "warnings", [](const Design& d) { return d.warnings; },
           "Notes of a URDF import (missing meshes, ignored branches).")
-      .def_property_readonly("dof", [](const Design& d) { return d.model->dof(); })
-      .def_property_readonly("joint_names",
-                             [](const Design& d) {
-                               std::vector<std::string> n;
-                               for (const Joint& j : d.model->joints) n.push_back(j.name);
-                               return n;
-                             })
+      .def_property_readonly(
+          "dof", [](const Design& d) { return d.model->dof(); },
+          "Number of joints (the length of q).")
+      .def_property_readonly(
+          "joint_names",
+          [](const Design& d) {
+            std::vector<std::string> n;
+            for (const Joint& j : d.model->joints) n.push_back(j.name);
+            return n;
+          },
+          "The joint names, in the order of q.")
       .def_property_readonly(
           "joints", [](const Design& d) { return jointList(*d.model); },
           "One dict per joint: name, type, the table row x, y, z, alpha, beta, gamma, the limits "
           "min, max, max_velocity (0 = not given) and the line in the design file.")
       .def_property_readonly(
-          "lower", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_min); })
+          "lower", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_min); },
+          "Lower joint limits (dof,) [rad or m].")
       .def_property_readonly(
-          "upper", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_max); })
+          "upper", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_max); },
+          "Upper joint limits (dof,) [rad or m].")
       .def_property_readonly(
           "max_velocity",
-          [](const Design& d) { return limitArray(*d.model, &JointLimits::qd_max); })
-      .def_property_readonly("tcp", [](const Design& d) { return poseDict(d.model->tcp); })
-      .def_property_readonly("base", [](const Design& d) { return poseDict(d.model->base); })
-      .def_property_readonly("tool_axis",
-                             [](const Design& d) { return vector3(d.model->tool_axis_T); })
-      .def_property_readonly("payload_kg", [](const Design& d) { return d.model->payload_kg; })
-      .def_property_readonly("has_inertia",
-                             [](const Design& d) { return !d.model->inertias.empty(); })
+          [](const Design& d) { return limitArray(*d.model, &JointLimits::qd_max); },
+          "Joint speed limits (dof,) [rad/s or m/s]; 0 = not given.")
+      .def_property_readonly(
+          "tcp", [](const Design& d) { return poseDict(d.model->tcp); },
+          "TCP offset from the last joint frame: x, y, z [m], alpha, beta, gamma [rad].")
+      .def_property_readonly(
+          "base", [](const Design& d) { return poseDict(d.model->base); },
+          "Pose of the robot base in W: x, y, z [m], alpha, beta, gamma [rad].")
+      .def_property_readonly(
+          "tool_axis", [](const Design& d) { return vector3(d.model->tool_axis_T); },
+          "The tool axis (unit, in the TCP frame) a tool-axis task points.")
+      .def_property_readonly(
+          "payload_kg", [](const Design& d) { return d.model->payload_kg; },
+          "End effector + payload mass at the TCP [kg].")
+      .def_property_readonly(
+          "has_inertia", [](const Design& d) { return !d.model->inertias.empty(); },
+          "Whether the design has link inertias (dynamics needs them).")
       .def_property_readonly(
           "volumes", [](const Design& d) { return volumeList(*d.model); },
           "The collision volumes: name, link (body name, 'base' for the fixed base), type "
@@ -223,7 +252,8 @@ frame W (the design's base placed in it).)");
   bindSolve(m, design);
 
   m.def("load_design", &load, py::arg("path"), py::arg("base") = "", py::arg("tip") = "",
-        py::arg("packages") = std::map<std::string, std::string>{}, py::arg("collision") = true,
+        py::arg("packages") = std::map<std::string, std::filesystem::path>{},
+        py::arg("collision") = true,
         R"(Loads a design file: TOML, or URDF (.urdf) with the chain from `base` to `tip`
 (defaults as `armstudy describe`), `packages` mapping package://NAME to a folder, and
 `collision` fitting swept-sphere volumes to its meshes. Raises InputError on bad input.)");

@@ -1,6 +1,5 @@
 // The module definition: the InputError exception, the array helpers, and every binding.
 #include <omp.h>
-
 #include <pthread.h>
 
 #include <atomic>
@@ -64,6 +63,11 @@ void afterFork() {
 
 bool forkedChild() { return forked_child; }
 
+py::object pathLike(const py::object& o) {
+  if (py::isinstance<py::str>(o) || !py::hasattr(o, "__fspath__")) return o;
+  return py::module_::import("os").attr("fspath")(o);
+}
+
 int threadCount(int threads) {
   checkArgument("threads", threads, 0, defaults::kMaxThreads, " (0 = all cores)");
   if (forkedChild()) return 1;
@@ -99,5 +103,6 @@ PYBIND11_MODULE(armstudy, m) {
   });
   bindDesign(m);
   bindStudy(m);
+  bindPoses(m);
   bindCalibration(m);
 }
