@@ -154,7 +154,24 @@ void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
 
 void UnitRunner::share(const SharedLoop& loop) const {
   if (loop.items <= 0) return;
-  if (!times_.enabled()) return loop.computeAll({{0, ItemRange{0, loop.items}}});
+  if (!times_.enabled() && !cancelled_) return loop.computeAll({{0, ItemRange{0, loop.items}}});
+  if (!times_.enabled()) {
+    // Cancellable: the chunks in slices of as many as there are threads, cancelled_ asked before
+    // each (nothing of a shared loop is saved; the units before it are).
+    const std::vector<ItemRange> ranges = loop.chunks();
+    const std::size_t slice = static_cast<std::size_t>(std::max(1, threads_));
+    std::vector<SharedLoop::Chunk> all;
+    for (std::size_t begin = 0; begin < ranges.size(); begin += slice) {
+      if (cancelled_()) throw RunCancelled();
+      std::vector<SharedLoop::Chunk> part;
+      for (std::size_t k = begin; k < std::min(ranges.size(), begin + slice); ++k)
+        part.push_back({k, ranges[k]});
+      loop.compute(part);
+      all.insert(all.end(), part.begin(), part.end());
+    }
+    if (loop.finish) loop.finish(all);
+    return;
+  }
   // Recorded: the loop's chunks, each timed (tests/benchmarks/simulate_distribution.py
   // regroups them as a distributed run of any size would).
   const std::vector<ItemRange> ranges = loop.chunks();

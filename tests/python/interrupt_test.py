@@ -22,7 +22,7 @@ STUDY = {"study": {"name": "interrupted"},
          "reach": {"task_space": "spraying", "grid": [{"name": "row",
                    "x": {"from": "-0.8 m", "to": "0.8 m", "step": "0.02 m"},
                    "y": {"from": "0.3 m", "to": "1.2 m", "step": "0.02 m"}, "z": "1.2 m",
-                   "alpha": "0 deg", "gamma": ["-40 deg", "0 deg", "40 deg"]}]}}
+                   "alpha": "0 deg", "gamma": [f"{g} deg" for g in range(-40, 41, 10)]}]}}
 
 CHILD = """
 import json, sys, time
