@@ -26,7 +26,8 @@ TEST_PKGS=(catch2
            chromium chromium-driver  # the browser test of report.html (tests/browser)
            xvfb xauth  # xvfb-run: the ParaView scene render test (scripts/unpack-paraview.sh)
            clang-format  # scripts/check-format.sh, run by .ci/run
-           python3-pykdl)  # orocos-kdl from Python: the oracle of the Python module's tests
+           python3-pykdl  # orocos-kdl from Python: the oracle of the Python module's tests
+           jupyter-nbconvert python3-ipykernel)  # the notebook docs/python.ipynb, run by ctest
 [ "$STUDY_ONLY" = 1 ] || PKGS+=("${TEST_PKGS[@]}")
 missing=()
 for p in "${PKGS[@]}"; do

@@ -310,6 +310,7 @@ struct StudyRun {
                            sum.threads, root,          sum.output_dir};
     try {
       for (const StudySection& section : study.sections) {
+        if (options.cancelled && !ranks.distributed() && options.cancelled()) throw RunCancelled();
         StageResult r = section.stage->run(ctx, *section.settings);
         const std::vector<std::string> stray = metricsOutside(r.metrics, section.stage->name());
         ARMSTUDY_CHECK(stray.empty(), "stage '" + section.stage->name() + "' names metric '" +
@@ -516,6 +517,7 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
   if (ranks.distributed()) stage_options.progress = false;
   const std::unique_ptr<UnitRunner> run_units =
       ranks.unitRunner(*run.store, run.sum.threads, options.progress, options.search_group_ranks);
+  if (options.cancelled && !ranks.distributed()) run_units->setCancelled(options.cancelled);
   const TimedUnitRunner units(*run_units);
   run.writeDesigns();
   run.runStages(stage_options, units);

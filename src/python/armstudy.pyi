@@ -11,6 +11,7 @@ __revision__: str
 STATUS_NAMES: list[str]
 
 ArrayLike = npt.ArrayLike
+PathLike = Union[str, os.PathLike[str]]
 Array = npt.NDArray[np.float64]
 
 class InputError(ValueError):
@@ -35,12 +36,17 @@ class SolveResult(TypedDict):
 
 class BatchSolveResult(TypedDict):
     status: npt.NDArray[np.uint8]
+    status_name: list[str]
+    reachable: npt.NDArray[np.bool_]
     q: Array
     manipulability: Array
     position_error: Array
     orientation_error: Array
+    joint_limit_margin: Array
     starts: npt.NDArray[np.int32]
+    iterations: npt.NDArray[np.int32]
     min_distance: Array
+    colliding_pair: list[str]
 
 class Design:
     @property
@@ -87,8 +93,8 @@ class Design:
     def fk(self, q: ArrayLike, threads: int = 0) -> Array: ...
     def frames(self, q: ArrayLike, threads: int = 0) -> Array: ...
     def jacobian(self, q: ArrayLike, threads: int = 0) -> Array: ...
-    def task_jacobian(self, q: ArrayLike, task: str = "spraying", threads: int = 0) -> Array: ...
-    def manipulability(self, q: ArrayLike, task: str = "spraying", threads: int = 0) -> Array: ...
+    def task_jacobian(self, q: ArrayLike, task: str = "full", threads: int = 0) -> Array: ...
+    def manipulability(self, q: ArrayLike, task: str = "full", threads: int = 0) -> Array: ...
     def inverse_dynamics(
         self,
         q: ArrayLike,
@@ -103,48 +109,63 @@ class Design:
     def self_distances(self, q: ArrayLike, threads: int = 0) -> Array: ...
     def solve(
         self,
-        pose: ArrayLike,
-        task: str = "spraying",
+        target: ArrayLike,
+        task: str = "full",
+        axis: Optional[ArrayLike] = None,
         pose_id: int = 0,
         warm_start: Optional[ArrayLike] = None,
-        self_collision: Optional[bool] = None,
-        position_tolerance: Optional[float] = None,
-        orientation_tolerance: Optional[float] = None,
-        max_starts: Optional[int] = None,
-        seed: Optional[int] = None,
+        self_collision: bool = False,
+        position_tolerance: float = 0.001,
+        orientation_tolerance: float = 0.008726646259971648,
+        max_starts: int = 64,
+        seed: int = 1,
     ) -> SolveResult: ...
     def solve_batch(
         self,
-        poses: ArrayLike,
-        task: str = "spraying",
+        targets: ArrayLike,
+        task: str = "full",
+        axis: Optional[ArrayLike] = None,
         pose_ids: Optional[ArrayLike] = None,
         warm_starts: Optional[ArrayLike] = None,
         threads: int = 0,
-        self_collision: Optional[bool] = None,
-        position_tolerance: Optional[float] = None,
-        orientation_tolerance: Optional[float] = None,
-        max_starts: Optional[int] = None,
-        seed: Optional[int] = None,
+        self_collision: bool = False,
+        position_tolerance: float = 0.001,
+        orientation_tolerance: float = 0.008726646259971648,
+        max_starts: int = 64,
+        seed: int = 1,
     ) -> BatchSolveResult: ...
 
+class StudyResult(dict[str, Any]):
+    def answer(self) -> str: ...
+    def first_map(self) -> Optional[str]: ...
+    def _repr_html_(self) -> str: ...
+
+def pose_to_matrix(pose: ArrayLike) -> Array: ...
+def matrix_to_pose(matrix: ArrayLike) -> Array: ...
+def make_transform(
+    position: ArrayLike, rotation: Optional[ArrayLike] = None, quaternion: Optional[ArrayLike] = None
+) -> Array: ...
+def matrix_to_quaternion(matrix: ArrayLike) -> Array: ...
+def spray_direction(alpha: ArrayLike, gamma: ArrayLike) -> Array: ...
+def direction_to_angles(direction: ArrayLike) -> Array: ...
 def load_design(
-    path: str,
+    path: PathLike,
     base: str = "",
     tip: str = "",
-    packages: Mapping[str, str] = ...,
+    packages: Mapping[str, PathLike] = ...,
     collision: bool = True,
 ) -> Design: ...
 def parse_design(text: str, label: str = "<string>") -> Design: ...
-def read_map(path: str) -> dict[str, Any]: ...
-def check_study(study: Union[str, os.PathLike[str], Mapping[str, Any]], folder: str = ".") -> dict[str, Any]: ...
+def read_map(path: PathLike) -> dict[str, Any]: ...
+def check_study(study: Union[PathLike, Mapping[str, Any]], folder: PathLike = ".") -> dict[str, Any]: ...
 def run_study(
-    study: Union[str, os.PathLike[str], Mapping[str, Any]],
-    output: str = "output",
+    study: Union[PathLike, Mapping[str, Any]],
+    output: PathLike = "output",
     threads: int = 0,
     overwrite: bool = False,
     unit_size: int = 0,
-    folder: str = ".",
-) -> dict[str, Any]: ...
+    folder: PathLike = ".",
+) -> StudyResult: ...
 def synthesize_tcp(
     design: Design,
     rows: int = 60,
@@ -156,7 +177,7 @@ def synthesize_tcp(
 ) -> dict[str, Any]: ...
 def compare(
     design: Design,
-    data: Union[str, ArrayLike],
+    data: Union[PathLike, ArrayLike],
     kind: str = "tcp",
     pose: Optional[ArrayLike] = None,
     joint: str = "",
@@ -167,7 +188,7 @@ def compare(
 ) -> dict[str, Any]: ...
 def fit(
     design: Design,
-    data: Union[str, ArrayLike],
+    data: Union[PathLike, ArrayLike],
     kind: str = "tcp",
     pose: Optional[ArrayLike] = None,
     joint: str = "",

@@ -43,13 +43,23 @@ void checkArgument(const char* name, long long value, long long lo, long long hi
                    const char* note = "");
 
 // OpenMP threads for a batch call: `threads` (0 = the OpenMP default), at least 1; InputError
-// beyond the CLI's --threads bound.
+// beyond the CLI's --threads bound. Always 1 in a process forked from this one (forkedChild).
 int threadCount(int threads);
+
+// True in a process forked (os.fork, a fork-based multiprocessing pool) after the module was
+// imported. The OpenMP runtime (libgomp) is not fork-safe: a parallel region of more than one
+// thread in the child waits forever for the parent's pool threads, which do not exist there. So a
+// forked child runs every call on one thread (a pool is one process per core anyway).
+bool forkedChild();
+
+// `o` itself, or os.fspath(o) for an os.PathLike (pathlib.Path): what a path argument accepts.
+py::object pathLike(const py::object& o);
 
 void bindDesign(py::module_& m);
 void bindKernels(py::class_<Design>& design);
 void bindSolve(py::module_& m, py::class_<Design>& design);
 void bindStudy(py::module_& m);
+void bindPoses(py::module_& m);
 void bindCalibration(py::module_& m);
 
 }  // namespace armstudy::python

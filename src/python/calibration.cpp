@@ -27,7 +27,8 @@ py::array_t<double> matrix(const Eigen::MatrixXd& m) {
 }
 
 // The data: a CSV path (read as the CLI reads it) or the arrays q (N, dof) and pose (N, 3 or 6).
-TcpData tcpData(const Model& m, const py::object& data, const py::handle& pose) {
+TcpData tcpData(const Model& m, const py::object& data_, const py::handle& pose) {
+  const py::object data = pathLike(data_);
   if (py::isinstance<py::str>(data)) {
     if (!pose.is_none()) throw std::invalid_argument("pose: give it with q arrays, not a file");
     return readTcpData(data.cast<std::string>(), m);
@@ -149,9 +150,10 @@ ArmFitOptions fitOptions(int folds, std::uint64_t seed, int variable_bins, int w
 
 // The problem of any kind, as `armstudy compare|fit` builds it: tcp from a CSV path or arrays,
 // drive (the test bed of `joint`'s drive) and trajectory from their CSV files.
-std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind, const py::object& data,
-                                    const py::handle& pose, const std::string& joint,
-                                    int speed_bins, int load_bins) {
+std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind,
+                                    const py::object& data_, const py::handle& pose,
+                                    const std::string& joint, int speed_bins, int load_bins) {
+  const py::object data = pathLike(data_);
   if (!isKind(kind))
     throw std::invalid_argument("kind: '" + kind + "' is not one of drive, tcp, trajectory");
   if (kind == "tcp") return makeTcpProblem(m, tcpData(m, data, pose));

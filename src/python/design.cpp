@@ -1,5 +1,6 @@
 // Designs: loading (TOML or URDF), inspecting joints, limits and collision volumes, converting.
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
 
@@ -30,11 +31,13 @@ py::array_t<double> vector3(const Eigen::Vector3d& v) {
 }
 
 UrdfOptions urdfOptions(const std::string& base, const std::string& tip,
-                        const std::map<std::string, std::string>& packages, bool collision) {
+                        const std::map<std::string, std::filesystem::path>& packages,
+                        bool collision) {
   UrdfOptions u;
   u.base_link = base;
   u.tip_link = tip;
-  for (const auto& [name, dir] : packages) {
+  for (const auto& [name, folder] : packages) {
+    const std::string dir = folder.string();
     if (!std::filesystem::is_directory(dir))
       throw InputError("packages", 0, "package",
                        "folder '" + dir + "' for package '" + name + "' does not exist (" +
@@ -45,11 +48,11 @@ UrdfOptions urdfOptions(const std::string& base, const std::string& tip,
   return u;
 }
 
-Design load(const std::string& path, const std::string& base, const std::string& tip,
-            const std::map<std::string, std::string>& packages, bool collision) {
+Design load(const std::filesystem::path& path, const std::string& base, const std::string& tip,
+            const std::map<std::string, std::filesystem::path>& packages, bool collision) {
   Design d;
-  d.model = std::make_shared<const Model>(
-      loadAnyDesign(path, urdfOptions(base, tip, packages, collision), &d.info, &d.warnings));
+  d.model = std::make_shared<const Model>(loadAnyDesign(
+      path.string(), urdfOptions(base, tip, packages, collision), &d.info, &d.warnings));
   return d;
 }
 
@@ -126,6 +129,37 @@ Design withEntries(const Design& d, const std::map<std::string, double>& entries
   return out;
 }
 
+// Pickling (multiprocessing hands designs to workers): the design TOML (designToToml: numbers with
+// 17 significant digits, so the model is the same bit for bit, URDF facts included), the file and
+// hash it came from, the import notes, and the design-file lines of joints and volumes.
+py::tuple designState(const Design& d) {
+  const Model& m = *d.model;
+  std::vector<int> joint_lines, volume_lines;
+  for (const Joint& j : m.joints) joint_lines.push_back(j.source_line);
+  for (const CollisionVolume& v : m.collision.volumes) volume_lines.push_back(v.source_line);
+  return py::make_tuple(1, designToToml(m, d.info), m.file, m.file_hash, d.warnings, joint_lines,
+                        volume_lines);
+}
+
+Design designFromState(const py::tuple& state) {
+  if (state.size() != 7 || state[0].cast<int>() != 1)
+    throw std::invalid_argument("Design.__setstate__: not a pickled armstudy.Design");
+  Design d;
+  Model m =
+      parseDesignWithUrdfInfo(state[1].cast<std::string>(), state[2].cast<std::string>(), &d.info);
+  m.file = state[2].cast<std::string>();
+  m.file_hash = state[3].cast<std::string>();
+  d.warnings = state[4].cast<std::vector<std::string>>();
+  const auto joint_lines = state[5].cast<std::vector<int>>();
+  const auto volume_lines = state[6].cast<std::vector<int>>();
+  for (std::size_t i = 0; i < joint_lines.size() && i < m.joints.size(); ++i)
+    m.joints[i].source_line = joint_lines[i];
+  for (std::size_t i = 0; i < volume_lines.size() && i < m.collision.volumes.size(); ++i)
+    m.collision.volumes[i].source_line = volume_lines[i];
+  d.model = std::make_shared<const Model>(std::move(m));
+  return d;
+}
+
 }  // namespace
 
 void bindDesign(py::module_& m) {
@@ -134,39 +168,65 @@ void bindDesign(py::module_& m) {
 Load one with armstudy.load_design (TOML or URDF) or armstudy.parse_design (TOML text).
 Joint values are SI: radians for revolute, metres for prismatic joints; poses are in the world
 frame W (the design's base placed in it).)");
-  design.def_property_readonly("name", [](const Design& d) { return d.model->name; })
-      .def_property_readonly("description", [](const Design& d) { return d.model->description; })
-      .def_property_readonly("file", [](const Design& d) { return d.model->file; })
-      .def_property_readonly("file_hash", [](const Design& d) { return d.model->file_hash; })
-      .def_property_readonly("assumptions", [](const Design& d) { return d.model->assumptions; })
+  design
+      .def_property_readonly(
+          "name", [](const Design& d) { return d.model->name; },
+          "The design name (a variant's own name).")
+      .def_property_readonly(
+          "description", [](const Design& d) { return d.model->description; },
+          "The design file's description.")
+      .def_property_readonly(
+          "file", [](const Design& d) { return d.model->file; },
+          "The design file it was loaded from (a label for parse_design).")
+      .def_property_readonly(
+          "file_hash", [](const Design& d) { return d.model->file_hash; },
+          "Content hash of that file (manifests, checkpoints).")
+      .def_property_readonly(
+          "assumptions", [](const Design& d) { return d.model->assumptions; },
+          "The design file's stated assumptions.")
       .def_property_readonly(
           "warnings", [](const Design& d) { return d.warnings; },
           "Notes of a URDF import (missing meshes, ignored branches).")
-      .def_property_readonly("dof", [](const Design& d) { return d.model->dof(); })
-      .def_property_readonly("joint_names",
-                             [](const Design& d) {
-                               std::vector<std::string> n;
-                               for (const Joint& j : d.model->joints) n.push_back(j.name);
-                               return n;
-                             })
+      .def_property_readonly(
+          "dof", [](const Design& d) { return d.model->dof(); },
+          "Number of joints (the length of q).")
+      .def_property_readonly(
+          "joint_names",
+          [](const Design& d) {
+            std::vector<std::string> n;
+            for (const Joint& j : d.model->joints) n.push_back(j.name);
+            return n;
+          },
+          "The joint names, in the order of q.")
       .def_property_readonly(
           "joints", [](const Design& d) { return jointList(*d.model); },
           "One dict per joint: name, type, the table row x, y, z, alpha, beta, gamma, the limits "
           "min, max, max_velocity (0 = not given) and the line in the design file.")
       .def_property_readonly(
-          "lower", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_min); })
+          "lower", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_min); },
+          "Lower joint limits (dof,) [rad or m].")
       .def_property_readonly(
-          "upper", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_max); })
+          "upper", [](const Design& d) { return limitArray(*d.model, &JointLimits::q_max); },
+          "Upper joint limits (dof,) [rad or m].")
       .def_property_readonly(
           "max_velocity",
-          [](const Design& d) { return limitArray(*d.model, &JointLimits::qd_max); })
-      .def_property_readonly("tcp", [](const Design& d) { return poseDict(d.model->tcp); })
-      .def_property_readonly("base", [](const Design& d) { return poseDict(d.model->base); })
-      .def_property_readonly("tool_axis",
-                             [](const Design& d) { return vector3(d.model->tool_axis_T); })
-      .def_property_readonly("payload_kg", [](const Design& d) { return d.model->payload_kg; })
-      .def_property_readonly("has_inertia",
-                             [](const Design& d) { return !d.model->inertias.empty(); })
+          [](const Design& d) { return limitArray(*d.model, &JointLimits::qd_max); },
+          "Joint speed limits (dof,) [rad/s or m/s]; 0 = not given.")
+      .def_property_readonly(
+          "tcp", [](const Design& d) { return poseDict(d.model->tcp); },
+          "TCP offset from the last joint frame: x, y, z [m], alpha, beta, gamma [rad].")
+      .def_property_readonly(
+          "base", [](const Design& d) { return poseDict(d.model->base); },
+          "Pose of the robot base in W: x, y, z [m], alpha, beta, gamma [rad].")
+      .def_property_readonly(
+          "tool_axis", [](const Design& d) { return vector3(d.model->tool_axis_T); },
+          "The tool axis (unit, in the TCP frame) a tool-axis task points.")
+      .def_property_readonly(
+          "payload_kg", [](const Design& d) { return d.model->payload_kg; },
+          "End effector + payload mass at the TCP [kg].")
+      .def_property_readonly(
+          "has_inertia", [](const Design& d) { return !d.model->inertias.empty(); },
+          "Whether the design has link inertias (dynamics needs them).")
       .def_property_readonly(
           "volumes", [](const Design& d) { return volumeList(*d.model); },
           "The collision volumes: name, link (body name, 'base' for the fixed base), type "
@@ -183,6 +243,7 @@ frame W (the design's base placed in it).)");
       .def("with_entries", &withEntries, py::arg("entries"), py::arg("name") = "",
            R"(A copy with table entries set, as a study variant does: keys such as
 'joint.j3.min', 'joint.j2.z', 'tcp.z', 'base.y', 'payload.mass'; values in SI.)")
+      .def(py::pickle(&designState, &designFromState))
       .def("__repr__", [](const Design& d) {
         return "<armstudy.Design '" + d.model->name + "', " + std::to_string(d.model->dof()) +
                " joints>";
@@ -191,7 +252,8 @@ frame W (the design's base placed in it).)");
   bindSolve(m, design);
 
   m.def("load_design", &load, py::arg("path"), py::arg("base") = "", py::arg("tip") = "",
-        py::arg("packages") = std::map<std::string, std::string>{}, py::arg("collision") = true,
+        py::arg("packages") = std::map<std::string, std::filesystem::path>{},
+        py::arg("collision") = true,
         R"(Loads a design file: TOML, or URDF (.urdf) with the chain from `base` to `tip`
 (defaults as `armstudy describe`), `packages` mapping package://NAME to a folder, and
 `collision` fitting swept-sphere volumes to its meshes. Raises InputError on bad input.)");

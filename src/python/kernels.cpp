@@ -255,15 +255,17 @@ void bindKernels(py::class_<Design>& design) {
            "Every joint's body frame in W: (dof, 4, 4) per configuration.")
       .def("jacobian", &jacobian, py::arg("q"), py::arg("threads") = 0,
            "Geometric TCP Jacobian in W, [J_T; J_R]: (6, dof) per configuration.")
-      .def("task_jacobian", &taskJacobian, py::arg("q"), py::arg("task") = "spraying",
+      .def("task_jacobian", &taskJacobian, py::arg("q"), py::arg("task") = "full",
            py::arg("threads") = 0,
-           R"(The rows of the Jacobian a task constrains, whose Yoshikawa value is the map's
-manipulability: 'spraying' (x, y, z and the 2 angular rows perpendicular to the tool axis),
-'full', 'position', or a Cardan selection such as 'x,y,z,gamma' (analytic rows; NaN at its
-singularity). (m, dof) per configuration.)")
-      .def("manipulability", &manipulability, py::arg("q"), py::arg("task") = "spraying",
+           R"(The rows of the geometric Jacobian a task constrains, whose Yoshikawa value is the
+map's manipulability. task: 'full' (default: all 6 rows), 'position' (x, y, z), 'spraying'
+(x, y, z and the 2 angular rows perpendicular to the tool axis), or a Cardan selection such as
+'x,y,z,gamma' (analytic rows; NaN at its singularity). (m, dof) per configuration.)")
+      .def("manipulability", &manipulability, py::arg("q"), py::arg("task") = "full",
            py::arg("threads") = 0,
-           "Task manipulability sqrt(det(J_t J_t^T)) (thesis eq. 5.59), as the reach maps report.")
+           R"(Task manipulability sqrt(det(J_t J_t^T)) of task_jacobian's rows (thesis eq. 5.59);
+task as there, default 'full'. The reach maps report it for the study's task (e.g. 'spraying').
+Unit: m^k for k position rows.)")
       .def("inverse_dynamics", &inverseDynamicsRows, py::arg("q"), py::arg("qd") = py::none(),
            py::arg("qdd") = py::none(), py::arg("gravity") = py::none(), py::arg("payload") = true,
            py::arg("rotor_inertia") = false, py::arg("threads") = 0,

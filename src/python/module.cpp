@@ -1,6 +1,8 @@
 // The module definition: the InputError exception, the array helpers, and every binding.
 #include <omp.h>
+#include <pthread.h>
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -50,8 +52,25 @@ void checkArgument(const char* name, long long value, long long lo, long long hi
                          ", got " + std::to_string(value));
 }
 
+namespace {
+std::atomic<bool> forked_child{false};
+// The pthread_atfork child handler: from now on one thread per region (bindings.hpp).
+void afterFork() {
+  forked_child = true;
+  omp_set_num_threads(1);
+}
+}  // namespace
+
+bool forkedChild() { return forked_child; }
+
+py::object pathLike(const py::object& o) {
+  if (py::isinstance<py::str>(o) || !py::hasattr(o, "__fspath__")) return o;
+  return py::module_::import("os").attr("fspath")(o);
+}
+
 int threadCount(int threads) {
   checkArgument("threads", threads, 0, defaults::kMaxThreads, " (0 = all cores)");
+  if (forkedChild()) return 1;
   return threads > 0 ? threads : std::max(1, omp_get_max_threads());
 }
 
@@ -63,6 +82,7 @@ PYBIND11_MODULE(armstudy, m) {
       "armstudy: robot-arm design studies (reach, dexterity, collisions, dynamics) from Python. "
       "Designs, kernels on (N, dof) arrays, pose solves and whole studies run the engine's C++ "
       "code, so every number equals the armstudy CLI's. See docs/python.md.";
+  pthread_atfork(nullptr, nullptr, &afterFork);
   m.attr("__version__") = armstudy::kVersion;
   m.attr("__revision__") = armstudy::kGitRevision;
   static py::exception<armstudy::InputError> input_error(m, "InputError", PyExc_ValueError);
@@ -83,5 +103,6 @@ PYBIND11_MODULE(armstudy, m) {
   });
   bindDesign(m);
   bindStudy(m);
+  bindPoses(m);
   bindCalibration(m);
 }

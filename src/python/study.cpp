@@ -1,8 +1,11 @@
 // Studies: run one from a file or from a dict (the same runner as `armstudy run`, so the same
 // files), and read the maps it wrote back as arrays with their grid axes.
+#include <pybind11/eval.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 #include <toml++/toml.h>
 #include <vtkAbstractArray.h>
+#include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
@@ -13,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -24,6 +28,7 @@
 #include "io/toml_reader.hpp"
 #include "python/bindings.hpp"
 #include "study/stage.hpp"
+#include "study/unit_runner.hpp"
 
 namespace armstudy::python {
 
@@ -67,11 +72,84 @@ py::dict parseLegend(const py::list& legend) {
   return out;
 }
 
+// Collects a VTK object's error and warning messages instead of printing them.
+class Messages : public vtkCommand {
+ public:
+  static Messages* New() { return new Messages; }
+  void Execute(vtkObject*, unsigned long, void* data) override {
+    if (data && text.empty()) text = static_cast<const char*>(data);
+    failed = true;
+  }
+  bool failed = false;
+  std::string text;
+};
+
+// A point array as numpy values of its own kind: integer arrays (status, flags, counts) as
+// integers of the same width and sign, floating arrays as float64.
+template <class T>
+py::array copyArray(vtkDataArray* data, const std::vector<py::ssize_t>& shape) {
+  py::array_t<T> values(shape);
+  T* v = values.mutable_data();
+  const int c = data->GetNumberOfComponents();
+  const vtkIdType n = data->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
+    for (int k = 0; k < c; ++k) v[i * c + k] = static_cast<T>(data->GetComponent(i, k));
+  return values;
+}
+
+py::array arrayValues(vtkDataArray* data, const std::vector<py::ssize_t>& shape) {
+  switch (data->GetDataType()) {
+    case VTK_UNSIGNED_CHAR:
+      return copyArray<std::uint8_t>(data, shape);
+    case VTK_SIGNED_CHAR:
+    case VTK_CHAR:
+      return copyArray<std::int8_t>(data, shape);
+    case VTK_UNSIGNED_SHORT:
+      return copyArray<std::uint16_t>(data, shape);
+    case VTK_SHORT:
+      return copyArray<std::int16_t>(data, shape);
+    case VTK_UNSIGNED_INT:
+      return copyArray<std::uint32_t>(data, shape);
+    case VTK_INT:
+      return copyArray<std::int32_t>(data, shape);
+    case VTK_UNSIGNED_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+      return copyArray<std::uint64_t>(data, shape);
+    case VTK_LONG:
+    case VTK_LONG_LONG:
+    case VTK_ID_TYPE:
+      return copyArray<std::int64_t>(data, shape);
+    default:
+      return copyArray<double>(data, shape);
+  }
+}
+
 py::dict readMap(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw std::invalid_argument("no map file '" + path + "'");
+  if (!fs::is_regular_file(path))
+    throw InputError(path, 0, "", "no map file (expected a .vti file that armstudy run wrote)");
   vtkNew<vtkXMLImageDataReader> reader;
+  vtkNew<Messages> messages;
+  reader->AddObserver(vtkCommand::ErrorEvent, messages);
+  reader->AddObserver(vtkCommand::WarningEvent, messages);
   reader->SetFileName(path.c_str());
-  reader->Update();
+  if (!reader->CanReadFile(path.c_str()))
+    throw InputError(path, 0, "", "not a VTK image data (.vti) file");
+  {
+    // VTK's other objects (its XML parser, the pipeline) print their errors: not here, they are
+    // the InputError below.
+    const int shown = vtkObject::GetGlobalWarningDisplay();
+    vtkObject::GlobalWarningDisplayOff();
+    reader->Update();
+    vtkObject::SetGlobalWarningDisplay(shown);
+  }
+  if (messages->failed || !reader->GetOutput() || reader->GetOutput()->GetNumberOfPoints() == 0) {
+    std::string why = messages->text;
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+    if (const auto at = why.rfind(": "); at != std::string::npos && why.size() - at < 300)
+      why = why.substr(at + 2);
+    throw InputError(path, 0, "",
+                     "not a readable VTK image data (.vti) file" + (why.empty() ? "" : ": " + why));
+  }
   vtkImageData* image = reader->GetOutput();
   int dims[3];
   double origin[3], spacing[3];
@@ -92,12 +170,7 @@ py::dict readMap(const std::string& path) {
     const int c = data->GetNumberOfComponents();
     std::vector<py::ssize_t> shape = {dims[2], dims[1], dims[0]};
     if (c > 1) shape.push_back(c);
-    py::array_t<double> values(shape);
-    double* v = values.mutable_data();
-    const vtkIdType n = data->GetNumberOfTuples();
-    for (vtkIdType i = 0; i < n; ++i)
-      for (int k = 0; k < c; ++k) v[i * c + k] = data->GetComponent(i, k);
-    arrays[data->GetName()] = values;
+    arrays[data->GetName()] = arrayValues(data, shape);
   }
   out["file"] = path;
   out["dims"] = py::make_tuple(dims[0], dims[1], dims[2]);
@@ -178,6 +251,20 @@ void convertValue(const py::handle& v, const std::string& at, int depth, long& v
     dictError(at, "nested deeper than " + std::to_string(kMaxNesting) +
                       " levels (does a dict or list contain itself?)");
   if (v.is_none()) dictError(at, "None is not a study value (leave the key out for its default)");
+  // numpy scalars and arrays: their Python values (tolist: int, float, bool, nested lists).
+  if (py::hasattr(v, "dtype") && py::hasattr(v, "tolist")) {
+    py::object plain;
+    try {
+      plain = v.attr("tolist")();
+    } catch (py::error_already_set& e) {
+      dictError(at, shortRepr(v) + " could not be read: " + std::string(e.what()).substr(0, 200));
+    }
+    if (!py::hasattr(plain, "dtype")) {
+      --values;
+      convertValue(plain, at, depth, values, add);
+      return;
+    }
+  }
   try {
     if (py::isinstance<py::bool_>(v))
       add(v.ptr() == Py_True);
@@ -252,9 +339,7 @@ Study studyFromDict(const py::dict& study, const std::string& folder) {
 // `study`: a study file path (str or os.PathLike) or a dict with the study file's tables.
 Study readStudy(const py::object& study, const std::string& folder) {
   if (py::isinstance<py::dict>(study)) return studyFromDict(study, folder);
-  py::object path = study;
-  if (!py::isinstance<py::str>(path) && py::hasattr(path, "__fspath__"))
-    path = py::module_::import("os").attr("fspath")(path);
+  const py::object path = pathLike(study);
   if (!py::isinstance<py::str>(path))
     throw InputError(
         "arguments", 0, "study",
@@ -267,7 +352,7 @@ RunOptions runOptions(const std::string& output, int threads, bool overwrite, lo
   checkArgument("unit_size", unit_size, 0, defaults::kMaxUnitItems, " (0 = each stage's default)");
   RunOptions o;
   o.output_root = output;
-  o.threads = threads;
+  o.threads = forkedChild() ? 1 : threads;  // bindings.hpp: one thread after a fork
   o.overwrite = overwrite;
   o.unit_items = unit_size;
   o.progress = false;
@@ -283,6 +368,8 @@ py::dict summaryDict(const Study& study, const RunSummary& sum) {
   out["designs"] = sum.designs;
   out["threads"] = sum.threads;
   out["files"] = sum.files_written;
+  out["units_resumed"] = sum.units_resumed;
+  out["resume_message"] = sum.resume_message;
   for (const auto& t : sum.timings) timings[py::str(t.stage)] = t.seconds;
   out["timings"] = timings;
   out["metrics"] = sum.metrics.scalars;
@@ -298,21 +385,33 @@ py::dict summaryDict(const Study& study, const RunSummary& sum) {
   return out;
 }
 
-py::dict run(const py::object& study, const std::string& output, int threads, bool overwrite,
-             long unit_size, const std::string& folder) {
-  const RunOptions options = runOptions(output, threads, overwrite, unit_size);
-  const Study s = readStudy(study, folder);
+py::dict run(const py::object& study, const fs::path& output, int threads, bool overwrite,
+             long unit_size, const fs::path& folder) {
+  RunOptions options = runOptions(output.string(), threads, overwrite, unit_size);
+  const Study s = readStudy(study, folder.string());
+  // Ctrl-C: between slices of units the runner asks for the GIL and runs Python's signal handlers;
+  // their exception (KeyboardInterrupt) stops the run with the completed units saved.
+  std::optional<py::error_already_set> interrupt;
+  options.cancelled = [&interrupt] {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() == 0) return false;
+    interrupt.emplace();
+    return true;
+  };
   RunSummary sum;
-  {
+  try {
     py::gil_scoped_release release;
     sum = runStudy(s, options);
+  } catch (const RunCancelled&) {
+    if (interrupt) throw *interrupt;
+    throw;
   }
-  return summaryDict(s, sum);
+  return py::module_::import("armstudy").attr("StudyResult")(summaryDict(s, sum));
 }
 
 // What a study holds once read and validated (check_study): nothing is run or written.
-py::dict check(const py::object& study, const std::string& folder) {
-  const Study s = readStudy(study, folder);
+py::dict check(const py::object& study, const fs::path& folder) {
+  const Study s = readStudy(study, folder.string());
   py::dict out;
   py::list designs, stages, inputs;
   for (const StudyDesign& d : s.designs) designs.append(d.model.name);
@@ -328,24 +427,99 @@ py::dict check(const py::object& study, const std::string& folder) {
 
 }  // namespace
 
+// The dict run_study returns, with its notebook display (Jupyter calls _repr_html_).
+const char* const kStudyResult = R"PY(
+import base64 as _base64, html as _html, os as _os, re as _re
+
+class StudyResult(dict):
+    """What run_study returns: a dict (study, output_dir, designs, threads, files, units_resumed,
+    resume_message, timings, metrics, flags, maps). In Jupyter it shows as the report does: the
+    study's answer block (report.md's Answer and Warnings) and its first map image."""
+
+    def answer(self):
+        """The Answer and Warnings sections of the study's report.md (Markdown; '' if none)."""
+        try:
+            with open(_os.path.join(self["output_dir"], "report.md"), encoding="utf-8") as f:
+                text = f.read()
+        except OSError:
+            return ""
+        start = text.find("## Answer")
+        if start < 0:
+            return ""
+        end = text.find("\n## ", text.find("## Warnings", start) + 1)
+        return text[start:] if end < 0 else text[start:end]
+
+    def first_map(self):
+        """Path of the first map image (PNG) the study wrote, or None."""
+        for f in self.get("files", []):
+            name = _os.path.basename(f)
+            if f.endswith(".png") and not name.startswith("arm_"):
+                return _os.path.join(self["output_dir"], f)
+        return None
+
+    def _repr_html_(self):
+        def inline(t):
+            t = _html.escape(t)
+            t = _re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", t)
+            return _re.sub(r"`(.+?)`", r"<code>\1</code>", t)
+        out = [f"<h3>Study <code>{_html.escape(str(self.get('study', '')))}</code></h3>",
+               f"<p>{_html.escape(str(self.get('output_dir', '')))}</p>"]
+        items = False
+        for line in self.answer().splitlines():
+            if line.startswith("## "):
+                if items:
+                    out.append("</ul>")
+                    items = False
+                out.append(f"<h4>{inline(line[3:])}</h4>")
+            elif line.startswith("- "):
+                if not items:
+                    out.append("<ul>")
+                    items = True
+                out.append(f"<li>{inline(line[2:])}</li>")
+            elif line.strip():
+                out.append(f"<p>{inline(line)}</p>")
+        if items:
+            out.append("</ul>")
+        image = self.first_map()
+        if image:
+            with open(image, "rb") as f:
+                data = _base64.b64encode(f.read()).decode("ascii")
+            out.append(f'<figure><img src="data:image/png;base64,{data}"/>'
+                       f"<figcaption>{_html.escape(_os.path.relpath(image, self['output_dir']))}"
+                       "</figcaption></figure>")
+        return "\n".join(out)
+
+StudyResult.__module__ = "armstudy"
+)PY";
+
 void bindStudy(py::module_& m) {
+  py::dict scope;
+  scope["__builtins__"] = py::module_::import("builtins");
+  py::exec(kStudyResult, scope);
+  m.attr("StudyResult") = scope["StudyResult"];
   m.def("run_study", &run, py::arg("study"), py::arg("output") = "output", py::arg("threads") = 0,
         py::arg("overwrite") = false, py::arg("unit_size") = 0, py::arg("folder") = ".",
         R"(Runs a study as `armstudy run` does, writing the same files into output/<name>/.
 study: a study file path, or a dict with the study file's tables (relative paths in it resolve
 against `folder`; an error names the dict's key path, e.g. 'reach.grid[0].step'). threads and
 unit_size have the CLI's bounds (0..256, 0..1e9); beyond them InputError names the argument.
-Returns a dict: study, output_dir, designs, threads, files, timings, metrics (the summary
-scalars), flags (per-pose uint8 arrays), maps ({file: read_map(file)} for every .vti written).)");
+Returns a StudyResult (a dict that Jupyter shows as the report's answer block and first map):
+study, output_dir, designs, threads, files, units_resumed and resume_message (what a resumed run
+loaded), timings, metrics (the summary scalars), flags (per-pose uint8 arrays), maps
+({file: read_map(file)} for every .vti written). output and folder: str or os.PathLike.
+Ctrl-C (KeyboardInterrupt) stops the run between work units, within about a second; the units
+done are saved, so the same call again resumes, as after the CLI's Ctrl-C.)");
   m.def("check_study", &check, py::arg("study"), py::arg("folder") = ".",
         R"(Reads and validates a study (a file path or a dict, as run_study) without running it:
 the designs and data it names are loaded and checked, nothing is written. Returns a dict: study,
 description, designs (names, variants included), stages (the sections present), inputs (files
 read). Raises InputError as run_study would.)");
   m.def(
-      "read_map", &readMap, py::arg("path"),
+      "read_map", [](const fs::path& path) { return readMap(path.string()); }, py::arg("path"),
       R"(Reads a .vti map: dims, origin, spacing, axes {x, y, z}, arrays {name: (nz, ny, nx[, c])},
-units, legend and names ({array: {value: meaning}}, e.g. the status names).)");
+units, legend and names ({array: {value: meaning}}, e.g. the status names). Integer arrays
+(status, flags, counts) keep their integer type; the others are float64. path: str or
+os.PathLike. Raises InputError (file = path) when the file is missing or not a .vti image.)");
 }
 
 }  // namespace armstudy::python

@@ -48,6 +48,11 @@ struct RunOptions {
   // run in groups of at least this many ranks, each group searching some of the designs; 0 = every
   // rank in every search. Results do not depend on it.
   int search_group_ranks = defaults::kSearchGroupRanks;
+  // Cancellation (the Python module's Ctrl-C): when set, a single-process run computes its units a
+  // few at a time (as many as it has threads) and asks this between them; true stops the run with
+  // RunCancelled (study/unit_runner.hpp), the completed units saved, so the folder resumes as
+  // after the CLI's Ctrl-C. Results do not depend on it.
+  std::function<bool()> cancelled;
   std::string validate() const;  // empty when valid, else the reason
 };
 

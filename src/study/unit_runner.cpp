@@ -56,26 +56,35 @@ long UnitRunner::run(const UnitBatch& batch) const {
   const auto save = [&](std::size_t k, const std::string& bytes) {
     store_.save(batch.ids[k], bytes);
   };
-  if (!times_.enabled()) {
+  if (!times_.enabled() && !cancelled_) {
     batch.compute(todo, save);
     return resumed;
   }
-  // One call per unit, timed; every call replaces the previous one's units, so the units of the
-  // earlier calls are handed back to the stage through `load` (UnitBatch).
+  // Slices of units, one call each: one unit when timed, else (cancellable) as many as there are
+  // threads, with cancelled_ asked before each. Every call replaces the previous one's units, so
+  // the units of the earlier calls are handed back to the stage through `load` (UnitBatch).
+  const std::size_t slice = times_.enabled() ? 1 : static_cast<std::size_t>(std::max(1, threads_));
   std::vector<std::string> kept(batch.ids.size());
   std::vector<UnitTimeRecord::Line> lines;
-  for (std::size_t k : todo) {
+  std::size_t last_begin = 0;
+  for (std::size_t begin = 0; begin < todo.size(); begin += slice) {
+    if (cancelled_ && cancelled_()) throw RunCancelled();
+    const std::vector<std::size_t> part(todo.begin() + begin,
+                                        todo.begin() + std::min(todo.size(), begin + slice));
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = UnitTimeRecord::processCpuSeconds();
-    batch.compute({k}, [&](std::size_t j, const std::string& bytes) {
+    batch.compute(part, [&](std::size_t j, const std::string& bytes) {
       save(j, bytes);
       kept[j] = bytes;
     });
-    lines.push_back({batch.ids[k],
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                     UnitTimeRecord::processCpuSeconds() - c0, threads_, 0, kept[k].size()});
+    if (times_.enabled())
+      lines.push_back({batch.ids[part[0]],
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                       UnitTimeRecord::processCpuSeconds() - c0, threads_, 0,
+                       kept[part[0]].size()});
+    last_begin = begin;
   }
-  for (std::size_t i = 0; i + 1 < todo.size(); ++i)
+  for (std::size_t i = 0; i < last_begin; ++i)
     ARMSTUDY_CHECK(batch.load(todo[i], kept[todo[i]]),
                    "a unit computed by this run loads back: " + batch.ids[todo[i]]);
   times_.append(lines);
@@ -145,7 +154,24 @@ void SharedLoop::computeAll(const std::vector<Chunk>& mine) const {
 
 void UnitRunner::share(const SharedLoop& loop) const {
   if (loop.items <= 0) return;
-  if (!times_.enabled()) return loop.computeAll({{0, ItemRange{0, loop.items}}});
+  if (!times_.enabled() && !cancelled_) return loop.computeAll({{0, ItemRange{0, loop.items}}});
+  if (!times_.enabled()) {
+    // Cancellable: the chunks in slices of as many as there are threads, cancelled_ asked before
+    // each (nothing of a shared loop is saved; the units before it are).
+    const std::vector<ItemRange> ranges = loop.chunks();
+    const std::size_t slice = static_cast<std::size_t>(std::max(1, threads_));
+    std::vector<SharedLoop::Chunk> all;
+    for (std::size_t begin = 0; begin < ranges.size(); begin += slice) {
+      if (cancelled_()) throw RunCancelled();
+      std::vector<SharedLoop::Chunk> part;
+      for (std::size_t k = begin; k < std::min(ranges.size(), begin + slice); ++k)
+        part.push_back({k, ranges[k]});
+      loop.compute(part);
+      all.insert(all.end(), part.begin(), part.end());
+    }
+    if (loop.finish) loop.finish(all);
+    return;
+  }
   // Recorded: the loop's chunks, each timed (tests/benchmarks/simulate_distribution.py
   // regroups them as a distributed run of any size would).
   const std::vector<ItemRange> ranges = loop.chunks();

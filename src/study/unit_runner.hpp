@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -95,6 +96,12 @@ class RankGroups {
 // the rest and saves each as soon as it is done. One per study run; stages only see this. This
 // class is the single-process runner; a distributed run uses a subclass (study/distributed.hpp)
 // that splits each batch's units among the processes.
+// Thrown by a runner between units when RunOptions::cancelled says so: what was computed is saved,
+// the run resumes.
+struct RunCancelled : std::runtime_error {
+  RunCancelled() : std::runtime_error("the run was cancelled; its completed units are saved") {}
+};
+
 class UnitRunner {
  public:
   explicit UnitRunner(const CheckpointStore& store, int threads = 1,
@@ -118,8 +125,11 @@ class UnitRunner {
   // few processes for two groups). Collective.
   virtual std::unique_ptr<RankGroups> groups(const std::vector<double>& weights) const;
   const CheckpointStore& store() const { return store_; }
+  // RunOptions::cancelled: asked between slices of units by run() (single process only).
+  void setCancelled(std::function<bool()> cancelled) { cancelled_ = std::move(cancelled); }
 
  protected:
+  std::function<bool()> cancelled_;
   const CheckpointStore& store_;
   int threads_ = 1;  // recorded with unit times
   UnitTimeRecord times_;

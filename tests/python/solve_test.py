@@ -49,22 +49,25 @@ class Solve(unittest.TestCase):
     def test_thread_count_and_warm_starts(self):
         d = armstudy.load_design(design_path("final_prototype_7dof"))
         poses = spraying_row_poses(300, seed=12)
-        one = d.solve_batch(poses, threads=1)
-        two = d.solve_batch(poses, threads=2)
+        one = d.solve_batch(poses, "spraying", threads=1)
+        two = d.solve_batch(poses, "spraying", threads=2)
         for k in one:
-            np.testing.assert_array_equal(one[k], two[k], err_msg=k)
+            if isinstance(one[k], list):
+                self.assertEqual(one[k], two[k], k)
+            else:
+                np.testing.assert_array_equal(one[k], two[k], err_msg=k)
         warm = np.tile((d.lower + d.upper) / 2, (len(poses), 1))
-        wb = d.solve_batch(poses, warm_starts=warm, threads=2)
+        wb = d.solve_batch(poses, "spraying", warm_starts=warm, threads=2)
         for i in range(0, len(poses), 37):
-            s = d.solve(poses[i], pose_id=i, warm_start=warm[i])
+            s = d.solve(poses[i], "spraying", pose_id=i, warm_start=warm[i])
             np.testing.assert_array_equal(s["q"], wb["q"][i])
 
     def test_collision_aware_solutions_are_clear_of_self_collision(self):
         d = armstudy.load_design(design_path("final_prototype_9dof"))
         poses = spraying_row_poses(400, seed=13)
         poses[:, 2] = 0.5
-        aware = d.solve_batch(poses, threads=2)                  # the design has volumes: on
-        plain = d.solve_batch(poses, threads=2, self_collision=False)
+        aware = d.solve_batch(poses, "spraying", threads=2, self_collision=True)
+        plain = d.solve_batch(poses, "spraying", threads=2)   # default: no check
         ok = aware["status"] == 0
         self.assertGreater(ok.sum(), 100)
         distances = d.self_distances(aware["q"][ok]).min(axis=1)
@@ -77,7 +80,7 @@ class Solve(unittest.TestCase):
         self.assertGreater(colliding.sum(), 10)
         self.assertTrue(np.isin(aware["status"][colliding], [0, 4]).all())
         self.assertGreater((aware["status"] == 4).sum(), 0)
-        one = d.solve(poses[7], pose_id=7)
+        one = d.solve(poses[7], "spraying", pose_id=7, self_collision=True)
         self.assertEqual(one["status"], aware["status"][7])
         np.testing.assert_array_equal(one["q"], aware["q"][7])
 
