@@ -427,40 +427,23 @@ double rmsDifference(const std::vector<double>& a, const std::vector<double>& b,
   return keep.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(keep.size()));
 }
 
-}  // namespace
-
-TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
-  checkSpec(s);
-  const std::vector<int> map = jointMap(s, model);
-  LogTable pos = readLogFile(s.positions, s.time_column, !s.time_column.empty());
-  std::vector<OtherFile> others = readOtherFiles(s);
-  std::vector<std::string> warnings;
-  if (pos.lines.size() < static_cast<std::size_t>(defaults::kMinLogRows)) checkMinRows(s, pos);
-  const double h = s.time_column.empty()
-                       ? s.sample_period_s
-                       : samplePeriod(pos, s.positions.path, s.time_column, warnings);
-  alignFiles(s, pos, h, others, warnings);
-  const LogTable& eff = others[0].table;
-  const LogTable* vel = s.velocities.path.empty() ? nullptr : &others[1].table;
-  const LogTable* acc = s.accelerations.path.empty() ? nullptr : &others[2].table;
+// Every sample on the joint side, in design joint order: positions with offsets, efforts (currents
+// times kt and the joint-side ratio), logged velocities and accelerations where given.
+struct JointSideSamples {
+  Eigen::MatrixXd q, tau, qd_log, qdd_log;
+};
+JointSideSamples jointSideSamples(const JointLogSpec& s, const std::vector<int>& map, int n,
+                                  const LogTable& pos, const LogTable& eff, const LogTable* vel,
+                                  const LogTable* acc) {
   const int R = static_cast<int>(pos.lines.size());
-  std::vector<double> time = pos.time;
-  if (time.empty())
-    for (int i = 0; i < R; ++i) time.push_back(i * h);
-  if (!(s.cutoff_Hz > 0 && s.cutoff_Hz * h * s.decimate < 0.5))
-    throw InputError(s.study_file, s.study_line, keyOf(s, "filter.cutoff"),
-                     "the cut-off must lie below half the sample rate after decimation (" +
-                         std::to_string(0.5 / (h * s.decimate)) + " Hz)");
-  const int n = model.dof();
   const auto N = static_cast<Eigen::Index>(map.size());
-  // Currents to motor (or joint-side) torques: kt i, times the joint-side ratio.
   Eigen::VectorXd effort_scale = Eigen::VectorXd::Ones(N);
   for (Eigen::Index c = 0; c < N && !s.torque_constants.empty(); ++c)
     effort_scale[c] =
         s.torque_constants[static_cast<std::size_t>(c)] *
         (s.effort_ratios.empty() ? 1.0 : s.effort_ratios[static_cast<std::size_t>(c)]);
-  // Convert every sample to the joint side, in design joint order.
-  Eigen::MatrixXd q(R, n), tau(R, n), qd_log(R, n), qdd_log(R, n);
+  JointSideSamples js{Eigen::MatrixXd(R, n), Eigen::MatrixXd(R, n), Eigen::MatrixXd(R, n),
+                      Eigen::MatrixXd(R, n)};
   Eigen::VectorXd qi, ti, vi, ai;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(N);
   for (int i = 0; i < R; ++i) {
@@ -470,31 +453,23 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
     motorToJoint(s.coupling, pos.values.row(i).transpose(), e, qi, ti);
     for (std::size_t c = 0; c < map.size(); ++c) {
       const auto C = static_cast<Eigen::Index>(c);
-      q(i, map[c]) = qi[C] + s.offsets[C];
-      tau(i, map[c]) = ti[C];
-      if (vel) qd_log(i, map[c]) = vi[C];
-      if (acc) qdd_log(i, map[c]) = ai[C];
+      js.q(i, map[c]) = qi[C] + s.offsets[C];
+      js.tau(i, map[c]) = ti[C];
+      if (vel) js.qd_log(i, map[c]) = vi[C];
+      if (acc) js.qdd_log(i, map[c]) = ai[C];
     }
   }
-  const int trim = trimSamples(s, h, R);
-  std::vector<int> keep;
-  for (int i = trim; i < R - trim; i += s.decimate) keep.push_back(i);
-  if (keep.size() < 3)
-    throw InputError(s.positions.path, pos.lines.back(), s.positions.columns.front(),
-                     std::to_string(R) + " rows leave " + std::to_string(keep.size()) +
-                         " after trimming and decimation");
-  TrajectoryData d;
-  d.file = s.positions.path;
-  d.hash = fileHash(s.positions.path);
-  std::vector<std::string> hashed = {s.positions.path};  // each file once
-  for (const LogFile* f : {&s.efforts, &s.velocities, &s.accelerations})
-    if (!f->path.empty() && std::find(hashed.begin(), hashed.end(), f->path) == hashed.end()) {
-      d.hash += "+" + fileHash(f->path);
-      hashed.push_back(f->path);
-    }
-  d.qdd_given = false;
-  d.currents = false;
-  const int K = static_cast<int>(keep.size());
+  return js;
+}
+
+// Filters every joint's samples, differentiates the positions (or takes the logged velocities and
+// accelerations, noting their RMS difference from the differentiated ones) and keeps the rows
+// `keep` in d.
+void filteredRows(const JointLogSpec& s, const Model& model, const JointSideSamples& js,
+                  const std::vector<double>& time, const std::vector<int>& keep, double h, bool vel,
+                  bool acc, TrajectoryData& d) {
+  const int n = model.dof(), K = static_cast<int>(keep.size());
+  const auto R = static_cast<std::size_t>(js.q.rows());
   d.q.resize(K, n);
   d.qd.resize(K, n);
   d.qdd.resize(K, n);
@@ -505,17 +480,17 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
   };
   std::string vel_note, acc_note;
   for (int j = 0; j < n; ++j) {
-    const std::vector<double> qf = lowPass(q, j), tf = lowPass(tau, j);
+    const std::vector<double> qf = lowPass(js.q, j), tf = lowPass(js.tau, j);
     std::vector<double> v = centralDifference(qf, time);
     std::vector<double> a = centralDifference(v, time);
     if (vel) {
-      const std::vector<double> vl = lowPass(qd_log, j);
+      const std::vector<double> vl = lowPass(js.qd_log, j);
       const double rms = rmsDifference(vl, v, keep);
       d.velocity_difference_rms.push_back(rms);
       const bool rev = model.joints[j].type == JointType::Revolute;
       vel_note += (vel_note.empty() ? "" : ", ") + model.joints[j].name + " " + formatG(rms, 3) +
                   (rev ? " rad/s" : " m/s");
-      std::vector<double> al = acc ? lowPass(qdd_log, j) : centralDifference(vl, time);
+      std::vector<double> al = acc ? lowPass(js.qdd_log, j) : centralDifference(vl, time);
       const double arms = rmsDifference(al, a, keep);
       acc_note += (acc_note.empty() ? "" : ", ") + model.joints[j].name + " " + formatG(arms, 3) +
                   (rev ? " rad/s^2" : " m/s^2");
@@ -529,16 +504,68 @@ TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
       d.measured(k, j) = tf[keep[k]];
     }
   }
-  d.warnings = warnings;
   if (vel) {
     d.warnings.push_back("logged velocities used (" + s.velocities.path +
                          "); RMS of logged minus differentiated positions, per joint: " + vel_note);
+    const std::string what = acc ? "logged accelerations used"
+                                 : "accelerations differentiated from the logged velocities";
     d.warnings.push_back(
-        std::string(acc ? "logged accelerations used"
-                        : "accelerations differentiated from the logged "
-                          "velocities") +
-        "; RMS against the twice-differentiated positions, per joint: " + acc_note);
+        what + "; RMS against the twice-differentiated positions, per joint: " + acc_note);
   }
+}
+
+// The log's content hash: each file read, once.
+std::string logHash(const JointLogSpec& s) {
+  std::string hash = fileHash(s.positions.path);
+  std::vector<std::string> hashed = {s.positions.path};
+  for (const LogFile* f : {&s.efforts, &s.velocities, &s.accelerations})
+    if (!f->path.empty() && std::find(hashed.begin(), hashed.end(), f->path) == hashed.end()) {
+      hash += "+" + fileHash(f->path);
+      hashed.push_back(f->path);
+    }
+  return hash;
+}
+
+}  // namespace
+
+TrajectoryData readJointLog(const JointLogSpec& s, const Model& model) {
+  checkSpec(s);
+  const std::vector<int> map = jointMap(s, model);
+  LogTable pos = readLogFile(s.positions, s.time_column, !s.time_column.empty());
+  std::vector<OtherFile> others = readOtherFiles(s);
+  std::vector<std::string> warnings;
+  if (pos.lines.size() < static_cast<std::size_t>(defaults::kMinLogRows)) checkMinRows(s, pos);
+  const double h = s.time_column.empty()
+                       ? s.sample_period_s
+                       : samplePeriod(pos, s.positions.path, s.time_column, warnings);
+  alignFiles(s, pos, h, others, warnings);
+  const LogTable* vel = s.velocities.path.empty() ? nullptr : &others[1].table;
+  const LogTable* acc = s.accelerations.path.empty() ? nullptr : &others[2].table;
+  const int R = static_cast<int>(pos.lines.size());
+  std::vector<double> time = pos.time;
+  if (time.empty())
+    for (int i = 0; i < R; ++i) time.push_back(i * h);
+  if (!(s.cutoff_Hz > 0 && s.cutoff_Hz * h * s.decimate < 0.5))
+    throw InputError(s.study_file, s.study_line, keyOf(s, "filter.cutoff"),
+                     "the cut-off must lie below half the sample rate after decimation (" +
+                         std::to_string(0.5 / (h * s.decimate)) + " Hz)");
+  const int n = model.dof();
+  const JointSideSamples js = jointSideSamples(s, map, n, pos, others[0].table, vel, acc);
+  const int trim = trimSamples(s, h, R);
+  std::vector<int> keep;
+  for (int i = trim; i < R - trim; i += s.decimate) keep.push_back(i);
+  if (keep.size() < 3)
+    throw InputError(s.positions.path, pos.lines.back(), s.positions.columns.front(),
+                     std::to_string(R) + " rows leave " + std::to_string(keep.size()) +
+                         " after trimming and decimation");
+  TrajectoryData d;
+  d.file = s.positions.path;
+  d.hash = logHash(s);
+  d.qdd_given = false;
+  d.currents = false;
+  d.warnings = warnings;
+  filteredRows(s, model, js, time, keep, h, vel != nullptr, acc != nullptr, d);
+  const int K = static_cast<int>(keep.size());
   d.joint_named_channels = true;
   d.gravity_compensated.assign(n, false);
   for (const std::string& g : s.gravity_compensated) {
