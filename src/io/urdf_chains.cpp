@@ -16,11 +16,12 @@ std::string lower(std::string s) {
   return s;
 }
 
-// Words that mark a gripper or hand joint in a joint's or its child link's name.
-bool namesAGripper(const std::string& name) {
+// Words that mark a gripper or hand joint in a joint's name, or (`hand` aside: the joint that
+// moves a hand body is a wrist joint, as in iCub's r_wrist_yaw -> r_hand) in its child link's.
+bool namesAGripper(const std::string& name, bool hand_counts = true) {
   const std::string n = lower(name);
   for (const char* w : {"finger", "gripper", "jaw", "thumb", "knuckle", "hand"})
-    if (n.find(w) != std::string::npos) return true;
+    if ((hand_counts || std::string(w) != "hand") && n.find(w) != std::string::npos) return true;
   return false;
 }
 
@@ -58,7 +59,7 @@ std::string joinNames(const std::vector<std::string>& names) {
 
 }  // namespace
 
-std::string notArmJointReason(const urdf::Joint& j) {
+std::string notArmJointReason(const urdf::Joint& j, bool by_name) {
   switch (j.type) {
     case urdf::Joint::FLOATING:
       return "floating joint";
@@ -70,7 +71,8 @@ std::string notArmJointReason(const urdf::Joint& j) {
       break;
   }
   if (j.mimic) return "mimic joint";
-  if (namesAGripper(j.name) || namesAGripper(j.child_link_name)) return "gripper or finger joint";
+  if (by_name && (namesAGripper(j.name) || namesAGripper(j.child_link_name, false)))
+    return "gripper or finger joint";
   return "";
 }
 
@@ -78,6 +80,20 @@ std::string notArmJointReason(const urdf::Joint& j) {
 // keep the count, arm joints add one, any other movable joint ends the chain there (it and its
 // subtree are left out). An arm joint's child link is an end unless another arm joint follows.
 UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base) {
+  UrdfChains out = findChains(robot, base, true);
+  if (!out.ends.empty()) return out;
+  // Only gripper or finger joints below the base (a hand or a finger on its own): their chain is
+  // the arm, names aside.
+  UrdfChains named = findChains(robot, base, false);
+  if (named.ends.empty()) return out;
+  named.reason = "no arm joint below '" + base->name +
+                 "' except joints named as gripper or finger joints, so these are the chain; " +
+                 named.reason + " (another tip: --tip, tip_link in a study)";
+  return named;
+}
+
+UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base,
+                      bool by_name) {
   UrdfChains out;
   out.base = base->name;
   struct Item {
@@ -98,7 +114,7 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
       if (j->type == urdf::Joint::FIXED) {
         at.fixed_frames.push_back(child->name);
         stack.push_back({child, it.joints, it.end});
-      } else if (const std::string why = notArmJointReason(*j); !why.empty()) {
+      } else if (const std::string why = notArmJointReason(*j, by_name); !why.empty()) {
         at.left_out.push_back(j->name + " (" + why + ")");
       } else {
         if (it.end >= 0) followed[it.end] = true;

@@ -79,13 +79,18 @@ void addCollision(Model& m, int body, const LinkInBody& lb, const std::string& f
                   std::string& mesh_hashes);
 
 // Why a movable joint is no arm joint ("" when it is one, or when it is fixed): floating and
-// planar joints, mimic joints, and gripper or finger joints (named so: finger, gripper, jaw,
-// thumb, knuckle, hand in the joint's or its child link's name).
-std::string notArmJointReason(const urdf::Joint& j);
+// planar joints, mimic joints, and with `by_name` gripper or finger joints (named so: finger,
+// gripper, jaw, thumb, knuckle, hand in the joint's name, the same but hand in its child link's).
+std::string notArmJointReason(const urdf::Joint& j, bool by_name = true);
 
 // The chains of arm joints below `base` and the default tip: the end of the longest chain, carried
 // on along the fixed joints after it while they form one path (a flange, then tool0).
+// When no chain has an arm joint but gripper or finger joints lead somewhere (a hand or a finger
+// on its own), their chain is taken, names aside, and the reason says so.
 UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base);
+// The same with the gripper names judged (`by_name`) or not.
+UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSharedPtr& base,
+                      bool by_name);
 
 // The last link of the fixed joints after `link` when they form one path (fixed joints to finger
 // parts and sensor frames aside; their child links go to `fingers` when the path leads past
