@@ -332,7 +332,10 @@ Study studyFromDict(const py::dict& study, const std::string& folder) {
     const toml::table parsed = io::parseTomlText(text.str(), kDictLabel);
     std::string key;
     findLine(parsed, "", e.line(), key);
-    throw InputError(kDictLabel, 0, key.empty() ? e.key() : key, e.message());
+    // The reader's own key when it names the found entry or a key inside it (a missing
+    // 'reach.grid[0].x.step' is on the line of 'reach.grid[0].x').
+    const bool inside = e.key().rfind(key, 0) == 0;
+    throw InputError(kDictLabel, 0, key.empty() || inside ? e.key() : key, e.message());
   }
 }
 

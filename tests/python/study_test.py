@@ -109,6 +109,14 @@ class Study(unittest.TestCase):
         self.assertTrue(e.exception.key.startswith("reach.grid[0].x"), e.exception.key)
         self.assertFalse(os.path.exists(os.path.join(self.dir, "bad")))
 
+    def test_a_missing_key_is_named_as_the_cli_names_it(self):
+        bad = study_dict("missing")
+        del bad["reach"]["grid"][0]["x"]["step"]
+        with self.assertRaises(armstudy.InputError) as e:
+            armstudy.check_study(bad)
+        self.assertEqual(e.exception.key, "reach.grid[0].x.step")
+        self.assertIn("missing required key", e.exception.message)
+
 
 if __name__ == "__main__":
     unittest.main()
