@@ -7,6 +7,7 @@
 #include "common/defaults.hpp"
 #include "io/toml_reader.hpp"
 #include "io/units.hpp"
+#include "model/model_notes.hpp"
 #include "stages/tracking/tracking_stage.hpp"
 
 namespace armstudy::tracking {
@@ -122,6 +123,9 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
     e.task = ik::PoseTaskKind::FullPose;
   else
     r.fail("task_space", "unknown task space '" + task + "' (position, position_axis, full)");
+  if (e.task == ik::PoseTaskKind::PositionAxis)
+    if (const std::string open = notes::toolAxisOpen(*model); !open.empty())
+      r.fail("task_space", "a position_axis task holds the tool axis, and " + open);
   if (taskDim(e.task) >= n)
     r.fail("task_space", "'" + e.design + "' has no redundancy for a " + task +
                              " task (the null space would be empty)");
