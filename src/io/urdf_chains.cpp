@@ -2,6 +2,7 @@
 // (docs/design-format.md, "URDF designs": the default chain).
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -145,42 +146,79 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
   }
   const UrdfChainEnd& e = out.ends.front();
   std::vector<std::string> fingers;
-  out.chosen = fixedPathEnd(robot, e.link, &fingers);
+  const auto end_joint = robot.getLink(e.link)->parent_joint;
+  out.chosen = fixedPathEnd(robot, e.link, &fingers, &end_joint->axis);
   out.reason =
       "the longest chain of arm joints (" + std::to_string(e.joints) + ") ends in '" + e.link + "'";
   if (out.chosen != e.link)
     out.reason +=
         "; the fixed frames after it form one path" +
-        (fingers.empty() ? "" : " (finger and sensor frames aside: " + joinNames(fingers) + ")") +
+        (fingers.empty()
+             ? ""
+             : " (finger, sensor and off-axis frames aside: " + joinNames(fingers) + ")") +
         ", ending in '" + out.chosen + "'";
   if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);
   return out;
 }
 
+namespace {
+
+// Distance of `p` from the line through the origin along `axis` (unit or not; 0-length: |p|).
+double offAxis(const urdf::Vector3& p, const urdf::Vector3& axis) {
+  const double a2 = axis.x * axis.x + axis.y * axis.y + axis.z * axis.z;
+  const double along = a2 > 0 ? (p.x * axis.x + p.y * axis.y + p.z * axis.z) / a2 : 0.0;
+  const double dx = p.x - along * axis.x, dy = p.y - along * axis.y, dz = p.z - along * axis.z;
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
+
 // The last link of the fixed joints after `link` when they form one path, else `link`. Fixed
 // joints to finger parts (fixed fingers, as some hands are written) and to sensor frames (an LED,
-// an accelerometer on the palm) are not part of the path; their child links go to `fingers`.
+// an accelerometer on the palm) are not part of the path; their child links go to `fingers`. With
+// `axis` (the last arm joint's axis in `link`'s frame, through its origin), where the path
+// branches and exactly one branch stays on that axis (within kTipOnAxis_m), it is followed and the
+// frames off the axis (side markers) go to `fingers` too.
 std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
-                         std::vector<std::string>* fingers) {
+                         std::vector<std::string>* fingers, const urdf::Vector3* axis) {
+  constexpr double kTipOnAxis_m = 1e-3;
   std::string cur = link;
+  urdf::Pose at;  // cur's frame in link's
   std::vector<std::string> skipped;
   for (;;) {
     const auto l = robot.getLink(cur);
-    std::vector<std::string> fixed;
+    std::vector<std::pair<std::string, urdf::Pose>> fixed;
     for (const auto& j : l->child_joints) {
       if (j->type != urdf::Joint::FIXED) continue;
+      urdf::Pose next;
+      next.position = at.position + at.rotation * j->parent_to_joint_origin_transform.position;
+      next.rotation = at.rotation * j->parent_to_joint_origin_transform.rotation;
       if (namesAFinger(j->name) || namesAFinger(j->child_link_name) || namesASensor(j->name) ||
           namesASensor(j->child_link_name))
         skipped.push_back(j->child_link_name);
       else
-        fixed.push_back(j->child_link_name);
+        fixed.push_back({j->child_link_name, next});
+    }
+    if (fixed.size() > 1 && axis) {  // a branch: the frames on the axis, side markers aside
+      std::vector<std::pair<std::string, urdf::Pose>> on;
+      std::vector<std::string> off;
+      for (const auto& f : fixed)
+        if (offAxis(f.second.position, *axis) > kTipOnAxis_m)
+          off.push_back(f.first);
+        else
+          on.push_back(f);
+      if (on.size() == 1) {
+        fixed = on;
+        skipped.insert(skipped.end(), off.begin(), off.end());
+      }
     }
     if (fixed.size() > 1) return link;
     if (fixed.empty()) {
       if (fingers && cur != link) *fingers = skipped;
       return cur;
     }
-    cur = fixed.front();
+    cur = fixed.front().first;
+    at = fixed.front().second;
   }
 }
 

@@ -93,9 +93,11 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
                       bool by_name);
 
 // The last link of the fixed joints after `link` when they form one path (fixed joints to finger
-// parts and sensor frames aside; their child links go to `fingers` when the path leads past
-// `link`), else `link`.
+// parts and sensor frames aside, and with `axis`, the last arm joint's axis in link's frame, a
+// branch's frames more than 1 mm off it when one branch is on it; their child links go to
+// `fingers` when the path leads past `link`), else `link`.
 std::string fixedPathEnd(const urdf::ModelInterface& robot, const std::string& link,
-                         std::vector<std::string>* fingers = nullptr);
+                         std::vector<std::string>* fingers = nullptr,
+                         const urdf::Vector3* axis = nullptr);
 
 }  // namespace armstudy::urdf_detail

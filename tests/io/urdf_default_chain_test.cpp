@@ -65,3 +65,28 @@ TEST_CASE("URDF default chain: a finger on its own is its own chain", "[io][urdf
   CHECK(m2.dof() == 2);
   CHECK(info2.tcp_link == "b");
 }
+
+TEST_CASE("URDF default tip: frames on the last joint's axis, not side markers", "[io][urdf]") {
+  auto fixed = [](const std::string& name, const std::string& parent, const std::string& child,
+                  const std::string& xyz) {
+    return "<joint name=\"" + name + "\" type=\"fixed\"><parent link=\"" + parent +
+           "\"/><child link=\"" + child + "\"/><origin xyz=\"" + xyz + "\"/></joint>\n";
+  };
+  const std::string arm = link("base") + link("a") + link("flange") +
+                          revolute("shoulder", "base", "a") + revolute("roll", "a", "flange");
+  // A single fixed frame off the axis is still the path (a tool offset sideways).
+  const UrdfInfo offset =
+      importInfo(arm + link("tool") + fixed("t", "flange", "tool", "0.04 0 0.1"));
+  CHECK(offset.tcp_link == "tool");
+  // A tool on the axis beside a marker off it: the tool, then its own frame on the axis.
+  const UrdfInfo tool =
+      importInfo(arm + link("marker") + link("tool") + link("tcp") +
+                 fixed("m", "flange", "marker", "0.04 0 0") +
+                 fixed("t", "flange", "tool", "0 0 0.1") + fixed("c", "tool", "tcp", "0 0 0.05"));
+  CHECK(tool.tcp_link == "tcp");
+  // Two frames on the axis: ambiguous, the chain's end.
+  const UrdfInfo two =
+      importInfo(arm + link("t1") + link("t2") + fixed("a1", "flange", "t1", "0 0 0.1") +
+                 fixed("a2", "flange", "t2", "0 0 0.2"));
+  CHECK(two.tcp_link == "flange");
+}

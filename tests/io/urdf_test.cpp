@@ -1251,7 +1251,7 @@ TEST_CASE("URDF default tip: finger frames on fixed joints do not hide the hand 
   CHECK(c.ends[0].link == "l2");
   CHECK(c.ends[0].joints == 2);
   CHECK(c.chosen == "end_effector");
-  CHECK_THAT(c.reason, Catch::Contains("finger and sensor frames aside") &&
+  CHECK_THAT(c.reason, Catch::Contains("finger, sensor and off-axis frames aside") &&
                            Catch::Contains("link_finger_1, link_finger_2"));
   UrdfInfo info;
   const Model m = importUrdf(f, chain("", ""), &info);
