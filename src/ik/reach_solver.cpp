@@ -12,6 +12,7 @@
 #include "common/enum_names.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
+#include "ik/nullspace.hpp"
 #include "ik/reach_internal.hpp"
 
 namespace armstudy {
@@ -309,14 +310,17 @@ void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uin
 }
 
 // Distance of the target position to the set the first revolute joint's origin can reach.
-bool beyondReachBound(const IkWorkspace& ws, const IkTarget& t, bool limits) {
+// True when no configuration comes within `tolerance_m` of the target's position: the bound
+// rejects a pose only when even the tolerance ball around it lies beyond the reach radius, so a
+// pose reached within the tolerance is never rejected.
+bool beyondReachBound(const IkWorkspace& ws, const IkTarget& t, bool limits, double tolerance_m) {
   const auto& s = t.task_space.selected;
   if (!ws.has_bound || !(s[0] && s[1] && s[2])) return false;
   const Eigen::Vector3d d = t.w_d.head<3>() - ws.bound_p0;
   double tt = d.dot(ws.bound_axis);
   if (limits) tt = std::clamp(tt, ws.bound_t_min, ws.bound_t_max);
   const double dist = (d - tt * ws.bound_axis).norm();
-  return dist > ws.reach_radius + defaults::kIkReachBoundSlack_m;
+  return dist > ws.reach_radius + tolerance_m + defaults::kIkReachBoundSlack_m;
 }
 
 }  // namespace
@@ -504,7 +508,8 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target, 
   bool have_best = false;
   bool solved = false;
 
-  const bool bound_out = o.use_reach_bound && beyondReachBound(ws, target, true);
+  const bool bound_out =
+      o.use_reach_bound && beyondReachBound(ws, target, true, o.position_tolerance_m);
   if (bound_out) {
     // Certainly unreachable; one local solve from the middle of the limits gives the closest
     // configuration found for the reported errors.
@@ -551,6 +556,10 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target, 
   }
 
   fillSolution(model, ws, c, best_q, r);
+  // The verdict agrees with the posture stored beside it: a best posture within the limits and
+  // the tolerances is a solution, however it was found.
+  solved = solved || (have_best && ik::withinLimits(model, best_q) &&
+                      withinTolerance({r.position_error_m, r.orientation_error_rad}, o, 1.0));
   if (solved) {
     r.status = ReachStatus::Reachable;
     return r;
@@ -558,7 +567,7 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target, 
 
   // Why not: re-solve without joint limits.
   bool free_success = false;
-  if (o.classify_failures && !beyondReachBound(ws, target, false)) {
+  if (o.classify_failures && !beyondReachBound(ws, target, false, o.position_tolerance_m)) {
     for (int k = 0; k < o.classify_starts + 1 && !free_success; ++k) {
       if (k == 0)
         q = best_q;

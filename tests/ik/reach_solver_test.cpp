@@ -265,3 +265,53 @@ TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target an
   }
   CHECK(solved >= kSolveRateRequired * n);
 }
+
+TEST_CASE(
+    "a verdict agrees with the posture stored beside it: a pose reached within the "
+    "tolerance just outside the reach bound is reachable",
+    "[ik][oracle]") {
+  // Closed form: the lift arm's TCP sweeps the cylinder of radius 0.5 m, so a target at radius
+  // 0.5 m + d is missed by exactly d. With d inside the position tolerance the pose is reached
+  // (eq. 3.2 with the tolerance), although the exact point lies beyond the reach bound.
+  const Model m = liftArm();
+  IkWorkspace ws(m);
+  IkOptions o;
+  REQUIRE(ws.reach_radius == Approx(0.5));
+  for (const double d : {0.3e-3, 0.65e-3, 0.95e-3, 1.2e-3}) {
+    IkTarget t;
+    t.task_space = TaskSpace::position();
+    t.w_d << (0.5 + d) * 0.6, (0.5 + d) * 0.8, 0.05, 0, 0, 0;
+    const IkResult r = solvePose(m, ws, t, o, 7);
+    INFO("d = " << d);
+    CHECK(r.position_error_m == Approx(d).margin(1e-6));
+    CHECK(r.reachable() == (d <= o.position_tolerance_m));
+  }
+  // Shipped designs, targets around the outer shell: the status is reachable exactly when the
+  // stored posture is within the limits and its errors within the tolerances.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const auto& rel : shippedDesigns()) {
+    const Model dm = loadDesign(sourcePath(rel));
+    IkWorkspace dws(dm);
+    if (!dws.has_bound) continue;
+    IkOptions po;
+    po.max_starts = 8;
+    for (int k = 0; k < 30; ++k) {
+      const Eigen::Vector3d a = dws.bound_axis.unitOrthogonal(), b = dws.bound_axis.cross(a);
+      const double phi = 6.283185307 * u(rng);
+      IkTarget t;
+      t.task_space = TaskSpace::position();
+      t.w_d.head<3>() =
+          dws.bound_p0 + 0.05 * dws.bound_axis +
+          (dws.reach_radius + 1.5e-3 * u(rng)) * (std::cos(phi) * a + std::sin(phi) * b);
+      const IkResult r = solvePose(dm, dws, t, po, k);
+      bool within_limits = true;
+      for (int i = 0; i < dm.dof(); ++i)
+        within_limits &= r.q[i] >= dm.joints[i].limits.q_min && r.q[i] <= dm.joints[i].limits.q_max;
+      const bool within = within_limits && r.position_error_m <= po.position_tolerance_m &&
+                          r.orientation_error_rad <= po.orientation_tolerance_rad;
+      INFO(dm.name << " target " << k);
+      CHECK(r.reachable() == within);
+    }
+  }
+}
