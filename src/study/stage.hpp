@@ -135,11 +135,10 @@ const T& settingsAs(const StageSettings& s) {
 bool readSectionTable(const SectionInput& in, const std::string& key,
                       const std::function<void(io::TableReader&)>& parse);
 
-// A stage made of a section reader and a run function, which is what most stages are:
-//   const Stage& trackingStage() {
-//     static const auto stage = FunctionStage<Entries>::ofEntries("tracking", readEntries,
-//     runTrackingStage); return stage;
-//   }
+// A stage made of a section reader and a run function, which is what every stage is; the registry
+// (engine/registry.cpp) makes each one, e.g.
+//   static const auto tracking_stage = FunctionStage<Entries>::ofEntries("tracking", readEntries,
+//                                                                       runTrackingStage);
 // `read` returns no value when the study has no section for the stage.
 template <class Settings>
 class FunctionStage final : public Stage {

@@ -18,12 +18,12 @@
 
 #include "collision/collision.hpp"
 #include "common/errors.hpp"
+#include "engine/registry.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "reach/reach_sweep.hpp"
 #include "stages/reach/reach_stage.hpp"
-#include "stages/reach/stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -119,7 +119,8 @@ TEST_CASE(
   cfg.grids = {g};
   cfg.outputs = ReachOutputs{true, false, false};
   cfg.collision.self = true;
-  study.sections.push_back({&reachStage(), std::make_shared<SettingsOf<ReachConfig>>(cfg)});
+  study.sections.push_back(
+      {&registeredStage("reach"), std::make_shared<SettingsOf<ReachConfig>>(cfg)});
   RunOptions ro;
   ro.threads = 2;
   ro.progress = false;
