@@ -106,32 +106,70 @@ double firstParam(const EffectValues& v, int e) {
   return x ? x->x[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P,
-                             const IdentificationInput& in, const EffectValues& all,
+// What a joint-side reference value compares with: the coefficient of the joint's own speed
+// (viscous) or acceleration (armature) in its own channel. A motor that turns several joints (a
+// row k of the coupling matrix R with more than one entry) adds its term there reflected twice
+// through r = R_kj / R_kk (its speed carries r qd_j, its torque reaches joint j as r times the
+// term): the joint's own term plus r^2 times the motor's. The motor's own terms are the coupling
+// coefficients (the cross terms, qd_j in another joint's channel) and compare as they are, as do
+// the Coulomb terms (not linear in the speed) and every joint no coupled motor turns.
+struct Compared {
+  double value = NAN;
+  std::string how;  // "" when the term compares as it is
+};
+Compared jointSide(const ArmProblem& P, const Model& model, const TrajectoryData& data,
+                   const EffectValues& v, int e) {
+  const ArmEffect& info = P.catalogue[e];
+  Compared out{firstParam(v, e), ""};
+  const std::string motor_term = info.effect == "viscous"    ? "viscous"
+                                 : info.effect == "armature" ? "inertia"
+                                                             : "";
+  const int n = model.dof(), j = model.jointIndex(info.joint);
+  if (motor_term.empty() || j < 0 || data.coupling.rows() != n || !std::isfinite(out.value))
+    return out;
+  std::string parts;
+  for (int k = 0; k < n; ++k) {
+    const int m = P.findEffect("motor_" + model.joints[k].name + "." + motor_term);
+    const double x = m >= 0 ? firstParam(v, m) : NAN;
+    if (!std::isfinite(x) || data.coupling(k, k) == 0 || data.coupling(k, j) == 0) continue;
+    const double r2 = std::pow(data.coupling(k, j) / data.coupling(k, k), 2);
+    out.value += r2 * x;
+    parts += " + " + (r2 == 1 ? std::string() : g4(r2) + " x ") + P.catalogue[m].name + " " + g4(x);
+  }
+  if (!parts.empty()) out.how = info.name + " " + g4(firstParam(v, e)) + parts;
+  return out;
+}
+
+std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P, const Model& model,
+                             const TrajectoryData& data, const IdentificationInput& in,
+                             const EffectValues& all,
                              std::vector<std::pair<std::string, double>>& M) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& [name, ref] : in.reference) {
     const int e = P.findEffect(name);
     const ArmParam& p = P.catalogue[e].params[0];
     const double fin = firstParam(d.final_fit.values, e), both = firstParam(all, e);
+    const Compared cmp = jointSide(P, model, data, all, e);
     std::string ci = "-";
     for (const FittedParameter& f : d.final_fit.params)
       if (f.key == name + "." + p.key) ci = g4(f.ci_low) + " .. " + g4(f.ci_high);
-    const double diff = ref != 0 ? (both - ref) / std::abs(ref) : NAN;
-    rows.push_back({name, p.unit, std::isfinite(fin) ? g4(fin) : "not added", ci, g4(both), g4(ref),
+    const double diff = ref != 0 ? (cmp.value - ref) / std::abs(ref) : NAN;
+    rows.push_back({name, p.unit, std::isfinite(fin) ? g4(fin) : "not added", ci, g4(both),
+                    cmp.how.empty() ? g4(cmp.value) : g4(cmp.value) + " = " + cmp.how, g4(ref),
                     std::isfinite(diff) ? report::fixed(100 * diff, 1) + " %" : "-"});
-    M.emplace_back("fit/" + name, both);
+    M.emplace_back("fit/" + name, cmp.value);
     M.emplace_back("reference_difference/" + name, diff);
   }
   std::ostringstream md;
   md << "## Fitted values next to the reference\n\nReference: " << in.reference_source
      << ". \"Final\" is the model the ladder ended with (95 % interval); \"with all referenced\" "
-        "refits that "
-        "model with every referenced effect switched on, so each reference value has a fitted "
-        "counterpart; "
-        "the difference is of that column.\n\n"
+        "refits that model with every referenced effect switched on, so each reference value has "
+        "a fitted counterpart. \"Compared\" is that refit on the reference's joint side: a joint's "
+        "viscous or armature term is the coefficient of its own speed or acceleration in its own "
+        "channel, so a coupled motor that turns the joint adds its term (times the squared ratio "
+        "R_kj / R_kk); the difference is of that column.\n\n"
      << report::markdownTable({"effect", "unit", ">final", ">95 % interval", ">with all referenced",
-                               ">reference", ">difference"},
+                               ">compared", ">reference", ">difference"},
                               rows)
      << "\n";
   return md.str();
@@ -240,14 +278,14 @@ std::vector<std::string> jointAnswers(const ArmDiagnosis& d, const ArmProblem& P
 }
 
 // "fitted / source" of every referenced friction and armature value, one sentence.
-std::string referenceAnswer(const ArmProblem& P, const IdentificationInput& in,
-                            const EffectValues& all) {
-  std::string s = "fitted / source (" + in.reference_source + "): ";
+std::string referenceAnswer(const ArmProblem& P, const Model& model, const TrajectoryData& data,
+                            const IdentificationInput& in, const EffectValues& all) {
+  std::string s = "fitted / source (" + in.reference_source + "; joint side): ";
   bool first = true;
   for (const auto& [name, ref] : in.reference) {
     const int e = P.findEffect(name);
     if (e < 0 || P.catalogue[e].effect == "offset") continue;
-    const double v = firstParam(all, e);
+    const double v = jointSide(P, model, data, all, e).value;
     s += (first ? "" : ", ") + name + " " + formatG(v, 3) + " / " + formatG(ref, 3);
     if (ref != 0 && std::isfinite(v))
       s += " (" + std::string(v >= ref ? "+" : "") + formatG(100 * (v - ref) / std::abs(ref), 2) +
@@ -271,8 +309,8 @@ IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProble
   const SetFit both = fitEffects(P, all);
   r.answer = jointAnswers(d, P, model);
   if (!in.reference.empty()) {
-    md << referenceSection(d, P, in, both.values, r.metrics);
-    r.answer.push_back(referenceAnswer(P, in, both.values));
+    md << referenceSection(d, P, model, data, in, both.values, r.metrics);
+    r.answer.push_back(referenceAnswer(P, model, data, in, both.values));
   }
   md << widthSection(model, data, both.values, in, r.metrics)
      << "Residuals before and after on one scale per joint: residuals_before_after.svg.\n";
