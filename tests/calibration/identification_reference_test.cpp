@@ -93,3 +93,46 @@ TEST_CASE(
   CHECK(rep.markdown.find(" = " + n5 + ".viscous") != std::string::npos);
   CHECK(rep.markdown.find("0.25 x motor_" + n6 + ".viscous") != std::string::npos);
 }
+
+TEST_CASE(
+    "identification report: an armature its link's inertia about the joint axis explains is named "
+    "beside its value") {
+  // Efforts of the design with joint j2's link 0.05 kg m^2 heavier about its axis (the first
+  // revolute joint after the lift: nothing before it turns, so that inertia acts as I qdd2 in the
+  // j2 channel only, like an armature), fitted with the design as is plus j2.armature.
+  const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
+  const int j2 = m.jointIndex("j2");
+  REQUIRE(j2 >= 0);
+  const double extra = 0.05;  // kg m^2
+  Model heavier = m;
+  heavier.inertias[j2].I_com_kgm2(2, 2) += extra;
+  TrajectorySynthOptions so;
+  so.duration_s = 4.0;
+  so.rate_Hz = 50;
+  so.noise = kNoise;
+  so.seed = 23;
+  TrajectoryData data = synthesizeTrajectory(heavier, so);
+  data.friction_width_fraction = kFrictionWidthFraction;
+  const auto P = makeTrajectoryProblem(m, data);
+  ArmFitOptions o;
+  o.add = {"j2.armature"};
+  const ArmDiagnosis d = diagnoseArm(*P, o);
+  // The scenario: the armature takes the whole link inertia (the two columns are one).
+  REQUIRE(d.final_fit.params.size() == 1);
+  CHECK(d.final_fit.params.front().value == Approx(extra).epsilon(kRecoveredRelative));
+  IdentificationInput in;
+  in.reference_source = "planted";
+  in.reference = {{"j2.armature", 0.0}, {"j2.viscous", 0.0}};
+  const IdentificationReport rep = identificationReport(d, *P, m, data, in);
+  INFO(rep.markdown);
+  CHECK(metric(rep, "indistinguishable/j2.armature") == 1.0);
+  CHECK(metric(rep, "indistinguishable/j2.viscous") == 0.0);
+  CHECK(rep.markdown.find("the inertia of j2's link about its axis") != std::string::npos);
+  bool answered = false;
+  for (const std::string& a : rep.answer)
+    answered =
+        answered ||
+        a.find("j2.armature 0.0501 / 0 (cannot be told apart from the inertia of j2's link") !=
+            std::string::npos;
+  CHECK(answered);
+}
