@@ -493,7 +493,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
                                                    d.channel_noise, d.noise_rho)
                                   : std::vector<ArmPattern>{};
   ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
-  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+  confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated, o.significance_z);
   significantFirst(ranking);
   d.ranking = ranking;
   d.missing_effect_found = !ranking.empty() && ranking.front().significant;
@@ -505,7 +505,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
       if (!addEffect(ranking.front().effect, true)) break;
       if (!first) named.push_back(name);  // the first one is named above
       ranking = rank(P, eng, current, cur, cur_solved, d.noise_rho, o);
-      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated);
+      confirmCandidates(P, ranking, cur, d.channel_noise, d.noise_rho, saturated, o.significance_z);
       significantFirst(ranking);
     }
   d.final_fit = cur;

@@ -287,9 +287,28 @@ constexpr double kPatternExplainedDrop =
 constexpr double kHalvedMeanSquare =
     0.25;  // held-out mean square of the channel left by a candidate that halves its RMSE
 
+// What a candidate lowers in the pattern's channel beyond the pattern's own shape (its bin means or
+// its sine), in squared noise units, deflated for AR(1)-correlated residuals: the channel's sum of
+// squares outside the pattern's shape, ||(1 - P_N) e||^2 = ||e||^2 - (the pattern's sum of
+// squares), before minus after. A candidate that only absorbs a slice of the pattern (rotor_inertia
+// on a slow ripple) gains nothing there; a separate effect in the same channel (the friction of a
+// coupled motor beside a pattern at low speed) does.
+double gainBeyondPattern(const ArmPattern& before, const std::vector<ArmPattern>& after, int pc,
+                         const ArmFit& current, const ArmFit& fit, double sigma, double rho) {
+  double left = 0;  // the pattern's sum of squares in the candidate's residuals
+  for (const ArmPattern& x : after)
+    if (x.channel == before.channel && x.variable == before.variable && x.kind == before.kind)
+      left = x.sum_squares;
+  const double s2 = sigma * sigma;
+  const double outside_before = current.residual.col(pc).squaredNorm() / s2 - before.sum_squares,
+               outside_after = fit.residual.col(pc).squaredNorm() / s2 - left;
+  const double r = std::clamp(rho, 0.0, 0.95);
+  return (outside_before - outside_after) * (1 - r) / (1 + r);
+}
+
 void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
                        const ArmFit& current, const std::vector<double>& sigma, double rho,
-                       const std::vector<ArmPattern>& saturated) {
+                       const std::vector<ArmPattern>& saturated, double significance_z) {
   const std::vector<ArmPattern> before =
       searchPatterns(P, current.residual, current.predicted, sigma, rho);
   // The strongest significant pattern (largest explained sum of squares in noise units).
@@ -366,6 +385,20 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
       }
     }
     if (explains) continue;
+    // A pattern no combination of catalogue effects explains holds back only what it explains
+    // (waiting for its own effect does not help: there is none): a candidate that lowers the
+    // channel's residual beyond the pattern's shape by more than significance_z^2 per fitted
+    // parameter (chi^2; the z-test for one) is an effect of its own, and the pattern is reported.
+    const int added_params = std::max(1, c.fit.n_params - current.n_params);
+    const double beyond = outside && pc >= 0 ? gainBeyondPattern(*seen.front(), after, pc, current,
+                                                                 c.fit, sigma[pc], rho)
+                                             : 0.0;
+    if (beyond > significance_z * significance_z * added_params) {
+      c.warnings.push_back("leaves the strongest residual pattern (" + seen.front()->description +
+                           ") but lowers its channel beyond the pattern's shape (chi^2 " +
+                           fmt3(beyond) + "): an effect of its own; the pattern is reported");
+      continue;
+    }
     c.significant = false;
     c.warnings.push_back("lowers the error but leaves the strongest residual pattern in place (" +
                          seen.front()->description + "): it does not explain it");

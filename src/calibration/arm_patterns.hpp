@@ -16,10 +16,11 @@ std::vector<ArmPattern> searchPatterns(const ArmProblem& P, const Eigen::MatrixX
                                        const Eigen::MatrixXd& predicted,
                                        const std::vector<double>& sigma, double rho);
 // Demotes significant candidates that do not remove the strongest pattern (`saturated`: the
-// patterns left by every candidate at once).
+// patterns left by every candidate at once) and gain nothing beyond its shape (`significance_z`
+// of the ranking).
 void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
                        const ArmFit& current, const std::vector<double>& sigma, double rho,
-                       const std::vector<ArmPattern>& saturated);
+                       const std::vector<ArmPattern>& saturated, double significance_z);
 std::string candidateVerdictName(const ArmCandidate& c);
 
 }  // namespace armstudy::calibration

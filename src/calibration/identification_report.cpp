@@ -4,7 +4,9 @@
 #include <limits>
 #include <sstream>
 
+#include "common/defaults.hpp"
 #include "common/format.hpp"
+#include "dynamics/dynamics.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 
@@ -106,33 +108,165 @@ double firstParam(const EffectValues& v, int e) {
   return x ? x->x[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P,
-                             const IdentificationInput& in, const EffectValues& all,
+// What a joint-side reference value compares with: the coefficient of the joint's own speed
+// (viscous) or acceleration (armature) in its own channel. A motor that turns several joints (a
+// row k of the coupling matrix R with more than one entry) adds its term there reflected twice
+// through r = R_kj / R_kk (its speed carries r qd_j, its torque reaches joint j as r times the
+// term): the joint's own term plus r^2 times the motor's. The motor's own terms are the coupling
+// coefficients (the cross terms, qd_j in another joint's channel) and compare as they are, as do
+// the Coulomb terms (not linear in the speed) and every joint no coupled motor turns.
+struct Compared {
+  double value = NAN;
+  std::string how;  // "" when the term compares as it is
+};
+Compared jointSide(const ArmProblem& P, const Model& model, const TrajectoryData& data,
+                   const EffectValues& v, int e) {
+  const ArmEffect& info = P.catalogue[e];
+  Compared out{firstParam(v, e), ""};
+  const std::string motor_term = info.effect == "viscous"    ? "viscous"
+                                 : info.effect == "armature" ? "inertia"
+                                                             : "";
+  const int n = model.dof(), j = model.jointIndex(info.joint);
+  if (motor_term.empty() || j < 0 || data.coupling.rows() != n || !std::isfinite(out.value))
+    return out;
+  std::string parts;
+  for (int k = 0; k < n; ++k) {
+    const int m = P.findEffect("motor_" + model.joints[k].name + "." + motor_term);
+    const double x = m >= 0 ? firstParam(v, m) : NAN;
+    if (!std::isfinite(x) || data.coupling(k, k) == 0 || data.coupling(k, j) == 0) continue;
+    const double r2 = std::pow(data.coupling(k, j) / data.coupling(k, k), 2);
+    out.value += r2 * x;
+    parts += " + " + (r2 == 1 ? std::string() : g4(r2) + " x ") + P.catalogue[m].name + " " + g4(x);
+  }
+  if (!parts.empty()) out.how = info.name + " " + g4(firstParam(v, e)) + parts;
+  return out;
+}
+
+// Flattened (row-major) column of a rows x channels change, each channel weighted by 1 / its
+// noise, as the fit weighs it.
+Eigen::VectorXd weighted(const Eigen::MatrixXd& m, const std::vector<double>& noise) {
+  Eigen::VectorXd v(m.size());
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      v[i * m.cols() + c] = m(i, c) / (noise[c] > 0 ? noise[c] : 1.0);
+  return v;
+}
+
+double r2Of(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const double aa = a.squaredNorm(), bb = b.squaredNorm();
+  return aa > 0 && bb > 0 ? std::pow(a.dot(b), 2) / (aa * bb) : 0.0;
+}
+
+// The change of every row's joint efforts when link j's inertia about its joint axis (the link
+// frame's z) grows by 1 kg m^2: the link inertia a joint's armature is classically regrouped with
+// (Khalil and Gautier's base parameters), which the fit keeps at the design's value.
+Eigen::MatrixXd linkAxisInertiaColumn(const Model& model, const TrajectoryData& data, int j) {
+  Model more = model;
+  more.inertias[j].I_com_kgm2(2, 2) += 1.0;
+  const RigidBodyModel a = makeRigidBodyModel(model), b = makeRigidBodyModel(more);
+  DynamicsWorkspace wa(a), wb(b);
+  Eigen::VectorXd Qa(model.dof()), Qb(model.dof());
+  Eigen::MatrixXd out(data.rows(), model.dof());
+  for (int i = 0; i < data.rows(); ++i) {
+    const Eigen::VectorXd q = data.q.row(i).transpose(), qd = data.qd.row(i).transpose(),
+                          qdd = data.qdd.row(i).transpose();
+    inverseDynamics(a, wa, q, qd, qdd, Qa);
+    inverseDynamics(b, wb, q, qd, qdd, Qb);
+    out.row(i) = (Qb - Qa).transpose();
+  }
+  return out;
+}
+
+// What a referenced one-parameter effect cannot be told apart from with this data (its column
+// explains to R^2 > kCollinearR2, in the fit's noise weights): every other one-parameter catalogue
+// effect and, for an armature, the inertia of the joint's link about its axis. Such a value is
+// the pair's combined value; the report says so beside it.
+struct Partners {
+  std::vector<std::string> names;  // what the effect cannot be told apart from
+  std::string table;               // the names with their R^2
+};
+Partners partnersOf(const ArmDiagnosis& d, const ArmProblem& P, const Model& model,
+                    const TrajectoryData& data, int e, const Eigen::MatrixXd& base) {
+  auto column = [&](int f) {
+    EffectValue v;
+    v.effect = f;
+    v.x = Eigen::VectorXd::Ones(1);
+    return weighted(P.predict({v}) - base, d.channel_noise);
+  };
+  const Eigen::VectorXd a = column(e);
+  Partners out;
+  auto add = [&](const std::string& name, double r2) {
+    out.names.push_back(name);
+    out.table += (out.table.empty() ? "" : ", ") + name + " (R^2 = " + formatG(r2, 3) + ")";
+  };
+  for (std::size_t f = 0; f < P.catalogue.size(); ++f) {
+    const ArmEffect& g = P.catalogue[f];
+    if (static_cast<int>(f) == e || g.params.size() != 1 || g.hasProfile()) continue;
+    const double r2 = r2Of(a, column(static_cast<int>(f)));
+    if (r2 > defaults::kCollinearR2) add(g.name, r2);
+  }
+  const int j = model.jointIndex(P.catalogue[e].joint);
+  if (P.catalogue[e].effect == "armature" && j >= 0 &&
+      j < static_cast<int>(model.inertias.size())) {
+    const double r2 = r2Of(a, weighted(linkAxisInertiaColumn(model, data, j), d.channel_noise));
+    if (r2 > defaults::kCollinearR2)
+      add("the inertia of " + model.joints[j].name +
+              "'s link about its axis (kept at the design's value)",
+          r2);
+  }
+  return out;
+}
+
+// partnersOf for every referenced effect, in the reference's order.
+std::vector<Partners> referencePartners(const ArmDiagnosis& d, const ArmProblem& P,
+                                        const Model& model, const TrajectoryData& data,
+                                        const IdentificationInput& in) {
+  const Eigen::MatrixXd base = P.predict({});
+  std::vector<Partners> out;
+  for (const auto& ref : in.reference)
+    out.push_back(partnersOf(d, P, model, data, P.findEffect(ref.first), base));
+  return out;
+}
+
+std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P, const Model& model,
+                             const TrajectoryData& data, const IdentificationInput& in,
+                             const EffectValues& all, const std::vector<Partners>& partners,
                              std::vector<std::pair<std::string, double>>& M) {
   std::vector<std::vector<std::string>> rows;
-  for (const auto& [name, ref] : in.reference) {
+  for (std::size_t k = 0; k < in.reference.size(); ++k) {
+    const auto& [name, ref] = in.reference[k];
     const int e = P.findEffect(name);
     const ArmParam& p = P.catalogue[e].params[0];
+    const std::string& told = partners[k].table;
     const double fin = firstParam(d.final_fit.values, e), both = firstParam(all, e);
+    const Compared cmp = jointSide(P, model, data, all, e);
     std::string ci = "-";
     for (const FittedParameter& f : d.final_fit.params)
       if (f.key == name + "." + p.key) ci = g4(f.ci_low) + " .. " + g4(f.ci_high);
-    const double diff = ref != 0 ? (both - ref) / std::abs(ref) : NAN;
-    rows.push_back({name, p.unit, std::isfinite(fin) ? g4(fin) : "not added", ci, g4(both), g4(ref),
-                    std::isfinite(diff) ? report::fixed(100 * diff, 1) + " %" : "-"});
-    M.emplace_back("fit/" + name, both);
+    const double diff = ref != 0 ? (cmp.value - ref) / std::abs(ref) : NAN;
+    rows.push_back({name, p.unit, std::isfinite(fin) ? g4(fin) : "not added", ci, g4(both),
+                    cmp.how.empty() ? g4(cmp.value) : g4(cmp.value) + " = " + cmp.how, g4(ref),
+                    std::isfinite(diff) ? report::fixed(100 * diff, 1) + " %" : "-",
+                    told.empty() ? "-" : told});
+    M.emplace_back("fit/" + name, cmp.value);
+    M.emplace_back("indistinguishable/" + name, told.empty() ? 0.0 : 1.0);
     M.emplace_back("reference_difference/" + name, diff);
   }
   std::ostringstream md;
   md << "## Fitted values next to the reference\n\nReference: " << in.reference_source
      << ". \"Final\" is the model the ladder ended with (95 % interval); \"with all referenced\" "
-        "refits that "
-        "model with every referenced effect switched on, so each reference value has a fitted "
-        "counterpart; "
-        "the difference is of that column.\n\n"
-     << report::markdownTable({"effect", "unit", ">final", ">95 % interval", ">with all referenced",
-                               ">reference", ">difference"},
-                              rows)
+        "refits that model with every referenced effect switched on, so each reference value has "
+        "a fitted counterpart. \"Compared\" is that refit on the reference's joint side: a joint's "
+        "viscous or armature term is the coefficient of its own speed or acceleration in its own "
+        "channel, so a coupled motor that turns the joint adds its term (times the squared ratio "
+        "R_kj / R_kk); the difference is of that column. \"Cannot be told apart from\": what the "
+        "effect's column cannot be told apart from with these logs (R^2 > "
+     << formatG(defaults::kCollinearR2, 3)
+     << "); such a value is the combined value of the pair, not the effect's alone.\n\n"
+     << report::markdownTable(
+            {"effect", "unit", ">final", ">95 % interval", ">with all referenced", ">compared",
+             ">reference", ">difference", "cannot be told apart from"},
+            rows)
      << "\n";
   return md.str();
 }
@@ -240,18 +374,25 @@ std::vector<std::string> jointAnswers(const ArmDiagnosis& d, const ArmProblem& P
 }
 
 // "fitted / source" of every referenced friction and armature value, one sentence.
-std::string referenceAnswer(const ArmProblem& P, const IdentificationInput& in,
-                            const EffectValues& all) {
-  std::string s = "fitted / source (" + in.reference_source + "): ";
+std::string referenceAnswer(const ArmProblem& P, const Model& model, const TrajectoryData& data,
+                            const IdentificationInput& in, const EffectValues& all,
+                            const std::vector<Partners>& partners) {
+  std::string s = "fitted / source (" + in.reference_source + "; joint side): ";
   bool first = true;
-  for (const auto& [name, ref] : in.reference) {
+  for (std::size_t k = 0; k < in.reference.size(); ++k) {
+    const auto& [name, ref] = in.reference[k];
     const int e = P.findEffect(name);
     if (e < 0 || P.catalogue[e].effect == "offset") continue;
-    const double v = firstParam(all, e);
+    const double v = jointSide(P, model, data, all, e).value;
     s += (first ? "" : ", ") + name + " " + formatG(v, 3) + " / " + formatG(ref, 3);
     if (ref != 0 && std::isfinite(v))
       s += " (" + std::string(v >= ref ? "+" : "") + formatG(100 * (v - ref) / std::abs(ref), 2) +
            " %)";
+    if (!partners[k].names.empty()) {
+      std::string who;
+      for (const std::string& w : partners[k].names) who += (who.empty() ? "" : ", ") + w;
+      s += " (cannot be told apart from " + who + ": the value of both together)";
+    }
     first = false;
   }
   return s + ".";
@@ -271,8 +412,9 @@ IdentificationReport identificationReport(const ArmDiagnosis& d, const ArmProble
   const SetFit both = fitEffects(P, all);
   r.answer = jointAnswers(d, P, model);
   if (!in.reference.empty()) {
-    md << referenceSection(d, P, in, both.values, r.metrics);
-    r.answer.push_back(referenceAnswer(P, in, both.values));
+    const std::vector<Partners> partners = referencePartners(d, P, model, data, in);
+    md << referenceSection(d, P, model, data, in, both.values, partners, r.metrics);
+    r.answer.push_back(referenceAnswer(P, model, data, in, both.values, partners));
   }
   md << widthSection(model, data, both.values, in, r.metrics)
      << "Residuals before and after on one scale per joint: residuals_before_after.svg.\n";
