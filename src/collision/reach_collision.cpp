@@ -46,34 +46,21 @@ struct Check {
   bool obstacle = false;  // the closest pair is a body-obstacle pair
 };
 
-// The reach target as a pose task of the null-space IK: position, full pose or tool axis (the
-// spraying task: the roll about the tool axis is free). Literal selections of Cardan angles (e.g.
-// "x,y,z,gamma") have no exact null space of their own; there the full pose of the colliding
-// solution q is held (its orientation already meets the selected angles), so the descent explores
-// the redundancy that remains with the free angle fixed. False when the position is not fully
-// selected.
-bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarget& t,
-                     const JointVector& q, ik::PoseTarget& out) {
-  const auto& s = t.task_space.selected;
-  if (!(s[0] && s[1] && s[2])) return false;
-  out.p_WT = t.w_d.head<3>();
-  if (t.tool_axis) {
-    out.kind = ik::PoseTaskKind::PositionAxis;
-    out.axis_W = t.axis_d_W.normalized();
-    return true;
+// The task the null-space descent holds: the reach task itself (the tool axis normalised) for a
+// position, tool-axis or full-pose task. A literal selection of Cardan angles (e.g. "x,y,z,gamma")
+// has no exact null space of its own; there the full pose of the colliding solution q is held (its
+// orientation already meets the selected angles), so the descent explores the redundancy that
+// remains with the free angle fixed. False when the position is not fully selected.
+bool nullspaceTask(const Model& model, KinematicsWorkspace& kin, const PoseTask& t,
+                   const JointVector& q, PoseTask& out) {
+  if (!t.allPositionSelected()) return false;
+  out = t;
+  if (t.kind == PoseTaskKind::PositionAxis) {
+    out.axis_W = t.axis_W.normalized();
+  } else if (t.kind == PoseTaskKind::CardanAngles) {
+    forwardKinematics(model, kin, q);
+    out = fullPoseTask(t.p_WT, kin.R_WT);
   }
-  if (s[3] && s[4] && s[5]) {
-    out.kind = ik::PoseTaskKind::FullPose;
-    out.R_WT = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
-    return true;
-  }
-  if (!(s[3] || s[4] || s[5])) {
-    out.kind = ik::PoseTaskKind::Position;
-    return true;
-  }
-  out.kind = ik::PoseTaskKind::FullPose;
-  forwardKinematics(model, kin, q);
-  out.R_WT = kin.R_WT;
   return true;
 }
 
@@ -82,9 +69,11 @@ bool nullspaceTarget(const Model& model, KinematicsWorkspace& kin, const IkTarge
 // there (ik::optimiseAtPose). The result judged by the reach solver's tolerances and limits
 // (status Reachable or OutOfReach; its collision distances are the caller's to check).
 IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
-                         const IkTarget& target, const ik::PoseTarget& pose_task,
-                         const IkOptions& ik_options, const CollisionReachOptions& options,
-                         std::span<const Obstacle> obstacles, const JointVector& q) {
+                         const PoseTask& target, const IkOptions& ik_options,
+                         const CollisionReachOptions& options, std::span<const Obstacle> obstacles,
+                         const JointVector& q) {
+  PoseTask pose_task;
+  if (!nullspaceTask(model, ws.kin, target, q, pose_task)) return IkResult{};
   CollisionPotentialOptions po;
   po.safety_distance_m = options.escape_safety_distance_m + options.clearance_m;
   po.self = options.self;
@@ -112,7 +101,7 @@ IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace
 }  // namespace
 
 CollisionReachResult solvePoseCollisionAware(
-    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
+    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const PoseTask& target,
     const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
     std::span<const Obstacle> obstacles, const JointVector* warm_start, const IkResult* solved) {
   CollisionReachResult out;
@@ -154,11 +143,9 @@ CollisionReachResult solvePoseCollisionAware(
     return out;
   };
   // Step 1: descend H_c in the null space from the colliding solution (thesis section 5.4.3).
-  ik::PoseTarget pose_task;
-  if (options.escape_safety_distance_m > 0 &&
-      nullspaceTarget(model, ws.kin, target, first.q, pose_task)) {
+  if (options.escape_safety_distance_m > 0) {
     const IkResult found =
-        nullspaceEscape(model, ws, cws, target, pose_task, ik_options, options, obstacles, first.q);
+        nullspaceEscape(model, ws, cws, target, ik_options, options, obstacles, first.q);
     if (found.reachable()) {
       const Check c = check(found.q);
       if (c.d_min > options.clearance_m) return accept(found, c, true);

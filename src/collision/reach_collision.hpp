@@ -43,7 +43,7 @@ struct CollisionReachResult {
 // of solvePose(model, ws, target, ik_options, pose_id, warm_start) when the caller has it already
 // (then it is not solved again).
 CollisionReachResult solvePoseCollisionAware(
-    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const IkTarget& target,
+    const Model& model, IkWorkspace& ws, CollisionWorkspace& cws, const PoseTask& target,
     const IkOptions& ik_options, const CollisionReachOptions& options, std::uint64_t pose_id,
     std::span<const Obstacle> obstacles = {}, const JointVector* warm_start = nullptr,
     const IkResult* solved = nullptr);

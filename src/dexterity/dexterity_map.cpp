@@ -109,7 +109,7 @@ std::string DexterityOptions::validateFor(const Model& model) const {
   if (!joint_weights.empty() && static_cast<int>(joint_weights.size()) != model.dof())
     return "joint_weights has " + std::to_string(joint_weights.size()) + " entries but design '" +
            model.name + "' has " + std::to_string(model.dof()) + " joints";
-  if (model.dof() < ik::taskDim(grid.task))
+  if (model.dof() < taskDim(grid.task))
     return "design '" + model.name + "' has fewer joints than the task has components";
   return "";
 }
@@ -133,27 +133,6 @@ ik::WeightedObjective DexterityOptions::buildObjective(const Model& model) const
 int DexterityMap::reachable() const {
   int r = 0;
   for (const auto& c : cells) r += c.reachable ? 1 : 0;
-  return r;
-}
-
-IkTarget reachTarget(const ik::PoseTarget& t) {
-  IkTarget r;
-  r.task_space = TaskSpace::position();
-  r.w_d.head<3>() = t.p_WT;
-  switch (t.kind) {
-    case ik::PoseTaskKind::Position:
-      break;
-    case ik::PoseTaskKind::PositionAxis:
-      r.tool_axis = true;
-      r.axis_d_W = t.axis_W;
-      break;
-    case ik::PoseTaskKind::FullPose: {
-      r.task_space = TaskSpace::fullPose();
-      const CardanAngles c = cardanFromRotation(t.R_WT);
-      r.w_d.tail<3>() << c.alpha, c.beta, c.gamma;
-      break;
-    }
-  }
   return r;
 }
 
@@ -185,7 +164,7 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.H_plain = objective.evaluate(ctx, nullptr);
   r.q_opt = r.q_plain;
   r.H_opt = r.H_plain;
-  if (model.dof() <= ik::taskDim(cell.target.kind) || objective.empty()) return;
+  if (model.dof() <= cell.target.rows() || objective.empty()) return;
   const JointVector& from = start ? *start : r.q_plain;
   ik::NullspaceResult o =
       ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
@@ -266,7 +245,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     io.orientation_tolerance_rad = options.orientation_tolerance_rad;
     io.max_starts = options.cold_starts;
     io.classify_failures = true;  // an unreachable cell's reason: joint limits or out of reach
-    const IkResult ir = solvePose(model, ik_ws, reachTarget(cell.target), io, cell_id, warm_plain);
+    const IkResult ir = solvePose(model, ik_ws, cell.target, io, cell_id, warm_plain);
     r.starts += ir.starts;
     r.status = ir.status == ReachStatus::Reachable ? ReachStatus::OutOfReach : ir.status;
     const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, ir.q, w_inv, options.solve);
@@ -284,7 +263,7 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   // The null-space descent starts from the pose solution nearest the previous cell's optimum.
   JointVector start;
   bool chained = false;
-  if (warm_opt && n > ik::taskDim(cell.target.kind) && !objective.empty()) {
+  if (warm_opt && n > cell.target.rows() && !objective.empty()) {
     const ik::PoseSolveResult s =
         ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
     if (s.error.position_m <= options.nullspace.pose_tolerance &&

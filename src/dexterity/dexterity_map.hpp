@@ -229,7 +229,4 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
                      std::uint64_t cell_id, const JointVector* warm_plain,
                      const JointVector* warm_opt, collision::CollisionWorkspace* cws = nullptr);
 
-// The cell's pose target in the reachability solver's terms (tool-axis task for PositionAxis).
-IkTarget reachTarget(const ik::PoseTarget& target);
-
 }  // namespace armstudy::dexterity

@@ -79,7 +79,7 @@ void escapeCollision(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   co.clearance_m = col.clearance_m;
   co.self = col.self;
   const collision::CollisionReachResult cr = collision::solvePoseCollisionAware(
-      model, ik_ws, cws, reachTarget(cell.target), io, co, cell_id, col.obstacles, &r.q_plain);
+      model, ik_ws, cws, cell.target, io, co, cell_id, col.obstacles, &r.q_plain);
   r.starts += cr.attempts;
   if (!cr.ik.reachable()) return;
   const ik::PoseSolveResult s =

@@ -31,7 +31,7 @@ struct StemGrid {
   double radius_m = 0.15;
   AxisRange gamma_rad;  // fastest-varying index
   AxisRange z_m;
-  ik::PoseTaskKind task = ik::PoseTaskKind::PositionAxis;  // roll about the tool axis free
+  PoseTaskKind task = PoseTaskKind::PositionAxis;  // roll about the tool axis free
   double roll_rad = 0;  // FullPose only: tool x axis = down (-z_W) rotated by roll about z_T
 
   std::string validate() const;  // empty when valid
@@ -39,7 +39,7 @@ struct StemGrid {
   int index(int i_gamma, int i_z) const { return i_z * gamma_rad.count + i_gamma; }
 
   struct Cell {
-    ik::PoseTarget target;
+    PoseTask target;
     Eigen::Vector3d u_W;  // TCP -> stem centre, unit
     double gamma = 0, z = 0;
   };

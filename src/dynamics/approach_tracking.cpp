@@ -64,19 +64,14 @@ TrackedApproach trackApproach(const Model& model, IkWorkspace& ws, ik::Objective
 
   // Step 1: start configuration (reach solver, then null-space optimisation at the start pose).
   const PoseReference start = poseReference(approach.sample(0.0), options.R_tool);
-  IkTarget target;
-  target.task_space = TaskSpace::fullPose();
   const CardanAngles c = cardanFromRotation(start.R_WT);
-  target.w_d << start.p_WT, c.alpha, c.beta, c.gamma;
+  const PoseTask target = fullPoseTask(start.p_WT, rotationFromCardan(c.alpha, c.beta, c.gamma));
   const IkResult ik0 = solvePose(model, ws, target, options.start_ik, pose_id);
   if (!ik0.reachable()) {
     out.status = ApproachTrackingStatus::StartUnreachable;
     return out;
   }
-  ik::PoseTarget pose0;
-  pose0.kind = ik::PoseTaskKind::FullPose;
-  pose0.p_WT = start.p_WT;
-  pose0.R_WT = start.R_WT;
+  const PoseTask pose0 = fullPoseTask(start.p_WT, start.R_WT);
   const JointVector w_inv = options.tracking.redundancy.weightInverse(n);
   const ik::NullspaceResult opt = ik::optimiseAtPose(model, ws.kin, ctx, pose0, ik0.q, objective,
                                                      w_inv, options.start_optimisation);
@@ -87,9 +82,7 @@ TrackedApproach trackApproach(const Model& model, IkWorkspace& ws, ik::Objective
   ik::Reference ref = [&approach, R_tool](double t) {
     const PoseReference p = poseReference(approach.sample(t), R_tool);
     ik::ReferencePoint r;
-    r.pose.kind = ik::PoseTaskKind::FullPose;
-    r.pose.p_WT = p.p_WT;
-    r.pose.R_WT = p.R_WT;
+    r.pose = fullPoseTask(p.p_WT, p.R_WT);
     r.v_W = p.v_W;
     r.omega_W = p.omega_W;
     return r;

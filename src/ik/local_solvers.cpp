@@ -57,7 +57,7 @@ inline void dampedStep(const Jacobian6& Jf, const Vec6& e, double lambda, JointV
 struct NloptData {
   const Model* model;
   KinematicsWorkspace* kin;
-  const IkTarget* target;
+  const PoseTask* target;
   double w_o;
   Eigen::VectorXd q, g;
   int evaluations = 0;

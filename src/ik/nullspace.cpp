@@ -60,13 +60,6 @@ void clampToLimits(const Model& model, JointVector& q) {
 
 }  // namespace
 
-constexpr const char* kPoseTaskKindNames[] = {"position", "position_axis", "full"};
-const char* toString(PoseTaskKind k) { return enumName(k, kPoseTaskKindNames); }
-
-int taskDim(PoseTaskKind k) {
-  return k == PoseTaskKind::Position ? 3 : (k == PoseTaskKind::PositionAxis ? 5 : 6);
-}
-
 constexpr const char* kTrackingStatusNames[] = {"completed", "joint_limit_reached",
                                                 "singular_jacobian"};
 const char* toString(TrackingStatus s) { return enumName(s, kTrackingStatusNames); }
@@ -80,10 +73,12 @@ bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q
   return true;
 }
 
-void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
+void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTask& target, TaskJacobian& J,
                           TaskVec& e, Basis* S_out, PoseError* pe) {
+  ARMSTUDY_CHECK(target.kind != PoseTaskKind::CardanAngles && target.allPositionSelected(),
+                 "taskJacobianAndError: a task of Cardan angles or of part of the position");
   const int n = ws.n;
-  const int m = taskDim(target.kind);
+  const int m = target.rows();
   J.resize(m, n);
   e.resize(m);
   J.topRows<3>() = ws.J_W_tcp.topRows<3>();
@@ -114,16 +109,6 @@ void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& targe
   }
   if (pe) pe->position_m = (target.p_WT - ws.p_WT).norm();
   if (S_out) *S_out = S;
-}
-
-PoseError poseError(const KinematicsWorkspace& ws, const PoseTarget& target) {
-  PoseError pe;
-  pe.position_m = (target.p_WT - ws.p_WT).norm();
-  if (target.kind == PoseTaskKind::PositionAxis)
-    pe.orientation_rad = rotationBetween(ws.a_WT, target.axis_W.normalized()).norm();
-  else if (target.kind == PoseTaskKind::FullPose)
-    pe.orientation_rad = Eigen::AngleAxisd(target.R_WT * ws.R_WT.transpose()).angle();
-  return pe;
 }
 
 double adaptiveDamping(double manipulability, double lambda0, double m0) {
@@ -255,7 +240,7 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
   return sum;
 }
 
-PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTarget& target,
+PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
                           const Eigen::VectorXd& q_start, const Eigen::VectorXd& w_inv,
                           const PoseSolveOptions& options) {
   const int n = model.dof();
@@ -325,7 +310,7 @@ std::string NullspaceOptions::validate() const {
 }
 
 NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
-                               const PoseTarget& target, const Eigen::VectorXd& q_start,
+                               const PoseTask& target, const Eigen::VectorXd& q_start,
                                const WeightedObjective& objective, const Eigen::VectorXd& w_inv,
                                const NullspaceOptions& options) {
   const int n = model.dof();

@@ -15,47 +15,24 @@
 #include <vector>
 
 #include "ik/objectives.hpp"
+#include "ik/pose_task.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy::ik {
 
-// What the tool must hold.
-enum class PoseTaskKind {
-  Position,      // p_WT only (m = 3), e.g. thesis Fig. 5.12
-  PositionAxis,  // p_WT and the tool axis z_T (m = 5); roll about the tool axis is free (Fig. 3.4)
-  FullPose,      // p_WT and R_WT (m = 6)
-};
-const char* toString(PoseTaskKind k);
-int taskDim(PoseTaskKind k);
-
-struct PoseTarget {
-  PoseTaskKind kind = PoseTaskKind::FullPose;
-  Eigen::Vector3d p_WT = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();  // FullPose: the TCP orientation
-  Eigen::Vector3d axis_W =
-      Eigen::Vector3d::UnitZ();  // PositionAxis: the tool axis's direction (unit)
-};
-
 using TaskJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
 using TaskVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-
-// How far the tool is from a target.
-struct PoseError {
-  double position_m = 0;
-  double orientation_rad = 0;  // angle between tool axes (PositionAxis) or frames (FullPose)
-};
 
 // Task Jacobian rows (m x n) and error e = w_d - f(q) in the same rows (eq. 5.50b): position error,
 // and the rotation vector that takes the current tool axis/frame onto the desired one, expressed in
 // an orthonormal basis S of the constrained angular directions. Requires tcpJacobian. S (3 x m_rot)
-// is returned so desired angular velocities can be mapped the same way. With `pe`, also
-// poseError(ws, target) (the same numbers, from the rotation computed here once).
-void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTarget& target, TaskJacobian& J,
+// is returned so desired angular velocities can be mapped the same way. With `pe`, also the
+// position and orientation errors (from the rotation computed here once). Tasks of every kind but
+// CardanAngles, with all three position components held.
+void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTask& target, TaskJacobian& J,
                           TaskVec& e,
                           Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>* S = nullptr,
                           PoseError* pe = nullptr);
-
-PoseError poseError(const KinematicsWorkspace& ws, const PoseTarget& target);
 
 // Thesis eq. (5.67): lambda = lambda0 (1 - m/m0)^2 for m < m0, else 0. lambda0 = 0 disables.
 double adaptiveDamping(double manipulability, double lambda0, double m0);
@@ -84,7 +61,7 @@ struct RedundancyOptions {
 
 // ---- Velocity-level tracking (Fig. 5.10) ----
 struct ReferencePoint {
-  PoseTarget pose;
+  PoseTask pose;
   Eigen::Vector3d v_W = Eigen::Vector3d::Zero();      // desired TCP velocity [m/s]
   Eigen::Vector3d omega_W = Eigen::Vector3d::Zero();  // desired angular velocity [rad/s]
 };
@@ -141,7 +118,7 @@ struct PoseSolveResult {
 // Damped Newton (Levenberg-Marquardt on eq. 3.2 with the geometric error) from q_start, iterates
 // projected onto the joint limits. Returns the best iterate; the caller judges it against its
 // tolerances. Weighted by W^-1 (`w_inv`).
-PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTarget& target,
+PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
                           const Eigen::VectorXd& q_start, const Eigen::VectorXd& w_inv,
                           const PoseSolveOptions& options);
 
@@ -178,7 +155,7 @@ struct NullspaceResult {
 // the generalised inverse (drift compensation, eq. 5.50) bring the tool back onto the pose. Steps
 // that leave the joint limits or the pose are rejected. Stops when H stops improving.
 NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
-                               const PoseTarget& target, const Eigen::VectorXd& q_start,
+                               const PoseTask& target, const Eigen::VectorXd& q_start,
                                const WeightedObjective& objective, const Eigen::VectorXd& w_inv,
                                const NullspaceOptions& options);
 

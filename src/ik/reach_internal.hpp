@@ -13,12 +13,11 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 // What the solver needs about a target, prepared once per pose.
 struct Context {
   const Model* model;  // null when only residuals/Jacobians are needed
-  const IkTarget& target;
+  const PoseTask& target;
   double w_o;
   bool full_orientation;
-  bool any_orientation;  // some Cardan angles selected (not the tool-axis task)
+  bool any_orientation;  // full pose or a selection of Cardan angles (not the tool-axis task)
   bool tool_axis;
-  Eigen::Matrix3d R_d;
   int m;  // residual rows (3 for the tool axis, whose rows have rank 2)
 };
 

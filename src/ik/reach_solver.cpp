@@ -70,23 +70,12 @@ namespace {
 
 inline double wrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
 
-Context makeContext(const Model* model, const IkTarget& t, double w_o) {
-  const auto& s = t.task_space.selected;
-  const bool axis = t.tool_axis;
-  Context c{model,
-            t,
-            w_o,
-            !axis && s[3] && s[4] && s[5],
-            !axis && (s[3] || s[4] || s[5]),
-            axis,
-            Eigen::Matrix3d::Identity(),
-            0};
-  c.m = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
-  if (axis)
-    c.m += 3;
-  else
-    c.m = t.task_space.dim();
-  if (c.full_orientation) c.R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
+Context makeContext(const Model* model, const PoseTask& t, double w_o) {
+  const bool full = t.kind == PoseTaskKind::FullPose;
+  const bool cardan = t.kind == PoseTaskKind::CardanAngles;
+  const bool axis = t.kind == PoseTaskKind::PositionAxis;
+  Context c{model, t, w_o, full, full || cardan, axis, 0};
+  c.m = t.positionRows() + (axis ? 3 : t.orientationRows());
   return c;
 }
 
@@ -105,14 +94,13 @@ inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen:
 // zero), and the unweighted errors.
 void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6& e,
                          PoseError& err) {
-  const auto& sel = c.target.task_space.selected;
-  const TaskVector6& w_d = c.target.w_d;
+  const PoseTask& t = c.target;
   e.setZero();
   int r = 0;
   double pp = 0;
   for (int k = 0; k < 3; ++k)
-    if (sel[k]) {
-      const double d = w_d[k] - kin.p_WT[k];
+    if (t.position_selected[k]) {
+      const double d = t.p_WT[k] - kin.p_WT[k];
       e[r++] = d;
       pp += d * d;
     }
@@ -120,12 +108,12 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
   err.singular = false;
   err.orientation_rad = 0;
   if (c.full_orientation) {
-    const Eigen::AngleAxisd aa(Eigen::Matrix3d(c.R_d * kin.R_WT.transpose()));
+    const Eigen::AngleAxisd aa(Eigen::Matrix3d(t.R_WT * kin.R_WT.transpose()));
     e.segment<3>(r) = (c.w_o * aa.angle()) * aa.axis();
     err.orientation_rad = std::abs(aa.angle());
   } else if (c.tool_axis) {
     double angle = 0;
-    e.segment<3>(r) = c.w_o * axisRotationVector(kin.a_WT, c.target.axis_d_W, angle);
+    e.segment<3>(r) = c.w_o * axisRotationVector(kin.a_WT, t.axis_W, angle);
     err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
@@ -133,8 +121,8 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
     const double cur[3] = {a.alpha, a.beta, a.gamma};
     double oo = 0;
     for (int k = 0; k < 3; ++k)
-      if (sel[3 + k]) {
-        const double d = wrapAngle(w_d[3 + k] - cur[k]);
+      if (t.angle_selected[k]) {
+        const double d = wrapAngle(t.angles[k] - cur[k]);
         e[r++] = c.w_o * d;
         oo += d * d;
       }
@@ -145,7 +133,7 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
 // Weighted task Jacobian rows matching residual() (unselected rows zero). False at the
 // representation singularity.
 bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J) {
-  const auto& sel = c.target.task_space.selected;
+  const auto& sel = c.target.position_selected;
   const int n = kin.n;
   if (c.m == 6 && c.full_orientation) {
     J.resize(6, n);
@@ -169,7 +157,7 @@ bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, J
     Eigen::Matrix3d T_A_inv;
     if (a.singular || !cardanRateMatrix(a.alpha, a.beta, T_A_inv)) return false;
     for (int k = 0; k < 3; ++k)
-      if (sel[3 + k])
+      if (c.target.angle_selected[k])
         J.row(r++) = c.w_o * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>());  // eq. (5.9)
   }
   return true;
@@ -192,7 +180,7 @@ double rowsManipulability(const Jacobian6& J, int first, int rows) {
 // none for position). Returns the number of position rows; `angular` the number of angular rows.
 int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J,
                       int& angular) {
-  const auto& sel = c.target.task_space.selected;
+  const auto& sel = c.target.position_selected;
   J.setZero(6, kin.n);
   int r = 0;
   for (int k = 0; k < 3; ++k)
@@ -313,10 +301,9 @@ void seededStart(const Context& c, IkWorkspace& ws, const IkOptions& o, std::uin
 // True when no configuration comes within `tolerance_m` of the target's position: the bound
 // rejects a pose only when even the tolerance ball around it lies beyond the reach radius, so a
 // pose reached within the tolerance is never rejected.
-bool beyondReachBound(const IkWorkspace& ws, const IkTarget& t, bool limits, double tolerance_m) {
-  const auto& s = t.task_space.selected;
-  if (!ws.has_bound || !(s[0] && s[1] && s[2])) return false;
-  const Eigen::Vector3d d = t.w_d.head<3>() - ws.bound_p0;
+bool beyondReachBound(const IkWorkspace& ws, const PoseTask& t, bool limits, double tolerance_m) {
+  if (!ws.has_bound || !t.allPositionSelected()) return false;
+  const Eigen::Vector3d d = t.p_WT - ws.bound_p0;
   double tt = d.dot(ws.bound_axis);
   if (limits) tt = std::clamp(tt, ws.bound_t_min, ws.bound_t_max);
   const double dist = (d - tt * ws.bound_axis).norm();
@@ -351,7 +338,7 @@ IkWorkspace::IkWorkspace(const Model& model) : kin(model) {
   has_bound = true;
 }
 
-PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
+PoseError poseError(const KinematicsWorkspace& kin, const PoseTask& target) {
   // The weight only scales e, not the reported errors.
   const Context c = makeContext(nullptr, target, 1.0);
   Vec6 e;
@@ -360,10 +347,10 @@ PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target) {
   return err;
 }
 
-double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target, double w_o,
+double ikObjective(const Model& model, KinematicsWorkspace& kin, const PoseTask& target, double w_o,
                    const Eigen::VectorXd& q, Eigen::VectorXd* grad) {
   const Context c = makeContext(&model, target, w_o);
-  const auto& sel = target.task_space.selected;
+  const auto& sel = target.position_selected;
   const int n = model.dof();
   forwardKinematics(model, kin, q);
   if (grad) {
@@ -373,14 +360,14 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
   double f = 0;
   for (int k = 0; k < 3; ++k)
     if (sel[k]) {
-      const double d = target.w_d[k] - kin.p_WT[k];
+      const double d = target.p_WT[k] - kin.p_WT[k];
       f += 0.5 * d * d;
       if (grad) *grad -= d * kin.J_W_tcp.row(k).transpose();
     }
   if (c.full_orientation) {
     // w^2 (1 - cos(angle)), cos(angle) = (tr(A) - 1) / 2 with A = R R_d^T; d tr(A)/dq_i = -omega_i
     // . v.
-    const Eigen::Matrix3d A = kin.R_WT * c.R_d.transpose();
+    const Eigen::Matrix3d A = kin.R_WT * target.R_WT.transpose();
     f += w_o * w_o * (1.0 - 0.5 * (A.trace() - 1.0));
     if (grad) {
       const Eigen::Vector3d v(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
@@ -389,17 +376,17 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
   } else if (c.tool_axis) {
     // w^2 (1 - a . a_d); d(a . a_d)/dq_i = omega_i . (a x a_d), a the tool axis in W.
     const Eigen::Vector3d& a = kin.a_WT;
-    f += w_o * w_o * (1.0 - a.dot(target.axis_d_W));
+    f += w_o * w_o * (1.0 - a.dot(target.axis_W));
     if (grad)
-      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * a.cross(target.axis_d_W));
+      *grad -= w_o * w_o * (kin.J_W_tcp.bottomRows<3>().transpose() * a.cross(target.axis_W));
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
     const double cur[3] = {a.alpha, a.beta, a.gamma};
     Eigen::Matrix3d T_A_inv;
     const bool ok = !a.singular && cardanRateMatrix(a.alpha, a.beta, T_A_inv);
     for (int k = 0; k < 3; ++k)
-      if (sel[3 + k]) {
-        const double d = wrapAngle(target.w_d[3 + k] - cur[k]);
+      if (target.angle_selected[k]) {
+        const double d = wrapAngle(target.angles[k] - cur[k]);
         f += 0.5 * w_o * w_o * d * d;
         if (grad && ok)
           *grad -= w_o * w_o * d * (T_A_inv.row(k) * kin.J_W_tcp.bottomRows<3>()).transpose();
@@ -408,29 +395,7 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
   return f;
 }
 
-Eigen::Vector3d sprayDirection(double alpha, double gamma) {
-  return Eigen::Vector3d(-std::sin(gamma), std::cos(alpha) * std::cos(gamma),
-                         std::sin(alpha) * std::cos(gamma));
-}
-
-IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d) {
-  IkTarget t{task_space, w_d};
-  const auto& s = task_space.selected;
-  if (s[3] && !s[4] && s[5]) {  // spraying: position (as selected) + the spray axis, roll free
-    t.tool_axis = true;
-    t.axis_d_W = sprayDirection(w_d[3], w_d[5]);
-  }
-  return t;
-}
-
-bool usesCardanAngles(const TaskSpace& task_space) {
-  const auto& s = task_space.selected;
-  const bool any = s[3] || s[4] || s[5], full = s[3] && s[4] && s[5],
-             spraying = s[3] && !s[4] && s[5];
-  return any && !full && !spraying;
-}
-
-double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target) {
+double taskManipulability(const KinematicsWorkspace& kin, const PoseTask& target) {
   const Context c = makeContext(nullptr, target, 1.0);
   if (cardanSelection(c)) return cardanValue(c, kin);
   Jacobian6 J;
@@ -439,7 +404,7 @@ double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target
   return rowsManipulability(J, 0, position + angular);
 }
 
-int taskJacobianRows(const KinematicsWorkspace& kin, const IkTarget& target, Jacobian6& J_out) {
+int taskJacobianRows(const KinematicsWorkspace& kin, const PoseTask& target, Jacobian6& J_out) {
   const Context c = makeContext(nullptr, target, 1.0);
   if (cardanSelection(c)) {
     J_out.setZero(6, kin.n);
@@ -451,13 +416,14 @@ int taskJacobianRows(const KinematicsWorkspace& kin, const IkTarget& target, Jac
 }
 
 double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
-  IkTarget t;
-  t.task_space = task_space;
+  PoseTask t = taskTarget(task_space, TaskVector6::Zero());
+  t.kind = PoseTaskKind::CardanAngles;
+  t.angle_selected = {task_space.selected[3], task_space.selected[4], task_space.selected[5]};
   return cardanValue(makeContext(nullptr, t, 1.0), kin);
 }
 
 ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin,
-                                            const IkTarget& target) {
+                                            const PoseTask& target) {
   const Context c = makeContext(nullptr, target, 1.0);
   Jacobian6 J;
   int angular = 0;
@@ -468,7 +434,7 @@ ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin,
   return p;
 }
 
-IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,
+IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const PoseTask& target,
                           const IkOptions& options, const JointVector& q, ReachStatus otherwise) {
   const Context c = makeContext(&model, target, options.orientation_weight_m);
   IkResult r;
@@ -495,7 +461,7 @@ double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::Vector
   return std::max(margin, 0.0);
 }
 
-IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target, const IkOptions& o,
+IkResult solvePose(const Model& model, IkWorkspace& ws, const PoseTask& target, const IkOptions& o,
                    std::uint64_t pose_id, const JointVector* warm_start) {
   const int n = model.dof();
   ARMSTUDY_CHECK(ws.kin.n == n, "IkWorkspace was built for another model");

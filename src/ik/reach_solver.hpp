@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "ik/pose_task.hpp"
 #include "kinematics/kinematics.hpp"
 #include "tasks/task_grid.hpp"
 
@@ -90,32 +91,6 @@ struct IkOptions {
   std::string validate() const;  // empty when valid
 };
 
-struct IkTarget {
-  TaskSpace task_space = TaskSpace::fullPose();
-  TaskVector6 w_d = TaskVector6::Zero();  // (x, y, z, alpha, beta, gamma) in W
-  // Tool-axis task (spraying, eq. 3.1 as a physical task; harvesting, thesis Fig. 3.4; the
-  // dexterity stage's "position_axis"): when set, the selected position rows of task_space are
-  // kept, its orientation rows are ignored, and the design's tool axis (Model::tool_axis_T, in W
-  // KinematicsWorkspace::a_WT) must point along axis_d_W (unit) with the roll about it free: 5 task
-  // components. The orientation error is the angle between the axes; no representation is used.
-  bool tool_axis = false;
-  Eigen::Vector3d axis_d_W = Eigen::Vector3d::UnitZ();
-};
-
-// The spray direction of the spraying task (thesis eq. 3.1, Fig. 3.7): d = Rx(alpha) Rz(gamma) e_y
-// in W, i.e. +y at alpha = gamma = 0, turned by gamma about the vertical, then tilted by alpha
-// about x: d = (-sin gamma, cos alpha cos gamma, sin alpha cos gamma).
-Eigen::Vector3d sprayDirection(double alpha, double gamma);
-
-// The target of a pose w_d of a task space: the spraying space (x, y, z, alpha, gamma) is the
-// tool-axis task along sprayDirection(alpha, gamma) (beta plays no part); any other space selects
-// components of w_d as given (full pose eq. 5.3, position, or a Cardan selection such as
-// "x,y,z,gamma").
-IkTarget taskTarget(const TaskSpace& task_space, const TaskVector6& w_d);
-// True for a selection of Cardan angles other than spraying (e.g. "x,y,z,gamma"): the only task
-// spaces that use an angle representation (and can report RepresentationSingularity).
-bool usesCardanAngles(const TaskSpace& task_space);
-
 struct IkResult {
   ReachStatus status = ReachStatus::OutOfReach;
   bool reachable() const { return status == ReachStatus::Reachable; }
@@ -146,22 +121,14 @@ class IkWorkspace {
 
 // Solves one pose. `pose_id` seeds the random starts (deterministic: the same id gives the same
 // starts on any thread). `warm_start` (may be null) is tried first.
-IkResult solvePose(const Model& model, IkWorkspace& ws, const IkTarget& target,
+IkResult solvePose(const Model& model, IkWorkspace& ws, const PoseTask& target,
                    const IkOptions& options, std::uint64_t pose_id,
                    const JointVector* warm_start = nullptr);
-
-// Errors of the TCP pose currently in ws.kin against the target (see the header comment).
-struct PoseError {
-  double position_m = 0;
-  double orientation_rad = 0;
-  bool singular = false;  // Cardan representation singular at the current pose (partial tasks)
-};
-PoseError poseError(const KinematicsWorkspace& kin, const IkTarget& target);
 
 // The smooth objective the SLSQP polish minimises and its analytic gradient (grad may be null):
 // 0.5 |e_p|^2 + orientation term (0.5 w^2 |e_Cardan|^2, or w^2 (1 - cos(angle)) for the full
 // pose). Runs forwardKinematics at q. Exposed for the finite-difference test.
-double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget& target,
+double ikObjective(const Model& model, KinematicsWorkspace& kin, const PoseTask& target,
                    double orientation_weight_m, const Eigen::VectorXd& q, Eigen::VectorXd* grad);
 
 // Thesis eq. (5.59): Yoshikawa manipulability sqrt(det(J_t J_t^T)) at the configuration in kin
@@ -171,12 +138,12 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const IkTarget&
 // the angular rows are dimensionless, so the value weighs them with a characteristic length of
 // 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's
 // singularity.
-double taskManipulability(const KinematicsWorkspace& kin, const IkTarget& target);
+double taskManipulability(const KinematicsWorkspace& kin, const PoseTask& target);
 // The rows of the task Jacobian whose Yoshikawa value taskManipulability reports, into J_out
 // (rows beyond the returned count are zero): the geometric rows the target constrains, or for a
 // Cardan selection its analytic rows (eq. 5.11). Returns the number of rows; 0 at that
 // representation's singularity. Requires tcpJacobian.
-int taskJacobianRows(const KinematicsWorkspace& kin, const IkTarget& target, Jacobian6& J_out);
+int taskJacobianRows(const KinematicsWorkspace& kin, const PoseTask& target, Jacobian6& J_out);
 // The thesis' Cardan value of a task space (analytic rows eq. 5.11, e.g. spraying's alpha and
 // gamma rows): depends on the angle representation (it equals the tool-axis value divided by
 // |cos beta|), so it is only for reproducing the thesis' figures, never for comparisons.
@@ -187,12 +154,12 @@ double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& tas
 struct ManipulabilityParts {
   double translation = 0, rotation = 0;
 };
-ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin, const IkTarget& target);
+ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin, const PoseTask& target);
 
 // The result solvePose would report for configuration q (errors, manipulability, joint-limit
 // margin at q; status Reachable when q is within the joint limits and the tolerances, else
 // `otherwise`). For solutions found by other means (the collision escape's null-space descent).
-IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const IkTarget& target,
+IkResult evaluateSolution(const Model& model, IkWorkspace& ws, const PoseTask& target,
                           const IkOptions& options, const JointVector& q, ReachStatus otherwise);
 
 // The k-th seeded random configuration of `id`, uniform within the joint limits (counter-based

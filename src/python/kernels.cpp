@@ -50,19 +50,11 @@ Eigen::Map<const Eigen::VectorXd> rowVector(const Rows& rows, long i) {
 }
 
 // The target whose Jacobian rows a task kind constrains (the pose itself plays no part).
-IkTarget taskOfKind(const std::string& task) {
+PoseTask taskOfKind(const std::string& task) {
   TaskSpace space;
   std::string error;
   if (!parseTaskSpace(task, space, error)) throw std::invalid_argument("task: " + error);
   return taskTarget(space, TaskVector6::Zero());
-}
-
-int taskRows(const IkTarget& t) {
-  const auto& s = t.task_space.selected;
-  const int position = (s[0] ? 1 : 0) + (s[1] ? 1 : 0) + (s[2] ? 1 : 0);
-  if (t.tool_axis) return position + 2;
-  if (s[3] && s[4] && s[5]) return position + 3;
-  return position + (s[3] ? 1 : 0) + (s[4] ? 1 : 0) + (s[5] ? 1 : 0);
 }
 
 py::array_t<double> fk(const Design& d, const py::handle& q, int threads) {
@@ -114,8 +106,8 @@ py::array_t<double> taskJacobian(const Design& d, const py::handle& q, const std
                                  int threads) {
   const Model& m = *d.model;
   const int n = m.dof();
-  const IkTarget target = taskOfKind(task);
-  const int rows_m = taskRows(target);
+  const PoseTask target = taskOfKind(task);
+  const int rows_m = target.rows();
   const Rows rows = readRows(q, n, "q");
   py::array_t<double> out = makeResult(rows, {rows_m, n});
   double* o = out.mutable_data();
@@ -138,7 +130,7 @@ py::array_t<double> taskJacobian(const Design& d, const py::handle& q, const std
 py::array_t<double> manipulability(const Design& d, const py::handle& q, const std::string& task,
                                    int threads) {
   const Model& m = *d.model;
-  const IkTarget target = taskOfKind(task);
+  const PoseTask target = taskOfKind(task);
   const Rows rows = readRows(q, m.dof(), "q");
   py::array_t<double> out = makeResult(rows, {});
   double* o = out.mutable_data();

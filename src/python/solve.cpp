@@ -41,9 +41,9 @@ TaskSpace taskSpace(const std::string& task) {
 // rotation back to rounding), or with `axis` tool-axis targets: positions (3,)/(N, 3) and the
 // directions (3,)/(N, 3) the design's tool axis must point along, roll free (the spraying task
 // with a direction given directly). `single`: one target was given.
-std::vector<IkTarget> targets(const py::handle& target, const std::string& task,
+std::vector<PoseTask> targets(const py::handle& target, const std::string& task,
                               const py::handle& axis, bool& single) {
-  std::vector<IkTarget> out;
+  std::vector<PoseTask> out;
   if (!axis.is_none()) {
     const Rows p = readRows(target, 3, "target (a position with axis)");
     const Rows a = readRows(axis, 3, "axis");
@@ -54,12 +54,9 @@ std::vector<IkTarget> targets(const py::handle& target, const std::string& task,
     for (long i = 0; i < p.n; ++i) {
       Eigen::Vector3d d(a.row(a.single ? 0 : i));
       if (d.norm() < 1e-12) throw std::invalid_argument("axis: zero vector");
-      TaskVector6 w = TaskVector6::Zero();
-      w.head<3>() = Eigen::Vector3d(p.row(i));
-      IkTarget t{TaskSpace::spraying(), w};  // the spraying task's target with its direction given
-      t.tool_axis = true;
-      t.axis_d_W = std::abs(d.norm() - 1.0) > 1e-12 ? Eigen::Vector3d(d.normalized()) : d;
-      out.push_back(t);
+      out.push_back(
+          positionAxisTask(Eigen::Vector3d(p.row(i)),
+                           std::abs(d.norm() - 1.0) > 1e-12 ? Eigen::Vector3d(d.normalized()) : d));
     }
     return out;
   }
@@ -115,7 +112,7 @@ struct Solver {
   Solver(const Model& m, bool collision) : ws(m) {
     if (collision) cws.emplace(m);
   }
-  collision::CollisionReachResult solve(const Model& m, const IkTarget& target,
+  collision::CollisionReachResult solve(const Model& m, const PoseTask& target,
                                         const IkOptions& options, std::uint64_t id,
                                         const JointVector* warm) {
     if (!cws) {
@@ -213,7 +210,7 @@ Results solveAll(const Design& d, const py::handle& target, const std::string& t
   const Model& m = *d.model;
   const int n = m.dof();
   const IkOptions options = ikOptions(position_tolerance, orientation_tolerance, max_starts, seed);
-  const std::vector<IkTarget> goals = targets(target, task, axis, single);
+  const std::vector<PoseTask> goals = targets(target, task, axis, single);
   const long count = static_cast<long>(goals.size());
   const std::vector<std::uint64_t> ids = poseIds(pose_ids, count);
   const Rows w = warm_starts.is_none() ? Rows{} : readRows(warm_starts, n, "warm_start");

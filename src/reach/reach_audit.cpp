@@ -63,7 +63,7 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
         row.index = i;
         row.map_status = static_cast<ReachStatus>(sweep.status[i]);
         row.manipulability_map = sweep.reachable(i) ? sweep.manipulability[i] : 0.0;
-        const IkTarget target = taskTarget(grid.task_space, grid.pose(i));
+        const PoseTask target = taskTarget(grid.task_space, grid.pose(i));
         for (int k = 0; k < starts; ++k) {
           randomConfiguration(model, seed, static_cast<std::uint64_t>(i), k, q0);
           const IkResult r = solvePose(model, ws, target, one, static_cast<std::uint64_t>(i), &q0);

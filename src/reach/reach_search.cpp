@@ -109,7 +109,7 @@ using Neighbours = std::function<int(long, long*)>;
 
 class MapSearch {
  public:
-  MapSearch(const Model& model, const std::function<IkTarget(long)>& target,
+  MapSearch(const Model& model, const std::function<PoseTask(long)>& target,
             const Neighbours& neighbours, const Neighbours& box, const IkOptions& options,
             int threads, const SweepCollision& collision, const SweepSearch& search,
             const UnitRunner* runner, PoseSweep& s)
@@ -490,7 +490,7 @@ class MapSearch {
   }
 
   const Model& model_;
-  const std::function<IkTarget(long)>& target_;
+  const std::function<PoseTask(long)>& target_;
   const Neighbours& neighbours_;
   const Neighbours& box_;
   const SweepCollision& collision_;
@@ -514,7 +514,7 @@ class MapSearch {
   int steps_ = 0;  // steps so far (names them in the unit-cost record)
 };
 
-SweepSearchSummary searchSweep(const Model& model, const std::function<IkTarget(long)>& target,
+SweepSearchSummary searchSweep(const Model& model, const std::function<PoseTask(long)>& target,
                                const Neighbours& neighbours, const Neighbours& box,
                                const IkOptions& options, int threads,
                                const SweepCollision& collision, const SweepSearch& search,

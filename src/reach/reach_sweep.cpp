@@ -146,7 +146,7 @@ void keepBetterChain(const PoseSweep& first_chain, const PoseSweep& second_chain
 // Solves the units of every range (unit u covers poses [u * len, min((u+1) * len, size))) into
 // one chunk per range; see sweepGridRanges.
 std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
-                                   const std::function<IkTarget(long)>& target,
+                                   const std::function<PoseTask(long)>& target,
                                    const std::vector<ItemRange>& ranges, const IkOptions& options,
                                    int threads, Progress* progress, const SweepCollision& collision,
                                    const SweepChunkDone& on_done) {

@@ -85,7 +85,7 @@ inline JointVector alternativeOf(const PoseSweep& s, long i) {
 class PoseSolver {
  public:
   PoseSolver(const Model& model, const SweepCollision& collision,
-             const std::function<IkTarget(long)>& target)
+             const std::function<PoseTask(long)>& target)
       : model_(model), collision_(collision), target_(target), ws_(model) {
     if (collision.enabled()) cws_.emplace(model);
     copts_.self = collision.self;
@@ -127,7 +127,7 @@ class PoseSolver {
  private:
   const Model& model_;
   const SweepCollision& collision_;
-  const std::function<IkTarget(long)>& target_;
+  const std::function<PoseTask(long)>& target_;
   IkWorkspace ws_;
   std::optional<collision::CollisionWorkspace> cws_;
   collision::CollisionReachOptions copts_;

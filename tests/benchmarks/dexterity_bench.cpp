@@ -62,7 +62,7 @@ int main() {
 
   // Peer: full-pose plain solves along each row with warm starts, armstudy vs KDL LMA (1 thread).
   StemGrid g = opt.grid;
-  g.task = ik::PoseTaskKind::FullPose;
+  g.task = PoseTaskKind::FullPose;
   KinematicsWorkspace ws(m);
   const JointVector w_inv = JointVector::Ones(m.dof());
   const KDL::Chain chain = toKdlChain(m);
@@ -87,7 +87,7 @@ int main() {
     for (int i = 0; i < m.dof(); ++i) qk(i) = qa[i];
     for (int ig = 0; ig < g.gamma_rad.count; ++ig) {
       const auto cell = g.cell(ig, iz);
-      const IkTarget rt = reachTarget(cell.target);
+      const PoseTask& rt = cell.target;
       const auto id = static_cast<std::uint64_t>(g.index(ig, iz));
       double t0 = now();
       const IkResult r1 = solvePose(m, ik_ws, rt, ro1, id, &qr1);

@@ -80,20 +80,11 @@ int main(int argc, char** argv) {
     std::mt19937_64 rng(2024);
     KinematicsWorkspace kin(m);
     IkWorkspace ws(m);
-    std::vector<IkTarget> reach, unreach;
+    std::vector<PoseTask> reach, unreach;
     for (int k = 0; k < n_reach; ++k) {
       const Eigen::VectorXd q = test::randomConfiguration(m, rng);
       forwardKinematics(m, kin, q);
-      const TaskVector tv = tcpTaskVector(kin);
-      IkTarget t;
-      t.task_space = TaskSpace::fullPose();
-      t.w_d = tv.w;
-      if (tv.singular) {  // keep the exact pose: rebuild angles from R via a tiny perturbation-free
-                          // path
-        const CardanAngles c = cardanFromRotation(kin.R_WT);
-        t.w_d << kin.p_WT, c.alpha, c.beta, c.gamma;
-      }
-      reach.push_back(t);
+      reach.push_back(fullPoseTask(kin.p_WT, kin.R_WT));
     }
     std::uniform_real_distribution<double> u01(0, 1);
     for (int k = 0; k < n_unreach; ++k) {
@@ -102,11 +93,11 @@ int main(int argc, char** argv) {
       const double t = ws.bound_t_min + (ws.bound_t_max - ws.bound_t_min) * u01(rng);
       Eigen::Vector3d a = ws.bound_axis.unitOrthogonal();
       Eigen::Vector3d b = ws.bound_axis.cross(a);
-      IkTarget tg;
-      tg.task_space = TaskSpace::fullPose();
-      tg.w_d << ws.bound_p0 + t * ws.bound_axis + r * (std::cos(phi) * a + std::sin(phi) * b),
-          kPi * (2 * u01(rng) - 1), 0.5 * kPi * (2 * u01(rng) - 1), kPi * (2 * u01(rng) - 1);
-      unreach.push_back(tg);
+      const Eigen::Vector3d p =
+          ws.bound_p0 + t * ws.bound_axis + r * (std::cos(phi) * a + std::sin(phi) * b);
+      const double alpha = kPi * (2 * u01(rng) - 1), beta = 0.5 * kPi * (2 * u01(rng) - 1),
+                   gamma = kPi * (2 * u01(rng) - 1);
+      unreach.push_back(fullPoseTask(p, rotationFromCardan(alpha, beta, gamma)));
     }
 
     auto runArmstudy = [&](const std::string& label, IkOptions o) {
@@ -192,11 +183,10 @@ int main(int argc, char** argv) {
       row.unreach_total = std::min(n_unreach, 100);  // KDL spends all starts on each: a subset
       KDL::JntArray q_init(n), q_out(n);
       JointVector qs(n);
-      auto attempt = [&](const IkTarget& t, std::uint64_t id, long& starts) {
-        const Eigen::Matrix3d R = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
+      auto attempt = [&](const PoseTask& t, std::uint64_t id, long& starts) {
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.linear() = R;
-        T.translation() = t.w_d.head<3>();
+        T.linear() = t.R_WT;
+        T.translation() = t.p_WT;
         const KDL::Frame F = toKdl(T);
         std::mt19937_64 r2(id * 7919 + 17);
         for (int s = 0; s < def.max_starts; ++s) {

@@ -25,9 +25,7 @@ TEST_CASE(
   Eigen::VectorXd q_true(7);
   q_true << 0.0, 0.2, 0.3, 1.2, 0.0, 0.6, 0.0;
   forwardKinematics(m, ws.kin, q_true);
-  IkTarget target;
-  target.task_space = TaskSpace::position();
-  target.w_d.head<3>() = ws.kin.p_WT;
+  const PoseTask target = positionTask(ws.kin.p_WT);
   const Eigen::Vector3d p_elbow = 0.5 * (ws.kin.p_WF[2] + ws.kin.p_WF[3]);
 
   // No obstacles: reachable and collision-free.
@@ -54,7 +52,7 @@ TEST_CASE(
   CHECK(restarted.attempts > 1);
   for (const auto* r : {&escaped, &restarted}) {
     forwardKinematics(m, ws.kin, r->ik.q);
-    CHECK((ws.kin.p_WT - target.w_d.head<3>()).norm() <= ik.position_tolerance_m);
+    CHECK((ws.kin.p_WT - target.p_WT).norm() <= ik.position_tolerance_m);
     CHECK(ik::withinLimits(m, r->ik.q));
     collisionDistances(m, ws.kin, on_arm, cws);  // independent re-check of the returned q
     CHECK(minEnvironmentDistance(cws) > 0);
@@ -64,7 +62,7 @@ TEST_CASE(
   (void)p_elbow;
 
   // A sphere around the target itself: reachable only in collision, and the pair is named.
-  const std::vector<Obstacle> at_tcp = {sphereObstacle("fruit", target.w_d.head<3>(), 0.04)};
+  const std::vector<Obstacle> at_tcp = {sphereObstacle("fruit", target.p_WT, 0.04)};
   const auto hit = solvePoseCollisionAware(m, ws, cws, target, ik, co, 1, at_tcp);
   CHECK(hit.ik.status == ReachStatus::ObstacleCollision);
   CHECK(hit.min_distance_m < 0);
@@ -75,8 +73,8 @@ TEST_CASE(
   CHECK(again.ik.q == hit.ik.q);
 
   // Far away: unreachable, no collision check.
-  IkTarget far = target;
-  far.w_d.head<3>() = Eigen::Vector3d(5, 5, 5);
+  PoseTask far = target;
+  far.p_WT = Eigen::Vector3d(5, 5, 5);
   const auto out = solvePoseCollisionAware(m, ws, cws, far, ik, co, 1);
   CHECK(out.ik.status == ReachStatus::OutOfReach);
   CHECK(out.attempts == 1);
@@ -99,9 +97,7 @@ TEST_CASE(
     // A pose the arm reaches, an obstacle on its upper arm or around the tool for some of them.
     const Eigen::VectorXd q_true = test::randomConfiguration(m, rng);
     forwardKinematics(m, ws.kin, q_true);
-    IkTarget target;
-    target.task_space = TaskSpace::position();
-    target.w_d.head<3>() = ws.kin.p_WT;
+    const PoseTask target = positionTask(ws.kin.p_WT);
     std::vector<Obstacle> obstacles;
     if (t % 3 == 1)
       obstacles.push_back(sphereObstacle("arm", 0.5 * (ws.kin.p_WF[2] + ws.kin.p_WF[3]), 0.05));

@@ -47,7 +47,7 @@ bool bruteForceClear(const Model& m, const TaskGrid& g, const IkOptions& o, long
   IkOptions one = o;
   one.max_starts = 1;
   one.classify_failures = false;
-  const IkTarget t = taskTarget(g.task_space, g.pose(i));
+  const PoseTask t = taskTarget(g.task_space, g.pose(i));
   for (int k = 0; k < kBruteStarts; ++k) {
     const JointVector q0 = test::randomConfiguration(m, rng);
     const IkResult r = solvePose(m, ws, t, one, 0, &q0);

@@ -20,8 +20,8 @@ constexpr double kNullspaceDriftTolerance = 1e-6;  // [m and rad] tool drift ove
 constexpr double kLinearAlgebraTolerance = 1e-9;   // Algorithm 5.3 vs explicit inverse
 constexpr double kTrackingTolerance_m = 1e-4;      // tracking error far from singularities
 
-PoseTarget targetAt(const KinematicsWorkspace& ws, PoseTaskKind kind) {
-  PoseTarget t;
+PoseTask targetAt(const KinematicsWorkspace& ws, PoseTaskKind kind) {
+  PoseTask t;
   t.kind = kind;
   t.p_WT = ws.p_WT;
   t.R_WT = ws.R_WT;
@@ -91,7 +91,7 @@ TEST_CASE("null-space motion keeps the tool still over a long run", "[ik][nullsp
   forwardKinematicsAndJacobian(m, ws, q0);
   for (auto kind : {PoseTaskKind::PositionAxis, PoseTaskKind::FullPose}) {
     forwardKinematicsAndJacobian(m, ws, q0);
-    const PoseTarget target = targetAt(ws, kind);
+    const PoseTask target = targetAt(ws, kind);
     const double h0 = [&] {
       ctx.prepare(q0);
       return obj.evaluate(ctx, nullptr);
@@ -149,7 +149,7 @@ TEST_CASE("position-level solve recovers poses made by forward kinematics", "[ik
     for (int trial = 0; trial < trials; ++trial) {
       const Eigen::VectorXd q_true = randomConfiguration(m, rng);
       forwardKinematics(m, ws, q_true);
-      const PoseTarget t =
+      const PoseTask t =
           targetAt(ws, m.dof() >= 6 ? PoseTaskKind::FullPose : PoseTaskKind::Position);
       // Start from a configuration perturbed by up to 0.3 rad / 0.3 m per joint.
       Eigen::VectorXd q0 = q_true + 0.3 * Eigen::VectorXd::Random(m.dof());

@@ -21,21 +21,14 @@ constexpr double kGradientTolerance = 1e-6;
 constexpr double kManipulabilityTolerance = 1e-6;
 constexpr double kSolveRateRequired = 0.99;  // tests use few poses; the benchmark checks 99.9 %
 
-IkTarget fullPoseOf(const KinematicsWorkspace& kin) {
-  IkTarget t;
-  t.task_space = TaskSpace::fullPose();
-  const CardanAngles c = cardanFromRotation(kin.R_WT);
-  t.w_d << kin.p_WT, c.alpha, c.beta, c.gamma;
-  return t;
-}
+PoseTask fullPoseOf(const KinematicsWorkspace& kin) { return fullPoseTask(kin.p_WT, kin.R_WT); }
 
 // Independent check of a solution: FK at q, then position distance and the geodesic angle.
-void checkSolution(const Model& m, const IkTarget& t, const IkResult& r, const IkOptions& o) {
+void checkSolution(const Model& m, const PoseTask& t, const IkResult& r, const IkOptions& o) {
   KinematicsWorkspace kin(m);
   forwardKinematics(m, kin, r.q);
-  CHECK((kin.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
-  const Eigen::Matrix3d R_d = rotationFromCardan(t.w_d[3], t.w_d[4], t.w_d[5]);
-  CHECK(Eigen::AngleAxisd(R_d.transpose() * kin.R_WT).angle() <= o.orientation_tolerance_rad);
+  CHECK((kin.p_WT - t.p_WT).norm() <= o.position_tolerance_m);
+  CHECK(Eigen::AngleAxisd(t.R_WT.transpose() * kin.R_WT).angle() <= o.orientation_tolerance_rad);
   for (int i = 0; i < m.dof(); ++i) {
     CHECK(r.q[i] >= m.joints[i].limits.q_min);
     CHECK(r.q[i] <= m.joints[i].limits.q_max);
@@ -89,7 +82,7 @@ TEST_CASE("poses made by forward kinematics are found reachable on every shipped
     int solved = 0;
     for (int k = 0; k < n; ++k) {
       forwardKinematics(m, kin, randomConfiguration(m, rng));
-      const IkTarget t = fullPoseOf(kin);
+      const PoseTask t = fullPoseOf(kin);
       const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(k));
       if (!r.reachable()) continue;
       ++solved;
@@ -116,10 +109,9 @@ TEST_CASE("poses beyond the summed link lengths are out of reach", "[ik][oracle]
       for (int k = 0; k < 20; ++k) {
         const Eigen::Vector3d a = ws.bound_axis.unitOrthogonal(), b = ws.bound_axis.cross(a);
         const double phi = 6.283185307 * u(rng);
-        IkTarget t;
-        t.task_space = TaskSpace::position();
-        t.w_d.head<3>() = ws.bound_p0 + 0.05 * ws.bound_axis +
-                          ws.reach_radius * 1.1 * (std::cos(phi) * a + std::sin(phi) * b);
+        PoseTask t = positionTask(Eigen::Vector3d::Zero());
+        t.p_WT = ws.bound_p0 + 0.05 * ws.bound_axis +
+                 ws.reach_radius * 1.1 * (std::cos(phi) * a + std::sin(phi) * b);
         const IkResult r = solvePose(m, ws, t, o, k);
         CHECK(r.status == ReachStatus::OutOfReach);
         CHECK(r.bound_rejected == bound);
@@ -132,21 +124,20 @@ TEST_CASE("closed-form arm: lift limits block, distance puts out of reach", "[ik
   const Model m = liftArm();
   IkWorkspace ws(m);
   IkOptions o;
-  IkTarget t;
-  t.task_space = TaskSpace::position();
-  t.w_d << 0.3, 0.4, 0.05, 0, 0, 0;  // |(x, y)| = 0.5 at a height inside the stroke
+  PoseTask t = positionTask(
+      Eigen::Vector3d(0.3, 0.4, 0.05));  // |(x, y)| = 0.5 at a height inside the stroke
   IkResult r = solvePose(m, ws, t, o, 1);
   REQUIRE(r.reachable());
   CHECK(r.q[0] == Approx(0.05).margin(o.position_tolerance_m));
   CHECK(r.q[1] == Approx(std::atan2(0.4, 0.3)).margin(1e-2));
-  t.w_d << 0.3, 0.4, 0.5, 0, 0, 0;  // needs a 0.5 m lift, the stroke ends at 0.1 m
+  t.p_WT = Eigen::Vector3d(0.3, 0.4, 0.5);  // needs a 0.5 m lift, the stroke ends at 0.1 m
   r = solvePose(m, ws, t, o, 2);
   CHECK(r.status == ReachStatus::JointLimits);
   CHECK(r.position_error_m == Approx(0.4).margin(o.position_tolerance_m));
-  t.w_d << 0.3, 0.2, 0.05, 0, 0, 0;  // |(x, y)| = 0.36 != 0.5: no lift height helps
+  t.p_WT = Eigen::Vector3d(0.3, 0.2, 0.05);  // |(x, y)| = 0.36 != 0.5: no lift height helps
   r = solvePose(m, ws, t, o, 3);
   CHECK(r.status == ReachStatus::OutOfReach);
-  t.w_d << -0.5, 0.0, 0.05, 0, 0, 0;  // needs q2 = 180 deg, the limit is 170 deg
+  t.p_WT = Eigen::Vector3d(-0.5, 0.0, 0.05);  // needs q2 = 180 deg, the limit is 170 deg
   r = solvePose(m, ws, t, o, 4);
   CHECK(r.status == ReachStatus::JointLimits);
 }
@@ -160,7 +151,7 @@ TEST_CASE("the SLSQP objective gradient matches central finite differences", "[i
          {TaskSpace::fullPose(), TaskSpace::spraying(), TaskSpace::position()}) {
       for (int trial = 0; trial < 10; ++trial) {
         forwardKinematics(m, kin, randomConfiguration(m, rng));
-        const IkTarget t = taskTarget(ts, tcpTaskVector(kin).w);
+        const PoseTask t = taskTarget(ts, tcpTaskVector(kin).w);
         const Eigen::VectorXd q = randomConfiguration(m, rng);
         Eigen::VectorXd g;
         ikObjective(m, kin, t, 0.3, q, &g);
@@ -197,8 +188,7 @@ TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference positio
       J.col(i) = (pp - k2.p_WT) / (2 * kFdStep);
     }
     const double expected = std::sqrt((J * J.transpose()).determinant());
-    IkTarget position;
-    position.task_space = TaskSpace::position();
+    const PoseTask position = positionTask(kin.p_WT);
     CHECK(taskManipulability(kin, position) == Approx(expected).margin(kManipulabilityTolerance));
   }
 }
@@ -206,9 +196,9 @@ TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference positio
 TEST_CASE("the same pose id gives the same result, options are validated", "[ik]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
   IkWorkspace a(m), b(m);
-  IkTarget t;
-  t.task_space = TaskSpace::spraying();
-  t.w_d << 0.2, 0.7, 1.1, 0, 0, 0.5;
+  TaskVector6 w_d;
+  w_d << 0.2, 0.7, 1.1, 0, 0, 0.5;
+  const PoseTask t = taskTarget(TaskSpace::spraying(), w_d);
   IkOptions o;
   const IkResult r1 = solvePose(m, a, t, o, 42), r2 = solvePose(m, b, t, o, 42);
   CHECK(r1.status == r2.status);
@@ -235,17 +225,13 @@ TEST_CASE("tool-axis task: FK-made targets are solved with the axis on target an
   int solved = 0;
   for (int k = 0; k < n; ++k) {
     forwardKinematics(m, kin, randomConfiguration(m, rng));
-    IkTarget t;
-    t.task_space = TaskSpace::position();
-    t.w_d.head<3>() = kin.p_WT;
-    t.tool_axis = true;
-    t.axis_d_W = kin.a_WT;
+    const PoseTask t = positionAxisTask(kin.p_WT, kin.a_WT);
     const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(k));
     if (!r.reachable()) continue;
     ++solved;
     forwardKinematics(m, k2, r.q);
-    CHECK((k2.p_WT - t.w_d.head<3>()).norm() <= o.position_tolerance_m);
-    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.axis_d_W), -1.0, 1.0)) <=
+    CHECK((k2.p_WT - t.p_WT).norm() <= o.position_tolerance_m);
+    CHECK(std::acos(std::clamp(k2.R_WT.col(2).dot(t.axis_W), -1.0, 1.0)) <=
           o.orientation_tolerance_rad);
     CHECK(r.manipulability > 0);
     if (k < 5) {
@@ -278,9 +264,7 @@ TEST_CASE(
   IkOptions o;
   REQUIRE(ws.reach_radius == Approx(0.5));
   for (const double d : {0.3e-3, 0.65e-3, 0.95e-3, 1.2e-3}) {
-    IkTarget t;
-    t.task_space = TaskSpace::position();
-    t.w_d << (0.5 + d) * 0.6, (0.5 + d) * 0.8, 0.05, 0, 0, 0;
+    const PoseTask t = positionTask(Eigen::Vector3d((0.5 + d) * 0.6, (0.5 + d) * 0.8, 0.05));
     const IkResult r = solvePose(m, ws, t, o, 7);
     INFO("d = " << d);
     CHECK(r.position_error_m == Approx(d).margin(1e-6));

@@ -205,7 +205,7 @@ TEST_CASE(
       for (double z : {0.4, 1.0, 1.6}) {
         TaskVector6 w_d;
         w_d << x, y, z, 0, 0, 0;
-        const IkTarget t = taskTarget(TaskSpace::spraying(), w_d);
+        const PoseTask t = taskTarget(TaskSpace::spraying(), w_d);
         const IkResult r = solvePose(m, ws, t, o, static_cast<std::uint64_t>(checked + 100));
         if (!r.reachable()) continue;
         forwardKinematicsAndJacobian(m, kin, r.q);

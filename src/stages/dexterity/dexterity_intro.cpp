@@ -30,7 +30,7 @@ nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
       {"gamma_rad",
        {{"min", g.gamma_rad.min}, {"max", g.gamma_rad.max}, {"count", g.gamma_rad.count}}},
       {"z_m", {{"min", g.z_m.min}, {"max", g.z_m.max}, {"count", g.z_m.count}}},
-      {"task", ik::toString(g.task)},
+      {"task", toString(g.task)},
       {"roll_rad", g.roll_rad}};
   js["settings"] = {{"measure_space", metrics::toString(options.measure_space)},
                     {"w_joint_limits", options.w_joint_limits},
@@ -65,7 +65,7 @@ std::string reportIntro(const DexterityOptions& options) {
      << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
      << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
      << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
-     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << ik::toString(g.task)
+     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << toString(g.task)
      << ", measures on the " << metrics::toString(options.measure_space)
      << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
      << options.w_manipulability << " H_m1 + " << options.w_transmission << " H_m2"

@@ -157,16 +157,16 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   g.z_m = readRange(r, "z", Dimension::Length);
   const std::string task = r.string("task", "position_axis");
   if (task == "position_axis")
-    g.task = ik::PoseTaskKind::PositionAxis;
+    g.task = PoseTaskKind::PositionAxis;
   else if (task == "full")
-    g.task = ik::PoseTaskKind::FullPose;
+    g.task = PoseTaskKind::FullPose;
   else
     r.fail("task",
            "expected \"position_axis\" (tool axis towards the stem, roll free) or \"full\"");
-  if (g.task == ik::PoseTaskKind::PositionAxis)
+  if (g.task == PoseTaskKind::PositionAxis)
     requireToolAxes(o.designs, designs, r.file(), r.line(), r.path());
   g.roll_rad = r.quantity("roll", Dimension::Angle, 0.0);
-  if (r.has("roll") && g.task != ik::PoseTaskKind::FullPose)
+  if (r.has("roll") && g.task != PoseTaskKind::FullPose)
     r.fail("roll", "roll is only used with task = \"full\"");
   const std::string space = r.string("measure_space", "translational");
   if (!metrics::parseMeasureSpace(space, o.measure_space))

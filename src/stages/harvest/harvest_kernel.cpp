@@ -151,6 +151,7 @@ void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOp
       Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
       toolRotation(options.tool_beta_rad);
   const CardanAngles c = cardanFromRotation(R_WT);
+  const Eigen::Matrix3d R_grid = rotationFromCardan(c.alpha, c.beta, c.gamma);
   IkOptions iko;
   iko.classify_failures = false;
   std::vector<ItemRange> all_points{{0, np}};
@@ -166,10 +167,10 @@ void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOp
     for (long w = 0; w < n_grid_work; ++w) {
       const auto [range, p] = grid_work[w];
       const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
-      IkTarget target;
-      target.task_space = TaskSpace::fullPose();
-      target.w_d << g.axes[0].value(static_cast<int>(i)), g.axes[1].value(static_cast<int>(j)),
-          g.axes[2].value(static_cast<int>(k)), c.alpha, c.beta, c.gamma;
+      const PoseTask target = fullPoseTask(Eigen::Vector3d(g.axes[0].value(static_cast<int>(i)),
+                                                           g.axes[1].value(static_cast<int>(j)),
+                                                           g.axes[2].value(static_cast<int>(k))),
+                                           R_grid);
       const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
       GridPointResult& gp = res.grid[p];
       gp.reachable = r.reachable();

@@ -116,14 +116,14 @@ TrackingEntry readEntry(TableReader& r, const std::vector<const Model*>& designs
 
   const std::string task = r.string("task_space", "position");
   if (task == "position")
-    e.task = ik::PoseTaskKind::Position;
+    e.task = PoseTaskKind::Position;
   else if (task == "position_axis")
-    e.task = ik::PoseTaskKind::PositionAxis;
+    e.task = PoseTaskKind::PositionAxis;
   else if (task == "full" || task == "pose")
-    e.task = ik::PoseTaskKind::FullPose;
+    e.task = PoseTaskKind::FullPose;
   else
     r.fail("task_space", "unknown task space '" + task + "' (position, position_axis, full)");
-  if (e.task == ik::PoseTaskKind::PositionAxis)
+  if (e.task == PoseTaskKind::PositionAxis)
     if (const std::string open = notes::toolAxisOpen(*model); !open.empty())
       r.fail("task_space", "a position_axis task holds the tool axis, and " + open);
   if (taskDim(e.task) >= n)

@@ -72,8 +72,8 @@ RunResult evaluateTrackingRun(const Model& model, const TrackingEntry& e, const 
   if (e.w_manipulability > 0)
     objective.add(e.w_manipulability,
                   std::make_shared<ik::ManipulabilityTerm>(
-                      e.task == ik::PoseTaskKind::FullPose ? metrics::MeasureSpace::Full
-                                                           : metrics::MeasureSpace::Translational));
+                      e.task == PoseTaskKind::FullPose ? metrics::MeasureSpace::Full
+                                                       : metrics::MeasureSpace::Translational));
   if (kind == RunKind::WithHc)
     objective.add(e.avoidance.weight,
                   std::make_shared<collision::CollisionTerm>(e.avoidance.potential, e.obstacles));

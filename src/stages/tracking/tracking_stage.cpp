@@ -58,7 +58,7 @@ std::string runLabel(RunKind k) { return k == RunKind::Plain ? "without H_c" : "
 void writeRunCsv(const Model& model, const TrackingEntry& e, const RunResult& r,
                  const std::string& path) {
   const bool obstacles = !e.obstacles.empty();
-  const bool orientation = e.task != ik::PoseTaskKind::Position;
+  const bool orientation = e.task != PoseTaskKind::Position;
   std::ostringstream s;
   s << "t_s";
   for (const Joint& j : model.joints) s << ",q_" << j.name;
@@ -205,7 +205,7 @@ ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult
   j["min_self_time_s"] = r.min_self_time_s;
   j["max_position_error_m"] = r.max_position_error_m;
   j["final_position_error_m"] = r.final_position_error_m;
-  if (e.task != ik::PoseTaskKind::Position)
+  if (e.task != PoseTaskKind::Position)
     j["max_orientation_error_rad"] = r.max_orientation_error_rad;
   j["max_joint_speed"] = r.max_joint_speed;
   j["max_joint_speed_ratio"] = r.max_speed_ratio;
@@ -325,7 +325,7 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
   const Eigen::Vector3d& p0 = er.line.p0_W;
   const Eigen::Vector3d& p1 = er.line.p1_W;
   md << "## " << e.name << "\n\n"
-     << "Design `" << e.design << "`, " << ik::toString(e.task) << " task, TCP from ("
+     << "Design `" << e.design << "`, " << toString(e.task) << " task, TCP from ("
      << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
      << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
      << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
@@ -397,7 +397,7 @@ ordered_json entryJson(const Model& model, const TrackingEntry& e, const EntryRe
   ordered_json ej;
   ej["name"] = e.name;
   ej["design"] = e.design;
-  ej["task_space"] = ik::toString(e.task);
+  ej["task_space"] = toString(e.task);
   ej["q0"] = std::vector<double>(e.q0.data(), e.q0.data() + e.q0.size());
   ej["p0_W"] = {p0.x(), p0.y(), p0.z()};
   ej["p1_W"] = {p1.x(), p1.y(), p1.z()};

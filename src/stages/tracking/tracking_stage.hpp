@@ -51,7 +51,7 @@ struct TrackingEntry {
   std::string name;
   std::string design;  // model name of a study design or variant
   Eigen::VectorXd q0;  // start configuration (SI)
-  ik::PoseTaskKind task = ik::PoseTaskKind::Position;
+  PoseTaskKind task = PoseTaskKind::Position;
   bool line_is_delta = true;  // true: `line` is p1 - p0; false: `line` is p1 in W
   Eigen::Vector3d line = Eigen::Vector3d::Zero();  // [m]
   double duration_s = 0;
@@ -81,7 +81,7 @@ struct LineReference {
   Eigen::Matrix3d R_WT = Eigen::Matrix3d::Identity();
   Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();  // the tool axis held by position_axis tasks
   double duration_s = 1;
-  ik::PoseTaskKind task = ik::PoseTaskKind::Position;
+  PoseTaskKind task = PoseTaskKind::Position;
   ik::ReferencePoint operator()(double t) const;
 };
 LineReference lineReference(const Model& model, const TrackingEntry& entry);
