@@ -391,7 +391,7 @@ std::string referenceAnswer(const ArmProblem& P, const Model& model, const Traje
     if (!partners[k].names.empty()) {
       std::string who;
       for (const std::string& w : partners[k].names) who += (who.empty() ? "" : ", ") + w;
-      s += " (cannot be told apart from " + who + ": the value of both together)";
+      s += " (cannot be told apart from " + who + ": one combined value)";
     }
     first = false;
   }
