@@ -283,11 +283,9 @@ TEST_CASE(
     for (int k = 0; k < 30; ++k) {
       const Eigen::Vector3d a = dws.bound_axis.unitOrthogonal(), b = dws.bound_axis.cross(a);
       const double phi = 6.283185307 * u(rng);
-      IkTarget t;
-      t.task_space = TaskSpace::position();
-      t.w_d.head<3>() =
-          dws.bound_p0 + 0.05 * dws.bound_axis +
-          (dws.reach_radius + 1.5e-3 * u(rng)) * (std::cos(phi) * a + std::sin(phi) * b);
+      PoseTask t = positionTask(Eigen::Vector3d::Zero());
+      t.p_WT = dws.bound_p0 + 0.05 * dws.bound_axis +
+               (dws.reach_radius + 1.5e-3 * u(rng)) * (std::cos(phi) * a + std::sin(phi) * b);
       const IkResult r = solvePose(dm, dws, t, po, k);
       bool within_limits = true;
       for (int i = 0; i < dm.dof(); ++i)
