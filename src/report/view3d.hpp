@@ -1,10 +1,12 @@
 #pragma once
 // The study's interactive 3-D view (output/<study>/view.html): one self-contained page that shows
 // the reach maps' points in the world frame, coloured by status or manipulability, the arm at its
-// best pose as cylinders between its joint frames and the study's obstacles, rotatable with the
-// mouse. Built on three.js from Debian's libjs-three (three.min.js and its OrbitControls), read at
-// run time from the files CMake found and inlined, so the page works offline from the one file.
-// The bytes depend only on the scene: fixed number formatting, no dates.
+// best pose as cylinders between its joint frames (on a column down to the ground when its base
+// stands above it) and the study's obstacles, with the world axes, the ground grid, a scale bar and
+// a read-out of the point under the pointer, rotatable with the mouse. Built on three.js from
+// Debian's libjs-three (three.min.js and its OrbitControls), read at run time from the files CMake
+// found and inlined, so the page works offline from the one file. The bytes depend only on the
+// scene: fixed number formatting, no dates.
 #include <array>
 #include <string>
 #include <vector>
@@ -20,7 +22,10 @@ struct ViewCloud {
   std::vector<int> status;                   // per point: category (colour: categorical(status))
   std::vector<std::string> status_names;     // per category; "" = its points are not drawn
   std::vector<double> value;                 // per point: manipulability, NaN where none
-  std::string value_unit = "m^3";            // the value's unit: maps of one unit share a scale
+  std::string value_unit = "m^3";            // the value's unit
+  std::string value_quantity;                // what the value measures (e.g. the task rows of a
+                                             // manipulability): maps of one quantity and unit
+                                             // share a colour scale, others have their own
   double point_size_m = 0.01;                // drawn size of a point [m] (about the grid step)
   std::vector<std::array<double, 3>> arm_W;  // the arm's joint frame origins, base to TCP [m]
   std::string arm_caption;                   // what the arm's pose is
