@@ -91,6 +91,9 @@ class ArmProblem {
   std::string kind;  // "drive" | "tcp" | "trajectory"
   std::string design, file, hash;
   std::vector<std::string> channel_names, channel_units;
+  // Per channel: the logging resolution of the raw log, before any filter (the grid step of the
+  // logged values in channel units; 0 on no grid). Empty: the engine reads it from `measured`.
+  std::vector<double> logged_resolution;
   Eigen::VectorXd weight;              // per channel: residual -> fit units (1 unless documented)
   Eigen::MatrixXd measured;            // rows x channels
   std::vector<int> lines;              // file line of each row

@@ -154,6 +154,7 @@ class TrajectoryProblem : public ArmProblem {
         fp_.emplace_back();
     }
     weight = Eigen::VectorXd::Ones(n);
+    logged_resolution = data.effort_resolution;
     makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
     addBodyEffects(model, data.friction_width_fraction > 0);
     addFrictionEffects(model, data);
