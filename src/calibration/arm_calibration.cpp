@@ -476,7 +476,9 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     d.ladder.push_back(f);
     return true;
   };
-  for (const std::string& name : identifiable ? o.add : std::vector<std::string>{}) {
+  std::vector<std::string> to_add = P0.added_first;
+  to_add.insert(to_add.end(), o.add.begin(), o.add.end());
+  for (const std::string& name : identifiable ? to_add : std::vector<std::string>{}) {
     const int e = P.findEffect(name);
     if (e < 0) {
       std::string names;

@@ -33,6 +33,10 @@ class NoiseWeighted : public ArmProblem {
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     return inner_.predict(values);
   }
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return inner_.calibratedDesignText(model, values, notes);
+  }
 
  private:
   const ArmProblem& inner_;

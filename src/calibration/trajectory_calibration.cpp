@@ -387,6 +387,11 @@ class TrajectoryProblem : public ArmProblem {
   }
 
  public:
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return calibratedTrajectoryToml(model, *this, values, notes);
+  }
+
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     const int n = model_.dof();
     std::vector<drive::FrictionParams> fp = fp_;
