@@ -476,7 +476,9 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     d.ladder.push_back(f);
     return true;
   };
-  for (const std::string& name : identifiable ? o.add : std::vector<std::string>{}) {
+  std::vector<std::string> to_add = P0.added_first;
+  to_add.insert(to_add.end(), o.add.begin(), o.add.end());
+  for (const std::string& name : identifiable ? to_add : std::vector<std::string>{}) {
     const int e = P.findEffect(name);
     if (e < 0) {
       std::string names;
@@ -513,8 +515,9 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   // What the catalogue leaves: patterns in the final residuals. They are an unexplained effect when
   // no significant candidate is left for the final model (otherwise the candidate comes first).
   d.patterns = searchPatterns(P, cur.residual, cur.predicted, d.channel_noise, d.noise_rho);
+  const ArmPattern* strongest = strongestAboveFloor(P, d);
   const bool candidate_left = !ranking.empty() && ranking.front().significant;
-  d.unexplained_found = !candidate_left && !d.patterns.empty() && d.patterns.front().significant;
+  d.unexplained_found = !candidate_left && strongest && strongest->significant;
   d.remainders = remaindersOf(P, d, cur);
   for (const ArmRemainder& r : d.remainders) d.warnings.push_back(r.text());
   std::string verdict;
@@ -523,7 +526,7 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     for (std::size_t k = 0; k < named.size(); ++k) verdict += (k ? ", " : "") + named[k];
   }
   if (d.unexplained_found) {
-    const ArmPattern& p = d.patterns.front();
+    const ArmPattern& p = *strongest;
     bool halved = false;  // catalogue effects halved the channel's error: a remainder of them
     for (const ArmRemainder& r : d.remainders)
       halved = halved || (r.channel == p.channel && r.explained_by_catalogue);

@@ -25,6 +25,10 @@
 #include "calibration/stats.hpp"
 #include "common/defaults.hpp"
 
+namespace armstudy {
+struct Model;  // model/model.hpp: only the calibrated design text needs it
+}  // namespace armstudy
+
 namespace armstudy::calibration {
 
 struct FittedParameter {
@@ -91,11 +95,17 @@ class ArmProblem {
   std::string kind;  // "drive" | "tcp" | "trajectory"
   std::string design, file, hash;
   std::vector<std::string> channel_names, channel_units;
-  Eigen::VectorXd weight;              // per channel: residual -> fit units (1 unless documented)
-  Eigen::MatrixXd measured;            // rows x channels
-  std::vector<int> lines;              // file line of each row
-  std::vector<ArmEffect> catalogue;    // candidate instances applicable to this design/data
-  std::vector<BinVariable> variables;  // operating variables (plots, joint-space bins)
+  // Per channel: the logging resolution of the raw log, before any filter (the grid step of the
+  // logged values in channel units; 0 on no grid). Empty: the engine reads it from `measured`.
+  std::vector<double> logged_resolution;
+  Eigen::VectorXd weight;            // per channel: residual -> fit units (1 unless documented)
+  Eigen::MatrixXd measured;          // rows x channels
+  std::vector<int> lines;            // file line of each row
+  std::vector<ArmEffect> catalogue;  // candidate instances applicable to this design/data
+  // Effects every fit adds first, before the requested ones and the ranking, whatever their
+  // significance (the drive kind: "refit", its design's own friction terms, thesis Table 4.5).
+  std::vector<std::string> added_first;
+  std::vector<BinVariable> variables;      // operating variables (plots, joint-space bins)
   std::vector<Eigen::Vector3d> workspace;  // TCP position of each row in W (workspace cells)
   // A 2-D grid map over two operating variables (the drive kind: signed motor speed x |load|),
   // grid_bins[a] bins on axis a, besides or instead of the 1-D bins of `variables`.
@@ -119,6 +129,10 @@ class ArmProblem {
   int findEffect(const std::string& name) const;  // -1 when absent
   // Prediction (rows x channels) of the design with the given effects switched on.
   virtual Eigen::MatrixXd predict(const EffectValues& values) const = 0;
+  // The design TOML text of `model` (the problem's design) with the fitted values stored, each
+  // kind where its design format holds them; what it cannot hold is said in notes.
+  virtual std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                           std::vector<std::string>& notes) const = 0;
 
  protected:
   // Sets kind, design and where the data came from (file, hash, lines, warnings of a *Data).
@@ -149,7 +163,7 @@ struct CvSettings {
 struct ArmFitOptions : CvSettings {
   int variable_bins = defaults::kArmVariableBins;
   int workspace_bins = defaults::kArmWorkspaceBins;
-  std::vector<std::string> add;  // effect instances to add, in this order
+  std::vector<std::string> add;  // effect instances to add, in this order (after added_first)
   std::string validate() const {
     return CvSettings::validate(binsOk(variable_bins) && binsOk(workspace_bins));
   }
@@ -272,8 +286,9 @@ struct ArmDiagnosis {
   ArmFit final_fit;
   ArmResidualMap final_map;
   // Unexplained-effect search on the final model's residuals, ranked (significant first, then by
-  // the fraction of the residual they explain); unexplained_found when a pattern is significant and
-  // no catalogue effect is left that would explain it.
+  // the fraction of the residual they explain); unexplained_found when the strongest pattern in a
+  // channel above the logging resolution is significant and no catalogue effect is left that would
+  // explain it.
   std::vector<ArmPattern> patterns;
   bool unexplained_found = false;
   std::vector<ArmRemainder> remainders;  // one per channel with a significant pattern left

@@ -5,6 +5,7 @@
 
 #include "calibration/arm_calibration.hpp"
 #include "calibration/arm_engine.hpp"
+#include "calibration/stats.hpp"
 #include "common/format.hpp"
 
 // The checks of the selection rule (docs/calibration.md "Selection rule"): the logging
@@ -15,31 +16,8 @@ namespace armstudy::calibration {
 namespace arm_detail {
 
 namespace {
-constexpr double kFloorSteps = 4;       // a residual within 4 logging steps is at the floor
-constexpr double kOffGridShare = 0.01;  // values allowed off the resolution grid
-
+constexpr double kFloorSteps = 4;  // a residual within 4 logging steps is at the floor
 }  // namespace
-
-// The logging resolution of one channel: the step of the grid its values lie on (all but
-// kOffGridShare of them within 1e-6 steps of a multiple of the smallest nonzero difference between
-// sorted values, counted from the smallest value); 0 when there is none (filtered or continuous
-// data).
-double loggingResolution(const Eigen::VectorXd& v) {
-  std::vector<double> x(v.data(), v.data() + v.size());
-  std::sort(x.begin(), x.end());
-  if (x.size() < 2 || !(x.back() > x.front())) return 0.0;
-  const double range = x.back() - x.front();
-  double q = kInf;
-  for (std::size_t i = 1; i < x.size(); ++i)
-    if (x[i] - x[i - 1] > 1e-9 * range) q = std::min(q, x[i] - x[i - 1]);
-  if (!std::isfinite(q) || range / q > 1e6) return 0.0;
-  std::size_t off = 0;
-  for (double y : x) {
-    const double k = (y - x.front()) / q;
-    off += std::abs(k - std::round(k)) > 1e-6 * std::max(1.0, k) + 1e-6;
-  }
-  return off <= kOffGridShare * x.size() ? q : 0.0;
-}
 
 // Per channel: the resolution and whether the design's residual is at that floor (RMS within
 // kFloorSteps resolution steps); warned once per channel at the floor.
@@ -47,7 +25,10 @@ void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDi
   d.channel_resolution.assign(P.channels(), 0.0);
   d.channel_at_floor.assign(P.channels(), 0);
   for (int c = 0; c < P.channels(); ++c) {
-    const double q = loggingResolution(P.measured.col(c));
+    const double q = P.logged_resolution.empty()
+                         ? loggingResolution(std::vector<double>(
+                               P.measured.col(c).data(), P.measured.col(c).data() + P.rows()))
+                         : P.logged_resolution[c];
     d.channel_resolution[c] = q;
     const double r = P.rows() ? std::sqrt(residual.col(c).squaredNorm() / P.rows()) : 0.0;
     if (q > 0 && r <= kFloorSteps * q) {
@@ -59,6 +40,15 @@ void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDi
           " steps): not identifiable from these " + "logs, no effect is added for it");
     }
   }
+}
+
+const ArmPattern* strongestAboveFloor(const ArmProblem& P, const ArmDiagnosis& d) {
+  for (const ArmPattern& p : d.patterns) {
+    const auto& names = P.channel_names;
+    const auto c = std::find(names.begin(), names.end(), p.channel) - names.begin();
+    if (c >= static_cast<long>(d.channel_at_floor.size()) || !d.channel_at_floor[c]) return &p;
+  }
+  return nullptr;
 }
 
 // Why the fitted values describe no possible body or drive ("" when they do): a parameter on its

@@ -33,6 +33,10 @@ class NoiseWeighted : public ArmProblem {
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     return inner_.predict(values);
   }
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return inner_.calibratedDesignText(model, values, notes);
+  }
 
  private:
   const ArmProblem& inner_;
@@ -67,11 +71,14 @@ Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& curren
 ArmResidualMap residualMap(const ArmProblem& P, const Eigen::MatrixXd& res,
                            const std::vector<double>& sigma, double rho, const ArmFitOptions& o);
 
-// arm_checks.cpp: per channel the logging resolution and whether the design's residual is at that
+// arm_checks.cpp: per channel the logging resolution (the log's, else loggingResolution of the
+// measured values) and whether the design's residual is at that
 // floor (warned in d); why fitted values describe no possible body ("" when they do); the
 // remainders of the final fit, one per channel with a significant pattern left.
-double loggingResolution(const Eigen::VectorXd& v);
 void floorOfChannels(const ArmProblem& P, const Eigen::MatrixXd& residual, ArmDiagnosis& d);
+// The strongest of d.patterns in a channel above the logging resolution (null when none): a
+// channel at the floor is not identifiable, so no pattern there is an effect.
+const ArmPattern* strongestAboveFloor(const ArmProblem& P, const ArmDiagnosis& d);
 std::string impossibility(const ArmProblem& P, const ArmFit& fit);
 std::vector<ArmRemainder> remaindersOf(const ArmProblem& P, const ArmDiagnosis& d,
                                        const ArmFit& fin);

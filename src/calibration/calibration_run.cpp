@@ -61,10 +61,7 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
   }
   f.calibrated_design_path =
       design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
-  std::string text = P.kind == "drive" ? calibratedDriveToml(m, P, d.final_fit.values, f.notes)
-                     : P.kind == "tcp"
-                         ? calibratedTcpToml(m, P, d.final_fit.values, f.notes)
-                         : calibratedTrajectoryToml(m, P, d.final_fit.values, f.notes);
+  std::string text = P.calibratedDesignText(m, d.final_fit.values, f.notes);
   text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
   parseDesign(text, f.calibrated_design_path);  // still a valid design
   ArmReportOptions o{out_dir, "fit", extra_files, lock};

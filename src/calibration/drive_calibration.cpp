@@ -64,6 +64,11 @@ class DriveProblem : public ArmProblem {
     return p;
   }
 
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return calibratedDriveToml(model, *this, values, notes);
+  }
+
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     const FrictionParams p = friction(values);
     Eigen::MatrixXd out(data_.rows(), 1);
@@ -190,7 +195,10 @@ class DriveProblem : public ArmProblem {
         if (fe == Effect::Stribeck) stribeckProfile(e);
       }
       e.pattern += " (" + terms + ")";
-      if (!e.params.empty()) add(e, t);
+      if (!e.params.empty()) {
+        add(e, t);
+        added_first.push_back(kRefitEffect);  // every fit refits them first, then ranks
+      }
     }
     for (Effect fe : drive::kAllEffects) {
       if (design_.has(fe)) continue;
@@ -353,7 +361,6 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
       makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
   ArmFitOptions a = armOptions(o);
   const bool refit = P->findEffect(kRefitEffect) >= 0;
-  if (refit) a.add.push_back(kRefitEffect);
   for (Effect e : o.add) a.add.push_back(drive::toString(e));
   ArmDiagnosis d = diagnoseArm(*P, a);
   if (refit && (d.added.empty() || d.added.front() != kRefitEffect))

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "calibration/stats.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
@@ -481,6 +482,8 @@ void filteredRows(const JointLogSpec& s, const Model& model, const JointSideSamp
   std::string vel_note, acc_note;
   for (int j = 0; j < n; ++j) {
     const std::vector<double> qf = lowPass(js.q, j), tf = lowPass(js.tau, j);
+    d.effort_resolution.push_back(loggingResolution(
+        std::vector<double>(js.tau.col(j).data(), js.tau.col(j).data() + R)));  // unfiltered
     std::vector<double> v = centralDifference(qf, time);
     std::vector<double> a = centralDifference(v, time);
     if (vel) {

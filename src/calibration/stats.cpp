@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "common/errors.hpp"
@@ -68,6 +69,30 @@ std::vector<int> foldAssignment(int n, int k, std::uint64_t seed) {
   std::vector<int> fold(n);
   for (int j = 0; j < n; ++j) fold[perm[j]] = static_cast<int>(static_cast<long long>(j) * k / n);
   return fold;
+}
+
+namespace {
+constexpr double kOffGridShare = 0.01;  // values allowed off the resolution grid
+}  // namespace
+
+// The logging resolution of one channel: the step of the grid its values lie on (all but
+// kOffGridShare of them within 1e-6 steps of a multiple of the smallest nonzero difference between
+// sorted values, counted from the smallest value); 0 when there is none (filtered or continuous
+// data).
+double loggingResolution(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  if (x.size() < 2 || !(x.back() > x.front())) return 0.0;
+  const double range = x.back() - x.front();
+  double q = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i] - x[i - 1] > 1e-9 * range) q = std::min(q, x[i] - x[i - 1]);
+  if (!std::isfinite(q) || range / q > 1e6) return 0.0;
+  std::size_t off = 0;
+  for (double y : x) {
+    const double k = (y - x.front()) / q;
+    off += std::abs(k - std::round(k)) > 1e-6 * std::max(1.0, k) + 1e-6;
+  }
+  return off <= kOffGridShare * x.size() ? q : 0.0;
 }
 
 }  // namespace armstudy::calibration

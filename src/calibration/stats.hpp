@@ -24,6 +24,11 @@ double effectiveSampleSize(int n, double rho);
 // Inverse of the standard normal CDF (p in (0, 1)).
 double normalQuantile(double p);
 
+// The logging resolution of a channel: the step of the grid its values lie on (all but 1 % of them
+// within 1e-6 steps of a multiple of the smallest nonzero difference between sorted values,
+// counted from the smallest value); 0 when there is none (filtered or continuous data).
+double loggingResolution(std::vector<double> values);
+
 // Deterministic fold of each of n rows for k-fold cross-validation: a seeded permutation cut into
 // k nearly equal parts (splitmix64, identical on every platform and thread count).
 std::vector<int> foldAssignment(int n, int k, std::uint64_t seed);

@@ -139,6 +139,11 @@ class TcpProblem : public ArmProblem {
       regions.push_back((measured(i, 0) > mx ? 2 : 0) + (measured(i, 1) > my ? 1 : 0));
   }
 
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return calibratedTcpToml(model, *this, values, notes);
+  }
+
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     Model m = model_;
     const int n = m.dof();

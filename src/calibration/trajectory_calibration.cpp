@@ -6,6 +6,7 @@
 #include <set>
 
 #include "calibration/drive_calibration.hpp"
+#include "calibration/trajectory_terms.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
@@ -20,12 +21,10 @@ namespace armstudy::calibration {
 
 namespace {
 
+using namespace trajectory_detail;
+
 constexpr double kInfD = std::numeric_limits<double>::infinity();
 
-enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction, JointSide, Motor };
-// Terms of the joint-side catalogue of measured logs (joints without a [[drive]]) and of a coupled
-// motor (a row of the coupling matrix with more than one joint).
-enum class SideTerm { Coulomb, Viscous, Offset, Inertia };
 struct SideInfo {
   SideTerm term;
   const char* name;
@@ -57,18 +56,6 @@ const char* physicalReason(SideTerm t) {
                                   : "friction is not negative";
 }
 
-// Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
-// fields).
-void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
-  double* x = drive::parameter(p, key);
-  ARMSTUDY_CHECK(x != nullptr, "known friction key " + key);
-  *x += d;
-}
-
-double frictionValue(const drive::FrictionParams& p, const std::string& key) {
-  return drive::parameter(p, key);
-}
-
 // Scale of a motor-side catalogue value for a joint-side (prismatic) law: torque-like x N,
 // viscous x N^2 (assumption for typical values only).
 double jointSideScale(const std::string& key, double N) {
@@ -76,32 +63,6 @@ double jointSideScale(const std::string& key, double N) {
   if (key == "load_coulomb") return 1.0;
   return N;
 }
-
-// Adds an extra body at the TCP, given by its linear inertial parameters x = (m, h_T = m c_T,
-// I_T: xx yy zz xy xz yz about the TCP origin in TCP axes), to the last link (frame N) of the
-// rigid-body model: with p = p_NT, R = R_NT, h = R h_T,
-//   mass += m,  h_N += h + m p,  I_N += R I_T R^T + m (|p|^2 1 - p p^T) + 2 (p.h) 1 - p h^T - h p^T
-// (parallel-axis theorem for a body known about the TCP origin), linear in x.
-void addPayloadParameters(const Model& m, const Eigen::VectorXd& x, RigidBodyModel& rbm) {
-  const int L = m.dof() - 1;
-  const Eigen::Matrix3d R = m.T_NT.linear();
-  const Eigen::Vector3d p = m.T_NT.translation();
-  const Eigen::Vector3d h = R * x.segment<3>(1);
-  Eigen::Matrix3d I_T;
-  I_T << x[4], x[7], x[8], x[7], x[5], x[9], x[8], x[9], x[6];
-  const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
-  rbm.mass[L] += x[0];
-  rbm.h[L] += h + x[0] * p;
-  rbm.I_O[L] += R * I_T * R.transpose() + x[0] * (p.squaredNorm() * one - p * p.transpose()) +
-                2 * p.dot(h) * one - p * h.transpose() - h * p.transpose();
-}
-
-struct Tag {
-  TrajEffect type;
-  int joint = -1;  // the motor (row of the coupling matrix) for TrajEffect::Motor
-  drive::Effect friction = drive::Effect::Coulomb;
-  SideTerm term = SideTerm::Coulomb;
-};
 
 // Smooth sign of the Coulomb terms: tanh(v / w) (w = 0: the joint never moves, no force).
 double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
@@ -154,6 +115,7 @@ class TrajectoryProblem : public ArmProblem {
         fp_.emplace_back();
     }
     weight = Eigen::VectorXd::Ones(n);
+    logged_resolution = data.effort_resolution;
     makeRigidBodyModel(model);  // throws InputError (design file) without [[inertia]] data
     addBodyEffects(model, data.friction_width_fraction > 0);
     addFrictionEffects(model, data);
@@ -425,6 +387,11 @@ class TrajectoryProblem : public ArmProblem {
   }
 
  public:
+  std::string calibratedDesignText(const Model& model, const EffectValues& values,
+                                   std::vector<std::string>& notes) const override {
+    return calibratedTrajectoryToml(model, *this, values, notes);
+  }
+
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     const int n = model_.dof();
     std::vector<drive::FrictionParams> fp = fp_;
@@ -532,224 +499,51 @@ class TrajectoryProblem : public ArmProblem {
   TrajectoryData data_;
 };
 
-// A number as the calibrated design text writes it.
-std::string num(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return std::string(b);
-}
-
-// The fitted extra payload (mass, centre, inertia about the centre: v.x) stored in the design text:
-// [payload] mass and com, and the inertia the point mass cannot carry added to the last link's
-// [[inertia]] where that stays physical. Returns the payload mass written.
-double storePayload(const Model& model, const Eigen::VectorXd& x, std::string& text,
-                    std::vector<std::string>& notes) {
-  const Eigen::Vector3d h = model.payload_kg * model.p_payload_com_T + x.segment<3>(1);
-  const double m = std::max(0.0, model.payload_kg + x[0]);
-  const Eigen::Vector3d c = m > 1e-9 ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
-  text = setDesignEntry(text, "[payload]", "", "", "mass", num(m));
-  text = setDesignEntry(text, "[payload]", "", "", "com",
-                        "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
-  // The fitted body (the design's payload plus the extra one) has mass m and centre c, which
-  // the [payload] point mass carries, and an inertia about c, which it cannot: that part goes
-  // into the last link's [[inertia]] (rigid-body parameters of one link add), so the
-  // calibrated copy predicts what the fit predicted. All in frame N about its origin.
-  const int L = model.dof() - 1;
-  const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
-  auto pointI = [&](double mm, const Eigen::Vector3d& cc) {
-    return Eigen::Matrix3d(mm * (cc.squaredNorm() * one - cc * cc.transpose()));
-  };
-  RigidBodyModel delta{};
-  delta.mass[L] = 0;
-  delta.h[L].setZero();
-  delta.I_O[L].setZero();
-  addPayloadParameters(model, x, delta);
-  const double m0 = model.payload_kg > 0 ? model.payload_kg : 0.0;
-  const Eigen::Matrix3d dI = pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
-                             (m > 0 ? pointI(m, model.T_NT * c) : Eigen::Matrix3d::Zero().eval());
-  const bool has_link = L < static_cast<int>(model.inertias.size()) && model.inertias[L].given;
-  if (dI.norm() > 1e-15) {
-    const Eigen::Matrix3d I =
-        has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
-                 : Eigen::Matrix3d::Zero();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
-    const Eigen::Vector3d ev = es.eigenvalues();  // ascending
-    const std::string link = model.joints[L].name;
-    if (has_link && ev[0] > 0 && ev[2] <= ev[0] + ev[1]) {
-      text = setDesignEntry(text, "[[inertia]]", "link", link, "inertia",
-                            "[" + num(I(0, 0)) + ", " + num(I(1, 1)) + ", " + num(I(2, 2)) + ", " +
-                                num(I(0, 1)) + ", " + num(I(0, 2)) + ", " + num(I(1, 2)) + "]");
-      notes.push_back(
-          "the fitted payload's inertia about its centre of mass, which the [payload] point "
-          "mass cannot "
-          "carry, is added to the [[inertia]] of link " +
-          link);
-    } else {
-      notes.push_back(
-          "the fitted payload's inertia about its centre of mass is not stored (the "
-          "[payload] is a point "
-          "mass and link " +
-          link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
-    }
-  }
-  return m;
-}
-
-// A fitted friction term of joint j stored in its [drive.friction] (and, when the design's law
-// lacks the term, in [model] effects).
-void storeFriction(const Model& model, int j, drive::Effect effect, const std::string& key,
-                   double value, double profile, drive::FrictionParams& p,
-                   std::vector<std::string>& effects, std::string& text) {
-  if (effect == drive::Effect::Stribeck) {
-    if (!p.has(effect)) p.stribeck_torque = p.coulomb;
-    p.stribeck_velocity = profile;
-    text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[j].name,
-                          "stribeck_velocity", num(profile));
-  }
-  if (!p.has(effect)) {
-    bool in_law = false;
-    for (auto e : drive::lawEffects(p.law)) in_law = in_law || e == effect;
-    if (!in_law) effects.push_back(model.joints[j].name + "." + drive::toString(effect));
-  }
-  p.on[static_cast<int>(effect)] = true;
-  addFriction(p, key, value);
-  text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[j].name, key,
-                        num(frictionValue(p, key)));
-}
-
 }  // namespace
+
+namespace trajectory_detail {
+
+// Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
+// fields).
+void addFriction(drive::FrictionParams& p, const std::string& key, double d) {
+  double* x = drive::parameter(p, key);
+  ARMSTUDY_CHECK(x != nullptr, "known friction key " + key);
+  *x += d;
+}
+
+double frictionValue(const drive::FrictionParams& p, const std::string& key) {
+  return drive::parameter(p, key);
+}
+
+// Adds an extra body at the TCP, given by its linear inertial parameters x = (m, h_T = m c_T,
+// I_T: xx yy zz xy xz yz about the TCP origin in TCP axes), to the last link (frame N) of the
+// rigid-body model: with p = p_NT, R = R_NT, h = R h_T,
+//   mass += m,  h_N += h + m p,  I_N += R I_T R^T + m (|p|^2 1 - p p^T) + 2 (p.h) 1 - p h^T - h p^T
+// (parallel-axis theorem for a body known about the TCP origin), linear in x.
+void addPayloadParameters(const Model& m, const Eigen::VectorXd& x, RigidBodyModel& rbm) {
+  const int L = m.dof() - 1;
+  const Eigen::Matrix3d R = m.T_NT.linear();
+  const Eigen::Vector3d p = m.T_NT.translation();
+  const Eigen::Vector3d h = R * x.segment<3>(1);
+  Eigen::Matrix3d I_T;
+  I_T << x[4], x[7], x[8], x[7], x[5], x[9], x[8], x[9], x[6];
+  const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
+  rbm.mass[L] += x[0];
+  rbm.h[L] += h + x[0] * p;
+  rbm.I_O[L] += R * I_T * R.transpose() + x[0] * (p.squaredNorm() * one - p * p.transpose()) +
+                2 * p.dot(h) * one - p * h.transpose() - h * p.transpose();
+}
+
+TrajectoryTerms trajectoryTerms(const ArmProblem& problem) {
+  const auto& P = dynamic_cast<const TrajectoryProblem&>(problem);
+  return {P.tags_, P.fp_, P.drive_};
+}
+
+}  // namespace trajectory_detail
 
 std::unique_ptr<ArmProblem> makeTrajectoryProblem(const Model& model, const TrajectoryData& data) {
   ARMSTUDY_CHECK(data.q.cols() == model.dof(), "data columns match the design");
   return std::make_unique<TrajectoryProblem>(model, data);
-}
-
-TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& o) {
-  if (!(o.duration_s > 0) || !(o.rate_Hz > 0))
-    throw InputError("", 0, "duration", "duration and rate must be positive");
-  if (!(o.duration_s * o.rate_Hz <= defaults::kMaxTrajectorySamples))
-    throw InputError("", 0, "duration", "duration x rate exceeds 1e6 samples");
-  if (!(o.noise >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
-  if (o.harmonics < 1) throw InputError("", 0, "harmonics", "at least one harmonic");
-  const int n = model.dof();
-  std::set<int> still;
-  for (const auto& s : o.still_joints) {
-    const int j = model.jointIndex(s);
-    if (j < 0)
-      throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
-    still.insert(j);
-  }
-  rng::SplitMix64 rng{o.seed};
-  const int R = static_cast<int>(std::floor(o.duration_s * o.rate_Hz)) + 1;
-  TrajectoryData d;
-  d.currents = o.currents;
-  d.q.resize(R, n);
-  d.qd.resize(R, n);
-  d.qdd.resize(R, n);
-  d.measured = Eigen::MatrixXd::Zero(R, n);
-  for (int i = 0; i < R; ++i) {
-    d.t.push_back(i / o.rate_Hz);
-    d.lines.push_back(i + 2);
-  }
-  // Smooth random joint motion: a sum of sines around the middle of the joint range.
-  for (int j = 0; j < n; ++j) {
-    const JointLimits& l = model.joints[j].limits;
-    const double c = 0.5 * (l.q_min + l.q_max);
-    double amp = o.range_fraction * 0.5 * (l.q_max - l.q_min);
-    if (model.joints[j].type == JointType::Revolute) amp = std::min(amp, o.max_amplitude_rad);
-    if (still.count(j)) amp = 0;
-    std::vector<double> a(o.harmonics), w(o.harmonics), ph(o.harmonics);
-    double sum = 0;
-    for (int k = 0; k < o.harmonics; ++k) {
-      a[k] = 0.3 + rng.uniform();
-      sum += a[k];
-      w[k] = 2 * M_PI * o.max_frequency_Hz * (0.25 + 0.75 * rng.uniform());
-      ph[k] = 2 * M_PI * rng.uniform();
-    }
-    for (int k = 0; k < o.harmonics; ++k) a[k] *= amp / sum;
-    for (int i = 0; i < R; ++i) {
-      double q = c, qd = 0, qdd = 0;
-      for (int k = 0; k < o.harmonics; ++k) {
-        const double x = w[k] * d.t[i] + ph[k];
-        q += a[k] * std::sin(x);
-        qd += a[k] * w[k] * std::cos(x);
-        qdd -= a[k] * w[k] * w[k] * std::sin(x);
-      }
-      d.q(i, j) = q;
-      d.qd(i, j) = qd;
-      d.qdd(i, j) = qdd;
-    }
-  }
-  const auto P = makeTrajectoryProblem(model, d);
-  EffectValues hidden;
-  for (const auto& h : o.hidden) hidden.push_back(parseHiddenEffect(*P, h));
-  d.measured = P->predict(hidden);
-  for (int i = 0; i < R; ++i)
-    for (int j = 0; j < n; ++j) d.measured(i, j) += o.noise * rng.normal();
-  d.qdd_given = o.write_qdd;
-  return d;
-}
-
-std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem,
-                                     const EffectValues& values, std::vector<std::string>& notes) {
-  const auto& P = dynamic_cast<const TrajectoryProblem&>(problem);
-  std::string text = readFileOrThrow(model.file);
-  std::vector<std::string> effects = model.effects;
-  std::vector<drive::FrictionParams> fp = P.fp_;
-  std::set<int> friction_joints;
-  Model expect = model;
-  for (const auto& v : values) {
-    const Tag& t = P.tags_[v.effect];
-    switch (t.type) {
-      case TrajEffect::Payload:
-        expect.payload_kg = storePayload(model, v.x, text, notes);
-        break;
-      case TrajEffect::RotorInertia:
-        for (int j = 0; j < model.dof(); ++j) {
-          if (v.x[j] == 0) continue;
-          if (!P.drive_[j]) {
-            notes.push_back("armature of " + model.joints[j].name + " (" + num(v.x[j]) +
-                            ") is not stored: the joint has no [[drive]]");
-            continue;
-          }
-          const double N = P.drive_[j]->gear_ratio;
-          text = setDesignEntry(text, "[[drive]]", "joint", model.joints[j].name, "rotor_inertia",
-                                num(P.drive_[j]->rotor_inertia_kgm2 + v.x[j] / (N * N)));
-        }
-        break;
-      case TrajEffect::GravityTilt:
-        text = setDesignEntry(text, "[base]", "", "", "alpha", num(model.base.alpha + v.x[0]));
-        text = setDesignEntry(text, "[base]", "", "", "beta", num(model.base.beta + v.x[1]));
-        notes.push_back(
-            "gravity_tilt is stored as the base orientation (alpha, beta): a tilted base is a "
-            "tilted gravity vector");
-        break;
-      case TrajEffect::LinkMass:
-        text = setDesignEntry(text, "[[inertia]]", "link", model.joints[t.joint].name, "mass",
-                              num(std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0])));
-        break;
-      case TrajEffect::JointSide:
-      case TrajEffect::Motor:
-        notes.push_back(problem.catalogue[v.effect].name + " = " + num(v.x[0]) + " " +
-                        problem.catalogue[v.effect].params[0].unit +
-                        " is not stored: the design format has no joint-side friction, offset or "
-                        "coupled-motor terms");
-        break;
-      case TrajEffect::Friction:
-        storeFriction(model, t.joint, t.friction, problem.catalogue[v.effect].params[0].key, v.x[0],
-                      v.profile, fp[t.joint], effects, text);
-        break;
-    }
-  }
-  if (effects != model.effects) {
-    std::string list;
-    for (const auto& e : effects) list += (list.empty() ? "\"" : ", \"") + e + "\"";
-    text = setDesignEntry(text, "[model]", "", "", "effects", "[" + list + "]");
-  }
-  const Model back = parseDesign(text, model.file + " (calibrated)");  // must stay a valid design
-  ARMSTUDY_CHECK(std::abs(back.payload_kg - expect.payload_kg) < 1e-9,
-                 "calibrated design round trip (payload)");
-  return text;
 }
 
 }  // namespace armstudy::calibration

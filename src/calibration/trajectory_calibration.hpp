@@ -44,6 +44,9 @@ struct TrajectoryData {
   // Measured logs with logged velocities: per design joint, the RMS of logged minus
   // differentiated velocity [rad/s | m/s] (empty when the velocities are differentiated).
   std::vector<double> velocity_difference_rms;
+  // Measured logs: per design joint, the logging resolution of the unfiltered joint-side effort
+  // [N m | N] (the grid its values lie on, 0 on none); empty for unfiltered data.
+  std::vector<double> effort_resolution;
   bool joint_named_channels = false;  // channels labelled by joint name (measured logs)
   int rows() const { return static_cast<int>(t.size()); }
 };

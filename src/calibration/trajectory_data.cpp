@@ -118,4 +118,70 @@ std::string trajectoryDataToCsv(const TrajectoryData& d, bool write_qdd) {
   return io::formatCsv(h, cols);
 }
 
+TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& o) {
+  if (!(o.duration_s > 0) || !(o.rate_Hz > 0))
+    throw InputError("", 0, "duration", "duration and rate must be positive");
+  if (!(o.duration_s * o.rate_Hz <= defaults::kMaxTrajectorySamples))
+    throw InputError("", 0, "duration", "duration x rate exceeds 1e6 samples");
+  if (!(o.noise >= 0)) throw InputError("", 0, "noise", "noise must not be negative");
+  if (o.harmonics < 1) throw InputError("", 0, "harmonics", "at least one harmonic");
+  const int n = model.dof();
+  std::set<int> still;
+  for (const auto& s : o.still_joints) {
+    const int j = model.jointIndex(s);
+    if (j < 0)
+      throw InputError("", 0, "still", "design '" + model.name + "' has no joint '" + s + "'");
+    still.insert(j);
+  }
+  rng::SplitMix64 rng{o.seed};
+  const int R = static_cast<int>(std::floor(o.duration_s * o.rate_Hz)) + 1;
+  TrajectoryData d;
+  d.currents = o.currents;
+  d.q.resize(R, n);
+  d.qd.resize(R, n);
+  d.qdd.resize(R, n);
+  d.measured = Eigen::MatrixXd::Zero(R, n);
+  for (int i = 0; i < R; ++i) {
+    d.t.push_back(i / o.rate_Hz);
+    d.lines.push_back(i + 2);
+  }
+  // Smooth random joint motion: a sum of sines around the middle of the joint range.
+  for (int j = 0; j < n; ++j) {
+    const JointLimits& l = model.joints[j].limits;
+    const double c = 0.5 * (l.q_min + l.q_max);
+    double amp = o.range_fraction * 0.5 * (l.q_max - l.q_min);
+    if (model.joints[j].type == JointType::Revolute) amp = std::min(amp, o.max_amplitude_rad);
+    if (still.count(j)) amp = 0;
+    std::vector<double> a(o.harmonics), w(o.harmonics), ph(o.harmonics);
+    double sum = 0;
+    for (int k = 0; k < o.harmonics; ++k) {
+      a[k] = 0.3 + rng.uniform();
+      sum += a[k];
+      w[k] = 2 * M_PI * o.max_frequency_Hz * (0.25 + 0.75 * rng.uniform());
+      ph[k] = 2 * M_PI * rng.uniform();
+    }
+    for (int k = 0; k < o.harmonics; ++k) a[k] *= amp / sum;
+    for (int i = 0; i < R; ++i) {
+      double q = c, qd = 0, qdd = 0;
+      for (int k = 0; k < o.harmonics; ++k) {
+        const double x = w[k] * d.t[i] + ph[k];
+        q += a[k] * std::sin(x);
+        qd += a[k] * w[k] * std::cos(x);
+        qdd -= a[k] * w[k] * w[k] * std::sin(x);
+      }
+      d.q(i, j) = q;
+      d.qd(i, j) = qd;
+      d.qdd(i, j) = qdd;
+    }
+  }
+  const auto P = makeTrajectoryProblem(model, d);
+  EffectValues hidden;
+  for (const auto& h : o.hidden) hidden.push_back(parseHiddenEffect(*P, h));
+  d.measured = P->predict(hidden);
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < n; ++j) d.measured(i, j) += o.noise * rng.normal();
+  d.qdd_given = o.write_qdd;
+  return d;
+}
+
 }  // namespace armstudy::calibration

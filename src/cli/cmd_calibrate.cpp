@@ -158,9 +158,6 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
   o.seed = seed;
   o.auto_add = autoAdd;
   const auto P = armProblem(a, m);
-  // The drive kind refits the design's own friction terms first (thesis Table 4.5), then ranks.
-  if (a.kind == "drive" && P->findEffect(calibration::kRefitEffect) >= 0)
-    o.add.push_back(calibration::kRefitEffect);
   for (const auto& e : splitList(add)) o.add.push_back(e);
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const auto d = calibration::diagnoseArm(*P, o);

@@ -193,8 +193,6 @@ py::dict fit(const Design& design, const py::object& data, const std::string& ki
       problem(*design.model, kind, data, pose, joint, speed_bins, load_bins);
   ArmFitOptions o = fitOptions(folds, seed, variable_bins, workspace_bins);
   o.auto_add = auto_add;
-  // The drive kind refits the design's own friction terms first (thesis Table 4.5), as the CLI.
-  if (kind == "drive" && P->findEffect(kRefitEffect) >= 0) o.add.push_back(kRefitEffect);
   for (const std::string& e : add) o.add.push_back(e);
   if (const std::string error = o.validate(); !error.empty()) throw std::invalid_argument(error);
   ArmDiagnosis diagnosis;

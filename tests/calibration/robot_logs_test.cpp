@@ -294,7 +294,8 @@ TEST_CASE("bad robot logs in a study exit 2 naming file, line and key and write 
   const Case cases[] = {
       {"torque constant 0", "-0.05, 0.09", "0, 0.09", "study.toml",
        "calibration[0].measured.efforts.torque_constants", "efforts ="},
-      {"unknown velocity column", "\"v3\", \"v4\"", "\"v3\", \"speed4\"", "vel.csv", "speed4", ""},
+      {"unknown velocity column", "\"v3\", \"v4\"", "\"v3\", \"speed4\"", "vel.csv:1", "speed4",
+       ""},
       {"joint listed twice", "gravity_compensated = [\"j1\"]",
        "gravity_compensated = [\"j1\", \"j1\"]", "study.toml",
        "calibration[0].measured.gravity_compensated", "gravity_compensated ="},
@@ -320,6 +321,37 @@ TEST_CASE("bad robot logs in a study exit 2 naming file, line and key and write 
           if (++k, l.find(c.line_of) == 0) line = k;
         CHECK_THAT(out, Catch::Contains(c.file + ":" + std::to_string(line)));
       }
+      CHECK(!fs::exists(log.dir / "out"));
+    }
+  }
+  SECTION("an effort file whose time column is offset by 5 ms, or at half the rate") {
+    for (const bool offset : {true, false}) {
+      RobotLog log(offset ? "time_offset" : "time_rate", true, 0, 600);
+      if (offset) {  // every row's time 5 ms late
+        std::ifstream in(log.dir / "cur.csv");
+        std::vector<std::string> lines;
+        for (std::string l; std::getline(in, l);) lines.push_back(l);
+        in.close();
+        std::ofstream o(log.dir / "cur.csv");
+        for (std::size_t i = 0; i < lines.size(); ++i)
+          o << (i == 0 ? lines[i]
+                       : std::to_string(1e-3 * double(i - 1) + 5e-3) +
+                             lines[i].substr(lines[i].find(',')))
+            << "\n";
+      } else {
+        RobotLog slow("time_rate_slow", true, 0, 600, 2e-3);
+        fs::copy_file(slow.dir / "cur.csv", log.dir / "cur.csv",
+                      fs::copy_options::overwrite_existing);
+      }
+      const fs::path p = robotStudy(log, "", "");
+      std::string out;
+      CHECK(test::runCommand(test::binaryPath() + " run " + p.string() + " --output " +
+                                 (log.dir / "out").string(),
+                             out) == 2);
+      INFO(out);
+      CHECK_THAT(out, Catch::Contains((log.dir / "cur.csv").string() + (offset ? ":2" : ":3")) &&
+                          Catch::Contains(offset ? "offset by 0.005 s" : "rates differ") &&
+                          Catch::Contains("key 't'"));
       CHECK(!fs::exists(log.dir / "out"));
     }
   }
