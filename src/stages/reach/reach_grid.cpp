@@ -196,8 +196,10 @@ void searchAndAuditEntries(const GridRun& r, std::size_t di, ordered_json& jd, s
                   {"best_manipulability_updates", se.best_updates},
                   {"converged", se.converged}};
   md += "Map search (" + s.design + "): " + std::to_string(se.rounds) +
-        " neighbour-propagation rounds changed " + std::to_string(se.neighbour_updates) +
-        " statuses";
+        (se.rounds == 1 ? " neighbour-propagation round changed "
+                        : " neighbour-propagation rounds changed ") +
+        std::to_string(se.neighbour_updates) +
+        (se.neighbour_updates == 1 ? " status" : " statuses");
   if (s.collision)
     md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
           std::to_string(r.cfg.search.collision_starts) + " seeded starts each (" +

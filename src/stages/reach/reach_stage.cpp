@@ -144,18 +144,16 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
   bool cardan = false;
   for (const TaskGrid& g : cfg.grids) cardan |= usesCardanAngles(g.task_space);
   for (const PoseList& l : cfg.pose_lists) cardan |= usesCardanAngles(l.task_space);
+  const auto colour = [](int status) {  // "bluish green (#009e73)"
+    const report::Rgb c = report::categorical(status);
+    return report::colourName(c) + " (" + report::hex(c) + ")";
+  };
   std::string md =
-      "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
-      report::hex(report::categorical(1)) + " out of reach, " +
-      report::hex(report::categorical(2)) + " blocked by joint limits" +
-      (cardan ? ", " + report::hex(report::categorical(3)) + " representation singularity" : "") +
-      (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision"
-               : "") +
-      (obst_on ? ", " + report::hex(report::categorical(6)) +
-                     " reachable only in contact with an obstacle"
-               : "") +
-      " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
-      (obst_on ? ", brown" : "") + ").\n\n";
+      "Map colours: " + colour(0) + " reachable, " + colour(1) + " out of reach, " + colour(2) +
+      " blocked by joint limits" +
+      (cardan ? ", " + colour(3) + " representation singularity" : "") +
+      (self_on ? ", " + colour(4) + " reachable only in self-collision" : "") +
+      (obst_on ? ", " + colour(6) + " reachable only in contact with an obstacle" : "") + ".\n\n";
   if (self_on) {
     std::string cover;
     for (const StudyDesign& sd : designs)
