@@ -73,3 +73,29 @@ TEST_CASE("status map legends use words, not identifiers (shipped stem_row)",
   }
   CHECK(labels == 2);  // self-collision and obstacle contact
 }
+
+TEST_CASE("the spraying row's manipulability maps name the task's 5 rows beside m^3",
+          "[reach][report]") {
+  // Thesis eq. (3.1): the spraying task constrains x, y, z, alpha and gamma, 5 rows of which 2 are
+  // angular; a scale labelled m^3 alone would read as the 3 position rows.
+  const fs::path root = test::emptyTempDir("measure_rows");
+  const fs::path out = test::runShippedStudy("studies/spraying_row.toml", root) / "reach";
+  int maps = 0;
+  for (const auto& e : fs::directory_iterator(out / "images")) {
+    const std::string name = e.path().filename().string();
+    if (e.path().extension() != ".svg" || name.find("_manipulability") == std::string::npos)
+      continue;
+    INFO(name);
+    const std::string svg = readFileOrThrow(e.path().string());
+    std::string words;  // the figure's text, wrapped lines joined
+    const std::regex text(R"(<text[^>]*>([^<]*)</text>)");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator();
+         ++it)
+      words += std::string((*it)[1]) + " ";
+    INFO(words);
+    CHECK(words.find("[m^3; 5 rows, the 2 angular ones weighed by 1 m]") != std::string::npos);
+    CHECK(words.find("[m^3]") == std::string::npos);
+    ++maps;
+  }
+  CHECK(maps >= 1);
+}
