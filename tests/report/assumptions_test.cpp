@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/files.hpp"
@@ -194,4 +195,23 @@ TEST_CASE("harvest_torque: the profile plots show the fruits a drive limit stops
     }
   }
   CHECK(failed_plotted == 3);  // 9-DoF fruits 2 and 4, 7-DoF fruit 4
+}
+
+TEST_CASE(
+    "spraying_row: the poses blocked by joint limits list the design's joint-limit assumption",
+    "[reach][report]") {
+  const fs::path root = test::emptyTempDir("reach_assumptions");
+  const fs::path out = test::runShippedStudy("studies/spraying_row.toml", root);
+  const Study s = loadStudy(test::sourcePath("studies/spraying_row.toml"));
+  const auto summary = nlohmann::json::parse(readFileOrThrow((out / "summary.json").string()));
+  const std::string assumptions =
+      section(readFileOrThrow((out / "report.md").string()), "Assumptions");
+  long blocked = 0;
+  for (const auto& d : summary["reach"]["grids"][0]["designs"])
+    blocked += d["status_counts"]["joint_limits"].get<long>();
+  REQUIRE(blocked > 0);  // the scenario: some poses fail on a joint limit
+  const Model& m = s.designs[0].model;
+  const auto lines = notes::about(m, notes::kJointLimits);
+  REQUIRE(lines.size() == 1);
+  CHECK(assumptions.find("`" + m.name + "`: " + lines[0]) != std::string::npos);
 }

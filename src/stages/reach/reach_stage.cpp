@@ -137,6 +137,23 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
   }
 }
 
+// The design assumption lines about joint limits of each design with poses blocked by them (the
+// "joint limits" count rests on them), as "`<design>`: <line>".
+void jointLimitAssumptions(const Study& study, const ordered_json& jr,
+                           std::vector<std::string>& out) {
+  std::set<std::string> blocked;
+  for (const char* kind : {"grids", "pose_lists"})
+    if (jr.contains(kind))
+      for (const auto& g : jr[kind])
+        for (const auto& d : g.value("designs", ordered_json::array()))
+          if (d.contains("status_counts") && d["status_counts"].value("joint_limits", 0L) > 0)
+            blocked.insert(d.value("design", ""));
+  for (const StudyDesign& sd : study.designs)
+    if (blocked.count(sd.model.name))
+      for (const std::string& a : notes::about(sd.model, notes::kJointLimits))
+        out.push_back("`" + sd.model.name + "`: " + a);
+}
+
 // The map colours, and what the collision and obstacle checks mean.
 std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfig& cfg) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
@@ -306,6 +323,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   reachAnswer(jr, sum.answer, sum.warnings);
+  jointLimitAssumptions(study, jr, sum.assumptions);
   sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
