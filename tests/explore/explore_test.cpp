@@ -426,7 +426,8 @@ void checkFrontOutputs(const Study& s, const StageResult& r, const std::string& 
     const double sign = o.objectives[k].goal == explore::Goal::Minimise ? -1 : 1;
     double best = -1e300;
     for (const std::string& n : front) best = std::max(best, sign * std::stod(rows.at(n)[np + k]));
-    const std::string lead = "best " + o.objectives[k].label + ": `";
+    const std::string lead =
+        "best " + o.objectives[k].label.substr(0, o.objectives[k].label.find(" [")) + ": `";
     const auto at = a.find(lead);
     INFO(a);
     REQUIRE(at != std::string::npos);

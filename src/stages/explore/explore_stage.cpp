@@ -215,7 +215,8 @@ std::vector<Recommendation> recommendations(const Outcome& r) {
       if (value(i, k) > value(pick, k) ||
           (value(i, k) == value(pick, k) && shortfall(i) < shortfall(pick)))
         pick = i;
-    out.push_back({"best " + r.o.objectives[k].label, pick});
+    const std::string& label = r.o.objectives[k].label;  // without a unit: "best link length"
+    out.push_back({"best " + label.substr(0, label.find(" [")), pick});
   }
   std::size_t balanced = r.front[0];
   for (std::size_t i : r.front)
@@ -240,7 +241,8 @@ std::string exploreAnswer(const Outcome& r) {
   for (const Candidate& x : r.c) feasible += x.feasible;
   std::string a = std::to_string(r.front.size()) + " of the " + std::to_string(r.c.size()) +
                   " candidates (" + std::to_string(feasible) +
-                  " feasible) are on the Pareto front; the base design is ";
+                  " feasible) are on the Pareto front; the base design (" +
+                  valuesText(r, r.base_index) + ") is ";
   if (r.base_on_front)
     a += "on it";
   else {
@@ -248,7 +250,6 @@ std::string exploreAnswer(const Outcome& r) {
     a += "dominated by " + std::to_string(by.size()) + " of them" +
          (by.empty() ? "" : " (e.g. " + by[0] + ")");
   }
-  a += " (" + valuesText(r, r.base_index) + ")";
   for (const Recommendation& rec : recommendations(r))
     a += "; " + rec.trade_off + ": `" + r.c[rec.candidate].name + "` (" +
          valuesText(r, rec.candidate) + ")";
