@@ -34,7 +34,7 @@ using nlohmann::ordered_json;
 
 namespace {
 
-constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v1";
+constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v2";
 constexpr char kGridMagic[] = "armstudy-harvest-grid-v1";
 
 // Per-sample rows of equal width: count, width, values.
