@@ -91,6 +91,7 @@ TrackedApproach trackApproach(const Model& model, IkWorkspace& ws, ik::Objective
                                                     &objective, &ctx, options.tracking);
   out.tracking_status = tr.status;
   out.limit_joint = tr.limit_joint;
+  out.limit_q = tr.limit_q;
   out.min_manipulability = tr.samples.empty() ? 0.0 : tr.samples.front().manipulability;
   for (const auto& s : tr.samples) {
     out.max_position_error_m = std::max(out.max_position_error_m, s.position_error_m);

@@ -39,7 +39,8 @@ const char* toString(ApproachTrackingStatus s);
 struct TrackedApproach {
   ApproachTrackingStatus status = ApproachTrackingStatus::Ok;
   ik::TrackingStatus tracking_status = ik::TrackingStatus::Completed;
-  int limit_joint = -1;
+  int limit_joint = -1;        // the joint that left its limits (TrackingFailed at a joint limit)
+  double limit_q = 0;          // the limit it crossed, rad or m
   JointTrajectory trajectory;  // complete only when status == Ok
   double max_position_error_m = 0, max_orientation_error_rad = 0;
   double min_manipulability = 0;

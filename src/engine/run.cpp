@@ -321,6 +321,7 @@ struct StudyRun {
         a.files = r.files;
         a.answer = r.answer;
         a.warnings = r.warnings;
+        a.assumptions = r.assumptions;
         answers.emplace_back(section.stage->name(), std::move(a));
         for (report::ViewCloud& c : r.view) view_clouds.push_back(std::move(c));
         view_solids.insert(view_solids.end(), r.view_solids.begin(), r.view_solids.end());
@@ -437,6 +438,7 @@ struct StudyRun {
         any = true;
       }
     if (!any) answer_md += "None.\n";
+    answer_md += assumptionsMarkdown();
     std::string md = "# Study `" + study.name + "`\n\n" + leadMarkdown() + answer_md + "\n" +
                      designs_md + "## Details\n\n";
     for (const auto& [stage, r] : answers)
@@ -447,6 +449,19 @@ struct StudyRun {
     md += "- the ParaView scene: [scene/report.md](scene/report.md)\n";
     writeFileAtomic((out / "report.md").string(), md);
     sum.files_written.push_back("report.md");
+  }
+
+  // The assumptions the answer rests on: the study's own, then those each stage names (each line
+  // once); nothing when there are none.
+  std::string assumptionsMarkdown() const {
+    std::vector<std::string> lines = study.assumptions;
+    for (const auto& [stage, r] : answers)
+      for (const std::string& a : r.assumptions)
+        if (std::find(lines.begin(), lines.end(), a) == lines.end()) lines.push_back(a);
+    if (lines.empty()) return "";
+    std::string md = "\n## Assumptions\n\nThe results above rest on these assumed values:\n\n";
+    for (const std::string& a : lines) md += "- " + a + "\n";
+    return md;
   }
 
   // The study's description and question: the head of report.md and report.html.

@@ -81,7 +81,7 @@ std::vector<collision::Obstacle> readObstacles(TableReader& top) {
 
 namespace fs = std::filesystem;
 
-// [study]: the study's name, description and question.
+// [study]: the study's name, description, question and assumptions.
 void readStudyHeader(TableReader& top, Study& s) {
   TableReader r = top.requiredTable("study");
   s.name =
@@ -89,6 +89,7 @@ void readStudyHeader(TableReader& top, Study& s) {
              "study names use letters, digits, '_' and '-' only (they name the output folder)");
   s.description = r.string("description", "");
   s.question = r.string("question", "");
+  s.assumptions = r.stringArray("assumptions");
   r.finish();
 }
 

@@ -233,6 +233,8 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
     for (int i = 0; i < n && sum.limit_joint < 0; ++i)
       if (q[i] < model.joints[i].limits.q_min || q[i] > model.joints[i].limits.q_max) {
         sum.limit_joint = i;
+        sum.limit_q = q[i] < model.joints[i].limits.q_min ? model.joints[i].limits.q_min
+                                                          : model.joints[i].limits.q_max;
         sum.status = TrackingStatus::JointLimitReached;
       }
     if (sum.limit_joint >= 0 && options.stop_at_joint_limit) break;

@@ -88,6 +88,7 @@ struct TrackingSummary {
   TrackingStatus status = TrackingStatus::Completed;
   int steps = 0;
   int limit_joint = -1;                 // first joint that left its limits
+  double limit_q = 0;                   // the limit it crossed (q_min or q_max), rad or m
   double max_joint_speed = 0;           // max |qdot_i| over the run
   std::vector<TrackingSample> samples;  // one per step
   TrackingOptions options_used;

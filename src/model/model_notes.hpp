@@ -8,6 +8,8 @@
 //                                          the keys that name one; tool-axis stages refuse it
 //   "no collision volume on link ..."      a link self-collision does not cover, with why
 //   "mass lumped: ..."                     a link off the chain whose mass rides on a chain link
+#include <algorithm>
+#include <cctype>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,26 @@ inline void set(Model& m, const std::string& prefix, const std::string& text) {
   m.assumptions = kept;
   if (!text.empty()) add(m, prefix, text);
 }
+
+// The author's assumptions in `m` about `topic`: the lines that name it, case aside (a design's
+// assumption line names what it is about: "Joint limits are not given ...", "... max_motor_speed
+// 3500 rpm ... (assumption)"). A result limited by that quantity rests on these lines.
+inline std::vector<std::string> about(const Model& m, const std::string& topic) {
+  auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  std::vector<std::string> out;
+  const std::string t = lower(topic);
+  for (const std::string& a : m.assumptions)
+    if (lower(a).find(t) != std::string::npos) out.push_back(a);
+  return out;
+}
+
+// The topics of the limits a design states (the words its assumption lines use for them).
+inline constexpr const char* kJointLimits = "joint limits";
+inline constexpr const char* kVelocityLimits = "velocity limits";
 
 // Where the tool axis comes from (a design TOML says nothing: its [tcp] tool_axis, else z).
 inline std::string toolAxisFrom(const Model& m) {

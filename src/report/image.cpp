@@ -85,6 +85,21 @@ Rgb okabeIto(int k) {
   return c[((k % 8) + 8) % 8];
 }
 
+std::string colourName(Rgb c) {
+  static const std::pair<Rgb, const char*> names[] = {{{213, 94, 0}, "vermillion"},
+                                                      {{0, 158, 115}, "bluish green"},
+                                                      {{0, 114, 178}, "blue"},
+                                                      {{230, 159, 0}, "orange"},
+                                                      {{204, 121, 167}, "reddish purple"},
+                                                      {{86, 180, 233}, "sky blue"},
+                                                      {{0, 0, 0}, "black"},
+                                                      {{240, 228, 66}, "yellow"},
+                                                      {{230, 230, 230}, "light grey"}};
+  for (const auto& [rgb, name] : names)
+    if (rgb.r == c.r && rgb.g == c.g && rgb.b == c.b) return name;
+  return "";
+}
+
 std::string hex(Rgb c) {
   char buf[8];
   std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);

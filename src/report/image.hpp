@@ -50,6 +50,9 @@ Rgb categorical(int k);
 // purple, sky blue, black, yellow.
 Rgb okabeIto(int k);
 std::string hex(Rgb c);  // "#rrggbb"
+// The name of a colour of categorical / okabeIto ("bluish green", "light grey", ...), "" for any
+// other colour: text that names a drawn colour takes it from here.
+std::string colourName(Rgb c);
 
 // PNG bytes of an image (via vtkPNGWriter), and an atomic write to a file.
 std::string encodePng(const RasterImage& image);

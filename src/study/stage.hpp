@@ -72,6 +72,9 @@ struct StageResult {
   // The answer to the stage's question, with its numbers (Markdown sentences, one per item), and
   // what a reader must know before trusting it: report.md and report.html open with them.
   std::vector<std::string> answer, warnings;
+  // The assumptions the answer rests on (a design's lines that change a count, "`<design>`: ..."):
+  // listed with the study's own assumptions under the answer.
+  std::vector<std::string> assumptions;
   // The stage's maps as points in the world frame, with the arm at its best pose: the study's
   // interactive 3-D view (view.html) shows them with the study's obstacles.
   std::vector<report::ViewCloud> view;

@@ -47,6 +47,9 @@ struct Study {
   std::string description;
   // The question the study answers (report.md and report.html open with it, above the answer).
   std::string question;
+  // The study's own assumptions (values the study chooses that its results depend on: a stem
+  // circle's radius, fruit heights): listed under the answer.
+  std::vector<std::string> assumptions;
   std::string file;
   std::string file_hash;
   std::vector<StudyDesign> designs;  // declaration order; variants follow their sweep order

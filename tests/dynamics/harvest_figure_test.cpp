@@ -57,7 +57,9 @@ std::vector<CsvFruit> csvFruits(const std::string& text) {
     for (std::string cell; std::getline(r, cell, ',');) c.push_back(cell);
     c.resize(head.size());
     CsvFruit f{std::stod(c[y]), std::stod(c[z]), ""};
-    if (c[status] != "ok")
+    if (c[status] != "ok" && c[quantity] == "joint_limit")
+      f.outcome = "joint limit: " + c[joint];
+    else if (c[status] != "ok")
       f.outcome = "not tracked: " + c[status];
     else if (c[feasible] == "1")
       f.outcome = "picked";

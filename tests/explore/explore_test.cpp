@@ -12,6 +12,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include "collision/distance.hpp"
 #include "common/errors.hpp"
@@ -21,6 +22,7 @@
 #include "io/files.hpp"
 #include "io/variant.hpp"
 #include "model/geometry_follows.hpp"
+#include "study/stage.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -380,6 +382,72 @@ max = "0.8 m"
   fs::remove_all(dir);
 }
 
+namespace {
+
+// The rows of candidates.csv by name: its cells after the name.
+std::map<std::string, std::vector<std::string>> csvRows(const std::string& csv) {
+  std::map<std::string, std::vector<std::string>> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    for (std::istringstream r(line); std::getline(r, line, ',');) cells.push_back(line);
+    const std::string name = cells.front();
+    cells.erase(cells.begin());
+    rows[name] = cells;
+  }
+  return rows;
+}
+
+// The exploration's outputs on its front: candidates.csv reads back to the very values the run
+// computed (its metrics); the answer names, per objective with a goal, a front design whose value
+// is the front's best (found here from the CSV) with all its objective values; the report names
+// the parameters as the study does.
+void checkFrontOutputs(const Study& s, const StageResult& r, const std::string& csv,
+                       const std::string& md) {
+  const auto& o = *stageSettings<explore::ExploreOptions>(s, "explore");
+  const std::size_t np = o.parameters.size(), no = o.objectives.size();
+  const auto rows = csvRows(csv);
+  std::vector<std::string> front;
+  for (const auto& [name, cells] : rows) {
+    REQUIRE(cells.size() == np + no + 3);
+    if (cells[np + no + 1] != "1") continue;
+    front.push_back(name);
+    for (std::size_t k = 0; k < no; ++k)  // exactly the run's value, not a rounded one
+      CHECK(std::stod(cells[np + k]) ==
+            r.metrics.scalars.at("explore/front/" + name + "/" + std::to_string(k)));
+  }
+  REQUIRE(!front.empty());
+  REQUIRE(r.answer.size() == 1);
+  const std::string& a = r.answer[0];
+  for (std::size_t k = 0; k < no; ++k) {
+    if (o.objectives[k].goal == explore::Goal::None) continue;
+    const double sign = o.objectives[k].goal == explore::Goal::Minimise ? -1 : 1;
+    double best = -1e300;
+    for (const std::string& n : front) best = std::max(best, sign * std::stod(rows.at(n)[np + k]));
+    const std::string lead =
+        "best " + o.objectives[k].label.substr(0, o.objectives[k].label.find(" [")) + ": `";
+    const auto at = a.find(lead);
+    INFO(a);
+    REQUIRE(at != std::string::npos);
+    const auto b = at + lead.size();
+    const std::string name = a.substr(b, a.find('`', b) - b);
+    REQUIRE(rows.count(name));
+    CHECK(sign * std::stod(rows.at(name)[np + k]) == best);
+    const std::string values = a.substr(b, a.find(')', b) - b);
+    for (const auto& ob : o.objectives) CHECK(values.find(ob.label + " ") != std::string::npos);
+  }
+  CHECK(a.find("balanced: `") != std::string::npos);
+  for (const auto& p : o.parameters) {
+    CHECK(p.label != p.key);
+    CHECK(md.find(">" + p.label + " [m]") == std::string::npos);  // table headers, not raw
+    CHECK(md.find("| " + p.label + " [m]") != std::string::npos);
+  }
+}
+
+}  // namespace
+
 TEST_CASE(
     "the shipped exploration study, made fast, runs and places the thesis design against its front",
     "[explore][slow]") {
@@ -412,6 +480,7 @@ TEST_CASE(
          md.find("The base design is dominated by") != std::string::npos));
   const std::string csv = readFileOrThrow((dir / "out/explore/candidates.csv").string());
   CHECK(csv.rfind("name,joint.j4.x,joint.j7.x,joint.j2.y,joint.j1.z,stem map coverage", 0) == 0);
+  checkFrontOutputs(s, r, csv, md);
   fs::remove_all(dir);
 }
 

@@ -375,6 +375,11 @@ safety_distance = "50 mm"
       readFileOrThrow((fs::path(sum.output_dir) / "tracking" / "summary.json").string()));
   CHECK(j["entries"][0]["runs"][0]["status"] == "joint_limit_reached");
   CHECK(j["entries"][0]["runs"][0]["limit_joint"] == "j2");
+  // The stop rests on the design's joint limits: its assumption about them is listed.
+  const std::string md = readFileOrThrow((fs::path(sum.output_dir) / "report.md").string());
+  const auto listed = md.find("## Assumptions");
+  REQUIRE(listed != std::string::npos);
+  CHECK(md.find("`" + variant + "`: Joint limits are not given", listed) != std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -401,8 +401,10 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
   const MapSearchSummary& se = map.search;
   md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
      << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
-     << " improved), then " << se.rounds << " neighbour-propagation rounds improved "
-     << se.neighbour_improved << " cell values"
+     << " improved), then " << se.rounds
+     << (se.rounds == 1 ? " neighbour-propagation round improved "
+                        : " neighbour-propagation rounds improved ")
+     << se.neighbour_improved << (se.neighbour_improved == 1 ? " cell value" : " cell values")
      << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
      << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
   return md.str();

@@ -125,7 +125,7 @@ std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writ
   f.y = report::cellAxis("z [m]", za.min, za.max, za.step());
   for (ReachStatus s : kCellStatuses)
     if (c.count(Half::Negative, s) + c.count(Half::NonNegative, s) > 0)
-      f.legend.push_back({report::categorical(static_cast<int>(s)), toString(s)});
+      f.legend.push_back({report::categorical(static_cast<int>(s)), describe(s)});
   const report::Drawing fig = report::mapFigure(cells, f, report::Format::svg_and_png);
   const std::string name = map.design + "_status";
   out.text(sub + "/" + name + ".svg", fig.svg);

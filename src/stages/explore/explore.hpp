@@ -16,6 +16,7 @@ namespace armstudy::explore {
 
 struct Parameter {
   std::string key;             // design entry key (io/design_io.hpp setModelEntry)
+  std::string label;           // the study's name for it in reports and figures (default: key)
   std::vector<double> values;  // list (or the steps of from..to); SI
   double lo = 0, hi = 0;       // search bounds (min/max of the values)
   double step = 0;             // resolution: candidates are snapped to lo + k*step (0: none)

@@ -19,6 +19,7 @@ Parameter readParameter(TableReader& r, const Model& base) {
   Parameter p;
   p.line = r.line();
   p.key = r.string("key");
+  p.label = r.string("label", p.key);
   Dimension dim;
   std::string err;
   if (!modelEntryDimension(base, p.key, dim, err)) r.fail("key", err);

@@ -22,14 +22,6 @@ bool onFront(const std::vector<std::size_t>& front, std::size_t i) {
   return std::find(front.begin(), front.end(), i) != front.end();
 }
 
-// A parameter's axis label: its design entry key with its SI unit.
-std::string parameterAxisLabel(const ExploreOptions& o, const Parameter& p) {
-  Dimension d = Dimension::Dimensionless;
-  std::string error;
-  if (!modelEntryDimension(o.base, p.key, d, error)) return p.key;
-  return p.key + " [" + siUnit(d) + "]";
-}
-
 // A candidate's values on the parallel axes: its parameters (the base design's from the base
 // model), then its objectives.
 std::vector<double> parallelRow(const ExploreOptions& o, const Candidate& k) {
@@ -48,6 +40,13 @@ std::vector<double> parallelRow(const ExploreOptions& o, const Candidate& k) {
 }
 
 }  // namespace
+
+std::string parameterAxisLabel(const ExploreOptions& o, const Parameter& p) {
+  Dimension d = Dimension::Dimensionless;
+  std::string error;
+  if (!modelEntryDimension(o.base, p.key, d, error)) return p.label;
+  return p.label + " [" + siUnit(d) + "]";
+}
 
 std::string objectiveAxisLabel(const Objective& ob) {
   if (ob.unit.empty() || ob.label.find('[') != std::string::npos) return ob.label;

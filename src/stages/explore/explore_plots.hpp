@@ -9,6 +9,8 @@
 
 namespace armstudy::explore {
 
+// A parameter's axis label: the study's name for it with its SI unit ("upper arm [m]").
+std::string parameterAxisLabel(const ExploreOptions& o, const Parameter& p);
 // An objective's axis label: its label with its unit (unless the label already has one).
 std::string objectiveAxisLabel(const Objective& ob);
 

@@ -1,6 +1,8 @@
 // The [explore] stage run: search, Pareto front, report, front designs (explore.hpp).
 #include <algorithm>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -16,6 +18,13 @@ namespace {
 
 // Numbers in the report: 4 significant digits.
 std::string num(double v) { return formatG(v, 4); }
+
+// Numbers in data files: the shortest text that reads back as the same double.
+std::string exact(double v) {
+  char b[32];
+  const auto [end, ec] = std::to_chars(b, b + sizeof b, v);
+  return ec == std::errc() ? std::string(b, end) : formatG(v, 17);
+}
 
 std::string goalText(Goal g) {
   return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint";
@@ -78,8 +87,8 @@ std::string candidatesCsv(const Outcome& r) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     s << c[i].name;
     for (std::size_t p = 0; p < o.parameters.size(); ++p)
-      s << "," << (c[i].params.empty() ? "" : num(c[i].params[p]));
-    for (double v : c[i].values) s << "," << num(v);
+      s << "," << (c[i].params.empty() ? "" : exact(c[i].params[p]));
+    for (double v : c[i].values) s << "," << exact(v);
     s << "," << (c[i].feasible ? 1 : 0) << ","
       << (std::count(r.front.begin(), r.front.end(), i) ? 1 : 0) << ","
       << (i == r.base_index ? 1 : 0) << "\n";
@@ -125,12 +134,12 @@ std::string introMarkdown(const StageContext& ctx, const Evaluator& ev, const Ou
         std::to_string(r.front.size()) + " on the Pareto front.\n\n";
   std::vector<std::vector<std::string>> rows;
   for (const Parameter& p : o.parameters)
-    rows.push_back({p.key, num(p.lo), num(p.hi),
+    rows.push_back({p.label, "`" + p.key + "`", num(p.lo), num(p.hi),
                     p.step > 0         ? num(p.step)
                     : p.values.empty() ? "continuous"
                                        : std::to_string(p.values.size()) + " values"});
-  md += "## Parameters (SI)\n\n" + report::markdownTable({"key", ">from", ">to", ">step"}, rows) +
-        "\n";
+  md += "## Parameters (SI)\n\n" +
+        report::markdownTable({"parameter", "design entry", ">from", ">to", ">step"}, rows) + "\n";
   rows.clear();
   for (const Objective& ob : o.objectives)
     rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal),
@@ -143,8 +152,8 @@ std::string introMarkdown(const StageContext& ctx, const Evaluator& ev, const Ou
 // The header of the candidate tables: design, parameters, objectives.
 std::vector<std::string> candidateHeader(const ExploreOptions& o) {
   std::vector<std::string> header{"design"};
-  for (const Parameter& p : o.parameters) header.push_back(">" + p.key);
-  for (const Objective& ob : o.objectives) header.push_back(">" + ob.label);
+  for (const Parameter& p : o.parameters) header.push_back(">" + parameterAxisLabel(o, p));
+  for (const Objective& ob : o.objectives) header.push_back(">" + objectiveAxisLabel(ob));
   return header;
 }
 
@@ -175,14 +184,65 @@ std::vector<std::string> dominatingBase(const Outcome& r) {
   return by;
 }
 
+// One recommended front design per trade-off: for each objective with a goal, the front design
+// best in it (ties: the better balanced one); then the balanced one, whose largest shortfall from
+// the front's best over the objectives, each scaled by the front's spread, is least.
+struct Recommendation {
+  std::string trade_off;  // "best stem map coverage", "balanced"
+  std::size_t candidate = 0;
+};
+std::vector<Recommendation> recommendations(const Outcome& r) {
+  std::vector<Recommendation> out;
+  if (r.front.empty()) return out;
+  const auto value = [&](std::size_t i, std::size_t k) {
+    return oriented(r.o.objectives[k], r.c[i].values[k]);
+  };
+  std::vector<double> best(r.o.objectives.size(), -HUGE_VAL), worst(best.size(), HUGE_VAL);
+  for (std::size_t k : r.goals)
+    for (std::size_t i : r.front) {
+      best[k] = std::max(best[k], value(i, k));
+      worst[k] = std::min(worst[k], value(i, k));
+    }
+  const auto shortfall = [&](std::size_t i) {  // largest scaled distance from the front's best
+    double s = 0;
+    for (std::size_t k : r.goals)
+      if (best[k] > worst[k]) s = std::max(s, (best[k] - value(i, k)) / (best[k] - worst[k]));
+    return s;
+  };
+  for (std::size_t k : r.goals) {
+    std::size_t pick = r.front[0];
+    for (std::size_t i : r.front)
+      if (value(i, k) > value(pick, k) ||
+          (value(i, k) == value(pick, k) && shortfall(i) < shortfall(pick)))
+        pick = i;
+    const std::string& label = r.o.objectives[k].label;  // without a unit: "best link length"
+    out.push_back({"best " + label.substr(0, label.find(" [")), pick});
+  }
+  std::size_t balanced = r.front[0];
+  for (std::size_t i : r.front)
+    if (shortfall(i) < shortfall(balanced)) balanced = i;
+  out.push_back({"balanced", balanced});
+  return out;
+}
+
+// A candidate's objective values in words: "stem map coverage 0.8, fruits feasible 0.625, ...".
+std::string valuesText(const Outcome& r, std::size_t i) {
+  std::string s;
+  for (std::size_t k = 0; k < r.o.objectives.size(); ++k)
+    s += (k ? ", " : "") + r.o.objectives[k].label + " " + num(r.c[i].values[k]);
+  return s;
+}
+
 // The stage's answer (StageResult::answer): how many candidates, the front's size, whether the base
-// design is dominated (and by how many), and per objective the base value beside the front's best.
+// design is dominated (and by how many) with its values, and one recommended front design per
+// trade-off with all its objective values.
 std::string exploreAnswer(const Outcome& r) {
   long feasible = 0;
   for (const Candidate& x : r.c) feasible += x.feasible;
   std::string a = std::to_string(r.front.size()) + " of the " + std::to_string(r.c.size()) +
                   " candidates (" + std::to_string(feasible) +
-                  " feasible) are on the Pareto front; the base design is ";
+                  " feasible) are on the Pareto front; the base design (" +
+                  valuesText(r, r.base_index) + ") is ";
   if (r.base_on_front)
     a += "on it";
   else {
@@ -190,20 +250,15 @@ std::string exploreAnswer(const Outcome& r) {
     a += "dominated by " + std::to_string(by.size()) + " of them" +
          (by.empty() ? "" : " (e.g. " + by[0] + ")");
   }
-  for (std::size_t k : r.goals) {
-    double best = oriented(r.o.objectives[k], r.c[r.base_index].values[k]);
-    for (std::size_t i : r.front)
-      best = std::max(best, oriented(r.o.objectives[k], r.c[i].values[k]));
-    a += "; " + r.o.objectives[k].label + ": base " + num(r.c[r.base_index].values[k]) +
-         ", best on the front " + num(r.o.objectives[k].goal == Goal::Minimise ? -best : best);
-  }
+  for (const Recommendation& rec : recommendations(r))
+    a += "; " + rec.trade_off + ": `" + r.c[rec.candidate].name + "` (" +
+         valuesText(r, rec.candidate) + ")";
   return a + ".";
 }
 
-// The base design against the front: its row, whether it is dominated (and by whom), and per
-// objective its value beside the best on the front.
+// The base design against the front: its row, whether it is dominated (and by whom); then the
+// recommended front designs, each with all its values.
 std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& header) {
-  const ExploreOptions& o = r.o;
   const std::vector<Candidate>& c = r.c;
   const std::size_t base_index = r.base_index;
   std::string md = "## The base design relative to the front\n\n";
@@ -224,14 +279,18 @@ std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& heade
     }
     md += ".\n\n";
   }
-  for (std::size_t k : r.goals) {
-    double best = oriented(o.objectives[k], c[base_index].values[k]);
-    for (std::size_t i : r.front) best = std::max(best, oriented(o.objectives[k], c[i].values[k]));
-    md += "- " + o.objectives[k].label + ": base " + num(c[base_index].values[k]) +
-          ", best on the front " + num(o.objectives[k].goal == Goal::Minimise ? -best : best) +
-          "\n";
+  std::vector<std::string> rec_header = header;
+  rec_header.insert(rec_header.begin(), "trade-off");
+  rows.clear();
+  for (const Recommendation& rec : recommendations(r)) {
+    rows.push_back(candidateRow(r, rec.candidate));
+    rows.back().insert(rows.back().begin(), rec.trade_off);
   }
-  md += "\n";
+  md +=
+      "## Recommended designs\n\nOne front design per trade-off, each with all its values: the "
+      "best in each objective, and the balanced one (the least largest shortfall from the "
+      "front's best, each objective scaled by the front's spread).\n\n" +
+      report::markdownTable(rec_header, rows) + "\n";
   return md;
 }
 

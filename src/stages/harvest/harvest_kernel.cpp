@@ -93,6 +93,8 @@ void evaluateFruit(const Model& model, const RigidBodyModel& rbm, const HarvestO
       trackApproach(model, ws, ctx, appr, objective, topt, static_cast<std::uint64_t>(f));
   out.max_position_error_m = tr.max_position_error_m;
   out.max_orientation_error_rad = tr.max_orientation_error_rad;
+  out.limit_joint = tr.limit_joint;
+  out.limit_q = tr.limit_q;
   if (tr.status != ApproachTrackingStatus::Ok) {
     out.status = tr.status == ApproachTrackingStatus::TrackingFailed
                      ? std::string("tracking_") + ik::toString(tr.tracking_status)

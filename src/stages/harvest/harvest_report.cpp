@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/vtk_io.hpp"
+#include "model/model_notes.hpp"
 #include "report/markdown.hpp"
 
 namespace armstudy::harvest {
@@ -106,8 +107,8 @@ std::string fruitCsv(const Model& model, const DesignResult& d) {
         s << "," << num(r.joints[i].check(DriveQuantity::RmsCurrent).value);
       for (int i = 0; i < n; ++i)
         s << "," << num(f.without_friction.joints[i].check(DriveQuantity::PeakCurrent).value);
-    } else {
-      s << ",,,,,,";
+    } else if (f.limit_joint >= 0) {  // the tracking stopped at this joint's limit
+      s << "," << model.joints[f.limit_joint].name << ",joint_limit,,,,";
       for (int i = 0; i < 3 * n; ++i) s << ",";
     }
     s << "\n";
@@ -155,7 +156,36 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
   return out;
 }
 
+std::string jointLimitText(const Model& model, int joint, double q) {
+  if (isRevolute(model, joint)) {
+    const double deg = q * 180.0 / M_PI;
+    return (deg > 0 ? "+" : "") + report::fixed(deg, 0) + " deg";
+  }
+  return (q > 0 ? "+" : "") + report::fixed(q, 3) + " m";
+}
+
+const char* assumptionTopic(DriveQuantity q) {
+  switch (q) {
+    case DriveQuantity::PeakCurrent:
+    case DriveQuantity::RmsCurrent:
+      return "current limits";
+    case DriveQuantity::MotorSpeed:
+      return "max_motor_speed";
+    case DriveQuantity::Voltage:
+      return "max_voltage";
+  }
+  return "";
+}
+
+std::vector<std::string> failureAssumptions(const Model& model, const FruitResult& f) {
+  if (f.limit_joint >= 0) return notes::about(model, notes::kJointLimits);
+  if (f.evaluated() && !f.with_friction.feasible)
+    return notes::about(model, assumptionTopic(f.with_friction.failing_quantity));
+  return {};
+}
+
 std::string fruitOutcome(const Model& model, const FruitResult& f) {
+  if (f.limit_joint >= 0) return "joint limit: " + model.joints[f.limit_joint].name;
   if (!f.evaluated()) return "not tracked: " + f.status;
   const DriveFeasibility& r = f.with_friction;
   if (r.feasible) return "picked";

@@ -37,8 +37,18 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
                                               const std::vector<JointVector>& rows, double dt,
                                               const std::string& suffix, int stride);
 
+// A joint limit for a sentence: "+120 deg" (revolute), "-0.500 m" (prismatic).
+std::string jointLimitText(const Model& model, int joint, double q);
+// The topic of the design's assumption lines about a drive quantity's limit ("current limits",
+// "max_motor_speed", "max_voltage"; model/model_notes.hpp notes::about).
+const char* assumptionTopic(DriveQuantity q);
+// The design's assumption lines the fruit's failure rests on (the limit that stopped it), none
+// when it was picked or failed for another reason.
+std::vector<std::string> failureAssumptions(const Model& model, const FruitResult& f);
+
 // What became of a fruit: "picked" (tracked, every drive within its limits), the drive check that
-// failed first ("drive limit: j8 motor_speed"), or the planning / tracking status that stopped it.
+// failed first ("drive limit: j8 motor_speed"), the joint whose limit stopped the tracking
+// ("joint limit: j3"), or the planning / tracking status that stopped it.
 std::string fruitOutcome(const Model& model, const FruitResult& f);
 // Every fruit of every design at its position (y along the row, z up, world frame), marked by its
 // outcome; one panel per design on the same axes, one colour per outcome in every panel.

@@ -112,11 +112,15 @@ void addDesignMetrics(const Model& model, const DesignResult& d, const FruitCoun
   }
 }
 
-// The first plot_fruits evaluated fruits of a design.
+// The plot_fruits evaluated fruits of a design whose profiles are plotted: those a drive limit
+// stops first (the profiles that show why), then the picked ones, each in fruit order.
 std::vector<int> plottedFruits(const DesignResult& d, int plot_fruits) {
   std::vector<int> plotted;
-  for (const FruitResult& f : d.fruits)
-    if (f.evaluated() && static_cast<int>(plotted.size()) < plot_fruits) plotted.push_back(f.fruit);
+  for (const bool failed : {true, false})
+    for (const FruitResult& f : d.fruits)
+      if (f.evaluated() && f.with_friction.feasible != failed &&
+          static_cast<int>(plotted.size()) < plot_fruits)
+        plotted.push_back(f.fruit);
   return plotted;
 }
 
@@ -206,6 +210,11 @@ void writeFruitPlots(const Model& model, const DesignResult& d, const std::vecto
   }
 }
 
+// A joint's effort with its unit: "12.34 N m" (revolute), "456.78 N" (prismatic).
+std::string effortText(const Model& model, int i, double q) {
+  return report::fixed(q, 2) + (model.joints[i].type == JointType::Revolute ? " N m" : " N");
+}
+
 // The design's report section: fruit counts, the per-fruit and per-joint tables, plot links.
 std::string designMarkdown(const Model& model, const DesignResult& d, const FruitCounts& c,
                            const std::vector<JointAggregate>& agg,
@@ -221,7 +230,11 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
     rows.push_back({std::to_string(f.fruit),
                     report::fixed(f.p_fruit_W.x(), 3) + ", " + report::fixed(f.p_fruit_W.y(), 3) +
                         ", " + report::fixed(f.p_fruit_W.z(), 3),
-                    f.status, f.evaluated() ? failureText(model, f.with_friction) : "-",
+                    f.limit_joint >= 0
+                        ? f.status + " (" + model.joints[f.limit_joint].name + " at " +
+                              jointLimitText(model, f.limit_joint, f.limit_q) + ")"
+                        : f.status,
+                    f.evaluated() ? failureText(model, f.with_friction) : "-",
                     f.evaluated() ? failureText(model, f.without_friction) : "-",
                     f.evaluated() ? report::scientific(f.max_position_error_m, 2) : "-"});
   }
@@ -233,15 +246,15 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
   for (int i = 0; i < n; ++i) {
     const JointAggregate& a = agg[i];
     if (!a.has_drive) {
-      rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2), "no drive", "", "", "",
-                      "", "", "", ""});
+      rows.push_back({model.joints[i].name, effortText(model, i, a.peak_effort), "no drive", "", "",
+                      "", "", "", "", ""});
       continue;
     }
     const auto& pc = a.worst[0];
     const auto& rc = a.worst[1];
     const auto& sc = a.worst[2];
     const auto& vc = a.worst[3];
-    rows.push_back({model.joints[i].name, report::fixed(a.peak_effort, 2),
+    rows.push_back({model.joints[i].name, effortText(model, i, a.peak_effort),
                     report::fixed(pc.value, 2) + " / " + limitText(pc, 1), marginText(pc),
                     report::fixed(rc.value, 2) + " / " + limitText(rc, 1), marginText(rc),
                     report::fixed(sc.value, 0) + " / " + limitText(sc, 0), marginText(sc),
@@ -252,18 +265,23 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
   }
   md << "Per joint, worst over the evaluated fruits (with friction):\n\n"
      << report::markdownTable(
-            {"joint", ">peak Q [N m, N]", ">peak I [A] / limit", ">margin", ">RMS I [A] / limit",
-             ">margin", ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit",
-             ">margin", ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
+            {"joint", ">peak Q", ">peak I [A] / limit", ">margin", ">RMS I [A] / limit", ">margin",
+             ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit", ">margin",
+             ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
             rows)
      << "\nfriction share: the share of the peak current that friction adds, (peak |I| with "
         "friction - peak |I| without) / peak |I| with friction, the largest over the evaluated "
         "fruits; negative where friction lowers the peak (it works against a load that drives the "
         "joint). Thesis Fig. 4.1 gives a torque difference with and without friction of up to "
         "50 % along one trajectory of joint 3.\n\n";
-  for (int f : plotted)
-    md << "![" << model.name << " fruit " << f << " current](" << model.name << "_fruit" << f
-       << "_current.svg) ![friction](" << model.name << "_fruit" << f << "_friction.svg)\n\n";
+  for (int f : plotted) {
+    const FruitResult& fr = d.fruits[f];
+    md << "Fruit " << f << " ("
+       << (fr.with_friction.feasible ? "picked" : "fails: " + failureText(model, fr.with_friction))
+       << "):\n\n![" << model.name << " fruit " << f << " current](" << model.name << "_fruit" << f
+       << "_current.svg) ![" << model.name << " fruit " << f << " friction](" << model.name
+       << "_fruit" << f << "_friction.svg)\n\n";
+  }
   return md.str();
 }
 
@@ -276,10 +294,21 @@ ordered_json designJson(const Model& model, const DesignResult& d, const FruitCo
   dj["feasible"] = c.feasible;
   dj["feasible_no_friction"] = c.feasible_nf;
   dj["fruits"] = ordered_json::array();
+  std::vector<std::string> assumed;  // the design's assumptions that a failure rests on
   for (const FruitResult& f : d.fruits) {
     ordered_json fj = {{"fruit", f.fruit},
                        {"p_W", {f.p_fruit_W.x(), f.p_fruit_W.y(), f.p_fruit_W.z()}},
                        {"status", f.status}};
+    const std::vector<std::string> rests_on = failureAssumptions(model, f);
+    if (f.limit_joint >= 0) {
+      fj["limit_joint"] = model.joints[f.limit_joint].name;
+      fj["limit"] = f.limit_q;
+      fj["limit_text"] = jointLimitText(model, f.limit_joint, f.limit_q);
+    }
+    if (f.limit_joint >= 0 || (f.evaluated() && !f.with_friction.feasible))
+      fj["limit_assumed"] = !rests_on.empty();
+    for (const std::string& a : rests_on)
+      if (std::find(assumed.begin(), assumed.end(), a) == assumed.end()) assumed.push_back(a);
     if (f.evaluated()) {
       fj["feasible"] = f.with_friction.feasible;
       fj["feasible_no_friction"] = f.without_friction.feasible;
@@ -292,6 +321,7 @@ ordered_json designJson(const Model& model, const DesignResult& d, const FruitCo
     }
     dj["fruits"].push_back(fj);
   }
+  dj["assumptions"] = assumed;
   dj["joints"] = ordered_json::array();
   for (int i = 0; i < model.dof(); ++i) {
     ordered_json jj = {{"joint", model.joints[i].name},
@@ -311,32 +341,56 @@ ordered_json designJson(const Model& model, const DesignResult& d, const FruitCo
   return dj;
 }
 
+// Why a fruit was not picked, in words: the limit that stopped it (and whether the design assumes
+// that limit), or the approach's status.
+std::string missText(const ordered_json& f) {
+  auto words = [](std::string id) {  // "rms_current" -> "RMS current"
+    std::replace(id.begin(), id.end(), '_', ' ');
+    return id.rfind("rms ", 0) == 0 ? "RMS " + id.substr(4) : id;
+  };
+  const std::string assumed = f.value("limit_assumed", false) ? " (an assumed limit)" : "";
+  if (f.contains("limit_joint"))
+    return "the tracking reached " + f["limit_joint"].get<std::string>() + "'s joint limit " +
+           f.value("limit_text", "") + assumed;
+  if (f.contains("failing_joint"))
+    return f["failing_joint"].get<std::string>() + " " + words(f.value("failing_quantity", "")) +
+           " over its limit" + assumed;
+  return words(f.value("status", ""));
+}
+
+// The design's misses, fruits with the same reason together: "fruits 0, 1: <why>; fruit 4: ...".
+std::string missesText(const ordered_json& d) {
+  std::vector<std::pair<std::string, std::vector<int>>> by_why;
+  for (const auto& f : d["fruits"]) {
+    if (f.value("feasible", false)) continue;
+    const std::string why = missText(f);
+    auto it =
+        std::find_if(by_why.begin(), by_why.end(), [&](const auto& p) { return p.first == why; });
+    if (it == by_why.end()) it = by_why.insert(by_why.end(), {why, {}});
+    it->second.push_back(f.value("fruit", 0));
+  }
+  std::string out;
+  for (const auto& [why, fruits] : by_why) {
+    out += std::string(out.empty() ? "" : "; ") + (fruits.size() > 1 ? "fruits " : "fruit ");
+    for (std::size_t k = 0; k < fruits.size(); ++k)
+      out += (k ? ", " : "") + std::to_string(fruits[k]);
+    out += ": " + why;
+  }
+  return out;
+}
+
 }  // namespace
 
 // The stage's answer (StageResult::answer) from its summary: per design, the fruits it picks
-// within its drives' limits and why each other fruit fails (first failing joint and quantity, or
-// the approach's status); a design that picks none is a warning.
+// within its drives' limits and why each other fruit fails (the joint and the limit that stopped
+// it, whether that limit is assumed, or the approach's status); a design that picks none is a
+// warning. The design assumptions the misses rest on go to StageResult::assumptions.
 void harvestAnswer(const ordered_json& js, StageResult& sum) {
-  auto words = [](std::string id) {  // "rms_current" -> "rms current"
-    std::replace(id.begin(), id.end(), '_', ' ');
-    return id;
-  };
   const long fruits = js["row"].value("fruits", 0L);
   for (const auto& d : js["designs"]) {
     const std::string name = d.value("design", "");
     const long feasible = d.value("feasible", 0L);
-    std::string why;
-    for (const auto& f : d["fruits"]) {
-      if (f.value("feasible", false)) continue;
-      why += std::string(why.empty() ? "" : "; ") + "fruit " + std::to_string(f.value("fruit", 0)) +
-             ": ";
-      if (f.contains("failing_joint"))
-        why += f["failing_joint"].get<std::string>() + " " +
-               words(f.value("failing_quantity", "")) + " at " +
-               formatG(f.value("failure_time_s", 0.0), 3) + " s";
-      else
-        why += words(f.value("status", ""));
-    }
+    const std::string why = missesText(d);
     sum.answer.push_back("`" + name + "` picks " + std::to_string(feasible) + " of the " +
                          std::to_string(fruits) + " fruits within its drives' limits (" +
                          std::to_string(d.value("evaluated", 0L)) + " approached)" +
@@ -344,6 +398,9 @@ void harvestAnswer(const ordered_json& js, StageResult& sum) {
     if (feasible == 0)
       sum.warnings.push_back("`" + name + "` picks none of the " + std::to_string(fruits) +
                              " fruits.");
+    if (d.contains("assumptions"))
+      for (const auto& a : d["assumptions"])
+        sum.assumptions.push_back("`" + name + "`: " + a.get<std::string>());
   }
 }
 

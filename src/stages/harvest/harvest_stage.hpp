@@ -64,6 +64,8 @@ struct FruitResult {
   Eigen::Vector3d p_fruit_W = Eigen::Vector3d::Zero();
   std::string status;  // "ok", or the planning / tracking status
   double max_position_error_m = 0, max_orientation_error_rad = 0;
+  int limit_joint = -1;  // the joint whose limit stopped the tracking (-1: none)
+  double limit_q = 0;    // that limit (q_min or q_max), rad or m
   DriveFeasibility with_friction, without_friction;  // profiles kept only for plotted fruits
   bool evaluated() const { return status == "ok"; }
 };

@@ -34,7 +34,7 @@ using nlohmann::ordered_json;
 
 namespace {
 
-constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v1";
+constexpr char kFruitsMagic[] = "armstudy-harvest-fruits-v2";
 constexpr char kGridMagic[] = "armstudy-harvest-grid-v1";
 
 // Per-sample rows of equal width: count, width, values.
@@ -124,6 +124,8 @@ constexpr auto kFruitFields = [](auto& io, auto& f) {
   unitField(io, f.p_fruit_W);
   unitField(io, f.status);
   for (auto* v : {&f.max_position_error_m, &f.max_orientation_error_rad}) unitValue<double>(io, *v);
+  unitValue<std::int32_t>(io, f.limit_joint);
+  unitValue<double>(io, f.limit_q);
   for (auto* d : {&f.with_friction, &f.without_friction}) feasibilityFields(io, *d);
 };
 

@@ -196,8 +196,10 @@ void searchAndAuditEntries(const GridRun& r, std::size_t di, ordered_json& jd, s
                   {"best_manipulability_updates", se.best_updates},
                   {"converged", se.converged}};
   md += "Map search (" + s.design + "): " + std::to_string(se.rounds) +
-        " neighbour-propagation rounds changed " + std::to_string(se.neighbour_updates) +
-        " statuses";
+        (se.rounds == 1 ? " neighbour-propagation round changed "
+                        : " neighbour-propagation rounds changed ") +
+        std::to_string(se.neighbour_updates) +
+        (se.neighbour_updates == 1 ? " status" : " statuses");
   if (s.collision)
     md += "; " + std::to_string(se.multistart_poses) + " poses still in collision got " +
           std::to_string(r.cfg.search.collision_starts) + " seeded starts each (" +
@@ -373,8 +375,9 @@ std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double
         return col;
       });
   report::MapFigure mfig = mapAxes(g, r.plane, s.design + ", " + orientationText(g, k));
-  mfig.scale = report::ColourScale{report::viridis, 0, mmax,
-                                   "manipulability of the task rows, eq. 5.59 [m^3]"};
+  mfig.scale = report::ColourScale{
+      report::viridis, 0, mmax,
+      "manipulability of the task rows, eq. 5.59 [" + taskManipulabilityUnit(g.task_space) + "]"};
   mfig.legend = {{report::Rgb{230, 230, 230}, "unreachable"}};
   const std::string mrel = writeFigure(
       out, "reach/images/" + g.name + "__" + s.design + suffix(g, k) + "_manipulability", m_img,
@@ -382,8 +385,8 @@ std::string manipulabilityFigure(const GridRun& r, std::size_t di, int k, double
   return "![manipulability](" + mrel +
          ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
          s.design + ", " + orientationText(g, k) + "; viridis from 0 (dark) to " +
-         report::scientific(mmax) + " m^3 (yellow), the same scale for every design of the grid" +
-         ", grey = unreachable.*\n\n";
+         report::scientific(mmax) + " " + taskManipulabilityUnit(g.task_space) +
+         " (yellow), the same scale for every design of the grid" + ", grey = unreachable.*\n\n";
 }
 
 // Pieces no+1..2no of design di: the status (or reachable-fraction) and manipulability figures of
@@ -844,7 +847,8 @@ void addViewClouds(const GridRun& r) {
       c.arm_caption = "arm: " + s.design +
                       " at the grid's reachable pose of the largest "
                       "manipulability (" +
-                      report::scientific(s.manipulability[best]) + " m^3).";
+                      report::scientific(s.manipulability[best]) + " " +
+                      taskManipulabilityUnit(r.g.task_space) + ").";
     } else {
       c.arm_caption = "arm: " + s.design + " reaches no pose of the grid.";
     }

@@ -104,6 +104,18 @@ void forCell(const TaskGrid& g, const ImagePlane& p, int u, int v, F&& f) {
   }
 }
 
+// The unit of the task rows' manipulability (ik/reach_solver.hpp taskManipulability): m^k for k
+// position rows, the angular rows (dimensionless, weighed by 1 m) named when there are any:
+// "m^3" (position task), "m^3; 5 rows, the 2 angular ones weighed by 1 m" (spraying).
+inline std::string taskManipulabilityUnit(const TaskSpace& t) {
+  const int pos = int(t.selected[0]) + int(t.selected[1]) + int(t.selected[2]);
+  const std::string unit = "m^" + std::to_string(pos);
+  if (t.dim() == pos) return unit;
+  const int ang = t.dim() - pos;
+  return unit + "; " + std::to_string(t.dim()) + " rows, the " + std::to_string(ang) +
+         (ang == 1 ? " angular one" : " angular ones") + " weighed by 1 m";
+}
+
 std::string orientationText(const TaskGrid& g, int k);
 std::string axisText(const AxisRange& a);
 std::string suffix(const TaskGrid& g, int k);

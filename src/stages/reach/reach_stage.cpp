@@ -137,6 +137,23 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
   }
 }
 
+// The design assumption lines about joint limits of each design with poses blocked by them (the
+// "joint limits" count rests on them), as "`<design>`: <line>".
+void jointLimitAssumptions(const Study& study, const ordered_json& jr,
+                           std::vector<std::string>& out) {
+  std::set<std::string> blocked;
+  for (const char* kind : {"grids", "pose_lists"})
+    if (jr.contains(kind))
+      for (const auto& g : jr[kind])
+        for (const auto& d : g.value("designs", ordered_json::array()))
+          if (d.contains("status_counts") && d["status_counts"].value("joint_limits", 0L) > 0)
+            blocked.insert(d.value("design", ""));
+  for (const StudyDesign& sd : study.designs)
+    if (blocked.count(sd.model.name))
+      for (const std::string& a : notes::about(sd.model, notes::kJointLimits))
+        out.push_back("`" + sd.model.name + "`: " + a);
+}
+
 // The map colours, and what the collision and obstacle checks mean.
 std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfig& cfg) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
@@ -144,18 +161,16 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
   bool cardan = false;
   for (const TaskGrid& g : cfg.grids) cardan |= usesCardanAngles(g.task_space);
   for (const PoseList& l : cfg.pose_lists) cardan |= usesCardanAngles(l.task_space);
+  const auto colour = [](int status) {  // "bluish green (#009e73)"
+    const report::Rgb c = report::categorical(status);
+    return report::colourName(c) + " (" + report::hex(c) + ")";
+  };
   std::string md =
-      "Map colours: " + report::hex(report::categorical(0)) + " reachable, " +
-      report::hex(report::categorical(1)) + " out of reach, " +
-      report::hex(report::categorical(2)) + " blocked by joint limits" +
-      (cardan ? ", " + report::hex(report::categorical(3)) + " representation singularity" : "") +
-      (self_on ? ", " + report::hex(report::categorical(4)) + " reachable only in self-collision"
-               : "") +
-      (obst_on ? ", " + report::hex(report::categorical(6)) +
-                     " reachable only in contact with an obstacle"
-               : "") +
-      " (green, light grey, orange" + (cardan ? ", purple" : "") + (self_on ? ", red" : "") +
-      (obst_on ? ", brown" : "") + ").\n\n";
+      "Map colours: " + colour(0) + " reachable, " + colour(1) + " out of reach, " + colour(2) +
+      " blocked by joint limits" +
+      (cardan ? ", " + colour(3) + " representation singularity" : "") +
+      (self_on ? ", " + colour(4) + " reachable only in self-collision" : "") +
+      (obst_on ? ", " + colour(6) + " reachable only in contact with an obstacle" : "") + ".\n\n";
   if (self_on) {
     std::string cover;
     for (const StudyDesign& sd : designs)
@@ -308,6 +323,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   reachAnswer(jr, sum.answer, sum.warnings);
+  jointLimitAssumptions(study, jr, sum.assumptions);
   sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");

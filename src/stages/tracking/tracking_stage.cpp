@@ -17,6 +17,7 @@
 #include "common/parallel_for.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
+#include "model/model_notes.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "study/scene.hpp"
@@ -465,6 +466,11 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     md << entryMarkdown(model, e, er);
     js["entries"].push_back(entryJson(model, e, er));
     sum.answer.push_back(entryAnswer(model, e, er));
+    if (er.plain.limit_joint >= 0 || er.with_hc.limit_joint >= 0)  // a stop at a joint limit
+      for (const std::string& a : notes::about(model, notes::kJointLimits))
+        if (std::find(sum.assumptions.begin(), sum.assumptions.end(),
+                      "`" + model.name + "`: " + a) == sum.assumptions.end())
+          sum.assumptions.push_back("`" + model.name + "`: " + a);
   }
   out.text("tracking/report.md", md.str());
   out.text("tracking/summary.json", js.dump(2) + "\n");
