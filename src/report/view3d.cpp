@@ -417,7 +417,7 @@ const char* kApp = R"JS(
       const p = pointOf(clouds[shownMap], k).project(camera);
       const x = (p.x + 1) * canvas.clientWidth / 2, y = (1 - p.y) * canvas.clientHeight / 2;
       const got = pickAt(x, y);
-      return {picked: got < 0 ? '' : describe(got), own: describe(k)};
+      return {picked: got < 0 ? '' : describe(got), own: describe(k), unit: clouds[shownMap].unit};
     },
     valued() { const c = clouds[shownMap]; for (let k = 0; k < c.value.length; ++k) if (!isNaN(c.value[k])) return k; return -1; },
     parts() { return {axes: axisLength, ground_step: groundStep, column: hasColumn, scale: scaleShown, framed: framed()}; },

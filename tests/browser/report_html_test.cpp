@@ -108,6 +108,9 @@ window.addEventListener('load', () => {
     r.pixels = a.length / 4;
     for (let i = 0; i < a.length; i += 4)  // a blank canvas is one colour (black or white)
       if (Math.abs(a[i] - a[0]) + Math.abs(a[i + 1] - a[1]) + Math.abs(a[i + 2] - a[2]) > 24) ++r.ink;
+    r.parts = window.armstudyView.parts();  // axes, ground, column, scale bar, framing
+    const k = window.armstudyView.valued();
+    r.readout = k < 0 ? null : window.armstudyView.readoutOf(k);
     window.armstudyView.rotate(0.8);
     const b = snap();
     for (let i = 0; i < a.length; i += 4)
@@ -256,6 +259,22 @@ void requireView(const fs::path& dir, const fs::path& work) {
   REQUIRE(pixels > 0);
   CHECK(c.result["ink"].get<double>() / pixels > kMinInkShare);
   CHECK(c.result["changed"].get<double>() / pixels > kMinChangedShare);
+  // The world's axes and ground, a scale bar of a round length and 40-300 px, the first camera
+  // showing everything, and the pointer's read-out of a map point: its position in mm and its
+  // value with the unit.
+  const nlohmann::json& parts = c.result["parts"];
+  CHECK(parts["axes"].get<double>() > 0);
+  CHECK(parts["ground_step"].get<double>() > 0);
+  CHECK(parts["framed"].get<bool>());
+  CHECK(parts["scale"]["px"].get<double>() >= 40);
+  CHECK(parts["scale"]["px"].get<double>() <= 300);
+  const nlohmann::json& readout = c.result["readout"];
+  REQUIRE(readout.is_object());
+  CHECK(readout["picked"].get<std::string>().find(" mm: ") != std::string::npos);
+  const std::string own = readout["own"].get<std::string>(), unit = readout["unit"];
+  CHECK(own.find(" mm: ") != std::string::npos);
+  CHECK(own.size() > unit.size() + 1);
+  CHECK(own.compare(own.size() - unit.size() - 1, std::string::npos, " " + unit) == 0);
 }
 
 // Every .svg file under `dir` (sorted) inline in one page `page`, each in a <div

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 using namespace armstudy::report;
@@ -79,6 +80,8 @@ TEST_CASE("view.html carries the maps' points, thinned beyond the cap, and reads
   CHECK(static_cast<long>(kept) <= kViewMaxPoints);
   REQUIRE(pos.size() == 12 * kept);
   REQUIRE(lv.size() == kept);
+  const std::string val = unbase64(jc["value"]);
+  REQUIRE(val.size() == 4 * kept);
   const double hi = std::stod(jc["hi"].get<std::string>());
   CHECK(hi == Approx(0.5));
   for (std::size_t k = 0; k < kept; k += 997) {
@@ -97,6 +100,16 @@ TEST_CASE("view.html carries the maps' points, thinned beyond the cap, and reads
       CHECK(level == 255);
     else
       CHECK(level == std::lround(254 * c.value[i] / hi));
+    // The value itself (float32, for the pointer's read-out).
+    std::uint32_t u = 0;
+    for (int b = 0; b < 4; ++b)
+      u |= static_cast<std::uint32_t>(static_cast<unsigned char>(val[4 * k + b])) << (8 * b);
+    float f = 0;
+    std::memcpy(&f, &u, sizeof f);
+    if (std::isnan(c.value[i]))
+      CHECK(std::isnan(f));
+    else
+      CHECK(f == static_cast<float>(c.value[i]));
   }
   CHECK(d["solids"][0]["name"] == "stem");
   CHECK(d["clouds"][0]["arm"].size() == 3);
@@ -134,4 +147,31 @@ TEST_CASE("view.html keeps user strings as data: no end tag and no comment opene
   CHECK(d["clouds"][0]["status_names"][0] == hostile);
   CHECK(d["solids"][0]["name"] == hostile);
   CHECK(html.find("<title>3-D view: &lt;/title&gt;&lt;script&gt;") != std::string::npos);
+}
+
+TEST_CASE(
+    "view.html gives each measure its own colour scale: maps share one only when they show "
+    "the same quantity in the same unit",
+    "[report]") {
+  View3d v;
+  v.title = "3-D view: scales";
+  v.value_label = "manipulability";
+  const auto cloud = [](const std::string& quantity, double value) {
+    ViewCloud c;
+    c.name = quantity;
+    c.value_quantity = quantity;
+    c.status_names = {"reachable"};
+    c.p_W = {{0, 0, 0}, {0.1, 0, 0}};
+    c.status = {0, 0};
+    c.value = {value, 0.5 * value};
+    return c;
+  };
+  // Spraying (5 task rows) and position (3 rows) manipulabilities: both in m^3, not comparable.
+  v.clouds = {cloud("5 rows", 0.2), cloud("3 rows", 0.9), cloud("5 rows", 0.4)};
+  const nlohmann::json d = pageData(viewHtml(v, ""));
+  const auto hi = [&](int i) { return std::stod(d["clouds"][i]["hi"].get<std::string>()); };
+  CHECK(hi(0) == Approx(0.4));
+  CHECK(hi(2) == Approx(0.4));
+  CHECK(hi(1) == Approx(0.9));
+  CHECK(d["clouds"][1]["quantity"] == "3 rows");
 }

@@ -519,6 +519,8 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
   report::ViewCloud c;
   c.name = "stem map: " + map.design;
   c.value_unit = unit;
+  c.value_quantity = unit == "m^3" ? "manipulability (3 position rows)"
+                                   : "manipulability (position and orientation rows)";
   const double arc = map.grid.radius_m * map.grid.gamma_rad.step(), dz = map.grid.z_m.step();
   c.point_size_m = std::max(0.005, std::min(arc > 0 ? arc : dz, dz > 0 ? dz : arc));
   c.status_names = statusNamesShownOnMaps();

@@ -824,6 +824,15 @@ void addViewClouds(const GridRun& r) {
     const PoseSweep& s = r.sweeps[di];
     report::ViewCloud c;
     c.name = "grid " + r.g.name + ": " + s.design;
+    // Maps share a colour scale only with maps of the same task rows.
+    const int position_rows = int(r.g.task_space.selected[0]) + int(r.g.task_space.selected[1]) +
+                              int(r.g.task_space.selected[2]);
+    c.value_unit = "m^" + std::to_string(position_rows);
+    const int rows = r.g.task_space.dim();
+    c.value_quantity = rows == position_rows
+                           ? "manipulability (" + std::to_string(rows) + " position rows)"
+                           : "manipulability (" + std::to_string(rows) + " task rows, " +
+                                 std::to_string(rows - position_rows) + " angular weighed by 1 m)";
     c.point_size_m = std::isfinite(step) ? step : 0.02;
     c.status_names = statusNamesShownOnMaps();
     long best = -1;
