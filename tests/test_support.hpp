@@ -20,10 +20,10 @@ inline constexpr double kFdTolerance = 1e-7;       // agreement of analytic vs c
 inline constexpr double kOracleTolerance = 1e-12;  // agreement with an independent library
 inline constexpr double kHandCheckTolerance = 1e-12;
 
-inline std::string sourcePath(const std::string& rel) {
-  return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel;
-}
-inline std::string binaryPath() { return ARMSTUDY_BINARY; }
+// The source folder and the armstudy program the tests were built with (tests/test_paths.cpp).
+std::string sourceDir();
+std::string binaryPath();
+inline std::string sourcePath(const std::string& rel) { return sourceDir() + "/" + rel; }
 
 // An empty folder <temp>/armstudy_<name>, made anew (whatever was there is removed first).
 inline std::filesystem::path emptyTempDir(const std::string& name) {

@@ -23,6 +23,7 @@
 #include "calibration/tcp_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
 #include "io/design_io.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::calibration;
@@ -45,7 +46,7 @@ double cpuPerCall(Fn&& fn, int iters, int batches = 5) {
   return t[t.size() / 2];
 }
 
-std::string src(const std::string& rel) { return std::string(ARMSTUDY_SOURCE_DIR) + "/" + rel; }
+std::string src(const std::string& rel) { return armstudy::test::sourcePath(rel); }
 
 // Residuals of the problem for a packed parameter vector (the profiled values stay as given).
 struct Residuals {

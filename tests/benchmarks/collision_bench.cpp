@@ -21,6 +21,7 @@
 #include "collision/collision.hpp"
 #include "collision/potential.hpp"
 #include "io/design_io.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::collision;
@@ -351,7 +352,7 @@ int main() {
       "armstudy self-collision distance benchmark (%d configurations, best of %d per chunk, thread "
       "CPU time)\n",
       kConfigurations, kRepetitions);
-  benchModel(ARMSTUDY_SOURCE_DIR "/designs/final_prototype_9dof.toml");
-  benchModel(ARMSTUDY_SOURCE_DIR "/designs/first_prototype_9dof.toml");
+  benchModel(armstudy::test::sourcePath("designs/final_prototype_9dof.toml").c_str());
+  benchModel(armstudy::test::sourcePath("designs/first_prototype_9dof.toml").c_str());
   return 0;
 }

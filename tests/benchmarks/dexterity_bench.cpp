@@ -17,6 +17,7 @@
 #include "io/design_io.hpp"
 #include "kdl_support.hpp"
 #include "study/stage.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
@@ -31,7 +32,7 @@ double now() {
 }  // namespace
 
 int main() {
-  const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
+  const Study study = loadStudy(armstudy::test::sourcePath("studies/stem_heatmap.toml"));
   const Model& m = study.designs.at(0).model;
   const DexterityOptions& opt = *stageSettings<DexterityOptions>(study, "dexterity");
   std::printf(

@@ -18,6 +18,7 @@
 
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 namespace fs = std::filesystem;
@@ -75,8 +76,7 @@ int main(int argc, char** argv) {
       fs::temp_directory_path() / ("armstudy_explore_bench_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string design =
-      std::string(ARMSTUDY_SOURCE_DIR) + "/designs/first_prototype_6dof.toml";
+  const std::string design = armstudy::test::sourcePath("designs/first_prototype_6dof.toml");
   const std::string head = "[study]\nname = \"bench\"\n[[design]]\nfile = \"" + design + "\"\n";
   {
     std::ofstream f(dir / "explore.toml");

@@ -20,6 +20,7 @@
 #include "reach/reach_audit.hpp"
 #include "stages/reach/reach_config.hpp"
 #include "study/stage.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
@@ -62,7 +63,7 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 }
 
 void reachPart(int threads, int collision_starts, int audit_poses) {
-  Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/spraying_row.toml");
+  Study study = loadStudy(armstudy::test::sourcePath("studies/spraying_row.toml"));
   const Model& m = study.designs.at(0).model;
   ReachConfig cfg = *stageSettings<ReachConfig>(study, "reach");
   if (collision_starts >= 0) cfg.search.collision_starts = collision_starts;
@@ -138,7 +139,7 @@ int main(int argc, char** argv) {
     reachPart(threads, argc > 2 ? std::atoi(argv[2]) : -1, argc > 3 ? std::atoi(argv[3]) : 500);
     return 0;
   }
-  const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_heatmap.toml");
+  const Study study = loadStudy(armstudy::test::sourcePath("studies/stem_heatmap.toml"));
   const Model& m = study.designs.at(0).model;
   DexterityOptions o = *stageSettings<DexterityOptions>(study, "dexterity");
   o.audit_cells = 500;

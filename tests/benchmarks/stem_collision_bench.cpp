@@ -10,6 +10,7 @@
 #include "dexterity/dexterity_audit.hpp"
 #include "engine/study_file.hpp"
 #include "study/stage.hpp"
+#include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::dexterity;
@@ -24,7 +25,7 @@ double cpu() { return double(std::clock()) / CLOCKS_PER_SEC; }
 }  // namespace
 
 int main() {
-  const Study study = loadStudy(std::string(ARMSTUDY_SOURCE_DIR) + "/studies/stem_row.toml");
+  const Study study = loadStudy(armstudy::test::sourcePath("studies/stem_row.toml"));
   const Model& m = study.designs.at(0).model;
   DexterityOptions with = *stageSettings<DexterityOptions>(study, "dexterity");
   with.grid.gamma_rad = {-M_PI, M_PI - M_PI / 90, 180};  // 2 deg

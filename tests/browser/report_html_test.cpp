@@ -83,6 +83,7 @@ window.addEventListener('load', () => {
   r.answer = a ? a.textContent : '';
   const p = document.createElement('pre');
   p.id = 'armstudy-check';
+  p.hidden = true;  // out of the screenshot taken in the same run
   p.textContent = JSON.stringify(r);
   document.body.appendChild(p);
 });
@@ -199,25 +200,29 @@ std::string unescapeText(std::string s) {
 }
 
 // Loads the page `file` in Chromium (extra command-line `flags`) and returns what its check script
-// wrote into <pre id="armstudy-check"> (the DOM after load, --dump-dom).
-Check runCheck(const fs::path& file, const fs::path& work, int width, const std::string& flags) {
+// wrote into <pre id="armstudy-check"> (the DOM after load, --dump-dom). With a `screenshot` path,
+// the same run also saves the window's pixels there, the window kScreenshotHeight px tall (no check
+// depends on the window's height: the answer's place is measured from the top of the page).
+Check runCheck(const fs::path& file, const fs::path& work, int width, const std::string& flags,
+               const fs::path& screenshot = {}) {
   Check c;
-  runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(kLaptopHeight) +
-                 flags + " --virtual-time-budget=10000 --dump-dom file://" + file.string(),
+  const int height = screenshot.empty() ? kLaptopHeight : kScreenshotHeight;
+  const std::string shot = screenshot.empty() ? "" : " --screenshot=" + screenshot.string();
+  runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(height) + flags +
+                 shot + " --virtual-time-budget=10000 --dump-dom file://" + file.string(),
              c.log);
-  const std::string open = "<pre id=\"armstudy-check\">";
-  const std::size_t a = c.log.find(open);
+  const std::size_t id = c.log.find("<pre id=\"armstudy-check\"");  // then attributes, '>'
+  const std::size_t a = id == std::string::npos ? id : c.log.find('>', id);
   const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
   if (b != std::string::npos)
-    c.result =
-        nlohmann::json::parse(unescapeText(c.log.substr(a + open.size(), b - a - open.size())));
+    c.result = nlohmann::json::parse(unescapeText(c.log.substr(a + 1, b - a - 1)));
   return c;
 }
 
 // Loads `page` with `script` before </body> and kHeadScript (a copy is written beside it) and
 // returns the findings.
 Check checkWith(const fs::path& page, const fs::path& work, const char* script, int width,
-                const std::string& flags) {
+                const std::string& flags, const fs::path& screenshot = {}) {
   std::string html = readFileOrThrow(page.string());
   const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
   REQUIRE(head != std::string::npos);
@@ -226,14 +231,16 @@ Check checkWith(const fs::path& page, const fs::path& work, const char* script, 
   html.insert(head + 6, kHeadScript);
   const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
   writeFileAtomic(copy.string(), html);
-  Check c = runCheck(copy, work, width, flags);
+  Check c = runCheck(copy, work, width, flags, screenshot);
   fs::remove(copy);
   return c;
 }
 
-// Loads a report page with kBodyScript and returns the findings.
-Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth) {
-  return checkWith(page, work, kBodyScript, width, "");
+// Loads a report page with kBodyScript and returns the findings; with a `screenshot` path, saves a
+// screenshot of the page there in the same run.
+Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth,
+                const fs::path& screenshot = {}) {
+  return checkWith(page, work, kBodyScript, width, "", screenshot);
 }
 
 // Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
@@ -489,7 +496,11 @@ TEST_CASE(
         CHECK(f.empty());
         if (files > 0) CHECK(texts > 0);
       }
-      const Check c = checkPage(report, work);
+      // The report as a laptop shows it, with a screenshot kept beside the report.
+      const fs::path shot = report.parent_path() / "report_screenshot.png";
+      const Check c = checkPage(report, work, kLaptopWidth, shot);
+      CHECK(fs::exists(shot));
+      CHECK(fs::file_size(shot) > 1000);
       INFO(study.filename().string() + ": " + faults(c));
       CHECK(faults(c).empty());
       CHECK(c.result.value("figures", 0) + c.result.value("images", 0) > 0);
@@ -543,14 +554,6 @@ TEST_CASE(
       const Check phone = checkPage(report, work, kPhoneWidth);
       INFO(study.filename().string() + " at " << kPhoneWidth << " px: " + faults(phone));
       CHECK(faults(phone).empty());
-      // A screenshot of the report as a laptop shows it, kept beside the report.
-      const fs::path shot = report.parent_path() / "report_screenshot.png";
-      runCommand("timeout 120 " + chromium(work / "profile") + std::to_string(kScreenshotHeight) +
-                     " --virtual-time-budget=10000 --screenshot=" + shot.string() + " file://" +
-                     report.string(),
-                 log);
-      CHECK(fs::exists(shot));
-      CHECK(fs::file_size(shot) > 1000);
       // A study with reach grids or stem maps (an exploration's too, where it writes one) has its
       // 3-D view.
       const std::string text = readFileOrThrow(study.string());

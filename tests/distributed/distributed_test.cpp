@@ -1,9 +1,11 @@
 // Studies distributed with MPI (docs/distributed.md): `mpirun -np 1/2/3 armstudy run`
 // writes every result file byte for byte as a single process does (the oracle: the same study run
-// without mpirun, into the same output path), whatever the thread count per rank; a rank killed
-// mid-run ends the job with a clear message and a re-run with another rank count resumes from the
-// saved units into the same bytes. The README's commands install MPI (scripts/install-deps.sh): in
-// a build without it (ARMSTUDY_MPI=OFF) or without mpirun these tests fail.
+// without mpirun, into the same output path; for the two long shipped studies, the suite's run of
+// the study in its own folder, shipped_output.hpp), whatever the thread count per rank; a rank
+// killed mid-run ends the job with a clear message and a re-run with another rank count resumes
+// from the saved units into the same bytes. The README's commands install MPI
+// (scripts/install-deps.sh): in a build without it (ARMSTUDY_MPI=OFF) or without mpirun these tests
+// fail.
 #include "study/distributed.hpp"
 
 #include <catch2/catch.hpp>
@@ -16,6 +18,7 @@
 #include <sstream>
 
 #include "io/files.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -153,17 +156,14 @@ y = "0.8 m"
 z = { from = "0.3 m", to = "1.2 m", step = "0.3 m" }
 )";
 
-// Runs `study` once without mpirun and then under mpirun with each (ranks, threads) into the same
-// output path, comparing every result file with the single process's.
-void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const std::string& name,
-                            const std::string& extra,
-                            const std::vector<std::pair<int, int>>& runs) {
+// Runs `study` under mpirun with each (ranks, threads) into `dir`/out/`name`, comparing every
+// result file with `ref`, a single process's.
+void requireRanksWrite(const fs::path& dir, const std::string& study, const std::string& name,
+                       const std::string& extra, const std::vector<std::pair<int, int>>& runs,
+                       const std::map<std::string, std::string>& ref) {
   const fs::path out = dir / "out" / name;
   const std::string args = study + " --output " + (dir / "out").string() + " --overwrite " + extra;
   std::string log;
-  INFO("single process");
-  REQUIRE(runCommand(binaryPath() + " run " + args + " --threads 2", log) == 0);
-  const auto ref = resultFiles(out);
   REQUIRE(ref.size() > 3);
   for (const auto& [ranks, threads] : runs) {
     INFO(ranks << " rank(s) x " << threads << " thread(s)");
@@ -177,6 +177,19 @@ void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const
     CHECK(man.value("ranks", 1) == ranks);
     CHECK_FALSE(fs::exists(out / ".partial"));
   }
+}
+
+// Runs `study` once without mpirun and then under mpirun with each (ranks, threads) into the same
+// output path, comparing every result file with the single process's.
+void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const std::string& name,
+                            const std::string& extra,
+                            const std::vector<std::pair<int, int>>& runs) {
+  std::string log;
+  INFO("single process");
+  REQUIRE(runCommand(binaryPath() + " run " + study + " --output " + (dir / "out").string() +
+                         " --overwrite " + extra + " --threads 2",
+                     log) == 0);
+  requireRanksWrite(dir, study, name, extra, runs, resultFiles(dir / "out" / name));
 }
 
 }  // namespace
@@ -442,16 +455,18 @@ TEST_CASE(
 }
 
 // A shipped study on 2 and 3 ranks and 2 ranks x 2 threads with `unit_size` (small, so that
-// every rank computes and renders some of every step) writes a single process's bytes; `expect`
+// every rank computes and renders some of every step) writes a single process's bytes: those of the
+// suite's fixture "shipped: <study>" (2 threads, the same unit size; shipped_output.hpp); `expect`
 // checks that the scenario happened (the files it needs are there).
 void shippedStudyOnRanks(
     const std::string& study, int unit_size,
     const std::function<void(const std::map<std::string, std::string>&)>& expect) {
   requireMpi();
+  const auto ref = resultFiles(shippedOutput(study));
+  expect(ref);
   const fs::path dir = freshDir(study);
-  requireSameAcrossRanks(dir, sourcePath("studies/" + study + ".toml"), study,
-                         "--unit-size " + std::to_string(unit_size), {{2, 1}, {3, 1}, {2, 2}});
-  expect(resultFiles(dir / "out" / study));
+  requireRanksWrite(dir, sourcePath("studies/" + study + ".toml"), study,
+                    "--unit-size " + std::to_string(unit_size), {{2, 1}, {3, 1}, {2, 2}}, ref);
   fs::remove_all(dir);
 }
 
