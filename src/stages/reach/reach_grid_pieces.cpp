@@ -357,23 +357,43 @@ void renderPair(const GridRendering& gr, std::size_t a, std::size_t b, Writer& o
 std::string renderPiece(const GridRendering& gr, std::size_t it) {
   Writer w(gr.ctx.resultsDir());
   RenderedPart part;
-  if (it < gr.layout.designPieces()) {
-    const std::size_t di = it / static_cast<std::size_t>(gr.layout.piecesPerDesign());
-    const int piece = static_cast<int>(it % static_cast<std::size_t>(gr.layout.piecesPerDesign()));
-    if (piece == 0)
-      renderMain(gr, di, w, part);
-    else if (piece <= gr.res.orientation_count)
-      renderSurface(gr, di, piece - 1, w, part);
-    else
-      renderImages(gr, di, piece - 1 - gr.res.orientation_count, w, part);
-  } else {
-    const auto [a, b] = gr.res.pairs[gr.layout.image_pairs[it - gr.layout.designPieces()]];
-    renderPair(gr, a, b, w, part.md);
+  const GridPiece piece = gr.layout.piece(it);
+  switch (piece.kind) {
+    case GridPiece::Kind::Main:
+      renderMain(gr, piece.design, w, part);
+      break;
+    case GridPiece::Kind::Surface:
+      renderSurface(gr, piece.design, piece.orientation, w, part);
+      break;
+    case GridPiece::Kind::Figures:
+      renderImages(gr, piece.design, piece.orientation, w, part);
+      break;
+    case GridPiece::Kind::PairImages: {
+      const auto [a, b] = gr.res.pairs[gr.layout.image_pairs[piece.pair]];
+      renderPair(gr, a, b, w, part.md);
+      break;
+    }
   }
   return packRenderedPart(part, w);
 }
 
 }  // namespace
+
+GridPiece GridPieces::piece(std::size_t it) const {
+  GridPiece piece;
+  if (it >= designPieces()) {
+    piece.kind = GridPiece::Kind::PairImages;
+    piece.pair = it - designPieces();
+    return piece;
+  }
+  const auto per_design = static_cast<std::size_t>(piecesPerDesign());
+  piece.design = it / per_design;
+  const int within = static_cast<int>(it % per_design);
+  if (within == 0) return piece;
+  piece.kind = within <= orientation_count ? GridPiece::Kind::Surface : GridPiece::Kind::Figures;
+  piece.orientation = within <= orientation_count ? within - 1 : within - 1 - orientation_count;
+  return piece;
+}
 
 GridPieces gridPieces(const ReachGridResults& res, const ReachConfig& cfg) {
   GridPieces pieces;

@@ -20,6 +20,15 @@ namespace armstudy {
 // the first design against each other.
 constexpr std::size_t kMaxPairImageDesigns = 4;
 
+// What one piece renders: design `design`'s main piece, or its surface or figures in orientation
+// `orientation`, or the images of the pair image_pairs[pair].
+struct GridPiece {
+  enum class Kind { Main, Surface, Figures, PairImages } kind = Kind::Main;
+  std::size_t design = 0;
+  int orientation = 0;
+  std::size_t pair = 0;
+};
+
 struct GridPieces {
   reach_report::ImagePlane plane;  // the figures' axes
   int image_rows = 1;              // cells along the figures' second axis
@@ -44,6 +53,8 @@ struct GridPieces {
     return mainPiece(di) + 1 + static_cast<std::size_t>(orientation_count + k);
   }
   std::size_t pairPiece(std::size_t i) const { return designPieces() + i; }
+  // The inverse: what piece `it` (< count()) renders.
+  GridPiece piece(std::size_t it) const;
 };
 
 GridPieces gridPieces(const ReachGridResults& res, const ReachConfig& cfg);

@@ -17,8 +17,8 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The grid's shape and designs, and the pairs compared (many designs: the first against each
-// other); the maps, searches and audits still empty.
+// The grid's shape and designs, and the pairs compared; the maps, searches and audits still
+// empty.
 ReachGridResults gridLayout(const Study& study, const TaskGrid& grid) {
   ReachGridResults res;
   res.grid = &grid;
@@ -27,10 +27,7 @@ ReachGridResults gridLayout(const Study& study, const TaskGrid& grid) {
   res.orientation_count = static_cast<int>(grid.orientations.size());
   res.folder = "reach/" + grid.name;
   for (const StudyDesign& sd : study.designs) res.models.push_back(&sd.model);
-  const std::size_t design_count = res.models.size();
-  for (std::size_t a = 0; a < design_count; ++a)
-    for (std::size_t b = a + 1; b < design_count; ++b)
-      if (!(design_count > kMaxComparedDesigns && a > 0)) res.pairs.emplace_back(a, b);
+  res.pairs = comparedPairs(res.models.size());
   return res;
 }
 
@@ -92,6 +89,14 @@ void auditMaps(const StageContext& ctx, const ReachConfig& cfg, ReachGridResults
 }
 
 }  // namespace
+
+std::vector<DesignPair> comparedPairs(std::size_t design_count) {
+  std::vector<DesignPair> pairs;
+  for (std::size_t a = 0; a < design_count; ++a)
+    for (std::size_t b = a + 1; b < design_count; ++b)
+      if (!(design_count > kMaxComparedDesigns && a > 0)) pairs.emplace_back(a, b);
+  return pairs;
+}
 
 ReachGridResults solveReachGrid(const StageContext& ctx, const ReachConfig& cfg,
                                 const TaskGrid& grid, Progress& progress, StageResult& sum) {

@@ -42,6 +42,9 @@ struct ReachGridResults {
 // other.
 constexpr std::size_t kMaxComparedDesigns = 12;
 
+// The pairs of `design_count` designs compared on a grid, ordered by first then second design.
+std::vector<DesignPair> comparedPairs(std::size_t design_count);
+
 // Every design's sweep of `grid` (work units through ctx.units, one pool for all designs), then
 // the map search across units and the audit (docs/reachability.md "The audit"), each interleaved
 // over the designs (study/interleave.hpp). Timings and unit metrics go to `sum`.
