@@ -336,7 +336,7 @@ def assign_groups(weights, n, min_ranks):
 
 
 def model_weights(run_dir, grids):
-    """The weights src/stages/reach/reach_grid.cpp gives the searches: one plus the reachable poses, a
+    """The weights src/stages/reach/reach_grid_results.cpp gives the searches: one plus the reachable poses, a
     tenth of them for an arm of at most six joints (defaults::kSearchWeightNonRedundant), from the recorded run's
     summary.json and designs.json (its reachable poses after the search, close to the sweep's)."""
     import json

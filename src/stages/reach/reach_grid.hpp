@@ -1,8 +1,9 @@
 #pragma once
-// One task grid of the reach stage (private to stages/reach): every design's sweep of the grid
-// (work units, then the search across units), its fields (.vti), boundary surfaces (.vtp), maps,
-// audit, comparison of designs; appends the grid's report section to `md` and returns its
-// summary.json block.
+// One task grid of the reach stage (private to stages/reach): its results computed
+// (reach_grid_results.hpp: every design's map, search and audit), rendered in pieces
+// (reach_grid_pieces.hpp: fields (.vti), boundary surfaces (.vtp), figures, summary entries and
+// report lines), then joined with the grid's tables and the comparison of designs; appends the
+// grid's report section to `md` and returns its summary.json block.
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 

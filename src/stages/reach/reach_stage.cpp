@@ -202,7 +202,7 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
 }
 
 // The designs evaluated, each drawn at its zero pose (reach/images/arm_<design>.svg), as a report
-// section; nothing without images or on a rank that does not write the results.
+// section; nothing without images or on a process that does not write the results.
 std::string designDrawings(const StageContext& ctx, const ReachConfig& cfg, Writer& out) {
   if (!cfg.outputs.images || !ctx.writes_results) return "";
   std::string md = "## The designs\n\n";
@@ -317,7 +317,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   for (const PoseList& l : cfg.pose_lists)
     jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
   jr["pose_lists"] = jlists;
-  if (!ctx.writes_results) {  // a rank other than 0: its summary and report nobody reads
+  if (!ctx.writes_results) {  // its summary and report nobody reads
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return sum;
   }
