@@ -16,28 +16,6 @@ namespace {
 using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Basis = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
 
-// Orthonormal pair perpendicular to unit vector a (deterministic choice).
-void perpendicularBasis(const Eigen::Vector3d& a, Eigen::Vector3d& b1, Eigen::Vector3d& b2) {
-  int k = 0;
-  a.cwiseAbs().minCoeff(&k);
-  b1 = a.cross(Eigen::Vector3d::Unit(k)).normalized();
-  b2 = a.cross(b1);
-}
-
-// Rotation vector (in W) taking unit vector a onto unit vector b.
-Eigen::Vector3d rotationBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d c = a.cross(b);
-  const double s = c.norm(), co = a.dot(b);
-  const double angle = std::atan2(s, co);
-  if (s < 1e-300) {
-    if (co > 0) return Eigen::Vector3d::Zero();
-    Eigen::Vector3d b1, b2;  // antiparallel: any perpendicular axis
-    perpendicularBasis(a, b1, b2);
-    return angle * b1;
-  }
-  return (angle / s) * c;
-}
-
 double weightedCost(const TaskVec& e) {
   const double l = defaults::kOrientationLength_m;
   double c = e.head<3>().squaredNorm();

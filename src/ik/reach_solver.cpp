@@ -80,15 +80,6 @@ Context makeContext(const Model* model, const PoseTask& t, double w_o) {
   return c;
 }
 
-// Tool-axis error: rotation vector (angle * unit axis) turning the current tool axis z onto z_d.
-inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen::Vector3d& z_d,
-                                          double& angle) {
-  const Eigen::Vector3d c = z.cross(z_d);
-  const double s = c.norm();
-  angle = std::atan2(s, z.dot(z_d));
-  return s > 0 ? Eigen::Vector3d((angle / s) * c) : Eigen::Vector3d::Zero();
-}
-
 }  // namespace
 
 // Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
@@ -114,7 +105,7 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
     err.orientation_rad = std::abs(aa.angle());
   } else if (c.tool_axis) {
     double angle = 0;
-    e.segment<3>(r) = c.w_o * axisRotationVector(kin.a_WT, t.axis_W, angle);
+    e.segment<3>(r) = c.w_o * rotationBetween(kin.a_WT, t.axis_W, &angle);
     err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
