@@ -8,43 +8,13 @@
 #include "common/defaults.hpp"
 #include "common/enum_names.hpp"
 #include "common/errors.hpp"
+#include "metrics/dexterity_measures.hpp"
 
 namespace armstudy::ik {
 
 namespace {
 using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Basis = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
-
-// Orthonormal pair perpendicular to unit vector a (deterministic choice).
-void perpendicularBasis(const Eigen::Vector3d& a, Eigen::Vector3d& b1, Eigen::Vector3d& b2) {
-  int k = 0;
-  a.cwiseAbs().minCoeff(&k);
-  b1 = a.cross(Eigen::Vector3d::Unit(k)).normalized();
-  b2 = a.cross(b1);
-}
-
-// Rotation vector (in W) taking unit vector a onto unit vector b.
-Eigen::Vector3d rotationBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d c = a.cross(b);
-  const double s = c.norm(), co = a.dot(b);
-  const double angle = std::atan2(s, co);
-  if (s < 1e-300) {
-    if (co > 0) return Eigen::Vector3d::Zero();
-    Eigen::Vector3d b1, b2;  // antiparallel: any perpendicular axis
-    perpendicularBasis(a, b1, b2);
-    return angle * b1;
-  }
-  return (angle / s) * c;
-}
-
-double taskManipulability(const TaskJacobian& J) {
-  const SmallMat A = J * J.transpose();
-  const Eigen::LLT<SmallMat> llt(A);
-  if (llt.info() != Eigen::Success) return 0.0;
-  double det = 1;
-  for (int k = 0; k < A.rows(); ++k) det *= llt.matrixL()(k, k) * llt.matrixL()(k, k);
-  return std::sqrt(det);
-}
 
 double weightedCost(const TaskVec& e) {
   const double l = defaults::kOrientationLength_m;
@@ -75,14 +45,23 @@ bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q
 
 void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTask& target, TaskJacobian& J,
                           TaskVec& e, Basis* S_out, PoseError* pe) {
-  ARMSTUDY_CHECK(target.kind != PoseTaskKind::CardanAngles && target.allPositionSelected(),
-                 "taskJacobianAndError: a task of Cardan angles or of part of the position");
+  ARMSTUDY_CHECK(target.kind != PoseTaskKind::CardanAngles,
+                 "taskJacobianAndError: a task of Cardan angles has analytic rows");
   const int n = ws.n;
   const int m = target.rows();
+  const int p = target.positionRows();
   J.resize(m, n);
   e.resize(m);
-  J.topRows<3>() = ws.J_W_tcp.topRows<3>();
-  e.head<3>() = target.p_WT - ws.p_WT;
+  if (p == 3) {
+    J.topRows<3>() = ws.J_W_tcp.topRows<3>();
+    e.head<3>() = target.p_WT - ws.p_WT;
+  } else {
+    for (int k = 0, r = 0; k < 3; ++k)
+      if (target.position_selected[k]) {
+        J.row(r) = ws.J_W_tcp.row(k);
+        e[r++] = target.p_WT[k] - ws.p_WT[k];
+      }
+  }
   Basis S;
   if (target.kind == PoseTaskKind::PositionAxis) {
     // Constrained angular directions: perpendicular to the current tool axis (rotation about the
@@ -107,7 +86,7 @@ void taskJacobianAndError(const KinematicsWorkspace& ws, const PoseTask& target,
     S.resize(3, 0);
     if (pe) pe->orientation_rad = 0;
   }
-  if (pe) pe->position_m = (target.p_WT - ws.p_WT).norm();
+  if (pe) pe->position_m = p == 3 ? (target.p_WT - ws.p_WT).norm() : e.head(p).norm();
   if (S_out) *S_out = S;
 }
 
@@ -199,7 +178,7 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
     wdot.head<3>() = ref.v_W;
     if (J.rows() > 3) wdot.tail(J.rows() - 3) = S.transpose() * ref.omega_W;
     wdot += options.redundancy.drift_gain * e;
-    const double mbar = taskManipulability(J);
+    const double mbar = metrics::computeMeasures(J, TaskVec()).manipulability;
     const double lambda =
         adaptiveDamping(mbar, options.redundancy.damping_lambda0, options.redundancy.damping_m0);
     bool have_grad = false;
@@ -345,7 +324,8 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
     // (The manipulability is only needed when the damping is on.)
     const bool damped = options.damping_lambda0 > 0 && options.damping_m0 > 0;
     const double lambda =
-        damped ? adaptiveDamping(taskManipulability(J), options.damping_lambda0, options.damping_m0)
+        damped ? adaptiveDamping(metrics::computeMeasures(J, TaskVec()).manipulability,
+                                 options.damping_lambda0, options.damping_m0)
                : 0.0;
     if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), grad, 1.0, lambda, d)) {
       res.status = NullspaceStatus::Converged;

@@ -57,6 +57,28 @@ PoseTask fullPoseTask(const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT) 
   return t;
 }
 
+void perpendicularBasis(const Eigen::Vector3d& a, Eigen::Vector3d& b1, Eigen::Vector3d& b2) {
+  int k = 0;
+  a.cwiseAbs().minCoeff(&k);
+  b1 = a.cross(Eigen::Vector3d::Unit(k)).normalized();
+  b2 = a.cross(b1);
+}
+
+Eigen::Vector3d rotationBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                double* angle_out) {
+  const Eigen::Vector3d c = a.cross(b);
+  const double s = c.norm(), co = a.dot(b);
+  const double angle = std::atan2(s, co);
+  if (angle_out) *angle_out = angle;
+  if (s < 1e-300) {
+    if (co > 0) return Eigen::Vector3d::Zero();
+    Eigen::Vector3d b1, b2;  // antiparallel: any perpendicular axis
+    perpendicularBasis(a, b1, b2);
+    return angle * b1;
+  }
+  return (angle / s) * c;
+}
+
 Eigen::Vector3d sprayDirection(double alpha, double gamma) {
   return Eigen::Vector3d(-std::sin(gamma), std::cos(alpha) * std::cos(gamma),
                          std::sin(alpha) * std::cos(gamma));

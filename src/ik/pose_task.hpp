@@ -55,6 +55,15 @@ struct PoseError {
 // Errors of the TCP pose currently in kin (after forwardKinematics) against the task.
 PoseError poseError(const KinematicsWorkspace& kin, const PoseTask& task);
 
+// An orthonormal pair perpendicular to unit vector a (deterministic choice): the basis of the two
+// angular rows of a tool-axis task.
+void perpendicularBasis(const Eigen::Vector3d& a, Eigen::Vector3d& b1, Eigen::Vector3d& b2);
+// The rotation vector (in W, angle * unit axis) turning unit vector a onto unit vector b, and with
+// `angle` the angle between them, atan2(|a x b|, a . b); antiparallel: about perpendicularBasis'
+// first vector. The tool-axis task's error.
+Eigen::Vector3d rotationBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                double* angle = nullptr);
+
 // The spray direction of the spraying task (thesis eq. 3.1, Fig. 3.7): d = Rx(alpha) Rz(gamma) e_y
 // in W, i.e. +y at alpha = gamma = 0, turned by gamma about the vertical, then tilted by alpha
 // about x: d = (-sin gamma, cos alpha cos gamma, sin alpha cos gamma).

@@ -14,6 +14,7 @@
 #include "common/rng.hpp"
 #include "ik/nullspace.hpp"
 #include "ik/reach_internal.hpp"
+#include "metrics/dexterity_measures.hpp"
 
 namespace armstudy {
 
@@ -79,15 +80,6 @@ Context makeContext(const Model* model, const PoseTask& t, double w_o) {
   return c;
 }
 
-// Tool-axis error: rotation vector (angle * unit axis) turning the current tool axis z onto z_d.
-inline Eigen::Vector3d axisRotationVector(const Eigen::Vector3d& z, const Eigen::Vector3d& z_d,
-                                          double& angle) {
-  const Eigen::Vector3d c = z.cross(z_d);
-  const double s = c.norm();
-  angle = std::atan2(s, z.dot(z_d));
-  return s > 0 ? Eigen::Vector3d((angle / s) * c) : Eigen::Vector3d::Zero();
-}
-
 }  // namespace
 
 // Weighted residual e = W (w_d - f(q)) of the pose in kin (the m selected rows first, the rest
@@ -113,7 +105,7 @@ void ik_detail::residual(const Context& c, const KinematicsWorkspace& kin, Vec6&
     err.orientation_rad = std::abs(aa.angle());
   } else if (c.tool_axis) {
     double angle = 0;
-    e.segment<3>(r) = c.w_o * axisRotationVector(kin.a_WT, t.axis_W, angle);
+    e.segment<3>(r) = c.w_o * rotationBetween(kin.a_WT, t.axis_W, &angle);
     err.orientation_rad = angle;
   } else if (c.any_orientation) {
     const CardanAngles a = cardanFromRotation(kin.R_WT);
@@ -165,39 +157,11 @@ bool ik_detail::taskJacobian(const Context& c, const KinematicsWorkspace& kin, J
 
 namespace {
 
-using SmallSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-
-// sqrt(det(J J^T)) of `rows` rows of J starting at `first` (eq. 5.59); 1 for no rows.
-double rowsManipulability(const Jacobian6& J, int first, int rows) {
-  if (rows == 0) return 1.0;
-  const SmallSquare JJt = J.middleRows(first, rows) * J.middleRows(first, rows).transpose();
-  const double det = JJt.determinant();
-  return det > 0 ? std::sqrt(det) : 0.0;
-}
-
-// The geometric rows a target constrains (unweighted): the selected position rows, then the
-// angular rows (3 for the full pose, the 2 perpendicular to the tool axis for the tool-axis task,
-// none for position). Returns the number of position rows; `angular` the number of angular rows.
-int geometricTaskRows(const Context& c, const KinematicsWorkspace& kin, Jacobian6& J,
-                      int& angular) {
-  const auto& sel = c.target.position_selected;
-  J.setZero(6, kin.n);
-  int r = 0;
-  for (int k = 0; k < 3; ++k)
-    if (sel[k]) J.row(r++) = kin.J_W_tcp.row(k);
-  const int position_rows = r;
-  if (c.full_orientation) {
-    J.middleRows(r, 3) = kin.J_W_tcp.bottomRows<3>();
-    r += 3;
-  } else if (c.tool_axis) {
-    // Any orthonormal basis of the plane perpendicular to the tool axis gives the same determinant.
-    const Eigen::Vector3d& a = kin.a_WT;
-    const Eigen::Vector3d b1 = a.unitOrthogonal(), b2 = a.cross(b1);
-    J.row(r++) = b1.transpose() * kin.J_W_tcp.bottomRows<3>();
-    J.row(r++) = b2.transpose() * kin.J_W_tcp.bottomRows<3>();
-  }
-  angular = r - position_rows;
-  return position_rows;
+// The manipulability (metrics::computeMeasures, thesis eq. 5.59) of rows of a task Jacobian; 1
+// for no rows.
+double manipulabilityOf(const Eigen::Ref<const Eigen::MatrixXd>& J) {
+  if (J.rows() == 0) return 1.0;
+  return metrics::computeMeasures(J, Eigen::VectorXd()).manipulability;
 }
 
 bool cardanSelection(const Context& c) {
@@ -207,7 +171,7 @@ bool cardanSelection(const Context& c) {
 double cardanValue(const Context& c, const KinematicsWorkspace& kin) {
   Jacobian6 J(6, kin.n);
   if (!taskJacobian(c, kin, J)) return 0.0;
-  return rowsManipulability(J, 0, c.m);  // eq. (5.59) of the analytic rows (eq. 5.11)
+  return manipulabilityOf(J.topRows(c.m));  // eq. (5.59) of the analytic rows (eq. 5.11)
 }
 
 // Errors, manipulability and joint-limit margin of configuration q into r (r.q = q).
@@ -398,21 +362,21 @@ double ikObjective(const Model& model, KinematicsWorkspace& kin, const PoseTask&
 double taskManipulability(const KinematicsWorkspace& kin, const PoseTask& target) {
   const Context c = makeContext(nullptr, target, 1.0);
   if (cardanSelection(c)) return cardanValue(c, kin);
-  Jacobian6 J;
-  int angular = 0;
-  const int position = geometricTaskRows(c, kin, J, angular);
-  return rowsManipulability(J, 0, position + angular);
+  ik::TaskJacobian J;
+  ik::TaskVec e;
+  ik::taskJacobianAndError(kin, target, J, e);
+  return manipulabilityOf(J);
 }
 
 int taskJacobianRows(const KinematicsWorkspace& kin, const PoseTask& target, Jacobian6& J_out) {
   const Context c = makeContext(nullptr, target, 1.0);
-  if (cardanSelection(c)) {
-    J_out.setZero(6, kin.n);
-    return taskJacobian(c, kin, J_out) ? c.m : 0;
-  }
-  int angular = 0;
-  const int position = geometricTaskRows(c, kin, J_out, angular);
-  return position + angular;
+  J_out.setZero(6, kin.n);
+  if (cardanSelection(c)) return taskJacobian(c, kin, J_out) ? c.m : 0;
+  ik::TaskJacobian J;
+  ik::TaskVec e;
+  ik::taskJacobianAndError(kin, target, J, e);
+  J_out.topRows(J.rows()) = J;
+  return static_cast<int>(J.rows());
 }
 
 double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& task_space) {
@@ -424,13 +388,16 @@ double cardanManipulability(const KinematicsWorkspace& kin, const TaskSpace& tas
 
 ManipulabilityParts taskManipulabilityParts(const KinematicsWorkspace& kin,
                                             const PoseTask& target) {
-  const Context c = makeContext(nullptr, target, 1.0);
-  Jacobian6 J;
-  int angular = 0;
-  const int position = geometricTaskRows(c, kin, J, angular);
+  // The rows of selected Cardan angles are analytic (eq. 5.11): only their position part counts.
+  PoseTask geometric = target;
+  if (target.kind == PoseTaskKind::CardanAngles) geometric.kind = PoseTaskKind::Position;
+  ik::TaskJacobian J;
+  ik::TaskVec e;
+  ik::taskJacobianAndError(kin, geometric, J, e);
   ManipulabilityParts p;
-  if (position > 0) p.translation = rowsManipulability(J, 0, position);
-  if (angular > 0) p.rotation = rowsManipulability(J, position, angular);
+  const int position = geometric.positionRows(), angular = geometric.orientationRows();
+  if (position > 0) p.translation = manipulabilityOf(J.topRows(position));
+  if (angular > 0) p.rotation = manipulabilityOf(J.bottomRows(angular));
   return p;
 }
 

@@ -131,10 +131,10 @@ IkResult solvePose(const Model& model, IkWorkspace& ws, const PoseTask& target,
 double ikObjective(const Model& model, KinematicsWorkspace& kin, const PoseTask& target,
                    double orientation_weight_m, const Eigen::VectorXd& q, Eigen::VectorXd* grad);
 
-// Thesis eq. (5.59): Yoshikawa manipulability sqrt(det(J_t J_t^T)) at the configuration in kin
-// (requires tcpJacobian) of the rows of the geometric Jacobian the target constrains: the selected
-// position rows, then 3 angular rows (full pose), the 2 angular rows perpendicular to the tool
-// axis (tool-axis tasks) or none (position). Units: m^k for k position rows (rad^-1 folded in);
+// Thesis eq. (5.59): the manipulability (metrics::computeMeasures) at the configuration in kin
+// (requires tcpJacobian) of the task rows ik::taskJacobianAndError builds: the selected position
+// rows, then 3 angular rows (full pose), the 2 angular rows perpendicular to the tool axis
+// (tool-axis tasks) or none (position). Units: m^k for k position rows (rad^-1 folded in);
 // the angular rows are dimensionless, so the value weighs them with a characteristic length of
 // 1 m. For a Cardan selection, its analytic rows (eq. 5.11); 0 at that representation's
 // singularity.

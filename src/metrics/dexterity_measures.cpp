@@ -23,10 +23,11 @@ DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
                                   const Eigen::Ref<const Eigen::VectorXd>& u) {
   using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
   const int m = static_cast<int>(J.rows());
-  ARMSTUDY_CHECK(m >= 1 && m <= 6 && m <= J.cols(),
-                 "computeMeasures: J must be m x n with m <= min(6, n)");
+  ARMSTUDY_CHECK(m >= 1 && m <= 6, "computeMeasures: J must have 1 to 6 rows");
   ARMSTUDY_CHECK(u.size() == 0 || u.size() == m, "computeMeasures: u must be empty or of size m");
-  const Mat Jm = J;
+  // More rows than columns: J J^T is singular; zero columns give its m singular values.
+  Mat Jm = J;
+  if (m > J.cols()) Jm.conservativeResizeLike(Mat::Zero(m, m));
   const Eigen::JacobiSVD<Mat> svd(Jm, Eigen::ComputeFullU);
   const auto& s = svd.singularValues();  // descending, size m
   DexterityMeasures d;

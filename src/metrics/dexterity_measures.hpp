@@ -29,7 +29,7 @@ struct DexterityMeasures {
   double sigma_max = 0;
 };
 
-// Measures of J (m x n, m <= n). `u` (size m, unit length) is optional: pass an empty vector to
+// Measures of J (m x n, m <= 6). `u` (size m, unit length) is optional: pass an empty vector to
 // skip the transmission ratio. Singular values below `kSingularValueFloor * sigma_max` count as 0.
 DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
                                   const Eigen::Ref<const Eigen::VectorXd>& u);

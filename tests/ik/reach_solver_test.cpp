@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kGradientTolerance = 1e-6;
 constexpr double kManipulabilityTolerance = 1e-6;
+constexpr double kLinearAlgebraTolerance = 1e-12;  // the same rows built two ways
+constexpr double kRelativeTolerance = 1e-9;        // determinant vs singular values
 constexpr double kSolveRateRequired = 0.99;  // tests use few poses; the benchmark checks 99.9 %
 
 PoseTask fullPoseOf(const KinematicsWorkspace& kin) { return fullPoseTask(kin.p_WT, kin.R_WT); }
@@ -190,6 +192,43 @@ TEST_CASE("manipulability equals sqrt(det(J J^T)) of a finite-difference positio
     const double expected = std::sqrt((J * J.transpose()).determinant());
     const PoseTask position = positionTask(kin.p_WT);
     CHECK(taskManipulability(kin, position) == Approx(expected).margin(kManipulabilityTolerance));
+  }
+}
+
+TEST_CASE("task rows of part of the position and the tool axis, and their manipulability",
+          "[ik][oracle]") {
+  // Oracle: for the task space "x,z,alpha,gamma" (the tool axis with y free) the rows are the
+  // x and z rows of the geometric Jacobian, then two angular rows whose Gram matrix is
+  // J_R^T (I - a a^T) J_R (the projection perpendicular to the tool axis a, any basis); the
+  // manipulability and its parts equal sqrt(det(J J^T)) of those rows, by determinant here and by
+  // the singular values in metrics.
+  std::mt19937_64 rng(33);
+  const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
+  KinematicsWorkspace kin(m);
+  TaskSpace space;
+  std::string error;
+  REQUIRE(parseTaskSpace("x,z,alpha,gamma", space, error));
+  for (int trial = 0; trial < 10; ++trial) {
+    forwardKinematicsAndJacobian(m, kin, randomConfiguration(m, rng));
+    const PoseTask t = taskTarget(space, TaskVector6::Zero());
+    REQUIRE(t.kind == PoseTaskKind::PositionAxis);
+    Jacobian6 J(6, m.dof());
+    REQUIRE(taskJacobianRows(kin, t, J) == 4);
+    CHECK((J.row(0) - kin.J_W_tcp.row(0)).norm() < kLinearAlgebraTolerance);
+    CHECK((J.row(1) - kin.J_W_tcp.row(2)).norm() < kLinearAlgebraTolerance);
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - kin.a_WT * kin.a_WT.transpose();
+    const Eigen::MatrixXd J_R = kin.J_W_tcp.bottomRows<3>();
+    const Eigen::MatrixXd B = J.middleRows(2, 2);
+    CHECK((B.transpose() * B - J_R.transpose() * P * J_R).norm() < kLinearAlgebraTolerance);
+    const Eigen::MatrixXd rows = J.topRows(4);
+    const double expected = std::sqrt((rows * rows.transpose()).determinant());
+    CHECK(taskManipulability(kin, t) == Approx(expected).epsilon(kRelativeTolerance));
+    const ManipulabilityParts parts = taskManipulabilityParts(kin, t);
+    const Eigen::MatrixXd Jp = rows.topRows(2);
+    CHECK(parts.translation ==
+          Approx(std::sqrt((Jp * Jp.transpose()).determinant())).epsilon(kRelativeTolerance));
+    CHECK(parts.rotation ==
+          Approx(std::sqrt((B * B.transpose()).determinant())).epsilon(kRelativeTolerance));
   }
 }
 
