@@ -124,6 +124,7 @@ std::string encodePng(const RasterImage& image) {
   data->GetPointData()->SetScalars(arr);
   vtkNew<vtkPNGWriter> w;
   w->SetInputData(data);
+  w->SetCompressionLevel(9);
   w->WriteToMemoryOn();
   w->Write();
   vtkUnsignedCharArray* out = w->GetResult();

@@ -11,6 +11,11 @@
 namespace armstudy::report {
 using namespace plot_detail;
 
+const char* const kThinNote =
+    "Drawn thinned: a line of more than 2000 points keeps per pixel column its first, lowest, "
+    "highest and last point; a figure of more than 2000 markers draws its plot areas as images. "
+    "The data files hold every point.";
+
 MapAxis cellAxis(std::string label, double from, double to, double step) {
   const double h = 0.5 * (to > from ? step : 1.0);
   return MapAxis{std::move(label), from - h, to + h};
@@ -168,11 +173,17 @@ XAxisPlan planXAxis(const Meter& m, const Range& xr, double w,
   return p;
 }
 
-void drawFrame(Scene& s, const Frame& f, const XAxisPlan& xp, const std::vector<double>& yt,
-               const std::vector<std::string>& cats) {
+// The grid lines of the plot area at the ticks.
+void drawGrid(Scene& s, const Frame& f, const XAxisPlan& xp, const std::vector<double>& yt,
+              const std::vector<std::string>& cats) {
   for (double t : yt) s.line(f.x0, f.py(t), f.x0 + f.w, f.py(t), kGrid);
   if (cats.empty())
     for (double t : xp.ticks) s.line(f.px(t), f.y0, f.px(t), f.y0 + f.h, kGrid);
+}
+
+void drawFrame(Scene& s, const Frame& f, const XAxisPlan& xp, const std::vector<double>& yt,
+               const std::vector<std::string>& cats) {
+  drawGrid(s, f, xp, yt, cats);
   s.rect(f.x0, f.y0, f.w, f.h, std::nullopt, kFrame);
   const double yb = f.y0 + f.h;
   if (cats.empty()) {
@@ -277,14 +288,52 @@ PanelPlans planPanels(const PlotSpec& spec, const Meter& m, Range& xr) {
   return pl;
 }
 
-// A panel's series in frame f: lines broken at non-finite points, and markers.
+using Points = std::vector<std::pair<double, double>>;
+
+bool dense(const PlotSeries& se) { return std::min(se.x.size(), se.y.size()) > kThinAbove; }
+
+// Whether the figure draws more than kThinAbove markers in all: its marker panels are then drawn
+// as images.
+bool rasterMarkers(const PlotSpec& spec) {
+  std::size_t n = 0;
+  for (const auto& pan : spec.panels)
+    for (const auto& se : pan.series)
+      if (se.markers) n += std::min(se.x.size(), se.y.size());
+  return n > kThinAbove;
+}
+
+// A line's points as drawn: of each run of consecutive points in one pixel column, the first, the
+// lowest, the highest and the last, in their order (min/max decimation: peaks stay visible).
+Points thinLine(const Points& run) {
+  Points out;
+  std::size_t a = 0;
+  while (a < run.size()) {
+    const double col = std::floor(run[a].first);
+    std::size_t b = a, lo = a, hi = a;
+    while (b < run.size() && std::floor(run[b].first) == col) {
+      if (run[b].second < run[lo].second) lo = b;
+      if (run[b].second > run[hi].second) hi = b;
+      ++b;
+    }
+    std::vector<std::size_t> keep{a, lo, hi, b - 1};
+    std::sort(keep.begin(), keep.end());
+    keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
+    for (std::size_t k : keep) out.push_back(run[k]);
+    a = b;
+  }
+  return out;
+}
+
+// A panel's series in frame f: lines broken at non-finite points, and markers. The line of a
+// series of more than kThinAbove points is thinned for drawing (thinLine).
 void drawSeries(Scene& s, const Frame& f, const PlotPanel& pan, const std::array<double, 4>& clip) {
   for (std::size_t i = 0; i < pan.series.size(); ++i) {
     const PlotSeries& se = pan.series[i];
     const Rgb c = se.colour.value_or(seriesColour(static_cast<int>(i)));
-    std::vector<std::pair<double, double>> pts, run;
+    const bool thin = dense(se);
+    Points pts, run;
     auto flush = [&] {
-      if (se.lines) s.polyline(run, c, 1.6, se.dashed, clip);
+      if (se.lines) s.polyline(thin ? thinLine(run) : run, c, 1.6, se.dashed, clip);
       run.clear();
     };
     for (std::size_t j = 0; j < se.x.size() && j < se.y.size(); ++j) {
@@ -325,10 +374,10 @@ double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx
 }
 
 // One panel from y down, its plot area at x = ml, pw wide: title, frame, y label, diagonal,
-// reference lines, series and legend. Returns the y below it.
+// reference lines, series and legend. Returns the y below it; sets thinned if a series was.
 double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel& pan,
                  const PanelPlan& p, const Range& xr, const XAxisPlan& xp, double ml, double pw,
-                 double y) {
+                 double y, bool& thinned) {
   const double lh = m.height(kLabelSize), ph = spec.panel_height;
   if (!pan.title.empty())
     y = titleBlock(s, m, pan.title, ml, ml + pw, y, kLabelSize);
@@ -339,6 +388,13 @@ double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel
   for (std::size_t c = 0; c < p.ylines.size(); ++c)
     s.vtext(p.ylines[c], kPad + lh * (c + 0.5), y + ph / 2, kLabelSize);
   const std::array<double, 4> clip{ml, y, pw, ph};
+  // A panel with a dense cloud of markers draws its plot area (grid, reference lines, series) as
+  // one image, then its frame again on top.
+  const bool raster =
+      rasterMarkers(spec) && std::any_of(pan.series.begin(), pan.series.end(),
+                                         [](const PlotSeries& se) { return se.markers; });
+  const std::size_t mark = s.size();
+  if (raster) drawGrid(s, f, xp, p.yt, spec.x_categories);
   if (pan.diagonal)
     s.polyline({{f.px(xr.lo), f.py(xr.lo)}, {f.px(xr.hi), f.py(xr.hi)}}, {136, 136, 136}, 1, true,
                clip);
@@ -349,6 +405,11 @@ double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel
       s.polyline({{f.px(l.value), y}, {f.px(l.value), y + ph}}, l.colour, 1.5, true, clip);
   }
   drawSeries(s, f, pan, clip);
+  if (raster) {
+    s.rasterise(mark, ml, y, static_cast<int>(std::lround(pw)), static_cast<int>(std::lround(ph)));
+    s.rect(ml, y, pw, ph, std::nullopt, kFrame);
+  }
+  if (raster || std::any_of(pan.series.begin(), pan.series.end(), dense)) thinned = true;
   // Legend right of the panel.
   const double ly = drawPanelLegend(s, m, pan, ml + pw + 2 * kGap, y);
   return std::max(y + ph + xp.below, ly) + kGap;
@@ -372,11 +433,19 @@ Drawing plot(const PlotSpec& spec, Format format) {
     W = std::max(W, m.width(word, kTitleSize) + 2 * kPad);
   const double pw = W - ml - mr;
   double y = titleBlock(s, m, spec.title, kPad, W - kPad, kPad);
+  bool thinned = false;
   for (std::size_t k = 0; k < spec.panels.size(); ++k)
-    y = drawPanel(s, m, spec, spec.panels[k], pl.ps[k], xr, xp, ml, pw, y);
+    y = drawPanel(s, m, spec, spec.panels[k], pl.ps[k], xr, xp, ml, pw, y, thinned);
   for (const auto& l : m.wrap(spec.x_label, kLabelSize, pw)) {
     s.text(l, ml + pw / 2, y, kLabelSize, HAlign::centre, VAlign::top);
     y += lh;
+  }
+  if (thinned) {
+    y += kGap;
+    for (const auto& l : m.wrap(kThinNote, kTickSize, W - 2 * kPad)) {
+      s.text(l, kPad, y, kTickSize, HAlign::left, VAlign::top);
+      y += m.height(kTickSize);
+    }
   }
   s.fit(W, y + kPad);
   return s.render(format);

@@ -6,6 +6,7 @@
 // the figures' font (DejaVu Sans from its file), so labels never overprint each other and never
 // leave the canvas. Each Drawing lists the boxes of the text it drew, for checks.
 #include <array>
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
@@ -92,6 +93,12 @@ struct PlotSpec {
   double panel_height = 260;  // plot area height of each panel [px]
 };
 Drawing plot(const PlotSpec& spec, Format format = Format::svg);
+// Thinning for drawing: a line of more points than this keeps, of each run of consecutive points
+// in one pixel column, the first, lowest, highest and last (peaks stay visible); a figure of more
+// markers than this draws the plot areas that hold markers as images. The figure then carries
+// kThinNote under its x label; data files keep every point.
+constexpr std::size_t kThinAbove = 2000;
+extern const char* const kThinNote;
 // Distinct colours for series, in order (wraps after 10; never light grey).
 Rgb seriesColour(int k);
 

@@ -201,6 +201,33 @@ void ImageOp::draw(cairo_t* cr) const {
   cairo_surface_destroy(s);
 }
 
+void Scene::rasterise(std::size_t from, double x, double y, int w, int h) {
+  ARMSTUDY_CHECK(from <= ops_.size() && w > 0 && h > 0, "rasterise: bad mark or size");
+  cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  cairo_t* cr = cairo_create(surf);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_translate(cr, -x, -y);
+  cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);  // few colours: a small PNG
+  for (std::size_t i = from; i < ops_.size(); ++i) ops_[i]->draw(cr);
+  cairo_destroy(cr);
+  cairo_surface_flush(surf);
+  RasterImage img(w, h);
+  const unsigned char* data = cairo_image_surface_get_data(surf);
+  const int stride = cairo_image_surface_get_stride(surf);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const std::uint32_t v =
+          reinterpret_cast<const std::uint32_t*>(data + static_cast<std::size_t>(r) * stride)[c];
+      img.set(c, r,
+              Rgb{static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 8),
+                  static_cast<std::uint8_t>(v)});
+    }
+  cairo_surface_destroy(surf);
+  ops_.resize(from);
+  ops_.push_back(std::make_unique<ImageOp>(std::move(img), x, y));
+}
+
 Drawing Scene::render(Format format) const {
   Drawing d;
   d.width = std::ceil(W);

@@ -237,6 +237,13 @@ class Scene {
 
   Drawing render(Format format) const;  // plot_layout.cpp
 
+  // The number of drawing operations so far (a mark for rasterise).
+  std::size_t size() const { return ops_.size(); }
+  // Replaces the operations added since `from` by one image of them, clipped to the rectangle at
+  // (x, y), w x h px, on a white ground (plot_layout.cpp): a dense cloud of markers then weighs a
+  // compressed image instead of one SVG element per point.
+  void rasterise(std::size_t from, double x, double y, int w, int h);
+
  private:
   static constexpr Rgb kBlackText{0, 0, 0};
   const Meter& m_;

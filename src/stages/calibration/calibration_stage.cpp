@@ -394,24 +394,28 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
         "the design and compares that copy with the same data (docs/calibration.md, \"As a study "
         "stage\"). RMSE in the unit of each entry; held-out = k-fold cross-validation.\n\n";
   for (const EntrySummary& s : entries) {
+    const ShownUnit u = shownUnit(s.unit);
+    const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
     md << "## " << s.name << "\n\n"
        << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `"
        << s.design << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode
-       << ". Noise estimate " << g4(s.noise_estimate) << " " << s.unit << "; as designed RMSE "
-       << g4(s.as_designed_rmse) << " " << s.unit << ", flagged bins " << s.as_designed_flagged
-       << " of " << s.bins << ".\n\n";
+       << ". Noise estimate " << q(s.noise_estimate) << "; as designed RMSE "
+       << q(s.as_designed_rmse) << ", flagged bins " << s.as_designed_flagged << " of " << s.bins
+       << ".\n\n";
     std::vector<std::vector<std::string>> rows;
     for (const LadderStep& l : s.ladder)
-      rows.push_back({l.label, std::to_string(l.n_params), g4(l.train_rmse), g4(l.heldout_rmse)});
-    md << report::markdownTable({"model", ">params", ">train RMSE [" + s.unit + "]",
-                                 ">held-out RMSE [" + s.unit + "]"},
+      rows.push_back({l.label.rfind('+', 0) == 0 ? "+ " + effectWords(l.label.substr(1)) : l.label,
+                      std::to_string(l.n_params), shown(l.train_rmse, u),
+                      shown(l.heldout_rmse, u)});
+    md << report::markdownTable({"model", ">params", ">train RMSE [" + u.unit + "]",
+                                 ">held-out RMSE [" + u.unit + "]"},
                                 rows)
        << "\n";
     if (s.mode == "fit") {
       std::string added;
-      for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + a;
+      for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + effectWords(a);
       md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added)
-         << ". Held-out RMSE " << g4(s.rmse_before) << " -> " << g4(s.rmse_after) << " " << s.unit;
+         << ". Held-out RMSE " << shown(s.rmse_before, u) << " -> " << q(s.rmse_after);
       if (s.rmse_after > 0 && !s.added.empty())
         md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
       if (s.calibrated_design.empty()) {
@@ -420,9 +424,9 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
         md << ".\n\n";
       } else {
         md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design
-           << "` against the same data: RMSE " << g4(s.calibrated_rmse) << " " << s.unit
-           << ", flagged bins " << s.calibrated_flagged << " of " << s.bins
-           << " (as designed: " << s.as_designed_flagged << ").\n\n";
+           << "` against the same data: RMSE " << q(s.calibrated_rmse) << ", flagged bins "
+           << s.calibrated_flagged << " of " << s.bins << " (as designed: " << s.as_designed_flagged
+           << ").\n\n";
       }
       if (!s.extra_metrics.empty())
         md << "Per joint (held out by time block), the fitted values beside the reference and the "
@@ -434,8 +438,10 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
            << s.name << "/residuals_before_after.svg`.\n\n";
       std::vector<std::vector<std::string>> prow;
       for (const FittedParameter& f : s.final_params)
-        prow.push_back(
-            {f.key, g4(f.value), f.unit, "[" + g4(f.ci_low) + ", " + g4(f.ci_high) + "]"});
+        prow.push_back({effectWords(f.key), shown(f.value, shownUnit(f.unit)),
+                        shownUnit(f.unit).unit,
+                        "[" + shown(f.ci_low, shownUnit(f.unit)) + ", " +
+                            shown(f.ci_high, shownUnit(f.unit)) + "]"});
       if (!prow.empty())
         md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow)
            << "\n";
@@ -458,10 +464,12 @@ std::string entryAnswer(const EntrySummary& e) {
   if (e.added.empty() || !std::isfinite(e.rmse_before) || !std::isfinite(e.rmse_after))
     return a + e.verdict;
   for (std::size_t k = 0; k < e.added.size() && k < 4; ++k)
-    a += (k ? ", " : "adding ") + e.added[k];
+    a += (k ? ", " : "adding ") + effectWords(e.added[k]);
   if (e.added.size() > 4) a += " and " + std::to_string(e.added.size() - 4) + " more";
-  a += " lowers the held-out RMSE from " + formatG(e.rmse_before, 3) + " to " +
-       formatG(e.rmse_after, 3) + " " + e.unit;
+  const ShownUnit u = shownUnit(e.unit);
+  const auto v = [&](double x) { return u.decimals < 0 ? formatG(x, 3) : shown(x, u); };
+  a += " lowers the held-out RMSE from " + v(e.rmse_before) + " to " + v(e.rmse_after) + " " +
+       u.unit;
   if (e.rmse_after > 0) a += " (" + formatG(e.rmse_before / e.rmse_after, 3) + "x lower)";
   return a + ".";
 }

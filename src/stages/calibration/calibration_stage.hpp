@@ -109,6 +109,20 @@ struct EntrySummary {
   std::vector<std::string> answers, remainders;
 };
 
+// Words for the report's sentences and tables. An effect or parameter key ("joint_1.viscous",
+// "joint_1.viscous.viscous", "link_length.j4.x") in words ("joint_1 viscous friction", "j4 link
+// length x"); the same key stays in result.json and summary.json.
+std::string effectWords(const std::string& key);
+// A value of `unit` as shown: lengths in mm to 0.01 mm (the TCP figures are in mm and the noise of
+// a TCP log is a tenth of a millimetre or more), others to 4 significant digits.
+struct ShownUnit {
+  double scale = 1;  // shown value = scale * value
+  std::string unit;
+  int decimals = -1;  // fixed decimals; -1: 4 significant digits
+};
+ShownUnit shownUnit(const std::string& unit);
+std::string shown(double v, const ShownUnit& u);  // number only
+
 std::string entrySummaryToJson(const EntrySummary& s);
 EntrySummary entrySummaryFromJson(const std::string& json);  // throws std::exception when malformed
 

@@ -1,6 +1,11 @@
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
+#include "common/format.hpp"
+#include "report/markdown.hpp"
 #include "stages/calibration/calibration_stage.hpp"
 
 namespace armstudy::calibration {
@@ -17,6 +22,62 @@ ordered_json finite(double v) { return std::isfinite(v) ? ordered_json(v) : orde
 double number(const ordered_json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
 
 }  // namespace
+
+std::string effectWords(const std::string& key) {
+  static const std::map<std::string, std::string> words{
+      {"viscous", "viscous friction"},
+      {"coulomb", "Coulomb friction"},
+      {"stribeck", "Stribeck friction"},
+      {"armature", "armature inertia"},
+      {"inertia", "inertia"},
+      {"link_mass", "link mass"},
+      {"joint_offset", "joint offset"},
+      {"link_length", "link length"},
+      {"payload", "payload"},
+      {"load_viscous", "load-dependent viscous friction"}};
+  std::vector<std::string> parts;
+  for (std::size_t a = 0;;) {
+    const std::size_t b = key.find('.', a);
+    parts.push_back(key.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  // A parameter named like its effect ("joint_1.viscous.viscous") is that effect.
+  // So is one named like the last word of its type ("joint_offset.j3.offset").
+  const auto endsWithWord = [](const std::string& a, const std::string& w) {
+    return a.size() > w.size() && a.compare(a.size() - w.size() - 1, w.size() + 1, "_" + w) == 0;
+  };
+  if (parts.size() >= 2 &&
+      (parts.back() == parts[parts.size() - 2] || endsWithWord(parts[0], parts.back())))
+    parts.pop_back();
+  const auto word = [&](const std::string& p) {
+    const auto it = words.find(p);
+    return it == words.end() ? p : it->second;
+  };
+  if (parts.size() == 1) return word(parts[0]);
+  // "<type>.<joint>[.<axis>]" (link_mass.joint_4, link_length.j4.x) or "<joint>.<effect>"
+  // (joint_1.viscous, j3.stribeck).
+  std::string out;
+  if (words.count(parts[0]) && !words.count(parts[1])) {
+    out = parts[1] + " " + word(parts[0]);
+    for (std::size_t k = 2; k < parts.size(); ++k) out += " " + parts[k];
+  } else {
+    out = parts[0];
+    for (std::size_t k = 1; k < parts.size(); ++k) out += " " + word(parts[k]);
+  }
+  return out;
+}
+
+ShownUnit shownUnit(const std::string& unit) {
+  if (unit == "m") return {1e3, "mm", 2};
+  return {1, unit, -1};
+}
+
+std::string shown(double v, const ShownUnit& u) {
+  if (!std::isfinite(v)) return "-";
+  if (u.decimals < 0) return formatG(u.scale * v, 4);
+  return report::fixed(u.scale * v, u.decimals);
+}
 
 std::string entrySummaryToJson(const EntrySummary& s) {
   ordered_json j;
