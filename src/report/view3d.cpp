@@ -368,7 +368,11 @@ const char* kApp = R"JS(
   function fit() {
     const centre = box.getCenter(new THREE.Vector3());
     controls.target.copy(centre);
-    camera.position.copy(centre).add(new THREE.Vector3(1.0, -1.6, 0.9).normalize().multiplyScalar(2.6 * radius));
+    // The bounding sphere of everything fits the narrower of the two fields of view.
+    const vfov = camera.fov * Math.PI / 180, aspect = canvas.clientWidth / Math.max(canvas.clientHeight, 1);
+    const hfov = 2 * Math.atan(Math.tan(vfov / 2) * aspect);
+    const distance = 1.05 * radius / Math.sin(Math.min(vfov, hfov) / 2);
+    camera.position.copy(centre).add(new THREE.Vector3(1.0, -1.6, 0.9).normalize().multiplyScalar(distance));
     camera.near = radius / 100;
     camera.far = radius * 100;
     camera.lookAt(centre);

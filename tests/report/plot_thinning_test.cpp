@@ -81,7 +81,7 @@ TEST_CASE("plot thinning: a line of 20000 points keeps its peaks and says it was
   CHECK(d.svg.find("Drawn thinned") != std::string::npos);
 }
 
-TEST_CASE("plot thinning: a figure of 3000 markers draws them as an image; 300 stay vector",
+TEST_CASE("plot thinning: a figure of 3000 markers draws them as an image and 300 stay vector",
           "[report][plot]") {
   for (const int n : {300, 3000}) {
     PlotSpec spec;

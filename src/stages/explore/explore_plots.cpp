@@ -44,8 +44,9 @@ std::vector<double> parallelRow(const ExploreOptions& o, const Candidate& k) {
 std::string parameterAxisLabel(const ExploreOptions& o, const Parameter& p) {
   Dimension d = Dimension::Dimensionless;
   std::string error;
-  if (!modelEntryDimension(o.base, p.key, d, error)) return p.label;
-  return p.label + " [" + siUnit(d) + "]";
+  const std::string& name = p.label.empty() ? p.key : p.label;  // the key when no label is given
+  if (!modelEntryDimension(o.base, p.key, d, error)) return name;
+  return name + " [" + siUnit(d) + "]";
 }
 
 std::string objectiveAxisLabel(const Objective& ob) {
