@@ -322,7 +322,40 @@ class MarkdownToHtml {
     ++i_;
   }
 
+  // A table whose cells each hold one image (maps side by side) becomes a gallery that wraps to
+  // the page's width, each figure captioned by its column's heading.
+  bool imageTable() {
+    const auto head = tableCells(lines_[i_]);
+    std::size_t end = i_ + 2, images = 0;
+    for (; end < lines_.size() && !lines_[end].empty() && lines_[end][0] == '|'; ++end)
+      for (const std::string& c : tableCells(lines_[end])) {
+        if (c.empty()) continue;
+        if (onlyImages(c).size() != 1) return false;
+        ++images;
+      }
+    if (images < 2) return false;
+    o_ << "<div class=\"gallery\">\n";
+    for (std::size_t r = i_ + 2; r < end; ++r) {
+      const auto cells = tableCells(lines_[r]);
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        if (cells[c].empty()) continue;
+        // "![design: what](file)": the design, then the column's heading.
+        const std::string alt = cells[c].substr(2, cells[c].find("](") - 2);
+        const std::size_t colon = alt.find(": ");
+        const std::string caption =
+            (colon == std::string::npos ? "" : alt.substr(0, colon) + ": ") +
+            (c < head.size() ? head[c] : alt);
+        o_ << "<figure>" << inlineMd(cells[c], targets_) << "<figcaption>"
+           << inlineMd(caption, targets_) << "</figcaption></figure>\n";
+      }
+    }
+    o_ << "</div>\n";
+    i_ = end;
+    return true;
+  }
+
   void table() {
+    if (imageTable()) return;
     const auto head = tableCells(lines_[i_]);
     const auto seps = tableCells(lines_[i_ + 1]);
     std::vector<bool> right(head.size(), false);
