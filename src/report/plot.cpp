@@ -18,7 +18,7 @@ const char* const kThinNote =
 
 MapAxis cellAxis(std::string label, double from, double to, double step) {
   const double h = 0.5 * (to > from ? step : 1.0);
-  return MapAxis{std::move(label), from - h, to + h};
+  return MapAxis{std::move(label), from - h, to + h, from, to};
 }
 
 Rgb seriesColour(int k) {
@@ -40,20 +40,54 @@ Rgb diverging(double t) {
   return {ch(255 - t * (255 - 178)), ch(255 - t * (255 - 24)), ch(255 - t * (255 - 43))};
 }
 
-Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
+namespace {
+
+// The ticks of a map axis drawn over `length_px` (the cells' inner extent): over the cells' centres
+// where the axis gives them (a tick off the data would name a value no cell holds), else over the
+// whole extent; a single row or column gets its centre.
+std::vector<double> mapTicks(const MapAxis& a, double length_px, double per_tick_px,
+                             const std::function<double(const std::string&)>& extent) {
+  if (!(a.hi > a.lo)) return {};
+  if (!(std::isfinite(a.from) && std::isfinite(a.to))) {
+    return fittingTicks(a.lo, a.hi, length_px, per_tick_px, extent);
+  }
+  if (!(a.to > a.from)) return {a.from};
+  const double span_px = length_px * (a.to - a.from) / (a.hi - a.lo);
+  std::vector<double> t = fittingTicks(a.from, a.to, span_px, per_tick_px, extent);
+  if (t.size() < 2) t = {a.from, a.to};  // no round value between: the first and last centre
+  return t;
+}
+
+// The raster with the rows inside its frame (`border` px) repeated to `height` px in all, each row
+// of cells keeping its share; a raster at least that tall as it is.
+RasterImage stretchRows(const RasterImage& map, int border, int height) {
+  const int h = map.height(), w = map.width();
+  if (height <= h || h <= 2 * border) return map;
+  RasterImage out(w, height);
+  const int inner_src = h - 2 * border, inner_dst = height - 2 * border;
+  for (int r = 0; r < height; ++r) {
+    const int src = r < border             ? r
+                    : r >= height - border ? h - (height - r)
+                                           : border + (r - border) * inner_src / inner_dst;
+    for (int c = 0; c < w; ++c) out.set(c, r, map.at(c, src));
+  }
+  return out;
+}
+
+}  // namespace
+
+Drawing mapFigure(const RasterImage& raster, const MapFigure& f, Format format) {
   const Meter m;
   Scene s(m);
+  const RasterImage map =
+      stretchRows(raster, f.border_px, static_cast<int>(std::ceil(kMinMapHeight)));
   const double w = map.width(), h = map.height(), bp = f.border_px;
   const double th = m.height(kTickSize), lh = m.height(kLabelSize);
   // Ticks first (their labels set the margins).
   const double inner_w = w - 2 * bp, inner_h = h - 2 * bp;
-  const auto xt = f.x.hi > f.x.lo
-                      ? fittingTicks(f.x.lo, f.x.hi, inner_w, 80,
-                                     [&](const std::string& t) { return m.width(t, kTickSize); })
-                      : std::vector<double>{};
-  const auto yt = f.y.hi > f.y.lo ? fittingTicks(f.y.lo, f.y.hi, inner_h, 60,
-                                                 [&](const std::string&) { return th; })
-                                  : std::vector<double>{};
+  const auto xt =
+      mapTicks(f.x, inner_w, 80, [&](const std::string& t) { return m.width(t, kTickSize); });
+  const auto yt = mapTicks(f.y, inner_h, 60, [&](const std::string&) { return th; });
   double ytw = 0;
   for (double t : yt) ytw = std::max(ytw, m.width(tickText(t), kTickSize));
   // Labels reading upwards wrap to the map's height, or to 300 px beside a shorter map; what is
