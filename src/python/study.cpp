@@ -437,19 +437,26 @@ import base64 as _base64, html as _html, os as _os, re as _re
 class StudyResult(dict):
     """What run_study returns: a dict (study, output_dir, designs, threads, files, units_resumed,
     resume_message, timings, metrics, flags, maps). In Jupyter it shows as the report does: the
-    study's answer block (report.md's Answer and Warnings) and its first map image."""
+    study's answer block (report.md's Answer, Warnings and Assumptions) and its first map image."""
+
+    _ANSWER_SECTIONS = ("## Answer\n", "## Warnings\n", "## Assumptions\n")
 
     def answer(self):
-        """The Answer and Warnings sections of the study's report.md (Markdown; '' if none)."""
+        """The answer block of the study's report.md (Markdown; '' if none): its Answer and
+        Warnings sections and, when the results rest on assumed values, its Assumptions."""
         try:
             with open(_os.path.join(self["output_dir"], "report.md"), encoding="utf-8") as f:
                 text = f.read()
         except OSError:
             return ""
-        start = text.find("## Answer")
+        start = text.find("## Answer\n")
         if start < 0:
             return ""
-        end = text.find("\n## ", text.find("## Warnings", start) + 1)
+        end = start
+        while True:  # up to the first heading of level 2 that is not of the block
+            end = text.find("\n## ", end + 1)
+            if end < 0 or not text.startswith(self._ANSWER_SECTIONS, end + 1):
+                break
         return text[start:] if end < 0 else text[start:end]
 
     def first_map(self):

@@ -29,10 +29,12 @@ bool endsWith(const std::string& s, const std::string& e) {
 // ---- inline Markdown ----
 // Where a Markdown text's links and images lead: the text was written in folder `dir` of the
 // output folder (markdown.hpp reportLinkTarget, reportImagePath); `image` gives an image's src
-// from its path relative to the output folder, "" to show its alt text instead.
+// from its path relative to the output folder, "" to show its alt text instead; `links`, when
+// given, collects the kept links into the output folder (relative to it, without a fragment).
 struct Targets {
   const std::function<std::string(const std::string&)>& image;
   std::string dir;
+  std::set<std::string>* links = nullptr;
 };
 
 // Emphasis and links nest at most this deep; deeper text is shown as it is written (user text
@@ -103,6 +105,11 @@ std::string inlineMd(const std::string& s, const Targets& t, int depth = 0) {
 std::string linkHtml(const std::string& text, const std::string& url, const Targets& t, int depth) {
   const std::string href = reportLinkTarget(url, t.dir);
   if (href.empty()) return inlineMd(text, t, depth);
+  if (t.links && href[0] != '#' && href.find("://") == std::string::npos) {
+    std::string path = fs::path(href.substr(0, href.find('#'))).lexically_normal().generic_string();
+    while (path.size() > 1 && path.back() == '/') path.pop_back();  // a folder
+    t.links->insert(path);
+  }
   return "<a href=\"" + htmlEscape(href) + "\">" + inlineMd(text, t, depth) + "</a>";
 }
 
@@ -219,8 +226,9 @@ class MarkdownToHtml {
  public:
   using Image = std::function<std::string(const std::string&)>;
   MarkdownToHtml(const std::string& md, const std::string& id_prefix, const Image& image,
-                 std::vector<Heading>* headings, const std::string& dir)
-      : id_prefix_(id_prefix), targets_{image, dir}, headings_(headings) {
+                 std::vector<Heading>* headings, const std::string& dir,
+                 std::set<std::string>* links)
+      : id_prefix_(id_prefix), targets_{image, dir, links}, headings_(headings) {
     std::istringstream in(md);
     std::string l;
     while (std::getline(in, l)) {
@@ -404,8 +412,9 @@ class MarkdownToHtml {
 
 std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
                            const std::function<std::string(const std::string&)>& image,
-                           std::vector<Heading>* headings, const std::string& dir) {
-  return MarkdownToHtml(md, id_prefix, image, headings, dir).run();
+                           std::vector<Heading>* headings, const std::string& dir,
+                           std::set<std::string>* links) {
+  return MarkdownToHtml(md, id_prefix, image, headings, dir, links).run();
 }
 
 namespace {
@@ -478,6 +487,7 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
                                                          return figures.link(rel);
                                                        };
   std::set<std::string>& shown = figures.shown;
+  std::set<std::string> links;  // what the stages' reports link inside the output folder
   // The answer's images are linked, not carried (it opens the page).
   const std::string answer_html =
       answer_md.empty() ? "" : markdownToHtml(answer_md, "answer-", linked);
@@ -498,20 +508,27 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       const std::string dir = fs::path(f).parent_path().generic_string();
       std::vector<Heading> hs;
       body << markdownToHtml(readFileOrThrow(p.string()),
-                             sid + "-" + std::to_string(md_count++) + "-", dataUri, &hs, dir);
+                             sid + "-" + std::to_string(md_count++) + "-", dataUri, &hs, dir,
+                             &links);
       for (const Heading& h : hs)
         if (h.level <= 3)
           nav << "<li class=\"l" << h.level << "\"><a href=\"#" << h.id << "\">"
               << inlineMd(h.text, Targets{linked, dir}) << "</a></li>\n";
     }
-    // Figures no report shows (one per figure: an .svg, else its .png).
+    // Figures no report shows or links, itself or its folder (one per figure: an .svg, else its
+    // .png).
+    const auto linked_to = [&](const std::string& n) {
+      for (fs::path p = n; !p.empty() && p != p.parent_path(); p = p.parent_path())
+        if (links.count(p.generic_string())) return true;
+      return false;
+    };
     std::vector<std::string> more;
     std::set<std::string> stems_with_svg;
     for (const std::string& f : st.files)
       if (endsWith(f, ".svg")) stems_with_svg.insert(f.substr(0, f.size() - 4));
     for (const std::string& f : st.files) {
       const std::string n = fs::path(f).lexically_normal().generic_string();
-      if (shown.count(n)) continue;
+      if (shown.count(n) || linked_to(n)) continue;
       if (endsWith(f, ".svg"))
         more.push_back(f);
       else if (endsWith(f, ".png") && !stems_with_svg.count(f.substr(0, f.size() - 4)) &&

@@ -5,6 +5,7 @@
 // with its caption, the figures no report shows, and links to the data files (.vti, .vtp, .csv,
 // ...). Inline CSS, nothing fetched; readable on a laptop and printable.
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -34,14 +35,16 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
 // images are kept as report/markdown.hpp reportLinkTarget and reportImagePath allow (else their
 // text is shown); an image's path relative to the output folder is resolved with `image` (returns
 // the src to use, e.g. a data URI, or "" to show the alt text); headings get ids
-// "<id_prefix><n>" and are listed in `headings` as (level, id, text) when it is given.
+// "<id_prefix><n>" and are listed in `headings` as (level, id, text) when it is given; `links`,
+// when given, collects the kept links into the output folder (relative to it, without a fragment).
 struct Heading {
   int level = 1;
   std::string id, text;
 };
 std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
                            const std::function<std::string(const std::string&)>& image,
-                           std::vector<Heading>* headings = nullptr, const std::string& dir = "");
+                           std::vector<Heading>* headings = nullptr, const std::string& dir = "",
+                           std::set<std::string>* links = nullptr);
 
 std::string base64(const std::string& bytes);
 std::string htmlEscape(const std::string& s);

@@ -125,8 +125,8 @@ std::vector<std::string> images(const std::string& text, const std::string& star
 }
 
 // Every "before_<x>" figure of a folder comes ahead of its "after_<x>" figure, and the figures of a
-// calibrated copy's check run come after the entry's own.
-void checkOrder(const std::vector<std::string>& figures, const std::string& entry) {
+// calibrated copy's check run come after the entry's own; returns the pairs shown.
+int checkOrder(const std::vector<std::string>& figures, const std::string& entry) {
   std::map<std::string, std::size_t> at;
   std::size_t last_own = 0, first_check = figures.size();
   bool any = false;
@@ -152,7 +152,7 @@ void checkOrder(const std::vector<std::string>& figures, const std::string& entr
     CHECK(at.at(before) < i);
     ++pairs;
   }
-  CHECK(pairs > 0);
+  return pairs;
 }
 
 }  // namespace
@@ -215,13 +215,27 @@ TEST_CASE(
       ++checked;
     }
   CHECK(checked > 0);
-  // On the stage report and on the study's page, before figures precede after figures.
+  // On the stage report and on the study's page, before figures precede after figures; an after
+  // figure not shown (the fit leaves no bin flagged) is linked instead.
   const std::string md = readFileOrThrow((out / "calibration/report.md").string());
   const std::string html = readFileOrThrow((out / "report.html").string());
   for (const std::string entry : {"tcp", "tcp_variant", "trajectory"}) {
     INFO(entry);
-    checkOrder(images(md, "![", "](", ")"), entry);
-    checkOrder(images(html, "<img ", "alt=\"", "\""), entry);
+    const int shown = checkOrder(images(md, "![", "](", ")"), entry);
+    CHECK(checkOrder(images(html, "<img ", "alt=\"", "\""), entry) == shown);
+    int after = 0, linked = 0;
+    for (const auto& e : fs::directory_iterator(out / "calibration" / entry / "plots")) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind("after_", 0) != 0) continue;
+      ++after;
+      const std::string rel = entry + "/plots/" + name;
+      if (md.find("![" + rel + "](" + rel + ")") == std::string::npos &&
+          md.find("](" + rel + ")") != std::string::npos &&
+          html.find("<a href=\"calibration/" + rel + "\">") != std::string::npos)
+        ++linked;
+    }
+    CHECK(after > 0);
+    CHECK(shown + linked == after);
   }
   fs::remove_all(root);
 }

@@ -32,6 +32,9 @@ using nlohmann::ordered_json;
 namespace {
 
 constexpr double kRoundTripTolerance = 1e-12;  // variant design text read back vs the variant
+// A calibrated copy whose RMSE against the same data is within this fraction of the fit's training
+// RMSE reproduces the fit: its check run's figures repeat the after figures and are not shown.
+constexpr double kCheckRunRepeatsFit = 0.01;
 
 }  // namespace
 
@@ -354,14 +357,38 @@ std::string g4(double v) {
   return formatG(v, 4);
 }
 
+// Whether the calibrated copy's check run reproduces the fit: its RMSE against the same data is
+// the fit's training RMSE within kCheckRunRepeatsFit (the copy holds every fitted value).
+bool checkRunRepeatsFit(const EntrySummary& s) {
+  if (s.mode != "fit" || s.calibrated_design.empty() || s.ladder.empty()) return false;
+  const double fit = s.ladder.back().train_rmse;
+  return std::isfinite(s.calibrated_rmse) && std::isfinite(fit) &&
+         std::abs(s.calibrated_rmse - fit) <= kCheckRunRepeatsFit * fit;
+}
+
 // The figures of an entry (paths relative to the stage folder) in reading order: the error ladder,
 // the residuals against their predictions (before and after in one figure), then each figure of
 // the model before the fit followed by its counterpart after it, then the calibrated copy's check
-// run in the same order, then any other figure.
-std::vector<std::string> entryFigures(const EntrySummary& s, const std::string& stage_dir) {
-  std::vector<std::string> svgs;
-  for (const std::string& f : s.files)
-    if (fs::path(f).extension() == ".svg") svgs.push_back(relativeTo(f, stage_dir));
+// run in the same order, then any other figure. Figures that repeat others go to `folded` instead:
+// the check run's when it reproduces the fit (checkRunRepeatsFit), and the after figures over the
+// operating variables and the workspace when the fit leaves no bin flagged (their residuals lie
+// inside the thresholds everywhere; the residuals against their predictions show before and after
+// on one scale).
+struct EntryFigures {
+  std::vector<std::string> shown, folded;
+};
+EntryFigures entryFigures(const EntrySummary& s, const std::string& stage_dir) {
+  EntryFigures out;
+  const bool fold_check = checkRunRepeatsFit(s);
+  const bool fold_after = fold_check && s.calibrated_flagged == 0;
+  for (const std::string& f : s.files) {
+    if (fs::path(f).extension() != ".svg") continue;
+    const std::string rel = relativeTo(f, stage_dir);
+    const bool check = rel.rfind(s.name + "/calibrated/", 0) == 0;
+    const bool after = rel.rfind(s.name + "/plots/after_", 0) == 0;
+    (fold_check && check) || (fold_after && after) ? out.folded.push_back(rel)
+                                                   : out.shown.push_back(rel);
+  }
   const auto rank = [&](const std::string& f) {
     const std::string rest = f.substr(s.name.size() + 1);
     const bool check = rest.rfind("calibrated/", 0) == 0;
@@ -379,9 +406,37 @@ std::vector<std::string> entryFigures(const EntrySummary& s, const std::string& 
     }
     return std::make_tuple(check, order, key);
   };
-  std::stable_sort(svgs.begin(), svgs.end(),
-                   [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
-  return svgs;
+  for (auto* v : {&out.shown, &out.folded})
+    std::stable_sort(v->begin(), v->end(),
+                     [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  return out;
+}
+
+// The entry's figures in Markdown: what is folded (said and linked), then the figures shown.
+std::string entryFiguresMd(const EntrySummary& s, const std::string& stage_dir) {
+  const EntryFigures figs = entryFigures(s, stage_dir);
+  const ShownUnit u = shownUnit(s.unit);
+  const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
+  std::string md;
+  if (checkRunRepeatsFit(s))
+    md += "The calibrated copy reproduces the fit against the same data (RMSE " +
+          q(s.calibrated_rmse) + ", the fit's training RMSE " + q(s.ladder.back().train_rmse) +
+          "): its figures in [`" + s.name + "/calibrated/`](" + s.name +
+          "/calibrated/) repeat the after figures and are not shown.\n\n";
+  std::string after;
+  for (const std::string& f : figs.folded) {
+    if (f.rfind(s.name + "/plots/after_", 0) != 0) continue;
+    const std::string stem = fs::path(f).stem().string().substr(6);  // "after_" dropped
+    after += (after.empty() ? "" : ", ") + ("[" + stem + "](" + f + ")");
+  }
+  if (!after.empty())
+    md += "After the fit no bin of the residual map is flagged (" +
+          std::to_string(s.calibrated_flagged) + " of " + std::to_string(s.bins) +
+          "): the after figures show residuals inside their thresholds everywhere and are linked, "
+          "not shown: " +
+          after + ".\n\n";
+  for (const std::string& f : figs.shown) md += "![" + f + "](" + f + ")\n\n";
+  return md;
 }
 
 std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
@@ -452,7 +507,7 @@ std::string stageReport(const std::string& study, const std::vector<EntrySummary
        << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
                            : std::string())
        << ".\n\n";
-    for (const std::string& f : entryFigures(s, stage_dir)) md << "![" << f << "](" << f << ")\n\n";
+    md << entryFiguresMd(s, stage_dir);
   }
   return md.str();
 }
