@@ -14,20 +14,19 @@
 #include "common/errors.hpp"
 #include "common/first_exception.hpp"
 #include "dexterity/stem_collision.hpp"
+#include "metrics/measure_declarations.hpp"
 
 namespace armstudy::dexterity {
 
 namespace {
 
+// Every declared measure (metrics/measure_declarations.hpp), in the declared order.
 void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
-  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min,
-                   m.sigma_max})
-    w.put(v);
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations()) w.put(m.*d.value);
 }
 void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
-  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition,
-                    &m.sigma_min, &m.sigma_max})
-    *v = r.get<double>();
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations())
+    m.*d.value = r.get<double>();
 }
 
 }  // namespace
