@@ -383,6 +383,38 @@ void drawSeries(Scene& s, const Frame& f, const PlotPanel& pan, const std::array
   }
 }
 
+// The series' point labels (PlotSeries::point_labels) in frame f, each beside its marker: right,
+// left, above or below, the first place that overlaps no label already set and stays inside the
+// plot area (else right of it).
+void drawPointLabels(Scene& s, const Meter& m, const Frame& f, const PlotPanel& pan) {
+  std::vector<TextBox> placed;
+  const double th = m.height(kTickSize);
+  const auto free = [&](const TextBox& b) {
+    if (b.x0 < f.x0 || b.x1 > f.x0 + f.w || b.y0 < f.y0 || b.y1 > f.y0 + f.h) return false;
+    return std::none_of(placed.begin(), placed.end(), [&](const TextBox& o) {
+      return b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1;
+    });
+  };
+  for (const PlotSeries& se : pan.series)
+    for (std::size_t j = 0; j < se.point_labels.size() && j < se.x.size() && j < se.y.size(); ++j) {
+      const std::string& t = se.point_labels[j];
+      if (t.empty() || !std::isfinite(se.x[j]) || !std::isfinite(se.y[j])) continue;
+      const double x = f.px(se.x[j]), y = f.py(se.y[j]), w = m.width(t, kTickSize);
+      const double d = se.marker_size + 2;
+      const TextBox options[] = {{t, x + d, y - th / 2, x + d + w, y + th / 2},
+                                 {t, x - d - w, y - th / 2, x - d, y + th / 2},
+                                 {t, x - w / 2, y - d - th, x + w / 2, y - d},
+                                 {t, x - w / 2, y + d, x + w / 2, y + d + th}};
+      TextBox b = options[0];
+      for (const TextBox& o : options)
+        if (free(o)) {
+          b = o;
+          break;
+        }
+      placed.push_back(s.text(t, b.x0, b.y0, kTickSize, HAlign::left, VAlign::top));
+    }
+}
+
 // The legend of a panel at x = lx from y down; returns the bottom of its entries.
 double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx, double y) {
   const double lh = m.height(kLabelSize);
@@ -443,6 +475,7 @@ double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel
     s.rasterise(mark, ml, y, static_cast<int>(std::lround(pw)), static_cast<int>(std::lround(ph)));
     s.rect(ml, y, pw, ph, std::nullopt, kFrame);
   }
+  drawPointLabels(s, m, f, pan);
   if (raster || std::any_of(pan.series.begin(), pan.series.end(), dense)) thinned = true;
   // Legend right of the panel.
   const double ly = drawPanelLegend(s, m, pan, ml + pw + 2 * kGap, y);

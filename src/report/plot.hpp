@@ -74,6 +74,9 @@ struct PlotSeries {
   bool dashed = false;
   Marker marker = Marker::dot;  // the markers' shape
   double marker_size = 2.6;     // radius, or half the side of a square [px]
+  // Text beside each marker (a fruit's number), index for index with x and y; "" or missing: none.
+  // Set beside the marker where it overlaps no other such text and stays in the plot area.
+  std::vector<std::string> point_labels;
 };
 struct RefLine {  // a horizontal (y = value) or vertical (x = value) reference line
   double value = 0;
