@@ -166,15 +166,13 @@ TEST_CASE(
   CHECK(before.caption.find("line " + std::to_string(worst + 2)) != std::string::npos);
 }
 
-TEST_CASE(
-    "view.html of harvest_torque: the holding grid's points, statuses and current ratios "
-    "as the holding .vti holds them",
-    "[report][study]") {
-  const fs::path out =
-      test::runShippedStudy("studies/harvest_torque.toml", test::emptyTempDir("harvest_view"));
-  const auto maps = viewMaps(out);
-  REQUIRE(maps.size() == 2);
-  for (const std::string design : {"final_prototype_9dof", "final_prototype_7dof"}) {
+namespace {
+
+// The holding map of `design` in the view against the holding .vti of the study folder `out`;
+// returns the drive-limited points seen.
+std::size_t checkHoldingView(const fs::path& out, const std::vector<test::ViewMap>& maps,
+                             const std::string& design) {
+  {
     INFO(design);
     const test::ViewMap& v = mapNamed(maps, "static holding: " + design);
     CHECK(v.unit == "1");
@@ -202,9 +200,47 @@ TEST_CASE(
     }
     CHECK(k == v.p_W.size());
     CHECK(k > 0);
-    INFO("drive-limited points " << limited);
     CHECK(v.arm_W.size() >= 3);
+    return limited;
   }
+}
+
+}  // namespace
+
+TEST_CASE(
+    "view.html of harvest_torque: the holding grid's points, statuses and current ratios "
+    "as the holding .vti holds them",
+    "[report][study]") {
+  const fs::path out =
+      test::runShippedStudy("studies/harvest_torque.toml", test::emptyTempDir("harvest_view"));
+  const auto maps = viewMaps(out);
+  REQUIRE(maps.size() == 2);
+  for (const std::string design : {"final_prototype_9dof", "final_prototype_7dof"})
+    checkHoldingView(out, maps, design);
+}
+
+TEST_CASE(
+    "view.html of a harvest holding grid with drives too weak to hold some poses: those "
+    "points in the holding map's drive-limit colour",
+    "[report][study]") {
+  // The 7-DoF with its 6.5 A drives' continuous current cut to 0.5 A.
+  std::string design = readFileOrThrow(test::sourcePath("designs/final_prototype_7dof.toml"));
+  std::size_t cut = 0;
+  for (std::size_t at = design.find("continuous_current = 6.5"); at != std::string::npos;
+       at = design.find("continuous_current = 6.5", at), ++cut)
+    design.replace(at, 24, "continuous_current = 0.5");
+  REQUIRE(cut > 0);
+  const fs::path dir = test::emptyTempDir("harvest_weak_view");
+  writeFileAtomic((dir / "weak.toml").string(), design);
+  std::string study = readFileOrThrow(test::sourcePath("studies/harvest_torque.toml"));
+  study = study.substr(study.find("[harvest]"));
+  study = study.substr(0, study.find("[regression]"));
+  const std::string head = "[study]\nname = \"harvest_weak\"\n[[design]]\nfile = \"" +
+                           (dir / "weak.toml").string() + "\"\n";
+  const fs::path out = runStudyText("harvest_weak", head + study);
+  const auto maps = viewMaps(out);
+  REQUIRE(maps.size() == 1);
+  CHECK(checkHoldingView(out, maps, "final_prototype_7dof") > 0);
 }
 
 TEST_CASE(
