@@ -21,6 +21,7 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "kinematics/kinematics.hpp"
+#include "study/checkpoint.hpp"
 #include "study_support.hpp"
 #include "test_support.hpp"
 #include "view_page.hpp"
@@ -74,6 +75,15 @@ const test::ViewMap& mapNamed(const std::vector<test::ViewMap>& maps, const std:
   return maps.front();
 }
 
+// A study of one TCP calibration entry: the virtual 7-DoF's TCP data of arm_calibration.
+std::string tcpStudyText(const std::string& name) {
+  return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" +
+         test::sourcePath("designs/final_prototype_7dof.toml") +
+         "\"\n[[calibration]]\nname = \"tcp\"\nkind = \"tcp\"\ndesign = "
+         "\"final_prototype_7dof\"\ndata = \"" +
+         test::sourcePath("studies/data/arm_tcp_synth.csv") + "\"\nauto = true\n";
+}
+
 fs::path runStudyText(const std::string& name, const std::string& toml) {
   const fs::path dir = test::emptyTempDir(name);
   const fs::path file = dir / (name + ".toml");
@@ -94,12 +104,7 @@ TEST_CASE(
     "[report][calibration][study]") {
   const std::string design = test::sourcePath("designs/final_prototype_7dof.toml"),
                     data = test::sourcePath("studies/data/arm_tcp_synth.csv");
-  const fs::path out =
-      runStudyText("tcp_view", "[study]\nname = \"tcp_view\"\n[[design]]\nfile = \"" + design +
-                                   "\"\n[[calibration]]\nname = \"tcp\"\nkind = "
-                                   "\"tcp\"\ndesign = \"final_prototype_7dof\"\n"
-                                   "data = \"" +
-                                   data + "\"\nauto = true\n");
+  const fs::path out = runStudyText("tcp_view", tcpStudyText("tcp_view"));
   nlohmann::json page;
   const auto maps = viewMaps(out, &page);
   REQUIRE(maps.size() == 2);
@@ -287,4 +292,40 @@ TEST_CASE(
     CHECK(v.arm_W.size() >= 3);
   }
   CHECK(contacts > 0);  // the run without H_c touches the sphere
+}
+
+TEST_CASE("a calibration entry resumed from its checkpoint hands the view the same maps",
+          "[report][calibration][study][checkpoint]") {
+  const fs::path dir = test::emptyTempDir("tcp_view_resume");
+  writeFileAtomic((dir / "tcp_resume.toml").string(), tcpStudyText("tcp_resume"));
+  const Study s = loadStudy((dir / "tcp_resume.toml").string());
+  const std::string out = (dir / "out" / s.name).string();
+  fs::create_directories(out);
+  std::string message;
+  CheckpointStore store(out, studyFingerprint(s), message);
+  RunOptions ro;
+  ro.output_root = (dir / "out").string();
+  ro.threads = 2;
+  ro.progress = false;
+  const StageResult a = runStage(s, "calibration", out, ro, &store);
+  const StageResult b = runStage(s, "calibration", out, ro, &store);
+  CHECK(a.units_resumed == 0);
+  CHECK(b.units_resumed == 1);
+  REQUIRE(a.view.size() == 2);
+  REQUIRE(b.view.size() == a.view.size());
+  CHECK(b.view_about == a.view_about);
+  for (std::size_t k = 0; k < a.view.size(); ++k) {
+    const report::ViewCloud &x = a.view[k], &y = b.view[k];
+    INFO(x.name);
+    CHECK(y.name == x.name);
+    CHECK(y.p_W == x.p_W);
+    CHECK(y.status == x.status);
+    CHECK(y.status_names == x.status_names);
+    CHECK(y.value == x.value);  // every value finite: compared exactly
+    CHECK(y.value_unit == x.value_unit);
+    CHECK(y.value_quantity == x.value_quantity);
+    CHECK(y.point_size_m == x.point_size_m);
+    CHECK(y.arm_W == x.arm_W);
+    CHECK(y.arm_caption == x.arm_caption);
+  }
 }
