@@ -239,6 +239,7 @@ struct StudyRun {
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
   std::vector<report::ViewCloud> view_clouds;                // the stages' maps for view.html
   std::vector<report::ViewSolid> view_solids;                // ... and their own obstacles
+  std::string view_about, view_value_label;  // ... what they show, when not manipulability maps
   bool view_written = false;
 
   StudyRun(const Study& s, const RunOptions& o, const Ranks& r,
@@ -325,6 +326,10 @@ struct StudyRun {
         answers.emplace_back(section.stage->name(), std::move(a));
         for (report::ViewCloud& c : r.view) view_clouds.push_back(std::move(c));
         view_solids.insert(view_solids.end(), r.view_solids.begin(), r.view_solids.end());
+        if (!r.view.empty() && !r.view_about.empty()) {
+          view_about += (view_about.empty() ? "" : " ") + r.view_about;
+          view_value_label += (view_value_label.empty() ? "" : " / ") + r.view_value_label;
+        }
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
@@ -401,7 +406,8 @@ struct StudyRun {
     }
     report::View3d view;
     view.title = "3-D view: study " + study.name;
-    view.value_label = "manipulability";
+    view.value_label = view_value_label.empty() ? "manipulability" : view_value_label;
+    view.about = view_about;
     view.clouds = std::move(view_clouds);
     // The study's obstacles, then the stages' own ones (each name once: a stage's collision
     // obstacles include the study's).
@@ -419,9 +425,12 @@ struct StudyRun {
   // report.md: the answer first, then the warnings, then where the details are (each stage's
   // report).
   void writeAnswer() {
-    answer_md = view_written ? "**Interactive 3-D view:** [view.html](view.html) (the maps' "
-                               "points, the arm at its best pose and the obstacles; drag to "
-                               "rotate).\n\n## Answer\n\n"
+    const std::string shown =
+        view_value_label.empty()
+            ? "the maps' points, the arm at its best pose and the obstacles"
+            : "the maps' points by " + view_value_label + ", the arm and the obstacles";
+    answer_md = view_written ? "**Interactive 3-D view:** [view.html](view.html) (" + shown +
+                                   "; drag to rotate).\n\n## Answer\n\n"
                              : "## Answer\n\n";
     bool any = false;
     for (const auto& [stage, r] : answers)

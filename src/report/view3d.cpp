@@ -477,13 +477,17 @@ std::string viewHtml(const View3d& view, const std::string& three_js) {
     << "<title>" << htmlEscape(view.title) << "</title>\n<style>" << kStyle << "</style>\n"
     << "</head>\n<body>\n<header>\n<h1>" << htmlEscape(view.title) << "</h1>\n"
     << "<p>Drag to rotate, wheel to zoom, right-drag to pan; point at a map point to read its "
-       "position, status and value. The points are the map's grid points in the world frame; "
-       "the arm (joint frame origins, base to tool) stands at the map's reachable pose of the "
-       "largest manipulability; obstacles brown. Details: <a "
-       "href=\"report.html\">report.html</a>.</p>\n"
+       "position, status and value. "
+    << htmlEscape(view.about.empty()
+                      ? "The points are the map's grid points in the world frame; the arm (joint "
+                        "frame origins, base to tool) stands at the map's reachable pose of the "
+                        "largest manipulability; obstacles brown."
+                      : view.about)
+    << " Details: <a href=\"report.html\">report.html</a>.</p>\n"
     << "<p><label>map <select id=\"map\"></select></label> <label>colour <select "
-       "id=\"mode\"><option value=\"status\">status</option><option "
-       "value=\"value\">manipulability</option></select></label> <label><input type=\"checkbox\" "
+       "id=\"mode\"><option value=\"status\">status</option><option value=\"value\">"
+    << htmlEscape(view.value_label.empty() ? "value" : view.value_label)
+    << "</option></select></label> <label><input type=\"checkbox\" "
        "id=\"points\" checked> points</label></p>\n</header>\n"
     << "<div id=\"stage\"><canvas id=\"view\"></canvas><div id=\"readout\">point at a map point "
        "to read it</div><div id=\"scale\"><span></span><span class=\"rule\"></span></div></div>\n"

@@ -44,6 +44,9 @@ struct View3d {
   std::vector<ViewCloud> clouds;
   std::vector<ViewSolid> solids;
   std::string value_label;  // the value's quantity, for the colour bar (each map names its unit)
+  // What the points, their values and the arm are, for the page's header; "" = the reach maps'
+  // words (grid points, the arm at the reachable pose of the largest manipulability).
+  std::string about;
 };
 
 // Obstacles as the view draws them, in their order.

@@ -79,6 +79,9 @@ struct StageResult {
   // interactive 3-D view (view.html) shows them with the study's obstacles.
   std::vector<report::ViewCloud> view;
   std::vector<report::ViewSolid> view_solids;  // the stage's own obstacles (e.g. a map's stem)
+  // What the stage's maps show (points, values, the arm's pose) for view.html's header and the
+  // colour choice's name; "" = reach and dexterity maps (manipulability, the best pose).
+  std::string view_about, view_value_label;
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "calibration/arm_view.hpp"
 #include "calibration/drive_report.hpp"
 #include "calibration/identification_report.hpp"
 #include "common/errors.hpp"
@@ -23,6 +24,7 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "report/markdown.hpp"
+#include "stages/calibration/calibration_report.hpp"
 
 namespace armstudy::calibration {
 
@@ -32,9 +34,6 @@ using nlohmann::ordered_json;
 namespace {
 
 constexpr double kRoundTripTolerance = 1e-12;  // variant design text read back vs the variant
-// A calibrated copy whose RMSE against the same data is within this fraction of the fit's training
-// RMSE reproduces the fit: its check run's figures repeat the after figures and are not shown.
-constexpr double kCheckRunRepeatsFit = 0.01;
 
 }  // namespace
 
@@ -238,6 +237,7 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
   }
   s.added = d.added;
   s.warnings = d.warnings;
+  s.view = residualViewClouds(d, P, w.model, e.name);
   for (const ArmRemainder& r : d.remainders) s.remainders.push_back(r.text());
   s.verdict = e.fit ? d.verdict : "compare only";
   if (e.fit) {
@@ -301,6 +301,7 @@ std::string unitId(const CalibrationEntry& e) { return "calibration-" + e.name; 
 std::string checkpointBytes(const EntrySummary& s, const std::string& output_dir) {
   ordered_json j;
   j["summary"] = entrySummaryToJson(s);
+  j["view"] = viewCloudsToJson(s.view);
   ordered_json h = ordered_json::object();
   for (const std::string& f : s.files) h[f] = fileHash((fs::path(output_dir) / f).string());
   j["hashes"] = h;
@@ -312,6 +313,7 @@ std::optional<EntrySummary> resumeEntry(const std::string& bytes, const std::str
   try {
     const ordered_json j = ordered_json::parse(bytes);
     EntrySummary s = entrySummaryFromJson(j.at("summary").get<std::string>());
+    s.view = viewCloudsFromJson(j.at("view").get<std::string>());
     const ordered_json& h = j.at("hashes");
     if (h.size() != s.files.size()) return std::nullopt;
     for (const std::string& f : s.files) {
@@ -350,166 +352,6 @@ void addMetrics(const EntrySummary& s, StudyMetrics& M) {
     added[k] = std::find(s.added.begin(), s.added.end(), s.catalogue[k]) != s.added.end();
   M.flags[p + "added"] = added;
   M.flags[p + "significant"] = s.significant;
-}
-
-std::string g4(double v) {
-  if (!std::isfinite(v)) return "-";
-  return formatG(v, 4);
-}
-
-// Whether the calibrated copy's check run reproduces the fit: its RMSE against the same data is
-// the fit's training RMSE within kCheckRunRepeatsFit (the copy holds every fitted value).
-bool checkRunRepeatsFit(const EntrySummary& s) {
-  if (s.mode != "fit" || s.calibrated_design.empty() || s.ladder.empty()) return false;
-  const double fit = s.ladder.back().train_rmse;
-  return std::isfinite(s.calibrated_rmse) && std::isfinite(fit) &&
-         std::abs(s.calibrated_rmse - fit) <= kCheckRunRepeatsFit * fit;
-}
-
-// The figures of an entry (paths relative to the stage folder) in reading order: the error ladder,
-// the residuals against their predictions (before and after in one figure), then each figure of
-// the model before the fit followed by its counterpart after it, then the calibrated copy's check
-// run in the same order, then any other figure. Figures that repeat others go to `folded` instead:
-// the check run's when it reproduces the fit (checkRunRepeatsFit), and the after figures over the
-// operating variables and the workspace when the fit leaves no bin flagged (their residuals lie
-// inside the thresholds everywhere; the residuals against their predictions show before and after
-// on one scale).
-struct EntryFigures {
-  std::vector<std::string> shown, folded;
-};
-EntryFigures entryFigures(const EntrySummary& s, const std::string& stage_dir) {
-  EntryFigures out;
-  const bool fold_check = checkRunRepeatsFit(s);
-  const bool fold_after = fold_check && s.calibrated_flagged == 0;
-  for (const std::string& f : s.files) {
-    if (fs::path(f).extension() != ".svg") continue;
-    const std::string rel = relativeTo(f, stage_dir);
-    const bool check = rel.rfind(s.name + "/calibrated/", 0) == 0;
-    const bool after = rel.rfind(s.name + "/plots/after_", 0) == 0;
-    (fold_check && check) || (fold_after && after) ? out.folded.push_back(rel)
-                                                   : out.shown.push_back(rel);
-  }
-  const auto rank = [&](const std::string& f) {
-    const std::string rest = f.substr(s.name.size() + 1);
-    const bool check = rest.rfind("calibrated/", 0) == 0;
-    const std::string name = fs::path(rest).filename().string();
-    int order = 3;
-    std::string key = name;
-    if (name == "error_ladder.svg") {
-      order = 0;
-    } else if (name.rfind("residual_vs_predicted_", 0) == 0) {
-      order = 1;
-    } else if (name.rfind("before_", 0) == 0 || name.rfind("after_", 0) == 0) {
-      order = 2;
-      const bool after = name[0] == 'a';
-      key = name.substr(after ? 6 : 7) + (after ? "/1" : "/0");
-    }
-    return std::make_tuple(check, order, key);
-  };
-  for (auto* v : {&out.shown, &out.folded})
-    std::stable_sort(v->begin(), v->end(),
-                     [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
-  return out;
-}
-
-// The entry's figures in Markdown: what is folded (said and linked), then the figures shown.
-std::string entryFiguresMd(const EntrySummary& s, const std::string& stage_dir) {
-  const EntryFigures figs = entryFigures(s, stage_dir);
-  const ShownUnit u = shownUnit(s.unit);
-  const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
-  std::string md;
-  if (checkRunRepeatsFit(s))
-    md += "The calibrated copy reproduces the fit against the same data (RMSE " +
-          q(s.calibrated_rmse) + ", the fit's training RMSE " + q(s.ladder.back().train_rmse) +
-          "): its figures in [`" + s.name + "/calibrated/`](" + s.name +
-          "/calibrated/) repeat the after figures and are not shown.\n\n";
-  std::string after;
-  for (const std::string& f : figs.folded) {
-    if (f.rfind(s.name + "/plots/after_", 0) != 0) continue;
-    const std::string stem = fs::path(f).stem().string().substr(6);  // "after_" dropped
-    after += (after.empty() ? "" : ", ") + ("[" + stem + "](" + f + ")");
-  }
-  if (!after.empty())
-    md += "After the fit no bin of the residual map is flagged (" +
-          std::to_string(s.calibrated_flagged) + " of " + std::to_string(s.bins) +
-          "): the after figures show residuals inside their thresholds everywhere and are linked, "
-          "not shown: " +
-          after + ".\n\n";
-  for (const std::string& f : figs.shown) md += "![" + f + "](" + f + ")\n\n";
-  return md;
-}
-
-std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
-                        const std::string& stage_dir) {
-  std::ostringstream md;
-  md << "# Model versus measurement: " << study << "\n\n"
-     << "Each entry compares a design's model with measured data, ranks the candidate effects that "
-        "could be missing by cross-validated error, adds them as asked, writes a calibrated copy "
-        "of "
-        "the design and compares that copy with the same data (docs/calibration.md, \"As a study "
-        "stage\"). RMSE in the unit of each entry; held-out = k-fold cross-validation.\n\n";
-  for (const EntrySummary& s : entries) {
-    const ShownUnit u = shownUnit(s.unit);
-    const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
-    md << "## " << s.name << "\n\n"
-       << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `"
-       << s.design << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode
-       << ". Noise estimate " << q(s.noise_estimate) << "; as designed RMSE "
-       << q(s.as_designed_rmse) << ", flagged bins " << s.as_designed_flagged << " of " << s.bins
-       << ".\n\n";
-    std::vector<std::vector<std::string>> rows;
-    for (const LadderStep& l : s.ladder)
-      rows.push_back({l.label.rfind('+', 0) == 0 ? "+ " + effectWords(l.label.substr(1)) : l.label,
-                      std::to_string(l.n_params), shown(l.train_rmse, u),
-                      shown(l.heldout_rmse, u)});
-    md << report::markdownTable({"model", ">params", ">train RMSE [" + u.unit + "]",
-                                 ">held-out RMSE [" + u.unit + "]"},
-                                rows)
-       << "\n";
-    if (s.mode == "fit") {
-      std::string added;
-      for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + effectWords(a);
-      md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added)
-         << ". Held-out RMSE " << shown(s.rmse_before, u) << " -> " << q(s.rmse_after);
-      if (s.rmse_after > 0 && !s.added.empty())
-        md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
-      if (s.calibrated_design.empty()) {
-        md << ". No calibrated copy";
-        for (const auto& n : s.notes) md << "; " << n;
-        md << ".\n\n";
-      } else {
-        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design
-           << "` against the same data: RMSE " << q(s.calibrated_rmse) << ", flagged bins "
-           << s.calibrated_flagged << " of " << s.bins << " (as designed: " << s.as_designed_flagged
-           << ").\n\n";
-      }
-      if (!s.extra_metrics.empty())
-        md << "Per joint (held out by time block), the fitted values beside the reference and the "
-              "friction "
-              "coefficients over the smooth-sign width: `"
-           << s.name
-           << "/identification.md`; residuals before and "
-              "after on one scale: `"
-           << s.name << "/residuals_before_after.svg`.\n\n";
-      std::vector<std::vector<std::string>> prow;
-      for (const FittedParameter& f : s.final_params)
-        prow.push_back({effectWords(f.key), shown(f.value, shownUnit(f.unit)),
-                        shownUnit(f.unit).unit,
-                        "[" + shown(f.ci_low, shownUnit(f.unit)) + ", " +
-                            shown(f.ci_high, shownUnit(f.unit)) + "]"});
-      if (!prow.empty())
-        md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow)
-           << "\n";
-    }
-    for (const auto& n : s.notes) md << "Note: " << n << "\n\n";
-    for (const auto& x : s.warnings) md << "Warning: " << x << "\n\n";
-    md << "Reports: `" << s.name << "/result.json`, plots in `" << s.name << "/plots/`"
-       << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
-                           : std::string())
-       << ".\n\n";
-    md << entryFiguresMd(s, stage_dir);
-  }
-  return md.str();
 }
 
 // An entry's answer (StageResult::answer): the effects the measurements named, in the order they
@@ -586,11 +428,21 @@ StageResult runCalibrationStage(const StageContext& ctx,
     sum.files.insert(sum.files.end(), done[i]->files.begin(), done[i]->files.end());
     js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
     addMetrics(*done[i], sum.metrics);
+    sum.view.insert(sum.view.end(), done[i]->view.begin(), done[i]->view.end());
     sum.answer.push_back(entryAnswer(*done[i]));
     for (const std::string& a : done[i]->answers)
       sum.answer.push_back("`" + done[i]->name + "`, " + a);
     for (const std::string& r : done[i]->remainders)
       sum.warnings.push_back("`" + done[i]->name + "`: " + r);
+  }
+  if (!sum.view.empty()) {
+    sum.view_about =
+        "The points are the data rows' TCP positions in the world frame (measured for TCP data, "
+        "the design's forward kinematics of the logged joint positions for joint logs), coloured "
+        "by the residual's magnitude (measured - predicted, each map its channel and unit) or by "
+        "whether the row's workspace cell is flagged; the arm (joint frame origins, base to tool) "
+        "stands at the row of the map's largest residual.";
+    sum.view_value_label = "residual";
   }
   writeFileAtomic(dir + "/report.md", stageReport(ctx.study.name, entry_summaries, "calibration"));
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");

@@ -107,6 +107,9 @@ struct EntrySummary {
   // The answer per joint in the user's terms (measured logs; empty otherwise) and the remainders
   // that stand after the fit (they go into the study's warnings).
   std::vector<std::string> answers, remainders;
+  // Where in the workspace the model fails (calibration/arm_view.hpp): the study's 3-D view. Kept
+  // in the checkpoint, not in summary.json.
+  std::vector<report::ViewCloud> view;
 };
 
 // Words for the report's sentences and tables. An effect or parameter key ("joint_1.viscous",
@@ -125,6 +128,10 @@ std::string shown(double v, const ShownUnit& u);  // number only
 
 std::string entrySummaryToJson(const EntrySummary& s);
 EntrySummary entrySummaryFromJson(const std::string& json);  // throws std::exception when malformed
+// The view's maps of an entry as JSON (the checkpoint) and back; throws std::exception when
+// malformed.
+std::string viewCloudsToJson(const std::vector<report::ViewCloud>& clouds);
+std::vector<report::ViewCloud> viewCloudsFromJson(const std::string& json);
 
 // Runs every entry (OpenMP over entries; each entry is sequential, so results do not depend on the
 // thread count) and writes under <output_dir>/calibration/: per entry <name>/ (the fit or compare

@@ -1,6 +1,8 @@
+#include <array>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -179,6 +181,46 @@ EntrySummary entrySummaryFromJson(const std::string& text) {
     for (const auto& [k, v] : j.at("identification").items())
       s.extra_metrics.emplace_back(k, number(v));
   return s;
+}
+
+std::string viewCloudsToJson(const std::vector<report::ViewCloud>& clouds) {
+  ordered_json a = ordered_json::array();
+  for (const report::ViewCloud& c : clouds) {
+    ordered_json v = ordered_json::array();
+    for (double x : c.value) v.push_back(finite(x));
+    a.push_back({{"name", c.name},
+                 {"p_W", c.p_W},
+                 {"status", c.status},
+                 {"status_names", c.status_names},
+                 {"value", v},
+                 {"unit", c.value_unit},
+                 {"quantity", c.value_quantity},
+                 {"point_size", c.point_size_m},
+                 {"arm_W", c.arm_W},
+                 {"arm_caption", c.arm_caption}});
+  }
+  return a.dump();
+}
+
+std::vector<report::ViewCloud> viewCloudsFromJson(const std::string& json) {
+  std::vector<report::ViewCloud> out;
+  for (const auto& j : ordered_json::parse(json)) {
+    report::ViewCloud c;
+    c.name = j.at("name").get<std::string>();
+    c.p_W = j.at("p_W").get<std::vector<std::array<double, 3>>>();
+    c.status = j.at("status").get<std::vector<int>>();
+    c.status_names = j.at("status_names").get<std::vector<std::string>>();
+    for (const auto& v : j.at("value")) c.value.push_back(number(v));
+    c.value_unit = j.at("unit").get<std::string>();
+    c.value_quantity = j.at("quantity").get<std::string>();
+    c.point_size_m = j.at("point_size").get<double>();
+    c.arm_W = j.at("arm_W").get<std::vector<std::array<double, 3>>>();
+    c.arm_caption = j.at("arm_caption").get<std::string>();
+    if (c.p_W.size() != c.status.size() || c.p_W.size() != c.value.size())
+      throw std::runtime_error("view cloud '" + c.name + "': arrays of different lengths");
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 }  // namespace armstudy::calibration

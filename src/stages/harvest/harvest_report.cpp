@@ -8,7 +8,9 @@
 
 #include "io/vtk_io.hpp"
 #include "model/model_notes.hpp"
+#include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
+#include "study/scene.hpp"
 
 namespace armstudy::harvest {
 
@@ -428,6 +430,44 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   return md.str();
 }
 
+// The holding grid as a map of the 3-D view: every grid point with its status in the holding
+// map's colours (categorical 0 holdable, 5 drive limit; unreachable points not drawn) and the
+// revolute joints' largest current ratio; the grid's poses are not kept, so the arm stands at its
+// zero pose.
+report::ViewCloud holdingViewCloud(const Model& model, const HarvestGrid& g,
+                                   const HoldingImage& hi) {
+  const io::ImageGrid& img = hi.img;
+  report::ViewCloud c;
+  c.name = "static holding: " + model.name;
+  c.value_quantity = "max |I| / I_continuous over the revolute joints";
+  c.value_unit = "1";
+  c.status_names = {"the drives hold the pose",           "", "", "", "",
+                    "a drive over its continuous current"};
+  double step = INFINITY;
+  for (int a = 0; a < 3; ++a)
+    if (img.dims[a] > 1) step = std::min(step, img.spacing[a]);
+  c.point_size_m = std::isfinite(step) ? step : 0.02;
+  const std::vector<double>& status = img.point_arrays[0].values;
+  const std::vector<double>& ratio_rev = img.point_arrays[2].values;
+  for (int k = 0; k < img.dims[2]; ++k)
+    for (int j = 0; j < img.dims[1]; ++j)
+      for (int i = 0; i < img.dims[0]; ++i) {
+        const long p = i + img.dims[0] * (j + static_cast<long>(img.dims[1]) * k);
+        c.p_W.push_back({img.origin[0] + i * img.spacing[0], img.origin[1] + j * img.spacing[1],
+                         img.origin[2] + k * img.spacing[2]});
+        const int s = static_cast<int>(status[p]);
+        c.status.push_back(s == 1 ? 0 : s == 2 ? 5 : 1);  // status 1 has no name: not drawn
+        c.value.push_back(ratio_rev[p]);
+      }
+  for (const Eigen::Vector3d& x : scene::skeletonPoints(model, report::zeroPose(model)))
+    c.arm_W.push_back({x.x(), x.y(), x.z()});
+  c.arm_caption = "arm: " + model.name +
+                  " at its zero pose (each joint's zero clamped into its limits; the grid's "
+                  "poses are not kept), tool heading " +
+                  report::fixed(g.gamma_rad * 180 / M_PI, 0) + " deg at every grid point.";
+  return c;
+}
+
 }  // namespace
 
 // Writes the holding image, adds the holding metrics, writes the maps and assembles the report
@@ -464,6 +504,7 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   h.limited = hi.limited;
   h.max_ratio = hi.max_ratio;
   h.markdown = md.str();
+  h.view = holdingViewCloud(model, g, hi);
   return h;
 }
 

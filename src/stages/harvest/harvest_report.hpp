@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "report/plot.hpp"
+#include "report/view3d.hpp"
 #include "stages/harvest/harvest_stage.hpp"
 #include "study/writer.hpp"
 
@@ -66,6 +67,9 @@ struct HoldingSummary {
   int reachable = 0, limited = 0;
   double max_ratio = 0;
   std::string markdown;
+  // The grid for the study's 3-D view: its reachable points by status (the map's colours) and by
+  // the revolute joints' largest current ratio, with the arm at its zero pose.
+  report::ViewCloud view;
 };
 HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d,
                                 Writer& out, StudyMetrics& M);

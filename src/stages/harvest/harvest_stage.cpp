@@ -438,6 +438,7 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
     if (options.grid) {  // holding-load grid
       const HoldingSummary h = writeHoldingGrid(model, *options.grid, d, out, sum.metrics);
       md << h.markdown;
+      sum.view.push_back(h.view);
       dj["grid"] = {{"points", h.points},
                     {"reachable", h.reachable},
                     {"drive_limited", h.limited},
@@ -446,6 +447,14 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
     js["designs"].push_back(dj);
     models.push_back(&model);
     done.push_back(std::move(d));
+  }
+  if (!sum.view.empty()) {
+    sum.view_about =
+        "The points are the holding grid's points in the world frame, coloured by whether the "
+        "drives hold the arm there (static: gravity and payload) or by the revolute joints' "
+        "largest current over its continuous limit; unreachable points are not drawn; the arm "
+        "stands at its zero pose.";
+    sum.view_value_label = "current ratio";
   }
   std::vector<const DesignResult*> done_ptrs;
   for (const DesignResult& d : done) done_ptrs.push_back(&d);

@@ -466,11 +466,21 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     md << entryMarkdown(model, e, er);
     js["entries"].push_back(entryJson(model, e, er));
     sum.answer.push_back(entryAnswer(model, e, er));
+    for (report::ViewCloud& c : trackingViewClouds(model, e, er)) sum.view.push_back(std::move(c));
+    for (const report::ViewSolid& s : report::viewSolids(e.obstacles)) sum.view_solids.push_back(s);
     if (er.plain.limit_joint >= 0 || er.with_hc.limit_joint >= 0)  // a stop at a joint limit
       for (const std::string& a : notes::about(model, notes::kJointLimits))
         if (std::find(sum.assumptions.begin(), sum.assumptions.end(),
                       "`" + model.name + "`: " + a) == sum.assumptions.end())
           sum.assumptions.push_back("`" + model.name + "`: " + a);
+  }
+  if (!sum.view.empty()) {
+    sum.view_about =
+        "The points are the TCP's path of each run in the world frame, coloured by the smallest "
+        "distance between the arm's volumes and the obstacles (between its own links without "
+        "obstacles; negative = overlap) or by contact; the arm stands at the run's closest "
+        "approach.";
+    sum.view_value_label = "distance";
   }
   out.text("tracking/report.md", md.str());
   out.text("tracking/summary.json", js.dump(2) + "\n");

@@ -148,6 +148,12 @@ EntryResult evaluateTrackingEntry(const Model& model, const TrackingEntry& entry
 // writes under <output_dir>/tracking/: per entry and run <name>_<run>.csv and <name>_<run>.vtp,
 // per entry <name>_distance.svg and <name>_tcp_error.svg, then report.md and summary.json. Adds
 // metrics "tracking/<name>/<run>/..." to ctx.summary.metrics.
+// The entry's runs as maps of the study's 3-D view (tracking_view.cpp): the TCP path of each run,
+// coloured by the distance to the obstacles (to the arm itself without obstacles) or by contact,
+// with the arm at the run's closest approach.
+std::vector<report::ViewCloud> trackingViewClouds(const Model& model, const TrackingEntry& e,
+                                                  const EntryResult& er);
+
 StageResult runTrackingStage(const StageContext& ctx, const std::vector<TrackingEntry>& entries,
                              std::vector<EntryResult>* results = nullptr);
 

@@ -1,0 +1,15 @@
+#pragma once
+// The [[calibration]] stage's report (calibration/report.md): per entry its ladder, verdict,
+// fitted parameters and figures, folding the figures that repeat others.
+#include <string>
+#include <vector>
+
+#include "stages/calibration/calibration_stage.hpp"
+
+namespace armstudy::calibration {
+
+// report.md of the stage folder `stage_dir` (relative to the study's output folder) for `entries`.
+std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
+                        const std::string& stage_dir);
+
+}  // namespace armstudy::calibration
