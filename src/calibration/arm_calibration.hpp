@@ -24,10 +24,7 @@
 
 #include "calibration/stats.hpp"
 #include "common/defaults.hpp"
-
-namespace armstudy {
-struct Model;  // model/model.hpp: only the calibrated design text needs it
-}  // namespace armstudy
+#include "model/model.hpp"
 
 namespace armstudy::calibration {
 
@@ -129,10 +126,10 @@ class ArmProblem {
   int findEffect(const std::string& name) const;  // -1 when absent
   // Prediction (rows x channels) of the design with the given effects switched on.
   virtual Eigen::MatrixXd predict(const EffectValues& values) const = 0;
-  // The design TOML text of `model` (the problem's design) with the fitted values stored, each
-  // kind where its design format holds them; what it cannot hold is said in notes.
-  virtual std::string calibratedDesignText(const Model& model, const EffectValues& values,
-                                           std::vector<std::string>& notes) const = 0;
+  // `model` (the problem's design) with the fitted values applied, each kind where the Model holds
+  // them; what it cannot hold is said in notes. calibrated_design.hpp writes it.
+  virtual Model calibratedModel(const Model& model, const EffectValues& values,
+                                std::vector<std::string>& notes) const = 0;
 
  protected:
   // Sets kind, design and where the data came from (file, hash, lines, warnings of a *Data).
@@ -352,16 +349,8 @@ ArmReportSummary writeArmReport(const ArmDiagnosis& d, const ArmProblem& problem
                                 const ArmReportOptions& o,
                                 const std::string& calibrated_design_path);
 
-// Line-level edit of TOML design text (keeps comments and layout): sets `key = value_text` in the
-// block that starts with `header` ("[payload]", "[[joint]]", ...) and, when match_key is not
-// empty, contains `match_key = "match_value"`. For header "[drive.friction]" the block is the
-// friction sub-table of the [[drive]] whose joint is match_value. A missing single block is
-// appended; a missing matched block is an InputError.
-std::string setDesignEntry(const std::string& text, const std::string& header,
-                           const std::string& match_key, const std::string& match_value,
-                           const std::string& key, const std::string& value_text);
-// Which design design text is: a calibrated copy (a line setDesignEntry wrote, marked
-// "# calibrated") or the design as given.
+// Which design design text is: a calibrated copy (its first line is the calibrated design writer's
+// header, calibrated_design.hpp) or the design as given.
 ShownDesign shownDesign(const std::string& text);
 
 }  // namespace armstudy::calibration

@@ -33,9 +33,9 @@ class NoiseWeighted : public ArmProblem {
   Eigen::MatrixXd predict(const EffectValues& values) const override {
     return inner_.predict(values);
   }
-  std::string calibratedDesignText(const Model& model, const EffectValues& values,
-                                   std::vector<std::string>& notes) const override {
-    return inner_.calibratedDesignText(model, values, notes);
+  Model calibratedModel(const Model& model, const EffectValues& values,
+                        std::vector<std::string>& notes) const override {
+    return inner_.calibratedModel(model, values, notes);
   }
 
  private:

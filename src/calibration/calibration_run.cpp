@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "calibration/calibrated_design.hpp"
 #include "calibration/drive_report.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
@@ -40,35 +41,33 @@ std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& da
   return makeTrajectoryProblem(model, *data.trajectory);
 }
 
-std::string noCalibratedDesign(const ArmDiagnosis& d, const Model& m) {
-  if (!d.identifiable.empty()) return d.identifiable;
-  const std::string ext = std::filesystem::path(m.file).extension().string();
-  if (ext != ".toml")
-    return "design '" + m.name + "' comes from " + m.file +
-           ", not a design TOML file: no calibrated copy is written; "
-           "the fitted values are in result.json";
-  return "";
-}
+std::string noCalibratedDesign(const ArmDiagnosis& d) { return d.identifiable; }
 
 ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model& m,
                         const std::string& out_dir, const std::string& design_path, bool lock,
                         const std::vector<std::pair<std::string, std::string>>& extra_files) {
   ArmFitFiles f;
-  if (const std::string why = noCalibratedDesign(d, m); !why.empty()) {
+  if (const std::string why = noCalibratedDesign(d); !why.empty()) {
     f.notes.push_back(why);
     f.report = writeArmReport(d, P, ArmReportOptions{out_dir, "fit", extra_files, lock}, "");
     return f;
   }
+  const CalibratedDesign c = calibratedDesign(m, P, d.final_fit.values, f.notes);
   f.calibrated_design_path =
-      design_path.empty() ? out_dir + "/" + m.name + "_calibrated.toml" : design_path;
-  std::string text = P.calibratedDesignText(m, d.final_fit.values, f.notes);
-  text = setDesignEntry(text, "[design]", "", "", "name", "\"" + m.name + "_calibrated\"");
-  parseDesign(text, f.calibrated_design_path);  // still a valid design
+      design_path.empty() ? out_dir + "/" + c.model.name + ".toml" : design_path;
+  if (!c.urdf.empty())
+    f.calibrated_urdf_path =
+        std::filesystem::path(f.calibrated_design_path).replace_extension(".urdf").string();
   ArmReportOptions o{out_dir, "fit", extra_files, lock};
-  if (design_path.empty())  // in the output folder: published with the report as one folder
-    o.extra_files.emplace_back(m.name + "_calibrated.toml", text);
+  if (design_path.empty()) {  // in the output folder: published with the report as one folder
+    o.extra_files.emplace_back(c.model.name + ".toml", c.toml);
+    if (!c.urdf.empty()) o.extra_files.emplace_back(c.model.name + ".urdf", c.urdf);
+  }
   f.report = writeArmReport(d, P, o, f.calibrated_design_path);
-  if (!design_path.empty()) writeFileAtomic(f.calibrated_design_path, text);
+  if (!design_path.empty()) {
+    writeFileAtomic(f.calibrated_design_path, c.toml);
+    if (!c.urdf.empty()) writeFileAtomic(f.calibrated_urdf_path, c.urdf);
+  }
   return f;
 }
 

@@ -32,22 +32,24 @@ struct ArmData {
 ArmData readArmData(const std::string& kind, const std::string& path, const Model& model);
 std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& data);
 
-// What `fit` writes after the diagnosis (every kind): the calibrated design copy (the
-// design file edited, named <design>_calibrated, re-parsed) at `design_path` (default
-// <out_dir>/<design>_calibrated.toml) and the report (writeArmReport, command "fit").
+// What `fit` writes after the diagnosis (every kind): the calibrated design (calibrated_design.hpp:
+// the calibrated Model, named <design>_calibrated, as design TOML) at `design_path` (default
+// <out_dir>/<design>_calibrated.toml), for a URDF design also the calibrated URDF beside it (same
+// name, .urdf), and the report (writeArmReport, command "fit").
 struct ArmFitFiles {
   ArmReportSummary report;
   std::string calibrated_design_path;
-  std::vector<std::string> notes;  // what the design format cannot carry
+  std::string calibrated_urdf_path;  // "" unless the design is a URDF
+  std::vector<std::string> notes;    // what the design format cannot carry
 };
 // `lock`: ArmReportOptions::lock (false inside a study run).
 // No calibrated copy (calibrated_design_path empty, the reason in notes) when the data cannot
-// identify the model (ArmDiagnosis::identifiable) or the design is not a design TOML file (URDF).
+// identify the model (ArmDiagnosis::identifiable).
 ArmFitFiles writeArmFit(const ArmDiagnosis& diagnosis, const ArmProblem& problem,
                         const Model& model, const std::string& out_dir,
                         const std::string& design_path, bool lock = true,
                         const std::vector<std::pair<std::string, std::string>>& extra_files = {});
 // Why no calibrated design copy is written ("" when one is).
-std::string noCalibratedDesign(const ArmDiagnosis& diagnosis, const Model& model);
+std::string noCalibratedDesign(const ArmDiagnosis& diagnosis);
 
 }  // namespace armstudy::calibration

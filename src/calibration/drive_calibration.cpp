@@ -64,9 +64,9 @@ class DriveProblem : public ArmProblem {
     return p;
   }
 
-  std::string calibratedDesignText(const Model& model, const EffectValues& values,
-                                   std::vector<std::string>& notes) const override {
-    return calibratedDriveToml(model, *this, values, notes);
+  Model calibratedModel(const Model& model, const EffectValues& values,
+                        std::vector<std::string>& notes) const override {
+    return calibratedDriveModel(model, *this, values, notes);
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -309,41 +309,29 @@ FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& valu
   return asDrive(problem).friction(values);
 }
 
-std::string calibratedDriveToml(const Model& model, const ArmProblem& problem,
-                                const EffectValues& values, std::vector<std::string>& notes) {
+Model calibratedDriveModel(const Model& model, const ArmProblem& problem,
+                           const EffectValues& values, std::vector<std::string>& notes) {
   const DriveProblem& D = asDrive(problem);
   const FrictionParams p = D.friction(values);
-  std::string text = readFileOrThrow(model.file);
-  auto num = [](double v) {
-    char b[48];
-    std::snprintf(b, sizeof b, "%.10g", v);
-    return std::string(b);
-  };
-  const std::string& j = D.joint_;
-  if (D.drive_.friction_law.empty())
-    text = setDesignEntry(text, "[drive.friction]", "joint", j, "law", "\"none\"");
-  std::vector<std::string> effects = model.effects;
+  Model cal = model;
+  Drive* d = nullptr;
+  for (Drive& x : cal.drives)
+    if (x.joint == D.joint_) d = &x;
+  ARMSTUDY_CHECK(d != nullptr, "the problem's drive is in its design");
+  if (d->friction_law.empty()) d->friction_law = "none";
   const std::vector<Effect> law = drive::lawEffects(p.law);
   for (Effect e : drive::kAllEffects) {
     if (!p.has(e)) continue;
-    for (const std::string& key : drive::effectKeys(e))
-      text =
-          setDesignEntry(text, "[drive.friction]", "joint", j, key, num(drive::parameter(p, key)));
+    for (const std::string& key : drive::effectKeys(e)) d->friction[key] = drive::parameter(p, key);
     if (drive::isTemperatureEffect(e))
-      text = setDesignEntry(text, "[drive.friction]", "joint", j, "reference_temperature",
-                            num(p.reference_temperature_C));
-    const std::string entry = j + "." + drive::toString(e);
+      d->friction["reference_temperature"] = p.reference_temperature_C;
+    const std::string entry = D.joint_ + "." + drive::toString(e);
     if (std::find(law.begin(), law.end(), e) == law.end() &&
-        std::find(effects.begin(), effects.end(), entry) == effects.end())
-      effects.push_back(entry);
+        std::find(cal.effects.begin(), cal.effects.end(), entry) == cal.effects.end())
+      cal.effects.push_back(entry);
   }
-  if (effects != model.effects) {
-    std::string list;
-    for (const auto& e : effects) list += (list.empty() ? "\"" : ", \"") + e + "\"";
-    text = setDesignEntry(text, "[model]", "", "", "effects", "[" + list + "]");
-  }
-  (void)notes;  // the design format carries every drive parameter
-  return text;
+  (void)notes;  // the Model carries every drive parameter
+  return cal;
 }
 
 DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const DriveData& data,

@@ -78,10 +78,10 @@ std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::stri
 // The resolved friction of the problem's drive with the given effects switched on (what predict
 // uses).
 drive::FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& values);
-// TOML text of the design with the fitted friction in the drive's [drive.friction] and the added
-// effects in [model].effects (line edits that keep comments; setDesignEntry).
-std::string calibratedDriveToml(const Model& model, const ArmProblem& problem,
-                                const EffectValues& values, std::vector<std::string>& notes);
+// The design with the fitted friction in the drive's [drive.friction] (law "none" when the design
+// had no law) and the added effects in [model].effects.
+Model calibratedDriveModel(const Model& model, const ArmProblem& problem,
+                           const EffectValues& values, std::vector<std::string>& notes);
 
 // ---- the drive kind through the engine, for callers written against the drive kind's own API ----
 // (the [[calibration]] stage; once it reads ArmDiagnosis directly these views can go.)

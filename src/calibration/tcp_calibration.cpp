@@ -139,9 +139,9 @@ class TcpProblem : public ArmProblem {
       regions.push_back((measured(i, 0) > mx ? 2 : 0) + (measured(i, 1) > my ? 1 : 0));
   }
 
-  std::string calibratedDesignText(const Model& model, const EffectValues& values,
-                                   std::vector<std::string>& notes) const override {
-    return calibratedTcpToml(model, *this, values, notes);
+  Model calibratedModel(const Model& model, const EffectValues& values,
+                        std::vector<std::string>& notes) const override {
+    return calibratedTcpModel(model, *this, values, notes);
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -358,44 +358,6 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
   }
   m.finalize();
   return m;
-}
-
-std::string calibratedTcpToml(const Model& model, const ArmProblem& problem,
-                              const EffectValues& values, std::vector<std::string>& notes) {
-  const Model cal = calibratedTcpModel(model, problem, values, notes);
-  std::string text = readFileOrThrow(model.file);
-  auto num = [](double v) {
-    char b[48];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return std::string(b);
-  };
-  for (int j = 0; j < cal.dof(); ++j) {
-    const PoseXYZABG &a = model.joints[j].offset, &b = cal.joints[j].offset;
-    const std::pair<const char*, std::pair<double, double>> keys[] = {
-        {"x", {a.x, b.x}}, {"y", {a.y, b.y}}, {"z", {a.z, b.z}}, {"gamma", {a.gamma, b.gamma}}};
-    for (const auto& [k, ab] : keys)
-      if (ab.first != ab.second)
-        text = setDesignEntry(text, "[[joint]]", "name", cal.joints[j].name, k, num(ab.second));
-  }
-  const PoseXYZABG &a = model.base, &b = cal.base;
-  const std::pair<const char*, std::pair<double, double>> bk[] = {
-      {"x", {a.x, b.x}},          {"y", {a.y, b.y}},
-      {"z", {a.z, b.z}},          {"alpha", {a.alpha, b.alpha}},
-      {"beta", {a.beta, b.beta}}, {"gamma", {a.gamma, b.gamma}}};
-  for (const auto& [k, ab] : bk)
-    if (ab.first != ab.second) text = setDesignEntry(text, "[base]", "", "", k, num(ab.second));
-  // Round trip: the edited text must parse to the calibrated table.
-  const Model back = parseDesign(text, model.file + " (calibrated)");
-  for (int j = 0; j < cal.dof(); ++j) {
-    const PoseXYZABG &x = back.joints[j].offset, &y = cal.joints[j].offset;
-    ARMSTUDY_CHECK(std::abs(x.x - y.x) + std::abs(x.y - y.y) + std::abs(x.z - y.z) +
-                           std::abs(x.gamma - y.gamma) <
-                       1e-12,
-                   "calibrated design round trip (joint table)");
-  }
-  ARMSTUDY_CHECK((back.T_WB.matrix() - cal.T_WB.matrix()).norm() < 1e-12,
-                 "calibrated design round trip (base)");
-  return text;
 }
 
 }  // namespace armstudy::calibration

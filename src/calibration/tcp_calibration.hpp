@@ -46,8 +46,5 @@ TcpData synthesizeTcp(const Model& model, const TcpSynthOptions& options);
 // `notes` lists what the design format cannot carry (joint compliance).
 Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const EffectValues& values,
                          std::vector<std::string>& notes);
-// TOML text of that design (original file edited line by line, re-parsed and checked).
-std::string calibratedTcpToml(const Model& model, const ArmProblem& problem,
-                              const EffectValues& values, std::vector<std::string>& notes);
 
 }  // namespace armstudy::calibration

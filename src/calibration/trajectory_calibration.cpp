@@ -64,6 +64,21 @@ double jointSideScale(const std::string& key, double N) {
   return N;
 }
 
+// The design's value of a joint-side term (Joint::dynamics).
+double designValue(const JointDynamics& d, SideTerm t) {
+  switch (t) {
+    case SideTerm::Coulomb:
+      return d.coulomb;
+    case SideTerm::Viscous:
+      return d.viscous;
+    case SideTerm::Offset:
+      return d.effort_offset;
+    case SideTerm::Inertia:
+      return d.armature;
+  }
+  return 0.0;
+}
+
 // Smooth sign of the Coulomb terms: tanh(v / w) (w = 0: the joint never moves, no force).
 double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
 
@@ -124,6 +139,7 @@ class TrajectoryProblem : public ArmProblem {
       addMotorEffects(model, data);
     }
     addOperatingData(model, data);
+    addDesignJointTerms(model, data);
     if (data.friction_width_fraction > 0) linearBodyBasis(model);
   }
 
@@ -250,6 +266,24 @@ class TrajectoryProblem : public ArmProblem {
     }
   }
 
+  // The design's own joint-side terms (Joint::dynamics) at every row, rows x joints (empty when no
+  // joint has any): the joint-side catalogue's changes add to them. The Coulomb width is that
+  // rule's (friction_width, default defaults::kFrictionWidthFraction, times the joint's peak
+  // speed).
+  void addDesignJointTerms(const Model& model, const TrajectoryData& data) {
+    const double fraction = data.friction_width_fraction > 0 ? data.friction_width_fraction
+                                                             : defaults::kFrictionWidthFraction;
+    for (int j = 0; j < model.dof(); ++j) {
+      const JointDynamics& d = model.joints[j].dynamics;
+      if (!d.any()) continue;
+      if (design_side_.size() == 0) design_side_ = Eigen::MatrixXd::Zero(data.rows(), model.dof());
+      const double w = fraction * data.qd.col(j).cwiseAbs().maxCoeff();
+      for (int i = 0; i < data.rows(); ++i)
+        design_side_(i, j) = d.coulomb * smoothSign(data.qd(i, j), w) + d.viscous * data.qd(i, j) +
+                             d.armature * data.qdd(i, j) + d.effort_offset;
+    }
+  }
+
   // Joint-side friction, effort offset and armature of every joint without a [[drive]] (measured
   // logs hold joint-side efforts): <joint>.coulomb|viscous|offset|armature.
   void addJointSideEffects(const Model& model, const TrajectoryData& data) {
@@ -265,7 +299,8 @@ class TrajectoryProblem : public ArmProblem {
         e.effect = si.name;
         e.joint = model.joints[j].name;
         e.pattern = std::string(si.pattern) + " (joint " + model.joints[j].name + ")";
-        e.params = {{si.key, rev ? si.unit_rev : si.unit_pri, physicalLower(si.term), kInfD,
+        e.params = {{si.key, rev ? si.unit_rev : si.unit_pri,
+                     physicalLower(si.term) - designValue(model.joints[j].dynamics, si.term), kInfD,
                      si.typical, 1e-4, 0, physicalReason(si.term)}};
         add(e, {TrajEffect::JointSide, j, drive::Effect::Coulomb, si.term});
       }
@@ -387,9 +422,9 @@ class TrajectoryProblem : public ArmProblem {
   }
 
  public:
-  std::string calibratedDesignText(const Model& model, const EffectValues& values,
-                                   std::vector<std::string>& notes) const override {
-    return calibratedTrajectoryToml(model, *this, values, notes);
+  Model calibratedModel(const Model& model, const EffectValues& values,
+                        std::vector<std::string>& notes) const override {
+    return calibratedTrajectoryModel(model, *this, values, notes);
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -398,7 +433,9 @@ class TrajectoryProblem : public ArmProblem {
     Eigen::VectorXd arm = Eigen::VectorXd::Zero(n);
     bool tilt = false;
     const Eigen::VectorXd* payload = nullptr;
-    Eigen::MatrixXd side = Eigen::MatrixXd::Zero(data_.rows(), n);  // joint-side and motor terms
+    // The design's joint-side terms plus the fitted joint-side and motor terms.
+    Eigen::MatrixXd side =
+        design_side_.size() ? design_side_ : Eigen::MatrixXd::Zero(data_.rows(), n).eval();
     Eigen::VectorXd dmass =
         Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.inertias.size()));
     for (const auto& v : values) {
@@ -488,6 +525,7 @@ class TrajectoryProblem : public ArmProblem {
   Eigen::MatrixXd motor_ratio_;                    // R with each row divided by its diagonal
   Eigen::MatrixXd motor_v_, motor_a_;  // rows x motors: reflected motor speed, acceleration
   Eigen::MatrixXd Q0_;                 // nominal rigid-body efforts, rows x joints
+  Eigen::MatrixXd design_side_;        // the design's joint-side terms, rows x joints (or empty)
   std::vector<Eigen::MatrixXd> payload_basis_, mass_basis_;
 
  private:

@@ -72,9 +72,11 @@ struct TrajectorySynthOptions {
 };
 TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOptions& options);
 
-// TOML text of the design with the fitted trajectory effects ([payload], [[inertia]] masses,
-// [[drive]] rotor_inertia and [drive.friction], [base] alpha/beta for the tilt, [model].effects).
-std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem,
-                                     const EffectValues& values, std::vector<std::string>& notes);
+// The design with the fitted trajectory effects applied (payload mass and centre, link masses, the
+// payload's inertia in the last link, drive rotor inertia and friction, [model] effects, the tilt
+// as base alpha/beta, the joint-side terms in Joint::dynamics); `notes`: what the Model cannot hold
+// (coupled-motor terms).
+Model calibratedTrajectoryModel(const Model& model, const ArmProblem& problem,
+                                const EffectValues& values, std::vector<std::string>& notes);
 
 }  // namespace armstudy::calibration

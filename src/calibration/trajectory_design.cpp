@@ -1,14 +1,12 @@
-// The trajectory kind's calibrated design copy: the fitted values written into the design TOML
-// text (docs/calibration.md, "Outputs").
+// The trajectory kind's calibrated design: the fitted values applied to a copy of the design's
+// Model (docs/calibration.md, "Outputs"); calibrated_design.cpp writes it.
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "calibration/trajectory_calibration.hpp"
 #include "calibration/trajectory_terms.hpp"
-#include "common/errors.hpp"
-#include "io/design_io.hpp"
-#include "io/files.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::calibration {
 
@@ -16,28 +14,22 @@ namespace {
 
 using namespace trajectory_detail;
 
-// A number as the calibrated design text writes it.
-std::string num(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return std::string(b);
-}
+constexpr double kMassFloor_kg = 1e-9;         // a payload lighter than this has no centre
+constexpr double kInertiaChangeFloor = 1e-15;  // kg m^2: no inertia to store below this
 
-// The fitted extra payload (mass, centre, inertia about the centre: v.x) stored in the design text:
-// [payload] mass and com, and the inertia the point mass cannot carry added to the last link's
-// [[inertia]] where that stays physical. Returns the payload mass written.
-double storePayload(const Model& model, const Eigen::VectorXd& x, std::string& text,
-                    std::vector<std::string>& notes) {
+// The fitted extra payload (mass, centre, inertia about the TCP: x) applied to `cal`: [payload]
+// mass and com, and the inertia the point mass cannot carry added to the last link's inertia
+// where that stays physical.
+void applyPayload(const Model& model, const Eigen::VectorXd& x, Model& cal,
+                  std::vector<std::string>& notes) {
   const Eigen::Vector3d h = model.payload_kg * model.p_payload_com_T + x.segment<3>(1);
   const double m = std::max(0.0, model.payload_kg + x[0]);
-  const Eigen::Vector3d c = m > 1e-9 ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
-  text = setDesignEntry(text, "[payload]", "", "", "mass", num(m));
-  text = setDesignEntry(text, "[payload]", "", "", "com",
-                        "[" + num(c.x()) + ", " + num(c.y()) + ", " + num(c.z()) + "]");
+  cal.payload_kg = m;
+  cal.p_payload_com_T = m > kMassFloor_kg ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
   // The fitted body (the design's payload plus the extra one) has mass m and centre c, which
   // the [payload] point mass carries, and an inertia about c, which it cannot: that part goes
   // into the last link's [[inertia]] (rigid-body parameters of one link add), so the
-  // calibrated copy predicts what the fit predicted. All in frame N about its origin.
+  // calibrated design predicts what the fit predicted. All in frame N about its origin.
   const int L = model.dof() - 1;
   const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
   auto pointI = [&](double mm, const Eigen::Vector3d& cc) {
@@ -49,120 +41,126 @@ double storePayload(const Model& model, const Eigen::VectorXd& x, std::string& t
   delta.I_O[L].setZero();
   addPayloadParameters(model, x, delta);
   const double m0 = model.payload_kg > 0 ? model.payload_kg : 0.0;
-  const Eigen::Matrix3d dI = pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
-                             (m > 0 ? pointI(m, model.T_NT * c) : Eigen::Matrix3d::Zero().eval());
+  const Eigen::Matrix3d dI =
+      pointI(m0, model.T_NT * model.p_payload_com_T) + delta.I_O[L] -
+      (m > 0 ? pointI(m, model.T_NT * cal.p_payload_com_T) : Eigen::Matrix3d::Zero().eval());
+  if (dI.norm() <= kInertiaChangeFloor) return;
   const bool has_link = L < static_cast<int>(model.inertias.size()) && model.inertias[L].given;
-  if (dI.norm() > 1e-15) {
-    const Eigen::Matrix3d I =
-        has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
-                 : Eigen::Matrix3d::Zero();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
-    const Eigen::Vector3d ev = es.eigenvalues();  // ascending
-    const std::string link = model.joints[L].name;
-    if (has_link && ev[0] > 0 && ev[2] <= ev[0] + ev[1]) {
-      text = setDesignEntry(text, "[[inertia]]", "link", link, "inertia",
-                            "[" + num(I(0, 0)) + ", " + num(I(1, 1)) + ", " + num(I(2, 2)) + ", " +
-                                num(I(0, 1)) + ", " + num(I(0, 2)) + ", " + num(I(1, 2)) + "]");
-      notes.push_back(
-          "the fitted payload's inertia about its centre of mass, which the [payload] point "
-          "mass cannot "
-          "carry, is added to the [[inertia]] of link " +
-          link);
-    } else {
-      notes.push_back(
-          "the fitted payload's inertia about its centre of mass is not stored (the "
-          "[payload] is a point "
-          "mass and link " +
-          link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
-    }
+  const Eigen::Matrix3d I =
+      has_link ? Eigen::Matrix3d(model.inertias[L].I_com_kgm2 + 0.5 * (dI + dI.transpose()))
+               : Eigen::Matrix3d::Zero();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
+  const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+  const std::string link = model.joints[L].name;
+  if (has_link && ev[0] > 0 && ev[2] <= ev[0] + ev[1]) {
+    cal.inertias[L].I_com_kgm2 = I;
+    notes.push_back(
+        "the fitted payload's inertia about its centre of mass, which the [payload] point mass "
+        "cannot carry, is added to the [[inertia]] of link " +
+        link);
+  } else {
+    notes.push_back(
+        "the fitted payload's inertia about its centre of mass is not stored (the "
+        "[payload] is a point mass and link " +
+        link + (has_link ? " would get a non-physical inertia)" : " has no [[inertia]])"));
   }
-  return m;
 }
 
-// A fitted friction term of joint j stored in its [drive.friction] (and, when the design's law
-// lacks the term, in [model] effects).
-void storeFriction(const Model& model, int j, drive::Effect effect, const std::string& key,
-                   double value, double profile, drive::FrictionParams& p,
-                   std::vector<std::string>& effects, std::string& text) {
+// A fitted friction term of joint j stored in its drive's [drive.friction] (and, when the
+// design's law lacks the term, in [model] effects). `p`: the joint's friction so far.
+void applyFriction(int j, drive::Effect effect, const std::string& key, double value,
+                   double profile, drive::FrictionParams& p, Model& cal) {
+  Drive* d = nullptr;
+  for (Drive& x : cal.drives)
+    if (x.joint == cal.joints[j].name) d = &x;
+  if (d->friction_law.empty()) d->friction_law = "none";
   if (effect == drive::Effect::Stribeck) {
     if (!p.has(effect)) p.stribeck_torque = p.coulomb;
     p.stribeck_velocity = profile;
-    text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[j].name,
-                          "stribeck_velocity", num(profile));
+    d->friction["stribeck_velocity"] = profile;
   }
   if (!p.has(effect)) {
-    bool in_law = false;
-    for (auto e : drive::lawEffects(p.law)) in_law = in_law || e == effect;
-    if (!in_law) effects.push_back(model.joints[j].name + "." + drive::toString(effect));
+    const auto law = drive::lawEffects(p.law);
+    const std::string entry = cal.joints[j].name + "." + drive::toString(effect);
+    if (std::find(law.begin(), law.end(), effect) == law.end() &&
+        std::find(cal.effects.begin(), cal.effects.end(), entry) == cal.effects.end())
+      cal.effects.push_back(entry);
   }
   p.on[static_cast<int>(effect)] = true;
   addFriction(p, key, value);
-  text = setDesignEntry(text, "[drive.friction]", "joint", model.joints[j].name, key,
-                        num(frictionValue(p, key)));
+  d->friction[key] = frictionValue(p, key);
+}
+
+// A fitted joint-side term added to the joint's own dynamics ([[joint]] coulomb, viscous,
+// armature, effort_offset).
+void applyJointSide(SideTerm term, double value, JointDynamics& d) {
+  switch (term) {
+    case SideTerm::Coulomb:
+      d.coulomb += value;
+      break;
+    case SideTerm::Viscous:
+      d.viscous += value;
+      break;
+    case SideTerm::Offset:
+      d.effort_offset += value;
+      break;
+    case SideTerm::Inertia:
+      d.armature += value;
+      break;
+  }
 }
 
 }  // namespace
 
-std::string calibratedTrajectoryToml(const Model& model, const ArmProblem& problem,
-                                     const EffectValues& values, std::vector<std::string>& notes) {
+Model calibratedTrajectoryModel(const Model& model, const ArmProblem& problem,
+                                const EffectValues& values, std::vector<std::string>& notes) {
   const TrajectoryTerms P = trajectoryTerms(problem);
-  std::string text = readFileOrThrow(model.file);
-  std::vector<std::string> effects = model.effects;
+  Model cal = model;
   std::vector<drive::FrictionParams> fp = P.friction;
-  std::set<int> friction_joints;
-  Model expect = model;
   for (const auto& v : values) {
     const Tag& t = P.tags[v.effect];
+    const ArmEffect& e = problem.catalogue[v.effect];
     switch (t.type) {
       case TrajEffect::Payload:
-        expect.payload_kg = storePayload(model, v.x, text, notes);
+        applyPayload(model, v.x, cal, notes);
         break;
       case TrajEffect::RotorInertia:
         for (int j = 0; j < model.dof(); ++j) {
           if (v.x[j] == 0) continue;
-          if (!P.drives[j]) {
-            notes.push_back("armature of " + model.joints[j].name + " (" + num(v.x[j]) +
-                            ") is not stored: the joint has no [[drive]]");
+          if (!P.drives[j]) {  // the joint's own armature (joint side)
+            cal.joints[j].dynamics.armature += v.x[j];
             continue;
           }
           const double N = P.drives[j]->gear_ratio;
-          text = setDesignEntry(text, "[[drive]]", "joint", model.joints[j].name, "rotor_inertia",
-                                num(P.drives[j]->rotor_inertia_kgm2 + v.x[j] / (N * N)));
+          for (Drive& d : cal.drives)
+            if (d.joint == model.joints[j].name) d.rotor_inertia_kgm2 += v.x[j] / (N * N);
         }
         break;
       case TrajEffect::GravityTilt:
-        text = setDesignEntry(text, "[base]", "", "", "alpha", num(model.base.alpha + v.x[0]));
-        text = setDesignEntry(text, "[base]", "", "", "beta", num(model.base.beta + v.x[1]));
+        cal.base.alpha += v.x[0];
+        cal.base.beta += v.x[1];
         notes.push_back(
             "gravity_tilt is stored as the base orientation (alpha, beta): a tilted base is a "
             "tilted gravity vector");
         break;
       case TrajEffect::LinkMass:
-        text = setDesignEntry(text, "[[inertia]]", "link", model.joints[t.joint].name, "mass",
-                              num(std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0])));
+        cal.inertias[t.joint].mass_kg = std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0]);
         break;
       case TrajEffect::JointSide:
+        applyJointSide(t.term, v.x[0], cal.joints[t.joint].dynamics);
+        break;
       case TrajEffect::Motor:
-        notes.push_back(problem.catalogue[v.effect].name + " = " + num(v.x[0]) + " " +
-                        problem.catalogue[v.effect].params[0].unit +
-                        " is not stored: the design format has no joint-side friction, offset or "
-                        "coupled-motor terms");
+        notes.push_back(e.name + " = " + formatG(v.x[0], 10) + " " + e.params[0].unit +
+                        " is not stored: the design format has no coupled-motor terms (the "
+                        "fitted value is in result.json)");
         break;
       case TrajEffect::Friction:
-        storeFriction(model, t.joint, t.friction, problem.catalogue[v.effect].params[0].key, v.x[0],
-                      v.profile, fp[t.joint], effects, text);
+        applyFriction(t.joint, t.friction, e.params[0].key, v.x[0], v.profile, fp[t.joint], cal);
         break;
     }
   }
-  if (effects != model.effects) {
-    std::string list;
-    for (const auto& e : effects) list += (list.empty() ? "\"" : ", \"") + e + "\"";
-    text = setDesignEntry(text, "[model]", "", "", "effects", "[" + list + "]");
-  }
-  const Model back = parseDesign(text, model.file + " (calibrated)");  // must stay a valid design
-  ARMSTUDY_CHECK(std::abs(back.payload_kg - expect.payload_kg) < 1e-9,
-                 "calibrated design round trip (payload)");
-  return text;
+  cal.finalize();
+  return cal;
 }
 
 }  // namespace armstudy::calibration

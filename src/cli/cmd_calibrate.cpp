@@ -214,8 +214,10 @@ int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool aut
     std::printf("  %-36s %12.5g %-10s 95%% CI [%.4g, %.4g]%s\n", p.key.c_str(), p.value,
                 p.unit.c_str(), p.ci_low, p.ci_high, p.at_bound ? "  (at bound)" : "");
   for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
-  std::printf("calibrated design: %s\nresults in %s/\n", path.empty() ? "none" : path.c_str(),
-              out.c_str());
+  std::printf("calibrated design: %s\n", path.empty() ? "none" : path.c_str());
+  if (!files.calibrated_urdf_path.empty())
+    std::printf("calibrated URDF: %s\n", files.calibrated_urdf_path.c_str());
+  std::printf("results in %s/\n", out.c_str());
   return 0;
 }
 
@@ -260,8 +262,10 @@ void addFitCommand(CLI::App* cmd, Action& action) {
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
   cmd->add_option("--seed", *seed, "Seed of the fold assignment")->capture_default_str();
-  cmd->add_option("--write-design", *designOut,
-                  "Path of the calibrated design copy (default <out>/<design>_calibrated.toml)");
+  cmd->add_option(
+      "--write-design", *designOut,
+      "Path of the calibrated design copy (default <out>/<design>_calibrated.toml; a URDF design "
+      "also gets the calibrated URDF beside it, .urdf)");
   setAction(cmd, action, [a, add, autoAdd, folds, seed, designOut] {
     checkKind(*a);
     const Model m = loadAnyDesign(a->design, a->src.urdf());

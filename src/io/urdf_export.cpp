@@ -111,8 +111,11 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
       << "\"/>\n    <limit";
     if (!ji.continuous)
       o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
-    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max)
-      << "\"/>\n  </joint>\n";
+    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max) << "\"/>\n";
+    if (j.dynamics.coulomb != 0 || j.dynamics.viscous != 0)
+      o << "    <dynamics damping=\"" << fmt(j.dynamics.viscous) << "\" friction=\""
+        << fmt(j.dynamics.coulomb) << "\"/>\n";
+    o << "  </joint>\n";
     o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
     if (!m.inertias.empty() && m.inertias[i].given) {
       const Matrix3d R_LF = R_FL[i + 1].transpose();

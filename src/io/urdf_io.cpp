@@ -323,6 +323,10 @@ struct UrdfImport {
       J.limits.qd_max = std::max(0.0, j.limits->velocity);
       ji.effort_max = std::max(0.0, j.limits->effort);
     }
+    if (j.dynamics) {  // the joint's own friction (URDF: friction = Coulomb, damping = viscous)
+      J.dynamics.coulomb = std::max(0.0, j.dynamics->friction);
+      J.dynamics.viscous = std::max(0.0, j.dynamics->damping);
+    }
     ji.R_FL = R_a.linear().transpose();
     m.joints.push_back(J);
     info.joints.push_back(ji);

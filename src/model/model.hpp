@@ -31,13 +31,24 @@ struct JointLimits {
   double qd_max = 0;            // rad/s or m/s; 0 = not given
 };
 
+// Joint-side friction, armature and effort offset of one joint (docs/design-format.md, `[[joint]]`
+// `coulomb`, `viscous`, `armature`, `effort_offset`; URDF `<dynamics friction damping>`): the
+// effort of the joint itself, beside any [[drive]]. The trajectory calibration adds
+// coulomb tanh(qd / w) + viscous qd + armature qdd + effort_offset to the joint's effort (SI: N m,
+// N m s/rad, kg m^2, N m for a revolute joint; N, N s/m, kg, N for a prismatic one).
+struct JointDynamics {
+  double coulomb = 0, viscous = 0, armature = 0, effort_offset = 0;
+  bool any() const { return coulomb != 0 || viscous != 0 || armature != 0 || effort_offset != 0; }
+};
+
 struct Joint {
   std::string name;
   JointType type = JointType::Revolute;
   PoseXYZABG offset;  // the table row: x, y, z, alpha, beta, gamma in the parent frame
   JointLimits limits;
   Eigen::Isometry3d T_PJ0;  // Trans * Rx * Ry * Rz(gamma), precomputed
-  int source_line = 0;      // line in the design file, for messages
+  JointDynamics dynamics;
+  int source_line = 0;  // line in the design file, for messages
 };
 
 // Optional per-link inertial data (mass, centre of mass, inertia about the centre of mass).

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "calibration/calibrated_design.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/least_squares.hpp"
 #include "calibration/stats.hpp"
@@ -192,7 +193,7 @@ TEST_CASE(
   // reproduces the fit's own prediction.
   std::vector<std::string> notes;
   const Model cal =
-      parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+      parseDesign(calibratedDesign(m, *d.problem, d.arm.final_fit.values, notes).toml, "cal.toml");
   const Drive& dr = requireDrive(cal, "j1");
   const auto fp = drive::frictionParams(cal, dr);
   for (int i = 0; i < data.rows(); i += 17)

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "calibration/arm_calibration.hpp"
+#include "calibration/calibrated_design.hpp"
 #include "calibration/drive_calibration.hpp"
 #include "calibration/history.hpp"
 #include "calibration/tcp_calibration.hpp"
@@ -481,7 +482,7 @@ TEST_CASE(
   // The calibrated design copy, read back and evaluated through src/drive, reproduces the fit.
   std::vector<std::string> notes;
   const Model cal =
-      parseDesign(calibratedDriveToml(m, *d.problem, d.arm.final_fit.values, notes), "cal.toml");
+      parseDesign(calibratedDesign(m, *d.problem, d.arm.final_fit.values, notes).toml, "cal.toml");
   const Drive& cd = requireDrive(cal, "j6");
   const auto fp = drive::frictionParams(cal, cd);
   for (int i = 0; i < data.rows(); i += 29)

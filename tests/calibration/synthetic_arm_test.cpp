@@ -7,6 +7,8 @@
 // two wrist channels quantised at 0.02 N m as a logger writes them, positions and velocities in
 // their own files. `armstudy run` on a study written as the docs say must recover the friction
 // where the data identify it and say "not identifiable" where they do not.
+#include <urdf_parser/urdf_parser.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -20,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "test_support.hpp"
 
@@ -267,4 +270,36 @@ TEST_CASE("synthetic lift arm: no mass refitted: the tool and head are the desig
     CHECK(key.rfind("link_mass", 0) != 0);
   }
   CHECK_FALSE(r.added("payload"));
+}
+
+TEST_CASE(
+    "synthetic lift arm: a URDF design gets a calibrated TOML and URDF holding the fitted friction",
+    "[calibration][study]") {
+  const SyntheticRun& r = run();
+  REQUIRE(r.rc == 0);
+  const std::string rel = r.summary.at("calibrated").at("design").get<std::string>();
+  REQUIRE_FALSE(rel.empty());
+  const fs::path toml = r.dir / "out/lift_arm/calibration/lift_arm" / rel;
+  fs::path urdf_path = toml;
+  urdf_path.replace_extension(".urdf");
+  REQUIRE(fs::exists(toml));
+  REQUIRE(fs::exists(urdf_path));
+  const Model cal = loadDesign(toml.string());
+  // urdfdom reads the calibrated URDF, independent of the project's URDF importer.
+  const urdf::ModelInterfaceSharedPtr u = urdf::parseURDFFile(urdf_path.string());
+  REQUIRE(u);
+  int fitted = 0;
+  for (const Joint& j : cal.joints) {
+    INFO(j.name);
+    const double v = r.param(j.name + ".viscous.viscous");
+    const double c = r.param(j.name + ".coulomb.coulomb");
+    fitted += !std::isnan(v) + !std::isnan(c);
+    CHECK(j.dynamics.viscous == (std::isnan(v) ? 0.0 : v));
+    CHECK(j.dynamics.coulomb == (std::isnan(c) ? 0.0 : c));
+    const urdf::JointConstSharedPtr uj = u->getJoint(j.name);
+    REQUIRE(uj);
+    CHECK((uj->dynamics ? uj->dynamics->damping : 0.0) == (std::isnan(v) ? 0.0 : v));
+    CHECK((uj->dynamics ? uj->dynamics->friction : 0.0) == (std::isnan(c) ? 0.0 : c));
+  }
+  CHECK(fitted >= 8);  // the lift and the first three arm joints: viscous and Coulomb each
 }

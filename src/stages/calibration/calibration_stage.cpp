@@ -23,6 +23,7 @@
 #include "common/parallel_for.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "io/urdf_io.hpp"
 #include "report/markdown.hpp"
 #include "stages/calibration/calibration_report.hpp"
 
@@ -30,12 +31,6 @@ namespace armstudy::calibration {
 
 namespace fs = std::filesystem;
 using nlohmann::ordered_json;
-
-namespace {
-
-constexpr double kRoundTripTolerance = 1e-12;  // variant design text read back vs the variant
-
-}  // namespace
 
 namespace {
 
@@ -51,66 +46,16 @@ std::string fileSafe(const std::string& name) {
   return s;
 }
 
-// The design file text of a study variant: its base file with the variant's overrides set (line
-// edits that keep comments), renamed to a file-safe form of the variant name, checked by reading
-// it back. The calibrated copy of a variant is an edit of this text.
+// The design file text of a study variant: the variant's Model (its base design with the
+// overrides set), named by a file-safe form of the variant name, through the design writer. The
+// calibrated copy of a variant is the variant's Model with the fitted values applied.
 std::string variantDesignText(const StudyDesign& d, const std::string& name) {
-  const std::string base = readFileOrThrow(d.model.file);
-  std::set<std::string> base_lines;
-  {
-    std::istringstream is(base);
-    for (std::string l; std::getline(is, l);) base_lines.insert(l);
-  }
-  std::string text = base;
-  auto num = [](double v) {  // shortest of %.15g / %.17g that reads back exactly
-    char b[48];
-    std::snprintf(b, sizeof b, "%.15g", v);
-    if (std::strtod(b, nullptr) != v) std::snprintf(b, sizeof b, "%.17g", v);
-    return std::string(b);
-  };
-  for (const auto& [key, value] : d.overrides) {
-    const auto dot = key.find('.');
-    const std::string head = key.substr(0, dot);
-    if (head == "joint") {
-      const auto dot2 = key.find('.', dot + 1);
-      text = setDesignEntry(text, "[[joint]]", "name", key.substr(dot + 1, dot2 - dot - 1),
-                            key.substr(dot2 + 1), num(value));
-    } else {
-      text = setDesignEntry(text, "[" + head + "]", "", "", key.substr(dot + 1), num(value));
-    }
-  }
-  text = setDesignEntry(text, "[design]", "", "", "name", "\"" + name + "\"");
-  // setDesignEntry marks the lines it writes "# calibrated"; here they are variant overrides.
-  std::istringstream is(text);
-  std::string out = "# Study variant '" + d.model.name + "' of " + d.model.file +
-                    " (armstudy [[calibration]] stage).\n";
-  const std::string mark = "   # calibrated";
-  for (std::string l; std::getline(is, l);) {
-    if (!base_lines.count(l) && l.size() > mark.size() &&
-        l.compare(l.size() - mark.size(), mark.size(), mark) == 0)
-      l = l.substr(0, l.size() - mark.size()) + "   # study variant";
-    out += l + "\n";
-  }
-  const Model back = parseDesign(out, name + ".toml");
-  const Model& v = d.model;
-  bool same =
-      back.dof() == v.dof() && std::abs(back.payload_kg - v.payload_kg) < kRoundTripTolerance;
-  auto samePose = [](const PoseXYZABG& a, const PoseXYZABG& b) {
-    return std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.z - b.z) +
-               std::abs(a.alpha - b.alpha) + std::abs(a.beta - b.beta) +
-               std::abs(a.gamma - b.gamma) <
-           kRoundTripTolerance;
-  };
-  same = same && samePose(back.tcp, v.tcp) && samePose(back.base, v.base);
-  for (int i = 0; same && i < v.dof(); ++i) {
-    const Joint &a = back.joints[i], &b = v.joints[i];
-    same = samePose(a.offset, b.offset) &&
-           std::abs(a.limits.q_min - b.limits.q_min) < kRoundTripTolerance &&
-           std::abs(a.limits.q_max - b.limits.q_max) < kRoundTripTolerance &&
-           std::abs(a.limits.qd_max - b.limits.qd_max) < kRoundTripTolerance;
-  }
-  ARMSTUDY_CHECK(same, "variant design text reads back as the variant '" + v.name + "'");
-  return out;
+  Model v = d.model;
+  v.name = name;
+  const std::string text = "# Study variant '" + d.model.name + "' of " + d.model.file +
+                           " (armstudy [[calibration]] stage).\n" + designToToml(v);
+  parseDesign(text, name + ".toml");  // a valid design
+  return text;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -177,8 +122,7 @@ std::string writeDriveEntry(const Work& w, const std::string& cal_dir, EntrySumm
     s.rmse_after = d.rmse_after;
     s.final_params = d.final_fit.params;
     cal_path = rs.calibrated_design_path;
-    if (const std::string why = noCalibratedDesign(d.arm, w.model); !why.empty())
-      s.notes.push_back(why);
+    if (const std::string why = noCalibratedDesign(d.arm); !why.empty()) s.notes.push_back(why);
   }
   if (e.fit && !cal_path.empty()) {
     // The calibrated copy as written, read back and compared with the same data.
