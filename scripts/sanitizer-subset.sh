@@ -11,10 +11,11 @@ GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
 if [ ! -f "$B/CMakeCache.txt" ]; then
   # -Og: under the sanitizers half the compile time of -O1 (the subset's time is in the parsers,
-  # not in optimised kernels); Eigen asserts stay on (no NDEBUG). Build and run times:
+  # not in optimised kernels); Eigen asserts stay on (no NDEBUG); unity batches as scripts/build.sh.
+  # Build and run times:
   # docs/performance.md, "Build and CI".
   cmake -S . -B "$B" "${GEN[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-Og -DARMSTUDY_SANITIZE=ON \
-        -DARMSTUDY_BUILD_BENCHMARKS=OFF >/dev/null
+        -DARMSTUDY_UNITY="${ARMSTUDY_UNITY:-ON}" -DARMSTUDY_BUILD_BENCHMARKS=OFF >/dev/null
 fi
 start=$(date +%s)
 cmake --build "$B" --parallel "$(nproc)" --target sanitizer_subset

@@ -206,13 +206,19 @@ std::string coarseCopy(const fs::path& dir, const std::string& name,
     INFO("studies/" << name << ".toml: " << from);
     const auto at = toml.find(from);
     REQUIRE(at != std::string::npos);
-    toml.replace(at, from.size(), to);
+    toml = toml.substr(0, at) + to + toml.substr(at + from.size());
   }
-  const std::string rel = "\"../designs/", abs = "\"" + sourcePath("designs/");
-  for (auto at = toml.find(rel); at != std::string::npos; at = toml.find(rel, at))
-    toml.replace(at, rel.size(), abs);
+  const std::string rel = "\"../designs/";
+  std::string abs = "\"";
+  abs += sourcePath("designs/");
+  std::string copy;
+  std::size_t done = 0;
+  for (auto at = toml.find(rel); at != std::string::npos; at = toml.find(rel, done)) {
+    copy += toml.substr(done, at - done) + abs;
+    done = at + rel.size();
+  }
   const fs::path p = dir / (name + ".toml");
-  std::ofstream(p) << toml;
+  std::ofstream(p) << copy << toml.substr(done);
   return p.string();
 }
 
