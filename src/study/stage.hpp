@@ -14,6 +14,7 @@
 // runner ask it. Adding a stage means a folder under src/stages/ and one registry line.
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +54,11 @@ struct RunOptions {
   // RunCancelled (study/unit_runner.hpp), the completed units saved, so the folder resumes as
   // after the CLI's Ctrl-C. Results do not depend on it.
   std::function<bool()> cancelled;
+  // The tops of colour scales shared with designs outside this run, by scale
+  // ("dexterity/manipulability", "dexterity/transmission"): an exploration runs each front design
+  // alone and passes the largest value over all of them, so that their maps share one scale. A
+  // stage's scale reaches the larger of this and its own designs' top. Empty: its own designs'.
+  std::map<std::string, double> shared_scale_tops;
   std::string validate() const;  // empty when valid, else the reason
 };
 
@@ -63,6 +69,11 @@ struct StageTiming {
 
 // What one stage run gives back to the runner. Timings go to the manifest only, so result files
 // stay byte-identical across runs.
+// The colour scales that designs run apart can share (RunOptions::shared_scale_tops,
+// StageResult::scale_tops): a dexterity map's absolute manipulability and its transmission.
+inline constexpr const char* kManipulabilityScale = "dexterity/manipulability";
+inline constexpr const char* kTransmissionScale = "dexterity/transmission";
+
 struct StageResult {
   std::vector<std::string> files;    // relative to the study output folder, in writing order
   StudyMetrics metrics;              // "<stage>/<design>/..." for baselines and checks
@@ -79,6 +90,9 @@ struct StageResult {
   // interactive 3-D view (view.html) shows them with the study's obstacles.
   std::vector<report::ViewCloud> view;
   std::vector<report::ViewSolid> view_solids;  // the stage's own obstacles (e.g. a map's stem)
+  // The largest value of each shared colour scale over the run's own designs (kManipulabilityScale,
+  // ...): what a caller that runs designs apart passes back as RunOptions::shared_scale_tops.
+  std::map<std::string, double> scale_tops;
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

@@ -202,13 +202,21 @@ std::string manipulabilityUnit(metrics::MeasureSpace space) {
 std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
 
 // The tops of the colour scales the stage's designs share (their largest value over every
-// design's map), so that a colour means the same value in each design's figure.
+// design's map, and the tops passed in from outside the run: RunOptions::shared_scale_tops), so
+// that a colour means the same value in each design's figure.
 struct SharedScales {
   double manipulability = 0;  // optimised and plain, absolute
   double transmission = 0;    // beta along u, optimised
 };
-SharedScales sharedScales(const std::vector<MapFields>& fields) {
+SharedScales sharedScales(const std::vector<MapFields>& fields,
+                          const std::map<std::string, double>& outside) {
   SharedScales sc;
+  const auto given = [&](const char* key) {
+    const auto it = outside.find(key);
+    return it == outside.end() ? 0.0 : it->second;
+  };
+  sc.manipulability = given(kManipulabilityScale);
+  sc.transmission = given(kTransmissionScale);
   auto top = [](double& hi, const std::vector<double>& v) {
     for (double x : v)
       if (!std::isnan(x)) hi = std::max(hi, x);
@@ -506,7 +514,10 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
         {"dexterity/" + design_maps.back().design + "/wall", design_maps.back().seconds});
     fields.push_back(mapFields(design_maps.back()));
   }
-  const SharedScales scales = sharedScales(fields);
+  const SharedScales own = sharedScales(fields, {});
+  sum.scale_tops = {{kManipulabilityScale, own.manipulability},
+                    {kTransmissionScale, own.transmission}};
+  const SharedScales scales = sharedScales(fields, ctx.options.shared_scale_tops);
   // The 3-D view: the stem (and the row's plants, when collisions are checked) with each map.
   StemRow stem;
   stem.stem = true;
