@@ -523,8 +523,11 @@ json resultJson(const ArmDiagnosis& d, const ArmProblem& P, const ArmReportOptio
 
 std::string armModelTitle(ShownDesign shown, bool after, const ArmDiagnosis& d) {
   if (after) {
+    // Up to two added effects by name; more as a count (the error ladder names each), so that a
+    // figure's title keeps to two lines.
     std::string added;
     for (const auto& a : d.added) added += (added.empty() ? "+" : ", +") + a;
+    if (d.added.size() > 2) added = "+" + std::to_string(d.added.size()) + " effects";
     return "after: calibrated" + (added.empty() ? std::string() : " (" + added + ")");
   }
   return shown == ShownDesign::calibrated_copy ? "calibrated design (check run)"

@@ -14,6 +14,7 @@
 // runner ask it. Adding a stage means a folder under src/stages/ and one registry line.
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +54,11 @@ struct RunOptions {
   // RunCancelled (study/unit_runner.hpp), the completed units saved, so the folder resumes as
   // after the CLI's Ctrl-C. Results do not depend on it.
   std::function<bool()> cancelled;
+  // The tops of colour scales shared with designs outside this run, by scale
+  // ("dexterity/manipulability", "dexterity/transmission"): an exploration runs each front design
+  // alone and passes the largest value over all of them, so that their maps share one scale. A
+  // stage's scale reaches the larger of this and its own designs' top. Empty: its own designs'.
+  std::map<std::string, double> shared_scale_tops;
   std::string validate() const;  // empty when valid, else the reason
 };
 
@@ -82,6 +88,10 @@ struct StageResult {
   // What the stage's maps show (points, values, the arm's pose) for view.html's header and the
   // colour choice's name; "" = reach and dexterity maps (manipulability, the best pose).
   std::string view_about, view_value_label;
+  // The largest value of each shared colour scale over the run's own designs ("dexterity/<measure>"
+  // for each declared measure with a figure): what a caller that runs designs apart passes back as
+  // RunOptions::shared_scale_tops.
+  std::map<std::string, double> scale_tops;
 };
 
 // What a stage gets to run: the study, the options, where to write, the unit runner.

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -30,6 +31,10 @@ namespace {
 constexpr int kLaptopWidth = 1366, kLaptopHeight = 900;  // [px] window the reports must fit
 constexpr int kPhoneWidth = 420;                         // [px] a phone's window, held upright
 constexpr int kScreenshotHeight = 2400;                  // [px] screenshot of the report's top
+constexpr int kFirstScreenHeight = 768;  // [px] a laptop's window (1366 x 768) before scrolling
+// Share of its own width a figure's image keeps at the laptop's width: an SVG drawn smaller than
+// this has tick labels of 11 px below 5.5 px.
+constexpr double kMinFigureScale = 0.5;
 
 // Collects errors from the first moment: uncaught exceptions, failed resources, console.error.
 const char* kHeadScript = R"(<script>
@@ -81,6 +86,33 @@ window.addEventListener('load', () => {
   const a = document.getElementById('answer');
   r.answerTop = a ? a.getBoundingClientRect().top + window.scrollY : -1;
   r.answer = a ? a.textContent : '';
+  // The first screen: the words wholly inside the top FIRST_SCREEN px of a window the laptop's
+  // width (what shows before any scrolling), in reading order; '|' where hidden words break a run.
+  const H = FIRST_SCREEN, words = [], range = document.createRange();
+  const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+  for (let n = walker.nextNode(); n; n = walker.nextNode()) {
+    const el = n.parentElement;
+    if (!el || el.closest('script, style, pre#armstudy-check')) continue;
+    if (el.getBoundingClientRect().top + window.scrollY >= H) continue;
+    for (const m of n.textContent.matchAll(/\S+/g)) {
+      range.setStart(n, m.index);
+      range.setEnd(n, m.index + m[0].length);
+      const b = range.getBoundingClientRect();
+      if (b.width <= 0) continue;
+      const seen = b.top + window.scrollY >= 0 && b.bottom + window.scrollY <= H && b.left >= 0 &&
+                   b.right <= window.innerWidth;
+      if (seen) words.push(m[0]); else if (words[words.length - 1] !== '|') words.push('|');
+    }
+  }
+  r.firstScreen = words.join(' ');
+  const li = a ? a.querySelector('li') : null;
+  r.firstAnswer = li ? li.textContent.replace(/\s+/g, ' ').trim() : '';
+  // Each figure's image as drawn: its share of its own width and its right edge.
+  r.drawn = [];
+  for (const img of document.querySelectorAll('figure img'))
+    if (img.naturalWidth > 0)
+      r.drawn.push({name: (img.alt || img.src).slice(0, 120), scale: img.getBoundingClientRect().width / img.naturalWidth,
+                     right: img.getBoundingClientRect().right});
   const p = document.createElement('pre');
   p.id = 'armstudy-check';
   p.hidden = true;  // out of the screenshot taken in the same run
@@ -124,11 +156,12 @@ window.addEventListener('load', () => {
 });
 </script>)";
 
-// Every SVG figure of a page built by svgFiguresPage (each inline in a <div class="armstudy-svg"
+// Every SVG figure of a page with svgHolders (each inline in a <div class="armstudy-svg"
 // data-file="...">), measured by Chromium's own text layout: each <text> element's box from
 // getBoundingClientRect() in the SVG's user units (viewBox, else width/height). A box that leaves
 // the canvas, or two boxes of one figure that overlap by more than TOLERANCE px both across and
-// along, is a fault.
+// along, is a fault; so is a title (the plotting module's TITLE_SIZE px text) of more than
+// TITLE_LINES lines. Writes <pre id="armstudy-svg-check">.
 const char* kSvgScript = R"(<script>
 window.addEventListener('load', () => {
   const tol = TOLERANCE;
@@ -144,6 +177,9 @@ window.addEventListener('load', () => {
     const W = vb ? vb.width : svg.width.baseVal.value, H = vb ? vb.height : svg.height.baseVal.value;
     const ox = vb ? vb.x : 0, oy = vb ? vb.y : 0, sx = W / sr.width, sy = H / sr.height;
     const boxes = [];
+    let title = 0;
+    for (const t of svg.querySelectorAll('text')) title += t.getAttribute('font-size') === 'TITLE_SIZE';
+    if (title > TITLE_LINES) r.faults.push(name + ': a title of ' + title + ' lines');
     for (const t of svg.querySelectorAll('text')) {
       const s = t.textContent.trim(), b = t.getBoundingClientRect();
       if (!s || (b.width === 0 && b.height === 0)) continue;
@@ -164,7 +200,7 @@ window.addEventListener('load', () => {
       }
   }
   const p = document.createElement('pre');
-  p.id = 'armstudy-check';
+  p.id = 'armstudy-svg-check';
   p.textContent = JSON.stringify(r);
   document.body.appendChild(p);
 });
@@ -179,9 +215,13 @@ constexpr double kTextTolerance_px = 1;
 constexpr double kMinInkShare = 0.005, kMinChangedShare = 0.005;
 
 struct Check {
-  nlohmann::json result;  // what the script found; null when the browser gave nothing
+  nlohmann::json result;  // what the check script found; null when the browser gave nothing
+  nlohmann::json svg;     // what kSvgScript found, where the page holds it; else null
   std::string log;
 };
+
+// [px] the plotting module's title size, and the most lines a figure's title may take.
+constexpr int kTitleSize = 15, kMaxTitleLines = 2;
 
 std::string chromium(const fs::path& profile, int width = kLaptopWidth) {
   return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
@@ -211,17 +251,22 @@ Check runCheck(const fs::path& file, const fs::path& work, int width, const std:
   runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(height) + flags +
                  shot + " --virtual-time-budget=10000 --dump-dom file://" + file.string(),
              c.log);
-  const std::size_t id = c.log.find("<pre id=\"armstudy-check\"");  // then attributes, '>'
-  const std::size_t a = id == std::string::npos ? id : c.log.find('>', id);
-  const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
-  if (b != std::string::npos)
-    c.result = nlohmann::json::parse(unescapeText(c.log.substr(a + 1, b - a - 1)));
+  const auto pre = [&](const std::string& name) {
+    const std::size_t id = c.log.find("<pre id=\"" + name + "\"");  // then attributes, '>'
+    const std::size_t a = id == std::string::npos ? id : c.log.find('>', id);
+    const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
+    return b == std::string::npos
+               ? nlohmann::json()
+               : nlohmann::json::parse(unescapeText(c.log.substr(a + 1, b - a - 1)));
+  };
+  c.result = pre("armstudy-check");
+  c.svg = pre("armstudy-svg-check");
   return c;
 }
 
 // Loads `page` with `script` before </body> and kHeadScript (a copy is written beside it) and
 // returns the findings.
-Check checkWith(const fs::path& page, const fs::path& work, const char* script, int width,
+Check checkWith(const fs::path& page, const fs::path& work, const std::string& script, int width,
                 const std::string& flags, const fs::path& screenshot = {}) {
   std::string html = readFileOrThrow(page.string());
   const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
@@ -239,8 +284,12 @@ Check checkWith(const fs::path& page, const fs::path& work, const char* script, 
 // Loads a report page with kBodyScript and returns the findings; with a `screenshot` path, saves a
 // screenshot of the page there in the same run.
 Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth,
-                const fs::path& screenshot = {}) {
-  return checkWith(page, work, kBodyScript, width, "", screenshot);
+                const fs::path& screenshot = {}, const std::string& more = "") {
+  std::string script = kBodyScript;
+  for (std::size_t at = script.find("FIRST_SCREEN"); at != std::string::npos;
+       at = script.find("FIRST_SCREEN", at))
+    script.replace(at, 12, std::to_string(kFirstScreenHeight));
+  return checkWith(page, work, script + more, width, "", screenshot);
 }
 
 // Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
@@ -284,45 +333,60 @@ void requireView(const fs::path& dir, const fs::path& work) {
   CHECK(own.compare(own.size() - unit.size() - 1, std::string::npos, " " + unit) == 0);
 }
 
-// Every .svg file under `dir` (sorted) inline in one page `page`, each in a <div
-// class="armstudy-svg" data-file="<path under dir>">, with kSvgScript; returns the number of files.
-std::size_t svgFiguresPage(const fs::path& dir, const fs::path& page) {
-  std::vector<fs::path> files;
+// Every .svg file under `dir` (sorted) inline, each in a <div class="armstudy-svg"
+// data-file="<path under dir>">, then kSvgScript; `files`: how many. Inside a box out of sight
+// (far below the page, clipped to nothing), so that a report page can carry them without a change
+// to what it shows or to its width.
+std::string svgHolders(const fs::path& dir, std::size_t& files) {
+  std::vector<fs::path> svgs;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().extension() == ".svg") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+    if (e.is_regular_file() && e.path().extension() == ".svg") svgs.push_back(e.path());
+  std::sort(svgs.begin(), svgs.end());
   std::string html =
-      "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><style>body{margin:0} "
-      "div.armstudy-svg svg{display:block}</style></head><body>\n";
-  for (const fs::path& f : files) {
+      "<div style=\"position:absolute;left:0;top:100000px;width:0;height:0;overflow:hidden\">"
+      "<style>div.armstudy-svg svg{display:block}</style>\n";
+  for (const fs::path& f : svgs) {
     std::string svg = readFileOrThrow(f.string());
     if (svg.rfind("<?xml", 0) == 0) svg.erase(0, svg.find("?>") + 2);  // the XML prolog
     html += "<div class=\"armstudy-svg\" data-file=\"" + xmlEscape(fs::relative(f, dir).string()) +
             "\">" + svg + "</div>\n";
   }
   std::string script = kSvgScript;
-  script.replace(script.find("TOLERANCE"), 9, std::to_string(kTextTolerance_px));
-  writeFileAtomic(page.string(), html + script + "</body></html>\n");
-  return files.size();
+  for (const auto& [key, value] :
+       {std::pair<std::string, std::string>{"TOLERANCE", std::to_string(kTextTolerance_px)},
+        {"TITLE_SIZE", std::to_string(kTitleSize)},
+        {"TITLE_LINES", std::to_string(kMaxTitleLines)}})
+    for (std::size_t at = script.find(key); at != std::string::npos; at = script.find(key, at))
+      script.replace(at, key.size(), value);
+  files = svgs.size();
+  return html + "</div>\n" + script;
 }
 
-// The text faults of every SVG figure under `dir` as Chromium lays them out ("" = none); `files`:
-// how many SVG files there were, `texts`: how many text boxes the browser measured.
+// The text faults of the SVG figures a check found ("" = none); `files`: how many SVG files the
+// page held, `texts`: how many text boxes the browser measured.
+std::string svgFaults(const Check& c, std::size_t files, int& texts) {
+  texts = 0;
+  if (c.svg.is_null()) return "the browser returned no SVG check result:\n" + c.log.substr(0, 2000);
+  texts = c.svg.value("texts", 0);
+  std::string f;
+  if (c.svg.value("figures", 0) != static_cast<int>(files))
+    f += std::to_string(c.svg.value("figures", 0)) + " SVG figures of " + std::to_string(files) +
+         " loaded\n";
+  for (const auto& e : c.svg["faults"]) f += e.get<std::string>() + "\n";
+  return f;
+}
+
+// The text faults of every SVG figure under `dir` as Chromium lays them out, on a page of their
+// own ("" = none).
 std::string svgFigureFaults(const fs::path& dir, const fs::path& work, std::size_t& files,
                             int& texts) {
   const fs::path page = work / "svg_figures.html";
-  files = svgFiguresPage(dir, page);
+  writeFileAtomic(page.string(),
+                  "<!DOCTYPE html><html><head><meta charset=\"utf-8\"></head><body>\n" +
+                      svgHolders(dir, files) + "</body></html>\n");
   const Check c = runCheck(page, work, kLaptopWidth, "");
   fs::remove(page);
-  texts = 0;
-  if (c.result.is_null()) return "the browser returned no check result:\n" + c.log.substr(0, 2000);
-  texts = c.result.value("texts", 0);
-  std::string f;
-  if (c.result.value("figures", 0) != static_cast<int>(files))
-    f += std::to_string(c.result.value("figures", 0)) + " SVG figures of " + std::to_string(files) +
-         " loaded\n";
-  for (const auto& e : c.result["faults"]) f += e.get<std::string>() + "\n";
-  return f;
+  return svgFaults(c, files, texts);
 }
 
 // Everything the check found wrong, one line each ("" = nothing).
@@ -376,6 +440,68 @@ std::string quickStudy(const std::string& toml, const fs::path& study_dir) {
   return out;
 }
 
+// The value of the first `key = "..."` line of a TOML text ("" when there is none).
+std::string tomlString(const std::string& toml, const std::string& key) {
+  const std::regex line("(^|\n)" + key + R"re(\s*=\s*"((?:[^"\\]|\\.)*)")re");
+  std::smatch m;
+  return std::regex_search(toml, m, line) ? m[2].str() : "";
+}
+
+// `s` without white space: the first screen's words are joined by blanks where the page has none
+// (a code span and the colon after it), so texts are compared without it.
+std::string squeezed(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    if (!std::isspace(static_cast<unsigned char>(c))) out += c;
+  return out;
+}
+
+// A share [1] as the reports print it: "71.4 %".
+std::string percent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f %%", 100 * share);
+  return buf;
+}
+
+// What the first screen of the report in `dir` must hold beyond the question and the answer's
+// first item, one line per miss ("" = nothing missing): the near and far halves of every stem map
+// with a row (dexterity/summary.json), and every largest reach found against its reference
+// (summary.json), each number with its unit.
+std::string firstScreenMisses(const fs::path& dir, const std::string& first) {
+  std::string miss;
+  const auto need = [&](const std::string& what, const std::string& why) {
+    if (squeezed(first).find(squeezed(what)) == std::string::npos)
+      miss += why + ": '" + what + "'\n";
+  };
+  const fs::path dex = dir / "dexterity" / "summary.json";
+  if (fs::exists(dex))
+    for (const auto& d : nlohmann::json::parse(readFileOrThrow(dex.string()))["designs"]) {
+      if (!d.contains("row_sweep") || d["row_sweep"].empty()) continue;
+      const std::string design = d["design"];
+      for (const char* half : {"near_half", "far_half"}) {
+        const auto& h = d["status"][half];
+        need(percent(h["reachable"].get<double>() / h["cells"].get<double>()), design + " " + half);
+      }
+      need("near half", design), need("far half", design);
+    }
+  const fs::path sum = dir / "summary.json";
+  if (fs::exists(sum)) {
+    const auto js = nlohmann::json::parse(readFileOrThrow(sum.string()));
+    if (js.contains("reach"))
+      for (const auto& g : js["reach"]["grids"])
+        for (const auto& r : g.value("reference_reach", nlohmann::json::array())) {
+          char found[32], ref[32];
+          std::snprintf(found, sizeof found, "%.0f mm",
+                        1e3 * r["largest_reach_found_m"].get<double>());
+          std::snprintf(ref, sizeof ref, "%.0f mm", 1e3 * r["reference_reach_m"].get<double>());
+          const std::string what =
+              r["design"].get<std::string>() + " on grid " + g["name"].get<std::string>();
+          need(found, what + ": largest reach found"), need(ref, what + ": reference");
+        }
+  }
+  return miss;
+}
+
 fs::path workDir() {
   const fs::path d = fs::temp_directory_path() / ("armstudy_browser_" + std::to_string(getpid()));
   fs::create_directories(d);
@@ -414,8 +540,8 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "the browser's SVG text check finds overprinted labels and text off the canvas, and passes a "
-    "clean figure",
+    "the browser's SVG text check finds overprinted labels, text off the canvas and a long title, "
+    "and passes a clean figure",
     "[browser][report]") {
   // The check itself must be able to fail: one figure with each fault, one without.
   const fs::path work = workDir();
@@ -439,12 +565,19 @@ TEST_CASE(
                       "<text x=\"250\" y=\"60\">stem map manipulability</text>"
                       "<text x=\"40\" y=\"60\" transform=\"rotate(-90 40 60)\">reads upwards "
                       "past the top</text></svg>\n");
+  writeFileAtomic((figs / "title.svg").string(),  // a title of three lines
+                  head +
+                      "width=\"300\" height=\"100\" viewBox=\"0 0 300 100\">"
+                      "<text x=\"10\" y=\"20\" font-size=\"15\">the first line</text>"
+                      "<text x=\"10\" y=\"40\" font-size=\"15\">the second line</text>"
+                      "<text x=\"10\" y=\"60\" font-size=\"15\">the third line</text></svg>\n");
   std::size_t files = 0;
   int texts = 0;
   const std::string f = svgFigureFaults(figs, work, files, texts);
   INFO(f);
-  CHECK(files == 3);
-  CHECK(texts == 6);
+  CHECK(files == 4);
+  CHECK(texts == 9);
+  CHECK(f.find("title.svg: a title of 3 lines") != std::string::npos);
   CHECK(f.find("sub/overlap.svg: 'stem map coverage' overlaps 'fruits feasible'") !=
         std::string::npos);
   CHECK(f.find("offcanvas.svg: 'stem map manipulability'") != std::string::npos);
@@ -454,7 +587,7 @@ TEST_CASE(
   std::string line;
   int n = 0;
   while (std::getline(lines, line)) ++n;
-  CHECK(n == 3);
+  CHECK(n == 4);
   fs::remove_all(work);
 }
 
@@ -486,19 +619,20 @@ TEST_CASE(
           report = e.path();
       REQUIRE_FALSE(report.empty());
       CHECK(fs::file_size(report) < 5u * 1024 * 1024);  // a light page
-      // Every SVG figure the study wrote, as Chromium lays out its text: no overlap, none off the
-      // canvas.
+      // The report as a laptop shows it, with a screenshot kept beside the report; the same page
+      // carries every SVG figure the study wrote, out of sight, for Chromium's text layout: no
+      // overlap, none off the canvas, titles of at most two lines.
+      const fs::path shot = report.parent_path() / "report_screenshot.png";
+      std::size_t files = 0;
+      const std::string svgs = svgHolders(report.parent_path(), files);
+      const Check c = checkPage(report, work, kLaptopWidth, shot, svgs);
       {
-        std::size_t files = 0;
         int texts = 0;
-        const std::string f = svgFigureFaults(report.parent_path(), work, files, texts);
+        const std::string f = svgFaults(c, files, texts);
         INFO(study.filename().string() + ": SVG figures: " + f);
         CHECK(f.empty());
         if (files > 0) CHECK(texts > 0);
       }
-      // The report as a laptop shows it, with a screenshot kept beside the report.
-      const fs::path shot = report.parent_path() / "report_screenshot.png";
-      const Check c = checkPage(report, work, kLaptopWidth, shot);
       CHECK(fs::exists(shot));
       CHECK(fs::file_size(shot) > 1000);
       INFO(study.filename().string() + ": " + faults(c));
@@ -519,6 +653,35 @@ TEST_CASE(
         const std::size_t q = html.find("<strong>Question:</strong>");
         CHECK(q != std::string::npos);
         CHECK(q < html.find("</header>"));
+      }
+      // The first screen (1366 x 768, before any scrolling) holds the study's question and the
+      // answer's first item up to its first number and unit; the halves of a stem map with its
+      // row and each largest reach against its reference among them.
+      {
+        const std::string first = squeezed(c.result.value("firstScreen", ""));
+        INFO(study.filename().string() + ": first screen: " + c.result.value("firstScreen", ""));
+        const std::string question =
+            squeezed(tomlString(readFileOrThrow(study.string()), "question"));
+        CHECK_FALSE(question.empty());
+        CHECK(first.find(question) != std::string::npos);
+        // The answer's first item up to its first number and what that number counts or
+        // measures ("... 71.4 %", "... 912 mm", "... 589 cells").
+        const std::string item = c.result.value("firstAnswer", "");
+        INFO("first item of the answer: " << item);
+        std::smatch number;
+        const std::regex with_unit(R"re(\b[0-9][0-9.]*\s?(%|[A-Za-z][A-Za-z^0-9]*))re");
+        REQUIRE(std::regex_search(item, number, with_unit));
+        const std::string lead = item.substr(0, number.position(0) + number.length(0));
+        INFO("its lead: " << lead);
+        CHECK(first.find(squeezed(lead)) != std::string::npos);
+        CHECK(firstScreenMisses(report.parent_path(), c.result.value("firstScreen", "")) == "");
+      }
+      // Every figure's image fits the laptop's window and keeps at least kMinFigureScale of its
+      // width (maps side by side wrap instead of shrinking).
+      for (const auto& d : c.result["drawn"]) {
+        INFO(d.dump());
+        CHECK(d["scale"].get<double>() >= kMinFigureScale);
+        CHECK(d["right"].get<double>() <= kLaptopWidth + 1);
       }
       // The answer opens the page: within the first 1,000 px, and it names, for every reach grid,
       // the design summary.json ranks first by reachable share, with that share as printed.

@@ -511,6 +511,10 @@ TEST_CASE("explore sections with bad input are refused with file, line and key",
             "[[explore.constraint]]\nterms = { \"joint.j1.z\" = 1 }\nmax = 1\n",
         "is not a parameter");
   fails(head + "stages = [\"harvest\"]\n" + kParams + kObjectives, "no [harvest] section");
+  fails(head + kParams +
+            "[[explore.objective]]\nmetric = \"cost/link_length\"\ngoal = \"min\"\n"
+            "resolution = -0.1\n",
+        "resolution must be 0 or more");
   fs::remove_all(dir);
 }
 

@@ -1,7 +1,7 @@
 // harvest's fruits.svg names the fruits: the shipped harvest_torque study runs through the CLI and
 // every fruit of each design's <design>_fruits.csv, picked or failed, has its number written beside
-// a marker in that design's panel of the figure. Read from the SVG text and circle elements, as a
-// reader's browser gets them.
+// a marker in that design's panel of the figure, and the legend names the outcomes in words. Read
+// from the SVG text and circle elements, as a reader's browser gets them.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -92,6 +92,13 @@ TEST_CASE("harvest's fruit figure writes every fruit's number, failed or picked,
     }
   }
   CHECK(designs == 2);
+  // The legend in words: no snake_case outside the designs' names ("motor speed", not
+  // "motor_speed").
+  for (const Text& t : texts)
+    if (t.s.rfind("final_prototype_", 0) != 0) {
+      INFO("'" << t.s << "'");
+      CHECK(t.s.find('_') == std::string::npos);
+    }
   CHECK(failed > 0);  // the figure must show failures, not only picked fruits
   fs::remove_all(work);
 }

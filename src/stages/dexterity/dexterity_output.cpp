@@ -214,15 +214,23 @@ std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::
 
 // The tops of the colour scales the stage's designs share, per declared measure with a figure:
 // its largest optimised value over every design's map (and plain value, for a normalised measure,
-// whose plain and optimised maps share one scale), so that a colour means the same value in each
-// design's figure.
+// whose plain and optimised maps share one scale), and the tops passed in from outside the run
+// (RunOptions::shared_scale_tops, keyed by sharedScaleKey), so that a colour means the same value
+// in each design's figure.
 struct SharedScales {
   std::vector<double> top;  // per metrics::kMeasures entry
 };
-SharedScales sharedScales(const std::vector<MapFields>& fields) {
+std::string sharedScaleKey(const metrics::MeasureDeclaration& d) {
+  return std::string("dexterity/") + d.name;
+}
+SharedScales sharedScales(const std::vector<MapFields>& fields,
+                          const std::map<std::string, double>& outside) {
   const auto decl = metrics::measureDeclarations();
   SharedScales sc;
   sc.top.assign(decl.size(), 0.0);
+  for (std::size_t k = 0; k < decl.size(); ++k)
+    if (const auto it = outside.find(sharedScaleKey(decl[k])); it != outside.end())
+      sc.top[k] = it->second;
   auto top = [](double& hi, const std::vector<double>& v) {
     for (double x : v)
       if (!std::isnan(x)) hi = std::max(hi, x);
@@ -531,7 +539,12 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
         {"dexterity/" + design_maps.back().design + "/wall", design_maps.back().seconds});
     fields.push_back(mapFields(design_maps.back()));
   }
-  const SharedScales scales = sharedScales(fields);
+  const SharedScales own = sharedScales(fields, {});
+  const auto decl = metrics::measureDeclarations();
+  for (std::size_t k = 0; k < decl.size(); ++k)
+    if (decl[k].on_maps && decl[k].figure_label)
+      sum.scale_tops[sharedScaleKey(decl[k])] = own.top[k];
+  const SharedScales scales = sharedScales(fields, ctx.options.shared_scale_tops);
   // The 3-D view: the stem (and the row's plants, when collisions are checked) with each map.
   StemRow stem;
   stem.stem = true;

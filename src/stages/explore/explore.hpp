@@ -41,6 +41,10 @@ struct Objective {
   Goal goal = Goal::None;
   double min = -1e300, max = 1e300;
   double weight = 1;  // in the scalarised NLopt objective (sum of weight * value, sign by goal)
+  // What the study can resolve in this metric (its unit): recommended designs that differ by no
+  // more are level. 0: one step of a share ("..._fraction": the smallest difference between two
+  // candidates' values, one cell or fruit), else only equal values.
+  double resolution = 0;
   int line = 0;
 };
 

@@ -20,8 +20,10 @@ class Evaluator {
   std::vector<std::size_t> evaluate(const std::vector<std::vector<double>>& params, bool base);
   void searchGrid();
   void searchOptimise();
-  // Runs the stages on one design, writing their files under `dir` (front designs' maps).
-  StageResult runStages(const Model& m, const Overrides& ov, const std::string& dir) const;
+  // Runs the stages on one design, writing their files under `dir` (front designs' maps), with
+  // the colour scales reaching at least `scale_tops` (RunOptions::shared_scale_tops).
+  StageResult runStages(const Model& m, const Overrides& ov, const std::string& dir,
+                        const std::map<std::string, double>& scale_tops = {}) const;
 
   const std::vector<Candidate>& candidates() const { return cands_; }
   const std::string& status() const { return status_; }

@@ -110,6 +110,8 @@ Objective readObjective(TableReader& orr) {
   ob.min = orr.number("min", -1e300);
   ob.max = orr.number("max", 1e300);
   ob.weight = orr.number("weight", 1.0);
+  ob.resolution = orr.number("resolution", 0.0);
+  if (!(ob.resolution >= 0)) orr.fail("resolution", "resolution must be 0 or more");
   if (ob.goal == Goal::None && !orr.has("min") && !orr.has("max"))
     orr.fail("metric", "an objective needs a goal, or min/max to be a constraint");
   orr.finish();

@@ -83,15 +83,19 @@ Study Evaluator::candidateStudy(const Model& m, const Overrides& ov) const {
   return sub;
 }
 
-StageResult Evaluator::runStages(const Model& m, const Overrides& ov,
-                                 const std::string& dir) const {
+StageResult Evaluator::runStages(const Model& m, const Overrides& ov, const std::string& dir,
+                                 const std::map<std::string, double>& scale_tops) const {
   const Study sub = candidateStudy(m, ov);
+  RunOptions options = inner_options_;
+  options.shared_scale_tops = scale_tops;
   StageResult all;
   for (const StudySection& s : sections_) {
     // A candidate is one unit, computed by one process: its stages run their units here.
-    const StageContext sc{sub, inner_options_, dir, ctx_.units.local(), ctx_.threads};
+    const StageContext sc{sub, options, dir, ctx_.units.local(), ctx_.threads};
     StageResult r = s.stage->run(sc, *s.settings);
     all.metrics.merge(r.metrics);
+    for (const auto& [scale, top] : r.scale_tops)
+      all.scale_tops[scale] = std::max(all.scale_tops[scale], top);
     all.files.insert(all.files.end(), r.files.begin(), r.files.end());
     all.units_resumed += r.units_resumed;
   }

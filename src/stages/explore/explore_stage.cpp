@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "common/format.hpp"
@@ -15,6 +17,8 @@
 namespace armstudy::explore {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 // Numbers in the report: 4 significant digits.
 std::string num(double v) { return formatG(v, 4); }
@@ -32,6 +36,9 @@ std::string goalText(Goal g) {
 
 // Larger is better for objective k.
 double oriented(const Objective& ob, double v) { return ob.goal == Goal::Minimise ? -v : v; }
+
+// Two metric values closer than this are the same value (rounding of the metrics' arithmetic).
+constexpr double kSameValue = 1e-12;
 
 }  // namespace
 
@@ -96,15 +103,40 @@ std::string candidatesCsv(const Outcome& r) {
   return s.str();
 }
 
+// The front designs whose stage outputs are written: the first front_designs of the front, less
+// the base design (its own outputs are the study's).
+std::vector<std::size_t> shownFront(const Outcome& r) {
+  std::vector<std::size_t> shown;
+  for (std::size_t f = 0; f < r.front.size() && static_cast<int>(f) < r.o.front_designs; ++f)
+    if (r.front[f] != r.base_index) shown.push_back(r.front[f]);
+  return shown;
+}
+
+// The tops of the colour scales over the shown front designs (each run alone into a scratch
+// folder, removed after), so that their maps share one scale for real.
+std::map<std::string, double> frontScaleTops(const Evaluator& ev, const Outcome& r,
+                                             const std::string& scratch) {
+  std::map<std::string, double> tops;
+  for (std::size_t i : shownFront(r)) {
+    const Model m = deriveVariant(r.o.base, r.c[i].overrides, r.o.file, r.o.line);
+    for (const auto& [scale, top] : ev.runStages(m, r.c[i].overrides, scratch).scale_tops)
+      tops[scale] = std::max(tops[scale], top);
+    std::error_code ec;
+    fs::remove_all(scratch, ec);
+  }
+  return tops;
+}
+
 // Writes the first front_designs front designs (the base design excepted): design file plus the
-// stages' own outputs (maps), from the checkpointed units; returns their file-safe names.
+// stages' own outputs (maps on the colour scales they share), from the checkpointed units; returns
+// their file-safe names.
 std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evaluator& ev,
                                            const Outcome& r, Writer& out) {
   const ExploreOptions& o = r.o;
   std::vector<std::string> written;
-  for (std::size_t f = 0; f < r.front.size() && static_cast<int>(f) < o.front_designs; ++f) {
-    const Candidate& cand = r.c[r.front[f]];
-    if (r.front[f] == r.base_index) continue;  // the base design's own outputs are the study's
+  const std::map<std::string, double> tops = frontScaleTops(ev, r, out.path("explore/.scales"));
+  for (std::size_t i : shownFront(r)) {
+    const Candidate& cand = r.c[i];
     const Model m = deriveVariant(o.base, cand.overrides, o.file, o.line);
     const std::string safe = fileSafeName(cand.name);
     const std::string rel = "explore/front/" + safe;
@@ -114,7 +146,7 @@ std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evalua
     file_model.description = "Variant " + cand.name + " of " + o.base.name +
                              " (Pareto front of study " + ctx.study.name + "). " + m.description;
     out.text(rel + "/" + safe + ".toml", designToToml(file_model));
-    const StageResult sr = ev.runStages(m, cand.overrides, out.path(rel));
+    const StageResult sr = ev.runStages(m, cand.overrides, out.path(rel), tops);
     for (const std::string& file : sr.files) out.add(rel + "/" + file);
     written.push_back(safe);
   }
@@ -184,12 +216,36 @@ std::vector<std::string> dominatingBase(const Outcome& r) {
   return by;
 }
 
+// What the study resolves in objective k (Objective::resolution): the given value, else for a
+// share ("..._fraction") the smallest difference between two candidates' values (one count), else
+// 0 (only equal values are level).
+double resolution(const Outcome& r, std::size_t k) {
+  const Objective& ob = r.o.objectives[k];
+  if (ob.resolution > 0) return ob.resolution;
+  const std::string tail = "_fraction";
+  if (ob.metric.size() < tail.size() ||
+      ob.metric.compare(ob.metric.size() - tail.size(), tail.size(), tail) != 0)
+    return 0;
+  std::vector<double> v;
+  for (const Candidate& c : r.c)
+    if (std::isfinite(c.values[k])) v.push_back(c.values[k]);
+  std::sort(v.begin(), v.end());
+  double step = 0;
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (v[i] - v[i - 1] > kSameValue && (step == 0 || v[i] - v[i - 1] < step))
+      step = v[i] - v[i - 1];
+  return step;
+}
+
 // One recommended front design per trade-off: for each objective with a goal, the front design
-// best in it (ties: the better balanced one); then the balanced one, whose largest shortfall from
-// the front's best over the objectives, each scaled by the front's spread, is least.
+// best in it (ties: the better balanced one), with the other front designs within the
+// objective's resolution of it (level: no winner); then the balanced one, whose largest shortfall
+// from the front's best over the objectives, each scaled by the front's spread, is least.
 struct Recommendation {
   std::string trade_off;  // "best stem map coverage", "balanced"
   std::size_t candidate = 0;
+  std::vector<std::size_t> level;  // front designs as good within the resolution
+  double resolution = 0;
 };
 std::vector<Recommendation> recommendations(const Outcome& r) {
   std::vector<Recommendation> out;
@@ -216,13 +272,31 @@ std::vector<Recommendation> recommendations(const Outcome& r) {
           (value(i, k) == value(pick, k) && shortfall(i) < shortfall(pick)))
         pick = i;
     const std::string& label = r.o.objectives[k].label;  // without a unit: "best link length"
-    out.push_back({"best " + label.substr(0, label.find(" [")), pick});
+    Recommendation rec{"best " + label.substr(0, label.find(" [")), pick, {}, resolution(r, k)};
+    for (std::size_t i : r.front)
+      if (i != pick && value(pick, k) - value(i, k) <= rec.resolution + kSameValue)
+        rec.level.push_back(i);
+    out.push_back(std::move(rec));
   }
   std::size_t balanced = r.front[0];
   for (std::size_t i : r.front)
     if (shortfall(i) < shortfall(balanced)) balanced = i;
-  out.push_back({"balanced", balanced});
+  out.push_back({"balanced", balanced, {}, 0});
   return out;
+}
+
+// A recommendation's level designs in words ("" when it has none): "level with 2 other front
+// designs within the resolution 0.0017: `a`, `b`".
+std::string levelText(const Outcome& r, const Recommendation& rec) {
+  if (rec.level.empty()) return "";
+  std::string s = "level with " + std::to_string(rec.level.size()) + " other front design" +
+                  (rec.level.size() > 1 ? "s" : "") +
+                  (rec.resolution > 0 ? " within the resolution " + num(rec.resolution)
+                                      : " of the same value") +
+                  ": ";
+  for (std::size_t j = 0; j < rec.level.size() && j < 3; ++j)
+    s += (j ? ", `" : "`") + r.c[rec.level[j]].name + "`";
+  return s + (rec.level.size() > 3 ? ", ..." : "");
 }
 
 // A candidate's objective values in words: "stem map coverage 0.8, fruits feasible 0.625, ...".
@@ -250,9 +324,11 @@ std::string exploreAnswer(const Outcome& r) {
     a += "dominated by " + std::to_string(by.size()) + " of them" +
          (by.empty() ? "" : " (e.g. " + by[0] + ")");
   }
-  for (const Recommendation& rec : recommendations(r))
+  for (const Recommendation& rec : recommendations(r)) {
+    const std::string level = levelText(r, rec);
     a += "; " + rec.trade_off + ": `" + r.c[rec.candidate].name + "` (" +
-         valuesText(r, rec.candidate) + ")";
+         valuesText(r, rec.candidate) + ")" + (level.empty() ? "" : ", " + level);
+  }
   return a + ".";
 }
 
@@ -284,12 +360,16 @@ std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& heade
   rows.clear();
   for (const Recommendation& rec : recommendations(r)) {
     rows.push_back(candidateRow(r, rec.candidate));
-    rows.back().insert(rows.back().begin(), rec.trade_off);
+    const std::string level = levelText(r, rec);
+    rows.back().insert(rows.back().begin(),
+                       rec.trade_off + (level.empty() ? "" : " (" + level + ")"));
   }
   md +=
       "## Recommended designs\n\nOne front design per trade-off, each with all its values: the "
       "best in each objective, and the balanced one (the least largest shortfall from the "
-      "front's best, each objective scaled by the front's spread).\n\n" +
+      "front's best, each objective scaled by the front's spread). A best design with others "
+      "within the objective's resolution (one cell or fruit of a share, or the study's "
+      "`resolution`) is level with them, not a winner.\n\n" +
       report::markdownTable(rec_header, rows) + "\n";
   return md;
 }

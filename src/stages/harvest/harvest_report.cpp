@@ -187,11 +187,16 @@ std::vector<std::string> failureAssumptions(const Model& model, const FruitResul
 }
 
 std::string fruitOutcome(const Model& model, const FruitResult& f) {
+  const auto words = [](std::string s) {  // "motor_speed" -> "motor speed"
+    std::replace(s.begin(), s.end(), '_', ' ');
+    return s;
+  };
   if (f.limit_joint >= 0) return "joint limit: " + model.joints[f.limit_joint].name;
-  if (!f.evaluated()) return "not tracked: " + f.status;
+  if (!f.evaluated()) return "not tracked: " + words(f.status);
   const DriveFeasibility& r = f.with_friction;
   if (r.feasible) return "picked";
-  return "drive limit: " + model.joints[r.failing_joint].name + " " + toString(r.failing_quantity);
+  return "drive limit: " + model.joints[r.failing_joint].name + " " +
+         words(toString(r.failing_quantity));
 }
 
 report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
