@@ -86,8 +86,7 @@ IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace
   term->lendWorkspace(ctx, cws);
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
   // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
-  const ik::PoseSolveResult on =
-      ik::solvePose(model, ws.kin, pose_task, q, w_inv, ik::PoseSolveOptions{});
+  const IkResult on = solvePose(model, ws, pose_task, IkOptions::exactPose(), 0, &q);
   ik::NullspaceOptions no;
   no.max_iterations = defaults::kCollisionEscapeIterations;
   const ik::NullspaceResult r =

@@ -66,6 +66,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
 #pragma omp parallel num_threads(nt)
     {
       KinematicsWorkspace ws(model);
+      IkWorkspace ik_ws(model);
       ik::ObjectiveContext ctx(model, ws);
       collision::CollisionWorkspace cws(model);
       collision::CollisionWorkspace* cw = options.collisionFor(model).enabled() ? &cws : nullptr;
@@ -78,7 +79,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
         for (int s = 0; s < starts; ++s) {
           randomConfiguration(model, seed, static_cast<std::uint64_t>(row.index), s, q0);
           CellResult cand;
-          if (!cellFromSeed(model, ws, ctx, objective, options, cell, q0, cand, cw, false))
+          if (!cellFromSeed(model, ws, ik_ws, ctx, objective, options, cell, q0, cand, cw, false))
             continue;
           ++row.on_pose;
           if (!cand.reachable) continue;

@@ -14,20 +14,19 @@
 #include "common/errors.hpp"
 #include "common/first_exception.hpp"
 #include "dexterity/stem_collision.hpp"
+#include "metrics/measure_declarations.hpp"
 
 namespace armstudy::dexterity {
 
 namespace {
 
+// Every declared measure (metrics/measure_declarations.hpp), in the declared order.
 void putMeasures(UnitWriter& w, const metrics::DexterityMeasures& m) {
-  for (double v : {m.manipulability, m.transmission, m.condition, m.inverse_condition, m.sigma_min,
-                   m.sigma_max})
-    w.put(v);
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations()) w.put(m.*d.value);
 }
 void getMeasures(UnitReader& r, metrics::DexterityMeasures& m) {
-  for (double* v : {&m.manipulability, &m.transmission, &m.condition, &m.inverse_condition,
-                    &m.sigma_min, &m.sigma_max})
-    *v = r.get<double>();
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations())
+    m.*d.value = r.get<double>();
 }
 
 }  // namespace
@@ -130,6 +129,12 @@ ik::WeightedObjective DexterityOptions::buildObjective(const Model& model) const
   return obj;
 }
 
+IkOptions DexterityOptions::exactSolveOptions() const {
+  IkOptions o = solve;
+  o.joint_weights = joint_weights;
+  return o;
+}
+
 int DexterityMap::reachable() const {
   int r = 0;
   for (const auto& c : cells) r += c.reachable ? 1 : 0;
@@ -144,9 +149,9 @@ JointVector weightInverse(const DexterityOptions& options, int n) {
   return ro.weightInverse(n);
 }
 
-bool onPose(const ik::PoseSolveResult& s, const DexterityOptions& options) {
-  return s.error.position_m <= options.position_tolerance_m &&
-         s.error.orientation_rad <= options.orientation_tolerance_rad;
+bool onPose(const IkResult& s, const DexterityOptions& options) {
+  return s.position_error_m <= options.position_tolerance_m &&
+         s.orientation_error_rad <= options.orientation_tolerance_rad;
 }
 
 // The cell's results once r.q_plain (and its errors) hold a reachable plain solution: the plain
@@ -196,23 +201,24 @@ void measureCell(const Model& model, KinematicsWorkspace& ws, const DexterityOpt
   r.ellipsoid_opt = metrics::translationalEllipsoid(ws);
 }
 
-bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
-                  const ik::WeightedObjective& objective, const DexterityOptions& options,
-                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
-                  collision::CollisionWorkspace* cws, bool measure) {
+bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
+                  ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
+                  const DexterityOptions& options, const StemGrid::Cell& cell,
+                  const JointVector& seed, CellResult& out, collision::CollisionWorkspace* cws,
+                  bool measure) {
   const JointVector w_inv = weightInverse(options, model.dof());
-  const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, seed, w_inv, options.solve);
+  const IkResult s = solvePose(model, ik_ws, cell.target, options.exactSolveOptions(), 0, &seed);
   // On the pose as exactly as the null-space stage needs (a seed that only gets within the
   // study's tolerance is no candidate: its optimum would be off the pose).
-  if (!(onPose(s, options) && s.error.position_m <= options.nullspace.pose_tolerance &&
-        s.error.orientation_rad <= options.nullspace.pose_tolerance))
+  if (!(onPose(s, options) && s.position_error_m <= options.nullspace.pose_tolerance &&
+        s.orientation_error_rad <= options.nullspace.pose_tolerance))
     return false;
   out = CellResult{};
   out.reachable = true;
   out.starts = 1;
   out.q_plain = s.q;
-  out.position_error_m = s.error.position_m;
-  out.orientation_error_rad = s.error.orientation_rad;
+  out.position_error_m = s.position_error_m;
+  out.orientation_error_rad = s.orientation_error_rad;
   finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
   settleCollision(model, ws, cws, options.collision, out);
   if (measure) measureCell(model, ws, options, cell, out);
@@ -227,15 +233,16 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
   CellResult r;
   const int n = model.dof();
   const JointVector w_inv = weightInverse(options, n);
-  auto cost = [](const ik::PoseSolveResult& s) {
-    return s.error.position_m + defaults::kOrientationLength_m * s.error.orientation_rad;
+  const IkOptions exact = options.exactSolveOptions();
+  auto cost = [](const IkResult& s) {
+    return s.position_error_m + defaults::kOrientationLength_m * s.orientation_error_rad;
   };
-  ik::PoseSolveResult best;
+  IkResult best;
   best.q = warm_plain ? *warm_plain : JointVector::Zero(n);
-  best.error.position_m = best.error.orientation_rad = std::numeric_limits<double>::infinity();
+  best.position_error_m = best.orientation_error_rad = std::numeric_limits<double>::infinity();
   if (warm_plain) {
     ++r.starts;
-    best = ik::solvePose(model, ws, cell.target, *warm_plain, w_inv, options.solve);
+    best = solvePose(model, ik_ws, cell.target, exact, cell_id, warm_plain);
   }
   if (!onPose(best, options)) {
     // The reachability solver (thesis eq. 3.2), then the local solve polishes its solution to the
@@ -248,26 +255,25 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
     const IkResult ir = solvePose(model, ik_ws, cell.target, io, cell_id, warm_plain);
     r.starts += ir.starts;
     r.status = ir.status == ReachStatus::Reachable ? ReachStatus::OutOfReach : ir.status;
-    const ik::PoseSolveResult s = ik::solvePose(model, ws, cell.target, ir.q, w_inv, options.solve);
+    const IkResult s = solvePose(model, ik_ws, cell.target, exact, cell_id, &ir.q);
     if (cost(s) < cost(best)) best = s;
   }
   r.q_plain = best.q;
-  r.position_error_m = best.error.position_m;
-  r.orientation_error_rad = best.error.orientation_rad;
+  r.position_error_m = best.position_error_m;
+  r.orientation_error_rad = best.orientation_error_rad;
   r.reachable = onPose(best, options);
   if (!r.reachable) {
     r.q_opt = r.q_plain;
     return r;
   }
-  if (cws) escapeCollision(model, ws, ik_ws, *cws, options, cell, cell_id, w_inv, r);
+  if (cws) escapeCollision(model, ws, ik_ws, *cws, options, cell, cell_id, r);
   // The null-space descent starts from the pose solution nearest the previous cell's optimum.
   JointVector start;
   bool chained = false;
   if (warm_opt && n > cell.target.rows() && !objective.empty()) {
-    const ik::PoseSolveResult s =
-        ik::solvePose(model, ws, cell.target, *warm_opt, w_inv, options.solve);
-    if (s.error.position_m <= options.nullspace.pose_tolerance &&
-        s.error.orientation_rad <= options.nullspace.pose_tolerance) {
+    const IkResult s = solvePose(model, ik_ws, cell.target, exact, cell_id, warm_opt);
+    if (s.position_error_m <= options.nullspace.pose_tolerance &&
+        s.orientation_error_rad <= options.nullspace.pose_tolerance) {
       start = s.q;
       chained = true;
     }

@@ -82,7 +82,10 @@ struct DexterityOptions {
   double position_tolerance_m = defaults::kPositionTolerance_m;
   double orientation_tolerance_rad = defaults::kOrientationTolerance_rad;
   int cold_starts = defaults::kColdStarts;
-  ik::PoseSolveOptions solve;
+  // The exact pose solve (solvePose, WeightedNewton) of every start; its joint_weights are
+  // `joint_weights` above (exactSolveOptions).
+  IkOptions solve = IkOptions::exactPose();
+  IkOptions exactSolveOptions() const;
   ik::NullspaceOptions nullspace;
   bool ellipsoids = true;  // write .vtp ellipsoid glyph data
   // The map search after the chained rows (searchDexterityMap); seed_starts = 0 and
@@ -195,15 +198,16 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
                         int threads, const UnitRunner* runner = nullptr);
 
 // One candidate for a cell from the configuration `seed`: solved onto the cell's pose by the
-// local solve, then optimised in the null space (redundant designs) and checked for collisions
-// (settleCollision, with `cws` non-null for collision maps). False when the seed does not lead
-// onto the pose; a candidate in collision returns true with out.reachable false. `out` holds the
-// candidate's plain (the solved pose) and optimised results; without `measure`, their measures
-// (out.plain, out.opt and the ellipsoids) are left for measureCell, so that a search pays them
-// only for the candidates it adopts.
-bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
-                  const ik::WeightedObjective& objective, const DexterityOptions& options,
-                  const StemGrid::Cell& cell, const JointVector& seed, CellResult& out,
+// exact solve (options.exactSolveOptions(), in ik_ws), then optimised in the null space (redundant
+// designs) and checked for collisions (settleCollision, with `cws` non-null for collision maps).
+// False when the seed does not lead onto the pose; a candidate in collision returns true with
+// out.reachable false. `out` holds the candidate's plain (the solved pose) and optimised results;
+// without `measure`, their measures (out.plain, out.opt and the ellipsoids) are left for
+// measureCell, so that a search pays them only for the candidates it adopts.
+bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
+                  ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
+                  const DexterityOptions& options, const StemGrid::Cell& cell,
+                  const JointVector& seed, CellResult& out,
                   collision::CollisionWorkspace* cws = nullptr, bool measure = true);
 
 // The measures of a cell's plain and optimised postures (r.plain, r.opt, the ellipsoids) from

@@ -85,10 +85,10 @@ struct SearchContext {
 // One thread's workspaces for the search's solves (built once per parallel region).
 struct ThreadSolver {
   explicit ThreadSolver(const SearchContext& sc)
-      : sc(sc), ws(sc.model), ctx(sc.model, ws), cws(sc.model) {}
+      : sc(sc), ws(sc.model), ik_ws(sc.model), ctx(sc.model, ws), cws(sc.model) {}
   // The cell's optimum descended from q0 (dexterity::cellFromSeed), without its measures.
   bool fromSeed(const StemGrid::Cell& cell, const JointVector& q0, CellResult& out) {
-    return cellFromSeed(sc.model, ws, ctx, sc.objective, sc.options, cell, q0, out,
+    return cellFromSeed(sc.model, ws, ik_ws, ctx, sc.objective, sc.options, cell, q0, out,
                         sc.check ? &cws : nullptr, false);
   }
   // The measures of a candidate about to be adopted (dexterity::measureCell).
@@ -97,6 +97,7 @@ struct ThreadSolver {
   }
   const SearchContext& sc;
   KinematicsWorkspace ws;
+  IkWorkspace ik_ws;
   ik::ObjectiveContext ctx;
   collision::CollisionWorkspace cws;
 };

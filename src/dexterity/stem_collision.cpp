@@ -66,8 +66,7 @@ void settleCollision(const Model& model, KinematicsWorkspace& ws,
 
 void escapeCollision(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      collision::CollisionWorkspace& cws, const DexterityOptions& options,
-                     const StemGrid::Cell& cell, std::uint64_t cell_id, const JointVector& w_inv,
-                     CellResult& r) {
+                     const StemGrid::Cell& cell, std::uint64_t cell_id, CellResult& r) {
   const StemCollision& col = options.collision;
   if (contactAt(model, ws, cws, col, r.q_plain).d_min > col.clearance_m) return;
   IkOptions io;
@@ -82,14 +81,14 @@ void escapeCollision(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
       model, ik_ws, cws, cell.target, io, co, cell_id, col.obstacles, &r.q_plain);
   r.starts += cr.attempts;
   if (!cr.ik.reachable()) return;
-  const ik::PoseSolveResult s =
-      ik::solvePose(model, ws, cell.target, cr.ik.q, w_inv, options.solve);
-  if (!(s.error.position_m <= options.position_tolerance_m &&
-        s.error.orientation_rad <= options.orientation_tolerance_rad))
+  const IkResult s =
+      solvePose(model, ik_ws, cell.target, options.exactSolveOptions(), cell_id, &cr.ik.q);
+  if (!(s.position_error_m <= options.position_tolerance_m &&
+        s.orientation_error_rad <= options.orientation_tolerance_rad))
     return;
   r.q_plain = s.q;
-  r.position_error_m = s.error.position_m;
-  r.orientation_error_rad = s.error.orientation_rad;
+  r.position_error_m = s.position_error_m;
+  r.orientation_error_rad = s.orientation_error_rad;
 }
 
 }  // namespace armstudy::dexterity

@@ -15,12 +15,11 @@ void settleCollision(const Model& model, KinematicsWorkspace& ws,
 
 // A chained cell's plain posture (r.q_plain, on the pose) in collision is replaced by the
 // collision-aware solve's (collision::solvePoseCollisionAware: H_c descended in the null space
-// with the tool on the pose, then seeded restarts), polished onto the pose with the inverse
-// weights w_inv; unchanged when that finds no collision-free posture (settleCollision then gives
-// the verdict). Requires options.collisionFor(model).enabled().
+// with the tool on the pose, then seeded restarts), polished onto the pose by the exact solve
+// (options.exactSolveOptions()); unchanged when that finds no collision-free posture
+// (settleCollision then gives the verdict). Requires options.collisionFor(model).enabled().
 void escapeCollision(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                      collision::CollisionWorkspace& cws, const DexterityOptions& options,
-                     const StemGrid::Cell& cell, std::uint64_t cell_id, const JointVector& w_inv,
-                     CellResult& r);
+                     const StemGrid::Cell& cell, std::uint64_t cell_id, CellResult& r);
 
 }  // namespace armstudy::dexterity

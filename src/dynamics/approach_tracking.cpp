@@ -64,14 +64,12 @@ TrackedApproach trackApproach(const Model& model, IkWorkspace& ws, ik::Objective
 
   // Step 1: start configuration (reach solver, then null-space optimisation at the start pose).
   const PoseReference start = poseReference(approach.sample(0.0), options.R_tool);
-  const CardanAngles c = cardanFromRotation(start.R_WT);
-  const PoseTask target = fullPoseTask(start.p_WT, rotationFromCardan(c.alpha, c.beta, c.gamma));
-  const IkResult ik0 = solvePose(model, ws, target, options.start_ik, pose_id);
+  const PoseTask pose0 = fullPoseTask(start.p_WT, start.R_WT);
+  const IkResult ik0 = solvePose(model, ws, pose0, options.start_ik, pose_id);
   if (!ik0.reachable()) {
     out.status = ApproachTrackingStatus::StartUnreachable;
     return out;
   }
-  const PoseTask pose0 = fullPoseTask(start.p_WT, start.R_WT);
   const JointVector w_inv = options.tracking.redundancy.weightInverse(n);
   const ik::NullspaceResult opt = ik::optimiseAtPose(model, ws.kin, ctx, pose0, ik0.q, objective,
                                                      w_inv, options.start_optimisation);

@@ -208,12 +208,7 @@ void readDesigns(TableReader& top, const std::string& path, const fs::path& dir,
   const toml::array* designs = top.array("design");
   if (!designs || designs->empty())
     throw InputError(path, 1, "design", "a study needs at least one [[design]] entry");
-  int idx = 0;
-  for (const auto& e : *designs) {
-    if (!e.is_table())
-      throw InputError(path, static_cast<int>(e.source().begin.line), "design",
-                       "expected [[design]] tables");
-    TableReader r(*e.as_table(), path, "design[" + std::to_string(idx++) + "]");
+  top.forEachTable("design", [&](TableReader& r) {
     double reference_reach_m = 0;
     Model m = readDesign(r, path, dir, reference_reach_m);
     if (d.by_name.count(m.name))
@@ -222,7 +217,7 @@ void readDesigns(TableReader& top, const std::string& path, const fs::path& dir,
     d.bases.push_back(std::move(m));
     d.by_name[d.bases.back().name] = &d.bases.back();
     s.designs.push_back({d.bases.back(), d.bases.back().name, {}, reference_reach_m});
-  }
+  });
 }
 
 // The variants of one [[variant]] entry: the Cartesian product of its sweeps, each with its sets.
@@ -255,14 +250,7 @@ void addVariantProduct(TableReader& r, const std::string& path, const Model& bas
 
 // Every [[variant]] entry: of which design, its sets and sweeps, its geometry; into s.designs.
 void readVariants(TableReader& top, const std::string& path, const BaseDesigns& d, Study& s) {
-  int idx = 0;
-  const toml::array* variants = top.array("variant");
-  if (!variants) return;
-  for (const auto& e : *variants) {
-    if (!e.is_table())
-      throw InputError(path, static_cast<int>(e.source().begin.line), "variant",
-                       "expected [[variant]] tables");
-    TableReader r(*e.as_table(), path, "variant[" + std::to_string(idx++) + "]");
+  top.forEachTable("variant", [&](TableReader& r) {
     const std::string of = r.string("of");
     auto it = d.by_name.find(of);
     if (it == d.by_name.end())
@@ -282,7 +270,7 @@ void readVariants(TableReader& top, const std::string& path, const BaseDesigns& 
     if (sets.empty() && sweeps.empty())
       throw InputError(path, r.line(), r.path(), "a variant needs `set` or `sweep` entries");
     addVariantProduct(r, path, base, sets, sweeps, geometry, s);
-  }
+  });
 }
 
 // [regression]: where the baseline lives and how far each metric may move.
@@ -294,27 +282,19 @@ RegressionSpec readRegression(TableReader& top, const std::string& path, const f
   TableReader r(*t, path, "regression");
   if (r.has("baseline"))
     spec.baseline_path = (dir / r.string("baseline")).lexically_normal().string();
-  if (const toml::array* rules = r.array("tolerance")) {
-    int k = 0;
-    for (const auto& e : *rules) {
-      if (!e.is_table())
-        throw InputError(path, static_cast<int>(e.source().begin.line), "regression.tolerance",
-                         "expected [[regression.tolerance]] tables");
-      TableReader tr(*e.as_table(), path, "regression.tolerance[" + std::to_string(k++) + "]");
-      ToleranceRule rule;
-      rule.line = tr.line();
-      rule.metric = tr.string("metric");
-      if (rule.metric.empty()) tr.fail("metric", "empty metric pattern");
-      rule.abs = tr.number("abs", 0.0);
-      rule.rel = tr.number("rel", 0.0);
-      rule.flips = static_cast<int>(tr.integer("flips", 0));
-      if (rule.abs < 0) tr.fail("abs", "tolerance must not be negative");
-      if (rule.rel < 0) tr.fail("rel", "tolerance must not be negative");
-      if (rule.flips < 0) tr.fail("flips", "allowed flips must not be negative");
-      tr.finish();
-      spec.rules.push_back(rule);
-    }
-  }
+  r.forEachTable("tolerance", [&](TableReader& tr) {
+    ToleranceRule rule;
+    rule.line = tr.line();
+    rule.metric = tr.string("metric");
+    if (rule.metric.empty()) tr.fail("metric", "empty metric pattern");
+    rule.abs = tr.number("abs", 0.0);
+    rule.rel = tr.number("rel", 0.0);
+    rule.flips = static_cast<int>(tr.integer("flips", 0));
+    if (rule.abs < 0) tr.fail("abs", "tolerance must not be negative");
+    if (rule.rel < 0) tr.fail("rel", "tolerance must not be negative");
+    if (rule.flips < 0) tr.fail("flips", "allowed flips must not be negative");
+    spec.rules.push_back(rule);
+  });
   r.finish();
   return spec;
 }

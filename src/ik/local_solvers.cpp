@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/errors.hpp"
+#include "ik/nullspace.hpp"
 #include "ik/reach_internal.hpp"
 
 namespace armstudy::ik_detail {
@@ -71,6 +72,19 @@ double nloptObjective(unsigned n, const double* x, double* grad, void* data) {
       ikObjective(*d->model, *d->kin, *d->target, d->w_o, d->q, grad ? &d->g : nullptr);
   if (grad) Eigen::Map<Eigen::VectorXd>(grad, n) = d->g;
   return f;
+}
+
+// |e|^2 with the angular rows weighted by the characteristic length kOrientationLength_m.
+double weightedCost(const ik::TaskVec& e) {
+  const double l = defaults::kOrientationLength_m;
+  double c = e.head<3>().squaredNorm();
+  if (e.size() > 3) c += l * l * e.tail(e.size() - 3).squaredNorm();
+  return c;
+}
+
+void clampToLimits(const Model& model, JointVector& q) {
+  for (int i = 0; i < q.size(); ++i)
+    q[i] = std::clamp(q[i], model.joints[i].limits.q_min, model.joints[i].limits.q_max);
 }
 
 }  // namespace
@@ -189,6 +203,58 @@ LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, Join
   res.cost = e.squaredNorm();
   res.success = withinTolerance(res.err, o, 1.0);
   return res;
+}
+
+int runWeightedNewton(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
+                      const IkOptions& o, JointVector& q) {
+  const int n = model.dof();
+  const double l = defaults::kOrientationLength_m;
+  JointVector w_inv = JointVector::Ones(n);
+  for (int i = 0; i < static_cast<int>(o.joint_weights.size()) && i < n; ++i)
+    w_inv[i] = 1.0 / o.joint_weights[i];
+  clampToLimits(model, q);
+  ik::TaskJacobian J, Jt;
+  ik::TaskVec e, et;
+  forwardKinematicsAndJacobian(model, ws, q);
+  ik::taskJacobianAndError(ws, target, J, e);
+  double cost = weightedCost(e);
+  double mu = 1e-6;
+  const int m = static_cast<int>(J.rows());
+  ik::TaskVec scale = ik::TaskVec::Ones(m);
+  if (m > 3) scale.tail(m - 3).setConstant(l);
+  int it = 0;
+  for (; it < o.max_iterations; ++it) {
+    const PoseError pe = poseError(ws, target);
+    if (pe.position_m < o.position_tolerance_m && pe.orientation_rad < o.orientation_tolerance_rad)
+      break;
+    // Levenberg-Marquardt step on the scaled rows: dq = W^-1 Js^T (Js W^-1 Js^T + mu I)^-1 es.
+    const ik::TaskJacobian Js = scale.asDiagonal() * J;
+    const ik::TaskVec es = scale.cwiseProduct(e);
+    JointVector dq(n);
+    if (!ik::redundancyResolution(Js, w_inv, es, JointVector(), 0.0, std::sqrt(mu), dq)) {
+      mu = std::max(mu * 10, 1e-12);
+      continue;
+    }
+    const double big = dq.cwiseAbs().maxCoeff();
+    if (big > o.max_step) dq *= o.max_step / big;
+    JointVector q_try = q + dq;
+    clampToLimits(model, q_try);
+    forwardKinematicsAndJacobian(model, ws, q_try);
+    ik::taskJacobianAndError(ws, target, Jt, et);
+    const double cost_try = weightedCost(et);
+    if (cost_try < cost) {
+      q = q_try;
+      J = Jt;
+      e = et;
+      cost = cost_try;
+      mu = std::max(mu * 0.1, 1e-12);
+    } else {
+      mu *= 10;
+      forwardKinematicsAndJacobian(model, ws, q);  // restore the workspace at the current iterate
+      if (mu > 1e3) break;                         // stalled: no descent even with heavy damping
+    }
+  }
+  return it;
 }
 
 }  // namespace armstudy::ik_detail

@@ -15,19 +15,6 @@ namespace armstudy::ik {
 namespace {
 using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Basis = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
-
-double weightedCost(const TaskVec& e) {
-  const double l = defaults::kOrientationLength_m;
-  double c = e.head<3>().squaredNorm();
-  if (e.size() > 3) c += l * l * e.tail(e.size() - 3).squaredNorm();
-  return c;
-}
-
-void clampToLimits(const Model& model, JointVector& q) {
-  for (int i = 0; i < q.size(); ++i)
-    q[i] = std::clamp(q[i], model.joints[i].limits.q_min, model.joints[i].limits.q_max);
-}
-
 }  // namespace
 
 constexpr const char* kTrackingStatusNames[] = {"completed", "joint_limit_reached",
@@ -219,62 +206,6 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
     if (sum.limit_joint >= 0 && options.stop_at_joint_limit) break;
   }
   return sum;
-}
-
-PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
-                          const Eigen::VectorXd& q_start, const Eigen::VectorXd& w_inv,
-                          const PoseSolveOptions& options) {
-  const int n = model.dof();
-  const double l = defaults::kOrientationLength_m;
-  PoseSolveResult res;
-  JointVector q = q_start;
-  clampToLimits(model, q);
-  TaskJacobian J, Jt;
-  TaskVec e, et;
-  forwardKinematicsAndJacobian(model, ws, q);
-  taskJacobianAndError(ws, target, J, e);
-  double cost = weightedCost(e);
-  double mu = 1e-6;
-  const int m = static_cast<int>(J.rows());
-  TaskVec scale = TaskVec::Ones(m);
-  if (m > 3) scale.tail(m - 3).setConstant(l);
-  int it = 0;
-  for (; it < options.max_iterations; ++it) {
-    const PoseError pe = poseError(ws, target);
-    if (pe.position_m < options.position_tolerance_m &&
-        pe.orientation_rad < options.orientation_tolerance_rad)
-      break;
-    // Levenberg-Marquardt step on the scaled rows: dq = W^-1 Js^T (Js W^-1 Js^T + mu I)^-1 es.
-    const TaskJacobian Js = scale.asDiagonal() * J;
-    const TaskVec es = scale.cwiseProduct(e);
-    JointVector dq(n);
-    if (!redundancyResolution(Js, w_inv, es, JointVector(), 0.0, std::sqrt(mu), dq)) {
-      mu = std::max(mu * 10, 1e-12);
-      continue;
-    }
-    const double big = dq.cwiseAbs().maxCoeff();
-    if (big > options.max_step) dq *= options.max_step / big;
-    JointVector q_try = q + dq;
-    clampToLimits(model, q_try);
-    forwardKinematicsAndJacobian(model, ws, q_try);
-    taskJacobianAndError(ws, target, Jt, et);
-    const double cost_try = weightedCost(et);
-    if (cost_try < cost) {
-      q = q_try;
-      J = Jt;
-      e = et;
-      cost = cost_try;
-      mu = std::max(mu * 0.1, 1e-12);
-    } else {
-      mu *= 10;
-      forwardKinematicsAndJacobian(model, ws, q);  // restore the workspace at the current iterate
-      if (mu > 1e3) break;                         // stalled: no descent even with heavy damping
-    }
-  }
-  res.q = q;
-  res.error = poseError(ws, target);
-  res.iterations = it;
-  return res;
 }
 
 std::string NullspaceOptions::validate() const {

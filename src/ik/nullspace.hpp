@@ -4,7 +4,6 @@
 //    5.3), optionally damped (eq. 5.65) with the adaptive damping factor of eq. (5.67);
 //  - velocity-level tracking of a reference with Liegeois' null-space term (eq. 5.46), drift
 //    compensation (eq. 5.50) and Euler integration (eq. 5.49);
-//  - a position-level damped Newton solve of one pose (used as the start for optimisation);
 //  - "optimised at a pose": descent of the weighted objective H (eq. 5.51) in the null space while
 //    the tool stays on the pose.
 // Task rows are rows of the geometric TCP Jacobian (translational velocity, angular velocity), so
@@ -101,27 +100,6 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
                                const Reference& reference, const Eigen::VectorXd& q0,
                                double duration, const WeightedObjective* objective,
                                ObjectiveContext* ctx, const TrackingOptions& options);
-
-// ---- Position level: one pose ----
-struct PoseSolveOptions {
-  int max_iterations = defaults::kPoseSolveMaxIterations;
-  double position_tolerance_m = defaults::kPoseSolveTolerance_m;  // stop early below both
-  double orientation_tolerance_rad = defaults::kPoseSolveTolerance_rad;
-  double max_step = defaults::kPoseSolveMaxStep;
-};
-
-struct PoseSolveResult {
-  JointVector q;
-  PoseError error;
-  int iterations = 0;
-};
-
-// Damped Newton (Levenberg-Marquardt on eq. 3.2 with the geometric error) from q_start, iterates
-// projected onto the joint limits. Returns the best iterate; the caller judges it against its
-// tolerances. Weighted by W^-1 (`w_inv`).
-PoseSolveResult solvePose(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
-                          const Eigen::VectorXd& q_start, const Eigen::VectorXd& w_inv,
-                          const PoseSolveOptions& options);
 
 // ---- Null-space optimisation at a pose ----
 struct NullspaceOptions {

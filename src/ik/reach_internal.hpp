@@ -1,7 +1,7 @@
 #pragma once
 // Private to ik/reach_solver.cpp and ik/local_solvers.cpp: a target prepared for the solver, its
-// weighted residual and task Jacobian, and the two local solvers (Levenberg-Marquardt with an
-// active set on the joint limits; NLopt SLSQP with the limits as bounds).
+// weighted residual and task Jacobian, and the local solvers (Levenberg-Marquardt with an active
+// set on the joint limits; NLopt SLSQP with the limits as bounds; the W^-1-weighted damped Newton).
 #include <Eigen/Core>
 
 #include "ik/reach_solver.hpp"
@@ -43,5 +43,12 @@ LocalResult runLm(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVe
                   bool limits, double lambda_initial, int& iterations);
 // Minimises ikObjective from q (in place) with NLopt SLSQP; returns the local result.
 LocalResult runSlsqp(const Context& c, IkWorkspace& ws, const IkOptions& o, JointVector& q);
+// IkAlgorithm::WeightedNewton from q (in place; projected onto the limits first): damped Newton
+// (Levenberg-Marquardt on eq. 3.2 with the geometric error of ik::taskJacobianAndError, angular
+// rows scaled by kOrientationLength_m) weighted by W^-1 (o.joint_weights), iterates projected onto
+// the joint limits, until both errors are below o's tolerances, o.max_iterations or a stall. q ends
+// at the best iterate. Returns the iterations taken.
+int runWeightedNewton(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
+                      const IkOptions& o, JointVector& q);
 
 }  // namespace armstudy::ik_detail

@@ -43,8 +43,19 @@ std::vector<std::string> statusNamesShownOnMaps() {
   return names;
 }
 
-constexpr const char* kIkAlgorithmNames[] = {"lm+slsqp", "lm", "slsqp"};
+constexpr const char* kIkAlgorithmNames[] = {"lm+slsqp", "lm", "slsqp", "weighted_newton"};
 const char* toString(IkAlgorithm a) { return enumName(a, kIkAlgorithmNames); }
+
+IkOptions IkOptions::exactPose() {
+  IkOptions o;
+  o.algorithm = IkAlgorithm::WeightedNewton;
+  o.position_tolerance_m = defaults::kPoseSolveTolerance_m;
+  o.orientation_tolerance_rad = defaults::kPoseSolveTolerance_rad;
+  o.max_iterations = defaults::kPoseSolveMaxIterations;
+  o.max_starts = 1;
+  o.classify_failures = false;
+  return o;
+}
 
 std::string IkOptions::validate() const {
   if (!(position_tolerance_m > 0) || !std::isfinite(position_tolerance_m))
@@ -62,6 +73,10 @@ std::string IkOptions::validate() const {
     return "stagnation ratio must lie in [0, 1)";
   if (max_rejected_steps < 1) return "at least one rejected step must be allowed";
   if (seed_candidates < 1) return "at least one seed candidate is needed";
+  for (double w : joint_weights)
+    if (!(w >= defaults::kMinWeight && w <= defaults::kMaxWeight))
+      return "joint weights must lie in [1e-6, 1e6]";
+  if (!(max_step > 0) || !std::isfinite(max_step)) return "max_step must be finite and > 0";
   return "";
 }
 
@@ -428,11 +443,38 @@ double jointLimitMargin(const Model& model, const Eigen::Ref<const Eigen::Vector
   return std::max(margin, 0.0);
 }
 
+namespace {
+
+// IkAlgorithm::WeightedNewton: one start, the last iterate judged against o's tolerances.
+IkResult solveWeightedNewton(const Model& model, IkWorkspace& ws, const Context& c,
+                             const IkOptions& o, const JointVector* warm_start) {
+  const int n = model.dof();
+  ARMSTUDY_CHECK(o.joint_weights.empty() || static_cast<int>(o.joint_weights.size()) == n,
+                 "solvePose: joint_weights needs one weight per joint");
+  JointVector q(n);
+  if (warm_start)
+    q = *warm_start;
+  else
+    midStart(model, q);
+  IkResult r;
+  r.starts = 1;
+  r.iterations = runWeightedNewton(model, ws.kin, c.target, o, q);
+  fillSolution(model, ws, c, q, r);
+  r.status = withinTolerance({r.position_error_m, r.orientation_error_rad}, o, 1.0)
+                 ? ReachStatus::Reachable
+                 : ReachStatus::OutOfReach;
+  return r;
+}
+
+}  // namespace
+
 IkResult solvePose(const Model& model, IkWorkspace& ws, const PoseTask& target, const IkOptions& o,
                    std::uint64_t pose_id, const JointVector* warm_start) {
   const int n = model.dof();
   ARMSTUDY_CHECK(ws.kin.n == n, "IkWorkspace was built for another model");
   const Context c = makeContext(&model, target, o.orientation_weight_m);
+  if (o.algorithm == IkAlgorithm::WeightedNewton)
+    return solveWeightedNewton(model, ws, c, o, warm_start);
   IkResult r;
   r.q.resize(n);
   JointVector q(n), best_q(n);

@@ -1,9 +1,12 @@
 #pragma once
-// Per-pose inverse kinematics for reachability (thesis eq. 3.2):
+// The one local pose solver (thesis eq. 3.2):
 //   || w_d - f(q) || -> min over q in C (the joint-limit box),
-// and the pose is reachable when the position and orientation errors are below the tolerances.
+// and the pose is reached when the position and orientation errors are below the tolerances.
+// `IkOptions::algorithm` chooses the method; everything else (tolerances, iterations, starts,
+// joint weights) is in the same options struct.
 //
-// Algorithm (docs/reachability.md, benchmark in docs/performance.md):
+// Reachability (LmThenSlsqp, LmOnly, SlsqpOnly; docs/reachability.md, benchmark in
+// docs/performance.md):
 //  1. A conservative reach bound (distance of the target to the set the first revolute joint's
 //     origin can occupy, versus the summed link lengths after it) rejects far targets at once.
 //  2. Levenberg-Marquardt / damped least squares on the weighted task error, projected onto the
@@ -15,6 +18,11 @@
 //  4. For an unreachable pose, the reason: a re-solve without joint limits that succeeds means the
 //     limits block the pose; otherwise the pose is out of reach (for a Cardan selection, a best
 //     solution at cos(beta) = 0 is reported as the representation's singularity).
+//
+// Exact pose (WeightedNewton; the dexterity maps, the collision escape): one start (the warm
+// start, else the middle of the limits), damped Newton on the geometric task rows weighted by
+// W^-1 (IkOptions::joint_weights, eq. 5.45a), iterates projected onto the joint limits, down to
+// tight tolerances (IkOptions::exactPose()); no restarts, no polish, no classification.
 //
 // Orientation error: for the full pose (eq. 5.3) the geodesic angle between R_d and R (the
 // solver uses the rotation vector of R_d R^T with the geometric Jacobian); for the tool-axis task
@@ -55,15 +63,20 @@ std::vector<std::string> statusNamesShownOnMaps();
 enum class IkAlgorithm {
   LmThenSlsqp,  // default: LM starts, SLSQP polish of near misses
   LmOnly,
-  SlsqpOnly,  // every start solved by NLopt SLSQP (benchmark comparison)
+  SlsqpOnly,       // every start solved by NLopt SLSQP (benchmark comparison)
+  WeightedNewton,  // one start, damped Newton weighted by W^-1 (tasks of every kind but
+                   // CardanAngles); see the header comment
 };
 const char* toString(IkAlgorithm a);
 
 struct IkOptions {
+  // The exact-pose settings (WeightedNewton, tolerances kPoseSolveTolerance_*, at most
+  // kPoseSolveMaxIterations Newton iterations).
+  static IkOptions exactPose();
   double position_tolerance_m = defaults::kPositionTolerance_m;
   double orientation_tolerance_rad = defaults::kOrientationTolerance_rad;
   int max_starts = defaults::kIkMaxStarts;          // including the warm start
-  int max_iterations = defaults::kIkMaxIterations;  // LM iterations per start
+  int max_iterations = defaults::kIkMaxIterations;  // LM (Newton) iterations per start
   std::uint64_t seed = defaults::kIkSeed;
   bool classify_failures = true;  // tell out_of_reach from joint_limits
   int classify_starts = defaults::kIkClassifyStarts;
@@ -88,6 +101,10 @@ struct IkOptions {
   // Traverse each line from its last pose first (a check that results do not depend on the
   // traversal order; not a solver setting).
   bool sweep_descending = false;
+  // WeightedNewton: the diagonal of W (eq. 5.45a; empty = identity) and the largest joint change
+  // per Newton step [rad or m].
+  std::vector<double> joint_weights;
+  double max_step = defaults::kPoseSolveMaxStep;
   std::string validate() const;  // empty when valid
 };
 
@@ -119,8 +136,10 @@ class IkWorkspace {
   double bound_t_min = 0, bound_t_max = 0, reach_radius = 0;
 };
 
-// Solves one pose. `pose_id` seeds the random starts (deterministic: the same id gives the same
-// starts on any thread). `warm_start` (may be null) is tried first.
+// Solves one pose with options.algorithm. `pose_id` seeds the random starts (deterministic: the
+// same id gives the same starts on any thread). `warm_start` (may be null) is tried first (the one
+// start of WeightedNewton, whose result is its last iterate, status Reachable when within the
+// tolerances, else OutOfReach).
 IkResult solvePose(const Model& model, IkWorkspace& ws, const PoseTask& target,
                    const IkOptions& options, std::uint64_t pose_id,
                    const JointVector* warm_start = nullptr);

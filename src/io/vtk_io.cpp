@@ -29,25 +29,18 @@ namespace armstudy::io {
 
 namespace {
 
+// VTK's type code of each ArrayType, in the enum's order (io/vtk_io.hpp).
+int vtkTypeOf(ArrayType type) {
+  static constexpr int kCodes[] = {VTK_DOUBLE, VTK_FLOAT, VTK_INT, VTK_UNSIGNED_CHAR};
+  return kCodes[static_cast<int>(type)];
+}
+
 vtkSmartPointer<vtkDataArray> makeArray(const NamedArray& a, long tuples) {
   ARMSTUDY_CHECK(a.components >= 1, "array '" + a.name + "' needs at least one component");
   ARMSTUDY_CHECK(static_cast<long>(a.values.size()) == tuples * a.components,
                  "array '" + a.name + "' has the wrong number of values");
   vtkSmartPointer<vtkDataArray> arr;
-  switch (a.type) {
-    case ArrayType::Float64:
-      arr = vtkSmartPointer<vtkDoubleArray>::New();
-      break;
-    case ArrayType::Float32:
-      arr = vtkSmartPointer<vtkFloatArray>::New();
-      break;
-    case ArrayType::Int32:
-      arr = vtkSmartPointer<vtkIntArray>::New();
-      break;
-    case ArrayType::UInt8:
-      arr = vtkSmartPointer<vtkUnsignedCharArray>::New();
-      break;
-  }
+  arr.TakeReference(vtkDataArray::CreateDataArray(vtkTypeOf(a.type)));
   arr->SetName(a.name.c_str());
   arr->SetNumberOfComponents(a.components);
   arr->SetNumberOfTuples(tuples);

@@ -36,11 +36,29 @@ TaskSpace taskSpace(const std::string& task) {
   return space;
 }
 
+// The task of the transform (p_WT, R_WT) in `space`: the full space holds R_WT itself, a space
+// without angles only the position; the spaces defined by angles (spraying's alpha and gamma, a
+// selection of Cardan angles) take R_WT's Cardan parameters (cardanForDisplay).
+PoseTask transformTask(const TaskSpace& space, const Eigen::Vector3d& p_WT,
+                       const Eigen::Matrix3d& R_WT) {
+  const auto& s = space.selected;
+  TaskVector6 w = TaskVector6::Zero();
+  w.head<3>() = p_WT;
+  if (!s[3] && !s[4] && !s[5]) return taskTarget(space, w);
+  if (s[3] && s[4] && s[5]) {
+    PoseTask t = taskTarget(space, w);
+    t.R_WT = R_WT;
+    return t;
+  }
+  const CardanAngles a = cardanForDisplay(R_WT);
+  w.tail<3>() = Eigen::Vector3d(a.alpha, a.beta, a.gamma);
+  return taskTarget(space, w);
+}
+
 // The targets of `target`: study poses (6,)/(N, 6) (x, y, z, alpha, beta, gamma) of `task`, or
-// SE(3) transforms (4, 4)/(N, 4, 4) (their Cardan parameters, cardanForDisplay, which give the
-// rotation back to rounding), or with `axis` tool-axis targets: positions (3,)/(N, 3) and the
-// directions (3,)/(N, 3) the design's tool axis must point along, roll free (the spraying task
-// with a direction given directly). `single`: one target was given.
+// SE(3) transforms (4, 4)/(N, 4, 4) (transformTask), or with `axis` tool-axis targets: positions
+// (3,)/(N, 3) and the directions (3,)/(N, 3) the design's tool axis must point along, roll free
+// (the spraying task with a direction given directly). `single`: one target was given.
 std::vector<PoseTask> targets(const py::handle& target, const std::string& task,
                               const py::handle& axis, bool& single) {
   std::vector<PoseTask> out;
@@ -76,10 +94,7 @@ std::vector<PoseTask> targets(const py::handle& target, const std::string& task,
           R.determinant() < 0)
         throw std::invalid_argument("target: transform " + std::to_string(i) +
                                     " has no rotation matrix (to 1e-9) or is not finite");
-      const CardanAngles a = cardanForDisplay(R);
-      TaskVector6 w;
-      w << T[3], T[7], T[11], a.alpha, a.beta, a.gamma;
-      out.push_back(taskTarget(space, w));
+      out.push_back(transformTask(space, Eigen::Vector3d(T[3], T[7], T[11]), R));
     }
     return out;
   }

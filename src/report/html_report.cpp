@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/files.hpp"
+#include "report/html_page.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
 
@@ -14,61 +15,6 @@ namespace armstudy::report {
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* kCss = R"(
-:root { --fg: #1d1d1f; --muted: #555; --line: #d0d4da; --band: #f4f6f8; --accent: #1f5fa8; }
-* { box-sizing: border-box; }
-body { margin: 0; font: 15px/1.5 "DejaVu Sans", "Segoe UI", Helvetica, Arial, sans-serif; color: var(--fg); }
-header { background: var(--band); border-bottom: 1px solid var(--line); padding: 18px 28px; }
-header h1 { margin: 0; font-size: 24px; }
-header p { margin: 4px 0 0; color: var(--muted); }
-main { max-width: 1180px; margin: 0 auto; padding: 8px 28px 40px; }
-section.answer { border: 2px solid var(--accent); padding: 4px 18px 10px; margin: 18px 0; }
-section.answer h2 { font-size: 20px; color: var(--accent); margin: 10px 0 4px; }
-p.method { color: var(--muted); }
-nav.contents { border: 1px solid var(--line); background: var(--band); padding: 10px 18px; margin: 18px 0; }
-nav.contents ul { margin: 4px 0; padding-left: 20px; }
-nav.contents li.l3 { margin-left: 18px; font-size: 14px; }
-section.stage { border-top: 3px solid var(--accent); margin-top: 28px; padding-top: 6px; }
-h1, h2, h3, h4 { line-height: 1.25; overflow-wrap: anywhere; }
-h2.stage-title { font-size: 22px; color: var(--accent); text-transform: capitalize; }
-a { color: var(--accent); }
-code { font-family: "DejaVu Sans Mono", monospace; font-size: 90%; background: var(--band); padding: 0 3px;
-       overflow-wrap: anywhere; }
-pre { background: var(--band); padding: 8px; overflow-x: auto; }
-p, li { overflow-wrap: anywhere; }
-.table-wrap { overflow-x: auto; margin: 10px 0; max-width: 100%; }
-table { border-collapse: collapse; font-size: 13.5px; }
-th, td { border: 1px solid var(--line); padding: 3px 8px; vertical-align: top; }
-th { background: var(--band); }
-td.num, th.num { text-align: right; font-variant-numeric: tabular-nums; }
-td img { max-width: 300px; }
-figure { margin: 14px 0; max-width: 100%; overflow: hidden; break-inside: avoid; page-break-inside: avoid; }
-figure img { display: block; max-width: 100%; height: auto; border: 1px solid var(--line); }
-figcaption { color: var(--muted); font-size: 13.5px; margin-top: 4px; }
-.gallery { display: flex; flex-wrap: wrap; gap: 14px; }
-.gallery figure { flex: 1 1 460px; max-width: 100%; }
-ul.files { columns: 2 340px; font-size: 13.5px; }
-figure img { cursor: zoom-in; }
-figure.zoom { position: fixed; inset: 0; z-index: 10; margin: 0; padding: 12px; overflow: auto;
-              background: rgba(255, 255, 255, 0.97); cursor: zoom-out; }
-figure.zoom img { width: 100%; max-width: none; cursor: zoom-out; }
-@media (max-width: 700px) {
-  header, main { padding-left: 10px; padding-right: 10px; }
-  section.answer { padding: 2px 10px 6px; }
-  .gallery figure { flex-basis: 100%; }
-  table { font-size: 12.5px; }
-  ul.files { columns: 1; }
-}
-@media print {
-  body { font-size: 11pt; }
-  header { background: none; }
-  nav.contents { break-after: page; }
-  section.stage { break-before: page; }
-  a { color: inherit; text-decoration: none; }
-  .table-wrap { overflow: visible; }
-}
-)";
 
 std::string slugless(std::string s) {  // "first_prototype_6dof.svg" -> readable caption
   for (char& c : s)
@@ -384,7 +330,40 @@ class MarkdownToHtml {
     ++i_;
   }
 
+  // A table whose cells each hold one image (maps side by side) becomes a gallery that wraps to
+  // the page's width, each figure captioned by its column's heading.
+  bool imageTable() {
+    const auto head = tableCells(lines_[i_]);
+    std::size_t end = i_ + 2, images = 0;
+    for (; end < lines_.size() && !lines_[end].empty() && lines_[end][0] == '|'; ++end)
+      for (const std::string& c : tableCells(lines_[end])) {
+        if (c.empty()) continue;
+        if (onlyImages(c).size() != 1) return false;
+        ++images;
+      }
+    if (images < 2) return false;
+    o_ << "<div class=\"gallery\">\n";
+    for (std::size_t r = i_ + 2; r < end; ++r) {
+      const auto cells = tableCells(lines_[r]);
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        if (cells[c].empty()) continue;
+        // "![design: what](file)": the design, then the column's heading.
+        const std::string alt = cells[c].substr(2, cells[c].find("](") - 2);
+        const std::size_t colon = alt.find(": ");
+        const std::string caption =
+            (colon == std::string::npos ? "" : alt.substr(0, colon) + ": ") +
+            (c < head.size() ? head[c] : alt);
+        o_ << "<figure>" << inlineMd(cells[c], targets_) << "<figcaption>"
+           << inlineMd(caption, targets_) << "</figcaption></figure>\n";
+      }
+    }
+    o_ << "</div>\n";
+    i_ = end;
+    return true;
+  }
+
   void table() {
+    if (imageTable()) return;
     const auto head = tableCells(lines_[i_]);
     const auto seps = tableCells(lines_[i_ + 1]);
     std::vector<bool> right(head.size(), false);
@@ -439,34 +418,6 @@ std::string markdownToHtml(const std::string& md, const std::string& id_prefix,
 }
 
 namespace {
-
-// The page around the contents (`nav_html`) and the stages (`body_html`): head, style, the answer
-// block, and the script that enlarges a figure on a click (another click or Escape puts it back).
-std::string page(const std::string& study_name, const std::string& lead_html,
-                 const std::string& answer_html, const std::string& nav_html,
-                 const std::string& body_html) {
-  std::ostringstream head;
-  head << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, "
-          "initial-scale=1\">\n<title>armstudy: "
-       << htmlEscape(study_name) << "</title>\n<style>" << kCss
-       << "</style>\n</head>\n<body>\n<header><h1>Study " << htmlEscape(study_name) << "</h1>\n"
-       << lead_html << "</header>\n<main>\n";
-  if (!answer_html.empty())
-    head << "<section class=\"answer\" id=\"answer\">\n" << answer_html << "</section>\n";
-  head << "<p class=\"method\">Details by stage below (the Markdown reports beside this file hold "
-          "the same text).</p>\n";
-  const std::string tail =
-      "</main>\n<script>\ndocument.addEventListener('click', e => {\n"
-      "  const f = e.target.closest('figure');\n  if (f) f.classList.toggle('zoom');\n});\n"
-      "document.addEventListener('keydown', e => {\n"
-      "  if (e.key === 'Escape') document.querySelectorAll('figure.zoom').forEach(f => "
-      "f.classList.remove('zoom'));\n});\n</script>\n</body>\n</html>\n";
-  std::string out = std::move(head).str();
-  out.reserve(out.size() + nav_html.size() + body_html.size() + tail.size());
-  out.append(nav_html).append(body_html).append(tail);
-  return out;
-}
 
 // The figures of one report.html: each image's src (a data URI within the page's budget, else a
 // link), only for files inside the output folder with symbolic links resolved.
@@ -620,7 +571,8 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
   }
   nav << "</ul></nav>\n";
   // One copy of the body into the page (it holds the inlined figures).
-  return page(study_name, lead_html, answer_html, std::move(nav).str(), std::move(body).str());
+  return html_detail::page(study_name, lead_html, answer_html, std::move(nav).str(),
+                           std::move(body).str());
 }
 
 }  // namespace armstudy::report

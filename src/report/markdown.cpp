@@ -6,21 +6,16 @@
 #include <filesystem>
 #include <string_view>
 
+#include "common/escape.hpp"
+
 namespace armstudy::report {
 
 std::string markdownTable(const std::vector<std::string>& header,
                           const std::vector<std::vector<std::string>>& rows) {
-  auto esc = [](const std::string& s) {
-    std::string o;
-    for (char c : s) {
-      if (c == '|')
-        o += "\\|";
-      else if (c == '\n')
-        o += ' ';
-      else
-        o += c;
-    }
-    return o;
+  const auto esc = [](const std::string& s) {
+    return substituteChars(s, [](char c) -> const char* {
+      return c == '|' ? "\\|" : c == '\n' ? " " : nullptr;
+    });
   };
   std::string out = "|", sep = "|";
   for (const std::string& h : header) {

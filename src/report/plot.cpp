@@ -18,7 +18,7 @@ const char* const kThinNote =
 
 MapAxis cellAxis(std::string label, double from, double to, double step) {
   const double h = 0.5 * (to > from ? step : 1.0);
-  return MapAxis{std::move(label), from - h, to + h};
+  return MapAxis{std::move(label), from - h, to + h, from, to};
 }
 
 Rgb seriesColour(int k) {
@@ -40,20 +40,54 @@ Rgb diverging(double t) {
   return {ch(255 - t * (255 - 178)), ch(255 - t * (255 - 24)), ch(255 - t * (255 - 43))};
 }
 
-Drawing mapFigure(const RasterImage& map, const MapFigure& f, Format format) {
+namespace {
+
+// The ticks of a map axis drawn over `length_px` (the cells' inner extent): over the cells' centres
+// where the axis gives them (a tick off the data would name a value no cell holds), else over the
+// whole extent; a single row or column gets its centre.
+std::vector<double> mapTicks(const MapAxis& a, double length_px, double per_tick_px,
+                             const std::function<double(const std::string&)>& extent) {
+  if (!(a.hi > a.lo)) return {};
+  if (!(std::isfinite(a.from) && std::isfinite(a.to))) {
+    return fittingTicks(a.lo, a.hi, length_px, per_tick_px, extent);
+  }
+  if (!(a.to > a.from)) return {a.from};
+  const double span_px = length_px * (a.to - a.from) / (a.hi - a.lo);
+  std::vector<double> t = fittingTicks(a.from, a.to, span_px, per_tick_px, extent);
+  if (t.size() < 2) t = {a.from, a.to};  // no round value between: the first and last centre
+  return t;
+}
+
+// The raster with the rows inside its frame (`border` px) repeated to `height` px in all, each row
+// of cells keeping its share; a raster at least that tall as it is.
+RasterImage stretchRows(const RasterImage& map, int border, int height) {
+  const int h = map.height(), w = map.width();
+  if (height <= h || h <= 2 * border) return map;
+  RasterImage out(w, height);
+  const int inner_src = h - 2 * border, inner_dst = height - 2 * border;
+  for (int r = 0; r < height; ++r) {
+    const int src = r < border             ? r
+                    : r >= height - border ? h - (height - r)
+                                           : border + (r - border) * inner_src / inner_dst;
+    for (int c = 0; c < w; ++c) out.set(c, r, map.at(c, src));
+  }
+  return out;
+}
+
+}  // namespace
+
+Drawing mapFigure(const RasterImage& raster, const MapFigure& f, Format format) {
   const Meter m;
   Scene s(m);
+  const RasterImage map =
+      stretchRows(raster, f.border_px, static_cast<int>(std::ceil(kMinMapHeight)));
   const double w = map.width(), h = map.height(), bp = f.border_px;
   const double th = m.height(kTickSize), lh = m.height(kLabelSize);
   // Ticks first (their labels set the margins).
   const double inner_w = w - 2 * bp, inner_h = h - 2 * bp;
-  const auto xt = f.x.hi > f.x.lo
-                      ? fittingTicks(f.x.lo, f.x.hi, inner_w, 80,
-                                     [&](const std::string& t) { return m.width(t, kTickSize); })
-                      : std::vector<double>{};
-  const auto yt = f.y.hi > f.y.lo ? fittingTicks(f.y.lo, f.y.hi, inner_h, 60,
-                                                 [&](const std::string&) { return th; })
-                                  : std::vector<double>{};
+  const auto xt =
+      mapTicks(f.x, inner_w, 80, [&](const std::string& t) { return m.width(t, kTickSize); });
+  const auto yt = mapTicks(f.y, inner_h, 60, [&](const std::string&) { return th; });
   double ytw = 0;
   for (double t : yt) ytw = std::max(ytw, m.width(tickText(t), kTickSize));
   // Labels reading upwards wrap to the map's height, or to 300 px beside a shorter map; what is
@@ -349,6 +383,38 @@ void drawSeries(Scene& s, const Frame& f, const PlotPanel& pan, const std::array
   }
 }
 
+// The series' point labels (PlotSeries::point_labels) in frame f, each beside its marker: right,
+// left, above or below, the first place that overlaps no label already set and stays inside the
+// plot area (else right of it).
+void drawPointLabels(Scene& s, const Meter& m, const Frame& f, const PlotPanel& pan) {
+  std::vector<TextBox> placed;
+  const double th = m.height(kTickSize);
+  const auto free = [&](const TextBox& b) {
+    if (b.x0 < f.x0 || b.x1 > f.x0 + f.w || b.y0 < f.y0 || b.y1 > f.y0 + f.h) return false;
+    return std::none_of(placed.begin(), placed.end(), [&](const TextBox& o) {
+      return b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1;
+    });
+  };
+  for (const PlotSeries& se : pan.series)
+    for (std::size_t j = 0; j < se.point_labels.size() && j < se.x.size() && j < se.y.size(); ++j) {
+      const std::string& t = se.point_labels[j];
+      if (t.empty() || !std::isfinite(se.x[j]) || !std::isfinite(se.y[j])) continue;
+      const double x = f.px(se.x[j]), y = f.py(se.y[j]), w = m.width(t, kTickSize);
+      const double d = se.marker_size + 2;
+      const TextBox options[] = {{t, x + d, y - th / 2, x + d + w, y + th / 2},
+                                 {t, x - d - w, y - th / 2, x - d, y + th / 2},
+                                 {t, x - w / 2, y - d - th, x + w / 2, y - d},
+                                 {t, x - w / 2, y + d, x + w / 2, y + d + th}};
+      TextBox b = options[0];
+      for (const TextBox& o : options)
+        if (free(o)) {
+          b = o;
+          break;
+        }
+      placed.push_back(s.text(t, b.x0, b.y0, kTickSize, HAlign::left, VAlign::top));
+    }
+}
+
 // The legend of a panel at x = lx from y down; returns the bottom of its entries.
 double drawPanelLegend(Scene& s, const Meter& m, const PlotPanel& pan, double lx, double y) {
   const double lh = m.height(kLabelSize);
@@ -409,6 +475,7 @@ double drawPanel(Scene& s, const Meter& m, const PlotSpec& spec, const PlotPanel
     s.rasterise(mark, ml, y, static_cast<int>(std::lround(pw)), static_cast<int>(std::lround(ph)));
     s.rect(ml, y, pw, ph, std::nullopt, kFrame);
   }
+  drawPointLabels(s, m, f, pan);
   if (raster || std::any_of(pan.series.begin(), pan.series.end(), dense)) thinned = true;
   // Legend right of the panel.
   const double ly = drawPanelLegend(s, m, pan, ml + pw + 2 * kGap, y);

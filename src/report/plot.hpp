@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,9 +33,12 @@ enum class Format { svg, svg_and_png };
 // ---- Map figures: a cell map with axes, ticks, labels, a colour bar and a legend ----
 // The axes' extents are the data coordinates of the raster's inner edges (renderCellMap's border
 // excluded): for a grid with cell centres from..to and spacing step, lo = from - step/2 (cellAxis).
+// Ticks are placed over the cells' centres from..to where these are given (cellAxis), else over
+// lo..hi.
 struct MapAxis {
   std::string label;  // with its unit, e.g. "x [m]"
   double lo = 0, hi = 1;
+  double from = std::numeric_limits<double>::quiet_NaN(), to = from;  // first and last centre
 };
 struct LegendEntry {
   Rgb colour;
@@ -52,6 +56,9 @@ struct MapFigure {
   std::optional<ColourScale> scale;  // continuous colour bar right of the map
   int border_px = 2;                 // renderCellMap's frame around the cells
 };
+// The map keeps its width and is drawn at least kMinMapHeight px tall: a map of a few rows (a stem
+// map of three heights) has its rows of cells stretched so that they and their y ticks can be read.
+constexpr double kMinMapHeight = 150;
 Drawing mapFigure(const RasterImage& map, const MapFigure& figure, Format format = Format::svg);
 // Axis extent of a grid axis with cell centres from..to (inclusive) and spacing step.
 MapAxis cellAxis(std::string label, double from, double to, double step);
@@ -67,6 +74,9 @@ struct PlotSeries {
   bool dashed = false;
   Marker marker = Marker::dot;  // the markers' shape
   double marker_size = 2.6;     // radius, or half the side of a square [px]
+  // Text beside each marker (a fruit's number), index for index with x and y; "" or missing: none.
+  // Set beside the marker where it overlaps no other such text and stays in the plot area.
+  std::vector<std::string> point_labels;
 };
 struct RefLine {  // a horizontal (y = value) or vertical (x = value) reference line
   double value = 0;

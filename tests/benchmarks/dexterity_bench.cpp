@@ -64,8 +64,6 @@ int main() {
   // Peer: full-pose plain solves along each row with warm starts, armstudy vs KDL LMA (1 thread).
   StemGrid g = opt.grid;
   g.task = PoseTaskKind::FullPose;
-  KinematicsWorkspace ws(m);
-  const JointVector w_inv = JointVector::Ones(m.dof());
   const KDL::Chain chain = toKdlChain(m);
   KDL::ChainIkSolverPos_LMA lma(chain, 1e-10, 500, 1e-15);
   IkWorkspace ik_ws(m);
@@ -103,9 +101,9 @@ int main() {
       tr += now() - t0;
       if (solved(rr)) ++ok_r, qr = rr.q;
       t0 = now();
-      const auto r = ik::solvePose(m, ws, cell.target, qa, w_inv, {});
+      const IkResult r = solvePose(m, ik_ws, cell.target, IkOptions::exactPose(), id, &qa);
       ta += now() - t0;
-      if (r.error.position_m < kSolvedTolerance && r.error.orientation_rad < kSolvedTolerance)
+      if (r.position_error_m < kSolvedTolerance && r.orientation_error_rad < kSolvedTolerance)
         ++ok_a, qa = r.q;
       const Eigen::Isometry3d T = [&] {
         Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
@@ -135,7 +133,8 @@ int main() {
       "thread):\n\n",
       n);
   std::printf("| solver | solved within limits | per pose [us] | ratio |\n|---|---|---|---|\n");
-  std::printf("| armstudy damped Newton (solvePose) | %d | %.1f | 1.00 |\n", ok_a, 1e6 * ta / n);
+  std::printf("| armstudy weighted Newton (solvePose, exactPose) | %d | %.1f | 1.00 |\n", ok_a,
+              1e6 * ta / n);
   std::printf("| orocos-kdl ChainIkSolverPos_LMA | %d | %.1f | %.2f |\n", ok_k, 1e6 * tk / n,
               tk / ta);
   std::printf("| armstudy reach solver, warm start only | %d | %.1f | %.2f |\n", ok_r1,

@@ -234,7 +234,8 @@ transmission = 0.05
       CHECK(std::isnan(mn->GetTuple1(i)));
       continue;
     }
-    CHECK(mn->GetTuple1(i) == f.manip_opt_norm[i]);  // the run and the in-process map agree bitwise
+    CHECK(mn->GetTuple1(i) ==
+          f.manipulability().opt_norm[i]);  // the run and the in-process map agree bitwise
     best = std::max(best, mn->GetTuple1(i));
   }
   CHECK(best <= 1.0);
@@ -318,7 +319,7 @@ transmission = 0.05
     for (int i = 0; i < G; ++i) {
       const auto c = pixel(x0 + kMapBorderPixels + i * block + block / 2,
                            y0 + kMapBorderPixels + (Z - 1 - j) * block + block / 2);
-      const double v = f.manip_opt_norm[static_cast<std::size_t>(map.grid.index(i, j))];
+      const double v = f.manipulability().opt_norm[static_cast<std::size_t>(map.grid.index(i, j))];
       const report::Rgb want = std::isnan(v) ? report::Rgb{160, 160, 160} : report::viridis(v);
       CHECK(c == std::array<int, 3>{want.r, want.g, want.b});
     }

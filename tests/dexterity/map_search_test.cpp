@@ -47,6 +47,7 @@ DexterityOptions regionOptions() {
 // where no start reached the pose.
 std::vector<double> oracle(const Model& m, const DexterityOptions& o) {
   KinematicsWorkspace ws(m);
+  IkWorkspace ik_ws(m);
   ik::ObjectiveContext ctx(m, ws);
   const ik::WeightedObjective obj = o.buildObjective(m);
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(m.dof());
@@ -57,10 +58,10 @@ std::vector<double> oracle(const Model& m, const DexterityOptions& o) {
         o.grid.cell(idx % o.grid.gamma_rad.count, idx / o.grid.gamma_rad.count);
     ctx.u_W = cell.u_W;
     for (int s = 0; s < kOracleStarts; ++s) {
-      const ik::PoseSolveResult p =
-          ik::solvePose(m, ws, cell.target, randomConfiguration(m, rng), w_inv, {});
-      if (p.error.position_m > o.nullspace.pose_tolerance ||
-          p.error.orientation_rad > o.nullspace.pose_tolerance)
+      const JointVector q0 = randomConfiguration(m, rng);
+      const IkResult p = solvePose(m, ik_ws, cell.target, IkOptions::exactPose(), 0, &q0);
+      if (p.position_error_m > o.nullspace.pose_tolerance ||
+          p.orientation_error_rad > o.nullspace.pose_tolerance)
         continue;
       const ik::NullspaceResult r =
           ik::optimiseAtPose(m, ws, ctx, cell.target, p.q, obj, w_inv, o.nullspace);
@@ -210,6 +211,7 @@ TEST_CASE(
   o.collision.obstacles = rowObstacles(o.grid, row);
   REQUIRE(o.collisionFor(m).enabled());
   KinematicsWorkspace ws(m);
+  IkWorkspace ik_ws(m);
   ik::ObjectiveContext ctx(m, ws);
   collision::CollisionWorkspace cws(m);
   const ik::WeightedObjective obj = o.buildObjective(m);
@@ -221,8 +223,8 @@ TEST_CASE(
     for (int s = 0; s < 4; ++s) {
       randomConfiguration(m, o.search_seed, static_cast<std::uint64_t>(idx), s, q0);
       CellResult now, later;
-      const bool a = cellFromSeed(m, ws, ctx, obj, o, cell, q0, now, &cws, true);
-      const bool b = cellFromSeed(m, ws, ctx, obj, o, cell, q0, later, &cws, false);
+      const bool a = cellFromSeed(m, ws, ik_ws, ctx, obj, o, cell, q0, now, &cws, true);
+      const bool b = cellFromSeed(m, ws, ik_ws, ctx, obj, o, cell, q0, later, &cws, false);
       REQUIRE(a == b);
       if (!a) continue;
       measureCell(m, ws, o, cell, later);

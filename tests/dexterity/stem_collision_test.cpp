@@ -81,13 +81,13 @@ double reachBound(const Model& m) {
 
 // Starts of kOracleStarts random configurations (own generator) that reach the cell's pose.
 int startsOnPose(const Model& m, const StemGrid::Cell& cell) {
-  KinematicsWorkspace ws(m);
+  IkWorkspace ws(m);
   std::mt19937_64 rng(20261126);
   int n = 0;
   for (int s = 0; s < kOracleStarts; ++s) {
-    const ik::PoseSolveResult p = ik::solvePose(m, ws, cell.target, randomConfiguration(m, rng),
-                                                Eigen::VectorXd::Ones(m.dof()), {});
-    n += p.error.position_m <= kOnPose && p.error.orientation_rad <= kOnPose;
+    const JointVector q0 = randomConfiguration(m, rng);
+    const IkResult p = solvePose(m, ws, cell.target, IkOptions::exactPose(), 0, &q0);
+    n += p.position_error_m <= kOnPose && p.orientation_error_rad <= kOnPose;
   }
   return n;
 }

@@ -40,6 +40,7 @@ double clearance(const Model& m, KinematicsWorkspace& ws, collision::CollisionWo
 bool oracleFindsClearPosture(const Model& m, const StemCollision& col, const StemGrid::Cell& cell,
                              std::mt19937_64& rng) {
   KinematicsWorkspace ws(m);
+  IkWorkspace ik_ws(m);
   collision::CollisionWorkspace cws(m);
   ik::ObjectiveContext ctx(m, ws);
   collision::CollisionPotentialOptions po;
@@ -48,9 +49,9 @@ bool oracleFindsClearPosture(const Model& m, const StemCollision& col, const Ste
   h_c.add(1.0, std::make_shared<collision::CollisionTerm>(po, col.obstacles));
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(m.dof());
   for (int s = 0; s < kOracleStarts; ++s) {
-    const ik::PoseSolveResult p =
-        ik::solvePose(m, ws, cell.target, randomConfiguration(m, rng), w_inv, {});
-    if (p.error.position_m > kOnPose || p.error.orientation_rad > kOnPose) continue;
+    const JointVector q0 = randomConfiguration(m, rng);
+    const IkResult p = solvePose(m, ik_ws, cell.target, IkOptions::exactPose(), 0, &q0);
+    if (p.position_error_m > kOnPose || p.orientation_error_rad > kOnPose) continue;
     if (clearance(m, ws, cws, col, p.q) > col.clearance_m) return true;
     const ik::NullspaceResult e = ik::optimiseAtPose(m, ws, ctx, cell.target, p.q, h_c, w_inv, {});
     if (e.status != ik::NullspaceStatus::NotOnPose && e.error.position_m <= kOnPose &&

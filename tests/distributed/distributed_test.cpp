@@ -1,7 +1,7 @@
 // Studies distributed with MPI (docs/distributed.md): `mpirun -np 1/2/3 armstudy run`
 // writes every result file byte for byte as a single process does (the oracle: the same study run
-// without mpirun, into the same output path; for the two long shipped studies, the suite's run of
-// the study in its own folder, shipped_output.hpp), whatever the thread count per rank; a rank
+// without mpirun, into the same output path; the two long shipped studies in a coarser copy),
+// whatever the thread count per rank; a rank
 // killed mid-run ends the job with a clear message and a re-run with another rank count resumes
 // from the saved units into the same bytes. The README's commands install MPI
 // (scripts/install-deps.sh): in a build without it (ARMSTUDY_MPI=OFF) or without mpirun these tests
@@ -18,7 +18,6 @@
 #include <sstream>
 
 #include "io/files.hpp"
-#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -180,16 +179,41 @@ void requireRanksWrite(const fs::path& dir, const std::string& study, const std:
 }
 
 // Runs `study` once without mpirun and then under mpirun with each (ranks, threads) into the same
-// output path, comparing every result file with the single process's.
-void requireSameAcrossRanks(const fs::path& dir, const std::string& study, const std::string& name,
-                            const std::string& extra,
-                            const std::vector<std::pair<int, int>>& runs) {
+// output path, comparing every result file with the single process's; `expect` (when given)
+// checks on the single process's files that the scenario happened.
+void requireSameAcrossRanks(
+    const fs::path& dir, const std::string& study, const std::string& name,
+    const std::string& extra, const std::vector<std::pair<int, int>>& runs,
+    const std::function<void(const std::map<std::string, std::string>&)>& expect = nullptr) {
   std::string log;
   INFO("single process");
   REQUIRE(runCommand(binaryPath() + " run " + study + " --output " + (dir / "out").string() +
                          " --overwrite " + extra + " --threads 2",
                      log) == 0);
-  requireRanksWrite(dir, study, name, extra, runs, resultFiles(dir / "out" / name));
+  const auto ref = resultFiles(dir / "out" / name);
+  if (expect) expect(ref);
+  requireRanksWrite(dir, study, name, extra, runs, ref);
+}
+
+// A coarser copy of the shipped study studies/<name>.toml, written into `dir`: each (from, to)
+// text replaced once (each must occur, so a changed shipped file fails the test instead of
+// running at full size) and the relative design paths made absolute. Every section, design and
+// variant of the shipped file stays; only grid steps and audit sizes change.
+std::string coarseCopy(const fs::path& dir, const std::string& name,
+                       const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string toml = readFileOrThrow(sourcePath("studies/" + name + ".toml"));
+  for (const auto& [from, to] : edits) {
+    INFO("studies/" << name << ".toml: " << from);
+    const auto at = toml.find(from);
+    REQUIRE(at != std::string::npos);
+    toml.replace(at, from.size(), to);
+  }
+  const std::string rel = "\"../designs/", abs = "\"" + sourcePath("designs/");
+  for (auto at = toml.find(rel); at != std::string::npos; at = toml.find(rel, at))
+    toml.replace(at, rel.size(), abs);
+  const fs::path p = dir / (name + ".toml");
+  std::ofstream(p) << toml;
+  return p.string();
 }
 
 }  // namespace
@@ -454,19 +478,18 @@ TEST_CASE(
   fs::remove_all(dir);
 }
 
-// A shipped study on 2 and 3 ranks and 2 ranks x 2 threads with `unit_size` (small, so that
-// every rank computes and renders some of every step) writes a single process's bytes: those of the
-// suite's fixture "shipped: <study>" (2 threads, the same unit size; shipped_output.hpp); `expect`
-// checks that the scenario happened (the files it needs are there).
+// A shipped study, in a coarser copy (coarseCopy), on 2 and 3 ranks and 2 ranks x 2 threads with
+// `unit_size` (small, so that every rank computes and renders some of every step) writes the bytes
+// of a single process (2 threads, the same unit size); `expect` checks that the scenario happened
+// (the files it needs are there).
 void shippedStudyOnRanks(
-    const std::string& study, int unit_size,
-    const std::function<void(const std::map<std::string, std::string>&)>& expect) {
+    const std::string& study, const std::vector<std::pair<std::string, std::string>>& coarser,
+    int unit_size, const std::function<void(const std::map<std::string, std::string>&)>& expect) {
   requireMpi();
-  const auto ref = resultFiles(shippedOutput(study));
-  expect(ref);
   const fs::path dir = freshDir(study);
-  requireRanksWrite(dir, sourcePath("studies/" + study + ".toml"), study,
-                    "--unit-size " + std::to_string(unit_size), {{2, 1}, {3, 1}, {2, 2}}, ref);
+  requireSameAcrossRanks(dir, coarseCopy(dir, study, coarser), study,
+                         "--unit-size " + std::to_string(unit_size), {{2, 1}, {3, 1}, {2, 2}},
+                         expect);
   fs::remove_all(dir);
 }
 
@@ -474,25 +497,47 @@ TEST_CASE(
     "the shipped compare_designs study (4 designs, 6 pairs, two grids with map searches and "
     "audits) on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
     "[distributed][e2e][report]") {
-  shippedStudyOnRanks("compare_designs", 64, [](const auto& ref) {
-    // The scenario: every design's maps and every pair's comparison figures are there.
-    REQUIRE(ref.size() > 100);
-    REQUIRE(ref.count("reach/canopy_wall/final_prototype_9dof.vti") == 1);
-  });
+  // 17 x 17 wall points x 3 spray angles and 13 x 9 x 11 workspace points per design.
+  shippedStudyOnRanks("compare_designs",
+                      {{"x = { from = \"-0.8 m\", to = \"0.8 m\", step = \"0.02 m\" }",
+                        "x = { from = \"-0.8 m\", to = \"0.8 m\", step = \"0.1 m\" }"},
+                       {"z = { from = \"0.2 m\", to = \"1.8 m\", step = \"0.02 m\" }",
+                        "z = { from = \"0.2 m\", to = \"1.8 m\", step = \"0.1 m\" }"},
+                       {"x = { from = \"-1.2 m\", to = \"1.2 m\", step = \"0.1 m\" }",
+                        "x = { from = \"-1.2 m\", to = \"1.2 m\", step = \"0.2 m\" }"},
+                       {"y = { from = \"-0.2 m\", to = \"1.4 m\", step = \"0.1 m\" }",
+                        "y = { from = \"-0.2 m\", to = \"1.4 m\", step = \"0.2 m\" }"},
+                       {"z = { from = \"0 m\", to = \"2 m\", step = \"0.1 m\" }",
+                        "z = { from = \"0 m\", to = \"2 m\", step = \"0.2 m\" }"},
+                       {"poses = 100", "poses = 12"},
+                       {"starts = 200", "starts = 20"}},
+                      16, [](const auto& ref) {
+                        // The scenario: every design's maps and every pair's comparison figures.
+                        REQUIRE(ref.size() > 100);
+                        REQUIRE(ref.count("reach/canopy_wall/final_prototype_9dof.vti") == 1);
+                      });
 }
 
 TEST_CASE(
-    "the shipped stem heatmap (three 27,331-cell maps with map searches, self-collision and "
-    "audits) on 2 and 3 ranks and 2 ranks x 2 threads writes the bytes of a single process",
+    "the shipped stem heatmap (three maps with map searches, self-collision and audits) on 2 and 3 "
+    "ranks and 2 ranks x 2 threads writes the bytes of a single process",
     "[distributed][e2e][report]") {
-  shippedStudyOnRanks("stem_heatmap", 1024, [](const auto& ref) {
-    // The scenario: the three maps (the design and its two lift offsets) with their audits.
-    for (const char* d : {"first_prototype_9dof", "first_prototype_9dof+j1.z=0.6",
-                          "first_prototype_9dof+j1.z=0.9"}) {
-      REQUIRE(ref.count(std::string("dexterity/") + d + ".vti") == 1);
-      REQUIRE(ref.count(std::string("dexterity/") + d + "_audit.csv") == 1);
-    }
-  });
+  // 31 x 31 cells per map (6 deg x 5 cm) instead of 181 x 151.
+  shippedStudyOnRanks(
+      "stem_heatmap",
+      {{"step = \"1 deg\"", "step = \"6 deg\""},
+       {"step = \"1 cm\"", "step = \"5 cm\""},
+       {"cells = 50", "cells = 8"},
+       {"starts = 200", "starts = 20"}},
+      64, [](const auto& ref) {
+        // The scenario: the three maps (the design and its two lift offsets) with
+        // their audits.
+        for (const char* d : {"first_prototype_9dof", "first_prototype_9dof+j1.z=0.6",
+                              "first_prototype_9dof+j1.z=0.9"}) {
+          REQUIRE(ref.count(std::string("dexterity/") + d + ".vti") == 1);
+          REQUIRE(ref.count(std::string("dexterity/") + d + "_audit.csv") == 1);
+        }
+      });
 }
 
 TEST_CASE(

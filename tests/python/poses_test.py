@@ -108,8 +108,11 @@ class Targets(unittest.TestCase):
         reached = 0
         for i, t in enumerate(T):
             r = d.solve(t, pose_id=i)
+            # The same pose through its Cardan parameters: the rotation comes back to rounding only,
+            # so the solution agrees to rounding, not bit for bit (the transform is used as it is).
             same = d.solve(armstudy.matrix_to_pose(t), "full", pose_id=i)
-            np.testing.assert_array_equal(r["q"], same["q"])
+            self.assertEqual(r["reachable"], same["reachable"])
+            np.testing.assert_allclose(r["q"], same["q"], rtol=0, atol=1e-9)
             if r["reachable"]:
                 reached += 1
                 got = d.fk(r["q"])

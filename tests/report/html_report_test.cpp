@@ -258,8 +258,9 @@ TEST_CASE("report.html inlines only images inside the output folder, symbolic li
   CHECK(html.find("example.org") == std::string::npos);  // nothing fetched
   CHECK(html.find("src=\"data:image/svg+xml;base64,AAAA") == std::string::npos);
   // Each refused image is shown as its alt text.
-  for (const char* alt : {"Absolute: a and up: b c", "Links: d e", "<td>f</td><td>g</td>",
-                          "Remote: h i", "Answer j k"}) {
+  for (const char* alt :
+       {"Absolute: a and up: b c", "Links: d e", "<figure>f<figcaption>joint</figcaption></figure>",
+        "<figure>g<figcaption>source</figcaption></figure>", "Remote: h i", "Answer j k"}) {
     INFO(alt);
     CHECK(html.find(alt) != std::string::npos);
   }

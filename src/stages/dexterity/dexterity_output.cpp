@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "io/files.hpp"
+#include "metrics/measure_declarations.hpp"
 #include "report/image.hpp"
 #include "report/markdown.hpp"
 #include "report/plot.hpp"
@@ -34,40 +35,50 @@ constexpr report::Rgb kUnreachableGrey{160, 160, 160};
 
 }  // namespace
 
+const MeasureFields& MapFields::of(const std::string& name) const {
+  const auto decl = metrics::measureDeclarations();
+  for (std::size_t k = 0; k < decl.size(); ++k)
+    if (name == decl[k].name) return measures.at(k);
+  ARMSTUDY_CHECK(false, "MapFields::of: no declared measure " + name);
+  return measures.front();
+}
+
 MapFields mapFields(const DexterityMap& map) {
   MapFields f;
   const std::size_t N = map.cells.size();
-  for (auto* v : {&f.reachable, &f.manip_plain, &f.manip_opt, &f.manip_plain_norm,
-                  &f.manip_opt_norm, &f.beta_plain, &f.beta_opt, &f.invcond_plain, &f.invcond_opt,
-                  &f.smin_plain, &f.smin_opt, &f.H_plain, &f.H_opt, &f.nullspace_iterations})
-    v->assign(N, kNaN);
+  const auto decl = metrics::measureDeclarations();
+  f.measures.resize(decl.size());
+  for (auto* v : {&f.reachable, &f.H_plain, &f.H_opt, &f.nullspace_iterations}) v->assign(N, kNaN);
+  for (std::size_t k = 0; k < decl.size(); ++k)
+    if (decl[k].on_maps) f.measures[k].plain.assign(N, kNaN), f.measures[k].opt.assign(N, kNaN);
   std::vector<unsigned char> valid(N, 0);
   for (std::size_t i = 0; i < N; ++i) {
     const CellResult& c = map.cells[i];
     f.reachable[i] = c.reachable ? 1.0 : 0.0;
     if (!c.reachable) continue;
     valid[i] = 1;
-    f.manip_plain[i] = c.plain.manipulability;
-    f.manip_opt[i] = c.opt.manipulability;
-    f.beta_plain[i] = c.plain.transmission;
-    f.beta_opt[i] = c.opt.transmission;
-    f.invcond_plain[i] = c.plain.inverse_condition;
-    f.invcond_opt[i] = c.opt.inverse_condition;
-    f.smin_plain[i] = c.plain.sigma_min;
-    f.smin_opt[i] = c.opt.sigma_min;
+    for (std::size_t k = 0; k < decl.size(); ++k)
+      if (decl[k].on_maps) {
+        f.measures[k].plain[i] = c.plain.*decl[k].value;
+        f.measures[k].opt[i] = c.opt.*decl[k].value;
+      }
     f.H_plain[i] = c.H_plain;
     f.H_opt[i] = c.H_opt;
     f.nullspace_iterations[i] = c.nullspace_iterations;
   }
-  // Normalisation as thesis Fig. 3.6: 1 = the best manipulability found in this map (either
+  // Normalisation as thesis Fig. 3.6: 1 = the best value found in this map (either
   // configuration), so plain and optimised maps share one scale.
-  std::vector<double> both(f.manip_plain);
-  both.insert(both.end(), f.manip_opt.begin(), f.manip_opt.end());
   std::vector<unsigned char> vboth(valid);
   vboth.insert(vboth.end(), valid.begin(), valid.end());
-  f.best_manipulability = metrics::normaliseToBest(both, vboth, kNaN);
-  f.manip_plain_norm.assign(both.begin(), both.begin() + N);
-  f.manip_opt_norm.assign(both.begin() + N, both.end());
+  for (std::size_t k = 0; k < decl.size(); ++k) {
+    if (!decl[k].on_maps || !decl[k].normalised) continue;
+    MeasureFields& m = f.measures[k];
+    std::vector<double> both(m.plain);
+    both.insert(both.end(), m.opt.begin(), m.opt.end());
+    m.best = metrics::normaliseToBest(both, vboth, kNaN);
+    m.plain_norm.assign(both.begin(), both.begin() + N);
+    m.opt_norm.assign(both.begin() + N, both.end());
+  }
   return f;
 }
 
@@ -193,55 +204,67 @@ void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
 
 const char* const kSub = "dexterity";  // the stage's output folder
 
-// The unit of the absolute manipulability (metrics/dexterity_measures.hpp).
+// The unit of the absolute manipulability (metrics/measure_declarations.hpp).
 std::string manipulabilityUnit(metrics::MeasureSpace space) {
-  return space == metrics::MeasureSpace::Translational ? "m^3" : "mixed m and rad";
+  return metrics::figureUnitIn(metrics::declaredMeasure("manipulability"), space);
 }
 
 // "a/b" as a percentage with one decimal, "-" when b is 0.
 std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
 
-// The tops of the colour scales the stage's designs share (their largest value over every
-// design's map), so that a colour means the same value in each design's figure.
+// The tops of the colour scales the stage's designs share, per declared measure with a figure:
+// its largest optimised value over every design's map (and plain value, for a normalised measure,
+// whose plain and optimised maps share one scale), so that a colour means the same value in each
+// design's figure.
 struct SharedScales {
-  double manipulability = 0;  // optimised and plain, absolute
-  double transmission = 0;    // beta along u, optimised
+  std::vector<double> top;  // per metrics::kMeasures entry
 };
 SharedScales sharedScales(const std::vector<MapFields>& fields) {
+  const auto decl = metrics::measureDeclarations();
   SharedScales sc;
+  sc.top.assign(decl.size(), 0.0);
   auto top = [](double& hi, const std::vector<double>& v) {
     for (double x : v)
       if (!std::isnan(x)) hi = std::max(hi, x);
   };
-  for (const MapFields& f : fields) {
-    top(sc.manipulability, f.manip_opt);
-    top(sc.manipulability, f.manip_plain);
-    top(sc.transmission, f.beta_opt);
-  }
+  for (const MapFields& f : fields)
+    for (std::size_t k = 0; k < decl.size(); ++k) {
+      if (!decl[k].on_maps || !decl[k].figure_label) continue;
+      top(sc.top[k], f.measures[k].opt);
+      if (decl[k].normalised) top(sc.top[k], f.measures[k].plain);
+    }
   return sc;
 }
 
-// Writes the heatmap figures (.svg and the same as .png) of normalised manipulability (plain and
-// optimised), absolute manipulability and transmission (optimised, on the scales the designs
-// share) and reachability; returns the .svg name per image key.
+// Writes the heatmap figures (.svg and the same as .png) of each declared measure with a figure
+// (normalised, plain and optimised, for a normalised measure; the optimised value on the scale the
+// designs share) and reachability; returns the .svg name per image key.
 std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const MapFields& f,
-                                                 const SharedScales& sc, const std::string& unit,
-                                                 Writer& out) {
+                                                 const SharedScales& sc,
+                                                 metrics::MeasureSpace space, Writer& out) {
   struct Img {
-    const char* key;
+    std::string key;
     const std::vector<double>* v;
     double hi;
     std::string label;
   };
-  const Img imgs[] = {{"manipulability_optimised_normalised", &f.manip_opt_norm, 1.0,
-                       "normalised manipulability, optimised [1]"},
-                      {"manipulability_plain_normalised", &f.manip_plain_norm, 1.0,
-                       "normalised manipulability, plain [1]"},
-                      {"manipulability_optimised", &f.manip_opt, sc.manipulability,
-                       "manipulability, optimised [" + unit + "]"},
-                      {"transmission_optimised", &f.beta_opt, sc.transmission,
-                       "transmission beta along u, optimised [m/rad]"},
-                      {"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"}};
+  std::vector<Img> imgs;
+  const auto decl = metrics::measureDeclarations();
+  for (std::size_t k = 0; k < decl.size(); ++k) {
+    const metrics::MeasureDeclaration& d = decl[k];
+    if (!d.on_maps || !d.figure_label) continue;
+    const MeasureFields& m = f.measures[k];
+    const std::string name = d.name, label = d.figure_label;
+    if (d.normalised) {
+      imgs.push_back({name + "_optimised_normalised", &m.opt_norm, 1.0,
+                      "normalised " + label + ", optimised [1]"});
+      imgs.push_back(
+          {name + "_plain_normalised", &m.plain_norm, 1.0, "normalised " + label + ", plain [1]"});
+    }
+    imgs.push_back({name + "_optimised", &m.opt, sc.top[k],
+                    label + ", optimised [" + metrics::figureUnitIn(d, space) + "]"});
+  }
+  imgs.push_back({"reachable", &f.reachable, 1.0, "reachable [1 = yes, 0 = no]"});
   std::map<std::string, std::string> png;  // what the report shows: the .svg figures
   long reachable = 0;
   for (double r : f.reachable) reachable += r > 0;
@@ -268,13 +291,14 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
 std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
                           const MapSummary& s, const std::string& unit) {
   double mean_abs = 0;
-  for (double v : f.manip_opt) mean_abs += std::isnan(v) ? 0.0 : v;
+  for (double v : f.manipulability().opt) mean_abs += std::isnan(v) ? 0.0 : v;
   std::ostringstream cmp;
   cmp << "| " << m.name << " | " << m.dof() << " | "
       << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
-      << " | " << frac(s.reach_pos, s.n_pos) << " | " << (s.R ? fmt(f.best_manipulability, 4) : "-")
-      << " | " << (s.R ? fmt(s.mean_p) : "-") << " | " << (s.R ? fmt(s.mean_o) : "-") << " | "
-      << (s.R ? fmt(mean_abs / s.R) : "-") << " | " << valleyText(map, s, unit) << " |\n";
+      << " | " << frac(s.reach_pos, s.n_pos) << " | "
+      << (s.R ? fmt(f.manipulability().best, 4) : "-") << " | " << (s.R ? fmt(s.mean_p) : "-")
+      << " | " << (s.R ? fmt(s.mean_o) : "-") << " | " << (s.R ? fmt(mean_abs / s.R) : "-") << " | "
+      << valleyText(map, s, unit) << " |\n";
   return cmp.str();
 }
 
@@ -294,7 +318,7 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
      << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
      << "). Best manipulability (normalisation value): "
-     << (s.R ? formatG(f.best_manipulability, 4) + " " + manipulabilityUnit(options.measure_space)
+     << (s.R ? formatG(f.manipulability().best, 4) + " " + manipulabilityUnit(options.measure_space)
              : "-")
      << ". Valley of the optimised map (the row of lowest mean): "
      << valleyText(map, s, manipulabilityUnit(options.measure_space))
@@ -302,9 +326,9 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
      << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
      << statsRow("manipulability, optimised [" + manipulabilityUnit(options.measure_space) + "]",
-                 fieldStats(map, f.manip_opt))
+                 fieldStats(map, f.manipulability().opt))
      << statsRow("manipulability, plain [" + manipulabilityUnit(options.measure_space) + "]",
-                 fieldStats(map, f.manip_plain))
+                 fieldStats(map, f.manipulability().plain))
      << statsRow("manipulability, optimised (normalised)", s.mo)
      << statsRow("manipulability, plain (normalised)", s.mp)
      << statsRow("transmission beta along u, optimised", s.beta_s)
@@ -350,7 +374,7 @@ nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& option
   const auto orNull = [&](double v) {
     return s.R ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
   };
-  d["best_manipulability"] = orNull(f.best_manipulability);
+  d["best_manipulability"] = orNull(f.manipulability().best);
   d["manipulability_optimised_normalised"] = statsJson(s.mo);
   d["manipulability_plain_normalised"] = statsJson(s.mp);
   d["transmission_optimised"] = statsJson(s.beta_s);
@@ -426,7 +450,7 @@ std::string renderDesign(const StageContext& ctx, const DexterityOptions& option
        writeMapVtk(map, f, m, options.measure_space, options.ellipsoids, dir))
     out.add(std::string(kSub) + "/" + name);
   std::map<std::string, std::string> png =
-      writeHeatmaps(map, f, scales, manipulabilityUnit(options.measure_space), out);
+      writeHeatmaps(map, f, scales, options.measure_space, out);
   png["status"] = writeStatusMap(map, kSub, out);
   RenderedPart part;
   part.jd = w.d;
@@ -457,8 +481,9 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
       const Eigen::Vector3d p = map.grid.cell(i, j).target.p_WT;
       c.p_W.push_back({p.x(), p.y(), p.z()});
       c.status.push_back(static_cast<int>(map.cells[idx].status));
-      c.value.push_back(f.manip_opt[idx]);
-      if (!std::isnan(f.manip_opt[idx]) && (best < 0 || f.manip_opt[idx] > f.manip_opt[best]))
+      c.value.push_back(f.manipulability().opt[idx]);
+      if (!std::isnan(f.manipulability().opt[idx]) &&
+          (best < 0 || f.manipulability().opt[idx] > f.manipulability().opt[best]))
         best = idx;
     }
   if (best >= 0) {
@@ -468,7 +493,7 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
       c.arm_W.push_back({p.x(), p.y(), p.z()});
     c.arm_caption = "arm: " + map.design +
                     " at the stem map's cell of the largest optimised manipulability (" +
-                    fmt(f.manip_opt[best], 4) + ").";
+                    fmt(f.manipulability().opt[best], 4) + ").";
   } else {
     c.arm_caption = "arm: " + map.design + " reaches no cell of the stem map.";
   }

@@ -17,14 +17,24 @@ struct FieldStats {
   double gamma_at_min = 0, z_at_min = 0, gamma_at_max = 0, z_at_max = 0;
 };
 
+// One declared measure's per-cell values (metrics/measure_declarations.hpp) at the plain and the
+// optimised posture; for a measure declared normalised also both divided by `best`, the largest
+// value of the map over both postures (1 = best found in this map). Empty for a measure not on
+// the maps.
+struct MeasureFields {
+  std::vector<double> plain, opt, plain_norm, opt_norm;
+  double best = 0;
+};
+
 // The per-cell fields the outputs carry; NaN where the cell is unreachable.
-// `best_manipulability` normalises both plain and optimised maps (1 = best found in this map).
 struct MapFields {
   std::vector<double> reachable;
-  std::vector<double> manip_plain, manip_opt, manip_plain_norm, manip_opt_norm;
-  std::vector<double> beta_plain, beta_opt, invcond_plain, invcond_opt, smin_plain, smin_opt;
+  std::vector<MeasureFields> measures;  // one per metrics::kMeasures entry, in its order
   std::vector<double> H_plain, H_opt, nullspace_iterations;
-  double best_manipulability = 0;
+  // The fields of the declared measure `name` (one of metrics::kMeasures).
+  const MeasureFields& of(const std::string& name) const;
+  const MeasureFields& manipulability() const { return of("manipulability"); }
+  const MeasureFields& transmission() const { return of("transmission"); }
 };
 MapFields mapFields(const DexterityMap& map);
 FieldStats fieldStats(const DexterityMap& map, const std::vector<double>& field);

@@ -17,8 +17,8 @@ void findValley(const DexterityMap& map, const MapFields& f, MapSummary& s) {
     for (int ig = 0; ig < G; ++ig) {
       const int i = map.grid.index(ig, iz);
       if (!map.cells[i].reachable) continue;
-      sum_n += f.manip_opt_norm[i];
-      sum_a += f.manip_opt[i];
+      sum_n += f.manipulability().opt_norm[i];
+      sum_a += f.manipulability().opt[i];
       ++n;
     }
     if (n == 0 || (s.valley_row >= 0 && !(sum_n / n < s.valley_norm))) continue;
@@ -48,16 +48,17 @@ std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::
 MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid& g) {
   MapSummary s;
   const int G = g.gamma_rad.count;
-  s.beta_s = fieldStats(map, f.beta_opt);
-  s.mo = fieldStats(map, f.manip_opt_norm), s.mp = fieldStats(map, f.manip_plain_norm);
-  s.bp = fieldStats(map, f.beta_plain);
+  s.beta_s = fieldStats(map, f.transmission().opt);
+  s.mo = fieldStats(map, f.manipulability().opt_norm),
+  s.mp = fieldStats(map, f.manipulability().plain_norm);
+  s.bp = fieldStats(map, f.transmission().plain);
   for (int i = 0; i < static_cast<int>(map.cells.size()); ++i) {
     const bool neg = g.gamma_rad.value(i % G) < 0;
     (neg ? s.n_neg : s.n_pos)++;
     if (map.cells[i].reachable) {
       (neg ? s.reach_neg : s.reach_pos)++;
-      s.mean_p += f.manip_plain_norm[i];
-      s.mean_o += f.manip_opt_norm[i];
+      s.mean_p += f.manipulability().plain_norm[i];
+      s.mean_o += f.manipulability().opt_norm[i];
       s.iters += map.cells[i].nullspace_iterations;
     }
   }

@@ -2,6 +2,7 @@
 #include <filesystem>
 
 #include "io/vtk_io.hpp"
+#include "metrics/measure_declarations.hpp"
 #include "stages/dexterity/dexterity_output.hpp"
 #include "study/scene.hpp"
 
@@ -13,22 +14,23 @@ namespace armstudy::dexterity {
 namespace {
 
 // The map's point arrays (the same in the .vti and the .vts): NaN where a quantity does not exist.
+// Per declared measure on the maps <name>_{plain,optimised}[_normalised], in the declared order.
 std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& f) {
   std::vector<io::NamedArray> arrays{{"reachable", io::ArrayType::UInt8, 1, f.reachable}};
-  const std::pair<const char*, const std::vector<double>*> fields[] = {
-      {"manipulability_plain", &f.manip_plain},
-      {"manipulability_optimised", &f.manip_opt},
-      {"manipulability_plain_normalised", &f.manip_plain_norm},
-      {"manipulability_optimised_normalised", &f.manip_opt_norm},
-      {"transmission_plain", &f.beta_plain},
-      {"transmission_optimised", &f.beta_opt},
-      {"inverse_condition_plain", &f.invcond_plain},
-      {"inverse_condition_optimised", &f.invcond_opt},
-      {"sigma_min_plain", &f.smin_plain},
-      {"sigma_min_optimised", &f.smin_opt},
-      {"objective_plain", &f.H_plain},
-      {"objective_optimised", &f.H_opt},
-      {"nullspace_iterations", &f.nullspace_iterations}};
+  std::vector<std::pair<std::string, const std::vector<double>*>> fields;
+  const auto decl = metrics::measureDeclarations();
+  for (std::size_t k = 0; k < decl.size(); ++k) {
+    if (!decl[k].on_maps) continue;
+    const std::string name = decl[k].name;
+    const MeasureFields& m = f.measures[k];
+    fields.insert(fields.end(), {{name + "_plain", &m.plain}, {name + "_optimised", &m.opt}});
+    if (decl[k].normalised)
+      fields.insert(fields.end(), {{name + "_plain_normalised", &m.plain_norm},
+                                   {name + "_optimised_normalised", &m.opt_norm}});
+  }
+  fields.insert(fields.end(), {{"objective_plain", &f.H_plain},
+                               {"objective_optimised", &f.H_opt},
+                               {"nullspace_iterations", &f.nullspace_iterations}});
   for (const auto& [name, v] : fields) arrays.push_back({name, io::ArrayType::Float64, 1, *v});
   std::vector<double> found_by(map.cells.size());
   for (std::size_t i = 0; i < map.cells.size(); ++i)
@@ -49,32 +51,22 @@ std::vector<io::NamedArray> mapArrays(const DexterityMap& map, const MapFields& 
   return arrays;
 }
 
-// Units of the measures in a measure space (metrics/dexterity_measures.hpp).
+// Units of the arrays of the map and the glyphs in a measure space (the declared measures' units,
+// metrics/measure_declarations.hpp, then the map's other arrays).
 std::vector<std::string> measureUnits(metrics::MeasureSpace space) {
-  const bool t = space == metrics::MeasureSpace::Translational;
-  const std::string m3 = t ? "m^3 (translational Jacobian, revolute joints: per rad^3)"
-                           : "mixed m and rad (full Jacobian)";
-  const std::string s = t ? "m/rad" : "mixed m/rad and 1";
-  return {"manipulability_plain: " + m3,
-          "manipulability_optimised: " + m3,
-          "manipulability: " + m3,
-          "manipulability_plain_normalised: 1",
-          "manipulability_optimised_normalised: 1",
-          "transmission_plain: m/rad",
-          "transmission_optimised: m/rad",
-          "transmission: m/rad",
-          "inverse_condition_plain: 1",
-          "inverse_condition_optimised: 1",
-          "sigma_min_plain: " + s,
-          "sigma_min_optimised: " + s,
-          "objective_plain: 1",
-          "objective_optimised: 1",
-          "nullspace_iterations: 1",
-          "reachable: 1",
-          "found_by: 1",
-          "status: 1",
-          "colliding_pair: 1",
-          "min_distance: m"};
+  std::vector<std::string> units;
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations()) {
+    if (!d.on_maps) continue;
+    const std::string name = d.name, unit = metrics::unitIn(d, space);
+    units.insert(units.end(), {name + "_plain: " + unit, name + "_optimised: " + unit});
+    if (d.on_glyphs) units.push_back(name + ": " + unit);
+    if (d.normalised)
+      units.insert(units.end(), {name + "_plain_normalised: 1", name + "_optimised_normalised: 1"});
+  }
+  units.insert(units.end(), {"objective_plain: 1", "objective_optimised: 1",
+                             "nullspace_iterations: 1", "reachable: 1", "found_by: 1", "status: 1",
+                             "colliding_pair: 1", "min_distance: m"});
+  return units;
 }
 
 const std::vector<std::string> kMapLegend = {
@@ -153,8 +145,15 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
   io::NamedArray semi{"semi_axes", io::ArrayType::Float64, 3, {}};
   constexpr io::ArrayType kF64 = io::ArrayType::Float64;
   io::NamedArray a1{"axis_1", kF64, 3, {}}, a2{"axis_2", kF64, 3, {}}, a3{"axis_3", kF64, 3, {}};
-  io::NamedArray u{"u", kF64, 3, {}}, manip{"manipulability", kF64, 1, {}};
-  io::NamedArray beta{"transmission", kF64, 1, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
+  io::NamedArray u{"u", kF64, 3, {}}, gam{"gamma", kF64, 1, {}}, zz{"z", kF64, 1, {}};
+  // The declared measures on the glyphs, as <name>.
+  std::vector<io::NamedArray> glyph;
+  std::vector<const metrics::MeasureDeclaration*> glyph_decl;
+  for (const metrics::MeasureDeclaration& d : metrics::measureDeclarations())
+    if (d.on_glyphs) {
+      glyph.push_back({d.name, kF64, 1, {}});
+      glyph_decl.push_back(&d);
+    }
   auto push3 = [](io::NamedArray& a, const Eigen::Vector3d& v) {
     a.values.insert(a.values.end(), {v.x(), v.y(), v.z()});
   };
@@ -173,13 +172,15 @@ std::string writeEllipsoidsVtp(const DexterityMap& map, bool optimised, const st
     push3(a2, e.lengths[1] * e.axes_W.col(1));
     push3(a3, e.lengths[2] * e.axes_W.col(2));
     push3(u, cell.u_W);
-    manip.values.push_back((optimised ? c.opt : c.plain).manipulability);
-    beta.values.push_back((optimised ? c.opt : c.plain).transmission);
+    for (std::size_t k = 0; k < glyph.size(); ++k)
+      glyph[k].values.push_back((optimised ? c.opt : c.plain).*glyph_decl[k]->value);
     gam.values.push_back(cell.gamma);
     zz.values.push_back(cell.z);
   }
-  for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u, &manip, &beta, &gam, &zz})
+  for (io::NamedArray* a : {&tensor, &semi, &a1, &a2, &a3, &u})
     poly.point_arrays.push_back(std::move(*a));
+  for (io::NamedArray& a : glyph) poly.point_arrays.push_back(std::move(a));
+  for (io::NamedArray* a : {&gam, &zz}) poly.point_arrays.push_back(std::move(*a));
   poly.active_tensors = "ellipsoid_tensor";
   std::vector<std::string> u_all{"position: m",
                                  "ellipsoid_tensor: m/rad",
@@ -212,7 +213,8 @@ std::vector<std::string> writeMapVtk(const DexterityMap& map, const MapFields& f
   // The robot at the cell of the best optimised manipulability.
   int best = -1;
   for (std::size_t i = 0; i < map.cells.size(); ++i)
-    if (map.cells[i].reachable && (best < 0 || f.manip_opt[i] > f.manip_opt[best]))
+    if (map.cells[i].reachable &&
+        (best < 0 || f.manipulability().opt[i] > f.manipulability().opt[best]))
       best = static_cast<int>(i);
   if (best >= 0) {
     const CellResult& c = map.cells[best];

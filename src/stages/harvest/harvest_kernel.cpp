@@ -152,8 +152,6 @@ void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOp
   const Eigen::Matrix3d R_WT =
       Eigen::AngleAxisd(g.gamma_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
       toolRotation(options.tool_beta_rad);
-  const CardanAngles c = cardanFromRotation(R_WT);
-  const Eigen::Matrix3d R_grid = rotationFromCardan(c.alpha, c.beta, c.gamma);
   IkOptions iko;
   iko.classify_failures = false;
   std::vector<ItemRange> all_points{{0, np}};
@@ -172,7 +170,7 @@ void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOp
       const PoseTask target = fullPoseTask(Eigen::Vector3d(g.axes[0].value(static_cast<int>(i)),
                                                            g.axes[1].value(static_cast<int>(j)),
                                                            g.axes[2].value(static_cast<int>(k))),
-                                           R_grid);
+                                           R_WT);
       const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
       GridPointResult& gp = res.grid[p];
       gp.reachable = r.reachable();

@@ -244,6 +244,7 @@ report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
         if (fruitOutcome(*models[k], f) == o) {
           s.x.push_back(f.p_fruit_W.y());
           s.y.push_back(f.p_fruit_W.z());
+          s.point_labels.push_back(std::to_string(f.fruit));  // its number in the tables
         }
       if (!s.x.empty()) panel.series.push_back(std::move(s));
     }
@@ -257,8 +258,8 @@ std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
   if (models.empty()) return "";
   out.text("harvest/fruits.svg", fruitOutcomeFigure(models, results).svg);
   return "Every fruit at its position in the row (world frame: y along the row, z up), marked by "
-         "what became of it; one panel per design on the same axes, the fruit numbers and "
-         "positions in the tables below and in `<design>_fruits.csv`.\n\n"
+         "what became of it and labelled with its number; one panel per design on the same "
+         "axes, the fruits' positions in the tables below and in `<design>_fruits.csv`.\n\n"
          "![What became of each fruit, per design](fruits.svg)\n\n";
 }
 

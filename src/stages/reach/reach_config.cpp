@@ -179,35 +179,28 @@ void readSearchAuditOutputs(TableReader& r, const TableReader& top, ReachConfig&
 // [[reach.grid]] tables.
 void readGrids(TableReader& r, const TableReader& top, const TaskSpace& default_space,
                std::set<std::string>& names, ReachConfig& cfg) {
-  int idx = 0;
-  if (const toml::array* grids = r.array("grid")) {
-    for (const auto& e : *grids) {
-      if (!e.is_table())
-        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.grid",
-                         "expected [[reach.grid]] tables");
-      TableReader g(*e.as_table(), top.file(), "reach.grid[" + std::to_string(idx++) + "]");
-      TaskGrid grid;
-      grid.name = g.string("name");
-      checkName(g, grid.name, names);
-      grid.task_space = readTaskSpace(g, "task_space", default_space);
-      for (int a = 0; a < 3; ++a) grid.axes[a] = readAxis(g, kAxisNames[a]);
-      std::vector<double> ang[3];
-      for (int k = 0; k < 3; ++k) {
-        if (g.has(kAngleNames[k]) && !grid.task_space.selected[3 + k])
-          g.fail(kAngleNames[k], std::string(kAngleNames[k]) + " is not part of the task space " +
-                                     grid.task_space.toString() + " (it is left free); remove it");
-        ang[k] = readAngles(g, kAngleNames[k]);
-      }
-      for (double a : ang[0])
-        for (double b : ang[1])
-          for (double c : ang[2]) grid.orientations.push_back({a, b, c});
-      grid.reference = g.string("reference", "");
-      g.finish();
-      const std::string why = grid.validate();
-      if (!why.empty()) throw InputError(top.file(), g.line(), g.path(), why);
-      cfg.grids.push_back(grid);
+  r.forEachTable("grid", [&](TableReader& g) {
+    TaskGrid grid;
+    grid.name = g.string("name");
+    checkName(g, grid.name, names);
+    grid.task_space = readTaskSpace(g, "task_space", default_space);
+    for (int a = 0; a < 3; ++a) grid.axes[a] = readAxis(g, kAxisNames[a]);
+    std::vector<double> ang[3];
+    for (int k = 0; k < 3; ++k) {
+      if (g.has(kAngleNames[k]) && !grid.task_space.selected[3 + k])
+        g.fail(kAngleNames[k], std::string(kAngleNames[k]) + " is not part of the task space " +
+                                   grid.task_space.toString() + " (it is left free); remove it");
+      ang[k] = readAngles(g, kAngleNames[k]);
     }
-  }
+    for (double a : ang[0])
+      for (double b : ang[1])
+        for (double c : ang[2]) grid.orientations.push_back({a, b, c});
+    grid.reference = g.string("reference", "");
+    g.finish();
+    const std::string why = grid.validate();
+    if (!why.empty()) throw InputError(top.file(), g.line(), g.path(), why);
+    cfg.grids.push_back(grid);
+  });
 }
 
 // [[reach.poses]] tables: pose lists read from CSV files.
@@ -215,31 +208,24 @@ void readPoseLists(TableReader& r, const TableReader& top, const std::string& st
                    const TaskSpace& default_space, std::set<std::string>& names, ReachConfig& cfg,
                    std::vector<std::pair<std::string, std::string>>& files_read) {
   namespace fs = std::filesystem;
-  int idx = 0;
-  if (const toml::array* lists = r.array("poses")) {
-    for (const auto& e : *lists) {
-      if (!e.is_table())
-        throw InputError(top.file(), static_cast<int>(e.source().begin.line), "reach.poses",
-                         "expected [[reach.poses]] tables");
-      TableReader p(*e.as_table(), top.file(), "reach.poses[" + std::to_string(idx++) + "]");
-      const std::string name = p.string("name");
-      checkName(p, name, names);
-      const TaskSpace ts = readTaskSpace(p, "task_space", default_space);
-      const std::string file = p.string("file");
-      const fs::path resolved =
-          fs::path(file).is_absolute() ? fs::path(file) : fs::path(study_dir) / file;
-      if (!fs::exists(resolved))
-        p.fail("file",
-               "pose list '" + file + "' does not exist (looked for " + resolved.string() + ")");
-      p.finish();
-      const std::string path = resolved.lexically_normal().string();
-      const std::string text = readFileOrThrow(path);
-      PoseList list = parsePoseCsv(text, path, ts);
-      list.name = name;
-      files_read.emplace_back(path, contentHash(text));
-      cfg.pose_lists.push_back(std::move(list));
-    }
-  }
+  r.forEachTable("poses", [&](TableReader& p) {
+    const std::string name = p.string("name");
+    checkName(p, name, names);
+    const TaskSpace ts = readTaskSpace(p, "task_space", default_space);
+    const std::string file = p.string("file");
+    const fs::path resolved =
+        fs::path(file).is_absolute() ? fs::path(file) : fs::path(study_dir) / file;
+    if (!fs::exists(resolved))
+      p.fail("file",
+             "pose list '" + file + "' does not exist (looked for " + resolved.string() + ")");
+    p.finish();
+    const std::string path = resolved.lexically_normal().string();
+    const std::string text = readFileOrThrow(path);
+    PoseList list = parsePoseCsv(text, path, ts);
+    list.name = name;
+    files_read.emplace_back(path, contentHash(text));
+    cfg.pose_lists.push_back(std::move(list));
+  });
 }
 
 }  // namespace
