@@ -1,7 +1,7 @@
 // The 3-D view's page (report/view3d): its data read back independently of the writer (the JSON
-// parsed with nlohmann, the base64 arrays decoded here) gives the points, statuses and levels put
-// in; maps beyond kViewMaxPoints are thinned to every k-th point; a name holding "</script>" does
-// not end the data early; the bytes are the same on a second call.
+// parsed with nlohmann, the base64 arrays decoded by tests/view_page.hpp) gives the points,
+// statuses and levels put in; maps beyond kViewMaxPoints are thinned to every k-th point; a name
+// holding "</script>" does not end the data early; the bytes are the same on a second call.
 #include "report/view3d.hpp"
 
 #include <catch2/catch.hpp>
@@ -10,37 +10,15 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "view_page.hpp"
+
 using namespace armstudy::report;
 
 namespace {
 
-constexpr double kPositionQuantum = 1e-4;  // [m] the page's position resolution (0.1 mm)
-
-std::string unbase64(const std::string& s) {
-  static const std::string abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  int bits = 0;
-  std::uint32_t acc = 0;
-  for (const char c : s) {
-    if (c == '=') break;
-    acc = (acc << 6) | static_cast<std::uint32_t>(abc.find(c));
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out += static_cast<char>((acc >> bits) & 0xff);
-    }
-  }
-  return out;
-}
-
-nlohmann::json pageData(const std::string& html) {
-  const std::string open = "<script type=\"application/json\" id=\"armstudy-view-data\">";
-  const std::size_t a = html.find(open);
-  REQUIRE(a != std::string::npos);
-  const std::size_t b = html.find("</script>", a);
-  REQUIRE(b != std::string::npos);
-  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
-}
+constexpr double kPositionQuantum = armstudy::test::kViewPositionQuantum;  // [m]
+using armstudy::test::unbase64;
+nlohmann::json pageData(const std::string& html) { return armstudy::test::viewPageData(html); }
 
 }  // namespace
 
