@@ -24,6 +24,30 @@ std::vector<int> drawCells(int n, int cells, std::uint64_t seed) {
   return std::vector<int>(d.begin(), d.end());
 }
 
+namespace {
+
+// The map's side of each audited row (known to every process): the cell and the map's result.
+void fillMapSide(const DexterityMap& map, const StemGrid& g, const std::vector<int>& cells,
+                 DexterityAudit& a) {
+  const int G = g.gamma_rad.count;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const int idx = cells[k];
+    ARMSTUDY_CHECK(idx >= 0 && idx < g.size(), "audit cell out of range");
+    const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+    AuditCell& row = a.rows[k];
+    row.index = idx;
+    row.gamma_rad = cell.gamma;
+    row.z_m = cell.z;
+    const CellResult& m = map.cells[idx];
+    row.map_reachable = m.reachable;
+    row.map_status = m.status;
+    row.H_map = m.H_opt;
+    row.manipulability_map = m.opt.manipulability;
+  }
+}
+
+}  // namespace
+
 DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& options,
                                    const DexterityMap& map, const std::vector<int>& cells,
                                    int starts, std::uint64_t seed, int threads,
@@ -40,20 +64,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
   const ik::WeightedObjective objective = options.buildObjective(model);
   const int G = g.gamma_rad.count;
   const int nt = threads > 0 ? threads : omp_get_max_threads();
-  for (std::size_t k = 0; k < cells.size(); ++k) {  // the map's side, known to every process
-    const int idx = cells[k];
-    ARMSTUDY_CHECK(idx >= 0 && idx < g.size(), "audit cell out of range");
-    const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-    AuditCell& row = a.rows[k];
-    row.index = idx;
-    row.gamma_rad = cell.gamma;
-    row.z_m = cell.z;
-    const CellResult& m = map.cells[idx];
-    row.map_reachable = m.reachable;
-    row.map_status = m.status;
-    row.H_map = m.H_opt;
-    row.manipulability_map = m.opt.manipulability;
-  }
+  fillMapSide(map, g, cells, a);
   // The searches, shared among the processes of a distributed run (a cell per chunk: each is
   // `starts` searches); the best objective travels in H_audit until every row is in.
   SharedLoop loop;
