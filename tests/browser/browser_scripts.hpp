@@ -77,9 +77,9 @@ window.addEventListener('load', () => {
   r.firstScreen = words.join(' ');
   const li = a ? a.querySelector('li') : null;
   r.firstAnswer = li ? li.textContent.replace(/\s+/g, ' ').trim() : '';
-  // Each figure's image as drawn: its share of its own width and its right edge.
+  // Each image as drawn (in a figure or a table): its share of its own width and its right edge.
   r.drawn = [];
-  for (const img of document.querySelectorAll('figure img'))
+  for (const img of document.images)
     if (img.naturalWidth > 0)
       r.drawn.push({name: (img.alt || img.src).slice(0, 120), scale: img.getBoundingClientRect().width / img.naturalWidth,
                      right: img.getBoundingClientRect().right});

@@ -508,8 +508,8 @@ TEST_CASE(
         CHECK(first.find(squeezed(lead)) != std::string::npos);
         CHECK(firstScreenMisses(report.parent_path(), c.result.value("firstScreen", "")) == "");
       }
-      // Every figure's image fits the laptop's window and keeps at least kMinFigureScale of its
-      // width (maps side by side wrap instead of shrinking).
+      // Every image (in a figure or a table) fits the laptop's window and keeps at least
+      // kMinFigureScale of its width (maps side by side wrap instead of shrinking).
       for (const auto& d : c.result["drawn"]) {
         INFO(d.dump());
         CHECK(d["scale"].get<double>() >= kMinFigureScale);
