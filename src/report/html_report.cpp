@@ -330,31 +330,39 @@ class MarkdownToHtml {
     ++i_;
   }
 
-  // A table whose cells each hold one image (maps side by side) becomes a gallery that wraps to
-  // the page's width, each figure captioned by its column's heading.
+  // A table of images (maps side by side, a cell in words where a map would be one colour)
+  // becomes a gallery that wraps to the page's width, each figure captioned by its column's
+  // heading: no cell holds more than one image, and most cells of every row hold one.
   bool imageTable() {
     const auto head = tableCells(lines_[i_]);
     std::size_t end = i_ + 2, images = 0;
-    for (; end < lines_.size() && !lines_[end].empty() && lines_[end][0] == '|'; ++end)
+    for (; end < lines_.size() && !lines_[end].empty() && lines_[end][0] == '|'; ++end) {
+      std::size_t in_row = 0, cells = 0;
       for (const std::string& c : tableCells(lines_[end])) {
-        if (c.empty()) continue;
-        if (onlyImages(c).size() != 1) return false;
-        ++images;
+        const std::size_t n = c.find("![") == std::string::npos ? 0 : onlyImages(c).size();
+        if (c.find("![") != std::string::npos && n != 1) return false;
+        in_row += n;
+        cells += !c.empty();
       }
+      if (2 * in_row <= cells) return false;
+      images += in_row;
+    }
     if (images < 2) return false;
     o_ << "<div class=\"gallery\">\n";
     for (std::size_t r = i_ + 2; r < end; ++r) {
       const auto cells = tableCells(lines_[r]);
       for (std::size_t c = 0; c < cells.size(); ++c) {
         if (cells[c].empty()) continue;
-        // "![design: what](file)": the design, then the column's heading.
-        const std::string alt = cells[c].substr(2, cells[c].find("](") - 2);
+        // "![design: what](file)": the design, then the column's heading; words: the heading.
+        const bool image = cells[c].rfind("![", 0) == 0;
+        const std::string alt = image ? cells[c].substr(2, cells[c].find("](") - 2) : "";
         const std::size_t colon = alt.find(": ");
         const std::string caption =
             (colon == std::string::npos ? "" : alt.substr(0, colon) + ": ") +
             (c < head.size() ? head[c] : alt);
-        o_ << "<figure>" << inlineMd(cells[c], targets_) << "<figcaption>"
-           << inlineMd(caption, targets_) << "</figcaption></figure>\n";
+        o_ << "<figure>" << (image ? "" : "<p>") << inlineMd(cells[c], targets_)
+           << (image ? "" : "</p>") << "<figcaption>" << inlineMd(caption, targets_)
+           << "</figcaption></figure>\n";
       }
     }
     o_ << "</div>\n";
