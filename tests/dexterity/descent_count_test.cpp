@@ -124,6 +124,8 @@ TEST_CASE(
   CHECK(s.multistart_tries == long(o.grid.size()) * o.seed_starts);
   CHECK(s.seed.descents == landed);
   CHECK(s.seed.stopped[static_cast<int>(ik::NullspaceStatus::NotOnPose)] == 0);
+  CHECK(s.seed.stopped[0] + s.seed.stopped[1] == s.seed.descents);  // each stopped once
+  CHECK(s.seed.last_step_sum <= s.seed.step_sum);
   // The chain: one descent per optimised cell, a second where the warm start led to a worse
   // optimum than the plain configuration's.
   long optimised = 0;
