@@ -15,7 +15,7 @@ namespace armstudy::dexterity {
 
 namespace {
 
-constexpr char kAuditMagic[] = "armstudy-dexterity-audit-v1";
+constexpr char kAuditMagic[] = "armstudy-dexterity-audit-v2";
 
 }  // namespace
 
@@ -90,8 +90,10 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
         for (int s = 0; s < starts; ++s) {
           randomConfiguration(model, seed, static_cast<std::uint64_t>(row.index), s, q0);
           CellResult cand;
-          if (!cellFromSeed(model, ws, ik_ws, ctx, objective, options, cell, q0, cand, cw, false))
-            continue;
+          const bool landed =
+              cellFromSeed(model, ws, ik_ws, ctx, objective, options, cell, q0, cand, cw, false);
+          row.descent.add(cand.descent);
+          if (!landed) continue;
           ++row.on_pose;
           if (!cand.reachable) continue;
           ++row.solutions;
@@ -113,6 +115,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
       w.put<std::int32_t>(row.solutions);
       w.put(row.manipulability_audit);
       w.put(row.H_audit);
+      putTally(w, row.descent);
     }
     return w.bytes();
   };
@@ -124,6 +127,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
       row.solutions = rd.get<std::int32_t>();
       row.manipulability_audit = rd.get<double>();
       row.H_audit = rd.get<double>();
+      getTally(rd, row.descent);
     }
     ARMSTUDY_CHECK(rd.finished(), "the audit's rows arrive whole");
   };
@@ -136,6 +140,7 @@ DexterityAudit auditDexterityCells(const Model& model, const DexterityOptions& o
                   : std::numeric_limits<double>::quiet_NaN();
   }
   for (const AuditCell& r : a.rows) {
+    a.descent.add(r.descent);
     if (r.map_reachable && r.audit_reachable) {
       ++a.both_reachable;
       a.within_1pct += r.gap <= 0.01 ? 1 : 0;

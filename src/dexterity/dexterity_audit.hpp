@@ -20,9 +20,10 @@ struct AuditCell {
   bool map_reachable = false, audit_reachable = false;      // audit: a collision-free posture found
   double H_map = 0, H_audit = 0;                            // objective (eq. 5.51, lower is better)
   double manipulability_map = 0, manipulability_audit = 0;  // at the optimised configurations
-  double gap = 0;     // (H_map - H_audit) / |H_audit|: > 0 where the audit found better
-  int solutions = 0;  // starts that reached the pose collision-free
-  int on_pose = 0;    // starts that reached the pose (in collision or not)
+  double gap = 0;            // (H_map - H_audit) / |H_audit|: > 0 where the audit found better
+  int solutions = 0;         // starts that reached the pose collision-free
+  int on_pose = 0;           // starts that reached the pose (in collision or not)
+  ik::DescentTally descent;  // the null-space descents of its starts
 };
 
 struct DexterityAudit {
@@ -38,6 +39,7 @@ struct DexterityAudit {
   std::array<int, kReachStatusCount> verdicts{}, contradicted{};
   double worst_gap = 0;
   int worst_index = -1;
+  ik::DescentTally descent;  // over all rows, in row order
   double seconds = 0;
   std::vector<AuditCell> rows;  // in cell index order
   // Share of the cells the map and audit both reach that are within `tol` (1 when none).

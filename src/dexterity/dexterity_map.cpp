@@ -49,6 +49,23 @@ void putCell(UnitWriter& w, const CellResult& c) {
   w.put<std::int32_t>(c.starts);
   w.put<std::int32_t>(c.nullspace_iterations);
   w.put<std::int32_t>(static_cast<std::int32_t>(c.nullspace_status));
+  putTally(w, c.descent);
+}
+
+void putTally(UnitWriter& w, const ik::DescentTally& t) {
+  for (long v : {t.descents, t.changed, t.iterations, t.objective_evaluations, t.kernel_evaluations,
+                 t.stopped[0], t.stopped[1], t.stopped[2]})
+    w.put<std::int64_t>(v);
+  w.put(t.step_sum);
+  w.put(t.last_step_sum);
+}
+
+void getTally(UnitReader& r, ik::DescentTally& t) {
+  for (long* v : {&t.descents, &t.changed, &t.iterations, &t.objective_evaluations,
+                  &t.kernel_evaluations, &t.stopped[0], &t.stopped[1], &t.stopped[2]})
+    *v = static_cast<long>(r.get<std::int64_t>());
+  t.step_sum = r.get<double>();
+  t.last_step_sum = r.get<double>();
 }
 
 void getCell(UnitReader& r, CellResult& c) {
@@ -74,6 +91,7 @@ void getCell(UnitReader& r, CellResult& c) {
   const auto st = r.get<std::int32_t>();
   if (st < 0 || st > static_cast<int>(ik::NullspaceStatus::NotOnPose)) r.fail();
   c.nullspace_status = static_cast<ik::NullspaceStatus>(st);
+  getTally(r, c.descent);
 }
 
 std::string DexterityOptions::validate() const {
@@ -173,9 +191,12 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   const JointVector& from = start ? *start : r.q_plain;
   ik::NullspaceResult o =
       ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
-  if (from != r.q_plain && !(o.H_final <= r.H_plain))
+  r.descent.add(o);
+  if (from != r.q_plain && !(o.H_final <= r.H_plain)) {
     o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv,
                            options.nullspace);
+    r.descent.add(o);
+  }
   r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
   r.nullspace_status = o.status;
   r.nullspace_iterations = o.iterations;

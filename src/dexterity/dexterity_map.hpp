@@ -125,6 +125,9 @@ struct CellResult {
   int starts = 0;  // starts tried (1 = the warm start sufficed)
   int nullspace_iterations = 0;
   ik::NullspaceStatus nullspace_status = ik::NullspaceStatus::Converged;
+  // The null-space descents run to find this cell's result (the search's candidates carry their
+  // own; the chain's stay with the cell until the search counts them).
+  ik::DescentTally descent;
   // Where the optimised configuration came from (values written into the .vti field found_by).
   enum class Source : std::uint8_t { Chain = 0, MultiStart = 1, Neighbour = 2 };
   Source found_by = Source::Chain;
@@ -136,6 +139,9 @@ struct CellResult {
 // and back; getCell marks `r` failed on a value out of range.
 void putCell(UnitWriter& w, const CellResult& c);
 void getCell(UnitReader& r, CellResult& c);
+// A descent tally as bytes (in a cell's and a search step's bytes) and back.
+void putTally(UnitWriter& w, const ik::DescentTally& t);
+void getTally(UnitReader& r, ik::DescentTally& t);
 
 // What the map search did (searchDexterityMap).
 struct MapSearchSummary {
@@ -152,6 +158,10 @@ struct MapSearchSummary {
   int collision_cells = 0;
   long collision_tries = 0;
   int collision_freed = 0;
+  // The null-space descents by kind: the chained rows', the seeded starts', the neighbour tries',
+  // the collision starts' (changed: candidates adopted by a cell).
+  ik::DescentTally chain, seed, neighbour, collision;
+  double seed_seconds = 0, neighbour_seconds = 0, collision_seconds = 0;  // wall time per kind
   double seconds = 0;
 };
 

@@ -105,12 +105,13 @@ struct ThreadSolver {
 // One step over a list of cells, per item: the candidates it tried, whether its cell improved (a
 // counter of the step) and whether it changed (then its new state is the step's output).
 struct StepItems {
-  explicit StepItems(std::size_t n) : tries(n, 0), improved(n, 0), changed(n, 0) {}
+  explicit StepItems(std::size_t n) : tries(n, 0), improved(n, 0), changed(n, 0), descent(n) {}
   std::vector<long> tries;
+  std::vector<ik::DescentTally> descent;  // the item's candidates' descents
   std::vector<std::uint8_t> improved, changed;
 };
 
-constexpr char kStepMagic[] = "armstudy-dexterity-search-step-v1";
+constexpr char kStepMagic[] = "armstudy-dexterity-search-step-v2";
 
 // The items of chunk `r` that tried or changed anything, with the new state of each changed cell
 // (`at(t)`), as bytes; empty when there is nothing to apply.
@@ -125,6 +126,7 @@ std::string packStep(const ItemRange& r, const StepItems& it, At&& at) {
     w.put<std::int64_t>(it.tries[t]);
     w.put<std::uint8_t>(it.improved[t]);
     w.put<std::uint8_t>(it.changed[t]);
+    putTally(w, it.descent[t]);
     if (!it.changed[t]) continue;
     putCell(w, at(t));
     w.put<std::uint8_t>(static_cast<std::uint8_t>(at(t).found_by));
@@ -143,6 +145,7 @@ void unpackStep(const ItemRange& r, const std::string& bytes, StepItems& it, At&
     it.tries[t] = static_cast<long>(rd.get<std::int64_t>());
     it.improved[t] = rd.get<std::uint8_t>();
     it.changed[t] = rd.get<std::uint8_t>();
+    getTally(rd, it.descent[t]);
     if (!it.changed[t]) continue;
     CellResult& c = at(t);
     getCell(rd, c);
@@ -186,7 +189,8 @@ void runStep(const SearchContext& sc, const char* phase, std::size_t n, long chu
 // among the processes (chunks of a few cells: each is `starts` solves).
 int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
                 const std::vector<int>& list, int first, int starts,
-                std::vector<std::uint8_t>& changed, long& tries, const char* phase) {
+                std::vector<std::uint8_t>& changed, long& tries, ik::DescentTally& descent,
+                const char* phase) {
   const StemGrid& g = sc.options.grid;
   const int G = g.gamma_rad.count;
   StepItems it(list.size());
@@ -203,7 +207,10 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
                               q0);
           CellResult cand;
           ++it.tries[t];
-          if (!solver.fromSeed(cell, q0, cand) || !better(cand, cur)) continue;
+          const bool landed = solver.fromSeed(cell, q0, cand);
+          it.descent[t].add(cand.descent);
+          if (!landed || !better(cand, cur)) continue;
+          it.descent[t].changed += cand.descent.descents > 0;
           solver.measure(cell, cand);
           if (cur.found_by != CellResult::Source::MultiStart) it.improved[t] = 1;
           adopt(cur, cand, CellResult::Source::MultiStart);
@@ -214,6 +221,7 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
   int improved = 0;
   for (std::size_t t = 0; t < list.size(); ++t) {
     tries += it.tries[t];
+    descent.add(it.descent[t]);
     improved += it.improved[t];
     if (it.changed[t]) changed[list[t]] = 1;
   }
@@ -265,7 +273,10 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
             CellResult cand;
             ++it.tries[t];
             const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-            if (!solver.fromSeed(cell, src.q_opt, cand) || !better(cand, best)) continue;
+            const bool landed = solver.fromSeed(cell, src.q_opt, cand);
+            it.descent[t].add(cand.descent);
+            if (!landed || !better(cand, best)) continue;
+            it.descent[t].changed += cand.descent.descents > 0;
             solver.measure(cell, cand);
             adopt(best, cand, CellResult::Source::Neighbour);
             it.changed[t] = it.improved[t] = 1;
@@ -278,6 +289,7 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
     int round_improved = 0;
     for (std::size_t t = 0; t < active.size(); ++t) {
       round_tries += it.tries[t];
+      sum.neighbour.add(it.descent[t]);
       round_improved += it.improved[t];
       if (!it.changed[t]) continue;
       cells[active[t]] = std::move(next[t]);
@@ -316,6 +328,11 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
                          "dexterity-search/" + map.design + "/"};
   MapSearchSummary& sum = map.search;
   sum = MapSearchSummary{};
+  // The chained rows' descents, as the cells hold them before the search replaces any.
+  for (const CellResult& c : map.cells) {
+    sum.chain.add(c.descent);
+    sum.chain.changed += c.optimised;
+  }
   // Cells that changed in the last step: the sources of the next propagation round.
   std::vector<std::uint8_t> changed(N, 0);
 
@@ -327,12 +344,21 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
       for (int ig = 0; ig < G; ig += st) seeding.push_back(g.index(ig, iz));
   }
   sum.seeding_cells = static_cast<int>(seeding.size());
+  auto tk = std::chrono::steady_clock::now();
+  const auto lap = [&tk] {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - tk).count();
+    tk = now;
+    return s;
+  };
   sum.multistart_improved = multiStarts(sc, map.cells, seeding, 0, options.seed_starts, changed,
-                                        sum.multistart_tries, "multistart");
+                                        sum.multistart_tries, sum.seed, "multistart");
 
+  sum.seed_seconds = lap();
   // (2) Neighbour propagation.
   sum.converged = options.propagation_rounds == 0;
   if (options.propagation_rounds > 0) propagate(sc, map.cells, changed, true, sum);
+  sum.neighbour_seconds = lap();
 
   // (3) Collision maps: every cell still reached only in collision gets collision_starts further
   // random starts (new numbers of its stream), then propagation from the cells they freed.
@@ -344,7 +370,8 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
   if (!colliding.empty()) {
     std::fill(changed.begin(), changed.end(), 0);
     multiStarts(sc, map.cells, colliding, options.seed_starts, options.collision_starts, changed,
-                sum.collision_tries, "collision_starts");
+                sum.collision_tries, sum.collision, "collision_starts");
+    sum.collision_seconds = lap();
     for (int i : colliding) sum.collision_freed += map.cells[i].reachable ? 1 : 0;
     if (sum.collision_freed > 0 && options.propagation_rounds > 0)
       propagate(sc, map.cells, changed, false, sum);

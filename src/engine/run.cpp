@@ -334,6 +334,7 @@ struct StudyRun {
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
         sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
+        sum.counts.insert(sum.counts.end(), r.counts.begin(), r.counts.end());
         sum.metrics.merge(r.metrics);
       }
     } catch (const std::exception& e) {
@@ -515,6 +516,8 @@ struct StudyRun {
         {"run", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
     ordered_json tim = ordered_json::object();
     for (const auto& t : sum.timings) tim[t.stage + "_s"] = t.seconds;
+    for (const auto& c : sum.counts)
+      tim[c.name] = c.integer ? ordered_json(static_cast<long>(c.value)) : ordered_json(c.value);
     man["timings"] = tim;
     const std::time_t now = std::time(nullptr);
     char date[64];

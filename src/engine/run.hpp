@@ -18,6 +18,7 @@ struct RunSummary {
   int designs = 0;
   int threads = 1;
   std::vector<StageTiming> timings;
+  std::vector<StageCount> counts;          // written into the manifest's timings after them
   std::vector<std::string> files_written;  // relative to output_dir
   StudyMetrics metrics;                    // summary metrics (baselines, checks)
   std::string resume_message;              // "resuming: ..." / "starting fresh because ..."

@@ -234,6 +234,7 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   JointVector grad(n);
   res.H_start = res.H_final = objective.evaluate(ctx, &grad);
   res.evaluations = 1;
+  res.kernel_evaluations = 1;
   // The tool may not drift further from the pose than where it started (or the tolerance).
   const double tol_p = std::max(options.pose_tolerance, res.error.position_m);
   const double tol_o = std::max(options.pose_tolerance, res.error.orientation_rad);
@@ -280,6 +281,7 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
       TaskVec ec;
       for (int c = 0; c <= options.correction_iterations; ++c) {
         forwardKinematicsAndJacobian(model, ws, q_try);
+        ++res.kernel_evaluations;
         PoseError pe;
         taskJacobianAndError(ws, target, Jc, ec, nullptr, &pe);
         if (pe.position_m <= tol_p && pe.orientation_rad <= tol_o) {
@@ -305,6 +307,8 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
       break;
     }
     step = s;
+    res.last_step = s * dmax;
+    res.step_sum += res.last_step;
     const double improvement = H - H_try;
     q = q_try;
     H = H_try;
@@ -320,8 +324,30 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   res.q = q;
   res.H_final = H;
   forwardKinematicsAndJacobian(model, ws, q);
+  ++res.kernel_evaluations;
   res.error = poseError(ws, target);
   return res;
+}
+
+void DescentTally::add(const NullspaceResult& r) {
+  ++descents;
+  iterations += r.iterations;
+  objective_evaluations += r.evaluations;
+  kernel_evaluations += r.kernel_evaluations;
+  step_sum += r.step_sum;
+  last_step_sum += r.last_step;
+  ++stopped[static_cast<int>(r.status)];
+}
+
+void DescentTally::add(const DescentTally& o) {
+  descents += o.descents;
+  changed += o.changed;
+  iterations += o.iterations;
+  objective_evaluations += o.objective_evaluations;
+  kernel_evaluations += o.kernel_evaluations;
+  step_sum += o.step_sum;
+  last_step_sum += o.last_step_sum;
+  for (int k = 0; k < 3; ++k) stopped[k] += o.stopped[k];
 }
 
 }  // namespace armstudy::ik

@@ -126,7 +126,25 @@ struct NullspaceResult {
   double H_start = 0, H_final = 0;
   int iterations = 0;   // accepted descent steps
   int evaluations = 0;  // objective evaluations (incl. rejected trials)
-  PoseError error;      // at q
+  // Forward kinematics + TCP Jacobian evaluations (start, every correction of every trial step,
+  // the final pose check).
+  int kernel_evaluations = 0;
+  double step_sum = 0;   // sum over accepted steps of max_i |q_i change| [rad or m]
+  double last_step = 0;  // the last accepted step's max_i |q_i change|
+  PoseError error;       // at q
+};
+
+// Counts of a set of null-space descents (optimiseAtPose calls): summed in a fixed order, they do
+// not depend on the thread count or schedule.
+struct DescentTally {
+  long descents = 0;
+  long changed = 0;  // descents whose outcome changed a map cell (set by the map searches)
+  long iterations = 0, objective_evaluations = 0, kernel_evaluations = 0;
+  double step_sum = 0;                  // over all accepted steps
+  double last_step_sum = 0;             // over descents, of their last accepted step
+  long stopped[3] = {0, 0, 0};          // by NullspaceStatus
+  void add(const NullspaceResult& r);   // one descent
+  void add(const DescentTally& other);  // another tally
 };
 
 // Moves q_start (on the pose) along the projected descent direction -N W^-1 grad H (Algorithm 5.3

@@ -67,6 +67,14 @@ struct StageTiming {
   double seconds = 0;
 };
 
+// A count beside the timings (what a search did: descents, iterations, kernel evaluations), written
+// with them to the manifest; `integer` values are written without a fraction.
+struct StageCount {
+  std::string name;
+  double value = 0;
+  bool integer = true;
+};
+
 // What one stage run gives back to the runner. Timings go to the manifest only, so result files
 // stay byte-identical across runs.
 struct StageResult {
@@ -74,6 +82,7 @@ struct StageResult {
   StudyMetrics metrics;              // "<stage>/<design>/..." for baselines and checks
   double seconds = 0;                // the stage's wall time
   std::vector<StageTiming> timings;  // finer timings (per grid, per map, ...)
+  std::vector<StageCount> counts;    // the work behind them (manifest timings, after the seconds)
   long units_resumed = 0;  // work units loaded from the checkpoint store instead of computed
   // The answer to the stage's question, with its numbers (Markdown sentences, one per item), and
   // what a reader must know before trusting it: report.md and report.html open with them.

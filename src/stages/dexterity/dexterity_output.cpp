@@ -556,9 +556,14 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
                                  manipulabilityUnit(options.measure_space)));
   // What every process computes alike, in design order (the audits are loops shared among them).
   std::vector<DesignWork> work;
-  for (std::size_t di = 0; di < design_maps.size(); ++di)
+  for (std::size_t di = 0; di < design_maps.size(); ++di) {
     work.push_back(
         designWork(ctx, options, ctx.study.designs[di].model, design_maps[di], fields[di]));
+    const DexterityMap& dm = design_maps[di];
+    addDescentCounts("dexterity/" + dm.design, dm,
+                     work.back().audit ? &*work.back().audit : nullptr,
+                     dm.seconds - dm.search.seconds, sum.counts);
+  }
   // Each design's files, rendered by the process that owns it (study/rendered_part.hpp).
   const std::vector<std::string> parts =
       renderShared(&ctx.units, std::string("files/") + kSub, design_maps.size(), ctx.threads,

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "dexterity/dexterity_audit.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "study/stage.hpp"
 
@@ -84,5 +85,14 @@ struct DesignAnswerFacts {
 // the study's designs.
 void dexterityAnswer(const Study& study, const DexterityOptions& options,
                      const std::vector<DesignAnswerFacts>& facts, StageResult& sum);
+
+// The map's null-space descents by kind (chain, seed, neighbour, collision, audit; `audit` may be
+// null) as counts "<prefix>/descents/<kind>/...": descents, changed (adopted by a cell),
+// iterations, kernel evaluations and objective evaluations per descent, mean and last step, how
+// they stopped, µs per descent (from the kind's wall time); then the map's totals.
+// `chain_seconds`: the chained rows' wall time.
+void addDescentCounts(const std::string& prefix, const DexterityMap& map,
+                      const DexterityAudit* audit, double chain_seconds,
+                      std::vector<StageCount>& out);
 
 }  // namespace armstudy::dexterity

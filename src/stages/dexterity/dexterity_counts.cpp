@@ -1,0 +1,53 @@
+#include "stages/dexterity/dexterity_output.hpp"
+
+// The descent counts of a dexterity map, written beside the manifest's timings.
+namespace armstudy::dexterity {
+
+namespace {
+
+double per(double total, long n) { return n > 0 ? total / static_cast<double>(n) : 0.0; }
+
+void addKind(const std::string& p, const ik::DescentTally& t, double seconds,
+             std::vector<StageCount>& out) {
+  out.push_back({p + "descents", static_cast<double>(t.descents)});
+  out.push_back({p + "changed", static_cast<double>(t.changed)});
+  out.push_back({p + "iterations", static_cast<double>(t.iterations)});
+  out.push_back({p + "kernel_evaluations", static_cast<double>(t.kernel_evaluations)});
+  out.push_back({p + "objective_evaluations", static_cast<double>(t.objective_evaluations)});
+  out.push_back({p + "iterations_per_descent", per(t.iterations, t.descents), false});
+  out.push_back(
+      {p + "kernel_evaluations_per_descent", per(t.kernel_evaluations, t.descents), false});
+  out.push_back({p + "mean_step", per(t.step_sum, t.iterations), false});
+  out.push_back({p + "mean_last_step", per(t.last_step_sum, t.descents), false});
+  for (int k = 0; k < 3; ++k)
+    out.push_back({p + "stopped_" + ik::toString(static_cast<ik::NullspaceStatus>(k)),
+                   static_cast<double>(t.stopped[k])});
+  out.push_back({p + "us_per_descent", per(1e6 * seconds, t.descents), false});
+}
+
+}  // namespace
+
+void addDescentCounts(const std::string& prefix, const DexterityMap& map,
+                      const DexterityAudit* audit, double chain_seconds,
+                      std::vector<StageCount>& out) {
+  const MapSearchSummary& s = map.search;
+  const std::string p = prefix + "/descents/";
+  ik::DescentTally all;
+  double seconds = chain_seconds + s.seed_seconds + s.neighbour_seconds + s.collision_seconds;
+  addKind(p + "chain/", s.chain, chain_seconds, out);
+  addKind(p + "seed/", s.seed, s.seed_seconds, out);
+  addKind(p + "neighbour/", s.neighbour, s.neighbour_seconds, out);
+  addKind(p + "collision/", s.collision, s.collision_seconds, out);
+  for (const ik::DescentTally* t : {&s.chain, &s.seed, &s.neighbour, &s.collision}) all.add(*t);
+  if (audit) {
+    addKind(p + "audit/", audit->descent, audit->seconds, out);
+    all.add(audit->descent);
+    seconds += audit->seconds;
+  }
+  out.push_back({p + "descents", static_cast<double>(all.descents)});
+  out.push_back({p + "changed", static_cast<double>(all.changed)});
+  out.push_back({p + "kernel_evaluations", static_cast<double>(all.kernel_evaluations)});
+  out.push_back({p + "us_per_descent", per(1e6 * seconds, all.descents), false});
+}
+
+}  // namespace armstudy::dexterity
