@@ -204,8 +204,8 @@ void readGrids(TableReader& r, const TableReader& top, const TaskSpace& default_
 }
 
 // [[reach.poses]] tables: pose lists read from CSV files.
-void readPoseLists(TableReader& r, const TableReader& top, const std::string& study_dir,
-                   const TaskSpace& default_space, std::set<std::string>& names, ReachConfig& cfg,
+void readPoseLists(TableReader& r, const std::string& study_dir, const TaskSpace& default_space,
+                   std::set<std::string>& names, ReachConfig& cfg,
                    std::vector<std::pair<std::string, std::string>>& files_read) {
   namespace fs = std::filesystem;
   r.forEachTable("poses", [&](TableReader& p) {
@@ -248,7 +248,7 @@ void readReachSection(TableReader& top, const std::string& study_dir,
   readSearchAuditOutputs(r, top, cfg);
   std::set<std::string> names;
   readGrids(r, top, default_space, names, cfg);
-  readPoseLists(r, top, study_dir, default_space, names, cfg, files_read);
+  readPoseLists(r, study_dir, default_space, names, cfg, files_read);
   bool points_axis = false;  // the spraying-type tasks: position, the tool axis, the roll free
   auto axisTask = [](const TaskSpace& t) {
     return t.selected[3] && !t.selected[4] && t.selected[5];
