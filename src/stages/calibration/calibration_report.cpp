@@ -103,6 +103,21 @@ std::string entryFiguresMd(const EntrySummary& s, const std::string& stage_dir) 
 
 }  // namespace
 
+std::string checkRunWarning(const EntrySummary& s) {
+  if (s.mode != "fit" || s.calibrated_design.empty() || s.ladder.empty() ||
+      !std::isfinite(s.calibrated_rmse) || checkRunRepeatsFit(s))
+    return "";
+  const ShownUnit u = shownUnit(s.unit);
+  const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
+  std::string held;
+  for (const std::string& n : s.notes)
+    if (n.find("not stored") != std::string::npos) held += (held.empty() ? "" : "; ") + n;
+  return "the calibrated copy `" + s.name + "/" + s.calibrated_design +
+         "` does not reproduce the fit: RMSE " + q(s.calibrated_rmse) +
+         " against the same data, the fit's " + q(s.ladder.back().train_rmse) + " (training)" +
+         (held.empty() ? std::string(".") : "; " + held + ".");
+}
+
 std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
                         const std::string& stage_dir) {
   std::ostringstream md;

@@ -12,4 +12,9 @@ namespace armstudy::calibration {
 std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
                         const std::string& stage_dir);
 
+// A warning when a fit's calibrated copy, compared with the same data, misses the fit's training
+// RMSE by more than 1 % (the design format could not hold every fitted value; the entry's notes
+// name which); "" when it reproduces the fit or there is no copy.
+std::string checkRunWarning(const EntrySummary& s);
+
 }  // namespace armstudy::calibration

@@ -378,6 +378,8 @@ StageResult runCalibrationStage(const StageContext& ctx,
       sum.answer.push_back("`" + done[i]->name + "`, " + a);
     for (const std::string& r : done[i]->remainders)
       sum.warnings.push_back("`" + done[i]->name + "`: " + r);
+    if (const std::string w = checkRunWarning(*done[i]); !w.empty())
+      sum.warnings.push_back("`" + done[i]->name + "`: " + w);
   }
   if (!sum.view.empty()) {
     sum.view_about =
