@@ -57,14 +57,19 @@ std::vector<CsvFruit> csvFruits(const std::string& text) {
     for (std::string cell; std::getline(r, cell, ',');) c.push_back(cell);
     c.resize(head.size());
     CsvFruit f{std::stod(c[y]), std::stod(c[z]), ""};
+    // The legend names a status or a quantity in words: "rms_current" reads "rms current".
+    const auto words = [](std::string w) {
+      std::replace(w.begin(), w.end(), '_', ' ');
+      return w;
+    };
     if (c[status] != "ok" && c[quantity] == "joint_limit")
       f.outcome = "joint limit: " + c[joint];
     else if (c[status] != "ok")
-      f.outcome = "not tracked: " + c[status];
+      f.outcome = "not tracked: " + words(c[status]);
     else if (c[feasible] == "1")
       f.outcome = "picked";
     else
-      f.outcome = "drive limit: " + c[joint] + " " + c[quantity];
+      f.outcome = "drive limit: " + c[joint] + " " + words(c[quantity]);
     out.push_back(f);
   }
   return out;
