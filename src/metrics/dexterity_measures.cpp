@@ -28,7 +28,9 @@ DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
   // More rows than columns: J J^T is singular; zero columns give its m singular values.
   Mat Jm = J;
   if (m > J.cols()) Jm.conservativeResizeLike(Mat::Zero(m, m));
-  const Eigen::JacobiSVD<Mat> svd(Jm, Eigen::ComputeFullU);
+  // U only for the transmission ratio (eq. 5.60); the singular values do not depend on it.
+  const bool transmission = u.size() == m;
+  const Eigen::JacobiSVD<Mat> svd(Jm, transmission ? Eigen::ComputeFullU : 0);
   const auto& s = svd.singularValues();  // descending, size m
   DexterityMeasures d;
   d.sigma_max = s[0];
@@ -40,7 +42,7 @@ DexterityMeasures computeMeasures(const Eigen::Ref<const Eigen::MatrixXd>& J,
   d.inverse_condition = d.sigma_max > 0 ? d.sigma_min / d.sigma_max : 0.0;
   d.condition =
       d.sigma_min <= floor ? std::numeric_limits<double>::infinity() : d.sigma_max / d.sigma_min;
-  if (u.size() == m) {
+  if (transmission) {
     // Thesis eq. (5.60): beta = (u^T (J J^T)^-1 u)^(-1/2), with J J^T = U S^2 U^T.
     const Eigen::VectorXd c = svd.matrixU().transpose() * u;
     double q = 0;
