@@ -17,12 +17,6 @@ namespace armstudy::calibration {
 
 using namespace arm_detail;
 
-int ArmProblem::findEffect(const std::string& name) const {
-  for (std::size_t i = 0; i < catalogue.size(); ++i)
-    if (catalogue[i].name == name) return static_cast<int>(i);
-  return -1;
-}
-
 int ArmResidualMap::flagged() const {
   int n = 0;
   for (const auto& b : bins) n += b.flagged;
@@ -478,7 +472,8 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
   };
   std::vector<std::string> to_add = P0.added_first;
   to_add.insert(to_add.end(), o.add.begin(), o.add.end());
-  for (const std::string& name : identifiable ? to_add : std::vector<std::string>{}) {
+  for (std::size_t k = 0; identifiable && k < to_add.size(); ++k) {
+    const std::string& name = to_add[k];
     const int e = P.findEffect(name);
     if (e < 0) {
       std::string names;
@@ -487,7 +482,13 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
           "", 0, "--add",
           "unknown effect '" + name + "' for this design and data (candidates: " + names + ")");
     }
-    addEffect(e, false);
+    // Without the effects every fit adds first there is no model to rank from.
+    if (!addEffect(e, false) && k < P0.added_first.size())
+      throw InputError(P0.file, 0, "",
+                       std::to_string(P0.rows()) +
+                           " rows are too few to fit and cross-validate the " +
+                           std::to_string(P.catalogue[e].params.size()) + " parameters of '" +
+                           name + "' (" + P.catalogue[e].pattern + "), which every fit adds first");
   }
   // Patterns the most flexible model leaves: what no combination of catalogue effects explains.
   const std::vector<ArmPattern> saturated =

@@ -492,6 +492,12 @@ ArmFit Engine::make(const Solved& s, const std::string& label, bool& ok) const {
 
 namespace armstudy::calibration {
 
+int ArmProblem::findEffect(const std::string& name) const {
+  for (std::size_t i = 0; i < catalogue.size(); ++i)
+    if (catalogue[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
 std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
                                             const std::vector<double>& y, int m, int degree) {
   const int n = static_cast<int>(t.size());

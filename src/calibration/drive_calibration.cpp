@@ -348,16 +348,8 @@ DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const
   std::shared_ptr<const ArmProblem> P =
       makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
   ArmFitOptions a = armOptions(o);
-  const bool refit = P->findEffect(kRefitEffect) >= 0;
   for (Effect e : o.add) a.add.push_back(drive::toString(e));
-  ArmDiagnosis d = diagnoseArm(*P, a);
-  if (refit && (d.added.empty() || d.added.front() != kRefitEffect))
-    throw InputError(data.file, 0, "",
-                     std::to_string(data.rows()) +
-                         " rows are too few to fit and cross-validate the " +
-                         std::to_string(P->catalogue[P->findEffect(kRefitEffect)].params.size()) +
-                         " parameters of the design's friction model");
-  return view(P, std::move(d), joint);
+  return view(P, diagnoseArm(*P, a), joint);
 }
 
 const std::vector<EffectInfo>& driveEffectCatalogue() {
