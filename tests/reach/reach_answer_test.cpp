@@ -1,12 +1,12 @@
 // The reach answer calls designs level when their reachable counts differ by less than the grid
 // resolves (half the poses on their reach boundaries), and says what each reaches alone.
 // boundaryPoses is checked against a disc's boundary counted by brute force here.
+#include "stages/reach/reach_answer.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
-
-#include "stages/reach/reach_report.hpp"
 
 using namespace armstudy;
 using nlohmann::ordered_json;

@@ -9,6 +9,7 @@
 
 #include "io/vtk_io.hpp"
 #include "report/markdown.hpp"
+#include "stages/reach/reach_answer.hpp"
 #include "stages/reach/reach_grid_pieces.hpp"
 #include "stages/reach/reach_grid_results.hpp"
 #include "stages/reach/reach_report.hpp"
@@ -23,14 +24,9 @@ using namespace reach_report;
 
 namespace {
 
-// What the grid's report is made from: the run, the settings, the grid's results, its pieces and
-// their rendered parts; `out` lists the files in the order they were written.
-struct GridReport {
-  const StageContext& ctx;
-  const ReachConfig& cfg;
-  const ReachGridResults& res;
-  const TaskGrid& grid;  // res.taskGrid()
-  const GridPieces& pieces;
+// What the grid's report is made from: what its pieces were rendered from, and their rendered
+// parts; `out` lists the files in the order they were written.
+struct GridReport : GridRendering {
   const std::vector<std::string>& parts;
   Writer& out;
 };
@@ -66,18 +62,18 @@ ordered_json joinDesignParts(const GridReport& rep, std::string& md, std::string
   std::vector<std::string> design_files;
   for (std::size_t di = 0; di < rep.res.designCount(); ++di) {
     RenderedPart part;
-    unpackRenderedPart(rep.parts[rep.pieces.mainPiece(di)], part, design_files);
+    unpackRenderedPart(rep.parts[rep.layout.mainPiece(di)], part, design_files);
     ordered_json jsurf = ordered_json::array();
     for (int k = 0; k < rep.res.orientation_count; ++k) {
       RenderedPart surface;
-      unpackRenderedPart(rep.parts[rep.pieces.surfacePiece(di, k)], surface, design_files);
+      unpackRenderedPart(rep.parts[rep.layout.surfacePiece(di, k)], surface, design_files);
       if (!surface.jd.is_null()) jsurf.push_back(std::move(surface.jd));
     }
     if (rep.cfg.outputs.surface && rep.grid.spatialDimension() == 3)
       part.jd["surface"] = std::move(jsurf);
     for (int k = 0; k < rep.res.orientation_count; ++k) {
       RenderedPart figures;
-      unpackRenderedPart(rep.parts[rep.pieces.figuresPiece(di, k)], figures, design_files);
+      unpackRenderedPart(rep.parts[rep.layout.figuresPiece(di, k)], figures, design_files);
       part.images_md += figures.images_md;
     }
     jdesigns.push_back(std::move(part.jd));
@@ -294,11 +290,11 @@ ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
     crow.push_back({rep.res.maps[a].design, rep.res.maps[b].design, report::percent(n_a / N),
                     report::percent(n_b / N), report::percent(both / N),
                     report::percent(neither / N)});
-    const auto img = std::find(rep.pieces.image_pairs.begin(), rep.pieces.image_pairs.end(), p);
-    if (rep.pieces.pair_images &&
-        img != rep.pieces.image_pairs.end()) {  // the images the render loop made
+    const auto img = std::find(rep.layout.image_pairs.begin(), rep.layout.image_pairs.end(), p);
+    if (rep.layout.pair_images &&
+        img != rep.layout.image_pairs.end()) {  // the images the render loop made
       RenderedPart part;
-      unpackRenderedPart(rep.parts[rep.pieces.pairPiece(img - rep.pieces.image_pairs.begin())],
+      unpackRenderedPart(rep.parts[rep.layout.pairPiece(img - rep.layout.image_pairs.begin())],
                          part, pair_files);
       pair_imgs += part.md;
     }
@@ -404,7 +400,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   // designs' summary entries, report lines and files, the comparison) only the writing process
   // makes, and nothing in it is shared (docs/distributed.md "Files").
   if (!ctx.writes_results) return jg;
-  const GridReport rep{ctx, cfg, res, grid, pieces, parts, out};
+  const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out};
   std::vector<std::vector<std::string>> rows;
   std::string images_md;
   const ordered_json jdesigns = joinDesignParts(rep, md, images_md, rows);

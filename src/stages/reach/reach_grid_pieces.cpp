@@ -17,15 +17,6 @@ using namespace reach_report;
 
 namespace {
 
-// What every piece is rendered from: the run, the settings, the grid's results and their pieces.
-struct GridRendering {
-  const StageContext& ctx;
-  const ReachConfig& cfg;
-  const ReachGridResults& res;
-  const TaskGrid& grid;  // res.taskGrid()
-  const GridPieces& layout;
-};
-
 // The map search's work and the audit of design di: summary entries and report lines.
 void searchAndAuditEntries(const GridRendering& gr, std::size_t di, ordered_json& jd,
                            std::string& md) {

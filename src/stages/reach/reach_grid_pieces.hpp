@@ -59,6 +59,15 @@ struct GridPieces {
 
 GridPieces gridPieces(const ReachGridResults& res, const ReachConfig& cfg);
 
+// What every piece is rendered from: the run, the settings, the grid's results and their pieces.
+struct GridRendering {
+  const StageContext& ctx;
+  const ReachConfig& cfg;
+  const ReachGridResults& res;
+  const TaskGrid& grid;  // res.taskGrid()
+  const GridPieces& layout;
+};
+
 // Renders every piece in a loop shared among the processes of ctx.units, each piece by the
 // process that owns it, which writes its files into the study's output folder (ctx.resultsDir())
 // itself. Returns every piece's part as bytes (study/rendered_part.hpp), in piece order.

@@ -138,20 +138,6 @@ void addPartArrays(std::vector<io::NamedArray>& out, const PoseSweep& s,
 // Reachable poses of a grid with an unreachable neighbour (one step along an axis, same
 // orientation): where the reach boundary lies, known to within one grid spacing.
 long boundaryPoses(const TaskGrid& g, const PoseSweep& s);
-// The stage's answer and warnings (StageResult::answer/warnings) from its summary: per grid and
-// pose list, which design reaches most and by how much, and the dexterity verdicts where both
-// reach; a design that reaches nothing is a warning.
-void reachAnswer(const nlohmann::ordered_json& summary, std::vector<std::string>& answer,
-                 std::vector<std::string>& warnings);
-
-// Dexterity of design pairs on the poses both reach: mean manipulability and its translational and
-// rotational parts of each, and a verdict that ranks the pair only when the combined value and
-// both parts agree. Appends a table and sentences to md; returns the summary.json block. The
-// designs' parts are computed on `threads` threads each.
-nlohmann::ordered_json dexterityComparison(
-    const std::vector<const Model*>& models, const TaskGrid& g,
-    const std::vector<PoseSweep>& sweeps,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads, std::string& md);
 // Field data of a sweep's VTK file (docs/paraview.md): units of the pose arrays, the status and
 // colliding-pair legends; with a grid `g` of several orientations, what each array suffix means.
 std::vector<io::FieldStrings> poseFieldData(const PoseSweep& s, const TaskGrid* g);

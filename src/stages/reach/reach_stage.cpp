@@ -11,6 +11,7 @@
 #include "model/model_notes.hpp"
 #include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
+#include "stages/reach/reach_answer.hpp"
 #include "stages/reach/reach_grid.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
