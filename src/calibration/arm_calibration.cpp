@@ -476,11 +476,9 @@ ArmDiagnosis diagnoseArm(const ArmProblem& P0, const ArmFitOptions& o) {
     const std::string& name = to_add[k];
     const int e = P.findEffect(name);
     if (e < 0) {
-      std::string names;
-      for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
-      throw InputError(
-          "", 0, "--add",
-          "unknown effect '" + name + "' for this design and data (candidates: " + names + ")");
+      throw InputError("", 0, "--add",
+                       "unknown effect '" + name +
+                           "' for this design and data (candidates: " + P.effectNames() + ")");
     }
     // Without the effects every fit adds first there is no model to rank from.
     if (!addEffect(e, false) && k < P0.added_first.size())
@@ -550,10 +548,9 @@ EffectValue parseHiddenEffect(const ArmProblem& P, const std::string& spec) {
   const std::string name = spec.substr(0, colon);
   const int e = P.findEffect(name);
   if (e < 0) {
-    std::string names;
-    for (const auto& c : P.catalogue) names += (names.empty() ? "" : ", ") + c.name;
-    throw InputError("", 0, "--hide",
-                     "unknown effect '" + name + "' for this design (candidates: " + names + ")");
+    throw InputError(
+        "", 0, "--hide",
+        "unknown effect '" + name + "' for this design (candidates: " + P.effectNames() + ")");
   }
   const ArmEffect& info = P.catalogue[e];
   EffectValue v;

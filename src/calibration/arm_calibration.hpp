@@ -89,7 +89,7 @@ struct BinVariable {
 class ArmProblem {
  public:
   virtual ~ArmProblem() = default;
-  std::string kind;  // "drive" | "tcp" | "trajectory"
+  std::string kind;  // the kind's name (measurement_kind.hpp), shown in reports
   std::string design, file, hash;
   std::vector<std::string> channel_names, channel_units;
   // Per channel: the logging resolution of the raw log, before any filter (the grid step of the
@@ -104,6 +104,9 @@ class ArmProblem {
   std::vector<std::string> added_first;
   std::vector<BinVariable> variables;      // operating variables (plots, joint-space bins)
   std::vector<Eigen::Vector3d> workspace;  // TCP position of each row in W (workspace cells)
+  // Channels 0..2 are the TCP position [m] (the tcp kind): the 3-D view shows the length of their
+  // residual, one map instead of one per channel.
+  bool position_channels = false;
   // A 2-D grid map over two operating variables (the drive kind: signed motor speed x |load|),
   // grid_bins[a] bins on axis a, besides or instead of the 1-D bins of `variables`.
   std::vector<BinVariable> grid;
@@ -124,6 +127,7 @@ class ArmProblem {
   int rows() const { return static_cast<int>(measured.rows()); }
   int channels() const { return static_cast<int>(measured.cols()); }
   int findEffect(const std::string& name) const;  // -1 when absent
+  std::string effectNames() const;                // the catalogue's instance names, ", "-joined
   // Prediction (rows x channels) of the design with the given effects switched on.
   virtual Eigen::MatrixXd predict(const EffectValues& values) const = 0;
   // `model` (the problem's design) with the fitted values applied, each kind where the Model holds

@@ -498,6 +498,12 @@ int ArmProblem::findEffect(const std::string& name) const {
   return -1;
 }
 
+std::string ArmProblem::effectNames() const {
+  std::string names;
+  for (const ArmEffect& c : catalogue) names += (names.empty() ? "" : ", ") + c.name;
+  return names;
+}
+
 std::vector<double> savitzkyGolayDerivative(const std::vector<double>& t,
                                             const std::vector<double>& y, int m, int degree) {
   const int n = static_cast<int>(t.size());

@@ -75,7 +75,7 @@ std::vector<report::ViewCloud> residualViewClouds(const ArmDiagnosis& d, const A
                                                   const Model& model, const std::string& entry) {
   std::vector<report::ViewCloud> out;
   if (P.workspace.size() != static_cast<std::size_t>(P.rows()) || P.rows() == 0) return out;
-  const bool tcp = P.kind == "tcp";
+  const bool tcp = P.position_channels;
   std::vector<std::pair<const ArmFit*, const ArmResidualMap*>> models{
       {&d.as_designed, &d.as_designed_map}};
   if (!d.added.empty()) models.emplace_back(&d.final_fit, &d.final_map);

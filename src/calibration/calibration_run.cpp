@@ -3,16 +3,11 @@
 #include <filesystem>
 
 #include "calibration/calibrated_design.hpp"
-#include "calibration/drive_report.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 
 namespace armstudy::calibration {
-
-bool isKind(const std::string& kind) {
-  return kind == "drive" || kind == "tcp" || kind == "trajectory";
-}
 
 drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line,
                                const std::string& key) {
@@ -22,23 +17,6 @@ drive::Effect parseDriveEffect(const std::string& name, const std::string& file,
   for (const EffectInfo& info : driveEffectCatalogue())
     names += (names.empty() ? "" : ", ") + info.name;
   throw InputError(file, line, key, "unknown effect '" + name + "' (expected " + names + ")");
-}
-
-ArmData readArmData(const std::string& kind, const std::string& path, const Model& model) {
-  ARMSTUDY_CHECK(kind == "tcp" || kind == "trajectory", "arm data kind is tcp or trajectory");
-  ArmData d;
-  d.kind = kind;
-  if (kind == "tcp")
-    d.tcp = std::make_shared<const TcpData>(readTcpData(path, model));
-  else
-    d.trajectory = std::make_shared<const TrajectoryData>(readTrajectoryData(path, model));
-  return d;
-}
-
-std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& data) {
-  if (data.tcp) return makeTcpProblem(model, *data.tcp);
-  ARMSTUDY_CHECK(data.trajectory != nullptr, "arm data holds tcp or trajectory rows");
-  return makeTrajectoryProblem(model, *data.trajectory);
 }
 
 std::string noCalibratedDesign(const ArmDiagnosis& d) { return d.identifiable; }
@@ -69,26 +47,6 @@ ArmFitFiles writeArmFit(const ArmDiagnosis& d, const ArmProblem& P, const Model&
     if (!c.urdf.empty()) writeFileAtomic(f.calibrated_urdf_path, c.urdf);
   }
   return f;
-}
-
-DriveReportSummary writeDriveReport(const DriveDiagnosis& d, const Model& model,
-                                    const DriveData& data, const DriveReportOptions& o) {
-  ARMSTUDY_CHECK(d.problem != nullptr && d.problem->file == data.file,
-                 "the diagnosis of this data");
-  DriveReportSummary s;
-  if (o.command == "fit" && o.write_calibrated_design) {
-    const ArmFitFiles f =
-        writeArmFit(d.arm, *d.problem, model, o.out_dir, o.calibrated_design_path, o.lock);
-    s.files_written = f.report.files_written;
-    s.json = f.report.json;
-    s.calibrated_design_path = f.calibrated_design_path;
-    return s;
-  }
-  const ArmReportSummary r = writeArmReport(
-      d.arm, *d.problem, ArmReportOptions{o.out_dir, o.command, {}, o.lock, o.shown}, "");
-  s.files_written = r.files_written;
-  s.json = r.json;
-  return s;
 }
 
 }  // namespace armstudy::calibration

@@ -1,36 +1,21 @@
 #pragma once
 // The steps of `armstudy compare|fit` that the [[calibration]] study stage shares with the CLI
-// (docs/calibration.md): effect names, reading arm data for a design, and writing an arm fit
-// (report plus calibrated design copy). The CLI and calibration_stage.cpp both call these.
-#include <memory>
+// (docs/calibration.md): effect names and writing a fit (report plus calibrated design copy). The
+// CLI and calibration_stage.cpp both call these; measurement_kind.hpp reads the data and builds
+// the problem of each kind.
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "calibration/arm_calibration.hpp"
-#include "calibration/drive_calibration.hpp"
-#include "calibration/tcp_calibration.hpp"
-#include "calibration/trajectory_calibration.hpp"
+#include "calibration/measurement_kind.hpp"
 #include "model/model.hpp"
 
 namespace armstudy::calibration {
 
-// The measurement kinds: "drive", "tcp", "trajectory".
-bool isKind(const std::string& kind);
-
 // A drive effect by name; InputError(file, line, key) listing the names for an unknown one.
 drive::Effect parseDriveEffect(const std::string& name, const std::string& file, int line,
                                const std::string& key);
-
-// A tcp or trajectory data file, read for one design (the readers check the joint columns).
-struct ArmData {
-  std::string kind;  // "tcp" | "trajectory"
-  std::shared_ptr<const TcpData> tcp;
-  std::shared_ptr<const TrajectoryData> trajectory;
-  const std::string& hash() const { return tcp ? tcp->hash : trajectory->hash; }
-};
-ArmData readArmData(const std::string& kind, const std::string& path, const Model& model);
-std::unique_ptr<ArmProblem> makeArmProblem(const Model& model, const ArmData& data);
 
 // What `fit` writes after the diagnosis (every kind): the calibrated design (calibrated_design.hpp:
 // the calibrated Model, named <design>_calibrated, as design TOML) at `design_path` (default

@@ -64,9 +64,29 @@ class DriveProblem : public ArmProblem {
     return p;
   }
 
+  // The Model carries every drive parameter: no notes.
   Model calibratedModel(const Model& model, const EffectValues& values,
-                        std::vector<std::string>& notes) const override {
-    return calibratedDriveModel(model, *this, values, notes);
+                        std::vector<std::string>&) const override {
+    const FrictionParams p = friction(values);
+    Model cal = model;
+    Drive* d = nullptr;
+    for (Drive& x : cal.drives)
+      if (x.joint == joint_) d = &x;
+    ARMSTUDY_CHECK(d != nullptr, "the problem's drive is in its design");
+    if (d->friction_law.empty()) d->friction_law = "none";
+    const std::vector<Effect> law = drive::lawEffects(p.law);
+    for (Effect e : drive::kAllEffects) {
+      if (!p.has(e)) continue;
+      for (const std::string& key : drive::effectKeys(e))
+        d->friction[key] = drive::parameter(p, key);
+      if (drive::isTemperatureEffect(e))
+        d->friction["reference_temperature"] = p.reference_temperature_C;
+      const std::string entry = joint_ + "." + drive::toString(e);
+      if (std::find(law.begin(), law.end(), e) == law.end() &&
+          std::find(cal.effects.begin(), cal.effects.end(), entry) == cal.effects.end())
+        cal.effects.push_back(entry);
+    }
+    return cal;
   }
 
   Eigen::MatrixXd predict(const EffectValues& values) const override {
@@ -77,12 +97,12 @@ class DriveProblem : public ArmProblem {
     return out;
   }
 
+ private:
   std::string joint_;
   Drive drive_;
   FrictionParams design_;
   std::vector<DriveTag> tags_;
 
- private:
   // The measured currents and the temperature each sample is evaluated at.
   void setMeasurements(const DriveData& data) {
     const int n = data.rows();
@@ -237,119 +257,11 @@ class DriveProblem : public ArmProblem {
   std::vector<double> stribeck_grid_;  // law-side speeds, rad/s
 };
 
-const DriveProblem& asDrive(const ArmProblem& P) {
-  const auto* d = dynamic_cast<const DriveProblem*>(&P);
-  ARMSTUDY_CHECK(d != nullptr, "a drive problem");
-  return *d;
-}
-
-ArmFitOptions armOptions(const DriveFitOptions& o) {
-  ArmFitOptions a;
-  static_cast<CvSettings&>(a) = o;
-  return a;
-}
-
-Comparison compareOf(const ArmFit& f, const ArmResidualMap& map, double km) {
-  Comparison c;
-  std::vector<double> r(f.residual.rows()), t(f.residual.rows());
-  for (int i = 0; i < f.residual.rows(); ++i) {
-    r[i] = f.residual(i, 0);
-    t[i] = r[i] * km;
-  }
-  c.current = channelStats(r);
-  c.friction_torque = channelStats(t);
-  c.map = map;
-  return c;
-}
-
-// The views of DriveDiagnosis from the engine's diagnosis.
-DriveDiagnosis view(std::shared_ptr<const ArmProblem> P, ArmDiagnosis a, const std::string& joint) {
-  const DriveProblem& D = asDrive(*P);
-  const double km = D.drive_.torque_constant_NmpA;
-  DriveDiagnosis d;
-  d.problem = P;
-  d.design = a.design;
-  d.joint = joint;
-  d.warnings = a.warnings;
-  d.noise_estimate = a.noise_estimate;
-  d.noise_rho = a.noise_rho;
-  d.as_designed = a.as_designed;
-  d.as_designed_cmp = compareOf(a.as_designed, a.as_designed_map, km);
-  d.final_fit = a.final_fit;
-  d.final_cmp = compareOf(a.final_fit, a.final_map, km);
-  const bool refit = !a.added.empty() && a.added.front() == kRefitEffect;
-  d.base = refit ? a.ladder[1] : a.as_designed;
-  d.ladder = a.ladder;
-  for (const std::string& name : a.added) {
-    Effect e;
-    if (drive::parseEffect(name, e)) d.added.push_back(e);
-  }
-  for (const ArmCandidate& c : a.ranking) {
-    Candidate x;
-    if (!drive::parseEffect(c.name, x.effect)) continue;
-    static_cast<CandidateScore&>(x) = c;
-    d.ranking.push_back(std::move(x));
-  }
-  d.missing_effect_found = a.missing_effect_found;
-  d.verdict = a.verdict;
-  d.rmse_before = d.base.heldout_rmse;
-  d.rmse_after = a.final_fit.heldout_rmse;
-  d.arm = std::move(a);
-  return d;
-}
-
 }  // namespace
 
 std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint,
                                              const DriveData& data, int speed_bins, int load_bins) {
   return std::make_unique<DriveProblem>(model, joint, data, speed_bins, load_bins);
-}
-
-FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& values) {
-  return asDrive(problem).friction(values);
-}
-
-Model calibratedDriveModel(const Model& model, const ArmProblem& problem,
-                           const EffectValues& values, std::vector<std::string>& notes) {
-  const DriveProblem& D = asDrive(problem);
-  const FrictionParams p = D.friction(values);
-  Model cal = model;
-  Drive* d = nullptr;
-  for (Drive& x : cal.drives)
-    if (x.joint == D.joint_) d = &x;
-  ARMSTUDY_CHECK(d != nullptr, "the problem's drive is in its design");
-  if (d->friction_law.empty()) d->friction_law = "none";
-  const std::vector<Effect> law = drive::lawEffects(p.law);
-  for (Effect e : drive::kAllEffects) {
-    if (!p.has(e)) continue;
-    for (const std::string& key : drive::effectKeys(e)) d->friction[key] = drive::parameter(p, key);
-    if (drive::isTemperatureEffect(e))
-      d->friction["reference_temperature"] = p.reference_temperature_C;
-    const std::string entry = D.joint_ + "." + drive::toString(e);
-    if (std::find(law.begin(), law.end(), e) == law.end() &&
-        std::find(cal.effects.begin(), cal.effects.end(), entry) == cal.effects.end())
-      cal.effects.push_back(entry);
-  }
-  (void)notes;  // the Model carries every drive parameter
-  return cal;
-}
-
-DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const DriveData& data,
-                            const DriveFitOptions& o) {
-  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
-  std::shared_ptr<const ArmProblem> P =
-      makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
-  return view(P, compareArm(*P, armOptions(o)), joint);
-}
-
-DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const DriveData& data,
-                             const DriveFitOptions& o) {
-  if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
-  std::shared_ptr<const ArmProblem> P =
-      makeDriveProblem(model, joint, data, o.speed_bins, o.load_bins);
-  ArmFitOptions a = armOptions(o);
-  for (Effect e : o.add) a.add.push_back(drive::toString(e));
-  return view(P, diagnoseArm(*P, a), joint);
 }
 
 const std::vector<EffectInfo>& driveEffectCatalogue() {

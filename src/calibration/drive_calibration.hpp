@@ -1,7 +1,8 @@
 #pragma once
 // Model versus measurement for one joint drive (thesis chapter 4): the drive kind's data,
 // its problem for the one engine of arm_calibration.hpp and its virtual
-// test bed. docs/calibration.md describes formats, statistics and outputs.
+// test bed. docs/calibration.md describes formats, statistics and outputs; the fit, its
+// diagnosis and its report are the engine's (diagnoseArm, writeArmReport) as for every kind.
 //
 // The measured quantity is the motor current I; the model predicts it from the drive chain
 // I = (T_l / N + T_loss(speed, T_l, theta)) / k_m (thesis eq. 4.3, 4.5), with the friction law of
@@ -70,67 +71,13 @@ inline constexpr const char* kRefitEffect = "refit";
 
 // The drive kind's problem for the engine: one channel "current" [A]; operating variables speed,
 // load (and temperature); the residual map is the speed x |load| grid (speed_bins x load_bins);
-// held-out-by-region uses the four speed x load quadrants split at the medians.
+// held-out-by-region uses the four speed x load quadrants split at the medians. Its calibrated
+// model has the fitted friction in the drive's [drive.friction] (law "none" when the design had
+// no law) and the added effects in [model].effects.
 std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::string& joint,
                                              const DriveData& data,
                                              int speed_bins = defaults::kSpeedBins,
                                              int load_bins = defaults::kLoadBins);
-// The resolved friction of the problem's drive with the given effects switched on (what predict
-// uses).
-drive::FrictionParams driveFriction(const ArmProblem& problem, const EffectValues& values);
-// The design with the fitted friction in the drive's [drive.friction] (law "none" when the design
-// had no law) and the added effects in [model].effects.
-Model calibratedDriveModel(const Model& model, const ArmProblem& problem,
-                           const EffectValues& values, std::vector<std::string>& notes);
-
-// ---- the drive kind through the engine, for callers written against the drive kind's own API ----
-// (the [[calibration]] stage; once it reads ArmDiagnosis directly these views can go.)
-struct DriveFitOptions : CvSettings {
-  int speed_bins = defaults::kSpeedBins;
-  int load_bins = defaults::kLoadBins;
-  std::vector<drive::Effect>
-      add;  // effects to add (in this order, after the refit), significant or not
-  std::string validate() const {
-    return CvSettings::validate(binsOk(speed_bins) && binsOk(load_bins));
-  }
-};
-
-using ModelFit = ArmFit;
-
-struct Candidate : CandidateScore {
-  drive::Effect effect = drive::Effect::Coulomb;
-};
-
-// One model's comparison with the data: current and friction-torque statistics, residual map.
-struct Comparison {
-  ChannelStats current;          // [A]
-  ChannelStats friction_torque;  // [N m] (= current residual * k_m)
-  ArmResidualMap map;
-};
-
-struct DriveDiagnosis {
-  std::shared_ptr<const ArmProblem> problem;
-  ArmDiagnosis arm;  // what the engine found; the members below are views of it
-  std::string design, joint;
-  std::vector<std::string> warnings;
-  double noise_estimate = 0, noise_rho = 0;  // [A]
-  ModelFit as_designed, base, final_fit;     // base: the refit of the design's terms
-  Comparison as_designed_cmp, base_cmp, final_cmp;
-  std::vector<Candidate> ranking;  // for the refit model, best first
-  bool missing_effect_found = false;
-  std::string verdict;
-  std::vector<ModelFit> ladder;            // as designed, refit, then one per added effect
-  std::vector<drive::Effect> added;        // after the refit
-  double rmse_before = 0, rmse_after = 0;  // held-out [A]: refit, final model
-};
-
-// Compare only: the design's model as is (no fitting), residual map with the noise estimate.
-DriveDiagnosis compareDrive(const Model& model, const std::string& joint, const DriveData& data,
-                            const DriveFitOptions& options);
-// Compare, refit, rank candidates, add effects as the options ask.
-DriveDiagnosis diagnoseDrive(const Model& model, const std::string& joint, const DriveData& data,
-                             const DriveFitOptions& options);
-
 // ---- virtual test bed ----
 struct SynthOptions {
   std::vector<double> speeds_radps;  // motor speeds, both signs used; default thesis-like grid

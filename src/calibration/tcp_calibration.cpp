@@ -33,6 +33,7 @@ class TcpProblem : public ArmProblem {
  public:
   TcpProblem(const Model& model, const TcpData& data) : model_(model), q_(data.q) {
     setSource("tcp", model.name, data);
+    position_channels = true;
     measured = data.pose;
     fit_unit = "m";
     const int n = model.dof();

@@ -10,9 +10,7 @@
 #include <tuple>
 
 #include "calibration/calibration_run.hpp"
-#include "calibration/drive_calibration.hpp"
-#include "calibration/tcp_calibration.hpp"
-#include "calibration/trajectory_calibration.hpp"
+#include "calibration/measurement_kind.hpp"
 #include "cli/design_options.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
@@ -65,13 +63,29 @@ const char* kKindHelp =
     "frame),\n"
     "trajectory (CSV t, q1..qn, qd1..qdn[, qdd1..qddn], tau1..taun or current1..currentn)";
 
-void checkKind(const CommonArgs& a) {
-  if (a.kind == "drive" && a.joint.empty())
+// The kind of --kind (CLI11 checked the name against kindList) and its --drive option.
+const calibration::Kind& parseKind(const std::string& name) {
+  const calibration::Kind* kind = calibration::findKind(name);
+  ARMSTUDY_CHECK(kind != nullptr, "--kind is checked against the kinds' names");
+  return *kind;
+}
+
+const calibration::Kind& checkKind(const CommonArgs& a) {
+  const calibration::Kind& kind = parseKind(a.kind);
+  if (kind.measuresOneDrive() && a.joint.empty())
     throw InputError("", 0, "--drive",
                      "the drive kind needs --drive <joint> (the joint whose drive was measured)");
-  if (a.kind != "drive" && !a.joint.empty())
+  if (!kind.measuresOneDrive() && !a.joint.empty())
     throw InputError("", 0, "--drive",
                      "--drive belongs to --kind drive; the " + a.kind + " kind uses every joint");
+  return kind;
+}
+
+// The kinds' names for CLI11's check of --kind.
+std::vector<std::string> kindList() {
+  std::vector<std::string> names;
+  for (const calibration::Kind* k : calibration::kinds()) names.push_back(k->name());
+  return names;
 }
 
 void addCommon(CLI::App* cmd, CommonArgs& a) {
@@ -79,8 +93,7 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
                   "Design file (TOML or URDF); drive kind: with a [[drive]] for the joint")
       ->required();
   addDesignSourceOptions(cmd, a.src);
-  cmd->add_option("--kind", a.kind, kKindHelp)
-      ->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
+  cmd->add_option("--kind", a.kind, kKindHelp)->check(CLI::IsMember(kindList()));
   cmd->add_option("--drive", a.joint, "drive kind: joint whose drive was measured, e.g. j6");
   cmd->add_option("--data", a.data, "Measurement CSV in the format of --kind (SI units)")
       ->required();
@@ -100,20 +113,17 @@ void addCommon(CLI::App* cmd, CommonArgs& a) {
         ->capture_default_str();
 }
 
-std::string outDir(const CommonArgs& a, const Model& m) {
-  return a.out.empty()
-             ? "output/calibration/" + m.name + "-" + (a.kind == "drive" ? a.joint : a.kind)
-             : a.out;
+std::string outDir(const calibration::Kind& kind, const CommonArgs& a, const Model& m) {
+  return a.out.empty() ? "output/calibration/" + m.name + "-" +
+                             (kind.measuresOneDrive() ? a.joint : std::string(kind.name()))
+                       : a.out;
 }
 
 // The problem of any kind for the one engine (drive: the measured drive's test-bed data).
-std::unique_ptr<calibration::ArmProblem> armProblem(const CommonArgs& a, const Model& m) {
-  if (a.kind == "drive") {
-    calibration::requireDrive(m, a.joint);
-    return calibration::makeDriveProblem(m, a.joint, calibration::readDriveData(a.data),
-                                         a.speed_bins, a.load_bins);
-  }
-  return calibration::makeArmProblem(m, calibration::readArmData(a.kind, a.data, m));
+std::unique_ptr<calibration::ArmProblem> armProblem(const calibration::Kind& kind,
+                                                    const CommonArgs& a, const Model& m) {
+  const calibration::ProblemOptions po{a.joint, a.speed_bins, a.load_bins};
+  return kind.problem(m, kind.read(a.data, m, po), po);
 }
 
 void printArm(const calibration::ArmDiagnosis& d, const calibration::ArmProblem& P) {
@@ -149,19 +159,20 @@ void printChannels(const calibration::ArmDiagnosis& d, const calibration::ArmPro
   std::printf("  overall: %.3g x the noise (dimensionless, held-out)\n", d.final_fit.heldout_score);
 }
 
-int fitArm(const CommonArgs& a, const Model& m, const std::string& add, bool autoAdd, int folds,
-           unsigned long long seed, const std::string& designOut) {
+int fitArm(const calibration::Kind& kind, const CommonArgs& a, const Model& m,
+           const std::string& add, bool autoAdd, int folds, unsigned long long seed,
+           const std::string& designOut) {
   calibration::ArmFitOptions o;
   o.variable_bins = a.variable_bins;
   o.workspace_bins = a.workspace_bins;
   o.folds = folds;
   o.seed = seed;
   o.auto_add = autoAdd;
-  const auto P = armProblem(a, m);
+  const auto P = armProblem(kind, a, m);
   for (const auto& e : splitList(add)) o.add.push_back(e);
   if (const std::string err = o.validate(); !err.empty()) throw InputError("", 0, "options", err);
   const auto d = calibration::diagnoseArm(*P, o);
-  const std::string out = outDir(a, m);
+  const std::string out = outDir(kind, a, m);
   const calibration::ArmFitFiles files = calibration::writeArmFit(d, *P, m, out, designOut);
   const std::vector<std::string>& notes = files.notes;
   const std::string& path = files.calibrated_design_path;
@@ -227,14 +238,14 @@ void addCompareCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
   setAction(cmd, action, [a] {
-    checkKind(*a);
+    const calibration::Kind& kind = checkKind(*a);
     const Model m = loadAnyDesign(a->design, a->src.urdf());
-    const auto P = armProblem(*a, m);
+    const auto P = armProblem(kind, *a, m);
     calibration::ArmFitOptions o;
     o.variable_bins = a->variable_bins;
     o.workspace_bins = a->workspace_bins;
     const auto d = calibration::compareArm(*P, o);
-    calibration::ArmReportOptions ro{outDir(*a, m), "compare"};
+    calibration::ArmReportOptions ro{outDir(kind, *a, m), "compare"};
     // The compare of a calibrated copy (its check run) titles its figures for that design.
     if (std::filesystem::is_regular_file(a->design))
       ro.shown = calibration::shownDesign(readFileOrThrow(a->design));
@@ -267,142 +278,166 @@ void addFitCommand(CLI::App* cmd, Action& action) {
       "Path of the calibrated design copy (default <out>/<design>_calibrated.toml; a URDF design "
       "also gets the calibrated URDF beside it, .urdf)");
   setAction(cmd, action, [a, add, autoAdd, folds, seed, designOut] {
-    checkKind(*a);
+    const calibration::Kind& kind = checkKind(*a);
     const Model m = loadAnyDesign(a->design, a->src.urdf());
-    return fitArm(*a, m, *add, *autoAdd, *folds, *seed, *designOut);
+    return fitArm(kind, *a, m, *add, *autoAdd, *folds, *seed, *designOut);
   });
 }
 
+namespace {
+
 // The sizes synth's options ask for, bounded before anything is allocated (README "Input limits").
-void checkSynthSizes(const std::string& kind, const ArmSynthArgs& a) {
-  if (kind == "tcp" && !(a.tcp.rows >= 1 && a.tcp.rows <= defaults::kMaxSynthRows))
+void checkSynthSizes(const calibration::Kind& kind, const ArmSynthArgs& a) {
+  if (kind.id() == calibration::KindId::tcp &&
+      !(a.tcp.rows >= 1 && a.tcp.rows <= defaults::kMaxSynthRows))
     throw InputError("command line", 0, "--rows",
                      "the number of poses lies in 1 to " + std::to_string(defaults::kMaxSynthRows));
-  if (kind == "trajectory") checkSampling(a.traj.duration_s, a.traj.rate_Hz);
+  if (kind.id() == calibration::KindId::trajectory)
+    checkSampling(a.traj.duration_s, a.traj.rate_Hz);
 }
 
 // `run`, with an allocation failure reported as an input error naming the options that set the
 // size of the synthesized data.
-Action sizedBy(std::shared_ptr<std::string> kind, Action run) {
-  return [kind, run] {
-    try {
-      return run();
-    } catch (const std::bad_alloc&) {
-      const char* options = *kind == "tcp"          ? "--rows"
-                            : *kind == "trajectory" ? "--duration, --rate"
-                                                    : "--series, --speeds, --loads";
-      throw InputError("command line", 0, options,
-                       "not enough memory for the data these options ask for");
-    }
-  };
+int sizedBy(const calibration::Kind& kind, const Action& run) {
+  try {
+    return run();
+  } catch (const std::bad_alloc&) {
+    throw InputError("command line", 0, kind.synthSizeOptions(),
+                     "not enough memory for the data these options ask for");
+  }
 }
 
-void addSynthCommand(CLI::App* cmd, Action& action) {
-  auto joint = std::make_shared<std::string>();
-  auto design = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto hide = std::make_shared<std::vector<std::string>>();
-  auto speeds = std::make_shared<std::string>();
-  auto loads = std::make_shared<std::string>();
-  auto temp = std::make_shared<std::string>("25:45");
-  auto o = std::make_shared<calibration::SynthOptions>();
-  auto noTemp = std::make_shared<bool>(false);
-  cmd->add_option("design", *design, "Design file (TOML or URDF)")->required();
-  auto src = std::make_shared<DesignSourceOptions>();
-  addDesignSourceOptions(cmd, *src);
-  auto kind = std::make_shared<std::string>("drive");
-  auto arm = std::make_shared<ArmSynthArgs>();
-  cmd->add_option("--kind", *kind, kKindHelp)->check(CLI::IsMember({"drive", "tcp", "trajectory"}));
-  cmd->add_option("--drive", *joint, "drive kind: joint whose drive is simulated");
-  cmd->add_option("--rows", arm->tcp.rows, "tcp: number of poses");
-  cmd->add_option("--noise-angle", arm->tcp.noise_rad,
+// What synth's options hold, for every kind.
+struct SynthArgs {
+  std::string kind = "drive", design, joint, out;
+  std::vector<std::string> hide;
+  std::string speeds, loads, temp = "25:45";
+  calibration::SynthOptions drive;
+  bool no_temperature = false;
+  double noise = std::nan("");
+  DesignSourceOptions src;
+  ArmSynthArgs arm;
+};
+
+int synthTcp(const SynthArgs& a, const Model& m) {
+  calibration::TcpSynthOptions so = a.arm.tcp;
+  so.seed = a.drive.seed;
+  if (!std::isnan(a.noise)) so.noise_m = a.noise;
+  so.hidden = a.hide;
+  const auto data = calibration::synthesizeTcp(m, so);
+  writeFileAtomic(a.out, calibration::tcpDataToCsv(data));
+  std::printf("wrote %d TCP poses to %s\n", data.rows(), a.out.c_str());
+  return 0;
+}
+
+int synthTrajectory(const SynthArgs& a, const Model& m) {
+  calibration::TrajectorySynthOptions so = a.arm.traj;
+  so.seed = a.drive.seed;
+  if (!std::isnan(a.noise)) so.noise = a.noise;
+  so.hidden = a.hide;
+  so.write_qdd = !a.arm.no_qdd;
+  const auto data = calibration::synthesizeTrajectory(m, so);
+  writeFileAtomic(a.out, calibration::trajectoryDataToCsv(data, so.write_qdd));
+  std::printf("wrote %d trajectory samples to %s\n", data.rows(), a.out.c_str());
+  return 0;
+}
+
+// --hide name[:key=value,...] of the drive kind.
+std::pair<drive::Effect, std::vector<std::pair<std::string, double>>> hiddenDriveEffect(
+    const std::string& h) {
+  const auto colon = h.find(':');
+  const drive::Effect e = parseEffectOption(h.substr(0, colon), "--hide");
+  std::vector<std::pair<std::string, double>> kv;
+  if (colon != std::string::npos)
+    for (const auto& item : splitList(h.substr(colon + 1))) {
+      const auto eq = item.find('=');
+      if (eq == std::string::npos)
+        throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
+      kv.emplace_back(item.substr(0, eq), parseNumber(item.substr(eq + 1), "--hide"));
+    }
+  return {e, kv};
+}
+
+int synthDrive(const SynthArgs& a, const Model& m) {
+  calibration::SynthOptions so = a.drive;
+  if (!std::isnan(a.noise)) so.noise_A = a.noise;
+  for (const auto& s : splitList(a.speeds)) so.speeds_radps.push_back(parseNumber(s, "--speeds"));
+  for (const auto& s : splitList(a.loads)) so.loads.push_back(parseNumber(s, "--loads"));
+  const auto t = splitList(a.temp, ':');
+  if (t.size() != 2) throw InputError("", 0, "--temperature", "expected start:end in deg C");
+  so.temperature_start_C = parseNumber(t[0], "--temperature");
+  so.temperature_end_C = parseNumber(t[1], "--temperature");
+  so.write_temperature = !a.no_temperature;
+  for (const auto& h : a.hide) so.hidden.push_back(hiddenDriveEffect(h));
+  const auto data = calibration::synthesizeDrive(m, a.joint, so);
+  writeFileAtomic(a.out, calibration::driveDataToCsv(data));
+  std::printf("wrote %d rows to %s\n", data.rows(), a.out.c_str());
+  return 0;
+}
+
+int synthesize(const SynthArgs& a) {
+  const calibration::Kind& kind = parseKind(a.kind);
+  return sizedBy(kind, [&a, &kind] {
+    if (kind.measuresOneDrive() && a.joint.empty())
+      throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
+    checkOutputPath(a.out);
+    checkSynthSizes(kind, a.arm);
+    const Model m = loadAnyDesign(a.design, a.src.urdf());
+    switch (kind.id()) {
+      case calibration::KindId::tcp:
+        return synthTcp(a, m);
+      case calibration::KindId::trajectory:
+        return synthTrajectory(a, m);
+      case calibration::KindId::drive:
+        break;
+    }
+    return synthDrive(a, m);
+  });
+}
+
+void addSynthOptions(CLI::App* cmd, SynthArgs& a) {
+  cmd->add_option("design", a.design, "Design file (TOML or URDF)")->required();
+  addDesignSourceOptions(cmd, a.src);
+  cmd->add_option("--kind", a.kind, kKindHelp)->check(CLI::IsMember(kindList()));
+  cmd->add_option("--drive", a.joint, "drive kind: joint whose drive is simulated");
+  cmd->add_option("--rows", a.arm.tcp.rows, "tcp: number of poses");
+  cmd->add_option("--noise-angle", a.arm.tcp.noise_rad,
                   "tcp: angle noise [rad] (with --orientation)");
-  cmd->add_flag("--orientation", arm->tcp.orientation, "tcp: also write alpha, beta, gamma");
-  cmd->add_option("--duration", arm->traj.duration_s, "trajectory: duration [s]");
-  cmd->add_option("--rate", arm->traj.rate_Hz, "trajectory: sample rate [Hz]");
-  cmd->add_flag("--currents", arm->traj.currents,
+  cmd->add_flag("--orientation", a.arm.tcp.orientation, "tcp: also write alpha, beta, gamma");
+  cmd->add_option("--duration", a.arm.traj.duration_s, "trajectory: duration [s]");
+  cmd->add_option("--rate", a.arm.traj.rate_Hz, "trajectory: sample rate [Hz]");
+  cmd->add_flag("--currents", a.arm.traj.currents,
                 "trajectory: write motor currents instead of joint efforts");
-  cmd->add_flag("--no-qdd", arm->no_qdd,
+  cmd->add_flag("--no-qdd", a.arm.no_qdd,
                 "trajectory: omit the qdd columns (the reader differentiates qd)");
-  cmd->add_option("--still", arm->traj.still_joints, "trajectory: joint held still (repeatable)");
-  cmd->add_option("--out", *out, "CSV file to write")->required();
+  cmd->add_option("--still", a.arm.traj.still_joints, "trajectory: joint held still (repeatable)");
+  cmd->add_option("--out", a.out, "CSV file to write")->required();
   cmd->add_option(
-      "--hide", *hide,
+      "--hide", a.hide,
       "Hidden effect, repeatable: name[:key=value,...], e.g. "
       "stribeck:stribeck_torque=0.03,stribeck_velocity=60,\n"
       "joint_offset.j3:offset=0.01, payload:mass=0.4 (see fit --help for the names per kind)");
-  auto noise = std::make_shared<double>(std::nan(""));
-  cmd->add_option("--noise", *noise,
+  cmd->add_option("--noise", a.noise,
                   "Noise standard deviation: drive [A] (default 0.01), tcp [m] (1e-4), trajectory "
                   "[N m per revolute joint, N per prismatic one, or A] (0.05)");
-  cmd->add_option("--noise-correlation", o->noise_rho,
+  cmd->add_option("--noise-correlation", a.drive.noise_rho,
                   "AR(1) correlation of successive noise samples");
-  cmd->add_option("--seed", o->seed, "Random seed");
-  cmd->add_option("--series", o->series,
+  cmd->add_option("--seed", a.drive.seed, "Random seed");
+  cmd->add_option("--series", a.drive.series,
                   "Number of test series (each visits the speeds in a new order)");
-  cmd->add_option("--speeds", *speeds,
+  cmd->add_option("--speeds", a.speeds,
                   "Motor speed levels [rad/s], comma list (both directions are run)");
-  cmd->add_option("--loads", *loads, "Load torque levels [N m], comma list");
-  cmd->add_option("--temperature", *temp, "Housing temperature start:end [deg C]");
-  cmd->add_flag("--no-temperature", *noTemp, "Write no temperature column");
-  setAction(cmd, action,
-            sizedBy(kind, [design, joint, out, hide, speeds, loads, temp, o, noTemp, kind, arm,
-                           noise, src] {
-              if (*kind == "drive" && joint->empty())
-                throw InputError("", 0, "--drive", "the drive kind needs --drive <joint>");
-              checkOutputPath(*out);
-              checkSynthSizes(*kind, *arm);
-              const Model m = loadAnyDesign(*design, src->urdf());
-              if (*kind == "tcp") {
-                calibration::TcpSynthOptions so = arm->tcp;
-                so.seed = o->seed;
-                if (!std::isnan(*noise)) so.noise_m = *noise;
-                so.hidden = *hide;
-                const auto data = calibration::synthesizeTcp(m, so);
-                writeFileAtomic(*out, calibration::tcpDataToCsv(data));
-                std::printf("wrote %d TCP poses to %s\n", data.rows(), out->c_str());
-                return 0;
-              }
-              if (*kind == "trajectory") {
-                calibration::TrajectorySynthOptions so = arm->traj;
-                so.seed = o->seed;
-                if (!std::isnan(*noise)) so.noise = *noise;
-                so.hidden = *hide;
-                so.write_qdd = !arm->no_qdd;
-                const auto data = calibration::synthesizeTrajectory(m, so);
-                writeFileAtomic(*out, calibration::trajectoryDataToCsv(data, so.write_qdd));
-                std::printf("wrote %d trajectory samples to %s\n", data.rows(), out->c_str());
-                return 0;
-              }
-              calibration::SynthOptions so = *o;
-              if (!std::isnan(*noise)) so.noise_A = *noise;
-              for (const auto& s : splitList(*speeds))
-                so.speeds_radps.push_back(parseNumber(s, "--speeds"));
-              for (const auto& s : splitList(*loads)) so.loads.push_back(parseNumber(s, "--loads"));
-              const auto t = splitList(*temp, ':');
-              if (t.size() != 2)
-                throw InputError("", 0, "--temperature", "expected start:end in deg C");
-              so.temperature_start_C = parseNumber(t[0], "--temperature");
-              so.temperature_end_C = parseNumber(t[1], "--temperature");
-              so.write_temperature = !*noTemp;
-              for (const auto& h : *hide) {
-                const auto colon = h.find(':');
-                const drive::Effect e = parseEffectOption(h.substr(0, colon), "--hide");
-                std::vector<std::pair<std::string, double>> kv;
-                if (colon != std::string::npos)
-                  for (const auto& item : splitList(h.substr(colon + 1))) {
-                    const auto eq = item.find('=');
-                    if (eq == std::string::npos)
-                      throw InputError("", 0, "--hide", "expected key=value in '" + item + "'");
-                    kv.emplace_back(item.substr(0, eq), parseNumber(item.substr(eq + 1), "--hide"));
-                  }
-                so.hidden.emplace_back(e, kv);
-              }
-              const auto data = calibration::synthesizeDrive(m, *joint, so);
-              writeFileAtomic(*out, calibration::driveDataToCsv(data));
-              std::printf("wrote %d rows to %s\n", data.rows(), out->c_str());
-              return 0;
-            }));
+  cmd->add_option("--loads", a.loads, "Load torque levels [N m], comma list");
+  cmd->add_option("--temperature", a.temp, "Housing temperature start:end [deg C]");
+  cmd->add_flag("--no-temperature", a.no_temperature, "Write no temperature column");
+}
+
+}  // namespace
+
+void addSynthCommand(CLI::App* cmd, Action& action) {
+  auto a = std::make_shared<SynthArgs>();
+  addSynthOptions(cmd, *a);
+  setAction(cmd, action, [a] { return synthesize(*a); });
 }
 
 }  // namespace armstudy::cli

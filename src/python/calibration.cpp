@@ -7,9 +7,7 @@
 #include <utility>
 
 #include "calibration/arm_calibration.hpp"
-#include "calibration/calibration_run.hpp"
-#include "calibration/drive_calibration.hpp"
-#include "calibration/tcp_calibration.hpp"
+#include "calibration/measurement_kind.hpp"
 #include "io/files.hpp"
 #include "python/bindings.hpp"
 
@@ -150,21 +148,17 @@ ArmFitOptions fitOptions(int folds, std::uint64_t seed, int variable_bins, int w
 
 // The problem of any kind, as `armstudy compare|fit` builds it: tcp from a CSV path or arrays,
 // drive (the test bed of `joint`'s drive) and trajectory from their CSV files.
-std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind,
+std::unique_ptr<ArmProblem> problem(const Model& m, const std::string& kind_name,
                                     const py::object& data_, const py::handle& pose,
                                     const std::string& joint, int speed_bins, int load_bins) {
   const py::object data = pathLike(data_);
-  if (!isKind(kind))
-    throw std::invalid_argument("kind: '" + kind + "' is not one of drive, tcp, trajectory");
-  if (kind == "tcp") return makeTcpProblem(m, tcpData(m, data, pose));
+  const Kind* kind = findKind(kind_name);
+  if (!kind) throw std::invalid_argument("kind: '" + kind_name + "' is not one of " + kindNames());
+  if (kind->id() == KindId::tcp) return makeTcpProblem(m, tcpData(m, data, pose));
   if (!py::isinstance<py::str>(data) || !pose.is_none())
-    throw std::invalid_argument("data: the " + kind + " kind reads its CSV file (a path)");
-  const std::string path = data.cast<std::string>();
-  if (kind == "drive") {
-    requireDrive(m, joint);
-    return makeDriveProblem(m, joint, readDriveData(path), speed_bins, load_bins);
-  }
-  return makeArmProblem(m, readArmData(kind, path, m));
+    throw std::invalid_argument("data: the " + kind_name + " kind reads its CSV file (a path)");
+  const ProblemOptions po{joint, speed_bins, load_bins};
+  return kind->problem(m, kind->read(data.cast<std::string>(), m, po), po);
 }
 
 py::dict compare(const Design& design, const py::object& data, const std::string& kind,

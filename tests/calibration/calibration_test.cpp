@@ -13,12 +13,16 @@
 #include "calibration/stats.hpp"
 #include "common/errors.hpp"
 #include "drive/drive_chain.hpp"
+#include "drive_fit.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
 using namespace armstudy::calibration;
+using calibration::drive_test::driveFit;
+using calibration::drive_test::DriveFit;
+using calibration::drive_test::names;
 using drive::Effect;
 
 namespace {
@@ -148,19 +152,18 @@ TEST_CASE(
                          hidden == Effect::LoadCoulomb || hidden == Effect::LoadViscous;
     const Model m = parseDesign(classic ? withoutDesign(hidden) : catalogDesign(), "bed.toml");
     const DriveData data = synth(m, {hidden}, 11);
-    DriveFitOptions o;
-    o.auto_add = true;
-    const DriveDiagnosis d = diagnoseDrive(m, "j1", data, o);
-    INFO("hidden " << drive::toString(hidden) << ", ranked first: "
-                   << drive::toString(d.ranking.front().effect) << ", verdict: " << d.verdict);
-    REQUIRE(d.ranking.front().effect == hidden);
+    const DriveFit f = driveFit(m, "j1", data, true);
+    const ArmDiagnosis& d = f.d;
+    INFO("hidden " << drive::toString(hidden) << ", ranked first: " << d.ranking.front().name
+                   << ", verdict: " << d.verdict);
+    REQUIRE(d.ranking.front().name == drive::toString(hidden));
     CHECK(d.ranking.front().significant);
     CHECK(d.missing_effect_found);
-    REQUIRE(d.added == std::vector<Effect>{hidden});
+    REQUIRE(f.added == names({hidden}));
     CHECK(d.rmse_after <= kNoiseRatio * kNoise_A);
-    CHECK(d.rmse_after < d.rmse_before);
-    CHECK(d.final_cmp.map.flagged() == 0);
-    CHECK(d.as_designed_cmp.map.flagged() > 0);  // the residual map showed where the model failed
+    CHECK(d.rmse_after < f.rmseBefore());
+    CHECK(d.final_map.flagged() == 0);
+    CHECK(d.as_designed_map.flagged() > 0);  // the residual map showed where the model failed
     // Nothing else is missing afterwards (--auto stopped after one; no unexplained pattern).
     CHECK(d.verdict == std::string("missing effect: ") + drive::toString(hidden));
   }
@@ -173,10 +176,9 @@ TEST_CASE(
   so.noise_A = kNoise_A;
   so.hidden = {{Effect::Stribeck, {{"stribeck_torque", 0.03}, {"stribeck_velocity", 45.0}}}};
   const DriveData data = synthesizeDrive(m, "j1", so);
-  DriveFitOptions o;
-  o.auto_add = true;
-  const DriveDiagnosis d = diagnoseDrive(m, "j1", data, o);
-  REQUIRE(d.added == std::vector<Effect>{Effect::Stribeck});
+  const DriveFit f = driveFit(m, "j1", data, true);
+  const ArmDiagnosis& d = f.d;
+  REQUIRE(f.added == names({Effect::Stribeck}));
   std::map<std::string, FittedParameter> p;
   for (const auto& x : d.final_fit.params) p[x.key] = x;
   for (const auto& [key, truth] :
@@ -193,7 +195,7 @@ TEST_CASE(
   // reproduces the fit's own prediction.
   std::vector<std::string> notes;
   const Model cal =
-      parseDesign(calibratedDesign(m, *d.problem, d.arm.final_fit.values, notes).toml, "cal.toml");
+      parseDesign(calibratedDesign(m, *f.problem, d.final_fit.values, notes).toml, "cal.toml");
   const Drive& dr = requireDrive(cal, "j1");
   const auto fp = drive::frictionParams(cal, dr);
   for (int i = 0; i < data.rows(); i += 17)
@@ -204,12 +206,12 @@ TEST_CASE(
 TEST_CASE("nothing hidden: no significant missing effect") {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const Model m = parseDesign(catalogDesign(), "bed.toml");
-    DriveFitOptions o;
-    o.auto_add = true;
-    const DriveDiagnosis d = diagnoseDrive(m, "j1", synth(m, {}, seed), o);
+    const DriveFit f = driveFit(m, "j1", synth(m, {}, seed), true);
+    const ArmDiagnosis& d = f.d;
     CHECK_FALSE(d.missing_effect_found);
-    CHECK(d.added.empty());
-    CHECK(d.base.heldout_rmse <= kNoiseRatio * kNoise_A);
+    CHECK(f.added.empty());
+    REQUIRE(d.added == std::vector<std::string>{kRefitEffect});
+    CHECK(f.base().heldout_rmse <= kNoiseRatio * kNoise_A);
     CHECK(d.noise_estimate == Approx(kNoise_A).epsilon(0.2));
   }
   // Correlated noise (AR(1), rho = 0.6) must not create false discoveries or flagged bins.
@@ -219,9 +221,9 @@ TEST_CASE("nothing hidden: no significant missing effect") {
     so.noise_A = kNoise_A;
     so.noise_rho = 0.6;
     so.seed = seed;
-    const DriveDiagnosis d = diagnoseDrive(m, "j1", synthesizeDrive(m, "j1", so), {});
+    const ArmDiagnosis d = driveFit(m, "j1", synthesizeDrive(m, "j1", so), false).d;
     CHECK_FALSE(d.missing_effect_found);
-    CHECK(d.final_cmp.map.flagged() == 0);
+    CHECK(d.final_map.flagged() == 0);
     CHECK(d.noise_rho > 0.3);
   }
 }
@@ -232,18 +234,17 @@ TEST_CASE(
   const Model m = loadDesign(test::sourcePath("designs/final_prototype_9dof.toml"));
   const DriveData data =
       readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
-  DriveFitOptions o;
-  o.auto_add = true;
-  const DriveDiagnosis d = diagnoseDrive(m, "j6", data, o);
-  REQUIRE(d.ranking.front().effect == Effect::Stribeck);
+  const DriveFit f = driveFit(m, "j6", data, true);
+  const ArmDiagnosis& d = f.d;
+  REQUIRE(d.ranking.front().name == "stribeck");
   CHECK(d.ranking.front().significant);
-  REQUIRE(d.added == std::vector<Effect>{Effect::Stribeck});
+  REQUIRE(f.added == names({Effect::Stribeck}));
   // Thesis section 4.6.1: the RMSE falls by a factor of two to five.
-  const double factor = d.rmse_before / d.rmse_after;
+  const double factor = f.rmseBefore() / d.rmse_after;
   CHECK(factor > 2.0);
   CHECK(factor < 5.5);
   // Friction-torque RMSE [N m] against Tables 4.5 (1.59e-2) and 4.4 (3.2e-3) for B.2.
-  CHECK(d.base.train_rmse * 0.075 == Approx(1.59e-2).epsilon(0.2));
+  CHECK(f.base().train_rmse * 0.075 == Approx(1.59e-2).epsilon(0.2));
   CHECK(d.final_fit.train_rmse * 0.075 == Approx(3.2e-3).epsilon(0.2));
   // Fitted eq. (3.33) parameters against Table 4.4, B.2.
   std::map<std::string, double> p;
@@ -256,8 +257,8 @@ TEST_CASE(
   bool warned = false;
   for (const std::string& w : d.warnings)
     warned = warned || w.find("weakly identifiable") != std::string::npos;
-  for (const Candidate& c : d.ranking)
-    if (c.effect == Effect::Temperature) warned = warned || !c.warnings.empty();
+  for (const ArmCandidate& c : d.ranking)
+    if (c.name == "temperature") warned = warned || !c.warnings.empty();
   CHECK(warned);
 }
 
@@ -275,9 +276,11 @@ TEST_CASE(
     }
   const DriveData data =
       readDriveData(test::sourcePath("studies/data/drive_testbed_module_b2.csv"));
-  const DriveDiagnosis d = compareDrive(m, "j6", data, {});
-  CHECK(d.as_designed_cmp.friction_torque.rmse < 2 * 3.2e-3);
-  CHECK(std::abs(d.as_designed_cmp.current.bias) < 0.02);
+  const ArmDiagnosis d = driveFit(m, "j6", data, false, true).d;
+  // Friction torque = current residual x k_m (thesis eq. 4.6).
+  const double km = requireDrive(m, "j6").torque_constant_NmpA;
+  CHECK(d.as_designed.channel_train[0].rmse * km < 2 * 3.2e-3);
+  CHECK(std::abs(d.as_designed.channel_train[0].bias) < 0.02);
 }
 
 TEST_CASE(
@@ -289,7 +292,7 @@ TEST_CASE(
   DriveData few = data;
   for (auto* v : {&few.speed, &few.load, &few.current, &few.temperature}) v->resize(5);
   few.lines.resize(5);
-  CHECK_THROWS_AS(diagnoseDrive(m, "j1", few, {}), InputError);
+  CHECK_THROWS_AS(driveFit(m, "j1", few, false), InputError);
 
   const std::string dir = test::binaryPath() + "_calib_tmp";
   std::filesystem::create_directories(dir);
@@ -305,17 +308,23 @@ TEST_CASE(
 
   DriveData flat = data;
   std::fill(flat.temperature.begin(), flat.temperature.end(), 30.0);
-  const DriveDiagnosis d1 = diagnoseDrive(m, "j1", flat, {});
+  const ArmDiagnosis d1 = driveFit(m, "j1", flat, false).d;
   DriveData none = data;
   none.temperature.clear();
-  const DriveDiagnosis d2 = diagnoseDrive(m, "j1", none, {});
-  for (const Candidate& c : d1.ranking)
-    if (c.effect == Effect::Temperature) {
+  const ArmDiagnosis d2 = driveFit(m, "j1", none, false).d;
+  bool ranked = false;
+  for (const ArmCandidate& c : d1.ranking)
+    if (c.name == "temperature") {
+      ranked = true;
       CHECK(c.status == "unidentifiable");
       CHECK_FALSE(c.warnings.empty());
     }
-  for (const Candidate& c : d2.ranking)
-    CHECK_FALSE(drive::isTemperatureEffect(c.effect));  // not a candidate
+  CHECK(ranked);
+  for (const ArmCandidate& c : d2.ranking) {
+    Effect e = Effect::Coulomb;
+    REQUIRE(drive::parseEffect(c.name, e));
+    CHECK_FALSE(drive::isTemperatureEffect(e));  // not a candidate
+  }
 
   SynthOptions one;
   one.speeds_radps = {50, 100, 200, 300};
@@ -329,9 +338,9 @@ TEST_CASE(
       pos.temperature.push_back(fwd.temperature[i]);
       pos.lines.push_back(fwd.lines[i]);
     }
-  const DriveDiagnosis d3 = diagnoseDrive(m, "j1", pos, {});
-  for (const Candidate& c : d3.ranking)
-    if (c.effect == Effect::Asymmetry) {
+  const ArmDiagnosis d3 = driveFit(m, "j1", pos, false).d;
+  for (const ArmCandidate& c : d3.ranking)
+    if (c.name == "asymmetry") {
       CHECK(c.status == "unidentifiable");  // one direction only: same as Coulomb
       CHECK_FALSE(c.warnings.empty());
     }

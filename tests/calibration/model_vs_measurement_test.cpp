@@ -19,6 +19,7 @@
 #include "common/errors.hpp"
 #include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
+#include "drive_fit.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "kinematics/kinematics.hpp"
@@ -464,15 +465,14 @@ TEST_CASE(
   for (int i = 0; i < data.rows(); ++i)
     data.current[i] +=
         k_b * (data.temperature[i] - theta_ref) * data.speed[i] / dr.torque_constant_NmpA;
-  DriveFitOptions o;
-  o.auto_add = true;
-  const DriveDiagnosis d = diagnoseDrive(m, "j6", data, o);
-  INFO("first " << drive::toString(d.ranking.front().effect) << ", before " << d.rmse_before
-                << ", after " << d.rmse_after);
-  CHECK(d.ranking.front().effect == drive::Effect::TemperatureViscous);
+  const drive_test::DriveFit f = drive_test::driveFit(m, "j6", data, true);
+  const ArmDiagnosis& d = f.d;
+  INFO("first " << d.ranking.front().name << ", before " << f.rmseBefore() << ", after "
+                << d.rmse_after);
+  CHECK(d.ranking.front().name == "temperature_viscous");
   CHECK(d.ranking.front().significant);
-  REQUIRE_FALSE(d.added.empty());
-  CHECK(d.added.front() == drive::Effect::TemperatureViscous);
+  REQUIRE_FALSE(f.added.empty());
+  CHECK(f.added.front() == "temperature_viscous");
   CHECK(d.rmse_after <= kNoiseRatio * noise_A);
   CHECK(d.noise_estimate == Approx(noise_A).epsilon(0.2));
   double fitted = 0;
@@ -482,7 +482,7 @@ TEST_CASE(
   // The calibrated design copy, read back and evaluated through src/drive, reproduces the fit.
   std::vector<std::string> notes;
   const Model cal =
-      parseDesign(calibratedDesign(m, *d.problem, d.arm.final_fit.values, notes).toml, "cal.toml");
+      parseDesign(calibratedDesign(m, *f.problem, d.final_fit.values, notes).toml, "cal.toml");
   const Drive& cd = requireDrive(cal, "j6");
   const auto fp = drive::frictionParams(cal, cd);
   for (int i = 0; i < data.rows(); i += 29)
@@ -510,13 +510,12 @@ TEST_CASE("the verdict names every effect --auto added (tcp and drive)") {
     so.noise_A = 0.01;
     so.seed = 55;
     so.hidden = {{drive::Effect::Stribeck, {}}, {drive::Effect::Asymmetry, {}}};
-    DriveFitOptions o;
-    o.auto_add = true;
-    const DriveDiagnosis d = diagnoseDrive(m, "j6", synthesizeDrive(m, "j6", so), o);
-    REQUIRE(d.added.size() == 2);
+    const drive_test::DriveFit f =
+        drive_test::driveFit(m, "j6", synthesizeDrive(m, "j6", so), true);
+    const ArmDiagnosis& d = f.d;
+    REQUIRE(f.added.size() == 2);
     INFO(d.verdict);
-    CHECK(d.verdict == std::string("missing effects: ") + drive::toString(d.added[0]) + ", " +
-                           drive::toString(d.added[1]));
+    CHECK(d.verdict == "missing effects: " + f.added[0] + ", " + f.added[1]);
     CHECK(d.verdict.find("stribeck") != std::string::npos);
     CHECK(d.verdict.find("asymmetry") != std::string::npos);
   }

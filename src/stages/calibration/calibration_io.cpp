@@ -310,43 +310,35 @@ FitKeys readFitKeys(TableReader& r, bool fit) {
   return k;
 }
 
-// The drive kind's keys.
-void readDriveKeys(TableReader& r, const Model& model, const FitKeys& fit, CalibrationEntry& e) {
-  e.joint = r.string("drive");
-  if (model.jointIndex(e.joint) < 0)
-    r.fail("drive", "design '" + model.name + "' has no joint '" + e.joint + "'");
+// The drive kind's keys: the measured drive's joint and the residual grid's bins.
+void readDriveKeys(TableReader& r, const Model& model, CalibrationEntry& e) {
+  ProblemOptions& p = e.problem;
+  p.joint = r.string("drive");
+  if (model.jointIndex(p.joint) < 0)
+    r.fail("drive", "design '" + model.name + "' has no joint '" + p.joint + "'");
   bool has_drive = false;
-  for (const Drive& d : model.drives) has_drive = has_drive || d.joint == e.joint;
+  for (const Drive& d : model.drives) has_drive = has_drive || d.joint == p.joint;
   if (!has_drive)
-    r.fail("drive", "design '" + model.name + "' has no [[drive]] for joint '" + e.joint + "'");
+    r.fail("drive", "design '" + model.name + "' has no [[drive]] for joint '" + p.joint + "'");
   for (const char* k : {"variable_bins", "workspace_bins"})
     rejectKey(r, k, std::string("'") + k + "' belongs to the tcp and trajectory kinds");
-  DriveFitOptions& o = e.drive_options;
-  o.folds = fit.folds;
-  o.seed = fit.seed;
-  o.auto_add = fit.auto_add;
-  o.speed_bins = readCount(r, "speed_bins", o.speed_bins, 1, defaults::kMaxResidualBins);
-  o.load_bins = readCount(r, "load_bins", o.load_bins, 1, defaults::kMaxResidualBins);
-  for (const std::string& n : fit.add)
-    o.add.push_back(parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add")));
-  ARMSTUDY_CHECK(o.validate().empty(), "calibration drive options were checked one by one");
+  p.speed_bins = readCount(r, "speed_bins", p.speed_bins, 1, defaults::kMaxResidualBins);
+  p.load_bins = readCount(r, "load_bins", p.load_bins, 1, defaults::kMaxResidualBins);
+  for (const std::string& n : e.options.add)
+    parseDriveEffect(n, r.file(), r.line("add"), r.keyPath("add"));
 }
 
-// The tcp and trajectory kinds' keys.
-void readArmKeys(TableReader& r, const FitKeys& fit, CalibrationEntry& e) {
+// The keys of the kinds that use every joint: the residual map's bins.
+void readArmKeys(TableReader& r, CalibrationEntry& e) {
   rejectKey(r, "drive",
-            "'drive' belongs to kind = \"drive\"; the " + e.kind + " kind uses every joint");
+            "'drive' belongs to kind = \"drive\"; the " + std::string(e.kind->name()) +
+                " kind uses every joint");
   for (const char* k : {"speed_bins", "load_bins"})
     rejectKey(r, k, std::string("'") + k + "' belongs to the drive kind");
-  ArmFitOptions& o = e.arm_options;
-  o.folds = fit.folds;
-  o.seed = fit.seed;
-  o.auto_add = fit.auto_add;
-  o.add = fit.add;
+  ArmFitOptions& o = e.options;
   o.variable_bins = readCount(r, "variable_bins", o.variable_bins, 1, defaults::kMaxResidualBins);
   o.workspace_bins =
       readCount(r, "workspace_bins", o.workspace_bins, 1, defaults::kMaxResidualBins);
-  ARMSTUDY_CHECK(o.validate().empty(), "calibration arm options were checked one by one");
 }
 
 // Where the measurements come from: [calibration.measured] logs (returned) or a data file.
@@ -354,7 +346,7 @@ std::optional<JointLogSpec> readDataSource(TableReader& r, const fs::path& dir,
                                            CalibrationEntry& e) {
   std::optional<JointLogSpec> log;
   if (r.has("measured")) {
-    if (e.kind != "trajectory")
+    if (!e.kind->readsJointLogs())
       r.fail("measured", "[calibration.measured] belongs to kind = \"trajectory\"");
     if (r.has("data"))
       r.fail("data", "give either data (a trajectory CSV) or [calibration.measured] (logs)");
@@ -373,35 +365,28 @@ std::optional<JointLogSpec> readDataSource(TableReader& r, const fs::path& dir,
   return log;
 }
 
-// The data (InputErrors name the data file, line and column), then the effect names of the arm
-// kinds, whose catalogue depends on the design and the data.
+// The data (InputErrors name the data file, line and column), then the effect names of the kinds
+// whose catalogue depends on the design and the data.
 void loadEntryData(TableReader& r, const Model& model, const std::optional<JointLogSpec>& log,
-                   const std::vector<std::string>& add, CalibrationEntry& e) {
-  if (e.kind == "drive") {
-    e.drive_data = std::make_shared<const DriveData>(readDriveData(e.data_file));
+                   CalibrationEntry& e) {
+  if (log) {
+    e.data = trajectoryKindData(readJointLog(*log, model));
+    e.log = std::make_shared<const JointLogSpec>(*log);
   } else {
-    if (log) {
-      e.arm_data.kind = e.kind;
-      e.arm_data.trajectory = std::make_shared<const TrajectoryData>(readJointLog(*log, model));
-      e.log = std::make_shared<const JointLogSpec>(*log);
-    } else {
-      e.arm_data = readArmData(e.kind, e.data_file, model);
-    }
-    if (!add.empty() || !e.reference.values.empty()) {
-      const auto P = makeArmProblem(model, e.arm_data);
-      for (const std::string& n : add)
-        if (P->findEffect(n) < 0) {
-          std::string names;
-          for (const ArmEffect& c : P->catalogue) names += (names.empty() ? "" : ", ") + c.name;
-          r.fail("add",
-                 "unknown effect '" + n + "' for this design and data (candidates: " + names + ")");
-        }
-      for (const auto& [key, v] : e.reference.values)
-        if (P->findEffect(key) < 0)
-          throw InputError(r.file(), e.reference.line, key,
-                           "reference value for '" + key +
-                               "', which is no candidate effect of this design and data");
-    }
+    e.data = e.kind->read(e.data_file, model, e.problem);
+  }
+  if (e.kind->measuresOneDrive()) return;  // its effect names were checked with the keys
+  if (!e.options.add.empty() || !e.reference.values.empty()) {
+    const auto P = e.kind->problem(model, e.data, e.problem);
+    for (const std::string& n : e.options.add)
+      if (P->findEffect(n) < 0)
+        r.fail("add", "unknown effect '" + n +
+                          "' for this design and data (candidates: " + P->effectNames() + ")");
+    for (const auto& [key, v] : e.reference.values)
+      if (P->findEffect(key) < 0)
+        throw InputError(r.file(), e.reference.line, key,
+                         "reference value for '" + key +
+                             "', which is no candidate effect of this design and data");
   }
 }
 
@@ -412,9 +397,9 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir,
   if (!validName(e.name))
     r.fail("name",
            "calibration names use letters, digits, '_' and '-' only (they name the output folder)");
-  e.kind = r.string("kind");
-  if (!isKind(e.kind))
-    r.fail("kind", "unknown kind '" + e.kind + "' (expected drive, tcp or trajectory)");
+  const std::string kind = r.string("kind");
+  e.kind = findKind(kind);
+  if (!e.kind) r.fail("kind", "unknown kind '" + kind + "' (expected " + kindNames(" or ") + ")");
   e.design = r.string("design");
   const Model* model = nullptr;
   for (const Model* m : designs)
@@ -430,13 +415,18 @@ CalibrationEntry readEntry(TableReader& r, const fs::path& dir,
     r.fail("mode", "unknown mode '" + mode + "' (expected fit or compare)");
   e.fit = mode == "fit";
   const FitKeys fit = readFitKeys(r, e.fit);
-  if (e.kind == "drive")
-    readDriveKeys(r, *model, fit, e);
+  e.options.folds = fit.folds;
+  e.options.seed = fit.seed;
+  e.options.auto_add = fit.auto_add;
+  e.options.add = fit.add;
+  if (e.kind->measuresOneDrive())
+    readDriveKeys(r, *model, e);
   else
-    readArmKeys(r, fit, e);
+    readArmKeys(r, e);
+  ARMSTUDY_CHECK(e.options.validate().empty(), "calibration options were checked one by one");
   const std::optional<JointLogSpec> log = readDataSource(r, dir, e);
   r.finish();
-  loadEntryData(r, *model, log, fit.add, e);
+  loadEntryData(r, *model, log, e);
   return e;
 }
 

@@ -16,7 +16,6 @@
 #include <tuple>
 
 #include "calibration/arm_view.hpp"
-#include "calibration/drive_report.hpp"
 #include "calibration/identification_report.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
@@ -68,84 +67,40 @@ struct Work {
   Model model;               // the design as evaluated (variants: file = the written variant text)
   std::string variant_text;  // variants only
   std::string folder;        // <output>/calibration/<name>
-  std::optional<DriveDiagnosis> drive;
   std::unique_ptr<ArmProblem> problem;
-  std::optional<ArmDiagnosis> arm;
+  std::optional<ArmDiagnosis> diagnosis;
 };
 
 // Phase 1 (no files): the diagnosis. InputErrors the loader could not foresee (too few rows for
 // the model's parameters) surface here, before anything of the stage is written.
 void diagnose(Work& w) {
   const CalibrationEntry& e = *w.entry;
-  if (e.kind == "drive") {
-    w.drive = e.fit ? diagnoseDrive(w.model, e.joint, *e.drive_data, e.drive_options)
-                    : compareDrive(w.model, e.joint, *e.drive_data, e.drive_options);
-    return;
-  }
-  w.problem = makeArmProblem(w.model, e.arm_data);
-  w.arm = e.fit ? diagnoseArm(*w.problem, e.arm_options) : compareArm(*w.problem, e.arm_options);
+  w.problem = e.kind->problem(w.model, e.data, e.problem);
+  w.diagnosis = e.fit ? diagnoseArm(*w.problem, e.options) : compareArm(*w.problem, e.options);
 }
 
 std::string relativeTo(const std::string& path, const std::string& root) {
   return fs::path(path).lexically_relative(fs::path(root)).generic_string();
 }
 
-// The files and summary of a drive entry; returns the calibrated design's path (empty: none).
-std::string writeDriveEntry(const Work& w, const std::string& cal_dir, EntrySummary& s) {
-  const CalibrationEntry& e = *w.entry;
-  std::string cal_path;
-  const DriveDiagnosis& d = *w.drive;
-  DriveReportOptions ro;
-  ro.out_dir = w.folder;
-  ro.command = s.mode;
-  ro.write_calibrated_design = e.fit;
-  ro.lock = false;  // the study's output folder is locked
-  const DriveReportSummary rs = writeDriveReport(d, w.model, *e.drive_data, ro);
-  s.unit = "A";
-  s.noise_estimate = d.noise_estimate;
-  s.as_designed_rmse = d.as_designed_cmp.current.rmse;
-  s.as_designed_flagged = d.as_designed_cmp.map.flagged();
-  s.bins = static_cast<int>(d.as_designed_cmp.map.bins.size());
-  for (const ModelFit& m : d.ladder)
-    s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
-  for (const EffectInfo& info : driveEffectCatalogue()) {
-    s.catalogue.push_back(info.name);
+// Per effect the kind's summary lists: whether it was significant in the first ranking.
+std::vector<std::uint8_t> significantFlags(const std::vector<std::string>& effects,
+                                           const ArmDiagnosis& d) {
+  std::vector<std::uint8_t> flags;
+  for (const std::string& name : effects) {
     bool sig = false;
-    for (const Candidate& c : d.ranking) sig = sig || (c.effect == info.effect && c.significant);
-    s.significant.push_back(sig ? 1 : 0);
+    for (const ArmCandidate& c : d.ranking) sig = sig || (c.name == name && c.significant);
+    flags.push_back(sig ? 1 : 0);
   }
-  for (drive::Effect x : d.added) s.added.push_back(drive::toString(x));
-  s.warnings = d.warnings;
-  if (e.fit) {
-    s.verdict = d.verdict;
-    s.rmse_before = d.rmse_before;
-    s.rmse_after = d.rmse_after;
-    s.final_params = d.final_fit.params;
-    cal_path = rs.calibrated_design_path;
-    if (const std::string why = noCalibratedDesign(d.arm); !why.empty()) s.notes.push_back(why);
-  }
-  if (e.fit && !cal_path.empty()) {
-    // The calibrated copy as written, read back and compared with the same data.
-    const Model cal = loadDesign(cal_path);
-    const DriveDiagnosis c = compareDrive(cal, e.joint, *e.drive_data, e.drive_options);
-    DriveReportOptions co;
-    co.out_dir = cal_dir;
-    co.command = "compare";
-    co.lock = false;
-    co.shown = ShownDesign::calibrated_copy;
-    writeDriveReport(c, cal, *e.drive_data, co);
-    s.calibrated_rmse = c.as_designed_cmp.current.rmse;
-    s.calibrated_flagged = c.as_designed_cmp.map.flagged();
-  }
-  if (!e.fit) s.verdict = "compare only";
-  return cal_path;
+  return flags;
 }
 
-// The files and summary of an arm entry; returns the calibrated design's path (empty: none).
-std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummary& s) {
+// The files and summary of an entry; returns the calibrated design's path (empty: none).
+std::string writeEntryFiles(const Work& w, const std::string& cal_dir, EntrySummary& s) {
   const CalibrationEntry& e = *w.entry;
+  const Kind& kind = *e.kind;
   std::string cal_path;
-  const ArmDiagnosis& d = *w.arm;
+  const ArmDiagnosis& d = *w.diagnosis;
   const ArmProblem& P = *w.problem;
   if (e.fit) {
     std::vector<std::pair<std::string, std::string>> extra;
@@ -153,8 +108,7 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
       IdentificationInput in;
       in.reference_source = e.reference.source;
       in.reference = e.reference.values;
-      const IdentificationReport ir =
-          identificationReport(d, P, w.model, *e.arm_data.trajectory, in);
+      const IdentificationReport ir = identificationReport(d, P, w.model, *e.data.trajectory, in);
       extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
       s.extra_metrics = ir.metrics;
       s.answers = ir.answer;
@@ -167,35 +121,31 @@ std::string writeArmEntry(const Work& w, const std::string& cal_dir, EntrySummar
   }
   s.unit = P.fit_unit;
   s.noise_estimate = d.noise_estimate;
-  s.as_designed_rmse = d.as_designed.train_rmse;
+  s.as_designed_rmse = kind.summaryRmse(d.as_designed);
   s.as_designed_flagged = d.as_designed_map.flagged();
   s.bins = static_cast<int>(d.as_designed_map.bins.size());
   for (const ArmFit& m : d.ladder)
     s.ladder.push_back({m.label, m.n_params, m.train_rmse, m.heldout_rmse});
-  for (std::size_t k = 0; k < P.catalogue.size(); ++k) {
-    s.catalogue.push_back(P.catalogue[k].name);
-    bool sig = false;
-    for (const ArmCandidate& c : d.ranking)
-      sig = sig || (c.effect == static_cast<int>(k) && c.significant);
-    s.significant.push_back(sig ? 1 : 0);
-  }
-  s.added = d.added;
+  s.catalogue = kind.summaryEffects(P);
+  s.significant = significantFlags(s.catalogue, d);
+  s.added = addedAfterBase(d, P);
   s.warnings = d.warnings;
   s.view = residualViewClouds(d, P, w.model, e.name);
-  for (const ArmRemainder& r : d.remainders) s.remainders.push_back(r.text());
+  if (kind.remaindersWarn())
+    for (const ArmRemainder& r : d.remainders) s.remainders.push_back(r.text());
   s.verdict = e.fit ? d.verdict : "compare only";
   if (e.fit) {
-    s.rmse_before = d.rmse_before;
+    s.rmse_before = baseFit(d, P).heldout_rmse;
     s.rmse_after = d.rmse_after;
     s.final_params = d.final_fit.params;
   }
   if (e.fit && !cal_path.empty()) {
     const Model cal = loadDesign(cal_path);
-    const auto Pc = makeArmProblem(cal, e.arm_data);
-    const ArmDiagnosis c = compareArm(*Pc, e.arm_options);
+    const auto Pc = kind.problem(cal, e.data, e.problem);
+    const ArmDiagnosis c = compareArm(*Pc, e.options);
     writeArmReport(
         c, *Pc, ArmReportOptions{cal_dir, "compare", {}, false, ShownDesign::calibrated_copy}, "");
-    s.calibrated_rmse = c.as_designed.train_rmse;
+    s.calibrated_rmse = kind.summaryRmse(c.as_designed);
     s.calibrated_flagged = c.as_designed_map.flagged();
   }
   return cal_path;
@@ -207,11 +157,11 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
   const CalibrationEntry& e = *w.entry;
   EntrySummary s;
   s.name = e.name;
-  s.kind = e.kind;
+  s.kind = e.kind->name();
   s.design = e.design;
   s.data_file = e.data_file;
   s.data_hash = e.dataHash();
-  s.joint = e.joint;
+  s.joint = e.problem.joint;
   s.mode = e.fit ? "fit" : "compare";
   s.rmse_before = s.rmse_after = s.calibrated_rmse = std::nan("");
   // A fresh folder: history.csv is appended to by the reports, so a leftover of an interrupted
@@ -221,8 +171,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
   if (!w.variant_text.empty()) writeFileAtomic(w.model.file, w.variant_text);
   const std::string cal_dir = w.folder + "/calibrated";
 
-  const std::string cal_path =
-      w.drive ? writeDriveEntry(w, cal_dir, s) : writeArmEntry(w, cal_dir, s);
+  const std::string cal_path = writeEntryFiles(w, cal_dir, s);
   if (!cal_path.empty()) s.calibrated_design = relativeTo(cal_path, w.folder);
 
   // Every file of the entry folder, sorted (the reports list theirs in different forms).

@@ -55,18 +55,16 @@ struct ReferenceValues {
 
 struct CalibrationEntry {
   std::string name;
-  std::string kind;                             // drive | tcp | trajectory
-  std::string design;                           // model name of a study design or variant
-  std::string data_file;                        // resolved path of the data CSV
-  std::string joint;                            // drive kind: the measured drive's joint
-  bool fit = true;                              // false: compare only
-  DriveFitOptions drive_options;                // drive kind
-  ArmFitOptions arm_options;                    // tcp and trajectory kinds
-  std::shared_ptr<const DriveData> drive_data;  // drive kind, read when the study loads
-  ArmData arm_data;                             // tcp and trajectory kinds
-  std::shared_ptr<const JointLogSpec> log;      // trajectory data from [calibration.measured]
+  const Kind* kind = nullptr;               // parsed from the entry's kind key
+  std::string design;                       // model name of a study design or variant
+  std::string data_file;                    // resolved path of the data CSV
+  bool fit = true;                          // false: compare only
+  ProblemOptions problem;                   // the drive kind: joint, speed_bins, load_bins
+  ArmFitOptions options;                    // folds, seed, auto, add; tcp/trajectory: bins
+  KindData data;                            // read when the study loads
+  std::shared_ptr<const JointLogSpec> log;  // trajectory data from [calibration.measured]
   ReferenceValues reference;
-  const std::string& dataHash() const { return drive_data ? drive_data->hash : arm_data.hash(); }
+  const std::string& dataHash() const { return data.hash(); }
 };
 
 // Reads every [[calibration]] entry of a study (none when absent); the study folder resolves the
