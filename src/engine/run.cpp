@@ -306,9 +306,11 @@ struct StudyRun {
 
   // Evaluation stages, in registry order; the study holds a section for each stage it runs.
   void runStages(const RunOptions& stage_options, const TimedUnitRunner& units) {
+    // The other processes of a distributed run write into their scratch folder, which is removed,
+    // and keep their warnings to themselves: the study's files and warnings come from rank 0.
     const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-    const StageContext ctx{study,       stage_options, stage_dir,     units,
-                           sum.threads, root,          sum.output_dir};
+    StageContext ctx{study, stage_options, stage_dir, units, sum.threads, sum.output_dir};
+    if (!root) ctx.warnings = [](const std::string&) {};
     try {
       for (const StudySection& section : study.sections) {
         if (options.cancelled && !ranks.distributed() && options.cancelled()) throw RunCancelled();

@@ -18,6 +18,13 @@
 
 namespace armstudy {
 
+void StageContext::warn(const std::string& text) const {
+  if (warnings)
+    warnings(text);
+  else
+    std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
+}
+
 bool readSectionTable(const SectionInput& in, const std::string& key,
                       const std::function<void(io::TableReader&)>& parse) {
   const toml::table* t = in.top.table(key);

@@ -103,21 +103,29 @@ struct StageResult {
   std::map<std::string, double> scale_tops;
 };
 
-// What a stage gets to run: the study, the options, where to write, the unit runner.
+// What a stage gets to run: the study, the options, where to write, the unit runner. Where the
+// stage's files and warnings end up is the runner's business: the stage writes every file into
+// output_dir and says every warning through warn(), and the runner decides which are kept (a
+// distributed run keeps one process's, docs/distributed.md "Files").
 struct StageContext {
   const Study& study;
   const RunOptions& options;
-  const std::string& output_dir;  // <output_root>/<study name>
+  const std::string& output_dir;  // where the stage writes its files (<output_root>/<study name>)
   const UnitRunner& units;
   int threads = 1;  // resolved thread count (options.threads or the OpenMP default)
-  // False on the ranks of a distributed run other than 0, whose output folder is a private scratch
-  // folder nobody reads: a stage may list files there without writing them when it only passes on
-  // bytes that other ranks rendered (docs/distributed.md).
-  bool writes_results = true;
-  // The study's output folder, the same on every rank (empty: output_dir): files that one rank
-  // renders for all (a reach grid's pieces) are written there by that rank.
+  // The study's output folder, where a loop shared among the runner's processes
+  // (study/rendered_part.hpp) writes each piece's files from the process that renders it (empty:
+  // output_dir).
   std::string results_dir;
+  // Where warnings go: the runner's sink prints each once per run; empty: stderr.
+  std::function<void(const std::string&)> warnings;
   const std::string& resultsDir() const { return results_dir.empty() ? output_dir : results_dir; }
+  // Prints "armstudy: warning: <text>" through the runner's sink.
+  void warn(const std::string& text) const;
+  // The same run for another study (a stage's selection of the study's designs).
+  StageContext forStudy(const Study& selected) const {
+    return {selected, options, output_dir, units, threads, results_dir, warnings};
+  }
 };
 
 // What a stage's section reader gets from the study-file parser.

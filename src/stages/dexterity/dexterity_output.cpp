@@ -514,9 +514,7 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
                               std::vector<DexterityMap>* maps) {
   // The designs this stage evaluates ([dexterity] designs), in study order, with their tool axes.
   const Study selected = options.designs.select(all_ctx.study);
-  const StageContext ctx{
-      selected,        all_ctx.options,        all_ctx.output_dir,  all_ctx.units,
-      all_ctx.threads, all_ctx.writes_results, all_ctx.resultsDir()};
+  const StageContext ctx = all_ctx.forStudy(selected);
   const auto t0 = std::chrono::steady_clock::now();
   StageResult sum;
   const std::string sub = kSub;

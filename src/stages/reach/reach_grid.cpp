@@ -4,7 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "io/vtk_io.hpp"
@@ -143,7 +142,7 @@ void warnUnreached(const GridReport& rep, const ordered_json& jdesigns, ordered_
                            "`: check the design's base placement and its units against the grid";
   md += "**Warning:** " + text + ".\n\n";
   jg["designs_reaching_nothing"] = none;
-  std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
+  rep.ctx.warn(text);
 }
 
 // The largest reach found on the grid (the farthest reachable pose from the design's base z axis)
@@ -396,10 +395,6 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
   const auto t0 = std::chrono::steady_clock::now();
   const GridPieces pieces = gridPieces(res, cfg);
   const std::vector<std::string> parts = renderGridPieces(ctx, cfg, res, pieces);
-  // A process that does not write the results is done with the grid here: what follows (the
-  // designs' summary entries, report lines and files, the comparison) only the writing process
-  // makes, and nothing in it is shared (docs/distributed.md "Files").
-  if (!ctx.writes_results) return jg;
   const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out};
   std::vector<std::vector<std::string>> rows;
   std::string images_md;

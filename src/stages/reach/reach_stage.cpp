@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -100,11 +99,7 @@ void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered
   for (const StudyDesign& sd : ctx.study.designs)
     if (sd.model.collision.empty()) jw.push_back(sd.model.name);
   jr["designs_without_collision_volumes"] = jw;
-  if (ctx.writes_results)
-    std::fprintf(stderr,
-                 "armstudy: warning: %s evaluated without self-collision and obstacles (no "
-                 "collision volumes)\n",
-                 without.c_str());
+  ctx.warn(without + " evaluated without self-collision and obstacles (no collision volumes)");
 }
 
 // The links (base and the body after each joint) of `m` that carry collision volumes.
@@ -134,7 +129,7 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
                  : std::string("self-collision is off for this design"));
     md += "**Warning:** " + w + ".\n\n";
     warnings.push_back(w);
-    if (ctx.writes_results) std::fprintf(stderr, "armstudy: warning: %s\n", w.c_str());
+    ctx.warn(w);
   }
 }
 
@@ -203,9 +198,9 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
 }
 
 // The designs evaluated, each drawn at its zero pose (reach/images/arm_<design>.svg), as a report
-// section; nothing without images or on a process that does not write the results.
+// section; nothing without images.
 std::string designDrawings(const StageContext& ctx, const ReachConfig& cfg, Writer& out) {
-  if (!cfg.outputs.images || !ctx.writes_results) return "";
+  if (!cfg.outputs.images) return "";
   std::string md = "## The designs\n\n";
   for (const StudyDesign& sd : ctx.study.designs) {
     const std::string file = report::zeroPoseFileName(sd.model.name);
@@ -288,9 +283,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   if (!cfg.enabled) return sum;
   // The designs this stage evaluates ([reach] designs), in study order, with their tool axes.
   const Study selected = StageDesigns{cfg.designs, cfg.tool_axes}.select(all_ctx.study);
-  const StageContext ctx{
-      selected,        all_ctx.options,        all_ctx.output_dir,  all_ctx.units,
-      all_ctx.threads, all_ctx.writes_results, all_ctx.resultsDir()};
+  const StageContext ctx = all_ctx.forStudy(selected);
   const Study& study = ctx.study;
   ARMSTUDY_CHECK(cfg.validate().empty(), cfg.validate());
   Writer out(ctx.output_dir);
@@ -318,10 +311,6 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   for (const PoseList& l : cfg.pose_lists)
     jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
   jr["pose_lists"] = jlists;
-  if (!ctx.writes_results) {  // its summary and report nobody reads
-    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return sum;
-  }
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   reachAnswer(jr, sum.answer, sum.warnings);
   jointLimitAssumptions(study, jr, sum.assumptions);
