@@ -99,15 +99,14 @@ void addApproachCommand(CLI::App* cmd, Action& action) {
       return 3;
     }
     std::ostringstream os;
-    os.precision(12);
     os << "t,s,x,y,z,alpha,beta,gamma,xd,yd,zd,alphad,betad,gammad,xdd,ydd,zdd,alphadd,betadd,"
           "gammadd\n";
     const long steps = std::lround(a->opt.duration_s * a->rate_hz);
     for (long k = 0; k <= steps; ++k) {
       const TaskSample w = tr.sample(std::min(a->opt.duration_s, k / a->rate_hz));
-      os << w.t << ',' << w.s;
+      os << formatG(w.t, 12) << ',' << formatG(w.s, 12);
       for (const auto* v : {&w.w, &w.wd, &w.wdd})
-        for (int c = 0; c < 6; ++c) os << ',' << (*v)[c];
+        for (int c = 0; c < 6; ++c) os << ',' << formatG((*v)[c], 12);
       os << '\n';
     }
     if (a->out.empty())

@@ -7,6 +7,7 @@
 
 #include "cli/design_options.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "engine/run.hpp"
 #include "io/design_io.hpp"
 #include "io/urdf_arm.hpp"
@@ -15,12 +16,8 @@
 namespace armstudy::cli {
 
 static std::string fmtQ(const Joint& j, double v) {
-  char buf[64];
-  if (j.type == JointType::Revolute)
-    std::snprintf(buf, sizeof buf, "%8.1f deg", v * 180.0 / M_PI);
-  else
-    std::snprintf(buf, sizeof buf, "%8.3f m  ", v);
-  return buf;
+  if (j.type == JointType::Revolute) return padLeft(formatFixed(v * 180.0 / M_PI, 1), 8) + " deg";
+  return padLeft(formatFixed(v, 3), 8) + " m  ";
 }
 
 static std::string joined(const std::vector<std::string>& v) {

@@ -25,6 +25,7 @@
 #include "collision/distance.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::collision {
 
@@ -260,13 +261,11 @@ std::string meshVertexProblem(const std::vector<Vector3d>& points, double max_ab
     const Vector3d& p = points[k];
     const bool finite = p.allFinite();
     if (finite && p.cwiseAbs().maxCoeff() <= max_abs_m) continue;
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "point %zu of %zu at (%.6g, %.6g, %.6g) m %s %.0e m", k + 1,
-                  points.size(), p.x(), p.y(), p.z(),
-                  finite ? "is not plausible: each coordinate must be at most"
-                         : "is not finite (NaN or Inf); each coordinate must be at most",
-                  max_abs_m);
-    return buf;
+    return "point " + std::to_string(k + 1) + " of " + std::to_string(points.size()) + " at (" +
+           formatG(p.x(), 6) + ", " + formatG(p.y(), 6) + ", " + formatG(p.z(), 6) + ") m " +
+           (finite ? "is not plausible: each coordinate must be at most"
+                   : "is not finite (NaN or Inf); each coordinate must be at most") +
+           " " + formatScientific(max_abs_m, 0) + " m";
   }
   return "";
 }
@@ -452,14 +451,14 @@ std::string replaceLinkVolumesInDesignText(const std::string& text, const std::s
   for (const auto& l : out) os << l << "\n";
   os << "\n# [[collision]] volumes of link \"" << link << "\" fitted by `armstudy fit-ssv` to "
      << mesh_label << "\n# (every mesh vertex inside; docs/collision.md).\n";
-  os.precision(17);
   int idx = 0;
   for (const auto& v : volumes) {
     os << "\n[[collision]]\nlink = \"" << link << "\"\nname = \"fitted_" << idx++ << "\"\ntype = \""
        << toString(v.type) << "\"\npoints = [";
     for (int i = 0; i < static_cast<int>(v.type); ++i)
-      os << (i ? ", " : "") << "[" << v.p[i].x() << ", " << v.p[i].y() << ", " << v.p[i].z() << "]";
-    os << "]\nradius = " << v.radius_m << "\n";
+      os << (i ? ", " : "") << "[" << formatRoundTrip(v.p[i].x()) << ", "
+         << formatRoundTrip(v.p[i].y()) << ", " << formatRoundTrip(v.p[i].z()) << "]";
+    os << "]\nradius = " << formatRoundTrip(v.radius_m) << "\n";
   }
   return os.str();
 }

@@ -2,11 +2,11 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <regex>
 #include <set>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 #include "io/units.hpp"
 
@@ -169,13 +169,11 @@ std::string formatCsv(const std::vector<std::string>& header,
   }
   out += "\n";
   const std::size_t n = columns.empty() ? 0 : columns[0].size();
-  char buf[64];
   for (std::size_t r = 0; r < n; ++r) {
     for (std::size_t i = 0; i < columns.size(); ++i) {
       ARMSTUDY_CHECK(columns[i].size() == n, "columns of equal length");
-      std::snprintf(buf, sizeof buf, "%.17g", columns[i][r]);
       out += i ? "," : "";
-      out += std::string(buf);
+      out += formatRoundTrip(columns[i][r]);
     }
     out += "\n";
   }

@@ -1,8 +1,8 @@
 // The design TOML writer (designToToml, io/urdf_io.hpp): every value of a Model at full
 // round-trip precision, so that the text read back is the same Model.
-#include <cstdio>
 #include <sstream>
 
+#include "common/format.hpp"
 #include "io/design_keys.hpp"
 #include "io/urdf_io.hpp"
 #include "model/model_notes.hpp"
@@ -11,9 +11,7 @@ namespace armstudy {
 
 namespace {
 std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  std::string s(buf);
+  std::string s = formatRoundTrip(v);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // TOML float, not integer
   return s;
 }

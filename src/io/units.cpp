@@ -2,11 +2,11 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "common/defaults.hpp"
 #include "common/enum_names.hpp"
+#include "common/format.hpp"
 
 namespace armstudy {
 
@@ -225,20 +225,17 @@ std::string implausible(double value_si, const Dimension* dim) {
   if (!std::isfinite(value_si)) return "value is not finite (NaN or Inf)";
   const double limit = dim ? plausibleMagnitude(*dim) : kMaxPlainNumber;
   if (std::abs(value_si) <= limit) return {};
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "value %.6g is not plausible: |value| must be at most %.0e%s",
-                value_si, limit, dim ? (std::string(" (SI, ") + toString(*dim) + ")").c_str() : "");
-  return buf;
+  return "value " + formatG(value_si, 6) + " is not plausible: |value| must be at most " +
+         formatScientific(limit, 0) + (dim ? std::string(" (SI, ") + toString(*dim) + ")" : "");
 }
 
 std::string implausibleWeight(double w, bool zero_allowed) {
   if (!std::isfinite(w)) return "value is not finite (NaN or Inf)";
   if ((zero_allowed && w == 0) || (w >= defaults::kMinWeight && w <= defaults::kMaxWeight))
     return {};
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%.6g is not a plausible weight or gain: it lies in [%g, %g]%s", w,
-                defaults::kMinWeight, defaults::kMaxWeight, zero_allowed ? " or is 0" : "");
-  return buf;
+  return formatG(w, 6) + " is not a plausible weight or gain: it lies in [" +
+         formatG(defaults::kMinWeight, 6) + ", " + formatG(defaults::kMaxWeight, 6) + "]" +
+         (zero_allowed ? " or is 0" : "");
 }
 
 }  // namespace armstudy

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -18,6 +17,7 @@
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
 #include "common/escape.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 #include "io/urdf_io.hpp"
 #include "kinematics/kinematics.hpp"
@@ -40,23 +40,21 @@ Isometry3d rotation(const Matrix3d& R) {
   return T;
 }
 
-std::string fmt(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
+std::string vec(const Vector3d& v) {
+  return formatRoundTrip(v.x()) + " " + formatRoundTrip(v.y()) + " " + formatRoundTrip(v.z());
 }
-std::string vec(const Vector3d& v) { return fmt(v.x()) + " " + fmt(v.y()) + " " + fmt(v.z()); }
 std::string origin(const Isometry3d& T) {
   const Vector3d ypr = T.linear().eulerAngles(2, 1, 0);  // R = Rz(yaw) Ry(pitch) Rx(roll)
-  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + fmt(ypr[2]) + " " + fmt(ypr[1]) +
-         " " + fmt(ypr[0]) + "\"/>";
+  return "<origin xyz=\"" + vec(T.translation()) + "\" rpy=\"" + formatRoundTrip(ypr[2]) + " " +
+         formatRoundTrip(ypr[1]) + " " + formatRoundTrip(ypr[0]) + "\"/>";
 }
 std::string inertial(double mass, const Vector3d& c, const Matrix3d& I) {
   return "    <inertial>\n      <origin xyz=\"" + vec(c) +
-         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + fmt(mass) + "\"/>\n      <inertia ixx=\"" +
-         fmt(I(0, 0)) + "\" ixy=\"" + fmt(I(0, 1)) + "\" ixz=\"" + fmt(I(0, 2)) + "\" iyy=\"" +
-         fmt(I(1, 1)) + "\" iyz=\"" + fmt(I(1, 2)) + "\" izz=\"" + fmt(I(2, 2)) +
-         "\"/>\n    </inertial>\n";
+         "\" rpy=\"0 0 0\"/>\n      <mass value=\"" + formatRoundTrip(mass) +
+         "\"/>\n      <inertia ixx=\"" + formatRoundTrip(I(0, 0)) + "\" ixy=\"" +
+         formatRoundTrip(I(0, 1)) + "\" ixz=\"" + formatRoundTrip(I(0, 2)) + "\" iyy=\"" +
+         formatRoundTrip(I(1, 1)) + "\" iyz=\"" + formatRoundTrip(I(1, 2)) + "\" izz=\"" +
+         formatRoundTrip(I(2, 2)) + "\"/>\n    </inertial>\n";
 }
 }  // namespace
 
@@ -110,11 +108,13 @@ std::string exportUrdf(const Model& m, const UrdfInfo& info) {
       << "\n    <axis xyz=\"" << (R_FL[i + 1].isIdentity(0) ? "0 0 1" : vec(axis))
       << "\"/>\n    <limit";
     if (!ji.continuous)
-      o << " lower=\"" << fmt(j.limits.q_min) << "\" upper=\"" << fmt(j.limits.q_max) << "\"";
-    o << " effort=\"" << fmt(ji.effort_max) << "\" velocity=\"" << fmt(j.limits.qd_max) << "\"/>\n";
+      o << " lower=\"" << formatRoundTrip(j.limits.q_min) << "\" upper=\""
+        << formatRoundTrip(j.limits.q_max) << "\"";
+    o << " effort=\"" << formatRoundTrip(ji.effort_max) << "\" velocity=\""
+      << formatRoundTrip(j.limits.qd_max) << "\"/>\n";
     if (j.dynamics.coulomb != 0 || j.dynamics.viscous != 0)
-      o << "    <dynamics damping=\"" << fmt(j.dynamics.viscous) << "\" friction=\""
-        << fmt(j.dynamics.coulomb) << "\"/>\n";
+      o << "    <dynamics damping=\"" << formatRoundTrip(j.dynamics.viscous) << "\" friction=\""
+        << formatRoundTrip(j.dynamics.coulomb) << "\"/>\n";
     o << "  </joint>\n";
     o << "  <link name=\"" << xmlEscape(links[i]) << "\">\n";
     if (!m.inertias.empty() && m.inertias[i].given) {

@@ -21,6 +21,7 @@
 #include "collision/collision.hpp"
 #include "collision/ssv_fit.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 #include "io/units.hpp"
 #include "io/urdf_arm.hpp"
@@ -301,12 +302,10 @@ struct UrdfImport {
       J.limits.q_min = j.limits->lower;
       J.limits.q_max = j.limits->upper;
       if (!(J.limits.q_min < J.limits.q_max)) {
-        char range[96];
-        std::snprintf(range, sizeof range, "lower = %g, upper = %g", J.limits.q_min,
-                      J.limits.q_max);
-        char swapped[96];
-        std::snprintf(swapped, sizeof swapped, "lower=\"%g\" upper=\"%g\"", J.limits.q_max,
-                      J.limits.q_min);
+        const std::string range =
+            "lower = " + formatG(J.limits.q_min, 6) + ", upper = " + formatG(J.limits.q_max, 6);
+        const std::string swapped = "lower=\"" + formatG(J.limits.q_max, 6) + "\" upper=\"" +
+                                    formatG(J.limits.q_min, 6) + "\"";
         const std::string fix =
             J.limits.q_min > J.limits.q_max
                 ? "the bounds are swapped: write " + std::string(swapped)
@@ -361,8 +360,7 @@ struct UrdfImport {
       masses[b].push_back({o.link, T_FC * o.T_CL});
       std::string held;
       for (const auto& h : o.held) held += (held.empty() ? "" : ", ") + h;
-      char kg[32];
-      std::snprintf(kg, sizeof kg, "%.4g kg", o.link->inertial->mass);
+      const std::string kg = formatG(o.link->inertial->mass, 4) + " kg";
       notes::add(m, notes::kLumped,
                  "'" + o.link->name + "' (" + kg + ") onto '" + o.chain_link +
                      "' (body of joint '" + m.joints[b - 1].name + "')" +

@@ -1,8 +1,8 @@
 // The tool axis of a URDF arm from its last joint (io/urdf_io.hpp, applyToolAxisFromArm).
 #include <cmath>
-#include <cstdio>
 #include <string>
 
+#include "common/format.hpp"
 #include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
 #include "model/model_notes.hpp"
@@ -12,9 +12,9 @@ namespace armstudy {
 namespace {
 
 std::string vecText(const Eigen::Vector3d& v) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "[%.4f, %.4f, %.4f]", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);
-  return buf;
+  // + 0.0 writes -0 as 0.
+  return "[" + formatFixed(v.x() + 0.0, 4) + ", " + formatFixed(v.y() + 0.0, 4) + ", " +
+         formatFixed(v.z() + 0.0, 4) + "]";
 }
 
 // The signed TCP axis nearest to the unit vector a ("y", "-z", ...) and its angle to a.
@@ -57,8 +57,7 @@ void applyToolAxisFromArm(Model& m) {
   m.finalize();
   const ArmToolAxis a = lastJointAxisInTcp(m);
   if (a.joint.empty()) return;
-  char mm[64];
-  std::snprintf(mm, sizeof mm, "%.1f mm", a.off_axis_m * 1e3);
+  const std::string mm = formatFixed(a.off_axis_m * 1e3, 1) + " mm";
   const std::string named = a.nearest_angle_rad <= defaults::kToolAxisSnap_rad
                                 ? "\"" + a.nearest + "\""
                                 : vecText(a.axis_T);
@@ -74,8 +73,7 @@ void applyToolAxisFromArm(Model& m) {
   notes::set(
       m, notes::kToolAxisFrom,
       "not taken from the arm: the TCP is " + std::string(mm) + " off the last joint's axis");
-  char deg[32];
-  std::snprintf(deg, sizeof deg, "%.1f deg", a.nearest_angle_rad * 180.0 / M_PI);
+  const std::string deg = formatFixed(a.nearest_angle_rad * 180.0 / M_PI, 1) + " deg";
   // The candidates: the TCP axis nearest the joint's axis, z (the TCP's own default), and the
   // joint's axis itself when no TCP axis is parallel to it.
   std::string candidates =

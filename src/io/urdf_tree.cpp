@@ -2,10 +2,10 @@
 // link, and the inertials of one body merged about their common COM.
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdio>
 #include <string>
 #include <vector>
 
+#include "common/format.hpp"
 #include "io/urdf_internal.hpp"
 
 namespace armstudy::urdf_detail {
@@ -48,9 +48,7 @@ std::vector<OffChainLink> offChainLinks(const urdf::ModelInterface& robot,
       const double q = heldPosition(j);
       T = toIso(j.parent_to_joint_origin_transform) * jointMotion(j, q) * T;
       if (j.type != urdf::Joint::FIXED) {
-        char buf[48];
-        std::snprintf(buf, sizeof buf, " at %g", q);
-        o.held.insert(o.held.begin(), "'" + j.name + "'" + buf);
+        o.held.insert(o.held.begin(), "'" + j.name + "' at " + formatG(q, 6));
       }
       l = robot.getLink(j.parent_link_name);
     }

@@ -19,10 +19,10 @@
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLStructuredGridWriter.h>
 
-#include <cstdio>
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 
 namespace armstudy::io {
@@ -166,10 +166,8 @@ void writePvd(const std::string& path, const std::vector<PvdStep>& steps) {
        "byte_order=\"LittleEndian\">\n"
     << "  <Collection>\n";
   for (const PvdStep& st : steps) {
-    char t[32];
-    std::snprintf(t, sizeof t, "%.9g", st.time);
-    s << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << st.file
-      << "\"/>\n";
+    s << "    <DataSet timestep=\"" << formatG(st.time, 9) << "\" group=\"\" part=\"0\" file=\""
+      << st.file << "\"/>\n";
   }
   s << "  </Collection>\n</VTKFile>\n";
   writeFileAtomic(path, s.str());

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "common/format.hpp"
 
 namespace armstudy {
 
@@ -14,9 +15,7 @@ constexpr double kZeroLength_m = 1e-12;
 Eigen::Vector3d xyz(const PoseXYZABG& p) { return {p.x, p.y, p.z}; }
 
 std::string vecText(const Eigen::Vector3d& v) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.6g, %.6g, %.6g) m", v.x(), v.y(), v.z());
-  return buf;
+  return "(" + formatG(v.x(), 6) + ", " + formatG(v.y(), 6) + ", " + formatG(v.z(), 6) + ") m";
 }
 
 // Rule of geometry_follows.hpp for the inertia about the COM (axis scales s).

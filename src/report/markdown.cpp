@@ -2,11 +2,11 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <string_view>
 
 #include "common/escape.hpp"
+#include "common/format.hpp"
 
 namespace armstudy::report {
 
@@ -83,9 +83,7 @@ std::string reportImagePath(const std::string& url, const std::string& dir) {
 
 std::string fixed(double value, int decimals) {
   if (!std::isfinite(value)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
-  return buf;
+  return formatFixed(value, decimals);
 }
 
 std::string percent(double fraction, int decimals) {
@@ -94,9 +92,7 @@ std::string percent(double fraction, int decimals) {
 
 std::string scientific(double value, int digits) {
   if (!std::isfinite(value)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, value);
-  return buf;
+  return formatG(value, digits);
 }
 
 }  // namespace armstudy::report

@@ -2,12 +2,14 @@
 
 #include <cairo-ft.h>
 #include <ft2build.h>
+
 #include FT_FREETYPE_H
 
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
 
+#include "common/format.hpp"
 #include "report/html_report.hpp"  // base64
 
 namespace armstudy::report::plot_detail {
@@ -44,9 +46,7 @@ namespace {
 
 // SVG numbers: two decimals, no trailing zeros ("12.5", "3", "-0.25").
 std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", std::abs(v) < 0.005 ? 0.0 : v);
-  std::string t = buf;
+  std::string t = formatFixed(std::abs(v) < 0.005 ? 0.0 : v, 2);
   while (t.back() == '0') t.pop_back();
   if (t.back() == '.') t.pop_back();
   return t;

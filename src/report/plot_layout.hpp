@@ -39,11 +39,7 @@ constexpr const char* kFont = "DejaVu Sans";
 
 inline std::string tickText(double v) { return formatG(v, 6); }
 
-inline std::string valueText(double v, int digits) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
+inline std::string valueText(double v, int digits) { return formatG(v, digits); }
 
 // The figures' font: DejaVu Sans read from its file (ARMSTUDY_FONT_FILE, fonts-dejavu-core) with
 // FreeType and drawn without hinting, so text is measured and drawn the same in every process,

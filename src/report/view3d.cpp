@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "common/format.hpp"
 #include "report/html_report.hpp"  // base64, htmlEscape
 #include "report/image.hpp"
 
@@ -42,11 +43,7 @@ std::string jsonString(const std::string& s) {
 }
 
 // Fixed-point text with `digits` decimals (the same bytes on every machine and run).
-std::string num(double v, int digits = 4) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
+std::string num(double v, int digits = 4) { return formatFixed(v, digits); }
 
 std::string point(const std::array<double, 3>& p) {
   return "[" + num(p[0]) + "," + num(p[1]) + "," + num(p[2]) + "]";
@@ -135,10 +132,8 @@ std::string sceneJson(const View3d& v) {
     const Rgb c = viridis(l / 254.0);
     viridis_rgb += {static_cast<char>(c.r), static_cast<char>(c.g), static_cast<char>(c.b)};
   }
-  char stride_text[32];
-  std::snprintf(stride_text, sizeof stride_text, "%ld", stride);
   return "{\"title\":" + jsonString(v.title) + ",\"value_label\":" + jsonString(v.value_label) +
-         ",\"stride\":" + stride_text + ",\"viridis\":\"" + base64(viridis_rgb) +
+         ",\"stride\":" + std::to_string(stride) + ",\"viridis\":\"" + base64(viridis_rgb) +
          "\",\"solids\":[" + solids + "],\n\"clouds\":[" + clouds + "]}";
 }
 

@@ -9,6 +9,7 @@
 
 #include "common/enum_names.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 
 namespace armstudy {
 
@@ -187,15 +188,14 @@ std::string checkTable(const CheckResult& r, bool only_moved) {
     const bool moved = row.is_flags ? row.flips > 0 : row.baseline != row.now;
     if (only_moved && !moved && row.verdict == Verdict::Pass) continue;
     ++shown;
-    char tol[64];
-    if (row.is_flags)
-      std::snprintf(tol, sizeof tol, "%d flip(s) of %d", row.flips, row.flips_allowed);
-    else
-      std::snprintf(tol, sizeof tol, "+/-%.3g%s",
-                    row.abs_tol + row.rel_tol * std::abs(row.baseline),
-                    row.rel_tol > 0 ? " (rel)" : "");
-    std::snprintf(buf, sizeof buf, "%-64s %16.9g %16.9g %22s %8s\n", row.metric.c_str(),
-                  row.baseline, row.now, tol, toString(row.verdict));
+    const std::string tol =
+        row.is_flags
+            ? std::to_string(row.flips) + " flip(s) of " + std::to_string(row.flips_allowed)
+            : "+/-" + formatG(row.abs_tol + row.rel_tol * std::abs(row.baseline), 3) +
+                  (row.rel_tol > 0 ? " (rel)" : "");
+    std::snprintf(buf, sizeof buf, "%-64s %16s %16s %22s %8s\n", row.metric.c_str(),
+                  formatG(row.baseline, 9).c_str(), formatG(row.now, 9).c_str(), tol.c_str(),
+                  toString(row.verdict));
     out += buf;
   }
   std::snprintf(buf, sizeof buf, "%zu metric(s) compared, %d shown, %d outside tolerance\n",

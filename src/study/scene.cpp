@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/format.hpp"
 #include "kinematics/kinematics.hpp"
 
 namespace armstudy::scene {
@@ -80,12 +81,6 @@ struct MeshBuilder {
   }
 };
 
-std::string fixed(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.9g", v);
-  return b;
-}
-
 }  // namespace
 
 std::vector<Eigen::Vector3d> skeletonPoints(const Model& model,
@@ -130,7 +125,7 @@ io::PolyDataSet robotPolyData(const Model& model, const Eigen::Ref<const Eigen::
   for (int i = 0; i < model.dof(); ++i)
     legend.push_back("body " + std::to_string(i) + ": link after joint " + model.joints[i].name);
   std::string qtext;
-  for (int i = 0; i < model.dof(); ++i) qtext += (i ? "," : "") + fixed(q[i]);
+  for (int i = 0; i < model.dof(); ++i) qtext += (i ? "," : "") + formatG(q[i], 9);
   poly.field_data = io::fieldData({"position: m", "part: 1", "body: 1"}, legend);
   poly.field_data.push_back({"design", {model.name}});
   poly.field_data.push_back({"q", {qtext + " (rad, m for prismatic joints)"}});
@@ -147,7 +142,7 @@ io::PolyDataSet obstaclePolyData(const std::vector<collision::Obstacle>& obstacl
     mesh.value = static_cast<double>(i);
     mesh.ssv(o.type, o.p_W, o.radius_m);
     legend.push_back("obstacle " + std::to_string(i) + ": " + o.name + " (" + toString(o.type) +
-                     ", r = " + fixed(o.radius_m) + " m)");
+                     ", r = " + formatG(o.radius_m, 9) + " m)");
   }
   poly.point_arrays = {{"obstacle", io::ArrayType::Int32, 1, index}};
   poly.field_data = io::fieldData({"position: m", "obstacle: 1"}, legend);
@@ -170,7 +165,7 @@ std::string writeMotion(Writer& out, const std::string& rel_stem, const Model& m
     char name[32];
     std::snprintf(name, sizeof name, "step_%03zu.vtp", k);
     io::PolyDataSet poly = robotPolyData(model, steps[k].q);
-    poly.field_data.push_back({"time", {fixed(steps[k].t) + " s"}});
+    poly.field_data.push_back({"time", {formatG(steps[k].t, 9) + " s"}});
     io::writeVtp(out.path(rel_stem + "/" + name), poly);
     out.add(rel_stem + "/" + name);
     pvd.push_back({steps[k].t, folder + "/" + name});

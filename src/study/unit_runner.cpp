@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <exception>
@@ -11,6 +10,7 @@
 #include <stdexcept>
 
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "io/files.hpp"
 #include "study/checkpoint.hpp"
 
@@ -27,10 +27,9 @@ void UnitTimeRecord::append(const std::vector<Line>& lines) const {
   std::ofstream f(path, std::ios::app);
   if (!f) throw std::runtime_error("cannot write the unit-time record " + path);
   if (fresh) f << "unit,seconds,cpu_seconds,threads,rank,bytes,part\n";
-  char buf[64];
   for (const Line& l : lines) {
-    std::snprintf(buf, sizeof buf, "%.6f,%.6f", l.seconds, l.cpu_seconds);
-    f << l.unit << ',' << buf << ',' << l.threads << ',' << l.rank << ',' << l.bytes << ',';
+    f << l.unit << ',' << formatFixed(l.seconds, 6) << ',' << formatFixed(l.cpu_seconds, 6) << ','
+      << l.threads << ',' << l.rank << ',' << l.bytes << ',';
     if (l.part >= 0) f << l.part;
     f << '\n';
   }

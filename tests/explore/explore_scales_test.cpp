@@ -10,9 +10,9 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <map>
-#include <regex>
 
 #include "io/files.hpp"
+#include "svg_text.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -67,21 +67,6 @@ goal = "min"
 resolution = 1
 )";
 
-// The tick labels of a map figure's colour bar: the numeric labels that share the largest left x
-// of the figure (the bar's labels stand left-aligned right of it).
-std::vector<std::string> colourBarTicks(const std::string& svg) {
-  static const std::regex text(R"re(<text x="([-0-9.]+)" y="[-0-9.]+"[^>]*>([^<]*)</text>)re");
-  static const std::regex number(R"([-+]?[0-9.]+(e[-+]?[0-9]+)?)");
-  std::map<double, std::vector<std::string>> numeric_at_x;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator();
-       ++it)
-    if (std::regex_match((*it)[2].str(), number))
-      numeric_at_x[std::stod((*it)[1])].push_back((*it)[2]);
-  for (auto it = numeric_at_x.rbegin(); it != numeric_at_x.rend(); ++it)
-    if (it->second.size() >= 2) return it->second;
-  return {};
-}
-
 }  // namespace
 
 TEST_CASE(
@@ -105,7 +90,7 @@ TEST_CASE(
       const std::string name = e.path().filename().string();
       if (name.size() > kind.size() &&
           name.compare(name.size() - kind.size(), kind.size(), kind) == 0)
-        ticks[name] = colourBarTicks(readFileOrThrow(e.path().string()));
+        ticks[name] = colourBar(readFileOrThrow(e.path().string())).ticks;
     }
     INFO(kind << ": " << ticks.size() << " front design maps");
     REQUIRE(ticks.size() >= 2);

@@ -7,10 +7,10 @@
 
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <regex>
 
 #include "io/files.hpp"
 #include "report/plot.hpp"
+#include "svg_text.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -39,14 +39,6 @@ ellipsoids = false
 // [m] the heights of the map's first and last row, and a tick value's rounding in the SVG text.
 constexpr double kFirstRow = 0.6, kLastRow = 1.2, kTickText = 1e-9;
 
-struct SvgImage {
-  double x = 0, y = 0, w = 0, h = 0;
-};
-struct SvgText {
-  double x = 0, y = 0;
-  std::string s;
-};
-
 }  // namespace
 
 TEST_CASE("a stem map of three heights is drawn tall enough, with y ticks on the heights it holds",
@@ -69,23 +61,14 @@ TEST_CASE("a stem map of three heights is drawn tall enough, with y ticks on the
     INFO(name);
     REQUIRE(fs::exists(dir / name));
     const std::string svg = readFileOrThrow((dir / name).string());
-    static const std::regex image(
-        R"re(<image x="([-0-9.]+)" y="([-0-9.]+)" width="([-0-9.]+)" height="([-0-9.]+)")re");
-    static const std::regex text(R"re(<text x="([-0-9.]+)" y="([-0-9.]+)"[^>]*>([^<]*)</text>)re");
-    static const std::regex number(R"([-+]?[0-9.]+)");
-    std::smatch m;
-    REQUIRE(std::regex_search(svg, m, image));
-    const SvgImage im{std::stod(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+    SvgImage im;
+    REQUIRE(firstSvgImage(svg, im));
     CHECK(im.w > 300);
     CHECK(im.h >= report::kMinMapHeight);
     // The y ticks: numbers left of the map, level with it.
     std::vector<SvgText> ticks;
-    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator();
-         ++it) {
-      const SvgText t{std::stod((*it)[1]), std::stod((*it)[2]), (*it)[3]};
-      if (std::regex_match(t.s, number) && t.x < im.x && t.y > im.y && t.y < im.y + im.h + 6)
-        ticks.push_back(t);
-    }
+    for (const SvgText& t : svgTexts(svg))
+      if (isSvgNumber(t.s) && t.x < im.x && t.y > im.y && t.y < im.y + im.h + 6) ticks.push_back(t);
     INFO("map " << im.w << " x " << im.h << " px; y ticks: " << ticks.size());
     REQUIRE(ticks.size() >= 2);
     for (std::size_t k = 0; k < ticks.size(); ++k) {

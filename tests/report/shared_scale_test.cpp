@@ -6,10 +6,10 @@
 
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <map>
 #include <regex>
 
 #include "io/files.hpp"
+#include "svg_text.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -45,31 +45,6 @@ task = "position_axis"
 measure_space = "translational"
 ellipsoids = false
 )";
-
-// The colour bar of a map figure: its tick labels (the numeric labels that share the largest
-// left x of the figure; the bar's labels stand left-aligned right of it) and its label.
-struct ColourBar {
-  std::vector<std::string> ticks;
-  std::string label;
-};
-ColourBar colourBar(const std::string& svg, const std::string& label_start) {
-  static const std::regex text(R"re(<text x="([-0-9.]+)" y="[-0-9.]+"[^>]*>([^<]*)</text>)re");
-  static const std::regex number(R"([-+]?[0-9.]+(e[-+]?[0-9]+)?)");
-  std::map<double, std::vector<std::string>> numeric_at_x;
-  ColourBar bar;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator();
-       ++it) {
-    const std::string t = (*it)[2];
-    if (std::regex_match(t, number)) numeric_at_x[std::stod((*it)[1])].push_back(t);
-    if (t.rfind(label_start, 0) == 0) bar.label = t;
-  }
-  for (auto it = numeric_at_x.rbegin(); it != numeric_at_x.rend(); ++it)
-    if (it->second.size() >= 2) {
-      bar.ticks = it->second;
-      break;
-    }
-  return bar;
-}
 
 }  // namespace
 

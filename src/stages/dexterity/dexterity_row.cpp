@@ -1,6 +1,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/format.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
 
 // The row around the stem (docs/dexterity.md, "The row around the stem"): the approachable share
@@ -12,23 +13,12 @@ namespace armstudy::dexterity {
 
 namespace {
 
-std::string pct(int a, int b) {
-  if (b == 0) return "-";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(1);
-  s << 100.0 * a / b << " %";
-  return s.str();
-}
+std::string pct(int a, int b) { return b == 0 ? "-" : formatFixed(100.0 * a / b, 1) + " %"; }
 
 std::string spacingLabel(double spacing_m) {
   if (spacing_m < 0) return "no stems";
   if (spacing_m == 0) return "own stem only";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(3);
-  s << spacing_m << " m";
-  return s.str();
+  return formatFixed(spacing_m, 3) + " m";
 }
 
 // One row of the table and its summary.json entry.

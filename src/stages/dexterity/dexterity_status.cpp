@@ -25,14 +25,7 @@ std::string share(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std:
 
 }  // namespace
 
-std::string fmt(double v, int prec) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v, int prec) { return std::isnan(v) ? "-" : formatFixed(v, prec); }
 
 bool inHalf(double gamma_rad, Half h) {
   constexpr double kSide = 1e-9;  // |cos gamma| below this: beside the stem, along the row
@@ -209,12 +202,13 @@ std::string writeAudit(const Model& m, const DexterityOptions& options, const De
   csv << "cell,gamma_rad,z_m,map_status,map_reachable,audit_reachable,H_map,H_audit,gap,"
          "manipulability_map,"
          "manipulability_audit,audit_solutions,audit_on_pose\n";
-  csv.precision(17);
   for (const AuditCell& r : a.rows)
-    csv << r.index << "," << r.gamma_rad << "," << r.z_m << "," << toString(r.map_status) << ","
-        << r.map_reachable << "," << r.audit_reachable << "," << r.H_map << "," << r.H_audit << ","
-        << r.gap << "," << r.manipulability_map << "," << r.manipulability_audit << ","
-        << r.solutions << "," << r.on_pose << "\n";
+    csv << r.index << "," << formatRoundTrip(r.gamma_rad) << "," << formatRoundTrip(r.z_m) << ","
+        << toString(r.map_status) << "," << r.map_reachable << "," << r.audit_reachable << ","
+        << formatRoundTrip(r.H_map) << "," << formatRoundTrip(r.H_audit) << ","
+        << formatRoundTrip(r.gap) << "," << formatRoundTrip(r.manipulability_map) << ","
+        << formatRoundTrip(r.manipulability_audit) << "," << r.solutions << "," << r.on_pose
+        << "\n";
   const std::string csv_name = m.name + "_audit.csv";
   out.text(sub + "/" + csv_name, csv.str());
   std::ostringstream md;

@@ -1,6 +1,5 @@
 // The [explore] stage run: search, Pareto front, report, front designs (explore.hpp).
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,13 +21,6 @@ namespace fs = std::filesystem;
 
 // Numbers in the report: 4 significant digits.
 std::string num(double v) { return formatG(v, 4); }
-
-// Numbers in data files: the shortest text that reads back as the same double.
-std::string exact(double v) {
-  char b[32];
-  const auto [end, ec] = std::to_chars(b, b + sizeof b, v);
-  return ec == std::errc() ? std::string(b, end) : formatG(v, 17);
-}
 
 std::string goalText(Goal g) {
   return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint";
@@ -94,8 +86,8 @@ std::string candidatesCsv(const Outcome& r) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     s << c[i].name;
     for (std::size_t p = 0; p < o.parameters.size(); ++p)
-      s << "," << (c[i].params.empty() ? "" : exact(c[i].params[p]));
-    for (double v : c[i].values) s << "," << exact(v);
+      s << "," << (c[i].params.empty() ? "" : formatShortest(c[i].params[p]));
+    for (double v : c[i].values) s << "," << formatShortest(v);
     s << "," << (c[i].feasible ? 1 : 0) << ","
       << (std::count(r.front.begin(), r.front.end(), i) ? 1 : 0) << ","
       << (i == r.base_index ? 1 : 0) << "\n";

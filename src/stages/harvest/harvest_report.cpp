@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "common/format.hpp"
 #include "io/vtk_io.hpp"
 #include "model/model_notes.hpp"
 #include "report/arm_drawing.hpp"
@@ -16,13 +17,7 @@ namespace armstudy::harvest {
 
 namespace {
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "nan";
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return std::isfinite(v) ? formatG(v, 9) : "nan"; }
 
 bool isRevolute(const Model& model, int i) { return model.joints[i].type == JointType::Revolute; }
 

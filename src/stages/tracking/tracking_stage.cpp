@@ -14,6 +14,7 @@
 
 #include "collision/collision_term.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "common/parallel_for.hpp"
 #include "io/files.hpp"
 #include "io/vtk_io.hpp"
@@ -41,12 +42,7 @@ constexpr int kMotionSteps = 31;        // robot time steps per run in the .pvd 
 
 namespace {
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string num(double v) { return std::isfinite(v) ? formatG(v, 10) : ""; }
 
 ordered_json finiteOrNull(double v) {
   return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr);
