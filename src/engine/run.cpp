@@ -205,17 +205,19 @@ std::unique_ptr<RankGroups> TimedUnitRunner::groups(const std::vector<double>& w
 }
 
 // How to open the scene (the report.html section of the scene files).
-std::string sceneReport(const Study& study) {
-  std::string md =
-      "# ParaView scene\n\n`scene.py` (beside this report) opens every spatial file of this run in "
-      "one ParaView view, in world metres (maps coloured by manipulability or status, robot and "
-      "obstacles grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` "
-      "(a picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
-      "`units` and, for enumerations, `legend` (docs/paraview.md).\n\n";
+report::Document sceneReport(const Study& study) {
+  report::Document doc;
+  doc.heading(1, "ParaView scene")
+      .paragraph(
+          "`scene.py` (beside this report) opens every spatial file of this run in one ParaView "
+          "view, in world metres (maps coloured by manipulability or status, robot and obstacles "
+          "grey): `pvpython scene.py` (a window), `pvpython scene.py --screenshot scene.png` (a "
+          "picture) or `paraview --script=scene.py`. Every file carries field data `coordinates`, "
+          "`units` and, for enumerations, `legend` (docs/paraview.md).");
   if (!study.obstacles.empty())
-    md += "`scene/obstacles.vtp`: the study's " + std::to_string(study.obstacles.size()) +
-          " obstacles as surfaces (array `obstacle`, named in the field data `legend`).\n\n";
-  return md;
+    doc.paragraph("`scene/obstacles.vtp`: the study's " + std::to_string(study.obstacles.size()) +
+                  " obstacles as surfaces (array `obstacle`, named in the field data `legend`).");
+  return doc;
 }
 
 namespace fs = std::filesystem;
@@ -234,8 +236,8 @@ struct StudyRun {
   std::optional<CheckpointStore> store;
   ScratchFolder scratch;
   std::vector<report::HtmlStage> pages;  // report.html: one section per stage
-  std::string answer_md;                 // the study's answer and warnings (report.md, report.html)
-  std::string designs_md;                // each design drawn at its zero pose (report.md)
+  report::Document answer;               // the study's answer and warnings (report.md, report.html)
+  report::Document designs;              // each design drawn at its zero pose (report.md)
   std::vector<std::pair<std::string, StageResult>> answers;  // per stage: its answer and warnings
   std::vector<report::ViewCloud> view_clouds;                // the stages' maps for view.html
   std::vector<report::ViewSolid> view_solids;                // ... and their own obstacles
@@ -319,7 +321,7 @@ struct StudyRun {
         ARMSTUDY_CHECK(stray.empty(), "stage '" + section.stage->name() + "' names metric '" +
                                           (stray.empty() ? "" : stray[0]) +
                                           "' outside its prefix '" + section.stage->name() + "/'");
-        pages.push_back({section.stage->name(), r.files});
+        pages.push_back({section.stage->name(), r.files, r.reports});
         StageResult a;
         a.files = r.files;
         a.answer = r.answer;
@@ -353,11 +355,13 @@ struct StudyRun {
   // arm_<design>.svg), else one drawn here into designs/, which then get their own report.html
   // page.
   void drawDesigns() {
-    designs_md = "## Designs\n\n";
+    designs.heading(2, "Designs");
     Writer drawn(sum.output_dir);
-    std::string page_md =
-        "# Designs\n\nThe study's designs at their zero pose (those a stage's report draws are "
-        "shown there).\n\n";
+    report::Document page;
+    page.heading(1, "Designs")
+        .paragraph(
+            "The study's designs at their zero pose (those a stage's report draws are shown "
+            "there).");
     for (const StudyDesign& d : study.designs) {
       const std::string file = report::zeroPoseFileName(d.model.name);
       const auto by_stage =
@@ -370,13 +374,13 @@ struct StudyRun {
       if (rel.empty()) {
         rel = "designs/" + file;
         drawn.text(rel, report::zeroPoseSvg(d.model));
-        page_md += report::zeroPoseFigureMd(d.model.name, file);
+        page.append(report::zeroPoseFigure(d.model.name, file));
       }
-      designs_md += report::zeroPoseFigureMd(d.model.name, rel);
+      designs.append(report::zeroPoseFigure(d.model.name, rel));
     }
     if (drawn.files().empty()) return;
-    drawn.text("designs/report.md", page_md);
-    pages.insert(pages.begin(), report::HtmlStage{"designs", drawn.files()});
+    drawn.report("designs/report.md", std::move(page));
+    pages.insert(pages.begin(), report::HtmlStage{"designs", drawn.files(), drawn.reports()});
     sum.files_written.insert(sum.files_written.end(), drawn.files().begin(), drawn.files().end());
   }
 
@@ -391,8 +395,8 @@ struct StudyRun {
     std::vector<std::string> spatial = sum.files_written;
     spatial.insert(spatial.end(), scene_out.files().begin(), scene_out.files().end());
     scene_out.text("scene.py", scene::sceneScript(study.name, spatial));
-    scene_out.text("scene/report.md", sceneReport(study));
-    pages.push_back({"ParaView scene", scene_out.files()});
+    scene_out.report("scene/report.md", sceneReport(study));
+    pages.push_back({"ParaView scene", scene_out.files(), scene_out.reports()});
     sum.files_written.insert(sum.files_written.end(), scene_out.files().begin(),
                              scene_out.files().end());
   }
@@ -425,71 +429,80 @@ struct StudyRun {
     view_written = true;
   }
 
-  // report.md: the answer first, then the warnings, then where the details are (each stage's
-  // report).
-  void writeAnswer() {
+  // The answer block: the link to the 3-D view, each stage's answer, then the warnings and the
+  // assumptions the answer rests on.
+  void buildAnswer() {
     const std::string shown =
         view_value_label.empty()
             ? "the maps' points, the arm at its best pose and the obstacles"
             : "the maps' points by " + view_value_label + ", the arm and the obstacles";
-    answer_md = view_written ? "**Interactive 3-D view:** [view.html](view.html) (" + shown +
-                                   "; drag to rotate).\n\n## Answer\n\n"
-                             : "## Answer\n\n";
-    bool any = false;
+    if (view_written)
+      answer.paragraph("**Interactive 3-D view:** [view.html](view.html) (" + shown +
+                       "; drag to rotate).");
+    std::vector<std::string> items;
     for (const auto& [stage, r] : answers)
-      for (const std::string& a : r.answer) {
-        answer_md += "- **" + stage + ":** " + a + "\n";
-        any = true;
-      }
-    if (!any) answer_md += "No stage of this study states a comparison; the details are below.\n";
-    answer_md += "\n## Warnings\n\n";
-    any = false;
+      for (const std::string& a : r.answer) items.push_back("**" + stage + ":** " + a);
+    answer.heading(2, "Answer");
+    if (items.empty())
+      answer.paragraph("No stage of this study states a comparison; the details are below.");
+    else
+      answer.list(items);
+    items.clear();
     for (const auto& [stage, r] : answers)
-      for (const std::string& w : r.warnings) {
-        answer_md += "- **" + stage + ":** " + w + "\n";
-        any = true;
-      }
-    if (!any) answer_md += "None.\n";
-    answer_md += assumptionsMarkdown();
-    std::string md = "# Study `" + study.name + "`\n\n" + leadMarkdown() + answer_md + "\n" +
-                     designs_md + "## Details\n\n";
+      for (const std::string& w : r.warnings) items.push_back("**" + stage + ":** " + w);
+    answer.heading(2, "Warnings");
+    if (items.empty())
+      answer.paragraph("None.");
+    else
+      answer.list(items);
+    addAssumptions();
+  }
+
+  // report.md: the study's question, the answer, the designs, then where the details are (each
+  // stage's report).
+  void writeReportMd() {
+    report::Document doc;
+    doc.heading(1, "Study `" + study.name + "`").append(lead()).append(answer).append(designs);
+    std::vector<std::string> details;
     for (const auto& [stage, r] : answers)
       for (const std::string& f : r.files)  // the stage's own reports, one folder down
         if (f.size() > 3 && f.compare(f.size() - 3, 3, ".md") == 0 &&
             std::count(f.begin(), f.end(), '/') == 1)
-          md += "- " + stage + ": [" + f + "](" + f + ")\n";
-    md += "- the ParaView scene: [scene/report.md](scene/report.md)\n";
+          details.push_back(stage + ": [" + f + "](" + f + ")");
+    details.push_back("the ParaView scene: [scene/report.md](scene/report.md)");
+    doc.heading(2, "Details").list(details);
+    std::string md = report::toMarkdown(doc);
+    md.pop_back();  // the file ends with its last line
     writeFileAtomic((out / "report.md").string(), md);
     sum.files_written.push_back("report.md");
   }
 
   // The assumptions the answer rests on: the study's own, then those each stage names (each line
   // once); nothing when there are none.
-  std::string assumptionsMarkdown() const {
+  void addAssumptions() {
     std::vector<std::string> lines = study.assumptions;
     for (const auto& [stage, r] : answers)
       for (const std::string& a : r.assumptions)
         if (std::find(lines.begin(), lines.end(), a) == lines.end()) lines.push_back(a);
-    if (lines.empty()) return "";
-    std::string md = "\n## Assumptions\n\nThe results above rest on these assumed values:\n\n";
-    for (const std::string& a : lines) md += "- " + a + "\n";
-    return md;
+    if (lines.empty()) return;
+    answer.heading(2, "Assumptions")
+        .paragraph("The results above rest on these assumed values:")
+        .list(lines);
   }
 
   // The study's description and question: the head of report.md and report.html.
-  std::string leadMarkdown() const {
-    std::string md;
-    if (!study.description.empty()) md += study.description + "\n\n";
-    if (!study.question.empty()) md += "**Question:** " + study.question + "\n\n";
-    return md;
+  report::Document lead() const {
+    report::Document doc;
+    if (!study.description.empty()) doc.markdown(study.description + "\n\n");
+    if (!study.question.empty()) doc.paragraph("**Question:** " + study.question);
+    return doc;
   }
 
   // report.html from the stages' pages, timed.
   void writeHtml() {
     const auto html0 = std::chrono::steady_clock::now();
-    writeFileAtomic(
-        (out / "report.html").string(),
-        report::htmlReport(sum.output_dir, study.name, pages, answer_md, leadMarkdown()));
+    writeFileAtomic((out / "report.html").string(),
+                    report::htmlReport(sum.output_dir, study.name, pages, answer, lead()));
     sum.files_written.push_back("report.html");
     // Part of the serial rest that rank 0 runs alone at the end (docs/distributed.md "Unit costs").
     sum.timings.push_back(
@@ -560,7 +573,8 @@ RunSummary runStudy(const Study& study, const RunOptions& options, const Ranks& 
     run.drawDesigns();
     run.writeScene();
     run.writeView();
-    run.writeAnswer();
+    run.buildAnswer();
+    run.writeReportMd();
     run.writeHtml();
     run.writeManifest(units);
   });

@@ -107,11 +107,17 @@ std::string zeroPoseSvg(const Model& m) {
 
 std::string zeroPoseFileName(const std::string& design) { return "arm_" + design + ".svg"; }
 
+Document zeroPoseFigure(const std::string& design, const std::string& rel) {
+  return Document().figures(
+      {{design + " at q = 0", rel}},
+      "`" + design +
+          "` at its zero pose (each joint's zero clamped into its limits), side view (x-z) and top "
+          "view (x-y) in world metres: the links through the base, the joint frames and the TCP; "
+          "each frame's x, y, z axes in red, green, blue; the joint axes dashed.");
+}
+
 std::string zeroPoseFigureMd(const std::string& design, const std::string& rel) {
-  return "![" + design + " at q = 0](" + rel + ")\n\n*`" + design +
-         "` at its zero pose (each joint's zero clamped into its limits), side view (x-z) and top "
-         "view (x-y) in world metres: the links through the base, the joint frames and the TCP; "
-         "each frame's x, y, z axes in red, green, blue; the joint axes dashed.*\n\n";
+  return toMarkdown(zeroPoseFigure(design, rel));
 }
 
 }  // namespace armstudy::report

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "model/model.hpp"
+#include "report/document.hpp"
 #include "report/plot.hpp"
 
 namespace armstudy::report {
@@ -26,7 +27,9 @@ Drawing drawArm(const Model& m, const Eigen::VectorXd& q, const std::string& tit
 std::string zeroPoseSvg(const Model& m);
 // The file name of that drawing: "arm_<name>.svg" (in a report's images folder).
 std::string zeroPoseFileName(const std::string& design);
-// The Markdown figure (image and caption) of that drawing at `rel` (relative to the report).
+// The figure (image and caption) of that drawing at `rel` (relative to the report), and its
+// Markdown.
+Document zeroPoseFigure(const std::string& design, const std::string& rel);
 std::string zeroPoseFigureMd(const std::string& design, const std::string& rel);
 
 }  // namespace armstudy::report

@@ -68,4 +68,9 @@ void Writer::text(const std::string& rel, const std::string& content) {
   files_.push_back(rel);
 }
 
+void Writer::report(const std::string& rel, report::Document doc) {
+  text(rel, report::toMarkdown(doc));
+  reports_.push_back({rel, std::move(doc)});
+}
+
 }  // namespace armstudy

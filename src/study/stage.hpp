@@ -78,7 +78,9 @@ struct StageCount {
 // What one stage run gives back to the runner. Timings go to the manifest only, so result files
 // stay byte-identical across runs.
 struct StageResult {
-  std::vector<std::string> files;    // relative to the study output folder, in writing order
+  std::vector<std::string> files;  // relative to the study output folder, in writing order
+  // The documents of its report files (the .md files among `files`): report.html renders them.
+  std::vector<report::ReportFile> reports;
   StudyMetrics metrics;              // "<stage>/<design>/..." for baselines and checks
   double seconds = 0;                // the stage's wall time
   std::vector<StageTiming> timings;  // finer timings (per grid, per map, ...)

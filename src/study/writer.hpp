@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "report/document.hpp"
+
 namespace armstudy {
 
 class Writer {
@@ -17,14 +19,19 @@ class Writer {
   std::string path(const std::string& rel) const;
   // Writes `content` atomically to <root>/<rel> (parents created) and lists it.
   void text(const std::string& rel, const std::string& content);
+  // Writes the report document `doc` as Markdown to <root>/<rel>, lists it and keeps the document
+  // (report.html renders it).
+  void report(const std::string& rel, report::Document doc);
   // Lists a file another writer wrote at path(rel).
   void add(const std::string& rel) { files_.push_back(rel); }
   const std::string& root() const { return root_; }
   const std::vector<std::string>& files() const { return files_; }
+  const std::vector<report::ReportFile>& reports() const { return reports_; }
 
  private:
   std::string root_;
   std::vector<std::string> files_;
+  std::vector<report::ReportFile> reports_;
 };
 
 }  // namespace armstudy

@@ -587,8 +587,9 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
   else
     md << "## Summary\n\n" << cmp.str() << "\n";
   out.text(sub + "/summary.json", js.dump(2) + "\n");
-  out.text(sub + "/report.md", md.str());
+  out.report(sub + "/report.md", report::Document().markdown(md.str()));
   sum.files = out.files();
+  sum.reports = out.reports();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

@@ -97,6 +97,7 @@ StageResult Evaluator::runStages(const Model& m, const Overrides& ov, const std:
     for (const auto& [scale, top] : r.scale_tops)
       all.scale_tops[scale] = std::max(all.scale_tops[scale], top);
     all.files.insert(all.files.end(), r.files.begin(), r.files.end());
+    all.reports.insert(all.reports.end(), r.reports.begin(), r.reports.end());
     all.units_resumed += r.units_resumed;
   }
   return all;

@@ -121,9 +121,10 @@ std::map<std::string, double> frontScaleTops(const Evaluator& ev, const Outcome&
 
 // Writes the first front_designs front designs (the base design excepted): design file plus the
 // stages' own outputs (maps on the colour scales they share), from the checkpointed units; returns
-// their file-safe names.
+// their file-safe names; their stages' report documents go to `reports`.
 std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evaluator& ev,
-                                           const Outcome& r, Writer& out) {
+                                           const Outcome& r, Writer& out,
+                                           std::vector<report::ReportFile>& reports) {
   const ExploreOptions& o = r.o;
   std::vector<std::string> written;
   const std::map<std::string, double> tops = frontScaleTops(ev, r, out.path("explore/.scales"));
@@ -140,6 +141,7 @@ std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evalua
     out.text(rel + "/" + safe + ".toml", designToToml(file_model));
     const StageResult sr = ev.runStages(m, cand.overrides, out.path(rel), tops);
     for (const std::string& file : sr.files) out.add(rel + "/" + file);
+    for (const report::ReportFile& f : sr.reports) reports.push_back({rel + "/" + f.path, f.doc});
     written.push_back(safe);
   }
   return written;
@@ -436,12 +438,16 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
     out.text("explore/front_scatter.svg",
              frontScatterFigure(r.c, r.front, base_index, o, r.goals[0], r.goals[1]).svg);
   out.text("explore/parallel.svg", parallelFigure(r.c, r.front, base_index, o).svg);
-  const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out);
-  out.text("explore/explore.md", exploreMarkdown(ctx, ev, r, written));
+  std::vector<report::ReportFile> front_reports;
+  const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out, front_reports);
+  out.report("explore/explore.md",
+             report::Document().markdown(exploreMarkdown(ctx, ev, r, written)));
   addExploreMetrics(r, res.metrics);
   res.answer.push_back(exploreAnswer(r));
   if (!c[base_index].feasible) res.warnings.push_back("The base design breaks a constraint.");
   res.files = out.files();
+  res.reports = out.reports();
+  res.reports.insert(res.reports.end(), front_reports.begin(), front_reports.end());
   res.units_resumed = ev.unitsResumed();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

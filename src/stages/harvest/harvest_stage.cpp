@@ -33,11 +33,10 @@ bool selected(const HarvestOptions& options, const Model& model) {
 }
 
 // The report's title and opening paragraph: the row, the planner, the tracking and the dynamics.
-std::string reportIntro(const StageContext& ctx, const HarvestOptions& options,
-                        const GreenhouseRow& row) {
+report::Document reportIntro(const StageContext& ctx, const HarvestOptions& options,
+                             const GreenhouseRow& row) {
   std::ostringstream md;
-  md << "# Harvest torque study: " << ctx.study.name << "\n\n"
-     << "Approaches to a greenhouse row sampled from thesis Table 2.2 (seed " << options.row.seed
+  md << "Approaches to a greenhouse row sampled from thesis Table 2.2 (seed " << options.row.seed
      << ", " << row.fruits.size() << " fruits on " << row.stems_xy.size()
      << " stems), planned with the heuristic planner of section 5.3.2 (r_e = "
      << report::fixed(options.approach.entry_radius_m, 3) << " m, s_a = " << options.approach.s_a
@@ -46,8 +45,10 @@ std::string reportIntro(const StageContext& ctx, const HarvestOptions& options,
      << ", manipulability weight " << options.w_manipulability << ") at "
      << report::fixed(options.rate_Hz, 0)
      << " Hz, inverse dynamics and drive chain per joint (docs/dynamics.md). Margins are "
-        "(limit - value) / limit; n/a = limit not given in the design.\n\n";
-  return md.str();
+        "(limit - value) / limit; n/a = limit not given in the design.";
+  return report::Document()
+      .heading(1, "Harvest torque study: " + ctx.study.name)
+      .paragraph(md.str());
 }
 
 // summary.json's study-wide fields (study, row, approach, rate) with an empty design list.
@@ -459,12 +460,14 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
   std::vector<const DesignResult*> done_ptrs;
   for (const DesignResult& d : done) done_ptrs.push_back(&d);
   harvestAnswer(js, sum);
-  out.text("harvest/report.md", reportIntro(ctx, options, row) +
-                                    writeFruitOutcomeFigure(models, done_ptrs, out) + md.str());
+  out.report("harvest/report.md", reportIntro(ctx, options, row)
+                                      .markdown(writeFruitOutcomeFigure(models, done_ptrs, out))
+                                      .markdown(md.str()));
   if (results)
     for (DesignResult& d : done) results->push_back(std::move(d));
   out.text("harvest/summary.json", js.dump(2) + "\n");
   sum.files = out.files();
+  sum.reports = out.reports();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sum;
 }

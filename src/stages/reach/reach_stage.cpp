@@ -317,8 +317,9 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
-  out.text("reach/report.md", md);
+  out.report("reach/report.md", report::Document().markdown(md));
   sum.files = out.files();
+  sum.reports = out.reports();
   return sum;
 }
 

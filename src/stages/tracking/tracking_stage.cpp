@@ -311,7 +311,7 @@ void writeEntryPlots(const TrackingEntry& e, const EntryResult& er, Writer& out)
 }
 
 // An entry's report section: its settings, the table of both runs, the plots and file names.
-std::string entryMarkdown(const Model& model, const TrackingEntry& e, const EntryResult& er) {
+report::Document entryReport(const Model& model, const TrackingEntry& e, const EntryResult& er) {
   const bool obst = !e.obstacles.empty();
   const std::string& base = e.name;
   std::ostringstream md;
@@ -321,8 +321,7 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
                      ", r = " + report::fixed(o.radius_m, 3) + " m)";
   const Eigen::Vector3d& p0 = er.line.p0_W;
   const Eigen::Vector3d& p1 = er.line.p1_W;
-  md << "## " << e.name << "\n\n"
-     << "Design `" << e.design << "`, " << toString(e.task) << " task, TCP from ("
+  md << "Design `" << e.design << "`, " << toString(e.task) << " task, TCP from ("
      << report::fixed(p0.x(), 3) << ", " << report::fixed(p0.y(), 3) << ", "
      << report::fixed(p0.z(), 3) << ") m to (" << report::fixed(p1.x(), 3) << ", "
      << report::fixed(p1.y(), 3) << ", " << report::fixed(p1.z(), 3) << ") m in "
@@ -337,7 +336,7 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
      << ". H_c: d_a = " << report::fixed(e.avoidance.potential.safety_distance_m, 3)
      << " m, t = " << e.avoidance.potential.blend_t << ", H_0 = " << e.avoidance.potential.h0
      << ", weight " << e.avoidance.weight << ", "
-     << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".\n\n";
+     << (e.avoidance.potential.self ? "self pairs and obstacles" : "obstacles only") << ".";
   std::vector<std::vector<std::string>> rows;
   for (const RunResult* r : {&er.plain, &er.with_hc}) {
     const std::string contact = r->first_contact_s
@@ -356,20 +355,23 @@ std::string entryMarkdown(const Model& model, const TrackingEntry& e, const Entr
                                                   model.joints[r->max_speed_joint].name + ")"
                                             : "-"});
   }
-  md << report::markdownTable({"run", "status", ">min obstacle distance [mm]",
-                               ">min self distance [mm]", "first contact", ">max TCP error [m]",
-                               ">final TCP error [m]", ">peak joint speed / limit"},
-                              rows)
-     << "\nThe IK is kinematic: joint speeds are not limited; the last column is the largest "
-        "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
-        "not follow).\n\n!["
-     << distanceWhat(e) << "](" << base << "_distance.svg) ![TCP error](" << base
-     << "_tcp_error.svg)\n\n"
-     << "Per-sample data: `" << base << "_plain.csv`, `" << base
-     << "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, obstacles; "
-        "colour by `in_contact` or `time`): `"
-     << base << "_plain.vtp`, `" << base << "_with_hc.vtp`.\n\n";
-  return md.str();
+  report::Document doc;
+  doc.heading(2, e.name)
+      .paragraph(md.str())
+      .table({"run", "status", ">min obstacle distance [mm]", ">min self distance [mm]",
+              "first contact", ">max TCP error [m]", ">final TCP error [m]",
+              ">peak joint speed / limit"},
+             rows)
+      .paragraph(
+          "The IK is kinematic: joint speeds are not limited; the last column is the largest "
+          "|qdot_i| / max_velocity_i of the design over the run (above 100 %: the drives could "
+          "not follow).")
+      .figures({{distanceWhat(e), base + "_distance.svg"}, {"TCP error", base + "_tcp_error.svg"}})
+      .paragraph("Per-sample data: `" + base + "_plain.csv`, `" + base +
+                 "_with_hc.csv`; ParaView scenes (reference line, TCP path, arm skeletons, "
+                 "obstacles; colour by `in_contact` or `time`): `" +
+                 base + "_plain.vtp`, `" + base + "_with_hc.vtp`.");
+  return doc;
 }
 
 // The entry's answer (StageResult::answer): each run's status, first contact and closest approach.
@@ -441,14 +443,15 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
 
   fs::create_directories(fs::path(ctx.output_dir) / "tracking");
   Writer out(ctx.output_dir);  // files under tracking/
-  std::ostringstream md;
-  md << "# Straight-line tracking past obstacles: " << ctx.study.name << "\n\n"
-     << "Thesis Fig. 5.13 (section 5.4.3): the TCP follows a straight line at constant speed with "
-        "the null-space IK (Algorithm 5.3, drift compensation eq. 5.50, explicit Euler eq. 5.49). "
-        "Each entry runs twice: without and with the collision-avoidance potential H_c "
-        "(eq. 5.53-5.57) in the null-space objective (eq. 5.51). Distances are those of the "
-        "swept-sphere volumes (negative = overlap; docs/collision.md). Details: "
-        "docs/tracking.md.\n\n";
+  report::Document doc;
+  doc.heading(1, "Straight-line tracking past obstacles: " + ctx.study.name)
+      .paragraph(
+          "Thesis Fig. 5.13 (section 5.4.3): the TCP follows a straight line at constant speed "
+          "with the null-space IK (Algorithm 5.3, drift compensation eq. 5.50, explicit Euler eq. "
+          "5.49). Each entry runs twice: without and with the collision-avoidance potential H_c "
+          "(eq. 5.53-5.57) in the null-space objective (eq. 5.51). Distances are those of the "
+          "swept-sphere volumes (negative = overlap; docs/collision.md). Details: "
+          "docs/tracking.md.");
   ordered_json js;
   js["study"] = ctx.study.name;
   js["entries"] = ordered_json::array();
@@ -459,7 +462,7 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
     for (const RunResult* r : {&er.plain, &er.with_hc})
       writeRunFiles(model, e, er, *r, out, sum.metrics);
     writeEntryPlots(e, er, out);
-    md << entryMarkdown(model, e, er);
+    doc.append(entryReport(model, e, er));
     js["entries"].push_back(entryJson(model, e, er));
     sum.answer.push_back(entryAnswer(model, e, er));
     for (report::ViewCloud& c : trackingViewClouds(model, e, er)) sum.view.push_back(std::move(c));
@@ -478,9 +481,10 @@ StageResult runTrackingStage(const StageContext& ctx, const std::vector<Tracking
         "approach.";
     sum.view_value_label = "distance";
   }
-  out.text("tracking/report.md", md.str());
+  out.report("tracking/report.md", std::move(doc));
   out.text("tracking/summary.json", js.dump(2) + "\n");
   sum.files = out.files();
+  sum.reports = out.reports();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (results) *results = std::move(entry_results);
   return sum;
