@@ -77,6 +77,7 @@ TEST_CASE("every stage's report document is its Markdown file and renders to tha
   // Each study and the stages of it whose reports are built of blocks.
   const std::vector<std::pair<std::string, std::vector<std::string>>> studies = {
       {"fig5_13_obstacle", {"tracking"}},
+      {"harvest_torque", {"harvest"}},
   };
   for (const auto& [name, built] : studies) {
     SECTION(name) {
