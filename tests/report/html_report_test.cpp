@@ -187,8 +187,9 @@ TEST_CASE("report Markdown links: only http(s) and relative paths inside the out
     writeFileAtomic(
         (d / "reach/report.md").string(),
         "Text [the link](" + c.url + ") end.\n\n| a |\n| --- |\n| [cell](" + c.url + ") |\n");
-    const std::string html = htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
-                                        c.kept ? "" : "Answer [the link](" + c.url + ") end.\n");
+    const std::string html =
+        htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
+                   Document().markdown(c.kept ? "" : "Answer [the link](" + c.url + ") end.\n"));
     std::vector<std::string> links;  // the stage's and the answer's (not the contents' #s0...)
     for (const std::string& h : hrefs(html))
       if (h.rfind("#s0", 0) != 0) links.push_back(h);
@@ -245,9 +246,10 @@ TEST_CASE("report.html inlines only images inside the output folder, symbolic li
       "![i](data:image/svg+xml;base64,AAAA)\n";
   writeFileAtomic((d / "reach/report.md").string(), md);
   const std::string answer = "Answer ![j](" + abs_svg + ") ![k](reach/images/link.svg)\n";
-  const std::string html = htmlReport(
-      d.string(), "s",
-      {{"reach", {"reach/report.md", "reach/images/own.svg", "reach/images/link.svg"}}}, answer);
+  const std::string html =
+      htmlReport(d.string(), "s",
+                 {{"reach", {"reach/report.md", "reach/images/own.svg", "reach/images/link.svg"}}},
+                 Document().markdown(answer));
   CHECK(html.find("data:image/svg+xml;base64," + base64(own)) != std::string::npos);
   CHECK(html.find(base64(secret)) == std::string::npos);  // neither the .svg nor the .png
   CHECK(html.find("SECRET-OUTSIDE") == std::string::npos);
@@ -297,12 +299,41 @@ TEST_CASE("the study's description and question head report.html, above the answ
   fs::create_directories(d / "reach");
   writeFileAtomic((d / "reach/report.md").string(), "# Reach\n\nbody\n");
   const std::string html =
-      htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}}, "## Answer\n\n- yes\n",
-                 "What it is.\n\n**Question:** Which half?\n");
+      htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
+                 Document().heading(2, "Answer").list({"yes"}),
+                 Document().paragraph("What it is.").paragraph("**Question:** Which half?"));
   const std::size_t q = html.find("<strong>Question:</strong> Which half?");
   REQUIRE(q != std::string::npos);
   CHECK(html.find("What it is.") < q);
   CHECK(q < html.find("</header>"));
   CHECK(html.find("</header>") < html.find("id=\"answer\""));
+  fs::remove_all(d);
+}
+
+TEST_CASE(
+    "report.html renders the documents the stages hand over, not their Markdown files read back; "
+    "a report file without a document is read from the folder",
+    "[report][html]") {
+  const fs::path d = fs::temp_directory_path() / ("armstudy_docs_" + std::to_string(getpid()));
+  fs::create_directories(d / "reach");
+  fs::create_directories(d / "calibration/e");
+  // On disk, text the page must not show: the stage's document is what it renders.
+  writeFileAtomic((d / "reach/report.md").string(), "# From the disk\n\nstale text\n");
+  writeFileAtomic((d / "calibration/e/report.md").string(), "# Entry\n\nwritten by the fit\n");
+  const Document doc = Document().heading(1, "Reach").table({"design", ">share"}, {{"a", "50 %"}});
+  const std::string html = htmlReport(d.string(), "s",
+                                      {{"reach", {"reach/report.md"}, {{"reach/report.md", doc}}},
+                                       {"calibration", {"calibration/e/report.md"}}});
+  CHECK(html.find("From the disk") == std::string::npos);
+  CHECK(html.find("stale text") == std::string::npos);
+  CHECK(html.find("<h2 id=\"s0-0-0\">Reach</h2>") != std::string::npos);
+  CHECK(html.find("<td class=\"num\">50 %</td>") != std::string::npos);
+  CHECK(html.find("written by the fit") != std::string::npos);
+  // The document's page is the page of its Markdown.
+  fs::remove(d / "reach/report.md");
+  writeFileAtomic((d / "reach/report.md").string(), toMarkdown(doc));
+  CHECK(html ==
+        htmlReport(d.string(), "s",
+                   {{"reach", {"reach/report.md"}}, {"calibration", {"calibration/e/report.md"}}}));
   fs::remove_all(d);
 }
