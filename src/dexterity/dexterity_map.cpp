@@ -96,11 +96,10 @@ void getCell(UnitReader& r, CellResult& c) {
 
 const double kMapStationaryGradient = 1e-4;  // [H per rad or m]
 const double kMapProofRadius = 0.04;         // [rad or m], below defaults::kMapSameBasin
-const double kMapSameOptimum = 1e-5;         // relative, above the descents' stopping precision
 
 ik::NullspaceOptions mapDescentOptions() {
   ik::NullspaceOptions o;
-  o.quasi_newton = true;
+  o.quasi_newton = false;
   o.gradient_tolerance = kMapStationaryGradient;
   return o;
 }

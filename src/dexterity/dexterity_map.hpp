@@ -52,8 +52,9 @@ struct StemCollision {
   bool enabled() const { return self || !obstacles.empty(); }
 };
 
-// The null-space descent of the maps (docs/dexterity.md, "The descent"): quasi-Newton directions,
-// stopped by the projected gradient (kMapStationaryGradient) or the relative improvement.
+// The null-space descent of the maps (docs/dexterity.md, "What is computed"): projected steepest
+// descent (quasi-Newton directions with [dexterity.solver] quasi_newton = true), stopped by the
+// projected gradient (kMapStationaryGradient) or the relative improvement.
 ik::NullspaceOptions mapDescentOptions();
 
 struct DexterityOptions {
@@ -230,10 +231,8 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_w
 
 // A map cell's optimum is proven when its projected gradient is at most kMapStationaryGradient
 // (the first-order conditions on the pose, ik::projectedGradient); a start within kMapProofRadius
-// of it (every joint) descends back to it and is not tried. kMapSameOptimum: a candidate whose
-// optimum lies within defaults::kMapSameBasin of the cell's replaces it only when it lowers H by
-// more than this (relative): below, the two differ by the descents' stopping precision.
-extern const double kMapStationaryGradient, kMapProofRadius, kMapSameOptimum;
+// of it (every joint) descends back to it and is not tried.
+extern const double kMapStationaryGradient, kMapProofRadius;
 bool provenOptimum(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                    const ik::WeightedObjective& objective, const DexterityOptions& options,
                    const StemGrid::Cell& cell, const CellResult& c);

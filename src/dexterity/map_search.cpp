@@ -27,9 +27,8 @@ bool better(const CellResult& cand, const CellResult& cur) {
   const int rc = rank(cand), ru = rank(cur);
   if (rc != ru) return rc > ru;
   if (rc < 2) return false;
-  const bool same = (cand.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin;
-  const double margin = same ? kMapSameOptimum : defaults::kMapImprovementRelative;
-  return cand.H_opt < cur.H_opt - margin * std::max(std::abs(cur.H_opt), 1e-12);
+  return cand.H_opt <
+         cur.H_opt - defaults::kMapImprovementRelative * std::max(std::abs(cur.H_opt), 1e-12);
 }
 
 // Replaces the optimised part of `cur` by the candidate's (the plain part stays the chained

