@@ -15,7 +15,7 @@ namespace armstudy::dexterity {
 
 namespace {
 
-constexpr char kAuditMagic[] = "armstudy-dexterity-audit-v2";
+constexpr char kAuditMagic[] = "armstudy-dexterity-audit-v3";
 
 }  // namespace
 

@@ -54,7 +54,7 @@ void putCell(UnitWriter& w, const CellResult& c) {
 
 void putTally(UnitWriter& w, const ik::DescentTally& t) {
   for (long v : {t.descents, t.changed, t.iterations, t.objective_evaluations, t.kernel_evaluations,
-                 t.stopped[0], t.stopped[1], t.stopped[2]})
+                 t.stopped[0], t.stopped[1], t.stopped[2], t.skipped})
     w.put<std::int64_t>(v);
   w.put(t.step_sum);
   w.put(t.last_step_sum);
@@ -62,7 +62,7 @@ void putTally(UnitWriter& w, const ik::DescentTally& t) {
 
 void getTally(UnitReader& r, ik::DescentTally& t) {
   for (long* v : {&t.descents, &t.changed, &t.iterations, &t.objective_evaluations,
-                  &t.kernel_evaluations, &t.stopped[0], &t.stopped[1], &t.stopped[2]})
+                  &t.kernel_evaluations, &t.stopped[0], &t.stopped[1], &t.stopped[2], &t.skipped})
     *v = static_cast<long>(r.get<std::int64_t>());
   t.step_sum = r.get<double>();
   t.last_step_sum = r.get<double>();
@@ -92,6 +92,16 @@ void getCell(UnitReader& r, CellResult& c) {
   if (st < 0 || st > static_cast<int>(ik::NullspaceStatus::NotOnPose)) r.fail();
   c.nullspace_status = static_cast<ik::NullspaceStatus>(st);
   getTally(r, c.descent);
+}
+
+const double kMapStationaryGradient = 1e-4;  // [H per rad or m]
+const double kMapProofRadius = 0.04;         // [rad or m], below defaults::kMapSameBasin
+
+ik::NullspaceOptions mapDescentOptions() {
+  ik::NullspaceOptions o;
+  o.quasi_newton = false;
+  o.gradient_tolerance = kMapStationaryGradient;
+  return o;
 }
 
 std::string DexterityOptions::validate() const {
@@ -226,7 +236,7 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_w
                   ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                   const DexterityOptions& options, const StemGrid::Cell& cell,
                   const JointVector& seed, CellResult& out, collision::CollisionWorkspace* cws,
-                  bool measure) {
+                  bool measure, const JointVector* proven) {
   const JointVector w_inv = weightInverse(options, model.dof());
   const IkResult s = solvePose(model, ik_ws, cell.target, options.exactSolveOptions(), 0, &seed);
   // On the pose as exactly as the null-space stage needs (a seed that only gets within the
@@ -235,6 +245,10 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_w
         s.orientation_error_rad <= options.nullspace.pose_tolerance))
     return false;
   out = CellResult{};
+  if (proven && (s.q - *proven).cwiseAbs().maxCoeff() <= kMapProofRadius) {
+    out.descent.skipped = 1;
+    return false;
+  }
   out.reachable = true;
   out.starts = 1;
   out.q_plain = s.q;
@@ -244,6 +258,15 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_w
   settleCollision(model, ws, cws, options.collision, out);
   if (measure) measureCell(model, ws, options, cell, out);
   return true;
+}
+
+bool provenOptimum(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                   const ik::WeightedObjective& objective, const DexterityOptions& options,
+                   const StemGrid::Cell& cell, const CellResult& c) {
+  if (!c.reachable || !c.optimised) return false;
+  ctx.u_W = options.fixed_direction ? options.direction_W : cell.u_W;
+  return ik::projectedGradient(model, ws, ctx, cell.target, c.q_opt, objective,
+                               weightInverse(options, model.dof())) <= kMapStationaryGradient;
 }
 
 CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,

@@ -52,6 +52,11 @@ struct StemCollision {
   bool enabled() const { return self || !obstacles.empty(); }
 };
 
+// The null-space descent of the maps (docs/dexterity.md, "What is computed"): projected steepest
+// descent (quasi-Newton directions with [dexterity.solver] quasi_newton = true), stopped by the
+// projected gradient (kMapStationaryGradient) or the relative improvement.
+ik::NullspaceOptions mapDescentOptions();
+
 struct DexterityOptions {
   StemGrid grid;
   StageDesigns designs;  // [dexterity] designs and [dexterity.tool_axis] (study/stage_designs.hpp)
@@ -86,7 +91,7 @@ struct DexterityOptions {
   // `joint_weights` above (exactSolveOptions).
   IkOptions solve = IkOptions::exactPose();
   IkOptions exactSolveOptions() const;
-  ik::NullspaceOptions nullspace;
+  ik::NullspaceOptions nullspace = mapDescentOptions();
   bool ellipsoids = true;  // write .vtp ellipsoid glyph data
   // The map search after the chained rows (searchDexterityMap); seed_starts = 0 and
   // propagation_rounds = 0 give the chained sweep alone.
@@ -213,12 +218,24 @@ void searchDexterityMap(const Model& model, const DexterityOptions& options, Dex
 // False when the seed does not lead onto the pose; a candidate in collision returns true with
 // out.reachable false. `out` holds the candidate's plain (the solved pose) and optimised results;
 // without `measure`, their measures (out.plain, out.opt and the ellipsoids) are left for
-// measureCell, so that a search pays them only for the candidates it adopts.
+// measureCell, so that a search pays them only for the candidates it adopts. With `proven` (the
+// cell's own optimum, whose projected gradient is at most kMapStationaryGradient), a start whose
+// pose solution lies within kMapProofRadius of it (every joint) is not descended: false, with
+// out.descent.skipped = 1.
 bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_ws,
                   ik::ObjectiveContext& ctx, const ik::WeightedObjective& objective,
                   const DexterityOptions& options, const StemGrid::Cell& cell,
                   const JointVector& seed, CellResult& out,
-                  collision::CollisionWorkspace* cws = nullptr, bool measure = true);
+                  collision::CollisionWorkspace* cws = nullptr, bool measure = true,
+                  const JointVector* proven = nullptr);
+
+// A map cell's optimum is proven when its projected gradient is at most kMapStationaryGradient
+// (the first-order conditions on the pose, ik::projectedGradient); a start within kMapProofRadius
+// of it (every joint) descends back to it and is not tried.
+extern const double kMapStationaryGradient, kMapProofRadius;
+bool provenOptimum(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                   const ik::WeightedObjective& objective, const DexterityOptions& options,
+                   const StemGrid::Cell& cell, const CellResult& c);
 
 // The measures of a cell's plain and optimised postures (r.plain, r.opt, the ellipsoids) from
 // r.q_plain and r.q_opt.

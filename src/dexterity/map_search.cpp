@@ -86,10 +86,16 @@ struct SearchContext {
 struct ThreadSolver {
   explicit ThreadSolver(const SearchContext& sc)
       : sc(sc), ws(sc.model), ik_ws(sc.model), ctx(sc.model, ws), cws(sc.model) {}
-  // The cell's optimum descended from q0 (dexterity::cellFromSeed), without its measures.
-  bool fromSeed(const StemGrid::Cell& cell, const JointVector& q0, CellResult& out) {
+  // The cell's optimum descended from q0 (dexterity::cellFromSeed), without its measures; not
+  // descended when the start lies on the proven optimum `proven` (may be null).
+  bool fromSeed(const StemGrid::Cell& cell, const JointVector& q0, CellResult& out,
+                const JointVector* proven) {
     return cellFromSeed(sc.model, ws, ik_ws, ctx, sc.objective, sc.options, cell, q0, out,
-                        sc.check ? &cws : nullptr, false);
+                        sc.check ? &cws : nullptr, false, proven);
+  }
+  // Whether the cell's optimum is proven (dexterity::provenOptimum).
+  bool proven(const StemGrid::Cell& cell, const CellResult& c) {
+    return provenOptimum(sc.model, ws, ctx, sc.objective, sc.options, cell, c);
   }
   // The measures of a candidate about to be adopted (dexterity::measureCell).
   void measure(const StemGrid::Cell& cell, CellResult& c) {
@@ -111,7 +117,7 @@ struct StepItems {
   std::vector<std::uint8_t> improved, changed;
 };
 
-constexpr char kStepMagic[] = "armstudy-dexterity-search-step-v2";
+constexpr char kStepMagic[] = "armstudy-dexterity-search-step-v3";
 
 // The items of chunk `r` that tried or changed anything, with the new state of each changed cell
 // (`at(t)`), as bytes; empty when there is nothing to apply.
@@ -201,13 +207,17 @@ int multiStarts(const SearchContext& sc, std::vector<CellResult>& cells,
         const int idx = list[t];
         const StemGrid::Cell cell = g.cell(idx % G, idx / G);
         CellResult& cur = cells[idx];
+        // Starts that land on the cell's proven optimum are not descended; that optimum stays the
+        // test after a better candidate replaced it (such a start would descend to a worse one).
+        const JointVector proven_q = cur.q_opt;
+        const JointVector* proven = solver.proven(cell, cur) ? &proven_q : nullptr;
         JointVector q0(sc.model.dof());
         for (int s = first; s < first + starts; ++s) {
           randomConfiguration(sc.model, sc.options.search_seed, static_cast<std::uint64_t>(idx), s,
                               q0);
           CellResult cand;
           ++it.tries[t];
-          const bool landed = solver.fromSeed(cell, q0, cand);
+          const bool landed = solver.fromSeed(cell, q0, cand, proven);
           it.descent[t].add(cand.descent);
           if (!landed || !better(cand, cur)) continue;
           it.descent[t].changed += cand.descent.descents > 0;
@@ -261,6 +271,9 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
           int nbt[8];
           const int count = neighbours(g, idx, nbt);
           CellResult best = cur;
+          const StemGrid::Cell cell = g.cell(idx % G, idx / G);
+          const JointVector* proven = nullptr;
+          bool proof_known = false;
           for (int k = 0; k < count; ++k) {
             const CellResult& src = cells[nbt[k]];
             if (!source(nbt[k])) continue;
@@ -270,10 +283,13 @@ void propagate(const SearchContext& sc, std::vector<CellResult>& cells,
             if (cur.reachable &&
                 (src.q_opt - cur.q_opt).cwiseAbs().maxCoeff() < defaults::kMapSameBasin)
               continue;
+            if (!proof_known) {  // once per cell and round, for cells that try a neighbour
+              proven = solver.proven(cell, cur) ? &cur.q_opt : nullptr;
+              proof_known = true;
+            }
             CellResult cand;
             ++it.tries[t];
-            const StemGrid::Cell cell = g.cell(idx % G, idx / G);
-            const bool landed = solver.fromSeed(cell, src.q_opt, cand);
+            const bool landed = solver.fromSeed(cell, src.q_opt, cand, proven);
             it.descent[t].add(cand.descent);
             if (!landed || !better(cand, best)) continue;
             it.descent[t].changed += cand.descent.descents > 0;

@@ -3,7 +3,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "common/defaults.hpp"
 #include "common/enum_names.hpp"
@@ -215,11 +217,133 @@ std::string NullspaceOptions::validate() const {
   if (!std::isfinite(max_step) || max_step <= 0) return "max_step must be finite and > 0";
   if (correction_iterations < 0) return "correction_iterations must be >= 0";
   if (!std::isfinite(pose_tolerance) || pose_tolerance <= 0) return "pose tolerance must be > 0";
+  if (!std::isfinite(gradient_tolerance) || gradient_tolerance < 0)
+    return "gradient_tolerance must be finite and >= 0";
   if (!std::isfinite(damping_lambda0) || damping_lambda0 < 0)
     return "damping lambda0 must be finite and >= 0";
   if (!std::isfinite(damping_m0) || damping_m0 < 0) return "damping m0 must be finite and >= 0";
   return "";
 }
+
+namespace {
+
+// Drift compensation (eq. 5.50) as a Newton iteration with the generalised inverse: moves q back
+// onto the pose. True when it ends within (tol_p, tol_o); ws then holds FK and the TCP Jacobian at
+// q, and Jc the task rows there.
+bool backOntoPose(const Model& model, KinematicsWorkspace& ws, const PoseTask& target,
+                  const Eigen::VectorXd& w_inv, int corrections, double tol_p, double tol_o,
+                  JointVector& q, TaskJacobian& Jc, int& kernel_evaluations) {
+  TaskVec ec;
+  JointVector dq(q.size());
+  for (int c = 0; c <= corrections; ++c) {
+    forwardKinematicsAndJacobian(model, ws, q);
+    ++kernel_evaluations;
+    PoseError pe;
+    taskJacobianAndError(ws, target, Jc, ec, nullptr, &pe);
+    if (pe.position_m <= tol_p && pe.orientation_rad <= tol_o) return true;
+    if (c == corrections) return false;
+    if (!redundancyResolution(Jc, w_inv, ec, JointVector(), 0.0, 0.0, dq)) return false;
+    q += dq;
+  }
+  return false;
+}
+
+// N_W v = v - W^-1 J^T (J W^-1 J^T)^-1 J v, the part of v that leaves the task still (Algorithm
+// 5.3 with wdot = 0 and the "gradient" W v). False when J is singular.
+bool nullspacePart(const TaskJacobian& J, const Eigen::VectorXd& w_inv, const JointVector& v,
+                   JointVector& out) {
+  const JointVector wv = v.cwiseQuotient(w_inv);
+  if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), wv, 1.0, 0.0, out)) return false;
+  out = -out;
+  return true;
+}
+
+// The last few (step, change of projected gradient) pairs of a descent, and the two-loop
+// recursion that applies their limited-memory BFGS inverse Hessian (Nocedal & Wright, Numerical
+// Optimization, Algorithm 7.4, initial scaling eq. 7.20).
+struct QuasiNewtonMemory {
+  static constexpr int kPairs = kQuasiNewtonPairs;
+  std::array<JointVector, kPairs> s, y;
+  std::array<double, kPairs> rho{};
+  int count = 0, next = 0;
+  void clear() { count = next = 0; }
+  // Keeps the pair when its curvature s^T y is positive (the update stays positive definite).
+  void push(const JointVector& si, const JointVector& yi) {
+    const double sy = si.dot(yi);
+    if (!(sy > kQuasiNewtonCurvatureFloor * si.norm() * yi.norm())) return;
+    s[next] = si;
+    y[next] = yi;
+    rho[next] = 1.0 / sy;
+    next = (next + 1) % kPairs;
+    count = std::min(count + 1, kPairs);
+  }
+  int at(int k) const { return (next - 1 - k + 2 * kPairs) % kPairs; }  // k-th newest
+  JointVector apply(const JointVector& g) const {
+    JointVector r = g;
+    std::array<double, kPairs> a{};
+    for (int k = 0; k < count; ++k) {
+      const int i = at(k);
+      a[i] = rho[i] * s[i].dot(r);
+      r -= a[i] * y[i];
+    }
+    const int n0 = at(0);
+    r *= s[n0].dot(y[n0]) / y[n0].squaredNorm();
+    for (int k = count - 1; k >= 0; --k) {
+      const int i = at(k);
+      r += s[i] * (a[i] - rho[i] * y[i].dot(r));
+    }
+    return r;
+  }
+};
+
+// One descent's state: the iterate on the pose, its objective, gradient and task rows, and the
+// projected (steepest) descent direction -N W^-1 grad there.
+struct DescentState {
+  JointVector q, grad, d_sd;
+  double H = 0;
+  TaskJacobian J;
+};
+
+// The damped or undamped steepest null-space direction at the state (Algorithm 5.3 with wdot = 0
+// and alpha = 1, d = -N W^-1 grad^T, eq. 5.46). False when B is not positive definite.
+bool steepest(const NullspaceOptions& o, const Eigen::VectorXd& w_inv, DescentState& st,
+              double& lambda) {
+  const bool damped = o.damping_lambda0 > 0 && o.damping_m0 > 0;
+  lambda = damped ? adaptiveDamping(metrics::computeMeasures(st.J, TaskVec()).manipulability,
+                                    o.damping_lambda0, o.damping_m0)
+                  : 0.0;
+  return redundancyResolution(st.J, w_inv, TaskVec::Zero(st.J.rows()), st.grad, 1.0, lambda,
+                              st.d_sd);
+}
+
+// Whether H at q (FK and J in ws) satisfies the Armijo condition H < H0 + 1e-4 * decrease, with
+// decrease = s * grad^T d < 0; H is in H_out.
+bool armijo(const WeightedObjective& objective, ObjectiveContext& ctx, const JointVector& q,
+            double H0, double decrease, double& H_out, int& evaluations) {
+  ctx.prepare(q);
+  H_out = objective.evaluate(ctx, nullptr);
+  ++evaluations;
+  return H_out < H0 + 1e-4 * decrease;
+}
+
+// The step direction into d: the quasi-Newton direction from `memory`, kept in the null space, or
+// the steepest one (when the option is off, the descent is damped, there are no pairs, or the
+// quasi-Newton direction does not descend; the pairs are then dropped). True for a quasi-Newton
+// direction (tried with a unit step first).
+bool direction(const NullspaceOptions& o, const Eigen::VectorXd& w_inv, const DescentState& st,
+               double lambda, QuasiNewtonMemory& memory, JointVector& d) {
+  d = st.d_sd;
+  if (!o.quasi_newton || lambda != 0 || memory.count == 0) return false;
+  JointVector t(d.size());
+  if (nullspacePart(st.J, w_inv, memory.apply(-st.d_sd), t) && st.grad.dot(-t) < 0) {
+    d = -t;
+    return true;
+  }
+  memory.clear();
+  return false;
+}
+
+}  // namespace
 
 NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
                                const PoseTask& target, const Eigen::VectorXd& q_start,
@@ -231,8 +355,10 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
   forwardKinematicsAndJacobian(model, ws, res.q);
   ctx.prepare(res.q);
   res.error = poseError(ws, target);
-  JointVector grad(n);
-  res.H_start = res.H_final = objective.evaluate(ctx, &grad);
+  DescentState st;
+  st.grad.resize(n);
+  st.d_sd.resize(n);
+  res.H_start = res.H_final = objective.evaluate(ctx, &st.grad);
   res.evaluations = 1;
   res.kernel_evaluations = 1;
   // The tool may not drift further from the pose than where it started (or the tolerance).
@@ -243,90 +369,103 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
     res.status = NullspaceStatus::NotOnPose;
     return res;
   }
-  TaskJacobian J;
   TaskVec e;
-  taskJacobianAndError(ws, target, J, e);
-  JointVector q = res.q, d(n), q_try(n), dq(n);
-  double H = res.H_start;
-  double step = options.max_step;
+  taskJacobianAndError(ws, target, st.J, e);
+  st.q = res.q;
+  st.H = res.H_start;
+  JointVector d(n), q_try(n);
+  TaskJacobian Jc;
+  QuasiNewtonMemory memory;
+  double step = options.max_step, lambda = 0;
+  bool have_direction = steepest(options, w_inv, st, lambda);
   res.status = NullspaceStatus::IterationLimit;
   for (int it = 0; it < options.max_iterations; ++it) {
-    // Descent direction in the null space: Algorithm 5.3 with wdot = 0 and alpha = 1,
-    // d = -N W^-1 grad^T (eq. 5.46).
-    // (The manipulability is only needed when the damping is on.)
-    const bool damped = options.damping_lambda0 > 0 && options.damping_m0 > 0;
-    const double lambda =
-        damped ? adaptiveDamping(metrics::computeMeasures(J, TaskVec()).manipulability,
-                                 options.damping_lambda0, options.damping_m0)
-               : 0.0;
-    if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), grad, 1.0, lambda, d)) {
+    if (!have_direction) {
       res.status = NullspaceStatus::Converged;
       break;
     }
-    const double slope = grad.dot(d);  // <= 0
+    res.projected_gradient = st.d_sd.cwiseAbs().maxCoeff();
+    // First-order condition: the projected gradient vanishes (docs/dexterity.md, "Descent").
+    if (res.projected_gradient <= options.gradient_tolerance) {
+      res.status = NullspaceStatus::Converged;
+      break;
+    }
+    const bool unit = direction(options, w_inv, st, lambda, memory, d);
+    const double slope = st.grad.dot(d);  // < 0
     const double dmax = d.cwiseAbs().maxCoeff();
     if (!(dmax > 1e-14) || !(slope < 0)) {
       res.status = NullspaceStatus::Converged;
       break;
     }
-    double s = std::min(2.0 * step, options.max_step / dmax);
+    double s = std::min(unit ? 1.0 : 2.0 * step, options.max_step / dmax);
+    double H_try = st.H;
     bool accepted = false;
-    double H_try = H;
-    for (int ls = 0; ls < 30 && s * dmax > 1e-12; ++ls, s *= 0.5) {
-      q_try = q + s * d;
-      if (!withinLimits(model, q_try)) continue;
-      // Drift compensation (eq. 5.50 as Newton iteration): back onto the pose.
-      bool on_pose = false;
-      TaskJacobian Jc;
-      TaskVec ec;
-      for (int c = 0; c <= options.correction_iterations; ++c) {
-        forwardKinematicsAndJacobian(model, ws, q_try);
-        ++res.kernel_evaluations;
-        PoseError pe;
-        taskJacobianAndError(ws, target, Jc, ec, nullptr, &pe);
-        if (pe.position_m <= tol_p && pe.orientation_rad <= tol_o) {
-          on_pose = true;
-          break;
-        }
-        if (c == options.correction_iterations) break;
-        if (!redundancyResolution(Jc, w_inv, ec, JointVector(), 0.0, 0.0, dq)) break;
-        q_try += dq;
-      }
-      if (!on_pose || !withinLimits(model, q_try)) continue;
-      ctx.prepare(q_try);
-      H_try = objective.evaluate(ctx, nullptr);
-      ++res.evaluations;
-      if (H_try < H + 1e-4 * s * slope) {  // Armijo condition
-        accepted = true;
-        J = Jc;
-        break;
-      }
+    for (int ls = 0; ls < 30 && s * dmax > 1e-12 && !accepted; ++ls) {
+      q_try = st.q + s * d;
+      accepted = withinLimits(model, q_try) &&
+                 backOntoPose(model, ws, target, w_inv, options.correction_iterations, tol_p, tol_o,
+                              q_try, Jc, res.kernel_evaluations) &&
+                 withinLimits(model, q_try) &&
+                 armijo(objective, ctx, q_try, st.H, s * slope, H_try, res.evaluations);
+      if (!accepted) s *= 0.5;
     }
     if (!accepted) {
       res.status = NullspaceStatus::Converged;
       break;
     }
-    step = s;
+    if (!unit) step = s;
     res.last_step = s * dmax;
     res.step_sum += res.last_step;
-    const double improvement = H - H_try;
-    q = q_try;
-    H = H_try;
+    const double improvement = st.H - H_try;
+    const JointVector q_old = st.q, g_old = -st.d_sd;
+    st.q = q_try;
+    st.H = H_try;
+    st.J = Jc;
     ++res.iterations;
-    ctx.prepare(q);  // ws holds FK and J at q_try from the last correction
-    objective.evaluate(ctx, &grad);
+    ctx.prepare(st.q);  // ws holds FK and J at q_try from the last correction
+    objective.evaluate(ctx, &st.grad);
     ++res.evaluations;
-    if (improvement <= options.relative_improvement * std::max(std::abs(H), 1e-12)) {
+    have_direction = steepest(options, w_inv, st, lambda);
+    if (options.quasi_newton && have_direction && lambda == 0) {
+      // The pair in the new point's null space: its step and the change of the projected gradient.
+      JointVector sk(n), gk(n);
+      if (nullspacePart(st.J, w_inv, st.q - q_old, sk) && nullspacePart(st.J, w_inv, g_old, gk))
+        memory.push(sk, -st.d_sd - gk);
+    }
+    if (improvement <= options.relative_improvement * std::max(std::abs(st.H), 1e-12)) {
+      // A small improvement stops a steepest step; after a quasi-Newton step it says the pairs no
+      // longer model H here: steepest descent decides.
+      if (unit) {
+        memory.clear();
+        continue;
+      }
       res.status = NullspaceStatus::Converged;
       break;
     }
   }
-  res.q = q;
-  res.H_final = H;
-  forwardKinematicsAndJacobian(model, ws, q);
+  res.q = st.q;
+  res.H_final = st.H;
+  forwardKinematicsAndJacobian(model, ws, st.q);
   ++res.kernel_evaluations;
   res.error = poseError(ws, target);
   return res;
+}
+
+double projectedGradient(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
+                         const PoseTask& target, const Eigen::VectorXd& q,
+                         const WeightedObjective& objective, const Eigen::VectorXd& w_inv) {
+  DescentState st;
+  st.grad.resize(model.dof());
+  st.d_sd.resize(model.dof());
+  forwardKinematicsAndJacobian(model, ws, q);
+  ctx.prepare(q);
+  objective.evaluate(ctx, &st.grad);
+  TaskVec e;
+  taskJacobianAndError(ws, target, st.J, e);
+  double lambda = 0;
+  if (!steepest(NullspaceOptions{}, w_inv, st, lambda))
+    return std::numeric_limits<double>::infinity();
+  return st.d_sd.cwiseAbs().maxCoeff();
 }
 
 void DescentTally::add(const NullspaceResult& r) {
@@ -348,6 +487,7 @@ void DescentTally::add(const DescentTally& o) {
   step_sum += o.step_sum;
   last_step_sum += o.last_step_sum;
   for (int k = 0; k < 3; ++k) stopped[k] += o.stopped[k];
+  skipped += o.skipped;
 }
 
 }  // namespace armstudy::ik

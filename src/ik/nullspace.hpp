@@ -102,12 +102,22 @@ TrackingSummary trackReference(const Model& model, KinematicsWorkspace& ws,
                                ObjectiveContext* ctx, const TrackingOptions& options);
 
 // ---- Null-space optimisation at a pose ----
+inline constexpr int kQuasiNewtonPairs = 5;  // step pairs a quasi-Newton descent remembers
+inline constexpr double kQuasiNewtonCurvatureFloor =
+    1e-10;  // a pair is kept when s^T y exceeds this times |s| |y|
+
 struct NullspaceOptions {
   int max_iterations = defaults::kNullspaceMaxIterations;
   double relative_improvement = defaults::kNullspaceRelativeImprovement;
   double max_step = defaults::kNullspaceMaxStep;
   int correction_iterations = defaults::kNullspaceCorrectionIterations;
   double pose_tolerance = defaults::kNullspacePoseTolerance;  // [m and rad]
+  // Stop once the projected gradient max_i |(N W^-1 grad H)_i| is at most this (the first-order
+  // condition of a minimum on the pose); 0 = only the other rules stop.
+  double gradient_tolerance = 0;
+  // Limited-memory BFGS directions from the last steps' projected gradients (steepest descent
+  // when off, when damped, or when a quasi-Newton direction does not descend).
+  bool quasi_newton = false;
   // Adaptive damping of the descent direction near singularities (eq. 5.65, 5.67); 0 = off.
   double damping_lambda0 = 0, damping_m0 = 0;
   std::string validate() const;  // empty when valid
@@ -131,7 +141,9 @@ struct NullspaceResult {
   int kernel_evaluations = 0;
   double step_sum = 0;   // sum over accepted steps of max_i |q_i change| [rad or m]
   double last_step = 0;  // the last accepted step's max_i |q_i change|
-  PoseError error;       // at q
+  // max_i |(N W^-1 grad H)_i| where the descent stopped (0 when it stopped before computing it).
+  double projected_gradient = 0;
+  PoseError error;  // at q
 };
 
 // Counts of a set of null-space descents (optimiseAtPose calls): summed in a fixed order, they do
@@ -140,9 +152,11 @@ struct DescentTally {
   long descents = 0;
   long changed = 0;  // descents whose outcome changed a map cell (set by the map searches)
   long iterations = 0, objective_evaluations = 0, kernel_evaluations = 0;
-  double step_sum = 0;                  // over all accepted steps
-  double last_step_sum = 0;             // over descents, of their last accepted step
-  long stopped[3] = {0, 0, 0};          // by NullspaceStatus
+  double step_sum = 0;          // over all accepted steps
+  double last_step_sum = 0;     // over descents, of their last accepted step
+  long stopped[3] = {0, 0, 0};  // by NullspaceStatus
+  // Starts not descended because they lay on an optimum already proven (set by the map searches).
+  long skipped = 0;
   void add(const NullspaceResult& r);   // one descent
   void add(const DescentTally& other);  // another tally
 };
@@ -155,6 +169,12 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
                                const PoseTask& target, const Eigen::VectorXd& q_start,
                                const WeightedObjective& objective, const Eigen::VectorXd& w_inv,
                                const NullspaceOptions& options);
+
+// max_i |(N W^-1 grad H)_i| at q (on the pose of `target`): zero at a point that satisfies the
+// first-order conditions of a minimum of H on the pose. Leaves FK and J at q in ws.
+double projectedGradient(const Model& model, KinematicsWorkspace& ws, ObjectiveContext& ctx,
+                         const PoseTask& target, const Eigen::VectorXd& q,
+                         const WeightedObjective& objective, const Eigen::VectorXd& w_inv);
 
 // True when every q_i lies within its limits.
 bool withinLimits(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q);

@@ -11,6 +11,7 @@ void addKind(const std::string& p, const ik::DescentTally& t, double seconds,
              std::vector<StageCount>& out) {
   out.push_back({p + "descents", static_cast<double>(t.descents)});
   out.push_back({p + "changed", static_cast<double>(t.changed)});
+  out.push_back({p + "skipped_proven", static_cast<double>(t.skipped)});
   out.push_back({p + "iterations", static_cast<double>(t.iterations)});
   out.push_back({p + "kernel_evaluations", static_cast<double>(t.kernel_evaluations)});
   out.push_back({p + "objective_evaluations", static_cast<double>(t.objective_evaluations)});
@@ -46,6 +47,7 @@ void addDescentCounts(const std::string& prefix, const DexterityMap& map,
   }
   out.push_back({p + "descents", static_cast<double>(all.descents)});
   out.push_back({p + "changed", static_cast<double>(all.changed)});
+  out.push_back({p + "skipped_proven", static_cast<double>(all.skipped)});
   out.push_back({p + "kernel_evaluations", static_cast<double>(all.kernel_evaluations)});
   out.push_back({p + "us_per_descent", per(1e6 * seconds, all.descents), false});
 }

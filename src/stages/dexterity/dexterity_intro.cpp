@@ -47,6 +47,8 @@ nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
                     {"cold_starts", options.cold_starts},
                     {"nullspace_max_iterations", options.nullspace.max_iterations},
                     {"nullspace_relative_improvement", options.nullspace.relative_improvement},
+                    {"nullspace_gradient_tolerance", options.nullspace.gradient_tolerance},
+                    {"nullspace_quasi_newton", options.nullspace.quasi_newton},
                     {"search_seed_starts", options.seed_starts},
                     {"search_seed_stride", options.seed_stride},
                     {"search_propagation_rounds", options.propagation_rounds},

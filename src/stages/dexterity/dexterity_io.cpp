@@ -218,6 +218,7 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
         sv.integerIn("nullspace_max_iterations", o.nullspace.max_iterations, 0, 100000);
     o.nullspace.relative_improvement = nonNegative(
         sv, "relative_improvement", o.nullspace.relative_improvement, Dimension::Dimensionless);
+    o.nullspace.quasi_newton = sv.boolean("quasi_newton", o.nullspace.quasi_newton);
     o.nullspace.damping_lambda0 =
         nonNegative(sv, "damping", o.nullspace.damping_lambda0, Dimension::Dimensionless);
     o.nullspace.damping_m0 =
