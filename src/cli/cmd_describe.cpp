@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "cli/design_options.hpp"
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 #include "engine/run.hpp"
@@ -16,7 +17,7 @@
 namespace armstudy::cli {
 
 static std::string fmtQ(const Joint& j, double v) {
-  if (j.type == JointType::Revolute) return padLeft(formatFixed(v * 180.0 / M_PI, 1), 8) + " deg";
+  if (j.type == JointType::Revolute) return padLeft(formatFixed(toDegrees(v), 1), 8) + " deg";
   return padLeft(formatFixed(v, 3), 8) + " m  ";
 }
 
@@ -129,13 +130,13 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
                 "x [m]", "y [m]", "z [m]", "alpha[deg]", "beta[deg]", "gamma[deg]", "min", "max");
     int i = 1;
     for (const Joint& j : m.joints) {
-      const double d = 180.0 / M_PI;
+      const double d = kRadToDeg;
       std::printf("%-3d %-*s %-9s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f   %s %s\n", i++, w,
                   j.name.c_str(), toString(j.type), j.offset.x, j.offset.y, j.offset.z,
                   j.offset.alpha * d, j.offset.beta * d, j.offset.gamma * d,
                   fmtQ(j, j.limits.q_min).c_str(), fmtQ(j, j.limits.q_max).c_str());
     }
-    const double d = 180.0 / M_PI;
+    const double d = kRadToDeg;
     std::printf("tcp %-*s %8.4f %8.4f %8.4f %9.2f %9.2f %9.2f\n", w + 10, "(from last frame)",
                 m.tcp.x, m.tcp.y, m.tcp.z, m.tcp.alpha * d, m.tcp.beta * d, m.tcp.gamma * d);
     if (chains) {
@@ -144,7 +145,7 @@ void addDescribeCommand(CLI::App* cmd, Action& action) {
           "last joint axis (TCP frame): %.4f %.4f %.4f  (joint '%s'; nearest TCP axis %s, %.3g "
           "deg; TCP %.1f mm off the axis, %.1f mm along it)\n",
           a.axis_T.x() + 0.0, a.axis_T.y() + 0.0, a.axis_T.z() + 0.0, a.joint.c_str(),
-          a.nearest.c_str(), a.nearest_angle_rad * 180.0 / M_PI, a.off_axis_m * 1e3,
+          a.nearest.c_str(), toDegrees(a.nearest_angle_rad), a.off_axis_m * 1e3,
           a.along_m * 1e3 + 0.0);
     }
     std::printf(

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cli/design_options.hpp"
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
@@ -23,7 +24,7 @@ Eigen::VectorXd jointVector(const Model& m, const std::vector<double>& given, bo
                          "' has " + std::to_string(m.dof()) + " joints");
   Eigen::VectorXd q(m.dof());
   for (int i = 0; i < m.dof(); ++i)
-    q[i] = given[i] * (deg && m.joints[i].type == JointType::Revolute ? M_PI / 180.0 : 1.0);
+    q[i] = given[i] * (deg && m.joints[i].type == JointType::Revolute ? kDegToRad : 1.0);
   return q;
 }
 

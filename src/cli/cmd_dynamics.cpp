@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/design_options.hpp"
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/design_io.hpp"
@@ -57,7 +58,7 @@ void addDynamicsCommand(CLI::App* cmd, Action& action) {
                              "' has " + std::to_string(n) + " joints");
       for (int i = 0; i < n; ++i) {
         out[i] = v[i];
-        if (a->deg && m.joints[i].type == JointType::Revolute) out[i] *= M_PI / 180.0;
+        if (a->deg && m.joints[i].type == JointType::Revolute) out[i] *= kDegToRad;
         const bool rev = m.joints[i].type == JointType::Revolute, pos = std::string(key) == "q",
                    vel = std::string(key) == "qd";
         const Dimension dim = pos ? (rev ? Dimension::Angle : Dimension::Length)

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli/design_options.hpp"
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "io/design_io.hpp"
 #include "io/units.hpp"
@@ -26,7 +27,7 @@ static std::vector<std::string> limitWarnings(const Model& m, const Eigen::Vecto
 static std::string degreesHint(const Model& m, const Eigen::VectorXd& q) {
   std::string names;
   for (int i = 0; i < m.dof(); ++i)
-    if (m.joints[i].type == JointType::Revolute && std::abs(q[i]) > 2 * M_PI)
+    if (m.joints[i].type == JointType::Revolute && std::abs(q[i]) > 2 * std::numbers::pi)
       names += (names.empty() ? "" : ", ") + m.joints[i].name;
   if (names.empty()) return "";
   return "values of " + names +
@@ -63,7 +64,7 @@ void addFkCommand(CLI::App* cmd, Action& action) {
     Eigen::VectorXd q(m.dof());
     for (int i = 0; i < m.dof(); ++i) {
       q[i] = a->q[i];
-      if (a->deg && m.joints[i].type == JointType::Revolute) q[i] *= M_PI / 180.0;
+      if (a->deg && m.joints[i].type == JointType::Revolute) q[i] *= kDegToRad;
       const Dimension dim =
           m.joints[i].type == JointType::Revolute ? Dimension::Angle : Dimension::Length;
       if (const std::string bad = implausible(q[i], &dim); !bad.empty())
@@ -71,7 +72,7 @@ void addFkCommand(CLI::App* cmd, Action& action) {
     }
     KinematicsWorkspace ws(m);
     forwardKinematics(m, ws, q);
-    const double as = a->deg ? 180.0 / M_PI : 1.0;
+    const double as = a->deg ? kRadToDeg : 1.0;
     const char* au = a->deg ? "deg" : "rad";
     struct Row {
       std::string name;

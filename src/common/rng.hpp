@@ -6,6 +6,7 @@
 // Doubles take the top 53 bits to [0, 1); normals are Box-Muller.
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 namespace armstudy::rng {
 
@@ -40,7 +41,7 @@ struct SplitMix64 {
     double u1 = uniform();
     while (u1 <= 0) u1 = uniform();
     const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
   }
 };
 

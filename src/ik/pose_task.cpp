@@ -35,26 +35,15 @@ int taskDim(PoseTaskKind k) {
 }
 
 PoseTask positionTask(const Eigen::Vector3d& p_WT) {
-  PoseTask t;
-  t.kind = PoseTaskKind::Position;
-  t.p_WT = p_WT;
-  return t;
+  return {.kind = PoseTaskKind::Position, .p_WT = p_WT};
 }
 
 PoseTask positionAxisTask(const Eigen::Vector3d& p_WT, const Eigen::Vector3d& axis_W) {
-  PoseTask t;
-  t.kind = PoseTaskKind::PositionAxis;
-  t.p_WT = p_WT;
-  t.axis_W = axis_W;
-  return t;
+  return {.kind = PoseTaskKind::PositionAxis, .p_WT = p_WT, .axis_W = axis_W};
 }
 
 PoseTask fullPoseTask(const Eigen::Vector3d& p_WT, const Eigen::Matrix3d& R_WT) {
-  PoseTask t;
-  t.kind = PoseTaskKind::FullPose;
-  t.p_WT = p_WT;
-  t.R_WT = R_WT;
-  return t;
+  return {.kind = PoseTaskKind::FullPose, .p_WT = p_WT, .R_WT = R_WT};
 }
 
 void perpendicularBasis(const Eigen::Vector3d& a, Eigen::Vector3d& b1, Eigen::Vector3d& b2) {

@@ -14,21 +14,8 @@ constexpr const char* kDimensionNames[] = {"length", "angle", "linear velocity",
                                            "dimensionless"};
 const char* toString(Dimension d) { return enumName(d, kDimensionNames); }
 
-const char* siUnit(Dimension d) {
-  switch (d) {
-    case Dimension::Length:
-      return "m";
-    case Dimension::Angle:
-      return "rad";
-    case Dimension::LinearVelocity:
-      return "m/s";
-    case Dimension::AngularVelocity:
-      return "rad/s";
-    case Dimension::Dimensionless:
-      return "1";
-  }
-  return "1";
-}
+constexpr const char* kDimensionUnits[] = {"m", "rad", "m/s", "rad/s", "1"};
+const char* siUnit(Dimension d) { return enumName(d, kDimensionUnits); }
 
 namespace {
 

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/angles.hpp"
 #include "common/format.hpp"
 #include "io/urdf_arm.hpp"
 #include "io/urdf_io.hpp"
@@ -73,7 +74,7 @@ void applyToolAxisFromArm(Model& m) {
   notes::set(
       m, notes::kToolAxisFrom,
       "not taken from the arm: the TCP is " + std::string(mm) + " off the last joint's axis");
-  const std::string deg = formatFixed(a.nearest_angle_rad * 180.0 / M_PI, 1) + " deg";
+  const std::string deg = formatFixed(toDegrees(a.nearest_angle_rad), 1) + " deg";
   // The candidates: the TCP axis nearest the joint's axis, z (the TCP's own default), and the
   // joint's axis itself when no TCP axis is parallel to it.
   std::string candidates =

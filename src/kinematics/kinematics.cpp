@@ -1,6 +1,7 @@
 #include "kinematics/kinematics.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "common/errors.hpp"
@@ -156,7 +157,7 @@ CardanAngles cardanForDisplay(const Eigen::Matrix3d& R) {
   // small ones; its error only scales terms of the size of cos(beta), so R is reproduced.
   c.gamma = std::atan2(-R(0, 1), R(0, 0));
   const double s = std::atan2(R(2, 1), R(1, 1));
-  c.alpha = std::remainder(R(0, 2) > 0 ? s - c.gamma : s + c.gamma, 2 * M_PI);
+  c.alpha = std::remainder(R(0, 2) > 0 ? s - c.gamma : s + c.gamma, 2 * std::numbers::pi);
   return c;
 }
 

@@ -3,6 +3,7 @@
 #include <cairo-ft.h>
 #include <ft2build.h>
 
+#include <numbers>
 #include FT_FREETYPE_H
 
 #include <cstdint>

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 
 #include "common/format.hpp"
 #include "kinematics/kinematics.hpp"
@@ -35,9 +36,9 @@ struct MeshBuilder {
       if (i == kRings) {
         ring.assign(kSegments, add(c - r * Eigen::Vector3d::UnitZ()));
       } else {
-        const double th = M_PI * i / kRings;
+        const double th = std::numbers::pi * i / kRings;
         for (int k = 0; k < kSegments; ++k) {
-          const double ph = 2 * M_PI * k / kSegments;
+          const double ph = 2 * std::numbers::pi * k / kSegments;
           ring[k] = add(c + r * Eigen::Vector3d(std::sin(th) * std::cos(ph),
                                                 std::sin(th) * std::sin(ph), std::cos(th)));
         }
@@ -57,7 +58,7 @@ struct MeshBuilder {
     const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.normalized().cross(u);
     std::vector<int> ra(kSegments), rb(kSegments);
     for (int k = 0; k < kSegments; ++k) {
-      const double ph = 2 * M_PI * k / kSegments;
+      const double ph = 2 * std::numbers::pi * k / kSegments;
       const Eigen::Vector3d d = r * (std::cos(ph) * u + std::sin(ph) * v);
       ra[k] = add(a + d);
       rb[k] = add(b + d);

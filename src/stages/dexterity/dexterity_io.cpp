@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "io/toml_reader.hpp"
 #include "io/units.hpp"
@@ -152,7 +153,7 @@ DexterityOptions readDexterityOptions(io::TableReader& r, const SectionInput& in
   g.radius_m = r.quantity("radius", Dimension::Length);
   if (!(g.radius_m > 0)) r.fail("radius", "stem radius must be > 0");
   g.gamma_rad = readRange(r, "gamma", Dimension::Angle);
-  if (g.gamma_rad.max - g.gamma_rad.min > 2 * M_PI + 1e-9)
+  if (g.gamma_rad.max - g.gamma_rad.min > 2 * std::numbers::pi + 1e-9)
     r.fail("gamma", "gamma range exceeds a full turn");
   g.z_m = readRange(r, "z", Dimension::Length);
   const std::string task = r.string("task", "position_axis");

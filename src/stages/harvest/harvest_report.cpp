@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "common/angles.hpp"
 #include "common/format.hpp"
 #include "io/vtk_io.hpp"
 #include "model/model_notes.hpp"
@@ -155,7 +156,7 @@ std::vector<report::PlotSeries> profileSeries(const Model& model,
 
 std::string jointLimitText(const Model& model, int joint, double q) {
   if (isRevolute(model, joint)) {
-    const double deg = q * 180.0 / M_PI;
+    const double deg = toDegrees(q);
     return (deg > 0 ? "+" : "") + report::fixed(deg, 0) + " deg";
   }
   return (q > 0 ? "+" : "") + report::fixed(q, 3) + " m";
@@ -416,7 +417,7 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
   out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
   out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
   md << "Static holding (gravity + payload) over the grid, tool heading "
-     << report::fixed(g.gamma_rad * 180 / M_PI, 0) << " deg: " << hi.reachable << " of " << np
+     << report::fixed(toDegrees(g.gamma_rad), 0) << " deg: " << hi.reachable << " of " << np
      << " points reachable, " << hi.limited << " of them drive-limited (|I| > continuous current). "
      << "Map axes: " << an[a0] << " to the right, " << an[a1] << " upwards; "
      << report::hex(kHoldable) << " holdable, " << report::hex(kDriveLimit) << " drive limit, "
@@ -464,7 +465,7 @@ report::ViewCloud holdingViewCloud(const Model& model, const HarvestGrid& g,
   c.arm_caption = "arm: " + model.name +
                   " at its zero pose (each joint's zero clamped into its limits; the grid's "
                   "poses are not kept), tool heading " +
-                  report::fixed(g.gamma_rad * 180 / M_PI, 0) + " deg at every grid point.";
+                  report::fixed(toDegrees(g.gamma_rad), 0) + " deg at every grid point.";
   return c;
 }
 

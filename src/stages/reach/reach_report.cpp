@@ -54,12 +54,12 @@ ordered_json Stats::json() const {
     ordered_json cp = ordered_json::object();
     for (const auto& [name, count] : colliding_pairs) cp[name] = count;
     j["colliding_pairs"] = cp;
-    j["min_distance_m"] = reachable && std::isfinite(min_distance) ? ordered_json(min_distance)
-                                                                   : ordered_json(nullptr);
+    j["min_distance_m"] = reachable && std::isfinite(min_distance_m) ? ordered_json(min_distance_m)
+                                                                     : ordered_json(nullptr);
   }
   if (obstacles)
-    j["min_obstacle_distance_m"] = reachable && std::isfinite(min_obstacle_distance)
-                                       ? ordered_json(min_obstacle_distance)
+    j["min_obstacle_distance_m"] = reachable && std::isfinite(min_obstacle_distance_m)
+                                       ? ordered_json(min_obstacle_distance_m)
                                        : ordered_json(nullptr);
   return j;
 }

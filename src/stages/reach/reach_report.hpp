@@ -43,8 +43,8 @@ struct Stats {
   double translation_sum = 0, rotation_sum = 0;  // the manipulability's parts (ManipulabilityParts)
   bool collision = false, obstacles = false;
   std::map<std::string, long> colliding_pairs;  // poses reachable only in collision, per pair
-  double min_distance = INFINITY;               // smallest distance over the reachable poses
-  double min_obstacle_distance = INFINITY;      //   ... to an obstacle
+  double min_distance_m = INFINITY;             // smallest distance over the reachable poses
+  double min_obstacle_distance_m = INFINITY;    //   ... to an obstacle
   void add(const PoseSweep& s, long i, const Eigen::Vector3d& p) {
     ++n;
     ++status[s.status[i]];
@@ -52,12 +52,12 @@ struct Stats {
       collision = true;
       const int c = s.colliding_pair[i];
       if (c >= 0) ++colliding_pairs[s.pair_names[c]];
-      if (s.reachable(i)) min_distance = std::min(min_distance, s.min_distance_m[i]);
+      if (s.reachable(i)) min_distance_m = std::min(min_distance_m, s.min_distance_m[i]);
     }
     if (s.obstacles) {
       obstacles = true;
       if (s.reachable(i))
-        min_obstacle_distance = std::min(min_obstacle_distance, s.obstacle_distance_m[i]);
+        min_obstacle_distance_m = std::min(min_obstacle_distance_m, s.obstacle_distance_m[i]);
     }
     if (s.reachable(i)) {
       ++reachable;

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "collision/collision_term.hpp"
@@ -139,7 +140,7 @@ void writeRunVtp(const Model& model, const TrackingEntry& e, const LineReference
                               v = Eigen::Vector3d::Unit((plane + 1) % 3);
         std::vector<int> circle;
         for (int k = 0; k < kCircleSegments; ++k) {
-          const double a = 2 * M_PI * k / kCircleSegments;
+          const double a = 2 * std::numbers::pi * k / kCircleSegments;
           circle.push_back(b.add(o.p_W[c] + o.radius_m * (std::cos(a) * u + std::sin(a) * v), 0, 3,
                                  false, o.radius_m));
         }
