@@ -66,6 +66,15 @@ class MapSearch : SearchSteps {
     return pr.ik.reachable() ||
            (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
   }
+  // A round's step into its phase's counts: one more round, its tries (a), updates (b) and
+  // solves.
+  static void countRound(const StepResult& r, int& rounds, long& tries, long& updates,
+                         SolveTally& tally) {
+    ++rounds;
+    tries += r.a;
+    updates += r.b;
+    tally.add(r.tally);
+  }
   bool unsettled(long i) const { return !settle(static_cast<ReachStatus>(s_.status[i])); }
   bool colliding(long i) const { return inCollision(static_cast<ReachStatus>(s_.status[i])); }
 
@@ -114,9 +123,7 @@ class MapSearch : SearchSteps {
                  propagateFrom(solver, i, nb, first, tries);
                  updates += now_[i];
                });
-      ++sum_.rounds;
-      sum_.neighbour_tries += r.a;
-      sum_.neighbour_updates += r.b;
+      countRound(r, sum_.rounds, sum_.neighbour_tries, sum_.neighbour_updates, sum_.propagation);
       changed_.swap(now_);
       from = r.adopted;
       first = false;
@@ -196,6 +203,7 @@ class MapSearch : SearchSteps {
                  break;
                }
              });
+    sum_.collision_starts.add(r.tally);
     sum_.multistart_tries = r.a;
     sum_.multistart_freed = r.b;
     changed_ = now_;
@@ -218,6 +226,7 @@ class MapSearch : SearchSteps {
                             [](const PoseResult& pr) { return pr.ik.reachable(); });
                freed += now_[i];
              });
+    sum_.box.add(r.tally);
     sum_.box_tries = r.a;
     sum_.box_freed = r.b;
     changed_ = now_;
@@ -263,9 +272,7 @@ class MapSearch : SearchSteps {
                  }
                  updates += now_[i];
                });
-      ++sum_.best_rounds;
-      sum_.best_tries += r.a;
-      sum_.best_updates += r.b;
+      countRound(r, sum_.best_rounds, sum_.best_tries, sum_.best_updates, sum_.best);
       src.swap(now_);
       from = r.adopted;
       if (r.b == 0) break;
