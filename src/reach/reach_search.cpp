@@ -203,9 +203,15 @@ class MapSearch : SearchSteps {
                  break;
                }
              });
-    sum_.collision_starts.add(r.tally);
-    sum_.multistart_tries = r.a;
-    sum_.multistart_freed = r.b;
+    freeAndPropagate(r, sum_.multistart_tries, sum_.multistart_freed, sum_.collision_starts);
+  }
+
+  // A step that frees poses in collision: its tries (a), the poses it freed (b) and its solves
+  // into the phase's counts, then propagation from the freed poses.
+  void freeAndPropagate(const StepResult& r, long& tries, long& freed, SolveTally& tally) {
+    tally.add(r.tally);
+    tries = r.a;
+    freed = r.b;
     changed_ = now_;
     if (r.b > 0) propagate(false, r.adopted);
   }
@@ -226,11 +232,7 @@ class MapSearch : SearchSteps {
                             [](const PoseResult& pr) { return pr.ik.reachable(); });
                freed += now_[i];
              });
-    sum_.box.add(r.tally);
-    sum_.box_tries = r.a;
-    sum_.box_freed = r.b;
-    changed_ = now_;
-    if (r.b > 0) propagate(false, r.adopted);
+    freeAndPropagate(r, sum_.box_tries, sum_.box_freed, sum_.box);
   }
 
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
