@@ -68,10 +68,11 @@ bool nullspaceTask(const Model& model, KinematicsWorkspace& kin, const PoseTask&
 // distance escape_safety_distance_m + clearance) in the null space of the task with the tool held
 // there (ik::optimiseAtPose). The result judged by the reach solver's tolerances and limits
 // (status Reachable or OutOfReach; its collision distances are the caller's to check).
+// The descent and the exact-pose solve's iterations count into `out`.
 IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace& cws,
                          const PoseTask& target, const IkOptions& ik_options,
                          const CollisionReachOptions& options, std::span<const Obstacle> obstacles,
-                         const JointVector& q) {
+                         const JointVector& q, CollisionReachResult& out) {
   PoseTask pose_task;
   if (!nullspaceTask(model, ws.kin, target, q, pose_task)) return IkResult{};
   CollisionPotentialOptions po;
@@ -87,10 +88,12 @@ IkResult nullspaceEscape(const Model& model, IkWorkspace& ws, CollisionWorkspace
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(model.dof());
   // The reach solution meets the tolerances; the null-space descent needs the pose exactly.
   const IkResult on = solvePose(model, ws, pose_task, IkOptions::exactPose(), 0, &q);
+  out.iterations += on.iterations;
   ik::NullspaceOptions no;
   no.max_iterations = defaults::kCollisionEscapeIterations;
   const ik::NullspaceResult r =
       ik::optimiseAtPose(model, ws.kin, ctx, pose_task, on.q, h_c, w_inv, no);
+  out.escape.add(r);
   if (r.status == ik::NullspaceStatus::NotOnPose) return IkResult{};
   IkResult found = evaluateSolution(model, ws, target, ik_options, r.q, ReachStatus::OutOfReach);
   found.starts = 0;
@@ -127,6 +130,7 @@ CollisionReachResult solvePoseCollisionAware(
   };
   out.ik = solved ? *solved : solvePose(model, ws, target, ik_options, pose_id, warm_start);
   out.attempts = 1;
+  out.iterations = solved ? 0 : out.ik.iterations;
   if (!out.ik.reachable()) return out;
   const Check first_check = check(out.ik.q);
   out.min_distance_m = first_check.d_min;
@@ -139,12 +143,13 @@ CollisionReachResult solvePoseCollisionAware(
     out.min_distance_m = c.d_min;
     out.obstacle_distance_m = c.d_obstacle;
     out.nullspace_escape = by_descent;
+    out.escape.changed += by_descent ? 1 : 0;
     return out;
   };
   // Step 1: descend H_c in the null space from the colliding solution (thesis section 5.4.3).
   if (options.escape_safety_distance_m > 0) {
     const IkResult found =
-        nullspaceEscape(model, ws, cws, target, ik_options, options, obstacles, first.q);
+        nullspaceEscape(model, ws, cws, target, ik_options, options, obstacles, first.q, out);
     if (found.reachable()) {
       const Check c = check(found.q);
       if (c.d_min > options.clearance_m) return accept(found, c, true);
@@ -163,6 +168,7 @@ CollisionReachResult solvePoseCollisionAware(
                                                         model.joints[i].limits.q_max)(rng);
     IkResult r = solvePose(model, ws, target, ik_options, id, &start);
     ++out.attempts;
+    out.iterations += r.iterations;
     if (!r.reachable()) continue;
     const Check c = check(r.q);
     if (c.d_min > options.clearance_m) return accept(r, c, false);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "collision/collision.hpp"
+#include "ik/nullspace.hpp"
 #include "ik/reach_solver.hpp"
 
 namespace armstudy::collision {
@@ -37,6 +38,11 @@ struct CollisionReachResult {
   int colliding_pair_index = -1;
   int attempts = 0;               // IK solves used (1 + escapes)
   bool nullspace_escape = false;  // the collision-free solution came from the null-space descent
+  // The work behind it: the iterations of every pose solve it ran (the first one's unless the
+  // caller passed it as `solved`, the escape's exact-pose solve, the restarts), and the H_c
+  // null-space descent (one at most; `changed` when its posture was taken).
+  int iterations = 0;
+  ik::DescentTally escape;
 };
 
 // Requires cws built from the same model. Deterministic for a given pose_id. `solved`: the result

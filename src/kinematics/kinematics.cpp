@@ -5,8 +5,15 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "kinematics/kernel_count.hpp"
 
 namespace armstudy {
+
+namespace {
+thread_local long t_kernel_evaluations = 0;  // forwardKinematics calls on this thread
+}  // namespace
+
+long kernelEvaluationsOnThisThread() { return t_kernel_evaluations; }
 
 KinematicsWorkspace::KinematicsWorkspace(const Model& model) : n(model.dof()) {
   ARMSTUDY_CHECK(n > 0 && n <= kMaxDof, "model DoF outside 1.." + std::to_string(kMaxDof));
@@ -24,6 +31,7 @@ void forwardKinematics(const Model& model, KinematicsWorkspace& ws,
                        const Eigen::Ref<const Eigen::VectorXd>& q) {
   const int n = ws.n;
   ARMSTUDY_CHECK(q.size() == n, "joint vector size does not match the model");
+  ++t_kernel_evaluations;
   Eigen::Matrix3d R_Wp = model.T_WB.linear();
   Eigen::Vector3d p_Wp = model.T_WB.translation();
   for (int i = 0; i < n; ++i) {

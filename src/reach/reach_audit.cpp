@@ -9,12 +9,13 @@
 #include <string_view>
 
 #include "common/errors.hpp"
+#include "kinematics/kernel_count.hpp"
 #include "study/shared_loop.hpp"
 
 namespace armstudy {
 
 namespace {
-constexpr std::string_view kAuditMagic = "armstudy-audit-rows-1";
+constexpr std::string_view kAuditMagic = "armstudy-audit-rows-2";
 }  // namespace
 
 int ReachAudit::contradictedTotal() const {
@@ -64,16 +65,25 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
         row.map_status = static_cast<ReachStatus>(sweep.status[i]);
         row.manipulability_map = sweep.reachable(i) ? sweep.manipulability[i] : 0.0;
         const PoseTask target = taskTarget(grid.task_space, grid.pose(i));
+        row.tally = SolveTally{};
         for (int k = 0; k < starts; ++k) {
           randomConfiguration(model, seed, static_cast<std::uint64_t>(i), k, q0);
+          const long kernels = kernelEvaluationsOnThisThread();
           const IkResult r = solvePose(model, ws, target, one, static_cast<std::uint64_t>(i), &q0);
-          if (!r.reachable()) continue;
-          if (cws) {
+          ReachStatus ended = r.status;
+          if (r.reachable() && cws) {
             forwardKinematics(model, ws.kin, r.q);
             collision::collisionDistances(model, ws.kin, collision.obstacles, *cws, query);
             const double ds = collision.self ? collision::minSelfDistance(*cws) : INFINITY;
-            if (!(std::min(ds, collision::minEnvironmentDistance(*cws)) > 0)) continue;
+            const double de = collision::minEnvironmentDistance(*cws);
+            if (!(std::min(ds, de) > 0))
+              ended = ds <= de ? ReachStatus::SelfCollision : ReachStatus::ObstacleCollision;
           }
+          ++row.tally.descents;
+          row.tally.iterations += r.iterations;
+          row.tally.kernel_evaluations += kernelEvaluationsOnThisThread() - kernels;
+          ++row.tally.ended[static_cast<int>(ended)];
+          if (ended != ReachStatus::Reachable) continue;
           ++row.solutions;
           row.manipulability_best = std::max(row.manipulability_best, r.manipulability);
           if (!sweep.reachable(i)) break;  // one solution contradicts the status
@@ -89,6 +99,7 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
       w.put<std::int32_t>(a.rows[t].solutions);
       w.put(a.rows[t].manipulability_map);
       w.put(a.rows[t].manipulability_best);
+      putTally(w, a.rows[t].tally);
     }
     return w.bytes();
   };
@@ -100,11 +111,13 @@ ReachAudit auditGridSweep(const Model& model, const TaskGrid& grid, const IkOpti
       a.rows[t].solutions = rd.get<std::int32_t>();
       a.rows[t].manipulability_map = rd.get<double>();
       a.rows[t].manipulability_best = rd.get<double>();
+      getTally(rd, a.rows[t].tally);
     }
     ARMSTUDY_CHECK(rd.finished(), "the audit's rows arrive whole");
   };
   runSharedLoop(runner, loop);
   for (const ReachAuditPose& r : a.rows) {
+    a.descents.add(r.tally);
     const int s = static_cast<int>(r.map_status);
     ++a.by_status[s];
     if (r.map_status != ReachStatus::Reachable && r.solutions > 0) ++a.contradicted[s];

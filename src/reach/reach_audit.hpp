@@ -19,6 +19,7 @@ struct ReachAuditPose {
   int solutions = 0;               // starts that ended in a (collision-free) solution
   double manipulability_map = 0;   // at the map's solution (reachable poses)
   double manipulability_best = 0;  // the largest the audit found
+  SolveTally tally;                // its starts' pose solves (ended: in collision per the check)
 };
 
 struct ReachAudit {
@@ -31,6 +32,7 @@ struct ReachAudit {
   int manipulability_within_5pct =
       0;  // ... whose map manipulability is >= 95 % of the audit's best
   double seconds = 0;
+  SolveTally descents;               // over all rows
   std::vector<ReachAuditPose> rows;  // ascending pose index
   int contradictedTotal() const;
 };

@@ -66,6 +66,15 @@ class MapSearch : SearchSteps {
     return pr.ik.reachable() ||
            (inCollision(pr.ik.status) && !inCollision(cur) && cur != ReachStatus::Reachable);
   }
+  // A round's step into its phase's counts: one more round, its tries (a), updates (b) and
+  // solves.
+  static void countRound(const StepResult& r, int& rounds, long& tries, long& updates,
+                         SolveTally& tally) {
+    ++rounds;
+    tries += r.a;
+    updates += r.b;
+    tally.add(r.tally);
+  }
   bool unsettled(long i) const { return !settle(static_cast<ReachStatus>(s_.status[i])); }
   bool colliding(long i) const { return inCollision(static_cast<ReachStatus>(s_.status[i])); }
 
@@ -114,9 +123,7 @@ class MapSearch : SearchSteps {
                  propagateFrom(solver, i, nb, first, tries);
                  updates += now_[i];
                });
-      ++sum_.rounds;
-      sum_.neighbour_tries += r.a;
-      sum_.neighbour_updates += r.b;
+      countRound(r, sum_.rounds, sum_.neighbour_tries, sum_.neighbour_updates, sum_.propagation);
       changed_.swap(now_);
       from = r.adopted;
       first = false;
@@ -196,8 +203,15 @@ class MapSearch : SearchSteps {
                  break;
                }
              });
-    sum_.multistart_tries = r.a;
-    sum_.multistart_freed = r.b;
+    freeAndPropagate(r, sum_.multistart_tries, sum_.multistart_freed, sum_.collision_starts);
+  }
+
+  // A step that frees poses in collision: its tries (a), the poses it freed (b) and its solves
+  // into the phase's counts, then propagation from the freed poses.
+  void freeAndPropagate(const StepResult& r, long& tries, long& freed, SolveTally& tally) {
+    tally.add(r.tally);
+    tries = r.a;
+    freed = r.b;
     changed_ = now_;
     if (r.b > 0) propagate(false, r.adopted);
   }
@@ -218,10 +232,7 @@ class MapSearch : SearchSteps {
                             [](const PoseResult& pr) { return pr.ik.reachable(); });
                freed += now_[i];
              });
-    sum_.box_tries = r.a;
-    sum_.box_freed = r.b;
-    changed_ = now_;
-    if (r.b > 0) propagate(false, r.adopted);
+    freeAndPropagate(r, sum_.box_tries, sum_.box_freed, sum_.box);
   }
 
   // The best solution found at each reachable pose: Jacobi rounds in which a reachable pose
@@ -263,9 +274,7 @@ class MapSearch : SearchSteps {
                  }
                  updates += now_[i];
                });
-      ++sum_.best_rounds;
-      sum_.best_tries += r.a;
-      sum_.best_updates += r.b;
+      countRound(r, sum_.best_rounds, sum_.best_tries, sum_.best_updates, sum_.best);
       src.swap(now_);
       from = r.adopted;
       if (r.b == 0) break;

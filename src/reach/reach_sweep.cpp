@@ -200,6 +200,10 @@ std::vector<PoseSweep> sweepRanges(const Model& model, long size, long len,
         chainLine(solver, options, retry, begin, end, dir, out, begin, t_reach, t_unreach);
       }
       keepBetterChain(first_chain, second_chain, passes, begin, n, s);
+      SolveTally line = solver.take();
+      line.changed = n;  // each pose's row is one of the chains' results
+#pragma omp critical(reach_chain_tally)
+      s.chain.add(line);
 #pragma omp atomic
       s.solve_seconds_reachable += t_reach;
 #pragma omp atomic
@@ -302,6 +306,7 @@ PoseSweep assembleSweep(std::vector<PoseSweep> chunks, long size) {
     s.threads = std::max(s.threads, c.threads);
     s.solve_seconds_reachable += c.solve_seconds_reachable;
     s.solve_seconds_unreachable += c.solve_seconds_unreachable;
+    s.chain.add(c.chain);
   }
   ARMSTUDY_CHECK(next == size, "sweep chunks of '" + s.design + "' cover " + std::to_string(next) +
                                    " of " + std::to_string(size) + " poses");

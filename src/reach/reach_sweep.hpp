@@ -8,6 +8,7 @@
 // results, so results are bit-identical for any thread count and schedule (and units could be
 // distributed across processes). A chunk (a contiguous range of units, the checkpoint grain of
 // the reach stage) is therefore bit-identical whether it is swept alone or as part of the whole.
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "collision/collision.hpp"
+#include "ik/nullspace.hpp"
 #include "ik/reach_solver.hpp"
 #include "study/checkpoint.hpp"
 #include "tasks/task_grid.hpp"
@@ -33,6 +35,26 @@ struct SweepCollision {
       true;  // descend H_c in the null space before restarts (reach_collision.hpp)
   bool enabled() const { return self || !obstacles.empty(); }
 };
+
+// Counts of a set of pose solves of a reach map (the chains', a search phase's, the audit's): a
+// descent is one pose solve from one start configuration (a chain's solve: from its warm start,
+// with the solver's own restarts), with its collision check and escape. Integer sums: the same
+// on any thread count, schedule and rank count.
+struct SolveTally {
+  long descents = 0;
+  long changed = 0;     // descents whose result a pose's row took
+  long iterations = 0;  // Levenberg-Marquardt / Newton iterations of every local solve in them
+  // Forward-kinematics evaluations (with or without the TCP Jacobian), collision checks and
+  // escapes included (kinematics/kernel_count.hpp).
+  long kernel_evaluations = 0;
+  std::array<long, kReachStatusCount> ended{};  // by the status the descent ended with
+  ik::DescentTally escape;  // the H_c null-space descents of the collision escape among them
+  void add(const SolveTally& other);  // integer counts only (escape's step sums stay 0)
+  void addEscape(const ik::DescentTally& descents);  // ... of a solve's escape
+};
+// A tally as bytes (in units, search steps and audit rows) and back.
+void putTally(UnitWriter& w, const SolveTally& t);
+void getTally(UnitReader& r, SolveTally& t);
 
 // Per-pose results of one design, stored column-wise (one vector per quantity).
 struct PoseSweep {
@@ -60,6 +82,8 @@ struct PoseSweep {
   // unreachable), the clearance of the arm from its environment.
   bool obstacles = false;
   std::vector<double> obstacle_distance_m;
+  // The chains' pose solves that made these rows (changed: one per pose).
+  SolveTally chain;
   double wall_seconds = 0;
   int threads = 1;
   double solve_seconds_reachable =
@@ -174,6 +198,9 @@ struct SweepSearchSummary {
   int best_rounds = 0;
   long best_tries = 0, best_updates = 0;
   bool converged = true;
+  // The pose solves of each phase (descents: neighbour_tries, multistart_tries, box_tries and
+  // best_tries; changed: the poses that adopted a candidate in a step).
+  SolveTally propagation, collision_starts, box, best;
   double seconds = 0;
   // The poses whose row the search changed (adopted a candidate, or spent starts on), ascending:
   // what packSearchResult sends.

@@ -10,7 +10,7 @@ namespace armstudy {
 using namespace sweep_detail;
 
 namespace {
-constexpr std::string_view kResultMagic = "armstudy-search-result-1";
+constexpr std::string_view kResultMagic = "armstudy-search-result-2";
 }  // namespace
 
 std::string packSearchResult(const PoseSweep& s, const SweepSearchSummary& sum) {
@@ -24,6 +24,8 @@ std::string packSearchResult(const PoseSweep& s, const SweepSearchSummary& sum) 
   w.put<std::int64_t>(sum.best_tries);
   w.put<std::int64_t>(sum.best_updates);
   w.put<std::uint8_t>(sum.converged ? 1 : 0);
+  for (const SolveTally* t : {&sum.propagation, &sum.collision_starts, &sum.box, &sum.best})
+    putTally(w, *t);
   w.put(sum.seconds);
   w.put<std::int64_t>(static_cast<std::int64_t>(sum.changed.size()));
   for (const long i : sum.changed) {
@@ -45,6 +47,8 @@ void unpackSearchResult(const std::string& bytes, PoseSweep& s, SweepSearchSumma
   sum.best_tries = static_cast<long>(rd.get<std::int64_t>());
   sum.best_updates = static_cast<long>(rd.get<std::int64_t>());
   sum.converged = rd.get<std::uint8_t>() != 0;
+  for (SolveTally* t : {&sum.propagation, &sum.collision_starts, &sum.box, &sum.best})
+    getTally(rd, *t);
   sum.seconds = rd.get<double>();
   const auto n = rd.get<std::int64_t>();
   ARMSTUDY_CHECK(rd.ok() && n >= 0 && n <= s.size, "a search result fits its sweep");

@@ -10,7 +10,7 @@
 namespace armstudy::sweep_detail {
 
 namespace {
-constexpr std::string_view kStepMagic = "armstudy-search-step-2";
+constexpr std::string_view kStepMagic = "armstudy-search-step-3";
 // Poses per chunk of a search step's shared loop. A step visits only the poses that can change (its
 // active set), which are mostly costly ones, so chunks are small: at most 8 poses, fewer when the
 // active set has fewer than 8 x kSearchStepChunks poses, so that a step has that many chunks to
@@ -40,6 +40,7 @@ SearchSteps::SearchSteps(const Model& model, const std::function<PoseTask(long)>
       touched_(N_, 0),
       item_a_(N_, 0),
       item_b_(N_, 0),
+      item_tally_(N_),
       solvers_(static_cast<std::size_t>(nt_)) {}
 
 // Computes the candidates of the poses of `items` (indices into `active`) on the run's threads:
@@ -57,19 +58,20 @@ void SearchSteps::computeItems(const std::vector<long>& active, const std::vecto
     for (long t = 0; t < n; ++t) {
       const long i = active[items[t]];
       body(*solver, i, nb, item_a_[i], item_b_[i]);
+      item_tally_[i] = solver->take();
     }
   }
 }
 
 // A chunk's adopted rows and spent starts as bytes, by item index (its position in the active
 // set); empty when nothing was tried there.
-std::string SearchSteps::packChunk(const std::vector<long>& active,
-                                   const std::pair<long, long>& counts, const ItemRange& r,
-                                   bool spends) const {
-  if (counts.first == 0 && counts.second == 0) return std::string();
+std::string SearchSteps::packChunk(const std::vector<long>& active, const ChunkCount& counts,
+                                   const ItemRange& r, bool spends) const {
+  if (counts.a == 0 && counts.b == 0) return std::string();
   UnitWriter w(kStepMagic);
-  w.put<std::int64_t>(counts.first);
-  w.put<std::int64_t>(counts.second);
+  w.put<std::int64_t>(counts.a);
+  w.put<std::int64_t>(counts.b);
+  putTally(w, counts.tally);
   for (long t = r.begin; t < r.end; ++t)
     if (now_[active[t]]) {
       w.put<std::int64_t>(t);
@@ -91,6 +93,9 @@ void SearchSteps::unpackChunk(const std::vector<long>& active, const ItemRange& 
   UnitReader rd(bytes, kStepMagic);
   res.a += static_cast<long>(rd.get<std::int64_t>());
   res.b += static_cast<long>(rd.get<std::int64_t>());
+  SolveTally tally;
+  getTally(rd, tally);
+  res.tally.add(tally);
   for (long t = static_cast<long>(rd.get<std::int64_t>()); rd.ok() && t >= 0;
        t = static_cast<long>(rd.get<std::int64_t>())) {
     ARMSTUDY_CHECK(t >= r.begin && t < r.end && getPose(rd, s_, active[t]),
@@ -125,18 +130,20 @@ SearchSteps::StepResult SearchSteps::step(const char* phase, int grain, long chu
   loop.compute = [&](const std::vector<SharedLoop::Chunk>& mine) {
     computeItems(active, SharedLoop::itemsOf(mine), grain, body);
     for (const SharedLoop::Chunk& c : mine) {
-      std::pair<long, long>& ab = counts[c.first];
+      ChunkCount& ab = counts[c.first];
       for (long t = c.second.begin; t < c.second.end; ++t) {
-        ab.first += item_a_[active[t]];
-        ab.second += item_b_[active[t]];
+        ab.a += item_a_[active[t]];
+        ab.b += item_b_[active[t]];
+        ab.tally.add(item_tally_[active[t]]);
       }
     }
   };
   // The step ends: the poses computed here adopt their candidates.
   loop.finish = [&](const std::vector<SharedLoop::Chunk>& mine) {
     for (const SharedLoop::Chunk& c : mine) {
-      res.a += counts.at(c.first).first;
-      res.b += counts.at(c.first).second;
+      res.a += counts.at(c.first).a;
+      res.b += counts.at(c.first).b;
+      res.tally.add(counts.at(c.first).tally);
       for (long t = c.second.begin; t < c.second.end; ++t) {
         const long i = active[t];
         if (spends) extra_[i] += static_cast<int>(item_a_[i]);
@@ -157,6 +164,7 @@ SearchSteps::StepResult SearchSteps::step(const char* phase, int grain, long chu
   runSharedLoop(runner_, loop);
   std::sort(res.adopted.begin(), res.adopted.end());
   for (const long i : res.adopted) touched_[i] = 1;
+  res.tally.changed = static_cast<long>(res.adopted.size());
   return res;
 }
 

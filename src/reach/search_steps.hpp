@@ -23,9 +23,11 @@ long searchStepChunk(std::size_t active);
 
 class SearchSteps {
  public:
-  // A step's totals of its two counts and the poses that adopted a candidate (ascending).
+  // A step's totals of its two counts, its pose solves (changed: the poses that adopted a
+  // candidate) and the poses that adopted a candidate (ascending).
   struct StepResult {
     long a = 0, b = 0;
+    SolveTally tally;
     std::vector<long> adopted;
   };
   // Computes pose i's candidate into found_[i] (marking now_[i]) and counts into a and b; nb holds
@@ -57,16 +59,22 @@ class SearchSteps {
   std::vector<std::uint8_t> touched_;  // rows the search changed (summary.changed)
 
  private:
-  using ChunkCounts = std::map<std::size_t, std::pair<long, long>>;  // per chunk computed here
+  // A chunk's totals of the two counts and of its poses' solves.
+  struct ChunkCount {
+    long a = 0, b = 0;
+    SolveTally tally;
+  };
+  using ChunkCounts = std::map<std::size_t, ChunkCount>;  // per chunk computed here
 
   void computeItems(const std::vector<long>& active, const std::vector<long>& items, int grain,
                     const Body& body);
-  std::string packChunk(const std::vector<long>& active, const std::pair<long, long>& counts,
+  std::string packChunk(const std::vector<long>& active, const ChunkCount& counts,
                         const ItemRange& r, bool spends) const;
   void unpackChunk(const std::vector<long>& active, const ItemRange& r, const std::string& bytes,
                    bool spends, StepResult& res);
 
-  std::vector<long> item_a_, item_b_;  // a step's counts per pose (summed per chunk)
+  std::vector<long> item_a_, item_b_;   // a step's counts per pose (summed per chunk)
+  std::vector<SolveTally> item_tally_;  // ... and its pose solves
   // One pose solver per thread for the whole search, built on first use (a step's compute may be
   // called once per chunk, e.g. when unit costs are recorded; the solvers hold workspaces only).
   std::vector<std::unique_ptr<PoseSolver>> solvers_;

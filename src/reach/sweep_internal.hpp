@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "collision/reach_collision.hpp"
+#include "kinematics/kernel_count.hpp"
 #include "reach/reach_sweep.hpp"
 
 namespace armstudy::sweep_detail {
@@ -81,7 +82,8 @@ inline JointVector alternativeOf(const PoseSweep& s, long i) {
 
 // One pose, plain IK or collision-aware (reachable only in collision -> Self/ObstacleCollision),
 // with per-thread workspaces. Target and seed follow the pose's index in the whole sweep, never
-// its place in a chunk.
+// its place in a chunk. Counts what it solves (take()): a call without `solved` begins a descent,
+// one with it goes on with the descent that solveIgnoringCollisions began.
 class PoseSolver {
  public:
   PoseSolver(const Model& model, const SweepCollision& collision,
@@ -96,11 +98,53 @@ class PoseSolver {
   // solved: the result of solveIgnoringCollisions(i, o, warm_start), when the caller has it.
   PoseResult solve(long i, const IkOptions& o, const JointVector* warm_start,
                    int escape_attempts = -1, bool escape = true, const IkResult* solved = nullptr) {
+    const long k0 = kernelEvaluationsOnThisThread();
+    if (!solved) begin();
+    PoseResult r = solveCounted(i, o, warm_start, escape_attempts, escape, solved);
+    end(r.ik.status, k0);
+    return r;
+  }
+
+  // The solution alone, without the collision check (its status says only whether the tool
+  // reaches the pose); begins a descent.
+  IkResult solveIgnoringCollisions(long i, const IkOptions& o, const JointVector* warm_start) {
+    const long k0 = kernelEvaluationsOnThisThread();
+    begin();
+    IkResult r = solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
+    tally_.iterations += r.iterations;
+    end(r.status, k0);
+    return r;
+  }
+
+  // The counts of the descents since the last take() (each ended with its last status), and
+  // starts afresh.
+  SolveTally take() {
+    if (open_) ++tally_.ended[status_];
+    open_ = false;
+    SolveTally t = tally_;
+    tally_ = SolveTally{};
+    return t;
+  }
+
+ private:
+  void begin() {
+    if (open_) ++tally_.ended[status_];
+    ++tally_.descents;
+    open_ = true;
+  }
+  void end(ReachStatus status, long kernels_before) {
+    status_ = static_cast<int>(status);
+    tally_.kernel_evaluations += kernelEvaluationsOnThisThread() - kernels_before;
+  }
+
+  PoseResult solveCounted(long i, const IkOptions& o, const JointVector* warm_start,
+                          int escape_attempts, bool escape, const IkResult* solved) {
     PoseResult r;
     if (!collision_.enabled()) {
       r.ik = solved
                  ? *solved
                  : solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
+      if (!solved) tally_.iterations += r.ik.iterations;
       return r;
     }
     collision::CollisionReachOptions copts = copts_;
@@ -109,6 +153,8 @@ class PoseSolver {
     collision::CollisionReachResult c = collision::solvePoseCollisionAware(
         model_, ws_, *cws_, target_(i), o, copts, static_cast<std::uint64_t>(i),
         collision_.obstacles, warm_start, solved);
+    tally_.iterations += c.iterations;
+    tally_.addEscape(c.escape);
     r.ik = std::move(c.ik);
     if (r.ik.reachable() || inCollision(r.ik.status)) {
       r.min_distance_m = c.min_distance_m;
@@ -118,19 +164,15 @@ class PoseSolver {
     return r;
   }
 
-  // The solution alone, without the collision check (its status says only whether the tool
-  // reaches the pose).
-  IkResult solveIgnoringCollisions(long i, const IkOptions& o, const JointVector* warm_start) {
-    return solvePose(model_, ws_, target_(i), o, static_cast<std::uint64_t>(i), warm_start);
-  }
-
- private:
   const Model& model_;
   const SweepCollision& collision_;
   const std::function<PoseTask(long)>& target_;
   IkWorkspace ws_;
   std::optional<collision::CollisionWorkspace> cws_;
   collision::CollisionReachOptions copts_;
+  SolveTally tally_;
+  bool open_ = false;  // a descent has begun and not yet ended
+  int status_ = 0;     // ... its status so far
 };
 
 // Rank of a pose result: collision-free reachable, then reachable only in collision, then the rest.

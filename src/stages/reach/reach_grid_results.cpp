@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "common/defaults.hpp"
+#include "stages/reach/reach_counts.hpp"
 #include "stages/reach/reach_units.hpp"
 #include "study/interleave.hpp"
 
@@ -105,6 +106,10 @@ ReachGridResults solveReachGrid(const StageContext& ctx, const ReachConfig& cfg,
   res.maps = solveGridDesigns(ctx, sum, res.folder, res.models, grid, cfg, progress);
   searchMaps(ctx, cfg, res, sum);
   auditMaps(ctx, cfg, res, sum);
+  for (std::size_t di = 0; di < res.designCount(); ++di)
+    reach_counts::addDescentCounts(res.folder + "/" + res.models[di]->name, res.maps[di],
+                                   res.searches[di],
+                                   cfg.audit_poses > 0 ? &res.audits[di] : nullptr, sum.counts);
   return res;
 }
 

@@ -11,6 +11,7 @@
 #include "report/arm_drawing.hpp"
 #include "report/markdown.hpp"
 #include "stages/reach/reach_answer.hpp"
+#include "stages/reach/reach_counts.hpp"
 #include "stages/reach/reach_grid.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
@@ -220,6 +221,7 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
   const SweepSearchSummary ss = searchPoseListSweep(
       sd.model, l, cfg.ik, ctx.threads, cfg.collisionFor(sd.model), cfg.search, s, &ctx.units);
   sum.timings.push_back({unit + "/search", ss.seconds});
+  reach_counts::addDescentCounts(unit, s, ss, nullptr, sum.counts);
   addUnitMetrics(sum.metrics, unit, s);
   Stats st;
   for (long i = 0; i < s.size; ++i) st.add(s, i, l.poses[i].head<3>());

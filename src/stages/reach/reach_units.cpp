@@ -9,10 +9,10 @@
 
 namespace armstudy::reach_units {
 
-constexpr char kUnitMagic[] = "armstudy-reach-unit-v6";
+constexpr char kUnitMagic[] = "armstudy-reach-unit-v7";
 
 // The unit layout, both ways (study/checkpoint.hpp): the sizes and flags, then every per-pose
-// array.
+// array (the chains' solve counts follow).
 template <class Io, class Sweep>
 void sweepFields(Io& io, Sweep& s) {
   unitValue<std::int64_t>(io, s.dof);
@@ -25,6 +25,7 @@ void sweepFields(Io& io, Sweep& s) {
 std::string serializeSweep(const PoseSweep& s) {
   UnitWriter w(kUnitMagic);
   sweepFields(w, s);
+  putTally(w, s.chain);
   return w.bytes();
 }
 
@@ -33,6 +34,7 @@ bool deserializeSweep(const std::string& b, const std::string& design, PoseSweep
   s = PoseSweep{};
   s.design = design;
   sweepFields(r, s);
+  getTally(r, s.chain);
   if (!r.finished() || s.size < 0 || s.dof < 0) return false;
   const auto n = static_cast<std::size_t>(s.size);
   const std::size_t nc = s.collision ? n : 0, no = s.obstacles ? n : 0;

@@ -10,8 +10,8 @@
 
 namespace armstudy::reach_units {
 
-// A chunk's result as bytes (its place in the sweep and every per-pose column, no timings), and
-// back: false when the bytes are not such a unit.
+// A chunk's result as bytes (its place in the sweep, every per-pose column and the chains' solve
+// counts, no timings), and back: false when the bytes are not such a unit.
 std::string serializeSweep(const PoseSweep& s);
 bool deserializeSweep(const std::string& bytes, const std::string& design, PoseSweep& s);
 
