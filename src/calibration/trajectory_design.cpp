@@ -74,11 +74,13 @@ void applyFriction(int j, drive::Effect effect, const std::string& key, double v
   for (Drive& x : cal.drives)
     if (x.joint == cal.joints[j].name) d = &x;
   if (d->friction_law.empty()) d->friction_law = "none";
-  if (effect == drive::Effect::Stribeck) {
-    if (!p.has(effect)) p.stribeck_torque = p.coulomb;
-    p.stribeck_velocity = profile;
-    d->friction["stribeck_velocity"] = profile;
-  }
+  const drive::EffectDeclaration& decl = drive::declaration(effect);
+  if (decl.starts_at_coulomb && !p.has(effect)) p.*decl.params[0].field = p.coulomb;
+  for (const drive::EffectParameter& x : decl.params)
+    if (x.profiled) {
+      p.*x.field = profile;
+      d->friction[x.key] = profile;
+    }
   if (!p.has(effect)) {
     const auto law = drive::lawEffects(p.law);
     const std::string entry = cal.joints[j].name + "." + drive::toString(effect);
