@@ -56,21 +56,6 @@ const char* physicalReason(SideTerm t) {
                                   : "friction is not negative";
 }
 
-// The design's value of a joint-side term (Joint::dynamics).
-double designValue(const JointDynamics& d, SideTerm t) {
-  switch (t) {
-    case SideTerm::Coulomb:
-      return d.coulomb;
-    case SideTerm::Viscous:
-      return d.viscous;
-    case SideTerm::Offset:
-      return d.effort_offset;
-    case SideTerm::Inertia:
-      return d.armature;
-  }
-  return 0.0;
-}
-
 // Smooth sign of the Coulomb terms: tanh(v / w) (w = 0: the joint never moves, no force).
 double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
 
@@ -200,13 +185,9 @@ class TrajectoryProblem : public ArmProblem {
     }
     for (int j = 0; j < n; ++j) {
       if (j >= static_cast<int>(model.inertias.size())) break;
-      ArmEffect e;
-      e.name = "link_mass." + model.joints[j].name;
-      e.effect = "link_mass";
-      e.joint = model.joints[j].name;
-      e.pattern =
-          "gravity and inertia torques of extra mass at the link's centre of mass (joints up to "
-          "this one)";
+      ArmEffect e = jointEffect("link_mass", model.joints[j].name,
+                                "gravity and inertia torques of extra mass at the link's centre of "
+                                "mass (joints up to this one)");
       e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4, 0,
                    "a link's mass is above zero"}};
       add(e, {TrajEffect::LinkMass, j});
@@ -294,7 +275,7 @@ class TrajectoryProblem : public ArmProblem {
         e.joint = model.joints[j].name;
         e.pattern = std::string(si.pattern) + " (joint " + model.joints[j].name + ")";
         e.params = {{si.key, rev ? si.unit_rev : si.unit_pri,
-                     physicalLower(si.term) - designValue(model.joints[j].dynamics, si.term), kInfD,
+                     physicalLower(si.term) - model.joints[j].dynamics.*sideField(si.term), kInfD,
                      si.typical, 1e-4, 0, physicalReason(si.term)}};
         add(e, {TrajEffect::JointSide, j, drive::Effect::Coulomb, si.term});
       }
@@ -533,6 +514,20 @@ class TrajectoryProblem : public ArmProblem {
 }  // namespace
 
 namespace trajectory_detail {
+
+double JointDynamics::*sideField(SideTerm term) {
+  switch (term) {
+    case SideTerm::Coulomb:
+      return &JointDynamics::coulomb;
+    case SideTerm::Viscous:
+      return &JointDynamics::viscous;
+    case SideTerm::Offset:
+      return &JointDynamics::effort_offset;
+    case SideTerm::Inertia:
+      break;
+  }
+  return &JointDynamics::armature;
+}
 
 // Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
 // fields).

@@ -93,25 +93,6 @@ void applyFriction(int j, drive::Effect effect, const std::string& key, double v
   d->friction[key] = frictionValue(p, key);
 }
 
-// A fitted joint-side term added to the joint's own dynamics ([[joint]] coulomb, viscous,
-// armature, effort_offset).
-void applyJointSide(SideTerm term, double value, JointDynamics& d) {
-  switch (term) {
-    case SideTerm::Coulomb:
-      d.coulomb += value;
-      break;
-    case SideTerm::Viscous:
-      d.viscous += value;
-      break;
-    case SideTerm::Offset:
-      d.effort_offset += value;
-      break;
-    case SideTerm::Inertia:
-      d.armature += value;
-      break;
-  }
-}
-
 }  // namespace
 
 Model calibratedTrajectoryModel(const Model& model, const ArmProblem& problem,
@@ -149,7 +130,7 @@ Model calibratedTrajectoryModel(const Model& model, const ArmProblem& problem,
         cal.inertias[t.joint].mass_kg = std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0]);
         break;
       case TrajEffect::JointSide:
-        applyJointSide(t.term, v.x[0], cal.joints[t.joint].dynamics);
+        cal.joints[t.joint].dynamics.*sideField(t.term) += v.x[0];
         break;
       case TrajEffect::Motor:
         notes.push_back(e.name + " = " + formatG(v.x[0], 10) + " " + e.params[0].unit +
