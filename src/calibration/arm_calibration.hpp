@@ -69,6 +69,17 @@ struct ArmEffect {
   bool hasProfile() const { return !profile_grid.empty(); }
 };
 
+// The instance "<effect>.<joint>[.<suffix>]" of a per-joint effect (parameters still to set).
+inline ArmEffect jointEffect(const std::string& effect, const std::string& joint,
+                             std::string pattern, const std::string& suffix = "") {
+  ArmEffect e;
+  e.name = effect + "." + joint + (suffix.empty() ? "" : "." + suffix);
+  e.effect = effect;
+  e.joint = joint;
+  e.pattern = std::move(pattern);
+  return e;
+}
+
 // The value of one switched-on effect: parameters (deltas to the design, SI) and profiled value.
 struct EffectValue {
   int effect = 0;  // index into ArmProblem::catalogue
@@ -227,6 +238,11 @@ struct ArmResidualMap {
   int flagged() const;
 };
 
+// How a residual pattern was found: binned means of a channel against a variable, or a periodic
+// residual against a joint position (periodogram). toString gives the name reports write.
+enum class PatternKind { binned_means, periodic };
+const char* toString(PatternKind kind);
+
 // A pattern in the final model's residuals that no effect of the catalogue explains:
 // binned means of one channel against one operating variable, or a periodic residual against a
 // joint position (periodogram). Significance is family-wise 5 % over all tests (Bonferroni).
@@ -234,7 +250,7 @@ struct ArmPattern {
   std::string channel;   // channel name, e.g. "tau3"
   std::string variable;  // "q3", "qd3", "sign(qd3)", "t", "row", the load name
   std::string unit;      // unit of the variable
-  std::string kind;      // "binned_means" | "periodic"
+  PatternKind kind = PatternKind::binned_means;
   double statistic =
       0;  // binned: largest |bin mean| / its standard error; periodic: chi^2(2) power
   double threshold = 0;  // of the statistic (Bonferroni)

@@ -132,7 +132,7 @@ struct PatternSearch {
   }
 
   // A pattern of channel c against v, of `kind`, significant above `threshold`.
-  ArmPattern pattern(int c, const Var& v, const char* kind, double threshold) const {
+  ArmPattern pattern(int c, const Var& v, PatternKind kind, double threshold) const {
     ArmPattern p;
     p.channel = P.channel_names[c];
     p.variable = v.name;
@@ -146,7 +146,7 @@ struct PatternSearch {
   void binnedMeans(int c, const Var& v, std::vector<ArmPattern>& out) const {
     const std::vector<Bin> bins = binsOf(v, R);
     if (bins.empty()) return;
-    ArmPattern p = pattern(c, v, "binned_means", z_bin);
+    ArmPattern p = pattern(c, v, PatternKind::binned_means, z_bin);
     double explained = 0;
     for (const Bin& b : bins) {
       const int n = static_cast<int>(b.rows.size());
@@ -223,7 +223,7 @@ struct PatternSearch {
     }
     for (int c = 0; c < C; ++c) {
       if (best[c] < 0 || !(sigma[c] > 0) || !(ss[c] > 0)) continue;
-      ArmPattern p = pattern(c, v, "periodic", chi_freq);
+      ArmPattern p = pattern(c, v, PatternKind::periodic, chi_freq);
       p.period = period[c];
       p.amplitude = amplitude[c];
       p.statistic = best[c] / inflate;
@@ -241,6 +241,10 @@ struct PatternSearch {
 };
 
 }  // namespace
+
+const char* toString(PatternKind kind) {
+  return kind == PatternKind::periodic ? "periodic" : "binned_means";
+}
 
 // The unexplained-effect search on a model's residuals (native units): every channel,
 // normalised by its noise, against every operating variable (joint positions and speeds, the

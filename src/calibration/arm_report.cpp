@@ -49,13 +49,13 @@ json patternsJson(const std::vector<ArmPattern>& ps) {
     json j = {{"channel", p.channel},
               {"variable", p.variable},
               {"unit", p.unit},
-              {"kind", p.kind},
+              {"kind", toString(p.kind)},
               {"statistic", finite(p.statistic)},
               {"threshold", finite(p.threshold)},
               {"significant", p.significant},
               {"explained", finite(p.explained)},
               {"description", p.description}};
-    if (p.kind == "periodic") {
+    if (p.kind == PatternKind::periodic) {
       j["period"] = finite(p.period);
       j["amplitude"] = finite(p.amplitude);
     } else {

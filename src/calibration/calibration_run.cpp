@@ -14,8 +14,8 @@ drive::Effect parseDriveEffect(const std::string& name, const std::string& file,
   drive::Effect e;
   if (drive::parseEffect(name, e)) return e;
   std::string names;
-  for (const EffectInfo& info : driveEffectCatalogue())
-    names += (names.empty() ? "" : ", ") + info.name;
+  for (const drive::EffectDeclaration& d : drive::effectDeclarations())
+    names += (names.empty() ? "" : ", ") + std::string(d.name);
   throw InputError(file, line, key, "unknown effect '" + name + "' (expected " + names + ")");
 }
 

@@ -18,6 +18,7 @@
 namespace armstudy::calibration {
 
 using drive::Effect;
+using drive::EffectParameter;
 using drive::FrictionParams;
 
 namespace {
@@ -59,7 +60,7 @@ class DriveProblem : public ArmProblem {
       if (!t.refit) p.on[idx(t.effect)] = true;
       for (std::size_t j = 0; j < t.keys.size(); ++j)
         *drive::parameter(p, t.keys[j]) = info.params[j].design + v.x[j];
-      if (info.hasProfile()) p.stribeck_velocity = v.profile;
+      if (info.hasProfile()) *drive::parameter(p, info.profile.key) = v.profile;
     }
     return p;
   }
@@ -111,8 +112,10 @@ class DriveProblem : public ArmProblem {
     theta_.resize(n);
     for (int i = 0; i < n; ++i)
       theta_[i] = data.hasTemperature() ? data.temperature[i] : design_.reference_temperature_C;
-    if ((design_.has(Effect::Temperature) || design_.has(Effect::TemperatureViscous)) &&
-        !data.hasTemperature())
+    bool temperature_term = false;
+    for (const drive::EffectDeclaration& d : drive::effectDeclarations())
+      temperature_term = temperature_term || (d.needs_temperature && design_.has(d.effect));
+    if (temperature_term && !data.hasTemperature())
       warnings.push_back(
           "the design has a temperature term but the data has no temperature column; "
           "evaluated at the reference temperature");
@@ -156,20 +159,17 @@ class DriveProblem : public ArmProblem {
     if (n > 0 && vmax > 0) {
       const int G = defaults::kStribeckGridPoints;
       const double a = std::log(0.5 * vmin), b = std::log(vmax);
-      for (int g = 0; g < G; ++g) stribeck_grid_.push_back(std::exp(a + (b - a) * g / (G - 1)));
+      for (int g = 0; g < G; ++g) speed_grid_.push_back(std::exp(a + (b - a) * g / (G - 1)));
     }
   }
 
   std::string unitOf(const EffectParameter& ep) const {
     return design_.joint_side ? ep.unit_joint : ep.unit_motor;
   }
-  // Catalogue typical values are motor side; joint-side laws see them scaled (typical values
-  // only).
+  // Declared typical values are motor side; joint-side laws see them scaled (typical values only).
   double typicalOf(const EffectParameter& ep) const {
-    const double N = drive_.gear_ratio;
-    if (!design_.joint_side || ep.key == "load_coulomb") return ep.typical;
-    return ep.key == "viscous" || ep.key == "temperature_viscous_coefficient" ? ep.typical * N * N
-                                                                              : ep.typical * N;
+    return design_.joint_side ? ep.typical * drive::jointSideScale(ep, drive_.gear_ratio)
+                              : ep.typical;
   }
   ArmParam param(const EffectParameter& ep, double design_value) const {
     ArmParam p;
@@ -182,16 +182,22 @@ class DriveProblem : public ArmProblem {
     p.design = design_value;
     return p;
   }
-  void stribeckProfile(ArmEffect& e) const {
-    const EffectParameter& ev = effectInfo(Effect::Stribeck).params[1];
-    e.profile = {ev.key,
-                 unitOf(ev),
-                 0,
-                 kInf,
-                 design_.joint_side ? ev.typical / drive_.gear_ratio : ev.typical,
-                 0,
-                 0};
-    e.profile_grid = stribeck_grid_;
+  // A profiled parameter (the Stribeck velocity) on the log grid of measured law-side speeds.
+  void profile(ArmEffect& e, const EffectParameter& ev) const {
+    e.profile = {ev.key, unitOf(ev), 0, kInf, typicalOf(ev), 0, 0};
+    e.profile_grid = speed_grid_;
+  }
+  // The effect's parameters: fitted ones start at `start(parameter)`, a profiled one is scanned.
+  template <class Start>
+  void addParams(ArmEffect& e, DriveTag& t, const drive::EffectDeclaration& d, Start start) const {
+    for (const EffectParameter& ep : d.params) {
+      if (ep.profiled) {
+        profile(e, ep);
+        continue;
+      }
+      e.params.push_back(param(ep, start(ep)));
+      t.keys.push_back(ep.key);
+    }
   }
 
   // The candidate effects: the refit of the design's own terms, then every term it lacks.
@@ -205,14 +211,10 @@ class DriveProblem : public ArmProblem {
       DriveTag t;
       t.refit = true;
       std::string terms;
-      for (Effect fe : drive::kAllEffects) {
-        if (!design_.has(fe)) continue;
-        terms += (terms.empty() ? "" : "+") + std::string(drive::toString(fe));
-        const EffectInfo& info = effectInfo(fe);
-        e.params.push_back(
-            param(info.params[0], drive::parameter(std::as_const(design_), info.params[0].key)));
-        t.keys.push_back(info.params[0].key);
-        if (fe == Effect::Stribeck) stribeckProfile(e);
+      for (const drive::EffectDeclaration& d : drive::effectDeclarations()) {
+        if (!design_.has(d.effect)) continue;
+        terms += (terms.empty() ? "" : "+") + std::string(d.name);
+        addParams(e, t, d, [&](const EffectParameter& ep) { return design_.*ep.field; });
       }
       e.pattern += " (" + terms + ")";
       if (!e.params.empty()) {
@@ -220,20 +222,19 @@ class DriveProblem : public ArmProblem {
         added_first.push_back(kRefitEffect);  // every fit refits them first, then ranks
       }
     }
-    for (Effect fe : drive::kAllEffects) {
-      if (design_.has(fe)) continue;
-      if (drive::isTemperatureEffect(fe) && !data.hasTemperature())
-        continue;  // needs a temperature column
-      const EffectInfo& info = effectInfo(fe);
+    for (const drive::EffectDeclaration& d : drive::effectDeclarations()) {
+      if (design_.has(d.effect)) continue;
+      if (d.needs_temperature && !data.hasTemperature()) continue;  // needs a temperature column
       ArmEffect e;
-      e.name = e.effect = info.name;
+      e.name = e.effect = d.name;
       e.joint = joint;
-      e.pattern = info.pattern;
-      // Stribeck from zero: T_S starts at the design's Coulomb level (no change at zero).
-      const double start = fe == Effect::Stribeck ? design_.coulomb : 0.0;
-      e.params.push_back(param(info.params[0], start));
-      if (fe == Effect::Stribeck) stribeckProfile(e);
-      add(e, DriveTag{false, fe, {info.params[0].key}});
+      e.pattern = d.pattern;
+      DriveTag t{false, d.effect, {}};
+      // From zero: a Stribeck torque starts at the design's Coulomb level (no change at zero).
+      addParams(e, t, d, [&](const EffectParameter&) {
+        return d.starts_at_coulomb ? design_.coulomb : 0.0;
+      });
+      add(e, t);
     }
   }
 
@@ -254,7 +255,7 @@ class DriveProblem : public ArmProblem {
   }
   DriveData data_;
   std::vector<double> theta_;
-  std::vector<double> stribeck_grid_;  // law-side speeds, rad/s
+  std::vector<double> speed_grid_;  // law-side speeds, rad/s
 };
 
 }  // namespace
@@ -263,56 +264,6 @@ std::unique_ptr<ArmProblem> makeDriveProblem(const Model& model, const std::stri
                                              const DriveData& data, int speed_bins, int load_bins) {
   return std::make_unique<DriveProblem>(model, joint, data, speed_bins, load_bins);
 }
-
-const std::vector<EffectInfo>& driveEffectCatalogue() {
-  static const std::vector<EffectInfo> cat = {
-      {Effect::Coulomb,
-       "coulomb",
-       "eq. (3.30) T_f0",
-       "a step at zero speed: residual of constant magnitude, sign of the speed, independent of "
-       "load",
-       {{"coulomb", "N m", "N", 0, kInf, 0.08}}},
-      {Effect::Viscous,
-       "viscous",
-       "eq. (3.30) b",
-       "a straight line through the origin in speed, independent of load",
-       {{"viscous", "N m s/rad", "N s/m", 0, kInf, 1.5e-4}}},
-      {Effect::LoadCoulomb,
-       "load_coulomb",
-       "eq. (3.30) mu",
-       "grows with |load|, sign of the speed, the same at every speed",
-       {{"load_coulomb", "-", "-", 0, kInf, 4e-3}}},
-      {Effect::LoadViscous,
-       "load_viscous",
-       "eq. (3.30) gamma",
-       "fan of lines through the origin in speed whose slope grows with |load|",
-       {{"load_viscous", "s/rad", "s/m", 0, kInf, 7e-6}}},
-      {Effect::Stribeck,
-       "stribeck",
-       "eq. (3.33) T_fS, phi_S",
-       "a bend at low speed: residual largest near standstill, fading above the Stribeck velocity",
-       {{"stribeck_torque", "N m", "N", 0, kInf, 0.04},
-        {"stribeck_velocity", "rad/s", "m/s", 0, kInf, 60}}},
-      {Effect::Asymmetry,
-       "asymmetry",
-       "direction-dependent friction (not in the thesis laws)",
-       "an offset of the same sign in both directions: friction larger one way than the other",
-       {{"asymmetry", "N m", "N", -kInf, kInf, 0.02}}},
-      {Effect::Temperature,
-       "temperature",
-       "temperature dependence (thesis section 4.4.1, 4.6.2)",
-       "residual drifts with temperature, sign of the speed",
-       {{"temperature_coefficient", "N m/K", "N/K", -kInf, kInf, -2e-3}}},
-      {Effect::TemperatureViscous,
-       "temperature_viscous",
-       "temperature dependence of the viscous term (lubricant viscosity; thesis section 4.4.1)",
-       "a fan of lines through the origin in speed whose slope drifts with temperature",
-       {{"temperature_viscous_coefficient", "N m s/(rad K)", "N s/(m K)", -kInf, kInf, -3e-6}}},
-  };
-  return cat;
-}
-
-const EffectInfo& effectInfo(Effect e) { return driveEffectCatalogue()[idx(e)]; }
 
 const Drive& requireDrive(const Model& model, const std::string& joint) {
   std::string names;
@@ -360,12 +311,12 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
   const Drive& d = requireDrive(model, joint);
   FrictionParams truth = drive::frictionParams(model, d);
   for (const auto& [e, overrides] : o.hidden) {
-    const EffectInfo& info = effectInfo(e);
+    const drive::EffectDeclaration& info = drive::declaration(e);
     if (!truth.has(e))
       for (const auto& ep : info.params) setParam(truth, ep.key, ep.typical);
     truth.on[idx(e)] = true;
     for (const auto& [k, v] : overrides) {
-      bool belongs = k == "reference_temperature" && drive::isTemperatureEffect(e);
+      bool belongs = k == "reference_temperature" && info.needs_temperature;
       for (const auto& ep : info.params) belongs = belongs || ep.key == k;
       if (!belongs)
         throw InputError("", 0, k,
@@ -373,8 +324,10 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
       setParam(truth, k, v);
     }
   }
-  if (truth.has(Effect::Stribeck) && !(truth.stribeck_velocity > 0))
-    throw InputError("", 0, "stribeck_velocity", "Stribeck velocity must be positive");
+  for (const drive::EffectDeclaration& d : drive::effectDeclarations())
+    for (const EffectParameter& ep : d.params)
+      if (ep.positive && truth.has(d.effect) && !(truth.*ep.field > ep.lower))
+        throw InputError("", 0, ep.key, drive::inWords(ep.key) + " must be positive");
   std::vector<double> speeds = o.speeds_radps;
   if (speeds.empty())
     for (double rpm : {100, 250, 500, 1000, 1500, 2000, 2500, 3000, 3500})

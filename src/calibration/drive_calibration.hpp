@@ -10,8 +10,9 @@
 // the same residuals times k_m (thesis eq. 4.6).
 //
 // The problem's catalogue: "refit" (the design's own friction terms, thesis Table 4.5's refit of
-// eq. 3.30) and one instance per drive effect the design does not have (drive::Effect names;
-// the temperature effects only when the data has a temperature column). Every parameter is a
+// eq. 3.30) and one instance per declared drive effect the design does not have
+// (drive::effectDeclarations; those that need a temperature only when the data has a temperature
+// column). Every parameter is a
 // change to the design's value and reported as the absolute value (ArmParam::design); the
 // Stribeck velocity is profiled on a log grid over the measured speed range.
 #include <cstdint>
@@ -43,25 +44,6 @@ struct DriveData {
 // Reads and checks a drive file. Rows at standstill (speed 0) are an InputError naming the line:
 // the friction laws do not predict static friction.
 DriveData readDriveData(const std::string& path);
-
-// The catalogue of drive effects: SI parameters with bounds, and the residual pattern each
-// explains.
-struct EffectParameter {
-  std::string key;              // key in [drive.friction]
-  std::string unit_motor;       // unit for motor-side laws
-  std::string unit_joint;       // unit for joint-side (prismatic) laws
-  double lower = 0, upper = 0;  // fit bounds (law side, SI); +-inf when unbounded
-  double typical = 0;           // magnitude `armstudy synth` hides by default (motor-side laws)
-};
-struct EffectInfo {
-  drive::Effect effect;
-  std::string name;
-  std::string thesis;                   // where the term comes from
-  std::string pattern;                  // the residual pattern it explains
-  std::vector<EffectParameter> params;  // stribeck: [stribeck_torque, stribeck_velocity]
-};
-const std::vector<EffectInfo>& driveEffectCatalogue();
-const EffectInfo& effectInfo(drive::Effect effect);
 
 // The drive of a joint; InputError (design file, drive key) when the design has none.
 const Drive& requireDrive(const Model& model, const std::string& joint);

@@ -29,7 +29,7 @@ class DriveKind : public Kind {
   }
   std::vector<std::string> summaryEffects(const ArmProblem&) const override {
     std::vector<std::string> names;
-    for (const EffectInfo& info : driveEffectCatalogue()) names.push_back(info.name);
+    for (const drive::EffectDeclaration& d : drive::effectDeclarations()) names.push_back(d.name);
     return names;
   }
   // The current channel's RMSE (the problem's one channel).

@@ -52,25 +52,19 @@ class TcpProblem : public ArmProblem {
     for (int j = 0; j < n; ++j) {
       const Joint& jt = model.joints[j];
       const bool rev = jt.type == JointType::Revolute;
-      ArmEffect e;
-      e.name = "joint_offset." + jt.name;
-      e.effect = "joint_offset";
-      e.joint = jt.name;
-      e.pattern =
-          "residual grows with the distance of the TCP from the joint axis, direction "
-          "perpendicular to it";
+      ArmEffect e = jointEffect("joint_offset", jt.name,
+                                "residual grows with the distance of the TCP from the joint axis, "
+                                "direction perpendicular to it");
       e.params = {{"offset", rev ? "rad" : "m", -kInfD, kInfD, rev ? 0.01 : 0.005, 1e-6}};
       add(e, TcpEffect::JointOffset, j, 0);
     }
     for (int j = 0; j < n; ++j)
       for (int a = 0; a < 3; ++a) {
         const char* ax = a == 0 ? "x" : a == 1 ? "y" : "z";
-        ArmEffect e;
-        e.name = "link_length." + model.joints[j].name + "." + ax;
-        e.effect = "link_length";
-        e.joint = model.joints[j].name;
-        e.pattern =
-            "a constant vector in the frame before the joint, rotating with the links before it";
+        ArmEffect e = jointEffect(
+            "link_length", model.joints[j].name,
+            "a constant vector in the frame before the joint, rotating with the links before it",
+            ax);
         e.params = {{std::string("d") + ax, "m", -kInfD, kInfD, 0.005, 1e-6}};
         add(e, TcpEffect::LinkLength, j, a);
       }
@@ -89,14 +83,11 @@ class TcpProblem : public ArmProblem {
     if (has_inertia) {
       for (int j = 0; j < n; ++j) {
         const bool rev = model.joints[j].type == JointType::Revolute;
-        ArmEffect e;
-        e.name = "joint_compliance." + model.joints[j].name;
-        e.effect = "joint_compliance";
-        e.joint = model.joints[j].name;
-        e.pattern =
+        ArmEffect e = jointEffect(
+            "joint_compliance", model.joints[j].name,
             "the arm sags with gravity: like a joint offset against the holding torque, "
             "proportional to the "
-            "gravity torque at the joint (largest with the arm stretched out horizontally)";
+            "gravity torque at the joint (largest with the arm stretched out horizontally)");
         const double typ = rev ? 2e-4 : 1e-6;
         e.params = {{"compliance", rev ? "rad/(N m)" : "m/N", 0.0, kInfD, typ, typ * 1e-3}};
         add(e, TcpEffect::Compliance, j, 0);

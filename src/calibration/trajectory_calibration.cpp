@@ -56,29 +56,6 @@ const char* physicalReason(SideTerm t) {
                                   : "friction is not negative";
 }
 
-// Scale of a motor-side catalogue value for a joint-side (prismatic) law: torque-like x N,
-// viscous x N^2 (assumption for typical values only).
-double jointSideScale(const std::string& key, double N) {
-  if (key == "viscous") return N * N;
-  if (key == "load_coulomb") return 1.0;
-  return N;
-}
-
-// The design's value of a joint-side term (Joint::dynamics).
-double designValue(const JointDynamics& d, SideTerm t) {
-  switch (t) {
-    case SideTerm::Coulomb:
-      return d.coulomb;
-    case SideTerm::Viscous:
-      return d.viscous;
-    case SideTerm::Offset:
-      return d.effort_offset;
-    case SideTerm::Inertia:
-      return d.armature;
-  }
-  return 0.0;
-}
-
 // Smooth sign of the Coulomb terms: tanh(v / w) (w = 0: the joint never moves, no force).
 double smoothSign(double v, double w) { return w > 0 ? std::tanh(v / w) : 0.0; }
 
@@ -208,13 +185,9 @@ class TrajectoryProblem : public ArmProblem {
     }
     for (int j = 0; j < n; ++j) {
       if (j >= static_cast<int>(model.inertias.size())) break;
-      ArmEffect e;
-      e.name = "link_mass." + model.joints[j].name;
-      e.effect = "link_mass";
-      e.joint = model.joints[j].name;
-      e.pattern =
-          "gravity and inertia torques of extra mass at the link's centre of mass (joints up to "
-          "this one)";
+      ArmEffect e = jointEffect("link_mass", model.joints[j].name,
+                                "gravity and inertia torques of extra mass at the link's centre of "
+                                "mass (joints up to this one)");
       e.params = {{"mass", "kg", -model.inertias[j].mass_kg, kInfD, 0.5, 1e-4, 0,
                    "a link's mass is above zero"}};
       add(e, {TrajEffect::LinkMass, j});
@@ -232,17 +205,19 @@ class TrajectoryProblem : public ArmProblem {
       double vmax = 0;
       for (int i = 0; i < data.rows(); ++i)
         vmax = std::max(vmax, std::abs(data.qd(i, j)) * (js ? 1.0 : N));
-      for (drive::Effect fe : drive::kAllEffects) {
-        if (drive::isTemperatureEffect(fe)) continue;  // trajectories carry no temperature column
-        const EffectInfo& info = effectInfo(fe);
+      for (const drive::EffectDeclaration& info : drive::effectDeclarations()) {
+        const drive::Effect fe = info.effect;
+        if (info.needs_temperature) continue;  // trajectories carry no temperature column
         ArmEffect e;
         e.name = model.joints[j].name + "." + info.name;
         e.effect = info.name;
         e.joint = model.joints[j].name;
-        e.pattern = info.pattern + " (joint " + model.joints[j].name + ", over its speed)";
-        const EffectParameter& ep = info.params[0];
-        const double scale = js ? jointSideScale(ep.key, N) : 1.0;
-        const double cur = fe == drive::Effect::Stribeck && !fp_[j].has(fe)
+        e.pattern =
+            std::string(info.pattern) + " (joint " + model.joints[j].name + ", over its speed)";
+        const drive::EffectParameter& ep = info.params[0];
+        const double scale = js ? drive::jointSideScale(ep, N) : 1.0;
+        // An absent Stribeck term starts at the Coulomb level (T_S = T_f0: no change at zero).
+        const double cur = info.starts_at_coulomb && !fp_[j].has(fe)
                                ? fp_[j].coulomb
                                : frictionValue(fp_[j], ep.key);
         ArmParam ap{ep.key,
@@ -252,8 +227,8 @@ class TrajectoryProblem : public ArmProblem {
                     ep.typical * scale,
                     std::max(1e-9, std::abs(ep.typical * scale) * 1e-3)};
         e.params = {ap};
-        if (fe == drive::Effect::Stribeck) {
-          const EffectParameter& pv = info.params[1];
+        if (info.params.size() > 1 && info.params[1].profiled) {
+          const drive::EffectParameter& pv = info.params[1];
           e.profile = {pv.key, js ? pv.unit_joint : pv.unit_motor, 0, kInfD, 0.3 * vmax, 0};
           const double lo = std::max(vmax * 0.01, 1e-6), hi = std::max(vmax, 2e-6);
           for (int g = 0; g < defaults::kArmProfileGridPoints; ++g)
@@ -300,7 +275,7 @@ class TrajectoryProblem : public ArmProblem {
         e.joint = model.joints[j].name;
         e.pattern = std::string(si.pattern) + " (joint " + model.joints[j].name + ")";
         e.params = {{si.key, rev ? si.unit_rev : si.unit_pri,
-                     physicalLower(si.term) - designValue(model.joints[j].dynamics, si.term), kInfD,
+                     physicalLower(si.term) - model.joints[j].dynamics.*sideField(si.term), kInfD,
                      si.typical, 1e-4, 0, physicalReason(si.term)}};
         add(e, {TrajEffect::JointSide, j, drive::Effect::Coulomb, si.term});
       }
@@ -456,14 +431,13 @@ class TrajectoryProblem : public ArmProblem {
           break;
         case TrajEffect::Friction: {
           drive::FrictionParams& p = fp[t.joint];
-          const std::string& key = catalogue[v.effect].params[0].key;
-          if (t.friction == drive::Effect::Stribeck) {
-            if (!p.has(t.friction))
-              p.stribeck_torque = p.coulomb;  // T_S = T_f0: no change at zero delta
-            p.stribeck_velocity = v.profile;
-          }
+          const ArmEffect& info = catalogue[v.effect];
+          const drive::EffectDeclaration& d = drive::declaration(t.friction);
+          if (d.starts_at_coulomb && !p.has(t.friction))
+            *drive::parameter(p, info.params[0].key) = p.coulomb;  // no change at zero delta
+          if (info.hasProfile()) *drive::parameter(p, info.profile.key) = v.profile;
           p.on[static_cast<int>(t.friction)] = true;
-          addFriction(p, key, v.x[0]);
+          addFriction(p, info.params[0].key, v.x[0]);
           break;
         }
         case TrajEffect::JointSide:
@@ -540,6 +514,20 @@ class TrajectoryProblem : public ArmProblem {
 }  // namespace
 
 namespace trajectory_detail {
+
+double JointDynamics::*sideField(SideTerm term) {
+  switch (term) {
+    case SideTerm::Coulomb:
+      return &JointDynamics::coulomb;
+    case SideTerm::Viscous:
+      return &JointDynamics::viscous;
+    case SideTerm::Offset:
+      return &JointDynamics::effort_offset;
+    case SideTerm::Inertia:
+      break;
+  }
+  return &JointDynamics::armature;
+}
 
 // Adds d to the friction parameter named by its [drive.friction] key (src/drive maps keys to
 // fields).

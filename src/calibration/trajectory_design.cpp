@@ -74,11 +74,13 @@ void applyFriction(int j, drive::Effect effect, const std::string& key, double v
   for (Drive& x : cal.drives)
     if (x.joint == cal.joints[j].name) d = &x;
   if (d->friction_law.empty()) d->friction_law = "none";
-  if (effect == drive::Effect::Stribeck) {
-    if (!p.has(effect)) p.stribeck_torque = p.coulomb;
-    p.stribeck_velocity = profile;
-    d->friction["stribeck_velocity"] = profile;
-  }
+  const drive::EffectDeclaration& decl = drive::declaration(effect);
+  if (decl.starts_at_coulomb && !p.has(effect)) p.*decl.params[0].field = p.coulomb;
+  for (const drive::EffectParameter& x : decl.params)
+    if (x.profiled) {
+      p.*x.field = profile;
+      d->friction[x.key] = profile;
+    }
   if (!p.has(effect)) {
     const auto law = drive::lawEffects(p.law);
     const std::string entry = cal.joints[j].name + "." + drive::toString(effect);
@@ -89,25 +91,6 @@ void applyFriction(int j, drive::Effect effect, const std::string& key, double v
   p.on[static_cast<int>(effect)] = true;
   addFriction(p, key, value);
   d->friction[key] = frictionValue(p, key);
-}
-
-// A fitted joint-side term added to the joint's own dynamics ([[joint]] coulomb, viscous,
-// armature, effort_offset).
-void applyJointSide(SideTerm term, double value, JointDynamics& d) {
-  switch (term) {
-    case SideTerm::Coulomb:
-      d.coulomb += value;
-      break;
-    case SideTerm::Viscous:
-      d.viscous += value;
-      break;
-    case SideTerm::Offset:
-      d.effort_offset += value;
-      break;
-    case SideTerm::Inertia:
-      d.armature += value;
-      break;
-  }
 }
 
 }  // namespace
@@ -147,7 +130,7 @@ Model calibratedTrajectoryModel(const Model& model, const ArmProblem& problem,
         cal.inertias[t.joint].mass_kg = std::max(0.0, model.inertias[t.joint].mass_kg + v.x[0]);
         break;
       case TrajEffect::JointSide:
-        applyJointSide(t.term, v.x[0], cal.joints[t.joint].dynamics);
+        cal.joints[t.joint].dynamics.*sideField(t.term) += v.x[0];
         break;
       case TrajEffect::Motor:
         notes.push_back(e.name + " = " + formatG(v.x[0], 10) + " " + e.params[0].unit +

@@ -15,6 +15,9 @@ enum class TrajEffect { Payload, RotorInertia, GravityTilt, LinkMass, Friction, 
 // Terms of the joint-side catalogue of measured logs (joints without a [[drive]]) and of a coupled
 // motor (a row of the coupling matrix with more than one joint).
 enum class SideTerm { Coulomb, Viscous, Offset, Inertia };
+// Where the joint's own dynamics ([[joint]] coulomb, viscous, effort_offset, armature) holds a
+// term.
+double JointDynamics::*sideField(SideTerm term);
 struct Tag {
   TrajEffect type;
   int joint = -1;  // the motor (row of the coupling matrix) for TrajEffect::Motor

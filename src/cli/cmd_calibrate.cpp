@@ -14,6 +14,7 @@
 #include "cli/design_options.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "drive/friction.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 
@@ -257,9 +258,26 @@ void addCompareCommand(CLI::App* cmd, Action& action) {
   });
 }
 
+namespace {
+
+// The candidate effects of each kind (fit --help); the drive effects from their declarations.
+std::string effectsByKind() {
+  std::string drive_effects;
+  for (const drive::EffectDeclaration& d : drive::effectDeclarations())
+    drive_effects += std::string(" ") + d.name;
+  return "Effects by kind:\n  drive:" + drive_effects +
+         "\n  tcp: joint_offset.<joint> link_length.<joint>.<x|y|z> base_offset "
+         "joint_compliance.<joint>\n"
+         "  trajectory: payload rotor_inertia gravity_tilt link_mass.<joint> <joint>.<drive "
+         "effect>";
+}
+
+}  // namespace
+
 void addFitCommand(CLI::App* cmd, Action& action) {
   auto a = std::make_shared<CommonArgs>();
   addCommon(cmd, *a);
+  cmd->footer(effectsByKind());
   auto add = std::make_shared<std::string>();
   auto autoAdd = std::make_shared<bool>(false);
   auto folds = std::make_shared<int>(defaults::kCvFolds);

@@ -44,10 +44,8 @@ const Command kCommands[] = {
     {"fit", addFitCommand,
      "Rank the candidate effects that could be missing from a design's model by k-fold cross-validated\n"
      "error (with held-out-by-region scores, confidence intervals and identifiability warnings),\n"
-     "optionally add effects, and write a calibrated copy of the design. Effects by kind:\n"
-     "  drive: coulomb viscous load_coulomb load_viscous stribeck asymmetry temperature temperature_viscous\n"
-     "  tcp: joint_offset.<joint> link_length.<joint>.<x|y|z> base_offset joint_compliance.<joint>\n"
-     "  trajectory: payload rotor_inertia gravity_tilt link_mass.<joint> <joint>.<drive effect>\n"
+     "optionally add effects, and write a calibrated copy of the design (the effects of each kind\n"
+     "are listed below the options).\n"
      "Examples: armstudy fit designs/final_prototype_9dof.toml --drive j6 --data studies/data/drive_testbed_module_b2.csv --auto\n"
      "          armstudy fit designs/final_prototype_7dof.toml --kind trajectory --data run.csv --add payload"},
     {"synth", addSynthCommand,

@@ -1,7 +1,8 @@
 #include "drive/friction.hpp"
 
+#include <array>
+#include <cctype>
 #include <cmath>
-#include <iterator>
 
 #include "common/enum_names.hpp"
 
@@ -10,15 +11,6 @@ namespace {
 
 double sgn(double v) { return (v > 0) - (v < 0); }
 
-constexpr const char* kCoulomb = "coulomb";
-constexpr const char* kViscous = "viscous";
-constexpr const char* kLoadCoulomb = "load_coulomb";
-constexpr const char* kLoadViscous = "load_viscous";
-constexpr const char* kStribeckTorque = "stribeck_torque";
-constexpr const char* kStribeckVelocity = "stribeck_velocity";
-constexpr const char* kAsymmetry = "asymmetry";
-constexpr const char* kTemperatureCoefficient = "temperature_coefficient";
-constexpr const char* kTemperatureViscousCoefficient = "temperature_viscous_coefficient";
 constexpr const char* kReferenceTemperature = "reference_temperature";
 
 double value(const Drive& d, const char* key, double fallback) {
@@ -31,18 +23,35 @@ double value(const Drive& d, const char* key, double fallback) {
 constexpr const char* kFrictionLawNames[] = {"none", "harmonic_drive", "stribeck", "prismatic"};
 const char* toString(FrictionLaw law) { return enumName(law, kFrictionLawNames); }
 
-constexpr const char* kEffectNames[] = {
-    "coulomb",  "viscous",   "load_coulomb", "load_viscous",
-    "stribeck", "asymmetry", "temperature",  "temperature_viscous"};
-static_assert(std::size(kEffectNames) == kEffectCount);
-const char* toString(Effect e) { return enumName(e, kEffectNames); }
+const char* toString(Effect e) { return declaration(e).name; }
+
+std::string inWords(std::string key) {
+  for (char& c : key)
+    if (c == '_') c = ' ';
+  if (!key.empty()) key[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(key[0])));
+  return key;
+}
+
+double jointSideScale(const EffectParameter& x, double N) {
+  double scale = 1;
+  for (int k = 0; k < x.joint_side_power; ++k) scale *= N;
+  for (int k = 0; k > x.joint_side_power; --k) scale /= N;
+  return scale;
+}
+
+bool isTemperatureEffect(Effect e) { return declaration(e).needs_temperature; }
 
 bool parseFrictionLaw(std::string_view name, FrictionLaw& out) {
   return parseEnumName(name, kFrictionLawNames, out);
 }
 
 bool parseEffect(std::string_view name, Effect& out) {
-  return parseEnumName(name, kEffectNames, out);
+  for (const EffectDeclaration& d : effectDeclarations())
+    if (name == d.name) {
+      out = d.effect;
+      return true;
+    }
+  return false;
 }
 
 std::vector<Effect> lawEffects(FrictionLaw law) {
@@ -62,25 +71,9 @@ std::vector<Effect> lawEffects(FrictionLaw law) {
 bool lawIsJointSide(FrictionLaw law) { return law == FrictionLaw::Prismatic; }
 
 std::vector<std::string> effectKeys(Effect e) {
-  switch (e) {
-    case Effect::Coulomb:
-      return {kCoulomb};
-    case Effect::Viscous:
-      return {kViscous};
-    case Effect::LoadCoulomb:
-      return {kLoadCoulomb};
-    case Effect::LoadViscous:
-      return {kLoadViscous};
-    case Effect::Stribeck:
-      return {kStribeckTorque, kStribeckVelocity};
-    case Effect::Asymmetry:
-      return {kAsymmetry};
-    case Effect::Temperature:
-      return {kTemperatureCoefficient};
-    case Effect::TemperatureViscous:
-      return {kTemperatureViscousCoefficient};
-  }
-  return {};
+  std::vector<std::string> keys;
+  for (const EffectParameter& p : declaration(e).params) keys.push_back(p.key);
+  return keys;
 }
 
 std::vector<Effect> extraEffects(const Model& model, const std::string& joint) {
@@ -93,6 +86,30 @@ std::vector<Effect> extraEffects(const Model& model, const std::string& joint) {
   }
   return out;
 }
+
+namespace {
+
+// The declared lower bounds: a parameter bounded below by 0 is not negative (thesis eq. 3.32), a
+// positive one (v_S) is above 0 when its effect is on.
+std::string checkBounds(const Drive& d, const std::array<bool, kEffectCount>& on,
+                        std::string& key) {
+  for (const EffectDeclaration& e : effectDeclarations())
+    for (const EffectParameter& p : e.params) {
+      key = std::string("friction.") + p.key;
+      if (p.lower == 0 && !p.positive && value(d, p.key, 0.0) < 0)
+        return "must not be negative (thesis eq. 3.32)";
+    }
+  for (const EffectDeclaration& e : effectDeclarations())
+    for (const EffectParameter& p : e.params) {
+      key = std::string("friction.") + p.key;
+      if (p.positive && on[static_cast<int>(e.effect)] && !(value(d, p.key, 0.0) > p.lower))
+        return inWords(p.key) + " must be positive";
+    }
+  key.clear();
+  return "";
+}
+
+}  // namespace
 
 std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, std::string& key) {
   key = "friction.law";
@@ -114,12 +131,17 @@ std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, s
     key = "friction." + k;
     if (!std::isfinite(v)) return "friction parameter must be finite";
     if (k == kReferenceTemperature) {
-      if (!on[static_cast<int>(Effect::Temperature)] &&
-          !on[static_cast<int>(Effect::TemperatureViscous)])
+      bool temperature_on = false;
+      std::string names;
+      for (const EffectDeclaration& e : effectDeclarations()) {
+        if (!e.needs_temperature) continue;
+        temperature_on = temperature_on || on[static_cast<int>(e.effect)];
+        names += (names.empty() ? "\"" : " or \"") + d.joint + "." + e.name + "\"";
+      }
+      if (!temperature_on)
         return "reference_temperature belongs to the temperature effects, which are not enabled "
-               "(add \"" +
-               d.joint + ".temperature\" or \"" + d.joint +
-               ".temperature_viscous\" to [model].effects)";
+               "(add " +
+               names + " to [model].effects)";
       continue;
     }
     bool known = false;
@@ -142,28 +164,14 @@ std::string validateFriction(const Drive& d, const std::vector<Effect>& extra, s
         return "effect '" + std::string(toString(e)) + "' needs the parameter '" + ek + "'";
     }
   }
-  for (const char* k : {kCoulomb, kViscous, kLoadCoulomb, kLoadViscous, kStribeckTorque}) {
-    key = std::string("friction.") + k;
-    if (value(d, k, 0.0) < 0) return "must not be negative (thesis eq. 3.32)";
-  }
-  key = std::string("friction.") + kStribeckVelocity;
-  if (on[static_cast<int>(Effect::Stribeck)] && !(value(d, kStribeckVelocity, 0.0) > 0))
-    return "Stribeck velocity must be positive";
-  key.clear();
-  return "";
+  return checkBounds(d, on, key);
 }
 
 double* parameter(FrictionParams& p, std::string_view key) {
-  if (key == kCoulomb) return &p.coulomb;
-  if (key == kViscous) return &p.viscous;
-  if (key == kLoadCoulomb) return &p.load_coulomb;
-  if (key == kLoadViscous) return &p.load_viscous;
-  if (key == kStribeckTorque) return &p.stribeck_torque;
-  if (key == kStribeckVelocity) return &p.stribeck_velocity;
-  if (key == kAsymmetry) return &p.asymmetry;
-  if (key == kTemperatureCoefficient) return &p.temperature_coefficient;
-  if (key == kTemperatureViscousCoefficient) return &p.temperature_viscous_coefficient;
   if (key == kReferenceTemperature) return &p.reference_temperature_C;
+  for (const EffectDeclaration& e : effectDeclarations())
+    for (const EffectParameter& x : e.params)
+      if (key == x.key) return &(p.*x.field);
   return nullptr;
 }
 
@@ -177,16 +185,9 @@ FrictionParams frictionParams(const Drive& d, const std::vector<Effect>& extra) 
   parseFrictionLaw(d.friction_law.empty() ? "none" : d.friction_law, p.law);
   for (Effect e : lawEffects(p.law)) p.on[static_cast<int>(e)] = true;
   for (Effect e : extra) p.on[static_cast<int>(e)] = true;
-  p.coulomb = value(d, kCoulomb, 0.0);
-  p.viscous = value(d, kViscous, 0.0);
-  p.load_coulomb = value(d, kLoadCoulomb, 0.0);
-  p.load_viscous = value(d, kLoadViscous, 0.0);
-  p.stribeck_torque = value(d, kStribeckTorque, 0.0);
-  p.stribeck_velocity = value(d, kStribeckVelocity, 1.0);
-  p.asymmetry = value(d, kAsymmetry, 0.0);
-  p.temperature_coefficient = value(d, kTemperatureCoefficient, 0.0);
-  p.temperature_viscous_coefficient = value(d, kTemperatureViscousCoefficient, 0.0);
-  p.reference_temperature_C = value(d, kReferenceTemperature, 20.0);
+  for (const EffectDeclaration& e : effectDeclarations())
+    for (const EffectParameter& x : e.params) p.*x.field = value(d, x.key, p.*x.field);
+  p.reference_temperature_C = value(d, kReferenceTemperature, p.reference_temperature_C);
   p.gear_ratio = d.gear_ratio;
   p.joint_side = lawIsJointSide(p.law);
   return p;
@@ -196,45 +197,30 @@ FrictionParams frictionParams(const Model& model, const Drive& d) {
   return frictionParams(d, extraEffects(model, d.joint));
 }
 
+namespace {
+
+// The law-side operating point of a motor speed, load and temperature; `side` maps motor to law
+// side (joint-side laws see the joint speed and return a joint force, eq. 3.27a).
+LawPoint lawPoint(const FrictionParams& p, double motor_speed, double load, double temperature_C,
+                  double& side) {
+  side = p.joint_side ? 1.0 / p.gear_ratio : 1.0;
+  LawPoint x;
+  x.v = motor_speed * side;
+  x.s = sgn(x.v);
+  x.L = std::abs(load);
+  x.sL = sgn(load);
+  x.dtheta = temperature_C - p.reference_temperature_C;
+  return x;
+}
+
+}  // namespace
+
 double effectTorque(const FrictionParams& p, Effect e, double motor_speed, double load,
                     double temperature_C) {
   if (!p.has(e)) return 0.0;
-  // Law side: joint-side laws see the joint speed and return a joint force (eq. 3.27a).
-  const double side = p.joint_side ? 1.0 / p.gear_ratio : 1.0;
-  const double v = motor_speed * side;
-  const double s = sgn(v);
-  const double L = std::abs(load);
-  double t = 0;
-  switch (e) {
-    case Effect::Coulomb:
-      t = p.coulomb * s;
-      break;  // eq. (3.30) T_f0
-    case Effect::Viscous:
-      t = p.viscous * v;
-      break;  // eq. (3.30) b
-    case Effect::LoadCoulomb:
-      t = p.load_coulomb * L * s;
-      break;  // eq. (3.30) mu |T_l|
-    case Effect::LoadViscous:
-      t = p.load_viscous * L * v;
-      break;                  // eq. (3.30) gamma |T_l|
-    case Effect::Stribeck: {  // eq. (3.33), odd in v
-      const double x = v / p.stribeck_velocity;
-      const double c = p.has(Effect::Coulomb) ? p.coulomb : 0.0;
-      t = (p.stribeck_torque - c) * s / (1.0 + x * x);
-      break;
-    }
-    case Effect::Asymmetry:
-      t = p.asymmetry * s * s;
-      break;
-    case Effect::Temperature:
-      t = p.temperature_coefficient * (temperature_C - p.reference_temperature_C) * s;
-      break;
-    case Effect::TemperatureViscous:  // the viscous term's change with the lubricant temperature
-      t = p.temperature_viscous_coefficient * (temperature_C - p.reference_temperature_C) * v;
-      break;
-  }
-  return t * side;
+  double side = 1;
+  const LawPoint x = lawPoint(p, motor_speed, load, temperature_C, side);
+  return declaration(e).term(p, x) * side;
 }
 
 double frictionTorque(const FrictionParams& p, double motor_speed, double load,
@@ -251,25 +237,14 @@ double frictionTorque(const Drive& drive, double motor_speed, double load, doubl
 
 FrictionDerivatives frictionDerivatives(const FrictionParams& p, double motor_speed, double load,
                                         double temperature_C) {
-  const double side = p.joint_side ? 1.0 / p.gear_ratio : 1.0;
-  const double v = motor_speed * side;
-  const double s = sgn(v);
-  const double L = std::abs(load);
-  const double sL = sgn(load);
+  double side = 1;
+  const LawPoint x = lawPoint(p, motor_speed, load, temperature_C, side);
   double dv = 0, dL = 0;  // law-side derivatives of the law-side loss
-  if (p.has(Effect::Viscous)) dv += p.viscous;
-  if (p.has(Effect::TemperatureViscous))
-    dv += p.temperature_viscous_coefficient * (temperature_C - p.reference_temperature_C);
-  if (p.has(Effect::LoadCoulomb)) dL += p.load_coulomb * s * sL;
-  if (p.has(Effect::LoadViscous)) {
-    dv += p.load_viscous * L;
-    dL += p.load_viscous * v * sL;
-  }
-  if (p.has(Effect::Stribeck)) {
-    const double c = p.has(Effect::Coulomb) ? p.coulomb : 0.0;
-    const double x = v / p.stribeck_velocity;
-    const double den = 1.0 + x * x;
-    dv += -(p.stribeck_torque - c) * s * 2.0 * x / (p.stribeck_velocity * den * den);
+  for (const EffectDeclaration& e : effectDeclarations()) {
+    if (!p.has(e.effect)) continue;
+    const TermSlope t = e.slope(p, x);
+    dv += t.d_v;
+    dL += t.d_L;
   }
   // d/d(motor speed) = side * d/dv; the loss itself is scaled by side once more.
   return {dv * side * side, dL * side};

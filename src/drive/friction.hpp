@@ -9,22 +9,12 @@
 //
 // A drive's friction is the sum of named terms ("effects"). The law in [drive.friction] selects a
 // thesis formula, i.e. a fixed set of terms; further terms can be switched on by listing
-// "<joint>.<effect>" in [model].effects and giving their parameters in [drive.friction]:
-//
-//   effect        keys (SI, law side)                          term of T_loss
-//   coulomb       coulomb [N m | N]                            c sgn(v)
-//   viscous       viscous [N m s/rad | N s/m]                  b v
-//   load_coulomb  load_coulomb [-]                             mu |T_l| sgn(v)
-//   load_viscous  load_viscous [s/rad | s/m]                   gamma |T_l| v
-//   stribeck      stribeck_torque T_S [N m | N],               (T_S - c) sgn(v) / (1 + (v/v_S)^2)
-//                 stribeck_velocity v_S [rad/s | m/s]
-//   asymmetry     asymmetry d [N m | N]                        d (while moving; + direction c+d,
-//                                                                 - direction c-d)
-//   temperature   temperature_coefficient k [N m/K | N/K],     k (theta - theta_ref) sgn(v)
-//                 reference_temperature theta_ref [deg C] (default 20, the catalog temperature)
-//   temperature_viscous                                        k_b (theta - theta_ref) v
-//                 temperature_viscous_coefficient k_b [N m s/(rad K) | N s/(m K)],
-//                 reference_temperature as above (the lubricant's viscosity falls as it warms)
+// "<joint>.<effect>" in [model].effects and giving their parameters in [drive.friction]. Each
+// effect is declared once, in effectDeclarations() (friction_effects.cpp): its name, its
+// parameters with units and bounds, its term of T_loss and that term's derivatives, and the words
+// of its docs rows. The validation of [drive.friction], the drive and trajectory calibration
+// candidates and `armstudy fit --help` read the declarations; docs/drives.md ("Terms and laws")
+// lists them, and tests/calibration/effect_docs_test.cpp checks that table against them.
 //
 // Laws: "harmonic_drive" (eq. 3.30: coulomb, load_coulomb, viscous, load_viscous), "stribeck"
 // (eq. 3.33: coulomb, load_coulomb, viscous, stribeck), "prismatic" (eq. 3.35: coulomb, viscous on
@@ -58,9 +48,7 @@ inline constexpr std::array<Effect, kEffectCount> kAllEffects = {
     Effect::Coulomb,  Effect::Viscous,   Effect::LoadCoulomb, Effect::LoadViscous,
     Effect::Stribeck, Effect::Asymmetry, Effect::Temperature, Effect::TemperatureViscous};
 // The effects that need a temperature (data column or operating temperature).
-inline bool isTemperatureEffect(Effect e) {
-  return e == Effect::Temperature || e == Effect::TemperatureViscous;
-}
+bool isTemperatureEffect(Effect e);
 
 const char* toString(FrictionLaw law);
 const char* toString(Effect effect);
@@ -95,6 +83,53 @@ struct FrictionParams {
 // Parameter keys of one effect in [drive.friction] (reference_temperature is an optional setting of
 // the temperature effect, not a fitted parameter, and is not listed).
 std::vector<std::string> effectKeys(Effect effect);
+
+// The law-side operating point an effect term is evaluated at.
+struct LawPoint {
+  double v = 0;       // law-side speed [rad/s | m/s]
+  double s = 0;       // sgn(v)
+  double L = 0;       // |T_l|
+  double sL = 0;      // sgn(T_l)
+  double dtheta = 0;  // temperature - reference temperature [K]
+};
+// The derivatives of one term's law-side loss by the law-side speed and by the load.
+struct TermSlope {
+  double d_v = 0, d_L = 0;
+};
+
+// One parameter of an effect in [drive.friction].
+struct EffectParameter {
+  const char* key;                // [drive.friction] key
+  double FrictionParams::*field;  // where FrictionParams holds it
+  const char* unit_motor;         // unit for motor-side laws
+  const char* unit_joint;         // unit for joint-side (prismatic) laws
+  double lower, upper;            // bounds (law side, SI); +-inf when unbounded
+  bool positive;                  // strictly above `lower` (a velocity scale)
+  double typical;                 // magnitude `armstudy synth` hides by default (motor side)
+  int joint_side_power;           // a joint-side law sees typical x N^joint_side_power
+  bool profiled;  // the loss is nonlinear in it: calibration scans it on a grid of law-side speeds
+};
+
+// One friction effect, declared once.
+struct EffectDeclaration {
+  Effect effect;
+  const char* name;                     // in [model].effects and calibration
+  std::vector<EffectParameter> params;  // the fitted ones first, then a profiled one
+  double (*term)(const FrictionParams& p, const LawPoint& x);      // law-side loss
+  TermSlope (*slope)(const FrictionParams& p, const LawPoint& x);  // its derivatives
+  bool needs_temperature;  // evaluated at a temperature (reference_temperature applies)
+  bool starts_at_coulomb;  // a candidate's first parameter starts at the Coulomb level
+  const char* law;         // the term as docs/drives.md writes it
+  const char* thesis;      // where the term comes from
+  const char* pattern;     // the residual pattern it explains (calibration reports, docs)
+};
+// Every effect, indexed by Effect.
+const std::vector<EffectDeclaration>& effectDeclarations();
+const EffectDeclaration& declaration(Effect effect);
+// N^joint_side_power: the factor from a motor-side typical value to a joint-side law's.
+double jointSideScale(const EffectParameter& parameter, double gear_ratio);
+// A [drive.friction] key in words, for messages: "stribeck_velocity" -> "Stribeck velocity".
+std::string inWords(std::string key);
 
 // The parameter of FrictionParams named by its [drive.friction] key (effectKeys, plus
 // reference_temperature); nullptr for an unknown key. The one place that maps keys to fields.

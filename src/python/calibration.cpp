@@ -3,6 +3,7 @@
 // kind (the tcp kind also on arrays), fit and rank the missing effects.
 #include <pybind11/stl.h>
 
+#include <initializer_list>
 #include <stdexcept>
 #include <utility>
 
@@ -50,81 +51,75 @@ TcpData tcpData(const Model& m, const py::object& data_, const py::handle& pose)
   return d;
 }
 
-py::dict fitDict(const ArmFit& f) {
+// A dict of the given items, in their order.
+py::dict dictOf(std::initializer_list<std::pair<const char*, py::object>> items) {
   py::dict d;
-  py::list params;
-  for (const FittedParameter& p : f.params) {
-    py::dict pd;
-    pd["key"] = p.key;
-    pd["unit"] = p.unit;
-    pd["value"] = p.value;
-    pd["ci_low"] = p.ci_low;
-    pd["ci_high"] = p.ci_high;
-    pd["at_bound"] = p.at_bound;
-    params.append(pd);
-  }
-  d["label"] = f.label;
-  d["effects"] = f.effects;
-  d["params"] = params;
-  d["n_params"] = f.n_params;
-  d["train_rmse"] = f.train_rmse;
-  d["heldout_rmse"] = f.heldout_rmse;
-  d["region_heldout_rmse"] = f.region_heldout_rmse;
-  d["train_score"] = f.train_score;
-  d["heldout_score"] = f.heldout_score;
-  d["aic"] = f.aic;
-  d["bic"] = f.bic;
-  d["predicted"] = matrix(f.predicted);
-  d["residual"] = matrix(f.residual);
+  for (const auto& [key, value] : items) d[key] = value;
   return d;
 }
 
+py::dict fitDict(const ArmFit& f) {
+  py::list params;
+  for (const FittedParameter& p : f.params)
+    params.append(dictOf({{"key", py::cast(p.key)},
+                          {"unit", py::cast(p.unit)},
+                          {"value", py::cast(p.value)},
+                          {"ci_low", py::cast(p.ci_low)},
+                          {"ci_high", py::cast(p.ci_high)},
+                          {"at_bound", py::cast(p.at_bound)}}));
+  return dictOf({{"label", py::cast(f.label)},
+                 {"effects", py::cast(f.effects)},
+                 {"params", params},
+                 {"n_params", py::cast(f.n_params)},
+                 {"train_rmse", py::cast(f.train_rmse)},
+                 {"heldout_rmse", py::cast(f.heldout_rmse)},
+                 {"region_heldout_rmse", py::cast(f.region_heldout_rmse)},
+                 {"train_score", py::cast(f.train_score)},
+                 {"heldout_score", py::cast(f.heldout_score)},
+                 {"aic", py::cast(f.aic)},
+                 {"bic", py::cast(f.bic)},
+                 {"predicted", matrix(f.predicted)},
+                 {"residual", matrix(f.residual)}});
+}
+
 py::dict diagnosisDict(const ArmDiagnosis& d, const ArmProblem& P) {
-  py::dict out;
   py::list ladder, ranking, patterns;
   for (const ArmFit& f : d.ladder) ladder.append(fitDict(f));
-  for (const ArmCandidate& c : d.ranking) {
-    py::dict cd;
-    cd["name"] = c.name;
-    cd["status"] = c.status;
-    cd["heldout_rmse"] = c.fit.heldout_rmse;
-    cd["improvement"] = c.improvement;
-    cd["t_statistic"] = c.t_statistic;
-    cd["significant"] = c.significant;
-    cd["indistinguishable"] = c.indistinguishable;
-    cd["warnings"] = c.warnings;
-    ranking.append(cd);
-  }
-  for (const ArmPattern& p : d.patterns) {
-    py::dict pd;
-    pd["channel"] = p.channel;
-    pd["variable"] = p.variable;
-    pd["kind"] = p.kind;
-    pd["significant"] = p.significant;
-    pd["explained"] = p.explained;
-    pd["description"] = p.description;
-    patterns.append(pd);
-  }
-  out["kind"] = d.kind;
-  out["design"] = d.design;
-  out["channels"] = P.channel_names;
-  out["units"] = P.channel_units;
-  out["fit_unit"] = P.fit_unit;
-  out["warnings"] = d.warnings;
-  out["noise_estimate"] = d.noise_estimate;
-  out["channel_noise"] = d.channel_noise;
-  out["as_designed"] = fitDict(d.as_designed);
-  out["ranking"] = ranking;
-  out["ladder"] = ladder;
-  out["added"] = d.added;
-  out["final"] = fitDict(d.final_fit);
-  out["verdict"] = d.verdict;
-  out["patterns"] = patterns;
-  out["rmse_before"] = d.rmse_before;
-  out["rmse_after"] = d.rmse_after;
-  out["identifiable"] = d.identifiable;
-  out["measured"] = matrix(P.measured);
-  return out;
+  for (const ArmCandidate& c : d.ranking)
+    ranking.append(dictOf({{"name", py::cast(c.name)},
+                           {"status", py::cast(c.status)},
+                           {"heldout_rmse", py::cast(c.fit.heldout_rmse)},
+                           {"improvement", py::cast(c.improvement)},
+                           {"t_statistic", py::cast(c.t_statistic)},
+                           {"significant", py::cast(c.significant)},
+                           {"indistinguishable", py::cast(c.indistinguishable)},
+                           {"warnings", py::cast(c.warnings)}}));
+  for (const ArmPattern& p : d.patterns)
+    patterns.append(dictOf({{"channel", py::cast(p.channel)},
+                            {"variable", py::cast(p.variable)},
+                            {"kind", py::cast(toString(p.kind))},
+                            {"significant", py::cast(p.significant)},
+                            {"explained", py::cast(p.explained)},
+                            {"description", py::cast(p.description)}}));
+  return dictOf({{"kind", py::cast(d.kind)},
+                 {"design", py::cast(d.design)},
+                 {"channels", py::cast(P.channel_names)},
+                 {"units", py::cast(P.channel_units)},
+                 {"fit_unit", py::cast(P.fit_unit)},
+                 {"warnings", py::cast(d.warnings)},
+                 {"noise_estimate", py::cast(d.noise_estimate)},
+                 {"channel_noise", py::cast(d.channel_noise)},
+                 {"as_designed", fitDict(d.as_designed)},
+                 {"ranking", ranking},
+                 {"ladder", ladder},
+                 {"added", py::cast(d.added)},
+                 {"final", fitDict(d.final_fit)},
+                 {"verdict", py::cast(d.verdict)},
+                 {"patterns", patterns},
+                 {"rmse_before", py::cast(d.rmse_before)},
+                 {"rmse_after", py::cast(d.rmse_after)},
+                 {"identifiable", py::cast(d.identifiable)},
+                 {"measured", matrix(P.measured)}});
 }
 
 // The residual-map bin counts within the CLI's bounds (--speed-bins, ...), checked before any

@@ -1,7 +1,8 @@
-// The friction effect tables of the docs against the declarations of src/drive (friction.hpp):
-// every effect has exactly one row in docs/drives.md ("Terms and laws", with each of its
-// [drive.friction] keys) and in docs/calibration.md ("Effect catalogue"), and no row names an
-// effect that is not declared.
+// The friction effect tables of the docs against the declarations of src/drive
+// (friction_effects.cpp): every effect has exactly one row in docs/drives.md ("Terms and laws",
+// with its term and each of its [drive.friction] keys and motor-side units) and in
+// docs/calibration.md ("Effect catalogue", with the residual pattern the reports name), and no row
+// names an effect that is not declared.
 #include <catch2/catch.hpp>
 #include <set>
 #include <sstream>
@@ -49,26 +50,34 @@ std::vector<Row> tableAfter(const std::string& file, const std::string& heading)
   return rows;
 }
 
-void checkTable(const std::vector<Row>& rows, bool keys) {
+// Which words of a declaration its docs row must hold.
+enum class Words { drives, calibration };
+
+void checkTable(const std::vector<Row>& rows, Words words) {
   std::set<std::string> declared;
-  for (drive::Effect e : drive::kAllEffects) declared.insert(drive::toString(e));
+  for (const drive::EffectDeclaration& d : drive::effectDeclarations()) declared.insert(d.name);
   std::multiset<std::string> documented;
   for (const Row& r : rows) {
     INFO("docs row '" << r.name << "'");
     CHECK(declared.count(r.name) == 1);
     documented.insert(r.name);
   }
-  for (drive::Effect e : drive::kAllEffects) {
-    const std::string name = drive::toString(e);
-    INFO("declared effect '" << name << "'");
-    CHECK(documented.count(name) == 1);
-    if (!keys) continue;
-    for (const Row& r : rows)
-      if (r.name == name)
-        for (const std::string& key : drive::effectKeys(e)) {
-          INFO("key " << key);
-          CHECK(r.rest.find("`" + key + "`") != std::string::npos);
-        }
+  for (const drive::EffectDeclaration& d : drive::effectDeclarations()) {
+    INFO("declared effect '" << d.name << "'");
+    CHECK(documented.count(d.name) == 1);
+    for (const Row& r : rows) {
+      if (r.name != d.name) continue;
+      if (words == Words::calibration) {  // the pattern the reports name
+        CHECK(r.rest.find(d.pattern) != std::string::npos);
+        continue;
+      }
+      CHECK(r.rest.find("`" + std::string(d.law)) != std::string::npos);  // the term
+      for (const drive::EffectParameter& p : d.params) {
+        INFO("key " << p.key);
+        CHECK(r.rest.find("`" + std::string(p.key) + "`") != std::string::npos);
+        CHECK(r.rest.find(std::string("[") + p.unit_motor + "]") != std::string::npos);
+      }
+    }
   }
 }
 
@@ -78,12 +87,12 @@ TEST_CASE("docs/drives.md: one row per declared friction effect, with its keys",
           "[calibration][docs]") {
   const std::vector<Row> rows = tableAfter("docs/drives.md", "## Terms (\"effects\") and laws");
   REQUIRE_FALSE(rows.empty());
-  checkTable(rows, true);
+  checkTable(rows, Words::drives);
 }
 
 TEST_CASE("docs/calibration.md: one catalogue row per declared drive effect",
           "[calibration][docs]") {
   const std::vector<Row> rows = tableAfter("docs/calibration.md", "## Effect catalogue");
   REQUIRE_FALSE(rows.empty());
-  checkTable(rows, false);
+  checkTable(rows, Words::calibration);
 }

@@ -227,7 +227,7 @@ TEST_CASE(
   CHECK(p.significant);
   CHECK(p.channel == "tau3");
   CHECK(p.variable == "q3");
-  CHECK(p.kind == "periodic");
+  CHECK(p.kind == PatternKind::periodic);
   CHECK(p.period == Approx(2 * M_PI / per_rev).epsilon(0.05));
   CHECK(p.amplitude == Approx(amplitude).epsilon(0.15));
   // Every significant pattern is in the rippling channel.

@@ -1,4 +1,5 @@
 // End-to-end: the armstudy executable as a user runs it.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
@@ -6,6 +7,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "drive/friction.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy::test;
@@ -19,6 +21,22 @@ std::string cli(const std::string& args, int& status) {
 }
 fs::path freshDir(const std::string& name) { return armstudy::test::emptyTempDir("cli_" + name); }
 }  // namespace
+
+TEST_CASE("fit --help lists every declared friction effect once", "[cli]") {
+  int st = 0;
+  const std::string help = cli("fit --help", st);
+  REQUIRE(st == 0);
+  const std::size_t at = help.find("  drive:");
+  REQUIRE(at != std::string::npos);
+  const std::string line = help.substr(at, help.find('\n', at) - at) + " ";
+  int listed = 0;
+  for (const armstudy::drive::EffectDeclaration& d : armstudy::drive::effectDeclarations()) {
+    INFO("effect " << d.name << " in: " << line);
+    CHECK(line.find(std::string(" ") + d.name + " ") != std::string::npos);
+    ++listed;
+  }
+  CHECK(listed == static_cast<int>(std::count(line.begin(), line.end(), ' ')) - 3);
+}
 
 TEST_CASE("armstudy --help teaches the commands", "[cli]") {
   int st = 0;
