@@ -311,8 +311,8 @@ TEST_CASE("the study's description and question head report.html, above the answ
 }
 
 TEST_CASE(
-    "report.html renders the documents the stages hand over, not their Markdown files read back; "
-    "a report file without a document is read from the folder",
+    "report.html renders the documents the stages hand over and not their Markdown files read back "
+    "while a report file without a document is read from the folder",
     "[report][html]") {
   const fs::path d = fs::temp_directory_path() / ("armstudy_docs_" + std::to_string(getpid()));
   fs::create_directories(d / "reach");
