@@ -9,6 +9,7 @@
 // where the data identify it and say "not identifiable" where they do not.
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -22,8 +23,11 @@
 #include <string>
 #include <vector>
 
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "report/html_report.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -302,4 +306,49 @@ TEST_CASE(
     CHECK((uj->dynamics ? uj->dynamics->friction : 0.0) == (std::isnan(c) ? 0.0 : c));
   }
   CHECK(fitted >= 8);  // the lift and the first three arm joints: viscous and Coulomb each
+}
+
+TEST_CASE(
+    "synthetic lift arm: the identification report is handed over in memory, report.html is built "
+    "from it and not from the file, and a resumed entry hands over the same document",
+    "[calibration][study][report]") {
+  const fs::path dir = test::emptyTempDir("synthetic_lift_arm_documents");
+  writeLogs(dir);
+  writeFileAtomic((dir / "study.toml").string(), studyText());
+  const Study study = loadStudy((dir / "study.toml").string());
+  const fs::path out = dir / "out";
+  std::string message;
+  const CheckpointStore store(out.string(), studyFingerprint(study), message);
+  RunOptions ro;
+  ro.threads = 2;
+  ro.progress = false;
+  const auto document = [](const StageResult& r, const std::string& path) {
+    for (const report::ReportFile& f : r.reports)
+      if (f.path == path) return &f.doc;
+    return static_cast<const report::Document*>(nullptr);
+  };
+  const std::string rel = "calibration/lift_arm/identification.md";
+  const StageResult first = runStage(study, "calibration", out.string(), ro, &store);
+  REQUIRE(std::find(first.files.begin(), first.files.end(), rel) != first.files.end());
+  const report::Document* doc = document(first, rel);
+  REQUIRE(doc);
+  const std::string md = readFileOrThrow((out / rel).string());
+  CHECK(report::toMarkdown(*doc) == md);
+  REQUIRE(md.rfind("# Identification: lift_arm", 0) == 0);
+  // The file changed on disk after the stage wrote it: the page shows the document.
+  writeFileAtomic((out / rel).string(), "# STALE ON DISK\n");
+  const std::string html =
+      report::htmlReport(out.string(), "s", {{"calibration", first.files, first.reports}});
+  CHECK(html.find("STALE ON DISK") == std::string::npos);
+  CHECK(html.find("Identification: lift_arm") != std::string::npos);
+  // The file as written again (the unit's files are checked by hash): the entry is resumed from
+  // its unit and hands over a document with the same Markdown and HTML.
+  writeFileAtomic((out / rel).string(), md);
+  const StageResult again = runStage(study, "calibration", out.string(), ro, &store);
+  CHECK(again.units_resumed == 1);
+  const report::Document* resumed = document(again, rel);
+  REQUIRE(resumed);
+  CHECK(report::toMarkdown(*resumed) == md);
+  const auto image = [](const std::string& f) { return f; };
+  CHECK(report::toHtml(*resumed, "p-", image) == report::toHtml(*doc, "p-", image));
 }
