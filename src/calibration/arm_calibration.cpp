@@ -12,6 +12,7 @@
 #include "calibration/least_squares.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
+#include "common/join.hpp"
 
 namespace armstudy::calibration {
 
@@ -92,9 +93,7 @@ std::string identifiability(const ArmProblem& P) {
     why.insert(why.begin(), "all " + std::to_string(P.rows()) +
                                 " rows are the same operating point (" + point +
                                 "): such data cannot tell any effect from another");
-  std::string out;
-  for (const auto& w : why) out += (out.empty() ? "" : "; ") + w;
-  return out;
+  return join(why, "; ");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/join.hpp"
 #include "io/design_io.hpp"
 #include "io/urdf_io.hpp"
 
@@ -30,12 +31,6 @@ std::vector<std::string> notInUrdf(const Model& a, const Model& b) {
       out.push_back("the effort offset of " + b.joints[j].name);
   }
   return out;
-}
-
-std::string joined(const std::vector<std::string>& v, const std::string& sep) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
-  return s;
 }
 
 bool samePose(const PoseXYZABG& a, const PoseXYZABG& b) {
@@ -96,9 +91,9 @@ CalibratedDesign calibratedDesign(const Model& design, const ArmProblem& problem
       "' (armstudy fit): each joint's <dynamics> holds its fitted joint-side friction (damping = "
       "viscous, friction = Coulomb level).";
   if (!c.urdf_cannot_hold.empty()) {
-    comment += " URDF cannot hold " + joined(c.urdf_cannot_hold, ", ") + "; " + c.model.name +
+    comment += " URDF cannot hold " + join(c.urdf_cannot_hold, ", ") + "; " + c.model.name +
                ".toml holds all fitted values.";
-    notes.push_back("the calibrated URDF cannot hold " + joined(c.urdf_cannot_hold, ", ") +
+    notes.push_back("the calibrated URDF cannot hold " + join(c.urdf_cannot_hold, ", ") +
                     "; the calibrated TOML holds them");
   }
   std::string urdf = exportUrdf(c.model);

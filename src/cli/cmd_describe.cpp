@@ -9,6 +9,7 @@
 #include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
+#include "common/join.hpp"
 #include "engine/run.hpp"
 #include "io/design_io.hpp"
 #include "io/urdf_arm.hpp"
@@ -19,12 +20,6 @@ namespace armstudy::cli {
 static std::string fmtQ(const Joint& j, double v) {
   if (j.type == JointType::Revolute) return padLeft(formatFixed(toDegrees(v), 1), 8) + " deg";
   return padLeft(formatFixed(v, 3), 8) + " m  ";
-}
-
-static std::string joined(const std::vector<std::string>& v) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
-  return out;
 }
 
 // The links `--tip` can name besides `tip`: each chain's end and the fixed frames after it.
@@ -47,8 +42,8 @@ static void printChains(const UrdfChains& c, const std::string& tip_given) {
   for (const auto& e : c.ends) {
     std::printf("  %-24s %2d joints", e.link.c_str(), e.joints);
     if (!e.fixed_frames.empty())
-      std::printf("   fixed frames after it: %s", joined(e.fixed_frames).c_str());
-    if (!e.left_out.empty()) std::printf("   left out: %s", joined(e.left_out).c_str());
+      std::printf("   fixed frames after it: %s", join(e.fixed_frames, ", ").c_str());
+    if (!e.left_out.empty()) std::printf("   left out: %s", join(e.left_out, ", ").c_str());
     std::printf("\n");
   }
   if (!tip_given.empty())
@@ -59,7 +54,7 @@ static void printChains(const UrdfChains& c, const std::string& tip_given) {
     std::printf("tip      none by default: %s\n", c.reason.c_str());
   std::vector<std::string> others = otherTips(c, tip_given.empty() ? c.chosen : tip_given);
   for (auto& o : others) o = "--tip " + o;
-  if (!others.empty()) std::printf("other tips: %s\n", joined(others).c_str());
+  if (!others.empty()) std::printf("other tips: %s\n", join(others, ", ").c_str());
 }
 
 // The same as JSON (describe --json, key "urdf_chains"; docs/design-format.md).

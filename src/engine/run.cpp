@@ -439,23 +439,23 @@ struct StudyRun {
     if (view_written)
       answer.paragraph("**Interactive 3-D view:** [view.html](view.html) (" + shown +
                        "; drag to rotate).");
+    answerSection("Answer", &StageResult::answer,
+                  "No stage of this study states a comparison; the details are below.");
+    answerSection("Warnings", &StageResult::warnings, "None.");
+    addAssumptions();
+  }
+
+  // A section of the answer block: every stage's `lines` as "**stage:** line", or `none`.
+  void answerSection(const std::string& heading, std::vector<std::string> StageResult::*lines,
+                     const std::string& none) {
     std::vector<std::string> items;
     for (const auto& [stage, r] : answers)
-      for (const std::string& a : r.answer) items.push_back("**" + stage + ":** " + a);
-    answer.heading(2, "Answer");
+      for (const std::string& line : r.*lines) items.push_back("**" + stage + ":** " + line);
+    answer.heading(2, heading);
     if (items.empty())
-      answer.paragraph("No stage of this study states a comparison; the details are below.");
+      answer.paragraph(none);
     else
       answer.list(items);
-    items.clear();
-    for (const auto& [stage, r] : answers)
-      for (const std::string& w : r.warnings) items.push_back("**" + stage + ":** " + w);
-    answer.heading(2, "Warnings");
-    if (items.empty())
-      answer.paragraph("None.");
-    else
-      answer.list(items);
-    addAssumptions();
   }
 
   // report.md: the study's question, the answer, the designs, then where the details are (each

@@ -68,23 +68,32 @@ namespace {
 using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using RowsMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxDof>;
+
+// The rows J of J_W_tcp that the measure space uses and the Cholesky factor of A = J J^T: what the
+// manipulability (eq. 5.59) and the transmission ratio (eq. 5.61) are computed from.
+struct MeasureGram {
+  MeasureGram(const ObjectiveContext& ctx, metrics::MeasureSpace space)
+      : m(metrics::measureRows(space)),
+        J(ctx.ws().J_W_tcp.topRows(m)),
+        llt(SmallMat(J * J.transpose())) {}
+  int m;
+  Jacobian6::ConstRowsBlockXpr J;
+  Eigen::LLT<SmallMat> llt;
+};
 }  // namespace
 
 double ManipulabilityTerm::evaluate(ObjectiveContext& ctx, JointVector* grad) const {
-  const int m = metrics::measureRows(space_);
-  const int n = ctx.dof();
-  const auto J = ctx.ws().J_W_tcp.topRows(m);
-  const SmallMat A = J * J.transpose();
-  const Eigen::LLT<SmallMat> llt(A);
+  const MeasureGram G(ctx, space_);
+  const int m = G.m, n = ctx.dof();
   if (grad) grad->setZero(n);
-  if (llt.info() != Eigen::Success) return 0.0;  // singular: H_m1 = 0, gradient undefined -> 0
-  const auto L = llt.matrixL();
+  if (G.llt.info() != Eigen::Success) return 0.0;  // singular: H_m1 = 0, gradient undefined -> 0
+  const auto L = G.llt.matrixL();
   double det = 1;
   for (int k = 0; k < m; ++k) det *= L(k, k) * L(k, k);
   const double h = -std::sqrt(det);  // eq. (5.59)
   if (grad) {
     // eq. (5.62): dH/dq_i = H trace(A^-1 dJ_i J^T) = H sum(A^-1 J .* dJ_i) (Frobenius product).
-    const RowsMat AinvJ = llt.solve(RowsMat(J));
+    const RowsMat AinvJ = G.llt.solve(RowsMat(G.J));
     for (int i = 0; i < n; ++i)
       (*grad)[i] = h * AinvJ.cwiseProduct(ctx.jacobianDerivative(i).topRows(m)).sum();
   }
@@ -92,20 +101,17 @@ double ManipulabilityTerm::evaluate(ObjectiveContext& ctx, JointVector* grad) co
 }
 
 double TransmissionTerm::evaluate(ObjectiveContext& ctx, JointVector* grad) const {
-  const int m = metrics::measureRows(space_);
-  const int n = ctx.dof();
-  const auto J = ctx.ws().J_W_tcp.topRows(m);
-  const SmallMat A = J * J.transpose();
-  const Eigen::LLT<SmallMat> llt(A);
+  const MeasureGram G(ctx, space_);
+  const int m = G.m, n = ctx.dof();
   if (grad) grad->setZero(n);
   SmallVec u = SmallVec::Zero(m);
   u.head<3>() = ctx.u_W;
-  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
-  const SmallVec v = llt.solve(u);  // v = A^-1 u
-  const double h = u.dot(v);        // eq. (5.61)
+  if (G.llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+  const SmallVec v = G.llt.solve(u);  // v = A^-1 u
+  const double h = u.dot(v);          // eq. (5.61)
   if (grad) {
     // eq. (5.64): dH/dq_i = -v^T (dJ_i J^T + J dJ_i^T) v = -2 (dJ_i^T v) . (J^T v).
-    const JointVector Jtv = J.transpose() * v;
+    const JointVector Jtv = G.J.transpose() * v;
     for (int i = 0; i < n; ++i)
       (*grad)[i] = -2.0 * (ctx.jacobianDerivative(i).topRows(m).transpose() * v).dot(Jtv);
   }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/join.hpp"
 #include "io/urdf_internal.hpp"
 
 namespace armstudy::urdf_detail {
@@ -50,12 +51,6 @@ bool namesASensor(const std::string& name) {
     b = e + 1;
   }
   return false;
-}
-
-std::string joinNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
 }
 
 }  // namespace
@@ -132,7 +127,7 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
       [](const UrdfChainEnd& a, const UrdfChainEnd& b) { return a.joints > b.joints; });
   if (out.ends.empty()) {
     out.reason = "no arm joint below '" + base->name + "'";
-    if (!root.left_out.empty()) out.reason += " (left out: " + joinNames(root.left_out) + ")";
+    if (!root.left_out.empty()) out.reason += " (left out: " + join(root.left_out, ", ") + ")";
     return out;
   }
   std::vector<std::string> longest;
@@ -141,7 +136,7 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
   if (longest.size() > 1) {
     std::sort(longest.begin(), longest.end());
     out.reason = "the longest chains of arm joints (" + std::to_string(out.ends.front().joints) +
-                 ") end in several links: " + joinNames(longest);
+                 ") end in several links: " + join(longest, ", ");
     return out;
   }
   const UrdfChainEnd& e = out.ends.front();
@@ -155,9 +150,9 @@ UrdfChains findChains(const urdf::ModelInterface& robot, const urdf::LinkConstSh
         "; the fixed frames after it form one path" +
         (fingers.empty()
              ? ""
-             : " (finger, sensor and off-axis frames aside: " + joinNames(fingers) + ")") +
+             : " (finger, sensor and off-axis frames aside: " + join(fingers, ", ") + ")") +
         ", ending in '" + out.chosen + "'";
-  if (!e.left_out.empty()) out.reason += "; left out: " + joinNames(e.left_out);
+  if (!e.left_out.empty()) out.reason += "; left out: " + join(e.left_out, ", ");
   return out;
 }
 

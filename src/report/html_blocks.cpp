@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "common/escape.hpp"
+#include "common/join.hpp"
 #include "report/markdown.hpp"
 
 namespace armstudy::report::html_detail {
@@ -116,11 +117,7 @@ std::vector<std::string> onlyImages(const std::string& s) {
   return imgs;
 }
 
-std::string paragraphText(const std::vector<std::string>& p) {
-  std::string s;
-  for (const auto& l : p) s += (s.empty() ? "" : " ") + l;
-  return s;
-}
+std::string paragraphText(const std::vector<std::string>& p) { return join(p, " "); }
 
 bool wholeItalic(const std::string& p) {
   return p.size() > 2 && p.front() == '*' && p.back() == '*' && p[1] != '*' && p[1] != ' ';

@@ -120,17 +120,11 @@ class Figures {
   std::size_t inlined_ = 0;  // bytes of the figures carried so far
 };
 
-// The document of the report file `f` a stage lists: the one it handed over, else (a report
-// another program wrote into the stage's folder: a calibration entry's fit report) the file's
-// Markdown; null when there is neither.
-const Document* reportDocument(const HtmlStage& st, const fs::path& root, const std::string& f,
-                               Document& read) {
+// The document the stage handed over for its report file `f`; null when it handed over none.
+const Document* reportDocument(const HtmlStage& st, const std::string& f) {
   for (const ReportFile& r : st.reports)
     if (r.path == f) return &r.doc;
-  const fs::path p = root / f;
-  if (!fs::exists(p)) return nullptr;
-  read = Document().markdown(readFileOrThrow(p.string()));
-  return &read;
+  return nullptr;
 }
 
 }  // namespace
@@ -138,7 +132,6 @@ const Document* reportDocument(const HtmlStage& st, const fs::path& root, const 
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,
                        const std::vector<HtmlStage>& stages, const Document& answer,
                        const Document& lead) {
-  const fs::path root(output_dir);
   Figures figures(output_dir);
   const std::function<std::string(const std::string&)> dataUri =
                                                            [&](const std::string&rel) {
@@ -163,9 +156,8 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
     int md_count = 0;
     for (const std::string& f : st.files) {
       if (!endsWith(f, ".md")) continue;
-      Document read;
-      const Document* doc = reportDocument(st, root, f, read);
-      if (!doc) continue;
+      const Document* doc = reportDocument(st, f);
+      if (!doc) continue;  // listed among the data files
       const std::string dir = fs::path(f).parent_path().generic_string();
       std::vector<Heading> hs;
       body << toHtml(*doc, sid + "-" + std::to_string(md_count++) + "-", dataUri, &hs, dir, &links);
@@ -207,12 +199,12 @@ std::string htmlReport(const std::string& output_dir, const std::string& study_n
       }
       body << "</div>\n";
     }
-    // Data files for ParaView and scripts.
-    // (The steps of a .pvd time series are listed by the .pvd, not here.)
+    // Data files for ParaView and scripts, and Markdown files without a document (linked, never
+    // read). (The steps of a .pvd time series are listed by the .pvd, not here.)
     std::vector<std::string> data;
     for (const std::string& f : st.files)
-      if (!endsWith(f, ".svg") && !endsWith(f, ".png") && !endsWith(f, ".md") &&
-          f.find("/step_") == std::string::npos)
+      if (!endsWith(f, ".svg") && !endsWith(f, ".png") &&
+          !(endsWith(f, ".md") && reportDocument(st, f)) && f.find("/step_") == std::string::npos)
         data.push_back(f);
     if (!data.empty()) {
       body << "<h3 id=\"" << sid

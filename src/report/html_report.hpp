@@ -27,8 +27,8 @@ inline constexpr std::size_t kInlineFigureBytes = 100 * 1024;
 inline constexpr std::size_t kInlineTotalBytes = 3 * 1024 * 1024;
 
 // The page for a study whose results are in `output_dir`. Each stage's report files are rendered
-// from the documents it handed over (a listed .md file without one, which another program wrote
-// into the stage's folder, from its Markdown in the folder); the figures are read from the folder.
+// from the documents it handed over, never read back from the folder (a listed .md file without a
+// document is linked among the data files); the figures are read from the folder.
 // `lead` (the study's description and question) heads the page under its title; `answer` (the
 // study's answer and warnings) follows, above the contents.
 std::string htmlReport(const std::string& output_dir, const std::string& study_name,

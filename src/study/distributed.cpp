@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "study/mpi_transport.hpp"
+#include "study/shared_loop_runner.hpp"
 #endif
 
 namespace armstudy {
@@ -191,26 +192,19 @@ void shareOver(const SharedLoop& loop, MPI_Comm comm, int rank, int size) {
 }
 
 // The runner of one rank group (RankGroups::runner): shared loops among the group's ranks.
-class GroupRunner final : public UnitRunner {
+class GroupRunner final : public SharedLoopRunner {
  public:
   GroupRunner(const UnitRunner& outer, MPI_Comm comm, int rank, int size)
-      : UnitRunner(outer.store(), 1, UnitTimeRecord{}),
-        outer_(outer),
+      : SharedLoopRunner(outer.store(), &outer, "a rank group"),
         comm_(comm),
         rank_(rank),
         size_(size) {}
-  long run(const UnitBatch&) const override {
-    ARMSTUDY_CHECK(false, "a rank group runs shared loops only, no unit batches");
-    return 0;
-  }
   void share(const SharedLoop& loop) const override {
     if (size_ == 1 || loop.items <= 0) return UnitRunner::share(loop);
     shareOver(loop, comm_, rank_, size_);
   }
-  const UnitRunner& local() const override { return outer_.local(); }
 
  private:
-  const UnitRunner& outer_;
   MPI_Comm comm_;
   int rank_, size_;
 };

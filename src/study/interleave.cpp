@@ -11,6 +11,7 @@
 
 #include "common/errors.hpp"
 #include "study/checkpoint.hpp"
+#include "study/shared_loop_runner.hpp"
 
 namespace armstudy {
 
@@ -32,17 +33,12 @@ struct Meeting {
 };
 
 // The runner a program sees: its shared loops wait for the others'.
-class MeetingRunner final : public UnitRunner {
+class MeetingRunner final : public SharedLoopRunner {
  public:
   MeetingRunner(Meeting& meet, std::size_t index, const UnitRunner* outer)
-      : UnitRunner(CheckpointStore::disabled(), 1, UnitTimeRecord{}),
+      : SharedLoopRunner(CheckpointStore::disabled(), outer, "an interleaved program"),
         meet_(meet),
-        index_(index),
-        outer_(outer) {}
-  long run(const UnitBatch&) const override {
-    ARMSTUDY_CHECK(false, "an interleaved program runs shared loops only, no unit batches");
-    return 0;
-  }
+        index_(index) {}
   void share(const SharedLoop& loop) const override {
     std::unique_lock<std::mutex> lk(meet_.m);
     if (meet_.stopping) throw Cancelled();
@@ -52,7 +48,6 @@ class MeetingRunner final : public UnitRunner {
     meet_.go[index_]->wait(lk, [&] { return meet_.released[index_] != before || meet_.stopping; });
     if (meet_.released[index_] == before) throw Cancelled();
   }
-  const UnitRunner& local() const override { return outer_ ? outer_->local() : *this; }
 
   // Thrown in a program when the combined loop failed (the failure itself is rethrown).
   struct Cancelled {};
@@ -60,7 +55,6 @@ class MeetingRunner final : public UnitRunner {
  private:
   Meeting& meet_;
   std::size_t index_;
-  const UnitRunner* outer_;
 };
 
 // The pieces of a combined chunk that fall into each program's loop (local item ranges).

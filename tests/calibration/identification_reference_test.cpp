@@ -19,9 +19,9 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoise = 0.02;                  // N m, Gaussian
-constexpr double kRecoveredRelative = 0.03;      // fitted against planted, relative
-constexpr double kFrictionWidthFraction = 0.01;  // smooth sign, as for measured logs
+constexpr double kNoise = 0.02;                   // N m, Gaussian
+constexpr double kRecoveredRelative = 0.03;       // fitted against planted, relative
+constexpr double kReferenceWidthFraction = 0.01;  // smooth sign, as for measured logs
 
 double metric(const IdentificationReport& r, const std::string& name) {
   for (const auto& [k, v] : r.metrics)
@@ -43,7 +43,7 @@ TEST_CASE(
   so.noise = 0;
   so.seed = 21;
   TrajectoryData data = synthesizeTrajectory(m, so);
-  data.friction_width_fraction = kFrictionWidthFraction;
+  data.friction_width_fraction = kReferenceWidthFraction;
   // Motor 6 turns with joint 6 (ratio 40) and joint 5 (ratio 20): r = R_65 / R_66 = 0.5.
   data.coupling = Eigen::MatrixXd::Identity(6, 6);
   data.coupling(j6, j6) = 40;
@@ -112,7 +112,7 @@ TEST_CASE(
   so.noise = kNoise;
   so.seed = 23;
   TrajectoryData data = synthesizeTrajectory(heavier, so);
-  data.friction_width_fraction = kFrictionWidthFraction;
+  data.friction_width_fraction = kReferenceWidthFraction;
   const auto P = makeTrajectoryProblem(m, data);
   ArmFitOptions o;
   o.add = {"j2.armature"};

@@ -382,7 +382,7 @@ fs::path measuredStudy(const fs::path& dir, const std::string& from, const std::
   return p;
 }
 
-int lineOf(const fs::path& p, const std::string& needle) {
+int lineInFile(const fs::path& p, const std::string& needle) {
   std::ifstream in(p);
   int k = 0;
   for (std::string l; std::getline(in, l);) {
@@ -421,7 +421,7 @@ TEST_CASE("a study measured-log section takes columns by name or number and name
       INFO(e.what());
       CHECK(e.file() == p.string());
       CHECK(e.key() == c.key);
-      CHECK(e.line() == lineOf(p, c.line_of));
+      CHECK(e.line() == lineInFile(p, c.line_of));
     }
   }
   // Through the CLI: exit code 2, the file and key named, no output folder.

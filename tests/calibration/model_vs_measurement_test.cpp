@@ -30,12 +30,13 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoiseRatio = 1.2;             // held-out RMSE <= 1.2 x the injected noise
-constexpr double kTcpNoise_m = 2e-4;            // injected TCP position noise
+constexpr double kHeldOutNoiseRatio = 1.2;      // held-out RMSE <= 1.2 x the injected noise
+constexpr double kInjectedTcpNoise_m = 2e-4;    // injected TCP position noise
 constexpr double kGoldenTolerance_rad = 1e-13;  // equilibrium search of the sag oracle
-constexpr double kRecoveredRelative = 0.05;  // a recovered parameter within 5 % of the hidden one
+constexpr double kHiddenRecoveredRelative =
+    0.05;  // a recovered parameter within 5 % of the hidden one
 
-const Model& design7() {
+const Model& design7Dof() {
   static const Model m = loadDesign(test::sourcePath("designs/final_prototype_7dof.toml"));
   return m;
 }
@@ -89,7 +90,7 @@ Eigen::VectorXd saggedConfiguration(const Model& m, const Eigen::VectorXd& q_m, 
 }  // namespace
 
 TEST_CASE("a compliant joint sags with gravity - the hidden compliance is recovered at the noise") {
-  const Model& m = design7();
+  const Model& m = design7Dof();
   const int j = m.jointIndex("j3");
   const double compliance = 2e-4;  // rad/(N m)
   TcpSynthOptions so;
@@ -106,7 +107,7 @@ TEST_CASE("a compliant joint sags with gravity - the hidden compliance is recove
     // The link settles where gravity pulls it: lower potential energy than the motor side says.
     sag_energy += gravityPotential(m, ws, q) - gravityPotential(m, ws, q_m);
     forwardKinematics(m, ws, q);
-    for (int c = 0; c < 3; ++c) data.pose(i, c) = ws.p_WT[c] + kTcpNoise_m * rng.normal();
+    for (int c = 0; c < 3; ++c) data.pose(i, c) = ws.p_WT[c] + kInjectedTcpNoise_m * rng.normal();
   }
   REQUIRE(sag_energy < 0);
   const auto P = makeTcpProblem(m, data);
@@ -118,20 +119,21 @@ TEST_CASE("a compliant joint sags with gravity - the hidden compliance is recove
   CHECK(d.ranking.front().name == "joint_compliance.j3");
   CHECK(d.ranking.front().significant);
   REQUIRE(d.added == std::vector<std::string>{"joint_compliance.j3"});
-  CHECK(d.rmse_after <= kNoiseRatio * kTcpNoise_m);
+  CHECK(d.rmse_after <= kHeldOutNoiseRatio * kInjectedTcpNoise_m);
   REQUIRE(d.final_fit.params.size() == 1);
   const FittedParameter& c = d.final_fit.params.front();
   INFO(c.key << " = " << c.value << " [" << c.ci_low << ", " << c.ci_high << "], hidden "
              << compliance);
   CHECK_FALSE(c.at_bound);
-  CHECK(c.value == Approx(compliance).epsilon(kRecoveredRelative));
+  CHECK(c.value == Approx(compliance).epsilon(kHiddenRecoveredRelative));
   CHECK(c.ci_low <= compliance);
   CHECK(c.ci_high >= compliance);
 }
 
 namespace {
 
-constexpr double kTauNoise = 0.05;  // N m, joints j2..j4 (and every joint where not said otherwise)
+constexpr double kJointTauNoise =
+    0.05;  // N m, joints j2..j4 (and every joint where not said otherwise)
 
 // A trajectory of the 7-DoF design (3 s at 40 Hz) whose efforts are the design's prediction plus
 // `extra(row, joint)` plus Gaussian noise of `noise[joint]`: the hidden effect in closed form.
@@ -157,11 +159,12 @@ double channelHeldout(const ArmDiagnosis& d, int c) { return d.final_fit.channel
 
 TEST_CASE(
     "channels of different units count by their own noise - a small wrist-only effect is found") {
-  const Model& m = design7();
+  const Model& m = design7Dof();
   const int j8 = m.jointIndex("j8");
   // Lift force noise 2 N, arm joints 0.05 N m, wrists 0.02 N m. Hidden: joint-side viscous
   // friction 0.05 N m s/rad of j8, i.e. a motor-side viscous coefficient 0.05 / N^2 (N = 100).
-  const std::vector<double> noise = {2.0, kTauNoise, kTauNoise, kTauNoise, 0.02, 0.02, 0.02};
+  const std::vector<double> noise = {
+      2.0, kJointTauNoise, kJointTauNoise, kJointTauNoise, 0.02, 0.02, 0.02};
   const double b_joint = 0.05;
   double N = 0;
   for (const Drive& dr : m.drives)
@@ -186,24 +189,24 @@ TEST_CASE(
   for (int c = 0; c < P->channels(); ++c) {
     INFO("channel " << P->channel_names[c] << " held-out " << channelHeldout(d, c) << ", noise "
                     << noise[c]);
-    CHECK(channelHeldout(d, c) <= kNoiseRatio * noise[c]);
+    CHECK(channelHeldout(d, c) <= kHeldOutNoiseRatio * noise[c]);
     CHECK(d.channel_noise[c] == Approx(noise[c]).epsilon(0.35));
   }
-  CHECK(d.final_fit.heldout_score <= kNoiseRatio);
+  CHECK(d.final_fit.heldout_score <= kHeldOutNoiseRatio);
   const FittedParameter& b = d.final_fit.params.front();
   INFO(b.key << " = " << b.value << " [" << b.ci_low << ", " << b.ci_high << "], hidden "
              << b_joint / (N * N));
-  CHECK(b.value * N * N == Approx(b_joint).epsilon(kRecoveredRelative));
+  CHECK(b.value * N * N == Approx(b_joint).epsilon(kHiddenRecoveredRelative));
   CHECK(d.verdict == "missing effect: j8.viscous");
 }
 
 TEST_CASE(
     "a position-periodic torque ripple on one joint is an unexplained effect, named by channel and "
     "variable") {
-  const Model& m = design7();
+  const Model& m = design7Dof();
   const int j3 = m.jointIndex("j3");
   const double amplitude = 0.3, per_rev = 12;  // cogging: 12 periods per revolution of j3
-  const std::vector<double> noise(m.dof(), kTauNoise);
+  const std::vector<double> noise(m.dof(), kJointTauNoise);
   const TrajectoryData data =
       trajectoryWith(m, noise, 43, [&](const TrajectoryData& d, int i, int j) {
         return j == j3 ? amplitude * std::sin(per_rev * d.q(i, j)) : 0.0;
@@ -238,9 +241,9 @@ TEST_CASE(
 TEST_CASE("a slow ripple that rotor_inertia could partly absorb is still no catalogue effect") {
   // For sinusoidal joint motion q - c is proportional to -qdd, so rotor_inertia soaks up part of a
   // torque that varies slowly with position; it must not be called significant for it.
-  const Model& m = design7();
+  const Model& m = design7Dof();
   TrajectorySynthOptions so;  // the defaults of `armstudy synth --kind trajectory`: 4 s at 50 Hz
-  so.noise = kTauNoise;
+  so.noise = kJointTauNoise;
   so.seed = 7;
   TrajectoryData data = synthesizeTrajectory(m, so);
   const int j2 = m.jointIndex("j2");
@@ -257,9 +260,9 @@ TEST_CASE("a slow ripple that rotor_inertia could partly absorb is still no cata
 TEST_CASE("a slow ripple on a wrist (4 periods per rad on j8) is no catalogue effect either") {
   // The case docs/calibration.md listed as a known limit: rotor_inertia (linear in qdd, which is
   // proportional to -(q - c) for sinusoidal motion) absorbed part of the slow ripple and was named.
-  const Model& m = design7();
+  const Model& m = design7Dof();
   TrajectorySynthOptions so;
-  so.noise = kTauNoise;
+  so.noise = kJointTauNoise;
   so.seed = 7;
   TrajectoryData data = synthesizeTrajectory(m, so);
   const int j8 = m.jointIndex("j8");
@@ -280,8 +283,9 @@ TEST_CASE("a slow ripple on a wrist (4 periods per rad on j8) is no catalogue ef
 TEST_CASE(
     "nothing hidden - no significant missing effect and no unexplained pattern (trajectory and "
     "tcp)") {
-  const Model& m = design7();
-  const std::vector<double> noise = {2.0, kTauNoise, kTauNoise, kTauNoise, 0.02, 0.02, 0.02};
+  const Model& m = design7Dof();
+  const std::vector<double> noise = {
+      2.0, kJointTauNoise, kJointTauNoise, kJointTauNoise, 0.02, 0.02, 0.02};
   for (std::uint64_t seed : {45u, 47u}) {
     const auto P = makeTrajectoryProblem(
         m, trajectoryWith(m, noise, seed, [](const TrajectoryData&, int, int) { return 0.0; }));
@@ -295,7 +299,7 @@ TEST_CASE(
   }
   TcpSynthOptions so;
   so.rows = 50;
-  so.noise_m = kTcpNoise_m;
+  so.noise_m = kInjectedTcpNoise_m;
   so.seed = 49;
   ArmFitOptions o;
   o.auto_add = true;
@@ -306,14 +310,14 @@ TEST_CASE(
 }
 
 TEST_CASE("a payload with an offset centre of mass is learned from a design without payload") {
-  Model truth = design7();
+  Model truth = design7Dof();
   truth.payload_kg = 1.0;
   truth.p_payload_com_T =
       Eigen::Vector3d(0.04, -0.03, 0.08);  // a point mass, offset from the tool axis
-  Model design = design7();
+  Model design = design7Dof();
   design.payload_kg = 0;
   design.p_payload_com_T.setZero();
-  const std::vector<double> noise(design.dof(), kTauNoise);
+  const std::vector<double> noise(design.dof(), kJointTauNoise);
   const TrajectoryData data =
       trajectoryWith(truth, noise, 51, [](const TrajectoryData&, int, int) { return 0.0; });
   const auto P = makeTrajectoryProblem(design, data);
@@ -325,7 +329,7 @@ TEST_CASE("a payload with an offset centre of mass is learned from a design with
   CHECK(d.ranking.front().name == "payload");
   CHECK(d.ranking.front().significant);
   REQUIRE(d.added == std::vector<std::string>{"payload"});
-  CHECK(d.rmse_after <= kNoiseRatio * kTauNoise);
+  CHECK(d.rmse_after <= kHeldOutNoiseRatio * kJointTauNoise);
   // Mass and first moments m c (the first four parameters) are recovered; their intervals hold
   // them.
   const double expect[4] = {truth.payload_kg, truth.payload_kg * truth.p_payload_com_T.x(),
@@ -339,7 +343,7 @@ TEST_CASE("a payload with an offset centre of mass is learned from a design with
     CHECK(fp.ci_low <= expect[k]);
     CHECK(fp.ci_high >= expect[k]);
   }
-  CHECK(d.final_fit.params[0].value == Approx(truth.payload_kg).epsilon(kRecoveredRelative));
+  CHECK(d.final_fit.params[0].value == Approx(truth.payload_kg).epsilon(kHiddenRecoveredRelative));
 }
 
 namespace {
@@ -355,7 +359,7 @@ std::map<std::string, std::string> snapshot(const std::string& dir) {
   return out;
 }
 
-std::string freshDir(const std::string& name) {
+std::string runDir(const std::string& name) {
   const std::string dir = test::binaryPath() + "_" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -367,7 +371,7 @@ std::string freshDir(const std::string& name) {
 TEST_CASE(
     "nothing is written before the inputs are validated - a failed run leaves the output folder as "
     "it was") {
-  const std::string dir = freshDir("i13_out");
+  const std::string dir = runDir("i13_out");
   const std::string bin = test::binaryPath();
   const std::string d7 = test::sourcePath("designs/final_prototype_7dof.toml");
   const std::string d9 = test::sourcePath("designs/final_prototype_9dof.toml");
@@ -408,7 +412,7 @@ TEST_CASE(
 }
 
 TEST_CASE("a run that fails before its result is complete leaves no file in the output folder") {
-  const std::string dir = freshDir("i13_staged");
+  const std::string dir = runDir("i13_staged");
   const std::string res = dir + "/res";
   fs::create_directories(res);
   writeFileAtomic(res + "/history.csv", "old\n");
@@ -473,12 +477,12 @@ TEST_CASE(
   CHECK(d.ranking.front().significant);
   REQUIRE_FALSE(f.added.empty());
   CHECK(f.added.front() == "temperature_viscous");
-  CHECK(d.rmse_after <= kNoiseRatio * noise_A);
+  CHECK(d.rmse_after <= kHeldOutNoiseRatio * noise_A);
   CHECK(d.noise_estimate == Approx(noise_A).epsilon(0.2));
   double fitted = 0;
   for (const auto& p : d.final_fit.params)
     if (p.key == "temperature_viscous.temperature_viscous_coefficient") fitted = p.value;
-  CHECK(fitted == Approx(k_b).epsilon(kRecoveredRelative));
+  CHECK(fitted == Approx(k_b).epsilon(kHiddenRecoveredRelative));
   // The calibrated design copy, read back and evaluated through src/drive, reproduces the fit.
   std::vector<std::string> notes;
   const Model cal =
@@ -494,12 +498,13 @@ TEST_CASE("the verdict names every effect --auto added (tcp and drive)") {
   {
     TcpSynthOptions so;
     so.rows = 60;
-    so.noise_m = kTcpNoise_m;
+    so.noise_m = kInjectedTcpNoise_m;
     so.seed = 1;
     so.hidden = {"joint_offset.j3:offset=0.01", "link_length.j4.x:dx=0.005"};
     ArmFitOptions o;
     o.auto_add = true;
-    const ArmDiagnosis d = diagnoseArm(*makeTcpProblem(design7(), synthesizeTcp(design7(), so)), o);
+    const ArmDiagnosis d =
+        diagnoseArm(*makeTcpProblem(design7Dof(), synthesizeTcp(design7Dof(), so)), o);
     CHECK(d.added == std::vector<std::string>{"joint_offset.j3", "link_length.j4.x"});
     CHECK(d.verdict == "missing effects: joint_offset.j3, link_length.j4.x");
     CHECK(d.final_map.flagged() == 0);

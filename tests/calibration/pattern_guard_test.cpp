@@ -18,9 +18,9 @@ using namespace armstudy::calibration;
 
 namespace {
 
-constexpr double kNoise = 0.05;                  // N m, Gaussian
-constexpr double kRecoveredRelative = 0.10;      // the planted Coulomb level, relative
-constexpr double kFrictionWidthFraction = 0.01;  // smooth sign, as for measured logs
+constexpr double kGuardNoise = 0.05;                // N m, Gaussian
+constexpr double kCoulombRecoveredRelative = 0.10;  // the planted Coulomb level, relative
+constexpr double kGuardWidthFraction = 0.01;        // smooth sign, as for measured logs
 
 }  // namespace
 
@@ -40,17 +40,17 @@ TEST_CASE(
   so.noise = 0;
   so.seed = 11;
   TrajectoryData data = synthesizeTrajectory(m, so);
-  data.friction_width_fraction = kFrictionWidthFraction;
+  data.friction_width_fraction = kGuardWidthFraction;
   double peak = 0;
   for (int i = 0; i < data.rows(); ++i) peak = std::max(peak, std::abs(data.qd(i, j3)));
-  const double w = kFrictionWidthFraction * peak;
+  const double w = kGuardWidthFraction * peak;
   rng::SplitMix64 rng{1011};
   for (int i = 0; i < data.rows(); ++i)
     for (int j = 0; j < m.dof(); ++j) {
       double extra = 0;
       if (j == j3)
         extra = coulomb * std::tanh(data.qd(i, j) / w) + ripple * std::sin(per_rad * data.q(i, j));
-      data.measured(i, j) += extra + kNoise * rng.normal();
+      data.measured(i, j) += extra + kGuardNoise * rng.normal();
     }
   const auto P = makeTrajectoryProblem(m, data);
   ArmFitOptions o;
@@ -79,7 +79,7 @@ TEST_CASE(
   CHECK(added);
   for (const FittedParameter& p : d.final_fit.params)
     if (p.key == "j3.coulomb.coulomb")
-      CHECK(p.value == Approx(coulomb).epsilon(kRecoveredRelative));
+      CHECK(p.value == Approx(coulomb).epsilon(kCoulombRecoveredRelative));
   // The ripple stands as what the catalogue leaves in tau3, following q3.
   const ArmRemainder* r = nullptr;
   for (const ArmRemainder& x : d.remainders)

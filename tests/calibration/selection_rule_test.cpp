@@ -20,7 +20,7 @@ namespace {
 
 // The 6-DoF prototype has no [[drive]]: with a smooth-sign width (as for measured logs) every
 // joint gets the joint-side terms coulomb, viscous, offset, armature.
-const Model& design6() {
+const Model& design6Dof() {
   static const Model m = loadDesign(test::sourcePath("designs/first_prototype_6dof.toml"));
   return m;
 }
@@ -42,7 +42,7 @@ TrajectoryData dataWith(const Model& m, double noise, std::uint64_t seed, Extra 
   return d;
 }
 
-bool contains(const std::string& s, const std::string& part) {
+bool containsPart(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;
 }
 
@@ -51,7 +51,7 @@ bool contains(const std::string& s, const std::string& part) {
 TEST_CASE(
     "selection rule: viscous friction overlapping a cubic speed term outside the catalogue is "
     "added, the rest is a remainder") {
-  const Model& m = design6();
+  const Model& m = design6Dof();
   const int j3 = m.jointIndex("j3");
   const double b = 2.0, k3 = 0.5;  // N m s/rad, N m s^3/rad^3
   const TrajectoryData data = dataWith(m, 0.05, 5, [&](const TrajectoryData& d, int i, int j) {
@@ -68,7 +68,7 @@ TEST_CASE(
   bool viscous = false;
   for (const std::string& a : d.added) viscous = viscous || a == "j3.viscous";
   CHECK(viscous);
-  CHECK_FALSE(contains(d.verdict, "no catalogue effect explains it"));
+  CHECK_FALSE(containsPart(d.verdict, "no catalogue effect explains it"));
   // What stands is a remainder of tau3 against the joint's speed, with its size and share, and it
   // is among the warnings.
   const ArmRemainder* r = nullptr;
@@ -76,21 +76,21 @@ TEST_CASE(
     if (x.channel == "tau3") r = &x;
   REQUIRE(r != nullptr);
   INFO(r->text());
-  CHECK(contains(r->variable, "qd3"));
+  CHECK(containsPart(r->variable, "qd3"));
   CHECK(r->explained_by_catalogue);
   CHECK(r->rms > 0);
   CHECK(r->share_final > 0);
   CHECK(r->share_final <= 1);
   CHECK(r->rmse_final <= 0.5 * r->rmse_design);
   bool warned = false;
-  for (const std::string& w : d.warnings) warned = warned || contains(w, "remainder in tau3");
+  for (const std::string& w : d.warnings) warned = warned || containsPart(w, "remainder in tau3");
   CHECK(warned);
 }
 
 TEST_CASE(
     "physical consistency: an offset and a link mass the data cannot tell apart are named, the "
     "negative mass is refused") {
-  const Model& m = design6();
+  const Model& m = design6Dof();
   const int j1 = m.jointIndex("j1");  // the lift: its link's weight is nearly a constant force
   const double g = 9.81, m1 = m.inertias[j1].mass_kg;
   // The lift force reads (m1 + 1) g low (a controller compensating gravity): a link mass
@@ -119,7 +119,7 @@ TEST_CASE(
   INFO(why);
   CHECK(mass0->status == "impossible");
   CHECK_FALSE(mass0->significant);
-  CHECK(contains(why, "refused: link_mass.j1.mass would be -"));
+  CHECK(containsPart(why, "refused: link_mass.j1.mass would be -"));
   bool named = false;
   for (const std::string& n : mass0->indistinguishable) named = named || n == "j1.offset";
   CHECK(named);
@@ -136,7 +136,7 @@ TEST_CASE(
 }
 
 TEST_CASE("identifiability at the floor: a channel quantised at 0.02 N m is not identifiable") {
-  const Model& m = design6();
+  const Model& m = design6Dof();
   const int j6 = m.jointIndex("j6");
   const double q = 0.02;
   // A small viscous term on the wrist j6 (0.01 N m s/rad) below the logging resolution, then the
@@ -162,7 +162,8 @@ TEST_CASE("identifiability at the floor: a channel quantised at 0.02 N m is not 
     }
   bool warned = false;
   for (const std::string& w : d.warnings)
-    warned = warned || (contains(w, "tau6") && contains(w, "not identifiable from these logs"));
+    warned =
+        warned || (containsPart(w, "tau6") && containsPart(w, "not identifiable from these logs"));
   CHECK(warned);
   for (const std::string& a : d.added) CHECK(a.rfind("j6.", 0) != 0);
   for (const ArmCandidate& c : d.ranking)

@@ -9,6 +9,7 @@
 // where the data identify it and say "not identifiable" where they do not.
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -22,8 +23,11 @@
 #include <string>
 #include <vector>
 
+#include "engine/run.hpp"
+#include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "report/html_report.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -41,13 +45,14 @@ constexpr double kRate_Hz = 200;
 constexpr double kDuration_s = 20;
 constexpr std::uint64_t kSeed = 46;
 // Signed torque constants [N m/A; N/A for the lift] and reduction ratios [rad/rad; rad/m].
-constexpr double kKt[kJoints] = {0.136, -0.136, 0.102, -0.102, 0.05, -0.05};
-constexpr double kRatio[kJoints] = {1570, 100, 100, 100, 100, 100};
+constexpr double kLiftArmKt[kJoints] = {0.136, -0.136, 0.102, -0.102, 0.05, -0.05};
+constexpr double kLiftArmRatio[kJoints] = {1570, 100, 100, 100, 100, 100};
 // Planted joint friction: Coulomb [N m | N] and viscous [N m s/rad | N s/m]. The wrist's (arm_4,
 // arm_5) lie below its logging resolution.
 constexpr double kCoulomb[kJoints] = {30, 1.5, 2.0, 0.8, 0, 0};
 constexpr double kViscous[kJoints] = {200, 2.0, 1.5, 0.6, 0.004, 0.004};
-constexpr double kNoise[kJoints] = {1.0, 0.03, 0.03, 0.03, 0.003, 0.003};  // N | N m, Gaussian
+constexpr double kLiftArmNoise[kJoints] = {1.0,  0.03,  0.03,
+                                           0.03, 0.003, 0.003};  // N | N m, Gaussian
 constexpr double kStep_Nm = 0.02;  // the wrist channels' logging resolution (joint side)
 constexpr bool kQuantised[kJoints] = {false, false, false, false, true, true};
 // Tolerances of the fitted friction against the planted (issue text: viscous 15 %, Coulomb 20 %).
@@ -57,13 +62,13 @@ constexpr double kCoulombTolerance = 0.20;
 std::string urdfPath() { return test::sourcePath("tests/calibration/urdf/lift_arm.urdf"); }
 
 // The motion: two sines per joint inside the joint's limits, with exact derivatives.
-struct Motion {
+struct LiftArmMotion {
   double q[kJoints], qd[kJoints], qdd[kJoints];
 };
-Motion motionAt(double t) {
+LiftArmMotion liftArmMotionAt(double t) {
   const double lo[kJoints] = {0, -2.5, -1.5, -2, -2.5, -1.8},
                hi[kJoints] = {0.4, 2.5, 1.5, 2, 2.5, 1.8};
-  Motion s{};
+  LiftArmMotion s{};
   for (int j = 0; j < kJoints; ++j) {
     const double c = 0.5 * (lo[j] + hi[j]), a = std::min(0.8, 0.3 * (hi[j] - lo[j]));
     const double w1 = 2 * M_PI * (0.23 + 0.06 * j), w2 = 2 * M_PI * (0.61 + 0.05 * j);
@@ -87,7 +92,7 @@ class TreeTorques {
     }
     REQUIRE(qnr_.size() == kJoints + 1);  // the chain and the head
   }
-  std::vector<double> at(const Motion& s) {
+  std::vector<double> at(const LiftArmMotion& s) {
     KDL::TreeIdSolver_RNE id(tree_, KDL::Vector(0, 0, -kGravity));
     const unsigned n = tree_.getNrOfJoints();
     KDL::JntArray q(n), qd(n), qdd(n), tau(n), zero(n), tau_g(n);
@@ -126,12 +131,12 @@ void writeLogs(const fs::path& dir) {
   const int rows = static_cast<int>(kDuration_s * kRate_Hz);
   for (int k = 0; k < rows; ++k) {
     const double t = k / kRate_Hz;
-    const Motion s = motionAt(t);
+    const LiftArmMotion s = liftArmMotionAt(t);
     const std::vector<double> tau = torques.at(s);
     pos << t, vel << t, cur << t;
     for (int j = 0; j < kJoints; ++j) {
-      const double per_amp = kRatio[j] * kKt[j];
-      double i = (tau[j] + kNoise[j] * normal(rng)) / per_amp;
+      const double per_amp = kLiftArmRatio[j] * kLiftArmKt[j];
+      double i = (tau[j] + kLiftArmNoise[j] * normal(rng)) / per_amp;
       if (kQuantised[j]) {
         const double step = kStep_Nm / std::abs(per_amp);
         i = std::round(i / step) * step;
@@ -202,7 +207,7 @@ const SyntheticRun& run() {
   return r;
 }
 
-bool contains(const std::string& s, const std::string& part) {
+bool containsText(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;
 }
 
@@ -214,10 +219,10 @@ TEST_CASE("synthetic lift arm: the study runs, exit 0, and names its joints and 
   INFO(r.log);
   REQUIRE(r.rc == 0);
   REQUIRE(r.summary.is_object());
-  CHECK(contains(r.report, "torso_lift_joint: its controller compensates gravity"));
-  CHECK(contains(r.report, "logged velocities used"));
-  CHECK_FALSE(contains(r.report, "N m|N"));
-  CHECK_FALSE(contains(r.report, "tau1"));
+  CHECK(containsText(r.report, "torso_lift_joint: its controller compensates gravity"));
+  CHECK(containsText(r.report, "logged velocities used"));
+  CHECK_FALSE(containsText(r.report, "N m|N"));
+  CHECK_FALSE(containsText(r.report, "tau1"));
 }
 
 TEST_CASE("synthetic lift arm: friction recovered where the data identify it",
@@ -245,15 +250,16 @@ TEST_CASE("synthetic lift arm: the quantised wrist channels are not identifiable
   for (int j = 4; j < kJoints; ++j) {
     const std::string n = kNames[j];
     INFO(n);
-    CHECK(contains(w, "channel " + n +
-                          " is at the logging resolution (its values lie on steps of "
-                          "0.02 N m"));
+    CHECK(containsText(w, "channel " + n +
+                              " is at the logging resolution (its values lie on steps of "
+                              "0.02 N m"));
     for (const auto& a : r.summary.at("added")) CHECK(a.get<std::string>().rfind(n + ".", 0) != 0);
     // Nor is a pattern there called an effect.
-    CHECK_FALSE(contains(r.summary.at("verdict").get<std::string>(), "channel " + n + " against"));
+    CHECK_FALSE(
+        containsText(r.summary.at("verdict").get<std::string>(), "channel " + n + " against"));
   }
   for (int j = 0; j < 4; ++j)
-    CHECK_FALSE(contains(w, std::string("channel ") + kNames[j] + " is at"));
+    CHECK_FALSE(containsText(w, std::string("channel ") + kNames[j] + " is at"));
 }
 
 TEST_CASE("synthetic lift arm: no mass refitted: the tool and head are the design's",
@@ -302,4 +308,49 @@ TEST_CASE(
     CHECK((uj->dynamics ? uj->dynamics->friction : 0.0) == (std::isnan(c) ? 0.0 : c));
   }
   CHECK(fitted >= 8);  // the lift and the first three arm joints: viscous and Coulomb each
+}
+
+TEST_CASE(
+    "synthetic lift arm: the identification report is handed over in memory, report.html is built "
+    "from it and not from the file, and a resumed entry hands over the same document",
+    "[calibration][study][report]") {
+  const fs::path dir = test::emptyTempDir("synthetic_lift_arm_documents");
+  writeLogs(dir);
+  writeFileAtomic((dir / "study.toml").string(), studyText());
+  const Study study = loadStudy((dir / "study.toml").string());
+  const fs::path out = dir / "out";
+  std::string message;
+  const CheckpointStore store(out.string(), studyFingerprint(study), message);
+  RunOptions ro;
+  ro.threads = 2;
+  ro.progress = false;
+  const auto document = [](const StageResult& r, const std::string& path) {
+    for (const report::ReportFile& f : r.reports)
+      if (f.path == path) return &f.doc;
+    return static_cast<const report::Document*>(nullptr);
+  };
+  const std::string rel = "calibration/lift_arm/identification.md";
+  const StageResult first = runStage(study, "calibration", out.string(), ro, &store);
+  REQUIRE(std::find(first.files.begin(), first.files.end(), rel) != first.files.end());
+  const report::Document* doc = document(first, rel);
+  REQUIRE(doc);
+  const std::string md = readFileOrThrow((out / rel).string());
+  CHECK(report::toMarkdown(*doc) == md);
+  REQUIRE(md.rfind("# Identification: lift_arm", 0) == 0);
+  // The file changed on disk after the stage wrote it: the page shows the document.
+  writeFileAtomic((out / rel).string(), "# STALE ON DISK\n");
+  const std::string html =
+      report::htmlReport(out.string(), "s", {{"calibration", first.files, first.reports}});
+  CHECK(html.find("STALE ON DISK") == std::string::npos);
+  CHECK(html.find("Identification: lift_arm") != std::string::npos);
+  // The file as written again (the unit's files are checked by hash): the entry is resumed from
+  // its unit and hands over a document with the same Markdown and HTML.
+  writeFileAtomic((out / rel).string(), md);
+  const StageResult again = runStage(study, "calibration", out.string(), ro, &store);
+  CHECK(again.units_resumed == 1);
+  const report::Document* resumed = document(again, rel);
+  REQUIRE(resumed);
+  CHECK(report::toMarkdown(*resumed) == md);
+  const auto image = [](const std::string& f) { return f; };
+  CHECK(report::toHtml(*resumed, "p-", image) == report::toHtml(*doc, "p-", image));
 }

@@ -24,14 +24,14 @@ using namespace armstudy::test;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path freshDir(const std::string& name) {
+fs::path hardeningDir(const std::string& name) {
   return armstudy::test::emptyTempDir("hardening_" + name);
 }
 }  // namespace
 
 TEST_CASE("out-of-range command-line values are input errors and write nothing",
           "[cli][hardening]") {
-  const fs::path d = freshDir("cli");
+  const fs::path d = hardeningDir("cli");
   const std::string study = sourcePath("studies/regression.toml"), out = (d / "out").string();
   struct Case {
     std::string args, message;
@@ -64,7 +64,7 @@ TEST_CASE("out-of-range command-line values are input errors and write nothing",
 }
 
 TEST_CASE("special and oversized files are refused instead of read forever", "[cli][hardening]") {
-  const fs::path d = freshDir("files");
+  const fs::path d = hardeningDir("files");
   const std::string out = (d / "out").string();
   const std::string fifo = (d / "design.fifo").string();
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
@@ -88,7 +88,7 @@ TEST_CASE("special and oversized files are refused instead of read forever", "[c
 
 TEST_CASE("overwriting never removes files outside the output folder a manifest lists",
           "[cli][hardening]") {
-  const fs::path d = freshDir("overwrite");
+  const fs::path d = hardeningDir("overwrite");
   // The study `regression` writes into <out>/regression; a sibling folder that shares its prefix.
   const fs::path out = d / "out", mine = out / "regression", other = out / "regression_other";
   fs::create_directories(mine);
@@ -128,7 +128,7 @@ TEST_CASE(
     "one run per output folder, stale temporaries of a killed run removed, uncreatable folders "
     "named",
     "[cli][hardening]") {
-  const fs::path d = freshDir("lock");
+  const fs::path d = hardeningDir("lock");
   const fs::path out = d / "out", mine = out / "regression";
   fs::create_directories(mine / "reach");
   // A killed run's temporaries (writeFileAtomic: <name>.tmp.<pid>) and a file that only looks
@@ -181,7 +181,7 @@ TEST_CASE(
     "a fit that fails mid-way leaves the previous result whole, a complete fit replaces the folder "
     "at once",
     "[cli][hardening][calibration]") {
-  const fs::path d = freshDir("fit_swap");
+  const fs::path d = hardeningDir("fit_swap");
   const std::string design = sourcePath("designs/final_prototype_7dof.toml"),
                     data = (d / "tcp.csv").string();
   const fs::path res = d / "res";
@@ -268,7 +268,7 @@ std::vector<std::string> entries(const fs::path& dir) {
 
 TEST_CASE("an --out onto a FIFO, a device or a folder leaves the node as it was",
           "[cli][hardening][writer]") {
-  const fs::path d = freshDir("writer_nodes");
+  const fs::path d = hardeningDir("writer_nodes");
   const std::string design = sourcePath("designs/first_prototype_6dof.toml");
   // The test's own nodes (never the system's): a FIFO, a character device like /dev/null (1, 3;
   // the suite runs as root: a failing mknod fails the test) and a folder, each under names the
@@ -316,7 +316,7 @@ TEST_CASE("an --out onto a FIFO, a device or a folder leaves the node as it was"
 
 TEST_CASE("a run never writes through a symbolic link planted inside its output folder",
           "[cli][hardening][writer]") {
-  const fs::path d = freshDir("writer_links");
+  const fs::path d = hardeningDir("writer_links");
   const fs::path out = d / "out", mine = out / "regression", outside = d / "outside";
   const std::string run = binaryPath() + " run " + sourcePath("studies/regression.toml") +
                           " --threads 2 --output " + out.string();
@@ -350,7 +350,7 @@ TEST_CASE("a run never writes through a symbolic link planted inside its output 
 TEST_CASE(
     "a run with --overwrite and a manifest that lists the folder itself or a subfolder goes on",
     "[cli][hardening][writer]") {
-  const fs::path d = freshDir("writer_manifest");
+  const fs::path d = hardeningDir("writer_manifest");
   const fs::path out = d / "out", mine = out / "regression";
   fs::create_directories(mine / "notes");
   std::ofstream(mine / "notes" / "keep.txt") << "a user's note\n";

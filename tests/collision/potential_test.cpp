@@ -86,7 +86,7 @@ std::vector<Obstacle> obstaclesNearArm(const Model& m, KinematicsWorkspace& kin,
 }
 
 // Core of a volume in W, written out from the frames of forward kinematics.
-Core worldCore(const Model& m, const KinematicsWorkspace& kin, const CollisionVolume& v) {
+Core coreInWorld(const Model& m, const KinematicsWorkspace& kin, const CollisionVolume& v) {
   const Eigen::Matrix3d R = v.link < 0 ? Eigen::Matrix3d(m.T_WB.linear()) : kin.R_WF[v.link];
   const Eigen::Vector3d p = v.link < 0 ? Eigen::Vector3d(m.T_WB.translation()) : kin.p_WF[v.link];
   Core c;
@@ -170,7 +170,7 @@ TEST_CASE("H_c is the sum over every SSV pair closer than d_a (brute force over 
           if (!isCollisionPair(m, std::min(vols[i].link, vols[j].link),
                                std::max(vols[i].link, vols[j].link)))
             continue;
-          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, worldCore(m, kin, vols[j]),
+          ssvDistance(coreInWorld(m, kin, vols[i]), vols[i].radius_m, coreInWorld(m, kin, vols[j]),
                       vols[j].radius_m, w);
           if (w.distance_m >= o.safety_distance_m) continue;
           h_self += pairPotential(w.distance_m, o);
@@ -180,7 +180,7 @@ TEST_CASE("H_c is the sum over every SSV pair closer than d_a (brute force over 
           Core oc;
           oc.n = static_cast<int>(ob.type);
           for (int k = 0; k < oc.n; ++k) oc.p[k] = ob.p_W[k];
-          ssvDistance(worldCore(m, kin, vols[i]), vols[i].radius_m, oc, ob.radius_m, w);
+          ssvDistance(coreInWorld(m, kin, vols[i]), vols[i].radius_m, oc, ob.radius_m, w);
           if (w.distance_m >= o.safety_distance_m) continue;
           h_env += pairPotential(w.distance_m, o);
           ++n_env;

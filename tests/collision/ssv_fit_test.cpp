@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using InexactKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 // A contained point may sit on the surface up to rounding.
 constexpr double kInside_m = 1e-12;
 
@@ -113,15 +113,16 @@ void writeAsciiStl(const std::string& path, const TestMesh& m, double scale) {
 // Distance of x from the nearest fitted volume's surface, with CGAL's point distances (an oracle
 // independent of armstudy's distance code); <= 0 inside.
 double cgalExcess(const std::vector<FittedSsv>& vols, const Vector3d& x) {
-  const K::Point_3 p(x.x(), x.y(), x.z());
-  auto P = [](const Vector3d& v) { return K::Point_3(v.x(), v.y(), v.z()); };
+  const InexactKernel::Point_3 p(x.x(), x.y(), x.z());
+  auto P = [](const Vector3d& v) { return InexactKernel::Point_3(v.x(), v.y(), v.z()); };
   double best = std::numeric_limits<double>::infinity();
   for (const auto& v : vols) {
     double sq = 0;
     if (v.type == SsvType::Point) sq = CGAL::squared_distance(p, P(v.p[0]));
-    if (v.type == SsvType::Line) sq = CGAL::squared_distance(p, K::Segment_3(P(v.p[0]), P(v.p[1])));
+    if (v.type == SsvType::Line)
+      sq = CGAL::squared_distance(p, InexactKernel::Segment_3(P(v.p[0]), P(v.p[1])));
     if (v.type == SsvType::Triangle)
-      sq = CGAL::squared_distance(p, K::Triangle_3(P(v.p[0]), P(v.p[1]), P(v.p[2])));
+      sq = CGAL::squared_distance(p, InexactKernel::Triangle_3(P(v.p[0]), P(v.p[1]), P(v.p[2])));
     best = std::min(best, std::sqrt(sq) - v.radius_m);
   }
   return best;

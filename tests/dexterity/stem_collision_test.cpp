@@ -29,8 +29,8 @@ using namespace armstudy::test;
 namespace {
 constexpr double kStemRadiusOverTcp = 0.16;  // [m] > the circle radius 0.15: the TCP is inside
 constexpr double kBlockRadius = 0.06;        // [m] a base volume centred on the TCP target
-constexpr int kOracleStarts = 100;           // independent random starts per cell
-constexpr double kOnPose = 1e-6;             // [m and rad] a start that reached the pose
+constexpr int kStemOracleStarts = 100;       // independent random starts per cell
+constexpr double kStemOnPose = 1e-6;         // [m and rad] a start that reached the pose
 constexpr double kNarrowLift = 0.02;         // [m] lift range +- this (design: +- 0.5 m)
 constexpr int kCollisionStarts = 3;          // further starts per cell still in collision
 
@@ -79,15 +79,15 @@ double reachBound(const Model& m) {
   return b;
 }
 
-// Starts of kOracleStarts random configurations (own generator) that reach the cell's pose.
+// Starts of kStemOracleStarts random configurations (own generator) that reach the cell's pose.
 int startsOnPose(const Model& m, const StemGrid::Cell& cell) {
   IkWorkspace ws(m);
   std::mt19937_64 rng(20261126);
   int n = 0;
-  for (int s = 0; s < kOracleStarts; ++s) {
+  for (int s = 0; s < kStemOracleStarts; ++s) {
     const JointVector q0 = randomConfiguration(m, rng);
     const IkResult p = solvePose(m, ws, cell.target, IkOptions::exactPose(), 0, &q0);
-    n += p.position_error_m <= kOnPose && p.orientation_error_rad <= kOnPose;
+    n += p.position_error_m <= kStemOnPose && p.orientation_error_rad <= kStemOnPose;
   }
   return n;
 }

@@ -21,11 +21,11 @@ using namespace armstudy::dexterity;
 using namespace armstudy::test;
 
 namespace {
-constexpr int kSampleCells = 40;         // cells in collision drawn for the oracle
-constexpr int kOracleStarts = 60;        // random starts per cell
-constexpr double kRequiredShare = 0.99;  // verdicts the oracle must not contradict
-constexpr double kOnPose = 1e-6;         // [m and rad] a posture on the pose
-constexpr double kEscapeSafety = 0.05;   // [m] d_a of the oracle's own H_c descent
+constexpr int kSampleCells = 40;            // cells in collision drawn for the oracle
+constexpr int kRowOracleStarts = 60;        // random starts per cell
+constexpr double kRowRequiredShare = 0.99;  // verdicts the oracle must not contradict
+constexpr double kRowOnPose = 1e-6;         // [m and rad] a posture on the pose
+constexpr double kEscapeSafety = 0.05;      // [m] d_a of the oracle's own H_c descent
 
 // Smallest checked distance at q (self pairs and obstacles), computed here from the collision
 // model alone.
@@ -48,14 +48,14 @@ bool oracleFindsClearPosture(const Model& m, const StemCollision& col, const Ste
   ik::WeightedObjective h_c;
   h_c.add(1.0, std::make_shared<collision::CollisionTerm>(po, col.obstacles));
   const Eigen::VectorXd w_inv = Eigen::VectorXd::Ones(m.dof());
-  for (int s = 0; s < kOracleStarts; ++s) {
+  for (int s = 0; s < kRowOracleStarts; ++s) {
     const JointVector q0 = randomConfiguration(m, rng);
     const IkResult p = solvePose(m, ik_ws, cell.target, IkOptions::exactPose(), 0, &q0);
-    if (p.position_error_m > kOnPose || p.orientation_error_rad > kOnPose) continue;
+    if (p.position_error_m > kRowOnPose || p.orientation_error_rad > kRowOnPose) continue;
     if (clearance(m, ws, cws, col, p.q) > col.clearance_m) return true;
     const ik::NullspaceResult e = ik::optimiseAtPose(m, ws, ctx, cell.target, p.q, h_c, w_inv, {});
-    if (e.status != ik::NullspaceStatus::NotOnPose && e.error.position_m <= kOnPose &&
-        e.error.orientation_rad <= kOnPose && clearance(m, ws, cws, col, e.q) > col.clearance_m)
+    if (e.status != ik::NullspaceStatus::NotOnPose && e.error.position_m <= kRowOnPose &&
+        e.error.orientation_rad <= kRowOnPose && clearance(m, ws, cws, col, e.q) > col.clearance_m)
       return true;
   }
   return false;
@@ -109,5 +109,5 @@ TEST_CASE("the thesis row study's collision verdicts hold against an independent
   }
   const double share = 1.0 - double(contradicted) / in_collision.size();
   INFO(contradicted << " of " << in_collision.size() << " collision verdicts contradicted");
-  CHECK(share >= kRequiredShare);
+  CHECK(share >= kRowRequiredShare);
 }

@@ -18,7 +18,7 @@ constexpr double kFirstOrderRelative = 2e-2;    // |dq - dq*| / |dq*| for a 1 mm
 constexpr double kWeightsMatterRelative = 0.2;  // the weighted and unweighted steps differ by more
 constexpr double kStep_m = 1e-3;
 
-PoseTask targetAt(const KinematicsWorkspace& ws, PoseTaskKind kind) {
+PoseTask poseTaskAt(const KinematicsWorkspace& ws, PoseTaskKind kind) {
   PoseTask t;
   t.kind = kind;
   t.p_WT = ws.p_WT;
@@ -49,7 +49,7 @@ TEST_CASE("solvePose WeightedNewton recovers poses made by forward kinematics", 
       const Eigen::VectorXd q_true = randomConfiguration(m, rng);
       forwardKinematics(m, ws.kin, q_true);
       const PoseTask t =
-          targetAt(ws.kin, m.dof() >= 6 ? PoseTaskKind::FullPose : PoseTaskKind::Position);
+          poseTaskAt(ws.kin, m.dof() >= 6 ? PoseTaskKind::FullPose : PoseTaskKind::Position);
       // Start from a configuration perturbed by up to 0.3 rad / 0.3 m per joint.
       const JointVector q0 = q_true + 0.3 * Eigen::VectorXd::Random(m.dof());
       const IkResult r = solvePose(m, ws, t, IkOptions::exactPose(), 0, &q0);

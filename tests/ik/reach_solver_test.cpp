@@ -19,9 +19,9 @@ namespace {
 
 constexpr double kGradientTolerance = 1e-6;
 constexpr double kManipulabilityTolerance = 1e-6;
-constexpr double kLinearAlgebraTolerance = 1e-12;  // the same rows built two ways
-constexpr double kRelativeTolerance = 1e-9;        // determinant vs singular values
-constexpr double kSolveRateRequired = 0.99;  // tests use few poses; the benchmark checks 99.9 %
+constexpr double kSameRowsTolerance = 1e-12;  // the same rows built two ways
+constexpr double kRelativeTolerance = 1e-9;   // determinant vs singular values
+constexpr double kSolveRateRequired = 0.99;   // tests use few poses; the benchmark checks 99.9 %
 
 PoseTask fullPoseOf(const KinematicsWorkspace& kin) { return fullPoseTask(kin.p_WT, kin.R_WT); }
 
@@ -214,12 +214,12 @@ TEST_CASE("task rows of part of the position and the tool axis, and their manipu
     REQUIRE(t.kind == PoseTaskKind::PositionAxis);
     Jacobian6 J(6, m.dof());
     REQUIRE(taskJacobianRows(kin, t, J) == 4);
-    CHECK((J.row(0) - kin.J_W_tcp.row(0)).norm() < kLinearAlgebraTolerance);
-    CHECK((J.row(1) - kin.J_W_tcp.row(2)).norm() < kLinearAlgebraTolerance);
+    CHECK((J.row(0) - kin.J_W_tcp.row(0)).norm() < kSameRowsTolerance);
+    CHECK((J.row(1) - kin.J_W_tcp.row(2)).norm() < kSameRowsTolerance);
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - kin.a_WT * kin.a_WT.transpose();
     const Eigen::MatrixXd J_R = kin.J_W_tcp.bottomRows<3>();
     const Eigen::MatrixXd B = J.middleRows(2, 2);
-    CHECK((B.transpose() * B - J_R.transpose() * P * J_R).norm() < kLinearAlgebraTolerance);
+    CHECK((B.transpose() * B - J_R.transpose() * P * J_R).norm() < kSameRowsTolerance);
     const Eigen::MatrixXd rows = J.topRows(4);
     const double expected = std::sqrt((rows * rows.transpose()).determinant());
     CHECK(taskManipulability(kin, t) == Approx(expected).epsilon(kRelativeTolerance));

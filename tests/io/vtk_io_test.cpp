@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
+fs::path vtkDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("armstudy_vtk_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
@@ -45,7 +45,7 @@ std::vector<std::string> strings(vtkDataObject* data, const char* name) {
 
 TEST_CASE("a .vts keeps its points, point arrays (NaN included) and string field data",
           "[io][vtk]") {
-  const fs::path dir = freshDir("vts");
+  const fs::path dir = vtkDir("vts");
   io::StructuredGridSet g;
   g.dims = {3, 2, 1};
   std::vector<double> v;
@@ -85,7 +85,7 @@ TEST_CASE("a .vts keeps its points, point arrays (NaN included) and string field
 }
 
 TEST_CASE(".vti and .vtp carry their field data", "[io][vtk]") {
-  const fs::path dir = freshDir("fields");
+  const fs::path dir = vtkDir("fields");
   io::ImageGrid img;
   img.dims = {2, 2, 1};
   img.point_arrays.push_back({"status", io::ArrayType::UInt8, 1, {0, 1, 2, 0}});
@@ -111,7 +111,7 @@ TEST_CASE(".vti and .vtp carry their field data", "[io][vtk]") {
 }
 
 TEST_CASE("a .pvd lists its steps with their times in order", "[io][vtk]") {
-  const fs::path dir = freshDir("pvd");
+  const fs::path dir = vtkDir("pvd");
   io::writePvd((dir / "m.pvd").string(),
                {{0.0, "m/step_000.vtp"}, {0.25, "m/step_001.vtp"}, {1.5, "m/step_002.vtp"}});
   const std::string text = readFileOrThrow((dir / "m.pvd").string());

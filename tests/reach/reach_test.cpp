@@ -39,11 +39,11 @@ namespace {
 constexpr double kVolumeTolerance = 1e-9;    // m^3, closed-form box volume
 constexpr double kStoredValueTolerance = 0;  // Float64 arrays round-trip exactly
 
-fs::path tempDir(const std::string& name) { return test::emptyTempDir("reach_test_" + name); }
+fs::path reachDir(const std::string& name) { return test::emptyTempDir("reach_test_" + name); }
 
 void writeText(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
 
-std::string studyText(const std::string& name, const std::string& reach) {
+std::string reachStudyText(const std::string& name, const std::string& reach) {
   return "[study]\nname = \"" + name + "\"\n[[design]]\nfile = \"" +
          sourcePath("designs/first_prototype_6dof.toml") + "\"\n[[design]]\nfile = \"" +
          sourcePath("designs/final_prototype_7dof.toml") + "\"\n" + reach;
@@ -146,9 +146,9 @@ TEST_CASE("boundary surfaces are canonical: the same point set in any order give
 
 TEST_CASE("a study writes VTK files that VTK's readers load with the right grid and values",
           "[reach][oracle]") {
-  const fs::path dir = tempDir("e2e");
+  const fs::path dir = reachDir("e2e");
   writeText(dir / "poses.csv", "x,y,z\n0.0,0.8,1.0\n0.3,0.6,1.2\n5,5,5\n");
-  writeText(dir / "s.toml", studyText("e2e", kSmallReach));
+  writeText(dir / "s.toml", reachStudyText("e2e", kSmallReach));
   const Study study = loadStudy((dir / "s.toml").string());
   RunOptions ro;
   ro.output_root = (dir / "out").string();
@@ -269,14 +269,14 @@ TEST_CASE("a study writes VTK files that VTK's readers load with the right grid 
 
 TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing is written",
           "[reach][bad-input]") {
-  const fs::path dir = tempDir("bad");
+  const fs::path dir = reachDir("bad");
   writeText(dir / "poses.csv", "x,y,z\n0.1,0.2,0.3\n0.1,zz,0.3\n");
   struct Case {
     std::string what, reach, key;
     int line;
   };
   const std::string grid = "[[reach.grid]]\nname = \"g\"\n";
-  // studyText puts 6 lines before the [reach] section, which starts on line 7.
+  // reachStudyText puts 6 lines before the [reach] section, which starts on line 7.
   const std::vector<Case> cases = {
       {"zero step", "[reach]\n" + grid + "x = { from = 0, to = 1, step = 0 }\ny = 0.5\nz = 1\n",
        "reach.grid[0].x", 10},
@@ -316,7 +316,7 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
   };
   for (const Case& c : cases) {
     INFO(c.what);
-    writeText(dir / "s.toml", studyText("bad", c.reach));
+    writeText(dir / "s.toml", reachStudyText("bad", c.reach));
     bool thrown = false;
     try {
       loadStudy((dir / "s.toml").string());
@@ -340,8 +340,8 @@ TEST_CASE("bad [reach] input is an InputError naming file, line and key, nothing
 
 TEST_CASE("a design that reaches nothing in a grid is a warning in the report and summary",
           "[reach][io]") {
-  const fs::path dir = tempDir("nothing");
-  writeText(dir / "s.toml", studyText("nothing", R"(
+  const fs::path dir = reachDir("nothing");
+  writeText(dir / "s.toml", reachStudyText("nothing", R"(
 [reach]
 task_space = "position"
 [[reach.grid]]
@@ -376,7 +376,7 @@ z = 1
 
 TEST_CASE("a design's reference_reach_m is compared with the largest reach found on each grid",
           "[reach][io]") {
-  const fs::path dir = tempDir("reference");
+  const fs::path dir = reachDir("reference");
   const std::string design = "[study]\nname = \"ref\"\n[[design]]\nfile = \"" +
                              sourcePath("designs/first_prototype_6dof.toml") + "\"\n";
   const std::string reach = R"(

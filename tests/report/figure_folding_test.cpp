@@ -23,14 +23,16 @@ TEST_CASE(
   for (const char* f : {"cal/e/plots/before_a.svg", "cal/e/plots/after_a.svg",
                         "cal/e/check/plots/before_a.svg", "cal/e/plots/other.svg"})
     writeFileAtomic((d / f).string(), svg);
-  writeFileAtomic((d / "cal/report.md").string(),
-                  "# Cal\n\n![e/plots/before_a.svg](e/plots/before_a.svg)\n\nAfter: "
-                  "[a](e/plots/after_a.svg); the check run in [`e/check/`](e/check/).\n");
+  const std::string md =
+      "# Cal\n\n![e/plots/before_a.svg](e/plots/before_a.svg)\n\nAfter: "
+      "[a](e/plots/after_a.svg); the check run in [`e/check/`](e/check/).\n";
+  writeFileAtomic((d / "cal/report.md").string(), md);
   const std::string html =
       report::htmlReport(d.string(), "s",
                          {{"cal",
                            {"cal/report.md", "cal/e/plots/before_a.svg", "cal/e/plots/after_a.svg",
-                            "cal/e/check/plots/before_a.svg", "cal/e/plots/other.svg"}}});
+                            "cal/e/check/plots/before_a.svg", "cal/e/plots/other.svg"},
+                           {{"cal/report.md", report::Document().markdown(md)}}}});
   CHECK(html.find("<a href=\"cal/e/plots/after_a.svg\">a</a>") != std::string::npos);
   CHECK(html.find("<a href=\"cal/e/check/\">") != std::string::npos);
   CHECK(html.find("<code>cal/e/plots/after_a.svg</code>") == std::string::npos);

@@ -56,13 +56,14 @@ TEST_CASE("report.html inlines the figures, links the data files and fetches not
   const std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"4\" height=\"4\"/>\n";
   writeFileAtomic((d / "reach/images/a.svg").string(), svg);
   writeFileAtomic((d / "reach/images/b.svg").string(), svg);  // shown by no report
-  writeFileAtomic((d / "reach/report.md").string(),
-                  "# Reach\n\n![map a](images/a.svg)\n\n*Caption a.*\n");
+  const Document doc = Document().markdown("# Reach\n\n![map a](images/a.svg)\n\n*Caption a.*\n");
+  writeFileAtomic((d / "reach/report.md").string(), toMarkdown(doc));
   writeFileAtomic((d / "reach/grid.vti").string(), "x");
   const std::string html = htmlReport(
       d.string(), "s",
       {{"reach",
-        {"reach/report.md", "reach/images/a.svg", "reach/images/b.svg", "reach/grid.vti"}}});
+        {"reach/report.md", "reach/images/a.svg", "reach/images/b.svg", "reach/grid.vti"},
+        {{"reach/report.md", doc}}}});
   CHECK(html.find("data:image/svg+xml;base64," + base64(svg)) != std::string::npos);
   CHECK(html.find("Caption a.") != std::string::npos);
   CHECK(html.find("<code>reach/images/b.svg</code>") !=
@@ -99,7 +100,8 @@ TEST_CASE("report.html links a figure over the inline limit and the figures afte
     files.push_back(rel);
   }
   writeFileAtomic((d / "report.md").string(), md);
-  const std::string html = htmlReport(d.string(), "s", {{"reach", files}});
+  const std::string html =
+      htmlReport(d.string(), "s", {{"reach", files, {{"report.md", Document().markdown(md)}}}});
   CHECK(html.find("src=\"images/big.svg\"") != std::string::npos);  // over the limit: linked
   CHECK(html.find("src=\"images/f0.svg\"") == std::string::npos);   // carried
   const std::size_t carried = report::kInlineTotalBytes / each;     // what fits the budget
@@ -184,11 +186,12 @@ TEST_CASE("report Markdown links: only http(s) and relative paths inside the out
     INFO(c.url);
     // In a stage's report (a paragraph and a table cell, where joint names and references'
     // sources appear) and, refused ones, in the study's answer.
-    writeFileAtomic(
-        (d / "reach/report.md").string(),
-        "Text [the link](" + c.url + ") end.\n\n| a |\n| --- |\n| [cell](" + c.url + ") |\n");
+    const std::string md =
+        "Text [the link](" + c.url + ") end.\n\n| a |\n| --- |\n| [cell](" + c.url + ") |\n";
+    writeFileAtomic((d / "reach/report.md").string(), md);
     const std::string html =
-        htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
+        htmlReport(d.string(), "s",
+                   {{"reach", {"reach/report.md"}, {{"reach/report.md", Document().markdown(md)}}}},
                    Document().markdown(c.kept ? "" : "Answer [the link](" + c.url + ") end.\n"));
     std::vector<std::string> links;  // the stage's and the answer's (not the contents' #s0...)
     for (const std::string& h : hrefs(html))
@@ -248,7 +251,9 @@ TEST_CASE("report.html inlines only images inside the output folder, symbolic li
   const std::string answer = "Answer ![j](" + abs_svg + ") ![k](reach/images/link.svg)\n";
   const std::string html =
       htmlReport(d.string(), "s",
-                 {{"reach", {"reach/report.md", "reach/images/own.svg", "reach/images/link.svg"}}},
+                 {{"reach",
+                   {"reach/report.md", "reach/images/own.svg", "reach/images/link.svg"},
+                   {{"reach/report.md", Document().markdown(md)}}}},
                  Document().markdown(answer));
   CHECK(html.find("data:image/svg+xml;base64," + base64(own)) != std::string::npos);
   CHECK(html.find(base64(secret)) == std::string::npos);  // neither the .svg nor the .png
@@ -298,10 +303,11 @@ TEST_CASE("the study's description and question head report.html, above the answ
   const fs::path d = fs::temp_directory_path() / ("armstudy_lead_" + std::to_string(getpid()));
   fs::create_directories(d / "reach");
   writeFileAtomic((d / "reach/report.md").string(), "# Reach\n\nbody\n");
-  const std::string html =
-      htmlReport(d.string(), "s", {{"reach", {"reach/report.md"}}},
-                 Document().heading(2, "Answer").list({"yes"}),
-                 Document().paragraph("What it is.").paragraph("**Question:** Which half?"));
+  const std::string html = htmlReport(
+      d.string(), "s",
+      {{"reach", {"reach/report.md"}, {{"reach/report.md", Document().heading(1, "Reach")}}}},
+      Document().heading(2, "Answer").list({"yes"}),
+      Document().paragraph("What it is.").paragraph("**Question:** Which half?"));
   const std::size_t q = html.find("<strong>Question:</strong> Which half?");
   REQUIRE(q != std::string::npos);
   CHECK(html.find("What it is.") < q);
@@ -311,8 +317,8 @@ TEST_CASE("the study's description and question head report.html, above the answ
 }
 
 TEST_CASE(
-    "report.html renders the documents the stages hand over and not their Markdown files read back "
-    "while a report file without a document is read from the folder",
+    "report.html renders the documents the stages hand over and reads no Markdown file back: a "
+    "report file without a document is linked",
     "[report][html]") {
   const fs::path d = fs::temp_directory_path() / ("armstudy_docs_" + std::to_string(getpid()));
   fs::create_directories(d / "reach");
@@ -328,12 +334,14 @@ TEST_CASE(
   CHECK(html.find("stale text") == std::string::npos);
   CHECK(html.find("<h2 id=\"s0-0-0\">Reach</h2>") != std::string::npos);
   CHECK(html.find("<td class=\"num\">50 %</td>") != std::string::npos);
-  CHECK(html.find("written by the fit") != std::string::npos);
+  CHECK(html.find("written by the fit") == std::string::npos);
+  CHECK(html.find("<a href=\"calibration/e/report.md\"><code>calibration/e/report.md</code></a>") !=
+        std::string::npos);
   // The document's page is the page of its Markdown.
-  fs::remove(d / "reach/report.md");
-  writeFileAtomic((d / "reach/report.md").string(), toMarkdown(doc));
-  CHECK(html ==
-        htmlReport(d.string(), "s",
-                   {{"reach", {"reach/report.md"}}, {"calibration", {"calibration/e/report.md"}}}));
+  CHECK(html == htmlReport(d.string(), "s",
+                           {{"reach",
+                             {"reach/report.md"},
+                             {{"reach/report.md", Document().markdown(toMarkdown(doc))}}},
+                            {"calibration", {"calibration/e/report.md"}}}));
   fs::remove_all(d);
 }

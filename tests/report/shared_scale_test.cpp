@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kStudy = R"([study]
+const char* kSharedScaleStudy = R"([study]
 name = "shared_scales"
 
 [[design]]
@@ -54,7 +54,7 @@ TEST_CASE("the designs' maps of one quantity share one colour scale with its uni
       fs::temp_directory_path() / ("armstudy_shared_scale_" + std::to_string(getpid()));
   fs::create_directories(work);
   const std::string study =
-      std::regex_replace(kStudy, std::regex("DESIGNS"), sourcePath("designs"));
+      std::regex_replace(kSharedScaleStudy, std::regex("DESIGNS"), sourcePath("designs"));
   writeFileAtomic((work / "study.toml").string(), study);
   std::string log;
   REQUIRE(runCommand(binaryPath() + " run " + (work / "study.toml").string() +

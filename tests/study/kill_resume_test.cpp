@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Every file of a run but the manifest (timings, dates) by relative path.
-std::map<std::string, std::string> resultFiles(const fs::path& dir) {
+std::map<std::string, std::string> outputFiles(const fs::path& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::recursive_directory_iterator(dir))
     if (e.is_regular_file() && e.path().filename() != "manifest.json")
@@ -75,7 +75,7 @@ TEST_CASE("a run killed with SIGKILL mid-way resumes into the bytes of an uninte
   CHECK(log.find("resuming: " + std::to_string(before) + " completed unit(s)") !=
         std::string::npos);
   CHECK_FALSE(fs::exists(out / ".partial"));
-  CHECK(resultFiles(out) == resultFiles(dir / "ref" / "k"));
+  CHECK(outputFiles(out) == outputFiles(dir / "ref" / "k"));
   for (const auto& e : fs::recursive_directory_iterator(dir / "killed"))
     CHECK(e.path().filename().string().find(".tmp.") == std::string::npos);
   fs::remove_all(dir);

@@ -16,10 +16,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) { return test::emptyTempDir("reg_" + name); }
+fs::path regressionDir(const std::string& name) { return test::emptyTempDir("reg_" + name); }
 
 // Every result file of a run (all but the manifest, which holds timings and dates) by path.
-std::map<std::string, std::string> resultFiles(const fs::path& dir) {
+std::map<std::string, std::string> regressionFiles(const fs::path& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     if (!e.is_regular_file()) continue;
@@ -47,7 +47,7 @@ std::string writeResumeStudy(const fs::path& dir) {
 
 TEST_CASE("the shipped regression study passes `armstudy check` against its baseline",
           "[study][regression][e2e]") {
-  const fs::path out = freshDir("check");
+  const fs::path out = regressionDir("check");
   std::string log;
   const int st =
       runCommand(binaryPath() + " check " + sourcePath("studies/regression.toml") + " --output " +
@@ -62,7 +62,7 @@ TEST_CASE("the shipped regression study passes `armstudy check` against its base
 
 TEST_CASE("a changed design table fails the check and names what moved",
           "[study][regression][e2e]") {
-  const fs::path dir = freshDir("moved");
+  const fs::path dir = regressionDir("moved");
   // Copy the regression study with a shortened link 4 of the final 7-DoF prototype.
   std::string design = readFileOrThrow(sourcePath("designs/final_prototype_7dof.toml"));
   const std::string from = "x = 0.35\n";
@@ -90,7 +90,7 @@ TEST_CASE("a changed design table fails the check and names what moved",
 
 TEST_CASE("a baseline flag string one entry short is an input error, not moved results",
           "[study][regression][e2e][bad-input]") {
-  const fs::path dir = freshDir("short_flags");
+  const fs::path dir = regressionDir("short_flags");
   // The shipped baseline with one per-pose flag string shortened by one character.
   std::string baseline = readFileOrThrow(sourcePath("studies/regression.baseline.json"));
   const std::string key = "\"dexterity/final_prototype_7dof/reachable\": \"";
@@ -116,7 +116,7 @@ TEST_CASE("a baseline flag string one entry short is an input error, not moved r
 }
 
 TEST_CASE("results are byte-identical with 1 and 2 threads and from run to run", "[study][e2e]") {
-  const fs::path dir = freshDir("threads");
+  const fs::path dir = regressionDir("threads");
   const std::string study = writeResumeStudy(dir);
   std::string log;
   REQUIRE(
@@ -125,14 +125,14 @@ TEST_CASE("results are byte-identical with 1 and 2 threads and from run to run",
   REQUIRE(
       runCommand(binaryPath() + " run " + study + " --threads 2 --output " + (dir / "t2").string(),
                  log) == 0);
-  const auto a = resultFiles(dir / "t1/resume"), b = resultFiles(dir / "t2/resume");
+  const auto a = regressionFiles(dir / "t1/resume"), b = regressionFiles(dir / "t2/resume");
   REQUIRE(a.size() > 5);
   CHECK(a == b);
 }
 
 TEST_CASE("a run killed midway resumes into exactly the files of an uninterrupted run",
           "[study][checkpoint][e2e]") {
-  const fs::path dir = freshDir("resume");
+  const fs::path dir = regressionDir("resume");
   const std::string study = writeResumeStudy(dir);
   std::string log;
   REQUIRE(
@@ -155,13 +155,13 @@ TEST_CASE("a run killed midway resumes into exactly the files of an uninterrupte
   REQUIRE(st == 0);
   CHECK(log.find("resuming: 1 completed unit(s)") != std::string::npos);
   CHECK_FALSE(fs::exists(out / "resume/.partial"));
-  CHECK(resultFiles(out / "resume") == resultFiles(dir / "ref/resume"));
+  CHECK(regressionFiles(out / "resume") == regressionFiles(dir / "ref/resume"));
   for (const auto& e : fs::recursive_directory_iterator(out))
     CHECK(e.path().string().find(".tmp") == std::string::npos);
 }
 
 TEST_CASE("a resume after a design changed starts fresh and says why", "[study][checkpoint][e2e]") {
-  const fs::path dir = freshDir("changed");
+  const fs::path dir = regressionDir("changed");
   fs::copy_file(sourcePath("designs/final_prototype_7dof.toml"), dir / "d.toml");
   const fs::path study = dir / "s.toml";
   std::ofstream(study) << "[study]\nname = \"s\"\n[[design]]\nfile = "

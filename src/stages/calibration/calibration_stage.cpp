@@ -110,6 +110,7 @@ std::string writeEntryFiles(const Work& w, const std::string& cal_dir, EntrySumm
       in.reference = e.reference.values;
       const IdentificationReport ir = identificationReport(d, P, w.model, *e.data.trajectory, in);
       extra = {{"identification.md", ir.markdown}, {"residuals_before_after.svg", ir.svg}};
+      s.reports.push_back({"identification.md", report::Document().markdown(ir.markdown)});
       s.extra_metrics = ir.metrics;
       s.answers = ir.answer;
     }
@@ -173,6 +174,7 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
 
   const std::string cal_path = writeEntryFiles(w, cal_dir, s);
   if (!cal_path.empty()) s.calibrated_design = relativeTo(cal_path, w.folder);
+  for (report::ReportFile& r : s.reports) r.path = relativeTo(w.folder + "/" + r.path, output_dir);
 
   // Every file of the entry folder, sorted (the reports list theirs in different forms).
   const std::string summary_rel = relativeTo(w.folder + "/summary.json", output_dir);
@@ -185,8 +187,9 @@ EntrySummary writeEntry(Work& w, const std::string& output_dir) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Checkpoints: a unit is one entry; what is saved is its summary plus the content hash of every
-// file it wrote, so a resumed run reuses the entry only when its files are still intact.
+// Checkpoints: a unit is one entry; what is saved is its summary, its report documents (as their
+// Markdown: a document and its Markdown give the same page) plus the content hash of every file it
+// wrote, so a resumed run reuses the entry only when its files are still intact.
 // ---------------------------------------------------------------------------------------------
 
 std::string unitId(const CalibrationEntry& e) { return "calibration-" + e.name; }
@@ -195,6 +198,10 @@ std::string checkpointBytes(const EntrySummary& s, const std::string& output_dir
   ordered_json j;
   j["summary"] = entrySummaryToJson(s);
   j["view"] = viewCloudsToJson(s.view);
+  ordered_json reports = ordered_json::array();
+  for (const report::ReportFile& r : s.reports)
+    reports.push_back({{"path", r.path}, {"markdown", report::toMarkdown(r.doc)}});
+  j["reports"] = reports;
   ordered_json h = ordered_json::object();
   for (const std::string& f : s.files) h[f] = fileHash((fs::path(output_dir) / f).string());
   j["hashes"] = h;
@@ -207,6 +214,9 @@ std::optional<EntrySummary> resumeEntry(const std::string& bytes, const std::str
     const ordered_json j = ordered_json::parse(bytes);
     EntrySummary s = entrySummaryFromJson(j.at("summary").get<std::string>());
     s.view = viewCloudsFromJson(j.at("view").get<std::string>());
+    for (const ordered_json& r : j.at("reports"))
+      s.reports.push_back({r.at("path").get<std::string>(),
+                           report::Document().markdown(r.at("markdown").get<std::string>())});
     const ordered_json& h = j.at("hashes");
     if (h.size() != s.files.size()) return std::nullopt;
     for (const std::string& f : s.files) {
@@ -322,6 +332,7 @@ StageResult runCalibrationStage(const StageContext& ctx,
     js["entries"].push_back(ordered_json::parse(entrySummaryToJson(*done[i])));
     addMetrics(*done[i], sum.metrics);
     sum.view.insert(sum.view.end(), done[i]->view.begin(), done[i]->view.end());
+    sum.reports.insert(sum.reports.end(), done[i]->reports.begin(), done[i]->reports.end());
     sum.answer.push_back(entryAnswer(*done[i]));
     for (const std::string& a : done[i]->answers)
       sum.answer.push_back("`" + done[i]->name + "`, " + a);

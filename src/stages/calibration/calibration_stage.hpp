@@ -108,6 +108,9 @@ struct EntrySummary {
   // Where in the workspace the model fails (calibration/arm_view.hpp): the study's 3-D view. Kept
   // in the checkpoint, not in summary.json.
   std::vector<report::ViewCloud> view;
+  // The entry's report documents (measured logs: identification.md), paths relative to the study
+  // output folder; report.html renders them. Kept in the checkpoint, not in summary.json.
+  std::vector<report::ReportFile> reports;
 };
 
 // Words for the report's sentences and tables. An effect or parameter key ("joint_1.viscous",

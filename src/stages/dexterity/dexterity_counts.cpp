@@ -1,29 +1,23 @@
 #include "stages/dexterity/dexterity_output.hpp"
+#include "study/descent_counts.hpp"
 
 // The descent counts of a dexterity map, written beside the manifest's timings.
 namespace armstudy::dexterity {
 
 namespace {
 
-double per(double total, long n) { return n > 0 ? total / static_cast<double>(n) : 0.0; }
-
 void addKind(const std::string& p, const ik::DescentTally& t, double seconds,
              std::vector<StageCount>& out) {
-  out.push_back({p + "descents", static_cast<double>(t.descents)});
-  out.push_back({p + "changed", static_cast<double>(t.changed)});
+  addTallyCounts(p, t, out);
   out.push_back({p + "skipped_proven", static_cast<double>(t.skipped)});
-  out.push_back({p + "iterations", static_cast<double>(t.iterations)});
-  out.push_back({p + "kernel_evaluations", static_cast<double>(t.kernel_evaluations)});
   out.push_back({p + "objective_evaluations", static_cast<double>(t.objective_evaluations)});
-  out.push_back({p + "iterations_per_descent", per(t.iterations, t.descents), false});
+  out.push_back({p + "iterations_per_descent", perCount(t.iterations, t.descents), false});
   out.push_back(
-      {p + "kernel_evaluations_per_descent", per(t.kernel_evaluations, t.descents), false});
-  out.push_back({p + "mean_step", per(t.step_sum, t.iterations), false});
-  out.push_back({p + "mean_last_step", per(t.last_step_sum, t.descents), false});
-  for (int k = 0; k < 3; ++k)
-    out.push_back({p + "stopped_" + ik::toString(static_cast<ik::NullspaceStatus>(k)),
-                   static_cast<double>(t.stopped[k])});
-  out.push_back({p + "us_per_descent", per(1e6 * seconds, t.descents), false});
+      {p + "kernel_evaluations_per_descent", perCount(t.kernel_evaluations, t.descents), false});
+  out.push_back({p + "mean_step", perCount(t.step_sum, t.iterations), false});
+  out.push_back({p + "mean_last_step", perCount(t.last_step_sum, t.descents), false});
+  addStoppedCounts(p, t, out);
+  out.push_back({p + "us_per_descent", perCount(1e6 * seconds, t.descents), false});
 }
 
 }  // namespace
@@ -49,7 +43,7 @@ void addDescentCounts(const std::string& prefix, const DexterityMap& map,
   out.push_back({p + "changed", static_cast<double>(all.changed)});
   out.push_back({p + "skipped_proven", static_cast<double>(all.skipped)});
   out.push_back({p + "kernel_evaluations", static_cast<double>(all.kernel_evaluations)});
-  out.push_back({p + "us_per_descent", per(1e6 * seconds, all.descents), false});
+  out.push_back({p + "us_per_descent", perCount(1e6 * seconds, all.descents), false});
 }
 
 }  // namespace armstudy::dexterity

@@ -111,33 +111,53 @@ void evaluateFruit(const Model& model, const RigidBodyModel& rbm, const HarvestO
   out.without_friction = evaluateDriveFeasibility(model, rbm, dws, tr.trajectory, fo);
 }
 
+// One thread's workspaces.
+struct ThreadWorkspaces {
+  ThreadWorkspaces(const Model& model, const RigidBodyModel& rbm)
+      : ik(model), ctx(model, ik.kin), dyn(rbm) {}
+  IkWorkspace ik;
+  ik::ObjectiveContext ctx;
+  DynamicsWorkspace dyn;
+};
+
+// Calls item(ws, i) for the items i of the work's `ranges` (all of [0, count) without work) in
+// parallel, each thread with workspaces of its own, handed out `chunk` items at a time; tells the
+// work's `done` when a range's last item is done.
+template <class Item>
+void evaluateRanges(const Model& model, const RigidBodyModel& rbm, const HarvestWork* work,
+                    std::vector<ItemRange> HarvestWork::*ranges, RangeDone HarvestWork::*done,
+                    long count, int nthreads, int chunk, DesignResult& res, FirstException& failure,
+                    const Item& item) {
+  std::vector<ItemRange> all;
+  if (count > 0) all.push_back({0, count});
+  const std::vector<ItemRange>& todo = work ? work->*ranges : all;
+  const std::vector<std::pair<std::size_t, long>> items = workItems(todo, count);
+  RangeCountdown countdown(todo);
+  const long n_items = static_cast<long>(items.size());
+#pragma omp parallel num_threads(nthreads)
+  {
+    ThreadWorkspaces ws(model, rbm);
+#pragma omp for schedule(dynamic, chunk)
+    for (long w = 0; w < n_items; ++w) {
+      const auto [k, i] = items[w];
+      item(ws, i);
+      if (countdown.itemDone(k)) tellRangeDone(failure, work ? work->*done : RangeDone{}, k, res);
+    }
+  }
+}
+
 // Evaluates the fruits of the work's ranges (all fruits without work) in parallel into res.fruits.
 void evaluateFruits(const Model& model, const RigidBodyModel& rbm, const HarvestOptions& options,
                     const GreenhouseRow& row, const ik::WeightedObjective& objective,
                     const ApproachTrackingOptions& topt, int nthreads, const HarvestWork* work,
                     DesignResult& res, FirstException& failure) {
-  const int nf = static_cast<int>(row.fruits.size());
+  const long nf = static_cast<long>(row.fruits.size());
   res.fruits.resize(nf);
-  std::vector<ItemRange> all_fruits;
-  if (nf > 0) all_fruits.push_back({0, nf});
-  const std::vector<ItemRange>& fruit_ranges = work ? work->fruits : all_fruits;
-  std::vector<std::pair<std::size_t, long>> fruit_work = workItems(fruit_ranges, nf);
-  RangeCountdown fruit_countdown(fruit_ranges);
-  const long n_fruit_work = static_cast<long>(fruit_work.size());
-#pragma omp parallel num_threads(nthreads)
-  {
-    IkWorkspace ws(model);
-    ik::ObjectiveContext ctx(model, ws.kin);
-    DynamicsWorkspace dws(rbm);
-#pragma omp for schedule(dynamic)
-    for (long w = 0; w < n_fruit_work; ++w) {
-      const auto [k, f] = fruit_work[w];
-      evaluateFruit(model, rbm, options, row, objective, topt, ws, ctx, dws, static_cast<int>(f),
-                    res.fruits[f]);
-      if (fruit_countdown.itemDone(k))
-        tellRangeDone(failure, work ? work->fruits_done : RangeDone{}, k, res);
-    }
-  }
+  evaluateRanges(model, rbm, work, &HarvestWork::fruits, &HarvestWork::fruits_done, nf, nthreads, 1,
+                 res, failure, [&](ThreadWorkspaces& ws, long f) {
+                   evaluateFruit(model, rbm, options, row, objective, topt, ws.ik, ws.ctx, ws.dyn,
+                                 static_cast<int>(f), res.fruits[f]);
+                 });
 }
 
 // Solves the pose and the static holding load of the grid points of the work's ranges (all
@@ -154,31 +174,19 @@ void evaluateGrid(const Model& model, const RigidBodyModel& rbm, const HarvestOp
       toolRotation(options.tool_beta_rad);
   IkOptions iko;
   iko.classify_failures = false;
-  std::vector<ItemRange> all_points{{0, np}};
-  const std::vector<ItemRange>& grid_ranges = work ? work->grid : all_points;
-  std::vector<std::pair<std::size_t, long>> grid_work = workItems(grid_ranges, np);
-  RangeCountdown grid_countdown(grid_ranges);
-  const long n_grid_work = static_cast<long>(grid_work.size());
-#pragma omp parallel num_threads(nthreads)
-  {
-    IkWorkspace ws(model);
-    DynamicsWorkspace dws(rbm);
-#pragma omp for schedule(dynamic, 8)
-    for (long w = 0; w < n_grid_work; ++w) {
-      const auto [range, p] = grid_work[w];
-      const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
-      const PoseTask target = fullPoseTask(Eigen::Vector3d(g.axes[0].value(static_cast<int>(i)),
-                                                           g.axes[1].value(static_cast<int>(j)),
-                                                           g.axes[2].value(static_cast<int>(k))),
-                                           R_WT);
-      const IkResult r = solvePose(model, ws, target, iko, static_cast<std::uint64_t>(p));
-      GridPointResult& gp = res.grid[p];
-      gp.reachable = r.reachable();
-      if (gp.reachable) gp.holding = holdingLoad(model, rbm, dws, r.q);
-      if (grid_countdown.itemDone(range))
-        tellRangeDone(failure, work ? work->grid_done : RangeDone{}, range, res);
-    }
-  }
+  evaluateRanges(
+      model, rbm, work, &HarvestWork::grid, &HarvestWork::grid_done, np, nthreads, 8, res, failure,
+      [&](ThreadWorkspaces& ws, long p) {
+        const long i = p % nx, j = (p / nx) % ny, k = p / (nx * ny);
+        const PoseTask target = fullPoseTask(Eigen::Vector3d(g.axes[0].value(static_cast<int>(i)),
+                                                             g.axes[1].value(static_cast<int>(j)),
+                                                             g.axes[2].value(static_cast<int>(k))),
+                                             R_WT);
+        const IkResult r = solvePose(model, ws.ik, target, iko, static_cast<std::uint64_t>(p));
+        GridPointResult& gp = res.grid[p];
+        gp.reachable = r.reachable();
+        if (gp.reachable) gp.holding = holdingLoad(model, rbm, ws.dyn, r.q);
+      });
 }
 
 }  // namespace

@@ -125,23 +125,36 @@ std::vector<int> plottedFruits(const DesignResult& d, int plot_fruits) {
   return plotted;
 }
 
+// A plot over t [s] (its panels to be added).
+report::PlotSpec timePlot(const std::string& title) {
+  report::PlotSpec spec;
+  spec.title = title;
+  spec.x_label = "t [s]";
+  return spec;
+}
+
+// One series per joint of a fruit's profile `rows` (every `stride`-th sample), coloured by joint.
+std::vector<report::PlotSeries> jointSeries(const Model& model,
+                                            const std::vector<JointVector>& rows, double dt,
+                                            int stride) {
+  std::vector<report::PlotSeries> series = profileSeries(model, rows, dt, "", stride);
+  for (std::size_t i = 0; i < series.size(); ++i)
+    series[i].colour = report::seriesColour(static_cast<int>(i));
+  return series;
+}
+
 // Joint efforts of one fruit: revolute joints [N m] and prismatic joints [N] in panels of their
 // own.
 report::PlotSpec effortPlot(const Model& model, const FruitResult& f, const std::string& what,
                             double dt, int stride) {
-  const int n = model.dof();
-  const auto effort = profileSeries(model, f.with_friction.effort, dt, "", stride);
-  report::PlotSpec ep;
-  ep.title = what + ": joint efforts Q with friction";
-  ep.x_label = "t [s]";
+  const auto effort = jointSeries(model, f.with_friction.effort, dt, stride);
+  report::PlotSpec ep = timePlot(what + ": joint efforts Q with friction");
   for (const bool prismatic : {false, true}) {
     report::PlotPanel panel;
     panel.y_label = prismatic ? "lift force [N]" : "joint torque [N m]";
-    for (int i = 0; i < n; ++i)
-      if ((model.joints[i].type == JointType::Prismatic) == prismatic) {
+    for (int i = 0; i < model.dof(); ++i)
+      if ((model.joints[i].type == JointType::Prismatic) == prismatic)
         panel.series.push_back(effort[i]);
-        panel.series.back().colour = report::seriesColour(i);
-      }
     if (!panel.series.empty()) ep.panels.push_back(panel);
   }
   return ep;
@@ -150,19 +163,15 @@ report::PlotSpec effortPlot(const Model& model, const FruitResult& f, const std:
 // Motor currents of one fruit: one panel per driven joint with its drive's current limits.
 report::PlotSpec currentPlot(const Model& model, const FruitResult& f, const std::string& what,
                              double dt, int stride) {
-  const int n = model.dof();
-  const auto current = profileSeries(model, f.with_friction.current, dt, "", stride);
-  report::PlotSpec cp;
-  cp.title = what + ": motor currents with friction and the drive limits";
-  cp.x_label = "t [s]";
+  const auto current = jointSeries(model, f.with_friction.current, dt, stride);
+  report::PlotSpec cp = timePlot(what + ": motor currents with friction and the drive limits");
   cp.panel_height = 120;
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < model.dof(); ++i) {
     report::PlotPanel panel;
     panel.title = model.joints[i].name;
     panel.y_label = "I [A]";
     panel.series.push_back(current[i]);
     panel.series.back().label = "motor current";
-    panel.series.back().colour = report::seriesColour(i);
     for (const Drive& dr : model.drives) {
       if (dr.joint != model.joints[i].name) continue;
       if (dr.peak_current_A > 0) {
@@ -186,9 +195,8 @@ report::PlotSpec frictionPlot(const Model& model, const FruitResult& f, const st
   const int jf = std::min(2, model.dof() - 1);
   auto a = profileSeries(model, f.with_friction.current, dt, " with friction", stride);
   auto b = profileSeries(model, f.without_friction.current, dt, " without friction", stride);
-  report::PlotSpec fp;
-  fp.title = what + ": " + model.joints[jf].name + " with and without friction";
-  fp.x_label = "t [s]";
+  report::PlotSpec fp =
+      timePlot(what + ": " + model.joints[jf].name + " with and without friction");
   fp.panels = {report::PlotPanel{"", "motor current [A]", {a[jf], b[jf]}, {}, false, std::nullopt}};
   fp.panels[0].series[1].dashed = true;
   return fp;
