@@ -4,9 +4,11 @@
 // tests that require each).
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 
+#include "io/files.hpp"
 #include "test_support.hpp"
 
 namespace armstudy::test {
@@ -29,6 +31,21 @@ inline std::filesystem::path shippedOutput(const std::string& name) {
     throw std::runtime_error(dir.string() + " is older than " + binaryPath() + ": " + fixture +
                              " did not run after the program was built");
   return dir;
+}
+
+// The comparison with its committed baseline that the fixture of the shipped study `name` wrote
+// (`armstudy check --json`, $ARMSTUDY_SHIPPED_OUTPUT/<name>.check.json). Throws when the fixture
+// did not run the check after the study's outputs were written.
+inline nlohmann::json shippedCheck(const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path dir = shippedOutput(name);
+  const fs::path json = dir.parent_path() / (name + ".check.json");
+  if (!fs::exists(json))
+    throw std::runtime_error(json.string() + " is missing: the fixture \"shipped: " + name +
+                             "\" did not run `armstudy check` to the end");
+  if (fs::last_write_time(json) < fs::last_write_time(dir / "manifest.json"))
+    throw std::runtime_error(json.string() + " is older than the study's outputs");
+  return nlohmann::json::parse(readFileOrThrow(json.string()));
 }
 
 }  // namespace armstudy::test

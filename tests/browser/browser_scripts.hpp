@@ -1,6 +1,7 @@
 #pragma once
 // The scripts tests/browser/report_html_test.cpp adds to the pages it loads in Chromium: each
-// writes what it found as JSON into a <pre> element that the test reads from the DOM after load
+// writes what it found as JSON into a <pre> element; the pages load as frames of a harness page,
+// to which each relays its findings, and the test reads them from the harness's DOM after load
 // (--dump-dom). Words in capitals are replaced by the test's constants before use.
 
 namespace armstudy::test::browser {
@@ -173,6 +174,31 @@ window.addEventListener('load', () => {
   p.id = 'armstudy-svg-check';
   p.textContent = JSON.stringify(r);
   document.body.appendChild(p);
+});
+</script>)";
+// Added last to every page runChecks loads in a frame: after load (after the check scripts, whose
+// load listeners come first) it sends what they wrote to the harness page, with the frame's name.
+inline const char* kRelayScript = R"(<script>
+window.addEventListener('load', () => {
+  const text = id => { const p = document.getElementById(id); return p ? p.textContent : null; };
+  parent.postMessage({frame: window.name, check: text('armstudy-check'), svg: text('armstudy-svg-check')}, '*');
+});
+</script>)";
+
+// The harness page's: what each frame relays, by the frame's name, as JSON in
+// <pre id="armstudy-frames"> (hidden: out of the screenshot taken in the same run).
+inline const char* kHarnessScript = R"(<script>
+const found = {};
+window.addEventListener('message', e => {
+  found[e.data.frame] = {check: e.data.check, svg: e.data.svg};
+  let p = document.getElementById('armstudy-frames');
+  if (!p) {
+    p = document.createElement('pre');
+    p.id = 'armstudy-frames';
+    p.hidden = true;
+    document.body.appendChild(p);
+  }
+  p.textContent = JSON.stringify(found);
 });
 </script>)";
 // clang-format on

@@ -7,7 +7,8 @@
 // view is turned.
 // Every SVG figure a study writes is loaded too, and Chromium's own text layout (not the plotting
 // module's measurement) must find no two text boxes of a figure overlapping and none off its
-// canvas.
+// canvas. A study's pages (the report at a laptop's and a phone's width, the 3-D view) load in one
+// Chromium run, as frames of a harness page of their own sizes.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -33,8 +34,10 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kLaptopWidth = 1366, kLaptopHeight = 900;  // [px] window the reports must fit
-constexpr int kPhoneWidth = 420;                         // [px] a phone's window, held upright
-constexpr int kScreenshotHeight = 2400;                  // [px] screenshot of the report's top
+// [px] a phone's window, held upright: the narrowest window headless Chromium opens, the width the
+// phone check has always had (a frame can be narrower).
+constexpr int kPhoneWidth = 500;
+constexpr int kScreenshotHeight = 2400;  // [px] screenshot of the report's top
 constexpr int kFirstScreenHeight = 768;  // [px] a laptop's window (1366 x 768) before scrolling
 // Share of its own width a figure's image keeps at the laptop's width: an SVG drawn smaller than
 // this has tick labels of 11 px below 5.5 px.
@@ -57,10 +60,15 @@ struct Check {
 // [px] the plotting module's title size, and the most lines a figure's title may take.
 constexpr int kTitleSize = 15, kMaxTitleLines = 2;
 
-std::string chromium(const fs::path& profile, int width = kLaptopWidth) {
+// The Chromium command line, a window of `width` x `height` px.
+std::string chromium(const fs::path& profile, int width, int height) {
   return "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
-         profile.string() + " --window-size=" + std::to_string(width) + ",";
+         profile.string() + " --window-size=" + std::to_string(width) + "," +
+         std::to_string(height);
 }
+
+// WebGL in software (SwiftShader), for the 3-D views.
+const char* const kSoftwareWebGl = " --use-angle=swiftshader --enable-unsafe-swiftshader";
 
 std::string unescapeText(std::string s) {
   for (const auto& [from, to] : {std::pair<std::string, std::string>{"&lt;", "<"},
@@ -73,73 +81,106 @@ std::string unescapeText(std::string s) {
   return s;
 }
 
-// Loads the page `file` in Chromium (extra command-line `flags`) and returns what its check script
-// wrote into <pre id="armstudy-check"> (the DOM after load, --dump-dom). With a `screenshot` path,
-// the same run also saves the window's pixels there, the window kScreenshotHeight px tall (no check
-// depends on the window's height: the answer's place is measured from the top of the page).
-Check runCheck(const fs::path& file, const fs::path& work, int width, const std::string& flags,
-               const fs::path& screenshot = {}) {
-  Check c;
-  const int height = screenshot.empty() ? kLaptopHeight : kScreenshotHeight;
+// The JSON text of <pre id="`id`"> in an HTML text; null when there is none.
+nlohmann::json preJson(const std::string& html, const std::string& id) {
+  const std::size_t at = html.find("<pre id=\"" + id + "\"");  // then attributes, '>'
+  const std::size_t a = at == std::string::npos ? at : html.find('>', at);
+  const std::size_t b = a == std::string::npos ? a : html.find("</pre>", a);
+  return b == std::string::npos
+             ? nlohmann::json()
+             : nlohmann::json::parse(unescapeText(html.substr(a + 1, b - a - 1)));
+}
+
+// A page to load: `page` with `script` added before </body>, in a frame of `width` x `height` px.
+struct Frame {
+  fs::path page;
+  std::string script;
+  int width = kLaptopWidth, height = kLaptopHeight;
+};
+
+// The harness page of runChecks: the frames as iframes of their own sizes, stacked at the top left
+// corner with the first on top (each inside the window, so that Chromium renders every one), and
+// what each frame relays (kRelayScript) collected into <pre id="armstudy-frames">.
+std::string harnessPage(const std::vector<Frame>& frames, const std::vector<fs::path>& copies) {
+  std::string html =
+      "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><style>body{margin:0}"
+      "iframe{position:absolute;left:0;top:0;border:0}</style></head><body>\n" +
+      std::string(kHarnessScript) + "\n";
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    html += "<iframe name=\"" + std::to_string(i) + "\" src=\"file://" + copies[i].string() +
+            "\" width=\"" + std::to_string(frames[i].width) + "\" height=\"" +
+            std::to_string(frames[i].height) +
+            "\" style=\"z-index:" + std::to_string(frames.size() - i) + "\"></iframe>\n";
+  return html + "</body></html>\n";
+}
+
+// Loads the frames' pages in one Chromium run (extra command-line `flags`) and returns, in their
+// order, what each page's check scripts wrote into <pre id="armstudy-check"> and
+// <pre id="armstudy-svg-check">. A copy of each page with kHeadScript, its script and kRelayScript
+// is written beside it (its relative links resolve) and removed after; the harness page
+// (harnessPage) holds the copies and is read from the DOM after load (--dump-dom). With a
+// `screenshot` path, the same run saves the window's pixels there: the first frame's top (no check
+// depends on a frame's height: the answer's place is measured from the top of the page).
+std::vector<Check> runChecks(const std::vector<Frame>& frames, const fs::path& work,
+                             const std::string& flags, const fs::path& screenshot = {}) {
+  std::vector<fs::path> copies;
+  int width = 0, height = 0;
+  for (const Frame& f : frames) {
+    std::string html = readFileOrThrow(f.page.string());
+    const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
+    REQUIRE(head != std::string::npos);
+    REQUIRE(body != std::string::npos);
+    html.insert(body, f.script + kRelayScript);
+    html.insert(head + 6, kHeadScript);
+    copies.push_back(f.page.parent_path() / (f.page.stem().string() + "_browser_check_" +
+                                             std::to_string(copies.size()) + ".html"));
+    writeFileAtomic(copies.back().string(), html);
+    width = std::max(width, f.width), height = std::max(height, f.height);
+  }
+  const fs::path harness = work / "harness.html";
+  writeFileAtomic(harness.string(), harnessPage(frames, copies));
   const std::string shot = screenshot.empty() ? "" : " --screenshot=" + screenshot.string();
-  runCommand("timeout 120 " + chromium(work / "profile", width) + std::to_string(height) + flags +
-                 shot + " --virtual-time-budget=10000 --dump-dom file://" + file.string(),
-             c.log);
-  const auto pre = [&](const std::string& name) {
-    const std::size_t id = c.log.find("<pre id=\"" + name + "\"");  // then attributes, '>'
-    const std::size_t a = id == std::string::npos ? id : c.log.find('>', id);
-    const std::size_t b = a == std::string::npos ? a : c.log.find("</pre>", a);
-    return b == std::string::npos
-               ? nlohmann::json()
-               : nlohmann::json::parse(unescapeText(c.log.substr(a + 1, b - a - 1)));
-  };
-  c.result = pre("armstudy-check");
-  c.svg = pre("armstudy-svg-check");
-  return c;
+  std::string log;
+  runCommand("timeout 180 " + chromium(work / "profile", width, height) + flags + shot +
+                 " --virtual-time-budget=10000 --dump-dom file://" + harness.string(),
+             log);
+  for (const fs::path& c : copies) fs::remove(c);
+  fs::remove(harness);
+  const nlohmann::json found = preJson(log, "armstudy-frames");
+  std::vector<Check> checks(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    Check& c = checks[i];
+    c.log = log;
+    const std::string name = std::to_string(i);
+    if (!found.is_object() || !found.contains(name)) continue;
+    for (const auto& [key, into] :
+         {std::pair<const char*, nlohmann::json*>{"check", &c.result}, {"svg", &c.svg}})
+      if (found[name][key].is_string())
+        *into = nlohmann::json::parse(found[name][key].get<std::string>());
+  }
+  return checks;
 }
 
-// Loads `page` with `script` before </body> and kHeadScript (a copy is written beside it) and
-// returns the findings.
-Check checkWith(const fs::path& page, const fs::path& work, const std::string& script, int width,
-                const std::string& flags, const fs::path& screenshot = {}) {
-  std::string html = readFileOrThrow(page.string());
-  const std::size_t head = html.find("<head>"), body = html.rfind("</body>");
-  REQUIRE(head != std::string::npos);
-  REQUIRE(body != std::string::npos);
-  html.insert(body, script);
-  html.insert(head + 6, kHeadScript);
-  const fs::path copy = page.parent_path() / (page.stem().string() + "_browser_check.html");
-  writeFileAtomic(copy.string(), html);
-  Check c = runCheck(copy, work, width, flags, screenshot);
-  fs::remove(copy);
-  return c;
-}
-
-// Loads a report page with kBodyScript and returns the findings; with a `screenshot` path, saves a
-// screenshot of the page there in the same run.
-Check checkPage(const fs::path& page, const fs::path& work, int width = kLaptopWidth,
-                const fs::path& screenshot = {}, const std::string& more = "") {
+// kBodyScript with the first screen's height filled in.
+std::string bodyScript() {
   std::string script = kBodyScript;
   for (std::size_t at = script.find("FIRST_SCREEN"); at != std::string::npos;
        at = script.find("FIRST_SCREEN", at))
     script.replace(at, 12, std::to_string(kFirstScreenHeight));
-  return checkWith(page, work, script + more, width, "", screenshot);
+  return script;
 }
 
-// Loads a view.html with WebGL in software (SwiftShader) and returns what kViewScript found.
-Check checkView(const fs::path& page, const fs::path& work) {
-  return checkWith(page, work, kViewScript, kLaptopWidth,
-                   " --use-angle=swiftshader --enable-unsafe-swiftshader");
-}
-
-// The 3-D view of a study with maps in `dir`: it exists (three.js was found and inlined), is light,
-// report.html links it, and it draws a non-blank canvas that changes when turned.
-void requireView(const fs::path& dir, const fs::path& work) {
+// The 3-D view of a study with maps in `dir`, before it is loaded: it exists (three.js was found
+// and inlined), is light, and report.html links it.
+void requireViewFile(const fs::path& dir) {
   REQUIRE(fs::exists(dir / "view.html"));
   CHECK(fs::file_size(dir / "view.html") < 5u * 1024 * 1024);
   CHECK(readFileOrThrow((dir / "report.html").string()).find("href=\"view.html\"") !=
         std::string::npos);
-  const Check c = checkView(dir / "view.html", work);
+}
+
+// What kViewScript found in a 3-D view: it draws a non-blank canvas that changes when turned.
+void requireViewDrawn(const Check& c) {
   INFO(c.log.substr(0, 2000));
   REQUIRE_FALSE(c.result.is_null());
   INFO("view check: " << c.result.dump());
@@ -216,9 +257,9 @@ std::string svgFigureFaults(const fs::path& dir, const fs::path& work, std::size
                             int& texts) {
   const fs::path page = work / "svg_figures.html";
   writeFileAtomic(page.string(),
-                  "<!DOCTYPE html><html><head><meta charset=\"utf-8\"></head><body>\n" +
-                      svgHolders(dir, files) + "</body></html>\n");
-  const Check c = runCheck(page, work, kLaptopWidth, "");
+                  "<!DOCTYPE html><html><head><meta charset=\"utf-8\"></head><body>\n"
+                  "</body></html>\n");
+  const Check c = runChecks({Frame{page, svgHolders(dir, files)}}, work, "")[0];
   fs::remove(page);
   return svgFaults(c, files, texts);
 }
@@ -369,7 +410,7 @@ TEST_CASE(
       "<figure><img src=\"data:image/gif;base64,R0lGODlhAQABAAAAACw=\"><figcaption>c"
       "</figcaption></figure>"
       "<script>console.error('boom')</script></body></html>\n");
-  const Check c = checkPage(page, work);
+  const Check c = runChecks({Frame{page, bodyScript()}}, work, "")[0];
   REQUIRE_FALSE(c.result.is_null());
   CHECK(c.result["broken"].size() >= 1);
   CHECK(c.result["overflow"].size() >= 1);
@@ -378,6 +419,20 @@ TEST_CASE(
   bool boom = false;
   for (const auto& e : c.result["errors"]) boom = boom || e.get<std::string>() == "boom";
   CHECK(boom);
+  // Frames of one run are windows of their own widths: a block 600 px wide makes the phone's page
+  // scroll sideways, not the laptop's.
+  const fs::path wide = work / "wide.html";
+  writeFileAtomic(wide.string(),
+                  "<!DOCTYPE html><html><head></head><body>"
+                  "<div style=\"width:600px;height:10px\"></div></body></html>\n");
+  const std::vector<Check> two =
+      runChecks({Frame{wide, bodyScript()}, Frame{wide, bodyScript(), kPhoneWidth}}, work, "");
+  REQUIRE_FALSE(two[0].result.is_null());
+  REQUIRE_FALSE(two[1].result.is_null());
+  CHECK(two[0].result["window"] == kLaptopWidth);
+  CHECK(two[1].result["window"] == kPhoneWidth);
+  CHECK_FALSE(two[0].result["pageOverflow"].get<bool>());
+  CHECK(two[1].result["pageOverflow"].get<bool>());
   fs::remove_all(work);
 }
 
@@ -461,13 +516,30 @@ TEST_CASE(
           report = e.path();
       REQUIRE_FALSE(report.empty());
       CHECK(fs::file_size(report) < 5u * 1024 * 1024);  // a light page
-      // The report as a laptop shows it, with a screenshot kept beside the report; the same page
-      // carries every SVG figure the study wrote, out of sight, for Chromium's text layout: no
-      // overlap, none off the canvas, titles of at most two lines.
+      // A study with reach grids or stem maps, or spatial outputs of another kind
+      // (kViewsWithoutMaps), has its 3-D view (an exploration's too, where it writes one).
+      const std::string text = readFileOrThrow(study.string());
+      const bool view = ((text.find("\n[[reach.grid]]") != std::string::npos ||
+                          text.find("\n[dexterity]") != std::string::npos) &&
+                         text.find("\n[explore") == std::string::npos) ||
+                        kViewsWithoutMaps.count(study.filename().string()) ||
+                        fs::exists(report.parent_path() / "view.html");
+      if (view) {
+        INFO(study.filename().string() + ": the 3-D view");
+        requireViewFile(report.parent_path());
+      }
+      // One Chromium run: the report as a laptop shows it, with a screenshot kept beside the
+      // report, the page carrying every SVG figure the study wrote, out of sight, for Chromium's
+      // text layout (no overlap, none off the canvas, titles of at most two lines); the report on
+      // a phone; the 3-D view.
       const fs::path shot = report.parent_path() / "report_screenshot.png";
       std::size_t files = 0;
-      const std::string svgs = svgHolders(report.parent_path(), files);
-      const Check c = checkPage(report, work, kLaptopWidth, shot, svgs);
+      std::vector<Frame> frames = {{report, bodyScript() + svgHolders(report.parent_path(), files),
+                                    kLaptopWidth, kScreenshotHeight},
+                                   {report, bodyScript(), kPhoneWidth, kLaptopHeight}};
+      if (view) frames.push_back({report.parent_path() / "view.html", kViewScript});
+      const std::vector<Check> checks = runChecks(frames, work, view ? kSoftwareWebGl : "", shot);
+      const Check& c = checks[0];
       {
         int texts = 0;
         const std::string f = svgFaults(c, files, texts);
@@ -556,19 +628,13 @@ TEST_CASE(
         }
       }
       // On a phone's width: no figure sticks out and the page does not scroll sideways.
-      const Check phone = checkPage(report, work, kPhoneWidth);
+      const Check& phone = checks[1];
       INFO(study.filename().string() + " at " << kPhoneWidth << " px: " + faults(phone));
       CHECK(faults(phone).empty());
-      // A study with reach grids or stem maps, or spatial outputs of another kind
-      // (kViewsWithoutMaps), has its 3-D view (an exploration's too, where it writes one).
-      const std::string text = readFileOrThrow(study.string());
-      if (((text.find("\n[[reach.grid]]") != std::string::npos ||
-            text.find("\n[dexterity]") != std::string::npos) &&
-           text.find("\n[explore") == std::string::npos) ||
-          kViewsWithoutMaps.count(study.filename().string()) ||
-          fs::exists(report.parent_path() / "view.html")) {
+      CHECK(phone.result.value("window", 0) == kPhoneWidth);
+      if (view) {
         INFO(study.filename().string() + ": the 3-D view");
-        requireView(report.parent_path(), work);
+        requireViewDrawn(checks[2]);
       }
     }
   }

@@ -16,7 +16,7 @@
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -161,9 +161,7 @@ TEST_CASE(
     "arm calibration figures: TCP residuals in mm, before and after on one range in order, the "
     "check run titled for the calibrated design, before ahead of after on the pages",
     "[calibration][study][report]") {
-  const fs::path root = test::emptyTempDir("calibration_figures");
-  const fs::path out = test::runShippedStudy("studies/arm_calibration.toml", root),
-                 tcp = out / "calibration/tcp";
+  const fs::path out = test::shippedOutput("arm_calibration"), tcp = out / "calibration/tcp";
   const nlohmann::json result =
       nlohmann::json::parse(readFileOrThrow((tcp / "result.json").string()));
 
@@ -237,7 +235,6 @@ TEST_CASE(
     CHECK(after > 0);
     CHECK(shown + linked == after);
   }
-  fs::remove_all(root);
 }
 
 TEST_CASE(

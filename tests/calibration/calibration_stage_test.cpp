@@ -20,6 +20,7 @@
 #include "engine/study_file.hpp"
 #include "io/design_io.hpp"
 #include "io/files.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -258,18 +259,37 @@ TEST_CASE(
   }
   CHECK(y.calibrated_flagged == 0);
 
-  // Two threads, from scratch in the same place: the same bytes in every file.
-  fs::remove_all(root / s.name);
-  RunSummary rs2;
-  (void)runStage(s, root, rs2, 2);
-  const auto two = resultFiles(root / s.name);
+  // Two threads: the fixture "shipped: arm_calibration" (tests/CMakeLists.txt) runs the study on 2
+  // threads through `armstudy check`. Its calibration folder holds the same files with the same
+  // bytes, the output folder's own path aside (the calibrated designs' headers name the file they
+  // were made from), and its metrics (the comparison's current values) are the same numbers.
+  const fs::path shipped = test::shippedOutput("arm_calibration");
+  const auto two = resultFiles(shipped / "calibration");
   REQUIRE(one.size() == two.size());
   for (const auto& [path, bytes] : one) {
     INFO(path);
-    REQUIRE(two.count(path));
-    CHECK(two.at(path) == bytes);
+    REQUIRE(path.rfind("calibration/", 0) == 0);
+    const std::string rel = path.substr(std::string("calibration/").size());
+    REQUIRE(two.count(rel));
+    std::string other = two.at(rel);
+    const std::string from = shipped.string(), to = (root / s.name).string();
+    for (std::size_t at = other.find(from); at != std::string::npos;
+         at = other.find(from, at + to.size()))
+      other.replace(at, from.size(), to);
+    CHECK(other == bytes);
   }
-  CHECK(rs1.metrics.scalars == rs2.metrics.scalars);
+  std::map<std::string, double> scalars;
+  const nlohmann::json check = test::shippedCheck("arm_calibration");
+  for (const auto& row : check.at("rows"))
+    if (row.at("kind") == "scalar" && row.at("verdict") != "MISSING")
+      scalars[row.at("metric")] =
+          row.at("now").is_null() ? std::nan("") : row.at("now").get<double>();
+  REQUIRE(scalars.size() == rs1.metrics.scalars.size());
+  for (const auto& [name, value] : rs1.metrics.scalars) {
+    INFO(name << " = " << value << " on 1 thread");
+    REQUIRE(scalars.count(name));
+    CHECK(((std::isnan(value) && std::isnan(scalars.at(name))) || scalars.at(name) == value));
+  }
   fs::remove_all(root);
 }
 
@@ -298,15 +318,12 @@ TEST_CASE(
 
 TEST_CASE("the shipped calibration studies pass `armstudy check` against their committed baselines",
           "[calibration][study][regression]") {
-  for (const char* study : {kThesisStudy, kArmStudy}) {
-    const fs::path root = freshDir("check");
-    std::string out;
-    const int rc = test::runCommand(
-        test::binaryPath() + " check " + test::sourcePath(study) + " --output " + root.string(),
-        out);
-    INFO(study << "\n" << out);
-    CHECK(rc == 0);
-    fs::remove_all(root);
+  // The fixtures "shipped: <study>" run the checks once per suite (tests/CMakeLists.txt).
+  for (const char* study : {"thesis_drive_friction", "arm_calibration"}) {
+    const nlohmann::json check = test::shippedCheck(study);
+    INFO(study << "\n" << check.dump(1));
+    CHECK(check.at("passed").get<bool>());
+    CHECK_FALSE(check.at("rows").empty());
   }
 }
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "io/files.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -15,8 +15,7 @@ namespace fs = std::filesystem;
 
 TEST_CASE("calibration report words: lengths in mm, effects in words, keys only in data files",
           "[calibration][study][report]") {
-  const fs::path out = test::runShippedStudy("studies/arm_calibration.toml",
-                                             test::emptyTempDir("calibration_report_words"));
+  const fs::path out = test::shippedOutput("arm_calibration");
   const std::regex metres(R"(\b0\.0\d{3,}\s*m\b)"), key(R"(\b(\w+)\.(\w+)\.\2\b)"),
       dotted(R"(\+(joint_offset|link_length)\.)");
   for (const fs::path md : {out / "report.md", out / "calibration/report.md"}) {

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <kdl/tree.hpp>
@@ -28,6 +29,7 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "report/html_report.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -166,23 +168,44 @@ std::string studyText() {
          "filter = { cutoff = \"40 Hz\", decimate = 2, trim = \"0.2 s\" }\n";
 }
 
-// One run of the study on freshly written logs, shared by the test cases below.
+// One run of the study on freshly written logs, shared by the test cases below: the first writes
+// the logs and runs the study; in ctest it is the fixture of the others (tests/
+// shipped_fixtures.cmake.in), which read its outputs (`study`: the study's output folder).
 struct SyntheticRun {
-  fs::path dir;
-  int rc = -1;
-  std::string log;
+  fs::path study;
+  int rc = -1;      // the run's exit status (run() only)
+  std::string log;  // what it printed (run() only)
   json summary;
   std::string report;
-  SyntheticRun() : dir(test::emptyTempDir("synthetic_lift_arm")) {
-    writeLogs(dir);
-    std::ofstream(dir / "study.toml") << studyText();
-    rc = test::runCommand(test::binaryPath() + " run " + (dir / "study.toml").string() +
-                              " --output " + (dir / "out").string() + " --threads 2",
-                          log);
-    const fs::path s = dir / "out/lift_arm/calibration/lift_arm/summary.json";
+  // Writes the logs and the study file into <root>/synthetic_lift_arm_logs/ and runs the study
+  // into <root>/lift_arm/; root: $ARMSTUDY_SHIPPED_OUTPUT in ctest, else a temporary folder.
+  static SyntheticRun run() {
+    const char* shipped = std::getenv("ARMSTUDY_SHIPPED_OUTPUT");
+    const fs::path root = shipped ? fs::path(shipped) : test::emptyTempDir("synthetic_lift_arm");
+    const fs::path logs = root / "synthetic_lift_arm_logs";
+    fs::remove_all(logs);
+    fs::create_directories(logs);
+    writeLogs(logs);
+    std::ofstream(logs / "study.toml") << studyText();
+    SyntheticRun r;
+    r.rc = test::runCommand(test::binaryPath() + " run " + (logs / "study.toml").string() +
+                                " --output " + root.string() + " --overwrite --threads 2",
+                            r.log);
+    r.read(root / "lift_arm");
+    return r;
+  }
+  // The outputs the first test case wrote (the fixture; tests/shipped_output.hpp).
+  static SyntheticRun written() {
+    SyntheticRun r;
+    r.read(test::shippedOutput("lift_arm"));
+    return r;
+  }
+  void read(const fs::path& out) {
+    study = out;
+    const fs::path s = out / "calibration/lift_arm/summary.json";
     if (fs::exists(s)) summary = json::parse(readFileOrThrow(s.string()));
-    if (fs::exists(dir / "out/lift_arm/calibration/report.md"))
-      report = readFileOrThrow((dir / "out/lift_arm/calibration/report.md").string());
+    if (fs::exists(out / "calibration/report.md"))
+      report = readFileOrThrow((out / "calibration/report.md").string());
   }
   bool added(const std::string& effect) const {
     for (const auto& a : summary.at("added"))
@@ -202,8 +225,8 @@ struct SyntheticRun {
   }
 };
 
-const SyntheticRun& run() {
-  static const SyntheticRun r;
+const SyntheticRun& fixtureRun() {
+  static const SyntheticRun r = SyntheticRun::written();
   return r;
 }
 
@@ -215,7 +238,7 @@ bool containsText(const std::string& s, const std::string& part) {
 
 TEST_CASE("synthetic lift arm: the study runs, exit 0, and names its joints and units",
           "[calibration][study]") {
-  const SyntheticRun& r = run();
+  const SyntheticRun r = SyntheticRun::run();
   INFO(r.log);
   REQUIRE(r.rc == 0);
   REQUIRE(r.summary.is_object());
@@ -227,8 +250,7 @@ TEST_CASE("synthetic lift arm: the study runs, exit 0, and names its joints and 
 
 TEST_CASE("synthetic lift arm: friction recovered where the data identify it",
           "[calibration][study]") {
-  const SyntheticRun& r = run();
-  REQUIRE(r.rc == 0);
+  const SyntheticRun& r = fixtureRun();
   INFO(r.summary.at("verdict").get<std::string>());
   for (int j = 0; j < 4; ++j) {  // the lift and arm_1..arm_3, above the floor
     const std::string n = kNames[j];
@@ -243,8 +265,7 @@ TEST_CASE("synthetic lift arm: friction recovered where the data identify it",
 
 TEST_CASE("synthetic lift arm: the quantised wrist channels are not identifiable",
           "[calibration][study]") {
-  const SyntheticRun& r = run();
-  REQUIRE(r.rc == 0);
+  const SyntheticRun& r = fixtureRun();
   const std::string w = r.warnings();
   INFO(w);
   for (int j = 4; j < kJoints; ++j) {
@@ -266,8 +287,7 @@ TEST_CASE("synthetic lift arm: no mass refitted: the tool and head are the desig
           "[calibration][study]") {
   // The logs hold exactly the URDF's tree (KDL), so every body is where the design says: neither
   // the tool beyond the tip as a payload nor a link mass (a negative one least of all) is added.
-  const SyntheticRun& r = run();
-  REQUIRE(r.rc == 0);
+  const SyntheticRun& r = fixtureRun();
   INFO(r.summary.at("verdict").get<std::string>());
   for (const auto& p : r.summary.at("final_params")) {
     const std::string key = p.at("key").get<std::string>();
@@ -281,11 +301,10 @@ TEST_CASE("synthetic lift arm: no mass refitted: the tool and head are the desig
 TEST_CASE(
     "synthetic lift arm: a URDF design gets a calibrated TOML and URDF holding the fitted friction",
     "[calibration][study]") {
-  const SyntheticRun& r = run();
-  REQUIRE(r.rc == 0);
+  const SyntheticRun& r = fixtureRun();
   const std::string rel = r.summary.at("calibrated").at("design").get<std::string>();
   REQUIRE_FALSE(rel.empty());
-  const fs::path toml = r.dir / "out/lift_arm/calibration/lift_arm" / rel;
+  const fs::path toml = r.study / "calibration/lift_arm" / rel;
   fs::path urdf_path = toml;
   urdf_path.replace_extension(".urdf");
   REQUIRE(fs::exists(toml));

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/files.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -22,13 +23,8 @@ TEST_CASE(
       fs::path(test::sourcePath("../shared/datasets/staubli_tx40/data/pos_read_data.csv"));
   INFO("the TX40 dataset is required: " << data.string());
   REQUIRE(fs::exists(data));
-  const fs::path out = fs::temp_directory_path() / "armstudy_tx40_identification";
-  fs::remove_all(out);
-  std::string log;
-  REQUIRE(test::runCommand(test::binaryPath() + " run " +
-                               test::sourcePath("studies/staubli_tx40_identification.toml") +
-                               " --output " + out.string(),
-                           log) == 0);
+  // The fixture "shipped: staubli_tx40_identification" runs the study once per suite.
+  const fs::path out = test::shippedOutput("staubli_tx40_identification").parent_path();
   const auto s = nlohmann::json::parse(armstudy::readFileOrThrow(
       (out / "staubli_tx40_identification/calibration/tx40/summary.json").string()));
   const auto& m = s.at("identification");
@@ -120,5 +116,4 @@ TEST_CASE(
   CHECK(fs::exists(out / "staubli_tx40_identification/calibration/tx40/identification.md"));
   CHECK(
       fs::exists(out / "staubli_tx40_identification/calibration/tx40/residuals_before_after.svg"));
-  fs::remove_all(out);
 }

@@ -15,8 +15,8 @@
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
 #include "plot_checks.hpp"
+#include "shipped_output.hpp"
 #include "stages/harvest/harvest_report.hpp"
-#include "study_support.hpp"
 #include "test_support.hpp"
 #include "trajectory/greenhouse_row.hpp"
 
@@ -140,8 +140,7 @@ TEST_CASE(
     "harvest fruit figure: every fruit at its position with the outcome its CSV gives, one "
     "colour per outcome, the designs on one scale, no text overlapping",
     "[harvest][report]") {
-  const fs::path root = test::emptyTempDir("harvest_figure");
-  const fs::path out = test::runShippedStudy("studies/harvest_torque.toml", root) / "harvest";
+  const fs::path out = test::shippedOutput("harvest_torque") / "harvest";
   const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));  // its settings
   REQUIRE(fs::exists(out / "fruits.svg"));
   const std::string svg = readFileOrThrow((out / "fruits.svg").string());
@@ -226,5 +225,4 @@ TEST_CASE(
   const auto fig = md.find("(fruits.svg)");
   REQUIRE(fig != std::string::npos);
   CHECK(fig < md.find("\n## "));
-  fs::remove_all(root);
 }

@@ -11,9 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/study_file.hpp"
 #include "io/files.hpp"
 #include "model/model_notes.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -84,8 +85,7 @@ TEST_CASE(
     "harvest_torque: a miss at a joint limit names the joint and the limit, says the limit is "
     "assumed, and the assumptions it rests on are listed under the answer",
     "[harvest][report]") {
-  const fs::path root = test::emptyTempDir("assumptions_on_page");
-  const fs::path out = test::runShippedStudy("studies/harvest_torque.toml", root);
+  const fs::path out = test::shippedOutput("harvest_torque");
   const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));
   const std::string md = readFileOrThrow((out / "report.md").string());
   const std::string html = readFileOrThrow((out / "report.html").string());
@@ -137,8 +137,7 @@ TEST_CASE(
 TEST_CASE(
     "harvest_torque: each joint's peak effort carries its own unit (N m revolute, N prismatic)",
     "[harvest][report]") {
-  const fs::path root = test::emptyTempDir("effort_units");
-  const fs::path out = test::runShippedStudy("studies/harvest_torque.toml", root);
+  const fs::path out = test::shippedOutput("harvest_torque");
   const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));
   const std::string md = readFileOrThrow((out / "harvest" / "report.md").string());
   int rows = 0;
@@ -165,8 +164,7 @@ TEST_CASE(
 
 TEST_CASE("harvest_torque: the profile plots show the fruits a drive limit stops, then picked ones",
           "[harvest][report]") {
-  const fs::path root = test::emptyTempDir("plotted_fruits");
-  const fs::path out = test::runShippedStudy("studies/harvest_torque.toml", root);
+  const fs::path out = test::shippedOutput("harvest_torque");
   const Study s = loadStudy(test::sourcePath("studies/harvest_torque.toml"));
   const int plot_fruits = 2;  // the study's plot_fruits
   int failed_plotted = 0;
@@ -200,8 +198,7 @@ TEST_CASE("harvest_torque: the profile plots show the fruits a drive limit stops
 TEST_CASE(
     "spraying_row: the poses blocked by joint limits list the design's joint-limit assumption",
     "[reach][report]") {
-  const fs::path root = test::emptyTempDir("reach_assumptions");
-  const fs::path out = test::runShippedStudy("studies/spraying_row.toml", root);
+  const fs::path out = test::shippedOutput("spraying_row");
   const Study s = loadStudy(test::sourcePath("studies/spraying_row.toml"));
   const auto summary = nlohmann::json::parse(readFileOrThrow((out / "summary.json").string()));
   const std::string assumptions =

@@ -7,7 +7,7 @@
 #include <regex>
 
 #include "io/files.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -25,8 +25,7 @@ const std::map<std::string, std::string> kPublished = {
 }  // namespace
 
 TEST_CASE("reach map colours: each colour word is the colour drawn", "[reach][report]") {
-  const fs::path root = test::emptyTempDir("colour_words");
-  const fs::path out = test::runShippedStudy("studies/stem_obstacles.toml", root) / "reach";
+  const fs::path out = test::shippedOutput("stem_obstacles") / "reach";
   const std::string md = readFileOrThrow((out / "report.md").string());
   const auto at = md.find("Map colours: ");
   REQUIRE(at != std::string::npos);
@@ -57,8 +56,7 @@ TEST_CASE("reach map colours: each colour word is the colour drawn", "[reach][re
 
 TEST_CASE("status map legends use words, not identifiers (shipped stem_row)",
           "[dexterity][report]") {
-  const fs::path root = test::emptyTempDir("status_words");
-  const fs::path out = test::runShippedStudy("studies/stem_row.toml", root) / "dexterity";
+  const fs::path out = test::shippedOutput("stem_row") / "dexterity";
   const std::string svg = readFileOrThrow((out / "first_prototype_9dof_status.svg").string());
   const std::regex text(R"(<text[^>]*>([^<]*)</text>)");
   int labels = 0;
@@ -78,8 +76,7 @@ TEST_CASE("the spraying row's manipulability maps name the task's 5 rows beside 
           "[reach][report]") {
   // Thesis eq. (3.1): the spraying task constrains x, y, z, alpha and gamma, 5 rows of which 2 are
   // angular; a scale labelled m^3 alone would read as the 3 position rows.
-  const fs::path root = test::emptyTempDir("measure_rows");
-  const fs::path out = test::runShippedStudy("studies/spraying_row.toml", root) / "reach";
+  const fs::path out = test::shippedOutput("spraying_row") / "reach";
   int maps = 0;
   for (const auto& e : fs::directory_iterator(out / "images")) {
     const std::string name = e.path().filename().string();

@@ -2,7 +2,6 @@
 // every fruit of each design's <design>_fruits.csv, picked or failed, has its number written beside
 // a marker in that design's panel of the figure, and the legend names the outcomes in words. Read
 // from the SVG text and circle elements, as a reader's browser gets them.
-#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <sstream>
 
 #include "io/files.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -49,13 +49,8 @@ std::vector<std::pair<std::string, std::string>> fruits(const std::string& csv) 
 
 TEST_CASE("harvest's fruit figure writes every fruit's number, failed or picked, beside its marker",
           "[report][cli]") {
-  const fs::path work =
-      fs::temp_directory_path() / ("armstudy_fruit_figure_" + std::to_string(getpid()));
-  std::string log;
-  REQUIRE(runCommand(binaryPath() + " run " + sourcePath("studies/harvest_torque.toml") +
-                         " --threads 2 --output " + work.string(),
-                     log) == 0);
-  const fs::path dir = work / "harvest_torque" / "harvest";
+  // The fixture "shipped: harvest_torque" runs the study once per suite (tests/CMakeLists.txt).
+  const fs::path dir = shippedOutput("harvest_torque") / "harvest";
   const std::string svg = readFileOrThrow((dir / "fruits.svg").string());
   static const std::regex text(R"re(<text x="([-0-9.]+)" y="([-0-9.]+)"[^>]*>([^<]*)</text>)re");
   static const std::regex circle(R"re(<circle cx="([-0-9.]+)" cy="([-0-9.]+)")re");
@@ -100,5 +95,4 @@ TEST_CASE("harvest's fruit figure writes every fruit's number, failed or picked,
       CHECK(t.s.find('_') == std::string::npos);
     }
   CHECK(failed > 0);  // the figure must show failures, not only picked fruits
-  fs::remove_all(work);
 }

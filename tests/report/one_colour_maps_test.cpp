@@ -13,7 +13,7 @@
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
 #include "plot_checks.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -64,19 +64,19 @@ TEST_CASE(
     "no map that shows nothing: a map of one status is said in words, not drawn in one colour, "
     "and the reports point only to files that exist",
     "[report][study]") {
-  const fs::path root = test::emptyTempDir("one_colour_maps");
-  std::vector<fs::path> outs;
-  for (const char* study : {"studies/stem_ellipsoids.toml", "studies/regression.toml"})
-    outs.push_back(test::runShippedStudy(study, root));
+  // The fixtures "shipped: <study>" run the studies once per suite (tests/CMakeLists.txt).
+  const std::vector<fs::path> outs = {test::shippedOutput("stem_ellipsoids"),
+                                      test::shippedOutput("regression")};
   int maps = 0;
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    if (e.path().extension() != ".svg") continue;
-    for (const auto& colours : mapColours(readFileOrThrow(e.path().string()))) {
-      INFO(e.path().string());
-      CHECK(colours.size() >= 2);
-      ++maps;
+  for (const fs::path& out : outs)
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+      if (e.path().extension() != ".svg") continue;
+      for (const auto& colours : mapColours(readFileOrThrow(e.path().string()))) {
+        INFO(e.path().string());
+        CHECK(colours.size() >= 2);
+        ++maps;
+      }
     }
-  }
   CHECK(maps > 10);
   // Where a map was left out, the report says what it would have shown.
   static const std::regex said(R"(100 % of the ([0-9]+) cells reachable)");
@@ -102,7 +102,6 @@ TEST_CASE(
       CHECK(fs::exists(out / rel));
     }
   }
-  fs::remove_all(root);
 }
 
 TEST_CASE(

@@ -12,7 +12,6 @@
 
 #include "io/files.hpp"
 #include "shipped_output.hpp"
-#include "study_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -94,8 +93,7 @@ std::uintmax_t checkPages(const fs::path& out, std::size_t& figures) {
 
 TEST_CASE("page weight: arm_calibration's pages stay under 3 MB with their linked figures",
           "[calibration][study][report]") {
-  const fs::path out =
-      test::runShippedStudy("studies/arm_calibration.toml", test::emptyTempDir("page_weight_arm"));
+  const fs::path out = test::shippedOutput("arm_calibration");
   std::size_t figures = 0;
   CHECK(checkPages(out, figures) > 0);  // its data files are linked and were seen
   CHECK(figures >= 10);
@@ -112,8 +110,7 @@ TEST_CASE("page weight: arm_calibration's pages stay under 3 MB with their linke
 TEST_CASE("page weight: the TX40 study's pages stay under 3 MB with their linked figures",
           "[calibration][study][report][dataset]") {
   REQUIRE(fs::exists(test::sourcePath("../shared/datasets/staubli_tx40/data/pos_read_data.csv")));
-  const fs::path out = test::runShippedStudy("studies/staubli_tx40_identification.toml",
-                                             test::emptyTempDir("page_weight_tx40"));
+  const fs::path out = test::shippedOutput("staubli_tx40_identification");
   std::size_t figures = 0;
   CHECK(checkPages(out, figures) > 1'000'000);  // residuals.csv, linked, not counted
   CHECK(figures >= 10);
@@ -123,10 +120,8 @@ TEST_CASE("page weight: the short shipped studies' pages stay under 3 MB", "[stu
   for (const std::string name : {"fig5_13_obstacle", "harvest_torque", "stem_ellipsoids",
                                  "stem_obstacles", "thesis_drive_friction"}) {
     INFO(name);
-    const fs::path out = test::runShippedStudy("studies/" + name + ".toml",
-                                               test::emptyTempDir("page_weight_" + name));
     std::size_t figures = 0;
-    checkPages(out, figures);
+    checkPages(test::shippedOutput(name), figures);
     CHECK(figures >= 1);
   }
 }

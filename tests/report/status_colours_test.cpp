@@ -15,7 +15,7 @@
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
 #include "report/image.hpp"
-#include "study_support.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -99,18 +99,19 @@ TEST_CASE(
     "the status maps of shipped studies: legend colours drawn together stay apart for "
     "deuteranopes, one colour per status in every map",
     "[report][oracle][study]") {
-  const fs::path root = test::emptyTempDir("status_colours");
-  for (const char* study : {"studies/stem_heatmap_panda.toml", "studies/harvest_torque.toml"})
-    (void)test::runShippedStudy(study, root);
+  // The fixtures "shipped: <study>" run the studies once per suite (tests/CMakeLists.txt).
+  std::vector<fs::path> svgs;
+  for (const char* study : {"stem_heatmap_panda", "harvest_torque"})
+    for (const auto& e : fs::recursive_directory_iterator(test::shippedOutput(study)))
+      if (e.path().extension() == ".svg") svgs.push_back(e.path());
   std::map<std::string, std::string> colour_of;  // legend label -> colour, over every map
   int maps = 0;
   bool reach_and_collision = false;
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    if (e.path().extension() != ".svg") continue;
-    const auto entries = legend(readFileOrThrow(e.path().string()));
+  for (const fs::path& svg : svgs) {
+    const auto entries = legend(readFileOrThrow(svg.string()));
     if (entries.size() < 2) continue;
     ++maps;
-    INFO(e.path().string());
+    INFO(svg.string());
     bool reachable = false, collision = false;
     for (std::size_t i = 0; i < entries.size(); ++i) {
       const auto& [colour, label] = entries[i];
@@ -128,5 +129,4 @@ TEST_CASE(
   }
   CHECK(maps >= 3);
   CHECK(reach_and_collision);
-  fs::remove_all(root);
 }

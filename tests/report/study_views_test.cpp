@@ -21,8 +21,8 @@
 #include "io/design_io.hpp"
 #include "io/files.hpp"
 #include "kinematics/kinematics.hpp"
+#include "shipped_output.hpp"
 #include "study/checkpoint.hpp"
-#include "study_support.hpp"
 #include "test_support.hpp"
 #include "view_page.hpp"
 
@@ -216,8 +216,7 @@ TEST_CASE(
     "view.html of harvest_torque: the holding grid's points, statuses and current ratios "
     "as the holding .vti holds them",
     "[report][study]") {
-  const fs::path out =
-      test::runShippedStudy("studies/harvest_torque.toml", test::emptyTempDir("harvest_view"));
+  const fs::path out = test::shippedOutput("harvest_torque");
   const auto maps = viewMaps(out);
   REQUIRE(maps.size() == 2);
   for (const std::string design : {"final_prototype_9dof", "final_prototype_7dof"})
@@ -252,8 +251,7 @@ TEST_CASE(
     "view.html of fig5_13_obstacle: each run's TCP path with its distance to the sphere in "
     "mm, the contacts, and the arm at the closest approach",
     "[report][study][tracking]") {
-  const fs::path out =
-      test::runShippedStudy("studies/fig5_13_obstacle.toml", test::emptyTempDir("tracking_view"));
+  const fs::path out = test::shippedOutput("fig5_13_obstacle");
   nlohmann::json page;
   const auto maps = viewMaps(out, &page);
   REQUIRE(maps.size() == 2);

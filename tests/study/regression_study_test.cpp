@@ -8,6 +8,7 @@
 #include <regex>
 
 #include "io/files.hpp"
+#include "shipped_output.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -47,15 +48,8 @@ std::string writeResumeStudy(const fs::path& dir) {
 
 TEST_CASE("the shipped regression study passes `armstudy check` against its baseline",
           "[study][regression][e2e]") {
-  const fs::path out = regressionDir("check");
-  std::string log;
-  const int st =
-      runCommand(binaryPath() + " check " + sourcePath("studies/regression.toml") + " --output " +
-                     out.string() + " --json " + (out / "check.json").string(),
-                 log);
-  INFO(log);
-  CHECK(st == 0);
-  const auto j = nlohmann::json::parse(readFileOrThrow((out / "check.json").string()));
+  // The fixture "shipped: regression" runs the check once per suite (tests/CMakeLists.txt).
+  const auto j = shippedCheck("regression");
   CHECK(j["passed"] == true);
   CHECK(j["rows"].size() > 20);
 }
