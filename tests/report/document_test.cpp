@@ -72,6 +72,12 @@ TEST_CASE("a document's HTML is its Markdown's HTML, block by block",
                               .figures({{"d: e", "d.svg"}, {"f", "f.svg"}}),
                           "dexterity");
   }
+  SECTION("lists with items indented under an item") {
+    const Document d = Document().nestedList({ListItem{"`a`:", {"one [x](x.csv)", "two"}},
+                                              ListItem{"b", {}}, ListItem{"`c`:", {"three"}}});
+    CHECK(toMarkdown(d) == "- `a`:\n  - one [x](x.csv)\n  - two\n- b\n- `c`:\n  - three\n\n");
+    requireSameAsMarkdown(d, "explore");
+  }
   SECTION("tables: right-aligned columns, '|' and line breaks in cells, short rows, images") {
     requireSameAsMarkdown(
         Document()

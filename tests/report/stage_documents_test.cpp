@@ -133,7 +133,7 @@ TEST_CASE("every stage's report document is its Markdown file and renders to tha
       {"fig5_13_obstacle", {"tracking/report.md"}},
       {"harvest_torque", {}},
       {"thesis_drive_friction", {}},
-      {"explore_final_prototype", {}},
+      {"explore_final_prototype", {"explore/explore.md"}},
   };
   for (const auto& [name, built] : studies) {
     SECTION(name) {
