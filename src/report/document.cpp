@@ -199,14 +199,9 @@ std::string toHtml(const Document& doc, const std::string& id_prefix,
       case Block::Kind::table:
         tableBlockHtml(o, b, t);
         break;
-      case Block::Kind::list: {
-        // An indented line continues its item, as the Markdown converter reads it.
-        std::vector<std::string> items = b.items;
-        for (std::size_t i = 0; i < items.size(); ++i)
-          for (const std::string& sub : subItems(b, i)) items[i] += " - " + sub;
-        html_detail::listHtml(o, items, t);
+      case Block::Kind::list:
+        html_detail::listHtml(o, b.items, t, b.sub_items);
         break;
-      }
       case Block::Kind::code:
         html_detail::codeHtml(o, b.text);
         break;
