@@ -33,6 +33,11 @@ std::string cellText(const std::string& s) {
   return a == std::string::npos ? "" : e.substr(a, b - a + 1);
 }
 
+const std::vector<std::string>& subItems(const Block& b, std::size_t i) {
+  static const std::vector<std::string> none;
+  return i < b.sub_items.size() ? b.sub_items[i] : none;
+}
+
 std::string oneLine(std::string s) {
   for (char& c : s)
     if (c == '\n') c = ' ';
@@ -80,6 +85,16 @@ Document& Document::list(std::vector<std::string> items) {
   return *this;
 }
 
+Document& Document::nestedList(std::vector<ListItem> items) {
+  Block b = block(Block::Kind::list);
+  for (ListItem& item : items) {
+    b.items.push_back(std::move(item.text));
+    b.sub_items.push_back(std::move(item.sub_items));
+  }
+  blocks_.push_back(std::move(b));
+  return *this;
+}
+
 Document& Document::code(std::string text) {
   Block b = block(Block::Kind::code);
   b.text = withNewline(std::move(text));
@@ -119,7 +134,10 @@ std::string toMarkdown(const Document& doc) {
         md += markdownTable(b.header, b.rows) + "\n";
         break;
       case Block::Kind::list:
-        for (const std::string& item : b.items) md += "- " + item + "\n";
+        for (std::size_t i = 0; i < b.items.size(); ++i) {
+          md += "- " + b.items[i] + "\n";
+          for (const std::string& sub : subItems(b, i)) md += "  - " + sub + "\n";
+        }
         md += "\n";
         break;
       case Block::Kind::code:
@@ -182,7 +200,7 @@ std::string toHtml(const Document& doc, const std::string& id_prefix,
         tableBlockHtml(o, b, t);
         break;
       case Block::Kind::list:
-        html_detail::listHtml(o, b.items, t);
+        html_detail::listHtml(o, b.items, t, b.sub_items);
         break;
       case Block::Kind::code:
         html_detail::codeHtml(o, b.text);

@@ -15,15 +15,22 @@ struct FigureImage {
   std::string alt, path;  // path relative to the report's folder
 };
 
+// A list item with the items indented under it (inline, one line each).
+struct ListItem {
+  std::string text;
+  std::vector<std::string> sub_items;
+};
+
 struct Block {
   enum class Kind { heading, paragraph, figures, table, list, code, markdown };
   Kind kind = Kind::paragraph;
   int level = 0;     // heading: 1 = "#"
   std::string text;  // heading and paragraph (inline), the figures' caption, code, Markdown
-  std::vector<FigureImage> images;             // figures
-  std::vector<std::string> header;             // table; '>' first: right-aligned
-  std::vector<std::vector<std::string>> rows;  // table
-  std::vector<std::string> items;              // list (inline, one line each)
+  std::vector<FigureImage> images;                  // figures
+  std::vector<std::string> header;                  // table; '>' first: right-aligned
+  std::vector<std::vector<std::string>> rows;       // table
+  std::vector<std::string> items;                   // list (inline, one line each)
+  std::vector<std::vector<std::string>> sub_items;  // list: per item, those indented under it
 };
 
 class Document {
@@ -34,6 +41,7 @@ class Document {
   Document& figures(std::vector<FigureImage> images, std::string caption = "");
   Document& table(std::vector<std::string> header, std::vector<std::vector<std::string>> rows);
   Document& list(std::vector<std::string> items);
+  Document& nestedList(std::vector<ListItem> items);  // items with items indented under them
   Document& code(std::string text);
   // Markdown kept as written: a part of a report not built of blocks (the Markdown subset above).
   Document& markdown(std::string md);

@@ -210,9 +210,18 @@ void tableHtml(std::ostream& o, const std::vector<std::string>& head,
   o << "</tbody></table></div>\n";
 }
 
-void listHtml(std::ostream& o, const std::vector<std::string>& items, const Targets& t) {
+void listHtml(std::ostream& o, const std::vector<std::string>& items, const Targets& t,
+              const std::vector<std::vector<std::string>>& sub_items) {
   o << "<ul>\n";
-  for (const std::string& item : items) o << "<li>" << inlineHtml(item, t) << "</li>\n";
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    o << "<li>" << inlineHtml(items[i], t);
+    if (i < sub_items.size() && !sub_items[i].empty()) {
+      o << "\n<ul>\n";
+      for (const std::string& sub : sub_items[i]) o << "<li>" << inlineHtml(sub, t) << "</li>\n";
+      o << "</ul>\n";
+    }
+    o << "</li>\n";
+  }
   o << "</ul>\n";
 }
 

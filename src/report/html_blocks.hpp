@@ -47,7 +47,9 @@ void codeHtml(std::ostream& o, const std::string& text);
 void tableHtml(std::ostream& o, const std::vector<std::string>& head,
                const std::vector<bool>& right, const std::vector<std::vector<std::string>>& rows,
                const Targets& t);
-void listHtml(std::ostream& o, const std::vector<std::string>& items, const Targets& t);
+// A list; `sub_items`, when given, holds per item the items indented under it (a list inside it).
+void listHtml(std::ostream& o, const std::vector<std::string>& items, const Targets& t,
+              const std::vector<std::vector<std::string>>& sub_items = {});
 
 // Markdown (the subset of html_report.hpp) as HTML, its headings numbered from `*heading_number`
 // (advanced past them) with ids "<id_prefix><n>".

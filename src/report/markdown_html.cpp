@@ -150,17 +150,29 @@ class MarkdownToHtml {
     tableHtml(o_, head, right, rows, targets_);
   }
 
+  static bool isItem(const std::string& l) {
+    return l.rfind("- ", 0) == 0 || l.rfind("* ", 0) == 0;
+  }
+
+  // A list; an indented line is an item under the last item ("  - ") or continues the last item.
   void list() {
     std::vector<std::string> items;
-    for (; i_ < lines_.size() && (lines_[i_].rfind("- ", 0) == 0 || lines_[i_].rfind("* ", 0) == 0);
-         ++i_) {
-      std::string item = lines_[i_].substr(2);
+    std::vector<std::vector<std::string>> subs;
+    for (; i_ < lines_.size() && isItem(lines_[i_]); ++i_) {
+      items.push_back(lines_[i_].substr(2));
+      subs.emplace_back();
       while (i_ + 1 < lines_.size() && lines_[i_ + 1].rfind("  ", 0) == 0 &&
-             !isBlank(lines_[i_ + 1]))
-        item += " " + lines_[++i_].substr(2);
-      items.push_back(item);
+             !isBlank(lines_[i_ + 1])) {
+        const std::string l = lines_[++i_].substr(2);
+        if (isItem(l))
+          subs.back().push_back(l.substr(2));
+        else if (subs.back().empty())
+          items.back() += " " + l;
+        else
+          subs.back().back() += " " + l.substr(l.find_first_not_of(' '));
+      }
     }
-    listHtml(o_, items, targets_);
+    listHtml(o_, items, targets_, subs);
   }
 
   std::vector<std::string> lines_;

@@ -72,6 +72,17 @@ TEST_CASE("a document's HTML is its Markdown's HTML, block by block",
                               .figures({{"d: e", "d.svg"}, {"f", "f.svg"}}),
                           "dexterity");
   }
+  SECTION("lists with items indented under an item") {
+    const Document d = Document().nestedList({ListItem{"`a`:", {"one [x](x.csv)", "two"}},
+                                              ListItem{"b", {}}, ListItem{"`c`:", {"three"}}});
+    CHECK(toMarkdown(d) == "- `a`:\n  - one [x](x.csv)\n  - two\n- b\n- `c`:\n  - three\n\n");
+    requireSameAsMarkdown(d, "explore");
+    // The items indented under an item are a list inside it.
+    CHECK(toHtml(d, "p-", kImage) ==
+          "<ul>\n<li><code>a</code>:\n<ul>\n<li>one <a href=\"x.csv\">x</a></li>\n<li>two</li>\n"
+          "</ul>\n</li>\n<li>b</li>\n<li><code>c</code>:\n<ul>\n<li>three</li>\n</ul>\n</li>\n"
+          "</ul>\n");
+  }
   SECTION("tables: right-aligned columns, '|' and line breaks in cells, short rows, images") {
     requireSameAsMarkdown(
         Document()

@@ -74,17 +74,18 @@ EntryFigures entryFigures(const EntrySummary& s, const std::string& stage_dir) {
   return out;
 }
 
-// The entry's figures in Markdown: what is folded (said and linked), then the figures shown.
-std::string entryFiguresMd(const EntrySummary& s, const std::string& stage_dir) {
+// The entry's figures: what is folded (said and linked), then the figures shown.
+report::Document entryFiguresDocument(const EntrySummary& s, const std::string& stage_dir) {
   const EntryFigures figs = entryFigures(s, stage_dir);
   const ShownUnit u = shownUnit(s.unit);
   const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
-  std::string md;
+  report::Document doc;
   if (checkRunRepeatsFit(s))
-    md += "The calibrated copy reproduces the fit against the same data (RMSE " +
-          q(s.calibrated_rmse) + ", the fit's training RMSE " + q(s.ladder.back().train_rmse) +
-          "): its figures in [`" + s.name + "/calibrated/`](" + s.name +
-          "/calibrated/) repeat the after figures and are not shown.\n\n";
+    doc.paragraph("The calibrated copy reproduces the fit against the same data (RMSE " +
+                  q(s.calibrated_rmse) + ", the fit's training RMSE " +
+                  q(s.ladder.back().train_rmse) + "): its figures in [`" + s.name +
+                  "/calibrated/`](" + s.name +
+                  "/calibrated/) repeat the after figures and are not shown.");
   std::string after;
   for (const std::string& f : figs.folded) {
     if (f.rfind(s.name + "/plots/after_", 0) != 0) continue;
@@ -92,13 +93,67 @@ std::string entryFiguresMd(const EntrySummary& s, const std::string& stage_dir) 
     after += (after.empty() ? "" : ", ") + ("[" + stem + "](" + f + ")");
   }
   if (!after.empty())
-    md += "After the fit no bin of the residual map is flagged (" +
-          std::to_string(s.calibrated_flagged) + " of " + std::to_string(s.bins) +
-          "): the after figures show residuals inside their thresholds everywhere and are linked, "
-          "not shown: " +
-          after + ".\n\n";
-  for (const std::string& f : figs.shown) md += "![" + f + "](" + f + ")\n\n";
-  return md;
+    doc.paragraph("After the fit no bin of the residual map is flagged (" +
+                  std::to_string(s.calibrated_flagged) + " of " + std::to_string(s.bins) +
+                  "): the after figures show residuals inside their thresholds everywhere and are "
+                  "linked, not shown: " +
+                  after + ".");
+  for (const std::string& f : figs.shown) doc.figures({{f, f}});
+  return doc;
+}
+
+// The entry's heading and what it compared: kind, design, data, mode, noise, as designed.
+void entryHead(const EntrySummary& s, report::Document& doc) {
+  const ShownUnit u = shownUnit(s.unit);
+  const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
+  std::ostringstream p;
+  p << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `"
+    << s.design << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode
+    << ". Noise estimate " << q(s.noise_estimate) << "; as designed RMSE " << q(s.as_designed_rmse)
+    << ", flagged bins " << s.as_designed_flagged << " of " << s.bins << ".";
+  std::vector<std::vector<std::string>> rows;
+  for (const LadderStep& l : s.ladder)
+    rows.push_back({l.label.rfind('+', 0) == 0 ? "+ " + effectWords(l.label.substr(1)) : l.label,
+                    std::to_string(l.n_params), shown(l.train_rmse, u), shown(l.heldout_rmse, u)});
+  doc.heading(2, s.name).paragraph(p.str()).table(
+      {"model", ">params", ">train RMSE [" + u.unit + "]", ">held-out RMSE [" + u.unit + "]"},
+      std::move(rows));
+}
+
+// A fit's verdict, what it added, the calibrated copy and the fitted parameters.
+void entryFit(const EntrySummary& s, report::Document& doc) {
+  const ShownUnit u = shownUnit(s.unit);
+  const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
+  std::string added;
+  for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + effectWords(a);
+  std::ostringstream p;
+  p << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added)
+    << ". Held-out RMSE " << shown(s.rmse_before, u) << " -> " << q(s.rmse_after);
+  if (s.rmse_after > 0 && !s.added.empty())
+    p << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
+  if (s.calibrated_design.empty()) {
+    p << ". No calibrated copy";
+    for (const auto& n : s.notes) p << "; " << n;
+    p << ".";
+  } else {
+    p << ". Calibrated copy `" << s.name << "/" << s.calibrated_design
+      << "` against the same data: RMSE " << q(s.calibrated_rmse) << ", flagged bins "
+      << s.calibrated_flagged << " of " << s.bins << " (as designed: " << s.as_designed_flagged
+      << ").";
+  }
+  doc.paragraph(p.str());
+  if (!s.extra_metrics.empty())
+    doc.paragraph(
+        "Per joint (held out by time block), the fitted values beside the reference and the "
+        "friction coefficients over the smooth-sign width: `" +
+        s.name + "/identification.md`; residuals before and after on one scale: `" + s.name +
+        "/residuals_before_after.svg`.");
+  std::vector<std::vector<std::string>> rows;
+  for (const FittedParameter& f : s.final_params)
+    rows.push_back({effectWords(f.key), shown(f.value, shownUnit(f.unit)), shownUnit(f.unit).unit,
+                    "[" + shown(f.ci_low, shownUnit(f.unit)) + ", " +
+                        shown(f.ci_high, shownUnit(f.unit)) + "]"});
+  if (!rows.empty()) doc.table({"parameter", ">value", "unit", ">95 % interval"}, std::move(rows));
 }
 
 }  // namespace
@@ -118,77 +173,29 @@ std::string checkRunWarning(const EntrySummary& s) {
          (held.empty() ? std::string(".") : "; " + held + ".");
 }
 
-std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
-                        const std::string& stage_dir) {
-  std::ostringstream md;
-  md << "# Model versus measurement: " << study << "\n\n"
-     << "Each entry compares a design's model with measured data, ranks the candidate effects that "
-        "could be missing by cross-validated error, adds them as asked, writes a calibrated copy "
-        "of "
-        "the design and compares that copy with the same data (docs/calibration.md, \"As a study "
-        "stage\"). RMSE in the unit of each entry; held-out = k-fold cross-validation.\n\n";
+report::Document stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
+                             const std::string& stage_dir) {
+  report::Document doc;
+  doc.heading(1, "Model versus measurement: " + study)
+      .paragraph(
+          "Each entry compares a design's model with measured data, ranks the candidate effects "
+          "that could be missing by cross-validated error, adds them as asked, writes a "
+          "calibrated copy of the design and compares that copy with the same data "
+          "(docs/calibration.md, \"As a study stage\"). RMSE in the unit of each entry; "
+          "held-out = k-fold cross-validation.");
   for (const EntrySummary& s : entries) {
-    const ShownUnit u = shownUnit(s.unit);
-    const auto q = [&](double v) { return shown(v, u) + " " + u.unit; };
-    md << "## " << s.name << "\n\n"
-       << "Kind " << s.kind << (s.joint.empty() ? "" : " (drive " + s.joint + ")") << ", design `"
-       << s.design << "`, data `" << s.data_file << "` (" << s.data_hash << "), mode " << s.mode
-       << ". Noise estimate " << q(s.noise_estimate) << "; as designed RMSE "
-       << q(s.as_designed_rmse) << ", flagged bins " << s.as_designed_flagged << " of " << s.bins
-       << ".\n\n";
-    std::vector<std::vector<std::string>> rows;
-    for (const LadderStep& l : s.ladder)
-      rows.push_back({l.label.rfind('+', 0) == 0 ? "+ " + effectWords(l.label.substr(1)) : l.label,
-                      std::to_string(l.n_params), shown(l.train_rmse, u),
-                      shown(l.heldout_rmse, u)});
-    md << report::markdownTable({"model", ">params", ">train RMSE [" + u.unit + "]",
-                                 ">held-out RMSE [" + u.unit + "]"},
-                                rows)
-       << "\n";
-    if (s.mode == "fit") {
-      std::string added;
-      for (const auto& a : s.added) added += (added.empty() ? "" : ", ") + effectWords(a);
-      md << "Verdict: " << s.verdict << ". Added: " << (added.empty() ? "none" : added)
-         << ". Held-out RMSE " << shown(s.rmse_before, u) << " -> " << q(s.rmse_after);
-      if (s.rmse_after > 0 && !s.added.empty())
-        md << " (x" << report::fixed(s.rmse_before / s.rmse_after, 2) << " lower)";
-      if (s.calibrated_design.empty()) {
-        md << ". No calibrated copy";
-        for (const auto& n : s.notes) md << "; " << n;
-        md << ".\n\n";
-      } else {
-        md << ". Calibrated copy `" << s.name << "/" << s.calibrated_design
-           << "` against the same data: RMSE " << q(s.calibrated_rmse) << ", flagged bins "
-           << s.calibrated_flagged << " of " << s.bins << " (as designed: " << s.as_designed_flagged
-           << ").\n\n";
-      }
-      if (!s.extra_metrics.empty())
-        md << "Per joint (held out by time block), the fitted values beside the reference and the "
-              "friction "
-              "coefficients over the smooth-sign width: `"
-           << s.name
-           << "/identification.md`; residuals before and "
-              "after on one scale: `"
-           << s.name << "/residuals_before_after.svg`.\n\n";
-      std::vector<std::vector<std::string>> prow;
-      for (const FittedParameter& f : s.final_params)
-        prow.push_back({effectWords(f.key), shown(f.value, shownUnit(f.unit)),
-                        shownUnit(f.unit).unit,
-                        "[" + shown(f.ci_low, shownUnit(f.unit)) + ", " +
-                            shown(f.ci_high, shownUnit(f.unit)) + "]"});
-      if (!prow.empty())
-        md << report::markdownTable({"parameter", ">value", "unit", ">95 % interval"}, prow)
-           << "\n";
-    }
-    for (const auto& n : s.notes) md << "Note: " << n << "\n\n";
-    for (const auto& x : s.warnings) md << "Warning: " << x << "\n\n";
-    md << "Reports: `" << s.name << "/result.json`, plots in `" << s.name << "/plots/`"
-       << (s.mode == "fit" ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
-                           : std::string())
-       << ".\n\n";
-    md << entryFiguresMd(s, stage_dir);
+    entryHead(s, doc);
+    if (s.mode == "fit") entryFit(s, doc);
+    for (const auto& n : s.notes) doc.paragraph("Note: " + n);
+    for (const auto& x : s.warnings) doc.paragraph("Warning: " + x);
+    doc.paragraph("Reports: `" + s.name + "/result.json`, plots in `" + s.name + "/plots/`" +
+                  (s.mode == "fit"
+                       ? ", the calibrated copy's comparison in `" + s.name + "/calibrated/`"
+                       : std::string()) +
+                  ".");
+    doc.append(entryFiguresDocument(s, stage_dir));
   }
-  return md.str();
+  return doc;
 }
 
 }  // namespace armstudy::calibration

@@ -4,13 +4,14 @@
 #include <string>
 #include <vector>
 
+#include "report/document.hpp"
 #include "stages/calibration/calibration_stage.hpp"
 
 namespace armstudy::calibration {
 
 // report.md of the stage folder `stage_dir` (relative to the study's output folder) for `entries`.
-std::string stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
-                        const std::string& stage_dir);
+report::Document stageReport(const std::string& study, const std::vector<EntrySummary>& entries,
+                             const std::string& stage_dir);
 
 // A warning when a fit's calibrated copy, compared with the same data, misses the fit's training
 // RMSE by more than 1 % (the design format could not hold every fitted value; the entry's notes

@@ -350,9 +350,9 @@ StageResult runCalibrationStage(const StageContext& ctx,
         "stands at the row of the map's largest residual.";
     sum.view_value_label = "residual";
   }
-  const std::string report_md = stageReport(ctx.study.name, entry_summaries, "calibration");
-  writeFileAtomic(dir + "/report.md", report_md);
-  sum.reports.push_back({"calibration/report.md", report::Document().markdown(report_md)});
+  report::Document report = stageReport(ctx.study.name, entry_summaries, "calibration");
+  writeFileAtomic(dir + "/report.md", report::toMarkdown(report));
+  sum.reports.push_back({"calibration/report.md", std::move(report)});
   writeFileAtomic(dir + "/summary.json", js.dump(2) + "\n");
   sum.files.push_back("calibration/report.md");
   sum.files.push_back("calibration/summary.json");

@@ -9,7 +9,7 @@
 
 #include "common/format.hpp"
 #include "io/urdf_io.hpp"
-#include "report/markdown.hpp"
+#include "report/document.hpp"
 #include "stages/explore/explore_internal.hpp"
 #include "stages/explore/explore_plots.hpp"
 
@@ -148,31 +148,34 @@ std::vector<std::string> writeFrontDesigns(const StageContext& ctx, const Evalua
 }
 
 // The report's title, the search status and the parameter and objective tables.
-std::string introMarkdown(const StageContext& ctx, const Evaluator& ev, const Outcome& r) {
+report::Document introDocument(const StageContext& ctx, const Evaluator& ev, const Outcome& r) {
   const ExploreOptions& o = r.o;
-  std::string md = "# Design-space exploration: study `" + ctx.study.name + "`\n\n";
-  md += "Candidates are variants of `" + o.base.name +
-        "` (docs/exploration.md); each is evaluated by the stages ";
+  std::string stages;
   for (std::size_t s = 0; s < o.stages.size(); ++s)
-    md += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
-  md += " run on it alone.\n\nSearch: " + ev.status() +
-        ". Evaluated: " + std::to_string(r.c.size()) + " candidate(s) including the base design; " +
-        std::to_string(r.front.size()) + " on the Pareto front.\n\n";
+    stages += (s ? ", " : "") + std::string("`") + o.stages[s] + "`";
+  report::Document doc;
+  doc.heading(1, "Design-space exploration: study `" + ctx.study.name + "`")
+      .paragraph("Candidates are variants of `" + o.base.name +
+                 "` (docs/exploration.md); each is evaluated by the stages " + stages +
+                 " run on it alone.")
+      .paragraph("Search: " + ev.status() + ". Evaluated: " + std::to_string(r.c.size()) +
+                 " candidate(s) including the base design; " + std::to_string(r.front.size()) +
+                 " on the Pareto front.");
   std::vector<std::vector<std::string>> rows;
   for (const Parameter& p : o.parameters)
     rows.push_back({p.label, "`" + p.key + "`", num(p.lo), num(p.hi),
                     p.step > 0         ? num(p.step)
                     : p.values.empty() ? "continuous"
                                        : std::to_string(p.values.size()) + " values"});
-  md += "## Parameters (SI)\n\n" +
-        report::markdownTable({"parameter", "design entry", ">from", ">to", ">step"}, rows) + "\n";
+  doc.heading(2, "Parameters (SI)")
+      .table({"parameter", "design entry", ">from", ">to", ">step"}, std::move(rows));
   rows.clear();
   for (const Objective& ob : o.objectives)
     rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal),
                     ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
-  md += "## Objectives and constraints\n\n" +
-        report::markdownTable({"label", "metric", "goal", ">min", ">max"}, rows) + "\n";
-  return md;
+  doc.heading(2, "Objectives and constraints")
+      .table({"label", "metric", "goal", ">min", ">max"}, std::move(rows));
+  return doc;
 }
 
 // The header of the candidate tables: design, parameters, objectives.
@@ -326,82 +329,86 @@ std::string exploreAnswer(const Outcome& r) {
   return a + ".";
 }
 
-// The base design against the front: its row, whether it is dominated (and by whom); then the
-// recommended front designs, each with all its values.
-std::string baseMarkdown(const Outcome& r, const std::vector<std::string>& header) {
-  const std::vector<Candidate>& c = r.c;
-  const std::size_t base_index = r.base_index;
-  std::string md = "## The base design relative to the front\n\n";
-  std::vector<std::vector<std::string>> rows{candidateRow(r, base_index)};
-  md += report::markdownTable(header, rows) + "\n";
-  if (!c[base_index].feasible) md += "The base design breaks a constraint.\n\n";
-  if (r.base_on_front) {
-    md +=
+// The base design against the front: its row, whether it is dominated (and by whom).
+report::Document baseDocument(const Outcome& r, const std::vector<std::string>& header) {
+  report::Document doc;
+  doc.heading(2, "The base design relative to the front")
+      .table(header, {candidateRow(r, r.base_index)});
+  if (!r.c[r.base_index].feasible) doc.paragraph("The base design breaks a constraint.");
+  if (r.base_on_front)
+    return doc.paragraph(
         "The base design is on the front: no candidate is at least as good in every objective and "
-        "better in one.\n\n";
-  } else {
-    const std::vector<std::string> by = dominatingBase(r);
-    md += "The base design is dominated by " + std::to_string(by.size()) + " front design(s)";
-    if (!by.empty()) {
-      md += ": ";
-      for (std::size_t k = 0; k < by.size() && k < 5; ++k) md += (k ? ", " : "") + by[k];
-      if (by.size() > 5) md += ", ...";
-    }
-    md += ".\n\n";
+        "better in one.");
+  const std::vector<std::string> by = dominatingBase(r);
+  std::string text =
+      "The base design is dominated by " + std::to_string(by.size()) + " front design(s)";
+  if (!by.empty()) {
+    text += ": ";
+    for (std::size_t k = 0; k < by.size() && k < 5; ++k) text += (k ? ", " : "") + by[k];
+    if (by.size() > 5) text += ", ...";
   }
+  return doc.paragraph(text + ".");
+}
+
+// The recommended front designs, each with all its values.
+report::Document recommendedDocument(const Outcome& r, const std::vector<std::string>& header) {
   std::vector<std::string> rec_header = header;
   rec_header.insert(rec_header.begin(), "trade-off");
-  rows.clear();
+  std::vector<std::vector<std::string>> rows;
   for (const Recommendation& rec : recommendations(r)) {
     rows.push_back(candidateRow(r, rec.candidate));
     const std::string level = levelText(r, rec);
     rows.back().insert(rows.back().begin(),
                        rec.trade_off + (level.empty() ? "" : " (" + level + ")"));
   }
-  md +=
-      "## Recommended designs\n\nOne front design per trade-off, each with all its values: the "
-      "best in each objective, and the balanced one (the least largest shortfall from the "
-      "front's best, each objective scaled by the front's spread). A best design with others "
-      "within the objective's resolution (one cell or fruit of a share, or the study's "
-      "`resolution`) is level with them, not a winner.\n\n" +
-      report::markdownTable(rec_header, rows) + "\n";
-  return md;
+  return report::Document()
+      .heading(2, "Recommended designs")
+      .paragraph(
+          "One front design per trade-off, each with all its values: the best in each objective, "
+          "and the balanced one (the least largest shortfall from the front's best, each "
+          "objective scaled by the front's spread). A best design with others within the "
+          "objective's resolution (one cell or fruit of a share, or the study's `resolution`) is "
+          "level with them, not a winner.")
+      .table(std::move(rec_header), std::move(rows));
 }
 
 // The adapted geometry of the front designs and the list of files written.
-std::string geometryAndFilesMarkdown(const Outcome& r, const std::vector<std::string>& written) {
-  std::string md =
-      "## Geometry that follows\n\nWhat deriving the front designs adapted (docs/exploration.md, "
-      "\"Geometry that follows\"):\n\n";
-  for (std::size_t i : r.front) {
-    if (r.c[i].adapted.empty()) continue;
-    md += "- `" + r.c[i].name + "`:\n";
-    for (const std::string& a : r.c[i].adapted) md += "  - " + a + "\n";
-  }
-  md += "\n## Files\n\n- `candidates.csv`: every evaluated candidate\n";
+report::Document geometryAndFilesDocument(const Outcome& r,
+                                          const std::vector<std::string>& written) {
+  report::Document doc;
+  doc.heading(2, "Geometry that follows")
+      .paragraph(
+          "What deriving the front designs adapted (docs/exploration.md, \"Geometry that "
+          "follows\"):");
+  std::vector<report::ListItem> adapted;
+  for (std::size_t i : r.front)
+    if (!r.c[i].adapted.empty()) adapted.push_back({"`" + r.c[i].name + "`:", r.c[i].adapted});
+  if (!adapted.empty()) doc.nestedList(std::move(adapted));
+  std::vector<std::string> files{"`candidates.csv`: every evaluated candidate"};
   if (r.goals.size() >= 2)
-    md +=
-        "- `front_scatter.svg`: the first two objectives, front highlighted, base design marked\n";
-  md +=
-      "- `parallel.svg`: parallel coordinates of parameters and objectives (each objective "
-      "turned so that better is up)\n";
+    files.push_back(
+        "`front_scatter.svg`: the first two objectives, front highlighted, base design marked");
+  files.push_back(
+      "`parallel.svg`: parallel coordinates of parameters and objectives (each objective turned "
+      "so that better is up)");
   for (const std::string& n : written)
-    md += "- `front/" + n + "/`: design file and the stages' outputs\n";
-  return md;
+    files.push_back("`front/" + n + "/`: design file and the stages' outputs");
+  return doc.heading(2, "Files").list(std::move(files));
 }
 
-// explore.md: intro and tables, the front, the base design against it, geometry and files.
-std::string exploreMarkdown(const StageContext& ctx, const Evaluator& ev, const Outcome& r,
-                            const std::vector<std::string>& written) {
-  std::string md = introMarkdown(ctx, ev, r);
+// explore.md: intro and tables, the front, the base design against it, the recommended designs,
+// geometry and files.
+report::Document exploreDocument(const StageContext& ctx, const Evaluator& ev, const Outcome& r,
+                                 const std::vector<std::string>& written) {
   const std::vector<std::string> header = candidateHeader(r.o);
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i : r.front) rows.push_back(candidateRow(r, i));
-  md += "## Pareto front (non-dominated feasible candidates)\n\n" +
-        report::markdownTable(header, rows) + "\n";
-  md += baseMarkdown(r, header);
-  md += geometryAndFilesMarkdown(r, written);
-  return md;
+  return introDocument(ctx, ev, r)
+      .heading(2, "Pareto front (non-dominated feasible candidates)")
+      .table(header, std::move(rows))
+      .append(baseDocument(r, header))
+      .append(recommendedDocument(r, header))
+      .append(geometryAndFilesDocument(r, written));
 }
 
 // The exploration's metrics: evaluations, front size, whether the base is on it, front values.
@@ -440,8 +447,7 @@ StageResult runExploreStage(const StageContext& ctx, const ExploreOptions& o) {
   out.text("explore/parallel.svg", parallelFigure(r.c, r.front, base_index, o).svg);
   std::vector<report::ReportFile> front_reports;
   const std::vector<std::string> written = writeFrontDesigns(ctx, ev, r, out, front_reports);
-  out.report("explore/explore.md",
-             report::Document().markdown(exploreMarkdown(ctx, ev, r, written)));
+  out.report("explore/explore.md", exploreDocument(ctx, ev, r, written));
   addExploreMetrics(r, res.metrics);
   res.answer.push_back(exploreAnswer(r));
   if (!c[base_index].feasible) res.warnings.push_back("The base design breaks a constraint.");

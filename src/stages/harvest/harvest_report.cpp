@@ -254,14 +254,17 @@ report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
   return report::plot(p);
 }
 
-std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
-                                    const std::vector<const DesignResult*>& results, Writer& out) {
-  if (models.empty()) return "";
+report::Document writeFruitOutcomeFigure(const std::vector<const Model*>& models,
+                                         const std::vector<const DesignResult*>& results,
+                                         Writer& out) {
+  if (models.empty()) return {};
   out.text("harvest/fruits.svg", fruitOutcomeFigure(models, results).svg);
-  return "Every fruit at its position in the row (world frame: y along the row, z up), marked by "
-         "what became of it and labelled with its number; one panel per design on the same "
-         "axes, the fruits' positions in the tables below and in `<design>_fruits.csv`.\n\n"
-         "![What became of each fruit, per design](fruits.svg)\n\n";
+  return report::Document()
+      .paragraph(
+          "Every fruit at its position in the row (world frame: y along the row, z up), marked by "
+          "what became of it and labelled with its number; one panel per design on the same "
+          "axes, the fruits' positions in the tables below and in `<design>_fruits.csv`.")
+      .figures({{"What became of each fruit, per design", "fruits.svg"}});
 }
 
 namespace {
@@ -358,24 +361,23 @@ const report::Rgb kHoldable = report::categorical(0), kDriveLimit = report::cate
                   kUnreachable = report::categorical(1);
 
 // Writes the status and revolute current-ratio maps over the first two axes with more than one
-// value (the first slice of a 3-D grid) and returns their report paragraph; without two such
-// axes, only the paragraph with the counts.
-std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const HoldingImage& hi,
-                             Writer& out) {
+// value (the first slice of a 3-D grid) and returns their report part; without two such axes,
+// only the paragraph with the counts.
+report::Document writeHoldingMaps(const Model& model, const HarvestGrid& g, const HoldingImage& hi,
+                                  Writer& out) {
   const io::ImageGrid& img = hi.img;
   const std::string base = model.name;
   const long np = img.points();
   const std::vector<double>& status = img.point_arrays[0].values;
   const std::vector<double>& ratio_rev = img.point_arrays[2].values;
-  std::ostringstream md;
   std::vector<int> axes;
   for (int a = 0; a < 3; ++a)
     if (img.dims[a] > 1) axes.push_back(a);
-  if (axes.size() < 2) {
-    md << "Static holding over the grid: " << hi.reachable << " of " << np << " points reachable, "
-       << hi.limited << " drive-limited.\n\n";
-    return md.str();
-  }
+  if (axes.size() < 2)
+    return report::Document().paragraph(
+        "Static holding over the grid: " + std::to_string(hi.reachable) + " of " +
+        std::to_string(np) + " points reachable, " + std::to_string(hi.limited) +
+        " drive-limited.");
   const int a0 = axes[0], a1 = axes[1];
   auto index = [&](int u, int v) {
     std::array<long, 3> ijk{0, 0, 0};
@@ -416,19 +418,19 @@ std::string writeHoldingMaps(const Model& model, const HarvestGrid& g, const Hol
       report::mapFigure(ratioImg, ratio_fig, report::Format::svg_and_png);
   out.text("harvest/" + base + "_holding_ratio.png", ratio_d.png);
   out.text("harvest/" + base + "_holding_ratio.svg", ratio_d.svg);
-  md << "Static holding (gravity + payload) over the grid, tool heading "
-     << report::fixed(toDegrees(g.gamma_rad), 0) << " deg: " << hi.reachable << " of " << np
-     << " points reachable, " << hi.limited << " of them drive-limited (|I| > continuous current). "
-     << "Map axes: " << an[a0] << " to the right, " << an[a1] << " upwards; "
-     << report::hex(kHoldable) << " holdable, " << report::hex(kDriveLimit) << " drive limit, "
-     << report::hex(kUnreachable)
-     << " unreachable. Second map: "
-        "max |I| / I_continuous over the revolute joints (viridis, 0 to 1.5; the lift's "
-        "ratio is "
-        "nearly constant, it carries the whole arm).\n\n"
-     << "![holding map](" << base << "_holding_map.svg) ![ratio](" << base
-     << "_holding_ratio.svg)\n\n";
-  return md.str();
+  std::ostringstream text;
+  text << "Static holding (gravity + payload) over the grid, tool heading "
+       << report::fixed(toDegrees(g.gamma_rad), 0) << " deg: " << hi.reachable << " of " << np
+       << " points reachable, " << hi.limited
+       << " of them drive-limited (|I| > continuous current). Map axes: " << an[a0]
+       << " to the right, " << an[a1] << " upwards; " << report::hex(kHoldable) << " holdable, "
+       << report::hex(kDriveLimit) << " drive limit, " << report::hex(kUnreachable)
+       << " unreachable. Second map: max |I| / I_continuous over the revolute joints (viridis, 0 "
+          "to 1.5; the lift's ratio is nearly constant, it carries the whole arm).";
+  return report::Document()
+      .paragraph(text.str())
+      .figures(
+          {{"holding map", base + "_holding_map.svg"}, {"ratio", base + "_holding_ratio.svg"}});
 }
 
 // The holding grid as a map of the 3-D view: every grid point with its status in the holding
@@ -476,7 +478,6 @@ report::ViewCloud holdingViewCloud(const Model& model, const HarvestGrid& g,
 HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const DesignResult& d,
                                 Writer& out, StudyMetrics& M) {
   HoldingSummary h;
-  std::ostringstream md;
   const int n = model.dof();
   const std::string base = model.name;
   const std::string mprefix = "harvest/" + model.name + "/";
@@ -488,23 +489,21 @@ HoldingSummary writeHoldingGrid(const Model& model, const HarvestGrid& g, const 
   M.scalars[mprefix + "holding_drive_limited_fraction"] =
       hi.reachable > 0 ? hi.limited / static_cast<double>(hi.reachable) : 0.0;
   M.scalars[mprefix + "holding_max_current_ratio"] = hi.max_ratio;
-  md << "Largest static holding current over the reachable grid points: "
-     << report::percent(hi.max_ratio, 1) << " of the continuous limit"
-     << (hi.max_ratio_joint >= 0 ? " (" + model.joints[hi.max_ratio_joint].name + ")"
-                                 : std::string())
-     << ".\n\n";
-  md << writeHoldingMaps(model, g, hi, out);
+  h.doc.paragraph("Largest static holding current over the reachable grid points: " +
+                  report::percent(hi.max_ratio, 1) + " of the continuous limit" +
+                  (hi.max_ratio_joint >= 0 ? " (" + model.joints[hi.max_ratio_joint].name + ")"
+                                           : std::string()) +
+                  ".");
+  h.doc.append(writeHoldingMaps(model, g, hi, out));
   std::vector<std::vector<std::string>> lrows;
   for (int i = 0; i < n; ++i)
     if (hi.limiting_count[i] > 0)
       lrows.push_back({model.joints[i].name, std::to_string(hi.limiting_count[i])});
-  if (!lrows.empty())
-    md << report::markdownTable({"limiting joint", ">grid points"}, lrows) << "\n";
+  if (!lrows.empty()) h.doc.table({"limiting joint", ">grid points"}, std::move(lrows));
   h.points = np;
   h.reachable = hi.reachable;
   h.limited = hi.limited;
   h.max_ratio = hi.max_ratio;
-  h.markdown = md.str();
   h.view = holdingViewCloud(model, g, hi);
   return h;
 }

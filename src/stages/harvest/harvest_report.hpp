@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "report/document.hpp"
 #include "report/plot.hpp"
 #include "report/view3d.hpp"
 #include "stages/harvest/harvest_stage.hpp"
@@ -55,18 +56,19 @@ std::string fruitOutcome(const Model& model, const FruitResult& f);
 // outcome; one panel per design on the same axes, one colour per outcome in every panel.
 report::Drawing fruitOutcomeFigure(const std::vector<const Model*>& models,
                                    const std::vector<const DesignResult*>& results);
-// Writes fruitOutcomeFigure as harvest/fruits.svg; returns the report paragraph that shows it.
-std::string writeFruitOutcomeFigure(const std::vector<const Model*>& models,
-                                    const std::vector<const DesignResult*>& results, Writer& out);
+// Writes fruitOutcomeFigure as harvest/fruits.svg; returns the report part that shows it.
+report::Document writeFruitOutcomeFigure(const std::vector<const Model*>& models,
+                                         const std::vector<const DesignResult*>& results,
+                                         Writer& out);
 
 // The static holding load over the [harvest.grid]: <design>_holding.vti and, for a grid with two
 // axes of more than one value, status and current-ratio maps (.png raw, .svg with axes). Adds the
-// holding metrics to M; returns the report paragraph and the numbers for summary.json.
+// holding metrics to M; returns the report part and the numbers for summary.json.
 struct HoldingSummary {
   long points = 0;
   int reachable = 0, limited = 0;
   double max_ratio = 0;
-  std::string markdown;
+  report::Document doc;
   // The grid for the study's 3-D view: its reachable points by status (the map's colours) and by
   // the revolute joints' largest current ratio, with the arm at its zero pose.
   report::ViewCloud view;

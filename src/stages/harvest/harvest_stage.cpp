@@ -224,16 +224,8 @@ std::string effortText(const Model& model, int i, double q) {
   return report::fixed(q, 2) + (model.joints[i].type == JointType::Revolute ? " N m" : " N");
 }
 
-// The design's report section: fruit counts, the per-fruit and per-joint tables, plot links.
-std::string designMarkdown(const Model& model, const DesignResult& d, const FruitCounts& c,
-                           const std::vector<JointAggregate>& agg,
-                           const std::vector<int>& plotted) {
-  const int n = model.dof();
-  std::ostringstream md;
-  md << "## " << model.name << "\n\n"
-     << "Fruits evaluated: " << c.evaluated << " of " << d.fruits.size()
-     << "; feasible with friction: " << c.feasible << ", without friction: " << c.feasible_nf
-     << ".\n\n";
+// The design's per-fruit table.
+std::vector<std::vector<std::string>> fruitRows(const Model& model, const DesignResult& d) {
   std::vector<std::vector<std::string>> rows;
   for (const FruitResult& f : d.fruits) {
     rows.push_back({std::to_string(f.fruit),
@@ -247,12 +239,14 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
                     f.evaluated() ? failureText(model, f.without_friction) : "-",
                     f.evaluated() ? report::scientific(f.max_position_error_m, 2) : "-"});
   }
-  md << report::markdownTable({"fruit", "position [m]", "status", "with friction (fails first)",
-                               "without friction", ">max TCP error [m]"},
-                              rows)
-     << "\n";
-  rows.clear();
-  for (int i = 0; i < n; ++i) {
+  return rows;
+}
+
+// The design's per-joint table: worst over the evaluated fruits (with friction).
+std::vector<std::vector<std::string>> jointRows(const Model& model,
+                                                const std::vector<JointAggregate>& agg) {
+  std::vector<std::vector<std::string>> rows;
+  for (int i = 0; i < model.dof(); ++i) {
     const JointAggregate& a = agg[i];
     if (!a.has_drive) {
       rows.push_back({model.joints[i].name, effortText(model, i, a.peak_effort), "no drive", "", "",
@@ -272,26 +266,45 @@ std::string designMarkdown(const Model& model, const DesignResult& d, const Frui
                     a.has_friction_share ? report::percent(a.friction_share, 0) : "-",
                     std::to_string(a.exceeded_fruits)});
   }
-  md << "Per joint, worst over the evaluated fruits (with friction):\n\n"
-     << report::markdownTable(
-            {"joint", ">peak Q", ">peak I [A] / limit", ">margin", ">RMS I [A] / limit", ">margin",
-             ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit", ">margin",
-             ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
-            rows)
-     << "\nfriction share: the share of the peak current that friction adds, (peak |I| with "
-        "friction - peak |I| without) / peak |I| with friction, the largest over the evaluated "
-        "fruits; negative where friction lowers the peak (it works against a load that drives the "
-        "joint). Thesis Fig. 4.1 gives a torque difference with and without friction of up to "
-        "50 % along one trajectory of joint 3.\n\n";
+  return rows;
+}
+
+// The design's report section: fruit counts, the per-fruit and per-joint tables, plot links.
+report::Document designDocument(const Model& model, const DesignResult& d, const FruitCounts& c,
+                                const std::vector<JointAggregate>& agg,
+                                const std::vector<int>& plotted) {
+  report::Document doc;
+  doc.heading(2, model.name)
+      .paragraph("Fruits evaluated: " + std::to_string(c.evaluated) + " of " +
+                 std::to_string(d.fruits.size()) +
+                 "; feasible with friction: " + std::to_string(c.feasible) +
+                 ", without friction: " + std::to_string(c.feasible_nf) + ".")
+      .table({"fruit", "position [m]", "status", "with friction (fails first)", "without friction",
+              ">max TCP error [m]"},
+             fruitRows(model, d))
+      .paragraph("Per joint, worst over the evaluated fruits (with friction):")
+      .table({"joint", ">peak Q", ">peak I [A] / limit", ">margin", ">RMS I [A] / limit", ">margin",
+              ">motor speed [rad/s] / limit", ">margin", ">voltage [V] / limit", ">margin",
+              ">peak I no friction [A]", ">friction share", ">fruits over a limit"},
+             jointRows(model, agg))
+      .paragraph(
+          "friction share: the share of the peak current that friction adds, (peak |I| with "
+          "friction - peak |I| without) / peak |I| with friction, the largest over the evaluated "
+          "fruits; negative where friction lowers the peak (it works against a load that drives "
+          "the joint). Thesis Fig. 4.1 gives a torque difference with and without friction of up "
+          "to 50 % along one trajectory of joint 3.");
   for (int f : plotted) {
     const FruitResult& fr = d.fruits[f];
-    md << "Fruit " << f << " ("
-       << (fr.with_friction.feasible ? "picked" : "fails: " + failureText(model, fr.with_friction))
-       << "):\n\n![" << model.name << " fruit " << f << " current](" << model.name << "_fruit" << f
-       << "_current.svg) ![" << model.name << " fruit " << f << " friction](" << model.name
-       << "_fruit" << f << "_friction.svg)\n\n";
+    const std::string what = model.name + " fruit " + std::to_string(f),
+                      file = model.name + "_fruit" + std::to_string(f);
+    doc.paragraph("Fruit " + std::to_string(f) + " (" +
+                  (fr.with_friction.feasible ? "picked"
+                                             : "fails: " + failureText(model, fr.with_friction)) +
+                  "):")
+        .figures({{what + " current", file + "_current.svg"},
+                  {what + " friction", file + "_friction.svg"}});
   }
-  return md.str();
+  return doc;
 }
 
 // The design's entry of summary.json (counts, fruits, joints), without the holding grid.
@@ -423,7 +436,7 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
   const GreenhouseRow row = sampleGreenhouseRow(options.row);
   const double dt = 1.0 / options.rate_Hz;
   const int stride = std::max(1, static_cast<int>(std::lround(options.rate_Hz / 200.0)));
-  std::ostringstream md;  // the designs' sections
+  report::Document designs;  // the designs' sections
   ordered_json js = summaryHead(ctx, options, row);
   std::vector<const Model*> models;
   std::vector<DesignResult> done;
@@ -442,11 +455,11 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
     addDesignMetrics(model, d, counts, agg, sum.metrics);
     const std::vector<int> plotted = plottedFruits(d, options.plot_fruits);
     writeFruitPlots(model, d, plotted, dt, stride, out);
-    md << designMarkdown(model, d, counts, agg, plotted);
+    designs.append(designDocument(model, d, counts, agg, plotted));
     ordered_json dj = designJson(model, d, counts, agg);
     if (options.grid) {  // holding-load grid
       const HoldingSummary h = writeHoldingGrid(model, *options.grid, d, out, sum.metrics);
-      md << h.markdown;
+      designs.append(h.doc);
       sum.view.push_back(h.view);
       dj["grid"] = {{"points", h.points},
                     {"reachable", h.reachable},
@@ -469,8 +482,8 @@ StageResult runHarvestStage(const StageContext& ctx, const HarvestOptions& optio
   for (const DesignResult& d : done) done_ptrs.push_back(&d);
   harvestAnswer(js, sum);
   out.report("harvest/report.md", reportIntro(ctx, options, row)
-                                      .markdown(writeFruitOutcomeFigure(models, done_ptrs, out))
-                                      .markdown(md.str()));
+                                      .append(writeFruitOutcomeFigure(models, done_ptrs, out))
+                                      .append(designs));
   if (results)
     for (DesignResult& d : done) results->push_back(std::move(d));
   out.text("harvest/summary.json", js.dump(2) + "\n");
