@@ -15,10 +15,13 @@ namespace armstudy::test {
 
 // The output folder of the shipped study `name` (studies/<name>.toml): $ARMSTUDY_SHIPPED_OUTPUT/
 // <name>. Throws (the test fails) when the test did not run through ctest with the fixture, or when
-// the folder is missing or older than the armstudy program.
-inline std::filesystem::path shippedOutput(const std::string& name) {
+// the folder is missing or older than the armstudy program. `fixture_test`: the test that writes
+// the folder, where it is not "shipped: <name>".
+inline std::filesystem::path shippedOutput(const std::string& name,
+                                           const std::string& fixture_test = "") {
   namespace fs = std::filesystem;
-  const std::string fixture = "the fixture \"shipped: " + name + "\"";
+  const std::string fixture =
+      "the fixture \"" + (fixture_test.empty() ? "shipped: " + name : fixture_test) + "\"";
   const char* root = std::getenv("ARMSTUDY_SHIPPED_OUTPUT");
   if (!root)
     throw std::runtime_error("ARMSTUDY_SHIPPED_OUTPUT is not set: run this test through ctest (" +

@@ -197,7 +197,7 @@ struct SyntheticRun {
   // The outputs the first test case wrote (the fixture; tests/shipped_output.hpp).
   static SyntheticRun written() {
     SyntheticRun r;
-    r.read(test::shippedOutput("lift_arm"));
+    r.read(test::shippedOutput("lift_arm", "calibration:synthetic lift arm: the study runs, ..."));
     return r;
   }
   void read(const fs::path& out) {
