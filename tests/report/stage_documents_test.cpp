@@ -2,7 +2,8 @@
 // Markdown file the stage wrote, and its HTML is what the Markdown converter (markdownToHtml, which
 // reads the file's text and not the blocks) gives for that file, headings and links included. The
 // stages whose reports are built of blocks (not one block of Markdown kept as written) are named,
-// and their documents must hold such blocks.
+// and their documents must hold such blocks; those built of blocks alone must hold no Markdown
+// kept as written.
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,22 +25,27 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Blocks of a document other than Markdown kept as written.
-std::size_t typedBlocks(const report::Document& doc) {
+// Blocks of a document of Markdown kept as written (`raw`) or not.
+std::size_t blocksOf(const report::Document& doc, bool raw) {
   std::size_t n = 0;
-  for (const report::Block& b : doc.blocks()) n += b.kind != report::Block::Kind::markdown;
+  for (const report::Block& b : doc.blocks()) n += (b.kind == report::Block::Kind::markdown) == raw;
   return n;
 }
 
+// The blocks of a stage's report documents: typed ones and Markdown kept as written.
+struct StageBlocks {
+  std::size_t typed = 0, raw = 0;
+};
+
 // Runs every stage of the shipped study `name` into `dir` and checks each report document it
-// hands over against its file; returns the typed blocks per stage.
-std::map<std::string, std::size_t> checkStudy(const std::string& name, const fs::path& dir) {
+// hands over against its file; returns the blocks per stage.
+std::map<std::string, StageBlocks> checkStudy(const std::string& name, const fs::path& dir) {
   const Study study = loadStudy(sourcePath("studies/" + name + ".toml"));
   RunOptions ro;
   ro.threads = 2;
   ro.progress = false;
   const auto image = [](const std::string& rel) { return "IMG:" + rel; };
-  std::map<std::string, std::size_t> typed;
+  std::map<std::string, StageBlocks> blocks;
   for (const StudySection& section : study.sections) {
     const std::string stage = section.stage->name();
     const StageResult r = runStage(study, stage, dir.string(), ro);
@@ -61,10 +67,11 @@ std::map<std::string, std::size_t> checkStudy(const std::string& name, const fs:
             report::markdownToHtml(md, "p-", image, &hm, folder, &lm));
       CHECK(hd.size() == hm.size());
       CHECK(ld == lm);
-      typed[stage] += typedBlocks(rf.doc);
+      blocks[stage].typed += blocksOf(rf.doc, false);
+      blocks[stage].raw += blocksOf(rf.doc, true);
     }
   }
-  return typed;
+  return blocks;
 }
 
 }  // namespace
@@ -74,18 +81,30 @@ TEST_CASE("every stage's report document is its Markdown file and renders to tha
   const fs::path dir =
       fs::temp_directory_path() / ("armstudy_stage_docs_" + std::to_string(getpid()));
   fs::remove_all(dir);
-  // Each study and the stages of it whose reports are built of blocks.
-  const std::vector<std::pair<std::string, std::vector<std::string>>> studies = {
-      {"fig5_13_obstacle", {"tracking"}},
-      {"harvest_torque", {"harvest"}},
+  // Each study, the stages of it whose reports are built of blocks, and those of them built of
+  // blocks alone.
+  struct Built {
+    std::string study;
+    std::vector<std::string> stages, alone;
   };
-  for (const auto& [name, built] : studies) {
-    SECTION(name) {
-      const std::map<std::string, std::size_t> typed = checkStudy(name, dir / name);
-      for (const std::string& stage : built) {
-        INFO(name << ": " << stage << " builds its report of blocks");
-        CHECK(typed.count(stage));
-        if (typed.count(stage)) CHECK(typed.at(stage) > 0);
+  const std::vector<Built> studies = {
+      {"fig5_13_obstacle", {"tracking"}, {}},
+      {"harvest_torque", {"harvest"}, {}},
+      {"ur5_vs_first_prototype", {"reach"}, {"reach"}},
+      {"stem_row", {"dexterity"}, {"dexterity"}},
+  };
+  for (const Built& b : studies) {
+    SECTION(b.study) {
+      const std::map<std::string, StageBlocks> blocks = checkStudy(b.study, dir / b.study);
+      for (const std::string& stage : b.stages) {
+        INFO(b.study << ": " << stage << " builds its report of blocks");
+        REQUIRE(blocks.count(stage));
+        CHECK(blocks.at(stage).typed > 0);
+      }
+      for (const std::string& stage : b.alone) {
+        INFO(b.study << ": " << stage << " builds its report of blocks alone");
+        REQUIRE(blocks.count(stage));
+        CHECK(blocks.at(stage).raw == 0);
       }
     }
   }

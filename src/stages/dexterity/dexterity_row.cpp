@@ -1,5 +1,6 @@
 #include <cmath>
-#include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/format.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
@@ -22,7 +23,8 @@ std::string spacingLabel(double spacing_m) {
 }
 
 // One row of the table and its summary.json entry.
-std::string sweepRow(const DexterityMap& map, double spacing_m, nlohmann::ordered_json& js) {
+std::vector<std::string> sweepRow(const DexterityMap& map, double spacing_m,
+                                  nlohmann::ordered_json& js) {
   const StatusCounts c = statusCounts(map);
   const int near = c.count(Half::Near, ReachStatus::Reachable);
   const int far = c.count(Half::Far, ReachStatus::Reachable);
@@ -36,44 +38,46 @@ std::string sweepRow(const DexterityMap& map, double spacing_m, nlohmann::ordere
                 {"far_cells", c.total(Half::Far)},
                 {"near_limited_by", lim_near},
                 {"far_limited_by", lim_far}});
-  std::ostringstream md;
-  md << "| " << spacingLabel(spacing_m) << " | " << near << " of " << c.total(Half::Near) << " ("
-     << pct(near, c.total(Half::Near)) << ") | " << far << " of " << c.total(Half::Far) << " ("
-     << pct(far, c.total(Half::Far)) << ") | " << lim_near << " | " << lim_far << " |\n";
-  return md.str();
+  return {spacingLabel(spacing_m),
+          std::to_string(near) + " of " + std::to_string(c.total(Half::Near)) + " (" +
+              pct(near, c.total(Half::Near)) + ")",
+          std::to_string(far) + " of " + std::to_string(c.total(Half::Far)) + " (" +
+              pct(far, c.total(Half::Far)) + ")",
+          lim_near, lim_far};
 }
 
 }  // namespace
 
-std::string rowSweep(const Model& m, const DexterityOptions& options, const DexterityMap& main,
-                     int threads, nlohmann::ordered_json& d) {
+report::Document rowSweep(const Model& m, const DexterityOptions& options, const DexterityMap& main,
+                          int threads, nlohmann::ordered_json& d) {
   const StatusCounts c = statusCounts(main);
-  if (options.row_spacing_m < 0 && options.row_sweep.empty()) return "";
-  if (c.total(Half::Far) == 0 && options.row_sweep.empty()) return "";
+  if (options.row_spacing_m < 0 && options.row_sweep.empty()) return {};
+  if (c.total(Half::Far) == 0 && options.row_sweep.empty()) return {};
   nlohmann::ordered_json js = nlohmann::ordered_json::array();
-  std::ostringstream md;
-  md << "### The row around the stem (thesis section 3.2.1)\n\n"
-     << "The thesis: \"only one half of the plant can be approached [...]. For the other half, "
-        "the robot has to be turned around in the corridor.\" Approachable (reachable "
-        "collision-free) cells of the near half (|gamma| < 90 deg, the robot's side of the row) "
-        "and the far half (|gamma| > 90 deg), with the stem and its neighbours along the row as "
-        "obstacles at each spacing, and the effect that blocks most of the other cells of each "
-        "half:\n\n"
-     << "| neighbouring stems | near half | far half | near half limited by | far half limited "
-        "by |\n|---|---|---|---|---|\n"
-     << sweepRow(main, options.row_spacing_m, js);
+  std::vector<std::vector<std::string>> rows{sweepRow(main, options.row_spacing_m, js)};
   DexterityOptions o = options;
   o.audit_cells = 0;
   o.row_sweep.clear();
   for (std::size_t k = 0; k < options.row_sweep.size(); ++k) {
     o.collision = options.row_sweep[k];
     const DexterityMap map = computeDexterityMap(m, o, threads);
-    md << sweepRow(map, options.row_sweep_spacing_m[k], js);
+    rows.push_back(sweepRow(map, options.row_sweep_spacing_m[k], js));
   }
-  md << "\nThe first line is this map (spacing " << spacingLabel(options.row_spacing_m)
-     << "); the others are the same grid and search with the spacing of the row sweep.\n\n";
   d["row_sweep"] = js;
-  return md.str();
+  return report::Document()
+      .heading(3, "The row around the stem (thesis section 3.2.1)")
+      .paragraph(
+          "The thesis: \"only one half of the plant can be approached [...]. For the other half, "
+          "the robot has to be turned around in the corridor.\" Approachable (reachable "
+          "collision-free) cells of the near half (|gamma| < 90 deg, the robot's side of the row) "
+          "and the far half (|gamma| > 90 deg), with the stem and its neighbours along the row as "
+          "obstacles at each spacing, and the effect that blocks most of the other cells of each "
+          "half:")
+      .table({"neighbouring stems", "near half", "far half", "near half limited by",
+              "far half limited by"},
+             rows, report::TableRule::compact)
+      .paragraph("The first line is this map (spacing " + spacingLabel(options.row_spacing_m) +
+                 "); the others are the same grid and search with the spacing of the row sweep.");
 }
 
 }  // namespace armstudy::dexterity

@@ -171,14 +171,15 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
 nlohmann::ordered_json dexterityComparison(
     const std::vector<const Model*>& models, const TaskGrid& g,
     const std::vector<PoseSweep>& sweeps,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads, std::string& md) {
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads,
+    report::Document& doc) {
   std::vector<std::vector<ManipulabilityParts>> parts;
   for (std::size_t d = 0; d < sweeps.size(); ++d)
     parts.push_back(manipulabilityParts(*models[d], g, sweeps[d], threads));
   const bool rot = g.task_space.hasOrientation();
   ordered_json out = ordered_json::array();
   std::vector<std::vector<std::string>> rows;
-  std::string verdicts;
+  std::vector<std::string> verdicts;
   for (const auto& [a, b] : pairs) {
     PairDexterity pd;
     for (long i = 0; i < g.size(); ++i) {
@@ -226,31 +227,32 @@ nlohmann::ordered_json dexterityComparison(
       const std::string& better = agree > 0 ? nb : na;
       const std::string& worse = agree > 0 ? na : nb;
       const double f = agree > 0 ? rw : 1 / rw;
-      verdicts += "- `" + better + "` is more dexterous than `" + worse + "` on the " +
-                  std::to_string(pd.both) + " poses both reach: " + report::fixed(f, 2) +
-                  "x the manipulability" +
-                  (rot ? ", and better in both its translational and rotational parts.\n" : ".\n");
+      verdicts.push_back(
+          "`" + better + "` is more dexterous than `" + worse + "` on the " +
+          std::to_string(pd.both) + " poses both reach: " + report::fixed(f, 2) +
+          "x the manipulability" +
+          (rot ? ", and better in both its translational and rotational parts." : "."));
     } else {
-      verdicts += "- `" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" +
-                  (rw > 1 ? nb : na) + "` but the translational part favours `" +
-                  (rt > 1 ? nb : na) + "` and the rotational part `" + (rr > 1 ? nb : na) +
-                  "` (the combined value depends on the 1 m that weighs the angular rows).\n";
+      verdicts.push_back("`" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" +
+                         (rw > 1 ? nb : na) + "` but the translational part favours `" +
+                         (rt > 1 ? nb : na) + "` and the rotational part `" + (rr > 1 ? nb : na) +
+                         "` (the combined value depends on the 1 m that weighs the angular rows).");
     }
   }
   if (rows.empty()) return out;
   std::vector<std::string> header{
       "A", "B", ">poses both reach", ">manipulability A / B", ">B/A", ">B/A translation"};
   if (rot) header.push_back(">B/A rotation");
-  md +=
-      "Dexterity where both reach (means over the poses both designs reach; manipulability of the "
-      "rows the task "
-      "constrains, " +
-      std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; translation: "
-                        "the 3 position "
-                        "rows alone [m^3]; rotation: the angular rows alone [1]"
-                      : "the 3 position rows [m^3]") +
-      "; a pair is ranked only when all agree):\n\n" + report::markdownTable(header, rows) + "\n" +
-      verdicts + "\n";
+  doc.paragraph(
+         "Dexterity where both reach (means over the poses both designs reach; "
+         "manipulability of the rows the task constrains, " +
+         std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; "
+                           "translation: the 3 position rows alone [m^3]; rotation: the "
+                           "angular rows alone [1]"
+                         : "the 3 position rows [m^3]") +
+         "; a pair is ranked only when all agree):")
+      .table(header, rows)
+      .list(verdicts);
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "report/document.hpp"
 #include "stages/reach/reach_report.hpp"
 
 namespace armstudy::reach_report {
@@ -19,11 +20,12 @@ void reachAnswer(const nlohmann::ordered_json& summary, std::vector<std::string>
 
 // Dexterity of design pairs on the poses both reach: mean manipulability and its translational and
 // rotational parts of each, and a verdict that ranks the pair only when the combined value and
-// both parts agree. Appends a table and sentences to md; returns the summary.json block. The
-// designs' parts are computed on `threads` threads each.
+// both parts agree. Appends a table and a list of verdicts to doc; returns the summary.json block.
+// The designs' parts are computed on `threads` threads each.
 nlohmann::ordered_json dexterityComparison(
     const std::vector<const Model*>& models, const TaskGrid& g,
     const std::vector<PoseSweep>& sweeps,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads, std::string& md);
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads,
+    report::Document& doc);
 
 }  // namespace armstudy::reach_report
