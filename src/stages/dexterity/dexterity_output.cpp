@@ -174,22 +174,32 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
   return map;
 }
 
+// The means over a map's reachable cells: its reachable share and mean optimised and plain
+// manipulability (0 when no cell is reachable).
+struct MapMeans {
+  double reachable_fraction = 0, manipulability_optimised = 0, manipulability_plain = 0;
+};
+MapMeans mapMeans(const DexterityMap& map) {
+  double sum_opt = 0, sum_plain = 0;
+  for (const CellResult& c : map.cells) {
+    if (!c.reachable) continue;
+    sum_opt += c.opt.manipulability;
+    sum_plain += c.plain.manipulability;
+  }
+  const int r = map.reachable();
+  return {map.cells.empty() ? 0.0 : double(r) / map.cells.size(), r ? sum_opt / r : 0.0,
+          r ? sum_plain / r : 0.0};
+}
+
 // Summary metrics of one map for regression checks.
 void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
   const std::string prefix = "dexterity/" + map.design;
   std::vector<std::uint8_t> flags(map.cells.size());
-  double sum_opt = 0, sum_plain = 0;
-  for (std::size_t i = 0; i < map.cells.size(); ++i) {
-    flags[i] = map.cells[i].reachable;
-    if (!flags[i]) continue;
-    sum_opt += map.cells[i].opt.manipulability;
-    sum_plain += map.cells[i].plain.manipulability;
-  }
-  const int r = map.reachable();
-  dm.scalars[prefix + "/reachable_fraction"] =
-      map.cells.empty() ? 0.0 : double(r) / map.cells.size();
-  dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
-  dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) flags[i] = map.cells[i].reachable;
+  const MapMeans m = mapMeans(map);
+  dm.scalars[prefix + "/reachable_fraction"] = m.reachable_fraction;
+  dm.scalars[prefix + "/manipulability_mean_optimised"] = m.manipulability_optimised;
+  dm.scalars[prefix + "/manipulability_mean_plain"] = m.manipulability_plain;
   dm.flags[prefix + "/reachable"] = flags;
 }
 
@@ -328,6 +338,7 @@ struct DesignWork {
   nlohmann::ordered_json d;
   std::vector<std::string> comparison_row;
   report::Document row_sweep;
+  std::vector<RowHalves> row;  // the row sweep's halves (empty without a row)
   std::optional<DexterityAudit> audit;
 };
 
@@ -339,23 +350,16 @@ DesignWork designWork(const StageContext& ctx, const DexterityOptions& options, 
   w.comparison_row = comparisonRow(m, map, f, w.s, manipulabilityUnit(options.measure_space));
   w.d = designJson(m, options, map, f, w.s);
   addStatusJson(map, w.counts, w.d);
-  w.row_sweep = rowSweep(m, options, map, ctx.threads, w.d);
+  w.row_sweep = rowSweep(m, options, map, ctx.threads, w.d, w.row);
   if (options.audit_cells > 0)
     w.audit = auditDexterityMap(m, options, map, ctx.threads, &ctx.units);
   return w;
 }
 
-DesignAnswerFacts answerFacts(const DexterityOptions& options, const DesignWork& w) {
-  DesignAnswerFacts f;
-  f.valley_z_m = valleyHeight(options.grid, w.s);
-  if (w.d.contains("row_sweep"))
-    for (const auto& r : w.d["row_sweep"])
-      f.row.push_back({r["spacing_m"].is_null() ? -1.0 : r["spacing_m"].get<double>(),
-                       r.value("near_reachable", 0L), r.value("near_cells", 0L),
-                       r.value("far_reachable", 0L), r.value("far_cells", 0L),
-                       r.value("near_limited_by", std::string()),
-                       r.value("far_limited_by", std::string())});
-  return f;
+DesignAnswerFacts answerFacts(const DexterityOptions& options, const DexterityMap& map,
+                              const DesignWork& w) {
+  const MapMeans m = mapMeans(map);
+  return {m.manipulability_optimised, m.reachable_fraction, valleyHeight(options.grid, w.s), w.row};
 }
 
 // Renders a design's files (VTK, heat maps, status map, audit cells) into the study's output
@@ -474,6 +478,9 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
                      return renderDesign(ctx, options, ctx.study.designs[di].model, design_maps[di],
                                          fields[di], scales, work[di]);
                    });
+  std::vector<DesignAnswerFacts> facts;
+  for (std::size_t di = 0; di < work.size(); ++di)
+    facts.push_back(answerFacts(options, design_maps[di], work[di]));
   std::vector<std::string> files;
   for (std::size_t di = 0; di < design_maps.size(); ++di) {
     RenderedPart part;
@@ -483,8 +490,6 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
     if (maps) maps->push_back(std::move(design_maps[di]));
   }
   for (const std::string& f : files) out.add(f);
-  std::vector<DesignAnswerFacts> facts;
-  for (const DesignWork& w : work) facts.push_back(answerFacts(options, w));
   dexterityAnswer(ctx.study, options, facts, sum);
   std::vector<std::vector<std::string>> rows;
   for (const DesignWork& w : work) rows.push_back(w.comparison_row);

@@ -9,6 +9,7 @@
 #include "dexterity/dexterity_audit.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "report/document.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -54,10 +55,11 @@ void addStatusJson(const DexterityMap& map, const StatusCounts& c, nlohmann::ord
 
 // The row sweep (DexterityOptions::row_sweep, dexterity_row.cpp): the design's map again for each
 // spacing; per map the approachable cells of the near and far half and what limits each, with
-// `main` (the map with options.collision) first. Sets d["row_sweep"] and returns the report
-// section; empty when the study has no row and the grid no far half.
+// `main` (the map with options.collision) first. Sets d["row_sweep"] and `halves` (one per map,
+// in the same order) and returns the report section; empty when the study has no row and the grid
+// no far half.
 report::Document rowSweep(const Model& m, const DexterityOptions& options, const DexterityMap& main,
-                          int threads, nlohmann::ordered_json& d);
+                          int threads, nlohmann::ordered_json& d, std::vector<RowHalves>& halves);
 
 // The study-wide fields of summary.json (grid and settings) with an empty design list, and the
 // report's title and opening paragraphs (dexterity_intro.cpp).

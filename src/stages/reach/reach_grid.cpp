@@ -28,6 +28,7 @@ namespace {
 struct GridReport : GridRendering {
   const std::vector<std::string>& parts;
   Writer& out;
+  CoverageFacts& facts;  // what the answer says of the grid
 };
 
 ordered_json gridHeader(const TaskGrid& grid, report::Document& doc) {
@@ -82,6 +83,23 @@ ordered_json joinDesignParts(const GridReport& rep, report::Document& doc, repor
   }
   for (const std::string& f : design_files) rep.out.add(f);
   return jdesigns;
+}
+
+// Each design's reachable poses, those blocked by joint limits and its boundary poses on the grid.
+void designCoverage(const ReachGridResults& res, CoverageFacts& facts) {
+  const TaskGrid& grid = res.taskGrid();
+  facts.what = "grid `" + grid.name + "`";
+  facts.poses = grid.size();
+  for (const PoseSweep& map : res.maps) {
+    DesignCoverage d{map.design};
+    for (long i = 0; i < grid.size(); ++i) {
+      d.reachable += map.reachable(i);
+      d.joint_limits += map.status[i] == static_cast<int>(ReachStatus::JointLimits);
+    }
+    d.fraction = grid.size() ? static_cast<double>(d.reachable) / grid.size() : 0.0;
+    d.boundary = boundaryPoses(grid, map);
+    facts.designs.push_back(std::move(d));
+  }
 }
 
 // The grid's tables: statuses per design and orientation, reachable volumes (3-D grids), and the
@@ -167,6 +185,7 @@ void compareReferenceReach(const GridReport& rep, ordered_json& jg, report::Docu
                         ? "-"
                         : (diff >= 0 ? "+" : "") + report::fixed(diff * 1e3, 0) + " mm (" +
                               (diff >= 0 ? "+" : "") + report::fixed(100 * diff / ref, 1) + " %)"});
+    rep.facts.references.push_back({sd.model.name, ref, found, resolution});
     jr.push_back(
         {{"design", sd.model.name},
          {"reference_reach_m", ref},
@@ -275,6 +294,7 @@ ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
       both += ra && rb;
       neither += !ra && !rb;
     }
+    rep.facts.pairs.push_back({rep.res.maps[a].design, rep.res.maps[b].design, n_a, n_b});
     jpairs.push_back({{"a", rep.res.maps[a].design},
                       {"b", rep.res.maps[b].design},
                       {"a_only", n_a},
@@ -301,7 +321,7 @@ ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
   doc.paragraph("Per pose, which designs reach it (all orientations together):")
       .table({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow);
   jcmp["dexterity"] = dexterityComparison(rep.res.models, rep.grid, rep.res.maps, rep.res.pairs,
-                                          rep.ctx.threads, doc);
+                                          rep.ctx.threads, doc, rep.facts.verdicts);
   if (!brow.empty())
     doc.paragraph(
            "Best variant per base design (the most reachable poses; with base.* overrides this "
@@ -381,13 +401,14 @@ std::vector<report::ViewCloud> viewClouds(const ReachGridResults& res) {
 }  // namespace
 
 ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& grid,
-                        Progress& progress, StageResult& sum, Writer& out, report::Document& doc) {
+                        Progress& progress, StageResult& sum, Writer& out, report::Document& doc,
+                        CoverageFacts& facts) {
   ordered_json jg = gridHeader(grid, doc);
   const ReachGridResults res = solveReachGrid(ctx, cfg, grid, progress, sum);
   const auto t0 = std::chrono::steady_clock::now();
   const GridPieces pieces = gridPieces(res, cfg);
   const std::vector<std::string> parts = renderGridPieces(ctx, cfg, res, pieces);
-  const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out};
+  const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out, facts};
   std::vector<std::vector<std::string>> rows;
   report::Document images;
   const ordered_json jdesigns = joinDesignParts(rep, doc, images, rows);
@@ -395,6 +416,7 @@ ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const T
       {res.folder + "/files",
        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
   jg["designs"] = jdesigns;
+  designCoverage(res, facts);
   warnUnreached(rep, jdesigns, jg, doc);
   gridTables(rep, jdesigns, rows, doc);
   compareReferenceReach(rep, jg, doc);

@@ -83,7 +83,7 @@ report::Document taskSection(const Study& study, const ReachConfig& cfg) {
 // The designs evaluated without collisions (no volumes) while the study checks them: a warning at
 // the top of the report, in summary.json and on stderr.
 void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered_json& jr,
-                        report::Document& doc) {
+                        report::Document& doc, ReachFacts& facts) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   std::string without;
   for (const StudyDesign& sd : ctx.study.designs)
@@ -95,10 +95,9 @@ void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered
                 "file without [[collision]] entries, or a URDF whose links have no collision "
                 "geometry); their rows say \"n/a\" in the collision columns and their reachable "
                 "shares are not comparable with the others'.");
-  ordered_json jw = ordered_json::array();
   for (const StudyDesign& sd : ctx.study.designs)
-    if (sd.model.collision.empty()) jw.push_back(sd.model.name);
-  jr["designs_without_collision_volumes"] = jw;
+    if (sd.model.collision.empty()) facts.without_volumes.push_back(sd.model.name);
+  jr["designs_without_collision_volumes"] = facts.without_volumes;
   ctx.warn(without + " evaluated without self-collision and obstacles (no collision volumes)");
 }
 
@@ -135,15 +134,12 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, repor
 
 // The design assumption lines about joint limits of each design with poses blocked by them (the
 // "joint limits" count rests on them), as "`<design>`: <line>".
-void jointLimitAssumptions(const Study& study, const ordered_json& jr,
+void jointLimitAssumptions(const Study& study, const ReachFacts& facts,
                            std::vector<std::string>& out) {
   std::set<std::string> blocked;
-  for (const char* kind : {"grids", "pose_lists"})
-    if (jr.contains(kind))
-      for (const auto& g : jr[kind])
-        for (const auto& d : g.value("designs", ordered_json::array()))
-          if (d.contains("status_counts") && d["status_counts"].value("joint_limits", 0L) > 0)
-            blocked.insert(d.value("design", ""));
+  for (const CoverageFacts& set : facts.sets)
+    for (const DesignCoverage& d : set.designs)
+      if (d.joint_limits > 0) blocked.insert(d.design);
   for (const StudyDesign& sd : study.designs)
     if (blocked.count(sd.model.name))
       for (const std::string& a : notes::about(sd.model, notes::kJointLimits))
@@ -210,7 +206,7 @@ report::Document designDrawings(const StageContext& ctx, const ReachConfig& cfg,
 // One design on a pose list: its sweep and search, summary entry, .vtp and best robot, table row.
 ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
                             const StudyDesign& sd, Progress& progress, StageResult& sum,
-                            Writer& out, std::vector<std::string>& row) {
+                            Writer& out, std::vector<std::string>& row, CoverageFacts& facts) {
   const std::string unit = "reach/" + l.name + "/" + sd.model.name;
   PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
   // Poses in collision get the seeded starts too (a list has no neighbours).
@@ -242,6 +238,8 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
     jd["vtp"] = rel;
     writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
   }
+  facts.designs.push_back({s.design, st.reachable,
+                           st.status[static_cast<int>(ReachStatus::JointLimits)], st.fraction()});
   row = {s.design, report::percent(st.fraction()),
          report::percent(st.n ? double(st.status[2]) / st.n : 0),
          report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()};
@@ -252,12 +250,14 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
 // A pose list: every design on it, its summary block and report section.
 ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
                             Progress& progress, StageResult& sum, Writer& out,
-                            report::Document& doc) {
+                            report::Document& doc, CoverageFacts& facts) {
   ordered_json jl;
   jl["name"] = l.name;
   jl["file"] = l.file;
   jl["task_space"] = l.task_space.toString();
   jl["poses"] = l.poses.size();
+  facts.what = "pose list `" + l.name + "`";
+  facts.poses = static_cast<long>(l.poses.size());
   doc.heading(2, "Pose list `" + l.name + "`")
       .paragraph(std::to_string(l.poses.size()) + " poses from `" + l.file + "`, task space " +
                  l.task_space.toString() + ".");
@@ -265,7 +265,7 @@ ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, con
   ordered_json jdesigns = ordered_json::array();
   for (const StudyDesign& sd : ctx.study.designs) {
     rows.emplace_back();
-    jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back()));
+    jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back(), facts));
   }
   jl["designs"] = jdesigns;
   std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach",
@@ -298,22 +298,27 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   ordered_json jr;
   jr["settings"] = settingsJson(cfg);
   report::Document doc = taskSection(study, cfg);
-  warnWithoutVolumes(ctx, cfg, jr, doc);
+  ReachFacts facts;
+  warnWithoutVolumes(ctx, cfg, jr, doc, facts);
   std::vector<std::string> partial;
   warnPartialCollision(ctx, cfg, doc, partial);
   doc.append(checksSection(study.designs, cfg));
   doc.append(designDrawings(ctx, cfg, out));
   ordered_json jgrids = ordered_json::array();
-  for (const TaskGrid& g : cfg.grids)
-    jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, doc));
+  for (const TaskGrid& g : cfg.grids) {
+    facts.sets.emplace_back();
+    jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, doc, facts.sets.back()));
+  }
   jr["grids"] = jgrids;
   ordered_json jlists = ordered_json::array();
-  for (const PoseList& l : cfg.pose_lists)
-    jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, doc));
+  for (const PoseList& l : cfg.pose_lists) {
+    facts.sets.emplace_back();
+    jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, doc, facts.sets.back()));
+  }
   jr["pose_lists"] = jlists;
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  reachAnswer(jr, sum.answer, sum.warnings);
-  jointLimitAssumptions(study, jr, sum.assumptions);
+  reachAnswer(facts, sum.answer, sum.warnings);
+  jointLimitAssumptions(study, facts, sum.assumptions);
   sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
