@@ -70,10 +70,11 @@ Document& Document::figures(std::vector<FigureImage> images, std::string caption
 }
 
 Document& Document::table(std::vector<std::string> header,
-                          std::vector<std::vector<std::string>> rows) {
+                          std::vector<std::vector<std::string>> rows, TableRule rule) {
   Block b = block(Block::Kind::table);
   b.header = std::move(header);
   b.rows = std::move(rows);
+  b.rule = rule;
   blocks_.push_back(std::move(b));
   return *this;
 }
@@ -131,7 +132,7 @@ std::string toMarkdown(const Document& doc) {
         if (!b.text.empty()) md += "*" + b.text + "*\n\n";
         break;
       case Block::Kind::table:
-        md += markdownTable(b.header, b.rows) + "\n";
+        md += markdownTable(b.header, b.rows, b.rule == TableRule::compact) + "\n";
         break;
       case Block::Kind::list:
         for (std::size_t i = 0; i < b.items.size(); ++i) {

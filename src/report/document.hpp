@@ -7,6 +7,7 @@
 #include <functional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace armstudy::report {
@@ -21,6 +22,10 @@ struct ListItem {
   std::vector<std::string> sub_items;
 };
 
+// How a table's separator row is written in Markdown: "| --- |" (padded) or "|---|" (compact); the
+// HTML is the same.
+enum class TableRule { padded, compact };
+
 struct Block {
   enum class Kind { heading, paragraph, figures, table, list, code, markdown };
   Kind kind = Kind::paragraph;
@@ -29,17 +34,21 @@ struct Block {
   std::vector<FigureImage> images;                  // figures
   std::vector<std::string> header;                  // table; '>' first: right-aligned
   std::vector<std::vector<std::string>> rows;       // table
+  TableRule rule = TableRule::padded;               // table
   std::vector<std::string> items;                   // list (inline, one line each)
   std::vector<std::vector<std::string>> sub_items;  // list: per item, those indented under it
 };
 
 class Document {
  public:
+  Document() = default;
+  explicit Document(std::vector<Block> blocks) : blocks_(std::move(blocks)) {}
   Document& heading(int level, std::string text);
   Document& paragraph(std::string text);
   // Images side by side with one caption under them ("" = each captioned by its alt text).
   Document& figures(std::vector<FigureImage> images, std::string caption = "");
-  Document& table(std::vector<std::string> header, std::vector<std::vector<std::string>> rows);
+  Document& table(std::vector<std::string> header, std::vector<std::vector<std::string>> rows,
+                  TableRule rule = TableRule::padded);
   Document& list(std::vector<std::string> items);
   Document& nestedList(std::vector<ListItem> items);  // items with items indented under them
   Document& code(std::string text);

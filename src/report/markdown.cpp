@@ -11,7 +11,7 @@
 namespace armstudy::report {
 
 std::string markdownTable(const std::vector<std::string>& header,
-                          const std::vector<std::vector<std::string>>& rows) {
+                          const std::vector<std::vector<std::string>>& rows, bool compact) {
   const auto esc = [](const std::string& s) {
     return substituteChars(s, [](char c) -> const char* {
       return c == '|' ? "\\|" : c == '\n' ? " " : nullptr;
@@ -21,7 +21,7 @@ std::string markdownTable(const std::vector<std::string>& header,
   for (const std::string& h : header) {
     const bool right = !h.empty() && h[0] == '>';
     out.append(" ").append(esc(right ? h.substr(1) : h)).append(" |");
-    sep.append(right ? " ---: |" : " --- |");
+    sep.append(compact ? (right ? "---:|" : "---|") : (right ? " ---: |" : " --- |"));
   }
   out.append("\n").append(sep).append("\n");
   for (const auto& r : rows) {

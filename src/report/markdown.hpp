@@ -7,9 +7,10 @@
 namespace armstudy::report {
 
 // A GitHub-flavoured markdown table. Cells containing '|' are escaped. Columns whose header
-// starts with '>' are right-aligned (the '>' is dropped).
+// starts with '>' are right-aligned (the '>' is dropped). The separator row is "| --- |", or
+// "|---|" when `compact`.
 std::string markdownTable(const std::vector<std::string>& header,
-                          const std::vector<std::vector<std::string>>& rows);
+                          const std::vector<std::vector<std::string>>& rows, bool compact = false);
 
 // The links and images report.html keeps of Markdown text, which may hold user text (a study's
 // description, joint names, a reference's source). A link or image is written in a Markdown file

@@ -11,22 +11,74 @@
 namespace armstudy {
 
 namespace {
-constexpr std::string_view kPartMagic = "armstudy-rendered-part-1";
+constexpr std::string_view kPartMagic = "armstudy-rendered-part-2";
 constexpr std::string_view kPartsMagic = "armstudy-rendered-parts-1";
+void putStrings(UnitWriter& b, const std::vector<std::string>& v) {
+  b.put<std::uint64_t>(v.size());
+  for (const std::string& s : v) b.putString(s);
+}
+
+std::vector<std::string> getStrings(UnitReader& rd) {
+  std::vector<std::string> v;
+  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) v.push_back(rd.getString());
+  return v;
+}
+
+// A document's blocks, each with every field of report::Block.
+void putDocument(UnitWriter& b, const report::Document& doc) {
+  b.put<std::uint64_t>(doc.blocks().size());
+  for (const report::Block& k : doc.blocks()) {
+    b.put<std::int32_t>(static_cast<std::int32_t>(k.kind));
+    b.put<std::int32_t>(k.level);
+    b.putString(k.text);
+    b.put<std::uint64_t>(k.images.size());
+    for (const report::FigureImage& im : k.images) {
+      b.putString(im.alt);
+      b.putString(im.path);
+    }
+    putStrings(b, k.header);
+    b.put<std::uint64_t>(k.rows.size());
+    for (const auto& row : k.rows) putStrings(b, row);
+    b.put<std::int32_t>(static_cast<std::int32_t>(k.rule));
+    putStrings(b, k.items);
+  }
+}
+
+report::Document getDocument(UnitReader& rd) {
+  std::vector<report::Block> blocks;
+  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
+    report::Block k;
+    const auto kind = rd.get<std::int32_t>();
+    ARMSTUDY_CHECK(kind >= 0 && kind <= static_cast<std::int32_t>(report::Block::Kind::markdown),
+                   "a rendered part's blocks are of known kinds");
+    k.kind = static_cast<report::Block::Kind>(kind);
+    k.level = rd.get<std::int32_t>();
+    k.text = rd.getString();
+    for (auto m = rd.get<std::uint64_t>(); rd.ok() && m > 0; --m) {
+      report::FigureImage im;
+      im.alt = rd.getString();
+      im.path = rd.getString();
+      k.images.push_back(std::move(im));
+    }
+    k.header = getStrings(rd);
+    for (auto m = rd.get<std::uint64_t>(); rd.ok() && m > 0; --m) k.rows.push_back(getStrings(rd));
+    k.rule = static_cast<report::TableRule>(rd.get<std::int32_t>());
+    k.items = getStrings(rd);
+    blocks.push_back(std::move(k));
+  }
+  return report::Document(std::move(blocks));
+}
+
 }  // namespace
 
 std::string packRenderedPart(const RenderedPart& part, const Writer& w) {
   UnitWriter b(kPartMagic);
   b.putVector(nlohmann::ordered_json::to_cbor(part.jd));
-  b.putString(part.md);
-  b.putString(part.images_md);
+  putDocument(b, part.doc);
+  putDocument(b, part.images);
   b.put<std::uint64_t>(part.rows.size());
-  for (const auto& row : part.rows) {
-    b.put<std::uint64_t>(row.size());
-    for (const std::string& c : row) b.putString(c);
-  }
-  b.put<std::uint64_t>(w.files().size());
-  for (const std::string& rel : w.files()) b.putString(rel);
+  for (const auto& row : part.rows) putStrings(b, row);
+  putStrings(b, w.files());
   return b.bytes();
 }
 
@@ -37,14 +89,10 @@ void unpackRenderedPart(const std::string& bytes, RenderedPart& part,
   rd.getVector(cbor);
   ARMSTUDY_CHECK(rd.ok(), "a rendered part arrives whole");
   part.jd = nlohmann::ordered_json::from_cbor(cbor);
-  part.md = rd.getString();
-  part.images_md = rd.getString();
-  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) {
-    std::vector<std::string> row(rd.get<std::uint64_t>());
-    for (std::string& c : row) c = rd.getString();
-    part.rows.push_back(std::move(row));
-  }
-  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) files.push_back(rd.getString());
+  part.doc = getDocument(rd);
+  part.images = getDocument(rd);
+  for (auto n = rd.get<std::uint64_t>(); rd.ok() && n > 0; --n) part.rows.push_back(getStrings(rd));
+  for (std::string& f : getStrings(rd)) files.push_back(std::move(f));
   ARMSTUDY_CHECK(rd.finished(), "a rendered part arrives whole");
 }
 

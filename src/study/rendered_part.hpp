@@ -2,7 +2,7 @@
 // Output rendered by the process that owns it (docs/distributed.md "Files"): a loop shared among
 // the processes of a run renders pieces of a stage's output (a design's files and figures, a
 // pair's images) on each process's threads; the owner writes the files into the study's output
-// folder itself, and only a part travels: the piece's summary entry, report lines, table rows and
+// folder itself, and only a part travels: the piece's summary entry, report blocks, table rows and
 // the names of the files it wrote. Every process then joins the parts in item order, so the files
 // and their order are those of a single process.
 #include <cstddef>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "report/document.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy {
@@ -19,7 +20,7 @@ class UnitRunner;
 
 struct RenderedPart {
   nlohmann::ordered_json jd;                   // the piece's summary entry (null: none)
-  std::string md, images_md;                   // report lines
+  report::Document doc, images;                // report blocks: the text, the figures
   std::vector<std::vector<std::string>> rows;  // table rows
 };
 

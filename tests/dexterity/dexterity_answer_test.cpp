@@ -1,5 +1,5 @@
 // The dexterity answer names a winner only outside the map's resolution (the audit's 1 %), and
-// gives each design's valley height: checked on metrics set by hand, against the rule's closed
+// gives each design's valley height: checked on facts set by hand, against the rule's closed
 // form.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -15,19 +15,17 @@ using namespace armstudy::dexterity;
 
 namespace {
 
-// A study of designs named `names` whose metrics are the given means (all reaching every cell).
+// A study of designs named `names` with the given means (all reaching every cell).
 std::string answerFor(const std::vector<std::string>& names, const std::vector<double>& means,
                       const std::vector<double>& valleys) {
   std::vector<DesignAnswerFacts> facts;
-  for (double v : valleys) facts.push_back({v, {}});
   Study study;
   StageResult sum;
   for (std::size_t k = 0; k < names.size(); ++k) {
     StudyDesign sd;
     sd.model.name = names[k];
     study.designs.push_back(sd);
-    sum.metrics.scalars["dexterity/" + names[k] + "/manipulability_mean_optimised"] = means[k];
-    sum.metrics.scalars["dexterity/" + names[k] + "/reachable_fraction"] = 1.0;
+    facts.push_back({means[k], 1.0, valleys[k], {}});
   }
   dexterityAnswer(study, DexterityOptions{}, facts, sum);
   REQUIRE(sum.answer.size() == 1);
@@ -85,9 +83,9 @@ TEST_CASE("dexterity answer: a row around the stem answers which half can be app
   sd.model.name = "nine";
   study.designs.push_back(sd);
   StageResult sum;
-  sum.metrics.scalars["dexterity/nine/manipulability_mean_optimised"] = 0.553;
-  sum.metrics.scalars["dexterity/nine/reachable_fraction"] = 0.472;
   DesignAnswerFacts f;
+  f.manipulability_mean_optimised = 0.553;
+  f.reachable_fraction = 0.472;
   f.valley_z_m = std::numeric_limits<double>::quiet_NaN();
   f.row = {{0.192, 75, 105, 27, 105, "neighbouring stems", "neighbouring stems"},
            {0.0, 105, 105, 81, 105, "nothing", "self-collision"},

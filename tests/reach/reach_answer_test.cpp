@@ -5,27 +5,23 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <string>
 
 using namespace armstudy;
-using nlohmann::ordered_json;
+using namespace armstudy::reach_report;
 
 namespace {
 
-ordered_json designEntry(const std::string& name, long reachable, long poses, long boundary) {
-  return {{"design", name},
-          {"reachable", reachable},
-          {"fraction", double(reachable) / double(poses)},
-          {"boundary_poses", boundary}};
+DesignCoverage designEntry(const std::string& name, long reachable, long poses, long boundary) {
+  return {name, reachable, 0, double(reachable) / double(poses), boundary};
 }
 
-std::string answerFor(long poses, const ordered_json& designs, const ordered_json& pairs) {
-  ordered_json g = {{"name", "row"}, {"poses", poses}, {"designs", designs}};
-  g["comparison"] = {{"pairs", pairs}};
-  ordered_json summary = {{"grids", ordered_json::array({g})}};
+std::string answerFor(long poses, const std::vector<DesignCoverage>& designs,
+                      const std::vector<PairCoverage>& pairs) {
+  ReachFacts facts;
+  facts.sets.push_back({"grid `row`", poses, designs, pairs, {}, {}});
   std::vector<std::string> answer, warnings;
-  reach_report::reachAnswer(summary, answer, warnings);
+  reach_report::reachAnswer(facts, answer, warnings);
   REQUIRE(answer.size() == 1);
   return answer[0];
 }
@@ -68,13 +64,12 @@ TEST_CASE("boundaryPoses counts the reachable poses beside an unreachable one", 
 
 TEST_CASE("reach answer: a difference inside the boundary's resolution is level", "[reach]") {
   // ur5_vs_first_prototype's Fig. 3.8 row: 4002 and 3944 of 7268 poses, boundaries 214 and 212.
-  const ordered_json pairs = ordered_json::array(
-      {{{"a", "six"}, {"b", "ur5"}, {"a_only", 763}, {"b_only", 705}, {"both", 3239}}});
-  const std::string a = answerFor(
-      7268,
-      ordered_json::array({designEntry("six", 4002, 7268, 214), designEntry("ur5", 3944, 7268, 212),
-                           designEntry("flange", 3478, 7268, 190)}),
-      pairs);
+  const std::vector<PairCoverage> pairs = {{"six", "ur5", 763, 705}};
+  const std::string a =
+      answerFor(7268,
+                {designEntry("six", 4002, 7268, 214), designEntry("ur5", 3944, 7268, 212),
+                 designEntry("flange", 3478, 7268, 190)},
+                pairs);
   INFO(a);
   CHECK(a.find("Level at the top") != std::string::npos);
   CHECK(a.find("reaches the most") == std::string::npos);
@@ -82,9 +77,7 @@ TEST_CASE("reach answer: a difference inside the boundary's resolution is level"
   CHECK(a.find("then `flange`") != std::string::npos);
   // Twice the difference beyond the two boundaries: a winner.
   const std::string b = answerFor(
-      7268,
-      ordered_json::array({designEntry("six", 4002, 7268, 50), designEntry("ur5", 3944, 7268, 50)}),
-      pairs);
+      7268, {designEntry("six", 4002, 7268, 50), designEntry("ur5", 3944, 7268, 50)}, pairs);
   INFO(b);
   CHECK(b.find("`six` reaches the most") != std::string::npos);
   CHECK(b.find("Level") == std::string::npos);
@@ -93,17 +86,15 @@ TEST_CASE("reach answer: a difference inside the boundary's resolution is level"
 TEST_CASE("reach answer: a largest reach off its reference by more than a grid step is a warning",
           "[reach]") {
   auto run = [](double found, double step) {
-    ordered_json g = {{"name", "line"},
-                      {"poses", 101},
-                      {"designs", ordered_json::array({designEntry("ur5", 70, 101, 1)})}};
-    g["reference_reach"] = ordered_json::array({{{"design", "ur5"},
-                                                 {"reference_reach_m", 0.85},
-                                                 {"largest_reach_found_m", found},
-                                                 {"difference_m", found - 0.85},
-                                                 {"resolution_m", step}}});
-    ordered_json summary = {{"grids", ordered_json::array({g})}};
+    ReachFacts facts;
+    facts.sets.push_back({"grid `line`",
+                          101,
+                          {designEntry("ur5", 70, 101, 1)},
+                          {},
+                          {},
+                          {{"ur5", 0.85, found, step}}});
     std::vector<std::string> answer, warnings;
-    reach_report::reachAnswer(summary, answer, warnings);
+    reach_report::reachAnswer(facts, answer, warnings);
     return std::make_pair(answer, warnings);
   };
   const auto [answer, warnings] = run(0.95, 0.005);  // the shipped UR5 line: +100 mm at 5 mm

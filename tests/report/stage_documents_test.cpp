@@ -134,6 +134,8 @@ TEST_CASE("every stage's report document is its Markdown file and renders to tha
       {"harvest_torque", {"harvest/report.md"}},
       {"thesis_drive_friction", {"calibration/report.md"}},
       {"explore_final_prototype", {"explore/explore.md", "explore/front/*/harvest/report.md"}},
+      {"ur5_vs_first_prototype", {"reach/report.md"}},
+      {"stem_row", {"dexterity/report.md"}},
   };
   for (const auto& [name, built] : studies) {
     SECTION(name) {

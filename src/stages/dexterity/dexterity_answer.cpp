@@ -66,9 +66,8 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options,
   std::vector<Row> rows;
   for (std::size_t di = 0; di < study.designs.size(); ++di) {
     const std::string& name = study.designs[di].model.name;
-    const std::string p = "dexterity/" + name;
-    rows.push_back({name, sum.metrics.scalars.at(p + "/manipulability_mean_optimised"),
-                    sum.metrics.scalars.at(p + "/reachable_fraction"), facts[di].valley_z_m, di});
+    rows.push_back({name, facts[di].manipulability_mean_optimised, facts[di].reachable_fraction,
+                    facts[di].valley_z_m, di});
     if (rows.back().reach == 0)
       sum.warnings.push_back("`" + name + "` reaches none of the " +
                              std::to_string(options.grid.size()) + " cells around the stem.");

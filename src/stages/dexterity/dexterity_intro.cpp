@@ -59,36 +59,38 @@ nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
 }
 
 // The report's title and opening paragraphs: the grid, the objective and how to read the images.
-std::string reportIntro(const DexterityOptions& options) {
+report::Document reportIntro(const DexterityOptions& options) {
   const StemGrid& g = options.grid;
-  std::ostringstream md;
-  md << "# Dexterity maps\n\n"
-     << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
-     << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
-     << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
-     << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
-     << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << toString(g.task)
-     << ", measures on the " << metrics::toString(options.measure_space)
-     << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
-     << options.w_manipulability << " H_m1 + " << options.w_transmission << " H_m2"
-     << (options.w_collision > 0 ? " + " + formatG(options.w_collision, 3) + " H_c (d_a " +
-                                       formatG(options.collision_safety_distance_m, 3) + " m)"
-                                 : std::string())
-     << " (thesis eq. 5.51). Collisions checked: "
-     << (options.collision.enabled()
-             ? std::string(options.collision.self ? "self-collision" : "") +
-                   (options.collision.self && !options.collision.obstacles.empty() ? " and " : "") +
-                   (options.collision.obstacles.empty()
-                        ? ""
-                        : std::to_string(options.collision.obstacles.size()) + " obstacles")
-             : std::string("none"))
-     << "; a design without collision volumes is evaluated without them.\n\n"
-     << "Images: x = gamma (left = " << fmt(g.gamma_rad.min * kRadToDeg, 0)
-     << " deg), y = z (bottom = " << fmt(g.z_m.min, 2)
-     << " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of "
-     << "each map (bottom = 0, top = 1; the transmission map is scaled to its maximum); "
-     << "grey = not reachable.\n\n";
-  return md.str();
+  std::ostringstream grid;
+  grid << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
+       << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
+       << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
+       << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
+       << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << toString(g.task)
+       << ", measures on the " << metrics::toString(options.measure_space)
+       << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
+       << options.w_manipulability << " H_m1 + " << options.w_transmission << " H_m2"
+       << (options.w_collision > 0 ? " + " + formatG(options.w_collision, 3) + " H_c (d_a " +
+                                         formatG(options.collision_safety_distance_m, 3) + " m)"
+                                   : std::string())
+       << " (thesis eq. 5.51). Collisions checked: "
+       << (options.collision.enabled()
+               ? std::string(options.collision.self ? "self-collision" : "") +
+                     (options.collision.self && !options.collision.obstacles.empty() ? " and "
+                                                                                     : "") +
+                     (options.collision.obstacles.empty()
+                          ? ""
+                          : std::to_string(options.collision.obstacles.size()) + " obstacles")
+               : std::string("none"))
+       << "; a design without collision volumes is evaluated without them.";
+  return report::Document()
+      .heading(1, "Dexterity maps")
+      .paragraph(grid.str())
+      .paragraph("Images: x = gamma (left = " + fmt(g.gamma_rad.min * kRadToDeg, 0) +
+                 " deg), y = z (bottom = " + fmt(g.z_m.min, 2) +
+                 " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of each map "
+                 "(bottom = 0, top = 1; the transmission map is scaled to its maximum); grey = not "
+                 "reachable.");
 }
 
 }  // namespace armstudy::dexterity

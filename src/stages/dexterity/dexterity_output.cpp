@@ -9,7 +9,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 
 #include "common/angles.hpp"
 #include "common/errors.hpp"
@@ -17,7 +16,6 @@
 #include "io/files.hpp"
 #include "metrics/measure_declarations.hpp"
 #include "report/image.hpp"
-#include "report/markdown.hpp"
 #include "report/plot.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
 #include "stages/dexterity/dexterity_summary.hpp"
@@ -131,13 +129,6 @@ nlohmann::ordered_json statsJson(const FieldStats& s) {
           {"max", s.max}, {"max_at_gamma_rad", s.gamma_at_max}, {"max_at_z_m", s.z_at_max}};
 }
 
-std::string statsRow(const std::string& what, const FieldStats& s) {
-  if (!s.any) return "| " + what + " | - | - | - | - |\n";
-  return "| " + what + " | " + fmt(s.min) + " | gamma " + fmt(s.gamma_at_min * kRadToDeg, 0) +
-         " deg, z " + fmt(s.z_at_min, 2) + " m | " + fmt(s.max) + " | gamma " +
-         fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m |\n";
-}
-
 // One design's map, in work units of whole rows (see runDexterityStage): units saved by an
 // interrupted run are loaded, the others computed; both are joined by cell index (so the order
 // units finished in does not matter), then the search across rows runs on the whole map.
@@ -183,34 +174,36 @@ DexterityMap unitMap(const StageContext& ctx, const Model& m, const DexterityOpt
   return map;
 }
 
+// The means over a map's reachable cells: its reachable share and mean optimised and plain
+// manipulability (0 when no cell is reachable).
+struct MapMeans {
+  double reachable_fraction = 0, manipulability_optimised = 0, manipulability_plain = 0;
+};
+MapMeans mapMeans(const DexterityMap& map) {
+  double sum_opt = 0, sum_plain = 0;
+  for (const CellResult& c : map.cells) {
+    if (!c.reachable) continue;
+    sum_opt += c.opt.manipulability;
+    sum_plain += c.plain.manipulability;
+  }
+  const int r = map.reachable();
+  return {map.cells.empty() ? 0.0 : double(r) / map.cells.size(), r ? sum_opt / r : 0.0,
+          r ? sum_plain / r : 0.0};
+}
+
 // Summary metrics of one map for regression checks.
 void addMapMetrics(StudyMetrics& dm, const DexterityMap& map) {
   const std::string prefix = "dexterity/" + map.design;
   std::vector<std::uint8_t> flags(map.cells.size());
-  double sum_opt = 0, sum_plain = 0;
-  for (std::size_t i = 0; i < map.cells.size(); ++i) {
-    flags[i] = map.cells[i].reachable;
-    if (!flags[i]) continue;
-    sum_opt += map.cells[i].opt.manipulability;
-    sum_plain += map.cells[i].plain.manipulability;
-  }
-  const int r = map.reachable();
-  dm.scalars[prefix + "/reachable_fraction"] =
-      map.cells.empty() ? 0.0 : double(r) / map.cells.size();
-  dm.scalars[prefix + "/manipulability_mean_optimised"] = r ? sum_opt / r : 0.0;
-  dm.scalars[prefix + "/manipulability_mean_plain"] = r ? sum_plain / r : 0.0;
+  for (std::size_t i = 0; i < map.cells.size(); ++i) flags[i] = map.cells[i].reachable;
+  const MapMeans m = mapMeans(map);
+  dm.scalars[prefix + "/reachable_fraction"] = m.reachable_fraction;
+  dm.scalars[prefix + "/manipulability_mean_optimised"] = m.manipulability_optimised;
+  dm.scalars[prefix + "/manipulability_mean_plain"] = m.manipulability_plain;
   dm.flags[prefix + "/reachable"] = flags;
 }
 
 const char* const kSub = "dexterity";  // the stage's output folder
-
-// The unit of the absolute manipulability (metrics/measure_declarations.hpp).
-std::string manipulabilityUnit(metrics::MeasureSpace space) {
-  return metrics::figureUnitIn(metrics::declaredMeasure("manipulability"), space);
-}
-
-// "a/b" as a percentage with one decimal, "-" when b is 0.
-std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
 
 // The tops of the colour scales the stage's designs share, per declared measure with a figure:
 // its largest optimised value over every design's map (and plain value, for a normalised measure,
@@ -295,79 +288,6 @@ std::map<std::string, std::string> writeHeatmaps(const DexterityMap& map, const 
   return png;
 }
 
-// The design's row of the side-by-side table.
-std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
-                          const MapSummary& s, const std::string& unit) {
-  double mean_abs = 0;
-  for (double v : f.manipulability().opt) mean_abs += std::isnan(v) ? 0.0 : v;
-  std::ostringstream cmp;
-  cmp << "| " << m.name << " | " << m.dof() << " | "
-      << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
-      << " | " << frac(s.reach_pos, s.n_pos) << " | "
-      << (s.R ? fmt(f.manipulability().best, 4) : "-") << " | " << (s.R ? fmt(s.mean_p) : "-")
-      << " | " << (s.R ? fmt(s.mean_o) : "-") << " | " << (s.R ? fmt(mean_abs / s.R) : "-") << " | "
-      << valleyText(map, s, unit) << " |\n";
-  return cmp.str();
-}
-
-// The design's report section: reachability, field statistics, the images and the map search.
-std::string designMarkdown(const Model& m, const DexterityOptions& options, const DexterityMap& map,
-                           const MapFields& f, const MapSummary& s,
-                           std::map<std::string, std::string>& png) {
-  std::ostringstream md;
-  md << "## " << m.name << "\n\n";
-  if (s.R == 0) {  // a stem out of reach: say so, rather than means of nothing
-    const std::string text = m.name + " reaches none of the " + std::to_string(map.cells.size()) +
-                             " stem cells: check its base placement and units against the stem";
-    md << "**Warning:** " << text << ".\n\n";
-    std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
-  }
-  md << "Reachable: " << s.R << " of " << map.cells.size()
-     << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
-     << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
-     << "). Best manipulability (normalisation value): "
-     << (s.R ? formatG(f.manipulability().best, 4) + " " + manipulabilityUnit(options.measure_space)
-             : "-")
-     << ". Valley of the optimised map (the row of lowest mean): "
-     << valleyText(map, s, manipulabilityUnit(options.measure_space))
-     << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
-     << " (timings: manifest.json).\n\n"
-     << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
-     << statsRow("manipulability, optimised [" + manipulabilityUnit(options.measure_space) + "]",
-                 fieldStats(map, f.manipulability().opt))
-     << statsRow("manipulability, plain [" + manipulabilityUnit(options.measure_space) + "]",
-                 fieldStats(map, f.manipulability().plain))
-     << statsRow("manipulability, optimised (normalised)", s.mo)
-     << statsRow("manipulability, plain (normalised)", s.mp)
-     << statsRow("transmission beta along u, optimised", s.beta_s)
-     << statsRow("transmission beta along u, plain", s.bp) << "\n";
-  if (s.R == 0)
-    md << "No cell is reachable, so no manipulability or transmission map is drawn. Status: "
-       << png["status"] << "\n\n";
-  else
-    md << "| optimised manipulability | plain manipulability | optimised manipulability, one "
-          "scale for all designs | transmission (optimised), one scale for all designs | status "
-          "|\n"
-       << "|---|---|---|---|---|\n"
-       << "| ![" << m.name << ": optimised manipulability, normalised]("
-       << png["manipulability_optimised_normalised"] << ") | ![" << m.name
-       << ": plain manipulability, normalised](" << png["manipulability_plain_normalised"]
-       << ") | ![" << m.name << ": optimised manipulability, shared scale]("
-       << png["manipulability_optimised"] << ") | ![" << m.name
-       << ": optimised transmission, shared scale](" << png["transmission_optimised"] << ") | "
-       << png["status"] << " |\n\n";
-  const MapSearchSummary& se = map.search;
-  md << "Map search (docs/dexterity.md): after the chained rows, " << se.seeding_cells
-     << " cells got " << options.seed_starts << " seeded starts each (" << se.multistart_improved
-     << " improved), then " << se.rounds
-     << (se.rounds == 1 ? " neighbour-propagation round improved "
-                        : " neighbour-propagation rounds improved ")
-     << se.neighbour_improved << (se.neighbour_improved == 1 ? " cell value" : " cell values")
-     << (se.converged ? " until no cell changed" : " (stopped by the round cap: not converged)")
-     << ". Field `found_by` in the .vti: 0 chained row, 1 multi-start, 2 neighbour.\n\n";
-  return md.str();
-}
-
 // The design's entry of summary.json, without the audit.
 nlohmann::ordered_json designJson(const Model& m, const DexterityOptions& options,
                                   const DexterityMap& map, const MapFields& f,
@@ -416,7 +336,9 @@ struct DesignWork {
   MapSummary s;
   StatusCounts counts;
   nlohmann::ordered_json d;
-  std::string comparison_row, row_sweep_md;
+  std::vector<std::string> comparison_row;
+  report::Document row_sweep;
+  std::vector<RowHalves> row;  // the row sweep's halves (empty without a row)
   std::optional<DexterityAudit> audit;
 };
 
@@ -428,23 +350,16 @@ DesignWork designWork(const StageContext& ctx, const DexterityOptions& options, 
   w.comparison_row = comparisonRow(m, map, f, w.s, manipulabilityUnit(options.measure_space));
   w.d = designJson(m, options, map, f, w.s);
   addStatusJson(map, w.counts, w.d);
-  w.row_sweep_md = rowSweep(m, options, map, ctx.threads, w.d);
+  w.row_sweep = rowSweep(m, options, map, ctx.threads, w.d, w.row);
   if (options.audit_cells > 0)
     w.audit = auditDexterityMap(m, options, map, ctx.threads, &ctx.units);
   return w;
 }
 
-DesignAnswerFacts answerFacts(const DexterityOptions& options, const DesignWork& w) {
-  DesignAnswerFacts f;
-  f.valley_z_m = valleyHeight(options.grid, w.s);
-  if (w.d.contains("row_sweep"))
-    for (const auto& r : w.d["row_sweep"])
-      f.row.push_back({r["spacing_m"].is_null() ? -1.0 : r["spacing_m"].get<double>(),
-                       r.value("near_reachable", 0L), r.value("near_cells", 0L),
-                       r.value("far_reachable", 0L), r.value("far_cells", 0L),
-                       r.value("near_limited_by", std::string()),
-                       r.value("far_limited_by", std::string())});
-  return f;
+DesignAnswerFacts answerFacts(const DexterityOptions& options, const DexterityMap& map,
+                              const DesignWork& w) {
+  const MapMeans m = mapMeans(map);
+  return {m.manipulability_optimised, m.reachable_fraction, valleyHeight(options.grid, w.s), w.row};
 }
 
 // Renders a design's files (VTK, heat maps, status map, audit cells) into the study's output
@@ -462,9 +377,9 @@ std::string renderDesign(const StageContext& ctx, const DexterityOptions& option
   png["status"] = writeStatusMap(map, kSub, out);
   RenderedPart part;
   part.jd = w.d;
-  part.md =
-      designMarkdown(m, options, map, f, w.s, png) + statusMarkdown(map, w.counts) + w.row_sweep_md;
-  if (w.audit) part.md += writeAudit(m, options, *w.audit, kSub, out, part.jd);
+  part.doc = designSection(m, options, map, f, w.s, png);
+  part.doc.append(statusSection(map, w.counts)).append(w.row_sweep);
+  if (w.audit) part.doc.append(writeAudit(m, options, *w.audit, kSub, out, part.jd));
   return packRenderedPart(part, out);
 }
 
@@ -520,13 +435,7 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
   const std::string sub = kSub;
   Writer out(ctx.output_dir);
   nlohmann::ordered_json js = settingsJson(options);
-  std::ostringstream md, cmp;
-  md << reportIntro(options);
-  cmp << "| design | DoF | reachable | reachable gamma<0 | reachable gamma>=0 | best "
-         "manipulability | "
-         "mean normalised (plain) | mean normalised (optimised) | mean manipulability, optimised ["
-      << manipulabilityUnit(options.measure_space)
-      << "] | valley: lowest row mean, optimised |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  report::Document doc = reportIntro(options);
   // Every design's map first: the figures share colour scales over all of them.
   std::vector<DexterityMap> design_maps;
   std::vector<MapFields> fields;
@@ -569,25 +478,24 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
                      return renderDesign(ctx, options, ctx.study.designs[di].model, design_maps[di],
                                          fields[di], scales, work[di]);
                    });
+  std::vector<DesignAnswerFacts> facts;
+  for (std::size_t di = 0; di < work.size(); ++di)
+    facts.push_back(answerFacts(options, design_maps[di], work[di]));
   std::vector<std::string> files;
   for (std::size_t di = 0; di < design_maps.size(); ++di) {
     RenderedPart part;
     unpackRenderedPart(parts[di], part, files);
-    md << part.md;
-    cmp << work[di].comparison_row;
+    doc.append(part.doc);
     js["designs"].push_back(std::move(part.jd));
     if (maps) maps->push_back(std::move(design_maps[di]));
   }
   for (const std::string& f : files) out.add(f);
-  std::vector<DesignAnswerFacts> facts;
-  for (const DesignWork& w : work) facts.push_back(answerFacts(options, w));
   dexterityAnswer(ctx.study, options, facts, sum);
-  if (ctx.study.designs.size() > 1)
-    md << "## Side by side\n\n" << cmp.str() << "\n";
-  else
-    md << "## Summary\n\n" << cmp.str() << "\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const DesignWork& w : work) rows.push_back(w.comparison_row);
+  doc.append(comparisonSection(ctx.study, options, std::move(rows)));
   out.text(sub + "/summary.json", js.dump(2) + "\n");
-  out.report(sub + "/report.md", report::Document().markdown(md.str()));
+  out.report(sub + "/report.md", std::move(doc));
   sum.files = out.files();
   sum.reports = out.reports();
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

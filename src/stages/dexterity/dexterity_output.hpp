@@ -71,12 +71,14 @@ struct RowHalves {
   long near_reachable = 0, near_cells = 0, far_reachable = 0, far_cells = 0;
   std::string near_limited_by, far_limited_by;
 };
-// What the answer says of one design besides its metrics.
+// What the answer says of one design.
 struct DesignAnswerFacts {
+  double manipulability_mean_optimised = 0;  // over the reachable cells (0: none)
+  double reachable_fraction = 0;
   double valley_z_m = 0;       // NaN: no valley inside the grid
   std::vector<RowHalves> row;  // empty without [dexterity.row]; the map's own spacing first
 };
-// The stage's answer (StageResult::answer) from its metrics: the designs ranked by the mean
+// The stage's answer (StageResult::answer) from its designs' facts: the designs ranked by the mean
 // optimised manipulability over the cells each reaches, with their reachable shares and the height
 // of each map's valley. Designs whose means lie within the audit's tolerance
 // (defaults::kAuditTolerance, relative) of the highest are level: the map does not resolve a

@@ -126,30 +126,33 @@ std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writ
   return "![" + map.design + ": status](" + name + ".svg)";
 }
 
-std::string statusMarkdown(const DexterityMap& map, const StatusCounts& c) {
-  std::ostringstream md;
-  md << "Status of the cells (" << (map.collision ? "collision-aware" : "no collision model")
-     << "; `status` in the .vti; near half: |gamma| < 90 deg, the robot's side of the row; far "
-        "half: |gamma| > 90 deg):\n\n"
-     << "| status | gamma < 0 | gamma >= 0 | near half | far half | most frequent pair "
-        "|\n|---|---|---|---|---|---|\n";
+report::Document statusSection(const DexterityMap& map, const StatusCounts& c) {
+  report::Document doc;
+  doc.paragraph(std::string("Status of the cells (") +
+                (map.collision ? "collision-aware" : "no collision model") +
+                "; `status` in the .vti; near half: |gamma| < 90 deg, the robot's side of the "
+                "row; far half: |gamma| > 90 deg):");
+  std::vector<std::vector<std::string>> rows;
   for (ReachStatus s : kCellStatuses) {
     if (c.count(Half::Negative, s) + c.count(Half::NonNegative, s) == 0 &&
         s != ReachStatus::Reachable)
       continue;
     const std::string pair = mostFrequentPair(map, s);
-    md << "| " << toString(s);
+    rows.push_back({toString(s)});
     for (Half h : {Half::Negative, Half::NonNegative, Half::Near, Half::Far})
-      md << " | " << c.count(h, s) << " (" << share(c.count(h, s), c.total(h)) << ")";
-    md << " | " << (pair.empty() ? "-" : "`" + pair + "`") << " |\n";
+      rows.back().push_back(std::to_string(c.count(h, s)) + " (" +
+                            share(c.count(h, s), c.total(h)) + ")");
+    rows.back().push_back(pair.empty() ? "-" : "`" + pair + "`");
   }
-  md << "\n";
+  doc.table({"status", "gamma < 0", "gamma >= 0", "near half", "far half", "most frequent pair"},
+            rows, report::TableRule::compact);
   const MapSearchSummary& se = map.search;
   if (se.collision_cells > 0)
-    md << "Cells still in collision after the neighbour propagation: " << se.collision_cells << ", "
-       << se.collision_tries << " further random starts freed " << se.collision_freed
-       << " of them.\n\n";
-  return md.str();
+    doc.paragraph("Cells still in collision after the neighbour propagation: " +
+                  std::to_string(se.collision_cells) + ", " + std::to_string(se.collision_tries) +
+                  " further random starts freed " + std::to_string(se.collision_freed) +
+                  " of them.");
+  return doc;
 }
 
 void addStatusJson(const DexterityMap& map, const StatusCounts& c, nlohmann::ordered_json& d) {
@@ -174,8 +177,9 @@ void addStatusJson(const DexterityMap& map, const StatusCounts& c, nlohmann::ord
 }
 
 // The audit's files: writes <design>_audit.csv, sets d["audit"] and returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityAudit& a,
-                       const std::string& sub, Writer& out, nlohmann::ordered_json& d) {
+report::Document writeAudit(const Model& m, const DexterityOptions& options,
+                            const DexterityAudit& a, const std::string& sub, Writer& out,
+                            nlohmann::ordered_json& d) {
   const StemGrid& g = options.grid;
   const int G = g.gamma_rad.count;
   nlohmann::ordered_json aj;
@@ -226,8 +230,8 @@ std::string writeAudit(const Model& m, const DexterityOptions& options, const De
     if (a.verdicts[k] > 0)
       md << " `" << toString(static_cast<ReachStatus>(k)) << "`: " << a.contradicted[k] << " of "
          << a.verdicts[k] << " contradicted.";
-  md << " Cells: `" << csv_name << "`.\n\n";
-  return md.str();
+  md << " Cells: `" << csv_name << "`.";
+  return report::Document().paragraph(md.str());
 }
 
 }  // namespace armstudy::dexterity

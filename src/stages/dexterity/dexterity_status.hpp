@@ -8,6 +8,8 @@
 
 #include "dexterity/dexterity_audit.hpp"
 #include "dexterity/dexterity_map.hpp"
+#include "report/document.hpp"
+#include "stages/dexterity/dexterity_output.hpp"
 #include "study/writer.hpp"
 
 namespace armstudy::dexterity {
@@ -45,28 +47,30 @@ std::string limitingEffect(const DexterityMap& map, const StatusCounts& c, Half 
 // drawn and the cell says it in words ("100 % of the 49 cells reachable").
 std::string writeStatusMap(const DexterityMap& map, const std::string& sub, Writer& out);
 
-// The report paragraph: the status table per half circle and the colliding pairs.
-std::string statusMarkdown(const DexterityMap& map, const StatusCounts& c);
+// The report's status section: the status table per half circle and the colliding pairs.
+report::Document statusSection(const DexterityMap& map, const StatusCounts& c);
 
 // d["status"]: counts per half and status name, the checked pairs, the most frequent pairs.
 void addStatusJson(const DexterityMap& map, const StatusCounts& c, nlohmann::ordered_json& d);
 
 // The row sweep (DexterityOptions::row_sweep, dexterity_row.cpp): the design's map again for each
 // spacing; per map the approachable cells of the near and far half and what limits each, with
-// `main` (the map with options.collision) first. Sets d["row_sweep"] and returns the report
-// section; "" when the study has no row and the grid no far half.
-std::string rowSweep(const Model& m, const DexterityOptions& options, const DexterityMap& main,
-                     int threads, nlohmann::ordered_json& d);
+// `main` (the map with options.collision) first. Sets d["row_sweep"] and `halves` (one per map,
+// in the same order) and returns the report section; empty when the study has no row and the grid
+// no far half.
+report::Document rowSweep(const Model& m, const DexterityOptions& options, const DexterityMap& main,
+                          int threads, nlohmann::ordered_json& d, std::vector<RowHalves>& halves);
 
 // The study-wide fields of summary.json (grid and settings) with an empty design list, and the
 // report's title and opening paragraphs (dexterity_intro.cpp).
 nlohmann::ordered_json settingsJson(const DexterityOptions& options);
-std::string reportIntro(const DexterityOptions& options);
+report::Document reportIntro(const DexterityOptions& options);
 
 // The files of an audit (auditDexterityMap, dexterity_audit.hpp): writes
 // <sub>/<design>_audit.csv, sets d["audit"] (with the verdicts per status and how many the audit
 // contradicted) and returns the report paragraph.
-std::string writeAudit(const Model& m, const DexterityOptions& options, const DexterityAudit& a,
-                       const std::string& sub, Writer& out, nlohmann::ordered_json& d);
+report::Document writeAudit(const Model& m, const DexterityOptions& options,
+                            const DexterityAudit& a, const std::string& sub, Writer& out,
+                            nlohmann::ordered_json& d);
 
 }  // namespace armstudy::dexterity

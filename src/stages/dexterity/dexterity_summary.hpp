@@ -1,9 +1,13 @@
 #pragma once
 // What the dexterity stage's report and summary.json say about one design's map (private to
 // src/stages/dexterity): field statistics, reachable cells by the sign of gamma, means over the
-// reachable cells and the valley of the optimised map.
+// reachable cells and the valley of the optimised map; the report's sections built of them
+// (dexterity_report.cpp).
+#include <map>
 #include <string>
+#include <vector>
 
+#include "report/document.hpp"
 #include "stages/dexterity/dexterity_output.hpp"
 
 namespace armstudy::dexterity {
@@ -29,5 +33,23 @@ MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid
 double valleyHeight(const StemGrid& grid, const MapSummary& s);
 // "z 0.65 m (row mean 0.660, 0.519 m^3)", or "-"; "at the edge" when it is the first or last row.
 std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit);
+
+// The unit of the absolute manipulability (metrics/measure_declarations.hpp).
+std::string manipulabilityUnit(metrics::MeasureSpace space);
+
+// The design's row of the side-by-side table.
+std::vector<std::string> comparisonRow(const Model& m, const DexterityMap& map, const MapFields& f,
+                                       const MapSummary& s, const std::string& unit);
+
+// The design's report section: reachability, field statistics, the images (`png`: the figures'
+// names per image key, "status": the status map's table cell) and the map search. A design that
+// reaches no cell is a warning there and on stderr.
+report::Document designSection(const Model& m, const DexterityOptions& options,
+                               const DexterityMap& map, const MapFields& f, const MapSummary& s,
+                               std::map<std::string, std::string>& png);
+
+// The designs side by side (titled "Summary" for one design): `rows` from comparisonRow.
+report::Document comparisonSection(const Study& study, const DexterityOptions& options,
+                                   std::vector<std::vector<std::string>> rows);
 
 }  // namespace armstudy::dexterity

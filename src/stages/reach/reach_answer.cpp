@@ -31,30 +31,20 @@ int agreement(const std::vector<double>& ratios) {
 namespace {
 // "`a` reaches the most, 95.6 % (`b` 81.8 %, `c` 0.0 %)" over one grid's or list's designs. On a
 // grid, designs are level with the first when their difference in reachable poses is at most half
-// the two designs' boundary poses (`boundary_poses`: the reach boundary is known to within one grid
-// spacing); `pairs` (the comparison's a_only/b_only counts) then says what each reaches alone.
-std::string coverageSentence(const ordered_json& designs, const ordered_json& pairs, long poses,
-                             const std::string& what, std::vector<std::string>& warnings) {
-  struct Entry {
-    double fraction;
-    std::string design;
-    long reachable, boundary;
-  };
-  std::vector<Entry> f;
-  for (const auto& d : designs) {
-    f.push_back({d.value("fraction", 0.0), d.value("design", std::string()),
-                 d.value("reachable", 0L), d.value("boundary_poses", 0L)});
-    if (f.back().reachable == 0)
-      warnings.push_back("`" + f.back().design + "` reaches none of the " + std::to_string(poses) +
-                         " poses of " + what + ".");
-  }
-  std::stable_sort(f.begin(), f.end(),
-                   [](const Entry& a, const Entry& b) { return a.fraction > b.fraction; });
+// the two designs' boundary poses (the reach boundary is known to within one grid spacing); the
+// pairs' counts then say what each reaches alone.
+std::string coverageSentence(const CoverageFacts& set, std::vector<std::string>& warnings) {
+  const std::string of = " of the " + std::to_string(set.poses) + " poses of " + set.what;
+  std::vector<DesignCoverage> f = set.designs;
+  for (const DesignCoverage& d : f)
+    if (d.reachable == 0) warnings.push_back("`" + d.design + "` reaches none" + of + ".");
+  std::stable_sort(f.begin(), f.end(), [](const DesignCoverage& a, const DesignCoverage& b) {
+    return a.fraction > b.fraction;
+  });
   if (f.empty()) return "";
-  const std::string of = " of the " + std::to_string(poses) + " poses of " + what;
   if (f.size() == 1)
     return "`" + f[0].design + "` reaches " + report::percent(f[0].fraction) + of + ".";
-  auto level = [&](const Entry& e) {
+  auto level = [&](const DesignCoverage& e) {
     return report::percent(e.fraction) == report::percent(f[0].fraction) ||
            2 * (f[0].reachable - e.reachable) <= f[0].boundary + e.boundary;
   };
@@ -75,92 +65,76 @@ std::string coverageSentence(const ordered_json& designs, const ordered_json& pa
     const long diff = f[0].reachable - f[k - 1].reachable;
     a += ". The difference, " + std::to_string(diff) + " poses, is inside the grid's resolution (" +
          "half the poses on the reach boundaries, where one grid spacing decides)";
-    for (const auto& pr : pairs)
+    for (const PairCoverage& pr : set.pairs)
       for (std::size_t x = 0; x < k; ++x)
         for (std::size_t y = x + 1; y < k; ++y)
-          if ((pr.value("a", "") == f[x].design && pr.value("b", "") == f[y].design) ||
-              (pr.value("a", "") == f[y].design && pr.value("b", "") == f[x].design))
-            a += "; only `" + pr.value("a", std::string()) + "` reaches " +
-                 std::to_string(pr.value("a_only", 0L)) + ", only `" +
-                 pr.value("b", std::string()) + "` " + std::to_string(pr.value("b_only", 0L));
+          if ((pr.a == f[x].design && pr.b == f[y].design) ||
+              (pr.a == f[y].design && pr.b == f[x].design))
+            a += "; only `" + pr.a + "` reaches " + std::to_string(pr.a_only) + ", only `" + pr.b +
+                 "` " + std::to_string(pr.b_only);
   }
   return a + ".";
 }
-// Each design's largest reach found against its reference_reach_m (summary.json
-// `reference_reach`): a sentence of the answer, and a warning when they differ by more than the
-// grid resolves (one step).
-void referenceReachAnswer(const ordered_json& refs, const std::string& what,
-                          std::vector<std::string>& answer, std::vector<std::string>& warnings) {
-  for (const auto& r : refs) {
-    const std::string design = "`" + r.value("design", std::string()) + "`";
-    const double ref = r.value("reference_reach_m", 0.0), res = r.value("resolution_m", 0.0);
-    const std::string ref_text = report::fixed(ref * 1e3, 0) + " mm";
-    if (!r.contains("largest_reach_found_m") || r["largest_reach_found_m"].is_null()) {
-      warnings.push_back(design + " reaches no pose of " + what +
-                         ": its reach cannot be compared " + "with the reference " + ref_text +
-                         ".");
+// Each design's largest reach found against its reference_reach_m: a sentence of the answer, and
+// a warning when they differ by more than the grid resolves (one step).
+void referenceReachAnswer(const CoverageFacts& set, std::vector<std::string>& answer,
+                          std::vector<std::string>& warnings) {
+  for (const ReachAgainstReference& r : set.references) {
+    const std::string design = "`" + r.design + "`";
+    const std::string ref_text = report::fixed(r.reference_m * 1e3, 0) + " mm";
+    if (r.found_m < 0) {
+      warnings.push_back(design + " reaches no pose of " + set.what +
+                         ": its reach cannot be compared with the reference " + ref_text + ".");
       continue;
     }
-    const double found = r["largest_reach_found_m"].get<double>(), diff = found - ref;
+    const double diff = r.found_m - r.reference_m;
     const std::string sign = diff >= 0 ? "+" : "";
-    const std::string text = design + " largest reach found on " + what + ": " +
-                             report::fixed(found * 1e3, 0) + " mm against the reference " +
-                             ref_text + " (" + sign + report::fixed(diff * 1e3, 0) + " mm, " +
-                             sign + report::fixed(100 * diff / ref, 1) + " %; the grid resolves " +
-                             report::fixed(res * 1e3, 0) + " mm)";
+    const std::string text =
+        design + " largest reach found on " + set.what + ": " + report::fixed(r.found_m * 1e3, 0) +
+        " mm against the reference " + ref_text + " (" + sign + report::fixed(diff * 1e3, 0) +
+        " mm, " + sign + report::fixed(100 * diff / r.reference_m, 1) + " %; the grid resolves " +
+        report::fixed(r.resolution_m * 1e3, 0) + " mm)";
     answer.push_back(text + ".");
-    if (std::abs(diff) > res)
+    if (std::abs(diff) > r.resolution_m)
       warnings.push_back(text +
                          ": the difference is larger than the grid resolves; check the "
                          "reference's definition (base axis to flange or to the TCP) and "
                          "the design's tool.");
   }
 }
+// The pairs ranked by dexterity where both reach, "" when none is.
+std::string verdictsText(const CoverageFacts& set) {
+  std::string verdicts;
+  for (const PairVerdict& v : set.verdicts) {
+    if (v.better.empty()) continue;
+    const bool a_better = v.a == v.better;
+    const double ratio = a_better ? v.mean_a / v.mean_b : v.mean_b / v.mean_a;
+    verdicts += std::string(verdicts.empty() ? "" : "; ") + "`" + (a_better ? v.a : v.b) + "` " +
+                formatG(ratio, 3) + "x `" + (a_better ? v.b : v.a) + "` (" +
+                std::to_string(v.both) + " poses)";
+  }
+  return verdicts;
+}
 }  // namespace
 
-void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
+void reachAnswer(const ReachFacts& facts, std::vector<std::string>& answer,
                  std::vector<std::string>& warnings) {
-  for (const char* kind : {"grids", "pose_lists"}) {
-    if (!summary.contains(kind)) continue;
-    for (const auto& g : summary[kind]) {
-      const std::string what =
-          std::string(kind[0] == 'g' ? "grid `" : "pose list `") + g.value("name", "") + "`";
-      const long poses = g.value("poses", 0L);
-      const ordered_json pairs = g.contains("comparison") && g["comparison"].contains("pairs")
-                                     ? g["comparison"]["pairs"]
-                                     : ordered_json::array();
-      std::string a =
-          coverageSentence(g.value("designs", ordered_json::array()), pairs, poses, what, warnings);
-      if (a.empty()) continue;
-      a[0] = a[0] == '`' ? a[0] : static_cast<char>(std::toupper(static_cast<unsigned char>(a[0])));
-      std::string verdicts;
-      if (g.contains("comparison") && g["comparison"].contains("dexterity"))
-        for (const auto& v : g["comparison"]["dexterity"]) {
-          if (!v.contains("better") || v["better"].is_null()) continue;
-          const bool a_better = v.value("a", "") == v["better"].get<std::string>();
-          const auto& m = v["manipulability_mean"];
-          const double ratio = a_better ? m[0].get<double>() / m[1].get<double>()
-                                        : m[1].get<double>() / m[0].get<double>();
-          verdicts += std::string(verdicts.empty() ? "" : "; ") + "`" +
-                      v.value(a_better ? "a" : "b", "") + "` " + formatG(ratio, 3) + "x `" +
-                      v.value(a_better ? "b" : "a", "") + "` (" +
-                      std::to_string(v.value("poses_both_reach", 0L)) + " poses)";
-        }
-      if (!verdicts.empty())
-        a += " More dexterous where both reach (manipulability of the task's rows, ranked only "
-             "where its translational "
-             "and rotational parts agree): " +
-             verdicts + ".";
-      answer.push_back(a);
-      if (g.contains("reference_reach"))
-        referenceReachAnswer(g["reference_reach"], what, answer, warnings);
-    }
+  for (const CoverageFacts& set : facts.sets) {
+    std::string a = coverageSentence(set, warnings);
+    if (a.empty()) continue;
+    a[0] = a[0] == '`' ? a[0] : static_cast<char>(std::toupper(static_cast<unsigned char>(a[0])));
+    const std::string verdicts = verdictsText(set);
+    if (!verdicts.empty())
+      a += " More dexterous where both reach (manipulability of the task's rows, ranked only "
+           "where its translational and rotational parts agree): " +
+           verdicts + ".";
+    answer.push_back(a);
+    referenceReachAnswer(set, answer, warnings);
   }
-  if (summary.contains("designs_without_collision_volumes") &&
-      !summary["designs_without_collision_volumes"].empty()) {
+  if (!facts.without_volumes.empty()) {
     std::string names;
-    for (const auto& n : summary["designs_without_collision_volumes"])
-      names += std::string(names.empty() ? "" : ", ") + "`" + n.get<std::string>() + "`";
+    for (const std::string& n : facts.without_volumes)
+      names += std::string(names.empty() ? "" : ", ") + "`" + n + "`";
     warnings.push_back(
         names +
         " evaluated without self-collision and obstacles (no collision volumes): their "
@@ -171,14 +145,15 @@ void reachAnswer(const ordered_json& summary, std::vector<std::string>& answer,
 nlohmann::ordered_json dexterityComparison(
     const std::vector<const Model*>& models, const TaskGrid& g,
     const std::vector<PoseSweep>& sweeps,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads, std::string& md) {
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, int threads,
+    report::Document& doc, std::vector<PairVerdict>& pair_verdicts) {
   std::vector<std::vector<ManipulabilityParts>> parts;
   for (std::size_t d = 0; d < sweeps.size(); ++d)
     parts.push_back(manipulabilityParts(*models[d], g, sweeps[d], threads));
   const bool rot = g.task_space.hasOrientation();
   ordered_json out = ordered_json::array();
   std::vector<std::vector<std::string>> rows;
-  std::string verdicts;
+  std::vector<std::string> verdicts;
   for (const auto& [a, b] : pairs) {
     PairDexterity pd;
     for (long i = 0; i < g.size(); ++i) {
@@ -211,6 +186,8 @@ nlohmann::ordered_json dexterityComparison(
     j["better"] =
         agree > 0 ? ordered_json(nb) : (agree < 0 ? ordered_json(na) : ordered_json(nullptr));
     out.push_back(j);
+    pair_verdicts.push_back(
+        {na, nb, agree > 0 ? nb : (agree < 0 ? na : std::string()), pd.w[0], pd.w[1], pd.both});
     auto ratio = [](double x) {
       return x >= 1 ? report::fixed(x, 2) + "x" : "1/" + report::fixed(1 / x, 2) + "x";
     };
@@ -226,31 +203,32 @@ nlohmann::ordered_json dexterityComparison(
       const std::string& better = agree > 0 ? nb : na;
       const std::string& worse = agree > 0 ? na : nb;
       const double f = agree > 0 ? rw : 1 / rw;
-      verdicts += "- `" + better + "` is more dexterous than `" + worse + "` on the " +
-                  std::to_string(pd.both) + " poses both reach: " + report::fixed(f, 2) +
-                  "x the manipulability" +
-                  (rot ? ", and better in both its translational and rotational parts.\n" : ".\n");
+      verdicts.push_back(
+          "`" + better + "` is more dexterous than `" + worse + "` on the " +
+          std::to_string(pd.both) + " poses both reach: " + report::fixed(f, 2) +
+          "x the manipulability" +
+          (rot ? ", and better in both its translational and rotational parts." : "."));
     } else {
-      verdicts += "- `" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" +
-                  (rw > 1 ? nb : na) + "` but the translational part favours `" +
-                  (rt > 1 ? nb : na) + "` and the rotational part `" + (rr > 1 ? nb : na) +
-                  "` (the combined value depends on the 1 m that weighs the angular rows).\n";
+      verdicts.push_back("`" + na + "` vs `" + nb + "`: no ranking; the combined value favours `" +
+                         (rw > 1 ? nb : na) + "` but the translational part favours `" +
+                         (rt > 1 ? nb : na) + "` and the rotational part `" + (rr > 1 ? nb : na) +
+                         "` (the combined value depends on the 1 m that weighs the angular rows).");
     }
   }
   if (rows.empty()) return out;
   std::vector<std::string> header{
       "A", "B", ">poses both reach", ">manipulability A / B", ">B/A", ">B/A translation"};
   if (rot) header.push_back(">B/A rotation");
-  md +=
-      "Dexterity where both reach (means over the poses both designs reach; manipulability of the "
-      "rows the task "
-      "constrains, " +
-      std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; translation: "
-                        "the 3 position "
-                        "rows alone [m^3]; rotation: the angular rows alone [1]"
-                      : "the 3 position rows [m^3]") +
-      "; a pair is ranked only when all agree):\n\n" + report::markdownTable(header, rows) + "\n" +
-      verdicts + "\n";
+  doc.paragraph(
+         "Dexterity where both reach (means over the poses both designs reach; "
+         "manipulability of the rows the task constrains, " +
+         std::string(rot ? "the angular rows weighed by a characteristic length of 1 m; "
+                           "translation: the 3 position rows alone [m^3]; rotation: the "
+                           "angular rows alone [1]"
+                         : "the 3 position rows [m^3]") +
+         "; a pair is ranked only when all agree):")
+      .table(header, rows)
+      .list(verdicts);
   return out;
 }
 

@@ -28,9 +28,10 @@ namespace {
 struct GridReport : GridRendering {
   const std::vector<std::string>& parts;
   Writer& out;
+  CoverageFacts& facts;  // what the answer says of the grid
 };
 
-ordered_json gridHeader(const TaskGrid& grid, std::string& md) {
+ordered_json gridHeader(const TaskGrid& grid, report::Document& doc) {
   const std::array<int, 3> dims = grid.dims();
   ordered_json jg;
   jg["name"] = grid.name;
@@ -44,18 +45,18 @@ ordered_json gridHeader(const TaskGrid& grid, std::string& md) {
   jg["orientations"] = jo;
   jg["poses"] = grid.size();
   if (!grid.reference.empty()) jg["reference"] = grid.reference;
-  md += "## Grid `" + grid.name + "`\n\n";
-  md += "Task space " + grid.task_space.toString() + "; x " + axisText(grid.axes[0]) + ", y " +
-        axisText(grid.axes[1]) + ", z " + axisText(grid.axes[2]) + "; " +
-        std::to_string(grid.orientations.size()) + " orientation(s); " +
-        std::to_string(grid.size()) + " poses per design.\n\n";
+  doc.heading(2, "Grid `" + grid.name + "`")
+      .paragraph("Task space " + grid.task_space.toString() + "; x " + axisText(grid.axes[0]) +
+                 ", y " + axisText(grid.axes[1]) + ", z " + axisText(grid.axes[2]) + "; " +
+                 std::to_string(grid.orientations.size()) + " orientation(s); " +
+                 std::to_string(grid.size()) + " poses per design.");
   return jg;
 }
 
-// Joins each design's pieces in order: its summary entry (with the surfaces), report and image
-// lines and table rows, and lists the files their processes wrote. Returns the designs' summary
+// Joins each design's pieces in order: its summary entry (with the surfaces), report and figure
+// blocks and table rows, and lists the files their processes wrote. Returns the designs' summary
 // entries.
-ordered_json joinDesignParts(const GridReport& rep, std::string& md, std::string& images_md,
+ordered_json joinDesignParts(const GridReport& rep, report::Document& doc, report::Document& images,
                              std::vector<std::vector<std::string>>& rows) {
   ordered_json jdesigns = ordered_json::array();
   std::vector<std::string> design_files;
@@ -73,21 +74,38 @@ ordered_json joinDesignParts(const GridReport& rep, std::string& md, std::string
     for (int k = 0; k < rep.res.orientation_count; ++k) {
       RenderedPart figures;
       unpackRenderedPart(rep.parts[rep.layout.figuresPiece(di, k)], figures, design_files);
-      part.images_md += figures.images_md;
+      part.images.append(figures.images);
     }
     jdesigns.push_back(std::move(part.jd));
-    md += part.md;
-    images_md += part.images_md;
+    doc.append(part.doc);
+    images.append(part.images);
     for (auto& row : part.rows) rows.push_back(std::move(row));
   }
   for (const std::string& f : design_files) rep.out.add(f);
   return jdesigns;
 }
 
+// Each design's reachable poses, those blocked by joint limits and its boundary poses on the grid.
+void designCoverage(const ReachGridResults& res, CoverageFacts& facts) {
+  const TaskGrid& grid = res.taskGrid();
+  facts.what = "grid `" + grid.name + "`";
+  facts.poses = grid.size();
+  for (const PoseSweep& map : res.maps) {
+    DesignCoverage d{map.design};
+    for (long i = 0; i < grid.size(); ++i) {
+      d.reachable += map.reachable(i);
+      d.joint_limits += map.status[i] == static_cast<int>(ReachStatus::JointLimits);
+    }
+    d.fraction = grid.size() ? static_cast<double>(d.reachable) / grid.size() : 0.0;
+    d.boundary = boundaryPoses(grid, map);
+    facts.designs.push_back(std::move(d));
+  }
+}
+
 // The grid's tables: statuses per design and orientation, reachable volumes (3-D grids), and the
 // reference statement next to this model's numbers.
 void gridTables(const GridReport& rep, const ordered_json& jdesigns,
-                const std::vector<std::vector<std::string>>& rows, std::string& md) {
+                const std::vector<std::vector<std::string>>& rows, report::Document& doc) {
   std::vector<std::string> header = {"design",
                                      "orientation",
                                      ">reachable",
@@ -97,8 +115,7 @@ void gridTables(const GridReport& rep, const ordered_json& jdesigns,
                                      "extent of the reachable poses"};
   if (!usesCardanAngles(rep.grid.task_space)) header.erase(header.begin() + 5);
   insertCollisionColumns(rep.cfg, header, 3);
-  md += report::markdownTable(header, rows);
-  md += "\n";
+  doc.table(header, rows);
   if (rep.grid.spatialDimension() == 3 && rep.cfg.outputs.surface) {
     std::vector<std::vector<std::string>> srows;
     for (const auto& jd : jdesigns)
@@ -107,30 +124,29 @@ void gridTables(const GridReport& rep, const ordered_json& jdesigns,
                          report::fixed(sf["alpha_shape_volume_m3"].get<double>(), 4),
                          report::fixed(sf["voxel_volume_m3"].get<double>(), 4),
                          sf["file"].get<std::string>()});
-    md +=
-        "Reachable volume (boundary surface: CGAL 3-D alpha shape of the reachable grid points; "
-        "the voxel estimate counts one grid cell per reachable point):\n\n" +
-        report::markdownTable(
-            {"design", "orientation", ">alpha shape [m^3]", ">voxels [m^3]", "surface"}, srows) +
-        "\n";
+    doc.paragraph(
+           "Reachable volume (boundary surface: CGAL 3-D alpha shape of the reachable grid "
+           "points; the voxel estimate counts one grid cell per reachable point):")
+        .table({"design", "orientation", ">alpha shape [m^3]", ">voxels [m^3]", "surface"}, srows);
   }
   if (rep.grid.reference.empty()) return;
-  md += "**Reference:** " + rep.grid.reference + "\n\n**This model:** ";
+  std::string model = "**This model:** ";
   for (std::size_t di = 0; di < rep.res.maps.size(); ++di) {
     const auto& jd = jdesigns[di];
-    md += "`" + rep.res.maps[di].design + "` reaches " +
-          report::percent(jd["fraction"].get<double>()) + " of the grid's poses";
+    model += "`" + rep.res.maps[di].design + "` reaches " +
+             report::percent(jd["fraction"].get<double>()) + " of the grid's poses";
     Stats all;
     for (long i = 0; i < rep.grid.size(); ++i)
       all.add(rep.res.maps[di], i, rep.grid.position(rep.grid.pointOf(i)));
-    md += " (extent " + all.extent.text() + ")" + (di + 1 < rep.res.maps.size() ? "; " : ".\n\n");
+    model += " (extent " + all.extent.text() + ")" + (di + 1 < rep.res.maps.size() ? "; " : ".");
   }
+  doc.paragraph("**Reference:** " + rep.grid.reference).paragraph(model);
 }
 
 // Designs that reach none of the grid's poses: a warning in the report, in summary.json and on
 // stderr (a base placed in the wrong unit, a grid beside the arm).
 void warnUnreached(const GridReport& rep, const ordered_json& jdesigns, ordered_json& jg,
-                   std::string& md) {
+                   report::Document& doc) {
   ordered_json none = ordered_json::array();
   for (const auto& jd : jdesigns)
     if (jd["reachable"].get<long>() == 0) none.push_back(jd["design"]);
@@ -140,14 +156,14 @@ void warnUnreached(const GridReport& rep, const ordered_json& jdesigns, ordered_
   const std::string text = names + (none.size() > 1 ? " reach" : " reaches") + " none of the " +
                            std::to_string(rep.grid.size()) + " poses of grid `" + rep.grid.name +
                            "`: check the design's base placement and its units against the grid";
-  md += "**Warning:** " + text + ".\n\n";
+  doc.paragraph("**Warning:** " + text + ".");
   jg["designs_reaching_nothing"] = none;
   rep.ctx.warn(text);
 }
 
 // The largest reach found on the grid (the farthest reachable pose from the design's base z axis)
 // against each design's reference_reach_m: a table in the report and summary.json.
-void compareReferenceReach(const GridReport& rep, ordered_json& jg, std::string& md) {
+void compareReferenceReach(const GridReport& rep, ordered_json& jg, report::Document& doc) {
   std::vector<std::vector<std::string>> rows;
   ordered_json jr = ordered_json::array();
   for (std::size_t di = 0; di < rep.res.designCount(); ++di) {
@@ -169,6 +185,7 @@ void compareReferenceReach(const GridReport& rep, ordered_json& jg, std::string&
                         ? "-"
                         : (diff >= 0 ? "+" : "") + report::fixed(diff * 1e3, 0) + " mm (" +
                               (diff >= 0 ? "+" : "") + report::fixed(100 * diff / ref, 1) + " %)"});
+    rep.facts.references.push_back({sd.model.name, ref, found, resolution});
     jr.push_back(
         {{"design", sd.model.name},
          {"reference_reach_m", ref},
@@ -177,13 +194,10 @@ void compareReferenceReach(const GridReport& rep, ordered_json& jg, std::string&
          {"resolution_m", resolution}});
   }
   if (rows.empty()) return;
-  md +=
-      "Largest reach found (the farthest reachable pose of this grid from the design's base z "
-      "axis) "
-      "against the design's `reference_reach_m`:\n\n" +
-      report::markdownTable({"design", ">reference [m]", ">largest found [m]", ">difference"},
-                            rows) +
-      "\n";
+  doc.paragraph(
+         "Largest reach found (the farthest reachable pose of this grid from the design's base z "
+         "axis) against the design's `reference_reach_m`:")
+      .table({"design", ">reference [m]", ">largest found [m]", ">difference"}, rows);
   jg["reference_reach"] = jr;
 }
 
@@ -261,13 +275,14 @@ ordered_json bestVariants(const GridReport& rep, const ordered_json& jdesigns,
 
 // The comparison of designs on this grid: comparison.vti, per pair which poses each reaches and
 // the pair's images, dexterity where both reach, the best variant per base design.
-ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns, std::string& md) {
+ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
+                            report::Document& doc) {
   ordered_json jcmp;
   if (rep.cfg.outputs.vtk && rep.res.maps.size() <= 30) writeComparisonVti(rep, jcmp);
-  md += "### Comparison of designs on `" + rep.grid.name + "`\n\n";
+  doc.heading(3, "Comparison of designs on `" + rep.grid.name + "`");
   std::vector<std::vector<std::string>> crow;
   ordered_json jpairs = ordered_json::array();
-  std::string pair_imgs;
+  report::Document pair_imgs;
   std::vector<std::string> pair_files;
   for (std::size_t p = 0; p < rep.res.pairs.size(); ++p) {
     const auto [a, b] = rep.res.pairs[p];
@@ -279,6 +294,7 @@ ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
       both += ra && rb;
       neither += !ra && !rb;
     }
+    rep.facts.pairs.push_back({rep.res.maps[a].design, rep.res.maps[b].design, n_a, n_b});
     jpairs.push_back({{"a", rep.res.maps[a].design},
                       {"b", rep.res.maps[b].design},
                       {"a_only", n_a},
@@ -295,27 +311,23 @@ ordered_json compareDesigns(const GridReport& rep, const ordered_json& jdesigns,
       RenderedPart part;
       unpackRenderedPart(rep.parts[rep.layout.pairPiece(img - rep.layout.image_pairs.begin())],
                          part, pair_files);
-      pair_imgs += part.md;
+      pair_imgs.append(part.images);
     }
   }
   for (const std::string& f : pair_files) rep.out.add(f);
   jcmp["pairs"] = jpairs;
   std::vector<std::vector<std::string>> brow;
   jcmp["best_variant"] = bestVariants(rep, jdesigns, brow);
-  std::string dexterity_md;
+  doc.paragraph("Per pose, which designs reach it (all orientations together):")
+      .table({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow);
   jcmp["dexterity"] = dexterityComparison(rep.res.models, rep.grid, rep.res.maps, rep.res.pairs,
-                                          rep.ctx.threads, dexterity_md);
-  md += "Per pose, which designs reach it (all orientations together):\n\n" +
-        report::markdownTable({"A", "B", ">A only", ">B only", ">both", ">neither"}, crow) + "\n" +
-        dexterity_md;
+                                          rep.ctx.threads, doc, rep.facts.verdicts);
   if (!brow.empty())
-    md +=
-        "Best variant per base design (the most reachable poses; with base.* overrides this is the "
-        "best base placement):\n\n" +
-        report::markdownTable(
-            {"base design", "best variant", ">reachable", "base placement varied"}, brow) +
-        "\n";
-  md += pair_imgs;
+    doc.paragraph(
+           "Best variant per base design (the most reachable poses; with base.* overrides this "
+           "is the best base placement):")
+        .table({"base design", "best variant", ">reachable", "base placement varied"}, brow);
+  doc.append(pair_imgs);
   return jcmp;
 }
 
@@ -389,25 +401,27 @@ std::vector<report::ViewCloud> viewClouds(const ReachGridResults& res) {
 }  // namespace
 
 ordered_json reportGrid(const StageContext& ctx, const ReachConfig& cfg, const TaskGrid& grid,
-                        Progress& progress, StageResult& sum, Writer& out, std::string& md) {
-  ordered_json jg = gridHeader(grid, md);
+                        Progress& progress, StageResult& sum, Writer& out, report::Document& doc,
+                        CoverageFacts& facts) {
+  ordered_json jg = gridHeader(grid, doc);
   const ReachGridResults res = solveReachGrid(ctx, cfg, grid, progress, sum);
   const auto t0 = std::chrono::steady_clock::now();
   const GridPieces pieces = gridPieces(res, cfg);
   const std::vector<std::string> parts = renderGridPieces(ctx, cfg, res, pieces);
-  const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out};
+  const GridReport rep{{ctx, cfg, res, grid, pieces}, parts, out, facts};
   std::vector<std::vector<std::string>> rows;
-  std::string images_md;
-  const ordered_json jdesigns = joinDesignParts(rep, md, images_md, rows);
+  report::Document images;
+  const ordered_json jdesigns = joinDesignParts(rep, doc, images, rows);
   sum.timings.push_back(
       {res.folder + "/files",
        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
   jg["designs"] = jdesigns;
-  warnUnreached(rep, jdesigns, jg, md);
-  gridTables(rep, jdesigns, rows, md);
-  compareReferenceReach(rep, jg, md);
-  md += images_md;
-  if (res.designCount() >= 2) jg["comparison"] = compareDesigns(rep, jdesigns, md);
+  designCoverage(res, facts);
+  warnUnreached(rep, jdesigns, jg, doc);
+  gridTables(rep, jdesigns, rows, doc);
+  compareReferenceReach(rep, jg, doc);
+  doc.append(images);
+  if (res.designCount() >= 2) jg["comparison"] = compareDesigns(rep, jdesigns, doc);
   for (report::ViewCloud& c : viewClouds(res)) sum.view.push_back(std::move(c));
   return jg;
 }

@@ -19,7 +19,7 @@ namespace {
 
 // The map search's work and the audit of design di: summary entries and report lines.
 void searchAndAuditEntries(const GridRendering& gr, std::size_t di, ordered_json& jd,
-                           std::string& md) {
+                           report::Document& doc) {
   const PoseSweep& map = gr.res.maps[di];
   const SweepSearchSummary& search = gr.res.searches[di];
   jd["search"] = {{"propagation_rounds", search.rounds},
@@ -31,21 +31,22 @@ void searchAndAuditEntries(const GridRendering& gr, std::size_t di, ordered_json
                   {"best_manipulability_rounds", search.best_rounds},
                   {"best_manipulability_updates", search.best_updates},
                   {"converged", search.converged}};
-  md += "Map search (" + map.design + "): " + std::to_string(search.rounds) +
-        (search.rounds == 1 ? " neighbour-propagation round changed "
-                            : " neighbour-propagation rounds changed ") +
-        std::to_string(search.neighbour_updates) +
-        (search.neighbour_updates == 1 ? " status" : " statuses");
+  std::string search_text = "Map search (" + map.design + "): " + std::to_string(search.rounds) +
+                            (search.rounds == 1 ? " neighbour-propagation round changed "
+                                                : " neighbour-propagation rounds changed ") +
+                            std::to_string(search.neighbour_updates) +
+                            (search.neighbour_updates == 1 ? " status" : " statuses");
   if (map.collision)
-    md += "; " + std::to_string(search.multistart_poses) + " poses still in collision got " +
-          std::to_string(gr.cfg.search.collision_starts) + " seeded starts each (" +
-          std::to_string(search.multistart_freed) +
-          " found collision-free). A pose is `self_collision` / "
-          "`obstacle_collision` only when no collision-free solution was found in all its starts "
-          "(array "
-          "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, "
-          "capped at 255)";
-  md += ".\n\n";
+    search_text +=
+        "; " + std::to_string(search.multistart_poses) + " poses still in collision got " +
+        std::to_string(gr.cfg.search.collision_starts) + " seeded starts each (" +
+        std::to_string(search.multistart_freed) +
+        " found collision-free). A pose is `self_collision` / "
+        "`obstacle_collision` only when no collision-free solution was found in all its starts "
+        "(array "
+        "`starts` of the .vti: the sweep's starts, escapes, neighbour seeds and seeded starts, "
+        "capped at 255)";
+  doc.paragraph(search_text + ".");
   if (gr.cfg.audit_poses <= 0) return;
   const ReachAudit& audit = gr.res.audits[di];
   ordered_json ja;
@@ -66,21 +67,22 @@ void searchAndAuditEntries(const GridRendering& gr, std::size_t di, ordered_json
   jd["audit"] = ja;
   const int sc = static_cast<int>(ReachStatus::SelfCollision),
             oc = static_cast<int>(ReachStatus::ObstacleCollision);
-  md += "Audit (" + map.design + "): " + std::to_string(audit.poses) +
-        " poses drawn at random (seed " + std::to_string(audit.seed) + "), " +
-        std::to_string(audit.starts) +
-        " random starts each, without the sweep's warm starts or neighbours: " +
-        std::to_string(audit.contradictedTotal()) + " statuses contradicted (a solution" +
-        (map.collision ? " clear of collisions" : "") + " found where the map has none; " +
-        std::to_string(audit.contradicted[sc]) + " of " + std::to_string(audit.by_status[sc]) +
-        " self_collision, " + std::to_string(audit.contradicted[oc]) + " of " +
-        std::to_string(audit.by_status[oc]) + " obstacle_collision), " +
-        std::to_string(audit.audit_missed) +
-        " reachable poses where the audit found no solution; manipulability at the map's solution "
-        "within 5 % "
-        "of the best the audit found at " +
-        std::to_string(audit.manipulability_within_5pct) + " of " +
-        std::to_string(audit.manipulability_compared) + " reachable poses.\n\n";
+  doc.paragraph(
+      "Audit (" + map.design + "): " + std::to_string(audit.poses) +
+      " poses drawn at random (seed " + std::to_string(audit.seed) + "), " +
+      std::to_string(audit.starts) +
+      " random starts each, without the sweep's warm starts or neighbours: " +
+      std::to_string(audit.contradictedTotal()) + " statuses contradicted (a solution" +
+      (map.collision ? " clear of collisions" : "") + " found where the map has none; " +
+      std::to_string(audit.contradicted[sc]) + " of " + std::to_string(audit.by_status[sc]) +
+      " self_collision, " + std::to_string(audit.contradicted[oc]) + " of " +
+      std::to_string(audit.by_status[oc]) + " obstacle_collision), " +
+      std::to_string(audit.audit_missed) +
+      " reachable poses where the audit found no solution; manipulability at the map's solution "
+      "within 5 % "
+      "of the best the audit found at " +
+      std::to_string(audit.manipulability_within_5pct) + " of " +
+      std::to_string(audit.manipulability_compared) + " reachable poses.");
 }
 
 // VTK image data of design di: one array per quantity and orientation.
@@ -154,7 +156,7 @@ void renderMain(const GridRendering& gr, std::size_t di, Writer& out, RenderedPa
     insertCollisionColumns(gr.cfg, part.rows.back(), 3, per[k]);
   }
   jd["per_orientation"] = jper;
-  searchAndAuditEntries(gr, di, jd, part.md);
+  searchAndAuditEntries(gr, di, jd, part.doc);
   if (gr.cfg.outputs.vtk) writeDesignVti(gr, di, mparts, out, jd);
   part.jd = std::move(jd);
 }
@@ -200,9 +202,9 @@ double sharedManipulabilityMax(const GridRendering& gr) {
 }
 
 // The manipulability figure of design di in orientation k (2-D grids), colour
-// 0..manipulability_max_m3 (shared by the grid's designs).
-std::string manipulabilityFigure(const GridRendering& gr, std::size_t di, int k,
-                                 double manipulability_max_m3, Writer& out) {
+// 0..manipulability_max_m3 (shared by the grid's designs), appended to `images`.
+void manipulabilityFigure(const GridRendering& gr, std::size_t di, int k,
+                          double manipulability_max_m3, Writer& out, report::Document& images) {
   const TaskGrid& grid = gr.grid;
   const PoseSweep& map = gr.res.maps[di];
   const long off = static_cast<long>(k) * gr.res.positions;
@@ -224,11 +226,13 @@ std::string manipulabilityFigure(const GridRendering& gr, std::size_t di, int k,
   const std::string mrel = writeFigure(
       out, "reach/images/" + grid.name + "__" + map.design + suffix(grid, k) + "_manipulability",
       m_img, mfig);
-  return "![manipulability](" + mrel +
-         ")\n\n*Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
-         map.design + ", " + orientationText(grid, k) + "; viridis from 0 (dark) to " +
-         report::scientific(manipulability_max_m3) + " " + taskManipulabilityUnit(grid.task_space) +
-         " (yellow), the same scale for every design of the grid" + ", grey = unreachable.*\n\n";
+  images.figures(
+      {{"manipulability", mrel}},
+      "Manipulability sqrt(det(J_t J_t^T)) of the task rows (eq. 5.59) at the solution, " +
+          map.design + ", " + orientationText(grid, k) + "; viridis from 0 (dark) to " +
+          report::scientific(manipulability_max_m3) + " " +
+          taskManipulabilityUnit(grid.task_space) +
+          " (yellow), the same scale for every design of the grid, grey = unreachable.");
 }
 
 // The figures pieces of design di: the status (or reachable-fraction) and manipulability figures of
@@ -238,7 +242,7 @@ void renderImages(const GridRendering& gr, std::size_t di, int k, Writer& out, R
   const TaskGrid& grid = gr.grid;
   const ImagePlane& plane = gr.layout.plane;
   const PoseSweep& map = gr.res.maps[di];
-  std::string& images_md = part.images_md;
+  report::Document& images = part.images;
   Stats per_k;  // the orientation's poses in index order, as the summary entry counts them
   for (long p = 0; p < gr.res.positions; ++p) {
     const long i = static_cast<long>(k) * gr.res.positions + p;
@@ -252,12 +256,12 @@ void renderImages(const GridRendering& gr, std::size_t di, int k, Writer& out, R
     for (long c : per_k.status) n += c;
     for (int st = 0; st < kReachStatusCount; ++st)
       if (n > 0 && per_k.status[st] == n) {
-        images_md += "*" + map.design + ", " + orientationText(grid, k) + ": 100 % of the " +
-                     std::to_string(n) + " cells " + describe(static_cast<ReachStatus>(st)) +
-                     " (no map drawn).*\n\n";
+        images.paragraph("*" + map.design + ", " + orientationText(grid, k) + ": 100 % of the " +
+                         std::to_string(n) + " cells " + describe(static_cast<ReachStatus>(st)) +
+                         " (no map drawn).*");
         // (Nothing reachable: the manipulability map would be one colour too.)
         if (manipulability_max_m3 > 0 && st == static_cast<int>(ReachStatus::Reachable))
-          images_md += manipulabilityFigure(gr, di, k, manipulability_max_m3, out);
+          manipulabilityFigure(gr, di, k, manipulability_max_m3, out, images);
         return;
       }
   }
@@ -285,17 +289,16 @@ void renderImages(const GridRendering& gr, std::size_t di, int k, Writer& out, R
     fig.legend = statusLegend(per_k.status);
   const std::string rel = writeFigure(
       out, "reach/images/" + grid.name + "__" + map.design + suffix(grid, k), status_img, fig);
-  images_md += "![" + map.design + ", " + orientationText(grid, k) + "](" + rel + ")\n\n*" +
-               map.design + ", " + orientationText(grid, k) + ": " +
-               report::percent(per_k.fraction()) + " reachable. " + imageCaptionAxes(grid, plane) +
-               ".*\n\n";
+  const std::string title = map.design + ", " + orientationText(grid, k);
+  images.figures({{title, rel}}, title + ": " + report::percent(per_k.fraction()) + " reachable. " +
+                                     imageCaptionAxes(grid, plane) + ".");
   if (plane.projected < 0 && manipulability_max_m3 > 0)
-    images_md += manipulabilityFigure(gr, di, k, manipulability_max_m3, out);
+    manipulabilityFigure(gr, di, k, manipulability_max_m3, out, images);
 }
 
 // The comparison images of the pair (a, b), one per orientation.
 void renderPair(const GridRendering& gr, std::size_t a, std::size_t b, Writer& out,
-                std::string& pair_imgs) {
+                report::Document& pair_imgs) {
   const TaskGrid& grid = gr.grid;
   const std::vector<PoseSweep>& sweeps = gr.res.maps;
   for (int k = 0; k < gr.res.orientation_count; ++k) {
@@ -310,9 +313,10 @@ void renderPair(const GridRendering& gr, std::size_t a, std::size_t b, Writer& o
                                   "reached only by " + sweeps[b].design, "reached by neither"};
     const auto sole = std::find(in.begin(), in.end(), gr.res.positions);
     if (gr.res.positions > 0 && sole != in.end()) {
-      pair_imgs += "*" + sweeps[a].design + " vs " + sweeps[b].design + ", " +
-                   orientationText(grid, k) + ": 100 % of the " + std::to_string(gr.res.positions) +
-                   " cells " + names[sole - in.begin()] + " (no map drawn).*\n\n";
+      pair_imgs.paragraph("*" + sweeps[a].design + " vs " + sweeps[b].design + ", " +
+                          orientationText(grid, k) + ": 100 % of the " +
+                          std::to_string(gr.res.positions) + " cells " + names[sole - in.begin()] +
+                          " (no map drawn).*");
       continue;
     }
     report::RasterImage img = report::renderCellMap(
@@ -338,10 +342,11 @@ void renderPair(const GridRendering& gr, std::size_t a, std::size_t b, Writer& o
                                         "reach/images/" + grid.name + "__" + sweeps[a].design +
                                             "__vs__" + sweeps[b].design + suffix(grid, k),
                                         img, cfig);
-    pair_imgs += "![" + sweeps[a].design + " vs " + sweeps[b].design + "](" + rel + ")\n\n*" +
-                 orientationText(grid, k) + ": reached by both (green), only " + sweeps[a].design +
-                 " (blue), only " + sweeps[b].design + " (orange), neither (light grey). " +
-                 imageCaptionAxes(grid, gr.layout.plane) + ".*\n\n";
+    pair_imgs.figures({{sweeps[a].design + " vs " + sweeps[b].design, rel}},
+                      orientationText(grid, k) + ": reached by both (green), only " +
+                          sweeps[a].design + " (blue), only " + sweeps[b].design +
+                          " (orange), neither (light grey). " +
+                          imageCaptionAxes(grid, gr.layout.plane) + ".");
   }
 }
 
@@ -363,7 +368,7 @@ std::string renderPiece(const GridRendering& gr, std::size_t it) {
       break;
     case GridPiece::Kind::PairImages: {
       const auto [a, b] = gr.res.pairs[gr.layout.image_pairs[piece.pair]];
-      renderPair(gr, a, b, w, part.md);
+      renderPair(gr, a, b, w, part.images);
       break;
     }
   }

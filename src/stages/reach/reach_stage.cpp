@@ -48,58 +48,56 @@ ordered_json settingsJson(const ReachConfig& cfg) {
   return j;
 }
 
-// The report's opening: the tolerances, the task and each design's tool axis.
-std::string taskText(const Study& study, const ReachConfig& cfg) {
-  std::string md = "# Reachability: study `" + study.name + "`\n\n";
-  if (!study.description.empty()) md += study.description + "\n\n";
-  md +=
+// The report's opening: the title, the study's description, the tolerances, the task and each
+// design's tool axis.
+report::Document taskSection(const Study& study, const ReachConfig& cfg) {
+  report::Document doc;
+  doc.heading(1, "Reachability: study `" + study.name + "`");
+  if (!study.description.empty()) doc.paragraph(study.description);
+  doc.paragraph(
       "Thesis eq. (3.2): a pose is reachable when a configuration within the joint limits puts the "
       "TCP within " +
       report::fixed(cfg.ik.position_tolerance_m * 1e3, 2) + " mm and " +
       report::fixed(cfg.ik.orientation_tolerance_rad * kRadToDeg, 2) + " deg of it (up to " +
       std::to_string(cfg.ik.max_starts) + " deterministic starts, seed " +
       std::to_string(cfg.ik.seed) +
-      "). See docs/reachability.md for the solver, the failure reasons and the file formats.\n\n";
-  md += "Task: each design's tool axis (named in its design file or study entry) ";
+      "). See docs/reachability.md for the solver, the failure reasons and the file formats.");
+  std::string task = "Task: each design's tool axis (named in its design file or study entry) ";
   for (std::size_t di = 0; di < study.designs.size(); ++di) {
     const Eigen::Vector3d& a = study.designs[di].model.tool_axis_T;
-    md += std::string(di ? ", " : "") + "`" + study.designs[di].model.name + "` TCP (" +
-          report::fixed(a.x(), 3) + ", " + report::fixed(a.y(), 3) + ", " +
-          report::fixed(a.z(), 3) + ")";
+    task += std::string(di ? ", " : "") + "`" + study.designs[di].model.name + "` TCP (" +
+            report::fixed(a.x(), 3) + ", " + report::fixed(a.y(), 3) + ", " +
+            report::fixed(a.z(), 3) + ")";
   }
-  md +=
+  doc.paragraph(
+      task +
       ". The spraying task (eq. 3.1) puts the TCP at the point with the tool axis along d = "
-      "Rx(alpha) Rz(gamma) e_y "
-      "(+y at alpha = gamma = 0) and the roll about it free; manipulability is sqrt(det(J_t "
-      "J_t^T)) of the 3 position "
-      "rows and the 2 angular rows perpendicular to the tool axis (eq. 5.59; the angular rows "
-      "weighed by a "
-      "characteristic length of 1 m; summary.json and the .vti files give the translational and "
-      "rotational parts "
-      "beside it).\n\n";
-  return md;
+      "Rx(alpha) Rz(gamma) e_y (+y at alpha = gamma = 0) and the roll about it free; "
+      "manipulability is sqrt(det(J_t J_t^T)) of the 3 position rows and the 2 angular rows "
+      "perpendicular to the tool axis (eq. 5.59; the angular rows weighed by a characteristic "
+      "length of 1 m; summary.json and the .vti files give the translational and rotational parts "
+      "beside it).");
+  return doc;
 }
 
 // The designs evaluated without collisions (no volumes) while the study checks them: a warning at
 // the top of the report, in summary.json and on stderr.
 void warnWithoutVolumes(const StageContext& ctx, const ReachConfig& cfg, ordered_json& jr,
-                        std::string& md) {
+                        report::Document& doc, ReachFacts& facts) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   std::string without;
   for (const StudyDesign& sd : ctx.study.designs)
     if (sd.model.collision.empty())
       without += std::string(without.empty() ? "" : ", ") + "`" + sd.model.name + "`";
   if (!(self_on || obst_on) || without.empty()) return;
-  md += "**Warning:** " + without +
-        " evaluated without self-collision and obstacles: no collision volumes (a design file "
-        "without "
-        "[[collision]] entries, or a URDF whose links have no collision geometry); their rows say "
-        "\"n/a\" in "
-        "the collision columns and their reachable shares are not comparable with the others'.\n\n";
-  ordered_json jw = ordered_json::array();
+  doc.paragraph("**Warning:** " + without +
+                " evaluated without self-collision and obstacles: no collision volumes (a design "
+                "file without [[collision]] entries, or a URDF whose links have no collision "
+                "geometry); their rows say \"n/a\" in the collision columns and their reachable "
+                "shares are not comparable with the others'.");
   for (const StudyDesign& sd : ctx.study.designs)
-    if (sd.model.collision.empty()) jw.push_back(sd.model.name);
-  jr["designs_without_collision_volumes"] = jw;
+    if (sd.model.collision.empty()) facts.without_volumes.push_back(sd.model.name);
+  jr["designs_without_collision_volumes"] = facts.without_volumes;
   ctx.warn(without + " evaluated without self-collision and obstacles (no collision volumes)");
 }
 
@@ -113,7 +111,7 @@ int linksWithVolumes(const Model& m) {
 // Designs whose links lack collision volumes (a URDF's meshes not found, links without
 // <collision>): a warning naming them, at the top of the report, in the answer's warnings and on
 // stderr, whether self-collision is on (it then covers fewer links) or off.
-void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::string& md,
+void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, report::Document& doc,
                           std::vector<std::string>& warnings) {
   for (const StudyDesign& sd : ctx.study.designs) {
     const Model& m = sd.model;
@@ -128,7 +126,7 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
         " links have no collision volume: " + links + "; " +
         (checked ? "self-collision covers the other " + std::to_string(with) + " links only"
                  : std::string("self-collision is off for this design"));
-    md += "**Warning:** " + w + ".\n\n";
+    doc.paragraph("**Warning:** " + w + ".");
     warnings.push_back(w);
     ctx.warn(w);
   }
@@ -136,15 +134,12 @@ void warnPartialCollision(const StageContext& ctx, const ReachConfig& cfg, std::
 
 // The design assumption lines about joint limits of each design with poses blocked by them (the
 // "joint limits" count rests on them), as "`<design>`: <line>".
-void jointLimitAssumptions(const Study& study, const ordered_json& jr,
+void jointLimitAssumptions(const Study& study, const ReachFacts& facts,
                            std::vector<std::string>& out) {
   std::set<std::string> blocked;
-  for (const char* kind : {"grids", "pose_lists"})
-    if (jr.contains(kind))
-      for (const auto& g : jr[kind])
-        for (const auto& d : g.value("designs", ordered_json::array()))
-          if (d.contains("status_counts") && d["status_counts"].value("joint_limits", 0L) > 0)
-            blocked.insert(d.value("design", ""));
+  for (const CoverageFacts& set : facts.sets)
+    for (const DesignCoverage& d : set.designs)
+      if (d.joint_limits > 0) blocked.insert(d.design);
   for (const StudyDesign& sd : study.designs)
     if (blocked.count(sd.model.name))
       for (const std::string& a : notes::about(sd.model, notes::kJointLimits))
@@ -152,7 +147,7 @@ void jointLimitAssumptions(const Study& study, const ordered_json& jr,
 }
 
 // The map colours, and what the collision and obstacle checks mean.
-std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfig& cfg) {
+report::Document checksSection(const std::vector<StudyDesign>& designs, const ReachConfig& cfg) {
   const bool self_on = cfg.collision.self, obst_on = !cfg.collision.obstacles.empty();
   // Only a literal selection of Cardan angles can be representation singular.
   bool cardan = false;
@@ -162,59 +157,56 @@ std::string checksText(const std::vector<StudyDesign>& designs, const ReachConfi
     const report::Rgb c = report::categorical(status);
     return report::colourName(c) + " (" + report::hex(c) + ")";
   };
-  std::string md =
-      "Map colours: " + colour(0) + " reachable, " + colour(1) + " out of reach, " + colour(2) +
-      " blocked by joint limits" +
-      (cardan ? ", " + colour(3) + " representation singularity" : "") +
-      (self_on ? ", " + colour(4) + " reachable only in self-collision" : "") +
-      (obst_on ? ", " + colour(6) + " reachable only in contact with an obstacle" : "") + ".\n\n";
+  report::Document doc;
+  doc.paragraph("Map colours: " + colour(0) + " reachable, " + colour(1) + " out of reach, " +
+                colour(2) + " blocked by joint limits" +
+                (cardan ? ", " + colour(3) + " representation singularity" : "") +
+                (self_on ? ", " + colour(4) + " reachable only in self-collision" : "") +
+                (obst_on ? ", " + colour(6) + " reachable only in contact with an obstacle" : "") +
+                ".");
   if (self_on) {
     std::string cover;
     for (const StudyDesign& sd : designs)
       cover += std::string(cover.empty() ? "" : ", ") + "`" + sd.model.name + "` " +
                std::to_string(linksWithVolumes(sd.model)) + " of " +
                std::to_string(sd.model.dof() + 1);
-    md += "Self-collision: on for the links with collision volumes (" + cover +
-          " links). A pose counts as reachable only with a collision-free solution (every "
-          "self-collision "
-          "distance of the design's swept-sphere volumes > 0, other postures tried through the "
-          "redundancy); poses "
-          "reachable only in collision are counted separately, with the colliding pair in "
-          "summary.json.\n\n";
+    doc.paragraph("Self-collision: on for the links with collision volumes (" + cover +
+                  " links). A pose counts as reachable only with a collision-free solution (every "
+                  "self-collision distance of the design's swept-sphere volumes > 0, other "
+                  "postures tried through the redundancy); poses reachable only in collision are "
+                  "counted separately, with the colliding pair in summary.json.");
   }
   if (obst_on) {
-    md += "Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
-          " in the task frame, checked against every link's swept-sphere volumes; a pose counts as "
-          "reachable only "
-          "with a solution clear of them (field `obstacle_distance`: the arm's clearance from the "
-          "nearest "
-          "obstacle at the solution).\n\n";
+    doc.paragraph("Obstacles: " + std::to_string(cfg.collision.obstacles.size()) +
+                  " in the task frame, checked against every link's swept-sphere volumes; a pose "
+                  "counts as reachable only with a solution clear of them (field "
+                  "`obstacle_distance`: the arm's clearance from the nearest obstacle at the "
+                  "solution).");
     std::vector<std::vector<std::string>> orows;
     for (const collision::Obstacle& o : cfg.collision.obstacles) orows.push_back(obstacleRow(o));
-    md += report::markdownTable({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"},
-                                orows) +
-          "\n";
+    doc.table({"obstacle", "type", "points (task frame) [m]", ">radius [mm]"}, orows);
   }
-  return md;
+  return doc;
 }
 
 // The designs evaluated, each drawn at its zero pose (reach/images/arm_<design>.svg), as a report
 // section; nothing without images.
-std::string designDrawings(const StageContext& ctx, const ReachConfig& cfg, Writer& out) {
-  if (!cfg.outputs.images) return "";
-  std::string md = "## The designs\n\n";
+report::Document designDrawings(const StageContext& ctx, const ReachConfig& cfg, Writer& out) {
+  report::Document doc;
+  if (!cfg.outputs.images) return doc;
+  doc.heading(2, "The designs");
   for (const StudyDesign& sd : ctx.study.designs) {
     const std::string file = report::zeroPoseFileName(sd.model.name);
     out.text("reach/images/" + file, report::zeroPoseSvg(sd.model));
-    md += report::zeroPoseFigureMd(sd.model.name, "images/" + file);
+    doc.append(report::zeroPoseFigure(sd.model.name, "images/" + file));
   }
-  return md;
+  return doc;
 }
 
 // One design on a pose list: its sweep and search, summary entry, .vtp and best robot, table row.
 ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
                             const StudyDesign& sd, Progress& progress, StageResult& sum,
-                            Writer& out, std::vector<std::string>& row) {
+                            Writer& out, std::vector<std::string>& row, CoverageFacts& facts) {
   const std::string unit = "reach/" + l.name + "/" + sd.model.name;
   PoseSweep s = solvePoseList(ctx, sum, unit, sd.model, l, cfg, progress);
   // Poses in collision get the seeded starts too (a list has no neighbours).
@@ -246,6 +238,8 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
     jd["vtp"] = rel;
     writeBestRobot(out, "reach/" + l.name + "/" + s.design + "_robot_best.vtp", sd.model, s);
   }
+  facts.designs.push_back({s.design, st.reachable,
+                           st.status[static_cast<int>(ReachStatus::JointLimits)], st.fraction()});
   row = {s.design, report::percent(st.fraction()),
          report::percent(st.n ? double(st.status[2]) / st.n : 0),
          report::percent(st.n ? double(st.status[1]) / st.n : 0), st.extent.text()};
@@ -255,25 +249,29 @@ ordered_json poseListDesign(const StageContext& ctx, const ReachConfig& cfg, con
 
 // A pose list: every design on it, its summary block and report section.
 ordered_json reportPoseList(const StageContext& ctx, const ReachConfig& cfg, const PoseList& l,
-                            Progress& progress, StageResult& sum, Writer& out, std::string& md) {
+                            Progress& progress, StageResult& sum, Writer& out,
+                            report::Document& doc, CoverageFacts& facts) {
   ordered_json jl;
   jl["name"] = l.name;
   jl["file"] = l.file;
   jl["task_space"] = l.task_space.toString();
   jl["poses"] = l.poses.size();
-  md += "## Pose list `" + l.name + "`\n\n" + std::to_string(l.poses.size()) + " poses from `" +
-        l.file + "`, task space " + l.task_space.toString() + ".\n\n";
+  facts.what = "pose list `" + l.name + "`";
+  facts.poses = static_cast<long>(l.poses.size());
+  doc.heading(2, "Pose list `" + l.name + "`")
+      .paragraph(std::to_string(l.poses.size()) + " poses from `" + l.file + "`, task space " +
+                 l.task_space.toString() + ".");
   std::vector<std::vector<std::string>> rows;
   ordered_json jdesigns = ordered_json::array();
   for (const StudyDesign& sd : ctx.study.designs) {
     rows.emplace_back();
-    jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back()));
+    jdesigns.push_back(poseListDesign(ctx, cfg, l, sd, progress, sum, out, rows.back(), facts));
   }
   jl["designs"] = jdesigns;
   std::vector<std::string> header = {"design", ">reachable", ">joint limits", ">out of reach",
                                      "extent"};
   insertCollisionColumns(cfg, header, 2);
-  md += report::markdownTable(header, rows) + "\n";
+  doc.table(header, rows);
   return jl;
 }
 
@@ -299,27 +297,32 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   js["study"] = study.name;
   ordered_json jr;
   jr["settings"] = settingsJson(cfg);
-  std::string md = taskText(study, cfg);
-  warnWithoutVolumes(ctx, cfg, jr, md);
+  report::Document doc = taskSection(study, cfg);
+  ReachFacts facts;
+  warnWithoutVolumes(ctx, cfg, jr, doc, facts);
   std::vector<std::string> partial;
-  warnPartialCollision(ctx, cfg, md, partial);
-  md += checksText(study.designs, cfg);
-  md += designDrawings(ctx, cfg, out);
+  warnPartialCollision(ctx, cfg, doc, partial);
+  doc.append(checksSection(study.designs, cfg));
+  doc.append(designDrawings(ctx, cfg, out));
   ordered_json jgrids = ordered_json::array();
-  for (const TaskGrid& g : cfg.grids)
-    jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, md));
+  for (const TaskGrid& g : cfg.grids) {
+    facts.sets.emplace_back();
+    jgrids.push_back(reportGrid(ctx, cfg, g, progress, sum, out, doc, facts.sets.back()));
+  }
   jr["grids"] = jgrids;
   ordered_json jlists = ordered_json::array();
-  for (const PoseList& l : cfg.pose_lists)
-    jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, md));
+  for (const PoseList& l : cfg.pose_lists) {
+    facts.sets.emplace_back();
+    jlists.push_back(reportPoseList(ctx, cfg, l, progress, sum, out, doc, facts.sets.back()));
+  }
   jr["pose_lists"] = jlists;
   sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  reachAnswer(jr, sum.answer, sum.warnings);
-  jointLimitAssumptions(study, jr, sum.assumptions);
+  reachAnswer(facts, sum.answer, sum.warnings);
+  jointLimitAssumptions(study, facts, sum.assumptions);
   sum.warnings.insert(sum.warnings.begin(), partial.begin(), partial.end());
   js["reach"] = jr;
   out.text("summary.json", js.dump(2) + "\n");
-  out.report("reach/report.md", report::Document().markdown(md));
+  out.report("reach/report.md", std::move(doc));
   sum.files = out.files();
   sum.reports = out.reports();
   return sum;
