@@ -133,9 +133,11 @@ nlohmann::ordered_json statsJson(const FieldStats& s) {
 
 std::string statsRow(const std::string& what, const FieldStats& s) {
   if (!s.any) return "| " + what + " | - | - | - | - |\n";
-  return "| " + what + " | " + fmt(s.min) + " | gamma " + fmt(s.gamma_at_min * kRadToDeg, 0) +
-         " deg, z " + fmt(s.z_at_min, 2) + " m | " + fmt(s.max) + " | gamma " +
-         fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m |\n";
+  return "| " + what + " | " + formatFixedOr(s.min, 3, "-") + " | gamma " +
+         formatFixedOr(s.gamma_at_min * kRadToDeg, 0, "-") + " deg, z " +
+         formatFixedOr(s.z_at_min, 2, "-") + " m | " + formatFixedOr(s.max, 3, "-") + " | gamma " +
+         formatFixedOr(s.gamma_at_max * kRadToDeg, 0, "-") + " deg, z " +
+         formatFixedOr(s.z_at_max, 2, "-") + " m |\n";
 }
 
 // One design's map, in work units of whole rows (see runDexterityStage): units saved by an
@@ -210,7 +212,6 @@ std::string manipulabilityUnit(metrics::MeasureSpace space) {
 }
 
 // "a/b" as a percentage with one decimal, "-" when b is 0.
-std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
 
 // The tops of the colour scales the stage's designs share, per declared measure with a figure:
 // its largest optimised value over every design's map (and plain value, for a normalised measure,
@@ -302,11 +303,13 @@ std::string comparisonRow(const Model& m, const DexterityMap& map, const MapFiel
   for (double v : f.manipulability().opt) mean_abs += std::isnan(v) ? 0.0 : v;
   std::ostringstream cmp;
   cmp << "| " << m.name << " | " << m.dof() << " | "
-      << frac(s.R, static_cast<int>(map.cells.size())) << " | " << frac(s.reach_neg, s.n_neg)
-      << " | " << frac(s.reach_pos, s.n_pos) << " | "
-      << (s.R ? fmt(f.manipulability().best, 4) : "-") << " | " << (s.R ? fmt(s.mean_p) : "-")
-      << " | " << (s.R ? fmt(s.mean_o) : "-") << " | " << (s.R ? fmt(mean_abs / s.R) : "-") << " | "
-      << valleyText(map, s, unit) << " |\n";
+      << formatShare(s.R, static_cast<int>(map.cells.size()), 1) << " | "
+      << formatShare(s.reach_neg, s.n_neg, 1) << " | " << formatShare(s.reach_pos, s.n_pos, 1)
+      << " | " << (s.R ? formatFixedOr(f.manipulability().best, 4, "-") : "-") << " | "
+      << (s.R ? formatFixedOr(s.mean_p, 3, "-") : "-") << " | "
+      << (s.R ? formatFixedOr(s.mean_o, 3, "-") : "-") << " | "
+      << (s.R ? formatFixedOr(mean_abs / s.R, 3, "-") : "-") << " | " << valleyText(map, s, unit)
+      << " |\n";
   return cmp.str();
 }
 
@@ -323,14 +326,15 @@ std::string designMarkdown(const Model& m, const DexterityOptions& options, cons
     std::fprintf(stderr, "armstudy: warning: %s\n", text.c_str());
   }
   md << "Reachable: " << s.R << " of " << map.cells.size()
-     << " cells (gamma < 0: " << frac(s.reach_neg, s.n_neg)
-     << ", gamma >= 0: " << frac(s.reach_pos, s.n_pos)
+     << " cells (gamma < 0: " << formatShare(s.reach_neg, s.n_neg, 1)
+     << ", gamma >= 0: " << formatShare(s.reach_pos, s.n_pos, 1)
      << "). Best manipulability (normalisation value): "
      << (s.R ? formatG(f.manipulability().best, 4) + " " + manipulabilityUnit(options.measure_space)
              : "-")
      << ". Valley of the optimised map (the row of lowest mean): "
      << valleyText(map, s, manipulabilityUnit(options.measure_space))
-     << ". Mean null-space iterations: " << (s.R ? fmt(double(s.iters) / s.R, 1) : "-")
+     << ". Mean null-space iterations: "
+     << (s.R ? formatFixedOr(double(s.iters) / s.R, 1, "-") : "-")
      << " (timings: manifest.json).\n\n"
      << "| field | min | where | max | where |\n|---|---|---|---|---|\n"
      << statsRow("manipulability, optimised [" + manipulabilityUnit(options.measure_space) + "]",
@@ -501,7 +505,7 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
       c.arm_W.push_back({p.x(), p.y(), p.z()});
     c.arm_caption = "arm: " + map.design +
                     " at the stem map's cell of the largest optimised manipulability (" +
-                    fmt(f.manipulability().opt[best], 4) + ").";
+                    formatFixedOr(f.manipulability().opt[best], 4, "-") + ").";
   } else {
     c.arm_caption = "arm: " + map.design + " reaches no cell of the stem map.";
   }

@@ -13,8 +13,6 @@ namespace armstudy::dexterity {
 
 namespace {
 
-std::string pct(int a, int b) { return b == 0 ? "-" : formatFixed(100.0 * a / b, 1) + " %"; }
-
 std::string spacingLabel(double spacing_m) {
   if (spacing_m < 0) return "no stems";
   if (spacing_m == 0) return "own stem only";
@@ -38,8 +36,9 @@ std::string sweepRow(const DexterityMap& map, double spacing_m, nlohmann::ordere
                 {"far_limited_by", lim_far}});
   std::ostringstream md;
   md << "| " << spacingLabel(spacing_m) << " | " << near << " of " << c.total(Half::Near) << " ("
-     << pct(near, c.total(Half::Near)) << ") | " << far << " of " << c.total(Half::Far) << " ("
-     << pct(far, c.total(Half::Far)) << ") | " << lim_near << " | " << lim_far << " |\n";
+     << formatShare(near, c.total(Half::Near), 1) << ") | " << far << " of " << c.total(Half::Far)
+     << " (" << formatShare(far, c.total(Half::Far), 1) << ") | " << lim_near << " | " << lim_far
+     << " |\n";
   return md.str();
 }
 

@@ -21,11 +21,7 @@ constexpr ReachStatus kCellStatuses[] = {
     ReachStatus::SelfCollision, ReachStatus::JointLimits,
     ReachStatus::OutOfReach,    ReachStatus::RepresentationSingularity};
 
-std::string share(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
-
 }  // namespace
-
-std::string fmt(double v, int prec) { return std::isnan(v) ? "-" : formatFixed(v, prec); }
 
 bool inHalf(double gamma_rad, Half h) {
   constexpr double kSide = 1e-9;  // |cos gamma| below this: beside the stem, along the row
@@ -140,7 +136,7 @@ std::string statusMarkdown(const DexterityMap& map, const StatusCounts& c) {
     const std::string pair = mostFrequentPair(map, s);
     md << "| " << toString(s);
     for (Half h : {Half::Negative, Half::NonNegative, Half::Near, Half::Far})
-      md << " | " << c.count(h, s) << " (" << share(c.count(h, s), c.total(h)) << ")";
+      md << " | " << c.count(h, s) << " (" << formatShare(c.count(h, s), c.total(h), 1) << ")";
     md << " | " << (pair.empty() ? "-" : "`" + pair + "`") << " |\n";
   }
   md << "\n";
@@ -216,10 +212,11 @@ std::string writeAudit(const Model& m, const DexterityOptions& options, const De
      << a.seed << "), " << a.starts
      << " random starts each, every start solved onto the pose and optimised with this map's "
      << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1)
+     << " cells both reach, " << formatFixedOr(100.0 * a.shareWithin1Percent(), 1, "-")
      << " % are within 1 % of the audit's best "
-     << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2)
+     << "objective ("
+     << formatFixedOr(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1, "-")
+     << " % within 5 %; worst gap " << formatFixedOr(100.0 * a.worst_gap, 2, "-")
      << " %). Reachability verdicts contradicted "
      << "(map: unreachable, audit: a collision-free solution): " << a.reach_contradicted << ".";
   for (int k = 1; k < kReachStatusCount; ++k)
