@@ -87,7 +87,8 @@ std::string identifiability(const ArmProblem& P) {
   for (const BinVariable& v : P.variables) {
     for (double x : v.values) one_point = one_point && x == v.values.front();
     if (!v.values.empty())
-      point += (point.empty() ? "" : ", ") + v.name + " = " + fmt(v.values.front()) + " " + v.unit;
+      point += (point.empty() ? "" : ", ") + v.name + " = " + formatG(v.values.front(), 4) + " " +
+               v.unit;
   }
   if (one_point)
     why.insert(why.begin(), "all " + std::to_string(P.rows()) +
@@ -232,7 +233,7 @@ bool identifiable(const ArmProblem& P, const EffectValues& current, const Eigen:
       cand.warnings.push_back("parameter '" + info.params[j].key + "' cannot be told apart from " +
                               (names.empty() ? std::string("the terms already in the model")
                                              : "'" + names + "' already in the model") +
-                              " (R^2 = " + fmt(r2) + ") with this data");
+                              " (R^2 = " + formatG(r2, 4) + ") with this data");
     }
     if (r2 <= defaults::kUnidentifiableR2) dead = false;
   }
@@ -367,7 +368,7 @@ void markIndistinguishable(const ArmProblem& P, std::vector<ArmCandidate>& out,
         if (!warned) {
           a.warnings.push_back("parameter '" + P.catalogue[a.effect].params[j].key +
                                "' cannot be told apart from the candidate '" + b.name +
-                               "' (R^2 = " + fmt(r2) + ") with this data");
+                               "' (R^2 = " + formatG(r2, 4) + ") with this data");
           a.indistinguishable.push_back(b.name);
           warned = true;
         }

@@ -71,8 +71,8 @@ std::string impossibility(const ArmProblem& P, const ArmFit& fit) {
         for (ArmParam& q : e.params)
           if (!q.physical.empty()) q.lower = -kInf;
       const Solved s = fitSet(free, values);
-      return info.name + "." + ap.key + " would be " + fmt(ap.design + s.v[k].x[j]) + " " +
-             ap.unit + " (bound " + fmt(ap.design + ap.lower) + "): " + ap.physical;
+      return info.name + "." + ap.key + " would be " + formatG(ap.design + s.v[k].x[j], 4) + " " +
+             ap.unit + " (bound " + formatG(ap.design + ap.lower, 4) + "): " + ap.physical;
     }
     if (info.rigid_body && values[k].x.size() == 10) {
       Eigen::Matrix<double, 10, 1> pi;
@@ -93,11 +93,11 @@ std::string impossibility(const ArmProblem& P, const ArmFit& fit) {
           tol += 0.5 * (f.ci_high - f.ci_low);
       const double ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J).eigenvalues()[0];
       if (ev < -tol)
-        return info.name + " would be a body of mass " + fmt(pi[0]) + " kg, first moment (" +
-               fmt(pi[1]) + ", " + fmt(pi[2]) + ", " + fmt(pi[3]) +
-               ") kg m and inertia (xx yy zz) (" + fmt(pi[4]) + ", " + fmt(pi[5]) + ", " +
-               fmt(pi[6]) + ") kg m^2: its pseudo-inertia has the eigenvalue " + fmt(ev) +
-               " < 0 beyond its uncertainty (" + fmt(tol) +
+        return info.name + " would be a body of mass " + formatG(pi[0], 4) + " kg, first moment (" +
+               formatG(pi[1], 4) + ", " + formatG(pi[2], 4) + ", " + formatG(pi[3], 4) +
+               ") kg m and inertia (xx yy zz) (" + formatG(pi[4], 4) + ", " + formatG(pi[5], 4) +
+               ", " + formatG(pi[6], 4) + ") kg m^2: its pseudo-inertia has the eigenvalue " +
+               formatG(ev, 4) + " < 0 beyond its uncertainty (" + formatG(tol, 4) +
                "): no physical body has these parameters";
     }
   }

@@ -328,8 +328,6 @@ double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis) {
   return 1.0 - (col - basis * coef).squaredNorm() / tot;
 }
 
-std::string fmt(double v) { return formatG(v, 4); }
-
 // Candidate columns at the current values (a profiled effect at the middle of its grid).
 EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan) {
   EffectValue v;

@@ -64,7 +64,6 @@ Solved gaussNewton(const ArmProblem& P, EffectValues v);
 Solved fitSet(const ArmProblem& P, const EffectValues& start);
 // R^2 of a column on a basis (1: fully explained).
 double r2OnBasis(const Eigen::VectorXd& col, const Eigen::MatrixXd& basis);
-std::string fmt(double v);  // %.4g
 // Candidate columns at the current values (a profiled effect at the middle of its grid).
 EffectValue zeroValue(const ArmProblem& P, int e, bool profile_nan);
 Eigen::MatrixXd candidateColumns(const ArmProblem& P, const EffectValues& current, int e);

@@ -7,14 +7,13 @@
 #include <numeric>
 #include <sstream>
 
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
 
 namespace armstudy::calibration {
 
 namespace {
-
-std::string fmt3(double v) { return formatG(v, 3); }
 
 // An operating variable: its samples per row and how the search treats it.
 struct Var {
@@ -80,7 +79,7 @@ std::vector<double> frequencies(const Var& v, int R) {
   if (!(range > 0)) return w;
   const int kmax = defaults::kPeriodogramOversampling * R / defaults::kPeriodogramRowsPerCycle;
   for (int k = defaults::kPeriodogramOversampling / 2; k <= kmax; ++k)
-    w.push_back(2 * M_PI * k / (range * defaults::kPeriodogramOversampling));
+    w.push_back(kFullTurn_rad * k / (range * defaults::kPeriodogramOversampling));
   return w;
 }
 
@@ -168,9 +167,10 @@ struct PatternSearch {
     p.sum_squares = explained;
     p.significant = p.statistic > z_bin;
     p.description = "binned means of " + p.channel + " against " + v.name + ": largest " +
-                    fmt3(p.peak_mean) + " " + P.channel_units[c] + " for " + v.name + " in [" +
-                    fmt3(p.peak_lo) + ", " + fmt3(p.peak_hi) + "] " + v.unit + " (" +
-                    fmt3(p.statistic) + " standard errors, threshold " + fmt3(z_bin) + ")";
+                    formatG(p.peak_mean, 3) + " " + P.channel_units[c] + " for " + v.name +
+                    " in [" + formatG(p.peak_lo, 3) + ", " + formatG(p.peak_hi, 3) + "] " + v.unit +
+                    " (" + formatG(p.statistic, 3) + " standard errors, threshold " +
+                    formatG(z_bin, 3) + ")";
     out.push_back(p);
   }
 
@@ -216,7 +216,7 @@ struct PatternSearch {
         const double red = ab.dot(b);  // SSR reduction of the centred sine fit
         if (red > best[c]) {
           best[c] = red;
-          period[c] = 2 * M_PI / w;
+          period[c] = kFullTurn_rad / w;
           amplitude[c] = ab.norm() * sigma[c];
         }
       }
@@ -230,11 +230,12 @@ struct PatternSearch {
       p.explained = best[c] / ss[c];
       p.sum_squares = best[c];
       p.significant = p.statistic > chi_freq;
-      p.description = "periodic in " + v.name + ": period " + fmt3(p.period) + " " + v.unit +
-                      (v.unit == "rad" ? " (" + fmt3(2 * M_PI / p.period) + " per revolution)"
-                                       : std::string()) +
-                      ", amplitude " + fmt3(p.amplitude) + " " + P.channel_units[c] + " (chi^2 " +
-                      fmt3(p.statistic) + ", threshold " + fmt3(chi_freq) + ")";
+      p.description =
+          "periodic in " + v.name + ": period " + formatG(p.period, 3) + " " + v.unit +
+          (v.unit == "rad" ? " (" + formatG(kFullTurn_rad / p.period, 3) + " per revolution)"
+                           : std::string()) +
+          ", amplitude " + formatG(p.amplitude, 3) + " " + P.channel_units[c] + " (chi^2 " +
+          formatG(p.statistic, 3) + ", threshold " + formatG(chi_freq, 3) + ")";
       found[c].push_back(p);
     }
   }
@@ -400,7 +401,7 @@ void confirmCandidates(const ArmProblem& P, std::vector<ArmCandidate>& ranking,
     if (beyond > significance_z * significance_z * added_params) {
       c.warnings.push_back("leaves the strongest residual pattern (" + seen.front()->description +
                            ") but lowers its channel beyond the pattern's shape (chi^2 " +
-                           fmt3(beyond) + "): an effect of its own; the pattern is reported");
+                           formatG(beyond, 3) + "): an effect of its own; the pattern is reported");
       continue;
     }
     c.significant = false;

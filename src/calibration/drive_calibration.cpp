@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "common/angles.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
@@ -331,7 +332,7 @@ DriveData synthesizeDrive(const Model& model, const std::string& joint, const Sy
   std::vector<double> speeds = o.speeds_radps;
   if (speeds.empty())
     for (double rpm : {100, 250, 500, 1000, 1500, 2000, 2500, 3000, 3500})
-      speeds.push_back(rpm * M_PI / 30.0);
+      speeds.push_back(rpm * std::numbers::pi / 30.0);
   std::vector<double> loads = o.loads;
   if (loads.empty()) loads = {1.3, 4.0, 6.5, 9.0, 11.7, 14.5, 17.0};
   std::vector<double> levels;

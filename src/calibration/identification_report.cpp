@@ -14,8 +14,6 @@ namespace armstudy::calibration {
 
 namespace {
 
-std::string g4(double v) { return std::isfinite(v) ? formatG(v, 4) : "-"; }
-
 // Time-block held-out RMSE of every channel along the ladder, and the factor first / last.
 std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P,
                           std::vector<std::pair<std::string, double>>& M) {
@@ -30,7 +28,7 @@ std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P,
       const double v = c < static_cast<int>(f.channel_region_heldout.size())
                            ? f.channel_region_heldout[c].rmse
                            : NAN;
-      row.push_back(g4(v));
+      row.push_back(formatGOr(v, 4, "-"));
       M.emplace_back("ladder/" + std::to_string(k) + "/" + P.channel_names[c], v);
     }
     rows.push_back(row);
@@ -41,7 +39,7 @@ std::string ladderSection(const ArmDiagnosis& d, const ArmProblem& P,
     const bool ok = c < static_cast<int>(a.channel_region_heldout.size()) &&
                     c < static_cast<int>(b.channel_region_heldout.size());
     const double f = ok ? a.channel_region_heldout[c].rmse / b.channel_region_heldout[c].rmse : NAN;
-    factor.push_back(g4(f));
+    factor.push_back(formatGOr(f, 4, "-"));
     M.emplace_back("factor/" + P.channel_names[c], f);
   }
   rows.push_back(factor);
@@ -136,9 +134,10 @@ Compared jointSide(const ArmProblem& P, const Model& model, const TrajectoryData
     if (!std::isfinite(x) || data.coupling(k, k) == 0 || data.coupling(k, j) == 0) continue;
     const double r2 = std::pow(data.coupling(k, j) / data.coupling(k, k), 2);
     out.value += r2 * x;
-    parts += " + " + (r2 == 1 ? std::string() : g4(r2) + " x ") + P.catalogue[m].name + " " + g4(x);
+    parts += " + " + (r2 == 1 ? std::string() : formatGOr(r2, 4, "-") + " x ") +
+             P.catalogue[m].name + " " + formatGOr(x, 4, "-");
   }
-  if (!parts.empty()) out.how = info.name + " " + g4(firstParam(v, e)) + parts;
+  if (!parts.empty()) out.how = info.name + " " + formatGOr(firstParam(v, e), 4, "-") + parts;
   return out;
 }
 
@@ -242,10 +241,14 @@ std::string referenceSection(const ArmDiagnosis& d, const ArmProblem& P, const M
     const Compared cmp = jointSide(P, model, data, all, e);
     std::string ci = "-";
     for (const FittedParameter& f : d.final_fit.params)
-      if (f.key == name + "." + p.key) ci = g4(f.ci_low) + " .. " + g4(f.ci_high);
+      if (f.key == name + "." + p.key)
+        ci = formatGOr(f.ci_low, 4, "-") + " .. " + formatGOr(f.ci_high, 4, "-");
     const double diff = ref != 0 ? (cmp.value - ref) / std::abs(ref) : NAN;
-    rows.push_back({name, p.unit, std::isfinite(fin) ? g4(fin) : "not added", ci, g4(both),
-                    cmp.how.empty() ? g4(cmp.value) : g4(cmp.value) + " = " + cmp.how, g4(ref),
+    rows.push_back({name, p.unit, std::isfinite(fin) ? formatGOr(fin, 4, "-") : "not added", ci,
+                    formatGOr(both, 4, "-"),
+                    cmp.how.empty() ? formatGOr(cmp.value, 4, "-")
+                                    : formatGOr(cmp.value, 4, "-") + " = " + cmp.how,
+                    formatGOr(ref, 4, "-"),
                     std::isfinite(diff) ? report::fixed(100 * diff, 1) + " %" : "-",
                     told.empty() ? "-" : told});
     M.emplace_back("fit/" + name, cmp.value);
@@ -279,7 +282,7 @@ std::string widthSection(const Model& model, const TrajectoryData& data, const E
   std::vector<std::vector<double>> cols;
   std::vector<std::string> names;
   for (double f : in.width_factors) {
-    head.push_back(">w x " + g4(f));
+    head.push_back(">w x " + formatGOr(f, 4, "-"));
     TrajectoryData scaled = data;
     scaled.friction_width_fraction *= f;
     const auto P2 = makeTrajectoryProblem(model, scaled);
@@ -292,20 +295,20 @@ std::string widthSection(const Model& model, const TrajectoryData& data, const E
         continue;
       names.push_back(P2->catalogue[v.effect].name);
       col.push_back(v.x[0]);
-      M.emplace_back("width_sweep/" + g4(f) + "/" + names.back(), v.x[0]);
+      M.emplace_back("width_sweep/" + formatGOr(f, 4, "-") + "/" + names.back(), v.x[0]);
     }
     cols.push_back(col);
   }
   std::vector<std::vector<std::string>> rows;
   for (std::size_t k = 0; k < names.size(); ++k) {
     std::vector<std::string> row = {names[k]};
-    for (const auto& c : cols) row.push_back(g4(c[k]));
+    for (const auto& c : cols) row.push_back(formatGOr(c[k], 4, "-"));
     rows.push_back(row);
   }
   std::ostringstream md;
   md << "## Friction coefficients over the smooth-sign width\n\nThe Coulomb term is F_c tanh(v / "
         "w) with w = "
-     << g4(data.friction_width_fraction)
+     << formatGOr(data.friction_width_fraction, 4, "-")
      << " x the joint's (or motor's) peak speed in the data (the rule of "
      << "docs/calibration.md, fixed before fitting). The model \"with all referenced\" refitted "
         "for w times each "

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "calibration/stats.hpp"
+#include "common/angles.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
@@ -330,10 +331,10 @@ std::vector<double> zeroPhaseLowPass(const std::vector<double>& x, double h, dou
   y.insert(y.end(), x.begin(), x.end());
   for (int i = 1; i <= pad; ++i) y.push_back(2 * x[n - 1] - x[n - 1 - i]);
   // Analog Butterworth pole pairs, bilinear transform with the cut-off prewarped.
-  const double K = std::tan(M_PI * fc * h);
+  const double K = std::tan(std::numbers::pi * fc * h);
   for (int pass = 0; pass < 2; ++pass) {
     for (int k = 0; k < order / 2; ++k) {
-      const double Q = 1.0 / (2 * std::cos(M_PI * (2 * k + 1) / (2.0 * order)));
+      const double Q = 1.0 / (2 * std::cos(std::numbers::pi * (2 * k + 1) / (2.0 * order)));
       const double norm = 1 / (1 + K / Q + K * K);
       const double b0 = K * K * norm, b1 = 2 * b0, b2 = b0;
       const double a1 = 2 * (K * K - 1) * norm, a2 = (1 - K / Q + K * K) * norm;

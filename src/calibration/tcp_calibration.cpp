@@ -2,8 +2,10 @@
 
 #include <cmath>
 
+#include "common/angles.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
+#include "common/format.hpp"
 #include "common/rng.hpp"
 #include "dynamics/dynamics.hpp"
 #include "io/csv_io.hpp"
@@ -17,7 +19,7 @@ namespace {
 
 enum class TcpEffect { JointOffset, LinkLength, BaseOffset, Compliance };
 
-double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
+double wrapAngle(double a) { return std::remainder(a, kFullTurn_rad); }
 
 // The base-offset effect: x = (dx, dy, dz, dalpha, dbeta, dgamma) added to the base pose.
 void addBaseOffset(PoseXYZABG& base, const Eigen::VectorXd& x) {
@@ -337,13 +339,9 @@ Model calibratedTcpModel(const Model& model, const ArmProblem& problem, const Ef
         addBaseOffset(m.base, v.x);
         break;
       case TcpEffect::Compliance: {
-        char b[160];
-        std::snprintf(
-            b, sizeof b,
-            "joint_compliance of %s = %.6g %s is not stored in the design file (no design key yet)",
-            m.joints[t.joint].name.c_str(), v.x[0],
-            problem.catalogue[v.effect].params[0].unit.c_str());
-        notes.push_back(b);
+        notes.push_back("joint_compliance of " + m.joints[t.joint].name + " = " +
+                        formatG(v.x[0], 6) + " " + problem.catalogue[v.effect].params[0].unit +
+                        " is not stored in the design file (no design key yet)");
         break;
       }
     }

@@ -5,6 +5,7 @@
 
 #include "calibration/drive_calibration.hpp"
 #include "calibration/trajectory_calibration.hpp"
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "common/rng.hpp"
 #include "drive/drive_chain.hpp"
@@ -157,8 +158,8 @@ TrajectoryData synthesizeTrajectory(const Model& model, const TrajectorySynthOpt
     for (int k = 0; k < o.harmonics; ++k) {
       a[k] = 0.3 + rng.uniform();
       sum += a[k];
-      w[k] = 2 * M_PI * o.max_frequency_Hz * (0.25 + 0.75 * rng.uniform());
-      ph[k] = 2 * M_PI * rng.uniform();
+      w[k] = kFullTurn_rad * o.max_frequency_Hz * (0.25 + 0.75 * rng.uniform());
+      ph[k] = kFullTurn_rad * rng.uniform();
     }
     for (int k = 0; k < o.harmonics; ++k) a[k] *= amp / sum;
     for (int i = 0; i < R; ++i) {

@@ -8,6 +8,7 @@ namespace armstudy {
 
 inline constexpr double kRadToDeg = 180.0 / std::numbers::pi;  // [deg/rad]
 inline constexpr double kDegToRad = std::numbers::pi / 180.0;  // [rad/deg]
+inline constexpr double kFullTurn_rad = 2 * std::numbers::pi;  // one revolution [rad]
 
 // An angle in degrees for text, computed as rad * 180 / pi. Rounding differs from rad * kRadToDeg
 // in the last bit for some angles, which can move a printed value at a rounding boundary (22.5

@@ -2,6 +2,7 @@
 // The project's number formats. Every number that becomes text goes through one of these, so a
 // value reads the same in every report, label, message and data file.
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <system_error>
@@ -38,6 +39,37 @@ inline std::string formatShortest(double v) {
   char b[32];
   const auto [end, ec] = std::to_chars(b, b + sizeof b, v);
   return ec == std::errc() ? std::string(b, end) : formatRoundTrip(v);
+}
+
+// formatG of a finite v; `otherwise` for NaN and infinities (a table's "-", an empty CSV cell).
+inline std::string formatGOr(double v, int digits, const char* otherwise) {
+  return std::isfinite(v) ? formatG(v, digits) : otherwise;
+}
+
+// formatFixed of a finite v; `otherwise` for NaN and infinities (a table's "-").
+inline std::string formatFixedOr(double v, int decimals, const char* otherwise) {
+  return std::isfinite(v) ? formatFixed(v, decimals) : otherwise;
+}
+
+// part of whole in percent, 100 * part / whole with `decimals` decimals ("12.5 %"); "-" when whole
+// is 0.
+inline std::string formatShare(long part, long whole, int decimals) {
+  return whole ? formatFixed(100.0 * part / whole, decimals) + " %" : "-";
+}
+
+// Two decimals without trailing zeros and without "-0" ("12.5", "3", "-0.25"): SVG coordinates.
+inline std::string formatTrimmed(double v) {
+  std::string t = formatFixed(std::abs(v) < 0.005 ? 0.0 : v, 2);
+  while (t.back() == '0') t.pop_back();
+  if (t.back() == '.') t.pop_back();
+  return t;
+}
+
+// A TOML float: formatRoundTrip, with ".0" where that reads as an integer.
+inline std::string formatTomlFloat(double v) {
+  std::string s = formatRoundTrip(v);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
 }
 
 // s with spaces in front up to `width` characters (printf's "%<width>s").

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/angles.hpp"
 #include "common/errors.hpp"
 #include "dexterity/dexterity_map.hpp"
 #include "study/shared_loop.hpp"
@@ -52,7 +53,7 @@ void adopt(CellResult& cur, const CellResult& cand, CellResult::Source source) {
 // The up to eight neighbours of a cell (gamma wraps around on a full circle), in a fixed order.
 int neighbours(const StemGrid& g, int idx, int out[8]) {
   const int G = g.gamma_rad.count, Z = g.z_m.count;
-  const bool wrap = G > 2 && std::abs(g.gamma_rad.step() * G - 2 * M_PI) < 1e-9;
+  const bool wrap = G > 2 && std::abs(g.gamma_rad.step() * G - kFullTurn_rad) < 1e-9;
   const int ig = idx % G, iz = idx / G;
   int n = 0;
   for (int dz = -1; dz <= 1; ++dz)

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/angles.hpp"
+
 namespace armstudy::dexterity {
 
 std::string StemGrid::validate() const {
@@ -12,7 +14,8 @@ std::string StemGrid::validate() const {
     if (a->count < 1) return "a range needs at least one sample";
     if (a->count > 1 && !(a->max > a->min)) return "range max must be greater than min";
   }
-  if (gamma_rad.max - gamma_rad.min > 2 * M_PI + 1e-9) return "gamma range exceeds a full turn";
+  if (gamma_rad.max - gamma_rad.min > kFullTurn_rad + 1e-9)
+    return "gamma range exceeds a full turn";
   if (!std::isfinite(roll_rad)) return "roll must be finite";
   return "";
 }

@@ -10,11 +10,6 @@
 namespace armstudy {
 
 namespace {
-std::string num(double v) {
-  std::string s = formatRoundTrip(v);
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // TOML float, not integer
-  return s;
-}
 std::string quoted(const std::string& s) {
   std::string o = "\"";
   for (char c : s) {
@@ -31,10 +26,11 @@ void writePose(std::ostringstream& o, const PoseXYZABG& p, bool all) {
   const std::pair<const char*, double> f[] = {
       {"x", p.x}, {"y", p.y}, {"z", p.z}, {"alpha", p.alpha}, {"beta", p.beta}, {"gamma", p.gamma}};
   for (const auto& [k, v] : f)
-    if (all || v != 0) o << k << " = " << num(v) << "\n";
+    if (all || v != 0) o << k << " = " << formatTomlFloat(v) << "\n";
 }
 std::string vec3(const Eigen::Vector3d& v) {
-  return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]";
+  return "[" + formatTomlFloat(v.x()) + ", " + formatTomlFloat(v.y()) + ", " +
+         formatTomlFloat(v.z()) + "]";
 }
 }  // namespace
 
@@ -61,45 +57,49 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
     if (!ji.link.empty()) o << "link = " << quoted(ji.link) << "\n";
     if (!ji.R_FL.isIdentity(0)) {
       const Eigen::Vector3d a = ji.R_FL.transpose() * Eigen::Vector3d::UnitZ();
-      o << "link_axis = [" << num(a.x()) << ", " << num(a.y()) << ", " << num(a.z()) << "]\n";
+      o << "link_axis = [" << formatTomlFloat(a.x()) << ", " << formatTomlFloat(a.y()) << ", "
+        << formatTomlFloat(a.z()) << "]\n";
     }
     writePose(o, j.offset, true);
     if (ji.continuous) o << "continuous = true\n";
-    o << "min = " << num(j.limits.q_min) << "\nmax = " << num(j.limits.q_max) << "\n";
-    if (j.limits.qd_max > 0) o << "max_velocity = " << num(j.limits.qd_max) << "\n";
-    if (ji.effort_max > 0) o << "max_effort = " << num(ji.effort_max) << "\n";
+    o << "min = " << formatTomlFloat(j.limits.q_min)
+      << "\nmax = " << formatTomlFloat(j.limits.q_max) << "\n";
+    if (j.limits.qd_max > 0) o << "max_velocity = " << formatTomlFloat(j.limits.qd_max) << "\n";
+    if (ji.effort_max > 0) o << "max_effort = " << formatTomlFloat(ji.effort_max) << "\n";
     for (const JointDynamicsValue& v : kJointDynamicsValues)
-      if (j.dynamics.*v.value != 0) o << v.key << " = " << num(j.dynamics.*v.value) << "\n";
+      if (j.dynamics.*v.value != 0)
+        o << v.key << " = " << formatTomlFloat(j.dynamics.*v.value) << "\n";
   }
   o << "\n[tcp]\n";
   if (!info.tcp_link.empty()) o << "link = " << quoted(info.tcp_link) << "\n";
   writePose(o, m.tcp, false);
   if (notes::toolAxisOpen(m).empty() &&
       (m.tool_axis_T != Eigen::Vector3d::UnitZ() || !info.joints.empty()))
-    o << "tool_axis = [" << num(m.tool_axis_T.x()) << ", " << num(m.tool_axis_T.y()) << ", "
-      << num(m.tool_axis_T.z()) << "]\n";
+    o << "tool_axis = [" << formatTomlFloat(m.tool_axis_T.x()) << ", "
+      << formatTomlFloat(m.tool_axis_T.y()) << ", " << formatTomlFloat(m.tool_axis_T.z()) << "]\n";
   for (std::size_t i = 0; i < m.inertias.size(); ++i) {
     const LinkInertia& li = m.inertias[i];
     if (!li.given) continue;
     const Eigen::Matrix3d& I = li.I_com_kgm2;
-    o << "\n[[inertia]]\nlink = " << quoted(m.joints[i].name) << "\nmass = " << num(li.mass_kg)
-      << "\ncom = " << vec3(li.p_com_m) << "\ninertia = [" << num(I(0, 0)) << ", " << num(I(1, 1))
-      << ", " << num(I(2, 2)) << ", " << num(I(0, 1)) << ", " << num(I(0, 2)) << ", "
-      << num(I(1, 2)) << "]\n";
+    o << "\n[[inertia]]\nlink = " << quoted(m.joints[i].name)
+      << "\nmass = " << formatTomlFloat(li.mass_kg) << "\ncom = " << vec3(li.p_com_m)
+      << "\ninertia = [" << formatTomlFloat(I(0, 0)) << ", " << formatTomlFloat(I(1, 1)) << ", "
+      << formatTomlFloat(I(2, 2)) << ", " << formatTomlFloat(I(0, 1)) << ", "
+      << formatTomlFloat(I(0, 2)) << ", " << formatTomlFloat(I(1, 2)) << "]\n";
   }
   if (m.payload_kg > 0)
-    o << "\n[payload]\nmass = " << num(m.payload_kg) << "\ncom = " << vec3(m.p_payload_com_T)
-      << "\n";
+    o << "\n[payload]\nmass = " << formatTomlFloat(m.payload_kg)
+      << "\ncom = " << vec3(m.p_payload_com_T) << "\n";
   for (const Drive& d : m.drives) {
     o << "\n[[drive]]\njoint = " << quoted(d.joint) << "\n";
     if (!d.module.empty()) o << "module = " << quoted(d.module) << "\n";
-    o << "gear_ratio = " << num(d.gear_ratio)
-      << "\ntorque_constant = " << num(d.torque_constant_NmpA) << "\n";
+    o << "gear_ratio = " << formatTomlFloat(d.gear_ratio)
+      << "\ntorque_constant = " << formatTomlFloat(d.torque_constant_NmpA) << "\n";
     for (const OptionalDriveValue& v : kOptionalDriveValues)
-      if (d.*v.value != 0) o << v.key << " = " << num(d.*v.value) << "\n";
+      if (d.*v.value != 0) o << v.key << " = " << formatTomlFloat(d.*v.value) << "\n";
     if (!d.friction_law.empty()) {
       o << "[drive.friction]\nlaw = " << quoted(d.friction_law) << "\n";
-      for (const auto& [k, v] : d.friction) o << k << " = " << num(v) << "\n";
+      for (const auto& [k, v] : d.friction) o << k << " = " << formatTomlFloat(v) << "\n";
     }
   }
   if (!m.effects.empty()) {
@@ -114,7 +114,7 @@ std::string designToToml(const Model& m, const UrdfInfo& info) {
     o << "link = " << quoted(linkName(v.link)) << "\ntype = " << quoted(toString(v.type))
       << "\npoints = [";
     for (int k = 0; k < static_cast<int>(v.type); ++k) o << (k ? ", " : "") << vec3(v.p_L[k]);
-    o << "]\nradius = " << num(v.radius_m) << "\n";
+    o << "]\nradius = " << formatTomlFloat(v.radius_m) << "\n";
   }
   for (const auto& p : m.collision.allowed_pairs)
     o << "\n[[collision_allowed]]\nlinks = [" << quoted(linkName(p[0])) << ", "

@@ -49,6 +49,27 @@ Eigen::Map<const Eigen::VectorXd> rowVector(const Rows& rows, long i) {
   return Eigen::Map<const Eigen::VectorXd>(rows.row(i), rows.cols);
 }
 
+// The result of a kernel on the configurations q (rows of dof values): an array of shape (N,
+// extra...), row i written by body(workspace, q_i, out_i) with out_i its first element, on
+// `threads` threads with a workspace from make() each.
+template <class MakeWorkspace, class Body>
+py::array_t<double> mapRows(const py::handle& q, int dof, const std::vector<py::ssize_t>& extra,
+                            int threads, const MakeWorkspace& make, const Body& body) {
+  const Rows rows = readRows(q, dof, "q");
+  py::array_t<double> out = makeResult(rows, extra);
+  long block = 1;
+  for (const py::ssize_t e : extra) block *= e;
+  double* o = out.mutable_data();
+  forEachRow(rows.n, threadCount(threads), make,
+             [&](auto& ws, long i) { body(ws, rowVector(rows, i), o + block * i); });
+  return out;
+}
+
+// A row-major (C order, as numpy's) rows x cols matrix at o.
+using RowMajorMap =
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+RowMajorMap rowMajor(double* o, long rows, long cols) { return RowMajorMap(o, rows, cols); }
+
 // The target whose Jacobian rows a task kind constrains (the pose itself plays no part).
 PoseTask taskOfKind(const std::string& task) {
   TaskSpace space;
@@ -59,47 +80,34 @@ PoseTask taskOfKind(const std::string& task) {
 
 py::array_t<double> fk(const Design& d, const py::handle& q, int threads) {
   const Model& m = *d.model;
-  const Rows rows = readRows(q, m.dof(), "q");
-  py::array_t<double> out = makeResult(rows, {4, 4});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
-      [&](KinematicsWorkspace& ws, long i) {
-        forwardKinematics(m, ws, rowVector(rows, i));
-        storeTransform(ws.R_WT, ws.p_WT, o + 16 * i);
+  return mapRows(
+      q, m.dof(), {4, 4}, threads, [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematics(m, ws, qi);
+        storeTransform(ws.R_WT, ws.p_WT, o);
       });
-  return out;
 }
 
 py::array_t<double> frames(const Design& d, const py::handle& q, int threads) {
   const Model& m = *d.model;
   const int n = m.dof();
-  const Rows rows = readRows(q, n, "q");
-  py::array_t<double> out = makeResult(rows, {n, 4, 4});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
-      [&](KinematicsWorkspace& ws, long i) {
-        forwardKinematics(m, ws, rowVector(rows, i));
-        for (int j = 0; j < n; ++j) storeTransform(ws.R_WF[j], ws.p_WF[j], o + 16 * (i * n + j));
+  return mapRows(
+      q, n, {n, 4, 4}, threads, [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematics(m, ws, qi);
+        for (int j = 0; j < n; ++j) storeTransform(ws.R_WF[j], ws.p_WF[j], o + 16 * j);
       });
-  return out;
 }
 
 py::array_t<double> jacobian(const Design& d, const py::handle& q, int threads) {
   const Model& m = *d.model;
   const int n = m.dof();
-  const Rows rows = readRows(q, n, "q");
-  py::array_t<double> out = makeResult(rows, {6, n});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
-      [&](KinematicsWorkspace& ws, long i) {
-        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
-        Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>>(o + 6 * n * i, 6, n) =
-            ws.J_W_tcp;
+  return mapRows(
+      q, n, {6, n}, threads, [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematicsAndJacobian(m, ws, qi);
+        rowMajor(o, 6, n) = ws.J_W_tcp;
       });
-  return out;
 }
 
 py::array_t<double> taskJacobian(const Design& d, const py::handle& q, const std::string& task,
@@ -108,39 +116,29 @@ py::array_t<double> taskJacobian(const Design& d, const py::handle& q, const std
   const int n = m.dof();
   const PoseTask target = taskOfKind(task);
   const int rows_m = target.rows();
-  const Rows rows = readRows(q, n, "q");
-  py::array_t<double> out = makeResult(rows, {rows_m, n});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
-      [&](KinematicsWorkspace& ws, long i) {
-        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
+  return mapRows(
+      q, n, {rows_m, n}, threads, [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematicsAndJacobian(m, ws, qi);
         Jacobian6 J(6, n);
         const int got = taskJacobianRows(ws, target, J);
-        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> dst(
-            o + static_cast<long>(rows_m) * n * i, rows_m, n);
         if (got == rows_m)
-          dst = J.topRows(rows_m);
+          rowMajor(o, rows_m, n) = J.topRows(rows_m);
         else
-          dst.setConstant(std::numeric_limits<double>::quiet_NaN());  // Cardan singularity
+          rowMajor(o, rows_m, n).setConstant(std::numeric_limits<double>::quiet_NaN());  // Cardan
       });
-  return out;
 }
 
 py::array_t<double> manipulability(const Design& d, const py::handle& q, const std::string& task,
                                    int threads) {
   const Model& m = *d.model;
   const PoseTask target = taskOfKind(task);
-  const Rows rows = readRows(q, m.dof(), "q");
-  py::array_t<double> out = makeResult(rows, {});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return KinematicsWorkspace(m); },
-      [&](KinematicsWorkspace& ws, long i) {
-        forwardKinematicsAndJacobian(m, ws, rowVector(rows, i));
-        o[i] = taskManipulability(ws, target);
+  return mapRows(
+      q, m.dof(), {}, threads, [&] { return KinematicsWorkspace(m); },
+      [&](KinematicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematicsAndJacobian(m, ws, qi);
+        *o = taskManipulability(ws, target);
       });
-  return out;
 }
 
 DynamicsOptions dynamicsOptions(const std::optional<std::vector<double>>& gravity, bool payload,
@@ -195,17 +193,12 @@ py::array_t<double> massMatrixRows(const Design& d, const py::handle& q, bool ro
   DynamicsOptions options;
   options.include_rotor_inertia = rotor_inertia;
   const RigidBodyModel rbm = makeRigidBodyModel(m, options);
-  const Rows rows = readRows(q, n, "q");
-  py::array_t<double> out = makeResult(rows, {n, n});
-  double* o = out.mutable_data();
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return DynamicsWorkspace(rbm); },
-      [&](DynamicsWorkspace& ws, long i) {
-        massMatrix(rbm, ws, rowVector(rows, i));
-        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            o + static_cast<long>(n) * n * i, n, n) = ws.M;
+  return mapRows(
+      q, n, {n, n}, threads, [&] { return DynamicsWorkspace(rbm); },
+      [&](DynamicsWorkspace& ws, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        massMatrix(rbm, ws, qi);
+        rowMajor(o, n, n) = ws.M;
       });
-  return out;
 }
 
 // Kinematics and collision scratch of one thread.
@@ -220,20 +213,15 @@ py::array_t<double> selfDistances(const Design& d, const py::handle& q, int thre
   if (m.collision.empty())
     throw std::invalid_argument("design '" + m.name + "' has no collision volumes");
   const int pairs = collision::CollisionWorkspace(m).num_self;
-  const Rows rows = readRows(q, m.dof(), "q");
-  py::array_t<double> out = makeResult(rows, {pairs});
-  double* o = out.mutable_data();
   collision::CollisionQueryOptions query;
   query.environment = false;
-  forEachRow(
-      rows.n, threadCount(threads), [&] { return CollisionScratch(m); },
-      [&](CollisionScratch& s, long i) {
-        forwardKinematics(m, s.kin, rowVector(rows, i));
+  return mapRows(
+      q, m.dof(), {pairs}, threads, [&] { return CollisionScratch(m); },
+      [&](CollisionScratch& s, const Eigen::VectorXd::ConstMapType& qi, double* o) {
+        forwardKinematics(m, s.kin, qi);
         collision::collisionDistances(m, s.kin, {}, s.col, query);
-        for (int k = 0; k < pairs; ++k)
-          o[static_cast<long>(pairs) * i + k] = s.col.self[k].distance_m;
+        for (int k = 0; k < pairs; ++k) o[k] = s.col.self[k].distance_m;
       });
-  return out;
 }
 
 }  // namespace

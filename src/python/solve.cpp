@@ -154,23 +154,19 @@ struct Results {
   std::vector<collision::CollisionReachResult> r;
   Results(long count, int joints) : n(count), dof(joints), r(count) {}
 
+  // The fields of the first solve: each of batch()'s columns at row 0, a number as a Python
+  // scalar (int, float or bool), q as an array of its own.
   py::dict one() const {
-    const IkResult& k = r[0].ik;
-    py::array_t<double> q(dof);
-    for (int i = 0; i < dof; ++i) q.mutable_at(i) = k.q[i];
     py::dict out;
-    out["status"] = static_cast<int>(k.status);
-    out["status_name"] = toString(k.status);
-    out["reachable"] = k.reachable();
-    out["q"] = q;
-    out["manipulability"] = k.manipulability;
-    out["position_error"] = k.position_error_m;
-    out["orientation_error"] = k.orientation_error_rad;
-    out["joint_limit_margin"] = k.joint_limit_margin;
-    out["starts"] = k.starts;
-    out["iterations"] = k.iterations;
-    out["min_distance"] = r[0].min_distance_m;
-    out["colliding_pair"] = r[0].colliding_pair;
+    for (const auto& [key, column] : batch()) {
+      const py::object first = column[py::int_(0)];
+      if (py::isinstance<py::str>(first))
+        out[key] = first;
+      else if (py::isinstance<py::array>(first))
+        out[key] = first.attr("copy")();
+      else
+        out[key] = first.attr("item")();  // a numpy scalar
+    }
     return out;
   }
 

@@ -81,18 +81,12 @@ std::string reportImagePath(const std::string& url, const std::string& dir) {
   return insideOutput(url, dir);
 }
 
-std::string fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  return formatFixed(value, decimals);
-}
+std::string fixed(double value, int decimals) { return formatFixedOr(value, decimals, "n/a"); }
 
 std::string percent(double fraction, int decimals) {
   return fixed(100.0 * fraction, decimals).append(" %");
 }
 
-std::string scientific(double value, int digits) {
-  if (!std::isfinite(value)) return "n/a";
-  return formatG(value, digits);
-}
+std::string scientific(double value, int digits) { return formatGOr(value, digits, "n/a"); }
 
 }  // namespace armstudy::report

@@ -43,46 +43,39 @@ void useFigureFont(cairo_t* cr) {
   cairo_font_options_destroy(o);
 }
 
-namespace {
-
-// SVG numbers: two decimals, no trailing zeros ("12.5", "3", "-0.25").
-std::string num(double v) {
-  std::string t = formatFixed(std::abs(v) < 0.005 ? 0.0 : v, 2);
-  while (t.back() == '0') t.pop_back();
-  if (t.back() == '.') t.pop_back();
-  return t;
-}
-
-}  // namespace
-
 void TextOp::svg(std::string& o, int) const {
   const TextOp& t = *this;
-  o += "<text x=\"" + num(t.upward ? 0 : t.x) + "\" y=\"" + num(t.upward ? 0 : t.y) +
-       "\" font-size=\"" + num(t.size) + "\"";
-  if (t.upward) o += " transform=\"translate(" + num(t.x) + "," + num(t.y) + ") rotate(-90)\"";
+  o += "<text x=\"" + formatTrimmed(t.upward ? 0 : t.x) + "\" y=\"" +
+       formatTrimmed(t.upward ? 0 : t.y) + "\" font-size=\"" + formatTrimmed(t.size) + "\"";
+  if (t.upward)
+    o += " transform=\"translate(" + formatTrimmed(t.x) + "," + formatTrimmed(t.y) +
+         ") rotate(-90)\"";
   if (!(t.c == Rgb{0, 0, 0})) o += " fill=\"" + hex(t.c) + "\"";
   o += ">" + xmlEscape(t.s) + "</text>\n";
 }
 void RectOp::svg(std::string& o, int) const {
   const RectOp& r = *this;
-  o += "<rect x=\"" + num(r.x) + "\" y=\"" + num(r.y) + "\" width=\"" + num(r.w) + "\" height=\"" +
-       num(r.h) + "\" fill=\"" + (r.fill ? hex(*r.fill) : "none") + "\"";
-  if (r.stroke) o += " stroke=\"" + hex(*r.stroke) + "\" stroke-width=\"" + num(r.lw) + "\"";
+  o += "<rect x=\"" + formatTrimmed(r.x) + "\" y=\"" + formatTrimmed(r.y) + "\" width=\"" +
+       formatTrimmed(r.w) + "\" height=\"" + formatTrimmed(r.h) + "\" fill=\"" +
+       (r.fill ? hex(*r.fill) : "none") + "\"";
+  if (r.stroke)
+    o += " stroke=\"" + hex(*r.stroke) + "\" stroke-width=\"" + formatTrimmed(r.lw) + "\"";
   o += "/>\n";
 }
 void PolylineOp::svg(std::string& o, int id) const {
   const PolylineOp& p = *this;
   if (p.clip)
-    o += "<clipPath id=\"clip" + std::to_string(id) + "\"><rect x=\"" + num((*p.clip)[0]) +
-         "\" y=\"" + num((*p.clip)[1]) + "\" width=\"" + num((*p.clip)[2]) + "\" height=\"" +
-         num((*p.clip)[3]) + "\"/></clipPath>\n";
-  o += "<polyline fill=\"none\" stroke=\"" + hex(p.c) + "\" stroke-width=\"" + num(p.lw) +
+    o += "<clipPath id=\"clip" + std::to_string(id) + "\"><rect x=\"" +
+         formatTrimmed((*p.clip)[0]) + "\" y=\"" + formatTrimmed((*p.clip)[1]) + "\" width=\"" +
+         formatTrimmed((*p.clip)[2]) + "\" height=\"" + formatTrimmed((*p.clip)[3]) +
+         "\"/></clipPath>\n";
+  o += "<polyline fill=\"none\" stroke=\"" + hex(p.c) + "\" stroke-width=\"" + formatTrimmed(p.lw) +
        "\" stroke-linejoin=\"round\"";
   if (p.dashed) o += " stroke-dasharray=\"6,4\"";
   if (p.clip) o += " clip-path=\"url(#clip" + std::to_string(id) + ")\"";
   o += " points=\"";
   for (std::size_t i = 0; i < p.pts.size(); ++i)
-    o += (i ? " " : "") + num(p.pts[i].first) + "," + num(p.pts[i].second);
+    o += (i ? " " : "") + formatTrimmed(p.pts[i].first) + "," + formatTrimmed(p.pts[i].second);
   o += "\"/>\n";
 }
 void DotsOp::svg(std::string& o, int) const {
@@ -90,19 +83,21 @@ void DotsOp::svg(std::string& o, int) const {
   if (d.shape == Marker::dot)
     o += "<g fill=\"" + hex(d.c) + "\" fill-opacity=\"0.75\">";
   else
-    o +=
-        "<g fill=\"none\" stroke=\"" + hex(d.c) + "\" stroke-width=\"" + num(kMarkerStroke) + "\">";
+    o += "<g fill=\"none\" stroke=\"" + hex(d.c) + "\" stroke-width=\"" +
+         formatTrimmed(kMarkerStroke) + "\">";
   for (const auto& [x, y] : d.pts)
     if (d.shape == Marker::square)
-      o += "<rect x=\"" + num(x - d.r) + "\" y=\"" + num(y - d.r) + "\" width=\"" + num(2 * d.r) +
-           "\" height=\"" + num(2 * d.r) + "\"/>";
+      o += "<rect x=\"" + formatTrimmed(x - d.r) + "\" y=\"" + formatTrimmed(y - d.r) +
+           "\" width=\"" + formatTrimmed(2 * d.r) + "\" height=\"" + formatTrimmed(2 * d.r) +
+           "\"/>";
     else
-      o += "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(d.r) + "\"/>";
+      o += "<circle cx=\"" + formatTrimmed(x) + "\" cy=\"" + formatTrimmed(y) + "\" r=\"" +
+           formatTrimmed(d.r) + "\"/>";
   o += "</g>\n";
 }
 void ImageOp::svg(std::string& o, int) const {
   const ImageOp& im = *this;
-  o += "<image x=\"" + num(im.x) + "\" y=\"" + num(im.y) + "\" width=\"" +
+  o += "<image x=\"" + formatTrimmed(im.x) + "\" y=\"" + formatTrimmed(im.y) + "\" width=\"" +
        std::to_string(im.img.width()) + "\" height=\"" + std::to_string(im.img.height()) +
        "\" image-rendering=\"optimizeSpeed\" style=\"image-rendering:pixelated\" "
        "xlink:href=\"data:image/png;base64," +

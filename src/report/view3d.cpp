@@ -42,11 +42,8 @@ std::string jsonString(const std::string& s) {
   return o + "\"";
 }
 
-// Fixed-point text with `digits` decimals (the same bytes on every machine and run).
-std::string num(double v, int digits = 4) { return formatFixed(v, digits); }
-
 std::string point(const std::array<double, 3>& p) {
-  return "[" + num(p[0]) + "," + num(p[1]) + "," + num(p[2]) + "]";
+  return "[" + formatFixed(p[0], 4) + "," + formatFixed(p[1], 4) + "," + formatFixed(p[2], 4) + "]";
 }
 
 void putInt32(std::string& b, std::int32_t v) {
@@ -96,10 +93,11 @@ std::string cloudJson(const ViewCloud& c, double hi, long stride, long& shown) {
   }
   return "{\"name\":" + jsonString(c.name) + ",\"unit\":" + jsonString(c.value_unit) +
          ",\"quantity\":" + jsonString(c.value_quantity) + ",\"value\":\"" + base64(val) + "\"" +
-         ",\"hi\":" + jsonString(hi > 0 ? num(hi, 4) : "0") + ",\"size\":" + num(c.point_size_m) +
-         ",\"status_names\":[" + names + "],\"status_colours\":[" + colours + "]" + ",\"pos\":\"" +
-         base64(pos) + "\",\"status\":\"" + base64(st) + "\",\"level\":\"" + base64(lv) +
-         "\",\"arm\":" + arm + "],\"arm_caption\":" + jsonString(c.arm_caption) + "}";
+         ",\"hi\":" + jsonString(hi > 0 ? formatFixed(hi, 4) : "0") +
+         ",\"size\":" + formatFixed(c.point_size_m, 4) + ",\"status_names\":[" + names +
+         "],\"status_colours\":[" + colours + "]" + ",\"pos\":\"" + base64(pos) +
+         "\",\"status\":\"" + base64(st) + "\",\"level\":\"" + base64(lv) + "\",\"arm\":" + arm +
+         "],\"arm_caption\":" + jsonString(c.arm_caption) + "}";
 }
 
 // The scene as JSON for the page's script.
@@ -125,7 +123,7 @@ std::string sceneJson(const View3d& v) {
     std::string pts;
     for (int k = 0; k < s.points; ++k) pts += (k ? "," : "") + point(s.p_W[k]);
     solids += std::string(solids.empty() ? "" : ",") + "{\"name\":" + jsonString(s.name) +
-              ",\"points\":[" + pts + "],\"radius\":" + num(s.radius_m) + "}";
+              ",\"points\":[" + pts + "],\"radius\":" + formatFixed(s.radius_m, 4) + "}";
   }
   std::string viridis_rgb;
   for (int l = 0; l < 255; ++l) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 
+#include "common/angles.hpp"
 #include "io/csv_io.hpp"
 #include "io/toml_reader.hpp"
 #include "stages/calibration/calibration_stage.hpp"
@@ -95,11 +96,11 @@ std::vector<std::string> readColumns(TableReader& r, const std::string& key,
 
 // Units of each logged quantity (name, factor to SI).
 std::vector<std::pair<std::string, double>> logUnits(const std::string& key) {
-  if (key == "positions") return {{"rad", 1.0}, {"deg", M_PI / 180}, {"m", 1.0}, {"mm", 1e-3}};
+  if (key == "positions") return {{"rad", 1.0}, {"deg", kDegToRad}, {"m", 1.0}, {"mm", 1e-3}};
   if (key == "velocities")
-    return {{"rad/s", 1.0}, {"deg/s", M_PI / 180}, {"m/s", 1.0}, {"mm/s", 1e-3}};
+    return {{"rad/s", 1.0}, {"deg/s", kDegToRad}, {"m/s", 1.0}, {"mm/s", 1e-3}};
   if (key == "accelerations")
-    return {{"rad/s^2", 1.0}, {"deg/s^2", M_PI / 180}, {"m/s^2", 1.0}, {"mm/s^2", 1e-3}};
+    return {{"rad/s^2", 1.0}, {"deg/s^2", kDegToRad}, {"m/s^2", 1.0}, {"mm/s^2", 1e-3}};
   return {{"N m", 1.0}, {"Nm", 1.0}, {"N", 1.0}, {"A", 1.0}, {"mA", 1e-3}};
 }
 

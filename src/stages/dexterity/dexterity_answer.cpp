@@ -31,7 +31,8 @@ std::string rowHalvesAnswer(const std::string& design, const std::vector<RowHalv
   std::string a = "`" + design + "` can approach the near half of the plant (|gamma| < 90 deg, " +
                   "the robot's side of the row) at " + share(m.near_reachable, m.near_cells) +
                   " and the far half at " + share(m.far_reachable, m.far_cells);
-  if (m.spacing_m > 0) a += ", with the neighbouring stems at " + fmt(m.spacing_m, 3) + " m";
+  if (m.spacing_m > 0)
+    a += ", with the neighbouring stems at " + formatFixedOr(m.spacing_m, 3, "-") + " m";
   a += " (near half limited by " + m.near_limited_by + ", far half by " + m.far_limited_by + ")";
   double near_lo = 2, near_hi = -1, far_lo = 2, far_hi = -1, s_lo = 1e9, s_hi = -1;
   for (std::size_t k = 1; k < row.size(); ++k) {
@@ -48,9 +49,9 @@ std::string rowHalvesAnswer(const std::string& design, const std::vector<RowHalv
     s_lo = std::min(s_lo, r.spacing_m), s_hi = std::max(s_hi, r.spacing_m);
   }
   if (s_hi > 0)
-    a += "; with the stems " + fmt(s_lo, 3) + "-" + fmt(s_hi, 3) + " m apart the near half " +
-         report::percent(near_lo) + "-" + report::percent(near_hi) + ", the far half " +
-         report::percent(far_lo) + "-" + report::percent(far_hi);
+    a += "; with the stems " + formatFixedOr(s_lo, 3, "-") + "-" + formatFixedOr(s_hi, 3, "-") +
+         " m apart the near half " + report::percent(near_lo) + "-" + report::percent(near_hi) +
+         ", the far half " + report::percent(far_lo) + "-" + report::percent(far_hi);
   return a + ".";
 }
 
@@ -84,7 +85,10 @@ void dexterityAnswer(const Study& study, const DexterityOptions& options,
   auto item = [](const Row& r) {
     return "`" + r.design + "` " + formatG(r.mean, 3) + " (reaching " + report::percent(r.reach) +
            " of the cells" +
-           (std::isnan(r.valley_z_m) ? "" : "; valley at z " + fmt(r.valley_z_m, 2) + " m") + ")";
+           (std::isnan(r.valley_z_m)
+                ? ""
+                : "; valley at z " + formatFixedOr(r.valley_z_m, 2, "-") + " m") +
+           ")";
   };
   std::vector<double> means;
   for (const Row& r : rows) means.push_back(r.mean);

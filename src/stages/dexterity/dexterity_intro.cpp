@@ -62,12 +62,14 @@ nlohmann::ordered_json settingsJson(const DexterityOptions& options) {
 report::Document reportIntro(const DexterityOptions& options) {
   const StemGrid& g = options.grid;
   std::ostringstream grid;
-  grid << "Stem at (" << fmt(g.stem_x_m) << ", " << fmt(g.stem_y_m)
-       << ") m, TCP on a circle of radius " << fmt(g.radius_m) << " m, gamma "
-       << fmt(g.gamma_rad.min * kRadToDeg, 1) << ".." << fmt(g.gamma_rad.max * kRadToDeg, 1)
-       << " deg (" << g.gamma_rad.count << " values), z " << fmt(g.z_m.min, 2) << ".."
-       << fmt(g.z_m.max, 2) << " m (" << g.z_m.count << " values), task " << toString(g.task)
-       << ", measures on the " << metrics::toString(options.measure_space)
+  grid << "Stem at (" << formatFixedOr(g.stem_x_m, 3, "-") << ", "
+       << formatFixedOr(g.stem_y_m, 3, "-") << ") m, TCP on a circle of radius "
+       << formatFixedOr(g.radius_m, 3, "-") << " m, gamma "
+       << formatFixedOr(g.gamma_rad.min * kRadToDeg, 1, "-") << ".."
+       << formatFixedOr(g.gamma_rad.max * kRadToDeg, 1, "-") << " deg (" << g.gamma_rad.count
+       << " values), z " << formatFixedOr(g.z_m.min, 2, "-") << ".."
+       << formatFixedOr(g.z_m.max, 2, "-") << " m (" << g.z_m.count << " values), task "
+       << toString(g.task) << ", measures on the " << metrics::toString(options.measure_space)
        << " Jacobian. Objective H = " << options.w_joint_limits << " H_j + "
        << options.w_manipulability << " H_m1 + " << options.w_transmission << " H_m2"
        << (options.w_collision > 0 ? " + " + formatG(options.w_collision, 3) + " H_c (d_a " +
@@ -86,8 +88,8 @@ report::Document reportIntro(const DexterityOptions& options) {
   return report::Document()
       .heading(1, "Dexterity maps")
       .paragraph(grid.str())
-      .paragraph("Images: x = gamma (left = " + fmt(g.gamma_rad.min * kRadToDeg, 0) +
-                 " deg), y = z (bottom = " + fmt(g.z_m.min, 2) +
+      .paragraph("Images: x = gamma (left = " + formatFixedOr(g.gamma_rad.min * kRadToDeg, 0, "-") +
+                 " deg), y = z (bottom = " + formatFixedOr(g.z_m.min, 2, "-") +
                  " m); colour viridis from 0 (dark) to 1 (yellow), colour bar right of each map "
                  "(bottom = 0, top = 1; the transmission map is scaled to its maximum); grey = not "
                  "reachable.");

@@ -416,7 +416,7 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
       c.arm_W.push_back({p.x(), p.y(), p.z()});
     c.arm_caption = "arm: " + map.design +
                     " at the stem map's cell of the largest optimised manipulability (" +
-                    fmt(f.manipulability().opt[best], 4) + ").";
+                    formatFixedOr(f.manipulability().opt[best], 4, "-") + ").";
   } else {
     c.arm_caption = "arm: " + map.design + " reaches no cell of the stem map.";
   }

@@ -16,15 +16,15 @@ namespace armstudy::dexterity {
 namespace {
 
 // "a/b" as a percentage with one decimal, "-" when b is 0.
-std::string frac(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
-
 // A row of the field statistics table: the extremes and where they are.
 std::vector<std::string> statsRow(const std::string& what, const FieldStats& s) {
   if (!s.any) return {what, "-", "-", "-", "-"};
-  return {what, fmt(s.min),
-          "gamma " + fmt(s.gamma_at_min * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_min, 2) + " m",
-          fmt(s.max),
-          "gamma " + fmt(s.gamma_at_max * kRadToDeg, 0) + " deg, z " + fmt(s.z_at_max, 2) + " m"};
+  return {what, formatFixedOr(s.min, 3, "-"),
+          "gamma " + formatFixedOr(s.gamma_at_min * kRadToDeg, 0, "-") + " deg, z " +
+              formatFixedOr(s.z_at_min, 2, "-") + " m",
+          formatFixedOr(s.max, 3, "-"),
+          "gamma " + formatFixedOr(s.gamma_at_max * kRadToDeg, 0, "-") + " deg, z " +
+              formatFixedOr(s.z_at_max, 2, "-") + " m"};
 }
 
 // The design's numbers: reachable cells, best manipulability, valley, and the fields' extremes.
@@ -34,12 +34,12 @@ report::Document designNumbers(const DexterityOptions& options, const DexterityM
   return report::Document()
       .paragraph(
           "Reachable: " + std::to_string(s.R) + " of " + std::to_string(map.cells.size()) +
-          " cells (gamma < 0: " + frac(s.reach_neg, s.n_neg) + ", gamma >= 0: " +
-          frac(s.reach_pos, s.n_pos) + "). Best manipulability (normalisation value): " +
+          " cells (gamma < 0: " + formatShare(s.reach_neg, s.n_neg, 1) + ", gamma >= 0: " +
+          formatShare(s.reach_pos, s.n_pos, 1) + "). Best manipulability (normalisation value): " +
           (s.R ? formatG(f.manipulability().best, 4) + " " + unit : "-") +
           ". Valley of the optimised map (the row of lowest mean): " + valleyText(map, s, unit) +
-          ". Mean null-space iterations: " + (s.R ? fmt(double(s.iters) / s.R, 1) : "-") +
-          " (timings: manifest.json).")
+          ". Mean null-space iterations: " +
+          (s.R ? formatFixedOr(double(s.iters) / s.R, 1, "-") : "-") + " (timings: manifest.json).")
       .table({"field", "min", "where", "max", "where"},
              {statsRow("manipulability, optimised [" + unit + "]",
                        fieldStats(map, f.manipulability().opt)),
@@ -86,13 +86,13 @@ std::vector<std::string> comparisonRow(const Model& m, const DexterityMap& map, 
   for (double v : f.manipulability().opt) mean_abs += std::isnan(v) ? 0.0 : v;
   return {m.name,
           std::to_string(m.dof()),
-          frac(s.R, static_cast<int>(map.cells.size())),
-          frac(s.reach_neg, s.n_neg),
-          frac(s.reach_pos, s.n_pos),
-          s.R ? fmt(f.manipulability().best, 4) : "-",
-          s.R ? fmt(s.mean_p) : "-",
-          s.R ? fmt(s.mean_o) : "-",
-          s.R ? fmt(mean_abs / s.R) : "-",
+          formatShare(s.R, static_cast<int>(map.cells.size()), 1),
+          formatShare(s.reach_neg, s.n_neg, 1),
+          formatShare(s.reach_pos, s.n_pos, 1),
+          s.R ? formatFixedOr(f.manipulability().best, 4, "-") : "-",
+          s.R ? formatFixedOr(s.mean_p, 3, "-") : "-",
+          s.R ? formatFixedOr(s.mean_o, 3, "-") : "-",
+          s.R ? formatFixedOr(mean_abs / s.R, 3, "-") : "-",
           valleyText(map, s, unit)};
 }
 

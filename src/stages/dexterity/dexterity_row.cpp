@@ -14,8 +14,6 @@ namespace armstudy::dexterity {
 
 namespace {
 
-std::string pct(long a, long b) { return b == 0 ? "-" : formatFixed(100.0 * a / b, 1) + " %"; }
-
 std::string spacingLabel(double spacing_m) {
   if (spacing_m < 0) return "no stems";
   if (spacing_m == 0) return "own stem only";
@@ -46,7 +44,7 @@ std::vector<std::string> sweepRow(const RowHalves& h, nlohmann::ordered_json& js
                 {"near_limited_by", h.near_limited_by},
                 {"far_limited_by", h.far_limited_by}});
   const auto share = [](long a, long n) {
-    return std::to_string(a) + " of " + std::to_string(n) + " (" + pct(a, n) + ")";
+    return std::to_string(a) + " of " + std::to_string(n) + " (" + formatShare(a, n, 1) + ")";
   };
   return {spacingLabel(h.spacing_m), share(h.near_reachable, h.near_cells),
           share(h.far_reachable, h.far_cells), h.near_limited_by, h.far_limited_by};

@@ -21,11 +21,7 @@ constexpr ReachStatus kCellStatuses[] = {
     ReachStatus::SelfCollision, ReachStatus::JointLimits,
     ReachStatus::OutOfReach,    ReachStatus::RepresentationSingularity};
 
-std::string share(int a, int b) { return b ? fmt(100.0 * a / b, 1) + " %" : std::string("-"); }
-
 }  // namespace
-
-std::string fmt(double v, int prec) { return std::isnan(v) ? "-" : formatFixed(v, prec); }
 
 bool inHalf(double gamma_rad, Half h) {
   constexpr double kSide = 1e-9;  // |cos gamma| below this: beside the stem, along the row
@@ -141,7 +137,7 @@ report::Document statusSection(const DexterityMap& map, const StatusCounts& c) {
     rows.push_back({toString(s)});
     for (Half h : {Half::Negative, Half::NonNegative, Half::Near, Half::Far})
       rows.back().push_back(std::to_string(c.count(h, s)) + " (" +
-                            share(c.count(h, s), c.total(h)) + ")");
+                            formatShare(c.count(h, s), c.total(h), 1) + ")");
     rows.back().push_back(pair.empty() ? "-" : "`" + pair + "`");
   }
   doc.table({"status", "gamma < 0", "gamma >= 0", "near half", "far half", "most frequent pair"},
@@ -220,10 +216,11 @@ report::Document writeAudit(const Model& m, const DexterityOptions& options,
      << a.seed << "), " << a.starts
      << " random starts each, every start solved onto the pose and optimised with this map's "
      << "objective, without the map's chaining or neighbours. Of the " << a.both_reachable
-     << " cells both reach, " << fmt(100.0 * a.shareWithin1Percent(), 1)
+     << " cells both reach, " << formatFixedOr(100.0 * a.shareWithin1Percent(), 1, "-")
      << " % are within 1 % of the audit's best "
-     << "objective (" << fmt(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1)
-     << " % within 5 %; worst gap " << fmt(100.0 * a.worst_gap, 2)
+     << "objective ("
+     << formatFixedOr(a.both_reachable ? 100.0 * a.within_5pct / a.both_reachable : 100.0, 1, "-")
+     << " % within 5 %; worst gap " << formatFixedOr(100.0 * a.worst_gap, 2, "-")
      << " %). Reachability verdicts contradicted "
      << "(map: unreachable, audit: a collision-free solution): " << a.reach_contradicted << ".";
   for (int k = 1; k < kReachStatusCount; ++k)

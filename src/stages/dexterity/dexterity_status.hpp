@@ -22,7 +22,6 @@ inline constexpr int kHalves = 4;
 bool inHalf(double gamma_rad, Half h);
 
 // A report number with `prec` decimals; "-" for NaN (nothing to report).
-std::string fmt(double v, int prec = 3);
 
 // Cells per status (ReachStatus) in each half.
 struct StatusCounts {

@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "common/format.hpp"
 #include "stages/dexterity/dexterity_status.hpp"
 
 namespace armstudy::dexterity {
@@ -40,9 +41,9 @@ double valleyHeight(const StemGrid& grid, const MapSummary& s) {
 std::string valleyText(const DexterityMap& map, const MapSummary& s, const std::string& unit) {
   if (s.valley_row < 0 || map.grid.z_m.count < 3) return "-";  // a valley needs rows around it
   const bool edge = s.valley_row == 0 || s.valley_row == map.grid.z_m.count - 1;
-  return "z " + fmt(map.grid.z_m.value(s.valley_row), 2) + " m (row mean " + fmt(s.valley_norm) +
-         ", " + fmt(s.valley_abs) + " " + unit + ")" +
-         (edge ? " at the edge of the grid: no valley inside it" : "");
+  return "z " + formatFixedOr(map.grid.z_m.value(s.valley_row), 2, "-") + " m (row mean " +
+         formatFixedOr(s.valley_norm, 3, "-") + ", " + formatFixedOr(s.valley_abs, 3, "-") + " " +
+         unit + ")" + (edge ? " at the edge of the grid: no valley inside it" : "");
 }
 
 MapSummary summarise(const DexterityMap& map, const MapFields& f, const StemGrid& g) {

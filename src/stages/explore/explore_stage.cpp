@@ -20,7 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 
 // Numbers in the report: 4 significant digits.
-std::string num(double v) { return formatG(v, 4); }
 
 std::string goalText(Goal g) {
   return g == Goal::Maximise ? "max" : g == Goal::Minimise ? "min" : "constraint";
@@ -163,8 +162,8 @@ report::Document introDocument(const StageContext& ctx, const Evaluator& ev, con
                  " on the Pareto front.");
   std::vector<std::vector<std::string>> rows;
   for (const Parameter& p : o.parameters)
-    rows.push_back({p.label, "`" + p.key + "`", num(p.lo), num(p.hi),
-                    p.step > 0         ? num(p.step)
+    rows.push_back({p.label, "`" + p.key + "`", formatG(p.lo, 4), formatG(p.hi, 4),
+                    p.step > 0         ? formatG(p.step, 4)
                     : p.values.empty() ? "continuous"
                                        : std::to_string(p.values.size()) + " values"});
   doc.heading(2, "Parameters (SI)")
@@ -172,7 +171,8 @@ report::Document introDocument(const StageContext& ctx, const Evaluator& ev, con
   rows.clear();
   for (const Objective& ob : o.objectives)
     rows.push_back({ob.label, "`" + ob.metric + "`", goalText(ob.goal),
-                    ob.min > -1e299 ? num(ob.min) : "", ob.max < 1e299 ? num(ob.max) : ""});
+                    ob.min > -1e299 ? formatG(ob.min, 4) : "",
+                    ob.max < 1e299 ? formatG(ob.max, 4) : ""});
   doc.heading(2, "Objectives and constraints")
       .table({"label", "metric", "goal", ">min", ">max"}, std::move(rows));
   return doc;
@@ -191,8 +191,8 @@ std::vector<std::string> candidateRow(const Outcome& r, std::size_t i) {
   const std::vector<Candidate>& c = r.c;
   std::vector<std::string> row{c[i].name + (i == r.base_index ? " (base design)" : "")};
   for (std::size_t p = 0; p < r.o.parameters.size(); ++p)
-    row.push_back(c[i].params.empty() ? "(base)" : num(c[i].params[p]));
-  for (double v : c[i].values) row.push_back(num(v));
+    row.push_back(c[i].params.empty() ? "(base)" : formatG(c[i].params[p], 4));
+  for (double v : c[i].values) row.push_back(formatG(v, 4));
   return row;
 }
 
@@ -288,7 +288,7 @@ std::string levelText(const Outcome& r, const Recommendation& rec) {
   if (rec.level.empty()) return "";
   std::string s = "level with " + std::to_string(rec.level.size()) + " other front design" +
                   (rec.level.size() > 1 ? "s" : "") +
-                  (rec.resolution > 0 ? " within the resolution " + num(rec.resolution)
+                  (rec.resolution > 0 ? " within the resolution " + formatG(rec.resolution, 4)
                                       : " of the same value") +
                   ": ";
   for (std::size_t j = 0; j < rec.level.size() && j < 3; ++j)
@@ -300,7 +300,7 @@ std::string levelText(const Outcome& r, const Recommendation& rec) {
 std::string valuesText(const Outcome& r, std::size_t i) {
   std::string s;
   for (std::size_t k = 0; k < r.o.objectives.size(); ++k)
-    s += (k ? ", " : "") + r.o.objectives[k].label + " " + num(r.c[i].values[k]);
+    s += (k ? ", " : "") + r.o.objectives[k].label + " " + formatG(r.c[i].values[k], 4);
   return s;
 }
 

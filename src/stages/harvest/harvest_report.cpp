@@ -18,8 +18,6 @@ namespace armstudy::harvest {
 
 namespace {
 
-std::string num(double v) { return std::isfinite(v) ? formatG(v, 9) : "nan"; }
-
 bool isRevolute(const Model& model, int i) { return model.joints[i].type == JointType::Revolute; }
 
 }  // namespace
@@ -91,20 +89,25 @@ std::string fruitCsv(const Model& model, const DesignResult& d) {
   for (int i = 0; i < n; ++i) s << ",peak_current_no_friction_A_" << model.joints[i].name;
   s << "\n";
   for (const FruitResult& f : d.fruits) {
-    s << f.fruit << "," << num(f.p_fruit_W.x()) << "," << num(f.p_fruit_W.y()) << ","
-      << num(f.p_fruit_W.z()) << "," << f.status << ",";
+    s << f.fruit << "," << formatGOr(f.p_fruit_W.x(), 9, "nan") << ","
+      << formatGOr(f.p_fruit_W.y(), 9, "nan") << "," << formatGOr(f.p_fruit_W.z(), 9, "nan") << ","
+      << f.status << ",";
     if (f.evaluated()) {
       const auto& r = f.with_friction;
       s << (r.feasible ? 1 : 0) << "," << (r.feasible ? "" : model.joints[r.failing_joint].name)
         << "," << (r.feasible ? "" : toString(r.failing_quantity)) << ","
-        << (r.feasible ? "" : num(r.failure_time_s)) << "," << (f.without_friction.feasible ? 1 : 0)
-        << "," << num(f.max_position_error_m) << "," << num(f.max_orientation_error_rad);
+        << (r.feasible ? "" : formatGOr(r.failure_time_s, 9, "nan")) << ","
+        << (f.without_friction.feasible ? 1 : 0) << ","
+        << formatGOr(f.max_position_error_m, 9, "nan") << ","
+        << formatGOr(f.max_orientation_error_rad, 9, "nan");
       for (int i = 0; i < n; ++i)
-        s << "," << num(r.joints[i].check(DriveQuantity::PeakCurrent).value);
+        s << "," << formatGOr(r.joints[i].check(DriveQuantity::PeakCurrent).value, 9, "nan");
       for (int i = 0; i < n; ++i)
-        s << "," << num(r.joints[i].check(DriveQuantity::RmsCurrent).value);
+        s << "," << formatGOr(r.joints[i].check(DriveQuantity::RmsCurrent).value, 9, "nan");
       for (int i = 0; i < n; ++i)
-        s << "," << num(f.without_friction.joints[i].check(DriveQuantity::PeakCurrent).value);
+        s << ","
+          << formatGOr(f.without_friction.joints[i].check(DriveQuantity::PeakCurrent).value, 9,
+                       "nan");
     } else if (f.limit_joint >= 0) {  // the tracking stopped at this joint's limit
       s << "," << model.joints[f.limit_joint].name << ",joint_limit,,,,";
       for (int i = 0; i < 3 * n; ++i) s << ",";
@@ -126,12 +129,12 @@ std::string profileCsv(const Model& model, const FruitResult& f, double dt) {
     for (int i = 0; i < n; ++i) s << "," << c << "_" << model.joints[i].name;
   s << "\n";
   for (size_t k = 0; k < a.effort.size(); ++k) {
-    s << num(k * dt);
-    for (int i = 0; i < n; ++i) s << "," << num(a.effort[k][i]);
-    for (int i = 0; i < n; ++i) s << "," << num(a.current[k][i]);
-    for (int i = 0; i < n; ++i) s << "," << num(b.current[k][i]);
-    for (int i = 0; i < n; ++i) s << "," << num(a.motor_speed[k][i]);
-    for (int i = 0; i < n; ++i) s << "," << num(a.voltage[k][i]);
+    s << formatGOr(k * dt, 9, "nan");
+    for (int i = 0; i < n; ++i) s << "," << formatGOr(a.effort[k][i], 9, "nan");
+    for (int i = 0; i < n; ++i) s << "," << formatGOr(a.current[k][i], 9, "nan");
+    for (int i = 0; i < n; ++i) s << "," << formatGOr(b.current[k][i], 9, "nan");
+    for (int i = 0; i < n; ++i) s << "," << formatGOr(a.motor_speed[k][i], 9, "nan");
+    for (int i = 0; i < n; ++i) s << "," << formatGOr(a.voltage[k][i], 9, "nan");
     s << "\n";
   }
   return s.str();

@@ -43,8 +43,6 @@ constexpr int kMotionSteps = 31;        // robot time steps per run in the .pvd 
 
 namespace {
 
-std::string num(double v) { return std::isfinite(v) ? formatG(v, 10) : ""; }
-
 ordered_json finiteOrNull(double v) {
   return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr);
 }
@@ -65,13 +63,14 @@ void writeRunCsv(const Model& model, const TrackingEntry& e, const RunResult& r,
   if (obstacles) s << ",obstacle_distance_m,obstacle_pair";
   s << ",self_distance_m,self_pair\n";
   for (const RunSample& rs : r.samples) {
-    s << num(rs.t);
-    for (int i = 0; i < model.dof(); ++i) s << "," << num(rs.q[i]);
-    s << "," << num(rs.p_WT.x()) << "," << num(rs.p_WT.y()) << "," << num(rs.p_WT.z()) << ","
-      << num(rs.position_error_m);
-    if (orientation) s << "," << num(rs.orientation_error_rad);
-    if (obstacles) s << "," << num(rs.obstacle_distance_m) << "," << pairText(r, rs.obstacle_pair);
-    s << "," << num(rs.self_distance_m) << "," << pairText(r, rs.self_pair) << "\n";
+    s << formatGOr(rs.t, 10, "");
+    for (int i = 0; i < model.dof(); ++i) s << "," << formatGOr(rs.q[i], 10, "");
+    s << "," << formatGOr(rs.p_WT.x(), 10, "") << "," << formatGOr(rs.p_WT.y(), 10, "") << ","
+      << formatGOr(rs.p_WT.z(), 10, "") << "," << formatGOr(rs.position_error_m, 10, "");
+    if (orientation) s << "," << formatGOr(rs.orientation_error_rad, 10, "");
+    if (obstacles)
+      s << "," << formatGOr(rs.obstacle_distance_m, 10, "") << "," << pairText(r, rs.obstacle_pair);
+    s << "," << formatGOr(rs.self_distance_m, 10, "") << "," << pairText(r, rs.self_pair) << "\n";
   }
   writeFileAtomic(path, s.str());
 }
@@ -173,10 +172,6 @@ report::PlotSeries plotSeries(const RunResult& r, double rate_Hz, const std::str
     s.y.push_back(r.samples[k].*field * scale);
   }
   return s;
-}
-
-std::string mm(double v_m, int decimals = 1) {
-  return std::isfinite(v_m) ? report::fixed(v_m * 1e3, decimals) : "-";
 }
 
 ordered_json runJson(const Model& model, const TrackingEntry& e, const RunResult& r) {
@@ -345,11 +340,12 @@ report::Document entryReport(const Model& model, const TrackingEntry& e, const E
                                           pairText(*r, r->first_contact_pair) + ")"
                                     : "none";
     rows.push_back({runLabel(r->kind), r->statusText(model),
-                    obst ? mm(r->min_obstacle_distance_m) + " (" +
+                    obst ? formatFixedOr(r->min_obstacle_distance_m * 1e3, 1, "-") + " (" +
                                pairText(*r, r->min_obstacle_pair) +
                                ", t = " + report::fixed(r->min_obstacle_time_s, 2) + " s)"
                          : "-",
-                    mm(r->min_self_distance_m) + " (" + pairText(*r, r->min_self_pair) + ")",
+                    formatFixedOr(r->min_self_distance_m * 1e3, 1, "-") + " (" +
+                        pairText(*r, r->min_self_pair) + ")",
                     contact, report::scientific(r->max_position_error_m, 2),
                     report::scientific(r->final_position_error_m, 2),
                     r->max_speed_joint >= 0 ? report::percent(r->max_speed_ratio, 0) + " (" +
@@ -385,7 +381,8 @@ std::string entryAnswer(const Model& model, const TrackingEntry& e, const EntryR
                                    " s (" + pairText(*r, r->first_contact_pair) + ")"
                              : "no contact");
     if (!e.obstacles.empty())
-      a += ", closest to the obstacles " + mm(r->min_obstacle_distance_m) + " mm";
+      a += ", closest to the obstacles " + formatFixedOr(r->min_obstacle_distance_m * 1e3, 1, "-") +
+           " mm";
   }
   return a + ".";
 }
