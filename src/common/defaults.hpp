@@ -1,4 +1,7 @@
 #pragma once
+
+#include <numbers>
+
 // Tunables in one place. Every tolerance, cap and default that is not a physical constant lives
 // here, with its unit; study files may override the ones marked (study).
 namespace armstudy::defaults {
@@ -31,7 +34,7 @@ inline constexpr double kCardanRoundingCosBeta = 1e-12;
 
 // Reachability (study): thesis eq. (3.2) acceptance thresholds.
 inline constexpr double kPositionTolerance_m = 1e-3;
-inline constexpr double kOrientationTolerance_rad = 0.5 * 3.14159265358979323846 / 180.0;
+inline constexpr double kOrientationTolerance_rad = 0.5 * std::numbers::pi / 180.0;
 
 // Task grids (src/tasks)
 inline constexpr double kGridRangeSlack = 1e-9;  // relative slack so `to` is kept despite rounding

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/angles.hpp"
 #include "model/model.hpp"
 
 namespace armstudy {
@@ -26,7 +27,7 @@ namespace armstudy {
 namespace defaults {
 // Assumption: a `continuous` joint sweeps [-2 pi, 2 pi] (two full turns, so every angle is an
 // interior point for the bounded IK and a sweep covers the full circle; the URDF gives no limits).
-inline constexpr double kContinuousJointRange_rad = 2 * 3.14159265358979323846;
+inline constexpr double kContinuousJointRange_rad = kFullTurn_rad;
 // Assumption: at most this many swept-sphere volumes are fitted to one collision mesh or box.
 inline constexpr int kUrdfSsvMaxVolumesPerMesh = 3;
 }  // namespace defaults
