@@ -40,7 +40,8 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 # --force-unsafe-io: dpkg skips its fsync after each file. Unpacking and configuring the program's
-# packages on a new machine takes about 200 s instead of 445 s (docs/performance.md, "Build and CI").
+# packages on a new machine took 203 s instead of 445 s at load average 15 (docs/performance.md,
+# "Build and CI").
 # A machine that loses power mid-install may need the install run again.
 $SUDO apt-get install -y -qq --no-install-recommends -o Dpkg::Options::=--force-unsafe-io \
   "${missing[@]}" >/dev/null
