@@ -3,9 +3,9 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "calibration/stats.hpp"
-#include "common/angles.hpp"
 #include "common/defaults.hpp"
 #include "common/errors.hpp"
 #include "common/format.hpp"
@@ -465,8 +465,7 @@ JointSideSamples jointSideSamples(const JointLogSpec& s, const std::vector<int>&
 }
 
 // Filters every joint's samples, differentiates the positions (or takes the logged velocities and
-// accelerations, noting their RMS difference from the differentiated ones) and keeps the rows
-// `keep` in d.
+// accelerations, noting their RMS difference from the differentiated ones), keeps rows `keep` in d.
 void filteredRows(const JointLogSpec& s, const Model& model, const JointSideSamples& js,
                   const std::vector<double>& time, const std::vector<int>& keep, double h, bool vel,
                   bool acc, TrajectoryData& d) {
