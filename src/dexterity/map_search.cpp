@@ -112,7 +112,7 @@ struct ThreadSolver {
 // One step over a list of cells, per item: the candidates it tried, whether its cell improved (a
 // counter of the step) and whether it changed (then its new state is the step's output).
 struct StepItems {
-  explicit StepItems(std::size_t n) : tries(n, 0), improved(n, 0), changed(n, 0), descent(n) {}
+  explicit StepItems(std::size_t n) : tries(n, 0), descent(n), improved(n, 0), changed(n, 0) {}
   std::vector<long> tries;
   std::vector<ik::DescentTally> descent;  // the item's candidates' descents
   std::vector<std::uint8_t> improved, changed;

@@ -311,7 +311,7 @@ struct StudyRun {
     // The other processes of a distributed run write into their scratch folder, which is removed,
     // and keep their warnings to themselves: the study's files and warnings come from rank 0.
     const std::string& stage_dir = root ? sum.output_dir : scratch.path;
-    StageContext ctx{study, stage_options, stage_dir, units, sum.threads, sum.output_dir};
+    StageContext ctx{study, stage_options, stage_dir, units, sum.threads, sum.output_dir, {}};
     if (!root) ctx.warnings = [](const std::string&) {};
     try {
       for (const StudySection& section : study.sections) {
@@ -590,7 +590,7 @@ StageResult runStage(const Study& study, const std::string& name, const std::str
   const UnitRunner units(store ? *store : none,
                          options.threads > 0 ? options.threads : omp_get_max_threads());
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  const StageContext ctx{study, options, output_dir, units, threads};
+  const StageContext ctx{study, options, output_dir, units, threads, {}, {}};
   for (const StudySection& section : study.sections)
     if (section.stage->name() == name) return section.stage->run(ctx, *section.settings);
   ARMSTUDY_CHECK(false, "the study has no section for stage '" + name + "'");

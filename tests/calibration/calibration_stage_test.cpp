@@ -96,7 +96,7 @@ StageRun runStage(const Study& s, const fs::path& root, RunSummary& rs, int thre
   CheckpointStore store(out, studyFingerprint(s), msg);
   const UnitRunner units(store);
   StageRun r;
-  r.result = runCalibrationStage(StageContext{s, ro, out, units, threads},
+  r.result = runCalibrationStage(StageContext{s, ro, out, units, threads, {}, {}},
                                  *stageSettings<std::vector<CalibrationEntry>>(s, "calibration"),
                                  &r.entries);
   rs.metrics = r.result.metrics;

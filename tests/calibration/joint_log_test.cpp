@@ -116,8 +116,8 @@ JointLogSpec writeSyntheticLogs(const fs::path& dir, const Planted& pl, double h
   s.study_file = (dir / "study.toml").string();
   s.study_line = 7;
   for (const auto& j : m.joints) s.joints.push_back(j.name);
-  s.positions = {(dir / "pos.csv").string(), {"m1", "m2", "m3", "m4", "m5", "m6"}, 1.0};
-  s.efforts = {(dir / "eff.csv").string(), {"e1", "e2", "e3", "e4", "e5", "e6"}, 1.0};
+  s.positions = {(dir / "pos.csv").string(), {"m1", "m2", "m3", "m4", "m5", "m6"}, 1.0, {}};
+  s.efforts = {(dir / "eff.csv").string(), {"e1", "e2", "e3", "e4", "e5", "e6"}, 1.0, {}};
   s.sample_period_s = h;
   s.motor_side = true;
   s.coupling = R;

@@ -18,7 +18,7 @@ TEST_CASE("calibration report words: lengths in mm, effects in words, keys only 
   const fs::path out = test::shippedOutput("arm_calibration");
   const std::regex metres(R"(\b0\.0\d{3,}\s*m\b)"), key(R"(\b(\w+)\.(\w+)\.\2\b)"),
       dotted(R"(\+(joint_offset|link_length)\.)");
-  for (const fs::path md : {out / "report.md", out / "calibration/report.md"}) {
+  for (const fs::path& md : {out / "report.md", out / "calibration/report.md"}) {
     INFO(md.string());
     const std::string text = readFileOrThrow(md.string());
     std::smatch m;

@@ -177,8 +177,8 @@ inline void jointLog(const std::uint8_t* data, std::size_t size) {
   s.study_line = 1;
   s.study_key = "calibration[0].measured";
   for (const Joint& j : model.joints) s.joints.push_back(j.name);
-  s.positions = {file, {"q1", "q2", "q3", "q4", "q5", "q6"}, 1.0};
-  s.efforts = {file, {"e1", "e2", "e3", "e4", "e5", "e6"}, 1.0};
+  s.positions = {file, {"q1", "q2", "q3", "q4", "q5", "q6"}, 1.0, {}};
+  s.efforts = {file, {"e1", "e2", "e3", "e4", "e5", "e6"}, 1.0, {}};
   s.coupling = Eigen::MatrixXd::Identity(6, 6);
   s.offsets = Eigen::VectorXd::Zero(6);
   s.cutoff_Hz = 50;

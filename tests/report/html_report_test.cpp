@@ -329,7 +329,7 @@ TEST_CASE(
   const Document doc = Document().heading(1, "Reach").table({"design", ">share"}, {{"a", "50 %"}});
   const std::string html = htmlReport(d.string(), "s",
                                       {{"reach", {"reach/report.md"}, {{"reach/report.md", doc}}},
-                                       {"calibration", {"calibration/e/report.md"}}});
+                                       {"calibration", {"calibration/e/report.md"}, {}}});
   CHECK(html.find("From the disk") == std::string::npos);
   CHECK(html.find("stale text") == std::string::npos);
   CHECK(html.find("<h2 id=\"s0-0-0\">Reach</h2>") != std::string::npos);
@@ -342,6 +342,6 @@ TEST_CASE(
                            {{"reach",
                              {"reach/report.md"},
                              {{"reach/report.md", Document().markdown(toMarkdown(doc))}}},
-                            {"calibration", {"calibration/e/report.md"}}}));
+                            {"calibration", {"calibration/e/report.md"}, {}}}));
   fs::remove_all(d);
 }

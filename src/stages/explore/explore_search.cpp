@@ -91,7 +91,7 @@ StageResult Evaluator::runStages(const Model& m, const Overrides& ov, const std:
   StageResult all;
   for (const StudySection& s : sections_) {
     // A candidate is one unit, computed by one process: its stages run their units here.
-    const StageContext sc{sub, options, dir, ctx_.units.local(), ctx_.threads};
+    const StageContext sc{sub, options, dir, ctx_.units.local(), ctx_.threads, {}, {}};
     StageResult r = s.stage->run(sc, *s.settings);
     all.metrics.merge(r.metrics);
     for (const auto& [scale, top] : r.scale_tops)
