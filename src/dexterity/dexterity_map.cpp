@@ -99,7 +99,7 @@ const double kMapProofRadius = 0.04;         // [rad or m], below defaults::kMap
 
 ik::NullspaceOptions mapDescentOptions() {
   ik::NullspaceOptions o;
-  o.quasi_newton = false;
+  o.quasi_newton = true;
   o.gradient_tolerance = kMapStationaryGradient;
   return o;
 }

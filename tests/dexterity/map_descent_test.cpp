@@ -245,8 +245,8 @@ TEST_CASE(
     "tolerance of the steepest one although its own descent jumps into contact",
     "[dexterity][descent][collision]") {
   const Model m = loadDesign(sourcePath("designs/first_prototype_9dof.toml"));
-  const DexterityOptions steep = contactPatch();
-  REQUIRE_FALSE(steep.nullspace.quasi_newton);
+  DexterityOptions steep = contactPatch();
+  steep.nullspace.quasi_newton = false;  // [dexterity.solver] quasi_newton = false
   DexterityOptions quasi = steep;
   quasi.nullspace.quasi_newton = true;
   const std::vector<Start> starts = plainStarts(m, steep);
