@@ -99,7 +99,7 @@ const double kMapProofRadius = 0.04;         // [rad or m], below defaults::kMap
 
 ik::NullspaceOptions mapDescentOptions() {
   ik::NullspaceOptions o;
-  o.quasi_newton = false;
+  o.quasi_newton = true;
   o.gradient_tolerance = kMapStationaryGradient;
   return o;
 }
@@ -189,8 +189,8 @@ bool onPose(const IkResult& s, const DexterityOptions& options) {
 // both postures are measureCell's.
 void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
                 const ik::WeightedObjective& objective, const DexterityOptions& options,
-                const StemGrid::Cell& cell, const JointVector& w_inv, const JointVector* start,
-                CellResult& r) {
+                const ik::NullspaceOptions& descent, const StemGrid::Cell& cell,
+                const JointVector& w_inv, const JointVector* start, CellResult& r) {
   ctx.u_W = options.fixed_direction ? options.direction_W : cell.u_W;
   forwardKinematicsAndJacobian(model, ws, r.q_plain);
   ctx.prepare(r.q_plain);
@@ -200,11 +200,10 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   if (model.dof() <= cell.target.rows() || objective.empty()) return;
   const JointVector& from = start ? *start : r.q_plain;
   ik::NullspaceResult o =
-      ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, options.nullspace);
+      ik::optimiseAtPose(model, ws, ctx, cell.target, from, objective, w_inv, descent);
   r.descent.add(o);
   if (from != r.q_plain && !(o.H_final <= r.H_plain)) {
-    o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv,
-                           options.nullspace);
+    o = ik::optimiseAtPose(model, ws, ctx, cell.target, r.q_plain, objective, w_inv, descent);
     r.descent.add(o);
   }
   r.optimised = o.status != ik::NullspaceStatus::NotOnPose;
@@ -212,6 +211,29 @@ void finishCell(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContex
   r.nullspace_iterations = o.iterations;
   r.q_opt = o.q;
   r.H_opt = o.H_final;
+}
+
+// finishCell, then the collision verdict (settleCollision). A quasi-Newton descent that ended in
+// contact (the cell then keeps its start) is redone with the steepest directions: where the
+// minimum of H on the pose lies in contact, quasi-Newton steps jump into it and steepest steps stop
+// short of it (docs/dexterity.md, "What is computed").
+void optimiseAndSettle(const Model& model, KinematicsWorkspace& ws, ik::ObjectiveContext& ctx,
+                       const ik::WeightedObjective& objective, const DexterityOptions& options,
+                       const StemGrid::Cell& cell, const JointVector& w_inv,
+                       const JointVector* start, collision::CollisionWorkspace* cws,
+                       CellResult& r) {
+  const CellResult before = r;
+  finishCell(model, ws, ctx, objective, options, options.nullspace, cell, w_inv, start, r);
+  const bool descended = r.optimised;
+  settleCollision(model, ws, cws, options.collision, r);
+  if (!(options.nullspace.quasi_newton && descended && r.reachable && !r.optimised)) return;
+  ik::NullspaceOptions steepest = options.nullspace;
+  steepest.quasi_newton = false;
+  const ik::DescentTally tally = r.descent;
+  r = before;
+  r.descent = tally;
+  finishCell(model, ws, ctx, objective, options, steepest, cell, w_inv, start, r);
+  settleCollision(model, ws, cws, options.collision, r);
 }
 
 }  // namespace
@@ -254,8 +276,7 @@ bool cellFromSeed(const Model& model, KinematicsWorkspace& ws, IkWorkspace& ik_w
   out.q_plain = s.q;
   out.position_error_m = s.position_error_m;
   out.orientation_error_rad = s.orientation_error_rad;
-  finishCell(model, ws, ctx, objective, options, cell, w_inv, nullptr, out);
-  settleCollision(model, ws, cws, options.collision, out);
+  optimiseAndSettle(model, ws, ctx, objective, options, cell, w_inv, nullptr, cws, out);
   if (measure) measureCell(model, ws, options, cell, out);
   return true;
 }
@@ -322,8 +343,8 @@ CellResult solveCell(const Model& model, KinematicsWorkspace& ws, IkWorkspace& i
       chained = true;
     }
   }
-  finishCell(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr, r);
-  settleCollision(model, ws, cws, options.collision, r);
+  optimiseAndSettle(model, ws, ctx, objective, options, cell, w_inv, chained ? &start : nullptr,
+                    cws, r);
   measureCell(model, ws, options, cell, r);
   return r;
 }

@@ -52,9 +52,10 @@ struct StemCollision {
   bool enabled() const { return self || !obstacles.empty(); }
 };
 
-// The null-space descent of the maps (docs/dexterity.md, "What is computed"): projected steepest
-// descent (quasi-Newton directions with [dexterity.solver] quasi_newton = true), stopped by the
-// projected gradient (kMapStationaryGradient) or the relative improvement.
+// The null-space descent of the maps (docs/dexterity.md, "What is computed"): limited-memory BFGS
+// directions in the null space (projected steepest descent with [dexterity.solver] quasi_newton =
+// false, and for a descent that ended in contact), stopped by the projected gradient
+// (kMapStationaryGradient) or the relative improvement.
 ik::NullspaceOptions mapDescentOptions();
 
 struct DexterityOptions {
