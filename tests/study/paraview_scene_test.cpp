@@ -283,24 +283,31 @@ TEST_CASE("scene.py lists the world files and renders offscreen with ParaView's 
   }
   const bool display = std::getenv("DISPLAY") != nullptr;
   const bool xvfb = !display && runCommand("command -v xvfb-run", log) == 0;
-  const std::string runner = xvfb      ? "xvfb-run -a " + pvpython
-                             : display ? pvpython
-                                       : pvpython + " --force-offscreen-rendering";
   // Two pictures of the same scene: with its colour bars and without them (--no-bars).
   auto render = [&](const std::string& name, const std::string& extra) {
-    const fs::path png = out / name;
+    const fs::path png = out / name, xvfb_log = out / (name + ".xvfb.log");
     fs::remove(png);
+    // xvfb-run writes what Xvfb and xauth say to xvfb_log (else nowhere): a failed start is named.
+    const std::string runner = xvfb      ? "xvfb-run -a -e " + xvfb_log.string() + " " + pvpython
+                               : display ? pvpython
+                                         : pvpython + " --force-offscreen-rendering";
     const std::string command =
         runner + " " + (out / "scene.py").string() + " --screenshot " + png.string() + extra;
+    auto xvfbSaid = [&] {
+      std::error_code ec;
+      return xvfb && fs::exists(xvfb_log, ec)
+                 ? "\n(Xvfb: " + readFileOrThrow(xvfb_log.string()) + ")"
+                 : std::string();
+    };
     int rc = runCommand(command, log);
     // xvfb-run -a picks a free display but races with another xvfb-run starting at the same
     // moment, and a server slow to start on a loaded machine refuses the first connection ("bad X
     // server connection"): try twice more, after a pause, keeping every attempt's output.
-    std::string all = log;
+    std::string all = log + (rc != 0 ? xvfbSaid() : "");
     for (int attempt = 0; rc != 0 && xvfb && attempt < 2; ++attempt) {
       std::this_thread::sleep_for(std::chrono::seconds(3));
       rc = runCommand(command, log);
-      all += "\n--- again ---\n" + log;
+      all += "\n--- again ---\n" + log + (rc != 0 ? xvfbSaid() : "");
     }
     INFO(command << "\n" << all);
     REQUIRE(rc == 0);
