@@ -40,6 +40,13 @@ void addRunCommand(CLI::App* cmd, Action& action) {
          "depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, defaults::kMaxSearchGroupRanks));
+  cmd->add_option("--preview", a->opt.preview_stride,
+                  "Progressive stem maps: before computing them, write a preview of each on every "
+                  "K-th gamma and z value (its chained rows, before the map search) to "
+                  "dexterity/preview/ and name it on stderr (0 = none). The other files do not "
+                  "depend on it")
+      ->capture_default_str()
+      ->check(CLI::Range(0, defaults::kMaxPreviewStride));
   cmd->add_flag(
       "--json", a->json,
       "Print the run summary as JSON on stdout (study, output folder, files, timings, metrics)");
@@ -47,6 +54,10 @@ void addRunCommand(CLI::App* cmd, Action& action) {
     // Under mpirun/srun every rank runs this; a plain run is the single process
     // (docs/distributed.md). Errors before the stages are reported once, by the lowest rank that
     // found them (the others end quietly); runStudy ends the whole job on an error during them.
+    a->opt.on_preview = [](const std::string& file) {
+      std::fprintf(stderr, "armstudy: preview %s\n", file.c_str());
+      std::fflush(stderr);
+    };
     const std::unique_ptr<Ranks> job = joinMpiJob();
     const Ranks& ranks = job ? *job : singleProcess();
     std::optional<Study> s;

@@ -76,6 +76,7 @@ inline constexpr long kHarvestUnitGridPoints = 1024;  // holding-grid points per
 // replay of the million-pose sweep (docs/performance.md); results do not depend on it.
 inline constexpr int kSearchGroupRanks = 16;
 inline constexpr int kMaxSearchGroupRanks = 1 << 20;
+inline constexpr int kMaxPreviewStride = 100;  // --preview: every k-th cell, k at most this
 // A map search's predicted cost per reachable pose for an arm of at most six joints, relative to a
 // redundant one (groups' sizes only). Assumption from the million-pose sweep's record: the
 // six-joint arm's search cost 1/15 (canopy_wall) and 1/3 (workspace_position) of the others' per

@@ -24,6 +24,13 @@ struct AxisRange {
   int count = 1;  // number of samples, min and max included (count = 1: only min)
   double value(int i) const { return count == 1 ? min : min + (max - min) * i / (count - 1); }
   double step() const { return count == 1 ? 0.0 : (max - min) / (count - 1); }
+  // The samples 0, k, 2k, ... of this range (k >= 1), as a range of their own.
+  AxisRange every(int k) const {
+    AxisRange a = *this;
+    a.count = (count - 1) / k + 1;
+    a.max = value((a.count - 1) * k);
+    return a;
+  }
 };
 
 struct StemGrid {

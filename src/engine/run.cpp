@@ -336,6 +336,7 @@ struct StudyRun {
         }
         sum.units_resumed += r.units_resumed;
         sum.files_written.insert(sum.files_written.end(), r.files.begin(), r.files.end());
+        sum.files_written.insert(sum.files_written.end(), r.previews.begin(), r.previews.end());
         sum.timings.push_back({section.stage->timingName(), r.seconds});
         sum.timings.insert(sum.timings.end(), r.timings.begin(), r.timings.end());
         sum.counts.insert(sum.counts.end(), r.counts.begin(), r.counts.end());

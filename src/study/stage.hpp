@@ -49,6 +49,12 @@ struct RunOptions {
   // run in groups of at least this many ranks, each group searching some of the designs; 0 = every
   // rank in every search. Results do not depend on it.
   int search_group_ranks = defaults::kSearchGroupRanks;
+  // Progressive stem maps: before any map is computed, a preview of each design's map on every
+  // k-th gamma and z value (its chained rows alone, without the map search) is written to
+  // dexterity/preview/ and its file passed to on_preview (the CLI names it on stderr); 0 = no
+  // preview. The other files do not depend on it.
+  int preview_stride = 0;
+  std::function<void(const std::string& file)> on_preview;
   // Cancellation (the Python module's Ctrl-C): when set, a single-process run computes its units a
   // few at a time (as many as it has threads) and asks this between them; true stops the run with
   // RunCancelled (study/unit_runner.hpp), the completed units saved, so the folder resumes as
@@ -79,6 +85,9 @@ struct StageCount {
 // stay byte-identical across runs.
 struct StageResult {
   std::vector<std::string> files;  // relative to the study output folder, in writing order
+  // Progressive previews (RunOptions::preview_stride): in the manifest's file list, not in the
+  // reports, so that every other file is the same with and without them.
+  std::vector<std::string> previews;
   // The documents of its report files (the .md files among `files`): report.html renders them.
   std::vector<report::ReportFile> reports;
   StudyMetrics metrics;              // "<stage>/<design>/..." for baselines and checks

@@ -423,6 +423,53 @@ report::ViewCloud viewCloud(const Model& m, const DexterityMap& map, const MapFi
   return c;
 }
 
+namespace {
+
+// Progressive maps (RunOptions::preview_stride = k): each design's map on every k-th gamma and z
+// value, its chained rows alone (no map search), drawn as the first normalised measure's figure to
+// dexterity/preview/<design>.svg and .png by the process that owns the design, and announced
+// through RunOptions::on_preview. Computed apart from the full map, which does not depend on it.
+// Returns the files written, relative to the output folder.
+std::vector<std::string> writePreviews(const StageContext& ctx, const DexterityOptions& options) {
+  const int k = ctx.options.preview_stride;
+  DexterityOptions coarse = options;
+  coarse.grid.gamma_rad = options.grid.gamma_rad.every(k);
+  coarse.grid.z_m = options.grid.z_m.every(k);
+  coarse.seed_starts = coarse.propagation_rounds = coarse.collision_starts = 0;
+  const auto decl = metrics::measureDeclarations();
+  const auto shown = std::find_if(decl.begin(), decl.end(), [](const auto& d) {
+    return d.on_maps && d.normalised && d.figure_label;
+  });
+  ARMSTUDY_CHECK(shown != decl.end(), "a stem map preview needs a normalised measure");
+  const std::string label = std::string("normalised ") + shown->figure_label + ", optimised [1]";
+  const std::string title_end =
+      " (preview: 1 in " + std::to_string(k) + " cells along gamma and z, before the map search)";
+  const std::vector<std::string> parts =
+      renderShared(&ctx.units, std::string("preview/") + kSub, ctx.study.designs.size(),
+                   ctx.threads, [&](std::size_t di) {
+                     const DexterityMap map = computeDexterityRows(
+                         ctx.study.designs[di].model, coarse, {{0, coarse.grid.z_m.count}}, 1);
+                     const MapFields f = mapFields(map);
+                     const report::Drawing fig = heatmapFigure(
+                         map, heatmapCells(map, f.measures[shown - decl.begin()].opt_norm, 1.0),
+                         1.0, map.design + title_end, label);
+                     Writer out(ctx.resultsDir());
+                     const std::string name = std::string(kSub) + "/preview/" + map.design;
+                     out.text(name + ".svg", fig.svg);
+                     out.text(name + ".png", fig.png);
+                     if (ctx.options.on_preview) ctx.options.on_preview(out.path(name + ".png"));
+                     return packRenderedPart(RenderedPart{}, out);
+                   });
+  std::vector<std::string> files;
+  for (const std::string& bytes : parts) {
+    RenderedPart part;
+    unpackRenderedPart(bytes, part, files);
+  }
+  return files;
+}
+
+}  // namespace
+
 // Computes each design's map through the work units and writes its files, report section and
 // summary entry, then the comparison table, summary.json and report.md.
 StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOptions& options,
@@ -436,6 +483,7 @@ StageResult runDexterityStage(const StageContext& all_ctx, const DexterityOption
   Writer out(ctx.output_dir);
   nlohmann::ordered_json js = settingsJson(options);
   report::Document doc = reportIntro(options);
+  if (ctx.options.preview_stride > 0) sum.previews = writePreviews(ctx, options);
   // Every design's map first: the figures share colour scales over all of them.
   std::vector<DexterityMap> design_maps;
   std::vector<MapFields> fields;
