@@ -85,6 +85,51 @@ double adaptiveDamping(double manipulability, double lambda0, double m0) {
   return lambda0 * r * r;  // eq. (5.67)
 }
 
+namespace {
+
+// Algorithm 5.3 in two parts: lines 2-3 (B = J W^-1 J^T + lambda^2 I and its Cholesky factor) at
+// one J, then lines 1 and 4 for any (wdot, grad, alpha): a descent resolves several vectors at the
+// same configuration with one factorisation.
+class TaskFactor {
+ public:
+  // False when B is not positive definite (singular J and lambda = 0).
+  bool factor(const Eigen::Ref<const Eigen::MatrixXd>& J,
+              const Eigen::Ref<const Eigen::VectorXd>& w_inv, double lambda) {
+    JWinv_ = J * w_inv.asDiagonal();
+    SmallMat B = JWinv_ * J.transpose();
+    B.diagonal().array() += lambda * lambda;
+    llt_.compute(B);
+    ok_ = llt_.info() == Eigen::Success;
+    return ok_;
+  }
+  // qdot for the J and w_inv of the last factor() (false, qdot untouched, when it failed).
+  bool resolve(const Eigen::Ref<const Eigen::MatrixXd>& J,
+               const Eigen::Ref<const Eigen::VectorXd>& w_inv,
+               const Eigen::Ref<const Eigen::VectorXd>& wdot,
+               const Eigen::Ref<const Eigen::VectorXd>& grad, double alpha,
+               Eigen::Ref<Eigen::VectorXd> qdot) const {
+    if (!ok_) return false;
+    const long n = J.cols();
+    // Line 1: p = wdot + alpha J W^-1 grad^T.
+    TaskVec p = wdot;
+    if (grad.size() == n && alpha != 0) p.noalias() += alpha * (JWinv_ * grad);
+    // Line 3: solve B gamma = p by Cholesky elimination (no explicit inverse).
+    const TaskVec gamma = llt_.solve(p);
+    // Line 4: qdot = W^-1 (J^T gamma - alpha grad^T).
+    JointVector r = J.transpose() * gamma;
+    if (grad.size() == n && alpha != 0) r -= alpha * grad;
+    qdot = w_inv.cwiseProduct(r);
+    return true;
+  }
+
+ private:
+  TaskJacobian JWinv_;
+  Eigen::LLT<SmallMat> llt_;
+  bool ok_ = false;
+};
+
+}  // namespace
+
 bool redundancyResolution(const Eigen::Ref<const Eigen::MatrixXd>& J,
                           const Eigen::Ref<const Eigen::VectorXd>& w_inv,
                           const Eigen::Ref<const Eigen::VectorXd>& wdot,
@@ -94,22 +139,8 @@ bool redundancyResolution(const Eigen::Ref<const Eigen::MatrixXd>& J,
   ARMSTUDY_CHECK(w_inv.size() == n && wdot.size() == m && qdot.size() == n,
                  "redundancyResolution: size mismatch");
   ARMSTUDY_CHECK(grad.size() == 0 || grad.size() == n, "redundancyResolution: gradient size");
-  TaskJacobian JWinv = J * w_inv.asDiagonal();
-  // Algorithm 5.3, line 1: p = wdot + alpha J W^-1 grad^T.
-  TaskVec p = wdot;
-  if (grad.size() == n && alpha != 0) p.noalias() += alpha * (JWinv * grad);
-  // Line 2 (+ eq. 5.65b): B = J W^-1 J^T + lambda^2 I.
-  SmallMat B = JWinv * J.transpose();
-  B.diagonal().array() += lambda * lambda;
-  // Line 3: solve B gamma = p by Cholesky elimination (no explicit inverse).
-  const Eigen::LLT<SmallMat> llt(B);
-  if (llt.info() != Eigen::Success) return false;
-  const TaskVec gamma = llt.solve(p);
-  // Line 4: qdot = W^-1 (J^T gamma - alpha grad^T).
-  JointVector r = J.transpose() * gamma;
-  if (grad.size() == n && alpha != 0) r -= alpha * grad;
-  qdot = w_inv.cwiseProduct(r);
-  return true;
+  TaskFactor f;
+  return f.factor(J, w_inv, lambda) && f.resolve(J, w_inv, wdot, grad, alpha, qdot);
 }
 
 std::string RedundancyOptions::validate(int dof) const {
@@ -250,10 +281,11 @@ bool backOntoPose(const Model& model, KinematicsWorkspace& ws, const PoseTask& t
 
 // N_W v = v - W^-1 J^T (J W^-1 J^T)^-1 J v, the part of v that leaves the task still (Algorithm
 // 5.3 with wdot = 0 and the "gradient" W v). False when J is singular.
-bool nullspacePart(const TaskJacobian& J, const Eigen::VectorXd& w_inv, const JointVector& v,
-                   JointVector& out) {
+// `f`: the factor of B at J with lambda = 0.
+bool nullspacePart(const TaskFactor& f, const TaskJacobian& J, const Eigen::VectorXd& w_inv,
+                   const JointVector& v, JointVector& out) {
   const JointVector wv = v.cwiseQuotient(w_inv);
-  if (!redundancyResolution(J, w_inv, TaskVec::Zero(J.rows()), wv, 1.0, 0.0, out)) return false;
+  if (!f.resolve(J, w_inv, TaskVec::Zero(J.rows()), wv, 1.0, out)) return false;
   out = -out;
   return true;
 }
@@ -302,6 +334,7 @@ struct DescentState {
   JointVector q, grad, d_sd;
   double H = 0;
   TaskJacobian J;
+  TaskFactor factor;  // of B at J, with the damping of the steepest direction
 };
 
 // The damped or undamped steepest null-space direction at the state (Algorithm 5.3 with wdot = 0
@@ -312,8 +345,8 @@ bool steepest(const NullspaceOptions& o, const Eigen::VectorXd& w_inv, DescentSt
   lambda = damped ? adaptiveDamping(metrics::computeMeasures(st.J, TaskVec()).manipulability,
                                     o.damping_lambda0, o.damping_m0)
                   : 0.0;
-  return redundancyResolution(st.J, w_inv, TaskVec::Zero(st.J.rows()), st.grad, 1.0, lambda,
-                              st.d_sd);
+  return st.factor.factor(st.J, w_inv, lambda) &&
+         st.factor.resolve(st.J, w_inv, TaskVec::Zero(st.J.rows()), st.grad, 1.0, st.d_sd);
 }
 
 // Whether H at q (FK and J in ws) satisfies the Armijo condition H < H0 + 1e-4 * decrease, with
@@ -335,7 +368,7 @@ bool direction(const NullspaceOptions& o, const Eigen::VectorXd& w_inv, const De
   d = st.d_sd;
   if (!o.quasi_newton || lambda != 0 || memory.count == 0) return false;
   JointVector t(d.size());
-  if (nullspacePart(st.J, w_inv, memory.apply(-st.d_sd), t) && st.grad.dot(-t) < 0) {
+  if (nullspacePart(st.factor, st.J, w_inv, memory.apply(-st.d_sd), t) && st.grad.dot(-t) < 0) {
     d = -t;
     return true;
   }
@@ -429,7 +462,8 @@ NullspaceResult optimiseAtPose(const Model& model, KinematicsWorkspace& ws, Obje
     if (options.quasi_newton && have_direction && lambda == 0) {
       // The pair in the new point's null space: its step and the change of the projected gradient.
       JointVector sk(n), gk(n);
-      if (nullspacePart(st.J, w_inv, st.q - q_old, sk) && nullspacePart(st.J, w_inv, g_old, gk))
+      if (nullspacePart(st.factor, st.J, w_inv, st.q - q_old, sk) &&
+          nullspacePart(st.factor, st.J, w_inv, g_old, gk))
         memory.push(sk, -st.d_sd - gk);
     }
     if (improvement <= options.relative_improvement * std::max(std::abs(st.H), 1e-12)) {
