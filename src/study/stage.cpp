@@ -44,9 +44,9 @@ std::string RunOptions::validate() const {
     return "unit size must be within 0.." + std::to_string(defaults::kMaxUnitItems) +
            " (0 = each stage's default)";
   if (search_group_ranks < 0) return "search group ranks must not be negative";
-  if (preview_stride < 0 || preview_stride == 1 || preview_stride > defaults::kMaxPreviewStride)
-    return "preview stride must be 0 (none) or within 2.." +
-           std::to_string(defaults::kMaxPreviewStride);
+  if (preview_stride < 0 || preview_stride > defaults::kMaxPreviewStride)
+    return "preview stride must be within 0.." + std::to_string(defaults::kMaxPreviewStride) +
+           " (0 = no preview)";
   return "";
 }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "common/defaults.hpp"
 #include "dexterity/stem_grid.hpp"
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
@@ -123,4 +124,18 @@ TEST_CASE("a stem map preview is written before the maps and leaves their files 
       readFileOrThrow((out / "dexterity/preview/first_prototype_9dof.svg").string());
   CHECK(svg.find("preview: 1 in 3 cells along gamma and z, before the map search") !=
         std::string::npos);
+}
+
+TEST_CASE("every preview stride the CLI accepts is a valid run option, and only those",
+          "[dexterity]") {
+  RunOptions o;
+  for (int k = 0; k <= defaults::kMaxPreviewStride; ++k) {
+    o.preview_stride = k;
+    INFO(k);
+    CHECK(o.validate().empty());
+  }
+  for (int k : {-1, defaults::kMaxPreviewStride + 1}) {
+    o.preview_stride = k;
+    CHECK_FALSE(o.validate().empty());
+  }
 }
