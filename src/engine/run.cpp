@@ -352,9 +352,8 @@ struct StudyRun {
     }
   }
 
-  // Each design at its zero pose for report.md: the drawing a stage made of it (<stage>/images/
-  // arm_<design>.svg), else one drawn here into designs/, which then get their own report.html
-  // page.
+  // Each design at its zero pose for report.md: a stage's drawing of it (<stage>/images/
+  // arm_<design>.svg), else one drawn here into designs/ (their own report.html page).
   void drawDesigns() {
     designs.heading(2, "Designs");
     Writer drawn(sum.output_dir);
