@@ -470,7 +470,14 @@ TEST_CASE(
   replace("front_designs = 3", "front_designs = 1");
   const fs::path dir = freshDir("shipped");
   const Study s = loadStudy(write(dir / "explore_final_prototype.toml", text));
-  const StageResult r = runStage(s, "explore", (dir / "out").string());
+  // Asked for previews of progressive maps, the candidates' stem maps show none (they are not
+  // what a person waits for).
+  RunOptions ro;
+  ro.preview_stride = 2;
+  int previews = 0;
+  ro.on_preview = [&](const std::string&) { ++previews; };
+  const StageResult r = runStage(s, "explore", (dir / "out").string(), ro);
+  CHECK(previews == 0);
   CHECK(r.metrics.scalars.at("explore/evaluations") >= 3);
   CHECK(r.metrics.scalars.at("explore/front_size") >= 1);
   const std::string md = readFileOrThrow((dir / "out/explore/explore.md").string());

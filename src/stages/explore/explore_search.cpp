@@ -67,6 +67,7 @@ std::vector<std::size_t> paretoFront(const std::vector<Candidate>& c,
 Evaluator::Evaluator(const StageContext& ctx, const ExploreOptions& o) : ctx_(ctx), o_(o) {
   inner_options_ = ctx.options;
   inner_options_.progress = false;
+  inner_options_.preview_stride = 0;  // a candidate's maps are not what a person waits for
   scratch_ = (fs::path(ctx.output_dir) / "explore" / ".scratch").string();
   for (const std::string& name : o.stages)
     for (const StudySection& s : ctx.study.sections)
