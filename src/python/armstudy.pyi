@@ -1,7 +1,7 @@
 # Typed stub of the armstudy extension module (docs/python.md). Arrays are float64 numpy arrays;
 # "N" is the batch axis, dropped when a single configuration (dof,) or pose (6,) is given.
 import os
-from typing import Any, Mapping, Optional, Sequence, TypedDict, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -165,6 +165,8 @@ def run_study(
     overwrite: bool = False,
     unit_size: int = 0,
     folder: PathLike = ".",
+    preview: int = 0,
+    on_preview: Optional[Callable[[str], Any]] = None,
 ) -> StudyResult: ...
 def synthesize_tcp(
     design: Design,

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -350,14 +351,17 @@ Study readStudy(const py::object& study, const std::string& folder) {
   return loadStudy(utf8(path, "study"));
 }
 
-RunOptions runOptions(const std::string& output, int threads, bool overwrite, long unit_size) {
+RunOptions runOptions(const std::string& output, int threads, bool overwrite, long unit_size,
+                      int preview) {
   checkArgument("threads", threads, 0, defaults::kMaxThreads, " (0 = all cores)");
   checkArgument("unit_size", unit_size, 0, defaults::kMaxUnitItems, " (0 = each stage's default)");
+  checkArgument("preview", preview, 0, defaults::kMaxPreviewStride, " (0 = none)");
   RunOptions o;
   o.output_root = output;
   o.threads = forkedChild() ? 1 : threads;  // bindings.hpp: one thread after a fork
   o.overwrite = overwrite;
   o.unit_items = unit_size;
+  o.preview_stride = preview;
   o.progress = false;
   if (const std::string error = o.validate(); !error.empty())
     throw InputError("arguments", 0, "output", error);
@@ -389,18 +393,35 @@ py::dict summaryDict(const Study& study, const RunSummary& sum) {
 }
 
 py::dict run(const py::object& study, const fs::path& output, int threads, bool overwrite,
-             long unit_size, const fs::path& folder) {
-  RunOptions options = runOptions(output.string(), threads, overwrite, unit_size);
+             long unit_size, const fs::path& folder, int preview, const py::object& on_preview) {
+  RunOptions options = runOptions(output.string(), threads, overwrite, unit_size, preview);
+  if (!on_preview.is_none() && !PyCallable_Check(on_preview.ptr()))
+    throw InputError("arguments", 0, "on_preview",
+                     "expected a callable or None, got a value of type " + typeName(on_preview));
   const Study s = readStudy(study, folder.string());
   // Ctrl-C: between slices of units the runner asks for the GIL and runs Python's signal handlers;
-  // their exception (KeyboardInterrupt) stops the run with the completed units saved.
+  // their exception (KeyboardInterrupt) stops the run with the completed units saved. An exception
+  // of on_preview (called on the thread that wrote the preview) stops it the same way.
   std::optional<py::error_already_set> interrupt;
-  options.cancelled = [&interrupt] {
+  std::mutex interrupt_mutex;
+  options.cancelled = [&] {
     py::gil_scoped_acquire gil;
+    const std::lock_guard<std::mutex> lock(interrupt_mutex);
+    if (interrupt) return true;
     if (PyErr_CheckSignals() == 0) return false;
     interrupt.emplace();
     return true;
   };
+  if (!on_preview.is_none())
+    options.on_preview = [&](const std::string& file) {
+      py::gil_scoped_acquire gil;
+      try {
+        on_preview(file);
+      } catch (py::error_already_set& e) {
+        const std::lock_guard<std::mutex> lock(interrupt_mutex);
+        if (!interrupt) interrupt.emplace(std::move(e));
+      }
+    };
   RunSummary sum;
   try {
     py::gil_scoped_release release;
@@ -409,6 +430,7 @@ py::dict run(const py::object& study, const fs::path& output, int threads, bool 
     if (interrupt) throw *interrupt;
     throw;
   }
+  if (interrupt) throw *interrupt;  // on_preview failed after the last check
   return py::module_::import("armstudy").attr("StudyResult")(summaryDict(s, sum));
 }
 
@@ -509,6 +531,7 @@ void bindStudy(py::module_& m) {
   m.attr("StudyResult") = scope["StudyResult"];
   m.def("run_study", &run, py::arg("study"), py::arg("output") = "output", py::arg("threads") = 0,
         py::arg("overwrite") = false, py::arg("unit_size") = 0, py::arg("folder") = ".",
+        py::arg("preview") = 0, py::arg("on_preview") = py::none(),
         R"(Runs a study as `armstudy run` does, writing the same files into output/<name>/.
 study: a study file path, or a dict with the study file's tables (relative paths in it resolve
 against `folder`; an error names the dict's key path, e.g. 'reach.grid[0].step'). threads and
@@ -518,7 +541,12 @@ study, output_dir, designs, threads, files, units_resumed and resume_message (wh
 loaded), timings, metrics (the summary scalars), flags (per-pose uint8 arrays), maps
 ({file: read_map(file)} for every .vti written). output and folder: str or os.PathLike.
 Ctrl-C (KeyboardInterrupt) stops the run between work units, within about a second; the units
-done are saved, so the same call again resumes, as after the CLI's Ctrl-C.)");
+done are saved, so the same call again resumes, as after the CLI's Ctrl-C.
+preview=K (0..100, as `armstudy run --preview K`): before the stem maps are computed, each design's
+map on every K-th gamma and z value is written to dexterity/preview/<design>.svg and .png, and
+on_preview(path) is called with the .png's path as soon as it exists (e.g. to show it in a
+notebook); an exception it raises stops the run as Ctrl-C does and is raised again. The other
+files do not depend on it.)");
   m.def("check_study", &check, py::arg("study"), py::arg("folder") = ".",
         R"(Reads and validates a study (a file path or a dict, as run_study) without running it:
 the designs and data it names are loaded and checked, nothing is written. Returns a dict: study,
