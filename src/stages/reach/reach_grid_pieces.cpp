@@ -249,7 +249,6 @@ void renderImages(const GridRendering& gr, std::size_t di, int k, Writer& out, R
     per_k.add(map, i, grid.position(grid.pointOf(i)));
   }
   const double manipulability_max_m3 = sharedManipulabilityMax(gr);
-  const long off = static_cast<long>(k) * gr.res.positions;
   // A status map whose cells all have one status would be one colour: a sentence says it instead.
   if (plane.projected < 0) {
     long n = 0;
@@ -265,31 +264,10 @@ void renderImages(const GridRendering& gr, std::size_t di, int k, Writer& out, R
         return;
       }
   }
-  report::RasterImage status_img =
-      report::renderCellMap(gr.res.dims[plane.a], gr.layout.image_rows, [&](int u, int v) {
-        if (plane.projected >= 0) {
-          long c = 0, n = 0;
-          forCell(grid, plane, u, v, [&](long p) {
-            c += map.reachable(off + p);
-            ++n;
-          });
-          return report::viridis(n ? double(c) / n : 0.0);
-        }
-        report::Rgb col;
-        forCell(grid, plane, u, v, [&](long p) { col = report::categorical(map.status[off + p]); });
-        return col;
-      });
-  report::MapFigure fig = mapAxes(grid, plane, map.design + ", " + orientationText(grid, k));
-  if (plane.projected >= 0)
-    fig.scale =
-        report::ColourScale{report::viridis, 0, 1,
-                            "fraction of the cells along " + std::string(kAxis[plane.projected]) +
-                                " that are reachable"};
-  else
-    fig.legend = statusLegend(per_k.status);
-  const std::string rel = writeFigure(
-      out, "reach/images/" + grid.name + "__" + map.design + suffix(grid, k), status_img, fig);
   const std::string title = map.design + ", " + orientationText(grid, k);
+  const std::string rel =
+      writeStatusFigure(out, "reach/images/" + grid.name + "__" + map.design + suffix(grid, k),
+                        grid, plane, map, k, per_k.status, title);
   images.figures({{title, rel}}, title + ": " + report::percent(per_k.fraction()) + " reachable. " +
                                      imageCaptionAxes(grid, plane) + ".");
   if (plane.projected < 0 && manipulability_max_m3 > 0)

@@ -241,6 +241,37 @@ std::string writeFigure(Writer& out, const std::string& stem, const report::Rast
                                                      : stem + ".svg";
 }
 
+std::string writeStatusFigure(Writer& out, const std::string& stem, const TaskGrid& grid,
+                              const ImagePlane& plane, const PoseSweep& map, int k,
+                              const std::array<long, kReachStatusCount>& counts,
+                              const std::string& title) {
+  const auto d = grid.dims();
+  const long off = static_cast<long>(k) * grid.points();
+  const int rows = plane.b != plane.a && d[plane.b] > 1 ? d[plane.b] : 1;
+  const report::RasterImage img = report::renderCellMap(d[plane.a], rows, [&](int u, int v) {
+    if (plane.projected >= 0) {
+      long c = 0, n = 0;
+      forCell(grid, plane, u, v, [&](long p) {
+        c += map.reachable(off + p);
+        ++n;
+      });
+      return report::viridis(n ? double(c) / n : 0.0);
+    }
+    report::Rgb col;
+    forCell(grid, plane, u, v, [&](long p) { col = report::categorical(map.status[off + p]); });
+    return col;
+  });
+  report::MapFigure fig = mapAxes(grid, plane, title);
+  if (plane.projected >= 0)
+    fig.scale =
+        report::ColourScale{report::viridis, 0, 1,
+                            "fraction of the cells along " + std::string(kAxis[plane.projected]) +
+                                " that are reachable"};
+  else
+    fig.legend = statusLegend(counts);
+  return writeFigure(out, stem, img, fig);
+}
+
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
 report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string title) {
   report::MapFigure f;

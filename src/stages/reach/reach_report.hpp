@@ -148,6 +148,13 @@ bool writeBestRobot(Writer& out, const std::string& rel, const Model& model, con
 // the study folder, under reach/); returns the .svg path relative to reach/report.md (its link).
 std::string writeFigure(Writer& out, const std::string& stem, const report::RasterImage& img,
                         const report::MapFigure& fig);
+// The status map of orientation k of a grid's sweep (on 3-D grids the fraction of reachable
+// cells along the projected axis), titled `title`, with the legend of the statuses counted in
+// `counts`, written by writeFigure to <stem>; returns what writeFigure returns.
+std::string writeStatusFigure(Writer& out, const std::string& stem, const TaskGrid& grid,
+                              const ImagePlane& plane, const PoseSweep& map, int k,
+                              const std::array<long, kReachStatusCount>& counts,
+                              const std::string& title);
 // Axes of a grid's image plane (x to the right, y upwards; a 1-row image has no y extent).
 report::MapFigure mapAxes(const TaskGrid& g, const ImagePlane& p, std::string title);
 // Legend of the status map: the statuses that occur in it.
