@@ -41,10 +41,10 @@ void addRunCommand(CLI::App* cmd, Action& action) {
       ->capture_default_str()
       ->check(CLI::Range(0, defaults::kMaxSearchGroupRanks));
   cmd->add_option("--preview", a->opt.preview_stride,
-                  "Progressive stem maps: before computing them, write a preview of each on every "
-                  "K-th gamma and z value (its chained rows, before the map search) to "
-                  "dexterity/preview/ and name it on stderr (0 = none). The other files do not "
-                  "depend on it")
+                  "Progressive maps: before computing them, write a preview of each stem map and "
+                  "reach grid on every K-th value of each axis (its chained rows or sweep, before "
+                  "the map search) to dexterity/preview/ and reach/preview/ and name it on stderr "
+                  "(0 = none). The other files do not depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, defaults::kMaxPreviewStride));
   cmd->add_flag(

@@ -542,11 +542,11 @@ loaded), timings, metrics (the summary scalars), flags (per-pose uint8 arrays), 
 ({file: read_map(file)} for every .vti written). output and folder: str or os.PathLike.
 Ctrl-C (KeyboardInterrupt) stops the run between work units, within about a second; the units
 done are saved, so the same call again resumes, as after the CLI's Ctrl-C.
-preview=K (0..100, as `armstudy run --preview K`): before the stem maps are computed, each design's
-map on every K-th gamma and z value is written to dexterity/preview/<design>.svg and .png, and
-on_preview(path) is called with the .png's path as soon as it exists (e.g. to show it in a
-notebook); an exception it raises stops the run as Ctrl-C does and is raised again. The other
-files do not depend on it.)");
+preview=K (0..100, as `armstudy run --preview K`): before the stem maps and reach grids are
+computed, each design's map on every K-th value along each axis is written to dexterity/preview/ or
+reach/preview/ (.svg and .png), and on_preview(path) is called with the .png's path as soon as it
+exists (e.g. to show it in a notebook); an exception it raises stops the run as Ctrl-C does and is
+raised again. The other files do not depend on it.)");
   m.def("check_study", &check, py::arg("study"), py::arg("folder") = ".",
         R"(Reads and validates a study (a file path or a dict, as run_study) without running it:
 the designs and data it names are loaded and checked, nothing is written. Returns a dict: study,

@@ -49,10 +49,11 @@ struct RunOptions {
   // run in groups of at least this many ranks, each group searching some of the designs; 0 = every
   // rank in every search. Results do not depend on it.
   int search_group_ranks = defaults::kSearchGroupRanks;
-  // Progressive stem maps: before any map is computed, a preview of each design's map on every
-  // k-th gamma and z value (its chained rows alone, without the map search) is written to
-  // dexterity/preview/ and its file passed to on_preview (the CLI names it on stderr); 0 = no
-  // preview. The other files do not depend on it.
+  // Progressive maps: before a stage computes its maps, a preview of each design's stem map on
+  // every k-th gamma and z value, and of each reach grid on every k-th value of each axis (chained
+  // rows or sweeps alone, without the map search), is written to dexterity/preview/ or
+  // reach/preview/ and its file passed to on_preview (the CLI names it on stderr); 0 = no preview.
+  // The other files do not depend on it.
   int preview_stride = 0;
   std::function<void(const std::string& file)> on_preview;
   // Cancellation (the Python module's Ctrl-C): when set, a single-process run computes its units a

@@ -13,6 +13,7 @@
 #include "stages/reach/reach_answer.hpp"
 #include "stages/reach/reach_counts.hpp"
 #include "stages/reach/reach_grid.hpp"
+#include "stages/reach/reach_preview.hpp"
 #include "stages/reach/reach_report.hpp"
 #include "stages/reach/reach_units.hpp"
 #include "study/stage_designs.hpp"
@@ -304,6 +305,7 @@ StageResult runReachStage(const StageContext& all_ctx, const ReachConfig& cfg) {
   warnPartialCollision(ctx, cfg, doc, partial);
   doc.append(checksSection(study.designs, cfg));
   doc.append(designDrawings(ctx, cfg, out));
+  if (ctx.options.preview_stride > 0) sum.previews = writeReachPreviews(ctx, cfg);
   ordered_json jgrids = ordered_json::array();
   for (const TaskGrid& g : cfg.grids) {
     facts.sets.emplace_back();
