@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,14 @@ inline std::filesystem::path emptyTempDir(const std::string& name) {
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
+}
+
+// Every regular file under `root`, as paths relative to it.
+inline std::set<std::string> filesUnder(const std::filesystem::path& root) {
+  std::set<std::string> out;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(root))
+    if (e.is_regular_file()) out.insert(std::filesystem::relative(e.path(), root).string());
+  return out;
 }
 
 inline const std::vector<std::string>& shippedDesigns() {

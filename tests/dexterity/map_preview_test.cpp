@@ -38,14 +38,6 @@ starts = 20
 )";
 }
 
-// Every file under `root`, relative to it.
-std::set<std::string> filesUnder(const fs::path& root) {
-  std::set<std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    if (e.is_regular_file()) out.insert(fs::relative(e.path(), root).string());
-  return out;
-}
-
 struct Announced {
   std::string file;
   bool file_there = false, map_there = false;  // when it was announced
@@ -98,7 +90,8 @@ TEST_CASE("a stem map preview is written before the maps and leaves their files 
                                           "dexterity/preview/final_prototype_7dof.png"});
 
   // The other files: the same names, the same bytes (the manifest holds timings and options).
-  const std::set<std::string> a = filesUnder(dir / "plain" / "preview"), b = filesUnder(out);
+  const std::set<std::string> a = test::filesUnder(dir / "plain" / "preview"),
+                              b = test::filesUnder(out);
   std::set<std::string> extra;
   for (const std::string& f : b)
     if (!a.count(f)) extra.insert(f);

@@ -47,13 +47,6 @@ gamma = "0 deg"
 )";
 }
 
-std::set<std::string> previewFilesUnder(const fs::path& root) {
-  std::set<std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    if (e.is_regular_file()) out.insert(fs::relative(e.path(), root).string());
-  return out;
-}
-
 struct ReachAnnounced {
   std::string file;
   bool file_there = false, map_there = false;  // when it was announced
@@ -133,8 +126,8 @@ TEST_CASE("a reach preview is written before the grid's maps and leaves their fi
   CHECK(previews == expected_png);
 
   // The other files: the same names, the same bytes (the manifest holds timings and options).
-  const std::set<std::string> a = previewFilesUnder(dir / "plain" / "reach_preview"),
-                              b = previewFilesUnder(out);
+  const std::set<std::string> a = test::filesUnder(dir / "plain" / "reach_preview"),
+                              b = test::filesUnder(out);
   std::set<std::string> extra;
   for (const std::string& f : b)
     if (!a.count(f)) extra.insert(f);
