@@ -153,3 +153,35 @@ TEST_CASE("a reach preview is written before the grid's maps and leaves their fi
       readFileOrThrow((out / "reach/preview/box__first_prototype_6dof.svg").string());
   CHECK(box.find("that are reachable") != std::string::npos);  // 3-D: the projected fraction
 }
+
+TEST_CASE("a reach preview is drawn also when the study's outputs leave out the images",
+          "[reach]") {
+  const fs::path dir = test::emptyTempDir("reach_preview_vtk_only");
+  writeFileAtomic((dir / "vtk_only.toml").string(),
+                  "[study]\nname = \"vtk_only\"\n[[design]]\nfile = \"" +
+                      test::sourcePath("designs/first_prototype_6dof.toml") + "\"\n" + R"([reach]
+task_space = "spraying"
+outputs = ["vtk"]
+[[reach.grid]]
+name = "row"
+x = { from = "-0.6 m", to = "0.6 m", step = "0.1 m" }
+y = { from = "0.3 m", to = "1.0 m", step = "0.1 m" }
+z = "1.2 m"
+alpha = "0 deg"
+gamma = "40 deg"
+)");
+  RunOptions o;
+  o.output_root = (dir / "out").string();
+  o.threads = 2;
+  o.progress = false;
+  o.preview_stride = 2;
+  std::vector<std::string> announced;
+  o.on_preview = [&](const std::string& file) { announced.push_back(file); };
+  runStudy(loadStudy((dir / "vtk_only.toml").string()), o);
+  const fs::path out = dir / "out" / "vtk_only";
+  REQUIRE(announced.size() == 1);
+  CHECK(fs::relative(announced[0], out).string() == "reach/preview/row__first_prototype_6dof.png");
+  CHECK(fs::exists(out / "reach/preview/row__first_prototype_6dof.svg"));
+  CHECK_FALSE(fs::exists(out / "reach/images/row__first_prototype_6dof.png"));  // as asked
+  CHECK(fs::exists(out / "reach/row/first_prototype_6dof.vti"));
+}

@@ -33,7 +33,6 @@ std::vector<std::string> writeReachPreviews(const StageContext& ctx, const Reach
   const int k = ctx.options.preview_stride;
   const std::size_t designs = ctx.study.designs.size();
   std::vector<std::string> files;
-  if (!cfg.outputs.images) return files;
   for (const TaskGrid& full : cfg.grids) {
     const TaskGrid g = previewGrid(full, k);
     const ImagePlane plane = imagePlane(g);

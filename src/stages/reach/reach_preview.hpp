@@ -16,8 +16,8 @@ namespace armstudy {
 // The grid on samples 0, k, 2k, ... of each axis (its orientations unchanged).
 TaskGrid previewGrid(const TaskGrid& g, int k);
 
-// Writes every grid's previews (none when the study writes no images); returns the files written,
-// relative to the output folder.
+// Writes every grid's previews (also when the study's [reach] outputs leave out "images": the run
+// asked for them); returns the files written, relative to the output folder.
 std::vector<std::string> writeReachPreviews(const StageContext& ctx, const ReachConfig& cfg);
 
 }  // namespace armstudy
