@@ -11,6 +11,7 @@
 #include "engine/run.hpp"
 #include "engine/study_file.hpp"
 #include "io/files.hpp"
+#include "preview_support.hpp"
 #include "test_support.hpp"
 
 using namespace armstudy;
@@ -79,18 +80,9 @@ TEST_CASE("a reach preview is written before the grid's maps and leaves their fi
   const fs::path dir = test::emptyTempDir("reach_preview_test");
   writeFileAtomic((dir / "preview.toml").string(), previewStudyText());
   const Study study = loadStudy((dir / "preview.toml").string());
-  RunOptions plain;
-  plain.output_root = (dir / "plain").string();
-  plain.threads = 2;
-  plain.progress = false;
-  runStudy(study, plain);
-
-  RunOptions progressive = plain;
-  progressive.output_root = (dir / "progressive").string();
-  progressive.preview_stride = 3;
   const fs::path out = dir / "progressive" / "reach_preview";
   std::vector<ReachAnnounced> announced;
-  progressive.on_preview = [&](const std::string& file) {
+  test::runWithAndWithoutPreview(study, dir, 3, [&](const std::string& file) {
     const std::string stem = fs::path(file).stem().string();  // <grid>__<design>[_o<k>]
     const std::string grid = stem.substr(0, stem.find("__"));
     std::string design = stem.substr(grid.size() + 2);
@@ -98,10 +90,9 @@ TEST_CASE("a reach preview is written before the grid's maps and leaves their fi
       design.resize(design.size() - 3);
     announced.push_back(
         {file, fs::exists(file), fs::exists(out / "reach" / grid / (design + ".vti"))});
-  };
-  runStudy(study, progressive);
+  });
 
-  // ReachAnnounced once per design and orientation, after its preview was written and before the
+  // Announced once per design and orientation, after its preview was written and before the
   // grid's map of that design.
   std::set<std::string> previews;
   for (const ReachAnnounced& a : announced) {
@@ -126,21 +117,8 @@ TEST_CASE("a reach preview is written before the grid's maps and leaves their fi
   CHECK(previews == expected_png);
 
   // The other files: the same names, the same bytes (the manifest holds timings and options).
-  const std::set<std::string> a = test::filesUnder(dir / "plain" / "reach_preview"),
-                              b = test::filesUnder(out);
-  std::set<std::string> extra;
-  for (const std::string& f : b)
-    if (!a.count(f)) extra.insert(f);
+  const std::set<std::string> extra = test::previewExtraFiles(dir / "plain" / "reach_preview", out);
   CHECK(extra == expected_all);
-  int compared = 0;
-  for (const std::string& f : a) {
-    if (f == "manifest.json") continue;
-    INFO(f);
-    CHECK(readFileOrThrow((out / f).string()) ==
-          readFileOrThrow((dir / "plain" / "reach_preview" / f).string()));
-    ++compared;
-  }
-  CHECK(compared > 20);
 
   // The manifest lists the previews; the figures say what they are.
   const auto manifest = nlohmann::json::parse(readFileOrThrow((out / "manifest.json").string()));
